@@ -1,0 +1,32 @@
+# Generates a glad 2 GL loader (compatibility profile 4.5, which also covers every GL 1.x entry
+# point the fixed-function path uses) into the build tree at configure time. Not committed.
+find_program(PUFF_GLAD_EXECUTABLE glad REQUIRED DOC "glad 2 generator (Debian: python3-glad)")
+set(_glad_dir ${CMAKE_BINARY_DIR}/glad)
+set(_glad_args --quiet --reproducible --api gl:compatibility=4.5 --out-path ${_glad_dir} c)
+string(REPLACE ";" " " _glad_stamp_text "${_glad_args}")
+if(NOT EXISTS ${_glad_dir}/src/gl.c OR NOT EXISTS ${_glad_dir}/stamp.txt)
+  set(_glad_regen TRUE)
+else()
+  file(READ ${_glad_dir}/stamp.txt _glad_old)
+  if(NOT _glad_old STREQUAL _glad_stamp_text)
+    set(_glad_regen TRUE)
+  endif()
+endif()
+if(_glad_regen)
+  message(STATUS "Generating glad GL loader in ${_glad_dir}")
+  file(REMOVE_RECURSE ${_glad_dir})
+  execute_process(COMMAND ${PUFF_GLAD_EXECUTABLE} ${_glad_args}
+                  RESULT_VARIABLE _glad_rc OUTPUT_QUIET ERROR_VARIABLE _glad_err)
+  if(NOT _glad_rc EQUAL 0 OR NOT EXISTS ${_glad_dir}/src/gl.c)
+    message(FATAL_ERROR "glad failed (${_glad_rc}): ${_glad_err}")
+  endif()
+  file(WRITE ${_glad_dir}/stamp.txt "${_glad_stamp_text}")
+endif()
+
+add_library(puff_glad STATIC ${_glad_dir}/src/gl.c)
+set_target_properties(puff_glad PROPERTIES POSITION_INDEPENDENT_CODE ON EXPORT_NAME glad)
+target_include_directories(puff_glad PUBLIC $<BUILD_INTERFACE:${_glad_dir}/include>
+                                            $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/puff/third_party>)
+install(DIRECTORY ${_glad_dir}/include/ DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/puff/third_party)
+install(TARGETS puff_glad EXPORT puffTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
+add_library(puff::glad ALIAS puff_glad)

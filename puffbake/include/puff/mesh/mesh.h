@@ -1,0 +1,98 @@
+// Puff meshes: loading (OBJ, OFF, PLY, STL through OpenMesh), validation, normalization to the
+// unit bounding sphere, built-in generators, writing, and quadric decimation.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include <puff/core/error.h>
+
+namespace puff::mesh {
+
+/// An indexed triangle mesh ready to bake. After load/generate it is centered on the origin and
+/// scaled so every vertex lies within the unit sphere, with one vertex on it; normals are unit
+/// per-vertex normals (area-weighted from faces unless the file supplied them).
+struct TriMesh {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;    ///< one per position, unit length
+  std::vector<glm::vec3> colors;     ///< per-vertex linear [0,1] RGB as stored; empty if none
+  std::vector<glm::uvec3> triangles; ///< counter-clockwise seen from outside
+
+  std::size_t faceCount() const { return triangles.size(); }
+  bool hasColors() const { return !colors.empty(); }
+};
+
+/// What loading found and fixed, for the user's log.
+struct LoadInfo {
+  std::size_t sourceFaces = 0;   ///< faces in the file (polygons count once)
+  std::size_t sourceVertices = 0;
+  bool flippedInward = false;    ///< the mesh was oriented inward; faces were reversed
+  bool hadNormals = false;
+  bool hadColors = false;
+};
+
+/// Reads OBJ, OFF, PLY or STL (by extension, case-insensitive), validates and normalizes it.
+/// Errors ("FILE: problem", one line): cannot open; not a mesh of that format; no faces;
+/// non-finite vertex (names the vertex); degenerate face (zero area, names the face);
+/// non-manifold faces (the file declares N faces, only M form a manifold); unsupported extension.
+Result<TriMesh> loadMesh(const std::filesystem::path& path, LoadInfo* info = nullptr);
+
+/// Checks a mesh: non-empty, finite, no degenerate triangles, indices in range. `what` names the
+/// source in the message.
+Result<void> validateMesh(const TriMesh& mesh, const std::string& what);
+
+/// Centers the mesh on its bounding-box center and scales it so the farthest vertex is at 1.
+void normalizeToUnitSphere(TriMesh& mesh);
+
+/// Recomputes unit area-weighted vertex normals from the faces.
+void computeNormals(TriMesh& mesh);
+
+/// Writes OBJ, OFF, PLY or STL (by extension) to a temporary file, then renames it over `path`.
+/// Colors are written where the format carries them (PLY, OFF, OBJ).
+Result<void> saveMesh(const TriMesh& mesh, const std::filesystem::path& path);
+
+// ---- generators -------------------------------------------------------------------------------
+// All are deterministic for a given seed on every platform (own PRNG and noise, no std::
+// distributions), and return normalized meshes.
+
+struct SphereParams {
+  int subdivisions = 4;  ///< icosphere subdivision level, 0..7 (20 * 4^n faces)
+};
+struct LumpyParams {
+  int subdivisions = 5;      ///< icosphere level, 0..7
+  float amplitude = 0.25f;   ///< radial displacement as a fraction of the radius, 0..0.9
+  float frequency = 2.0f;    ///< noise frequency over the unit sphere, > 0
+  int octaves = 3;           ///< fractal octaves, 1..8
+  std::uint64_t seed = 1;
+};
+struct ClusterParams {
+  int count = 6;             ///< spheres in the cluster, 1..64
+  float radiusMin = 0.35f;   ///< sphere radii, relative to the cluster, 0 < min <= max
+  float radiusMax = 0.6f;
+  float spread = 0.55f;      ///< how far sphere centers scatter from the middle, >= 0
+  int subdivisions = 3;      ///< icosphere level per sphere, 0..6
+  std::uint64_t seed = 1;
+};
+
+TriMesh generateSphere(const SphereParams& p);
+TriMesh generateLumpy(const LumpyParams& p);
+TriMesh generateCluster(const ClusterParams& p);
+
+/// Checks generator parameters; the error names the offending parameter and its range.
+Result<void> validate(const SphereParams& p);
+Result<void> validate(const LumpyParams& p);
+Result<void> validate(const ClusterParams& p);
+
+// ---- level of detail ------------------------------------------------------------------------
+
+/// Decimates with OpenMesh's quadric decimater (collapses that would flip a normal are refused)
+/// to at most `targetFaces` faces, or as close as it can get. Colors follow the kept vertices;
+/// normals are recomputed. The input is not modified.
+TriMesh decimate(const TriMesh& mesh, std::size_t targetFaces);
+
+}  // namespace puff::mesh
