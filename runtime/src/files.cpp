@@ -1,1 +1,100 @@
-// placeholder: being written
+#include <puff/core/files.h>
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+
+namespace puff::core {
+
+namespace fs = std::filesystem;
+
+OutputTransaction::~OutputTransaction() {
+  if (committed_) return;
+  std::error_code ec;
+  for (const auto& [temp, target] : staged_) fs::remove(temp, ec);
+  for (auto it = createdDirs_.rbegin(); it != createdDirs_.rend(); ++it) {
+    if (fs::is_empty(*it, ec)) fs::remove(*it, ec);
+  }
+}
+
+Result<void> OutputTransaction::prepareDirectory(const fs::path& dir) {
+  if (dir.empty()) return {};
+  std::error_code ec;
+  if (fs::exists(dir, ec)) {
+    if (!fs::is_directory(dir, ec)) return Error::at(dir, "not a directory");
+  } else {
+    // Remember each directory we create so a failed run can take them back.
+    std::vector<fs::path> missing;
+    for (fs::path p = dir; !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+      missing.push_back(p);
+      if (p == p.parent_path()) break;
+    }
+    for (auto it = missing.rbegin(); it != missing.rend(); ++it) {
+      if (!fs::create_directory(*it, ec) && ec) {
+        return Error::at(*it, "cannot create directory: " + ec.message());
+      }
+      createdDirs_.push_back(*it);
+    }
+  }
+  if (::access(dir.c_str(), W_OK) != 0) return Error::at(dir, std::string("cannot write: ") + std::strerror(errno));
+  return {};
+}
+
+fs::path OutputTransaction::stage(const fs::path& target) {
+  fs::path temp = target.parent_path() /
+                  ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + target.extension().string());
+  staged_.emplace_back(temp, target);
+  return temp;
+}
+
+Result<void> OutputTransaction::commit() {
+  for (const auto& [temp, target] : staged_) {
+    std::error_code ec;
+    fs::rename(temp, target, ec);
+    if (ec) return Error::at(target, "cannot replace: " + ec.message());
+  }
+  committed_ = true;
+  return {};
+}
+
+Result<std::string> readFileBytes(const fs::path& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) return Error::at(path, "cannot open: is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Error::at(path, std::string("cannot open: ") + std::strerror(errno));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  if (in.bad()) return Error::at(path, "read error");
+  return ss.str();
+}
+
+Result<void> writeFileAtomic(const fs::path& path, const std::string& bytes) {
+  OutputTransaction tx;
+  PUFF_TRY(tx.prepareDirectory(path.parent_path()));
+  const fs::path temp = tx.stage(path);
+  {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    if (!out) return Error::at(path, std::string("cannot write: ") + std::strerror(errno));
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.flush();
+    if (!out) return Error::at(path, "write failed (disk full?)");
+  }
+  return tx.commit();
+}
+
+std::string fnv1a64Hex(const std::string& bytes) {
+  std::uint64_t h = 0xcbf29ce484222325ull;
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 0x100000001b3ull;
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+}  // namespace puff::core

@@ -1,1 +1,90 @@
-// placeholder: being written
+#include <puff/core/image.h>
+
+#include <OpenImageIO/imageio.h>
+
+namespace puff::core {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+OIIO::TypeDesc toTypeDesc(PixelType t) {
+  switch (t) {
+    case PixelType::kUInt8: return OIIO::TypeDesc::UINT8;
+    case PixelType::kUInt16: return OIIO::TypeDesc::UINT16;
+    case PixelType::kHalf: return OIIO::TypeDesc::HALF;
+    case PixelType::kFloat: return OIIO::TypeDesc::FLOAT;
+  }
+  return OIIO::TypeDesc::UINT8;
+}
+
+std::string firstLine(std::string s) {
+  if (auto nl = s.find('\n'); nl != std::string::npos) s.resize(nl);
+  return s.empty() ? "unknown error" : s;
+}
+
+}  // namespace
+
+Result<void> writeImage(const fs::path& path, const Image& image, PixelType type, const ImageAttributes& attributes,
+                        const fs::path& formatHint) {
+  PUFF_CHECK(image.width > 0 && image.height > 0 && image.channels > 0);
+  PUFF_CHECK(image.pixels.size() == static_cast<std::size_t>(image.width) * image.height * image.channels);
+  const fs::path& naming = formatHint.empty() ? path : formatHint;
+  auto out = OIIO::ImageOutput::create(naming.string());
+  if (!out) return Error::at(naming, "cannot write images of this type: " + firstLine(OIIO::geterror()));
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, toTypeDesc(type));
+  for (const auto& [key, value] : attributes) spec.attribute(key, value);
+  // Puff's four-channel images are straight values (and normalDepth's fourth channel is depth,
+  // not alpha): never let OpenImageIO divide by "alpha" on the way out.
+  spec.attribute("oiio:UnassociatedAlpha", 1);
+  if (type == PixelType::kHalf || type == PixelType::kFloat) spec.attribute("compression", "zip");
+  // Unsigned-normalized outputs: clamp first so out-of-range values never wrap.
+  std::vector<float> clamped;
+  const float* data = image.pixels.data();
+  if (type == PixelType::kUInt8 || type == PixelType::kUInt16) {
+    clamped.resize(image.pixels.size());
+    for (std::size_t i = 0; i < clamped.size(); ++i) {
+      const float v = image.pixels[i];
+      clamped[i] = v != v ? 0.0f : (v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v));
+    }
+    data = clamped.data();
+  }
+  if (!out->open(path.string(), spec)) return Error::at(path, "cannot write: " + firstLine(out->geterror()));
+  if (!out->write_image(OIIO::TypeDesc::FLOAT, data)) {
+    std::string err = firstLine(out->geterror());
+    out->close();
+    return Error::at(path, "write failed: " + err);
+  }
+  if (!out->close()) return Error::at(path, "write failed: " + firstLine(out->geterror()));
+  return {};
+}
+
+Result<Image> readImage(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return Error::at(path, "cannot open: no such file");
+  if (fs::is_directory(path, ec)) return Error::at(path, "cannot open: is a directory");
+  // Read values as stored: no multiplication by a fourth channel that may not be alpha.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path.string(), &config);
+  if (!in) return Error::at(path, "not a readable image: " + firstLine(OIIO::geterror()));
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) return Error::at(path, "image has no pixels");
+  if (static_cast<long long>(spec.width) * spec.height > (1ll << 28)) {
+    return Error::at(path, "image too large (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + ")");
+  }
+  Image img(spec.width, spec.height, spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data())) {
+    return Error::at(path, "corrupt or truncated image: " + firstLine(in->geterror()));
+  }
+  in->close();
+  return img;
+}
+
+Result<std::string> readImageAttribute(const fs::path& path, const std::string& name) {
+  auto in = OIIO::ImageInput::open(path.string());
+  if (!in) return Error::at(path, "not a readable image: " + firstLine(OIIO::geterror()));
+  return std::string(in->spec().get_string_attribute(name));
+}
+
+}  // namespace puff::core

@@ -1,1 +1,264 @@
-// placeholder: being written
+#include <puff/bake/baker.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <puff/bake/raster.h>
+#include <puff/core/files.h>
+
+namespace puff::bake {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::string num(float v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", static_cast<double>(v));
+  return b;
+}
+
+int autoSupersample(int cellSize) { return std::clamp(4096 / cellSize, 1, 4); }
+
+struct Geometry {
+  int supersample, margin, content, columns, rows, views;
+  float flange;
+};
+
+Result<Geometry> planGeometry(const BakeOptions& o, int variations) {
+  Geometry g{};
+  g.supersample = o.supersample > 0 ? o.supersample : autoSupersample(o.cellSize);
+  g.flange = o.flange.texels(o.cellSize);
+  // Margin: the flange, then a guard band so the flange's antialiased edge and the first mip
+  // levels stay clear of the cell border.
+  g.margin = static_cast<int>(std::ceil(g.flange)) + std::max(2, o.cellSize / 32);
+  g.content = o.cellSize - 2 * g.margin;
+  if (g.content < 4) {
+    return Error{"--flange " + num(g.flange) + " texels leaves no room for the puff in a " + std::to_string(o.cellSize) +
+                 "-texel cell"};
+  }
+  g.views = o.viewGrid * o.viewGrid;
+  const int cells = variations * g.views;
+  g.columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(cells))));
+  g.rows = (cells + g.columns - 1) / g.columns;
+  if (static_cast<long long>(g.columns) * o.cellSize > kMaxAtlasSize ||
+      static_cast<long long>(g.rows) * o.cellSize > kMaxAtlasSize) {
+    return Error{"the atlas would be " + std::to_string(g.columns * o.cellSize) + "x" + std::to_string(g.rows * o.cellSize) +
+                 " texels, above the " + std::to_string(kMaxAtlasSize) + " limit: lower --size, --views or the variation count"};
+  }
+  return g;
+}
+
+std::string mapFileName(const std::string& name, const char* map, int level, const std::string& ext) {
+  return name + "_" + map + (level == 0 ? "" : ".mip" + std::to_string(level)) + "." + ext;
+}
+
+}  // namespace
+
+Result<void> validate(const BakeOptions& o, int variations) {
+  if (o.cellSize < 8 || o.cellSize > kMaxCellSize) {
+    return Error{"--size must be in [8, " + std::to_string(kMaxCellSize) + "], got " + std::to_string(o.cellSize)};
+  }
+  if (o.supersample < 0 || o.supersample > 16) return Error{"--supersample must be in [0, 16], got " + std::to_string(o.supersample)};
+  if (!(o.flange.value >= 0.0f) || !std::isfinite(o.flange.value) || (o.flange.fractionOfCell && o.flange.value >= 0.5f)) {
+    return Error{"--flange must be a finite width >= 0 (texels, or a percentage below 50%)"};
+  }
+  if (o.viewGrid < 1 || o.viewGrid > 16) return Error{"--views must be in [1, 16], got " + std::to_string(o.viewGrid)};
+  for (int c = 0; c < 3; ++c) {
+    if (!(o.defaultColor[c] >= 0.0f && o.defaultColor[c] <= 1.0f)) return Error{"--color components must be in [0, 1]"};
+  }
+  if (!(o.lodNormalTolerance > 0.0f) || !(o.lodSilhouetteTolerance > 0.0f)) {
+    return Error{"--lod-normal-tolerance and --lod-silhouette-tolerance must be positive"};
+  }
+  if (o.name.empty() || o.name.find('/') != std::string::npos) return Error{"--name must be a plain file prefix, got \"" + o.name + "\""};
+  if (variations < 1) return Error{"nothing to bake: give mesh files or --generate"};
+  auto g = planGeometry(o, variations);
+  if (!g) return g.error();
+  return {};
+}
+
+Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFiles, const std::optional<GeneratorSpec>& gen) {
+  std::vector<PuffSource> sources;
+  for (const fs::path& file : meshFiles) {
+    auto bytes = core::readFileBytes(file);
+    if (!bytes) return bytes.error();
+    mesh::LoadInfo info;
+    auto m = mesh::loadMesh(file, &info);
+    if (!m) return m.error();
+    PuffSource s;
+    s.provenance.path = file.string();
+    s.provenance.hash = "fnv1a64:" + core::fnv1a64Hex(*bytes);
+    s.provenance.faces = m->faceCount();
+    s.mesh = std::move(*m);
+    sources.push_back(std::move(s));
+  }
+  if (gen) {
+    if (gen->count < 1 || gen->count > 256) return Error{"--variations must be in [1, 256], got " + std::to_string(gen->count)};
+    for (int i = 0; i < gen->count; ++i) {
+      PuffSource s;
+      s.provenance.generator = gen->kind;
+      if (gen->kind == "sphere") {
+        PUFF_TRY(mesh::validate(gen->sphere));
+        s.mesh = mesh::generateSphere(gen->sphere);
+        s.provenance.params = {{"subdivisions", gen->sphere.subdivisions}};
+      } else if (gen->kind == "lumpy") {
+        mesh::LumpyParams p = gen->lumpy;
+        p.seed += static_cast<std::uint64_t>(i);
+        PUFF_TRY(mesh::validate(p));
+        s.mesh = mesh::generateLumpy(p);
+        s.provenance.params = {{"subdivisions", p.subdivisions}, {"amplitude", p.amplitude}, {"frequency", p.frequency},
+                               {"octaves", p.octaves}, {"seed", p.seed}};
+      } else if (gen->kind == "cluster") {
+        mesh::ClusterParams p = gen->cluster;
+        p.seed += static_cast<std::uint64_t>(i);
+        PUFF_TRY(mesh::validate(p));
+        s.mesh = mesh::generateCluster(p);
+        s.provenance.params = {{"count", p.count}, {"radiusMin", p.radiusMin}, {"radiusMax", p.radiusMax},
+                               {"spread", p.spread}, {"subdivisions", p.subdivisions}, {"seed", p.seed}};
+      } else {
+        return Error{"--generate must be sphere, lumpy or cluster, got \"" + gen->kind + "\""};
+      }
+      s.provenance.faces = s.mesh.faceCount();
+      sources.push_back(std::move(s));
+    }
+  }
+  return sources;
+}
+
+Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeOptions& o, const ProgressFn& progress) {
+  const int variations = static_cast<int>(sources.size());
+  PUFF_TRY(validate(o, variations));
+  const Geometry g = *planGeometry(o, variations);
+  const int cellSize = o.cellSize;
+  auto report = [&](std::string_view stage, int done, int total) {
+    if (progress) progress(stage, done, total);
+  };
+
+  core::AtlasDesc desc;
+  desc.fileFormat = o.format == MapFormat::kExr ? "exr" : "png";
+  desc.cellSize = cellSize;
+  desc.columns = g.columns;
+  desc.rows = g.rows;
+  desc.width = g.columns * cellSize;
+  desc.height = g.rows * cellSize;
+  desc.margin = g.margin;
+  desc.contentSize = g.content;
+  desc.supersample = g.supersample;
+  desc.flangeTexels = g.flange;
+  desc.distanceRange = static_cast<float>(g.margin);
+  desc.mipLevels = o.mips ? mipLevelCount(cellSize) : 1;
+  desc.variations = variations;
+  desc.views = g.views;
+  desc.viewGrid = o.viewGrid;
+  desc.viewLayout = o.viewLayout == ViewLayout::kOct ? "oct" : "hemioct";
+
+  auto rasterizer = PuffRasterizer::create(cellSize * g.supersample);
+  if (!rasterizer) return rasterizer.error();
+  SampleBuffer samples;
+
+  std::vector<glm::vec3> viewDirs(static_cast<std::size_t>(g.views));
+  for (int v = 0; v < g.views; ++v) viewDirs[static_cast<std::size_t>(v)] = viewDirection(o.viewLayout, o.viewGrid, v);
+  auto renderViews = [&](const mesh::TriMesh& m, float flange) {
+    (*rasterizer)->setMesh(m, o.defaultColor);
+    std::vector<CellMaps> maps;
+    for (const glm::vec3& dir : viewDirs) {
+      (*rasterizer)->render(viewRotation(dir), g.margin * g.supersample, g.content * g.supersample, samples);
+      maps.push_back(resolveCell(samples, g.supersample, flange));
+    }
+    return maps;
+  };
+
+  AtlasLevel level0{core::Image(desc.width, desc.height, 4), core::Image(desc.width, desc.height, 4),
+                    core::Image(desc.width, desc.height, 1, desc.distanceRange)};
+  for (std::size_t i = 2; i < level0.normalDepth.pixels.size(); i += 4) level0.normalDepth.pixels[i] = 1.0f;  // N = +z
+
+  BakeReport result;
+  const int totalCells = variations * g.views;
+  for (int var = 0; var < variations; ++var) {
+    const PuffSource& src = sources[static_cast<std::size_t>(var)];
+    const mesh::TriMesh* bakeMesh = &src.mesh;
+    mesh::TriMesh reduced;
+    if (o.lodAuto) {
+      report("choosing level of detail", var, variations);
+      LodResult lod = chooseLod(src.mesh, [&](const mesh::TriMesh& m) { return renderViews(m, 0.0f); },
+                                o.lodNormalTolerance, o.lodSilhouetteTolerance, &reduced);
+      bakeMesh = &reduced;
+      result.lod.push_back(lod);
+    } else {
+      result.lod.emplace_back();
+    }
+    core::AtlasSource prov = src.provenance;
+    prov.facesBaked = bakeMesh->faceCount();
+    desc.sources.push_back(prov);
+    const std::vector<CellMaps> cells = renderViews(*bakeMesh, g.flange);
+    for (int v = 0; v < g.views; ++v) {
+      const int index = var * g.views + v;
+      core::AtlasCell cell;
+      cell.variation = var;
+      cell.view = v;
+      cell.rect = {(index % g.columns) * cellSize, (index / g.columns) * cellSize, cellSize, cellSize};
+      cell.viewDir = viewDirs[static_cast<std::size_t>(v)];
+      const glm::mat3 rot = viewRotation(cell.viewDir);
+      cell.viewUp = glm::vec3(rot[0][1], rot[1][1], rot[2][1]);  // second row
+      placeCell(level0, cells[static_cast<std::size_t>(v)], cell.rect[0], cell.rect[1]);
+      desc.cells.push_back(cell);
+      report("rasterizing", index + 1, totalCells);
+    }
+  }
+
+  std::vector<AtlasLevel> levels;
+  levels.push_back(std::move(level0));
+  for (int l = 1; l < desc.mipLevels; ++l) {
+    levels.push_back(buildMipLevel(levels[0], cellSize, l, desc.alphaThreshold));
+    report("mip levels", l, desc.mipLevels - 1);
+  }
+
+  // Write everything to staged files; the rename at the end makes the bake appear all at once.
+  core::OutputTransaction tx;
+  PUFF_TRY(tx.prepareDirectory(o.outDir));
+  const std::string ext = desc.fileFormat;
+  const core::PixelType mapType = o.format == MapFormat::kExr ? core::PixelType::kHalf : core::PixelType::kUInt8;
+  const core::PixelType distType = o.format == MapFormat::kExr ? core::PixelType::kHalf : core::PixelType::kUInt16;
+  const int totalFiles = desc.mipLevels * 3 + 2;
+  int written = 0;
+  auto put = [&](const char* map, int level, const core::Image& img, core::PixelType type) -> Result<void> {
+    const std::string file = mapFileName(o.name, map, level, ext);
+    const fs::path target = o.outDir / file;
+    PUFF_TRY(core::writeImage(tx.stage(target), img, type, {{"puff:map", map}, {"puff:level", std::to_string(level)}}, target));
+    result.files.push_back(target);
+    report("writing", ++written, totalFiles);
+    return {};
+  };
+  for (int l = 0; l < desc.mipLevels; ++l) {
+    const AtlasLevel& lv = levels[static_cast<std::size_t>(l)];
+    PUFF_TRY(put("normal_depth", l, encodeNormalDepth(lv.normalDepth), mapType));
+    PUFF_TRY(put("color", l, lv.color, mapType));
+    PUFF_TRY(put("distance", l, encodeDistance(lv.distance, desc.distanceRange), distType));
+    desc.maps["normalDepth"].levels.push_back(mapFileName(o.name, "normal_depth", l, ext));
+    desc.maps["color"].levels.push_back(mapFileName(o.name, "color", l, ext));
+    desc.maps["distance"].levels.push_back(mapFileName(o.name, "distance", l, ext));
+  }
+  if (o.contactSheet) {
+    result.contactSheet = o.outDir / (o.name + "_contact.png");
+    const core::Image sheet = contactSheet(levels[0], desc, std::min(cellSize, 160));
+    PUFF_TRY(core::writeImage(tx.stage(result.contactSheet), sheet, core::PixelType::kUInt8, {}, result.contactSheet));
+    result.files.push_back(result.contactSheet);
+  }
+  result.sidecar = o.outDir / (o.name + ".json");
+  {
+    const fs::path temp = tx.stage(result.sidecar);
+    std::FILE* f = std::fopen(temp.c_str(), "wb");
+    if (!f) return Error::at(result.sidecar, "cannot write");
+    const std::string text = core::toJson(desc).dump(2) + "\n";
+    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    if (std::fclose(f) != 0 || !ok) return Error::at(result.sidecar, "write failed (disk full?)");
+    result.files.push_back(result.sidecar);
+  }
+  report("writing", totalFiles, totalFiles);
+  PUFF_TRY(tx.commit());
+  result.desc = std::move(desc);
+  return result;
+}
+
+}  // namespace puff::bake

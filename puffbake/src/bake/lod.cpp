@@ -1,1 +1,73 @@
-// placeholder: being written
+#include <algorithm>
+#include <cmath>
+
+#include <puff/bake/baker.h>
+
+namespace puff::bake {
+
+MapDifference compareCells(const CellMaps& ref, const CellMaps& cand) {
+  PUFF_CHECK(ref.body.width == cand.body.width && ref.body.height == cand.body.height);
+  MapDifference diff;
+  double normalSum = 0.0;
+  std::size_t normalCount = 0;
+  for (int y = 0; y < ref.body.height; ++y) {
+    for (int x = 0; x < ref.body.width; ++x) {
+      if (ref.body.at(x, y) >= 0.5f && cand.body.at(x, y) >= 0.5f) {
+        for (int c = 0; c < 3; ++c) {
+          // Encoded units: (N+1)/2, so half the difference of the decoded normals.
+          normalSum += 0.5 * std::abs(ref.normalDepth.at(x, y, c) - cand.normalDepth.at(x, y, c));
+        }
+        normalCount += 3;
+      }
+      const float dr = ref.distance.at(x, y), dc = cand.distance.at(x, y);
+      if (std::min(std::abs(dr), std::abs(dc)) <= 1.0f) {
+        diff.silhouetteTexels = std::max(diff.silhouetteTexels, std::abs(dr - dc));
+      }
+    }
+  }
+  diff.meanNormalError = normalCount ? static_cast<float>(normalSum / static_cast<double>(normalCount)) : 0.0f;
+  return diff;
+}
+
+LodResult chooseLod(const mesh::TriMesh& full,
+                    const std::function<std::vector<CellMaps>(const mesh::TriMesh&)>& rasterize,
+                    float normalTolerance, float silhouetteTolerance, mesh::TriMesh* chosen) {
+  const std::vector<CellMaps> reference = rasterize(full);
+  LodResult result;
+  result.facesBefore = result.facesAfter = full.faceCount();
+  if (chosen) *chosen = full;
+
+  auto evaluate = [&](const mesh::TriMesh& candidate, MapDifference& worst) {
+    const std::vector<CellMaps> maps = rasterize(candidate);
+    worst = {};
+    for (std::size_t v = 0; v < maps.size(); ++v) {
+      const MapDifference d = compareCells(reference[v], maps[v]);
+      worst.meanNormalError = std::max(worst.meanNormalError, d.meanNormalError);
+      worst.silhouetteTexels = std::max(worst.silhouetteTexels, d.silhouetteTexels);
+    }
+    return worst.meanNormalError <= normalTolerance && worst.silhouetteTexels <= silhouetteTolerance;
+  };
+
+  // Invariant: `hi` faces is known to pass (the full mesh does, with zero error).
+  std::size_t lo = std::min<std::size_t>(full.faceCount(), 8), hi = full.faceCount();
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    mesh::TriMesh candidate = mesh::decimate(full, mid);
+    MapDifference d;
+    ++result.evaluations;
+    if (evaluate(candidate, d)) {
+      hi = std::min(mid, candidate.faceCount());
+      if (candidate.faceCount() < result.facesAfter) {
+        result.facesAfter = candidate.faceCount();
+        result.normalError = d.meanNormalError;
+        result.silhouetteError = d.silhouetteTexels;
+        if (chosen) *chosen = std::move(candidate);
+      }
+    } else {
+      lo = mid + 1;
+    }
+  }
+  return result;
+}
+
+}  // namespace puff::bake

@@ -1,1 +1,104 @@
-// placeholder: being written
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include <glm/geometric.hpp>
+
+#include <puff/bake/maps.h>
+
+namespace puff::bake {
+
+double coverageFraction(const core::Image& color, int cellX, int cellY, int cellSize, float threshold) {
+  std::size_t passing = 0;
+  for (int y = cellY; y < cellY + cellSize; ++y) {
+    for (int x = cellX; x < cellX + cellSize; ++x) passing += color.at(x, y, 3) >= threshold;
+  }
+  return static_cast<double>(passing) / (static_cast<double>(cellSize) * cellSize);
+}
+
+namespace {
+
+void emptyTexel(AtlasLevel& l, int x, int y) {
+  const float nd[4] = {0, 0, 1, 0};
+  for (int c = 0; c < 4; ++c) {
+    l.normalDepth.at(x, y, c) = nd[c];
+    l.color.at(x, y, c) = 0.0f;
+  }
+}
+
+// Scales the alpha of one cell so the share of texels at or above `threshold` matches `target`:
+// the texel that should be the last to pass is lifted exactly onto the threshold.
+void preserveCoverage(core::Image& color, int cx, int cy, int cellSize, float threshold, double target) {
+  std::vector<float> alphas;
+  alphas.reserve(static_cast<std::size_t>(cellSize) * cellSize);
+  for (int y = cy; y < cy + cellSize; ++y) {
+    for (int x = cx; x < cx + cellSize; ++x) {
+      if (color.at(x, y, 3) > 0.0f) alphas.push_back(color.at(x, y, 3));
+    }
+  }
+  const auto want = static_cast<std::size_t>(std::llround(target * cellSize * cellSize));
+  if (want == 0 || alphas.empty()) return;
+  const std::size_t m = std::min(want, alphas.size());
+  std::nth_element(alphas.begin(), alphas.begin() + static_cast<std::ptrdiff_t>(m - 1), alphas.end(), std::greater<>());
+  const float pivot = alphas[m - 1];
+  const float scale = std::clamp(threshold / pivot, 0.25f, 64.0f);
+  for (int y = cy; y < cy + cellSize; ++y) {
+    for (int x = cx; x < cx + cellSize; ++x) color.at(x, y, 3) = std::min(1.0f, color.at(x, y, 3) * scale);
+  }
+}
+
+}  // namespace
+
+AtlasLevel buildMipLevel(const AtlasLevel& level0, int cellSize, int level, float alphaThreshold) {
+  PUFF_CHECK(level >= 1);
+  const int f = 1 << level;
+  PUFF_CHECK(cellSize % f == 0 && level0.color.width % f == 0 && level0.color.height % f == 0);
+  const int w = level0.color.width / f, h = level0.color.height / f, cell = cellSize / f;
+  AtlasLevel out{core::Image(w, h, 4), core::Image(w, h, 4), core::Image(w, h, 1)};
+  const float perBlock = 1.0f / static_cast<float>(f * f);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      float alpha = 0.0f, depth = 0.0f, dist = 0.0f;
+      glm::vec3 normal(0.0f), color(0.0f);
+      for (int by = y * f; by < (y + 1) * f; ++by) {
+        for (int bx = x * f; bx < (x + 1) * f; ++bx) {
+          const float a = level0.color.at(bx, by, 3);
+          alpha += a;
+          normal += a * glm::vec3(level0.normalDepth.at(bx, by, 0), level0.normalDepth.at(bx, by, 1),
+                                  level0.normalDepth.at(bx, by, 2));
+          depth += a * level0.normalDepth.at(bx, by, 3);
+          color += a * glm::vec3(level0.color.at(bx, by, 0), level0.color.at(bx, by, 1), level0.color.at(bx, by, 2));
+          dist += level0.distance.at(bx, by);
+        }
+      }
+      out.distance.at(x, y) = dist * perBlock;
+      if (alpha <= 0.0f) {
+        emptyTexel(out, x, y);
+        continue;
+      }
+      normal = glm::length(normal) > 1e-6f ? glm::normalize(normal) : glm::vec3(0, 0, 1);
+      for (int c = 0; c < 3; ++c) {
+        out.normalDepth.at(x, y, c) = normal[c];
+        out.color.at(x, y, c) = color[c] / alpha;
+      }
+      out.normalDepth.at(x, y, 3) = depth / alpha;
+      out.color.at(x, y, 3) = alpha * perBlock;
+    }
+  }
+  for (int cy = 0; cy < h; cy += cell) {
+    for (int cx = 0; cx < w; cx += cell) {
+      // The outer ring stays empty so bilinear taps at a cell's edge never reach its neighbour.
+      for (int i = 0; i < cell; ++i) {
+        emptyTexel(out, cx + i, cy);
+        emptyTexel(out, cx + i, cy + cell - 1);
+        emptyTexel(out, cx, cy + i);
+        emptyTexel(out, cx + cell - 1, cy + i);
+      }
+      const double target = coverageFraction(level0.color, cx * f, cy * f, cellSize, alphaThreshold);
+      preserveCoverage(out.color, cx, cy, cell, alphaThreshold, target);
+    }
+  }
+  return out;
+}
+
+}  // namespace puff::bake

@@ -1,1 +1,126 @@
-// placeholder: being written
+#include <puff/bake/raster.h>
+
+#include <algorithm>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <puff/core/shader.h>
+
+namespace puff::bake {
+
+namespace {
+struct Vertex {
+  glm::vec3 position, normal, color;
+};
+}  // namespace
+
+Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSide) {
+  GLint maxRb = 0, maxTex = 0;
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxRb);
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTex);
+  const int limit = std::min(maxRb, maxTex);
+  if (samplesPerSide <= 0 || samplesPerSide > limit) {
+    return Error{"cell size times supersampling is " + std::to_string(samplesPerSide) +
+                 " samples, more than this GL's framebuffer limit of " + std::to_string(limit) +
+                 ": lower --size or --supersample"};
+  }
+  auto program = core::buildProgram({"bake/puff.vert", "bake/puff.frag"});
+  if (!program) return program.error();
+
+  std::unique_ptr<PuffRasterizer> r(new PuffRasterizer);
+  r->size_ = samplesPerSide;
+  r->program_ = std::move(*program);
+  r->viewRotationLoc_ = glGetUniformLocation(r->program_.get(), "uViewRotation");
+
+  r->normalDepthTex_ = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(r->normalDepthTex_.get(), 1, GL_RGBA32F, samplesPerSide, samplesPerSide);
+  r->colorTex_ = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(r->colorTex_.get(), 1, GL_RGBA32F, samplesPerSide, samplesPerSide);
+  r->depthRb_ = core::makeRenderbuffer();
+  glNamedRenderbufferStorage(r->depthRb_.get(), GL_DEPTH_COMPONENT32F, samplesPerSide, samplesPerSide);
+  r->fbo_ = core::makeFramebuffer();
+  glNamedFramebufferTexture(r->fbo_.get(), GL_COLOR_ATTACHMENT0, r->normalDepthTex_.get(), 0);
+  glNamedFramebufferTexture(r->fbo_.get(), GL_COLOR_ATTACHMENT1, r->colorTex_.get(), 0);
+  glNamedFramebufferRenderbuffer(r->fbo_.get(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->depthRb_.get());
+  const GLenum drawBuffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glNamedFramebufferDrawBuffers(r->fbo_.get(), 2, drawBuffers);
+  const GLenum status = glCheckNamedFramebufferStatus(r->fbo_.get(), GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    return Error{"bake framebuffer of " + std::to_string(samplesPerSide) + "^2 samples is incomplete (status 0x" +
+                 [&] { char b[16]; std::snprintf(b, sizeof b, "%x", status); return std::string(b); }() + ")"};
+  }
+  r->vao_ = core::makeVertexArray();
+  r->vbo_ = core::makeBuffer();
+  r->ibo_ = core::makeBuffer();
+  const GLuint vao = r->vao_.get();
+  glVertexArrayVertexBuffer(vao, 0, r->vbo_.get(), 0, sizeof(Vertex));
+  glVertexArrayElementBuffer(vao, r->ibo_.get());
+  const GLuint offsets[] = {offsetof(Vertex, position), offsetof(Vertex, normal), offsetof(Vertex, color)};
+  for (GLuint a = 0; a < 3; ++a) {
+    glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, offsets[a]);
+    glVertexArrayAttribBinding(vao, a, 0);
+    glEnableVertexArrayAttrib(vao, a);
+  }
+  if (auto err = core::drainGlErrors(); !err.empty()) return Error{"GL error while setting up the baker: " + err};
+  return r;
+}
+
+void PuffRasterizer::setMesh(const mesh::TriMesh& m, const glm::vec3& defaultColor) {
+  std::vector<Vertex> vertices(m.positions.size());
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    vertices[i] = {m.positions[i], m.normals[i], m.hasColors() ? m.colors[i] : defaultColor};
+  }
+  // Orphan and refill: a mesh per variation, uploaded once and drawn once per view.
+  glNamedBufferData(vbo_.get(), static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(), GL_STATIC_DRAW);
+  glNamedBufferData(ibo_.get(), static_cast<GLsizeiptr>(m.triangles.size() * sizeof(glm::uvec3)), m.triangles.data(),
+                    GL_STATIC_DRAW);
+  indexCount_ = static_cast<GLsizei>(m.triangles.size() * 3);
+}
+
+void PuffRasterizer::render(const glm::mat3& viewRotation, int marginSamples, int contentSamples, SampleBuffer& out) {
+  // Every state this pass relies on is set here; nothing is inherited.
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get());
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);  // puff meshes may be open or oddly wound; the depth test picks the nearest
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  const float zero[4] = {0, 0, 0, 0};
+  const float one = 1.0f;
+  glClearNamedFramebufferfv(fbo_.get(), GL_COLOR, 0, zero);
+  glClearNamedFramebufferfv(fbo_.get(), GL_COLOR, 1, zero);
+  glClearNamedFramebufferfv(fbo_.get(), GL_DEPTH, 0, &one);
+  // GL's window origin is the bottom-left; the content square is centred, so the same margin works.
+  glViewport(marginSamples, size_ - marginSamples - contentSamples, contentSamples, contentSamples);
+  glUseProgram(program_.get());
+  // glm and GLSL share column-major storage: the matrix goes up as it is.
+  glUniformMatrix3fv(viewRotationLoc_, 1, GL_FALSE, glm::value_ptr(viewRotation));
+  glBindVertexArray(vao_.get());
+  glDrawElements(GL_TRIANGLES, indexCount_, GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(0);
+  glUseProgram(0);
+
+  out.size = size_;
+  const std::size_t n = static_cast<std::size_t>(size_) * size_;
+  out.normalDepth.resize(n);
+  out.color.resize(n);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  std::vector<glm::vec4> rows(n);
+  auto readFlipped = [&](GLenum attachment, std::vector<glm::vec4>& dst) {
+    glNamedFramebufferReadBuffer(fbo_.get(), attachment);
+    glReadPixels(0, 0, size_, size_, GL_RGBA, GL_FLOAT, rows.data());
+    for (int y = 0; y < size_; ++y) {
+      std::copy_n(rows.begin() + static_cast<std::ptrdiff_t>(y) * size_, size_,
+                  dst.begin() + static_cast<std::ptrdiff_t>(size_ - 1 - y) * size_);
+    }
+  };
+  readFlipped(GL_COLOR_ATTACHMENT0, out.normalDepth);
+  readFlipped(GL_COLOR_ATTACHMENT1, out.color);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+}  // namespace puff::bake

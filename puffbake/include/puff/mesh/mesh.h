@@ -46,6 +46,11 @@ Result<TriMesh> loadMesh(const std::filesystem::path& path, LoadInfo* info = nul
 /// source in the message.
 Result<void> validateMesh(const TriMesh& mesh, const std::string& what);
 
+/// As above, for a mesh triangulated from a file's polygons: triangle i came from the file's face
+/// `sourceFace[i]` (0-based, file order), and messages name that face. Empty: names triangles.
+Result<void> validateMesh(const TriMesh& mesh, const std::string& what,
+                          const std::vector<std::uint32_t>& sourceFace);
+
 /// Centers the mesh on its bounding-box center and scales it so the farthest vertex is at 1.
 void normalizeToUnitSphere(TriMesh& mesh);
 

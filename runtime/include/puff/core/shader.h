@@ -35,6 +35,13 @@ std::vector<std::string> listShaderFiles();
 /// message naming each file and line the driver complained about.
 Result<Program> buildProgram(const std::vector<std::string>& stageFiles);
 
+/// Rewrites a driver's compile log so that each location "S:L" (source string S, as numbered by
+/// preprocessShader's `files`) reads "shaders/<files[S]>:L". Knows Mesa ("0:12(5): error: ..."),
+/// NVIDIA ("0(12) : error C1008: ...") and "ERROR: 0:12: ..." logs; other lines are prefixed with
+/// files[0]. One line per problem, errors before warnings; "" for an empty log. `files` must not
+/// be empty. buildProgram uses this; it is public so the formats can be tested without each driver.
+std::string rewriteShaderLog(const std::string& log, const std::vector<std::string>& files);
+
 /// Every program the shaders directory defines: files sharing a path without extension form one
 /// program ("bake/puff.vert" + "bake/puff.frag" -> "bake/puff"). Files under common/ are
 /// includes only. Returns program names with their stage files.

@@ -1,0 +1,120 @@
+// puffbake's library entry points: bake puff meshes into an atlas (McGuire & Fein Fig. 3 / Eq. 1
+// plus a signed distance map, mip levels, multi-view cells), its sidecar and a contact sheet.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
+
+#include <puff/bake/maps.h>
+#include <puff/core/atlas.h>
+#include <puff/core/error.h>
+#include <puff/mesh/mesh.h>
+
+namespace puff::bake {
+
+inline constexpr int kMaxCellSize = 16384;   ///< GL_MAX_TEXTURE_SIZE on llvmpipe and most GPUs
+inline constexpr int kMaxAtlasSize = 16384;
+
+/// Flange (outline) width: texels, or a fraction of the cell size.
+struct FlangeWidth {
+  float value = 0.03f;
+  bool fractionOfCell = true;
+  float texels(int cellSize) const { return fractionOfCell ? value * static_cast<float>(cellSize) : value; }
+};
+
+enum class MapFormat { kPng, kExr };
+
+struct BakeOptions {
+  int cellSize = 256;          ///< texels per cell side, 8..16384
+  int supersample = 0;         ///< samples per texel side; 0 = auto (4, fewer above 1024^2 cells)
+  FlangeWidth flange;          ///< outline flange; 0 disables it
+  int viewGrid = 1;            ///< views per variation = viewGrid^2 (1: front view only)
+  ViewLayout viewLayout = ViewLayout::kHemiOct;
+  MapFormat format = MapFormat::kPng;
+  glm::vec3 defaultColor{1.0f};  ///< diffuse colour of meshes without vertex colours
+  bool mips = true;              ///< write coverage-preserving mip levels
+  bool contactSheet = true;
+  // --lod auto: the fewest faces whose maps stay within these of the full mesh's.
+  bool lodAuto = false;
+  float lodNormalTolerance = 1.0f / 255.0f;  ///< mean |encoded normal| difference, per channel
+  float lodSilhouetteTolerance = 1.0f;       ///< texels between the two silhouettes
+  std::filesystem::path outDir = "puff-out";
+  std::string name = "puff";   ///< file prefix: NAME.json, NAME_color.png, ...
+};
+
+/// Checks option ranges; the error names the flag, e.g. "--size must be in [8, 16384], got 0".
+Result<void> validate(const BakeOptions& options, int variations);
+
+/// One puff variation to bake, with where it came from (recorded in the sidecar).
+struct PuffSource {
+  mesh::TriMesh mesh;
+  core::AtlasSource provenance;
+};
+
+/// A generator and its parameters, producing `count` variations with seeds seed, seed+1, ...
+struct GeneratorSpec {
+  std::string kind = "lumpy";  ///< "sphere", "lumpy" or "cluster"
+  mesh::SphereParams sphere;
+  mesh::LumpyParams lumpy;
+  mesh::ClusterParams cluster;
+  int count = 4;
+};
+
+/// Loads mesh files (one variation each) or runs the generator. Errors name the file or flag.
+Result<std::vector<PuffSource>> loadSources(const std::vector<std::filesystem::path>& meshFiles,
+                                            const std::optional<GeneratorSpec>& generator);
+
+/// What --lod auto chose for one variation.
+struct LodResult {
+  std::size_t facesBefore = 0, facesAfter = 0;
+  float normalError = 0.0f;       ///< mean |encoded normal difference| reached
+  float silhouetteError = 0.0f;   ///< texels
+  int evaluations = 0;            ///< decimate-and-compare steps the search took
+};
+
+struct BakeReport {
+  core::AtlasDesc desc;
+  std::filesystem::path sidecar, contactSheet;
+  std::vector<std::filesystem::path> files;  ///< every file written
+  std::vector<std::optional<LodResult>> lod;  ///< per variation when --lod auto
+};
+
+/// Progress: a stage name, steps done and total. Called from the baking thread.
+using ProgressFn = std::function<void(std::string_view stage, int done, int total)>;
+
+/// Bakes `sources` (one variation each) with the GL context that is current on this thread.
+/// All outputs are staged and renamed into place only when every one is written: on failure
+/// nothing in options.outDir changes.
+Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeOptions& options,
+                             const ProgressFn& progress = {});
+
+/// Compares two cells' maps for --lod auto: the mean encoded-normal error per channel over texels
+/// both cover, and the largest difference of the two distance maps near either silhouette
+/// (texels within 1 of it): how far the silhouette moved.
+struct MapDifference {
+  float meanNormalError = 0.0f;
+  float silhouetteTexels = 0.0f;
+};
+MapDifference compareCells(const CellMaps& reference, const CellMaps& candidate);
+
+/// Finds the fewest faces whose maps stay within the tolerances in every view (binary search over
+/// the face count with OpenMesh's quadric decimater; assumes error grows as faces fall, which
+/// holds for quadric decimation in practice but is not guaranteed). `rasterize` turns a mesh
+/// into the cell maps of each view, without flange. `chosen` receives the mesh picked.
+LodResult chooseLod(const mesh::TriMesh& full,
+                    const std::function<std::vector<CellMaps>(const mesh::TriMesh&)>& rasterize,
+                    float normalTolerance, float silhouetteTolerance, mesh::TriMesh* chosen);
+
+/// The contact sheet: one row per cell, columns shaded preview, normal, depth, colour, coverage,
+/// distance. `thumb` is the thumbnail size in pixels.
+core::Image contactSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int thumb);
+
+}  // namespace puff::bake

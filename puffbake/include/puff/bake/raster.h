@@ -1,0 +1,48 @@
+// Rasterizes puff meshes with OpenGL into supersampled sample buffers (the GL half of baking).
+// Needs a current GL 4.5 context; all GL objects are owned here and released on destruction.
+#pragma once
+
+#include <memory>
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec3.hpp>
+
+#include <puff/bake/maps.h>
+#include <puff/core/error.h>
+#include <puff/core/gl.h>
+#include <puff/mesh/mesh.h>
+
+namespace puff::bake {
+
+class PuffRasterizer {
+ public:
+  /// Builds the bake program and a `samplesPerSide`-square float framebuffer. Errors: the program
+  /// does not build, or the size exceeds GL_MAX_RENDERBUFFER_SIZE / GL_MAX_TEXTURE_SIZE.
+  static Result<std::unique_ptr<PuffRasterizer>> create(int samplesPerSide);
+
+  /// Uploads a mesh; vertices without colours get `defaultColor`.
+  void setMesh(const mesh::TriMesh& mesh, const glm::vec3& defaultColor);
+
+  /// Draws the mesh seen through `viewRotation` (rows: right, up, toward viewer) so the unit
+  /// square [-1,1]^2 fills the square of `contentSamples` samples starting `marginSamples` from the
+  /// buffer's top-left corner, and reads the samples back.
+  void render(const glm::mat3& viewRotation, int marginSamples, int contentSamples, SampleBuffer& out);
+
+  int samplesPerSide() const { return size_; }
+
+ private:
+  PuffRasterizer() = default;
+  int size_ = 0;
+  GLsizei indexCount_ = 0;
+  bool hasColors_ = false;
+  glm::vec3 defaultColor_{1.0f};
+  core::Program program_;
+  core::Framebuffer fbo_;
+  core::Texture normalDepthTex_, colorTex_;
+  core::Renderbuffer depthRb_;
+  core::VertexArray vao_;
+  core::Buffer vbo_, ibo_;
+  GLint viewRotationLoc_ = -1;
+};
+
+}  // namespace puff::bake

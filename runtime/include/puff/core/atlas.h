@@ -1,0 +1,96 @@
+// The puff atlas: the baked maps of McGuire & Fein Fig. 3 plus a signed distance map, and the
+// JSON sidecar that describes them. puffbake writes it; the runtime loads atlases only through
+// the sidecar, never by guessing file names.
+//
+// Encoding (level 0 of each map, top row first):
+//   normalDepth RGBA: ((N+1)/2, d+0.5). N is the camera-space unit normal of the puff surface
+//     (x right, y up, z toward the viewer). d is the surface's offset from the billboard plane,
+//     toward the viewer positive, in units of the puff's diameter (the content square's width),
+//     so d lies in [-0.5, 0.5]. Flange and empty texels hold N=(0,0,1), d=0.
+//   color RGBA: diffuse colour C (as authored, sRGB-encoded) and coverage alpha, dilated by the
+//     flange; flange texels have C black. Straight (not premultiplied) alpha.
+//   distance (one channel): signed distance from the texel center to the puff's silhouette
+//     (without the flange), in level-0 texels, outside positive: dist = (v - 0.5) * 2 * range.
+// A cell is one (variation, view); the puff's unit bounding sphere projects onto the cell's
+// content square, centred in the cell with `margin` texels on each side.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
+
+#include <puff/core/error.h>
+#include <puff/core/image.h>
+
+namespace puff::core {
+
+inline constexpr int kAtlasFormatVersion = 1;
+
+struct AtlasCell {
+  int variation = 0;
+  int view = 0;
+  std::array<int, 4> rect{};  ///< x, y, width, height of the whole cell in level-0 texels (y down)
+  glm::vec3 viewDir{0, 0, 1}; ///< puff-space direction from the puff toward the camera
+  glm::vec3 viewUp{0, 1, 0};  ///< puff-space direction that is "up" in the cell
+};
+
+struct AtlasSource {
+  std::string path;       ///< mesh file as given to puffbake, or empty for a generator
+  std::string hash;       ///< "fnv1a64:<hex>" of the file's bytes; empty for a generator
+  std::string generator;  ///< "sphere", "lumpy", "cluster", or empty for a file
+  nlohmann::json params;  ///< generator parameters (seed included)
+  std::size_t faces = 0;       ///< faces of the normalized source mesh
+  std::size_t facesBaked = 0;  ///< faces actually rasterized (fewer with --lod auto)
+};
+
+struct AtlasMap {
+  std::vector<std::string> levels;  ///< file per mip level, level 0 first, relative to the sidecar
+};
+
+struct AtlasDesc {
+  int formatVersion = kAtlasFormatVersion;
+  std::string fileFormat = "png";  ///< "png" (8-bit maps, 16-bit distance) or "exr" (half float)
+  int width = 0, height = 0;       ///< level-0 atlas size in texels
+  int columns = 0, rows = 0;       ///< cells per row / column
+  int cellSize = 0;                ///< texels per cell side
+  int margin = 0;                  ///< texels between the cell edge and the content square
+  int contentSize = 0;             ///< cellSize - 2 * margin: texels across the puff's diameter
+  int supersample = 1;             ///< samples per texel side used when rasterizing
+  float depthScale = 1.0f;         ///< d in units of the puff diameter: d = (a - 0.5) * depthScale
+  float flangeTexels = 0.0f;       ///< outline flange width, level-0 texels
+  float distanceRange = 1.0f;      ///< distance map covers [-range, +range] level-0 texels
+  float alphaThreshold = 0.5f;     ///< coverage test the mip levels preserve
+  int mipLevels = 1;               ///< stored levels; cells stay apart at every one of them
+  int variations = 0;
+  int views = 1;                   ///< views per variation (viewGrid^2)
+  int viewGrid = 1;                ///< views form a viewGrid x viewGrid (hemi-)octahedral grid
+  std::string viewLayout = "hemioct";  ///< "hemioct" (front hemisphere) or "oct" (full sphere)
+  std::vector<AtlasCell> cells;    ///< variation-major: cell index = variation * views + view
+  std::vector<AtlasSource> sources;  ///< one per variation
+  std::map<std::string, AtlasMap> maps;  ///< "normalDepth", "color", "distance"
+
+  const AtlasCell& cell(int variation, int view) const { return cells.at(static_cast<std::size_t>(variation * views + view)); }
+};
+
+nlohmann::json toJson(const AtlasDesc& desc);
+/// Validates every field (sizes positive and consistent, cells inside the atlas, maps present);
+/// errors name `file` and the JSON pointer of the offending field.
+Result<AtlasDesc> atlasFromJson(const nlohmann::json& j, const std::filesystem::path& file = {});
+/// Reads and validates a sidecar file.
+Result<AtlasDesc> loadAtlasDesc(const std::filesystem::path& sidecar);
+
+/// An atlas in memory: its description and every map level as float images.
+struct Atlas {
+  AtlasDesc desc;
+  std::map<std::string, std::vector<Image>> maps;  ///< same keys as desc.maps, level 0 first
+};
+
+/// Loads the sidecar and every image it names, checking each level's size against the desc.
+Result<Atlas> loadAtlas(const std::filesystem::path& sidecar);
+
+}  // namespace puff::core

@@ -1,0 +1,36 @@
+// Golden-image comparison for render tests, after Filament's renderdiff: each case has a
+// per-pixel threshold and a failing-pixel fraction. On failure the actual image and a diff image
+// are written next to each other so a person can look, and tests/golden/accept.sh copies the
+// actual images over the references once they are judged right.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include <puff/core/image.h>
+
+namespace puff::test {
+
+struct GoldenTolerance {
+  float pixelThreshold = 5.0f / 255.0f;  ///< a pixel fails when any channel differs by more
+  double maxFailingFraction = 0.001;     ///< the case fails when more pixels than this fail
+};
+
+struct GoldenResult {
+  bool passed = false;
+  double failingFraction = 0.0;
+  float maxDifference = 0.0f;
+  std::string message;                        ///< why it failed, with the paths written
+  std::filesystem::path actualPath, diffPath;  ///< written only on failure
+};
+
+/// References live in referenceDir() as CASE.png; failures write CASE.actual.png and
+/// CASE.diff.png into outputDir(). A missing reference fails (and writes the actual image).
+GoldenResult compareToGolden(const core::Image& actual, const std::string& caseName, const GoldenTolerance& tol = {});
+
+/// $PUFF_GOLDEN_REFERENCE_DIR, else tests/golden/references in the source tree.
+std::filesystem::path referenceDir();
+/// $PUFF_GOLDEN_OUTPUT_DIR, else golden-out/ under the current directory.
+std::filesystem::path outputDir();
+
+}  // namespace puff::test

@@ -1,0 +1,362 @@
+// The baker against closed forms: a unit sphere's normals, depth, coverage radius, flange width
+// and distance field; an ellipsoid's projected area in every view; determinism; mips.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <glm/geometric.hpp>
+
+#include <puff/bake/baker.h>
+#include <puff/core/atlas.h>
+#include <puff/core/files.h>
+
+#include "support/gl_fixture.h"
+
+namespace puff::bake {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPi = 3.14159265358979323846;
+
+fs::path tempDir(const std::string& name) {
+  fs::path p = fs::temp_directory_path() / ("puff_bake_test_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(p);
+  return p;
+}
+
+std::vector<PuffSource> sphereSources(int count = 1, int subdivisions = 6) {
+  std::vector<PuffSource> s(static_cast<std::size_t>(count));
+  for (auto& src : s) {
+    src.mesh = mesh::generateSphere({subdivisions});
+    src.provenance.generator = "sphere";
+    src.provenance.faces = src.mesh.faceCount();
+  }
+  return s;
+}
+
+// Analytic unit sphere seen from +z, sampled at a texel centre of a cell.
+struct SphereTexel {
+  double u, v, r2;
+};
+SphereTexel sphereAt(const core::AtlasDesc& d, int x, int y) {
+  const double scale = 2.0 / d.contentSize;
+  const double u = ((x + 0.5) - d.margin) * scale - 1.0;
+  const double v = 1.0 - ((y + 0.5) - d.margin) * scale;
+  return {u, v, u * u + v * v};
+}
+
+class BakeSphere : public test::GlTest {
+ protected:
+  static void SetUpTestSuite() {
+    GlTest::SetUpTestSuite();
+    dir_ = tempDir("sphere");
+    BakeOptions o;
+    o.cellSize = 128;
+    o.flange = {4.0f, false};
+    o.supersample = 4;
+    o.outDir = dir_;
+    auto r = bakeAtlas(sphereSources(), o);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    auto atlas = core::loadAtlas(r->sidecar);
+    ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+    atlas_ = std::make_unique<core::Atlas>(std::move(*atlas));
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(dir_);
+    atlas_.reset();
+  }
+  static inline fs::path dir_;
+  static inline std::unique_ptr<core::Atlas> atlas_;
+};
+
+TEST_F(BakeSphere, InteriorNormalsAndDepthMatchTheSphereWithin1Over255) {
+  const core::AtlasDesc& d = atlas_->desc;
+  const core::Image& nd = atlas_->maps.at("normalDepth")[0];
+  const core::Image& dist = atlas_->maps.at("distance")[0];
+  const double tol = 1.0 / 255.0 + 1e-6;
+  int checked = 0;
+  double worst = 0;
+  for (int y = 0; y < d.cellSize; ++y) {
+    for (int x = 0; x < d.cellSize; ++x) {
+      // Interior: the texel's whole footprint lies at least one texel inside the silhouette.
+      const double signedDist = (dist.at(x, y) - 0.5) * 2.0 * d.distanceRange;
+      if (signedDist > -1.5) continue;
+      const SphereTexel s = sphereAt(d, x, y);
+      ASSERT_LT(s.r2, 1.0);
+      const double nz = std::sqrt(1.0 - s.r2);
+      const double expected[4] = {(s.u + 1) / 2, (s.v + 1) / 2, (nz + 1) / 2, nz / 2 + 0.5};
+      for (int c = 0; c < 4; ++c) {
+        const double err = std::abs(nd.at(x, y, c) - expected[c]);
+        worst = std::max(worst, err);
+        ASSERT_LE(err, tol) << "texel " << x << "," << y << " channel " << c;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 0.6 * kPi * std::pow(d.contentSize / 2.0, 2)) << "too few interior texels checked";
+  RecordProperty("worst_error_255", std::to_string(worst * 255));
+}
+
+TEST_F(BakeSphere, CoverageRadiusWithinOneTexelAndFlangeAsAsked) {
+  const core::AtlasDesc& d = atlas_->desc;
+  const core::Image& color = atlas_->maps.at("color")[0];
+  const core::Image& dist = atlas_->maps.at("distance")[0];
+  // Body coverage from the distance map (texels inside), dilated coverage from alpha: both are
+  // discs, so their areas give the radii.
+  double bodyArea = 0, dilatedArea = 0;
+  for (int y = 0; y < d.cellSize; ++y) {
+    for (int x = 0; x < d.cellSize; ++x) {
+      const double sd = (dist.at(x, y) - 0.5) * 2.0 * d.distanceRange;
+      bodyArea += std::clamp(0.5 - sd, 0.0, 1.0);
+      dilatedArea += color.at(x, y, 3);
+    }
+  }
+  const double radius = d.contentSize / 2.0;
+  EXPECT_NEAR(std::sqrt(bodyArea / kPi), radius, 1.0);
+  EXPECT_NEAR(std::sqrt(dilatedArea / kPi) - radius, d.flangeTexels, 0.25);
+  EXPECT_FLOAT_EQ(d.flangeTexels, 4.0f);
+  // Flange texels are opaque black at d = 0, the outline of the paper's Fig. 3.
+  const core::Image& nd = atlas_->maps.at("normalDepth")[0];
+  int flangeTexels = 0;
+  for (int y = 0; y < d.cellSize; ++y) {
+    for (int x = 0; x < d.cellSize; ++x) {
+      const double r = std::sqrt(sphereAt(d, x, y).r2) * radius;  // texels from the centre
+      if (r > radius + 1.0 && r < radius + d.flangeTexels - 1.0) {
+        ++flangeTexels;
+        ASSERT_NEAR(color.at(x, y, 3), 1.0, 1e-6);
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(color.at(x, y, c), 0.0, 1e-6);
+        ASSERT_NEAR(nd.at(x, y, 3), 0.5, 1.0 / 255.0);
+      }
+      if (r > radius + d.flangeTexels + 1.0) {
+        ASSERT_EQ(color.at(x, y, 3), 0.0f) << x << "," << y;
+      }
+    }
+  }
+  EXPECT_GT(flangeTexels, 0);
+}
+
+TEST_F(BakeSphere, DistanceFieldMatchesTheAnalyticCircle) {
+  const core::AtlasDesc& d = atlas_->desc;
+  const core::Image& dist = atlas_->maps.at("distance")[0];
+  const double radius = d.contentSize / 2.0;
+  double worst = 0;
+  for (int y = 0; y < d.cellSize; ++y) {
+    for (int x = 0; x < d.cellSize; ++x) {
+      const double analytic = std::sqrt(sphereAt(d, x, y).r2) * radius - radius;
+      if (std::abs(analytic) > d.distanceRange - 1.0) continue;  // beyond the encoded range
+      const double baked = (dist.at(x, y) - 0.5) * 2.0 * d.distanceRange;
+      worst = std::max(worst, std::abs(baked - analytic));
+    }
+  }
+  EXPECT_LE(worst, 0.3) << "texels";
+}
+
+TEST_F(BakeSphere, MipLevelsKeepCoverageAndCellsApart) {
+  const core::AtlasDesc& d = atlas_->desc;
+  ASSERT_EQ(d.mipLevels, mipLevelCount(d.cellSize));
+  ASSERT_GE(d.mipLevels, 4);
+  const auto& colors = atlas_->maps.at("color");
+  const double base = coverageFraction(colors[0], 0, 0, d.cellSize, d.alphaThreshold);
+  for (int l = 1; l < d.mipLevels; ++l) {
+    const int cell = d.cellSize >> l;
+    const double f = coverageFraction(colors[static_cast<std::size_t>(l)], 0, 0, cell, d.alphaThreshold);
+    EXPECT_NEAR(f, base, 1.5 / cell) << "level " << l;  // within about one ring of texels
+    for (int i = 0; i < cell; ++i) {
+      EXPECT_EQ(colors[static_cast<std::size_t>(l)].at(i, 0, 3), 0.0f);
+      EXPECT_EQ(colors[static_cast<std::size_t>(l)].at(0, i, 3), 0.0f);
+    }
+  }
+}
+
+TEST_F(BakeSphere, SidecarRoundTrips) {
+  const core::AtlasDesc& d = atlas_->desc;
+  auto again = core::atlasFromJson(core::toJson(d));
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(core::toJson(*again), core::toJson(d));
+  EXPECT_EQ(d.sources.size(), 1u);
+  EXPECT_EQ(d.sources[0].generator, "sphere");
+  EXPECT_EQ(d.cells.size(), 1u);
+  EXPECT_EQ(d.contentSize, d.cellSize - 2 * d.margin);
+}
+
+TEST(BakeSidecar, RejectsBrokenFieldsWithTheirPointer) {
+  nlohmann::json j = {{"formatVersion", 1}};
+  auto r = core::atlasFromJson(j, "x.json");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, "x.json: /fileFormat: missing");
+  auto v = core::atlasFromJson(nlohmann::json{{"formatVersion", 99}}, "x.json");
+  ASSERT_FALSE(v.ok());
+  EXPECT_NE(v.error().message.find("/formatVersion"), std::string::npos);
+}
+
+class BakeGl : public test::GlTest {};
+
+TEST_F(BakeGl, EllipsoidProjectedAreaInEveryView) {
+  // An ellipsoid with semi-axes (1, 0.5, 0.7) seen along unit v covers pi*a*b*c*|(vx/a, vy/b, vz/c)|.
+  const glm::vec3 axes(1.0f, 0.5f, 0.7f);
+  auto src = sphereSources(1, 5);
+  for (auto& p : src[0].mesh.positions) p *= axes;
+  for (auto& n : src[0].mesh.normals) n = glm::normalize(n / axes);
+  for (ViewLayout layout : {ViewLayout::kHemiOct, ViewLayout::kOct}) {
+    BakeOptions o;
+    o.cellSize = 96;
+    o.viewGrid = 3;
+    o.viewLayout = layout;
+    o.flange = {0.0f, false};
+    o.mips = false;
+    o.contactSheet = false;
+    o.outDir = tempDir("ellipsoid");
+    auto r = bakeAtlas(src, o);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    auto atlas = core::loadAtlas(r->sidecar);
+    ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+    const core::AtlasDesc& d = atlas->desc;
+    ASSERT_EQ(d.cells.size(), 9u);
+    for (const core::AtlasCell& c : d.cells) {
+      EXPECT_NEAR(glm::length(c.viewDir), 1.0f, 1e-5f);
+      if (layout == ViewLayout::kHemiOct) {
+        EXPECT_GE(c.viewDir.z, 0.0f);
+      }
+      double area = 0;
+      for (int y = 0; y < d.cellSize; ++y) {
+        for (int x = 0; x < d.cellSize; ++x) area += atlas->maps.at("color")[0].at(c.rect[0] + x, c.rect[1] + y, 3);
+      }
+      const glm::vec3 v = c.viewDir;
+      const double expectedUnits = kPi * axes.x * axes.y * axes.z * glm::length(v / axes);
+      const double texelsPerUnit = d.contentSize / 2.0;
+      EXPECT_NEAR(area / (texelsPerUnit * texelsPerUnit), expectedUnits, 0.01 * expectedUnits)
+          << "view " << c.view << " dir " << v.x << "," << v.y << "," << v.z;
+    }
+    fs::remove_all(o.outDir);
+  }
+}
+
+TEST_F(BakeGl, VertexColoursReachTheColourMap) {
+  auto src = sphereSources(1, 4);
+  src[0].mesh.colors.assign(src[0].mesh.positions.size(), glm::vec3(0.2f, 0.6f, 0.8f));
+  BakeOptions o;
+  o.cellSize = 64;
+  o.outDir = tempDir("colors");
+  o.defaultColor = glm::vec3(1.0f, 0.0f, 0.0f);  // must not be used
+  auto r = bakeAtlas(src, o);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  auto atlas = core::loadAtlas(r->sidecar);
+  ASSERT_TRUE(atlas.ok());
+  const core::Image& color = atlas->maps.at("color")[0];
+  EXPECT_NEAR(color.at(32, 32, 0), 0.2, 0.5 / 255 + 1e-6);
+  EXPECT_NEAR(color.at(32, 32, 1), 0.6, 0.5 / 255 + 1e-6);
+  EXPECT_NEAR(color.at(32, 32, 2), 0.8, 0.5 / 255 + 1e-6);
+  EXPECT_EQ(color.at(32, 32, 3), 1.0f);
+  fs::remove_all(o.outDir);
+}
+
+std::map<std::string, std::string> readAll(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::directory_iterator(dir)) files[e.path().filename().string()] = *core::readFileBytes(e.path());
+  return files;
+}
+
+TEST_F(BakeGl, TwoBakesAreByteIdentical) {
+  mesh::LumpyParams p;
+  p.subdivisions = 4;
+  BakeOptions o;
+  o.cellSize = 64;
+  o.viewGrid = 2;
+  std::vector<std::map<std::string, std::string>> runs;
+  for (int i = 0; i < 2; ++i) {
+    std::vector<PuffSource> src(2);
+    for (int k = 0; k < 2; ++k) {
+      p.seed = 7 + static_cast<std::uint64_t>(k);
+      src[static_cast<std::size_t>(k)].mesh = mesh::generateLumpy(p);
+      src[static_cast<std::size_t>(k)].provenance.generator = "lumpy";
+    }
+    o.outDir = tempDir("determinism" + std::to_string(i));
+    auto r = bakeAtlas(src, o);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    runs.push_back(readAll(o.outDir));
+    fs::remove_all(o.outDir);
+  }
+  ASSERT_EQ(runs[0].size(), runs[1].size());
+  ASSERT_GE(runs[0].size(), 5u);
+  for (const auto& [name, bytes] : runs[0]) EXPECT_TRUE(runs[1].at(name) == bytes) << name << " differs";
+}
+
+TEST_F(BakeGl, ExrMapsMatchThePngMaps) {
+  auto src = sphereSources(1, 4);
+  BakeOptions o;
+  o.cellSize = 32;
+  o.outDir = tempDir("exr");
+  auto png = bakeAtlas(src, o);
+  ASSERT_TRUE(png.ok()) << png.error().message;
+  o.format = MapFormat::kExr;
+  auto exr = bakeAtlas(src, o);
+  ASSERT_TRUE(exr.ok()) << exr.error().message;
+  EXPECT_EQ(exr->desc.fileFormat, "exr");
+  EXPECT_EQ(exr->sidecar, png->sidecar);  // same sidecar name: the EXR bake replaced it
+  auto a = core::loadAtlas(exr->sidecar);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  EXPECT_EQ(fs::path(a->desc.maps.at("color").levels[0]).extension(), ".exr");
+  auto pngColor = core::readImage(o.outDir / "puff_color.png");
+  ASSERT_TRUE(pngColor.ok());
+  const core::Image& exrColor = a->maps.at("color")[0];
+  ASSERT_EQ(exrColor.pixels.size(), pngColor->pixels.size());
+  for (std::size_t i = 0; i < exrColor.pixels.size(); ++i) ASSERT_NEAR(exrColor.pixels[i], pngColor->pixels[i], 0.5 / 255 + 1e-3);
+  fs::remove_all(o.outDir);
+}
+
+TEST(BakeDistance, ExactTransformOfAPointAndAnEmptyImage) {
+  std::vector<std::uint8_t> f(9 * 7, 0);
+  f[3 * 9 + 4] = 1;  // (4, 3)
+  auto d = squaredDistanceTransform(f, 9, 7);
+  for (int y = 0; y < 7; ++y) {
+    for (int x = 0; x < 9; ++x) EXPECT_EQ(d[static_cast<std::size_t>(y * 9 + x)], float((x - 4) * (x - 4) + (y - 3) * (y - 3)));
+  }
+  auto none = squaredDistanceTransform(std::vector<std::uint8_t>(16, 0), 4, 4);
+  for (float v : none) EXPECT_TRUE(std::isinf(v));
+}
+
+TEST(BakeViews, RotationIsOrthonormalAndLooksAlongTheView) {
+  for (ViewLayout layout : {ViewLayout::kHemiOct, ViewLayout::kOct}) {
+    for (int grid : {1, 2, 3, 5}) {
+      for (int i = 0; i < grid * grid; ++i) {
+        const glm::vec3 dir = viewDirection(layout, grid, i);
+        const glm::mat3 r = viewRotation(dir);
+        const glm::vec3 z = r * dir;
+        EXPECT_NEAR(z.z, 1.0f, 1e-5f);
+        const glm::mat3 shouldBeIdentity = r * glm::transpose(r);
+        for (int a = 0; a < 3; ++a) {
+          for (int b = 0; b < 3; ++b) {
+            EXPECT_NEAR(shouldBeIdentity[a][b], a == b ? 1.0f : 0.0f, 1e-5f);
+          }
+        }
+      }
+    }
+    EXPECT_NEAR(viewDirection(layout, 1, 0).z, 1.0f, 1e-6f);
+  }
+  // The octahedral grid reaches the back hemisphere.
+  bool back = false;
+  for (int i = 0; i < 16; ++i) back |= viewDirection(ViewLayout::kOct, 4, i).z < -0.5f;
+  EXPECT_TRUE(back);
+}
+
+TEST(BakeOptions, RejectsAbsurdSizes) {
+  BakeOptions o;
+  o.cellSize = 0;
+  EXPECT_EQ(validate(o, 1).error().message, "--size must be in [8, 16384], got 0");
+  o.cellSize = 16385;
+  EXPECT_FALSE(validate(o, 1).ok());
+  o.cellSize = 8192;
+  EXPECT_TRUE(validate(o, 4).ok());  // 2x2 cells of 8192: exactly the limit
+  EXPECT_NE(validate(o, 5).error().message.find("above the 16384 limit"), std::string::npos);
+  o.cellSize = 64;
+  o.flange = {40.0f, false};
+  EXPECT_NE(validate(o, 1).error().message.find("--flange"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace puff::bake

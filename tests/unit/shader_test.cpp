@@ -1,0 +1,286 @@
+// Shader files: the embedded copies are the files in shaders/, every program there builds, and the
+// include step keeps errors pointing at the real file and line.
+#include <gtest/gtest.h>
+
+#include <puff/core/embedded.h>
+#include <puff/core/gl_context.h>
+#include <puff/core/shader.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+
+namespace puff::core {
+namespace {
+
+std::string readFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::size_t count(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+  return n;
+}
+
+std::unique_ptr<GlContext> osmesaCore45() {
+  GlContextOptions options;
+  options.backend = "osmesa";
+  Result<std::unique_ptr<GlContext>> context = createGlContext(options);
+  EXPECT_TRUE(context) << context.error().message;
+  return context ? std::move(*context) : nullptr;
+}
+
+// ---- the real shaders ------------------------------------------------------------------------------
+
+TEST(ShaderEmbedded, EqualsTheFilesOnDisk) {
+  const fs::path root = fs::path(PUFF_SOURCE_DIR) / "shaders";
+  std::set<std::string> embedded;
+  for (const EmbeddedFile* f = embeddedShaders(); f->name != nullptr; ++f) {
+    embedded.insert(f->name);
+    EXPECT_EQ(f->data[f->size], '\0') << f->name << ": the data is NUL-terminated";
+    EXPECT_EQ(std::string(f->data, f->size), readFile(root / f->name)) << f->name << " differs from the file on disk";
+  }
+  EXPECT_TRUE(std::is_sorted(embedded.begin(), embedded.end()));
+  // Every shader file on disk is embedded (a stage the embedding glob misses would be unbuildable
+  // from an installed binary).
+  const std::set<std::string> kExtensions = {".vert", ".tesc", ".tese", ".geom", ".frag", ".comp", ".glsl"};
+  for (const auto& entry : fs::recursive_directory_iterator(root)) {
+    if (!entry.is_regular_file() || kExtensions.count(entry.path().extension().string()) == 0) continue;
+    const std::string name = entry.path().lexically_relative(root).generic_string();
+    EXPECT_EQ(embedded.count(name), 1u) << name << " is on disk but not embedded";
+  }
+  EXPECT_FALSE(embedded.empty());
+}
+
+TEST(ShaderPrograms, EveryProgramCompilesAndLinksOnOSMesaCore45) {
+  setShaderDir({});
+  std::unique_ptr<GlContext> context = osmesaCore45();
+  ASSERT_NE(context, nullptr);
+  const auto programs = listShaderPrograms();
+  ASSERT_FALSE(programs.empty()) << "no shader programs found: the embedding is broken";
+  bool sawBake = false;
+  for (const auto& [name, stages] : programs) {
+    SCOPED_TRACE(name);
+    EXPECT_FALSE(name.starts_with("common/"));
+    sawBake |= name == "bake/puff";
+    Result<Program> program = buildProgram(stages);
+    ASSERT_TRUE(program) << program.error().message;
+    EXPECT_TRUE(*program);
+    EXPECT_TRUE(glIsProgram(program->get()));
+  }
+  EXPECT_TRUE(sawBake);
+  EXPECT_EQ(drainGlErrors(), "");
+}
+
+TEST(ShaderPrograms, BakeProgramHasItsStagesInPipelineOrder) {
+  setShaderDir({});
+  for (const auto& [name, stages] : listShaderPrograms()) {
+    if (name == "bake/puff") {
+      EXPECT_EQ(stages, (std::vector<std::string>{"bake/puff.vert", "bake/puff.frag"}));
+    }
+  }
+}
+
+TEST(ShaderFile, MissingFileIsNamed) {
+  setShaderDir({});
+  Result<std::string> source = shaderFileSource("bake/nope.frag");
+  ASSERT_FALSE(source);
+  EXPECT_EQ(source.error().message, "shader file not found: bake/nope.frag");
+  Result<std::string> escape = shaderFileSource("../CMakeLists.txt");
+  ASSERT_FALSE(escape) << "names may not leave the shaders root";
+}
+
+// ---- the include step, on a temporary shaders directory -------------------------------------------
+
+class ShaderInclude : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("puff_shader_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_ / "common");
+    fs::create_directories(dir_ / "test");
+    setShaderDir(dir_);
+  }
+  void TearDown() override {
+    setShaderDir({});
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  void write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name, std::ios::binary) << text;
+  }
+  /// A fragment shader that includes `includes` (one per line) and then has `body` after main.
+  void writeMain(const std::string& name, const std::vector<std::string>& includes, const std::string& body = "") {
+    std::string text = "#version 450 core\n";
+    for (const std::string& inc : includes) text += "#include \"" + inc + "\"\n";
+    text += "out vec4 oColor;\nvoid main() { oColor = vec4(1.0); }\n" + body;
+    write(name, text);
+  }
+  fs::path dir_;
+};
+
+TEST_F(ShaderInclude, ShaderDirOverridesTheEmbeddedFiles) {
+  EXPECT_EQ(shaderDir(), dir_);
+  write("test/a.vert", "#version 450 core\nvoid main() { gl_Position = vec4(0.0); }\n");
+  write("test/a.frag", "#version 450 core\nout vec4 c;\nvoid main() { c = vec4(1.0); }\n");
+  write("test/only.comp", "#version 450 core\nlayout(local_size_x = 1) in;\nvoid main() {}\n");
+  write("common/x.glsl", "float x() { return 1.0; }\n");
+  write("test/notes.txt", "not a shader\n");
+  EXPECT_EQ(listShaderFiles(),
+            (std::vector<std::string>{"common/x.glsl", "test/a.frag", "test/a.vert", "test/only.comp"}));
+  const auto programs = listShaderPrograms();
+  ASSERT_EQ(programs.size(), 2u);
+  EXPECT_EQ(programs[0].first, "test/a");
+  EXPECT_EQ(programs[0].second, (std::vector<std::string>{"test/a.vert", "test/a.frag"}));
+  EXPECT_EQ(programs[1].first, "test/only");
+  setShaderDir({});
+  EXPECT_TRUE(shaderDir().empty() || std::getenv("PUFF_SHADER_DIR") != nullptr);
+  EXPECT_TRUE(shaderFileSource("bake/puff.frag")) << "the embedded copies are back";
+}
+
+TEST_F(ShaderInclude, NestedIncludeAppearsOnceAndVersionStaysFirst) {
+  write("common/leaf.glsl", "float leafValue() { return 0.25; }  // LEAF-MARKER\n");
+  write("common/mid.glsl", "// mid\n#include \"common/leaf.glsl\"\nfloat midValue() { return leafValue() * 2.0; }\n");
+  // leaf.glsl is reached twice: directly and through mid.glsl.
+  write("test/main.frag",
+        "#version 450 core\n"
+        "#include \"common/mid.glsl\"\n"
+        "#include \"common/leaf.glsl\"  // again\n"
+        "out vec4 oColor;\n"
+        "void main() { oColor = vec4(midValue() + leafValue()); }\n");
+  std::vector<std::string> files;
+  Result<std::string> source = preprocessShader("test/main.frag", &files);
+  ASSERT_TRUE(source) << source.error().message;
+  EXPECT_EQ(source->rfind("#version 450 core\n", 0), 0u) << *source;
+  EXPECT_EQ(count(*source, "LEAF-MARKER"), 1u) << *source;
+  EXPECT_EQ(count(*source, "midValue() {"), 1u) << *source;
+  EXPECT_EQ(files, (std::vector<std::string>{"test/main.frag", "common/mid.glsl", "common/leaf.glsl"}));
+  EXPECT_EQ(count(*source, "#include"), 0u) << *source;
+
+  std::unique_ptr<GlContext> context = osmesaCore45();
+  ASSERT_NE(context, nullptr);
+  write("test/main.vert", "#version 450 core\n#include \"common/leaf.glsl\"\nvoid main() { gl_Position = vec4(leafValue()); }\n");
+  Result<Program> program = buildProgram({"test/main.vert", "test/main.frag"});
+  EXPECT_TRUE(program) << program.error().message;
+}
+
+TEST_F(ShaderInclude, CycleIsAnError) {
+  write("common/a.glsl", "#include \"common/b.glsl\"\n");
+  write("common/b.glsl", "// b\n#include \"common/a.glsl\"\n");
+  writeMain("test/main.frag", {"common/a.glsl"});
+  Result<std::string> source = preprocessShader("test/main.frag");
+  ASSERT_FALSE(source);
+  EXPECT_EQ(source.error().message,
+            "shaders/common/b.glsl:2: include cycle: test/main.frag -> common/a.glsl -> common/b.glsl -> common/a.glsl");
+}
+
+TEST_F(ShaderInclude, MissingIncludeNamesTheIncludingFileAndLine) {
+  write("common/ok.glsl", "float ok() { return 1.0; }\n");
+  writeMain("test/main.frag", {"common/ok.glsl", "common/nope.glsl"});  // the second include is line 3
+  Result<std::string> source = preprocessShader("test/main.frag");
+  ASSERT_FALSE(source);
+  EXPECT_EQ(source.error().message, "shaders/test/main.frag:3: shader file not found: common/nope.glsl (shader dir " +
+                                        dir_.string() + ")");
+}
+
+TEST_F(ShaderInclude, MalformedIncludeIsAnError) {
+  write("test/main.frag", "#version 450 core\n#include <common/x.glsl>\n");
+  Result<std::string> source = preprocessShader("test/main.frag");
+  ASSERT_FALSE(source);
+  EXPECT_EQ(source.error().message.rfind("shaders/test/main.frag:2: malformed #include", 0), 0u)
+      << source.error().message;
+}
+
+TEST_F(ShaderInclude, ErrorInAnIncludedFileNamesThatFileAndLine) {
+  std::unique_ptr<GlContext> context = osmesaCore45();
+  ASSERT_NE(context, nullptr);
+  // first.glsl shifts the source-string numbers so a mix-up would show.
+  write("common/first.glsl", "// first\n// second line\nfloat first() { return 1.0; }\n");
+  write("common/broken.glsl",
+        "// A deliberately broken include.\n"
+        "float fine() { return 1.0; }\n"
+        "\n"
+        "float broken() { return 1.0 +; }\n"   // line 4
+        "float after() { return 2.0; }\n");
+  writeMain("test/main.frag", {"common/first.glsl", "common/broken.glsl"});
+  write("test/main.vert", "#version 450 core\nvoid main() { gl_Position = vec4(0.0); }\n");
+  Result<Program> program = buildProgram({"test/main.vert", "test/main.frag"});
+  ASSERT_FALSE(program);
+  const std::string& message = program.error().message;
+  const std::string firstLine = message.substr(0, message.find('\n'));
+  EXPECT_EQ(firstLine.rfind("shaders/common/broken.glsl:4:", 0), 0u) << message;
+  EXPECT_NE(firstLine.find("error"), std::string::npos) << message;
+  EXPECT_EQ(message.find("first.glsl"), std::string::npos) << message;
+}
+
+TEST_F(ShaderInclude, ErrorInTheMainFileNamesItAndTheLineAfterIncludes) {
+  std::unique_ptr<GlContext> context = osmesaCore45();
+  ASSERT_NE(context, nullptr);
+  write("common/two.glsl", "// one\nfloat two() { return 2.0; }\n// three\n");
+  write("common/one.glsl", "#include \"common/two.glsl\"\nfloat one() { return two() - 1.0; }\n");
+  // Line 7 of main.frag (after #version, two includes, two lines of main and a blank) is broken.
+  writeMain("test/main.frag", {"common/one.glsl", "common/two.glsl"}, "\nvec3 broken = undefinedThing;\n");
+  write("test/main.vert", "#version 450 core\nvoid main() { gl_Position = vec4(0.0); }\n");
+  Result<Program> program = buildProgram({"test/main.vert", "test/main.frag"});
+  ASSERT_FALSE(program);
+  const std::string& message = program.error().message;
+  EXPECT_EQ(message.rfind("shaders/test/main.frag:7:", 0), 0u) << message;
+  EXPECT_NE(message.find("undefinedThing"), std::string::npos) << message;
+}
+
+TEST_F(ShaderInclude, LinkErrorNamesTheStageFiles) {
+  std::unique_ptr<GlContext> context = osmesaCore45();
+  ASSERT_NE(context, nullptr);
+  write("test/main.vert", "#version 450 core\nvoid main() { gl_Position = vec4(0.0); }\n");
+  write("test/main.frag",
+        "#version 450 core\nin vec3 vMissing;\nout vec4 c;\nvoid main() { c = vec4(vMissing, 1.0); }\n");
+  Result<Program> program = buildProgram({"test/main.vert", "test/main.frag"});
+  ASSERT_FALSE(program);
+  const std::string& message = program.error().message;
+  EXPECT_EQ(message.rfind("link shaders/test/main.vert + shaders/test/main.frag: ", 0), 0u) << message;
+  EXPECT_NE(message.find("vMissing"), std::string::npos) << message;
+}
+
+TEST_F(ShaderInclude, UnknownStageExtensionIsAnError) {
+  std::unique_ptr<GlContext> context = osmesaCore45();
+  ASSERT_NE(context, nullptr);
+  write("test/main.shader", "#version 450 core\n");
+  Result<Program> program = buildProgram({"test/main.shader"});
+  ASSERT_FALSE(program);
+  EXPECT_EQ(program.error().message.rfind("shaders/test/main.shader: not a shader stage", 0), 0u)
+      << program.error().message;
+}
+
+// ---- log formats of drivers we cannot run here ------------------------------------------------------
+
+TEST(ShaderLog, RewritesMesaNvidiaAndOtherLocations) {
+  const std::vector<std::string> files = {"cel/nailboard.frag", "common/depth.glsl"};
+  EXPECT_EQ(rewriteShaderLog("0:12(5): error: syntax error, unexpected '+'\n", files),
+            "shaders/cel/nailboard.frag:12:5: error: syntax error, unexpected '+'");
+  EXPECT_EQ(rewriteShaderLog("1(7) : error C1008: undefined variable \"x\"\n", files),
+            "shaders/common/depth.glsl:7: error C1008: undefined variable \"x\"");
+  EXPECT_EQ(rewriteShaderLog("ERROR: 1:3: 'y' : undeclared identifier\n", files),
+            "shaders/common/depth.glsl:3: error: 'y' : undeclared identifier");
+  // Warnings go after errors so the first line says what broke; location-less lines name the stage.
+  EXPECT_EQ(rewriteShaderLog("0:2(1): warning: unused\n1:9(3): error: bad\nsomething else\n", files),
+            "shaders/common/depth.glsl:9:3: error: bad\nshaders/cel/nailboard.frag:2:1: warning: unused\n"
+            "shaders/cel/nailboard.frag: something else");
+  EXPECT_EQ(rewriteShaderLog("", files), "");
+}
+
+}  // namespace
+}  // namespace puff::core
