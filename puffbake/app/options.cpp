@@ -54,8 +54,10 @@ std::optional<glm::vec3> parseColor(const std::string& s) {
 
 std::string flangeText(const bake::FlangeWidth& f) {
   char b[32];
-  if (f.fractionOfCell) std::snprintf(b, sizeof b, "%g%%", static_cast<double>(f.value * 100.0f));
-  else std::snprintf(b, sizeof b, "%g", static_cast<double>(f.value));
+  if (f.fractionOfCell)
+    std::snprintf(b, sizeof b, "%g%%", static_cast<double>(f.value * 100.0f));
+  else
+    std::snprintf(b, sizeof b, "%g", static_cast<double>(f.value));
   return b;
 }
 
@@ -69,15 +71,18 @@ struct GeneratorFlags {
     app.add_option("--subdivisions", subdivisions,
                    "Icosphere subdivision level (sphere/lumpy default 4/5, 0..7; cluster spheres default 3, 0..6)");
     app.add_option("--seed", seed, "Random seed; variation i uses seed + i")->capture_default_str();
-    app.add_option("--amplitude", spec.lumpy.amplitude, "lumpy: radial displacement, fraction of the radius")->capture_default_str();
-    app.add_option("--frequency", spec.lumpy.frequency, "lumpy: noise frequency over the sphere")->capture_default_str();
+    app.add_option("--amplitude", spec.lumpy.amplitude, "lumpy: radial displacement, fraction of the radius")
+        ->capture_default_str();
+    app.add_option("--frequency", spec.lumpy.frequency, "lumpy: noise frequency over the sphere")
+        ->capture_default_str();
     app.add_option("--octaves", spec.lumpy.octaves, "lumpy: fractal noise octaves")->capture_default_str();
     app.add_option("--count", spec.cluster.count, "cluster: spheres per puff")->capture_default_str();
     app.add_option("--radius-min", spec.cluster.radiusMin, "cluster: smallest sphere radius")->capture_default_str();
     app.add_option("--radius-max", spec.cluster.radiusMax, "cluster: largest sphere radius")->capture_default_str();
     app.add_option("--spread", spec.cluster.spread, "cluster: how far sphere centres scatter")->capture_default_str();
     if (withVariations) {
-      app.add_option("-n,--variations", spec.count, "Puffs to generate (each its own variation)")->capture_default_str();
+      app.add_option("-n,--variations", spec.count, "Puffs to generate (each its own variation)")
+          ->capture_default_str();
     }
   }
   std::optional<int> subdivisions;
@@ -105,8 +110,8 @@ class Progress {
     if (elapsed < 1.0 && !shown_) return;
     const int percent = total > 0 ? 100 * done / total : 100;
     if (tty_) {
-      std::fprintf(stderr, "\r%s: %.*s %d/%d (%d%%)   ", kTool, static_cast<int>(stage.size()), stage.data(), done, total,
-                   percent);
+      std::fprintf(stderr, "\r%s: %.*s %d/%d (%d%%)   ", kTool, static_cast<int>(stage.size()), stage.data(), done,
+                   total, percent);
     } else if (stage != lastStage_ || percent / 25 != lastQuarter_ || done == total) {
       std::fprintf(stderr, "%s: %.*s %d/%d\n", kTool, static_cast<int>(stage.size()), stage.data(), done, total);
       lastQuarter_ = percent / 25;
@@ -145,8 +150,8 @@ int runMesh(const Options& o) {
     return 1;
   }
   if (!o.quiet) {
-    std::printf("%s: wrote %s (%zu faces, %zu vertices, unit bounding sphere)\n", kTool, o.meshOut.c_str(), m.faceCount(),
-                m.positions.size());
+    std::printf("%s: wrote %s (%zu faces, %zu vertices, unit bounding sphere)\n", kTool, o.meshOut.c_str(),
+                m.faceCount(), m.positions.size());
   }
   return 0;
 }
@@ -179,13 +184,16 @@ int runBake(const Options& o) {
   const core::AtlasDesc& d = result->desc;
   for (std::size_t i = 0; i < result->lod.size(); ++i) {
     if (const auto& lod = result->lod[i]) {
-      std::printf("%s: lod: variation %zu: %zu -> %zu faces (mean normal error %.4f = %.2f/255, silhouette %.2f texels, %d trials)\n",
-                  kTool, i, lod->facesBefore, lod->facesAfter, static_cast<double>(lod->normalError),
-                  static_cast<double>(lod->normalError * 255.0f), static_cast<double>(lod->silhouetteError), lod->evaluations);
+      std::printf(
+          "%s: lod: variation %zu: %zu -> %zu faces (mean normal error %.4f = %.2f/255, silhouette %.2f texels, %d "
+          "trials)\n",
+          kTool, i, lod->facesBefore, lod->facesAfter, static_cast<double>(lod->normalError),
+          static_cast<double>(lod->normalError * 255.0f), static_cast<double>(lod->silhouetteError), lod->evaluations);
     }
   }
-  std::printf("%s: wrote %s: %d variation(s) x %d view(s), %dx%d atlas of %d-texel cells, %d mip level(s), %zu files\n", kTool,
-              result->sidecar.c_str(), d.variations, d.views, d.width, d.height, d.cellSize, d.mipLevels, result->files.size());
+  std::printf("%s: wrote %s: %d variation(s) x %d view(s), %dx%d atlas of %d-texel cells, %d mip level(s), %zu files\n",
+              kTool, result->sidecar.c_str(), d.variations, d.views, d.width, d.height, d.cellSize, d.mipLevels,
+              result->files.size());
   if (!result->contactSheet.empty()) std::printf("%s: contact sheet: %s\n", kTool, result->contactSheet.c_str());
   return 0;
 }
@@ -194,25 +202,30 @@ int runBake(const Options& o) {
 
 std::variant<Options, int> parse(int argc, char** argv) {
   Options o;
-  CLI::App app{"puffbake: bakes 3D puff meshes into atlases of camera-space normal + depth, colour + dilated "
-               "coverage and signed distance to the silhouette (McGuire & Fein 2006, Fig. 3 / Eq. 1), with a JSON "
-               "sidecar and a contact sheet.",
-               kTool};
+  CLI::App app{
+      "puffbake: bakes 3D puff meshes into atlases of camera-space normal + depth, colour + dilated "
+      "coverage and signed distance to the silhouette (McGuire & Fein 2006, Fig. 3 / Eq. 1), with a JSON "
+      "sidecar and a contact sheet.",
+      kTool};
   app.require_subcommand(1);
   app.set_version_flag("--version", "puffbake 0.1.0");
 
-  CLI::App* bakeCmd = app.add_subcommand("bake", "Bake mesh files (OBJ, OFF, PLY, STL; one variation each) and/or generated puffs");
+  CLI::App* bakeCmd =
+      app.add_subcommand("bake", "Bake mesh files (OBJ, OFF, PLY, STL; one variation each) and/or generated puffs");
   bakeCmd->add_option("meshes", o.inputs, "Puff mesh files, one variation each")->check(CLI::ExistingPath);
   GeneratorFlags bakeGen;
   bakeGen.add(*bakeCmd, true);
   bakeCmd->add_option("-o,--out", o.bake.outDir, "Output directory (created if missing)")->capture_default_str();
   bakeCmd->add_option("--name", o.bake.name, "File prefix: NAME.json, NAME_color.png, ...")->capture_default_str();
-  bakeCmd->add_option("-s,--size", o.bake.cellSize, "Cell size in texels, per variation and view (8..16384)")->capture_default_str();
-  bakeCmd->add_option("--supersample", o.bake.supersample,
-                      "Samples per texel side for clean edges; 0 = auto (4, fewer for cells above 1024)")
+  bakeCmd->add_option("-s,--size", o.bake.cellSize, "Cell size in texels, per variation and view (8..16384)")
+      ->capture_default_str();
+  bakeCmd
+      ->add_option("--supersample", o.bake.supersample,
+                   "Samples per texel side for clean edges; 0 = auto (4, fewer for cells above 1024)")
       ->capture_default_str();
   std::string flange = flangeText(o.bake.flange);
-  bakeCmd->add_option("--flange", flange, "Outline flange width: texels (\"6\") or percent of the cell (\"3%\"); 0 = none")
+  bakeCmd
+      ->add_option("--flange", flange, "Outline flange width: texels (\"6\") or percent of the cell (\"3%\"); 0 = none")
       ->capture_default_str();
   bakeCmd->add_option("--views", o.bake.viewGrid, "Views per variation as an N x N grid of directions (1 = front only)")
       ->capture_default_str();
@@ -231,14 +244,18 @@ std::variant<Options, int> parse(int argc, char** argv) {
   bakeCmd->add_flag("--no-mips", noMips, "Write level 0 only");
   bakeCmd->add_flag("--no-contact-sheet", noSheet, "Skip NAME_contact.png");
   std::string lod = "full";
-  bakeCmd->add_option("--lod", lod, "full: bake meshes as given; auto: decimate each to the fewest faces within the tolerances")
+  bakeCmd
+      ->add_option("--lod", lod,
+                   "full: bake meshes as given; auto: decimate each to the fewest faces within the tolerances")
       ->check(CLI::IsMember({"full", "auto"}))
       ->capture_default_str();
-  bakeCmd->add_option("--lod-normal-tolerance", o.bake.lodNormalTolerance,
-                      "--lod auto: mean encoded normal error allowed, per channel (1/255 = 0.00392)")
+  bakeCmd
+      ->add_option("--lod-normal-tolerance", o.bake.lodNormalTolerance,
+                   "--lod auto: mean encoded normal error allowed, per channel (1/255 = 0.00392)")
       ->capture_default_str();
-  bakeCmd->add_option("--lod-silhouette-tolerance", o.bake.lodSilhouetteTolerance,
-                      "--lod auto: silhouette displacement allowed, texels")
+  bakeCmd
+      ->add_option("--lod-silhouette-tolerance", o.bake.lodSilhouetteTolerance,
+                   "--lod auto: silhouette displacement allowed, texels")
       ->capture_default_str();
   bakeCmd->add_option("--gl", o.glBackend, "GL backend: osmesa, egl or glfw (default: $PUFF_GL, else osmesa)")
       ->check(CLI::IsMember({"osmesa", "egl", "glfw"}));
@@ -247,7 +264,8 @@ std::variant<Options, int> parse(int argc, char** argv) {
   bool printDefaults = false;
   bakeCmd->add_flag("--print-defaults", printDefaults, "Print every bake option's default value and exit");
 
-  CLI::App* meshCmd = app.add_subcommand("mesh", "Write a generated puff, or a normalized copy of a mesh file, as OBJ/OFF/PLY/STL");
+  CLI::App* meshCmd =
+      app.add_subcommand("mesh", "Write a generated puff, or a normalized copy of a mesh file, as OBJ/OFF/PLY/STL");
   meshCmd->add_option("mesh", o.inputs, "Mesh file to normalize (or use --generate)")->check(CLI::ExistingPath);
   GeneratorFlags meshGen;
   meshGen.add(*meshCmd, false);
@@ -270,11 +288,12 @@ std::variant<Options, int> parse(int argc, char** argv) {
 
   if (printDefaults) {
     bake::BakeOptions d;
-    std::printf("size = %d\nsupersample = 0 (auto)\nflange = %s\nviews = %d\nview-layout = hemioct\nformat = png\n"
-                "color = #ffffff\nmips = on\ncontact-sheet = on\nlod = full\nlod-normal-tolerance = %g\n"
-                "lod-silhouette-tolerance = %g\nname = %s\nout = %s\nvariations = %d (with --generate)\n",
-                d.cellSize, flangeText(d.flange).c_str(), d.viewGrid, static_cast<double>(d.lodNormalTolerance),
-                static_cast<double>(d.lodSilhouetteTolerance), d.name.c_str(), d.outDir.c_str(), bake::GeneratorSpec{}.count);
+    std::printf(
+        "size = %d\nsupersample = 0 (auto)\nflange = %s\nviews = %d\nview-layout = hemioct\nformat = png\n"
+        "color = #ffffff\nmips = on\ncontact-sheet = on\nlod = full\nlod-normal-tolerance = %g\n"
+        "lod-silhouette-tolerance = %g\nname = %s\nout = %s\nvariations = %d (with --generate)\n",
+        d.cellSize, flangeText(d.flange).c_str(), d.viewGrid, static_cast<double>(d.lodNormalTolerance),
+        static_cast<double>(d.lodSilhouetteTolerance), d.name.c_str(), d.outDir.c_str(), bake::GeneratorSpec{}.count);
     return 0;
   }
   if (bakeCmd->parsed()) {
@@ -310,9 +329,12 @@ std::variant<Options, int> parse(int argc, char** argv) {
 
 int run(const Options& o) {
   switch (o.command) {
-    case Command::kBake: return runBake(o);
-    case Command::kMesh: return runMesh(o);
-    case Command::kNone: break;
+    case Command::kBake:
+      return runBake(o);
+    case Command::kMesh:
+      return runMesh(o);
+    case Command::kNone:
+      break;
   }
   return 2;
 }

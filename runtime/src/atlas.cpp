@@ -34,11 +34,11 @@ class Reader {
   fs::path file_;
 };
 
-#define PUFF_READ(var, T, obj, key, where)                   \
-  do {                                                        \
-    auto readResult_ = reader.get<T>(obj, key, where);        \
-    if (!readResult_) return readResult_.error();             \
-    var = *readResult_;                                       \
+#define PUFF_READ(var, T, obj, key, where)             \
+  do {                                                 \
+    auto readResult_ = reader.get<T>(obj, key, where); \
+    if (!readResult_) return readResult_.error();      \
+    var = *readResult_;                                \
   } while (0)
 
 using Rect = std::array<int, 4>;
@@ -74,7 +74,8 @@ json toJson(const AtlasDesc& d) {
   j["viewGrid"] = d.viewGrid;
   j["viewLayout"] = d.viewLayout;
   j["encoding"] = {
-      {"normalDepth", "rgba = ((N+1)/2, d+0.5); N camera-space unit normal, d offset toward the viewer in puff diameters"},
+      {"normalDepth",
+       "rgba = ((N+1)/2, d+0.5); N camera-space unit normal, d offset toward the viewer in puff diameters"},
       {"color", "rgb = diffuse colour (sRGB), a = coverage dilated by the flange (straight alpha)"},
       {"distance", "signed distance to the silhouette in level-0 texels, outside positive: (v-0.5)*2*distanceRange"}};
   json maps = json::object();
@@ -82,8 +83,11 @@ json toJson(const AtlasDesc& d) {
   j["maps"] = maps;
   json cells = json::array();
   for (const auto& c : d.cells) {
-    cells.push_back({{"variation", c.variation}, {"view", c.view}, {"rect", c.rect},
-                     {"viewDir", vec3Json(c.viewDir)}, {"viewUp", vec3Json(c.viewUp)}});
+    cells.push_back({{"variation", c.variation},
+                     {"view", c.view},
+                     {"rect", c.rect},
+                     {"viewDir", vec3Json(c.viewDir)},
+                     {"viewUp", vec3Json(c.viewUp)}});
   }
   j["cells"] = cells;
   json sources = json::array();
@@ -143,7 +147,8 @@ Result<AtlasDesc> atlasFromJson(const json& j, const fs::path& file) {
   }
   if (d.variations <= 0) return reader.fail("/variations", "must be positive");
   if (d.viewGrid <= 0 || d.views != d.viewGrid * d.viewGrid) return reader.fail("/views", "must be viewGrid squared");
-  if (d.viewLayout != "hemioct" && d.viewLayout != "oct") return reader.fail("/viewLayout", "must be \"hemioct\" or \"oct\"");
+  if (d.viewLayout != "hemioct" && d.viewLayout != "oct")
+    return reader.fail("/viewLayout", "must be \"hemioct\" or \"oct\"");
   if (d.mipLevels <= 0) return reader.fail("/mipLevels", "must be positive");
   if (!(d.distanceRange > 0)) return reader.fail("/distanceRange", "must be positive");
 
@@ -164,7 +169,8 @@ Result<AtlasDesc> atlasFromJson(const json& j, const fs::path& file) {
     if (!up) return up.error();
     c.viewDir = *dir;
     c.viewUp = *up;
-    if (c.variation * d.views + c.view != static_cast<int>(i)) return reader.fail(where, "cells must be variation-major");
+    if (c.variation * d.views + c.view != static_cast<int>(i))
+      return reader.fail(where, "cells must be variation-major");
     const auto& r = c.rect;
     if (r[0] < 0 || r[1] < 0 || r[2] != d.cellSize || r[3] != d.cellSize || r[0] + r[2] > d.width ||
         r[1] + r[3] > d.height) {
@@ -172,7 +178,8 @@ Result<AtlasDesc> atlasFromJson(const json& j, const fs::path& file) {
     }
     d.cells.push_back(c);
   }
-  if (!j.contains("sources") || !j["sources"].is_array() || j["sources"].size() != static_cast<std::size_t>(d.variations)) {
+  if (!j.contains("sources") || !j["sources"].is_array() ||
+      j["sources"].size() != static_cast<std::size_t>(d.variations)) {
     return reader.fail("/sources", "must hold one entry per variation");
   }
   for (std::size_t i = 0; i < j["sources"].size(); ++i) {
@@ -196,7 +203,8 @@ Result<AtlasDesc> atlasFromJson(const json& j, const fs::path& file) {
     AtlasMap m;
     if (!j["maps"].contains(name)) return reader.fail(where, "missing");
     PUFF_READ(m.levels, std::vector<std::string>, j["maps"][name], "levels", where);
-    if (m.levels.size() != static_cast<std::size_t>(d.mipLevels)) return reader.fail(where + "/levels", "must list mipLevels files");
+    if (m.levels.size() != static_cast<std::size_t>(d.mipLevels))
+      return reader.fail(where + "/levels", "must list mipLevels files");
     d.maps[name] = m;
   }
   return d;
@@ -223,8 +231,8 @@ Result<Atlas> loadAtlas(const fs::path& sidecar) {
       if (!img) return img.error();
       const int w = std::max(1, desc->width >> level), h = std::max(1, desc->height >> level);
       if (img->width != w || img->height != h) {
-        return Error::at(file, "is " + std::to_string(img->width) + "x" + std::to_string(img->height) + ", the sidecar says " +
-                                   std::to_string(w) + "x" + std::to_string(h));
+        return Error::at(file, "is " + std::to_string(img->width) + "x" + std::to_string(img->height) +
+                                   ", the sidecar says " + std::to_string(w) + "x" + std::to_string(h));
       }
       levels.push_back(std::move(*img));
     }

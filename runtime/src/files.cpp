@@ -45,8 +45,13 @@ Result<void> OutputTransaction::prepareDirectory(const fs::path& dir) {
 }
 
 fs::path OutputTransaction::stage(const fs::path& target) {
-  fs::path temp = target.parent_path() /
-                  ("." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + target.extension().string());
+  // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on a chain of operator+.
+  std::string name = ".";
+  name += target.filename().string();
+  name += ".tmp-";
+  name += std::to_string(::getpid());
+  name += target.extension().string();
+  const fs::path temp = target.parent_path() / name;
   staged_.emplace_back(temp, target);
   return temp;
 }

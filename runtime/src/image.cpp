@@ -10,10 +10,14 @@ namespace {
 
 OIIO::TypeDesc toTypeDesc(PixelType t) {
   switch (t) {
-    case PixelType::kUInt8: return OIIO::TypeDesc::UINT8;
-    case PixelType::kUInt16: return OIIO::TypeDesc::UINT16;
-    case PixelType::kHalf: return OIIO::TypeDesc::HALF;
-    case PixelType::kFloat: return OIIO::TypeDesc::FLOAT;
+    case PixelType::kUInt8:
+      return OIIO::TypeDesc::UINT8;
+    case PixelType::kUInt16:
+      return OIIO::TypeDesc::UINT16;
+    case PixelType::kHalf:
+      return OIIO::TypeDesc::HALF;
+    case PixelType::kFloat:
+      return OIIO::TypeDesc::FLOAT;
   }
   return OIIO::TypeDesc::UINT8;
 }

@@ -36,9 +36,12 @@ int main(int argc, char** argv) {
   int subdivisions = 5;
   std::string csvPath;
   for (int i = 1; i < argc; ++i) {
-    if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) reps = std::max(1, std::atoi(argv[++i]));
-    else if (!std::strcmp(argv[i], "--subdivisions") && i + 1 < argc) subdivisions = std::atoi(argv[++i]);
-    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) csvPath = argv[++i];
+    if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
+      reps = std::max(1, std::atoi(argv[++i]));
+    else if (!std::strcmp(argv[i], "--subdivisions") && i + 1 < argc)
+      subdivisions = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc)
+      csvPath = argv[++i];
     else {
       std::fprintf(stderr, "usage: puff_bench [--reps N] [--subdivisions N] [--csv FILE]\n");
       return 2;
@@ -60,8 +63,8 @@ int main(int argc, char** argv) {
     sources[static_cast<std::size_t>(i)].provenance.generator = "lumpy";
   }
   const fs::path out = fs::temp_directory_path() / "puff_bench_out";
-  const Case cases[] = {{"256_full", 256, false}, {"256_lod_auto", 256, true}, {"1024_full", 1024, false},
-                        {"1024_lod_auto", 1024, true}};
+  const Case cases[] = {
+      {"256_full", 256, false}, {"256_lod_auto", 256, true}, {"1024_full", 1024, false}, {"1024_lod_auto", 1024, true}};
   FILE* csv = csvPath.empty() ? stdout : std::fopen(csvPath.c_str(), "w");
   if (!csv) {
     std::fprintf(stderr, "puff_bench: error: %s: cannot write\n", csvPath.c_str());
@@ -93,8 +96,8 @@ int main(int argc, char** argv) {
     }
     const double median = medianMs(times);
     if (baseline == 0) baseline = median;
-    std::fprintf(csv, "%s,%d,%d,4,%zu,%zu,%d,%.1f,%.3f\n", c.name, c.cellSize, c.lod ? 1 : 0, facesIn, facesBaked, reps, median,
-                 median / baseline);
+    std::fprintf(csv, "%s,%d,%d,4,%zu,%zu,%d,%.1f,%.3f\n", c.name, c.cellSize, c.lod ? 1 : 0, facesIn, facesBaked, reps,
+                 median, median / baseline);
     std::fflush(csv);
     std::fprintf(stderr, "puff_bench: %s: median %.1f ms\n", c.name, median);
   }

@@ -60,8 +60,9 @@ GoldenResult compareToGolden(const core::Image& actual, const std::string& name,
       const bool fails = worst > tol.pixelThreshold;
       failing += fails;
       // Diff image: failing pixels red (brighter for larger differences), the rest a dim grey.
-      const float grey = 0.25f * (actual.channels >= 3 ? (actual.at(x, y, 0) + actual.at(x, y, 1) + actual.at(x, y, 2)) / 3.0f
-                                                       : actual.at(x, y, 0));
+      const float grey =
+          0.25f * (actual.channels >= 3 ? (actual.at(x, y, 0) + actual.at(x, y, 1) + actual.at(x, y, 2)) / 3.0f
+                                        : actual.at(x, y, 0));
       diff.at(x, y, 0) = fails ? 0.5f + 0.5f * std::min(1.0f, worst * 4.0f) : grey;
       diff.at(x, y, 1) = fails ? 0.0f : grey;
       diff.at(x, y, 2) = fails ? 0.0f : grey;
@@ -72,7 +73,8 @@ GoldenResult compareToGolden(const core::Image& actual, const std::string& name,
   if (!r.passed) {
     std::ostringstream s;
     s << r.failingFraction * 100.0 << "% of pixels differ by more than " << tol.pixelThreshold * 255.0f
-      << "/255 (allowed " << tol.maxFailingFraction * 100.0 << "%), max difference " << r.maxDifference * 255.0f << "/255";
+      << "/255 (allowed " << tol.maxFailingFraction * 100.0 << "%), max difference " << r.maxDifference * 255.0f
+      << "/255";
     writeActual(s.str());
     r.diffPath = out / (name + ".diff.png");
     auto w = core::writeImage(r.diffPath, diff, core::PixelType::kUInt8);

@@ -20,7 +20,7 @@ struct GoldenResult {
   bool passed = false;
   double failingFraction = 0.0;
   float maxDifference = 0.0f;
-  std::string message;                        ///< why it failed, with the paths written
+  std::string message;                         ///< why it failed, with the paths written
   std::filesystem::path actualPath, diffPath;  ///< written only on failure
 };
 

@@ -257,7 +257,8 @@ TEST_F(BakeGl, VertexColoursReachTheColourMap) {
 
 std::map<std::string, std::string> readAll(const fs::path& dir) {
   std::map<std::string, std::string> files;
-  for (const auto& e : fs::directory_iterator(dir)) files[e.path().filename().string()] = *core::readFileBytes(e.path());
+  for (const auto& e : fs::directory_iterator(dir))
+    files[e.path().filename().string()] = *core::readFileBytes(e.path());
   return files;
 }
 
@@ -305,7 +306,8 @@ TEST_F(BakeGl, ExrMapsMatchThePngMaps) {
   ASSERT_TRUE(pngColor.ok());
   const core::Image& exrColor = a->maps.at("color")[0];
   ASSERT_EQ(exrColor.pixels.size(), pngColor->pixels.size());
-  for (std::size_t i = 0; i < exrColor.pixels.size(); ++i) ASSERT_NEAR(exrColor.pixels[i], pngColor->pixels[i], 0.5 / 255 + 1e-3);
+  for (std::size_t i = 0; i < exrColor.pixels.size(); ++i)
+    ASSERT_NEAR(exrColor.pixels[i], pngColor->pixels[i], 0.5 / 255 + 1e-3);
   fs::remove_all(o.outDir);
 }
 
@@ -314,7 +316,8 @@ TEST(BakeDistance, ExactTransformOfAPointAndAnEmptyImage) {
   f[3 * 9 + 4] = 1;  // (4, 3)
   auto d = squaredDistanceTransform(f, 9, 7);
   for (int y = 0; y < 7; ++y) {
-    for (int x = 0; x < 9; ++x) EXPECT_EQ(d[static_cast<std::size_t>(y * 9 + x)], float((x - 4) * (x - 4) + (y - 3) * (y - 3)));
+    for (int x = 0; x < 9; ++x)
+      EXPECT_EQ(d[static_cast<std::size_t>(y * 9 + x)], float((x - 4) * (x - 4) + (y - 3) * (y - 3)));
   }
   auto none = squaredDistanceTransform(std::vector<std::uint8_t>(16, 0), 4, 4);
   for (float v : none) EXPECT_TRUE(std::isinf(v));

@@ -70,8 +70,7 @@ bool closedAndOriented(const TriMesh& m) {
 }
 
 bool bitIdentical(const std::vector<glm::vec3>& a, const std::vector<glm::vec3>& b) {
-  return a.size() == b.size() &&
-         (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)) == 0);
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::vec3)) == 0);
 }
 
 /// Connected components by shared vertices (union-find).
@@ -91,17 +90,14 @@ std::vector<std::uint32_t> components(const TriMesh& m) {
   return label;
 }
 
-bool oneLine(const std::string& s) {
-  return !s.empty() && s.find('\n') == std::string::npos && s.back() != '.';
-}
+bool oneLine(const std::string& s) { return !s.empty() && s.find('\n') == std::string::npos && s.back() != '.'; }
 
 /// A per-test scratch directory, removed afterwards.
 class MeshIo : public ::testing::Test {
  protected:
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() /
-           ("puff_mesh_test_" + std::to_string(::getpid()) + "_" + info->name());
+    dir_ = fs::temp_directory_path() / ("puff_mesh_test_" + std::to_string(::getpid()) + "_" + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -234,7 +230,7 @@ TEST(MeshGenerators, LumpyIsBitIdenticalToTheRecordedShape) {
         h *= 0x100000001b3ull;
       }
   }
-  EXPECT_EQ(h, 0x0ull) << std::hex << h;
+  EXPECT_EQ(h, 0xaa9e0342377aedc8ull) << std::hex << h;
 }
 
 TEST(MeshGenerators, ClusterIsDeterministicNormalizedAndConnected) {
@@ -341,8 +337,7 @@ TEST(MeshValidate, NamesTheProblemAndWhere) {
 
   bad = m;
   bad.triangles[1] = {0, 1, 4};
-  EXPECT_EQ(validateMesh(bad, "t").error().message,
-            "t: face 1 refers to vertex 4, but there are only 4 vertices");
+  EXPECT_EQ(validateMesh(bad, "t").error().message, "t: face 1 refers to vertex 4, but there are only 4 vertices");
 
   // The area threshold is relative: a tiny but well-shaped mesh is fine.
   TriMesh tiny = m;
@@ -405,6 +400,7 @@ TEST_F(MeshIo, AnInwardCubeIsFlipped) {
 }
 
 TEST_F(MeshIo, ReadsEightBitColorsFromPlyAndOff) {
+  // tetra_colors.off has a comment line, which OpenMesh's own OFF reader cannot skip.
   for (const char* name : {"tetra_colors.ply", "tetra_colors.off"}) {
     SCOPED_TRACE(name);
     LoadInfo info;
@@ -453,8 +449,7 @@ TEST_F(MeshIo, BadFilesGiveTheExpectedError) {
   expectLoadError(kData / "empty.obj", "no faces");
   expectLoadError(kData / "nan_vertex.obj", "vertex 1 has a non-finite coordinate");
   expectLoadError(kData / "zero_area.obj", "face 1 is degenerate (zero area)");
-  expectLoadError(kData / "nonmanifold.obj",
-                  "non-manifold mesh: the file declares 3 faces, only 2 could be added");
+  expectLoadError(kData / "nonmanifold.obj", "non-manifold mesh: the file declares 3 faces, only 2 could be added");
 
   // Fixed pseudo-random bytes, control characters included.
   std::string garbage;
@@ -465,13 +460,34 @@ TEST_F(MeshIo, BadFilesGiveTheExpectedError) {
     writeBytes(p, garbage);
     const auto r = loadMesh(p);
     ASSERT_FALSE(r.ok()) << p;
-    EXPECT_EQ(r.error().message.rfind(p.string() + ": not a valid " + name + " file", 0), 0u)
-        << r.error().message;
+    EXPECT_EQ(r.error().message.rfind(p.string() + ": not a valid " + name + " file", 0), 0u) << r.error().message;
   }
   writeBytes(dir_ / "words.obj", "hello world\n");
   expectLoadError(dir_ / "words.obj", "not a valid OBJ file (line 1)");
   writeBytes(dir_ / "zero.ply", "");
   expectLoadError(dir_ / "zero.ply", "not a valid PLY file");
+}
+
+TEST_F(MeshIo, FacesOpenMeshDropsAreCounted) {
+  // OpenMesh skips a face that repeats a vertex; the file declared it, so loading must fail.
+  writeBytes(dir_ / "repeat.obj",
+             "v 1 1 1\nv 1 -1 -1\nv -1 1 -1\nv -1 -1 1\n"
+             "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\nf 1 1 2\n");
+  expectLoadError(dir_ / "repeat.obj",
+                  "the file declares 5 faces, only 4 could be added "
+                  "(the others repeat a vertex or refer to a missing one)");
+}
+
+TEST_F(MeshIo, ObjColorsWrittenAsBytesAreScaledToUnit) {
+  writeBytes(dir_ / "bytes.obj",
+             "v 1 1 1 255 0 0\nv 1 -1 -1 0 255 0\nv -1 1 -1 0 0 255\nv -1 -1 1 51 102 153\n"
+             "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n");
+  LoadInfo info;
+  const auto r = loadMesh(dir_ / "bytes.obj", &info);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_TRUE(info.hadColors);
+  EXPECT_EQ(r->colors[0], glm::vec3(1, 0, 0));
+  EXPECT_NEAR(glm::length(r->colors[3] - glm::vec3(0.2f, 0.4f, 0.6f)), 0.0f, 1e-6f);
 }
 
 TEST_F(MeshIo, ANanInBinaryPlyIsCaughtAfterReading) {
@@ -595,9 +611,12 @@ TEST(MeshDecimate, ReachesTheTargetAndKeepsTheSphere) {
     for (const glm::vec3& p : d.positions) EXPECT_NEAR(glm::length(p), 1.0f, 1e-5f);
     for (const glm::uvec3& t : d.triangles) {
       const glm::vec3 c = (d.positions[t[0]] + d.positions[t[1]] + d.positions[t[2]]) / 3.0f;
-      EXPECT_GT(glm::length(c), target >= 500 ? 0.97f : 0.85f);
+      EXPECT_GT(glm::length(c), target >= 2000 ? 0.98f : target >= 500 ? 0.95f : 0.85f);
     }
-    EXPECT_NEAR(signedVolume(d) / (4.0 / 3.0 * M_PI), 1.0, target >= 500 ? 0.03 : 0.15);
+    // For scale: a regular icosphere with 1280 faces holds 99.1% of the ball, 320 faces 96.6%.
+    const double volume = signedVolume(d) / (4.0 / 3.0 * M_PI);
+    EXPECT_LT(volume, 1.0);
+    EXPECT_GT(volume, target >= 2000 ? 0.98 : target >= 500 ? 0.95 : 0.8);
     ASSERT_EQ(d.normals.size(), d.positions.size());
     for (std::size_t i = 0; i < d.positions.size(); ++i) EXPECT_GT(glm::dot(d.normals[i], d.positions[i]), 0.9f);
   }

@@ -68,8 +68,9 @@ class PuffbakeCli : public ::testing::Test {
 TEST_F(PuffbakeCli, HelpListsTheOptionsThatExist) {
   CliRun r = run("bake --help");
   EXPECT_EQ(r.exitCode, 0);
-  for (const char* flag : {"--size", "--flange", "--views", "--view-layout", "--format", "--lod", "--generate", "--seed",
-                           "--supersample", "--color", "--no-mips", "--print-defaults", "--gl", "--shader-dir"}) {
+  for (const char* flag :
+       {"--size", "--flange", "--views", "--view-layout", "--format", "--lod", "--generate", "--seed", "--supersample",
+        "--color", "--no-mips", "--print-defaults", "--gl", "--shader-dir"}) {
     EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
   }
   CliRun top = run("--help");
@@ -144,11 +145,13 @@ TEST_F(PuffbakeCli, UnwritableOutputFailsAndExistingOutputsSurvive) {
   const fs::path out = dir_ / "out";
   ASSERT_EQ(run("bake -g sphere -n 1 -s 16 -o " + out.string()).exitCode, 0);
   std::map<std::string, std::string> before;
-  for (const auto& e : fs::directory_iterator(out)) before[e.path().filename().string()] = *puff::core::readFileBytes(e.path());
+  for (const auto& e : fs::directory_iterator(out))
+    before[e.path().filename().string()] = *puff::core::readFileBytes(e.path());
   const fs::path bad = write("bad.obj", "v 0 0 0\n");
   EXPECT_EQ(run("bake " + bad.string() + " -s 16 -o " + out.string()).exitCode, 1);
   std::map<std::string, std::string> after;
-  for (const auto& e : fs::directory_iterator(out)) after[e.path().filename().string()] = *puff::core::readFileBytes(e.path());
+  for (const auto& e : fs::directory_iterator(out))
+    after[e.path().filename().string()] = *puff::core::readFileBytes(e.path());
   EXPECT_TRUE(before == after);
 }
 

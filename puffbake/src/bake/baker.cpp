@@ -35,8 +35,8 @@ Result<Geometry> planGeometry(const BakeOptions& o, int variations) {
   g.margin = static_cast<int>(std::ceil(g.flange)) + std::max(2, o.cellSize / 32);
   g.content = o.cellSize - 2 * g.margin;
   if (g.content < 4) {
-    return Error{"--flange " + num(g.flange) + " texels leaves no room for the puff in a " + std::to_string(o.cellSize) +
-                 "-texel cell"};
+    return Error{"--flange " + num(g.flange) + " texels leaves no room for the puff in a " +
+                 std::to_string(o.cellSize) + "-texel cell"};
   }
   g.views = o.viewGrid * o.viewGrid;
   const int cells = variations * g.views;
@@ -44,8 +44,9 @@ Result<Geometry> planGeometry(const BakeOptions& o, int variations) {
   g.rows = (cells + g.columns - 1) / g.columns;
   if (static_cast<long long>(g.columns) * o.cellSize > kMaxAtlasSize ||
       static_cast<long long>(g.rows) * o.cellSize > kMaxAtlasSize) {
-    return Error{"the atlas would be " + std::to_string(g.columns * o.cellSize) + "x" + std::to_string(g.rows * o.cellSize) +
-                 " texels, above the " + std::to_string(kMaxAtlasSize) + " limit: lower --size, --views or the variation count"};
+    return Error{"the atlas would be " + std::to_string(g.columns * o.cellSize) + "x" +
+                 std::to_string(g.rows * o.cellSize) + " texels, above the " + std::to_string(kMaxAtlasSize) +
+                 " limit: lower --size, --views or the variation count"};
   }
   return g;
 }
@@ -60,8 +61,10 @@ Result<void> validate(const BakeOptions& o, int variations) {
   if (o.cellSize < 8 || o.cellSize > kMaxCellSize) {
     return Error{"--size must be in [8, " + std::to_string(kMaxCellSize) + "], got " + std::to_string(o.cellSize)};
   }
-  if (o.supersample < 0 || o.supersample > 16) return Error{"--supersample must be in [0, 16], got " + std::to_string(o.supersample)};
-  if (!(o.flange.value >= 0.0f) || !std::isfinite(o.flange.value) || (o.flange.fractionOfCell && o.flange.value >= 0.5f)) {
+  if (o.supersample < 0 || o.supersample > 16)
+    return Error{"--supersample must be in [0, 16], got " + std::to_string(o.supersample)};
+  if (!(o.flange.value >= 0.0f) || !std::isfinite(o.flange.value) ||
+      (o.flange.fractionOfCell && o.flange.value >= 0.5f)) {
     return Error{"--flange must be a finite width >= 0 (texels, or a percentage below 50%)"};
   }
   if (o.viewGrid < 1 || o.viewGrid > 16) return Error{"--views must be in [1, 16], got " + std::to_string(o.viewGrid)};
@@ -71,14 +74,16 @@ Result<void> validate(const BakeOptions& o, int variations) {
   if (!(o.lodNormalTolerance > 0.0f) || !(o.lodSilhouetteTolerance > 0.0f)) {
     return Error{"--lod-normal-tolerance and --lod-silhouette-tolerance must be positive"};
   }
-  if (o.name.empty() || o.name.find('/') != std::string::npos) return Error{"--name must be a plain file prefix, got \"" + o.name + "\""};
+  if (o.name.empty() || o.name.find('/') != std::string::npos)
+    return Error{"--name must be a plain file prefix, got \"" + o.name + "\""};
   if (variations < 1) return Error{"nothing to bake: give mesh files or --generate"};
   auto g = planGeometry(o, variations);
   if (!g) return g.error();
   return {};
 }
 
-Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFiles, const std::optional<GeneratorSpec>& gen) {
+Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFiles,
+                                            const std::optional<GeneratorSpec>& gen) {
   std::vector<PuffSource> sources;
   for (const fs::path& file : meshFiles) {
     auto bytes = core::readFileBytes(file);
@@ -94,7 +99,8 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
     sources.push_back(std::move(s));
   }
   if (gen) {
-    if (gen->count < 1 || gen->count > 256) return Error{"--variations must be in [1, 256], got " + std::to_string(gen->count)};
+    if (gen->count < 1 || gen->count > 256)
+      return Error{"--variations must be in [1, 256], got " + std::to_string(gen->count)};
     for (int i = 0; i < gen->count; ++i) {
       PuffSource s;
       s.provenance.generator = gen->kind;
@@ -107,14 +113,17 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
         p.seed += static_cast<std::uint64_t>(i);
         PUFF_TRY(mesh::validate(p));
         s.mesh = mesh::generateLumpy(p);
-        s.provenance.params = {{"subdivisions", p.subdivisions}, {"amplitude", p.amplitude}, {"frequency", p.frequency},
-                               {"octaves", p.octaves}, {"seed", p.seed}};
+        s.provenance.params = {{"subdivisions", p.subdivisions},
+                               {"amplitude", p.amplitude},
+                               {"frequency", p.frequency},
+                               {"octaves", p.octaves},
+                               {"seed", p.seed}};
       } else if (gen->kind == "cluster") {
         mesh::ClusterParams p = gen->cluster;
         p.seed += static_cast<std::uint64_t>(i);
         PUFF_TRY(mesh::validate(p));
         s.mesh = mesh::generateCluster(p);
-        s.provenance.params = {{"count", p.count}, {"radiusMin", p.radiusMin}, {"radiusMax", p.radiusMax},
+        s.provenance.params = {{"count", p.count},   {"radiusMin", p.radiusMin},       {"radiusMax", p.radiusMax},
                                {"spread", p.spread}, {"subdivisions", p.subdivisions}, {"seed", p.seed}};
       } else {
         return Error{"--generate must be sphere, lumpy or cluster, got \"" + gen->kind + "\""};
@@ -181,8 +190,9 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
     mesh::TriMesh reduced;
     if (o.lodAuto) {
       report("choosing level of detail", var, variations);
-      LodResult lod = chooseLod(src.mesh, [&](const mesh::TriMesh& m) { return renderViews(m, 0.0f); },
-                                o.lodNormalTolerance, o.lodSilhouetteTolerance, &reduced);
+      LodResult lod = chooseLod(
+          src.mesh, [&](const mesh::TriMesh& m) { return renderViews(m, 0.0f); }, o.lodNormalTolerance,
+          o.lodSilhouetteTolerance, &reduced);
       bakeMesh = &reduced;
       result.lod.push_back(lod);
     } else {
@@ -225,7 +235,8 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
   auto put = [&](const char* map, int level, const core::Image& img, core::PixelType type) -> Result<void> {
     const std::string file = mapFileName(o.name, map, level, ext);
     const fs::path target = o.outDir / file;
-    PUFF_TRY(core::writeImage(tx.stage(target), img, type, {{"puff:map", map}, {"puff:level", std::to_string(level)}}, target));
+    PUFF_TRY(core::writeImage(tx.stage(target), img, type, {{"puff:map", map}, {"puff:level", std::to_string(level)}},
+                              target));
     result.files.push_back(target);
     report("writing", ++written, totalFiles);
     return {};

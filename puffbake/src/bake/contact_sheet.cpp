@@ -33,10 +33,14 @@ glm::vec3 texelColor(const AtlasLevel& l, const core::AtlasDesc& desc, int colum
       const glm::vec3 lit = body * (kAmbient + c * q);
       return glm::mix(kPreviewBackground, lit, alpha);
     }
-    case 1: return 0.5f * (n + 1.0f);
-    case 2: return glm::vec3(d + 0.5f);
-    case 3: return glm::mix(checker(px, py), c, alpha);
-    case 4: return glm::vec3(alpha);
+    case 1:
+      return 0.5f * (n + 1.0f);
+    case 2:
+      return glm::vec3(d + 0.5f);
+    case 3:
+      return glm::mix(checker(px, py), c, alpha);
+    case 4:
+      return glm::vec3(alpha);
     default: {
       // Distance: blue inside, orange outside, darker bands every 4 texels, white on the silhouette.
       const float t = std::clamp(std::abs(dist) / desc.distanceRange, 0.0f, 1.0f);

@@ -30,8 +30,8 @@ MapDifference compareCells(const CellMaps& ref, const CellMaps& cand) {
 }
 
 LodResult chooseLod(const mesh::TriMesh& full,
-                    const std::function<std::vector<CellMaps>(const mesh::TriMesh&)>& rasterize,
-                    float normalTolerance, float silhouetteTolerance, mesh::TriMesh* chosen) {
+                    const std::function<std::vector<CellMaps>(const mesh::TriMesh&)>& rasterize, float normalTolerance,
+                    float silhouetteTolerance, mesh::TriMesh* chosen) {
   const std::vector<CellMaps> reference = rasterize(full);
   LodResult result;
   result.facesBefore = result.facesAfter = full.faceCount();

@@ -46,8 +46,11 @@ Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSid
   glNamedFramebufferDrawBuffers(r->fbo_.get(), 2, drawBuffers);
   const GLenum status = glCheckNamedFramebufferStatus(r->fbo_.get(), GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE) {
-    return Error{"bake framebuffer of " + std::to_string(samplesPerSide) + "^2 samples is incomplete (status 0x" +
-                 [&] { char b[16]; std::snprintf(b, sizeof b, "%x", status); return std::string(b); }() + ")"};
+    return Error{"bake framebuffer of " + std::to_string(samplesPerSide) + "^2 samples is incomplete (status 0x" + [&] {
+      char b[16];
+      std::snprintf(b, sizeof b, "%x", status);
+      return std::string(b);
+    }() + ")"};
   }
   r->vao_ = core::makeVertexArray();
   r->vbo_ = core::makeBuffer();
@@ -71,7 +74,8 @@ void PuffRasterizer::setMesh(const mesh::TriMesh& m, const glm::vec3& defaultCol
     vertices[i] = {m.positions[i], m.normals[i], m.hasColors() ? m.colors[i] : defaultColor};
   }
   // Orphan and refill: a mesh per variation, uploaded once and drawn once per view.
-  glNamedBufferData(vbo_.get(), static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(), GL_STATIC_DRAW);
+  glNamedBufferData(vbo_.get(), static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(),
+                    GL_STATIC_DRAW);
   glNamedBufferData(ibo_.get(), static_cast<GLsizeiptr>(m.triangles.size() * sizeof(glm::uvec3)), m.triangles.data(),
                     GL_STATIC_DRAW);
   indexCount_ = static_cast<GLsizei>(m.triangles.size() * 3);

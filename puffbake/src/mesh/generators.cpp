@@ -58,6 +58,7 @@ struct Icosphere {
 Icosphere makeIcosphere(int subdivisions) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   Icosphere s;
+  // clang-format off
   const DVec3 base[12] = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
                           {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
   for (const DVec3& v : base) s.positions.push_back(normalized(v));
@@ -66,6 +67,7 @@ Icosphere makeIcosphere(int subdivisions) {
                  {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                  {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
                  {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  // clang-format on
 
   for (int level = 0; level < subdivisions; ++level) {
     // One new vertex per edge, shared by the two triangles on it, so the result stays closed.

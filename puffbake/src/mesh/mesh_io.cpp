@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -53,10 +54,14 @@ enum class Format { Obj, Off, Ply, Stl };
 
 const char* formatName(Format f) {
   switch (f) {
-    case Format::Obj: return "OBJ";
-    case Format::Off: return "OFF";
-    case Format::Ply: return "PLY";
-    case Format::Stl: return "STL";
+    case Format::Obj:
+      return "OBJ";
+    case Format::Off:
+      return "OFF";
+    case Format::Ply:
+      return "PLY";
+    case Format::Stl:
+      return "STL";
   }
   return "?";
 }
@@ -109,9 +114,7 @@ class OmSilence {
     static std::mutex m;
     return m;
   }
-  static OpenMesh::mostream& stream(std::size_t i) {
-    return i == 0 ? omlog() : i == 1 ? omout() : omerr();
-  }
+  static OpenMesh::mostream& stream(std::size_t i) { return i == 0 ? omlog() : i == 1 ? omout() : omerr(); }
   std::lock_guard<std::mutex> lock_;
   std::array<bool, kStreams> wasEnabled_{};
 };
@@ -120,13 +123,14 @@ class OmSilence {
 
 struct Declared {
   std::size_t faces = 0;
-  bool colorsOnEveryVertex = true;  // OBJ: OpenMesh leaves the others' colors uninitialized
-  bool normalsOnEveryCorner = true; // OBJ: likewise for vertices no `f a//n` reaches
+  bool colorsOnEveryVertex = true;   // OBJ: OpenMesh leaves the others' colors uninitialized
+  bool normalsOnEveryCorner = true;  // OBJ: likewise for vertices no `f a//n` reaches
+  bool offComments = false;          // ASCII OFF with '#': OpenMesh reads it as an empty mesh
 };
 
 Error notValid(const fs::path& path, Format f, const std::string& detail = {}) {
-  return Error::at(path, std::string("not a valid ") + formatName(f) + " file" +
-                             (detail.empty() ? "" : " (" + detail + ")"));
+  return Error::at(path,
+                   std::string("not a valid ") + formatName(f) + " file" + (detail.empty() ? "" : " (" + detail + ")"));
 }
 
 std::string_view trimLeft(std::string_view s) {
@@ -153,10 +157,11 @@ bool hasControlBytes(std::string_view line) {
 Result<Declared> scanObj(const fs::path& path) {
   // Every statement of the OBJ spec (and the common extensions); anything else is not OBJ.
   static const std::set<std::string_view> kKeywords = {
-      "v", "vt", "vn", "vp", "f", "fo", "l", "p", "o", "g", "s", "mtllib", "usemtl", "maplib",
-      "usemap", "lod", "shadow_obj", "trace_obj", "ctech", "stech", "cstype", "deg", "bmat",
-      "step", "curv", "curv2", "surf", "parm", "trim", "hole", "scrv", "sp", "end", "con", "mg",
-      "bevel", "c_interp", "d_interp", "call", "csh", "res"};
+      "v",        "vt",       "vn",     "vp",     "f",      "fo",     "l",    "p",          "o",
+      "g",        "s",        "mtllib", "usemtl", "maplib", "usemap", "lod",  "shadow_obj", "trace_obj",
+      "ctech",    "stech",    "cstype", "deg",    "bmat",   "step",   "curv", "curv2",      "surf",
+      "parm",     "trim",     "hole",   "scrv",   "sp",     "end",    "con",  "mg",         "bevel",
+      "c_interp", "d_interp", "call",   "csh",    "res"};
   std::ifstream in(path, std::ios::binary);
   Declared d;
   std::size_t vertices = 0, coloredVertices = 0, corners = 0, cornersWithNormal = 0;
@@ -194,8 +199,7 @@ Result<Declared> scanObj(const fs::path& path) {
         rest = trimLeft(rest).substr(tok.size());
         ++corners;
         const std::size_t slash = tok.rfind('/');
-        if (slash != std::string_view::npos && slash + 1 < tok.size() && tok.find('/') != slash)
-          ++cornersWithNormal;
+        if (slash != std::string_view::npos && slash + 1 < tok.size() && tok.find('/') != slash) ++cornersWithNormal;
       }
     }
   }
@@ -223,6 +227,11 @@ Result<Declared> scanOff(const fs::path& path) {
     return d;
   }
   // ASCII: "nv nf ne" is the next non-comment content (it may even share the header line).
+  {
+    std::ifstream all(path, std::ios::binary);
+    d.offComments = std::find(std::istreambuf_iterator<char>(all), std::istreambuf_iterator<char>(), '#') !=
+                    std::istreambuf_iterator<char>();
+  }
   std::string text(rest);
   std::string line;
   std::vector<long long> counts;
@@ -261,8 +270,7 @@ Result<Declared> scanPly(const fs::path& path) {
     if (line == "end_header") return d;
     char element[64];
     unsigned long long count = 0;
-    if (std::sscanf(line.c_str(), "element %63s %llu", element, &count) == 2 &&
-        std::string_view(element) == "face")
+    if (std::sscanf(line.c_str(), "element %63s %llu", element, &count) == 2 && std::string_view(element) == "face")
       d.faces = std::size_t(count);
   }
   return notValid(path, Format::Ply, "no end_header");
@@ -275,8 +283,8 @@ Result<Declared> scanStl(const fs::path& path) {
   if (!ec && size >= 84) {
     unsigned char head[84];
     if (in.read(reinterpret_cast<char*>(head), sizeof head)) {
-      const std::uint64_t n = std::uint64_t(head[80]) | std::uint64_t(head[81]) << 8 |
-                              std::uint64_t(head[82]) << 16 | std::uint64_t(head[83]) << 24;
+      const std::uint64_t n = std::uint64_t(head[80]) | std::uint64_t(head[81]) << 8 | std::uint64_t(head[82]) << 16 |
+                              std::uint64_t(head[83]) << 24;
       // Binary STL is recognized by its exact size; many binary headers start with "solid" too.
       if (84 + 50 * n == size) return Declared{std::size_t(n), false, false};
     }
@@ -298,10 +306,14 @@ Result<Declared> scanStl(const fs::path& path) {
 
 Result<Declared> scan(const fs::path& path, Format f) {
   switch (f) {
-    case Format::Obj: return scanObj(path);
-    case Format::Off: return scanOff(path);
-    case Format::Ply: return scanPly(path);
-    case Format::Stl: return scanStl(path);
+    case Format::Obj:
+      return scanObj(path);
+    case Format::Off:
+      return scanOff(path);
+    case Format::Ply:
+      return scanPly(path);
+    case Format::Stl:
+      return scanStl(path);
   }
   return notValid(path, f);
 }
@@ -309,6 +321,8 @@ Result<Declared> scan(const fs::path& path, Format f) {
 Result<void> checkReadable(const fs::path& path) {
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory)  // e.g. a parent we may not search
+    return Error::at(path, "cannot open: " + reason(ec.value()));
   if (!fs::exists(st)) return Error::at(path, "cannot open: " + reason(ENOENT));
   if (fs::is_directory(st)) return Error::at(path, "cannot open: " + reason(EISDIR));
   std::FILE* f = std::fopen(path.c_str(), "rb");
@@ -438,6 +452,39 @@ bool writeWithOpenMesh(const TriMesh& m, const fs::path& file, Format format) {
   return OpenMesh::IO::write_mesh(om, file.string(), opt, 9);
 }
 
+/// A copy of an ASCII OFF file with comments blanked out (line structure kept), in the system
+/// temp directory, removed again when this goes out of scope.
+class CommentFreeOffCopy {
+ public:
+  explicit CommentFreeOffCopy(const fs::path& source) {
+    static std::atomic<unsigned> counter{0};
+    std::error_code ec;
+    path_ = fs::temp_directory_path(ec) /
+            ("puff-off-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".off");
+    std::ifstream in(source, std::ios::binary);
+    std::ofstream out(path_, std::ios::binary | std::ios::trunc);
+    std::string line;
+    while (std::getline(in, line)) {
+      const std::size_t hash = line.find('#');
+      if (hash != std::string::npos) line.resize(hash);
+      out << line << '\n';
+    }
+    ok_ = bool(out.flush());
+  }
+  ~CommentFreeOffCopy() {
+    std::error_code ec;
+    fs::remove(path_, ec);
+  }
+  CommentFreeOffCopy(const CommentFreeOffCopy&) = delete;
+  CommentFreeOffCopy& operator=(const CommentFreeOffCopy&) = delete;
+  bool ok() const { return ok_; }
+  const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+  bool ok_ = false;
+};
+
 }  // namespace
 
 Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info) {
@@ -454,10 +501,17 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info) {
   OmOptions opt = OmOptions::VertexColor | OmOptions::VertexNormal;
   bool readOk = false;
   {
+    // OpenMesh's OFF reader does not skip comments, though the format allows them; its stream
+    // reader would lose the header's color flag, so it gets a cleaned copy as a file.
+    std::optional<CommentFreeOffCopy> clean;
+    if (declared->offComments) {
+      clean.emplace(path);
+      if (!clean->ok()) return Error::at(path, "cannot read: no room for a temporary copy");
+    }
     OmSilence silence;
-    readOk = OpenMesh::IO::read_mesh(om, path.string(), opt);
+    readOk = OpenMesh::IO::read_mesh(om, (clean ? clean->path() : path).string(), opt);
   }
-  if (!readOk) return notValid(path, *format);
+  if (!readOk || (om.n_vertices() == 0 && declared->faces > 0)) return notValid(path, *format);
 
   const std::size_t added = om.n_faces();
   std::size_t separated = 0;
@@ -465,8 +519,8 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info) {
     if (om.status(fh).fixed_nonmanifold()) ++separated;
   if (declared->faces == 0 && added == 0) return Error::at(path, "no faces");
   if (separated > 0)
-    return Error::at(path, "non-manifold mesh: the file declares " + std::to_string(declared->faces) +
-                               " faces, only " + std::to_string(added - separated) + " could be added");
+    return Error::at(path, "non-manifold mesh: the file declares " + std::to_string(declared->faces) + " faces, only " +
+                               std::to_string(added - separated) + " could be added");
   if (added < declared->faces)
     return Error::at(path, "the file declares " + std::to_string(declared->faces) + " faces, only " +
                                std::to_string(added) +
@@ -553,9 +607,8 @@ Result<void> saveMesh(const TriMesh& mesh, const fs::path& path) {
 
   // Same directory, so the final rename is atomic; same extension, so OpenMesh picks the writer.
   static std::atomic<unsigned> counter{0};
-  const fs::path tmp =
-      path.parent_path() / ("." + path.stem().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-                            std::to_string(counter++) + lower(path.extension().string()));
+  const fs::path tmp = path.parent_path() / ("." + path.stem().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
+                                             std::to_string(counter++) + lower(path.extension().string()));
   {
     // Opening it ourselves first gives the real reason (no such directory, permission denied).
     std::FILE* probe = std::fopen(tmp.c_str(), "wb");

@@ -34,9 +34,7 @@ DVec3 cross(const DVec3& a, const DVec3& b) {
 }
 double dot(const DVec3& a, const DVec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 
-bool finite(const glm::vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // "2", "0.9", "nan": short and exact enough for a parameter echoed back to the user.
 std::string num(double v) {
@@ -52,22 +50,20 @@ Error paramError(const char* generator, const std::string& what) {
 // NaN fails every comparison, so ranges are written as !(lo <= v && v <= hi).
 Result<void> checkRange(const char* gen, const char* flag, double v, double lo, double hi) {
   if (!(lo <= v && v <= hi))
-    return paramError(gen, std::string(flag) + " must be in [" + num(lo) + ", " + num(hi) +
-                               "], got " + num(v));
+    return paramError(gen, std::string(flag) + " must be in [" + num(lo) + ", " + num(hi) + "], got " + num(v));
   return {};
 }
 
 Result<void> checkInt(const char* gen, const char* flag, int v, int lo, int hi) {
   if (v < lo || v > hi)
-    return paramError(gen, std::string(flag) + " must be in [" + std::to_string(lo) + ", " +
-                               std::to_string(hi) + "], got " + std::to_string(v));
+    return paramError(gen, std::string(flag) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                               "], got " + std::to_string(v));
   return {};
 }
 
 }  // namespace
 
-Result<void> validateMesh(const TriMesh& mesh, const std::string& what,
-                          const std::vector<std::uint32_t>& sourceFace) {
+Result<void> validateMesh(const TriMesh& mesh, const std::string& what, const std::vector<std::uint32_t>& sourceFace) {
   const bool mapped = !sourceFace.empty();
   PUFF_CHECK(!mapped || sourceFace.size() == mesh.triangles.size());
   auto faceName = [&](std::size_t t) { return std::to_string(mapped ? sourceFace[t] : t); };
@@ -84,12 +80,10 @@ Result<void> validateMesh(const TriMesh& mesh, const std::string& what,
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k)
       if (mesh.triangles[t][k] >= n)
-        return Error::at(what, "face " + faceName(t) + " refers to vertex " +
-                                   std::to_string(mesh.triangles[t][k]) + ", but there are only " +
-                                   std::to_string(n) + " vertices");
+        return Error::at(what, "face " + faceName(t) + " refers to vertex " + std::to_string(mesh.triangles[t][k]) +
+                                   ", but there are only " + std::to_string(n) + " vertices");
 
-  DVec3 lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
-           std::numeric_limits<double>::max()};
+  DVec3 lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
   DVec3 hi{-lo.x, -lo.y, -lo.z};
   for (std::size_t i = 0; i < n; ++i) {
     const glm::vec3& p = mesh.positions[i];
@@ -107,15 +101,12 @@ Result<void> validateMesh(const TriMesh& mesh, const std::string& what,
     const DVec3 c = cross(sub(toD(mesh.positions[tri[1]]), a), sub(toD(mesh.positions[tri[2]]), a));
     const double area = 0.5 * std::sqrt(dot(c, c));
     // `!(area >= ...)` also catches an all-coincident mesh, where diag2 and every area are 0.
-    if (!(area >= minArea) || area == 0.0)
-      return Error::at(what, "face " + faceName(t) + " is degenerate (zero area)");
+    if (!(area >= minArea) || area == 0.0) return Error::at(what, "face " + faceName(t) + " is degenerate (zero area)");
   }
   return {};
 }
 
-Result<void> validateMesh(const TriMesh& mesh, const std::string& what) {
-  return validateMesh(mesh, what, {});
-}
+Result<void> validateMesh(const TriMesh& mesh, const std::string& what) { return validateMesh(mesh, what, {}); }
 
 void normalizeToUnitSphere(TriMesh& mesh) {
   if (mesh.positions.empty()) return;
@@ -163,9 +154,7 @@ void computeNormals(TriMesh& mesh) {
   }
 }
 
-Result<void> validate(const SphereParams& p) {
-  return checkInt("sphere", "--subdivisions", p.subdivisions, 0, 7);
-}
+Result<void> validate(const SphereParams& p) { return checkInt("sphere", "--subdivisions", p.subdivisions, 0, 7); }
 
 Result<void> validate(const LumpyParams& p) {
   PUFF_TRY(checkInt("lumpy", "--subdivisions", p.subdivisions, 0, 7));
@@ -181,8 +170,8 @@ Result<void> validate(const ClusterParams& p) {
   if (!(p.radiusMin > 0.0f) || !std::isfinite(p.radiusMin))
     return paramError("cluster", "--radius-min must be > 0, got " + num(p.radiusMin));
   if (!(p.radiusMax >= p.radiusMin) || !std::isfinite(p.radiusMax))
-    return paramError("cluster", "--radius-max must be >= --radius-min (" + num(p.radiusMin) +
-                                     "), got " + num(p.radiusMax));
+    return paramError("cluster",
+                      "--radius-max must be >= --radius-min (" + num(p.radiusMin) + "), got " + num(p.radiusMax));
   if (!(p.spread >= 0.0f) || !std::isfinite(p.spread))
     return paramError("cluster", "--spread must be >= 0, got " + num(p.spread));
   PUFF_TRY(checkInt("cluster", "--subdivisions", p.subdivisions, 0, 6));

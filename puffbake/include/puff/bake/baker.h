@@ -20,7 +20,7 @@
 
 namespace puff::bake {
 
-inline constexpr int kMaxCellSize = 16384;   ///< GL_MAX_TEXTURE_SIZE on llvmpipe and most GPUs
+inline constexpr int kMaxCellSize = 16384;  ///< GL_MAX_TEXTURE_SIZE on llvmpipe and most GPUs
 inline constexpr int kMaxAtlasSize = 16384;
 
 /// Flange (outline) width: texels, or a fraction of the cell size.
@@ -33,10 +33,10 @@ struct FlangeWidth {
 enum class MapFormat { kPng, kExr };
 
 struct BakeOptions {
-  int cellSize = 256;          ///< texels per cell side, 8..16384
-  int supersample = 0;         ///< samples per texel side; 0 = auto (4, fewer above 1024^2 cells)
-  FlangeWidth flange;          ///< outline flange; 0 disables it
-  int viewGrid = 1;            ///< views per variation = viewGrid^2 (1: front view only)
+  int cellSize = 256;   ///< texels per cell side, 8..16384
+  int supersample = 0;  ///< samples per texel side; 0 = auto (4, fewer above 1024^2 cells)
+  FlangeWidth flange;   ///< outline flange; 0 disables it
+  int viewGrid = 1;     ///< views per variation = viewGrid^2 (1: front view only)
   ViewLayout viewLayout = ViewLayout::kHemiOct;
   MapFormat format = MapFormat::kPng;
   glm::vec3 defaultColor{1.0f};  ///< diffuse colour of meshes without vertex colours
@@ -47,7 +47,7 @@ struct BakeOptions {
   float lodNormalTolerance = 1.0f / 255.0f;  ///< mean |encoded normal| difference, per channel
   float lodSilhouetteTolerance = 1.0f;       ///< texels between the two silhouettes
   std::filesystem::path outDir = "puff-out";
-  std::string name = "puff";   ///< file prefix: NAME.json, NAME_color.png, ...
+  std::string name = "puff";  ///< file prefix: NAME.json, NAME_color.png, ...
 };
 
 /// Checks option ranges; the error names the flag, e.g. "--size must be in [8, 16384], got 0".
@@ -75,15 +75,15 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<std::filesystem::p
 /// What --lod auto chose for one variation.
 struct LodResult {
   std::size_t facesBefore = 0, facesAfter = 0;
-  float normalError = 0.0f;       ///< mean |encoded normal difference| reached
-  float silhouetteError = 0.0f;   ///< texels
-  int evaluations = 0;            ///< decimate-and-compare steps the search took
+  float normalError = 0.0f;      ///< mean |encoded normal difference| reached
+  float silhouetteError = 0.0f;  ///< texels
+  int evaluations = 0;           ///< decimate-and-compare steps the search took
 };
 
 struct BakeReport {
   core::AtlasDesc desc;
   std::filesystem::path sidecar, contactSheet;
-  std::vector<std::filesystem::path> files;  ///< every file written
+  std::vector<std::filesystem::path> files;   ///< every file written
   std::vector<std::optional<LodResult>> lod;  ///< per variation when --lod auto
 };
 
@@ -110,8 +110,8 @@ MapDifference compareCells(const CellMaps& reference, const CellMaps& candidate)
 /// holds for quadric decimation in practice but is not guaranteed). `rasterize` turns a mesh
 /// into the cell maps of each view, without flange. `chosen` receives the mesh picked.
 LodResult chooseLod(const mesh::TriMesh& full,
-                    const std::function<std::vector<CellMaps>(const mesh::TriMesh&)>& rasterize,
-                    float normalTolerance, float silhouetteTolerance, mesh::TriMesh* chosen);
+                    const std::function<std::vector<CellMaps>(const mesh::TriMesh&)>& rasterize, float normalTolerance,
+                    float silhouetteTolerance, mesh::TriMesh* chosen);
 
 /// The contact sheet: one row per cell, columns shaded preview, normal, depth, colour, coverage,
 /// distance. `thumb` is the thumbnail size in pixels.

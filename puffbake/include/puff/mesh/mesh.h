@@ -63,7 +63,8 @@ Result<void> saveMesh(const TriMesh& mesh, const std::filesystem::path& path);
 
 // ---- generators -------------------------------------------------------------------------------
 // All are deterministic for a given seed on every platform (own PRNG and noise, no std::
-// distributions), and return normalized meshes.
+// distributions), and return normalized meshes with normals and no colors. Parameters must pass
+// validate() first; generating from invalid ones is a broken promise (PUFF_CHECK).
 
 struct SphereParams {
   int subdivisions = 4;  ///< icosphere subdivision level, 0..7 (20 * 4^n faces)

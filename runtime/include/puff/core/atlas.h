@@ -34,16 +34,16 @@ inline constexpr int kAtlasFormatVersion = 1;
 struct AtlasCell {
   int variation = 0;
   int view = 0;
-  std::array<int, 4> rect{};  ///< x, y, width, height of the whole cell in level-0 texels (y down)
-  glm::vec3 viewDir{0, 0, 1}; ///< puff-space direction from the puff toward the camera
-  glm::vec3 viewUp{0, 1, 0};  ///< puff-space direction that is "up" in the cell
+  std::array<int, 4> rect{};   ///< x, y, width, height of the whole cell in level-0 texels (y down)
+  glm::vec3 viewDir{0, 0, 1};  ///< puff-space direction from the puff toward the camera
+  glm::vec3 viewUp{0, 1, 0};   ///< puff-space direction that is "up" in the cell
 };
 
 struct AtlasSource {
-  std::string path;       ///< mesh file as given to puffbake, or empty for a generator
-  std::string hash;       ///< "fnv1a64:<hex>" of the file's bytes; empty for a generator
-  std::string generator;  ///< "sphere", "lumpy", "cluster", or empty for a file
-  nlohmann::json params;  ///< generator parameters (seed included)
+  std::string path;            ///< mesh file as given to puffbake, or empty for a generator
+  std::string hash;            ///< "fnv1a64:<hex>" of the file's bytes; empty for a generator
+  std::string generator;       ///< "sphere", "lumpy", "cluster", or empty for a file
+  nlohmann::json params;       ///< generator parameters (seed included)
   std::size_t faces = 0;       ///< faces of the normalized source mesh
   std::size_t facesBaked = 0;  ///< faces actually rasterized (fewer with --lod auto)
 };
@@ -67,14 +67,16 @@ struct AtlasDesc {
   float alphaThreshold = 0.5f;     ///< coverage test the mip levels preserve
   int mipLevels = 1;               ///< stored levels; cells stay apart at every one of them
   int variations = 0;
-  int views = 1;                   ///< views per variation (viewGrid^2)
-  int viewGrid = 1;                ///< views form a viewGrid x viewGrid (hemi-)octahedral grid
-  std::string viewLayout = "hemioct";  ///< "hemioct" (front hemisphere) or "oct" (full sphere)
-  std::vector<AtlasCell> cells;    ///< variation-major: cell index = variation * views + view
-  std::vector<AtlasSource> sources;  ///< one per variation
+  int views = 1;                         ///< views per variation (viewGrid^2)
+  int viewGrid = 1;                      ///< views form a viewGrid x viewGrid (hemi-)octahedral grid
+  std::string viewLayout = "hemioct";    ///< "hemioct" (front hemisphere) or "oct" (full sphere)
+  std::vector<AtlasCell> cells;          ///< variation-major: cell index = variation * views + view
+  std::vector<AtlasSource> sources;      ///< one per variation
   std::map<std::string, AtlasMap> maps;  ///< "normalDepth", "color", "distance"
 
-  const AtlasCell& cell(int variation, int view) const { return cells.at(static_cast<std::size_t>(variation * views + view)); }
+  const AtlasCell& cell(int variation, int view) const {
+    return cells.at(static_cast<std::size_t>(variation * views + view));
+  }
 };
 
 nlohmann::json toJson(const AtlasDesc& desc);

@@ -11,12 +11,12 @@
 #include <utility>
 #include <variant>
 
-#define PUFF_CHECK(cond)                                                                         \
-  do {                                                                                           \
-    if (!(cond)) {                                                                               \
-      std::fprintf(stderr, "%s:%d: internal check failed: %s\n", __FILE__, __LINE__, #cond);     \
-      std::abort();                                                                              \
-    }                                                                                            \
+#define PUFF_CHECK(cond)                                                                     \
+  do {                                                                                       \
+    if (!(cond)) {                                                                           \
+      std::fprintf(stderr, "%s:%d: internal check failed: %s\n", __FILE__, __LINE__, #cond); \
+      std::abort();                                                                          \
+    }                                                                                        \
   } while (0)
 
 namespace puff {
@@ -39,15 +39,27 @@ class [[nodiscard]] Result {
   Result(Error error) : v_(std::move(error)) {}
   bool ok() const { return v_.index() == 0; }
   explicit operator bool() const { return ok(); }
-  T& value() & { PUFF_CHECK(ok()); return std::get<0>(v_); }
-  const T& value() const& { PUFF_CHECK(ok()); return std::get<0>(v_); }
-  T&& value() && { PUFF_CHECK(ok()); return std::get<0>(std::move(v_)); }
+  T& value() & {
+    PUFF_CHECK(ok());
+    return std::get<0>(v_);
+  }
+  const T& value() const& {
+    PUFF_CHECK(ok());
+    return std::get<0>(v_);
+  }
+  T&& value() && {
+    PUFF_CHECK(ok());
+    return std::get<0>(std::move(v_));
+  }
   T& operator*() & { return value(); }
   const T& operator*() const& { return value(); }
   T&& operator*() && { return std::move(*this).value(); }
   T* operator->() { return &value(); }
   const T* operator->() const { return &value(); }
-  const Error& error() const { PUFF_CHECK(!ok()); return std::get<1>(v_); }
+  const Error& error() const {
+    PUFF_CHECK(!ok());
+    return std::get<1>(v_);
+  }
 
  private:
   std::variant<T, Error> v_;
@@ -60,7 +72,10 @@ class [[nodiscard]] Result<void> {
   Result(Error error) : error_(std::move(error)), failed_(true) {}
   bool ok() const { return !failed_; }
   explicit operator bool() const { return ok(); }
-  const Error& error() const { PUFF_CHECK(failed_); return error_; }
+  const Error& error() const {
+    PUFF_CHECK(failed_);
+    return error_;
+  }
 
  private:
   Error error_;
@@ -70,8 +85,8 @@ class [[nodiscard]] Result<void> {
 }  // namespace puff
 
 /// Evaluates a Result<void> expression and returns its error from the enclosing function.
-#define PUFF_TRY(expr)                          \
-  do {                                          \
-    auto puffTryResult_ = (expr);               \
+#define PUFF_TRY(expr)                                  \
+  do {                                                  \
+    auto puffTryResult_ = (expr);                       \
     if (!puffTryResult_) return puffTryResult_.error(); \
   } while (0)

@@ -19,9 +19,7 @@ struct Image {
   Image(int w, int h, int c, float fill = 0.0f)
       : width(w), height(h), channels(c), pixels(static_cast<std::size_t>(w) * h * c, fill) {}
 
-  std::size_t index(int x, int y, int c = 0) const {
-    return (static_cast<std::size_t>(y) * width + x) * channels + c;
-  }
+  std::size_t index(int x, int y, int c = 0) const { return (static_cast<std::size_t>(y) * width + x) * channels + c; }
   float& at(int x, int y, int c = 0) { return pixels[index(x, y, c)]; }
   float at(int x, int y, int c = 0) const { return pixels[index(x, y, c)]; }
   bool empty() const { return pixels.empty(); }
@@ -37,8 +35,7 @@ using ImageAttributes = std::vector<std::pair<std::string, std::string>>;
 /// Writes `image` to exactly `path` (format from `formatHint`'s extension, or `path`'s if empty).
 /// Callers that must not clobber outputs write to an OutputTransaction's staged path.
 Result<void> writeImage(const std::filesystem::path& path, const Image& image, PixelType type,
-                        const ImageAttributes& attributes = {},
-                        const std::filesystem::path& formatHint = {});
+                        const ImageAttributes& attributes = {}, const std::filesystem::path& formatHint = {});
 
 /// Reads any format OpenImageIO knows into floats (unsigned-normalized formats become [0,1]).
 /// Errors: missing file, unknown format, a truncated or corrupt file, an image of 0 pixels.
