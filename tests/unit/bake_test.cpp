@@ -162,6 +162,12 @@ TEST_F(BakeSphere, MipLevelsKeepCoverageAndCellsApart) {
   ASSERT_GE(d.mipLevels, 4);
   const auto& colors = atlas_->maps.at("color");
   const double base = coverageFraction(colors[0], 0, 0, d.cellSize, d.alphaThreshold);
+  for (int i = 0; i < d.cellSize; ++i) {  // level 0: the margin keeps the cell's border empty
+    EXPECT_EQ(colors[0].at(i, 0, 3), 0.0f);
+    EXPECT_EQ(colors[0].at(0, i, 3), 0.0f);
+    EXPECT_EQ(colors[0].at(i, d.cellSize - 1, 3), 0.0f);
+    EXPECT_EQ(colors[0].at(d.cellSize - 1, i, 3), 0.0f);
+  }
   for (int l = 1; l < d.mipLevels; ++l) {
     const int cell = d.cellSize >> l;
     const double f = coverageFraction(colors[static_cast<std::size_t>(l)], 0, 0, cell, d.alphaThreshold);
@@ -359,6 +365,64 @@ TEST(BakeOptions, RejectsAbsurdSizes) {
   o.cellSize = 64;
   o.flange = {40.0f, false};
   EXPECT_NE(validate(o, 1).error().message.find("--flange"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace puff::bake
+
+namespace puff::bake {
+namespace {
+
+class BakeLod : public test::GlTest {};
+
+TEST_F(BakeLod, AutoLodFindsFewerFacesWithinTheTolerances) {
+  // A finely tessellated sphere baked into a small cell carries far more faces than its texels
+  // can show: --lod auto must drop most of them and stay within both tolerances.
+  std::vector<PuffSource> src(1);
+  src[0].mesh = mesh::generateSphere({5});
+  src[0].provenance.generator = "sphere";
+  BakeOptions o;
+  o.cellSize = 32;
+  o.lodAuto = true;
+  o.contactSheet = false;
+  o.outDir = fs::temp_directory_path() / ("puff_bake_test_lod_" + std::to_string(::getpid()));
+  auto r = bakeAtlas(src, o);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_EQ(r->lod.size(), 1u);
+  ASSERT_TRUE(r->lod[0].has_value());
+  const LodResult& lod = *r->lod[0];
+  EXPECT_EQ(lod.facesBefore, 20480u);
+  EXPECT_LT(lod.facesAfter, lod.facesBefore / 4);
+  EXPECT_LE(lod.normalError, o.lodNormalTolerance);
+  EXPECT_LE(lod.silhouetteError, o.lodSilhouetteTolerance);
+  EXPECT_EQ(r->desc.sources[0].faces, 20480u);
+  EXPECT_EQ(r->desc.sources[0].facesBaked, lod.facesAfter);
+  RecordProperty("faces_after", std::to_string(lod.facesAfter));
+  fs::remove_all(o.outDir);
+}
+
+TEST(BakeCompare, IdenticalCellsDifferByNothingAndAShiftedDiscByItsShift) {
+  auto disc = [](float cx, float radius) {
+    CellMaps m;
+    m.normalDepth = core::Image(32, 32, 4);
+    m.distance = core::Image(32, 32, 1);
+    m.body = core::Image(32, 32, 1);
+    for (int y = 0; y < 32; ++y) {
+      for (int x = 0; x < 32; ++x) {
+        const float d = std::hypot(x + 0.5f - cx, y + 0.5f - 16.0f) - radius;
+        m.distance.at(x, y) = d;
+        m.body.at(x, y) = d < 0 ? 1.0f : 0.0f;
+        m.normalDepth.at(x, y, 2) = 1.0f;
+      }
+    }
+    return m;
+  };
+  const CellMaps a = disc(16.0f, 8.0f);
+  MapDifference same = compareCells(a, a);
+  EXPECT_EQ(same.meanNormalError, 0.0f);
+  EXPECT_EQ(same.silhouetteTexels, 0.0f);
+  MapDifference grown = compareCells(a, disc(16.0f, 8.75f));
+  EXPECT_NEAR(grown.silhouetteTexels, 0.75f, 1e-4f);
 }
 
 }  // namespace

@@ -199,6 +199,7 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
       result.lod.emplace_back();
     }
     core::AtlasSource prov = src.provenance;
+    prov.faces = src.mesh.faceCount();
     prov.facesBaked = bakeMesh->faceCount();
     desc.sources.push_back(prov);
     const std::vector<CellMaps> cells = renderViews(*bakeMesh, g.flange);
