@@ -9,7 +9,6 @@
 
 #include <cstdlib>
 #include <cstring>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -69,23 +68,10 @@ bool hasExtension(const char* list, const char* name) {
   return false;
 }
 
-// eglGetPlatformDisplay returns the same EGLDisplay for the same arguments, and eglTerminate ends
-// every context on it: count our contexts per display and terminate with the last one.
-std::map<EGLDisplay, int>& displayUsers() {
-  static std::map<EGLDisplay, int> users;
-  return users;
-}
-
-void releaseDisplay(EGLDisplay display) {
-  auto& users = displayUsers();
-  auto it = users.find(display);
-  if (it == users.end()) return;
-  if (--it->second == 0) {
-    users.erase(it);
-    eglTerminate(display);
-  }
-}
-
+// eglGetPlatformDisplay returns one EGLDisplay per (platform, device) for the whole process, and
+// eglTerminate ends every context on it, including a host application's. So displays are
+// initialized once and never terminated; Mesa and NVIDIA clean up at process exit. (Terminating
+// with our last context also made Mesa unload and reload its driver for each context.)
 class EglGlContext final : public GlContext {
  public:
   EglGlContext(EGLDisplay display, EGLContext context)
@@ -95,7 +81,6 @@ class EglGlContext final : public GlContext {
     if (eglGetCurrentContext() == context_)
       eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroyContext(display_, context_);
-    releaseDisplay(display_);
     // Frees this thread's EGL state once nothing of ours is current; eglGetCurrentContext
     // would otherwise keep it alive until the thread exits.
     if (eglGetCurrentContext() == EGL_NO_CONTEXT) eglReleaseThread();
@@ -116,27 +101,23 @@ class EglGlContext final : public GlContext {
   EGLContext context_;
 };
 
-/// An initialized display on `platform`, registered in displayUsers(), or an error naming the call.
+/// An initialized display on `platform`, or an error naming the call that failed.
 Result<EGLDisplay> openDisplay(PFNEGLGETPLATFORMDISPLAYEXTPROC getPlatformDisplay, EGLenum platform,
                                void* nativeDisplay) {
   EGLDisplay display = getPlatformDisplay(platform, nativeDisplay, nullptr);
   if (display == EGL_NO_DISPLAY) return Error{eglFailure("eglGetPlatformDisplayEXT")};
   EGLint major = 0, minor = 0;
+  // Initializing an initialized display is a no-op, so every context creation may call it.
   if (eglInitialize(display, &major, &minor) != EGL_TRUE) return Error{eglFailure("eglInitialize")};
-  ++displayUsers()[display];  // eglInitialize on an initialized display is a no-op: count it once per user
   return display;
 }
 
 Result<std::unique_ptr<GlContext>> createOnDisplay(EGLDisplay display, const GlContextOptions& options) {
-  const auto fail = [display](std::string message) -> Error {
-    releaseDisplay(display);
-    return Error{std::move(message)};
-  };
-  if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE) return fail(eglFailure("eglBindAPI(EGL_OPENGL_API)"));
+  if (eglBindAPI(EGL_OPENGL_API) != EGL_TRUE) return Error{eglFailure("eglBindAPI(EGL_OPENGL_API)")};
 
   const char* extensions = eglQueryString(display, EGL_EXTENSIONS);
   if (!hasExtension(extensions, "EGL_KHR_surfaceless_context"))
-    return fail("display lacks EGL_KHR_surfaceless_context");
+    return Error{"display lacks EGL_KHR_surfaceless_context"};
   // Without EGL_KHR_no_config_context, any OpenGL-capable config does: we never draw to a surface.
   EGLConfig config = EGL_NO_CONFIG_KHR;
   if (!hasExtension(extensions, "EGL_KHR_no_config_context") &&
@@ -144,7 +125,7 @@ Result<std::unique_ptr<GlContext>> createOnDisplay(EGLDisplay display, const GlC
     const EGLint configAttribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
     EGLint count = 0;
     if (eglChooseConfig(display, configAttribs, &config, 1, &count) != EGL_TRUE || count < 1)
-      return fail(eglFailure("eglChooseConfig(EGL_OPENGL_BIT)"));
+      return Error{eglFailure("eglChooseConfig(EGL_OPENGL_BIT)")};
   }
 
   const EGLint contextAttribs[] = {
@@ -156,8 +137,8 @@ Result<std::unique_ptr<GlContext>> createOnDisplay(EGLDisplay display, const GlC
       EGL_NONE,
   };
   EGLContext raw = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttribs);
-  if (raw == EGL_NO_CONTEXT) return fail(eglFailure("eglCreateContext"));
-  auto context = std::make_unique<EglGlContext>(display, raw);  // owns the display use from here
+  if (raw == EGL_NO_CONTEXT) return Error{eglFailure("eglCreateContext")};
+  auto context = std::make_unique<EglGlContext>(display, raw);
   if (!context->bind()) return Error{eglFailure("eglMakeCurrent(EGL_NO_SURFACE)")};
   if (detail::loadGl(GlBackend::kEgl, loadEgl) == 0)
     return Error{"glad could not load GL through eglGetProcAddress"};

@@ -164,19 +164,28 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
 
   auto rasterizer = PuffRasterizer::create(cellSize * g.supersample);
   if (!rasterizer) return rasterizer.error();
+  // --lod auto rasterizes a mesh a dozen times or more; two samples per texel side still place
+  // silhouettes to a quarter texel, and cost a quarter of four.
+  const int lodSupersample = std::min(g.supersample, 2);
+  Result<std::unique_ptr<PuffRasterizer>> lodRasterizer = std::unique_ptr<PuffRasterizer>();
+  if (o.lodAuto && lodSupersample != g.supersample) {
+    lodRasterizer = PuffRasterizer::create(cellSize * lodSupersample);
+    if (!lodRasterizer) return lodRasterizer.error();
+  }
   SampleBuffer samples;
 
   std::vector<glm::vec3> viewDirs(static_cast<std::size_t>(g.views));
   for (int v = 0; v < g.views; ++v) viewDirs[static_cast<std::size_t>(v)] = viewDirection(o.viewLayout, o.viewGrid, v);
-  auto renderViews = [&](const mesh::TriMesh& m, float flange) {
-    (*rasterizer)->setMesh(m, o.defaultColor);
+  auto renderViews = [&](PuffRasterizer& r, int ss, const mesh::TriMesh& m, float flange) {
+    r.setMesh(m, o.defaultColor);
     std::vector<CellMaps> maps;
     for (const glm::vec3& dir : viewDirs) {
-      (*rasterizer)->render(viewRotation(dir), g.margin * g.supersample, g.content * g.supersample, samples);
-      maps.push_back(resolveCell(samples, g.supersample, flange));
+      r.render(viewRotation(dir), g.margin * ss, g.content * ss, samples);
+      maps.push_back(resolveCell(samples, ss, flange));
     }
     return maps;
   };
+  PuffRasterizer& lodRaster = *lodRasterizer ? **lodRasterizer : **rasterizer;
 
   AtlasLevel level0{core::Image(desc.width, desc.height, 4), core::Image(desc.width, desc.height, 4),
                     core::Image(desc.width, desc.height, 1, desc.distanceRange)};
@@ -191,8 +200,8 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
     if (o.lodAuto) {
       report("choosing level of detail", var, variations);
       LodResult lod = chooseLod(
-          src.mesh, [&](const mesh::TriMesh& m) { return renderViews(m, 0.0f); }, o.lodNormalTolerance,
-          o.lodSilhouetteTolerance, &reduced);
+          src.mesh, [&](const mesh::TriMesh& m) { return renderViews(lodRaster, lodSupersample, m, 0.0f); },
+          o.lodNormalTolerance, o.lodSilhouetteTolerance, &reduced);
       bakeMesh = &reduced;
       result.lod.push_back(lod);
     } else {
@@ -202,7 +211,7 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
     prov.faces = src.mesh.faceCount();
     prov.facesBaked = bakeMesh->faceCount();
     desc.sources.push_back(prov);
-    const std::vector<CellMaps> cells = renderViews(*bakeMesh, g.flange);
+    const std::vector<CellMaps> cells = renderViews(**rasterizer, g.supersample, *bakeMesh, g.flange);
     for (int v = 0; v < g.views; ++v) {
       const int index = var * g.views + v;
       core::AtlasCell cell;

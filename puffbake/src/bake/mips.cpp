@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include <puff/bake/maps.h>
+#include <puff/core/parallel.h>
 
 namespace puff::bake {
 
@@ -56,35 +57,40 @@ AtlasLevel buildMipLevel(const AtlasLevel& level0, int cellSize, int level, floa
   const int w = level0.color.width / f, h = level0.color.height / f, cell = cellSize / f;
   AtlasLevel out{core::Image(w, h, 4), core::Image(w, h, 4), core::Image(w, h, 1)};
   const float perBlock = 1.0f / static_cast<float>(f * f);
-  for (int y = 0; y < h; ++y) {
-    for (int x = 0; x < w; ++x) {
-      float alpha = 0.0f, depth = 0.0f, dist = 0.0f;
-      glm::vec3 normal(0.0f), color(0.0f);
-      for (int by = y * f; by < (y + 1) * f; ++by) {
-        for (int bx = x * f; bx < (x + 1) * f; ++bx) {
-          const float a = level0.color.at(bx, by, 3);
-          alpha += a;
-          normal += a * glm::vec3(level0.normalDepth.at(bx, by, 0), level0.normalDepth.at(bx, by, 1),
-                                  level0.normalDepth.at(bx, by, 2));
-          depth += a * level0.normalDepth.at(bx, by, 3);
-          color += a * glm::vec3(level0.color.at(bx, by, 0), level0.color.at(bx, by, 1), level0.color.at(bx, by, 2));
-          dist += level0.distance.at(bx, by);
+  core::parallelFor(
+      static_cast<std::size_t>(h),
+      [&](std::size_t row) {
+        const int y = static_cast<int>(row);
+        for (int x = 0; x < w; ++x) {
+          float alpha = 0.0f, depth = 0.0f, dist = 0.0f;
+          glm::vec3 normal(0.0f), color(0.0f);
+          for (int by = y * f; by < (y + 1) * f; ++by) {
+            for (int bx = x * f; bx < (x + 1) * f; ++bx) {
+              const float a = level0.color.at(bx, by, 3);
+              alpha += a;
+              normal += a * glm::vec3(level0.normalDepth.at(bx, by, 0), level0.normalDepth.at(bx, by, 1),
+                                      level0.normalDepth.at(bx, by, 2));
+              depth += a * level0.normalDepth.at(bx, by, 3);
+              color +=
+                  a * glm::vec3(level0.color.at(bx, by, 0), level0.color.at(bx, by, 1), level0.color.at(bx, by, 2));
+              dist += level0.distance.at(bx, by);
+            }
+          }
+          out.distance.at(x, y) = dist * perBlock;
+          if (alpha <= 0.0f) {
+            emptyTexel(out, x, y);
+            continue;
+          }
+          normal = glm::length(normal) > 1e-6f ? glm::normalize(normal) : glm::vec3(0, 0, 1);
+          for (int c = 0; c < 3; ++c) {
+            out.normalDepth.at(x, y, c) = normal[c];
+            out.color.at(x, y, c) = color[c] / alpha;
+          }
+          out.normalDepth.at(x, y, 3) = depth / alpha;
+          out.color.at(x, y, 3) = alpha * perBlock;
         }
-      }
-      out.distance.at(x, y) = dist * perBlock;
-      if (alpha <= 0.0f) {
-        emptyTexel(out, x, y);
-        continue;
-      }
-      normal = glm::length(normal) > 1e-6f ? glm::normalize(normal) : glm::vec3(0, 0, 1);
-      for (int c = 0; c < 3; ++c) {
-        out.normalDepth.at(x, y, c) = normal[c];
-        out.color.at(x, y, c) = color[c] / alpha;
-      }
-      out.normalDepth.at(x, y, 3) = depth / alpha;
-      out.color.at(x, y, 3) = alpha * perBlock;
-    }
-  }
+      },
+      4);
   for (int cy = 0; cy < h; cy += cell) {
     for (int cx = 0; cx < w; cx += cell) {
       // The outer ring stays empty so bilinear taps at a cell's edge never reach its neighbour.
