@@ -22,11 +22,13 @@ Result<std::unique_ptr<GlContext>> createEglContext(const GlContextOptions& opti
 Result<std::unique_ptr<GlContext>> createGlfwContext(const GlContextOptions& options);
 #endif
 
-// glad keeps one global set of function pointers, and each backend hands out different ones
-// (OSMesa: Mesa's glapi stubs; EGL and GLX: glvnd's dispatch stubs). A pointer from one backend
-// called while another backend's context is current does nothing, so glad is reloaded whenever a
-// context of a different backend becomes current. Within one backend the pointers do not depend
-// on the context, so switching between contexts of the same backend needs no reload.
+// glad keeps one global set of function pointers, and each backend hands out its own: OSMesa gives
+// Mesa's glapi stubs, EGL and GLX give glvnd's dispatch stubs, which call the vendor that owns the
+// current EGL/GLX context. On an all-Mesa system both routes end in Mesa's one dispatch table and
+// are interchangeable (measured with Mesa 22.3), but with another vendor's EGL (NVIDIA) OSMesa's
+// stubs would not reach its contexts, nor glvnd's reach OSMesa's. So glad is reloaded whenever a
+// context of a different backend becomes current. Within one backend the pointers do not depend on
+// the context. Like glad itself, this is process-wide, not per thread.
 namespace {
 std::optional<GlBackend> gLoadedFor;
 }  // namespace
@@ -76,9 +78,12 @@ std::string glString(GLenum name) {
 
 std::string_view toString(GlBackend backend) {
   switch (backend) {
-    case GlBackend::kOSMesa: return "osmesa";
-    case GlBackend::kEgl: return "egl";
-    case GlBackend::kGlfw: return "glfw";
+    case GlBackend::kOSMesa:
+      return "osmesa";
+    case GlBackend::kEgl:
+      return "egl";
+    case GlBackend::kGlfw:
+      return "glfw";
   }
   return "?";
 }

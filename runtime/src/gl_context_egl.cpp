@@ -27,23 +27,39 @@ GLADapiproc loadEgl(const char* name) { return eglGetProcAddress(name); }
 
 const char* eglErrorName(EGLint error) {
   switch (error) {
-    case EGL_SUCCESS: return "EGL_SUCCESS";
-    case EGL_NOT_INITIALIZED: return "EGL_NOT_INITIALIZED";
-    case EGL_BAD_ACCESS: return "EGL_BAD_ACCESS";
-    case EGL_BAD_ALLOC: return "EGL_BAD_ALLOC";
-    case EGL_BAD_ATTRIBUTE: return "EGL_BAD_ATTRIBUTE";
-    case EGL_BAD_CONFIG: return "EGL_BAD_CONFIG";
-    case EGL_BAD_CONTEXT: return "EGL_BAD_CONTEXT";
-    case EGL_BAD_CURRENT_SURFACE: return "EGL_BAD_CURRENT_SURFACE";
-    case EGL_BAD_DISPLAY: return "EGL_BAD_DISPLAY";
-    case EGL_BAD_MATCH: return "EGL_BAD_MATCH";
-    case EGL_BAD_NATIVE_PIXMAP: return "EGL_BAD_NATIVE_PIXMAP";
-    case EGL_BAD_NATIVE_WINDOW: return "EGL_BAD_NATIVE_WINDOW";
-    case EGL_BAD_PARAMETER: return "EGL_BAD_PARAMETER";
-    case EGL_BAD_SURFACE: return "EGL_BAD_SURFACE";
-    case EGL_CONTEXT_LOST: return "EGL_CONTEXT_LOST";
+    case EGL_SUCCESS:
+      return "EGL_SUCCESS";
+    case EGL_NOT_INITIALIZED:
+      return "EGL_NOT_INITIALIZED";
+    case EGL_BAD_ACCESS:
+      return "EGL_BAD_ACCESS";
+    case EGL_BAD_ALLOC:
+      return "EGL_BAD_ALLOC";
+    case EGL_BAD_ATTRIBUTE:
+      return "EGL_BAD_ATTRIBUTE";
+    case EGL_BAD_CONFIG:
+      return "EGL_BAD_CONFIG";
+    case EGL_BAD_CONTEXT:
+      return "EGL_BAD_CONTEXT";
+    case EGL_BAD_CURRENT_SURFACE:
+      return "EGL_BAD_CURRENT_SURFACE";
+    case EGL_BAD_DISPLAY:
+      return "EGL_BAD_DISPLAY";
+    case EGL_BAD_MATCH:
+      return "EGL_BAD_MATCH";
+    case EGL_BAD_NATIVE_PIXMAP:
+      return "EGL_BAD_NATIVE_PIXMAP";
+    case EGL_BAD_NATIVE_WINDOW:
+      return "EGL_BAD_NATIVE_WINDOW";
+    case EGL_BAD_PARAMETER:
+      return "EGL_BAD_PARAMETER";
+    case EGL_BAD_SURFACE:
+      return "EGL_BAD_SURFACE";
+    case EGL_CONTEXT_LOST:
+      return "EGL_CONTEXT_LOST";
 #ifdef EGL_BAD_DEVICE_EXT
-    case EGL_BAD_DEVICE_EXT: return "EGL_BAD_DEVICE_EXT";
+    case EGL_BAD_DEVICE_EXT:
+      return "EGL_BAD_DEVICE_EXT";
 #endif
   }
   return "unknown EGL error";
@@ -78,8 +94,7 @@ class EglGlContext final : public GlContext {
       : GlContext(GlBackend::kEgl), display_(display), context_(context) {}
 
   ~EglGlContext() override {
-    if (eglGetCurrentContext() == context_)
-      eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+    if (eglGetCurrentContext() == context_) eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
     eglDestroyContext(display_, context_);
     // Frees this thread's EGL state once nothing of ours is current; eglGetCurrentContext
     // would otherwise keep it alive until the thread exits.
@@ -128,20 +143,22 @@ Result<std::unique_ptr<GlContext>> createOnDisplay(EGLDisplay display, const GlC
       return Error{eglFailure("eglChooseConfig(EGL_OPENGL_BIT)")};
   }
 
+  // Attribute lists read as key, value pairs.
+  // clang-format off
   const EGLint contextAttribs[] = {
       EGL_CONTEXT_MAJOR_VERSION, options.major,
       EGL_CONTEXT_MINOR_VERSION, options.minor,
-      EGL_CONTEXT_OPENGL_PROFILE_MASK,
-      options.profile == GlProfile::kCore ? EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT
-                                          : EGL_CONTEXT_OPENGL_COMPATIBILITY_PROFILE_BIT,
+      EGL_CONTEXT_OPENGL_PROFILE_MASK, options.profile == GlProfile::kCore
+                                           ? EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT
+                                           : EGL_CONTEXT_OPENGL_COMPATIBILITY_PROFILE_BIT,
       EGL_NONE,
   };
+  // clang-format on
   EGLContext raw = eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttribs);
   if (raw == EGL_NO_CONTEXT) return Error{eglFailure("eglCreateContext")};
   auto context = std::make_unique<EglGlContext>(display, raw);
   if (!context->bind()) return Error{eglFailure("eglMakeCurrent(EGL_NO_SURFACE)")};
-  if (detail::loadGl(GlBackend::kEgl, loadEgl) == 0)
-    return Error{"glad could not load GL through eglGetProcAddress"};
+  if (detail::loadGl(GlBackend::kEgl, loadEgl) == 0) return Error{"glad could not load GL through eglGetProcAddress"};
   return std::unique_ptr<GlContext>(std::move(context));
 }
 
@@ -167,8 +184,7 @@ Result<std::unique_ptr<GlContext>> createEglContext(const GlContextOptions& opti
   std::vector<std::string> tried;  // one entry per platform attempt, for the error message
   if (only != "device") {
     if (hasExtension(client, "EGL_MESA_platform_surfaceless")) {
-      Result<EGLDisplay> display =
-          openDisplay(getPlatformDisplay, EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY);
+      Result<EGLDisplay> display = openDisplay(getPlatformDisplay, EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY);
       if (display) {
         auto context = createOnDisplay(*display, options);
         if (context) return context;

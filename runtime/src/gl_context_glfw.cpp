@@ -20,8 +20,8 @@ std::string versionName(const GlContextOptions& options);
 
 namespace {
 
-int gWindows = 0;           // live GlfwGlContexts; GLFW is initialized while this is > 0
-std::string gLastError;     // the last message GLFW reported, e.g. "X11: The DISPLAY ... missing"
+int gWindows = 0;        // live GlfwGlContexts; GLFW is initialized while this is > 0
+std::string gLastError;  // the last message GLFW reported, e.g. "X11: The DISPLAY ... missing"
 
 void onGlfwError(int /*code*/, const char* description) { gLastError = description ? description : "?"; }
 
@@ -87,7 +87,7 @@ Result<std::unique_ptr<GlContext>> createGlfwContext(const GlContextOptions& opt
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, options.minor);
   // Profiles exist only from 3.2 on; asking for one below that is an error in GLFW.
   const bool profiles = options.major > 3 || (options.major == 3 && options.minor >= 2);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, !profiles ? GLFW_OPENGL_ANY_PROFILE
+  glfwWindowHint(GLFW_OPENGL_PROFILE, !profiles                             ? GLFW_OPENGL_ANY_PROFILE
                                       : options.profile == GlProfile::kCore ? GLFW_OPENGL_CORE_PROFILE
                                                                             : GLFW_OPENGL_COMPAT_PROFILE);
   glfwWindowHint(GLFW_VISIBLE, options.visible ? GLFW_TRUE : GLFW_FALSE);
@@ -101,8 +101,7 @@ Result<std::unique_ptr<GlContext>> createGlfwContext(const GlContextOptions& opt
   }
   auto context = std::make_unique<GlfwGlContext>(window);  // owns the window and the GLFW use
   glfwMakeContextCurrent(window);
-  if (loadGl(GlBackend::kGlfw, loadGlfw) == 0)
-    return Error{"glfw: glad could not load GL through glfwGetProcAddress"};
+  if (loadGl(GlBackend::kGlfw, loadGlfw) == 0) return Error{"glfw: glad could not load GL through glfwGetProcAddress"};
   return std::unique_ptr<GlContext>(std::move(context));
 }
 

@@ -23,7 +23,10 @@ GLADapiproc loadOSMesa(const char* name) { return OSMesaGetProcAddress(name); }
 class OSMesaGlContext final : public GlContext {
  public:
   OSMesaGlContext(OSMesaContext context, int width, int height)
-      : GlContext(GlBackend::kOSMesa), context_(context), width_(width), height_(height),
+      : GlContext(GlBackend::kOSMesa),
+        context_(context),
+        width_(width),
+        height_(height),
         buffer_(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4) {}
 
   ~OSMesaGlContext() override {
@@ -55,8 +58,9 @@ namespace detail {
 
 Result<std::unique_ptr<GlContext>> createOSMesaContext(const GlContextOptions& options) {
   const std::string what = "osmesa: cannot create a " + versionName(options) + " context: ";
-  if (options.width <= 0 || options.height <= 0)
-    return Error{what + "width and height must be positive"};
+  if (options.width <= 0 || options.height <= 0) return Error{what + "width and height must be positive"};
+  // Attribute lists read as key, value pairs.
+  // clang-format off
   const int attribs[] = {
       OSMESA_FORMAT, OSMESA_RGBA,
       OSMESA_DEPTH_BITS, 24,
@@ -66,9 +70,9 @@ Result<std::unique_ptr<GlContext>> createOSMesaContext(const GlContextOptions& o
       OSMESA_CONTEXT_MINOR_VERSION, options.minor,
       0,
   };
+  // clang-format on
   OSMesaContext raw = OSMesaCreateContextAttribs(attribs, nullptr);
-  if (raw == nullptr)
-    return Error{what + "OSMesaCreateContextAttribs failed (version or profile not available)"};
+  if (raw == nullptr) return Error{what + "OSMesaCreateContextAttribs failed (version or profile not available)"};
   auto context = std::make_unique<OSMesaGlContext>(raw, options.width, options.height);
   if (!context->bind()) return Error{what + "OSMesaMakeCurrent failed"};
   const int version = loadGl(GlBackend::kOSMesa, loadOSMesa);

@@ -28,9 +28,8 @@ struct Stage {
 };
 // Pipeline order: listShaderPrograms() lists a program's files in this order.
 constexpr Stage kStages[] = {
-    {".vert", GL_VERTEX_SHADER},          {".tesc", GL_TESS_CONTROL_SHADER},
-    {".tese", GL_TESS_EVALUATION_SHADER}, {".geom", GL_GEOMETRY_SHADER},
-    {".frag", GL_FRAGMENT_SHADER},        {".comp", GL_COMPUTE_SHADER},
+    {".vert", GL_VERTEX_SHADER},   {".tesc", GL_TESS_CONTROL_SHADER}, {".tese", GL_TESS_EVALUATION_SHADER},
+    {".geom", GL_GEOMETRY_SHADER}, {".frag", GL_FRAGMENT_SHADER},     {".comp", GL_COMPUTE_SHADER},
 };
 constexpr const char* kIncludeExtension = ".glsl";
 constexpr const char* kShown = "shaders/";  // how messages name the shaders root
@@ -198,7 +197,8 @@ class Preprocessor {
 bool parseNumber(std::string_view s, std::size_t* pos, std::size_t* value) {
   const std::size_t start = *pos;
   std::size_t v = 0;
-  while (*pos < s.size() && std::isdigit(static_cast<unsigned char>(s[*pos]))) v = v * 10 + static_cast<std::size_t>(s[(*pos)++] - '0');
+  while (*pos < s.size() && std::isdigit(static_cast<unsigned char>(s[*pos])))
+    v = v * 10 + static_cast<std::size_t>(s[(*pos)++] - '0');
   *value = v;
   return *pos > start;
 }
@@ -219,15 +219,18 @@ std::string rewriteLogLine(std::string_view line, const std::vector<std::string>
   };
   std::size_t pos = 0, s = 0, l = 0, c = 0;
   std::string prefix;  // "ERROR: " style severity, moved after the location
-  if (consume(line, &pos, "ERROR: ")) prefix = "error: ";
-  else if (consume(line, &pos, "WARNING: ")) prefix = "warning: ";
+  if (consume(line, &pos, "ERROR: "))
+    prefix = "error: ";
+  else if (consume(line, &pos, "WARNING: "))
+    prefix = "warning: ";
   const std::size_t afterPrefix = pos;
   if (parseNumber(line, &pos, &s)) {
     std::size_t p = pos;
     // Mesa: 0:12(5): error: ...
     if (consume(line, &p, ":") && parseNumber(line, &p, &l) && consume(line, &p, "(") && parseNumber(line, &p, &c) &&
         consume(line, &p, "): "))
-      return fileName(s) + ":" + std::to_string(l) + ":" + std::to_string(c) + ": " + prefix + std::string(line.substr(p));
+      return fileName(s) + ":" + std::to_string(l) + ":" + std::to_string(c) + ": " + prefix +
+             std::string(line.substr(p));
     // NVIDIA: 0(12) : error C1008: ...
     p = pos;
     if (consume(line, &p, "(") && parseNumber(line, &p, &l) && consume(line, &p, ")") &&
@@ -290,8 +293,10 @@ std::string rewriteShaderLog(const std::string& log, const std::vector<std::stri
 
 void setShaderDir(const fs::path& dir) {
   std::lock_guard lock(gDirMutex);
-  if (dir.empty()) gDirOverride.reset();
-  else gDirOverride = dir;
+  if (dir.empty())
+    gDirOverride.reset();
+  else
+    gDirOverride = dir;
 }
 
 fs::path shaderDir() {

@@ -107,9 +107,8 @@ TEST(ShaderFile, MissingFileIsNamed) {
 class ShaderInclude : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("puff_shader_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("puff_shader_test_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_ / "common");
     fs::create_directories(dir_ / "test");
@@ -120,9 +119,7 @@ class ShaderInclude : public ::testing::Test {
     std::error_code ec;
     fs::remove_all(dir_, ec);
   }
-  void write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name, std::ios::binary) << text;
-  }
+  void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name, std::ios::binary) << text; }
   /// A fragment shader that includes `includes` (one per line) and then has `body` after main.
   void writeMain(const std::string& name, const std::vector<std::string>& includes, const std::string& body = "") {
     std::string text = "#version 450 core\n";
@@ -173,7 +170,8 @@ TEST_F(ShaderInclude, NestedIncludeAppearsOnceAndVersionStaysFirst) {
 
   std::unique_ptr<GlContext> context = osmesaCore45();
   ASSERT_NE(context, nullptr);
-  write("test/main.vert", "#version 450 core\n#include \"common/leaf.glsl\"\nvoid main() { gl_Position = vec4(leafValue()); }\n");
+  write("test/main.vert",
+        "#version 450 core\n#include \"common/leaf.glsl\"\nvoid main() { gl_Position = vec4(leafValue()); }\n");
   Result<Program> program = buildProgram({"test/main.vert", "test/main.frag"});
   EXPECT_TRUE(program) << program.error().message;
 }
@@ -184,8 +182,9 @@ TEST_F(ShaderInclude, CycleIsAnError) {
   writeMain("test/main.frag", {"common/a.glsl"});
   Result<std::string> source = preprocessShader("test/main.frag");
   ASSERT_FALSE(source);
-  EXPECT_EQ(source.error().message,
-            "shaders/common/b.glsl:2: include cycle: test/main.frag -> common/a.glsl -> common/b.glsl -> common/a.glsl");
+  EXPECT_EQ(
+      source.error().message,
+      "shaders/common/b.glsl:2: include cycle: test/main.frag -> common/a.glsl -> common/b.glsl -> common/a.glsl");
 }
 
 TEST_F(ShaderInclude, MissingIncludeNamesTheIncludingFileAndLine) {
@@ -193,8 +192,8 @@ TEST_F(ShaderInclude, MissingIncludeNamesTheIncludingFileAndLine) {
   writeMain("test/main.frag", {"common/ok.glsl", "common/nope.glsl"});  // the second include is line 3
   Result<std::string> source = preprocessShader("test/main.frag");
   ASSERT_FALSE(source);
-  EXPECT_EQ(source.error().message, "shaders/test/main.frag:3: shader file not found: common/nope.glsl (shader dir " +
-                                        dir_.string() + ")");
+  EXPECT_EQ(source.error().message,
+            "shaders/test/main.frag:3: shader file not found: common/nope.glsl (shader dir " + dir_.string() + ")");
 }
 
 TEST_F(ShaderInclude, MalformedIncludeIsAnError) {
@@ -214,7 +213,7 @@ TEST_F(ShaderInclude, ErrorInAnIncludedFileNamesThatFileAndLine) {
         "// A deliberately broken include.\n"
         "float fine() { return 1.0; }\n"
         "\n"
-        "float broken() { return 1.0 +; }\n"   // line 4
+        "float broken() { return 1.0 +; }\n"  // line 4
         "float after() { return 2.0; }\n");
   writeMain("test/main.frag", {"common/first.glsl", "common/broken.glsl"});
   write("test/main.vert", "#version 450 core\nvoid main() { gl_Position = vec4(0.0); }\n");
