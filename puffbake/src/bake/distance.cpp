@@ -61,26 +61,29 @@ std::vector<float> squaredDistanceTransform(const std::vector<std::uint8_t>& fea
   // at a time would miss the cache on every sample of tall images.
   constexpr int kBlock = 16;
   const int blocks = (width + kBlock - 1) / kBlock;
-  core::parallelFor(static_cast<std::size_t>(blocks), [&](std::size_t bi) {
-    thread_local Scratch s(0);
-    thread_local std::vector<double> gathered;
-    if (static_cast<int>(s.f.size()) < m) s = Scratch(m);
-    const int x0 = static_cast<int>(bi) * kBlock, nb = std::min(kBlock, width - x0);
-    gathered.resize(static_cast<std::size_t>(kBlock) * height);
-    for (int y = 0; y < height; ++y) {
-      const float* row = out.data() + static_cast<std::size_t>(y) * width + x0;
-      for (int b = 0; b < nb; ++b) gathered[static_cast<std::size_t>(b) * height + y] = row[b];
-    }
-    for (int b = 0; b < nb; ++b) {
-      double* col = gathered.data() + static_cast<std::size_t>(b) * height;
-      transform1d(col, s.d.data(), height, s.v.data(), s.z.data());
-      std::copy_n(s.d.data(), height, col);
-    }
-    for (int y = 0; y < height; ++y) {
-      float* row = out.data() + static_cast<std::size_t>(y) * width + x0;
-      for (int b = 0; b < nb; ++b) row[b] = static_cast<float>(gathered[static_cast<std::size_t>(b) * height + y]);
-    }
-  }, 1);
+  core::parallelFor(
+      static_cast<std::size_t>(blocks),
+      [&](std::size_t bi) {
+        thread_local Scratch s(0);
+        thread_local std::vector<double> gathered;
+        if (static_cast<int>(s.f.size()) < m) s = Scratch(m);
+        const int x0 = static_cast<int>(bi) * kBlock, nb = std::min(kBlock, width - x0);
+        gathered.resize(static_cast<std::size_t>(kBlock) * height);
+        for (int y = 0; y < height; ++y) {
+          const float* row = out.data() + static_cast<std::size_t>(y) * width + x0;
+          for (int b = 0; b < nb; ++b) gathered[static_cast<std::size_t>(b) * height + y] = row[b];
+        }
+        for (int b = 0; b < nb; ++b) {
+          double* col = gathered.data() + static_cast<std::size_t>(b) * height;
+          transform1d(col, s.d.data(), height, s.v.data(), s.z.data());
+          std::copy_n(s.d.data(), height, col);
+        }
+        for (int y = 0; y < height; ++y) {
+          float* row = out.data() + static_cast<std::size_t>(y) * width + x0;
+          for (int b = 0; b < nb; ++b) row[b] = static_cast<float>(gathered[static_cast<std::size_t>(b) * height + y]);
+        }
+      },
+      1);
   core::parallelFor(static_cast<std::size_t>(height), [&](std::size_t yi) {
     thread_local Scratch s(0);
     if (static_cast<int>(s.f.size()) < m) s = Scratch(m);

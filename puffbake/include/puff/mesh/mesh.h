@@ -19,9 +19,9 @@ namespace puff::mesh {
 /// per-vertex normals (area-weighted from faces unless the file supplied them).
 struct TriMesh {
   std::vector<glm::vec3> positions;
-  std::vector<glm::vec3> normals;    ///< one per position, unit length
-  std::vector<glm::vec3> colors;     ///< per-vertex linear [0,1] RGB as stored; empty if none
-  std::vector<glm::uvec3> triangles; ///< counter-clockwise seen from outside
+  std::vector<glm::vec3> normals;     ///< one per position, unit length
+  std::vector<glm::vec3> colors;      ///< per-vertex linear [0,1] RGB as stored; empty if none
+  std::vector<glm::uvec3> triangles;  ///< counter-clockwise seen from outside
 
   std::size_t faceCount() const { return triangles.size(); }
   bool hasColors() const { return !colors.empty(); }
@@ -29,9 +29,9 @@ struct TriMesh {
 
 /// What loading found and fixed, for the user's log.
 struct LoadInfo {
-  std::size_t sourceFaces = 0;   ///< faces in the file (polygons count once)
+  std::size_t sourceFaces = 0;  ///< faces in the file (polygons count once)
   std::size_t sourceVertices = 0;
-  bool flippedInward = false;    ///< the mesh was oriented inward; faces were reversed
+  bool flippedInward = false;  ///< the mesh was oriented inward; faces were reversed
   bool hadNormals = false;
   bool hadColors = false;
 };
@@ -48,8 +48,7 @@ Result<void> validateMesh(const TriMesh& mesh, const std::string& what);
 
 /// As above, for a mesh triangulated from a file's polygons: triangle i came from the file's face
 /// `sourceFace[i]` (0-based, file order), and messages name that face. Empty: names triangles.
-Result<void> validateMesh(const TriMesh& mesh, const std::string& what,
-                          const std::vector<std::uint32_t>& sourceFace);
+Result<void> validateMesh(const TriMesh& mesh, const std::string& what, const std::vector<std::uint32_t>& sourceFace);
 
 /// Centers the mesh on its bounding-box center and scales it so the farthest vertex is at 1.
 void normalizeToUnitSphere(TriMesh& mesh);
@@ -70,18 +69,18 @@ struct SphereParams {
   int subdivisions = 4;  ///< icosphere subdivision level, 0..7 (20 * 4^n faces)
 };
 struct LumpyParams {
-  int subdivisions = 5;      ///< icosphere level, 0..7
-  float amplitude = 0.25f;   ///< radial displacement as a fraction of the radius, 0..0.9
-  float frequency = 2.0f;    ///< noise frequency over the unit sphere, > 0
-  int octaves = 3;           ///< fractal octaves, 1..8
+  int subdivisions = 5;     ///< icosphere level, 0..7
+  float amplitude = 0.25f;  ///< radial displacement as a fraction of the radius, 0..0.9
+  float frequency = 2.0f;   ///< noise frequency over the unit sphere, > 0
+  int octaves = 3;          ///< fractal octaves, 1..8
   std::uint64_t seed = 1;
 };
 struct ClusterParams {
-  int count = 6;             ///< spheres in the cluster, 1..64
-  float radiusMin = 0.35f;   ///< sphere radii, relative to the cluster, 0 < min <= max
+  int count = 6;            ///< spheres in the cluster, 1..64
+  float radiusMin = 0.35f;  ///< sphere radii, relative to the cluster, 0 < min <= max
   float radiusMax = 0.6f;
-  float spread = 0.55f;      ///< how far sphere centers scatter from the middle, >= 0
-  int subdivisions = 3;      ///< icosphere level per sphere, 0..6
+  float spread = 0.55f;  ///< how far sphere centers scatter from the middle, >= 0
+  int subdivisions = 3;  ///< icosphere level per sphere, 0..6
   std::uint64_t seed = 1;
 };
 

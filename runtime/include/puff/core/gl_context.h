@@ -28,7 +28,7 @@ struct GlContextOptions {
   /// Size of the default framebuffer (window size for GLFW, OSMesa's buffer). Headless backends
   /// have no default framebuffer worth drawing into: render into an FBO.
   int width = 64, height = 64;
-  bool visible = false;      ///< GLFW only: show the window
+  bool visible = false;  ///< GLFW only: show the window
   std::string title = "puff";
 };
 
