@@ -2,6 +2,8 @@
 // gl_context_{osmesa,egl,glfw}.cpp, each compiled only when its PUFF_HAVE_* is defined.
 #include <puff/core/gl_context.h>
 
+#include "gl_backends.h"
+
 #include <glad/gl.h>
 
 #include <cctype>
@@ -11,16 +13,6 @@
 namespace puff::core {
 
 namespace detail {
-// Defined by the backend files. Each creates the context, makes it current and loads glad.
-#ifdef PUFF_HAVE_OSMESA
-Result<std::unique_ptr<GlContext>> createOSMesaContext(const GlContextOptions& options);
-#endif
-#ifdef PUFF_HAVE_EGL
-Result<std::unique_ptr<GlContext>> createEglContext(const GlContextOptions& options);
-#endif
-#ifdef PUFF_HAVE_GLFW
-Result<std::unique_ptr<GlContext>> createGlfwContext(const GlContextOptions& options);
-#endif
 
 // glad keeps one global set of function pointers, and each backend hands out its own: OSMesa gives
 // Mesa's glapi stubs, EGL and GLX give glvnd's dispatch stubs, which call the vendor that owns the

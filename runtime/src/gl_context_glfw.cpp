@@ -10,13 +10,9 @@
 
 #include <puff/core/gl_context.h>
 
-namespace puff::core {
+#include "gl_backends.h"
 
-namespace detail {
-int loadGl(GlBackend backend, GLADloadfunc load);
-void forgetGlLoader(GlBackend backend);
-std::string versionName(const GlContextOptions& options);
-}  // namespace detail
+namespace puff::core {
 
 namespace {
 

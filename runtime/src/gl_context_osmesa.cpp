@@ -9,12 +9,9 @@
 
 #include <puff/core/gl_context.h>
 
-namespace puff::core {
+#include "gl_backends.h"
 
-namespace detail {
-int loadGl(GlBackend backend, GLADloadfunc load);
-std::string versionName(const GlContextOptions& options);
-}  // namespace detail
+namespace puff::core {
 
 namespace {
 

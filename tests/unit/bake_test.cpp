@@ -362,6 +362,9 @@ TEST(BakeOptions, RejectsAbsurdSizes) {
   o.cellSize = 8192;
   EXPECT_TRUE(validate(o, 4).ok());  // 2x2 cells of 8192: exactly the limit
   EXPECT_NE(validate(o, 5).error().message.find("above the 16384 limit"), std::string::npos);
+  o.supersample = 4;  // 32768^2 samples: far beyond memory
+  EXPECT_NE(validate(o, 1).error().message.find("needs about"), std::string::npos);
+  o.supersample = 0;
   o.cellSize = 64;
   o.flange = {40.0f, false};
   EXPECT_NE(validate(o, 1).error().message.find("--flange"), std::string::npos);

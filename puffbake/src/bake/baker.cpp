@@ -19,6 +19,8 @@ std::string num(float v) {
   return b;
 }
 
+constexpr double kMaxResolveBytes = 8.0 * (1u << 30);
+
 int autoSupersample(int cellSize) { return std::clamp(4096 / cellSize, 1, 4); }
 
 struct Geometry {
@@ -29,6 +31,16 @@ struct Geometry {
 Result<Geometry> planGeometry(const BakeOptions& o, int variations) {
   Geometry g{};
   g.supersample = o.supersample > 0 ? o.supersample : autoSupersample(o.cellSize);
+  // Each sample costs about 64 bytes while a cell is resolved (two float RGBA buffers, their
+  // readback copy, masks and two distance transforms): refuse what would exhaust memory.
+  const double samples = std::pow(static_cast<double>(o.cellSize) * g.supersample, 2.0);
+  if (samples * 64.0 > kMaxResolveBytes) {
+    char b[160];
+    std::snprintf(b, sizeof b,
+                  "--size %d with --supersample %d needs about %.0f GiB to resolve a cell (limit %.0f GiB)", o.cellSize,
+                  g.supersample, samples * 64.0 / (1u << 30), kMaxResolveBytes / (1u << 30));
+    return Error{b};
+  }
   g.flange = o.flange.texels(o.cellSize);
   // Margin: the flange, then a guard band so the flange's antialiased edge and the first mip
   // levels stay clear of the cell border.

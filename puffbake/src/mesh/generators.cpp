@@ -12,12 +12,6 @@
 #include <unordered_map>
 #include <vector>
 
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
-
 namespace puff::mesh {
 namespace {
 

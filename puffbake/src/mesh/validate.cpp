@@ -8,15 +8,6 @@
 #include <string>
 #include <vector>
 
-// Generated meshes must be bit-identical on every platform, and they pass through
-// normalizeToUnitSphere and computeNormals: keep multiply-adds unfused (GCC and Clang fuse them
-// by default where the hardware has FMA, e.g. on AArch64).
-#if defined(__clang__)
-#pragma STDC FP_CONTRACT OFF
-#elif defined(__GNUC__)
-#pragma GCC optimize("fp-contract=off")
-#endif
-
 namespace puff::mesh {
 namespace {
 
