@@ -7,12 +7,12 @@ packages=(
   # toolchain
   g++ cmake make pkg-config git
   # libraries
-  libglfw3-dev libglm-dev libopenmesh-dev libosmesa6-dev libegl-dev libopengl-dev
-  libopenimageio-dev nlohmann-json3-dev libcli11-dev libimgui-dev libstb-dev
+  libglfw3-dev libglm-dev libopenmesh-dev libosmesa6-dev libegl-dev
+  libopenimageio-dev nlohmann-json3-dev libcli11-dev
   # GL loader generator, run at configure time
   python3-glad
-  # tests, benchmarks, charts, windows without a display, image tools used by art/
-  libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth gnuplot-nox openimageio-tools
+  # tests, a window without a display (the GLFW test), image tools (art/make-art.sh)
+  libgtest-dev xvfb xauth openimageio-tools
   # formatting
   clang-format
 )

@@ -101,8 +101,11 @@ struct GeneratorFlags {
 class Progress {
  public:
   explicit Progress(bool quiet) : quiet_(quiet), tty_(::isatty(2) != 0), start_(std::chrono::steady_clock::now()) {}
-  ~Progress() {
+  ~Progress() { finish(); }
+  /// Ends a progress line left open on a terminal, so what is printed next starts on its own line.
+  void finish() {
     if (shown_ && tty_) std::fputc('\n', stderr);
+    shown_ = false;
   }
   void operator()(std::string_view stage, int done, int total) {
     if (quiet_) return;
@@ -176,6 +179,7 @@ int runBake(const Options& o) {
   }
   Progress progress(o.quiet);
   auto result = bake::bakeAtlas(*sources, o.bake, std::ref(progress));
+  progress.finish();
   if (!result) {
     printError(result.error().message);
     return 1;
@@ -194,7 +198,13 @@ int runBake(const Options& o) {
   std::printf("%s: wrote %s: %d variation(s) x %d view(s), %dx%d atlas of %d-texel cells, %d mip level(s), %zu files\n",
               kTool, result->sidecar.c_str(), d.variations, d.views, d.width, d.height, d.cellSize, d.mipLevels,
               result->files.size());
-  if (!result->contactSheet.empty()) std::printf("%s: contact sheet: %s\n", kTool, result->contactSheet.c_str());
+  if (!result->contactSheet.empty()) {
+    std::printf("%s: contact sheet: %s", kTool, result->contactSheet.c_str());
+    if (result->contactSheetCells < static_cast<int>(d.cells.size())) {
+      std::printf(" (the first %d of %zu cells)", result->contactSheetCells, d.cells.size());
+    }
+    std::printf("\n");
+  }
   return 0;
 }
 
@@ -212,12 +222,15 @@ std::variant<Options, int> parse(int argc, char** argv) {
 
   CLI::App* bakeCmd =
       app.add_subcommand("bake", "Bake mesh files (OBJ, OFF, PLY, STL; one variation each) and/or generated puffs");
-  bakeCmd->add_option("meshes", o.inputs, "Puff mesh files, one variation each")->check(CLI::ExistingPath);
+  bakeCmd->add_option("meshes", o.inputs, "Puff mesh files, one variation each");
   GeneratorFlags bakeGen;
   bakeGen.add(*bakeCmd, true);
   bakeCmd->add_option("-o,--out", o.bake.outDir, "Output directory (created if missing)")->capture_default_str();
   bakeCmd->add_option("--name", o.bake.name, "File prefix: NAME.json, NAME_color.png, ...")->capture_default_str();
-  bakeCmd->add_option("-s,--size", o.bake.cellSize, "Cell size in texels, per variation and view (8..16384)")
+  bakeCmd
+      ->add_option(
+          "-s,--size", o.bake.cellSize,
+          "Cell size in texels, per variation and view (8..16384; a bake that would need more than 12 GiB is refused)")
       ->capture_default_str();
   bakeCmd
       ->add_option("--supersample", o.bake.supersample,
@@ -266,7 +279,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
 
   CLI::App* meshCmd =
       app.add_subcommand("mesh", "Write a generated puff, or a normalized copy of a mesh file, as OBJ/OFF/PLY/STL");
-  meshCmd->add_option("mesh", o.inputs, "Mesh file to normalize (or use --generate)")->check(CLI::ExistingPath);
+  meshCmd->add_option("mesh", o.inputs, "Mesh file to normalize (or use --generate)");
   GeneratorFlags meshGen;
   meshGen.add(*meshCmd, false);
   meshCmd->add_option("-o,--out", o.meshOut, "Output mesh file; the extension picks the format")->required();

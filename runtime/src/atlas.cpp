@@ -138,18 +138,26 @@ Result<AtlasDesc> atlasFromJson(const json& j, const fs::path& file) {
 
   if (d.fileFormat != "png" && d.fileFormat != "exr") return reader.fail("/fileFormat", "must be \"png\" or \"exr\"");
   if (d.cellSize <= 0 || d.cellSize > 16384) return reader.fail("/cellSize", "must be in [1, 16384]");
-  if (d.columns <= 0 || d.rows <= 0) return reader.fail("/columns", "columns and rows must be positive");
-  if (d.width != d.columns * d.cellSize || d.height != d.rows * d.cellSize) {
+  if (d.columns <= 0 || d.rows <= 0 || d.columns > 16384 || d.rows > 16384) {
+    return reader.fail("/columns", "columns and rows must be in [1, 16384]");
+  }
+  if (static_cast<long long>(d.width) != static_cast<long long>(d.columns) * d.cellSize ||
+      static_cast<long long>(d.height) != static_cast<long long>(d.rows) * d.cellSize) {
     return reader.fail("/width", "width and height must be columns and rows times cellSize");
   }
   if (d.margin < 0 || d.contentSize != d.cellSize - 2 * d.margin || d.contentSize <= 0) {
     return reader.fail("/contentSize", "must equal cellSize - 2 * margin and be positive");
   }
-  if (d.variations <= 0) return reader.fail("/variations", "must be positive");
-  if (d.viewGrid <= 0 || d.views != d.viewGrid * d.viewGrid) return reader.fail("/views", "must be viewGrid squared");
+  if (d.variations <= 0 || d.variations > 65536) return reader.fail("/variations", "must be in [1, 65536]");
+  if (d.viewGrid <= 0 || d.viewGrid > 64 || d.views != d.viewGrid * d.viewGrid) {
+    return reader.fail("/views", "must be viewGrid squared, viewGrid in [1, 64]");
+  }
   if (d.viewLayout != "hemioct" && d.viewLayout != "oct")
     return reader.fail("/viewLayout", "must be \"hemioct\" or \"oct\"");
-  if (d.mipLevels <= 0) return reader.fail("/mipLevels", "must be positive");
+  // Cells stay apart at every level only if each level halves the cell exactly.
+  if (d.mipLevels <= 0 || d.mipLevels > 15 || d.cellSize % (1 << (d.mipLevels - 1)) != 0) {
+    return reader.fail("/mipLevels", "must be in [1, 15] with cellSize divisible by 2^(mipLevels-1)");
+  }
   if (!(d.distanceRange > 0)) return reader.fail("/distanceRange", "must be positive");
 
   if (!j.contains("cells") || !j["cells"].is_array()) return reader.fail("/cells", "missing or not an array");

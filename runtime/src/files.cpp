@@ -57,11 +57,41 @@ fs::path OutputTransaction::stage(const fs::path& target) {
 }
 
 Result<void> OutputTransaction::commit() {
+  // Refuse before touching anything if a target can never be replaced by a file.
   for (const auto& [temp, target] : staged_) {
     std::error_code ec;
-    fs::rename(temp, target, ec);
-    if (ec) return Error::at(target, "cannot replace: " + ec.message());
+    if (fs::is_directory(target, ec)) return Error::at(target, "cannot replace: is a directory");
   }
+  // Keep a hard link to each existing target so a rename that still fails part-way can be undone
+  // and the previous outputs come back whole.
+  std::vector<std::pair<fs::path, fs::path>> backups;  // backup, target
+  auto rollback = [&](std::size_t renamed) {
+    std::error_code ec;
+    for (std::size_t i = 0; i < renamed; ++i) fs::remove(staged_[i].second, ec);
+    for (const auto& [backup, target] : backups) fs::rename(backup, target, ec);
+  };
+  for (const auto& [temp, target] : staged_) {
+    std::error_code ec;
+    if (!fs::exists(target, ec)) continue;
+    fs::path backup = target;
+    backup += ".bak-" + std::to_string(::getpid());
+    fs::create_hard_link(target, backup, ec);
+    if (ec) {
+      rollback(0);
+      return Error::at(target, "cannot replace: " + ec.message());
+    }
+    backups.emplace_back(backup, target);
+  }
+  for (std::size_t i = 0; i < staged_.size(); ++i) {
+    std::error_code ec;
+    fs::rename(staged_[i].first, staged_[i].second, ec);
+    if (ec) {
+      rollback(i);
+      return Error::at(staged_[i].second, "cannot replace: " + ec.message());
+    }
+  }
+  std::error_code ec;
+  for (const auto& [backup, target] : backups) fs::remove(backup, ec);
   committed_ = true;
   return {};
 }

@@ -102,7 +102,14 @@ Result<std::unique_ptr<GlContext>> createGlContext(const GlContextOptions& optio
       name = env;
       origin = "PUFF_GL: ";
     } else {
+      // The first headless backend this build has: OSMesa, else EGL (where OSMesa is gone).
+#if defined(PUFF_HAVE_OSMESA)
       name = "osmesa";
+#elif defined(PUFF_HAVE_EGL)
+      name = "egl";
+#else
+      name = "glfw";
+#endif
     }
   }
   Result<GlBackend> backend = parseGlBackend(name);

@@ -10,8 +10,10 @@
 #include <sstream>
 
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 
 #include <puff/bake/baker.h>
+#include <puff/bake/raster.h>
 #include <puff/core/atlas.h>
 #include <puff/core/files.h>
 
@@ -337,6 +339,7 @@ TEST(BakeViews, RotationIsOrthonormalAndLooksAlongTheView) {
         const glm::mat3 r = viewRotation(dir);
         const glm::vec3 z = r * dir;
         EXPECT_NEAR(z.z, 1.0f, 1e-5f);
+        EXPECT_NEAR(glm::determinant(r), 1.0f, 1e-5f) << "a mirrored view";
         const glm::mat3 shouldBeIdentity = r * glm::transpose(r);
         for (int a = 0; a < 3; ++a) {
           for (int b = 0; b < 3; ++b) {
@@ -359,12 +362,19 @@ TEST(BakeOptions, RejectsAbsurdSizes) {
   EXPECT_EQ(validate(o, 1).error().message, "--size must be in [8, 16384], got 0");
   o.cellSize = 16385;
   EXPECT_FALSE(validate(o, 1).ok());
+  o.cellSize = 2048;
+  EXPECT_TRUE(validate(o, 16).ok()) << validate(o, 16).error().message;  // an 8192^2 atlas fits
+  o.cellSize = 4096;
+  EXPECT_NE(validate(o, 17).error().message.find("above the 16384 limit"), std::string::npos);
   o.cellSize = 8192;
-  EXPECT_TRUE(validate(o, 4).ok());  // 2x2 cells of 8192: exactly the limit
-  EXPECT_NE(validate(o, 5).error().message.find("above the 16384 limit"), std::string::npos);
-  o.supersample = 4;  // 32768^2 samples: far beyond memory
-  EXPECT_NE(validate(o, 1).error().message.find("needs about"), std::string::npos);
+  EXPECT_NE(validate(o, 4).error().message.find("more than the 12.0 GiB"), std::string::npos);
+  o.cellSize = 4096;
+  o.supersample = 8;  // 32768 samples across
+  EXPECT_NE(validate(o, 1).error().message.find("a GL framebuffer can hold"), std::string::npos);
+  o.flange = {1e10f, false};  // must not wrap an int
   o.supersample = 0;
+  EXPECT_NE(validate(o, 1).error().message.find("--flange"), std::string::npos);
+  o.flange = {};
   o.cellSize = 64;
   o.flange = {40.0f, false};
   EXPECT_NE(validate(o, 1).error().message.find("--flange"), std::string::npos);
@@ -396,10 +406,27 @@ TEST_F(BakeLod, AutoLodFindsFewerFacesWithinTheTolerances) {
   const LodResult& lod = *r->lod[0];
   EXPECT_EQ(lod.facesBefore, 20480u);
   EXPECT_LT(lod.facesAfter, lod.facesBefore / 4);
-  EXPECT_LE(lod.normalError, o.lodNormalTolerance);
-  EXPECT_LE(lod.silhouetteError, o.lodSilhouetteTolerance);
   EXPECT_EQ(r->desc.sources[0].faces, 20480u);
   EXPECT_EQ(r->desc.sources[0].facesBaked, lod.facesAfter);
+
+  // Check the choice independently, at the settings the search compares at (2 samples per
+  // texel side, no flange): the chosen mesh is within both tolerances, and half its faces is not.
+  const core::AtlasDesc& d = r->desc;
+  auto raster = PuffRasterizer::create(d.cellSize * 2);
+  ASSERT_TRUE(raster.ok()) << raster.error().message;
+  SampleBuffer samples;
+  auto maps = [&](const mesh::TriMesh& m) {
+    (*raster)->setMesh(m, glm::vec3(1.0f));
+    (*raster)->render(viewRotation({0, 0, 1}), d.margin * 2, d.contentSize * 2, samples);
+    return resolveCell(samples, 2, 0.0f);
+  };
+  const CellMaps reference = maps(src[0].mesh);
+  const MapDifference chosen = compareCells(reference, maps(mesh::decimate(src[0].mesh, lod.facesAfter)));
+  EXPECT_LE(chosen.meanNormalError, o.lodNormalTolerance);
+  EXPECT_LE(chosen.silhouetteTexels, o.lodSilhouetteTolerance);
+  const MapDifference half = compareCells(reference, maps(mesh::decimate(src[0].mesh, lod.facesAfter / 2)));
+  EXPECT_TRUE(half.meanNormalError > o.lodNormalTolerance || half.silhouetteTexels > o.lodSilhouetteTolerance)
+      << "half the faces still passes: the search did not find the fewest";
   RecordProperty("faces_after", std::to_string(lod.facesAfter));
   fs::remove_all(o.outDir);
 }
@@ -426,6 +453,77 @@ TEST(BakeCompare, IdenticalCellsDifferByNothingAndAShiftedDiscByItsShift) {
   EXPECT_EQ(same.silhouetteTexels, 0.0f);
   MapDifference grown = compareCells(a, disc(16.0f, 8.75f));
   EXPECT_NEAR(grown.silhouetteTexels, 0.75f, 1e-4f);
+}
+
+}  // namespace
+}  // namespace puff::bake
+
+namespace puff::bake {
+namespace {
+
+TEST(BakeMips, SoftCoverageSurvivesWhereABoxFilterWouldErodeIt) {
+  // Soft coverage, like hair or foliage: alpha uniform in [0, 0.8], so 37.5% of the texels pass
+  // the 0.5 test. Box-filtered levels average toward 0.4 and fewer and fewer texels pass (about
+  // 19% at level 1 and 4% at level 2), which is how plain mipmaps erode alpha-tested shapes.
+  constexpr int kCell = 64;
+  AtlasLevel level0{core::Image(kCell, kCell, 4), core::Image(kCell, kCell, 4), core::Image(kCell, kCell, 1, 8.0f)};
+  std::uint32_t rng = 12345;
+  for (int y = 8; y < kCell - 8; ++y) {
+    for (int x = 8; x < kCell - 8; ++x) {
+      rng = rng * 1664525u + 1013904223u;
+      level0.color.at(x, y, 3) = 0.8f * static_cast<float>(rng >> 8) / static_cast<float>(1u << 24);
+      level0.normalDepth.at(x, y, 2) = 1.0f;
+    }
+  }
+  const double base = coverageFraction(level0.color, 0, 0, kCell, 0.5f);
+  ASSERT_NEAR(base, 0.375 * (48.0 * 48.0) / (64.0 * 64.0), 0.02);
+  for (int level = 1; level < mipLevelCount(kCell); ++level) {
+    const AtlasLevel mip = buildMipLevel(level0, kCell, level, 0.5f);
+    const int cell = kCell >> level;
+    // The same box filter without coverage preservation, to show this test can fail.
+    std::size_t boxPassing = 0;
+    const int f = 1 << level;
+    for (int y = 1; y < cell - 1; ++y) {
+      for (int x = 1; x < cell - 1; ++x) {
+        float a = 0;
+        for (int by = 0; by < f; ++by) {
+          for (int bx = 0; bx < f; ++bx) a += level0.color.at(x * f + bx, y * f + by, 3);
+        }
+        boxPassing += a / float(f * f) >= 0.5f;
+      }
+    }
+    EXPECT_LT(static_cast<double>(boxPassing) / (cell * cell), 0.6 * base) << "level " << level;
+    EXPECT_NEAR(coverageFraction(mip.color, 0, 0, cell, 0.5f), base, 1.0 / (cell * cell) + 1e-9) << "level " << level;
+    for (int i = 0; i < cell; ++i) {
+      EXPECT_EQ(mip.color.at(i, cell - 1, 3), 0.0f);
+      EXPECT_EQ(mip.color.at(cell - 1, i, 3), 0.0f);
+    }
+  }
+}
+
+class BakeFlange : public test::GlTest {};
+
+TEST_F(BakeFlange, PercentOfTheCellGivesThatWidth) {
+  auto src = sphereSources(1, 5);
+  BakeOptions o;
+  o.cellSize = 128;
+  o.flange = {0.03f, true};  // "3%"
+  o.mips = false;
+  o.contactSheet = false;
+  o.outDir = tempDir("flange_percent");
+  auto r = bakeAtlas(src, o);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  auto atlas = core::loadAtlas(r->sidecar);
+  ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+  const core::AtlasDesc& d = atlas->desc;
+  EXPECT_NEAR(d.flangeTexels, 3.84f, 1e-4f);
+  double dilatedArea = 0;
+  const core::Image& color = atlas->maps.at("color")[0];
+  for (int y = 0; y < d.cellSize; ++y) {
+    for (int x = 0; x < d.cellSize; ++x) dilatedArea += color.at(x, y, 3);
+  }
+  EXPECT_NEAR(std::sqrt(dilatedArea / kPi) - d.contentSize / 2.0, 0.03 * 128, 0.25);
+  fs::remove_all(o.outDir);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <new>
 
 #include <puff/bake/raster.h>
 #include <puff/core/files.h>
@@ -19,27 +20,45 @@ std::string num(float v) {
   return b;
 }
 
-constexpr double kMaxResolveBytes = 8.0 * (1u << 30);
+// What one bake may hold in memory. Per sample of the cell being resolved: two RGBA32F GL
+// targets, their readback copies, masks, two distance transforms and the signed distances
+// (about 100 bytes). Per atlas texel at level 0: the decoded maps (9 floats), the mip chain
+// (a third more) and one encoded copy at a time (about 64 bytes).
+constexpr double kMaxBakeBytes = 12.0 * (1u << 30);
+constexpr double kBytesPerSample = 100.0, kBytesPerAtlasTexel = 64.0;
 
-int autoSupersample(int cellSize) { return std::clamp(4096 / cellSize, 1, 4); }
+// The most samples per texel side, up to 4, that keep a cell within 4096^2 samples; at least 2
+// (clean edges) while that fits the memory budget on its own.
+int autoSupersample(int cellSize) {
+  const int ss = std::clamp(4096 / cellSize, 1, 4);
+  if (ss >= 2) return ss;
+  return std::pow(2.0 * cellSize, 2.0) * kBytesPerSample <= kMaxBakeBytes / 2 ? 2 : 1;
+}
 
 struct Geometry {
   int supersample, margin, content, columns, rows, views;
   float flange;
 };
 
+std::string gib(double bytes) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f GiB", bytes / (1u << 30));
+  return b;
+}
+
 Result<Geometry> planGeometry(const BakeOptions& o, int variations) {
   Geometry g{};
   g.supersample = o.supersample > 0 ? o.supersample : autoSupersample(o.cellSize);
-  // Each sample costs about 64 bytes while a cell is resolved (two float RGBA buffers, their
-  // readback copy, masks and two distance transforms): refuse what would exhaust memory.
-  const double samples = std::pow(static_cast<double>(o.cellSize) * g.supersample, 2.0);
-  if (samples * 64.0 > kMaxResolveBytes) {
-    char b[160];
-    std::snprintf(b, sizeof b,
-                  "--size %d with --supersample %d needs about %.0f GiB to resolve a cell (limit %.0f GiB)", o.cellSize,
-                  g.supersample, samples * 64.0 / (1u << 30), kMaxResolveBytes / (1u << 30));
-    return Error{b};
+  if (static_cast<long long>(o.cellSize) * g.supersample > kMaxCellSize) {
+    return Error{"--size " + std::to_string(o.cellSize) + " with --supersample " + std::to_string(g.supersample) +
+                 " is " + std::to_string(o.cellSize * g.supersample) + " samples across, above the " +
+                 std::to_string(kMaxCellSize) + " a GL framebuffer can hold"};
+  }
+  // Checked in floating point before any cast: a flange of 1e10 texels must not wrap an int.
+  const double flange = o.flange.fractionOfCell ? double(o.flange.value) * o.cellSize : double(o.flange.value);
+  if (flange > o.cellSize / 2.0 - 4.0) {
+    return Error{"--flange " + num(static_cast<float>(flange)) + " texels leaves no room for the puff in a " +
+                 std::to_string(o.cellSize) + "-texel cell"};
   }
   g.flange = o.flange.texels(o.cellSize);
   // Margin: the flange, then a guard band so the flange's antialiased edge and the first mip
@@ -59,6 +78,14 @@ Result<Geometry> planGeometry(const BakeOptions& o, int variations) {
     return Error{"the atlas would be " + std::to_string(g.columns * o.cellSize) + "x" +
                  std::to_string(g.rows * o.cellSize) + " texels, above the " + std::to_string(kMaxAtlasSize) +
                  " limit: lower --size, --views or the variation count"};
+  }
+  const double samples = std::pow(static_cast<double>(o.cellSize) * g.supersample, 2.0);
+  const double atlasTexels = static_cast<double>(cells) * o.cellSize * o.cellSize;
+  const double bytes = samples * kBytesPerSample + atlasTexels * kBytesPerAtlasTexel;
+  if (bytes > kMaxBakeBytes) {
+    return Error{"--size " + std::to_string(o.cellSize) + " x " + std::to_string(cells) + " cells at --supersample " +
+                 std::to_string(g.supersample) + " needs about " + gib(bytes) + ", more than the " +
+                 gib(kMaxBakeBytes) + " a bake may use: lower --size, --supersample, --views or the variations"};
   }
   return g;
 }
@@ -101,7 +128,14 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
     auto bytes = core::readFileBytes(file);
     if (!bytes) return bytes.error();
     mesh::LoadInfo info;
-    auto m = mesh::loadMesh(file, &info);
+    Result<mesh::TriMesh> m = Error{};
+    try {
+      m = mesh::loadMesh(file, &info);
+    } catch (const std::bad_alloc&) {  // a header declaring billions of elements
+      return Error::at(file, "out of memory while reading (does the header declare absurd counts?)");
+    } catch (const std::exception& e) {
+      return Error::at(file, std::string("cannot read: ") + e.what());
+    }
     if (!m) return m.error();
     PuffSource s;
     s.provenance.path = file.string();
@@ -210,10 +244,11 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
     const mesh::TriMesh* bakeMesh = &src.mesh;
     mesh::TriMesh reduced;
     if (o.lodAuto) {
-      report("choosing level of detail", var, variations);
+      const std::string stage = "choosing level of detail, variation " + std::to_string(var + 1);
       LodResult lod = chooseLod(
           src.mesh, [&](const mesh::TriMesh& m) { return renderViews(lodRaster, lodSupersample, m, 0.0f); },
-          o.lodNormalTolerance, o.lodSilhouetteTolerance, &reduced);
+          o.lodNormalTolerance, o.lodSilhouetteTolerance, &reduced,
+          [&](int step, int maxSteps) { report(stage, step, maxSteps); });
       bakeMesh = &reduced;
       result.lod.push_back(lod);
     } else {
@@ -274,7 +309,10 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
   }
   if (o.contactSheet) {
     result.contactSheet = o.outDir / (o.name + "_contact.png");
-    const core::Image sheet = contactSheet(levels[0], desc, std::min(cellSize, 160));
+    const int thumb = std::min(cellSize, 160);
+    // One row per cell, up to a sheet about 8192 pixels tall; beyond that the first cells only.
+    result.contactSheetCells = std::min<int>(static_cast<int>(desc.cells.size()), 8192 / (thumb + 4));
+    const core::Image sheet = contactSheet(levels[0], desc, thumb, result.contactSheetCells);
     PUFF_TRY(core::writeImage(tx.stage(result.contactSheet), sheet, core::PixelType::kUInt8, {}, result.contactSheet));
     result.files.push_back(result.contactSheet);
   }
@@ -283,7 +321,8 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
     const fs::path temp = tx.stage(result.sidecar);
     std::FILE* f = std::fopen(temp.c_str(), "wb");
     if (!f) return Error::at(result.sidecar, "cannot write");
-    const std::string text = core::toJson(desc).dump(2) + "\n";
+    // Paths need not be UTF-8 on Linux: replace what JSON cannot hold rather than throw.
+    const std::string text = core::toJson(desc).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
     const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
     if (std::fclose(f) != 0 || !ok) return Error::at(result.sidecar, "write failed (disk full?)");
     result.files.push_back(result.sidecar);

@@ -54,8 +54,8 @@ glm::vec3 texelColor(const AtlasLevel& l, const core::AtlasDesc& desc, int colum
 
 }  // namespace
 
-core::Image contactSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int thumb) {
-  const int rows = static_cast<int>(desc.cells.size());
+core::Image contactSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int thumb, int maxCells) {
+  const int rows = std::min(static_cast<int>(desc.cells.size()), maxCells);
   const int width = kGap + kColumns * (thumb + kGap), height = kGap + rows * (thumb + kGap);
   core::Image sheet(width, height, 3);
   for (int y = 0; y < height; ++y) {

@@ -31,7 +31,8 @@ MapDifference compareCells(const CellMaps& ref, const CellMaps& cand) {
 
 LodResult chooseLod(const mesh::TriMesh& full,
                     const std::function<std::vector<CellMaps>(const mesh::TriMesh&)>& rasterize, float normalTolerance,
-                    float silhouetteTolerance, mesh::TriMesh* chosen) {
+                    float silhouetteTolerance, mesh::TriMesh* chosen,
+                    const std::function<void(int step, int maxSteps)>& onStep) {
   const std::vector<CellMaps> reference = rasterize(full);
   LodResult result;
   result.facesBefore = result.facesAfter = full.faceCount();
@@ -50,7 +51,9 @@ LodResult chooseLod(const mesh::TriMesh& full,
 
   // Invariant: `hi` faces is known to pass (the full mesh does, with zero error).
   std::size_t lo = std::min<std::size_t>(full.faceCount(), 8), hi = full.faceCount();
+  const int maxSteps = static_cast<int>(std::ceil(std::log2(static_cast<double>(hi - lo) + 1.0)));
   while (lo < hi) {
+    if (onStep) onStep(result.evaluations, maxSteps);
     const std::size_t mid = lo + (hi - lo) / 2;
     mesh::TriMesh candidate = mesh::decimate(full, mid);
     MapDifference d;

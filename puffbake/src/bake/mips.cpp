@@ -40,9 +40,19 @@ void preserveCoverage(core::Image& color, int cx, int cy, int cellSize, float th
   const auto want = static_cast<std::size_t>(std::llround(target * cellSize * cellSize));
   if (want == 0 || alphas.empty()) return;
   const std::size_t m = std::min(want, alphas.size());
-  std::nth_element(alphas.begin(), alphas.begin() + static_cast<std::ptrdiff_t>(m - 1), alphas.end(), std::greater<>());
-  const float pivot = alphas[m - 1];
-  const float scale = std::clamp(threshold / pivot, 0.25f, 64.0f);
+  std::sort(alphas.begin(), alphas.end(), std::greater<>());
+  float pivot = alphas[m - 1];
+  // Texels of equal alpha pass or fail together: when lifting the whole tie overshoots the
+  // target by more than leaving it out undershoots, lift only what lies above it.
+  const auto tieEnd = std::upper_bound(alphas.begin(), alphas.end(), pivot, std::greater<>()) - alphas.begin();
+  const auto tieBegin = std::lower_bound(alphas.begin(), alphas.end(), pivot, std::greater<>()) - alphas.begin();
+  if (m == want && tieBegin > 0 &&
+      static_cast<std::size_t>(tieEnd) - want > want - static_cast<std::size_t>(tieBegin)) {
+    pivot = alphas[static_cast<std::size_t>(tieBegin) - 1];
+  }
+  float scale = std::clamp(threshold / pivot, 0.25f, 64.0f);
+  // Rounding may leave pivot * scale a hair under the threshold; the pivot must pass.
+  while (pivot * scale < threshold && scale < 64.0f) scale = std::nextafter(scale, 64.0f);
   for (int y = cy; y < cy + cellSize; ++y) {
     for (int x = cx; x < cx + cellSize; ++x) color.at(x, y, 3) = std::min(1.0f, color.at(x, y, 3) * scale);
   }

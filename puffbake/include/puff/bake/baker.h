@@ -83,6 +83,7 @@ struct LodResult {
 struct BakeReport {
   core::AtlasDesc desc;
   std::filesystem::path sidecar, contactSheet;
+  int contactSheetCells = 0;                  ///< cells the contact sheet shows (it caps its height)
   std::vector<std::filesystem::path> files;   ///< every file written
   std::vector<std::optional<LodResult>> lod;  ///< per variation when --lod auto
 };
@@ -111,10 +112,11 @@ MapDifference compareCells(const CellMaps& reference, const CellMaps& candidate)
 /// into the cell maps of each view, without flange. `chosen` receives the mesh picked.
 LodResult chooseLod(const mesh::TriMesh& full,
                     const std::function<std::vector<CellMaps>(const mesh::TriMesh&)>& rasterize, float normalTolerance,
-                    float silhouetteTolerance, mesh::TriMesh* chosen);
+                    float silhouetteTolerance, mesh::TriMesh* chosen,
+                    const std::function<void(int step, int maxSteps)>& onStep = {});
 
-/// The contact sheet: one row per cell, columns shaded preview, normal, depth, colour, coverage,
-/// distance. `thumb` is the thumbnail size in pixels.
-core::Image contactSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int thumb);
+/// The contact sheet: one row per cell (the first `maxCells`), columns shaded preview, normal,
+/// depth, colour, coverage, distance. `thumb` is the thumbnail size in pixels.
+core::Image contactSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int thumb, int maxCells);
 
 }  // namespace puff::bake

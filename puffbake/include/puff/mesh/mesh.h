@@ -19,8 +19,8 @@ namespace puff::mesh {
 /// per-vertex normals (area-weighted from faces unless the file supplied them).
 struct TriMesh {
   std::vector<glm::vec3> positions;
-  std::vector<glm::vec3> normals;     ///< one per position, unit length
-  std::vector<glm::vec3> colors;      ///< per-vertex linear [0,1] RGB as stored; empty if none
+  std::vector<glm::vec3> normals;  ///< one per position, unit length
+  std::vector<glm::vec3> colors;   ///< per-vertex [0,1] RGB as the file stores it (usually sRGB-encoded); empty if none
   std::vector<glm::uvec3> triangles;  ///< counter-clockwise seen from outside
 
   std::size_t faceCount() const { return triangles.size(); }

@@ -21,7 +21,8 @@ Result<GlBackend> parseGlBackend(std::string_view name);
 enum class GlProfile { kCore, kCompatibility };
 
 struct GlContextOptions {
-  /// Unset means: the PUFF_GL environment variable if set ("osmesa", "egl", "glfw"), else OSMesa.
+  /// Unset means: the PUFF_GL environment variable if set ("osmesa", "egl", "glfw"), else OSMesa
+  /// (EGL in a build without OSMesa).
   std::string backend;
   GlProfile profile = GlProfile::kCore;
   int major = 4, minor = 5;  ///< requested version; 4.5 is the most Mesa's llvmpipe gives
