@@ -56,8 +56,11 @@ int main(int argc, char** argv) {
 
   std::vector<bake::PuffSource> sources(4);
   for (int i = 0; i < 4; ++i) {
-    mesh::LumpyParams p;
+    mesh::LumpyParams p;  // pinned, so figures stay comparable when the generator's defaults change
     p.subdivisions = subdivisions;
+    p.amplitude = 0.25f;
+    p.frequency = 2.0f;
+    p.octaves = 3;
     p.seed = 1 + static_cast<std::uint64_t>(i);
     sources[static_cast<std::size_t>(i)].mesh = mesh::generateLumpy(p);
     sources[static_cast<std::size_t>(i)].provenance.generator = "lumpy";

@@ -156,6 +156,21 @@ TEST_F(PuffbakeCli, UnwritableOutputFailsAndExistingOutputsSurvive) {
   EXPECT_TRUE(before == after);
 }
 
+TEST_F(PuffbakeCli, SeparateRunsWithLodAndExrAreByteIdentical) {
+  std::vector<std::map<std::string, std::string>> runs;
+  for (int i = 0; i < 2; ++i) {
+    const fs::path out = dir_ / ("run" + std::to_string(i));
+    CliRun r = run("bake -g lumpy -n 2 --subdivisions 3 -s 32 --views 2 --lod auto --format exr -o " + out.string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    std::map<std::string, std::string> files;
+    for (const auto& e : fs::directory_iterator(out))
+      files[e.path().filename().string()] = *puff::core::readFileBytes(e.path());
+    runs.push_back(std::move(files));
+  }
+  ASSERT_GE(runs[0].size(), 8u);
+  EXPECT_TRUE(runs[0] == runs[1]);
+}
+
 TEST_F(PuffbakeCli, MeshCommandWritesAGeneratedPuffThatBakes) {
   const fs::path mesh = dir_ / "cluster.ply";
   CliRun r = run("mesh -g cluster --count 4 --seed 3 -o " + mesh.string());

@@ -70,8 +70,8 @@ struct SphereParams {
 };
 struct LumpyParams {
   int subdivisions = 5;     ///< icosphere level, 0..7
-  float amplitude = 0.25f;  ///< radial displacement as a fraction of the radius, 0..0.9
-  float frequency = 2.0f;   ///< noise frequency over the unit sphere, > 0
+  float amplitude = 0.22f;  ///< radial displacement as a fraction of the radius, 0..0.9
+  float frequency = 1.5f;   ///< noise frequency over the unit sphere, > 0
   int octaves = 3;          ///< fractal octaves, 1..8
   std::uint64_t seed = 1;
 };
