@@ -37,6 +37,9 @@ Result<void> writeImage(const fs::path& path, const Image& image, PixelType type
   auto out = OIIO::ImageOutput::create(naming.string());
   if (!out) return Error::at(naming, "cannot write images of this type: " + firstLine(OIIO::geterror()));
   OIIO::ImageSpec spec(image.width, image.height, image.channels, toTypeDesc(type));
+  // Same inputs, same bytes: OpenImageIO's EXR writer stamps the current time unless DateTime is
+  // set, and an empty value leaves the attribute out.
+  spec.attribute("DateTime", "");
   for (const auto& [key, value] : attributes) spec.attribute(key, value);
   // Puff's four-channel images are straight values (and normalDepth's fourth channel is depth,
   // not alpha): never let OpenImageIO divide by "alpha" on the way out.
