@@ -107,17 +107,20 @@ Result<std::string> readFileBytes(const fs::path& path) {
   return ss.str();
 }
 
+Result<void> writeFileBytes(const fs::path& path, const std::string& bytes, const fs::path& name) {
+  const fs::path& shown = name.empty() ? path : name;
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  if (!out) return Error::at(shown, std::string("cannot write: ") + std::strerror(errno));
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.flush();
+  if (!out) return Error::at(shown, "write failed (disk full?)");
+  return {};
+}
+
 Result<void> writeFileAtomic(const fs::path& path, const std::string& bytes) {
   OutputTransaction tx;
   PUFF_TRY(tx.prepareDirectory(path.parent_path()));
-  const fs::path temp = tx.stage(path);
-  {
-    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
-    if (!out) return Error::at(path, std::string("cannot write: ") + std::strerror(errno));
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    out.flush();
-    if (!out) return Error::at(path, "write failed (disk full?)");
-  }
+  PUFF_TRY(writeFileBytes(tx.stage(path), bytes, path));
   return tx.commit();
 }
 

@@ -317,16 +317,10 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
     result.files.push_back(result.contactSheet);
   }
   result.sidecar = o.outDir / (o.name + ".json");
-  {
-    const fs::path temp = tx.stage(result.sidecar);
-    std::FILE* f = std::fopen(temp.c_str(), "wb");
-    if (!f) return Error::at(result.sidecar, "cannot write");
-    // Paths need not be UTF-8 on Linux: replace what JSON cannot hold rather than throw.
-    const std::string text = core::toJson(desc).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
-    const bool ok = std::fwrite(text.data(), 1, text.size(), f) == text.size();
-    if (std::fclose(f) != 0 || !ok) return Error::at(result.sidecar, "write failed (disk full?)");
-    result.files.push_back(result.sidecar);
-  }
+  // Paths need not be UTF-8 on Linux: replace what JSON cannot hold rather than throw.
+  const std::string text = core::toJson(desc).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  PUFF_TRY(core::writeFileBytes(tx.stage(result.sidecar), text, result.sidecar));
+  result.files.push_back(result.sidecar);
   report("writing", totalFiles, totalFiles);
   PUFF_TRY(tx.commit());
   result.desc = std::move(desc);

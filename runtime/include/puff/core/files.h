@@ -39,6 +39,11 @@ class OutputTransaction {
 /// The whole file as bytes; an error says "FILE: cannot open: reason".
 Result<std::string> readFileBytes(const std::filesystem::path& path);
 
+/// Writes exactly `path` (for example an OutputTransaction's staged path); errors name `name`
+/// (the user-facing target) when given, else `path`.
+Result<void> writeFileBytes(const std::filesystem::path& path, const std::string& bytes,
+                            const std::filesystem::path& name = {});
+
 /// Writes text through a temporary file and a rename.
 Result<void> writeFileAtomic(const std::filesystem::path& path, const std::string& bytes);
 
