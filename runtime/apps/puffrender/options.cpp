@@ -1,0 +1,360 @@
+#include "options.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <set>
+
+#include <CLI/CLI.hpp>
+
+#include <puff/core/files.h>
+#include <puff/core/gl_context.h>
+#include <puff/core/image.h>
+#include <puff/core/shader.h>
+#include <puff/render/render.h>
+#include <puff/render/scene.h>
+
+namespace puff::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kTool = "puffrender";
+
+void printError(const std::string& message) { std::fprintf(stderr, "%s: error: %s\n", kTool, message.c_str()); }
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// The art directory when --art-dir is not given: $PUFF_ART, else build/art (where the build bakes
+// art/), relative to the working directory.
+fs::path defaultArtDir() {
+  const char* env = std::getenv("PUFF_ART");
+  return env && *env ? fs::path(env) : fs::path("build/art");
+}
+
+// JSON as a person writes it: one key per line, but arrays of numbers ([x, y, z]) on one line.
+void printJson(std::string& out, const nlohmann::json& j, int indent) {
+  const std::string pad(static_cast<std::size_t>(indent) + 2, ' ');
+  const bool flat = j.is_array() && std::none_of(j.begin(), j.end(), [](const auto& v) { return v.is_structured(); });
+  if (j.is_object() && !j.empty()) {
+    out += "{\n";
+    std::size_t i = 0;
+    for (const auto& item : j.items()) {
+      out += pad + nlohmann::json(item.key()).dump() + ": ";
+      printJson(out, item.value(), indent + 2);
+      out += ++i < j.size() ? ",\n" : "\n";
+    }
+    out += std::string(static_cast<std::size_t>(indent), ' ') + "}";
+  } else if (j.is_array() && !j.empty() && !flat) {
+    out += "[\n";
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      out += pad;
+      printJson(out, j[i], indent + 2);
+      out += i + 1 < j.size() ? ",\n" : "\n";
+    }
+    out += std::string(static_cast<std::size_t>(indent), ' ') + "]";
+  } else if (flat && !j.empty()) {
+    out += "[";
+    for (std::size_t i = 0; i < j.size(); ++i) out += (i ? ", " : "") + j[i].dump();
+    out += "]";
+  } else {
+    out += j.dump();
+  }
+}
+
+// Everything run() needs once the scene is known: which frames go where, in which format.
+struct Plan {
+  OutputPattern pattern;
+  int first = 0, last = 0;
+  bool exr = false;
+};
+
+// Checks the options against the scene; errors are usage errors (exit 2).
+Result<Plan> makePlan(const Options& o, const render::Scene& scene) {
+  Plan plan;
+  auto pattern = parseOutputPattern(o.out);
+  if (!pattern) return pattern.error();
+  plan.pattern = *pattern;
+  const int frames = scene.animation.frames;
+  if (!o.frames.empty()) {
+    auto range = parseFrameRange(o.frames);
+    if (!range) return range.error();
+    plan.first = range->first;
+    plan.last = range->second;
+    if (plan.last >= frames) {
+      return Error{"--frames " + o.frames + ": the scene has " + std::to_string(frames) + " frame(s), 0 to " +
+                   std::to_string(frames - 1) + " (/animation/frames)"};
+    }
+  } else {
+    plan.last = plan.pattern.numbered ? frames - 1 : 0;
+  }
+  if (!plan.pattern.numbered && plan.last > plan.first) {
+    return Error{"-o " + o.out + ": " + std::to_string(plan.last - plan.first + 1) +
+                 " frames need a numbered output, e.g. frame_####.png or frame_%04d.png"};
+  }
+  const std::string ext = lower(fs::path(plan.pattern.name(plan.first)).extension().string());
+  const std::string fromName = ext == ".png" ? "png" : ext == ".exr" ? "exr" : "";
+  if (o.format.empty()) {
+    if (fromName.empty()) {
+      return Error{"-o " + o.out + ": cannot tell the format from the extension \"" + ext +
+                   "\"; use .png or .exr, or --format"};
+    }
+    plan.exr = fromName == "exr";
+  } else {
+    if (!fromName.empty() && fromName != o.format) {
+      return Error{"--format " + o.format + " contradicts the output's extension (" + o.out + ")"};
+    }
+    plan.exr = o.format == "exr";
+  }
+  return plan;
+}
+
+int renderFrames(const Options& o, const render::Scene& scene, const Plan& plan) {
+  // Fail before any rendering if an output can never be written: every directory the frames go
+  // to is created now (and taken back, if still empty, when the run fails) and must be writable.
+  core::OutputTransaction directories;
+  std::set<fs::path> dirs;
+  for (int f = plan.first; f <= plan.last; ++f) {
+    dirs.insert(fs::path(plan.pattern.name(f)).parent_path());
+    if (!plan.pattern.numbered) break;
+  }
+  for (const fs::path& dir : dirs) {
+    if (auto r = directories.prepareDirectory(dir); !r) {
+      printError(r.error().message);
+      return 1;
+    }
+  }
+
+  if (!o.shaderDir.empty()) core::setShaderDir(o.shaderDir);
+  core::GlContextOptions glOptions;
+  glOptions.backend = o.glBackend;
+  glOptions.width = glOptions.height = 16;  // frames are drawn into the renderer's own target
+  auto context = core::createGlContext(glOptions);
+  if (!context) {
+    printError(context.error().message);
+    return 1;
+  }
+  auto renderer = render::SceneRenderer::create(scene);
+  if (!renderer) {
+    printError(renderer.error().message);
+    return 1;
+  }
+
+  const core::PixelType type = plan.exr ? core::PixelType::kHalf : core::PixelType::kUInt8;
+  const fs::path formatHint = plan.exr ? "frame.exr" : "frame.png";
+  const int count = plan.last - plan.first + 1;
+  for (int f = plan.first; f <= plan.last; ++f) {
+    const fs::path target = plan.pattern.name(f);
+    if (!o.quiet && count > 1) {
+      std::fprintf(stderr, "%s: frame %d (%d/%d) -> %s\n", kTool, f, f - plan.first + 1, count, target.c_str());
+      std::fflush(stderr);
+    }
+    auto image = (*renderer)->renderFrame(f);
+    if (!image) {
+      printError(image.error().message);
+      return 1;
+    }
+    // Each frame is written beside its target and renamed over it only when complete.
+    core::OutputTransaction frame;
+    const fs::path temp = frame.stage(target);
+    if (auto r = core::writeImage(temp, *image, type, {}, formatHint); !r) {
+      printError(Error::at(target, r.error().message).message);
+      return 1;
+    }
+    if (auto r = frame.commit(); !r) {
+      printError(r.error().message);
+      return 1;
+    }
+  }
+  if (!o.quiet) {
+    if (count == 1) {
+      std::printf("%s: wrote %s (%dx%d, frame %d)\n", kTool, plan.pattern.name(plan.first).c_str(), scene.width,
+                  scene.height, plan.first);
+    } else {
+      std::printf("%s: wrote %d frames (%dx%d): %s .. %s\n", kTool, count, scene.width, scene.height,
+                  plan.pattern.name(plan.first).c_str(), plan.pattern.name(plan.last).c_str());
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+std::string OutputPattern::name(int frame) const {
+  if (!numbered) return prefix;
+  std::string number = std::to_string(frame);
+  if (static_cast<int>(number.size()) < digits) number.insert(0, static_cast<std::size_t>(digits) - number.size(), '0');
+  return prefix + number + suffix;
+}
+
+Result<OutputPattern> parseOutputPattern(const std::string& out) {
+  OutputPattern p;
+  std::size_t start = std::string::npos, end = 0;
+  int found = 0;
+  for (std::size_t i = 0; i < out.size();) {
+    if (out[i] == '#') {
+      std::size_t j = i;
+      while (j < out.size() && out[j] == '#') ++j;
+      ++found, start = i, end = j;
+      p.digits = static_cast<int>(j - i);
+      i = j;
+    } else if (out[i] == '%') {
+      // "%d" or "%0Nd" with N in 1..9.
+      if (i + 1 < out.size() && out[i + 1] == 'd') {
+        ++found, start = i, end = i + 2, p.digits = 0;
+        i += 2;
+      } else if (i + 3 < out.size() && out[i + 1] == '0' && out[i + 2] >= '1' && out[i + 2] <= '9' &&
+                 out[i + 3] == 'd') {
+        ++found, start = i, end = i + 4, p.digits = out[i + 2] - '0';
+        i += 4;
+      } else {
+        ++i;
+      }
+    } else {
+      ++i;
+    }
+  }
+  if (found > 1) return Error{"-o " + out + ": more than one frame-number pattern (%d, %0Nd or ###)"};
+  if (found == 0) {
+    p.prefix = out;
+    return p;
+  }
+  p.numbered = true;
+  p.prefix = out.substr(0, start);
+  p.suffix = out.substr(end);
+  return p;
+}
+
+Result<std::pair<int, int>> parseFrameRange(const std::string& text) {
+  auto number = [](const std::string& s) -> std::optional<int> {
+    if (s.empty() || s.size() > 9 || !std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+      return std::nullopt;
+    }
+    return std::stoi(s);
+  };
+  const Error bad{"--frames: expected a frame N or a range A-B (0-based, inclusive), got \"" + text + "\""};
+  const auto dash = text.find('-');
+  if (dash == std::string::npos) {
+    auto n = number(text);
+    if (!n) return bad;
+    return std::pair{*n, *n};
+  }
+  auto a = number(text.substr(0, dash)), b = number(text.substr(dash + 1));
+  if (!a || !b) return bad;
+  if (*a > *b) return Error{"--frames " + text + ": the range ends before it starts"};
+  return std::pair{*a, *b};
+}
+
+std::variant<Options, int> parse(int argc, char** argv) {
+  Options o;
+  std::vector<std::string> presets = render::stylePresetNames();
+  std::string presetList;
+  for (const std::string& p : presets) presetList += (presetList.empty() ? "" : ", ") + p;
+  CLI::App app{
+      "puffrender: renders a scene file (JSON: camera, light, style, particles, emitters, objects; see "
+      "docs/scene-format.md) with cel-shaded nailboards, outlines and billboard shadow volumes (McGuire & Fein "
+      "2006) into a PNG or EXR image, or a numbered image sequence.",
+      kTool};
+  app.set_version_flag("--version", "puffrender 0.1.0");
+  app.add_option("scene", o.scene, "Scene file (JSON)")->required();
+  app.add_option("-o,--out", o.out,
+                 "Output image. For a sequence, a name with one %d, %0Nd or run of # (frame_####.png) that the frame "
+                 "number fills in; without one, a single frame is written to exactly OUT. Required unless "
+                 "--print-scene");
+  app.add_option("--frames", o.frames,
+                 "Frame N or range A-B (0-based, inclusive). Default: frame 0 for a single OUT, every frame of the "
+                 "scene (/animation/frames) for a numbered OUT");
+  app.add_option("--format", o.format,
+                 "png (8-bit RGBA) or exr (half-float RGBA). Default: from OUT's extension (.png or .exr)")
+      ->check(CLI::IsMember({"png", "exr"}));
+  app.add_option("--gl", o.glBackend, "GL backend: osmesa, egl or glfw (default: $PUFF_GL, else osmesa)")
+      ->check(CLI::IsMember({"osmesa", "egl", "glfw"}));
+  app.add_option("--width", o.width, "Output width in pixels, replacing the scene's (1..16384)")
+      ->check(CLI::Range(1, 16384));
+  app.add_option("--height", o.height, "Output height in pixels, replacing the scene's (1..16384)")
+      ->check(CLI::Range(1, 16384));
+  app.add_option("--samples", o.samples, "MSAA samples per pixel, replacing the scene's: 1, 2, 4 or 8")
+      ->check(CLI::IsMember({1, 2, 4, 8}));
+  app.add_option("--art-dir", o.artDir,
+                 "Directory that \"${PUFF_ART}\" in the scene's paths stands for (default: $PUFF_ART, else build/art)");
+  app.add_option("--shader-dir", o.shaderDir, "Read shaders from this directory instead of the built-in copies");
+  app.add_option("--style", o.style, "Render with this style preset instead of the scene's style: " + presetList)
+      ->check(CLI::IsMember(presets));
+  app.add_flag("--print-scene", o.printScene,
+               "Print the scene as it will be rendered (every field, defaults and the options above applied) as JSON, "
+               "and exit without rendering");
+  app.add_flag("-q,--quiet", o.quiet, "Print errors only");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    printError(e.what());
+    std::fprintf(stderr, "Run with --help for usage.\n");
+    return 2;
+  }
+  if (o.out.empty() && !o.printScene) {
+    printError("-o OUT is required (or --print-scene); see --help");
+    return 2;
+  }
+  if (!o.out.empty()) {
+    if (auto p = parseOutputPattern(o.out); !p) {
+      printError(p.error().message);
+      return 2;
+    }
+  }
+  if (!o.frames.empty()) {
+    if (auto r = parseFrameRange(o.frames); !r) {
+      printError(r.error().message);
+      return 2;
+    }
+  }
+  if (o.artDir.empty()) o.artDir = defaultArtDir();
+  return o;
+}
+
+int run(const Options& o) {
+  auto loaded = render::loadScene(o.scene, o.artDir);
+  if (!loaded) {
+    printError(loaded.error().message);
+    return 1;
+  }
+  render::Scene scene = std::move(*loaded);
+  if (o.width) scene.width = *o.width;
+  if (o.height) scene.height = *o.height;
+  if (o.samples) scene.samples = *o.samples;
+  if (!o.style.empty()) {
+    auto style = render::stylePreset(o.style);
+    if (!style) {
+      printError(style.error().message);
+      return 2;
+    }
+    scene.style = *style;
+    scene.stylePreset = o.style;
+  }
+  if (o.printScene) {
+    std::string text;
+    printJson(text, render::toJson(scene), 0);
+    std::cout << text << "\n";
+    return 0;
+  }
+  auto plan = makePlan(o, scene);
+  if (!plan) {
+    printError(plan.error().message);
+    return 2;
+  }
+  return renderFrames(o, scene, *plan);
+}
+
+}  // namespace puff::app

@@ -1,0 +1,50 @@
+// puffrender's command line: parsing into one Options value, and the one call that runs it.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <puff/core/error.h>
+
+namespace puff::app {
+
+struct Options {
+  std::filesystem::path scene;                ///< the scene file
+  std::string out;                            ///< output image, or a numbered pattern ("out/f_####.png", "f%04d.exr")
+  std::string frames;                         ///< "N" or "A-B"; empty: frame 0, or every frame for a pattern
+  std::string format;                         ///< "png" or "exr"; empty: from the output's extension
+  std::string glBackend;                      ///< empty: PUFF_GL or osmesa
+  std::optional<int> width, height, samples;  ///< overrides of the scene's output settings
+  std::filesystem::path artDir;               ///< replaces "${PUFF_ART}" in the scene's paths
+  std::string shaderDir;
+  std::string style;  ///< a style preset replacing the scene's style; empty: the scene's own
+  bool printScene = false;
+  bool quiet = false;
+};
+
+/// Parses argv. Returns the Options, or an exit code when parsing ended the run (--help: 0, bad
+/// usage: 2, after printing why).
+std::variant<Options, int> parse(int argc, char** argv);
+
+/// Runs the parsed command; returns the process exit code (0 success, 1 failure, 2 bad usage that
+/// only the scene could reveal, e.g. --frames beyond the scene's last frame).
+int run(const Options& options);
+
+/// Where frame N goes: OUT with its one "%d", "%0Nd" or run of '#' replaced by the number
+/// (zero-padded to the run's length).
+struct OutputPattern {
+  std::string prefix, suffix;
+  int digits = 0;         ///< zero-padding width; 0 = none
+  bool numbered = false;  ///< false: every frame goes to `prefix` (a single file)
+  std::string name(int frame) const;
+};
+/// Errors (as text for a usage message) for more than one pattern in OUT.
+Result<OutputPattern> parseOutputPattern(const std::string& out);
+
+/// "N" or "A-B" (inclusive, A <= B, non-negative).
+Result<std::pair<int, int>> parseFrameRange(const std::string& text);
+
+}  // namespace puff::app

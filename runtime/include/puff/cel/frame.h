@@ -1,0 +1,111 @@
+// What every cel pass shares in one frame: the camera, the light, the ambient term K_a and the ramp
+// q of McGuire & Fein Eq. 2, and the linear depth convention. A host fills a Frame, uploads it once
+// with FrameBlock::upload, then calls the passes it wants (opaque objects, nailboards, shadows)
+// in its own GL frame.
+//
+// Units and conventions:
+//  - World space is right-handed, y up, in the scene's units (metres by convention).
+//  - Depth is LINEAR (§4.2): the depth attachment of the target holds (-z_view - near)/(far - near),
+//    0 at the near plane and 1 at the far plane. Every cel program writes gl_FragDepth that way, so
+//    geometry the host draws itself must too (include shaders/common/frame.glsl, use linearDepth).
+//  - Colours are display values in [0, 1] (no sRGB conversion), as in the paper.
+#pragma once
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <puff/core/error.h>
+#include <puff/core/gl.h>
+#include <puff/core/image.h>
+
+namespace puff::cel {
+
+struct Camera {
+  glm::vec3 position{0.0f, 0.0f, 5.0f};  ///< world space
+  glm::vec3 target{0.0f};                ///< point looked at
+  glm::vec3 up{0.0f, 1.0f, 0.0f};        ///< world up hint; must not be parallel to target - position
+  float fovYDegrees = 45.0f;             ///< vertical field of view, (0, 180); 0 means orthographic
+  float orthoHeight = 2.0f;              ///< world-space height of the view when orthographic
+  float nearPlane = 0.1f;                ///< > 0
+  float farPlane = 100.0f;               ///< > nearPlane
+
+  glm::mat4 view() const;
+  glm::mat4 projection(float aspect) const;  ///< aspect = width / height
+};
+
+struct Light {
+  glm::vec3 direction{0.4f, 1.0f, 0.3f};  ///< world space, toward the light (normalized on use); directional
+  glm::vec3 color{1.0f};                  ///< K_L
+};
+
+struct Viewport {
+  int x = 0, y = 0, width = 0, height = 0;  ///< pixels, GL convention (origin bottom-left)
+};
+
+/// Everything a pass needs to know about the frame. No GL objects: textures are set separately.
+struct Frame {
+  glm::mat4 view{1.0f};                       ///< world -> camera
+  glm::mat4 projection{1.0f};                 ///< camera -> clip (perspective or orthographic)
+  float nearPlane = 0.1f, farPlane = 100.0f;  ///< the planes `projection` uses; define linear depth
+  Viewport viewport;
+  Light light;
+  glm::vec3 ambientColor{0.25f};  ///< uniform K_a, used when no gradient texture is bound
+  bool ambientGradient = false;   ///< K_a from the gradient texture (Gradient::bind) instead
+
+  /// A frame looking through `camera` at a viewport of width x height pixels.
+  static Frame fromCamera(const Camera& camera, int width, int height);
+};
+
+/// Linear depth of a world-space point in `frame`, as the cel programs write it (may lie outside
+/// [0, 1] for points outside the near/far range; the depth buffer clamps).
+float linearDepth(const Frame& frame, const glm::vec3& worldPoint);
+
+/// The frame's uniform buffer (binding 0, see shaders/common/frame.glsl). Owns one GL buffer.
+class FrameBlock {
+ public:
+  /// Needs a current GL 4.5 context.
+  FrameBlock();
+  /// Fills the buffer from `frame` and binds it to uniform binding 0.
+  void upload(const Frame& frame);
+  /// Rebinds it (after the host used binding 0 for something else).
+  void bind() const;
+
+ private:
+  core::Buffer buffer_;
+};
+
+/// The quantization ramp q (§4.1): a 1D texture, clamp-to-edge, which enforces max(0, N.L).
+class Ramp {
+ public:
+  /// Uses the middle row of `image` (RGB; a 1- or 2-channel image is grey). Width in [2, 16384].
+  /// `smooth` selects linear filtering; the default, nearest, keeps the bands hard as in the paper.
+  /// Errors name `what` (usually the file).
+  static Result<Ramp> create(const core::Image& image, const std::string& what, bool smooth = false);
+  /// Loads a ramp image (PNG or anything OpenImageIO reads).
+  static Result<Ramp> load(const std::filesystem::path& path, bool smooth = false);
+  /// A two-tone ramp: black below 0.5, white from 0.5 (the paper's typical map).
+  static Ramp twoTone();
+  /// Binds to texture unit 0.
+  void bind() const;
+  int width() const { return width_; }
+
+ private:
+  core::Texture texture_;
+  int width_ = 0;
+};
+
+/// An image-space ambient gradient K_a(x, y) (§4.1, Fig. 8b): stretched over the viewport, top row
+/// at the top of the image, linear filtering.
+class Gradient {
+ public:
+  static Result<Gradient> create(const core::Image& image, const std::string& what);
+  static Result<Gradient> load(const std::filesystem::path& path);
+  /// Binds to texture unit 1.
+  void bind() const;
+
+ private:
+  core::Texture texture_;
+};
+
+}  // namespace puff::cel

@@ -1,0 +1,137 @@
+// Cel-shaded nailboards with outlines and billboard shadow volumes (McGuire & Fein §4.1-4.3),
+// drawn with programmable GL (4.5) into whatever framebuffer is current.
+//
+// A frame, as a host draws it (see puff::cel::renderScene for the whole sequence):
+//   1. clear colour, depth (to 1) and stencil (to 0); upload a FrameBlock; bind Ramp and Gradient;
+//   2. draw opaque geometry lit, writing linear depth (OpaqueRenderer, or the host's own shaders);
+//   3. NailboardRenderer::drawNailboards(..., ShadePass::kLit);
+//   with shadows:
+//   4. NailboardRenderer::drawShadowVolumes(...) counts into the stencil buffer (depth-fail);
+//   5. every receiver is drawn again with ShadePass::kShadowed: depth test EQUAL, only where the
+//      stencil is non-zero, colour = the ambient term only (Eq. 2 without its diffuse term).
+//
+// Particles reach the GPU as 16 bytes each (PackedParticle) and become quads in the vertex shader
+// (vertex pulling from a shader storage buffer): 6 vertices per nailboard, 12 per shadow volume.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <puff/cel/frame.h>
+#include <puff/core/atlas.h>
+
+namespace puff::cel {
+
+/// One particle as a host or simulator holds it.
+struct Particle {
+  glm::vec3 position{0.0f};  ///< world space, centre of the puff
+  float size = 1.0f;         ///< world-space diameter of the puff; >= 0 (0 draws nothing)
+  int variation = 0;         ///< atlas variation, [0, 255]; taken modulo the atlas's variations
+  /// false: the puff always shows its front view, upright on the billboard (the paper's particles).
+  /// true: `orientation` turns the puff in the world; a multi-view atlas shows it from the side
+  /// the camera sees, blending the nearest baked views, so it tumbles in 3D.
+  bool oriented = false;
+  glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f};  ///< puff space -> world; unit quaternion
+};
+
+/// The 16 bytes one particle costs per frame on the bus.
+///   x: position x | y << 16   (16-bit unorm inside PackBounds)
+///   y: position z | half(size) << 16
+///   z: orientation, "smallest three" quaternion: 2-bit index of the dropped component, 3 x 10 bits
+///   w: variation (8 bits) | oriented flag (bit 8); the rest is 0
+struct PackedParticle {
+  std::uint32_t x = 0, y = 0, z = 0, w = 0;
+};
+static_assert(sizeof(PackedParticle) == 16);
+
+/// The box positions are quantized in: 65535 steps per axis. A degenerate axis gets a width of 1.
+struct PackBounds {
+  glm::vec3 min{0.0f}, max{1.0f};
+};
+
+/// Packs `particles` into `out` (resized) and returns the bounds used. Sizes above 65504 (half
+/// float) are clamped; orientations are normalized. Positions round to the nearest of 65536 steps.
+PackBounds packParticles(std::span<const Particle> particles, std::vector<PackedParticle>& out);
+/// The particle the GPU sees after packing (for tests and the CPU reference).
+Particle unpackParticle(const PackedParticle& packed, const PackBounds& bounds);
+
+/// How a billboard turns toward the camera (Real-Time Rendering §10.6).
+enum class Alignment {
+  kViewPlane,  ///< parallel to the image plane, screen up (the paper's; default)
+  kViewpoint,  ///< facing the camera position, world up projected
+  kAxial,      ///< rotates only about world up (y), facing the camera
+};
+std::string_view toString(Alignment a);
+Result<Alignment> parseAlignment(std::string_view name);  ///< "view-plane", "viewpoint", "axial"
+
+/// The Fig. 8 progression and its knobs. Every effect toggles on its own.
+struct Style {
+  bool outlines = true;          ///< black flange (§4.2); off = the body's silhouette only
+  float outlineWidth = 2.0f;     ///< pixels on screen, from the baked distance field; >= 0
+  glm::vec3 outlineColor{0.0f};  ///< the ink
+  bool shading = true;           ///< Eq. 2 with q(max(0, N.L)); off = flat K_a + C * K_L
+  bool shadows = false;          ///< billboard shadow volumes (§4.3)
+  Alignment alignment = Alignment::kViewPlane;
+  /// Shadow volumes start this far (in puff diameters) past the puff's own far side (as its depth
+  /// map gives it), so a puff does not shadow itself. [0, 1].
+  float shadowBias = 0.05f;
+  /// World-space length of each shadow volume along the light; > 0. Longer costs fill rate.
+  float shadowLength = 20.0f;
+};
+
+/// Which colour a nailboard pass writes.
+enum class ShadePass {
+  kLit,        ///< Eq. 2 in full; depth test LESS, depth written
+  kShadowed,   ///< ambient only, depth test EQUAL, stencil != 0, no depth write (step 5 above)
+  kDepthOnly,  ///< depth only (no colour), e.g. for a host's own shadow or depth pre-pass
+};
+
+/// Counts for the benchmark and tests.
+struct DrawStats {
+  std::size_t particles = 0;
+  std::size_t bytesUploaded = 0;  ///< bytes of particle data sent this call
+  std::size_t drawCalls = 0;
+};
+
+class NailboardRenderer {
+ public:
+  /// Builds the programs. Needs a current GL 4.5 context; fails with the shader log otherwise.
+  static Result<std::unique_ptr<NailboardRenderer>> create();
+  ~NailboardRenderer();
+
+  /// Uploads the atlas's maps (every mip level). Fails if a map is missing or sizes disagree.
+  Result<void> setAtlas(const core::Atlas& atlas);
+  const core::AtlasDesc& atlas() const;
+
+  /// Uploads this frame's particles (16 bytes each). Call once per frame before drawing; the
+  /// passes below all draw the particles of the last upload.
+  DrawStats upload(std::span<const Particle> particles);
+
+  /// Draws the nailboards of the last upload into the current framebuffer with `frame`'s block
+  /// already bound (FrameBlock::upload), ramp on unit 0 and gradient on unit 1.
+  DrawStats drawNailboards(const Style& style, ShadePass pass);
+
+  /// The benchmark's fill-rate floor: the same quads with the colour map alpha-tested, nothing
+  /// else (no shading, depth offset or outlines); depth test LESS with the quad's own depth.
+  DrawStats drawBaseline(const Style& style);
+
+  /// Counts the particles' shadow volumes into the stencil buffer (depth-fail, depth clamp; the
+  /// target needs a stencil attachment). Leaves colour and depth untouched. Stencil is not cleared.
+  /// `floorPlane` (world plane n.x + w = 0, n pointing up; n = 0 for none): volumes stop one puff
+  /// diameter past it, which saves fill rate when everything below it is out of sight.
+  DrawStats drawShadowVolumes(const Style& style, const glm::vec4& floorPlane = glm::vec4(0.0f));
+
+ private:
+  NailboardRenderer();
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace puff::cel

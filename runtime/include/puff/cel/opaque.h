@@ -1,0 +1,75 @@
+// Opaque scene objects for the cel frame: ground plane, boxes, spheres and triangle meshes, lit
+// like the puffs (cel through the ramp q, or smooth Lambert), writing the frame's linear depth and
+// receiving billboard shadows (drawn again with ShadePass::kShadowed where the stencil says so).
+//
+//   lit:      albedo * (K_a(x, y) + K_L * q(max(0, N.L)))     (cel)
+//             albedo * (K_a(x, y) + K_L * max(0, N.L))        (smooth)
+//   shadowed: albedo * K_a(x, y)
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include <puff/cel/frame.h>
+#include <puff/cel/nailboards.h>
+
+namespace puff::cel {
+
+/// Triangles in object space with per-vertex normals; indices are counter-clockwise from outside.
+struct TriangleMesh {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;  ///< same count as positions, unit length
+  std::vector<std::uint32_t> indices;
+};
+
+/// Primitive meshes, counter-clockwise from outside. Plane: the square [-1,1]^2 in y = 0, normal +y
+/// (4 vertices). Box: [-1,1]^3 with flat face normals (24 vertices). Sphere: unit radius, normals =
+/// positions, `segments` around (clamped to [3, 4096]) and max(2, segments/2) rings, one vertex
+/// per pole.
+TriangleMesh makePlane();
+TriangleMesh makeBox();
+TriangleMesh makeSphere(int segments = 48);
+
+struct OpaqueObject {
+  std::string name;  ///< for messages
+  std::shared_ptr<const TriangleMesh> mesh;
+  glm::mat4 transform{1.0f};  ///< object -> world, affine and invertible; normals use its inverse
+                              ///< transpose (a mirroring transform is fine)
+  glm::vec3 albedo{0.8f};     ///< >= 0
+  bool cel = true;            ///< q ramp (true) or smooth Lambert
+};
+
+class OpaqueRenderer {
+ public:
+  /// Builds the program. Needs a current GL 4.5 context.
+  static Result<std::unique_ptr<OpaqueRenderer>> create();
+  ~OpaqueRenderer();
+
+  /// Uploads the objects' meshes (shared meshes once). Replaces the previous set. Fails, keeping
+  /// the previous set, on a missing or empty mesh, an index out of range, a normal count unlike the
+  /// position count, a zero or non-finite normal or position, a non-finite, non-affine or singular
+  /// transform, or a negative or non-finite albedo: "opaque object 'NAME': problem" ('#i' when
+  /// unnamed).
+  Result<void> setObjects(std::vector<OpaqueObject> objects);
+
+  /// Draws every object into the current framebuffer and viewport (the host's glViewport must match
+  /// the frame's Viewport) with the bound FrameBlock, ramp (unit 0) and gradient (unit 1), writing
+  /// linear depth. kLit: depth LESS + write. kShadowed: depth EQUAL, stencil != 0 (not written), no
+  /// depth write, ambient colour only. kDepthOnly: depth LESS + write, no colour. All three passes
+  /// compute depth identically, so kShadowed matches what kLit or kDepthOnly wrote. Sets every GL
+  /// state it relies on (culling off: back faces are lit with the normal turned to the viewer);
+  /// returns with depth and colour writes on and the program, vertex array and front face reset.
+  void draw(ShadePass pass);
+
+ private:
+  OpaqueRenderer();
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace puff::cel

@@ -1,0 +1,42 @@
+// Renders scene frames into images: loads what a scene names (atlas, ramp, gradient, meshes),
+// owns an offscreen target (colour, linear depth + stencil, MSAA when asked) and runs the cel
+// frame: opaque objects, nailboards, shadow volumes, shadowed receivers. puffrender is a thin
+// shell around this.
+#pragma once
+
+#include <memory>
+
+#include <puff/core/image.h>
+#include <puff/render/scene.h>
+
+namespace puff::render {
+
+struct FrameStats {
+  std::size_t particles = 0;
+  std::size_t bytesUploaded = 0;
+};
+
+class SceneRenderer {
+ public:
+  /// Loads the scene's resources and builds the GL objects in the CURRENT context (GL 4.5).
+  /// Errors name the file that failed (atlas, ramp, gradient, mesh) and why.
+  static Result<std::unique_ptr<SceneRenderer>> create(const Scene& scene);
+  ~SceneRenderer();
+
+  /// Renders frame `frame` (>= 0) and reads it back: RGBA floats in [0,1], top row first,
+  /// `scene.width` x `scene.height`. The same frame always gives the same pixels.
+  Result<core::Image> renderFrame(int frame, FrameStats* stats = nullptr);
+
+  /// Renders frame `frame` into the current draw framebuffer instead (for a window): `target`
+  /// must have depth + stencil. The viewport is scene size unless given.
+  void drawFrame(int frame, const cel::Viewport& viewport, FrameStats* stats = nullptr);
+
+  const Scene& scene() const;
+
+ private:
+  SceneRenderer();
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace puff::render

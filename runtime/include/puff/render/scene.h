@@ -1,0 +1,134 @@
+// The scene file: everything puffrender (and later puffview) needs to draw a frame, as JSON.
+// docs/scene-format.md is the annotated reference; art/scenes/ holds working examples.
+//
+// Every field is optional ("zero means default": a scene lists only what it changes). Relative
+// paths resolve against the scene file's directory; "${PUFF_ART}" at the start of a path means
+// the baked-art directory given to the loader (puffrender: --art-dir, default build/art).
+//
+// A frame is a pure function of (scene, frame number): particles move by their velocities and
+// spin by their angular velocities from their birth time, shrink linearly to nothing over their
+// lifetime (size follows density, so nothing pops), and emitters place particles from their seed.
+// Any frame rendered alone equals the same frame of a full run.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
+
+#include <puff/cel/frame.h>
+#include <puff/cel/nailboards.h>
+#include <puff/core/error.h>
+
+namespace puff::render {
+
+/// One particle listed in the scene.
+struct ParticleSpec {
+  glm::vec3 position{0.0f};
+  float size = 1.0f;                              ///< diameter at birth, world units, >= 0
+  int variation = 0;                              ///< [0, 255]
+  bool oriented = false;                          ///< see cel::Particle
+  glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f};  ///< JSON: axis-angle {"axis": [x,y,z], "degrees": a}
+  glm::vec3 velocity{0.0f};                       ///< world units per second
+  glm::vec3 angularVelocity{0.0f};                ///< world-space axis * radians per second
+  float birth = 0.0f;                             ///< seconds; not drawn before
+  float lifetime = 0.0f;                          ///< seconds; 0 = lives forever. Size falls linearly to 0 at the end.
+};
+
+/// A deterministic generator of particles (not the simulator: no forces). Places `count`
+/// particles in a shape from `seed`; each gets a size in [sizeMin, sizeMax], a random variation,
+/// a velocity `velocity` + a random vector of length <= `speedSpread`, a birth time uniform in
+/// [0, birthSpread] seconds, and `lifetime` (0 = forever).
+struct EmitterSpec {
+  enum class Shape {
+    kSphere,  ///< uniform in a ball of `radius` around `center`
+    kBox,     ///< uniform in the box `center` +- `halfExtent`
+    kCone,    ///< along the segment `center` -> `end`, radius growing from `radius` to `endRadius`
+              ///< (a missile trail, a lamp's plume); particles near `end` are born later
+  };
+  Shape shape = Shape::kSphere;
+  int count = 100;  ///< [0, 1'000'000]
+  unsigned seed = 1;
+  glm::vec3 center{0.0f};
+  float radius = 1.0f;                   ///< sphere radius / cone start radius, >= 0
+  glm::vec3 halfExtent{1.0f};            ///< box
+  glm::vec3 end{0.0f, 1.0f, 0.0f};       ///< cone end point
+  float endRadius = 1.0f;                ///< cone end radius
+  float sizeMin = 0.5f, sizeMax = 1.0f;  ///< 0 <= sizeMin <= sizeMax
+  /// Particles nearer the shape's edge are smaller (size *= 1 - falloff * r/R): [0, 1].
+  float sizeFalloff = 0.0f;
+  std::vector<int> variations;  ///< allowed variations; empty = all of the atlas's
+  bool oriented = false;        ///< give particles random orientations (multi-view atlases)
+  float spin = 0.0f;            ///< random angular velocity up to this, radians per second
+  glm::vec3 velocity{0.0f};
+  float speedSpread = 0.0f;
+  float birthSpread = 0.0f;
+  float lifetime = 0.0f;
+};
+
+struct ObjectSpec {
+  enum class Type { kPlane, kBox, kSphere, kMesh };
+  Type type = Type::kPlane;
+  std::string name;            ///< defaults to "objects/N"
+  std::filesystem::path mesh;  ///< kMesh: OBJ, OFF, PLY or STL (resolved)
+  glm::vec3 translate{0.0f};
+  glm::vec3 rotateDegrees{0.0f};  ///< XYZ Euler angles, applied X then Y then Z
+  glm::vec3 scale{1.0f};          ///< plane: half-size in x and z; box: half extents; sphere: radius
+  glm::vec3 albedo{0.8f};
+  bool cel = true;  ///< cel (the ramp) or smooth shading
+};
+
+struct Animation {
+  float fps = 24.0f;  ///< > 0
+  int frames = 1;     ///< frames in the sequence, >= 1
+  /// Camera turns about the vertical axis through its target, degrees per second.
+  float orbitDegreesPerSecond = 0.0f;
+};
+
+struct Scene {
+  std::filesystem::path file;     ///< the file it was loaded from (for messages)
+  int width = 640, height = 480;  ///< output size, [1, 16384]
+  int samples = 4;                ///< MSAA samples for antialiased edges: 1, 2, 4 or 8
+  glm::vec3 background{1.0f};     ///< clear colour
+  cel::Camera camera;
+  cel::Light light;
+  glm::vec3 ambientColor{0.25f};          ///< uniform K_a
+  std::filesystem::path ambientGradient;  ///< image-space K_a(x, y); empty = uniform
+  std::filesystem::path ramp;             ///< q ramp image; empty = the built-in two-tone ramp
+  bool rampSmooth = false;                ///< linear filtering of the ramp
+  std::filesystem::path atlas;            ///< atlas sidecar JSON (required if there are particles)
+  std::string stylePreset;                ///< named preset applied before the explicit style fields
+  cel::Style style;
+  std::vector<ParticleSpec> particles;
+  std::vector<EmitterSpec> emitters;
+  std::vector<ObjectSpec> objects;
+  Animation animation;
+};
+
+/// Named style presets: "outlines" (Fig. 8a), "cel" (Fig. 8b), "cel-shadows" (Fig. 8c),
+/// "ink" (Fig. 9: outlines, flat), "solid" (Fig. 13d: flat, outlines). Unknown names are an error
+/// listing these.
+std::vector<std::string> stylePresetNames();
+Result<cel::Style> stylePreset(const std::string& name);
+
+/// Parses and validates. Errors read "FILE: /json/pointer: what was expected" (JSON syntax errors:
+/// "FILE:LINE:COLUMN: ..."). Unknown keys are errors too (a typo must not be silently ignored).
+/// `artDir` replaces a leading "${PUFF_ART}" in paths.
+Result<Scene> parseScene(const nlohmann::json& j, const std::filesystem::path& file,
+                         const std::filesystem::path& artDir = {});
+Result<Scene> loadScene(const std::filesystem::path& file, const std::filesystem::path& artDir = {});
+/// The scene written back as JSON (every field), e.g. for --print-defaults or an editor's save.
+nlohmann::json toJson(const Scene& scene);
+
+/// Seconds at frame `frame` (frame / fps).
+float frameTime(const Scene& scene, int frame);
+/// The particles alive at `frame`: listed ones and emitted ones, moved, spun and shrunk. Pure.
+/// `variations` is the atlas's variation count (>= 1), for emitters that pick any variation.
+std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variations);
+/// The camera at `frame` (orbit applied).
+cel::Camera cameraAt(const Scene& scene, int frame);
+
+}  // namespace puff::render

@@ -1,0 +1,173 @@
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/matrix.hpp>
+
+#include <puff/cel/frame.h>
+
+namespace puff::cel {
+
+glm::mat4 Camera::view() const { return glm::lookAt(position, target, up); }
+
+glm::mat4 Camera::projection(float aspect) const {
+  if (fovYDegrees <= 0.0f) {
+    const float h = orthoHeight * 0.5f, w = h * aspect;
+    return glm::ortho(-w, w, -h, h, nearPlane, farPlane);
+  }
+  return glm::perspective(glm::radians(fovYDegrees), aspect, nearPlane, farPlane);
+}
+
+Frame Frame::fromCamera(const Camera& camera, int width, int height) {
+  Frame f;
+  f.view = camera.view();
+  f.projection = camera.projection(static_cast<float>(width) / static_cast<float>(std::max(1, height)));
+  f.nearPlane = camera.nearPlane;
+  f.farPlane = camera.farPlane;
+  f.viewport = {0, 0, width, height};
+  return f;
+}
+
+float linearDepth(const Frame& frame, const glm::vec3& worldPoint) {
+  const float dist = -(frame.view * glm::vec4(worldPoint, 1.0f)).z;
+  return (dist - frame.nearPlane) / (frame.farPlane - frame.nearPlane);
+}
+
+namespace {
+
+// std140 mirror of shaders/common/frame.glsl's FrameBlock.
+struct FrameBlockData {
+  glm::mat4 view, proj, viewProj, invView;
+  glm::vec4 viewport, depthRange, lightDirView, lightDirWorld, lightColor, ambientColor, cameraWorld;
+  glm::ivec4 ambientMode;
+};
+static_assert(sizeof(FrameBlockData) == 4 * 64 + 8 * 16);
+
+}  // namespace
+
+FrameBlock::FrameBlock() : buffer_(core::makeBuffer()) {
+  glNamedBufferStorage(buffer_.get(), sizeof(FrameBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
+}
+
+void FrameBlock::upload(const Frame& frame) {
+  FrameBlockData d{};
+  d.view = frame.view;
+  d.proj = frame.projection;
+  d.viewProj = frame.projection * frame.view;
+  d.invView = glm::inverse(frame.view);
+  d.viewport = glm::vec4(frame.viewport.x, frame.viewport.y, frame.viewport.width, frame.viewport.height);
+  const bool ortho = frame.projection[3][3] == 1.0f;
+  d.depthRange = glm::vec4(frame.nearPlane, frame.farPlane, 1.0f / (frame.farPlane - frame.nearPlane), ortho ? 1 : 0);
+  glm::vec3 l = frame.light.direction;
+  l = glm::length(l) > 0.0f ? glm::normalize(l) : glm::vec3(0, 1, 0);
+  d.lightDirWorld = glm::vec4(l, 0.0f);
+  d.lightDirView = glm::vec4(glm::normalize(glm::vec3(frame.view * glm::vec4(l, 0.0f))), 0.0f);
+  d.lightColor = glm::vec4(frame.light.color, 1.0f);
+  d.ambientColor = glm::vec4(frame.ambientColor, 1.0f);
+  d.cameraWorld = d.invView[3];
+  d.ambientMode = glm::ivec4(frame.ambientGradient ? 1 : 0, 0, 0, 0);
+  glNamedBufferSubData(buffer_.get(), 0, sizeof d, &d);
+  bind();
+}
+
+void FrameBlock::bind() const { glBindBufferBase(GL_UNIFORM_BUFFER, 0, buffer_.get()); }
+
+namespace {
+
+// Values of one row as RGB floats (grey for 1-2 channel images).
+std::vector<float> rowRgb(const core::Image& image, int y) {
+  std::vector<float> out(static_cast<std::size_t>(image.width) * 3);
+  for (int x = 0; x < image.width; ++x) {
+    for (int c = 0; c < 3; ++c) {
+      const int src = image.channels >= 3 ? c : 0;
+      out[static_cast<std::size_t>(x) * 3 + c] = image.at(x, y, src);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Result<Ramp> Ramp::create(const core::Image& image, const std::string& what, bool smooth) {
+  if (image.width < 2 || image.width > 16384 || image.height < 1 || image.channels < 1) {
+    return Error::at(what, "a ramp must be 2 to 16384 pixels wide (got " + std::to_string(image.width) + "x" +
+                               std::to_string(image.height) + ")");
+  }
+  const std::vector<float> row = rowRgb(image, image.height / 2);
+  for (float v : row) {
+    if (!std::isfinite(v)) return Error::at(what, "ramp holds a non-finite value");
+  }
+  Ramp r;
+  r.width_ = image.width;
+  r.texture_ = core::makeTexture(GL_TEXTURE_1D);
+  const GLuint t = r.texture_.get();
+  glTextureStorage1D(t, 1, GL_RGBA16F, image.width);
+  std::vector<float> rgba(static_cast<std::size_t>(image.width) * 4, 1.0f);
+  for (int x = 0; x < image.width; ++x) {
+    for (int c = 0; c < 3; ++c) rgba[static_cast<std::size_t>(x) * 4 + c] = row[static_cast<std::size_t>(x) * 3 + c];
+  }
+  glTextureSubImage1D(t, 0, 0, image.width, GL_RGBA, GL_FLOAT, rgba.data());
+  // Clamp-to-edge is what makes q(N.L) equal q(max(0, N.L)) (§4.1).
+  glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  const GLint filter = smooth ? GL_LINEAR : GL_NEAREST;
+  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, filter);
+  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, filter);
+  return r;
+}
+
+Result<Ramp> Ramp::load(const std::filesystem::path& path, bool smooth) {
+  auto image = core::readImage(path);
+  if (!image) return image.error();
+  return create(*image, path.string(), smooth);
+}
+
+Ramp Ramp::twoTone() {
+  core::Image image(2, 1, 1);
+  image.at(0, 0) = 0.0f;
+  image.at(1, 0) = 1.0f;
+  auto r = create(image, "built-in two-tone ramp");
+  PUFF_CHECK(r.ok());
+  return std::move(*r);
+}
+
+void Ramp::bind() const { glBindTextureUnit(0, texture_.get()); }
+
+Result<Gradient> Gradient::create(const core::Image& image, const std::string& what) {
+  if (image.width < 1 || image.height < 1 || image.width > 16384 || image.height > 16384 || image.channels < 1) {
+    return Error::at(what, "a gradient must be 1 to 16384 pixels on each side");
+  }
+  std::vector<float> rgba(static_cast<std::size_t>(image.width) * image.height * 4, 1.0f);
+  // GL rows go bottom-up: store image row 0 (the top) last, so texture t = 1 is the top.
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        const float v = image.at(x, y, image.channels >= 3 ? c : 0);
+        if (!std::isfinite(v)) return Error::at(what, "gradient holds a non-finite value");
+        rgba[(static_cast<std::size_t>(image.height - 1 - y) * image.width + x) * 4 + c] = v;
+      }
+    }
+  }
+  Gradient g;
+  g.texture_ = core::makeTexture(GL_TEXTURE_2D);
+  const GLuint t = g.texture_.get();
+  glTextureStorage2D(t, 1, GL_RGBA16F, image.width, image.height);
+  glTextureSubImage2D(t, 0, 0, 0, image.width, image.height, GL_RGBA, GL_FLOAT, rgba.data());
+  glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  return g;
+}
+
+Result<Gradient> Gradient::load(const std::filesystem::path& path) {
+  auto image = core::readImage(path);
+  if (!image) return image.error();
+  return create(*image, path.string());
+}
+
+void Gradient::bind() const { glBindTextureUnit(1, texture_.get()); }
+
+}  // namespace puff::cel

@@ -1,0 +1,326 @@
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <puff/cel/nailboards.h>
+#include <puff/core/shader.h>
+
+namespace puff::cel {
+
+namespace {
+
+// Texture units and storage-buffer bindings shared with shaders/cel/*.
+constexpr GLuint kUnitNormalDepth = 2, kUnitColor = 3, kUnitDistance = 4;
+constexpr GLuint kBindingParticles = 0, kBindingCells = 1;
+
+struct AtlasUniforms {
+  GLint boundsMin = -1, boundsExtent = -1, alignment = -1, layout = -1, geom = -1, scale = -1;
+  void find(GLuint program) {
+    boundsMin = glGetUniformLocation(program, "uBoundsMin");
+    boundsExtent = glGetUniformLocation(program, "uBoundsExtent");
+    alignment = glGetUniformLocation(program, "uAlignment");
+    layout = glGetUniformLocation(program, "uAtlasLayout");
+    geom = glGetUniformLocation(program, "uAtlasGeom");
+    scale = glGetUniformLocation(program, "uAtlasScale");
+  }
+};
+
+bool framebufferIsMultisampled() {
+  GLint sampleBuffers = 0;
+  glGetIntegerv(GL_SAMPLE_BUFFERS, &sampleBuffers);
+  return sampleBuffers > 0;
+}
+
+}  // namespace
+
+struct NailboardRenderer::Impl {
+  core::Program nailboard, shadow, sprite;
+  AtlasUniforms nbAtlas, svAtlas, spAtlas;
+  GLint viewCount = -1, pass = -1, shading = -1, outlines = -1, outlineWidth = -1, outlineColor = -1, multisample = -1;
+  GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1;
+  core::VertexArray vao;
+  core::Buffer particles, cells;
+  std::size_t particleCapacity = 0;
+  std::size_t count = 0;
+  PackBounds bounds;
+  std::vector<PackedParticle> packed;
+  core::Texture normalDepth, color, distance;
+  core::AtlasDesc desc;
+  bool hasAtlas = false;
+
+  void setCommon(GLuint program, const AtlasUniforms& u, const Style& style) const {
+    glProgramUniform3fv(program, u.boundsMin, 1, glm::value_ptr(bounds.min));
+    const glm::vec3 extent = bounds.max - bounds.min;
+    glProgramUniform3fv(program, u.boundsExtent, 1, glm::value_ptr(extent));
+    glProgramUniform1i(program, u.alignment, static_cast<int>(style.alignment));
+    glProgramUniform4i(program, u.layout, desc.variations, desc.views, desc.viewGrid, desc.viewLayout == "oct" ? 1 : 0);
+    glProgramUniform4f(program, u.geom, static_cast<float>(desc.width), static_cast<float>(desc.height),
+                       static_cast<float>(desc.cellSize), static_cast<float>(desc.margin));
+    glProgramUniform4f(program, u.scale, static_cast<float>(desc.contentSize), desc.depthScale, desc.distanceRange,
+                       0.0f);
+    glBindVertexArray(vao.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingParticles, particles.get());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingCells, cells.get());
+    glBindTextureUnit(kUnitNormalDepth, normalDepth.get());
+    glBindTextureUnit(kUnitColor, color.get());
+    glBindTextureUnit(kUnitDistance, distance.get());
+  }
+};
+
+NailboardRenderer::NailboardRenderer() : impl_(std::make_unique<Impl>()) {}
+NailboardRenderer::~NailboardRenderer() = default;
+
+Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create() {
+  std::unique_ptr<NailboardRenderer> r(new NailboardRenderer());
+  Impl& m = *r->impl_;
+  auto nb = core::buildProgram({"cel/nailboard.vert", "cel/nailboard.frag"});
+  if (!nb) return nb.error();
+  auto sv = core::buildProgram({"cel/shadow.vert", "cel/shadow.frag"});
+  if (!sv) return sv.error();
+  auto sp = core::buildProgram({"cel/sprite.vert", "cel/sprite.frag"});
+  if (!sp) return sp.error();
+  m.nailboard = std::move(*nb);
+  m.shadow = std::move(*sv);
+  m.sprite = std::move(*sp);
+  m.spAtlas.find(m.sprite.get());
+  const GLuint p = m.nailboard.get();
+  m.nbAtlas.find(p);
+  m.svAtlas.find(m.shadow.get());
+  m.viewCount = glGetUniformLocation(p, "uViewCount");
+  m.pass = glGetUniformLocation(p, "uPass");
+  m.shading = glGetUniformLocation(p, "uShading");
+  m.outlines = glGetUniformLocation(p, "uOutlines");
+  m.outlineWidth = glGetUniformLocation(p, "uOutlineWidth");
+  m.outlineColor = glGetUniformLocation(p, "uOutlineColor");
+  m.multisample = glGetUniformLocation(p, "uMultisample");
+  m.shadowBias = glGetUniformLocation(m.shadow.get(), "uShadowBias");
+  m.shadowLength = glGetUniformLocation(m.shadow.get(), "uShadowLength");
+  m.shadowFloor = glGetUniformLocation(m.shadow.get(), "uShadowFloor");
+  m.vao = core::makeVertexArray();
+  m.particles = core::makeBuffer();
+  m.cells = core::makeBuffer();
+  return r;
+}
+
+const core::AtlasDesc& NailboardRenderer::atlas() const { return impl_->desc; }
+
+namespace {
+
+Result<core::Texture> uploadMap(const core::Atlas& atlas, const std::string& key, int channels) {
+  const auto it = atlas.maps.find(key);
+  if (it == atlas.maps.end() || it->second.empty()) return Error{"atlas has no " + key + " map"};
+  const std::vector<core::Image>& levels = it->second;
+  const core::AtlasDesc& d = atlas.desc;
+  const bool exr = d.fileFormat == "exr";
+  GLenum internal;
+  if (channels == 4) {
+    internal = exr ? GL_RGBA16F : GL_RGBA8;
+  } else {
+    internal = exr ? GL_R16F : GL_R16;
+  }
+  core::Texture t = core::makeTexture(GL_TEXTURE_2D);
+  const GLsizei nLevels = static_cast<GLsizei>(levels.size());
+  glTextureStorage2D(t.get(), nLevels, internal, d.width, d.height);
+  for (GLsizei l = 0; l < nLevels; ++l) {
+    const core::Image& im = levels[static_cast<std::size_t>(l)];
+    const int w = std::max(1, d.width >> l), h = std::max(1, d.height >> l);
+    if (im.width != w || im.height != h) {
+      return Error{"atlas " + key + " level " + std::to_string(l) + " is " + std::to_string(im.width) + "x" +
+                   std::to_string(im.height) + ", expected " + std::to_string(w) + "x" + std::to_string(h)};
+    }
+    std::vector<float> px(static_cast<std::size_t>(w) * h * channels);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(w) * h; ++i) {
+      for (int c = 0; c < channels; ++c) {
+        px[i * channels + c] = im.pixels[i * im.channels + std::min(c, im.channels - 1)];
+      }
+    }
+    // Rows go up as stored (top first): texture t = 0 is the atlas's top row, as in cellUv.
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureSubImage2D(t.get(), l, 0, 0, w, h, channels == 4 ? GL_RGBA : GL_RED, GL_FLOAT, px.data());
+  }
+  glTextureParameteri(t.get(), GL_TEXTURE_BASE_LEVEL, 0);
+  glTextureParameteri(t.get(), GL_TEXTURE_MAX_LEVEL, nLevels - 1);
+  glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, nLevels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
+  glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
+}  // namespace
+
+Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
+  Impl& m = *impl_;
+  const core::AtlasDesc& d = atlas.desc;
+  if (d.variations < 1 || d.views < 1 || d.cells.size() != static_cast<std::size_t>(d.variations * d.views)) {
+    return Error{"atlas has " + std::to_string(d.cells.size()) + " cells for " + std::to_string(d.variations) +
+                 " variations x " + std::to_string(d.views) + " views"};
+  }
+  auto nd = uploadMap(atlas, "normalDepth", 4);
+  if (!nd) return nd.error();
+  auto co = uploadMap(atlas, "color", 4);
+  if (!co) return co.error();
+  auto di = uploadMap(atlas, "distance", 1);
+  if (!di) return di.error();
+  std::vector<glm::vec4> cellData;
+  cellData.reserve(d.cells.size() * 4);
+  for (const core::AtlasCell& c : d.cells) {
+    const glm::vec3 dir = glm::normalize(c.viewDir), up = glm::normalize(c.viewUp);
+    const glm::vec3 right = glm::cross(up, dir);
+    cellData.emplace_back(c.rect[0], c.rect[1], c.rect[2], c.rect[3]);
+    cellData.emplace_back(right, 0.0f);
+    cellData.emplace_back(up, 0.0f);
+    cellData.emplace_back(dir, 0.0f);
+  }
+  m.cells = core::makeBuffer();
+  glNamedBufferStorage(m.cells.get(), static_cast<GLsizeiptr>(cellData.size() * sizeof(glm::vec4)), cellData.data(), 0);
+  m.normalDepth = std::move(*nd);
+  m.color = std::move(*co);
+  m.distance = std::move(*di);
+  m.desc = d;
+  m.hasAtlas = true;
+  return {};
+}
+
+DrawStats NailboardRenderer::upload(std::span<const Particle> particles) {
+  Impl& m = *impl_;
+  m.bounds = packParticles(particles, m.packed);
+  m.count = particles.size();
+  const std::size_t bytes = m.packed.size() * sizeof(PackedParticle);
+  // Orphan and refill: the driver hands out fresh storage while the last frame may still read it.
+  if (bytes > 0) {
+    glNamedBufferData(m.particles.get(), static_cast<GLsizeiptr>(bytes), m.packed.data(), GL_STREAM_DRAW);
+  }
+  DrawStats s;
+  s.particles = m.count;
+  s.bytesUploaded = bytes;
+  return s;
+}
+
+DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) {
+  Impl& m = *impl_;
+  DrawStats s;
+  s.particles = m.count;
+  if (m.count == 0 || !m.hasAtlas) return s;
+  const GLuint p = m.nailboard.get();
+  m.setCommon(p, m.nbAtlas, style);
+  glProgramUniform1i(p, m.viewCount, m.desc.views > 1 ? 4 : 1);
+  glProgramUniform1i(p, m.pass, pass == ShadePass::kLit ? 0 : pass == ShadePass::kShadowed ? 1 : 2);
+  glProgramUniform1i(p, m.shading, style.shading ? 1 : 0);
+  glProgramUniform1i(p, m.outlines, style.outlines ? 1 : 0);
+  glProgramUniform1f(p, m.outlineWidth, std::max(0.0f, style.outlineWidth));
+  glProgramUniform3fv(p, m.outlineColor, 1, glm::value_ptr(style.outlineColor));
+  const bool msaa = framebufferIsMultisampled();
+  glProgramUniform1i(p, m.multisample, msaa ? 1 : 0);
+
+  // Every state this pass relies on is set here.
+  glUseProgram(p);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_DEPTH_CLAMP);
+  glDisable(GL_SCISSOR_TEST);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glEnable(GL_DEPTH_TEST);
+  if (msaa) {
+    glEnable(GL_MULTISAMPLE);
+    glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  } else {
+    glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  }
+  switch (pass) {
+    case ShadePass::kLit:
+      glDepthFunc(GL_LESS);
+      glDepthMask(GL_TRUE);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      glDisable(GL_STENCIL_TEST);
+      break;
+    case ShadePass::kShadowed:
+      glDepthFunc(GL_EQUAL);
+      glDepthMask(GL_FALSE);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      glEnable(GL_STENCIL_TEST);
+      glStencilFunc(GL_NOTEQUAL, 0, 0xFF);
+      glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+      glStencilMask(0x00);
+      break;
+    case ShadePass::kDepthOnly:
+      glDepthFunc(GL_LESS);
+      glDepthMask(GL_TRUE);
+      glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+      glDisable(GL_STENCIL_TEST);
+      break;
+  }
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
+  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDepthMask(GL_TRUE);
+  glStencilMask(0xFF);
+  s.drawCalls = 1;
+  return s;
+}
+
+DrawStats NailboardRenderer::drawBaseline(const Style& style) {
+  Impl& m = *impl_;
+  DrawStats s;
+  s.particles = m.count;
+  if (m.count == 0 || !m.hasAtlas) return s;
+  m.setCommon(m.sprite.get(), m.spAtlas, style);
+  glUseProgram(m.sprite.get());
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_DEPTH_CLAMP);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
+  s.drawCalls = 1;
+  return s;
+}
+
+DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::vec4& floorPlane) {
+  Impl& m = *impl_;
+  DrawStats s;
+  s.particles = m.count;
+  if (m.count == 0 || !m.hasAtlas) return s;
+  const GLuint p = m.shadow.get();
+  m.setCommon(p, m.svAtlas, style);
+  glProgramUniform1f(p, m.shadowBias, std::clamp(style.shadowBias, 0.0f, 1.0f));
+  glProgramUniform1f(p, m.shadowLength, std::max(0.0f, style.shadowLength));
+  glProgramUniform4fv(p, m.shadowFloor, 1, glm::value_ptr(floorPlane));
+
+  glUseProgram(p);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  // No near or far clipping of the faces: the fragment shader clamps their depth instead.
+  glEnable(GL_DEPTH_CLAMP);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_FALSE);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glEnable(GL_STENCIL_TEST);
+  glStencilMask(0xFF);
+  glStencilFunc(GL_ALWAYS, 0, 0xFF);
+  // Depth-fail counting: a face behind the receiver counts, back faces up and front faces down,
+  // so a receiver inside the volume ends non-zero wherever the eye is.
+  glStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
+  glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 12));
+  glDisable(GL_DEPTH_CLAMP);
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDisable(GL_STENCIL_TEST);
+  s.drawCalls = 1;
+  return s;
+}
+
+}  // namespace puff::cel

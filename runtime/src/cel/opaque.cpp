@@ -1,0 +1,331 @@
+// Opaque scene objects: primitives, validation, one packed upload, and the three shade passes.
+#include <puff/cel/opaque.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <numbers>
+#include <unordered_map>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
+
+#include <puff/core/shader.h>
+
+namespace puff::cel {
+
+// ---- primitives ----------------------------------------------------------------------------------
+
+TriangleMesh makePlane() {
+  TriangleMesh m;
+  m.positions = {{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}};
+  m.normals.assign(4, glm::vec3(0, 1, 0));
+  m.indices = {0, 1, 2, 0, 2, 3};  // counter-clockwise seen from +y
+  return m;
+}
+
+TriangleMesh makeBox() {
+  TriangleMesh m;
+  // Per face: the outward normal n and two axes u, v with u x v = n, so the quad n + s u + t v
+  // taken (s, t) = (-1,-1), (1,-1), (1,1), (-1,1) is counter-clockwise from outside.
+  const glm::vec3 x(1, 0, 0), y(0, 1, 0), z(0, 0, 1);
+  const glm::vec3 faces[6][3] = {{x, y, z}, {-x, z, y}, {y, z, x}, {-y, x, z}, {z, x, y}, {-z, y, x}};
+  const float st[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  for (const auto& [n, u, v] : faces) {
+    const auto base = static_cast<std::uint32_t>(m.positions.size());
+    for (const auto& [s, t] : st) {
+      m.positions.push_back(n + s * u + t * v);
+      m.normals.push_back(n);
+    }
+    for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) m.indices.push_back(base + i);
+  }
+  return m;
+}
+
+TriangleMesh makeSphere(int segments) {
+  segments = std::clamp(segments, 3, 4096);
+  const int rings = std::max(2, segments / 2);
+  TriangleMesh m;
+  // Poles are single vertices; the rings in between hold `segments` vertices each (no seam
+  // duplicates: the mesh has no texture coordinates).
+  auto ring = [&](int i) {  // first vertex of ring i in [1, rings - 1]
+    return static_cast<std::uint32_t>(1 + (i - 1) * segments);
+  };
+  m.positions.emplace_back(0, 1, 0);
+  for (int i = 1; i < rings; ++i) {
+    const double theta = std::numbers::pi * i / rings;  // from +y
+    for (int j = 0; j < segments; ++j) {
+      const double phi = 2.0 * std::numbers::pi * j / segments;
+      m.positions.emplace_back(static_cast<float>(std::sin(theta) * std::cos(phi)), static_cast<float>(std::cos(theta)),
+                               static_cast<float>(-std::sin(theta) * std::sin(phi)));
+    }
+  }
+  m.positions.emplace_back(0, -1, 0);
+  const auto south = static_cast<std::uint32_t>(m.positions.size() - 1);
+  m.normals = m.positions;  // the unit sphere's normal is its position
+  // phi grows counter-clockwise seen from +y (x toward -z), so seen from outside a quad
+  // (i, j), (i+1, j), (i+1, j+1), (i, j+1) runs counter-clockwise.
+  for (int j = 0; j < segments; ++j) {
+    const auto j0 = static_cast<std::uint32_t>(j), j1 = static_cast<std::uint32_t>((j + 1) % segments);
+    m.indices.insert(m.indices.end(), {0u, ring(1) + j0, ring(1) + j1});
+    for (int i = 1; i + 1 < rings; ++i) {
+      const std::uint32_t a = ring(i), b = ring(i + 1);
+      m.indices.insert(m.indices.end(), {a + j0, b + j0, b + j1, a + j0, b + j1, a + j1});
+    }
+    m.indices.insert(m.indices.end(), {ring(rings - 1) + j0, south, ring(rings - 1) + j1});
+  }
+  return m;
+}
+
+// ---- renderer ------------------------------------------------------------------------------------
+
+namespace {
+
+struct Vertex {
+  glm::vec3 position, normal;
+};
+
+// Where one distinct mesh lies in the packed buffers.
+struct MeshRange {
+  GLsizei indexCount = 0;
+  std::size_t firstIndex = 0;
+  GLint baseVertex = 0;
+};
+
+struct DrawItem {
+  std::size_t mesh = 0;  // index into Impl::ranges
+  glm::mat4 model{1.0f};
+  glm::mat3 normalMatrix{1.0f};
+  glm::vec3 albedo{0.8f};
+  bool cel = true;
+  bool mirrored = false;  // det < 0: the transform turns counter-clockwise into clockwise
+};
+
+// Uniform locations, fixed in shaders/cel/opaque.{vert,frag}.
+constexpr GLint kModelLoc = 0, kNormalMatrixLoc = 1, kAlbedoLoc = 2, kCelLoc = 3, kPassLoc = 4;
+
+std::string describe(const OpaqueObject& o, std::size_t i) {
+  std::string s = "opaque object ";
+  if (o.name.empty()) {
+    s += '#';
+    s += std::to_string(i);
+  } else {
+    s += '\'';
+    s += o.name;
+    s += '\'';
+  }
+  return s;
+}
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+Result<void> validateMesh(const TriangleMesh& m) {
+  if (m.positions.empty() || m.indices.empty()) return Error{"mesh has no triangles"};
+  if (m.normals.size() != m.positions.size()) {
+    return Error{"mesh has " + std::to_string(m.normals.size()) + " normals for " + std::to_string(m.positions.size()) +
+                 " positions"};
+  }
+  if (m.indices.size() % 3 != 0) {
+    return Error{"mesh index count " + std::to_string(m.indices.size()) + " is not a multiple of 3"};
+  }
+  if (m.positions.size() > static_cast<std::size_t>(INT32_MAX)) return Error{"mesh has too many vertices"};
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    if (!finite(m.positions[i])) return Error{"position " + std::to_string(i) + " is not finite"};
+    if (!finite(m.normals[i])) return Error{"normal " + std::to_string(i) + " is not finite"};
+    // A zero normal would turn into NaN colour in the shader.
+    if (glm::dot(m.normals[i], m.normals[i]) < 1e-12f) return Error{"normal " + std::to_string(i) + " is zero"};
+  }
+  for (std::size_t i = 0; i < m.indices.size(); ++i) {
+    if (m.indices[i] >= m.positions.size()) {
+      return Error{"indices[" + std::to_string(i) + "] = " + std::to_string(m.indices[i]) + " is out of range for " +
+                   std::to_string(m.positions.size()) + " vertices"};
+    }
+  }
+  return {};
+}
+
+Result<DrawItem> validateObject(const OpaqueObject& o) {
+  DrawItem d;
+  for (int c = 0; c < 4; ++c) {
+    if (!finite(glm::vec3(o.transform[c])) || !std::isfinite(o.transform[c][3])) {
+      return Error{"transform is not finite"};
+    }
+  }
+  if (o.transform[0][3] != 0.0f || o.transform[1][3] != 0.0f || o.transform[2][3] != 0.0f ||
+      o.transform[3][3] != 1.0f) {
+    return Error{"transform is not affine (its last row must be 0 0 0 1)"};
+  }
+  const glm::dmat3 a(glm::mat3(o.transform));
+  const double det = glm::determinant(a);
+  const double scale = glm::length(a[0]) * glm::length(a[1]) * glm::length(a[2]);
+  // Relative test: a transform that flattens an axis has no normal matrix.
+  if (!(std::abs(det) > 1e-9 * scale)) return Error{"transform is singular (an axis is scaled to zero)"};
+  if (!finite(o.albedo)) return Error{"albedo is not finite"};
+  if (o.albedo.x < 0.0f || o.albedo.y < 0.0f || o.albedo.z < 0.0f) return Error{"albedo is negative"};
+  d.model = o.transform;
+  d.normalMatrix = glm::mat3(glm::transpose(glm::inverse(a)));
+  d.albedo = o.albedo;
+  d.cel = o.cel;
+  d.mirrored = det < 0.0;
+  return d;
+}
+
+}  // namespace
+
+struct OpaqueRenderer::Impl {
+  core::Program program;
+  core::VertexArray vao;
+  core::Buffer vbo, ibo;
+  std::vector<MeshRange> ranges;
+  std::vector<DrawItem> items;
+};
+
+OpaqueRenderer::OpaqueRenderer() : impl_(std::make_unique<Impl>()) {}
+OpaqueRenderer::~OpaqueRenderer() = default;
+
+Result<std::unique_ptr<OpaqueRenderer>> OpaqueRenderer::create() {
+  auto program = core::buildProgram({"cel/opaque.vert", "cel/opaque.frag"});
+  if (!program) return program.error();
+  std::unique_ptr<OpaqueRenderer> r(new OpaqueRenderer);
+  Impl& im = *r->impl_;
+  im.program = std::move(*program);
+  im.vao = core::makeVertexArray();
+  const GLuint vao = im.vao.get();
+  const GLuint offsets[] = {offsetof(Vertex, position), offsetof(Vertex, normal)};
+  for (GLuint a = 0; a < 2; ++a) {
+    glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, offsets[a]);
+    glVertexArrayAttribBinding(vao, a, 0);
+    glEnableVertexArrayAttrib(vao, a);
+  }
+  if (auto err = core::drainGlErrors(); !err.empty())
+    return Error{"GL error while creating the opaque renderer: " + err};
+  return r;
+}
+
+Result<void> OpaqueRenderer::setObjects(std::vector<OpaqueObject> objects) {
+  // Validate everything before touching GL, so a bad object leaves the previous set in place.
+  std::unordered_map<const TriangleMesh*, std::size_t> meshIndex;
+  std::vector<const TriangleMesh*> meshes;
+  std::vector<DrawItem> items;
+  items.reserve(objects.size());
+  std::size_t vertexCount = 0, indexCount = 0;
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const OpaqueObject& o = objects[i];
+    if (!o.mesh) return Error{describe(o, i) + ": has no mesh"};
+    auto [it, inserted] = meshIndex.try_emplace(o.mesh.get(), meshes.size());
+    if (inserted) {
+      if (auto ok = validateMesh(*o.mesh); !ok) return Error{describe(o, i) + ": " + ok.error().message};
+      meshes.push_back(o.mesh.get());
+      vertexCount += o.mesh->positions.size();
+      indexCount += o.mesh->indices.size();
+    }
+    auto item = validateObject(o);
+    if (!item) return Error{describe(o, i) + ": " + item.error().message};
+    item->mesh = it->second;
+    items.push_back(*item);
+  }
+  if (vertexCount > static_cast<std::size_t>(INT32_MAX) || indexCount > static_cast<std::size_t>(INT32_MAX)) {
+    return Error{"opaque objects: more than 2^31 vertices or indices in all"};
+  }
+
+  // Every distinct mesh goes into one vertex and one index buffer; draws pick theirs with a first
+  // index and a base vertex, so a shared mesh costs its memory once.
+  std::vector<Vertex> vertices;
+  std::vector<std::uint32_t> indices;
+  vertices.reserve(vertexCount);
+  indices.reserve(indexCount);
+  std::vector<MeshRange> ranges;
+  ranges.reserve(meshes.size());
+  for (const TriangleMesh* m : meshes) {
+    ranges.push_back({static_cast<GLsizei>(m->indices.size()), indices.size(), static_cast<GLint>(vertices.size())});
+    for (std::size_t v = 0; v < m->positions.size(); ++v) vertices.push_back({m->positions[v], m->normals[v]});
+    indices.insert(indices.end(), m->indices.begin(), m->indices.end());
+  }
+  Impl& im = *impl_;
+  // Fresh buffers each time: immutable storage sized to this set.
+  im.vbo = core::makeBuffer();
+  im.ibo = core::makeBuffer();
+  if (!vertices.empty()) {
+    glNamedBufferStorage(im.vbo.get(), static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(), 0);
+    glNamedBufferStorage(im.ibo.get(), static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
+                         0);
+  }
+  glVertexArrayVertexBuffer(im.vao.get(), 0, im.vbo.get(), 0, sizeof(Vertex));
+  glVertexArrayElementBuffer(im.vao.get(), im.ibo.get());
+  im.ranges = std::move(ranges);
+  im.items = std::move(items);
+  if (auto err = core::drainGlErrors(); !err.empty()) return Error{"opaque objects: GL error while uploading: " + err};
+  return {};
+}
+
+void OpaqueRenderer::draw(ShadePass pass) {
+  Impl& im = *impl_;
+  if (im.items.empty()) return;
+
+  // Every state this pass relies on is set here; nothing is inherited from the host or a pass.
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);  // planes show both sides; the fragment shader turns back-face normals around
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_DEPTH_CLAMP);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  glDisable(GL_RASTERIZER_DISCARD);
+  glDisable(GL_FRAMEBUFFER_SRGB);  // colours are display values
+  glDisable(GL_PRIMITIVE_RESTART);
+  glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glDepthRange(0.0, 1.0);  // linear depth is written as is
+  glEnable(GL_DEPTH_TEST);
+  int passMode = 0;
+  switch (pass) {
+    case ShadePass::kLit:
+      glDepthFunc(GL_LESS);
+      glDepthMask(GL_TRUE);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      glDisable(GL_STENCIL_TEST);
+      passMode = 0;
+      break;
+    case ShadePass::kShadowed:
+      glDepthFunc(GL_EQUAL);
+      glDepthMask(GL_FALSE);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      glEnable(GL_STENCIL_TEST);
+      glStencilFunc(GL_NOTEQUAL, 0, 0xFF);
+      glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+      passMode = 1;
+      break;
+    case ShadePass::kDepthOnly:
+      glDepthFunc(GL_LESS);
+      glDepthMask(GL_TRUE);
+      glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+      glDisable(GL_STENCIL_TEST);
+      passMode = 2;
+      break;
+  }
+
+  const GLuint program = im.program.get();
+  glUseProgram(program);
+  glProgramUniform1i(program, kPassLoc, passMode);
+  glBindVertexArray(im.vao.get());
+  for (const DrawItem& d : im.items) {
+    const MeshRange& r = im.ranges[d.mesh];
+    // A mirroring transform turns outside faces clockwise; keep gl_FrontFacing meaning "outside".
+    glFrontFace(d.mirrored ? GL_CW : GL_CCW);
+    glProgramUniformMatrix4fv(program, kModelLoc, 1, GL_FALSE, glm::value_ptr(d.model));
+    glProgramUniformMatrix3fv(program, kNormalMatrixLoc, 1, GL_FALSE, glm::value_ptr(d.normalMatrix));
+    glProgramUniform3fv(program, kAlbedoLoc, 1, glm::value_ptr(d.albedo));
+    glProgramUniform1i(program, kCelLoc, d.cel ? 1 : 0);
+    glDrawElementsBaseVertex(GL_TRIANGLES, r.indexCount, GL_UNSIGNED_INT,
+                             reinterpret_cast<const void*>(r.firstIndex * sizeof(std::uint32_t)), r.baseVertex);
+  }
+  glBindVertexArray(0);
+  glUseProgram(0);
+  glFrontFace(GL_CCW);
+  // Leave writes on, as GL starts: a host's glClear after this pass must not be silently masked.
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+}  // namespace puff::cel

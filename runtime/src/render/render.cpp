@@ -1,0 +1,246 @@
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <puff/cel/opaque.h>
+#include <puff/mesh/mesh.h>
+#include <puff/render/render.h>
+
+namespace puff::render {
+
+namespace {
+
+glm::mat4 objectTransform(const ObjectSpec& o) {
+  glm::mat4 m = glm::translate(glm::mat4(1.0f), o.translate);
+  // XYZ Euler angles applied X first: M = T * Rz * Ry * Rx * S.
+  m = glm::rotate(m, glm::radians(o.rotateDegrees.z), glm::vec3(0, 0, 1));
+  m = glm::rotate(m, glm::radians(o.rotateDegrees.y), glm::vec3(0, 1, 0));
+  m = glm::rotate(m, glm::radians(o.rotateDegrees.x), glm::vec3(1, 0, 0));
+  return glm::scale(m, o.scale);
+}
+
+// An offscreen target: colour + depth/stencil, multisampled when asked, with a single-sample
+// resolve target to read back from.
+struct Target {
+  int width = 0, height = 0, samples = 1;
+  core::Framebuffer fbo, resolveFbo;
+  core::Renderbuffer color, depthStencil, resolveColor;
+
+  static Result<Target> create(int w, int h, int samples) {
+    Target t;
+    t.width = w;
+    t.height = h;
+    GLint maxSamples = 1;
+    glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
+    t.samples = std::clamp(samples, 1, std::max(1, static_cast<int>(maxSamples)));
+    t.fbo = core::makeFramebuffer();
+    t.color = core::makeRenderbuffer();
+    t.depthStencil = core::makeRenderbuffer();
+    const int s = t.samples > 1 ? t.samples : 0;
+    glNamedRenderbufferStorageMultisample(t.color.get(), s, GL_RGBA8, w, h);
+    glNamedRenderbufferStorageMultisample(t.depthStencil.get(), s, GL_DEPTH24_STENCIL8, w, h);
+    glNamedFramebufferRenderbuffer(t.fbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.color.get());
+    glNamedFramebufferRenderbuffer(t.fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, t.depthStencil.get());
+    if (glCheckNamedFramebufferStatus(t.fbo.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+      return Error{"render target of " + std::to_string(w) + "x" + std::to_string(h) + " with " +
+                   std::to_string(t.samples) + " samples is not supported by this GL"};
+    }
+    if (t.samples > 1) {
+      t.resolveFbo = core::makeFramebuffer();
+      t.resolveColor = core::makeRenderbuffer();
+      glNamedRenderbufferStorage(t.resolveColor.get(), GL_RGBA8, w, h);
+      glNamedFramebufferRenderbuffer(t.resolveFbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.resolveColor.get());
+    }
+    return t;
+  }
+};
+
+std::shared_ptr<const cel::TriangleMesh> toTriangleMesh(const mesh::TriMesh& m) {
+  auto out = std::make_shared<cel::TriangleMesh>();
+  out->positions = m.positions;
+  out->normals = m.normals;
+  out->indices.reserve(m.triangles.size() * 3);
+  for (const glm::uvec3& t : m.triangles) {
+    out->indices.insert(out->indices.end(), {t.x, t.y, t.z});
+  }
+  return out;
+}
+
+}  // namespace
+
+struct SceneRenderer::Impl {
+  Scene scene;
+  std::unique_ptr<cel::NailboardRenderer> nailboards;
+  std::unique_ptr<cel::OpaqueRenderer> opaque;
+  std::unique_ptr<cel::FrameBlock> block;
+  std::optional<cel::Ramp> ramp;
+  std::optional<cel::Gradient> gradient;
+  Target target;
+  int variations = 1;
+  bool hasAtlas = false;
+  glm::vec4 floorPlane{0.0f};
+};
+
+SceneRenderer::SceneRenderer() : impl_(std::make_unique<Impl>()) {}
+SceneRenderer::~SceneRenderer() = default;
+const Scene& SceneRenderer::scene() const { return impl_->scene; }
+
+Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene) {
+  std::unique_ptr<SceneRenderer> r(new SceneRenderer());
+  Impl& m = *r->impl_;
+  m.scene = scene;
+  auto nb = cel::NailboardRenderer::create();
+  if (!nb) return nb.error();
+  m.nailboards = std::move(*nb);
+  auto op = cel::OpaqueRenderer::create();
+  if (!op) return op.error();
+  m.opaque = std::move(*op);
+  m.block = std::make_unique<cel::FrameBlock>();
+
+  const bool needsAtlas = !scene.particles.empty() || !scene.emitters.empty();
+  if (!scene.atlas.empty()) {
+    auto atlas = core::loadAtlas(scene.atlas);
+    if (!atlas) return atlas.error();
+    auto set = m.nailboards->setAtlas(*atlas);
+    if (!set) return Error::at(scene.atlas, set.error().message);
+    m.variations = std::max(1, atlas->desc.variations);
+    m.hasAtlas = true;
+  } else if (needsAtlas) {
+    return Error::at(scene.file, "/atlas: the scene has particles but names no atlas");
+  }
+
+  if (!scene.ramp.empty()) {
+    auto ramp = cel::Ramp::load(scene.ramp, scene.rampSmooth);
+    if (!ramp) return ramp.error();
+    m.ramp = std::move(*ramp);
+  } else {
+    m.ramp = cel::Ramp::twoTone();
+  }
+  if (!scene.ambientGradient.empty()) {
+    auto g = cel::Gradient::load(scene.ambientGradient);
+    if (!g) return g.error();
+    m.gradient = std::move(*g);
+  }
+
+  std::vector<cel::OpaqueObject> objects;
+  std::shared_ptr<const cel::TriangleMesh> plane, box, sphere;
+  float floorHeight = 0.0f;
+  bool haveFloor = false;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const ObjectSpec& o = scene.objects[i];
+    cel::OpaqueObject obj;
+    obj.name = o.name.empty() ? "objects/" + std::to_string(i) : o.name;
+    obj.transform = objectTransform(o);
+    obj.albedo = o.albedo;
+    obj.cel = o.cel;
+    switch (o.type) {
+      case ObjectSpec::Type::kPlane:
+        if (!plane) plane = std::make_shared<const cel::TriangleMesh>(cel::makePlane());
+        obj.mesh = plane;
+        // Shadow volumes may stop at the lowest horizontal plane: nothing below it is seen.
+        if (o.rotateDegrees == glm::vec3(0.0f) && (!haveFloor || o.translate.y < floorHeight)) {
+          floorHeight = o.translate.y;
+          haveFloor = true;
+        }
+        break;
+      case ObjectSpec::Type::kBox:
+        if (!box) box = std::make_shared<const cel::TriangleMesh>(cel::makeBox());
+        obj.mesh = box;
+        break;
+      case ObjectSpec::Type::kSphere:
+        if (!sphere) sphere = std::make_shared<const cel::TriangleMesh>(cel::makeSphere());
+        obj.mesh = sphere;
+        break;
+      case ObjectSpec::Type::kMesh: {
+        auto loaded = mesh::loadMesh(o.mesh);
+        if (!loaded) return loaded.error();
+        obj.mesh = toTriangleMesh(*loaded);
+        break;
+      }
+    }
+    objects.push_back(std::move(obj));
+  }
+  if (haveFloor) m.floorPlane = glm::vec4(0.0f, 1.0f, 0.0f, -floorHeight);
+  auto set = m.opaque->setObjects(std::move(objects));
+  if (!set) return Error::at(scene.file, set.error().message);
+
+  auto target = Target::create(scene.width, scene.height, scene.samples);
+  if (!target) return target.error();
+  m.target = std::move(*target);
+  return r;
+}
+
+void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameStats* stats) {
+  Impl& m = *impl_;
+  const Scene& s = m.scene;
+  cel::Frame f = cel::Frame::fromCamera(cameraAt(s, frame), viewport.width, viewport.height);
+  f.viewport = viewport;
+  f.light = s.light;
+  f.ambientColor = s.ambientColor;
+  f.ambientGradient = m.gradient.has_value();
+
+  glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
+  glDisable(GL_SCISSOR_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDepthMask(GL_TRUE);
+  glStencilMask(0xFF);
+  glClearColor(s.background.r, s.background.g, s.background.b, 1.0f);
+  glClearDepth(1.0);
+  glClearStencil(0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+
+  m.block->upload(f);
+  m.ramp->bind();
+  if (m.gradient) m.gradient->bind();
+
+  m.opaque->draw(cel::ShadePass::kLit);
+  cel::DrawStats up;
+  if (m.hasAtlas) {
+    const std::vector<cel::Particle> particles = particlesAt(s, frame, m.variations);
+    up = m.nailboards->upload(particles);
+    m.nailboards->drawNailboards(s.style, cel::ShadePass::kLit);
+    if (s.style.shadows) {
+      m.nailboards->drawShadowVolumes(s.style, m.floorPlane);
+      m.opaque->draw(cel::ShadePass::kShadowed);
+      m.nailboards->drawNailboards(s.style, cel::ShadePass::kShadowed);
+    }
+  } else if (s.style.shadows) {
+    // Nothing casts: the stencil stays zero and the shadowed pass would change nothing.
+  }
+  if (stats) {
+    stats->particles = up.particles;
+    stats->bytesUploaded = up.bytesUploaded;
+  }
+}
+
+Result<core::Image> SceneRenderer::renderFrame(int frame, FrameStats* stats) {
+  Impl& m = *impl_;
+  Target& t = m.target;
+  glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
+  drawFrame(frame, cel::Viewport{0, 0, t.width, t.height}, stats);
+  GLuint readFbo = t.fbo.get();
+  if (t.samples > 1) {
+    glBlitNamedFramebuffer(t.fbo.get(), t.resolveFbo.get(), 0, 0, t.width, t.height, 0, 0, t.width, t.height,
+                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    readFbo = t.resolveFbo.get();
+  }
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(t.width) * t.height * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, readFbo);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  const std::string glErrors = core::drainGlErrors();
+  if (!glErrors.empty())
+    return Error::at(m.scene.file, "GL error while rendering frame " + std::to_string(frame) + ": " + glErrors);
+  core::Image image(t.width, t.height, 4);
+  for (int y = 0; y < t.height; ++y) {
+    const unsigned char* row = &bytes[static_cast<std::size_t>(t.height - 1 - y) * t.width * 4];
+    for (int i = 0; i < t.width * 4; ++i) image.pixels[static_cast<std::size_t>(y) * t.width * 4 + i] = row[i] / 255.0f;
+  }
+  return image;
+}
+
+}  // namespace puff::render

@@ -1,0 +1,37 @@
+#version 450 core
+// Opaque scene objects, lit like the puffs (McGuire & Fein Eq. 2) and writing the frame's LINEAR
+// depth. One program serves every ShadePass, so the depth a kShadowed pass compares with GL_EQUAL is
+// computed by exactly the same code as the depth the kLit or kDepthOnly pass wrote.
+//   lit, cel:    albedo * (K_a + K_L * q(max(0, N.L)))
+//   lit, smooth: albedo * (K_a + K_L * max(0, N.L))
+//   shadowed:    albedo * K_a
+#include "common/frame.glsl"
+
+in vec3 vNormalView;
+in float vDist;
+
+layout(location = 2) uniform vec3 uAlbedo;
+layout(location = 3) uniform int uCel;   // 1: through the ramp q, 0: smooth Lambert
+layout(location = 4) uniform int uPass;  // 0: lit, 1: shadowed (ambient only), 2: depth only
+
+layout(location = 0) out vec4 oColor;
+
+void main() {
+  gl_FragDepth = linearDepth(vDist);
+  if (uPass == 2) {
+    oColor = vec4(0.0);  // colour writes are masked off; keep the ramp lookups out of the depth pass
+    return;
+  }
+  vec3 ambient = ambientAt(gl_FragCoord.xy);
+  if (uPass == 1) {
+    oColor = vec4(uAlbedo * ambient, 1.0);
+    return;
+  }
+  // Culling is off so a plane shows both sides: turn the normal toward the viewer on back faces.
+  // (The renderer flips glFrontFace for mirroring transforms, so "front" stays "outside".)
+  vec3 n = normalize(vNormalView);
+  if (!gl_FrontFacing) n = -n;
+  float nDotL = dot(n, uLightDirView.xyz);
+  vec3 diffuse = uCel != 0 ? quantize(nDotL) : vec3(max(0.0, nDotL));
+  oColor = vec4(uAlbedo * (ambient + uLightColor.rgb * diffuse), 1.0);
+}

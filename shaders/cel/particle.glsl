@@ -1,0 +1,136 @@
+// Particles as the GPU receives them (16 bytes each, puff::cel::PackedParticle), the billboard
+// frame of each alignment, and the atlas cells a particle's view picks. Shared by the nailboard
+// and shadow-volume programs so a shadow is cast by exactly the billboard that is drawn.
+
+layout(std430, binding = 0) readonly buffer ParticleBuffer { uvec4 particles[]; };
+
+// One atlas cell: rect (x, y, w, h; level-0 texels, y down) and the puff-space axes of the view
+// it was baked from (right, up, toward the viewer).
+struct AtlasCell {
+  vec4 rect;
+  vec4 right;
+  vec4 up;
+  vec4 dir;
+};
+layout(std430, binding = 1) readonly buffer AtlasCells { AtlasCell cells[]; };
+
+uniform vec3 uBoundsMin;     // PackBounds
+uniform vec3 uBoundsExtent;  // max - min
+uniform int uAlignment;      // 0 view-plane, 1 viewpoint, 2 axial
+uniform ivec4 uAtlasLayout;  // variations, views, view grid, 1 if the layout is octahedral (else hemi-oct)
+uniform vec4 uAtlasGeom;     // atlas width, height (texels), cell size, margin
+uniform vec4 uAtlasScale;    // content size, depth scale, distance range, 0
+
+struct Particle {
+  vec3 position;
+  float size;
+  vec4 orientation;  // quaternion x, y, z, w
+  int variation;
+  bool oriented;
+};
+
+vec4 unpackQuat(uint bits) {
+  const float kRange = 0.70710678;
+  int largest = int(bits >> 30u);
+  float c[4];
+  float sum = 0.0;
+  int shift = 20;
+  for (int i = 0; i < 4; ++i) {
+    if (i == largest) continue;
+    c[i] = float((bits >> uint(shift)) & 1023u) / 1023.0 * 2.0 * kRange - kRange;
+    sum += c[i] * c[i];
+    shift -= 10;
+  }
+  c[largest] = sqrt(max(0.0, 1.0 - sum));
+  return normalize(vec4(c[0], c[1], c[2], c[3]));
+}
+
+Particle unpackParticle(uint index) {
+  uvec4 d = particles[index];
+  Particle p;
+  vec3 q = vec3(float(d.x & 0xFFFFu), float(d.x >> 16u), float(d.y & 0xFFFFu)) / 65535.0;
+  p.position = uBoundsMin + q * uBoundsExtent;
+  p.size = unpackHalf2x16(d.y >> 16u).x;
+  p.orientation = unpackQuat(d.z);
+  p.variation = int(d.w & 0xFFu) % max(1, uAtlasLayout.x);
+  p.oriented = (d.w & 0x100u) != 0u;
+  return p;
+}
+
+mat3 quatToMat3(vec4 q) {
+  float x = q.x, y = q.y, z = q.z, w = q.w;
+  return mat3(1.0 - 2.0 * (y * y + z * z), 2.0 * (x * y + w * z), 2.0 * (x * z - w * y),
+              2.0 * (x * y - w * z), 1.0 - 2.0 * (x * x + z * z), 2.0 * (y * z + w * x),
+              2.0 * (x * z + w * y), 2.0 * (y * z - w * x), 1.0 - 2.0 * (x * x + y * y));
+}
+
+bool isOrthographic() { return uDepthRange.w > 0.5; }
+
+// Unit world-space direction from `p` toward the camera.
+vec3 towardCamera(vec3 p) {
+  if (isOrthographic()) return normalize(uInvView[2].xyz);
+  return normalize(uCameraWorld.xyz - p);
+}
+
+// The billboard's world-space frame: columns right, up, normal (toward the viewer).
+mat3 billboardFrame(vec3 p) {
+  vec3 camRight = normalize(uInvView[0].xyz), camUp = normalize(uInvView[1].xyz), camBack = normalize(uInvView[2].xyz);
+  if (uAlignment == 1) {  // viewpoint-oriented: faces the eye, upright against the camera's up
+    vec3 w = towardCamera(p);
+    vec3 r = cross(camUp, w);
+    if (dot(r, r) > 1e-8) {
+      r = normalize(r);
+      return mat3(r, cross(w, r), w);
+    }
+  } else if (uAlignment == 2) {  // axial: turns only about world up
+    vec3 u = vec3(0.0, 1.0, 0.0);
+    vec3 w = towardCamera(p);
+    w -= dot(w, u) * u;
+    if (dot(w, w) > 1e-8) {
+      w = normalize(w);
+      return mat3(cross(u, w), u, w);
+    }
+  }
+  return mat3(camRight, camUp, camBack);
+}
+
+// The puff's frame: puff space -> world. An unoriented puff wears the billboard's frame, so it
+// always shows its front view upright.
+mat3 puffFrame(Particle p, mat3 billboard) { return p.oriented ? quatToMat3(p.orientation) : billboard; }
+
+// Up to four atlas cells for a puff-space direction toward the camera, with bilinear weights over
+// the (hemi-)octahedral view grid. A one-view atlas gives its only view with weight 1.
+void selectViews(Particle p, vec3 dirPuff, out ivec4 cellIndex, out vec4 weight) {
+  int views = max(1, uAtlasLayout.y), grid = max(1, uAtlasLayout.z);
+  int base = p.variation * views;
+  if (views == 1) {
+    cellIndex = ivec4(base);
+    weight = vec4(1.0, 0.0, 0.0, 0.0);
+    return;
+  }
+  vec3 d = dirPuff / max(1e-6, abs(dirPuff.x) + abs(dirPuff.y) + abs(dirPuff.z));
+  vec2 uv;
+  if (uAtlasLayout.w == 1) {
+    uv = d.xy;
+    if (d.z < 0.0) uv = (1.0 - abs(d.yx)) * vec2(d.x >= 0.0 ? 1.0 : -1.0, d.y >= 0.0 ? 1.0 : -1.0);
+  } else {
+    // Hemi-octahedral covers the front half only: a view from behind uses its mirror in front.
+    uv = vec2(d.x + d.y, d.x - d.y);
+  }
+  vec2 g = (uv * 0.5 + 0.5) * float(grid) - 0.5;
+  vec2 g0 = floor(g), f = g - g0;
+  ivec2 c0 = clamp(ivec2(g0), ivec2(0), ivec2(grid - 1));
+  ivec2 c1 = clamp(ivec2(g0) + 1, ivec2(0), ivec2(grid - 1));
+  cellIndex = ivec4(base + c0.y * grid + c0.x, base + c0.y * grid + c1.x, base + c1.y * grid + c0.x,
+                    base + c1.y * grid + c1.x);
+  weight = vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
+}
+
+// Atlas texture coordinate of a point of cell `c` given in puff diameters from the puff's centre
+// (x right, y up in the cell's view).
+vec2 cellUv(int c, vec2 puff) {
+  vec4 rect = cells[c].rect;
+  float margin = uAtlasGeom.w, content = uAtlasScale.x;
+  vec2 texel = rect.xy + vec2(margin + (puff.x + 0.5) * content, margin + (0.5 - puff.y) * content);
+  return texel / uAtlasGeom.xy;
+}

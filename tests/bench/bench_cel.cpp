@@ -1,0 +1,439 @@
+// Cel rendering benchmark (issue 3): the same particles at the same overdraw drawn three ways, timed
+// in one run so the ratios compare methods on one machine:
+//   floor       bare alpha-tested textured quads (NailboardRenderer::drawBaseline)
+//   nailboards  cel shading, per-pixel linear depth (gl_FragDepth) and outlines (ShadePass::kLit)
+//   full        the frame with shadows: kLit, billboard shadow volumes into the stencil, kShadowed
+// Every frame clears the target, uploads the frame block and the particles (16 bytes each), draws,
+// and ends with glFinish(). Per case: 2 warm-up frames, then the median of --reps frames. The full
+// frame is also timed pass by pass (glFinish between passes) to show which pass dominates.
+//
+// Overdraw is the same at every count: particles fill a box seen at view-axis distances
+// d in [kNear, kFar], so for a quad of world side s the expected screen fraction is
+//   (s * f / d)^2 / 4 per quad, f = 1 / tan(fovY / 2), E[1 / d^2] = 1 / (kNear * kFar),
+// and N quads cover O screens when
+//   s = 2 * tan(fovY / 2) * sqrt(O * kNear * kFar / N)            (quad side, world units)
+// with O = kOverdraw = 4. The quad is the whole atlas cell, so the puff's diameter (Particle::size)
+// is s * contentSize / cellSize. The overdraw actually reached (quads clipped to the screen) is
+// measured on the CPU and written to the CSV.
+//
+// Writes CSV (stdout, or --csv FILE written atomically) and prints a table on stderr.
+// Not a test: nothing here fails on a time.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include <glm/geometric.hpp>
+
+#include <puff/bake/baker.h>
+#include <puff/cel/frame.h>
+#include <puff/cel/nailboards.h>
+#include <puff/core/atlas.h>
+#include <puff/core/files.h>
+#include <puff/core/gl.h>
+#include <puff/core/gl_context.h>
+#include <puff/core/image.h>
+#include <puff/mesh/mesh.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace puff;
+using Clock = std::chrono::steady_clock;
+
+// Scene: camera on +z looking at the origin; the box spans view-axis distances [kNear, kFar].
+constexpr float kFovYDegrees = 45.0f;
+constexpr float kCameraZ = 8.0f;
+constexpr float kNear = 6.0f, kFar = 10.0f;  // box z in [kCameraZ - kFar, kCameraZ - kNear]
+constexpr float kHalfWidth = 2.2f;           // box x and y in [-kHalfWidth, kHalfWidth]
+constexpr float kOverdraw = 4.0f;            // summed quad area / screen area, at every count
+constexpr float kFloorGap = 0.2f;            // the floor plane sits this far below the box
+constexpr std::uint64_t kSeed = 0x5eedc0ffee15bad5ull;
+constexpr int kWarmUp = 2;
+// A case whose first warm-up frame takes longer than this runs 1 warm-up and at most kSlowReps
+// frames, so the whole run stays within minutes on llvmpipe.
+constexpr double kSlowFrameMs = 2000.0;
+constexpr int kSlowReps = 3;
+
+std::uint64_t splitmix64(std::uint64_t& state) {
+  std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+// Uniform in [lo, hi): the top 24 bits as a float fraction.
+float uniform(std::uint64_t& state, float lo, float hi) {
+  return lo + (hi - lo) * static_cast<float>(splitmix64(state) >> 40) / 16777216.0f;
+}
+
+float tanHalfFov() { return std::tan(0.5f * kFovYDegrees * 3.14159265358979f / 180.0f); }
+
+// World side of the quad (the whole atlas cell) so that `count` quads cover kOverdraw screens.
+float quadSide(std::size_t count) {
+  return 2.0f * tanHalfFov() * std::sqrt(kOverdraw * kNear * kFar / static_cast<float>(count));
+}
+
+std::vector<cel::Particle> makeParticles(std::size_t count, const core::AtlasDesc& atlas) {
+  std::uint64_t state = kSeed;
+  const float size = quadSide(count) * static_cast<float>(atlas.contentSize) / static_cast<float>(atlas.cellSize);
+  std::vector<cel::Particle> ps(count);
+  for (cel::Particle& p : ps) {
+    p.position.x = uniform(state, -kHalfWidth, kHalfWidth);
+    p.position.y = uniform(state, -kHalfWidth, kHalfWidth);
+    p.position.z = uniform(state, kCameraZ - kFar, kCameraZ - kNear);
+    p.size = size;
+    p.variation = static_cast<int>(splitmix64(state) % 4);
+  }
+  return ps;
+}
+
+// Summed screen area of the quads (clipped to the screen) over the screen area.
+double measuredOverdraw(const std::vector<cel::Particle>& ps, float side) {
+  const double f = 1.0 / tanHalfFov();
+  double sum = 0;
+  for (const cel::Particle& p : ps) {
+    const double d = kCameraZ - p.position.z;
+    const double cx = p.position.x * f / d, cy = p.position.y * f / d, h = 0.5 * side * f / d;  // NDC
+    const double w = std::max(0.0, std::min(1.0, cx + h) - std::max(-1.0, cx - h));
+    const double hgt = std::max(0.0, std::min(1.0, cy + h) - std::max(-1.0, cy - h));
+    sum += w * hgt;
+  }
+  return sum / 4.0;
+}
+
+struct Target {
+  int size = 0;
+  core::Framebuffer fbo;
+  core::Renderbuffer color, depth;
+  explicit Target(int n)
+      : size(n), fbo(core::makeFramebuffer()), color(core::makeRenderbuffer()), depth(core::makeRenderbuffer()) {
+    glNamedRenderbufferStorage(color.get(), GL_RGBA8, n, n);
+    glNamedRenderbufferStorage(depth.get(), GL_DEPTH24_STENCIL8, n, n);
+    glNamedFramebufferRenderbuffer(fbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color.get());
+    glNamedFramebufferRenderbuffer(fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth.get());
+  }
+  void bindAndClear() const {
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+    glViewport(0, 0, size, size);
+    glDisable(GL_SCISSOR_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_TRUE);
+    glStencilMask(0xFF);
+    glClearColor(0.55f, 0.7f, 0.9f, 1.0f);
+    glClearDepth(1.0);
+    glClearStencil(0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  }
+  Result<void> writePng(const fs::path& path) const {
+    std::vector<unsigned char> b(static_cast<std::size_t>(size) * size * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo.get());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, size, size, GL_RGBA, GL_UNSIGNED_BYTE, b.data());
+    core::Image im(size, size, 3);
+    for (int y = 0; y < size; ++y) {
+      for (int x = 0; x < size; ++x) {
+        for (int c = 0; c < 3; ++c) {
+          im.at(x, size - 1 - y, c) = b[(static_cast<std::size_t>(y) * size + x) * 4 + c] / 255.0f;
+        }
+      }
+    }
+    return core::writeImage(path, im, core::PixelType::kUInt8);
+  }
+};
+
+enum class Method { kFloor, kNailboards, kFull, kFullSplit };
+
+// One frame's time, and for kFullSplit the time of each pass (upload + lit, volumes, shadowed).
+struct FrameTime {
+  double total = 0;
+  double pass[3] = {0, 0, 0};
+};
+
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+double medianOf(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+struct Bench {
+  cel::NailboardRenderer& renderer;
+  cel::FrameBlock& block;
+  const cel::Ramp& ramp;
+  cel::Style style;
+  glm::vec4 floorPlane{0.0f};
+  std::size_t bytesUploaded = 0;
+
+  FrameTime frame(const Target& target, const cel::Frame& f, const std::vector<cel::Particle>& ps, Method m) {
+    FrameTime t;
+    const auto t0 = Clock::now();
+    target.bindAndClear();
+    block.upload(f);
+    ramp.bind();
+    bytesUploaded = renderer.upload(ps).bytesUploaded;
+    switch (m) {
+      case Method::kFloor:
+        renderer.drawBaseline(style);
+        break;
+      case Method::kNailboards:
+        renderer.drawNailboards(style, cel::ShadePass::kLit);
+        break;
+      case Method::kFull:
+        renderer.drawNailboards(style, cel::ShadePass::kLit);
+        renderer.drawShadowVolumes(style, floorPlane);
+        renderer.drawNailboards(style, cel::ShadePass::kShadowed);
+        break;
+      case Method::kFullSplit: {
+        renderer.drawNailboards(style, cel::ShadePass::kLit);
+        glFinish();
+        t.pass[0] = msSince(t0);
+        const auto t1 = Clock::now();
+        renderer.drawShadowVolumes(style, floorPlane);
+        glFinish();
+        t.pass[1] = msSince(t1);
+        const auto t2 = Clock::now();
+        renderer.drawNailboards(style, cel::ShadePass::kShadowed);
+        glFinish();
+        t.pass[2] = msSince(t2);
+        break;
+      }
+    }
+    glFinish();
+    t.total = msSince(t0);
+    return t;
+  }
+};
+
+struct Row {
+  std::size_t particles = 0;
+  int size = 0;
+  std::string method;
+  int reps = 0;
+  double medianMs = 0, minMs = 0, ratio = 0;
+  double bytesPerParticle = 0, overdraw = 0, quadPx = 0;
+};
+
+std::vector<int> parseList(const char* s) {
+  std::vector<int> out;
+  std::stringstream in(s);
+  std::string item;
+  while (std::getline(in, item, ',')) out.push_back(std::atoi(item.c_str()));
+  return out;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int reps = 5;
+  std::string csvPath, dumpDir;
+  std::vector<int> counts{1000, 10000, 50000}, sizes{512, 1024};
+  bool split = true;
+  std::string only;  // --methods: a comma-separated subset of floor,nailboards,full,full_split
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
+      reps = std::max(1, std::atoi(argv[++i]));
+    else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc)
+      csvPath = argv[++i];
+    else if (!std::strcmp(argv[i], "--counts") && i + 1 < argc)
+      counts = parseList(argv[++i]);
+    else if (!std::strcmp(argv[i], "--sizes") && i + 1 < argc)
+      sizes = parseList(argv[++i]);
+    else if (!std::strcmp(argv[i], "--no-split"))
+      split = false;
+    else if (!std::strcmp(argv[i], "--methods") && i + 1 < argc)
+      only = "," + std::string(argv[++i]) + ",";
+    else if (!std::strcmp(argv[i], "--dump") && i + 1 < argc)
+      dumpDir = argv[++i];
+    else {
+      std::fprintf(stderr,
+                   "usage: puff_bench_cel [--reps N] [--csv FILE] [--counts 1000,10000,50000] [--sizes 512,1024]\n"
+                   "                      [--methods floor,nailboards,full,full_split] [--no-split] [--dump DIR]\n");
+      return 2;
+    }
+  }
+  for (int v : counts)
+    if (v < 1) return std::fprintf(stderr, "puff_bench_cel: error: --counts must be positive\n"), 2;
+  for (int v : sizes)
+    if (v < 1 || v > 16384) return std::fprintf(stderr, "puff_bench_cel: error: --sizes must be in [1, 16384]\n"), 2;
+
+  auto context = core::createGlContext({});
+  if (!context) {
+    std::fprintf(stderr, "puff_bench_cel: error: %s\n", context.error().message.c_str());
+    return 1;
+  }
+  std::fprintf(stderr, "puff_bench_cel: %s\n", (*context)->describe().c_str());
+
+  // A lumpy 4-variation atlas, baked in-process (front view only, as the paper's particles).
+  const fs::path bakeDir = fs::temp_directory_path() / ("puff_bench_cel-" + std::to_string(::getpid()));
+  std::unique_ptr<core::Atlas> atlas;
+  {
+    std::vector<bake::PuffSource> sources(4);
+    for (int i = 0; i < 4; ++i) {
+      mesh::LumpyParams p;  // pinned, so figures stay comparable when the generator's defaults change
+      p.subdivisions = 5;
+      p.amplitude = 0.25f;
+      p.frequency = 2.0f;
+      p.octaves = 3;
+      p.seed = 1 + static_cast<std::uint64_t>(i);
+      sources[static_cast<std::size_t>(i)].mesh = mesh::generateLumpy(p);
+      sources[static_cast<std::size_t>(i)].provenance.generator = "lumpy";
+    }
+    bake::BakeOptions o;
+    o.cellSize = 128;
+    o.outDir = bakeDir;
+    o.contactSheet = false;
+    auto baked = bake::bakeAtlas(sources, o);
+    if (!baked) {
+      std::fprintf(stderr, "puff_bench_cel: error: bake: %s\n", baked.error().message.c_str());
+      return 1;
+    }
+    auto loaded = core::loadAtlas(baked->sidecar);
+    fs::remove_all(bakeDir);
+    if (!loaded) {
+      std::fprintf(stderr, "puff_bench_cel: error: %s\n", loaded.error().message.c_str());
+      return 1;
+    }
+    atlas = std::make_unique<core::Atlas>(std::move(*loaded));
+  }
+  auto created = cel::NailboardRenderer::create();
+  if (!created) {
+    std::fprintf(stderr, "puff_bench_cel: error: %s\n", created.error().message.c_str());
+    return 1;
+  }
+  std::unique_ptr<cel::NailboardRenderer> renderer = std::move(*created);
+  if (auto r = renderer->setAtlas(*atlas); !r) {
+    std::fprintf(stderr, "puff_bench_cel: error: %s\n", r.error().message.c_str());
+    return 1;
+  }
+  cel::FrameBlock block;
+  const cel::Ramp ramp = cel::Ramp::twoTone();
+  Bench bench{*renderer, block, ramp, {}, {}};
+  bench.style.shadows = true;
+  bench.floorPlane = glm::vec4(0.0f, 1.0f, 0.0f, kHalfWidth + kFloorGap);  // y = -(kHalfWidth + kFloorGap)
+
+  cel::Camera camera;
+  camera.position = glm::vec3(0.0f, 0.0f, kCameraZ);
+  camera.target = glm::vec3(0.0f);
+  camera.fovYDegrees = kFovYDegrees;
+  camera.nearPlane = 0.5f;
+  camera.farPlane = 30.0f;
+
+  std::vector<Row> rows;
+  const auto runStart = Clock::now();
+  for (int count : counts) {
+    const std::vector<cel::Particle> ps = makeParticles(static_cast<std::size_t>(count), atlas->desc);
+    const float side = quadSide(static_cast<std::size_t>(count));
+    const double overdraw = measuredOverdraw(ps, side);
+    for (int size : sizes) {
+      const Target target(size);
+      cel::Frame frame = cel::Frame::fromCamera(camera, size, size);
+      frame.light.direction = glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f));
+      frame.light.color = glm::vec3(0.75f);
+      frame.ambientColor = glm::vec3(0.3f);
+      const double quadPx = side / (2.0 * tanHalfFov() * kCameraZ) * size;  // at the box's middle depth
+      struct MethodSpec {
+        Method m;
+        const char* name;
+      };
+      std::vector<MethodSpec> methods{
+          {Method::kFloor, "floor"}, {Method::kNailboards, "nailboards"}, {Method::kFull, "full"}};
+      if (split) methods.push_back({Method::kFullSplit, "full_split"});
+      // The floor always runs: every ratio is against it.
+      std::erase_if(methods, [&](const MethodSpec& m) {
+        return m.m != Method::kFloor && !only.empty() && only.find("," + std::string(m.name) + ",") == std::string::npos;
+      });
+      double floorMs = 0;
+      for (const MethodSpec& ms : methods) {
+        int warm = kWarmUp, n = reps;
+        for (int w = 0; w < warm; ++w) {
+          const double t = bench.frame(target, frame, ps, ms.m).total;
+          if (w == 0 && t > kSlowFrameMs) {
+            warm = 1;
+            n = std::min(reps, kSlowReps);
+          }
+        }
+        if (!dumpDir.empty()) {
+          const fs::path png = fs::path(dumpDir) / (std::string(ms.name) + "_" + std::to_string(count) + "_" +
+                                                    std::to_string(size) + ".png");
+          if (auto r = target.writePng(png); !r) std::fprintf(stderr, "puff_bench_cel: %s\n", r.error().message.c_str());
+        }
+        std::vector<double> totals, passes[3];
+        for (int r = 0; r < n; ++r) {
+          const FrameTime t = bench.frame(target, frame, ps, ms.m);
+          totals.push_back(t.total);
+          for (int k = 0; k < 3; ++k) passes[k].push_back(t.pass[k]);
+        }
+        if (const GLenum e = glGetError(); e != GL_NO_ERROR) {
+          std::fprintf(stderr, "puff_bench_cel: error: GL error 0x%04x in %s\n", e, ms.name);
+          return 1;
+        }
+        auto addRow = [&](const std::string& name, const std::vector<double>& times) {
+          Row row;
+          row.particles = static_cast<std::size_t>(count);
+          row.size = size;
+          row.method = name;
+          row.reps = n;
+          row.medianMs = medianOf(times);
+          row.minMs = *std::min_element(times.begin(), times.end());
+          if (ms.m == Method::kFloor) floorMs = row.medianMs;
+          row.ratio = row.medianMs / floorMs;
+          row.bytesPerParticle = static_cast<double>(bench.bytesUploaded) / count;
+          row.overdraw = overdraw;
+          row.quadPx = quadPx;
+          rows.push_back(row);
+          std::fprintf(stderr, "puff_bench_cel: %6d particles %5d^2 %-24s median %9.2f ms  x%.2f  (%d frames, %.0f s so far)\n",
+                       count, size, name.c_str(), row.medianMs, row.ratio, n, msSince(runStart) / 1000.0);
+        };
+        if (ms.m == Method::kFullSplit) {
+          addRow("pass_upload_lit", passes[0]);
+          addRow("pass_shadow_volumes", passes[1]);
+          addRow("pass_shadowed", passes[2]);
+          addRow("full_split_total", totals);
+        } else {
+          addRow(ms.name, totals);
+        }
+      }
+    }
+  }
+
+  std::string csv =
+      "particles,size,method,reps,median_ms,min_ms,ratio_to_floor,bytes_per_particle,overdraw,quad_px\n";
+  for (const Row& r : rows) {
+    char line[256];
+    std::snprintf(line, sizeof line, "%zu,%d,%s,%d,%.2f,%.2f,%.3f,%.1f,%.2f,%.1f\n", r.particles, r.size,
+                  r.method.c_str(), r.reps, r.medianMs, r.minMs, r.ratio, r.bytesPerParticle, r.overdraw, r.quadPx);
+    csv += line;
+  }
+  if (csvPath.empty()) {
+    std::fputs(csv.c_str(), stdout);
+  } else if (auto w = core::writeFileAtomic(csvPath, csv); !w) {
+    std::fprintf(stderr, "puff_bench_cel: error: %s\n", w.error().message.c_str());
+    return 1;
+  }
+
+  // The table: one line per count and size, the three methods' medians and ratios to the floor.
+  std::fprintf(stderr, "\n%9s %6s %10s %16s %16s %18s %6s\n", "particles", "size", "floor ms", "nailboards ms (x)",
+               "full ms (x)", "volume pass ms (x)", "B/p");
+  for (const Row& f : rows) {
+    if (f.method != "floor") continue;
+    auto find = [&](const char* m) -> const Row* {
+      for (const Row& r : rows)
+        if (r.particles == f.particles && r.size == f.size && r.method == m) return &r;
+      return nullptr;
+    };
+    const Row *nb = find("nailboards"), *full = find("full"), *sv = find("pass_shadow_volumes");
+    std::fprintf(stderr, "%9zu %6d %10.2f %9.2f (%4.2f) %9.2f (%4.2f) %11.2f (%4.2f) %6.1f\n", f.particles, f.size,
+                 f.medianMs, nb ? nb->medianMs : 0.0, nb ? nb->ratio : 0.0, full ? full->medianMs : 0.0,
+                 full ? full->ratio : 0.0, sv ? sv->medianMs : 0.0, sv ? sv->ratio : 0.0, f.bytesPerParticle);
+  }
+  return 0;
+}

@@ -1,0 +1,556 @@
+// Nailboards, outlines and billboard shadow volumes against analytic expectations: a sphere puff
+// baked at test time, orthographic cameras (so world and pixel sizes map exactly), receivers made
+// by clearing the linear depth buffer to a known plane.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+
+#include <glm/gtc/quaternion.hpp>
+#define GLM_ENABLE_EXPERIMENTAL  // glm::rotation(from, to)
+#include <glm/gtx/quaternion.hpp>
+
+#include <puff/bake/baker.h>
+#include <puff/cel/frame.h>
+#include <puff/cel/nailboards.h>
+#include <puff/core/atlas.h>
+#include <puff/mesh/mesh.h>
+
+#include "support/gl_fixture.h"
+
+namespace puff {
+namespace {
+
+namespace fs = std::filesystem;
+using cel::Particle;
+
+// ---- packing (no GL) ---------------------------------------------------------------------------
+
+TEST(ParticlePacking, SixteenBytesRoundTripWithinQuantization) {
+  std::vector<Particle> in;
+  for (int i = 0; i < 200; ++i) {
+    Particle p;
+    p.position = glm::vec3(std::sin(i * 1.3f) * 40.0f, i * 0.05f, std::cos(i * 0.7f) * 3.0f);
+    p.size = 0.01f + static_cast<float>(i) * 0.37f;
+    p.variation = i % 7;
+    p.oriented = (i % 2) == 1;
+    p.orientation = glm::normalize(glm::quat(std::cos(i * 0.1f), std::sin(i * 0.3f), 0.2f, -std::sin(i * 0.2f)));
+    in.push_back(p);
+  }
+  std::vector<cel::PackedParticle> packed;
+  const cel::PackBounds b = cel::packParticles(in, packed);
+  ASSERT_EQ(packed.size() * sizeof(cel::PackedParticle), in.size() * 16u);
+  const glm::vec3 step = (b.max - b.min) / 65535.0f;
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    const Particle out = cel::unpackParticle(packed[i], b);
+    for (int a = 0; a < 3; ++a) EXPECT_LE(std::abs(out.position[a] - in[i].position[a]), 0.5f * step[a] + 1e-5f) << i;
+    EXPECT_NEAR(out.size, in[i].size, in[i].size * 1e-3f) << i;  // half float: 11 significant bits
+    EXPECT_EQ(out.variation, in[i].variation);
+    EXPECT_EQ(out.oriented, in[i].oriented);
+    if (in[i].oriented) {
+      // q and -q are one rotation: compare |dot|.
+      EXPECT_GT(std::abs(glm::dot(out.orientation, in[i].orientation)), 0.99999f - 2e-5f) << i;
+    }
+  }
+}
+
+// ---- GL fixture --------------------------------------------------------------------------------
+
+struct Target {
+  int size = 0;
+  core::Framebuffer fbo;
+  core::Renderbuffer color, depth;
+  explicit Target(int n)
+      : size(n), fbo(core::makeFramebuffer()), color(core::makeRenderbuffer()), depth(core::makeRenderbuffer()) {
+    glNamedRenderbufferStorage(color.get(), GL_RGBA8, n, n);
+    glNamedRenderbufferStorage(depth.get(), GL_DEPTH24_STENCIL8, n, n);
+    glNamedFramebufferRenderbuffer(fbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color.get());
+    glNamedFramebufferRenderbuffer(fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth.get());
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+    glViewport(0, 0, n, n);
+  }
+  void clear(float depthValue, glm::vec3 bg = glm::vec3(1.0f)) const {
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+    glViewport(0, 0, size, size);
+    glDisable(GL_SCISSOR_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_TRUE);
+    glStencilMask(0xFF);
+    glClearColor(bg.r, bg.g, bg.b, 1.0f);
+    glClearDepth(depthValue);
+    glClearStencil(0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  }
+  // Pixel (x, y) with y up (GL convention).
+  std::vector<glm::vec4> readColor() const {
+    std::vector<unsigned char> b(static_cast<std::size_t>(size) * size * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo.get());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, size, size, GL_RGBA, GL_UNSIGNED_BYTE, b.data());
+    std::vector<glm::vec4> out(static_cast<std::size_t>(size) * size);
+    for (std::size_t i = 0; i < out.size(); ++i)
+      out[i] = glm::vec4(b[i * 4], b[i * 4 + 1], b[i * 4 + 2], b[i * 4 + 3]) / 255.0f;
+    return out;
+  }
+  std::vector<unsigned char> readStencil() const {
+    std::vector<unsigned char> b(static_cast<std::size_t>(size) * size);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo.get());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, size, size, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, b.data());
+    return b;
+  }
+  std::vector<float> readDepth() const {
+    std::vector<float> b(static_cast<std::size_t>(size) * size);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo.get());
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, b.data());
+    return b;
+  }
+};
+
+class Nailboards : public test::GlTest {
+ protected:
+  static constexpr int kPx = 128;        // target size
+  static constexpr float kWorld = 8.0f;  // orthographic view height (and width): 16 px per unit
+
+  static void SetUpTestSuite() {
+    GlTest::SetUpTestSuite();
+    dir_ = fs::temp_directory_path() / ("puff-nailboard-test-" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    bake::BakeOptions o;
+    o.cellSize = 128;
+    o.flange = {4.0f, false};
+    o.outDir = dir_;
+    o.contactSheet = false;
+    bake::PuffSource src;
+    src.mesh = mesh::generateSphere({6});
+    src.provenance.generator = "sphere";
+    auto r = bake::bakeAtlas({src}, o);
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    auto atlas = core::loadAtlas(r->sidecar);
+    ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+    atlas_ = std::make_unique<core::Atlas>(std::move(*atlas));
+  }
+  static void TearDownTestSuite() {
+    atlas_.reset();
+    fs::remove_all(dir_);
+  }
+  void SetUp() override {
+    GlTest::SetUp();
+    auto r = cel::NailboardRenderer::create();
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    renderer_ = std::move(*r);
+    ASSERT_TRUE(renderer_->setAtlas(*atlas_).ok());
+    block_ = std::make_unique<cel::FrameBlock>();
+    target_ = std::make_unique<Target>(kPx);
+    ramp_ = std::make_unique<cel::Ramp>(cel::Ramp::twoTone());
+  }
+  void TearDown() override {
+    renderer_.reset();
+    block_.reset();
+    target_.reset();
+    ramp_.reset();
+  }
+
+  // Orthographic camera on +z looking down -z; world (x, y) maps to pixel (64 + 16x, 64 + 16y).
+  cel::Frame orthoFrame() const {
+    cel::Camera cam;
+    cam.position = glm::vec3(0, 0, 10);
+    cam.target = glm::vec3(0);
+    cam.fovYDegrees = 0.0f;
+    cam.orthoHeight = kWorld;
+    cam.nearPlane = 1.0f;
+    cam.farPlane = 21.0f;
+    cel::Frame f = cel::Frame::fromCamera(cam, kPx, kPx);
+    f.light.direction = glm::vec3(0, 0, 1);
+    f.light.color = glm::vec3(0.5f);
+    f.ambientColor = glm::vec3(0.2f);
+    return f;
+  }
+  static glm::vec2 pixelToWorld(int x, int y) {
+    const float scale = kWorld / kPx;
+    return {(x + 0.5f - kPx / 2.0f) * scale, (y + 0.5f - kPx / 2.0f) * scale};
+  }
+  // Linear depth of world z for orthoFrame (camera at z = 10, near 1, far 21).
+  static float depthOfZ(float z) { return ((10.0f - z) - 1.0f) / 20.0f; }
+
+  void draw(const cel::Frame& f, const std::vector<Particle>& ps, const cel::Style& style, float clearDepth = 1.0f) {
+    target_->clear(clearDepth);
+    block_->upload(f);
+    ramp_->bind();
+    renderer_->upload(ps);
+    renderer_->drawNailboards(style, cel::ShadePass::kLit);
+  }
+
+  static inline fs::path dir_;
+  static inline std::unique_ptr<core::Atlas> atlas_;
+  std::unique_ptr<cel::NailboardRenderer> renderer_;
+  std::unique_ptr<cel::FrameBlock> block_;
+  std::unique_ptr<Target> target_;
+  std::unique_ptr<cel::Ramp> ramp_;
+};
+
+bool isInk(const glm::vec4& c) { return c.r < 0.05f && c.g < 0.05f && c.b < 0.05f; }
+bool isWhiteBg(const glm::vec4& c) { return c.r > 0.99f && c.g > 0.99f && c.b > 0.99f; }
+
+TEST_F(Nailboards, UploadIsSixteenBytesPerParticle) {
+  std::vector<Particle> ps(1000);
+  const cel::DrawStats s = renderer_->upload(ps);
+  EXPECT_EQ(s.bytesUploaded, 16000u);
+}
+
+// Eq. 2 with a two-tone ramp and the light toward the viewer: every body pixel is K_a + C K_L q(N.L),
+// q = 1 where N.L >= 0.5, i.e. within 0.866 R of the centre, and 0 beyond.
+TEST_F(Nailboards, CelShadingMatchesEquation2OnTheSphere) {
+  cel::Style style;
+  style.outlines = false;
+  const float size = 4.0f;  // R = 2 units = 32 px
+  draw(orthoFrame(), {Particle{glm::vec3(0), size}}, style);
+  const auto px = target_->readColor();
+  int checked = 0;
+  for (int y = 0; y < kPx; ++y) {
+    for (int x = 0; x < kPx; ++x) {
+      const glm::vec2 w = pixelToWorld(x, y);
+      const float r = glm::length(w) / (size / 2);
+      const glm::vec4 c = px[static_cast<std::size_t>(y) * kPx + x];
+      const float nz = std::sqrt(std::max(0.0f, 1.0f - r * r));  // N.L with L = +z
+      if (r < 0.95f && std::abs(nz - 0.5f) > 0.03f) {
+        const float expected = nz >= 0.5f ? 0.2f + 0.5f : 0.2f;
+        EXPECT_NEAR(c.r, expected, 2.5f / 255.0f) << x << "," << y;
+        ++checked;
+      } else if (r > 1.06f) {
+        EXPECT_TRUE(isWhiteBg(c)) << x << "," << y;
+      }
+    }
+  }
+  EXPECT_GT(checked, 2500);
+}
+
+// The ramp's clamp-to-edge gives q(max(0, N.L)): with the light behind the puff every N.L <= 0 and
+// every body pixel reads the ramp's first texel, here red.
+TEST_F(Nailboards, RampClampEnforcesMaxZero) {
+  core::Image rampImage(4, 1, 3, 0.0f);
+  rampImage.at(0, 0, 0) = 1.0f;                              // texel 0 red
+  for (int x = 1; x < 4; ++x) rampImage.at(x, 0, 1) = 1.0f;  // the rest green
+  auto ramp = cel::Ramp::create(rampImage, "test ramp");
+  ASSERT_TRUE(ramp.ok());
+  cel::Frame f = orthoFrame();
+  f.light.direction = glm::vec3(0, 0, -1);
+  f.light.color = glm::vec3(1.0f);
+  f.ambientColor = glm::vec3(0.0f);
+  cel::Style style;
+  style.outlines = false;
+  target_->clear(1.0f);
+  block_->upload(f);
+  ramp->bind();
+  renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0), 4.0f}});
+  renderer_->drawNailboards(style, cel::ShadePass::kLit);
+  const auto px = target_->readColor();
+  int body = 0;
+  for (int y = 0; y < kPx; ++y) {
+    for (int x = 0; x < kPx; ++x) {
+      if (glm::length(pixelToWorld(x, y)) > 1.8f) continue;
+      const glm::vec4 c = px[static_cast<std::size_t>(y) * kPx + x];
+      EXPECT_GT(c.r, 0.98f);
+      EXPECT_LT(c.g, 0.02f);
+      ++body;
+    }
+  }
+  EXPECT_GT(body, 2000);
+}
+
+// A sphere puff of radius R centred at distance delta behind a plane perpendicular to the view:
+// its front surface pokes through where sqrt(R^2 - r^2) > delta, a disc of radius sqrt(R^2 - delta^2)
+// (the curve its depth map predicts).
+TEST_F(Nailboards, ParticleMeetsAPlaneAlongTheDepthMapCurve) {
+  const float R = 2.0f;
+  for (float delta : {0.5f, 1.0f, 1.5f}) {
+    cel::Style style;
+    style.outlines = false;
+    const float planeZ = delta;  // particle at z = 0, plane nearer the camera by delta
+    draw(orthoFrame(), {Particle{glm::vec3(0), 2 * R}}, style, depthOfZ(planeZ));
+    const auto px = target_->readColor();
+    int visible = 0;
+    for (const glm::vec4& c : px) visible += isWhiteBg(c) ? 0 : 1;
+    const float pxPerUnit = kPx / kWorld;
+    const double expectedRadius = std::sqrt(R * R - delta * delta) * pxPerUnit;
+    const double measuredRadius = std::sqrt(visible / std::numbers::pi);
+    EXPECT_NEAR(measuredRadius, expectedRadius, 1.0) << "delta " << delta;
+  }
+}
+
+// Fig. 5: two puffs at the same depth overlapping; the body of each is nearer than the other's
+// flange, so no ink shows inside the union, while the outer outline is there.
+TEST_F(Nailboards, FlangeBetweenOverlappingParticlesIsHidden) {
+  cel::Style style;
+  style.outlineWidth = 3.0f;
+  const float R = 1.5f;
+  draw(orthoFrame(), {Particle{glm::vec3(-1.0f, 0, 0), 2 * R}, Particle{glm::vec3(1.0f, 0, 0), 2 * R}}, style);
+  const auto px = target_->readColor();
+  int interiorInk = 0, interior = 0, outerInk = 0;
+  for (int y = 0; y < kPx; ++y) {
+    for (int x = 0; x < kPx; ++x) {
+      const glm::vec2 w = pixelToWorld(x, y);
+      const float da = glm::length(w - glm::vec2(-1, 0)), db = glm::length(w - glm::vec2(1, 0));
+      const glm::vec4 c = px[static_cast<std::size_t>(y) * kPx + x];
+      if (da < R - 0.15f && db < R - 0.15f) {  // inside both bodies: where the flanges would cross
+        ++interior;
+        interiorInk += isInk(c) ? 1 : 0;
+      }
+      if (std::min(da, db) > R + 0.03f && std::min(da, db) < R + 0.12f) outerInk += isInk(c) ? 1 : 0;
+    }
+  }
+  EXPECT_GT(interior, 200);
+  EXPECT_EQ(interiorInk, 0);
+  EXPECT_GT(outerInk, 50);
+}
+
+// The outline band is as wide as asked, in pixels, from the distance field, up to what the baked
+// distance range holds (range - 1 texels).
+TEST_F(Nailboards, OutlineWidthIsARunTimeChoice) {
+  const float texelsPerPixel = static_cast<float>(atlas_->desc.contentSize) / 64.0f;  // a 4-unit puff is 64 px
+  const float widest = (atlas_->desc.distanceRange - 1.0f) / texelsPerPixel;
+  for (float width : {1.0f, 2.0f, 3.0f, 8.0f}) {
+    cel::Style style;
+    style.outlineWidth = width;
+    draw(orthoFrame(), {Particle{glm::vec3(0), 4.0f}}, style);
+    const auto px = target_->readColor();
+    // Count ink along the four axis rays from the centre.
+    int ink = 0;
+    for (int i = 0; i < kPx / 2; ++i) {
+      const int c = kPx / 2;
+      for (auto [x, y] : {std::pair{c + i, c}, std::pair{c - 1 - i, c}, std::pair{c, c + i}, std::pair{c, c - 1 - i}}) {
+        ink += isInk(px[static_cast<std::size_t>(y) * kPx + x]) ? 1 : 0;
+      }
+    }
+    EXPECT_NEAR(ink / 4.0, std::min(width, widest), 1.0) << "width " << width;
+  }
+}
+
+// ---- shadow volumes ----------------------------------------------------------------------------
+
+// Stencil != 0 where the receiver (the depth buffer) is inside some volume.
+std::vector<bool> shadowMask(const Target& t) {
+  const auto st = t.readStencil();
+  std::vector<bool> m(st.size());
+  for (std::size_t i = 0; i < st.size(); ++i) m[i] = st[i] != 0;
+  return m;
+}
+
+// A lone sphere puff, a plane behind it, light at 45 degrees: the shadow on the plane is the
+// sphere's cylinder cut at 45 degrees, an ellipse with semi-axes R*sqrt2 (x) and R (y), centred
+// where the light's projection puts the centre.
+TEST_F(Nailboards, ShadowFallsWhereTheLightProjectsIt) {
+  const float R = 1.0f, H = 3.0f;  // particle at z = H in front of the plane z = 0
+  cel::Frame f = orthoFrame();
+  f.light.direction = glm::normalize(glm::vec3(1, 0, 1));
+  cel::Style style;
+  target_->clear(depthOfZ(0.0f));
+  block_->upload(f);
+  renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0, 0, H), 2 * R}});
+  renderer_->drawShadowVolumes(style);
+  const auto mask = shadowMask(*target_);
+  int wrong = 0, inside = 0;
+  for (int y = 0; y < kPx; ++y) {
+    for (int x = 0; x < kPx; ++x) {
+      const glm::vec2 w = pixelToWorld(x, y);
+      const float e = std::pow((w.x + H) / (R * std::numbers::sqrt2_v<float>), 2.0f) + std::pow(w.y / R, 2.0f);
+      const bool expected = e < 1.0f;
+      if (std::abs(e - 1.0f) < 0.12f) continue;  // the edge pixels
+      inside += expected ? 1 : 0;
+      wrong += mask[static_cast<std::size_t>(y) * kPx + x] != expected ? 1 : 0;
+    }
+  }
+  EXPECT_GT(inside, 500);
+  EXPECT_EQ(wrong, 0);
+}
+
+// The camera stands inside a puff's shadow (below it, light straight down) looking at a wall that
+// is partly inside the shadow column x^2 + z^2 <= R^2: exactly that part is shadowed. Depth-pass
+// counting would be off by one everywhere here.
+TEST_F(Nailboards, ShadowStaysRightWithTheCameraInsideTheVolume) {
+  const float R = 1.0f;
+  cel::Camera cam;
+  cam.position = glm::vec3(0, 0, 0.5f);
+  cam.target = glm::vec3(0, 0, -1);
+  cam.fovYDegrees = 90.0f;
+  cam.nearPlane = 0.1f;
+  cam.farPlane = 10.1f;
+  cel::Frame f = cel::Frame::fromCamera(cam, kPx, kPx);
+  f.light.direction = glm::vec3(0, 1, 0);
+  const float wallZ = -0.5f;  // the wall is 1 in front of the camera
+  target_->clear((1.0f - 0.1f) / 10.0f);
+  block_->upload(f);
+  renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0, 6, 0), 2 * R}});
+  cel::Style style;
+  renderer_->drawShadowVolumes(style);
+  const auto mask = shadowMask(*target_);
+  int wrong = 0, shadowed = 0, lit = 0;
+  for (int y = 0; y < kPx; ++y) {
+    for (int x = 0; x < kPx; ++x) {
+      // Pixel -> point on the wall: tan(45) = 1, so NDC * 1 world unit.
+      const float ndcX = (x + 0.5f) / kPx * 2 - 1, ndcY = (y + 0.5f) / kPx * 2 - 1;
+      const glm::vec3 p(ndcX, ndcY, wallZ);
+      const float r2 = p.x * p.x + p.z * p.z;
+      const bool expected = r2 < R * R;
+      if (std::abs(std::sqrt(r2) - R) < 0.03f) continue;
+      (expected ? shadowed : lit)++;
+      wrong += mask[static_cast<std::size_t>(y) * kPx + x] != expected ? 1 : 0;
+    }
+  }
+  EXPECT_GT(shadowed, 1000);
+  EXPECT_GT(lit, 500);
+  EXPECT_EQ(wrong, 0);
+}
+
+// A puff just in front of the camera, partly behind the near plane, light from behind the camera:
+// its volume crosses the near plane and its shadow on a wall 3 units away is a disc of radius R.
+TEST_F(Nailboards, ShadowStaysRightWithAVolumeThroughTheNearPlane) {
+  const float R = 0.3f;
+  cel::Camera cam;
+  cam.position = glm::vec3(0, 0, 3);
+  cam.target = glm::vec3(0);
+  cam.fovYDegrees = 40.0f;
+  cam.nearPlane = 0.2f;
+  cam.farPlane = 10.2f;
+  cel::Frame f = cel::Frame::fromCamera(cam, kPx, kPx);
+  f.light.direction = glm::vec3(0, 0, 1);  // from behind the camera
+  target_->clear((3.0f - 0.2f) / 10.0f);   // the wall z = 0
+  block_->upload(f);
+  renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0.4f, 0.1f, 2.75f), 2 * R}});
+  cel::Style style;
+  renderer_->drawShadowVolumes(style);
+  const auto mask = shadowMask(*target_);
+  const float tanHalf = std::tan(glm::radians(20.0f));
+  int wrong = 0, shadowed = 0;
+  for (int y = 0; y < kPx; ++y) {
+    for (int x = 0; x < kPx; ++x) {
+      const float ndcX = (x + 0.5f) / kPx * 2 - 1, ndcY = (y + 0.5f) / kPx * 2 - 1;
+      const glm::vec2 p(ndcX * tanHalf * 3.0f, ndcY * tanHalf * 3.0f);
+      const float r = glm::length(p - glm::vec2(0.4f, 0.1f));
+      if (std::abs(r - R) < 0.025f) continue;
+      const bool expected = r < R;
+      shadowed += expected ? 1 : 0;
+      wrong += mask[static_cast<std::size_t>(y) * kPx + x] != expected ? 1 : 0;
+    }
+  }
+  EXPECT_GT(shadowed, 200);
+  EXPECT_EQ(wrong, 0);
+}
+
+}  // namespace
+}  // namespace puff
+
+namespace puff {
+namespace {
+
+int visiblePixels(const std::vector<glm::vec4>& px) {
+  int n = 0;
+  for (const glm::vec4& c : px) n += (c.r > 0.99f && c.g > 0.99f && c.b > 0.99f) ? 0 : 1;
+  return n;
+}
+
+// Real-Time Rendering §10.6: an axial billboard (turning only about world up) seen from 60 degrees
+// above is foreshortened to half its height; a view-plane billboard is not.
+TEST_F(Nailboards, AxialBillboardsForeshortenFromAbove) {
+  cel::Camera cam;
+  cam.position = glm::vec3(0, 10 * std::sin(glm::radians(60.0f)), 10 * std::cos(glm::radians(60.0f)));
+  cam.target = glm::vec3(0);
+  cam.fovYDegrees = 0.0f;
+  cam.orthoHeight = kWorld;
+  cam.nearPlane = 1.0f;
+  cam.farPlane = 21.0f;
+  cel::Frame f = cel::Frame::fromCamera(cam, kPx, kPx);
+  f.light.color = glm::vec3(0.5f);  // lit pixels stay distinguishable from the white background
+  cel::Style style;
+  style.outlines = false;
+  style.alignment = cel::Alignment::kViewPlane;
+  draw(f, {Particle{glm::vec3(0), 4.0f}}, style);
+  const int viewPlane = visiblePixels(target_->readColor());
+  style.alignment = cel::Alignment::kAxial;
+  draw(f, {Particle{glm::vec3(0), 4.0f}}, style);
+  const int axial = visiblePixels(target_->readColor());
+  EXPECT_NEAR(static_cast<double>(axial) / viewPlane, 0.5, 0.03);
+}
+
+// Off the view axis, a view-plane billboard keeps the puff round on screen; a viewpoint-oriented
+// one faces the eye and is stretched along the radial direction as a real sphere is, by about
+// 1/cos(theta) at angle theta off-axis.
+TEST_F(Nailboards, ViewpointBillboardsDistortLikeASphere) {
+  cel::Camera cam;
+  cam.position = glm::vec3(0, 0, 10);
+  cam.target = glm::vec3(0);
+  cam.fovYDegrees = 90.0f;
+  cam.nearPlane = 1.0f;
+  cam.farPlane = 30.0f;
+  cel::Frame f = cel::Frame::fromCamera(cam, kPx, kPx);
+  f.light.color = glm::vec3(0.5f);
+  const float theta = glm::radians(35.0f);
+  const glm::vec3 pos(10 * std::tan(theta), 0, 0);  // in the plane z = 0, 35 degrees right of the axis
+  auto extents = [&](cel::Alignment a) {
+    cel::Style style;
+    style.outlines = false;
+    style.alignment = a;
+    draw(f, {Particle{pos, 1.5f}}, style);
+    const auto px = target_->readColor();
+    int minX = kPx, maxX = -1, minY = kPx, maxY = -1;
+    for (int y = 0; y < kPx; ++y) {
+      for (int x = 0; x < kPx; ++x) {
+        const glm::vec4 c = px[static_cast<std::size_t>(y) * kPx + x];
+        if (c.r > 0.99f && c.g > 0.99f && c.b > 0.99f) continue;
+        minX = std::min(minX, x), maxX = std::max(maxX, x), minY = std::min(minY, y), maxY = std::max(maxY, y);
+      }
+    }
+    return glm::vec2(maxX - minX + 1, maxY - minY + 1);
+  };
+  const glm::vec2 plane = extents(cel::Alignment::kViewPlane);
+  const glm::vec2 point = extents(cel::Alignment::kViewpoint);
+  EXPECT_NEAR(plane.x / plane.y, 1.0, 0.06);
+  EXPECT_NEAR(point.x / point.y, 1.0 / std::cos(theta), 0.08);
+}
+
+// A multi-view atlas of an ellipsoid (semi-axes 1, 0.5, 0.5): an oriented particle turned so the
+// camera looks along one of the baked views shows that view's silhouette, whose area relative to
+// the front view is sqrt(dz^2 + 0.25 dx^2) for the view direction d; an unoriented particle shows
+// the front view.
+TEST_F(Nailboards, OrientedParticlesShowTheBakedViewNearestTheCamera) {
+  mesh::TriMesh m = mesh::generateSphere({5});
+  for (glm::vec3& p : m.positions) p *= glm::vec3(1.0f, 0.5f, 0.5f);
+  mesh::computeNormals(m);
+  mesh::normalizeToUnitSphere(m);
+  bake::BakeOptions o;
+  o.cellSize = 128;
+  o.viewGrid = 3;
+  o.viewLayout = bake::ViewLayout::kOct;
+  o.flange = {4.0f, false};
+  o.outDir = dir_ / "ellipsoid";
+  o.contactSheet = false;
+  bake::PuffSource src;
+  src.mesh = m;
+  src.provenance.generator = "sphere";
+  auto r = bake::bakeAtlas({src}, o);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  auto atlas = core::loadAtlas(r->sidecar);
+  ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+  ASSERT_TRUE(renderer_->setAtlas(*atlas).ok());
+
+  cel::Style style;
+  style.outlines = false;
+  Particle p{glm::vec3(0), 5.0f};
+  draw(orthoFrame(), {p}, style);
+  EXPECT_EQ(core::drainGlErrors(), "");
+  const int front = visiblePixels(target_->readColor());
+  // View (col 2, row 1) of the 3x3 octahedral grid looks from d = (2/3, 0, 1/3) normalized. Turn
+  // the puff about y so that d points at the camera (+z).
+  const glm::vec3 d = glm::normalize(glm::vec3(2.0f / 3.0f, 0.0f, 1.0f / 3.0f));
+  p.oriented = true;
+  p.orientation = glm::rotation(d, glm::vec3(0, 0, 1));
+  draw(orthoFrame(), {p}, style);
+  const int side = visiblePixels(target_->readColor());
+  const double expected = std::sqrt(d.z * d.z + 0.25 * d.x * d.x);
+  EXPECT_NEAR(static_cast<double>(side) / front, expected, 0.04);
+}
+
+}  // namespace
+}  // namespace puff

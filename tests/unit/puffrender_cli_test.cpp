@@ -1,0 +1,285 @@
+// puffrender as a user meets it: --help tells the truth, a bad scene gets one line naming the file
+// and the JSON pointer, a non-zero exit, and no output written or clobbered; frames land where
+// OUT says, each one whole.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include <puff/core/files.h>
+#include <puff/core/image.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int exitCode = -1;
+  std::string out, err;
+};
+
+// A ground plane and a ball: renders without an atlas.
+constexpr const char* kGroundScene = R"({
+  "output": {"width": 40, "height": 30, "samples": 1, "background": "#336699"},
+  "camera": {"position": [0, 3, 6], "target": [0, 0.5, 0]},
+  "objects": [{"type": "plane", "scale": [4, 1, 4]}, {"type": "sphere", "translate": [0, 1, 0]}],
+  "animation": {"fps": 10, "frames": 4, "orbit": 30}
+})";
+
+class PuffrenderCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("puffrender_cli_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::permissions(dir_ / "locked", fs::perms::owner_all, ec);
+    fs::remove_all(dir_);
+  }
+
+  CliRun run(const std::string& args) {
+    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
+    const std::string cmd = std::string(PUFFRENDER_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
+    const int status = std::system(cmd.c_str());
+    CliRun r;
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = *puff::core::readFileBytes(out);
+    r.err = *puff::core::readFileBytes(err);
+    fs::remove(out);
+    fs::remove(err);
+    return r;
+  }
+
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    fs::create_directories(p.parent_path());
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+
+  // The one-line error contract.
+  void expectOneLineError(const CliRun& r, const std::string& needle, int code = 1) {
+    EXPECT_EQ(r.exitCode, code) << r.err;
+    EXPECT_EQ(r.err.rfind("puffrender: error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << "stderr: " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  }
+
+  // Files in dir_ other than the scenes the test wrote.
+  std::vector<std::string> outputs() {
+    std::vector<std::string> names;
+    for (const auto& e : fs::recursive_directory_iterator(dir_)) {
+      if (e.path().extension() != ".json") names.push_back(fs::relative(e.path(), dir_).string());
+    }
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(PuffrenderCli, HelpListsTheOptionsThatExist) {
+  CliRun r = run("--help");
+  EXPECT_EQ(r.exitCode, 0);
+  for (const char* flag : {"--out", "--frames", "--format", "--gl", "--width", "--height", "--samples", "--art-dir",
+                           "--shader-dir", "--style", "--print-scene", "--quiet", "%0Nd", "####"}) {
+    EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
+  }
+  for (const char* preset : {"outlines", "cel-shadows", "ink", "solid"}) {
+    EXPECT_NE(r.out.find(preset), std::string::npos) << preset;
+  }
+}
+
+TEST_F(PuffrenderCli, BadUsageExitsTwo) {
+  const fs::path scene = write("ground.json", kGroundScene);
+  const std::string s = scene.string();
+  EXPECT_EQ(run("").exitCode, 2);
+  expectOneLineError(run(s), "-o OUT is required", 2);
+  EXPECT_EQ(run(s + " -o x.png --samples 3").exitCode, 2);
+  EXPECT_EQ(run(s + " -o x.png --width 0").exitCode, 2);
+  EXPECT_EQ(run(s + " -o x.png --style watercolour").exitCode, 2);
+  EXPECT_EQ(run(s + " -o x.png --format tiff").exitCode, 2);
+  EXPECT_EQ(run(s + " -o x.png --no-such-flag").exitCode, 2);
+  expectOneLineError(run(s + " -o x.png --frames 3-1"), "ends before it starts", 2);
+  expectOneLineError(run(s + " -o x.png --frames two"), "--frames: expected a frame N or a range A-B", 2);
+  expectOneLineError(run(s + " -o " + (dir_ / "f%d_###.png").string()), "more than one frame-number pattern", 2);
+  // Needs the scene: frames beyond its last, several frames into one file, an unknown extension.
+  expectOneLineError(run(s + " -o " + (dir_ / "f_##.png").string() + " --frames 2-4"), "the scene has 4 frame(s)", 2);
+  expectOneLineError(run(s + " -o " + (dir_ / "x.png").string() + " --frames 0-1"), "need a numbered output", 2);
+  expectOneLineError(run(s + " -o " + (dir_ / "x.tif").string()), "cannot tell the format", 2);
+  expectOneLineError(run(s + " -o " + (dir_ / "x.png").string() + " --format exr"), "contradicts", 2);
+  EXPECT_TRUE(outputs().empty());
+}
+
+TEST_F(PuffrenderCli, BadScenesFailWithTheFileAndThePointer) {
+  const fs::path out = dir_ / "out.png";
+  const fs::path bad = write("scenes/bad.json", R"({"camera": {"fovY": "wide"}})");
+  expectOneLineError(
+      run(bad.string() + " -o " + out.string()),
+      bad.string() + ": /camera/fovY: expected a number in (0, 180), or 0 for orthographic, got \"wide\"");
+  const fs::path typo = write("scenes/typo.json", R"({"output": {"widht": 3}})");
+  expectOneLineError(
+      run(typo.string() + " -o " + out.string()),
+      typo.string() + ": /output/widht: unknown key, expected one of width, height, samples, background");
+  const fs::path syntax = write("scenes/syntax.json", "{\n  \"output\": {\n}");
+  expectOneLineError(run(syntax.string() + " -o " + out.string()), syntax.string() + ":3:2: ");
+  expectOneLineError(run((dir_ / "missing.json").string() + " -o " + out.string()), "missing.json: cannot read");
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(PuffrenderCli, ParticlesWithoutAnAtlasAndAMissingAtlasAreErrors) {
+  const fs::path out = dir_ / "out.png";
+  const fs::path none = write("none.json", R"({"particles": [{"position": [0, 0, 0]}]})");
+  expectOneLineError(run(none.string() + " -o " + out.string()),
+                     none.string() + ": /atlas: expected an atlas sidecar path (the scene has particles), got none");
+  const fs::path missing = write("missing.json", R"({"atlas": "${PUFF_ART}/nowhere/puff.json",
+                                                     "particles": [{"position": [0, 0, 0]}]})");
+  const CliRun r = run(missing.string() + " -o " + out.string() + " --art-dir " + (dir_ / "art").string());
+  expectOneLineError(r, (dir_ / "art" / "nowhere" / "puff.json").string());
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST_F(PuffrenderCli, PrintSceneWritesEveryFieldAndReadsBack) {
+  const fs::path scene = write("ground.json", kGroundScene);
+  CliRun r = run(scene.string() + " --print-scene --width 77 --style ink");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["output"]["width"], 77);
+  EXPECT_EQ(j["output"]["height"], 30);
+  EXPECT_EQ(j["style"]["preset"], "ink");
+  for (const char* key : {"output", "camera", "light", "ambient", "ramp", "atlas", "style", "particles", "emitters",
+                          "objects", "animation"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  // What it prints is a scene that prints the same.
+  const fs::path again = write("again.json", r.out);
+  CliRun r2 = run(again.string() + " --print-scene");
+  ASSERT_EQ(r2.exitCode, 0) << r2.err;
+  EXPECT_EQ(r2.out, r.out);
+  EXPECT_TRUE(outputs().empty());
+}
+
+TEST_F(PuffrenderCli, UnwritableOutputLeavesNothingAndExistingOutputsSurvive) {
+  const fs::path scene = write("ground.json", kGroundScene);
+  // A file where the output directory should be.
+  write("file", "x");
+  expectOneLineError(run(scene.string() + " -o " + (dir_ / "file" / "out.png").string()), "not a directory");
+  // A directory we may not write (root ignores permissions, so only check when that holds).
+  const fs::path locked = dir_ / "locked";
+  fs::create_directories(locked);
+  fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+  if (::access(locked.c_str(), W_OK) != 0) {
+    expectOneLineError(run(scene.string() + " -o " + (locked / "out.png").string()), "cannot write");
+    expectOneLineError(run(scene.string() + " -o " + (locked / "sub" / "f_##.png").string()), "cannot");
+  }
+  fs::permissions(locked, fs::perms::owner_all);
+  fs::remove(locked);
+  fs::remove(dir_ / "file");
+  EXPECT_TRUE(outputs().empty());
+
+  // An output from before is untouched by a run that fails, even one that fails while loading
+  // what the scene names (after the output directory was checked).
+  const fs::path out = write("out.png", "previous image");
+  const fs::path badRamp = write("badramp.json", R"({"ramp": "no-such-ramp.png"})");
+  const CliRun r = run(badRamp.string() + " -o " + out.string());
+  expectOneLineError(r, "no-such-ramp.png");
+  EXPECT_EQ(*puff::core::readFileBytes(out), "previous image");
+  // A failed run into a new directory takes the directory back.
+  const CliRun r2 = run(badRamp.string() + " -o " + (dir_ / "new" / "deeper" / "out.png").string());
+  EXPECT_EQ(r2.exitCode, 1);
+  EXPECT_FALSE(fs::exists(dir_ / "new"));
+  EXPECT_EQ(outputs(), std::vector<std::string>{"out.png"});
+}
+
+TEST_F(PuffrenderCli, RendersOneFrameToExactlyTheNamedFile) {
+  const fs::path scene = write("ground.json", kGroundScene);
+  const fs::path out = dir_ / "out" / "ground.png";
+  CliRun r = run(scene.string() + " -o " + out.string() + " --frames 2");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("wrote " + out.string()), std::string::npos) << r.out;
+  EXPECT_EQ(outputs(), (std::vector<std::string>{"out", "out/ground.png"}));
+  auto image = puff::core::readImage(out);
+  ASSERT_TRUE(image.ok()) << image.error().message;
+  EXPECT_EQ(image->width, 40);
+  EXPECT_EQ(image->height, 30);
+  EXPECT_EQ(image->channels, 4);
+  // The background shows in the top-left corner: #336699.
+  EXPECT_NEAR(image->at(0, 0, 0), 0x33 / 255.0f, 1.5f / 255.0f);
+  EXPECT_NEAR(image->at(0, 0, 1), 0x66 / 255.0f, 1.5f / 255.0f);
+  EXPECT_NEAR(image->at(0, 0, 2), 0x99 / 255.0f, 1.5f / 255.0f);
+
+  // Same frame, same bytes; -q prints nothing; --width/--height resize.
+  const fs::path again = dir_ / "again.png";
+  r = run(scene.string() + " -o " + again.string() + " --frames 2 -q");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(r.out.empty() && r.err.empty()) << r.out << r.err;
+  EXPECT_EQ(*puff::core::readFileBytes(again), *puff::core::readFileBytes(out));
+  r = run(scene.string() + " -o " + again.string() + " --width 20 --height 10 -q");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  image = puff::core::readImage(again);
+  ASSERT_TRUE(image.ok());
+  EXPECT_EQ(image->width, 20);
+  EXPECT_EQ(image->height, 10);
+}
+
+TEST_F(PuffrenderCli, RendersANumberedSequenceAsHalfFloatExr) {
+  const fs::path scene = write("ground.json", kGroundScene);
+  CliRun r = run(scene.string() + " -o " + (dir_ / "seq" / "f_###.exr").string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(outputs(),
+            (std::vector<std::string>{"seq", "seq/f_000.exr", "seq/f_001.exr", "seq/f_002.exr", "seq/f_003.exr"}));
+  EXPECT_NE(r.err.find("frame 3 (4/4)"), std::string::npos) << r.err;
+  auto image = puff::core::readImage(dir_ / "seq" / "f_002.exr");
+  ASSERT_TRUE(image.ok()) << image.error().message;
+  EXPECT_EQ(image->channels, 4);
+  // A range of a printf-style pattern; a frame rendered alone equals the same frame of the run.
+  r = run(scene.string() + " -q -o " + (dir_ / "part" / "g%04d.exr").string() + " --frames 1-2");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "part" / "g0001.exr"));
+  EXPECT_TRUE(fs::exists(dir_ / "part" / "g0002.exr"));
+  EXPECT_FALSE(fs::exists(dir_ / "part" / "g0000.exr"));
+  EXPECT_EQ(*puff::core::readFileBytes(dir_ / "part" / "g0002.exr"),
+            *puff::core::readFileBytes(dir_ / "seq" / "f_002.exr"));
+  // --format names the format when the extension does not.
+  r = run(scene.string() + " -q -o " + (dir_ / "frame.img").string() + " --format png");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  image = puff::core::readImage(dir_ / "frame.img");
+  ASSERT_TRUE(image.ok()) << image.error().message;
+}
+
+TEST_F(PuffrenderCli, RendersParticlesFromABakedAtlas) {
+  const fs::path art = dir_ / "art";
+  const std::string bake = std::string(PUFFBAKE_EXE) + " bake -q -g sphere -s 64 --no-contact-sheet -o " +
+                           (art / "tiny").string() + " --name puff";
+  ASSERT_EQ(std::system(bake.c_str()), 0);
+  const fs::path scene = write("puffs.json", R"({
+    "output": {"width": 48, "height": 48, "samples": 1},
+    "camera": {"position": [0, 0, 6], "target": [0, 0, 0]},
+    "atlas": "${PUFF_ART}/tiny/puff.json",
+    "style": {"preset": "cel-shadows"},
+    "particles": [{"position": [0, 0, 0], "size": 2}],
+    "emitters": [{"shape": "box", "count": 20, "halfExtent": [2, 1, 0.5], "sizeMin": 0.3, "sizeMax": 0.6}],
+    "objects": [{"type": "plane", "translate": [0, -1.5, 0], "scale": [5, 1, 5]}]
+  })");
+  const fs::path out = dir_ / "puffs.png";
+  CliRun r = run(scene.string() + " -o " + out.string() + " --art-dir " + art.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto image = puff::core::readImage(out);
+  ASSERT_TRUE(image.ok()) << image.error().message;
+  // The big puff covers the centre: not the white background.
+  const float centre = image->at(24, 24, 0) + image->at(24, 24, 1) + image->at(24, 24, 2);
+  EXPECT_LT(centre, 2.9f);
+}
+
+}  // namespace
