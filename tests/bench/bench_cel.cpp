@@ -4,8 +4,13 @@
 //   nailboards  cel shading, per-pixel linear depth (gl_FragDepth) and outlines (ShadePass::kLit)
 //   full        the frame with shadows: kLit, billboard shadow volumes into the stencil, kShadowed
 // Every frame clears the target, uploads the frame block and the particles (16 bytes each), draws,
-// and ends with glFinish(). Per case: 2 warm-up frames, then the median of --reps frames. The full
-// frame is also timed pass by pass (glFinish between passes) to show which pass dominates.
+// and ends with glFinish(). Per case: the floor and the nailboards alternate frame by frame (so a
+// load change on a shared machine hits both), 2 warm-up rounds, then the median of --reps rounds.
+// The full frame follows, timed pass by pass (glFinish between its passes; --no-split drops them)
+// to show which pass dominates. It is slow on llvmpipe, so: a first frame over 2 s gets 1 warm-up
+// and at most 3 timed frames; over 15 s that first frame is the only one; and a case whose frame
+// is predicted (from the last measured full frame, scaled by particles x pixels) to exceed
+// --max-frame-s is skipped and written with its prediction instead of a time.
 //
 // Overdraw is the same at every count: particles fill a box seen at view-axis distances
 // d in [kNear, kFar], so for a quad of world side s the expected screen fraction is
@@ -23,6 +28,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -59,9 +65,9 @@ constexpr float kOverdraw = 4.0f;            // summed quad area / screen area, 
 constexpr float kFloorGap = 0.2f;            // the floor plane sits this far below the box
 constexpr std::uint64_t kSeed = 0x5eedc0ffee15bad5ull;
 constexpr int kWarmUp = 2;
-// A case whose first warm-up frame takes longer than this runs 1 warm-up and at most kSlowReps
-// frames, so the whole run stays within minutes on llvmpipe.
-constexpr double kSlowFrameMs = 2000.0;
+// A method whose first warm-up frame takes longer than kSlowFrameMs runs 1 warm-up and at most
+// kSlowReps timed frames; see main for kVerySlowFrameMs. Keeps the run within minutes on llvmpipe.
+constexpr double kSlowFrameMs = 2000.0, kVerySlowFrameMs = 15000.0;
 constexpr int kSlowReps = 3;
 
 std::uint64_t splitmix64(std::uint64_t& state) {
@@ -150,9 +156,11 @@ struct Target {
   }
 };
 
-enum class Method { kFloor, kNailboards, kFull, kFullSplit };
+enum class Method { kFloor, kNailboards, kFull };
+constexpr const char* kMethodNames[] = {"floor", "nailboards", "full"};
 
-// One frame's time, and for kFullSplit the time of each pass (upload + lit, volumes, shadowed).
+// One frame's time; for kFull with split timing also each pass: clear + uploads + lit nailboards,
+// shadow volumes, shadowed nailboards.
 struct FrameTime {
   double total = 0;
   double pass[3] = {0, 0, 0};
@@ -171,6 +179,7 @@ struct Bench {
   const cel::Ramp& ramp;
   cel::Style style;
   glm::vec4 floorPlane{0.0f};
+  bool split = true;
   std::size_t bytesUploaded = 0;
 
   FrameTime frame(const Target& target, const cel::Frame& f, const std::vector<cel::Particle>& ps, Method m) {
@@ -187,23 +196,20 @@ struct Bench {
       case Method::kNailboards:
         renderer.drawNailboards(style, cel::ShadePass::kLit);
         break;
-      case Method::kFull:
+      case Method::kFull: {
         renderer.drawNailboards(style, cel::ShadePass::kLit);
-        renderer.drawShadowVolumes(style, floorPlane);
-        renderer.drawNailboards(style, cel::ShadePass::kShadowed);
-        break;
-      case Method::kFullSplit: {
-        renderer.drawNailboards(style, cel::ShadePass::kLit);
-        glFinish();
-        t.pass[0] = msSince(t0);
+        if (split) glFinish();
         const auto t1 = Clock::now();
         renderer.drawShadowVolumes(style, floorPlane);
-        glFinish();
-        t.pass[1] = msSince(t1);
+        if (split) glFinish();
         const auto t2 = Clock::now();
         renderer.drawNailboards(style, cel::ShadePass::kShadowed);
-        glFinish();
-        t.pass[2] = msSince(t2);
+        if (split) {
+          glFinish();
+          t.pass[0] = std::chrono::duration<double, std::milli>(t1 - t0).count();
+          t.pass[1] = std::chrono::duration<double, std::milli>(t2 - t1).count();
+          t.pass[2] = msSince(t2);
+        }
         break;
       }
     }
@@ -217,9 +223,10 @@ struct Row {
   std::size_t particles = 0;
   int size = 0;
   std::string method;
-  int reps = 0;
+  int reps = 0;  // 0: not measured (see note)
   double medianMs = 0, minMs = 0, ratio = 0;
   double bytesPerParticle = 0, overdraw = 0, quadPx = 0;
+  std::string note;
 };
 
 std::vector<int> parseList(const char* s) {
@@ -230,14 +237,25 @@ std::vector<int> parseList(const char* s) {
   return out;
 }
 
+// How many warm-up and timed frames a method gets, from its first warm-up frame.
+void framesFor(double firstFrameMs, int reps, int& warmUp, int& timed) {
+  warmUp = kWarmUp;
+  timed = reps;
+  if (firstFrameMs > kSlowFrameMs) {
+    warmUp = 1;
+    timed = std::min(reps, kSlowReps);
+  }
+  if (firstFrameMs > kVerySlowFrameMs) timed = 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int reps = 5;
+  double maxFrameS = 100.0;
   std::string csvPath, dumpDir;
   std::vector<int> counts{1000, 10000, 50000}, sizes{512, 1024};
-  bool split = true;
-  std::string only;  // --methods: a comma-separated subset of floor,nailboards,full,full_split
+  bool runNailboards = true, runFull = true, split = true;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
       reps = std::max(1, std::atoi(argv[++i]));
@@ -247,23 +265,29 @@ int main(int argc, char** argv) {
       counts = parseList(argv[++i]);
     else if (!std::strcmp(argv[i], "--sizes") && i + 1 < argc)
       sizes = parseList(argv[++i]);
+    else if (!std::strcmp(argv[i], "--max-frame-s") && i + 1 < argc)
+      maxFrameS = std::atof(argv[++i]);
+    else if (!std::strcmp(argv[i], "--no-full"))
+      runFull = false;
+    else if (!std::strcmp(argv[i], "--no-nailboards"))
+      runNailboards = false;
     else if (!std::strcmp(argv[i], "--no-split"))
       split = false;
-    else if (!std::strcmp(argv[i], "--methods") && i + 1 < argc)
-      only = "," + std::string(argv[++i]) + ",";
     else if (!std::strcmp(argv[i], "--dump") && i + 1 < argc)
       dumpDir = argv[++i];
     else {
       std::fprintf(stderr,
                    "usage: puff_bench_cel [--reps N] [--csv FILE] [--counts 1000,10000,50000] [--sizes 512,1024]\n"
-                   "                      [--methods floor,nailboards,full,full_split] [--no-split] [--dump DIR]\n");
+                   "                      [--max-frame-s S] [--no-full] [--no-nailboards] [--no-split] [--dump DIR]\n");
       return 2;
     }
   }
-  for (int v : counts)
+  for (int v : counts) {
     if (v < 1) return std::fprintf(stderr, "puff_bench_cel: error: --counts must be positive\n"), 2;
-  for (int v : sizes)
+  }
+  for (int v : sizes) {
     if (v < 1 || v > 16384) return std::fprintf(stderr, "puff_bench_cel: error: --sizes must be in [1, 16384]\n"), 2;
+  }
 
   auto context = core::createGlContext({});
   if (!context) {
@@ -316,9 +340,11 @@ int main(int argc, char** argv) {
   }
   cel::FrameBlock block;
   const cel::Ramp ramp = cel::Ramp::twoTone();
-  Bench bench{*renderer, block, ramp, {}, {}};
-  bench.style.shadows = true;
-  bench.floorPlane = glm::vec4(0.0f, 1.0f, 0.0f, kHalfWidth + kFloorGap);  // y = -(kHalfWidth + kFloorGap)
+  Bench bench{*renderer, block, ramp, {}, {}, split};
+  bench.style.shadows = true;  // outlines, shading and the rest at their defaults
+  // The plane y = yBottom, kFloorGap below the box: floorPlane = (0, 1, 0, -yBottom).
+  const float yBottom = -kHalfWidth - kFloorGap;
+  bench.floorPlane = glm::vec4(0.0f, 1.0f, 0.0f, -yBottom);
 
   cel::Camera camera;
   camera.position = glm::vec3(0.0f, 0.0f, kCameraZ);
@@ -328,6 +354,7 @@ int main(int argc, char** argv) {
   camera.farPlane = 30.0f;
 
   std::vector<Row> rows;
+  double lastFullMs = 0, lastFullWork = 0;  // for predicting the next full frame
   const auto runStart = Clock::now();
   for (int count : counts) {
     const std::vector<cel::Particle> ps = makeParticles(static_cast<std::size_t>(count), atlas->desc);
@@ -340,77 +367,124 @@ int main(int argc, char** argv) {
       frame.light.color = glm::vec3(0.75f);
       frame.ambientColor = glm::vec3(0.3f);
       const double quadPx = side / (2.0 * tanHalfFov() * kCameraZ) * size;  // at the box's middle depth
-      struct MethodSpec {
-        Method m;
-        const char* name;
-      };
-      std::vector<MethodSpec> methods{
-          {Method::kFloor, "floor"}, {Method::kNailboards, "nailboards"}, {Method::kFull, "full"}};
-      if (split) methods.push_back({Method::kFullSplit, "full_split"});
-      // The floor always runs: every ratio is against it.
-      std::erase_if(methods, [&](const MethodSpec& m) {
-        return m.m != Method::kFloor && !only.empty() && only.find("," + std::string(m.name) + ",") == std::string::npos;
-      });
       double floorMs = 0;
-      for (const MethodSpec& ms : methods) {
-        int warm = kWarmUp, n = reps;
-        for (int w = 0; w < warm; ++w) {
-          const double t = bench.frame(target, frame, ps, ms.m).total;
-          if (w == 0 && t > kSlowFrameMs) {
-            warm = 1;
-            n = std::min(reps, kSlowReps);
-          }
-        }
-        if (!dumpDir.empty()) {
-          const fs::path png = fs::path(dumpDir) / (std::string(ms.name) + "_" + std::to_string(count) + "_" +
-                                                    std::to_string(size) + ".png");
-          if (auto r = target.writePng(png); !r) std::fprintf(stderr, "puff_bench_cel: %s\n", r.error().message.c_str());
-        }
-        std::vector<double> totals, passes[3];
-        for (int r = 0; r < n; ++r) {
-          const FrameTime t = bench.frame(target, frame, ps, ms.m);
-          totals.push_back(t.total);
-          for (int k = 0; k < 3; ++k) passes[k].push_back(t.pass[k]);
-        }
-        if (const GLenum e = glGetError(); e != GL_NO_ERROR) {
-          std::fprintf(stderr, "puff_bench_cel: error: GL error 0x%04x in %s\n", e, ms.name);
-          return 1;
-        }
-        auto addRow = [&](const std::string& name, const std::vector<double>& times) {
-          Row row;
-          row.particles = static_cast<std::size_t>(count);
-          row.size = size;
-          row.method = name;
-          row.reps = n;
+
+      auto dump = [&](Method m) {
+        if (dumpDir.empty()) return;
+        const fs::path png = fs::path(dumpDir) / (std::string(kMethodNames[static_cast<int>(m)]) + "_" +
+                                                  std::to_string(count) + "_" + std::to_string(size) + ".png");
+        if (auto r = target.writePng(png); !r) std::fprintf(stderr, "puff_bench_cel: %s\n", r.error().message.c_str());
+      };
+      auto addRow = [&](const std::string& name, const std::vector<double>& times, const std::string& note = {}) {
+        Row row;
+        row.particles = static_cast<std::size_t>(count);
+        row.size = size;
+        row.method = name;
+        row.reps = static_cast<int>(times.size());
+        if (!times.empty()) {
           row.medianMs = medianOf(times);
           row.minMs = *std::min_element(times.begin(), times.end());
-          if (ms.m == Method::kFloor) floorMs = row.medianMs;
+          if (name == "floor") floorMs = row.medianMs;
           row.ratio = row.medianMs / floorMs;
-          row.bytesPerParticle = static_cast<double>(bench.bytesUploaded) / count;
-          row.overdraw = overdraw;
-          row.quadPx = quadPx;
-          rows.push_back(row);
-          std::fprintf(stderr, "puff_bench_cel: %6d particles %5d^2 %-24s median %9.2f ms  x%.2f  (%d frames, %.0f s so far)\n",
-                       count, size, name.c_str(), row.medianMs, row.ratio, n, msSince(runStart) / 1000.0);
-        };
-        if (ms.m == Method::kFullSplit) {
-          addRow("pass_upload_lit", passes[0]);
-          addRow("pass_shadow_volumes", passes[1]);
-          addRow("pass_shadowed", passes[2]);
-          addRow("full_split_total", totals);
-        } else {
-          addRow(ms.name, totals);
         }
+        row.bytesPerParticle = static_cast<double>(bench.bytesUploaded) / count;
+        row.overdraw = overdraw;
+        row.quadPx = quadPx;
+        row.note = note;
+        rows.push_back(row);
+        if (times.empty()) {
+          std::fprintf(stderr, "puff_bench_cel: %6d particles %5d^2 %-14s %s\n", count, size, name.c_str(),
+                       note.c_str());
+        } else {
+          std::fprintf(
+              stderr,
+              "puff_bench_cel: %6d particles %5d^2 %-14s median %9.2f ms  x%7.2f  (%zu frames, %.0f s so far)\n", count,
+              size, name.c_str(), row.medianMs, row.ratio, times.size(), msSince(runStart) / 1000.0);
+        }
+      };
+      auto checkGl = [&](const char* what) {
+        if (const GLenum e = glGetError(); e != GL_NO_ERROR) {
+          std::fprintf(stderr, "puff_bench_cel: error: GL error 0x%04x in %s\n", e, what);
+          std::exit(1);
+        }
+      };
+
+      // Floor and nailboards, alternating frame by frame.
+      std::vector<Method> fast{Method::kFloor};
+      if (runNailboards) fast.push_back(Method::kNailboards);
+      int warmUp = kWarmUp, timed = reps;
+      for (int w = 0; w < warmUp; ++w) {
+        double slowest = 0;
+        for (Method m : fast) slowest = std::max(slowest, bench.frame(target, frame, ps, m).total);
+        if (w == 0) framesFor(slowest, reps, warmUp, timed);
+      }
+      std::vector<std::vector<double>> fastTimes(fast.size());
+      for (int r = 0; r < timed; ++r) {
+        for (std::size_t k = 0; k < fast.size(); ++k)
+          fastTimes[k].push_back(bench.frame(target, frame, ps, fast[k]).total);
+      }
+      checkGl("floor or nailboards");
+      for (std::size_t k = 0; k < fast.size(); ++k) {
+        addRow(kMethodNames[static_cast<int>(fast[k])], fastTimes[k]);
+        if (!dumpDir.empty()) {
+          bench.frame(target, frame, ps, fast[k]);
+          dump(fast[k]);
+        }
+      }
+      if (!runFull) continue;
+
+      // The full frame with shadows, unless it is predicted to take too long.
+      const double work = static_cast<double>(count) * size * size;
+      const double predictedMs = lastFullWork > 0 ? lastFullMs * work / lastFullWork : 0;
+      if (predictedMs > maxFrameS * 1000.0) {
+        char note[128];
+        std::snprintf(note, sizeof note, "skipped: predicted %.0f s per frame (over --max-frame-s %.0f)",
+                      predictedMs / 1000.0, maxFrameS);
+        addRow("full", {}, note);
+        continue;
+      }
+      // A first frame over kVerySlowFrameMs is itself the one timed frame: shaders are compiled
+      // by then (the floor and nailboards ran), and a second frame would cost minutes.
+      const FrameTime first = bench.frame(target, frame, ps, Method::kFull);
+      std::vector<double> totals, passes[3];
+      auto record = [&](const FrameTime& t) {
+        totals.push_back(t.total);
+        for (int k = 0; k < 3; ++k) passes[k].push_back(t.pass[k]);
+      };
+      std::string fullNote;
+      if (first.total > kVerySlowFrameMs) {
+        record(first);
+        fullNote = "1 frame without warm-up (over 15 s)";
+      } else {
+        framesFor(first.total, reps, warmUp, timed);
+        for (int w = 1; w < warmUp; ++w) bench.frame(target, frame, ps, Method::kFull);
+        for (int r = 0; r < timed; ++r) record(bench.frame(target, frame, ps, Method::kFull));
+      }
+      dump(Method::kFull);
+      checkGl("full");
+      lastFullMs = medianOf(totals);
+      lastFullWork = work;
+      addRow("full", totals, fullNote);
+      if (split) {
+        addRow("full.lit", passes[0], "clear + uploads + lit nailboards inside the full frame");
+        addRow("full.volumes", passes[1], "shadow-volume pass alone inside the full frame");
+        addRow("full.shadowed", passes[2], "shadowed nailboards pass inside the full frame");
       }
     }
   }
 
   std::string csv =
-      "particles,size,method,reps,median_ms,min_ms,ratio_to_floor,bytes_per_particle,overdraw,quad_px\n";
+      "particles,size,method,reps,median_ms,min_ms,ratio_to_floor,bytes_per_particle,overdraw,quad_px,note\n";
   for (const Row& r : rows) {
-    char line[256];
-    std::snprintf(line, sizeof line, "%zu,%d,%s,%d,%.2f,%.2f,%.3f,%.1f,%.2f,%.1f\n", r.particles, r.size,
-                  r.method.c_str(), r.reps, r.medianMs, r.minMs, r.ratio, r.bytesPerParticle, r.overdraw, r.quadPx);
+    char line[512];
+    if (r.reps > 0) {
+      std::snprintf(line, sizeof line, "%zu,%d,%s,%d,%.2f,%.2f,%.3f,%.1f,%.2f,%.1f,%s\n", r.particles, r.size,
+                    r.method.c_str(), r.reps, r.medianMs, r.minMs, r.ratio, r.bytesPerParticle, r.overdraw, r.quadPx,
+                    r.note.c_str());
+    } else {
+      std::snprintf(line, sizeof line, "%zu,%d,%s,0,,,,%.1f,%.2f,%.1f,%s\n", r.particles, r.size, r.method.c_str(),
+                    r.bytesPerParticle, r.overdraw, r.quadPx, r.note.c_str());
+    }
     csv += line;
   }
   if (csvPath.empty()) {
@@ -420,20 +494,28 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  // The table: one line per count and size, the three methods' medians and ratios to the floor.
-  std::fprintf(stderr, "\n%9s %6s %10s %16s %16s %18s %6s\n", "particles", "size", "floor ms", "nailboards ms (x)",
+  // The table: per count and size, each method's median and its ratio to the floor.
+  std::fprintf(stderr, "\n%9s %5s %9s %20s %20s %20s %5s\n", "particles", "size", "floor ms", "nailboards ms (x)",
                "full ms (x)", "volume pass ms (x)", "B/p");
+  auto cell = [](const Row* r) {
+    char b[64];
+    if (!r || r->reps == 0)
+      std::snprintf(b, sizeof b, "%20s", "-");
+    else
+      std::snprintf(b, sizeof b, "%10.1f (%7.2f)", r->medianMs, r->ratio);
+    return std::string(b);
+  };
   for (const Row& f : rows) {
     if (f.method != "floor") continue;
     auto find = [&](const char* m) -> const Row* {
-      for (const Row& r : rows)
+      for (const Row& r : rows) {
         if (r.particles == f.particles && r.size == f.size && r.method == m) return &r;
+      }
       return nullptr;
     };
-    const Row *nb = find("nailboards"), *full = find("full"), *sv = find("pass_shadow_volumes");
-    std::fprintf(stderr, "%9zu %6d %10.2f %9.2f (%4.2f) %9.2f (%4.2f) %11.2f (%4.2f) %6.1f\n", f.particles, f.size,
-                 f.medianMs, nb ? nb->medianMs : 0.0, nb ? nb->ratio : 0.0, full ? full->medianMs : 0.0,
-                 full ? full->ratio : 0.0, sv ? sv->medianMs : 0.0, sv ? sv->ratio : 0.0, f.bytesPerParticle);
+    std::fprintf(stderr, "%9zu %5d %9.2f %s %s %s %5.1f\n", f.particles, f.size, f.medianMs,
+                 cell(find("nailboards")).c_str(), cell(find("full")).c_str(), cell(find("full.volumes")).c_str(),
+                 f.bytesPerParticle);
   }
   return 0;
 }
