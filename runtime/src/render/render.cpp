@@ -34,7 +34,11 @@ struct Target {
     t.height = h;
     GLint maxSamples = 1;
     glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
-    t.samples = std::clamp(samples, 1, std::max(1, static_cast<int>(maxSamples)));
+    if (samples > maxSamples) {
+      return Error{std::to_string(samples) + " samples per pixel asked, but this GL gives at most " +
+                   std::to_string(maxSamples) + " (set /output/samples or --samples lower)"};
+    }
+    t.samples = std::max(1, samples);
     t.fbo = core::makeFramebuffer();
     t.color = core::makeRenderbuffer();
     t.depthStencil = core::makeRenderbuffer();
