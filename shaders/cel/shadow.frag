@@ -4,21 +4,26 @@
 // diameters; lambda along D, world units) the volume is
 //   (x, y) inside the puff's silhouette,   s * (d(x, y) + bias) <= lambda <= lambda1
 // where d is the puff's depth-map offset: the volume starts behind the puff's own far side, and
-// its edge follows the silhouette, so shadow edges on the ground and on other puffs are wavy.
-// The silhouette test marches the ray's shadow across the baked signed distance map (2D sphere
-// tracing). Depths are clamped to the near plane, never negative.
+// its edge follows the silhouette (a polar table of its radius, 32 directions, made from the
+// baked distance map), so shadow edges on the ground and on other puffs are wavy.
+// Depths are clamped to the near plane, never negative.
 #include "common/frame.glsl"
 #include "cel/particle.glsl"
 
 uniform float uShadowBias;
 
-flat in vec3 vCenter;
-flat in mat3 vLightFrame;
+noperspective in vec3 vC0;
+noperspective in vec3 vC1;
 flat in vec4 vExtent;
-flat in int vCell;
+flat in float vProfileRow;  // texture row of the particle's cell
 
-layout(binding = 2) uniform sampler2D uNormalDepth;
-layout(binding = 4) uniform sampler2D uDistance;
+// Per atlas cell, from the CPU (NailboardRenderer::setAtlas): row `cell` of this texture holds the
+// silhouette's radius (diameters) in kPolar directions from the puff's centre, counter-clockwise
+// from +x of the cell, evenly spaced in diamond angle; linear filtering with wrap-around
+// interpolates between directions. The shadow reads no atlas map.
+const int kPolar = 32;
+layout(binding = 5) uniform sampler2D uShadowProfile;
+flat in float vFarSide;  // the depth-map offset of the puff's far side at its centre, diameters
 
 // Intersects [t0, t1] with the ray parameters where lo <= c0 + t * c1 <= hi.
 void clipSlab(float c0, float c1, float lo, float hi, inout float t0, inout float t1) {
@@ -31,53 +36,66 @@ void clipSlab(float c0, float c1, float lo, float hi, inout float t0, inout floa
   t1 = min(t1, max(ta, tb));
 }
 
-// Signed distance to the silhouette, in puff diameters, outside positive.
-float silhouetteDistance(vec2 puff) {
-  return (textureLod(uDistance, cellUv(vCell, puff), 0.0).r - 0.5) * 2.0 * uAtlasScale.z / uAtlasScale.x;
+// The silhouette's radius in the direction of `p` (diameters), interpolated between directions.
+// Directions are indexed by the "diamond angle" (0..4 around the square |x| + |y| = 1), which
+// needs one division where an angle needs atan; the CPU builds the table the same way.
+float radiusToward(vec2 p) {
+  float q;
+  if (p.y >= 0.0) {
+    q = p.x >= 0.0 ? p.y / (p.x + p.y + 1e-20) : 1.0 - p.x / (p.y - p.x);
+  } else {
+    q = p.x < 0.0 ? 2.0 - p.y / (-p.x - p.y) : 3.0 + p.x / (p.x - p.y);
+  }
+  return texture(uShadowProfile, vec2(q * 0.25 + 0.5 / float(kPolar), vProfileRow)).r;
 }
 
+// Where the shadow line P(t) = c0 + t c1 leaves the disc of radius r, from its closest approach.
+float chord(float r, float h, float invSpeed) { return sqrt(max(0.0, r * r - h * h)) * invSpeed; }
+
 void main() {
-  vec2 ndc = (gl_FragCoord.xy - uViewport.xy) / uViewport.zw * 2.0 - 1.0;
-  mat4 invViewProj = inverse(uViewProj);
-  vec4 pn = invViewProj * vec4(ndc, -1.0, 1.0), pf = invViewProj * vec4(ndc, 1.0, 1.0);
-  vec3 origin = pn.xyz / pn.w;
-  vec3 dir = pf.xyz / pf.w - origin;  // t in [0, 1]: near plane to far plane
+  vec3 c0 = vC0, c1 = vC1;
   float s = vExtent.x;
-  mat3 toLight = transpose(vLightFrame);
-  vec3 c0 = toLight * (origin - vCenter), c1 = toLight * dir;
-  c0.xy /= s;
-  c1.xy /= s;
   float t0 = 0.0, t1 = 1.0;
   clipSlab(c0.x, c1.x, -0.5, 0.5, t0, t1);
   clipSlab(c0.y, c1.y, -0.5, 0.5, t0, t1);
   clipSlab(c0.z, c1.z, 0.0, vExtent.y, t0, t1);
   if (t1 <= t0) discard;
 
-  const float kEps = 1e-3;
-  float speed = length(c1.xy);
-  float tIn = t0, tOut = t1;
-  if (speed < 1e-7) {
-    if (silhouetteDistance(c0.xy + t0 * c1.xy) > kEps) discard;
+  // Where the ray's shadow line P(t) = c0 + t c1 (light frame, diameters) crosses the silhouette:
+  // first the disc whose radius is the silhouette's toward the line's closest approach, then the
+  // entry and exit moved to the radius toward themselves (one fixed-point step).
+  float speed2 = dot(c1.xy, c1.xy);
+  float tIn, tOut, radius;
+  vec2 pc;
+  if (speed2 < 1e-14) {  // looking along the light: the line is a point
+    pc = c0.xy + t0 * c1.xy;
+    radius = radiusToward(pc);
+    if (length(pc) > radius) discard;
+    tIn = t0;
+    tOut = t1;
   } else {
-    for (int i = 0; i < 24; ++i) {
-      float d = silhouetteDistance(c0.xy + tIn * c1.xy);
-      if (d <= kEps) break;
-      tIn += d / speed;
-      if (tIn > t1) discard;
-    }
-    for (int i = 0; i < 24; ++i) {
-      float d = silhouetteDistance(c0.xy + tOut * c1.xy);
-      if (d <= kEps) break;
-      tOut -= d / speed;
-    }
+    float tc = -dot(c0.xy, c1.xy) / speed2;
+    pc = c0.xy + tc * c1.xy;
+    float h = length(pc);
+    vec2 across = h > 1e-6 ? pc : vec2(-c1.y, c1.x);
+    float r = radiusToward(across);
+    radius = r;
+    if (h >= r) discard;
+    float invSpeed = inversesqrt(speed2);
+    float half0 = chord(r, h, invSpeed);
+    tIn = tc - chord(radiusToward(c0.xy + (tc - half0) * c1.xy), h, invSpeed);
+    tOut = tc + chord(radiusToward(c0.xy + (tc + half0) * c1.xy), h, invSpeed);
+    tIn = max(tIn, t0);
+    tOut = min(tOut, t1);
     if (tOut <= tIn) discard;
   }
-  // The start cap follows the depth map: just past the puff's far side (its front mirrored).
+  // The start cap follows the puff's far side: its centre offset, falling off like a sphere's
+  // toward the silhouette.
   vec2 mid = c0.xy + 0.5 * (tIn + tOut) * c1.xy;
-  float offset = max(0.0, (textureLod(uNormalDepth, cellUv(vCell, mid), 0.0).a - 0.5) * uAtlasScale.y);
+  float rel = length(mid) / max(1e-4, radius);
+  float offset = vFarSide * sqrt(max(0.0, 1.0 - rel * rel));
   clipSlab(c0.z, c1.z, s * (offset + uShadowBias), vExtent.y, tIn, tOut);
   if (tOut <= tIn) discard;
-  float t = gl_FrontFacing ? tIn : tOut;
-  vec3 hit = origin + t * dir;
-  gl_FragDepth = clamp(linearDepth(-(uView * vec4(hit, 1.0)).z), 0.0, 1.0);
+  // The ray runs from the near plane (t = 0) to the far plane (t = 1): t is the linear depth.
+  gl_FragDepth = clamp(gl_FrontFacing ? tIn : tOut, 0.0, 1.0);
 }

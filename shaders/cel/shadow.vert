@@ -8,11 +8,12 @@
 // axis (a back-lit cloud) and can never contain the eye; this one stays a full shadow from any
 // side, and the camera can stand inside it. docs/cel-rendering.md has the comparison.
 //
-// The faces are drawn over a conservative footprint (the screen rectangle around the prism, or
+// The faces are drawn over a conservative footprint (the convex hull of the prism on screen, or
 // the whole screen when the prism reaches the eye); the fragment shader finds where the eye ray
 // enters and leaves the volume and writes that depth, so both faces always cover the same pixels
 // and the depth-fail count is exact with the camera inside a volume or a volume through the near
-// plane. 12 vertices per particle: the front face counter-clockwise, then the back face clockwise.
+// plane. 24 vertices per particle: the front face as a counter-clockwise fan of four triangles,
+// then the same fan clockwise as the back face.
 #include "common/frame.glsl"
 #include "cel/particle.glsl"
 
@@ -20,17 +21,21 @@ uniform float uShadowBias;    // volume starts this many diameters past the puff
 uniform float uShadowLength;  // world units
 uniform vec4 uShadowFloor;    // world plane (n, w): volumes end a diameter past it; n = 0: none
 
-flat out vec3 vCenter;
-flat out mat3 vLightFrame;  // columns e1, e2, D: world axes of the volume (orthonormal)
-flat out vec4 vExtent;      // size, lambda end (world), 0, 0
-flat out int vCell;
+// The eye ray through this pixel in the volume's light frame: P(t) = vC0 + t vC1 (x, y in puff
+// diameters, z = lambda in world units), t from the near plane (0) to the far plane (1). Both are
+// affine in screen position, so they interpolate without perspective; t is then the linear depth.
+noperspective out vec3 vC0;
+noperspective out vec3 vC1;
+flat out vec4 vExtent;  // size, lambda end (world), 0, 0
+flat out float vProfileRow;  // texture coordinate of the cell's row in the shadow-profile texture
+flat out float vFarSide;     // depth-map offset of the puff's far side at its centre, diameters
 
-const int kQuad[6] = int[](0, 1, 2, 0, 2, 3);
+layout(std430, binding = 2) readonly buffer FarSides { float farSides[]; };
 
 void main() {
-  uint index = uint(gl_VertexID) / 12u;
-  int local = gl_VertexID % 12;
-  bool backFace = local >= 6;
+  uint index = uint(gl_VertexID) / 24u;
+  int local = gl_VertexID % 24;
+  bool backFace = local >= 12;
   Particle p = unpackParticle(index);
   float s = p.size;
   if (s <= 0.0) {
@@ -47,8 +52,6 @@ void main() {
     float toFloor = (dot(uShadowFloor.xyz, p.position) + uShadowFloor.w) / -dn;
     lambda1 = clamp(toFloor + s, 0.0, lambda1);
   }
-  vCenter = p.position;
-  vLightFrame = mat3(e1, e2, D);
   vExtent = vec4(s, lambda1, 0.0, 0.0);
   // The cell whose view is nearest the light's: the silhouette the light sees.
   mat3 bb = billboardFrame(p.position);
@@ -59,28 +62,58 @@ void main() {
   for (int k = 1; k < 4; ++k) {
     if (weight[k] > weight[best]) best = k;
   }
-  vCell = cell[best];
+  vProfileRow = (float(cell[best]) + 0.5) / float(max(1, uAtlasLayout.x * uAtlasLayout.y));
+  vFarSide = farSides[cell[best]];
 
-  // Conservative footprint: the screen rectangle around the prism's eight corners.
-  vec2 lo = vec2(1e30), hi = vec2(-1e30);
+  // Footprint: the convex hull of the prism's eight corners on screen (Jarvis march), as a fan
+  // of four triangles; or the whole screen when the prism reaches the eye.
+  vec2 pts[8];
   bool reachesEye = false;
   for (int i = 0; i < 8; ++i) {
     vec3 corner = p.position + 0.5 * s * ((i & 1) != 0 ? e1 : -e1) + 0.5 * s * ((i & 2) != 0 ? e2 : -e2) +
                   ((i & 4) != 0 ? lambda1 : -0.5 * s) * D;
     vec4 clip = uViewProj * vec4(corner, 1.0);
     if (!isOrthographic() && clip.w < uDepthRange.x * 1.01) reachesEye = true;
-    vec2 ndc = clip.xy / max(clip.w, 1e-6);
-    lo = min(lo, ndc);
-    hi = max(hi, ndc);
+    pts[i] = clip.xy / max(clip.w, 1e-6);
   }
+  int hull[8];
+  int n = 0;
   if (reachesEye) {
-    lo = vec2(-1.0);
-    hi = vec2(1.0);
+    pts[0] = vec2(-1.0, -1.0);
+    pts[1] = vec2(1.0, -1.0);
+    pts[2] = vec2(1.0, 1.0);
+    pts[3] = vec2(-1.0, 1.0);
+    hull[0] = 0, hull[1] = 1, hull[2] = 2, hull[3] = 3;
+    n = 4;
+  } else {
+    int start = 0;
+    for (int i = 1; i < 8; ++i) {
+      if (pts[i].x < pts[start].x || (pts[i].x == pts[start].x && pts[i].y < pts[start].y)) start = i;
+    }
+    int cur = start;
+    for (int iter = 0; iter < 8; ++iter) {
+      hull[n++] = cur;
+      int next = (cur + 1) % 8;
+      for (int j = 0; j < 8; ++j) {
+        vec2 a = pts[next] - pts[cur], b = pts[j] - pts[cur];
+        float c = a.x * b.y - a.y * b.x;
+        // Keep every other point on the left: counter-clockwise.
+        if (c < 0.0 || (c == 0.0 && dot(b, b) > dot(a, a))) next = j;
+      }
+      cur = next;
+      if (cur == start) break;
+    }
   }
-  lo = clamp(lo, vec2(-1.0), vec2(1.0));
-  hi = clamp(hi, vec2(-1.0), vec2(1.0));
-  vec2 corners[4] = vec2[](lo, vec2(hi.x, lo.y), hi, vec2(lo.x, hi.y));  // counter-clockwise
-  int k = kQuad[local % 6];
-  if (backFace) k = (4 - k) % 4;  // the same quad, clockwise
-  gl_Position = vec4(corners[k], 0.0, 1.0);
+  int tri = (local % 12) / 3, vtx = local % 3;
+  int k = vtx == 0 ? 0 : min(tri + vtx, n - 1);
+  // Front face counter-clockwise; the back face is the same fan, clockwise.
+  if (backFace && vtx != 0) k = min(tri + 3 - vtx, n - 1);
+  vec2 ndc = pts[hull[k]];
+  vec4 pn = uInvViewProj * vec4(ndc, -1.0, 1.0), pf = uInvViewProj * vec4(ndc, 1.0, 1.0);
+  vec3 origin = pn.xyz / pn.w, dir = pf.xyz / pf.w - origin;
+  mat3 toLight = transpose(mat3(e1, e2, D));
+  vec3 scale = vec3(1.0 / s, 1.0 / s, 1.0);
+  vC0 = scale * (toLight * (origin - p.position));
+  vC1 = scale * (toLight * dir);
+  gl_Position = vec4(ndc, 0.0, 1.0);
 }

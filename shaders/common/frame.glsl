@@ -11,6 +11,7 @@ layout(std140, binding = 0) uniform FrameBlock {
   mat4 uProj;            // camera -> clip
   mat4 uViewProj;        // world -> clip
   mat4 uInvView;         // camera -> world
+  mat4 uInvViewProj;     // clip -> world
   vec4 uViewport;        // x, y, width, height of the target viewport, pixels
   vec4 uDepthRange;      // near, far, 1 / (far - near), 1 if the projection is orthographic else 0
   vec4 uLightDirView;    // xyz: unit camera-space direction toward the light

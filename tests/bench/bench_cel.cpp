@@ -276,9 +276,10 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--dump") && i + 1 < argc)
       dumpDir = argv[++i];
     else {
-      std::fprintf(stderr,
-                   "usage: puff_bench_cel [--reps N] [--csv FILE] [--counts 1000,10000,50000] [--sizes 512,1024]\n"
-                   "                      [--max-frame-s S] [--no-full] [--no-nailboards] [--no-split] [--dump DIR]\n");
+      std::fprintf(
+          stderr,
+          "usage: puff_bench_cel [--reps N] [--csv FILE] [--counts 1000,10000,50000] [--sizes 512,1024]\n"
+          "                      [--max-frame-s S (100)] [--no-full] [--no-nailboards] [--no-split] [--dump DIR]\n");
       return 2;
     }
   }

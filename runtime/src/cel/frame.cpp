@@ -40,11 +40,11 @@ namespace {
 
 // std140 mirror of shaders/common/frame.glsl's FrameBlock.
 struct FrameBlockData {
-  glm::mat4 view, proj, viewProj, invView;
+  glm::mat4 view, proj, viewProj, invView, invViewProj;
   glm::vec4 viewport, depthRange, lightDirView, lightDirWorld, lightColor, ambientColor, cameraWorld;
   glm::ivec4 ambientMode;
 };
-static_assert(sizeof(FrameBlockData) == 4 * 64 + 8 * 16);
+static_assert(sizeof(FrameBlockData) == 5 * 64 + 8 * 16);
 
 }  // namespace
 
@@ -58,6 +58,7 @@ void FrameBlock::upload(const Frame& frame) {
   d.proj = frame.projection;
   d.viewProj = frame.projection * frame.view;
   d.invView = glm::inverse(frame.view);
+  d.invViewProj = glm::inverse(d.viewProj);
   d.viewport = glm::vec4(frame.viewport.x, frame.viewport.y, frame.viewport.width, frame.viewport.height);
   const bool ortho = frame.projection[3][3] == 1.0f;
   d.depthRange = glm::vec4(frame.nearPlane, frame.farPlane, 1.0f / (frame.farPlane - frame.nearPlane), ortho ? 1 : 0);

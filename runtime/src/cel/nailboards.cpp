@@ -13,7 +13,9 @@ namespace {
 
 // Texture units and storage-buffer bindings shared with shaders/cel/*.
 constexpr GLuint kUnitNormalDepth = 2, kUnitColor = 3, kUnitDistance = 4;
-constexpr GLuint kBindingParticles = 0, kBindingCells = 1;
+constexpr GLuint kBindingParticles = 0, kBindingCells = 1, kBindingFarSides = 2;
+constexpr GLuint kUnitShadowProfile = 5;
+constexpr int kPolar = 32;  // directions of the silhouette radius table (shaders/cel/shadow.frag)
 
 struct AtlasUniforms {
   GLint boundsMin = -1, boundsExtent = -1, alignment = -1, layout = -1, geom = -1, scale = -1;
@@ -35,13 +37,37 @@ bool framebufferIsMultisampled() {
 
 }  // namespace
 
+// One nailboard program variant (one view per cell, or four blended) and its uniforms.
+struct NailboardProgram {
+  core::Program program;
+  AtlasUniforms atlas;
+  GLint pass = -1, shading = -1, outlines = -1, outlineWidth = -1, outlineColor = -1, multisample = -1;
+
+  static Result<NailboardProgram> build(const std::string& name) {
+    auto p = core::buildProgram({"cel/" + name + ".vert", "cel/" + name + ".frag"});
+    if (!p) return p.error();
+    NailboardProgram n;
+    n.program = std::move(*p);
+    const GLuint id = n.program.get();
+    n.atlas.find(id);
+    n.pass = glGetUniformLocation(id, "uPass");
+    n.shading = glGetUniformLocation(id, "uShading");
+    n.outlines = glGetUniformLocation(id, "uOutlines");
+    n.outlineWidth = glGetUniformLocation(id, "uOutlineWidth");
+    n.outlineColor = glGetUniformLocation(id, "uOutlineColor");
+    n.multisample = glGetUniformLocation(id, "uMultisample");
+    return n;
+  }
+};
+
 struct NailboardRenderer::Impl {
-  core::Program nailboard, shadow, sprite;
-  AtlasUniforms nbAtlas, svAtlas, spAtlas;
-  GLint viewCount = -1, pass = -1, shading = -1, outlines = -1, outlineWidth = -1, outlineColor = -1, multisample = -1;
+  NailboardProgram singleView, multiView;
+  core::Program shadow, sprite;
+  AtlasUniforms svAtlas, spAtlas;
   GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1;
   core::VertexArray vao;
-  core::Buffer particles, cells;
+  core::Buffer particles, cells, farSides;
+  core::Texture shadowProfile;
   std::size_t particleCapacity = 0;
   std::size_t count = 0;
   PackBounds bounds;
@@ -75,26 +101,20 @@ NailboardRenderer::~NailboardRenderer() = default;
 Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create() {
   std::unique_ptr<NailboardRenderer> r(new NailboardRenderer());
   Impl& m = *r->impl_;
-  auto nb = core::buildProgram({"cel/nailboard.vert", "cel/nailboard.frag"});
-  if (!nb) return nb.error();
+  auto single = NailboardProgram::build("nailboard");
+  if (!single) return single.error();
+  auto multi = NailboardProgram::build("nailboard_views");
+  if (!multi) return multi.error();
   auto sv = core::buildProgram({"cel/shadow.vert", "cel/shadow.frag"});
   if (!sv) return sv.error();
   auto sp = core::buildProgram({"cel/sprite.vert", "cel/sprite.frag"});
   if (!sp) return sp.error();
-  m.nailboard = std::move(*nb);
+  m.singleView = std::move(*single);
+  m.multiView = std::move(*multi);
   m.shadow = std::move(*sv);
   m.sprite = std::move(*sp);
-  m.spAtlas.find(m.sprite.get());
-  const GLuint p = m.nailboard.get();
-  m.nbAtlas.find(p);
   m.svAtlas.find(m.shadow.get());
-  m.viewCount = glGetUniformLocation(p, "uViewCount");
-  m.pass = glGetUniformLocation(p, "uPass");
-  m.shading = glGetUniformLocation(p, "uShading");
-  m.outlines = glGetUniformLocation(p, "uOutlines");
-  m.outlineWidth = glGetUniformLocation(p, "uOutlineWidth");
-  m.outlineColor = glGetUniformLocation(p, "uOutlineColor");
-  m.multisample = glGetUniformLocation(p, "uMultisample");
+  m.spAtlas.find(m.sprite.get());
   m.shadowBias = glGetUniformLocation(m.shadow.get(), "uShadowBias");
   m.shadowLength = glGetUniformLocation(m.shadow.get(), "uShadowLength");
   m.shadowFloor = glGetUniformLocation(m.shadow.get(), "uShadowFloor");
@@ -151,6 +171,62 @@ Result<core::Texture> uploadMap(const core::Atlas& atlas, const std::string& key
 
 }  // namespace
 
+namespace {
+
+float bilinear(const core::Image& im, float x, float y, int c) {
+  // Continuous texel coordinates: texel i's centre is at i + 0.5.
+  x = std::clamp(x - 0.5f, 0.0f, static_cast<float>(im.width - 1));
+  y = std::clamp(y - 0.5f, 0.0f, static_cast<float>(im.height - 1));
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const int x1 = std::min(x0 + 1, im.width - 1), y1 = std::min(y0 + 1, im.height - 1);
+  const float fx = x - static_cast<float>(x0), fy = y - static_cast<float>(y0);
+  const float top = im.at(x0, y0, c) * (1 - fx) + im.at(x1, y0, c) * fx;
+  const float bottom = im.at(x0, y1, c) * (1 - fx) + im.at(x1, y1, c) * fx;
+  return top * (1 - fy) + bottom * fy;
+}
+
+// Per cell, for the shadow volumes: the far-side depth offset at the puff's centre (farSides),
+// and the silhouette's radius (puff diameters) in kPolar directions, counter-clockwise from the cell's +x
+// (y up), evenly spaced in diamond angle. Marching outward from the centre, the radius is the last crossing of the silhouette,
+// so a puff with bays casts the shadow of its star-shaped hull.
+struct ShadowProfiles {
+  std::vector<float> farSides;  ///< one per cell
+  std::vector<float> radii;     ///< kPolar per cell, cell-major
+};
+
+ShadowProfiles shadowProfiles(const core::Atlas& atlas) {
+  const core::AtlasDesc& d = atlas.desc;
+  const core::Image& dist = atlas.maps.at("distance").front();
+  const core::Image& nd = atlas.maps.at("normalDepth").front();
+  const float content = static_cast<float>(d.contentSize);
+  const float reach = 0.5f * content + static_cast<float>(d.margin) - 1.0f;
+  ShadowProfiles out;
+  for (const core::AtlasCell& c : d.cells) {
+    const float cx = static_cast<float>(c.rect[0] + d.margin) + 0.5f * content;
+    const float cy = static_cast<float>(c.rect[1] + d.margin) + 0.5f * content;
+    out.farSides.push_back(std::max(0.0f, (bilinear(nd, cx, cy, 3) - 0.5f) * d.depthScale));
+    for (int i = 0; i < kPolar; ++i) {
+      // Evenly spaced in diamond angle q in [0, 4) (shaders/cel/shadow.frag, radiusToward).
+      const float q = 4.0f * static_cast<float>(i) / kPolar;
+      const float u = q - std::floor(q);
+      glm::vec2 dir = q < 1 ? glm::vec2(1 - u, u) : q < 2 ? glm::vec2(-u, 1 - u) : q < 3 ? glm::vec2(u - 1, -u) : glm::vec2(u, u - 1);
+      dir = glm::normalize(dir);
+      const float dx = dir.x, dy = -dir.y;  // image rows go down
+      auto signedDist = [&](float r) { return (bilinear(dist, cx + r * dx, cy + r * dy, 0) - 0.5f) * 2.0f * d.distanceRange; };
+      float radius = 0.0f, prev = signedDist(0.0f);
+      for (float r = 0.25f; r <= reach; r += 0.25f) {
+        const float cur = signedDist(r);
+        if (prev <= 0.0f && cur > 0.0f) radius = r - 0.25f + 0.25f * (-prev) / (cur - prev);
+        prev = cur;
+      }
+      out.radii.push_back(radius / content);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   Impl& m = *impl_;
   const core::AtlasDesc& d = atlas.desc;
@@ -176,6 +252,19 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   }
   m.cells = core::makeBuffer();
   glNamedBufferStorage(m.cells.get(), static_cast<GLsizeiptr>(cellData.size() * sizeof(glm::vec4)), cellData.data(), 0);
+  const ShadowProfiles profiles = shadowProfiles(atlas);
+  m.farSides = core::makeBuffer();
+  glNamedBufferStorage(m.farSides.get(), static_cast<GLsizeiptr>(profiles.farSides.size() * sizeof(float)),
+                       profiles.farSides.data(), 0);
+  m.shadowProfile = core::makeTexture(GL_TEXTURE_2D);
+  const GLuint sp = m.shadowProfile.get();
+  const auto rows = static_cast<GLsizei>(d.cells.size());
+  glTextureStorage2D(sp, 1, GL_R32F, kPolar, rows);
+  glTextureSubImage2D(sp, 0, 0, 0, kPolar, rows, GL_RED, GL_FLOAT, profiles.radii.data());
+  glTextureParameteri(sp, GL_TEXTURE_WRAP_S, GL_REPEAT);  // directions wrap around
+  glTextureParameteri(sp, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(sp, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(sp, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   m.normalDepth = std::move(*nd);
   m.color = std::move(*co);
   m.distance = std::move(*di);
@@ -204,16 +293,17 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   DrawStats s;
   s.particles = m.count;
   if (m.count == 0 || !m.hasAtlas) return s;
-  const GLuint p = m.nailboard.get();
-  m.setCommon(p, m.nbAtlas, style);
-  glProgramUniform1i(p, m.viewCount, m.desc.views > 1 ? 4 : 1);
-  glProgramUniform1i(p, m.pass, pass == ShadePass::kLit ? 0 : pass == ShadePass::kShadowed ? 1 : 2);
-  glProgramUniform1i(p, m.shading, style.shading ? 1 : 0);
-  glProgramUniform1i(p, m.outlines, style.outlines ? 1 : 0);
-  glProgramUniform1f(p, m.outlineWidth, std::max(0.0f, style.outlineWidth));
-  glProgramUniform3fv(p, m.outlineColor, 1, glm::value_ptr(style.outlineColor));
+  // A multi-view atlas blends the four nearest views; a one-view atlas needs one lookup per map.
+  const NailboardProgram& nb = m.desc.views > 1 ? m.multiView : m.singleView;
+  const GLuint p = nb.program.get();
+  m.setCommon(p, nb.atlas, style);
+  glProgramUniform1i(p, nb.pass, pass == ShadePass::kLit ? 0 : pass == ShadePass::kShadowed ? 1 : 2);
+  glProgramUniform1i(p, nb.shading, style.shading ? 1 : 0);
+  glProgramUniform1i(p, nb.outlines, style.outlines ? 1 : 0);
+  glProgramUniform1f(p, nb.outlineWidth, std::max(0.0f, style.outlineWidth));
+  glProgramUniform3fv(p, nb.outlineColor, 1, glm::value_ptr(style.outlineColor));
   const bool msaa = framebufferIsMultisampled();
-  glProgramUniform1i(p, m.multisample, msaa ? 1 : 0);
+  glProgramUniform1i(p, nb.multisample, msaa ? 1 : 0);
 
   // Every state this pass relies on is set here.
   glUseProgram(p);
@@ -314,7 +404,9 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   // so a receiver inside the volume ends non-zero wherever the eye is.
   glStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
   glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
-  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 12));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFarSides, m.farSides.get());
+  glBindTextureUnit(kUnitShadowProfile, m.shadowProfile.get());
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 24));
   glDisable(GL_DEPTH_CLAMP);
   glDepthMask(GL_TRUE);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);

@@ -11,7 +11,8 @@
 //      stencil is non-zero, colour = the ambient term only (Eq. 2 without its diffuse term).
 //
 // Particles reach the GPU as 16 bytes each (PackedParticle) and become quads in the vertex shader
-// (vertex pulling from a shader storage buffer): 6 vertices per nailboard, 12 per shadow volume.
+// (vertex pulling from a shader storage buffer): 6 vertices per nailboard, 24 per shadow volume
+// (two faces, each a fan of four triangles over the volume's convex hull on screen).
 #pragma once
 
 #include <cstdint>

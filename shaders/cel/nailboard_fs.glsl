@@ -1,0 +1,73 @@
+// Nailboard shading (McGuire & Fein Eq. 2) with a per-pixel depth offset (§4.2) and outlines drawn
+// from the baked signed distance to the silhouette, so their width is a run-time choice and both
+// edges are antialiased (alpha-to-coverage when the target is multisampled).
+#include "common/frame.glsl"
+#include "cel/particle.glsl"
+
+in vec2 vPuff;
+in float vDist;
+flat in float vSize;
+flat in float vTexelsPerPixel;
+flat in ivec4 vCell;
+flat in vec4 vWeight;
+flat in vec4 vMap[PUFF_VIEWS];
+flat in mat3 vNormalXf[PUFF_VIEWS];
+
+layout(binding = 2) uniform sampler2D uNormalDepth;
+layout(binding = 3) uniform sampler2D uColor;
+layout(binding = 4) uniform sampler2D uDistance;
+
+uniform int uPass;          // 0 lit, 1 shadowed (ambient only), 2 depth only
+uniform int uShading;       // 1: q(N.L); 0: flat
+uniform int uOutlines;      // 1: draw the outline band
+uniform float uOutlineWidth;   // pixels
+uniform vec3 uOutlineColor;
+uniform int uMultisample;   // 1: alpha-to-coverage resolves the edge; 0: hard edge at half coverage
+
+out vec4 fragColor;
+
+void main() {
+  vec3 n = vec3(0.0);
+  vec3 color = vec3(0.0);
+  float depth = 0.0, dist = 0.0;
+  for (int k = 0; k < PUFF_VIEWS; ++k) {  // a constant bound: unrolled
+    vec2 puff = mat2(vMap[k].xy, vMap[k].zw) * vPuff;
+    vec2 uv = cellUv(vCell[k], puff);
+    vec4 nd = texture(uNormalDepth, uv);
+    vec4 c = texture(uColor, uv);
+    float w = vWeight[k];
+    n += w * (vNormalXf[k] * (nd.xyz * 2.0 - 1.0));
+    depth += w * (nd.w - 0.5) * uAtlasScale.y * vNormalXf[k][2].z;
+    color += w * c.rgb;
+    dist += w * ((texture(uDistance, uv).r - 0.5) * 2.0 * uAtlasScale.z);
+  }
+  // From the particle's projected size, not from derivatives: those break down along the quad's
+  // diagonal on some rasterizers, and the size is known anyway.
+  float tpp = max(1e-4, vTexelsPerPixel);
+  // The outline band: 0 < dist <= width (texels). The distance map saturates at its range, so
+  // the band and its antialiased edge (half a pixel) must end inside it; beyond is empty.
+  float range = uAtlasScale.z;
+  if (dist >= range - 0.5) discard;
+  float widthTexels = uOutlines == 1 ? min(uOutlineWidth * tpp, range - 1.0 - 0.5 * tpp) : 0.0;
+  widthTexels = max(widthTexels, 0.0);
+  float coverage = clamp(0.5 - (dist - widthTexels) / tpp, 0.0, 1.0);
+  float body = clamp(0.5 - dist / tpp, 0.0, 1.0);
+  if (uMultisample == 1 ? coverage <= 0.0 : coverage < 0.5) discard;
+
+  // Outline and flange texels hold d = 0: they sit on the billboard plane, behind the bodies of
+  // nearer particles, which is what hides outlines inside a cloud (Fig. 5).
+  float d = dist > 0.0 ? 0.0 : depth;
+  gl_FragDepth = linearDepth(vDist - d * vSize);
+  if (uPass == 2) {
+    fragColor = vec4(0.0);
+    return;
+  }
+  vec3 ka = ambientAt(gl_FragCoord.xy);
+  vec3 rgb = ka;
+  if (uPass == 0) {
+    vec3 q = uShading == 1 ? quantize(dot(normalize(n), uLightDirView.xyz)) : vec3(1.0);
+    rgb = ka + color * uLightColor.rgb * q;
+  }
+  if (uOutlines == 1) rgb = mix(uOutlineColor, rgb, body);
+  fragColor = vec4(rgb, uMultisample == 1 ? coverage : 1.0);
+}

@@ -1,0 +1,3 @@
+#version 450 core
+#define PUFF_VIEWS 4
+#include "cel/nailboard_fs.glsl"
