@@ -13,9 +13,10 @@ flat in vec4 vWeight;
 flat in vec4 vMap[PUFF_VIEWS];
 flat in mat3 vNormalXf[PUFF_VIEWS];
 
-layout(binding = 2) uniform sampler2D uNormalDepth;
+// Two reads per pixel, as in the paper: normal x, y (z rebuilt), depth offset and distance to the
+// silhouette packed by NailboardRenderer::setAtlas; and the colour.
+layout(binding = 2) uniform sampler2D uPacked;
 layout(binding = 3) uniform sampler2D uColor;
-layout(binding = 4) uniform sampler2D uDistance;
 
 uniform int uPass;          // 0 lit, 1 shadowed (ambient only), 2 depth only
 uniform int uShading;       // 1: q(N.L); 0: flat
@@ -33,13 +34,15 @@ void main() {
   for (int k = 0; k < PUFF_VIEWS; ++k) {  // a constant bound: unrolled
     vec2 puff = mat2(vMap[k].xy, vMap[k].zw) * vPuff;
     vec2 uv = cellUv(vCell[k], puff);
-    vec4 nd = texture(uNormalDepth, uv);
+    vec4 pk = texture(uPacked, uv);
     vec4 c = texture(uColor, uv);
+    vec2 nxy = pk.xy * 2.0 - 1.0;
+    vec3 nCell = vec3(nxy, sqrt(max(0.0, 1.0 - dot(nxy, nxy))));
     float w = vWeight[k];
-    n += w * (vNormalXf[k] * (nd.xyz * 2.0 - 1.0));
-    depth += w * (nd.w - 0.5) * uAtlasScale.y * vNormalXf[k][2].z;
+    n += w * (vNormalXf[k] * nCell);
+    depth += w * (pk.z - 0.5) * uAtlasScale.y * vNormalXf[k][2].z;
     color += w * c.rgb;
-    dist += w * ((texture(uDistance, uv).r - 0.5) * 2.0 * uAtlasScale.z);
+    dist += w * ((pk.w - 0.5) * 2.0 * uAtlasScale.z);
   }
   // From the particle's projected size, not from derivatives: those break down along the quad's
   // diagonal on some rasterizers, and the size is known anyway.

@@ -12,7 +12,7 @@ namespace puff::cel {
 namespace {
 
 // Texture units and storage-buffer bindings shared with shaders/cel/*.
-constexpr GLuint kUnitNormalDepth = 2, kUnitColor = 3, kUnitDistance = 4;
+constexpr GLuint kUnitPacked = 2, kUnitColor = 3;
 constexpr GLuint kBindingParticles = 0, kBindingCells = 1, kBindingFarSides = 2;
 constexpr GLuint kUnitShadowProfile = 5;
 constexpr int kPolar = 32;  // directions of the silhouette radius table (shaders/cel/shadow.frag)
@@ -72,7 +72,7 @@ struct NailboardRenderer::Impl {
   std::size_t count = 0;
   PackBounds bounds;
   std::vector<PackedParticle> packed;
-  core::Texture normalDepth, color, distance;
+  core::Texture maps, color;  // maps: normal xy, depth, distance (RGBA8); color: C + coverage
   core::AtlasDesc desc;
   bool hasAtlas = false;
 
@@ -89,9 +89,8 @@ struct NailboardRenderer::Impl {
     glBindVertexArray(vao.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingParticles, particles.get());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingCells, cells.get());
-    glBindTextureUnit(kUnitNormalDepth, normalDepth.get());
+    glBindTextureUnit(kUnitPacked, maps.get());
     glBindTextureUnit(kUnitColor, color.get());
-    glBindTextureUnit(kUnitDistance, distance.get());
   }
 };
 
@@ -128,18 +127,13 @@ const core::AtlasDesc& NailboardRenderer::atlas() const { return impl_->desc; }
 
 namespace {
 
-Result<core::Texture> uploadMap(const core::Atlas& atlas, const std::string& key, int channels) {
+const std::vector<core::Image>* findMap(const core::Atlas& atlas, const std::string& key) {
   const auto it = atlas.maps.find(key);
-  if (it == atlas.maps.end() || it->second.empty()) return Error{"atlas has no " + key + " map"};
-  const std::vector<core::Image>& levels = it->second;
-  const core::AtlasDesc& d = atlas.desc;
-  const bool exr = d.fileFormat == "exr";
-  GLenum internal;
-  if (channels == 4) {
-    internal = exr ? GL_RGBA16F : GL_RGBA8;
-  } else {
-    internal = exr ? GL_R16F : GL_R16;
-  }
+  return it == atlas.maps.end() || it->second.empty() ? nullptr : &it->second;
+}
+
+Result<core::Texture> uploadLevels(const core::AtlasDesc& d, const std::vector<core::Image>& levels,
+                                   const std::string& key, int channels, GLenum internal) {
   core::Texture t = core::makeTexture(GL_TEXTURE_2D);
   const GLsizei nLevels = static_cast<GLsizei>(levels.size());
   glTextureStorage2D(t.get(), nLevels, internal, d.width, d.height);
@@ -234,12 +228,38 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
     return Error{"atlas has " + std::to_string(d.cells.size()) + " cells for " + std::to_string(d.variations) +
                  " variations x " + std::to_string(d.views) + " views"};
   }
-  auto nd = uploadMap(atlas, "normalDepth", 4);
+  const std::vector<core::Image>* ndMap = findMap(atlas, "normalDepth");
+  const std::vector<core::Image>* colorMap = findMap(atlas, "color");
+  const std::vector<core::Image>* distMap = findMap(atlas, "distance");
+  if (!ndMap || !colorMap || !distMap) {
+    return Error{std::string("atlas has no ") + (!ndMap ? "normalDepth" : !colorMap ? "color" : "distance") + " map"};
+  }
+  if (ndMap->size() != distMap->size()) return Error{"atlas normalDepth and distance maps have different mip counts"};
+  // What the nailboard reads per pixel, in one RGBA8 fetch (the paper's budget is two 32-bit reads:
+  // this one and the colour): normal x and y (z >= 0 is rebuilt), depth offset, and the distance
+  // to the silhouette at 8 bits (1/255 of its +-range: 0.13 texels at the default range of 16).
+  std::vector<core::Image> packed;
+  for (std::size_t l = 0; l < ndMap->size(); ++l) {
+    const core::Image& n = (*ndMap)[l];
+    const core::Image& di = (*distMap)[l];
+    if (n.width != di.width || n.height != di.height || n.channels < 4 || di.channels < 1) {
+      return Error{"atlas normalDepth and distance level " + std::to_string(l) + " differ in size"};
+    }
+    core::Image p(n.width, n.height, 4);
+    for (int y = 0; y < n.height; ++y) {
+      for (int x = 0; x < n.width; ++x) {
+        p.at(x, y, 0) = n.at(x, y, 0);
+        p.at(x, y, 1) = n.at(x, y, 1);
+        p.at(x, y, 2) = n.at(x, y, 3);
+        p.at(x, y, 3) = di.at(x, y, 0);
+      }
+    }
+    packed.push_back(std::move(p));
+  }
+  auto nd = uploadLevels(d, packed, "normalDepth", 4, GL_RGBA8);
   if (!nd) return nd.error();
-  auto co = uploadMap(atlas, "color", 4);
+  auto co = uploadLevels(d, *colorMap, "color", 4, d.fileFormat == "exr" ? GL_RGBA16F : GL_RGBA8);
   if (!co) return co.error();
-  auto di = uploadMap(atlas, "distance", 1);
-  if (!di) return di.error();
   std::vector<glm::vec4> cellData;
   cellData.reserve(d.cells.size() * 4);
   for (const core::AtlasCell& c : d.cells) {
@@ -265,9 +285,8 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   glTextureParameteri(sp, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   glTextureParameteri(sp, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTextureParameteri(sp, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  m.normalDepth = std::move(*nd);
+  m.maps = std::move(*nd);
   m.color = std::move(*co);
-  m.distance = std::move(*di);
   m.desc = d;
   m.hasAtlas = true;
   return {};
