@@ -180,9 +180,9 @@ float bilinear(const core::Image& im, float x, float y, int c) {
 }
 
 // Per cell, for the shadow volumes: the far-side depth offset at the puff's centre (farSides),
-// and the silhouette's radius (puff diameters) in kPolar directions, counter-clockwise from the cell's +x
-// (y up), evenly spaced in diamond angle. Marching outward from the centre, the radius is the last crossing of the silhouette,
-// so a puff with bays casts the shadow of its star-shaped hull.
+// and the silhouette's radius (puff diameters) in kPolar directions, counter-clockwise from the
+// cell's +x (y up), evenly spaced in diamond angle. Marching outward from the centre, the radius is
+// the last crossing of the silhouette, so a puff with bays casts the shadow of its star-shaped hull.
 struct ShadowProfiles {
   std::vector<float> farSides;  ///< one per cell
   std::vector<float> radii;     ///< kPolar per cell, cell-major
@@ -203,10 +203,15 @@ ShadowProfiles shadowProfiles(const core::Atlas& atlas) {
       // Evenly spaced in diamond angle q in [0, 4) (shaders/cel/shadow.frag, radiusToward).
       const float q = 4.0f * static_cast<float>(i) / kPolar;
       const float u = q - std::floor(q);
-      glm::vec2 dir = q < 1 ? glm::vec2(1 - u, u) : q < 2 ? glm::vec2(-u, 1 - u) : q < 3 ? glm::vec2(u - 1, -u) : glm::vec2(u, u - 1);
+      glm::vec2 dir = q < 1   ? glm::vec2(1 - u, u)
+                      : q < 2 ? glm::vec2(-u, 1 - u)
+                      : q < 3 ? glm::vec2(u - 1, -u)
+                              : glm::vec2(u, u - 1);
       dir = glm::normalize(dir);
       const float dx = dir.x, dy = -dir.y;  // image rows go down
-      auto signedDist = [&](float r) { return (bilinear(dist, cx + r * dx, cy + r * dy, 0) - 0.5f) * 2.0f * d.distanceRange; };
+      auto signedDist = [&](float r) {
+        return (bilinear(dist, cx + r * dx, cy + r * dy, 0) - 0.5f) * 2.0f * d.distanceRange;
+      };
       float radius = 0.0f, prev = signedDist(0.0f);
       for (float r = 0.25f; r <= reach; r += 0.25f) {
         const float cur = signedDist(r);
