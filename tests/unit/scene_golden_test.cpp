@@ -6,7 +6,9 @@
 // New references: tests/golden/accept.sh after looking at golden-out/*.actual.png.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
+#include <vector>
 
 #include <puff/render/render.h>
 
@@ -47,6 +49,33 @@ INSTANTIATE_TEST_SUITE_P(ArtScenes, SceneGolden,
 
 // A render farm splits frame ranges: a frame rendered alone equals the same frame of a sequence.
 class SceneFrames : public test::GlTest {};
+
+// The tolerances above would be useless if the Fig. 8 stages passed for one another: each stage
+// differs from the previous one in far more pixels than a golden case may.
+TEST_F(SceneFrames, Fig8StagesDifferByMoreThanTheGoldenTolerance) {
+  std::vector<core::Image> stages;
+  for (const char* name : {"cloud-fig8a", "cloud-fig8b", "cloud-fig8c"}) {
+    auto scene =
+        render::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (std::string(name) + ".json"), PUFF_ART_DIR);
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    auto renderer = render::SceneRenderer::create(*scene);
+    ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+    auto image = (*renderer)->renderFrame(0);
+    ASSERT_TRUE(image.ok()) << image.error().message;
+    stages.push_back(std::move(*image));
+  }
+  auto differing = [](const core::Image& a, const core::Image& b) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < a.pixels.size(); i += 4) {
+      bool differs = false;
+      for (int c = 0; c < 3; ++c) differs |= std::abs(a.pixels[i + c] - b.pixels[i + c]) > 8.0f / 255.0f;
+      n += differs ? 1 : 0;
+    }
+    return static_cast<double>(n) / static_cast<double>(a.pixels.size() / 4);
+  };
+  EXPECT_GT(differing(stages[0], stages[1]), 0.003 * 3);  // + cel shading
+  EXPECT_GT(differing(stages[1], stages[2]), 0.003 * 2);  // + self-shadows
+}
 
 TEST_F(SceneFrames, RenderedAloneEqualsTheSameFrameOfASequence) {
   const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "magic-lamp.json";
