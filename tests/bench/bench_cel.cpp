@@ -46,9 +46,11 @@
 #include <puff/core/atlas.h>
 #include <puff/core/files.h>
 #include <puff/core/gl.h>
+
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/mesh/mesh.h>
+#include "support/gl_target.h"
 
 namespace {
 
@@ -116,43 +118,11 @@ double measuredOverdraw(const std::vector<cel::Particle>& ps, float side) {
   return sum / 4.0;
 }
 
-struct Target {
-  int size = 0;
-  core::Framebuffer fbo;
-  core::Renderbuffer color, depth;
-  explicit Target(int n)
-      : size(n), fbo(core::makeFramebuffer()), color(core::makeRenderbuffer()), depth(core::makeRenderbuffer()) {
-    glNamedRenderbufferStorage(color.get(), GL_RGBA8, n, n);
-    glNamedRenderbufferStorage(depth.get(), GL_DEPTH24_STENCIL8, n, n);
-    glNamedFramebufferRenderbuffer(fbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color.get());
-    glNamedFramebufferRenderbuffer(fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth.get());
-  }
-  void bindAndClear() const {
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
-    glViewport(0, 0, size, size);
-    glDisable(GL_SCISSOR_TEST);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glDepthMask(GL_TRUE);
-    glStencilMask(0xFF);
-    glClearColor(0.55f, 0.7f, 0.9f, 1.0f);
-    glClearDepth(1.0);
-    glClearStencil(0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
-  }
+struct Target : test::OffscreenTarget {
+  explicit Target(int n) : OffscreenTarget(n) {}
+  void bindAndClear() const { clear(glm::vec4(0.55f, 0.7f, 0.9f, 1.0f)); }
   Result<void> writePng(const fs::path& path) const {
-    std::vector<unsigned char> b(static_cast<std::size_t>(size) * size * 4);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo.get());
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, size, size, GL_RGBA, GL_UNSIGNED_BYTE, b.data());
-    core::Image im(size, size, 3);
-    for (int y = 0; y < size; ++y) {
-      for (int x = 0; x < size; ++x) {
-        for (int c = 0; c < 3; ++c) {
-          im.at(x, size - 1 - y, c) = b[(static_cast<std::size_t>(y) * size + x) * 4 + c] / 255.0f;
-        }
-      }
-    }
-    return core::writeImage(path, im, core::PixelType::kUInt8);
+    return core::writeImage(path, readImage(), core::PixelType::kUInt8);
   }
 };
 

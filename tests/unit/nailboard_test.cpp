@@ -18,6 +18,8 @@
 #include <puff/mesh/mesh.h>
 
 #include "support/gl_fixture.h"
+#include "support/gl_target.h"
+#include "support/sphere_atlas.h"
 
 namespace puff {
 namespace {
@@ -57,55 +59,11 @@ TEST(ParticlePacking, SixteenBytesRoundTripWithinQuantization) {
 
 // ---- GL fixture --------------------------------------------------------------------------------
 
-struct Target {
-  int size = 0;
-  core::Framebuffer fbo;
-  core::Renderbuffer color, depth;
-  explicit Target(int n)
-      : size(n), fbo(core::makeFramebuffer()), color(core::makeRenderbuffer()), depth(core::makeRenderbuffer()) {
-    glNamedRenderbufferStorage(color.get(), GL_RGBA8, n, n);
-    glNamedRenderbufferStorage(depth.get(), GL_DEPTH24_STENCIL8, n, n);
-    glNamedFramebufferRenderbuffer(fbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color.get());
-    glNamedFramebufferRenderbuffer(fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth.get());
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
-    glViewport(0, 0, n, n);
-  }
+// The nailboard tests clear to white and to the depth of a receiving plane.
+struct Target : test::OffscreenTarget {
+  explicit Target(int n) : OffscreenTarget(n) {}
   void clear(float depthValue, glm::vec3 bg = glm::vec3(1.0f)) const {
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
-    glViewport(0, 0, size, size);
-    glDisable(GL_SCISSOR_TEST);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glDepthMask(GL_TRUE);
-    glStencilMask(0xFF);
-    glClearColor(bg.r, bg.g, bg.b, 1.0f);
-    glClearDepth(depthValue);
-    glClearStencil(0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
-  }
-  // Pixel (x, y) with y up (GL convention).
-  std::vector<glm::vec4> readColor() const {
-    std::vector<unsigned char> b(static_cast<std::size_t>(size) * size * 4);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo.get());
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, size, size, GL_RGBA, GL_UNSIGNED_BYTE, b.data());
-    std::vector<glm::vec4> out(static_cast<std::size_t>(size) * size);
-    for (std::size_t i = 0; i < out.size(); ++i)
-      out[i] = glm::vec4(b[i * 4], b[i * 4 + 1], b[i * 4 + 2], b[i * 4 + 3]) / 255.0f;
-    return out;
-  }
-  std::vector<unsigned char> readStencil() const {
-    std::vector<unsigned char> b(static_cast<std::size_t>(size) * size);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo.get());
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, size, size, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE, b.data());
-    return b;
-  }
-  std::vector<float> readDepth() const {
-    std::vector<float> b(static_cast<std::size_t>(size) * size);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo.get());
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, b.data());
-    return b;
+    OffscreenTarget::clear(glm::vec4(bg, 1.0f), depthValue);
   }
 };
 
@@ -118,17 +76,9 @@ class Nailboards : public test::GlTest {
     GlTest::SetUpTestSuite();
     dir_ = fs::temp_directory_path() / ("puff-nailboard-test-" + std::to_string(::getpid()));
     fs::remove_all(dir_);
-    bake::BakeOptions o;
-    o.cellSize = 128;
-    o.flange = {4.0f, false};
-    o.outDir = dir_;
-    o.contactSheet = false;
-    bake::PuffSource src;
-    src.mesh = mesh::generateSphere({6});
-    src.provenance.generator = "sphere";
-    auto r = bake::bakeAtlas({src}, o);
-    ASSERT_TRUE(r.ok()) << r.error().message;
-    auto atlas = core::loadAtlas(r->sidecar);
+    auto sidecar = test::bakeSphereAtlas(dir_);
+    ASSERT_TRUE(sidecar.ok()) << sidecar.error().message;
+    auto atlas = core::loadAtlas(*sidecar);
     ASSERT_TRUE(atlas.ok()) << atlas.error().message;
     atlas_ = std::make_unique<core::Atlas>(std::move(*atlas));
   }

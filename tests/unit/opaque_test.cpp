@@ -16,6 +16,7 @@
 #include <puff/cel/opaque.h>
 
 #include "support/gl_fixture.h"
+#include "support/gl_target.h"
 
 namespace puff::cel {
 namespace {
@@ -86,62 +87,12 @@ TEST(OpaqueMeshes, SphereVerticesLieOnTheUnitSphere) {
 // ---- rendering -----------------------------------------------------------------------------------
 
 // An offscreen kSize^2 target: RGBA16F colour, 24-bit depth + 8-bit stencil.
-class Target {
+class Target : public test::OffscreenTarget {
  public:
-  Target() {
-    color_ = core::makeRenderbuffer();
-    glNamedRenderbufferStorage(color_.get(), GL_RGBA16F, kSize, kSize);
-    depth_ = core::makeRenderbuffer();
-    glNamedRenderbufferStorage(depth_.get(), GL_DEPTH24_STENCIL8, kSize, kSize);
-    fbo_ = core::makeFramebuffer();
-    glNamedFramebufferRenderbuffer(fbo_.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color_.get());
-    glNamedFramebufferRenderbuffer(fbo_.get(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, depth_.get());
-    EXPECT_EQ(glCheckNamedFramebufferStatus(fbo_.get(), GL_FRAMEBUFFER), static_cast<GLenum>(GL_FRAMEBUFFER_COMPLETE));
-  }
-
+  Target() : OffscreenTarget(kSize, GL_RGBA16F) { EXPECT_TRUE(complete()); }
   // Binds the target and clears colour to kClear, depth to 1, stencil to 0.
-  void bindAndClear() {
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get());
-    glViewport(0, 0, kSize, kSize);
-    glDisable(GL_SCISSOR_TEST);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    glDepthMask(GL_TRUE);
-    glStencilMask(0xFF);
-    glClearNamedFramebufferfv(fbo_.get(), GL_COLOR, 0, &kClear.x);
-    glClearNamedFramebufferfi(fbo_.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
-  }
-
-  // Sets the stencil to `value` inside the rectangle (GL pixel coordinates, origin bottom-left).
-  void fillStencil(int x, int y, int w, int h, int value) {
-    glEnable(GL_SCISSOR_TEST);
-    glScissor(x, y, w, h);
-    glStencilMask(0xFF);
-    glClearNamedFramebufferiv(fbo_.get(), GL_STENCIL, 0, &value);
-    glDisable(GL_SCISSOR_TEST);
-  }
-
-  std::vector<glm::vec4> readColor() const {
-    std::vector<glm::vec4> out(static_cast<std::size_t>(kSize) * kSize);
-    glNamedFramebufferReadBuffer(fbo_.get(), GL_COLOR_ATTACHMENT0);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_.get());
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glReadPixels(0, 0, kSize, kSize, GL_RGBA, GL_FLOAT, out.data());
-    return out;
-  }
-
-  std::vector<float> readDepth() const {
-    std::vector<float> out(static_cast<std::size_t>(kSize) * kSize);
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_.get());
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glReadPixels(0, 0, kSize, kSize, GL_DEPTH_COMPONENT, GL_FLOAT, out.data());
-    return out;
-  }
-
+  void bindAndClear() const { clear(kClear); }
   static constexpr glm::vec4 kClear{0.0f, 0.0f, 1.0f, 0.0f};
-
- private:
-  core::Renderbuffer color_, depth_;
-  core::Framebuffer fbo_;
 };
 
 std::size_t at(int x, int y) { return static_cast<std::size_t>(y) * kSize + x; }

@@ -14,57 +14,16 @@
 
 #include <puff/core/files.h>
 
+#include "support/cli_test.h"
+
 namespace {
 
 namespace fs = std::filesystem;
+using puff::test::CliRun;
 
-struct CliRun {
-  int exitCode = -1;
-  std::string out, err;
-};
-
-class PuffbakeCli : public ::testing::Test {
+class PuffbakeCli : public puff::test::CliTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("puffbake_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::permissions(dir_ / "locked", fs::perms::owner_all, ec);
-    fs::remove_all(dir_);
-  }
-
-  CliRun run(const std::string& args) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd = std::string(PUFFBAKE_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = *puff::core::readFileBytes(out);
-    r.err = *puff::core::readFileBytes(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
-  }
-
-  fs::path write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-
-  // The one-line error contract.
-  void expectOneLineError(const CliRun& r, const std::string& needle, int code = 1) {
-    EXPECT_EQ(r.exitCode, code) << r.err;
-    EXPECT_EQ(r.err.rfind("puffbake: error: ", 0), 0u) << r.err;
-    EXPECT_NE(r.err.find(needle), std::string::npos) << "stderr: " << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  }
-
-  fs::path dir_;
+  PuffbakeCli() : CliTest(PUFFBAKE_EXE, "puffbake") {}
 };
 
 TEST_F(PuffbakeCli, HelpListsTheOptionsThatExist) {

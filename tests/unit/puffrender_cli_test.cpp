@@ -15,16 +15,14 @@
 #include <nlohmann/json.hpp>
 
 #include <puff/core/files.h>
+
 #include <puff/core/image.h>
+#include "support/cli_test.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-struct CliRun {
-  int exitCode = -1;
-  std::string out, err;
-};
+using puff::test::CliRun;
 
 // A ground plane and a ball: renders without an atlas.
 constexpr const char* kGroundScene = R"({
@@ -34,47 +32,9 @@ constexpr const char* kGroundScene = R"({
   "animation": {"fps": 10, "frames": 4, "orbit": 30}
 })";
 
-class PuffrenderCli : public ::testing::Test {
+class PuffrenderCli : public puff::test::CliTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("puffrender_cli_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::permissions(dir_ / "locked", fs::perms::owner_all, ec);
-    fs::remove_all(dir_);
-  }
-
-  CliRun run(const std::string& args) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd = std::string(PUFFRENDER_EXE) + " " + args + " >" + out.string() + " 2>" + err.string();
-    const int status = std::system(cmd.c_str());
-    CliRun r;
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = *puff::core::readFileBytes(out);
-    r.err = *puff::core::readFileBytes(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
-  }
-
-  fs::path write(const std::string& name, const std::string& text) {
-    const fs::path p = dir_ / name;
-    fs::create_directories(p.parent_path());
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-
-  // The one-line error contract.
-  void expectOneLineError(const CliRun& r, const std::string& needle, int code = 1) {
-    EXPECT_EQ(r.exitCode, code) << r.err;
-    EXPECT_EQ(r.err.rfind("puffrender: error: ", 0), 0u) << r.err;
-    EXPECT_NE(r.err.find(needle), std::string::npos) << "stderr: " << r.err;
-    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  }
+  PuffrenderCli() : CliTest(PUFFRENDER_EXE, "puffrender") {}
 
   // Files in dir_ other than the scenes the test wrote.
   std::vector<std::string> outputs() {
@@ -85,8 +45,6 @@ class PuffrenderCli : public ::testing::Test {
     std::sort(names.begin(), names.end());
     return names;
   }
-
-  fs::path dir_;
 };
 
 TEST_F(PuffrenderCli, HelpListsTheOptionsThatExist) {

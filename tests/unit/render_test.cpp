@@ -12,6 +12,7 @@
 #include <puff/render/render.h>
 
 #include "support/gl_fixture.h"
+#include "support/sphere_atlas.h"
 
 namespace puff {
 namespace {
@@ -24,17 +25,9 @@ class RenderFrame : public test::GlTest {
     GlTest::SetUpTestSuite();
     dir_ = fs::temp_directory_path() / ("puff-render-test-" + std::to_string(::getpid()));
     fs::remove_all(dir_);
-    bake::BakeOptions o;
-    o.cellSize = 128;
-    o.flange = {4.0f, false};
-    o.outDir = dir_;
-    o.contactSheet = false;
-    bake::PuffSource src;
-    src.mesh = mesh::generateSphere({6});
-    src.provenance.generator = "sphere";
-    auto r = bake::bakeAtlas({src}, o);
-    ASSERT_TRUE(r.ok()) << r.error().message;
-    sidecar_ = r->sidecar;
+    auto sidecar = test::bakeSphereAtlas(dir_);
+    ASSERT_TRUE(sidecar.ok()) << sidecar.error().message;
+    sidecar_ = *sidecar;
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
   static inline fs::path dir_, sidecar_;

@@ -7,6 +7,8 @@
 #include <puff/cel/nailboards.h>
 #include <puff/core/shader.h>
 
+#include "pass_state.h"
+
 namespace puff::cel {
 
 namespace {
@@ -331,46 +333,15 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
 
   // Every state this pass relies on is set here.
   glUseProgram(p);
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_DEPTH_CLAMP);
-  glDisable(GL_SCISSOR_TEST);
-  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-  glEnable(GL_DEPTH_TEST);
+  detail::resetPassState();
   if (msaa) {
     glEnable(GL_MULTISAMPLE);
     glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-  } else {
-    glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   }
-  switch (pass) {
-    case ShadePass::kLit:
-      glDepthFunc(GL_LESS);
-      glDepthMask(GL_TRUE);
-      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-      glDisable(GL_STENCIL_TEST);
-      break;
-    case ShadePass::kShadowed:
-      glDepthFunc(GL_EQUAL);
-      glDepthMask(GL_FALSE);
-      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-      glEnable(GL_STENCIL_TEST);
-      glStencilFunc(GL_NOTEQUAL, 0, 0xFF);
-      glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-      glStencilMask(0x00);
-      break;
-    case ShadePass::kDepthOnly:
-      glDepthFunc(GL_LESS);
-      glDepthMask(GL_TRUE);
-      glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-      glDisable(GL_STENCIL_TEST);
-      break;
-  }
+  detail::applyShadePass(pass);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
   glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glDepthMask(GL_TRUE);
-  glStencilMask(0xFF);
+  detail::restoreWriteMasks();
   s.drawCalls = 1;
   return s;
 }
@@ -382,17 +353,8 @@ DrawStats NailboardRenderer::drawBaseline(const Style& style) {
   if (m.count == 0 || !m.hasAtlas) return s;
   m.setCommon(m.sprite.get(), m.spAtlas, style);
   glUseProgram(m.sprite.get());
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_DEPTH_CLAMP);
-  glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  detail::resetPassState();
+  detail::applyShadePass(ShadePass::kLit);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
   s.drawCalls = 1;
   return s;
@@ -410,14 +372,9 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   glProgramUniform4fv(p, m.shadowFloor, 1, glm::value_ptr(floorPlane));
 
   glUseProgram(p);
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  detail::resetPassState();
   // No near or far clipping of the faces: the fragment shader clamps their depth instead.
   glEnable(GL_DEPTH_CLAMP);
-  glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDepthMask(GL_FALSE);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
@@ -432,9 +389,8 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   glBindTextureUnit(kUnitShadowProfile, m.shadowProfile.get());
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 24));
   glDisable(GL_DEPTH_CLAMP);
-  glDepthMask(GL_TRUE);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDisable(GL_STENCIL_TEST);
+  detail::restoreWriteMasks();
   s.drawCalls = 1;
   return s;
 }

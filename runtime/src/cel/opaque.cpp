@@ -1,6 +1,8 @@
 // Opaque scene objects: primitives, validation, one packed upload, and the three shade passes.
 #include <puff/cel/opaque.h>
 
+#include "pass_state.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -265,45 +267,9 @@ void OpaqueRenderer::draw(ShadePass pass) {
   if (im.items.empty()) return;
 
   // Every state this pass relies on is set here; nothing is inherited from the host or a pass.
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);  // planes show both sides; the fragment shader turns back-face normals around
-  glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_DEPTH_CLAMP);
-  glDisable(GL_POLYGON_OFFSET_FILL);
-  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-  glDisable(GL_RASTERIZER_DISCARD);
-  glDisable(GL_FRAMEBUFFER_SRGB);  // colours are display values
-  glDisable(GL_PRIMITIVE_RESTART);
-  glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
-  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-  glDepthRange(0.0, 1.0);  // linear depth is written as is
-  glEnable(GL_DEPTH_TEST);
-  int passMode = 0;
-  switch (pass) {
-    case ShadePass::kLit:
-      glDepthFunc(GL_LESS);
-      glDepthMask(GL_TRUE);
-      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-      glDisable(GL_STENCIL_TEST);
-      passMode = 0;
-      break;
-    case ShadePass::kShadowed:
-      glDepthFunc(GL_EQUAL);
-      glDepthMask(GL_FALSE);
-      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-      glEnable(GL_STENCIL_TEST);
-      glStencilFunc(GL_NOTEQUAL, 0, 0xFF);
-      glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-      passMode = 1;
-      break;
-    case ShadePass::kDepthOnly:
-      glDepthFunc(GL_LESS);
-      glDepthMask(GL_TRUE);
-      glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-      glDisable(GL_STENCIL_TEST);
-      passMode = 2;
-      break;
-  }
+  // Culling stays off: planes show both sides; the fragment shader turns back-face normals around.
+  detail::resetPassState();
+  const int passMode = detail::applyShadePass(pass);
 
   const GLuint program = im.program.get();
   glUseProgram(program);
@@ -323,9 +289,7 @@ void OpaqueRenderer::draw(ShadePass pass) {
   glBindVertexArray(0);
   glUseProgram(0);
   glFrontFace(GL_CCW);
-  // Leave writes on, as GL starts: a host's glClear after this pass must not be silently masked.
-  glDepthMask(GL_TRUE);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  detail::restoreWriteMasks();
 }
 
 }  // namespace puff::cel

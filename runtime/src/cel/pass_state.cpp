@@ -1,0 +1,54 @@
+#include "pass_state.h"
+
+namespace puff::cel::detail {
+
+void resetPassState() {
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_DEPTH_CLAMP);
+  glDisable(GL_POLYGON_OFFSET_FILL);
+  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  glDisable(GL_RASTERIZER_DISCARD);
+  glDisable(GL_FRAMEBUFFER_SRGB);  // colours are display values
+  glDisable(GL_PRIMITIVE_RESTART);
+  glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glDepthRange(0.0, 1.0);
+  glEnable(GL_DEPTH_TEST);
+}
+
+int applyShadePass(ShadePass pass) {
+  switch (pass) {
+    case ShadePass::kLit:
+      glDepthFunc(GL_LESS);
+      glDepthMask(GL_TRUE);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      glDisable(GL_STENCIL_TEST);
+      return 0;
+    case ShadePass::kShadowed:
+      glDepthFunc(GL_EQUAL);
+      glDepthMask(GL_FALSE);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      glEnable(GL_STENCIL_TEST);
+      glStencilFunc(GL_NOTEQUAL, 0, 0xFF);
+      glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+      glStencilMask(0x00);
+      return 1;
+    case ShadePass::kDepthOnly:
+      glDepthFunc(GL_LESS);
+      glDepthMask(GL_TRUE);
+      glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+      glDisable(GL_STENCIL_TEST);
+      return 2;
+  }
+  return 0;
+}
+
+void restoreWriteMasks() {
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glStencilMask(0xFF);
+}
+
+}  // namespace puff::cel::detail

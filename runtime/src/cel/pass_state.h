@@ -1,0 +1,24 @@
+// GL state shared by the cel passes (nailboards, shadow volumes, opaque objects). Each pass sets
+// every state it relies on, never trusting what the previous pass or the host left.
+#pragma once
+
+#include <puff/cel/nailboards.h>
+#include <puff/core/gl.h>
+
+namespace puff::cel::detail {
+
+/// The state every cel pass starts from: no blending, culling, scissor, depth clamp, polygon
+/// offset, alpha-to-coverage, rasterizer discard, sRGB conversion or primitive restart; filled
+/// polygons; depth range [0, 1] (linear depth is written as is); depth test on.
+void resetPassState();
+
+/// Depth, stencil and colour state of `pass`: kLit depth LESS + write; kShadowed depth EQUAL, no
+/// depth write, stencil != 0, stencil writes off; kDepthOnly depth LESS + write, no colour.
+/// Returns the pass number the shaders' uPass uniform takes (0, 1, 2).
+int applyShadePass(ShadePass pass);
+
+/// Write masks back on (depth, colour, stencil), as GL starts: a host's glClear after a pass that
+/// turned them off must not be silently masked.
+void restoreWriteMasks();
+
+}  // namespace puff::cel::detail

@@ -1,0 +1,27 @@
+// A one-variation atlas of the unit sphere, baked in-process for tests that need analytic shapes:
+// its silhouette is a circle, its depth map sqrt(1/4 - r^2) diameters.
+#pragma once
+
+#include <filesystem>
+
+#include <puff/bake/baker.h>
+#include <puff/mesh/mesh.h>
+
+namespace puff::test {
+
+/// Bakes into `dir` (128-texel cells, a 4-texel flange, no contact sheet) and returns the sidecar.
+inline Result<std::filesystem::path> bakeSphereAtlas(const std::filesystem::path& dir) {
+  bake::BakeOptions o;
+  o.cellSize = 128;
+  o.flange = {4.0f, false};
+  o.outDir = dir;
+  o.contactSheet = false;
+  bake::PuffSource src;
+  src.mesh = mesh::generateSphere({6});
+  src.provenance.generator = "sphere";
+  auto r = bake::bakeAtlas({src}, o);
+  if (!r) return r.error();
+  return r->sidecar;
+}
+
+}  // namespace puff::test
