@@ -10,6 +10,10 @@
 //   5. every receiver is drawn again with ShadePass::kShadowed: depth test EQUAL, only where the
 //      stencil is non-zero, colour = the ambient term only (Eq. 2 without its diffuse term).
 //
+// Each draw call sets every piece of GL state it relies on and afterwards turns the depth, colour
+// and stencil write masks back on; other state (depth function, stencil test, bound program and
+// textures) stays as the pass left it, so a host sets what its own passes need.
+//
 // Particles reach the GPU as 16 bytes each (PackedParticle) and become quads in the vertex shader
 // (vertex pulling from a shader storage buffer): 6 vertices per nailboard, 24 per shadow volume
 // (two faces, each a fan of four triangles over the volume's convex hull on screen).
