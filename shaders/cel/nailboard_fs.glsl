@@ -28,20 +28,19 @@ uniform int uMultisample;   // 1: alpha-to-coverage resolves the edge; 0: hard e
 out vec4 fragColor;
 
 void main() {
-  vec3 n = vec3(0.0);
-  vec3 color = vec3(0.0);
+  // First what every pass needs: depth offset and distance to the silhouette (one read per view).
+  // The mip level comes from the particle's projected size, like the texel-to-pixel scale below:
+  // no derivatives, so the colour can be read after the discards.
+  float lod = max(0.0, log2(max(1e-4, vTexelsPerPixel)));
+  vec2 uv[PUFF_VIEWS];
+  vec2 nxy[PUFF_VIEWS];
   float depth = 0.0, dist = 0.0;
   for (int k = 0; k < PUFF_VIEWS; ++k) {  // a constant bound: unrolled
-    vec2 puff = mat2(vMap[k].xy, vMap[k].zw) * vPuff;
-    vec2 uv = cellUv(vCell[k], puff);
-    vec4 pk = texture(uPacked, uv);
-    vec4 c = texture(uColor, uv);
-    vec2 nxy = pk.xy * 2.0 - 1.0;
-    vec3 nCell = vec3(nxy, sqrt(max(0.0, 1.0 - dot(nxy, nxy))));
+    uv[k] = cellUv(vCell[k], mat2(vMap[k].xy, vMap[k].zw) * vPuff);
+    vec4 pk = textureLod(uPacked, uv[k], lod);
+    nxy[k] = pk.xy * 2.0 - 1.0;
     float w = vWeight[k];
-    n += w * (vNormalXf[k] * nCell);
     depth += w * (pk.z - 0.5) * uAtlasScale.y * vNormalXf[k][2].z;
-    color += w * c.rgb;
     dist += w * ((pk.w - 0.5) * 2.0 * uAtlasScale.z);
   }
   // From the particle's projected size, not from derivatives: those break down along the quad's
@@ -67,7 +66,13 @@ void main() {
   }
   vec3 ka = ambientAt(gl_FragCoord.xy);
   vec3 rgb = ka;
-  if (uPass == 0) {
+  if (uPass == 0) {  // the lit pass alone needs the normal and the colour (the second read)
+    vec3 n = vec3(0.0), color = vec3(0.0);
+    for (int k = 0; k < PUFF_VIEWS; ++k) {
+      float w = vWeight[k];
+      n += w * (vNormalXf[k] * vec3(nxy[k], sqrt(max(0.0, 1.0 - dot(nxy[k], nxy[k])))));
+      color += w * textureLod(uColor, uv[k], lod).rgb;
+    }
     vec3 q = uShading == 1 ? quantize(dot(normalize(n), uLightDirView.xyz)) : vec3(1.0);
     rgb = ka + color * uLightColor.rgb * q;
   }
