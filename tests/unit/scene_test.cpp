@@ -160,7 +160,7 @@ TEST(Scene, ErrorsNameTheFileThePointerWhatWasExpectedAndWhatCame) {
        "\"fovY\"?)"},
       {R"({"camra": {}})",
        "/camra: unknown key, expected one of output, camera, light, ambient, ramp, atlas, style, particles, emitters, "
-       "objects, animation (did you mean \"camera\"?)"},
+       "objects, animation, simulation (did you mean \"camera\"?)"},
       {R"({"output": {"width": 0}})", "/output/width: expected an integer in [1, 16384], got 0"},
       {R"({"output": {"height": 16385}})", "/output/height: expected an integer in [1, 16384], got 16385"},
       {R"({"output": {"width": 640.5}})", "/output/width: expected an integer in [1, 16384], got 640.5"},
@@ -227,7 +227,7 @@ TEST(Scene, ErrorsNameTheFileThePointerWhatWasExpectedAndWhatCame) {
        "/atlas: \"${PUFF_ART}\" needs an art directory, and none was given (--art-dir)"},
       {R"({"a/b~c": 1})",
        "/a~1b~0c: unknown key, expected one of output, camera, light, ambient, ramp, atlas, style, particles, "
-       "emitters, objects, animation"},
+       "emitters, objects, animation, simulation"},
       {R"([1, 2])", "expected a JSON object at the top level, got [1,2]"},
   };
   for (const auto& [text, expected] : cases) EXPECT_EQ(parseError(std::string(text)), f + expected) << text;
@@ -650,3 +650,97 @@ TEST(Scene, CameraOrbitsTheTargetAboutTheVerticalAxis) {
 }
 
 }  // namespace
+
+// ---- the "simulation" section -------------------------------------------------------------------
+
+TEST(SceneSimulation, ReadsForcesEmittersAndPathsAndRoundTrips) {
+  const Scene s = parseOk(R"({
+    "atlas": "a.json",
+    "animation": {"fps": 30},
+    "objects": [{"type": "plane", "scale": [5, 1, 5], "friction": 0.25}, {"type": "box", "collide": false}],
+    "simulation": {
+      "substeps": 3, "preroll": 1.5, "maxParticles": 5000, "collisionRadius": 0.25, "integrator": "forward-euler",
+      "forces": {"gravity": [0, -1, 0], "buoyancy": 2, "drag": 5, "wind": [1, 0, 0],
+                 "windVolumes": [{"center": [0, 1, 0], "halfExtent": [1, 2, 3], "velocity": [0, 0, 4], "feather": 0.5}],
+                 "turbulence": {"strength": 0.3, "scale": 2, "speed": 0.1, "seed": 9},
+                 "vortices": [{"position": [1, 2, 3], "axis": [0, 0, 1], "strength": -2, "radius": 0.3, "falloff": 4,
+                               "length": 2, "path": [{"time": 0, "position": [0, 0, 0]}, {"time": 2, "position": [4, 0, 0]}],
+                               "shedInterval": 0.1, "shedLifetime": 0.5}]},
+      "emitters": [{"shape": "disc", "position": [0, 1, 0], "radius": 0.2, "normal": [1, 0, 0], "rate": 50,
+                    "start": 0.5, "stop": 3, "seed": 4, "velocity": [0, 2, 0], "spread": 15, "speedSpread": 0.1,
+                    "inheritVelocity": 0.5, "density": 2, "sizeMin": 0.3, "sizeMax": 0.6, "lifetime": 4,
+                    "lifetimeSpread": 0.2, "variations": [1, 2], "oriented": true, "spin": 1,
+                    "path": [{"time": 0, "position": [0, 0, 0]}, {"time": 1, "position": [0, 0, 5]}]}]
+    }
+  })");
+  ASSERT_TRUE(s.simulation.has_value());
+  const puff::sim::Settings& sim = *s.simulation;
+  EXPECT_EQ(sim.fps, 30.0f);
+  EXPECT_EQ(sim.substeps, 3);
+  EXPECT_EQ(sim.preroll, 1.5f);
+  EXPECT_EQ(sim.maxParticles, 5000u);
+  EXPECT_EQ(sim.integrator, puff::sim::Integrator::kForwardEuler);
+  EXPECT_EQ(sim.forces.windVolumes.at(0).halfExtent, glm::vec3(1, 2, 3));
+  EXPECT_EQ(sim.forces.turbulence.seed, 9u);
+  ASSERT_EQ(sim.forces.vortices.size(), 1u);
+  EXPECT_EQ(sim.forces.vortices[0].path.points.at(1), glm::vec3(4, 0, 0));
+  EXPECT_EQ(sim.forces.vortices[0].shedInterval, 0.1f);
+  ASSERT_EQ(sim.emitters.size(), 1u);
+  EXPECT_EQ(sim.emitters[0].shape, puff::sim::Emitter::Shape::kDisc);
+  EXPECT_EQ(sim.emitters[0].variations, (std::vector<int>{1, 2}));
+  EXPECT_EQ(sim.emitters[0].spreadDegrees, 15.0f);
+
+  // Colliders come from the objects that collide, placed as they are drawn.
+  auto settings = puff::render::simulationSettings(s);
+  ASSERT_TRUE(settings.ok()) << settings.error().message;
+  ASSERT_EQ((*settings)->colliders.size(), 1u);
+  EXPECT_EQ((*settings)->colliders[0].type, puff::sim::Collider::Type::kPlane);
+  EXPECT_EQ((*settings)->colliders[0].halfExtent, glm::vec3(5, 0, 5));
+  EXPECT_EQ((*settings)->colliders[0].friction, 0.25f);
+
+  // toJson writes every field; reading it back gives the same scene.
+  auto again = puff::render::parseScene(puff::render::toJson(s), kFile);
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(puff::render::toJson(*again), puff::render::toJson(s));
+  EXPECT_EQ(again->simulation->emitters[0].path.times, sim.emitters[0].path.times);
+}
+
+TEST(SceneSimulation, ImpossibleValuesNameTheField) {
+  const std::string f = kFile.string() + ": ";
+  const std::pair<const char*, const char*> cases[] = {
+      {R"({"atlas": "a.json", "simulation": {"emitters": [{"rate": -1}]}})",
+       "/simulation/emitters/0/rate: expected particles per second in [0, 1e+07], got -1"},
+      {R"({"atlas": "a.json", "simulation": {"emitters": [{"lifetime": 0}]}})",
+       "/simulation/emitters/0/lifetime: expected a lifetime in seconds > 0, got 0"},
+      {R"({"atlas": "a.json", "simulation": {"emitters": [{"sizeMin": 2, "sizeMax": 1}]}})",
+       "/simulation/emitters/0/sizeMax: expected a size >= sizeMin (2), got 1"},
+      {R"({"simulation": {"maxParticles": 1000000000000}})",
+       "/simulation/maxParticles: expected a particle budget in [0, 20000000] (about 64 bytes each; more would not "
+       "fit in memory), got 1000000000000"},
+      {R"({"simulation": {"forces": {"drag": -3}}})",
+       "/simulation/forces/drag: expected a number in [0, 1e+06], got -3"},
+      {R"({"simulation": {"forces": {"vortices": [{"axis": [0, 0, 0]}]}}})",
+       "/simulation/forces/vortices/0/axis: expected a non-zero direction, got [0,0,0]"},
+      {R"({"simulation": {"forces": {"vortices": [{"radius": 0}]}}})",
+       "/simulation/forces/vortices/0/radius: expected a number in [0.0001, 1e+06], got 0"},
+      {R"({"simulation": {"forces": {"turbulence": {"scale": 0}}}})",
+       "/simulation/forces/turbulence/scale: expected a number in [0.0001, 1e+06], got 0"},
+      {R"({"simulation": {"forces": {"wind": [1e9, 0, 0]}}})",
+       "/simulation/forces/wind/0: expected a number in [-1e+06, 1e+06], got 1000000000.0"},
+      {R"({"simulation": {"forces": {"vortices": [{"path": [{"time": 1, "position": [0, 0, 0]},
+                                                            {"time": 1, "position": [1, 0, 0]}]}]}}})",
+       "/simulation/forces/vortices/0/path/1/time: expected a time after the previous key (1), got 1"},
+      {R"({"simulation": {"substeps": 0}})", "/simulation/substeps: expected an integer in [1, 1000], got 0"},
+      {R"({"simulation": {"integrator": "rk4"}})",
+       "/simulation/integrator: expected one of exponential, forward-euler, got \"rk4\""},
+      {R"({"simulation": {"emitters": [{"shape": "cone"}]}})",
+       "/simulation/emitters/0/shape: expected one of point, sphere, disc, got \"cone\""},
+      {R"({"simulation": {"forces": {"drgg": 1}}})",
+       "/simulation/forces/drgg: unknown key, expected one of gravity, buoyancy, up, drag, wind, windVolumes, "
+       "turbulence, vortices (did you mean \"drag\"?)"},
+      {R"({"simulation": {"emitters": [{}]}})",
+       "/atlas: expected an atlas sidecar path (the scene has particles), got none"},
+      {R"({"objects": [{"friction": 2}]})", "/objects/0/friction: expected a number in [0, 1], got 2"},
+  };
+  for (const auto& [text, expected] : cases) EXPECT_EQ(parseError(std::string(text)), f + expected) << text;
+}

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <optional>
 
@@ -11,15 +12,6 @@
 namespace puff::render {
 
 namespace {
-
-glm::mat4 objectTransform(const ObjectSpec& o) {
-  glm::mat4 m = glm::translate(glm::mat4(1.0f), o.translate);
-  // XYZ Euler angles applied X first: M = T * Rz * Ry * Rx * S.
-  m = glm::rotate(m, glm::radians(o.rotateDegrees.z), glm::vec3(0, 0, 1));
-  m = glm::rotate(m, glm::radians(o.rotateDegrees.y), glm::vec3(0, 1, 0));
-  m = glm::rotate(m, glm::radians(o.rotateDegrees.x), glm::vec3(1, 0, 0));
-  return glm::scale(m, o.scale);
-}
 
 // An offscreen target: colour + depth/stencil, multisampled when asked, with a single-sample
 // resolve target to read back from.
@@ -85,6 +77,7 @@ struct SceneRenderer::Impl {
   int variations = 1;
   bool hasAtlas = false;
   glm::vec4 floorPlane{0.0f};
+  std::unique_ptr<sim::Simulator> sim;
 };
 
 SceneRenderer::SceneRenderer() : impl_(std::make_unique<Impl>()) {}
@@ -103,7 +96,8 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene)
   m.opaque = std::move(*op);
   m.block = std::make_unique<cel::FrameBlock>();
 
-  const bool needsAtlas = !scene.particles.empty() || !scene.emitters.empty();
+  const bool needsAtlas =
+      !scene.particles.empty() || !scene.emitters.empty() || (scene.simulation && !scene.simulation->emitters.empty());
   if (!scene.atlas.empty()) {
     auto atlas = core::loadAtlas(scene.atlas);
     if (!atlas) return atlas.error();
@@ -173,13 +167,54 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene)
   auto target = Target::create(scene.width, scene.height, scene.samples);
   if (!target) return target.error();
   m.target = std::move(*target);
+
+  auto settings = simulationSettings(scene);
+  if (!settings) return settings.error();
+  if (*settings) {
+    auto sim = sim::Simulator::create(std::move(**settings), m.variations);
+    if (!sim) return Error::at(scene.file, "/simulation" + sim.error().message);
+    m.sim = std::move(*sim);
+  }
   return r;
 }
 
-void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameStats* stats) {
+namespace {
+
+// What an edit may change without reloading anything: the look, the camera, the clock, and the
+// simulation's forces. toJson writes every field, so comparing the rest catches every other edit.
+nlohmann::json reloadKey(const Scene& s) {
+  nlohmann::json j = toJson(s);
+  for (const char* key : {"camera", "light", "style"}) j.erase(key);
+  j["ambient"].erase("color");
+  j["output"].erase("background");
+  j["animation"].erase("orbit");
+  j["animation"].erase("frames");
+  if (j.contains("simulation")) j["simulation"].erase("forces");
+  return j;
+}
+
+}  // namespace
+
+Result<void> SceneRenderer::update(const Scene& next) {
+  Impl& m = *impl_;
+  if (reloadKey(m.scene) != reloadKey(next)) {
+    auto fresh = create(next);
+    if (!fresh) return fresh.error();
+    impl_ = std::move((*fresh)->impl_);
+    return {};
+  }
+  if (m.sim && next.simulation) {
+    auto ok = m.sim->setForces(next.simulation->forces);
+    if (!ok) return Error::at(next.file, "/simulation" + ok.error().message);
+  }
+  m.scene = next;
+  return {};
+}
+
+void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameStats* stats, const cel::Camera* camera) {
   Impl& m = *impl_;
   const Scene& s = m.scene;
-  cel::Frame f = cel::Frame::fromCamera(cameraAt(s, frame), viewport.width, viewport.height);
+  cel::Frame f = cel::Frame::fromCamera(camera ? *camera : cameraAt(s, frame), viewport.width, viewport.height);
   f.viewport = viewport;
   f.light = s.light;
   f.ambientColor = s.ambientColor;
@@ -201,8 +236,22 @@ void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameSta
 
   m.opaque->draw(cel::ShadePass::kLit);
   cel::DrawStats up;
+  std::size_t simulated = 0;
+  double simulateMs = 0.0;
   if (m.hasAtlas) {
-    const std::vector<cel::Particle> particles = particlesAt(s, frame, m.variations);
+    std::vector<cel::Particle> particles = particlesAt(s, frame, m.variations);
+    if (m.sim) {
+      const auto t0 = std::chrono::steady_clock::now();
+      m.sim->advanceToFrame(frame);
+      simulateMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      particles.reserve(particles.size() + m.sim->size());
+      for (std::size_t i = 0; i < m.sim->size(); ++i) {
+        const sim::ParticleState p = m.sim->particle(i);
+        if (!(p.size > 0.0f)) continue;
+        particles.push_back(cel::Particle{p.position, p.size, p.variation, p.oriented, p.orientation});
+        ++simulated;
+      }
+    }
     up = m.nailboards->upload(particles);
     m.nailboards->drawNailboards(s.style, cel::ShadePass::kLit);
     if (s.style.shadows) {
@@ -215,7 +264,9 @@ void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameSta
   }
   if (stats) {
     stats->particles = up.particles;
+    stats->simulated = simulated;
     stats->bytesUploaded = up.bytesUploaded;
+    stats->simulateMs = simulateMs;
   }
 }
 

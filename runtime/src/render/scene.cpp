@@ -19,7 +19,10 @@
 #include <system_error>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
+
+#include <puff/mesh/mesh.h>
 
 namespace puff::render {
 
@@ -453,7 +456,8 @@ EmitterSpec readEmitter(const json& j, const std::string& ptr) {
 }
 
 ObjectSpec readObject(const json& j, const std::string& ptr, std::size_t index, const Reader& r) {
-  requireObject(j, ptr, {"type", "name", "mesh", "translate", "rotate", "scale", "albedo", "shading"});
+  requireObject(j, ptr,
+                {"type", "name", "mesh", "translate", "rotate", "scale", "albedo", "shading", "collide", "friction"});
   ObjectSpec o;
   using Type = ObjectSpec::Type;
   if (auto* v = find(j, "type")) {
@@ -481,6 +485,8 @@ ObjectSpec readObject(const json& j, const std::string& ptr, std::size_t index, 
   if (auto* v = find(j, "shading")) {
     o.cel = readEnum<bool>(*v, child(ptr, "shading"), {{"cel", true}, {"smooth", false}});
   }
+  if (auto* v = find(j, "collide")) o.collide = readBool(*v, child(ptr, "collide"));
+  if (auto* v = find(j, "friction")) o.friction = readFloat(*v, child(ptr, "friction"), kUnit);
   return o;
 }
 
@@ -491,11 +497,180 @@ void readAnimation(const json& j, const std::string& ptr, Animation& a) {
   if (auto* v = find(j, "orbit")) a.orbitDegreesPerSecond = readFloat(*v, child(ptr, "orbit"));
 }
 
+// ---- simulation -------------------------------------------------------------------------------
+
+sim::Path readPath3(const json& j, const std::string& ptr) {
+  // [{"time": t, "position": [x, y, z]}, ...], times increasing.
+  if (!j.is_array()) fail(ptr, "an array of keys {\"time\", \"position\"}", j);
+  sim::Path path;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string p = child(ptr, i);
+    requireObject(j[i], p, {"time", "position"});
+    const json* t = find(j[i], "time");
+    const json* x = find(j[i], "position");
+    if (!t) failText(child(p, "time"), "expected a time in seconds, got none");
+    if (!x) failText(child(p, "position"), "expected a position [x, y, z], got none");
+    const float time = readFloat(*t, child(p, "time"));
+    if (!path.times.empty() && !(time > path.times.back())) {
+      fail(child(p, "time"), "a time after the previous key (" + formatNumber(path.times.back()) + ")", *t);
+    }
+    path.times.push_back(time);
+    path.points.push_back(readVec3(*x, child(p, "position")));
+  }
+  return path;
+}
+
+const Range kMagnitude{-sim::kMaxMagnitude, sim::kMaxMagnitude};
+const Range kNonNegativeMagnitude{0.0, sim::kMaxMagnitude};
+
+glm::vec3 readDirection(const json& v, const std::string& ptr) {
+  const glm::vec3 d = readVec3(v, ptr, kMagnitude);
+  if (!(glm::length(d) > 0.0f)) fail(ptr, "a non-zero direction", v);
+  return d;
+}
+
+sim::Vortex readVortex(const json& j, const std::string& ptr) {
+  requireObject(
+      j, ptr, {"position", "axis", "strength", "radius", "falloff", "length", "path", "shedInterval", "shedLifetime"});
+  sim::Vortex v;
+  if (auto* x = find(j, "position")) v.position = readVec3(*x, child(ptr, "position"), kMagnitude);
+  if (auto* x = find(j, "axis")) v.axis = readDirection(*x, child(ptr, "axis"));
+  if (auto* x = find(j, "strength")) v.strength = readFloat(*x, child(ptr, "strength"), kMagnitude);
+  if (auto* x = find(j, "radius")) v.radius = readFloat(*x, child(ptr, "radius"), Range{1e-4, sim::kMaxMagnitude});
+  if (auto* x = find(j, "falloff")) v.falloff = readFloat(*x, child(ptr, "falloff"), kNonNegativeMagnitude);
+  if (auto* x = find(j, "length")) v.length = readFloat(*x, child(ptr, "length"), kNonNegativeMagnitude);
+  if (auto* x = find(j, "path")) v.path = readPath3(*x, child(ptr, "path"));
+  if (auto* x = find(j, "shedInterval")) {
+    v.shedInterval = readFloat(*x, child(ptr, "shedInterval"), Range{0.0, 1e4},
+                               "0 (no shedding) or a number of seconds in [0.001, 10000]");
+    if (v.shedInterval > 0.0f && v.shedInterval < 1e-3f)
+      fail(child(ptr, "shedInterval"), "0 (no shedding) or a number of seconds in [0.001, 10000]", *x);
+  }
+  if (auto* x = find(j, "shedLifetime"))
+    v.shedLifetime = readFloat(*x, child(ptr, "shedLifetime"), Range{0.0, 1e4, true, false});
+  return v;
+}
+
+sim::Forces readForces(const json& j, const std::string& ptr) {
+  requireObject(j, ptr, {"gravity", "buoyancy", "up", "drag", "wind", "windVolumes", "turbulence", "vortices"});
+  sim::Forces f;
+  if (auto* v = find(j, "gravity")) f.gravity = readVec3(*v, child(ptr, "gravity"), kMagnitude);
+  if (auto* v = find(j, "buoyancy")) f.buoyancy = readFloat(*v, child(ptr, "buoyancy"), kMagnitude);
+  if (auto* v = find(j, "up")) f.up = readDirection(*v, child(ptr, "up"));
+  if (auto* v = find(j, "drag")) f.drag = readFloat(*v, child(ptr, "drag"), kNonNegativeMagnitude);
+  if (auto* v = find(j, "wind")) f.wind = readVec3(*v, child(ptr, "wind"), kMagnitude);
+  if (auto* v = find(j, "windVolumes")) {
+    const std::string p = child(ptr, "windVolumes");
+    if (!v->is_array()) fail(p, "an array of wind volumes", *v);
+    for (std::size_t i = 0; i < v->size(); ++i) {
+      const std::string q = child(p, i);
+      const json& w = (*v)[i];
+      requireObject(w, q, {"center", "halfExtent", "velocity", "feather"});
+      sim::WindVolume vol;
+      if (auto* x = find(w, "center")) vol.center = readVec3(*x, child(q, "center"), kMagnitude);
+      if (auto* x = find(w, "halfExtent")) vol.halfExtent = readVec3(*x, child(q, "halfExtent"), kNonNegativeMagnitude);
+      if (auto* x = find(w, "velocity")) vol.velocity = readVec3(*x, child(q, "velocity"), kMagnitude);
+      if (auto* x = find(w, "feather")) vol.feather = readFloat(*x, child(q, "feather"), kNonNegativeMagnitude);
+      f.windVolumes.push_back(vol);
+    }
+  }
+  if (auto* v = find(j, "turbulence")) {
+    const std::string p = child(ptr, "turbulence");
+    requireObject(*v, p, {"strength", "scale", "speed", "seed"});
+    sim::Turbulence& t = f.turbulence;
+    if (auto* x = find(*v, "strength")) t.strength = readFloat(*x, child(p, "strength"), kNonNegativeMagnitude);
+    if (auto* x = find(*v, "scale")) t.scale = readFloat(*x, child(p, "scale"), Range{1e-4, sim::kMaxMagnitude});
+    if (auto* x = find(*v, "speed")) t.speed = readFloat(*x, child(p, "speed"), Range{0.0, 1e3});
+    if (auto* x = find(*v, "seed"))
+      t.seed = static_cast<std::uint32_t>(readInteger(*x, child(p, "seed"), 0, 0xffffffffLL));
+  }
+  if (auto* v = find(j, "vortices")) {
+    const std::string p = child(ptr, "vortices");
+    if (!v->is_array()) fail(p, "an array of vortices", *v);
+    for (std::size_t i = 0; i < v->size(); ++i) f.vortices.push_back(readVortex((*v)[i], child(p, i)));
+  }
+  return f;
+}
+
+sim::Emitter readSimEmitter(const json& j, const std::string& ptr) {
+  requireObject(j, ptr, {"shape",           "position", "radius",  "normal",   "path",     "rate",
+                         "start",           "stop",     "seed",    "velocity", "spread",   "speedSpread",
+                         "inheritVelocity", "density",  "sizeMin", "sizeMax",  "lifetime", "lifetimeSpread",
+                         "variations",      "oriented", "spin"});
+  sim::Emitter e;
+  using Shape = sim::Emitter::Shape;
+  if (auto* v = find(j, "shape")) {
+    e.shape = readEnum<Shape>(*v, child(ptr, "shape"),
+                              {{"point", Shape::kPoint}, {"sphere", Shape::kSphere}, {"disc", Shape::kDisc}});
+  }
+  if (auto* v = find(j, "position")) e.position = readVec3(*v, child(ptr, "position"), kMagnitude);
+  if (auto* v = find(j, "radius")) e.radius = readFloat(*v, child(ptr, "radius"), kNonNegativeMagnitude);
+  if (auto* v = find(j, "normal")) e.normal = readDirection(*v, child(ptr, "normal"));
+  if (auto* v = find(j, "path")) e.path = readPath3(*v, child(ptr, "path"));
+  if (auto* v = find(j, "rate"))
+    e.rate = readFloat(*v, child(ptr, "rate"), Range{0.0, 1e7}, "particles per second in [0, 1e+07]");
+  if (auto* v = find(j, "start")) e.start = readFloat(*v, child(ptr, "start"), kMagnitude);
+  if (auto* v = find(j, "stop")) e.stop = readFloat(*v, child(ptr, "stop"), kMagnitude);
+  if (auto* v = find(j, "seed"))
+    e.seed = static_cast<std::uint32_t>(readInteger(*v, child(ptr, "seed"), 0, 0xffffffffLL));
+  if (auto* v = find(j, "velocity")) e.velocity = readVec3(*v, child(ptr, "velocity"), kMagnitude);
+  if (auto* v = find(j, "spread")) e.spreadDegrees = readFloat(*v, child(ptr, "spread"), Range{0.0, 180.0});
+  if (auto* v = find(j, "speedSpread")) e.speedSpread = readFloat(*v, child(ptr, "speedSpread"), kUnit);
+  if (auto* v = find(j, "inheritVelocity"))
+    e.inheritVelocity = readFloat(*v, child(ptr, "inheritVelocity"), Range{-10.0, 10.0});
+  if (auto* v = find(j, "density")) e.density = readFloat(*v, child(ptr, "density"), Range{0.0, 1e3, true, false});
+  if (auto* v = find(j, "sizeMin")) e.sizeMin = readFloat(*v, child(ptr, "sizeMin"), kNonNegativeMagnitude);
+  if (auto* v = find(j, "sizeMax")) e.sizeMax = readFloat(*v, child(ptr, "sizeMax"), kNonNegativeMagnitude);
+  if (e.sizeMin > e.sizeMax) {
+    if (auto* v = find(j, "sizeMax"))
+      fail(child(ptr, "sizeMax"), "a size >= sizeMin (" + formatNumber(e.sizeMin) + ")", *v);
+    fail(child(ptr, "sizeMin"), "a size <= sizeMax (" + formatNumber(e.sizeMax) + ")", *find(j, "sizeMin"));
+  }
+  if (auto* v = find(j, "lifetime"))
+    e.lifetime = readFloat(*v, child(ptr, "lifetime"), Range{0.0, 1e6, true, false}, "a lifetime in seconds > 0");
+  if (auto* v = find(j, "lifetimeSpread"))
+    e.lifetimeSpread = readFloat(*v, child(ptr, "lifetimeSpread"), Range{0.0, 1.0, false, true});
+  if (auto* v = find(j, "variations")) {
+    const std::string p = child(ptr, "variations");
+    if (!v->is_array()) fail(p, "an array of variation numbers in [0, 255]", *v);
+    for (std::size_t i = 0; i < v->size(); ++i) e.variations.push_back(readInt((*v)[i], child(p, i), 0, 255));
+  }
+  if (auto* v = find(j, "oriented")) e.oriented = readBool(*v, child(ptr, "oriented"));
+  if (auto* v = find(j, "spin")) e.spin = readFloat(*v, child(ptr, "spin"), Range{0.0, 1e3});
+  return e;
+}
+
+sim::Settings readSimulation(const json& j, const std::string& ptr) {
+  requireObject(j, ptr, {"substeps", "preroll", "maxParticles", "collisionRadius", "integrator", "forces", "emitters"});
+  sim::Settings s;
+  if (auto* v = find(j, "substeps")) s.substeps = readInt(*v, child(ptr, "substeps"), 1, 1000);
+  if (auto* v = find(j, "preroll")) s.preroll = readFloat(*v, child(ptr, "preroll"), Range{0.0, 3600.0});
+  if (auto* v = find(j, "maxParticles")) {
+    s.maxParticles = static_cast<std::size_t>(
+        readInteger(*v, child(ptr, "maxParticles"), 0, static_cast<long long>(sim::kMaxParticleBudget),
+                    "a particle budget in [0, " + std::to_string(sim::kMaxParticleBudget) +
+                        "] (about 64 bytes each; more would not fit in memory)"));
+  }
+  if (auto* v = find(j, "collisionRadius")) s.collisionRadius = readFloat(*v, child(ptr, "collisionRadius"), kUnit);
+  if (auto* v = find(j, "integrator")) {
+    s.integrator = readEnum<sim::Integrator>(
+        *v, child(ptr, "integrator"),
+        {{"exponential", sim::Integrator::kExponential}, {"forward-euler", sim::Integrator::kForwardEuler}});
+  }
+  if (auto* v = find(j, "forces")) s.forces = readForces(*v, child(ptr, "forces"));
+  if (auto* v = find(j, "emitters")) {
+    const std::string p = child(ptr, "emitters");
+    if (!v->is_array()) fail(p, "an array of emitters", *v);
+    for (std::size_t i = 0; i < v->size(); ++i) s.emitters.push_back(readSimEmitter((*v)[i], child(p, i)));
+  }
+  return s;
+}
+
 Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
   if (!j.is_object()) throw Failure{"expected a JSON object at the top level, got " + describe(j)};
   requireObject(j, "",
                 {"output", "camera", "light", "ambient", "ramp", "atlas", "style", "particles", "emitters", "objects",
-                 "animation"});
+                 "animation", "simulation"});
   const Reader r(file, artDir);
   Scene s;
   s.file = file;
@@ -532,6 +707,13 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
     for (std::size_t i = 0; i < v->size(); ++i) s.objects.push_back(readObject((*v)[i], child("/objects", i), i, r));
   }
   if (auto* v = find(j, "animation")) readAnimation(*v, "/animation", s.animation);
+  if (auto* v = find(j, "simulation")) {
+    s.simulation = readSimulation(*v, "/simulation");
+    s.simulation->fps = s.animation.fps;
+    // What the reader does not see (cross-field limits): the simulator's own check.
+    if (auto ok = sim::validate(*s.simulation); !ok) throw Failure{"/simulation" + ok.error().message};
+    if (!s.simulation->emitters.empty()) total = std::max(total, 1LL);
+  }
   if (total > 0 && s.atlas.empty()) {
     if (auto* v = find(j, "atlas")) fail("/atlas", "an atlas sidecar path (the scene has particles)", *v);
     failText("/atlas", "expected an atlas sidecar path (the scene has particles), got none");
@@ -608,6 +790,76 @@ std::string pathJson(const fs::path& p, const fs::path& sceneDir) {
   }
   if (sceneDir.empty() || p.is_absolute()) return p.generic_string();
   return fs::absolute(p).generic_string();  // relative to the working directory, not the scene
+}
+
+json pathKeys(const sim::Path& p) {
+  json out = json::array();
+  for (std::size_t i = 0; i < p.times.size(); ++i)
+    out.push_back({{"time", number(p.times[i])}, {"position", vec3(p.points[i])}});
+  return out;
+}
+
+json simulationJson(const sim::Settings& s) {
+  json j;
+  j["substeps"] = s.substeps;
+  j["preroll"] = number(s.preroll);
+  j["maxParticles"] = s.maxParticles;
+  j["collisionRadius"] = number(s.collisionRadius);
+  j["integrator"] = s.integrator == sim::Integrator::kExponential ? "exponential" : "forward-euler";
+  const sim::Forces& f = s.forces;
+  json forces = {{"gravity", vec3(f.gravity)}, {"buoyancy", number(f.buoyancy)}, {"up", vec3(f.up)},
+                 {"drag", number(f.drag)},     {"wind", vec3(f.wind)},           {"windVolumes", json::array()},
+                 {"vortices", json::array()}};
+  for (const sim::WindVolume& w : f.windVolumes) {
+    forces["windVolumes"].push_back({{"center", vec3(w.center)},
+                                     {"halfExtent", vec3(w.halfExtent)},
+                                     {"velocity", vec3(w.velocity)},
+                                     {"feather", number(w.feather)}});
+  }
+  forces["turbulence"] = {{"strength", number(f.turbulence.strength)},
+                          {"scale", number(f.turbulence.scale)},
+                          {"speed", number(f.turbulence.speed)},
+                          {"seed", f.turbulence.seed}};
+  for (const sim::Vortex& v : f.vortices) {
+    forces["vortices"].push_back({{"position", vec3(v.position)},
+                                  {"axis", vec3(v.axis)},
+                                  {"strength", number(v.strength)},
+                                  {"radius", number(v.radius)},
+                                  {"falloff", number(v.falloff)},
+                                  {"length", number(v.length)},
+                                  {"path", pathKeys(v.path)},
+                                  {"shedInterval", number(v.shedInterval)},
+                                  {"shedLifetime", number(v.shedLifetime)}});
+  }
+  j["forces"] = std::move(forces);
+  j["emitters"] = json::array();
+  for (const sim::Emitter& e : s.emitters) {
+    const char* shape = e.shape == sim::Emitter::Shape::kPoint    ? "point"
+                        : e.shape == sim::Emitter::Shape::kSphere ? "sphere"
+                                                                  : "disc";
+    j["emitters"].push_back({{"shape", shape},
+                             {"position", vec3(e.position)},
+                             {"radius", number(e.radius)},
+                             {"normal", vec3(e.normal)},
+                             {"path", pathKeys(e.path)},
+                             {"rate", number(e.rate)},
+                             {"start", number(e.start)},
+                             {"stop", number(e.stop)},
+                             {"seed", e.seed},
+                             {"velocity", vec3(e.velocity)},
+                             {"spread", number(e.spreadDegrees)},
+                             {"speedSpread", number(e.speedSpread)},
+                             {"inheritVelocity", number(e.inheritVelocity)},
+                             {"density", number(e.density)},
+                             {"sizeMin", number(e.sizeMin)},
+                             {"sizeMax", number(e.sizeMax)},
+                             {"lifetime", number(e.lifetime)},
+                             {"lifetimeSpread", number(e.lifetimeSpread)},
+                             {"variations", e.variations},
+                             {"oriented", e.oriented},
+                             {"spin", number(e.spin)}});
+  }
+  return j;
 }
 
 // ---- evaluation -------------------------------------------------------------------------------
@@ -861,11 +1113,14 @@ json toJson(const Scene& s) {
                             {"rotate", vec3(o.rotateDegrees)},
                             {"scale", vec3(o.scale)},
                             {"albedo", vec3(o.albedo)},
-                            {"shading", o.cel ? "cel" : "smooth"}});
+                            {"shading", o.cel ? "cel" : "smooth"},
+                            {"collide", o.collide},
+                            {"friction", number(o.friction)}});
   }
   j["animation"] = {{"fps", number(s.animation.fps)},
                     {"frames", s.animation.frames},
                     {"orbit", number(s.animation.orbitDegreesPerSecond)}};
+  if (s.simulation) j["simulation"] = simulationJson(*s.simulation);
   return j;
 }
 
@@ -890,6 +1145,60 @@ std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variat
     }
   }
   return out;
+}
+
+glm::mat4 objectTransform(const ObjectSpec& o) {
+  glm::mat4 m = glm::translate(glm::mat4(1.0f), o.translate);
+  // XYZ Euler angles applied X first: M = T * Rz * Ry * Rx * S.
+  m = glm::rotate(m, glm::radians(o.rotateDegrees.z), glm::vec3(0, 0, 1));
+  m = glm::rotate(m, glm::radians(o.rotateDegrees.y), glm::vec3(0, 1, 0));
+  m = glm::rotate(m, glm::radians(o.rotateDegrees.x), glm::vec3(1, 0, 0));
+  return glm::scale(m, o.scale);
+}
+
+Result<std::optional<sim::Settings>> simulationSettings(const Scene& scene) {
+  if (!scene.simulation) return std::optional<sim::Settings>{};
+  sim::Settings s = *scene.simulation;
+  s.fps = scene.animation.fps;
+  s.colliders.clear();
+  for (const ObjectSpec& o : scene.objects) {
+    if (!o.collide) continue;
+    sim::Collider c;
+    c.name = o.name;
+    c.center = o.translate;
+    c.rotation = glm::angleAxis(glm::radians(o.rotateDegrees.z), glm::vec3(0, 0, 1)) *
+                 glm::angleAxis(glm::radians(o.rotateDegrees.y), glm::vec3(0, 1, 0)) *
+                 glm::angleAxis(glm::radians(o.rotateDegrees.x), glm::vec3(1, 0, 0));
+    c.friction = o.friction;
+    switch (o.type) {
+      case ObjectSpec::Type::kPlane:
+        c.type = sim::Collider::Type::kPlane;
+        c.halfExtent = glm::vec3(o.scale.x, 0.0f, o.scale.z);
+        break;
+      case ObjectSpec::Type::kBox:
+        c.type = sim::Collider::Type::kBox;
+        c.halfExtent = o.scale;
+        break;
+      case ObjectSpec::Type::kSphere:
+        // A stretched sphere collides as the sphere around it.
+        c.type = sim::Collider::Type::kSphere;
+        c.halfExtent = glm::vec3(std::max({o.scale.x, o.scale.y, o.scale.z}));
+        break;
+      case ObjectSpec::Type::kMesh: {
+        auto loaded = mesh::loadMesh(o.mesh);
+        if (!loaded) return loaded.error();
+        c.type = sim::Collider::Type::kMesh;
+        const glm::mat4 m = objectTransform(o);
+        c.positions.reserve(loaded->positions.size());
+        for (const glm::vec3& v : loaded->positions) c.positions.push_back(glm::vec3(m * glm::vec4(v, 1.0f)));
+        for (const glm::uvec3& t : loaded->triangles) c.indices.insert(c.indices.end(), {t.x, t.y, t.z});
+        break;
+      }
+    }
+    s.colliders.push_back(std::move(c));
+  }
+  if (auto ok = sim::validate(s); !ok) return Error::at(scene.file, "/simulation" + ok.error().message);
+  return std::optional<sim::Settings>(std::move(s));
 }
 
 cel::Camera cameraAt(const Scene& scene, int frame) {

@@ -12,8 +12,10 @@
 namespace puff::render {
 
 struct FrameStats {
-  std::size_t particles = 0;
+  std::size_t particles = 0;  ///< drawn (listed + placed + simulated)
+  std::size_t simulated = 0;  ///< of which from the simulator
   std::size_t bytesUploaded = 0;
+  double simulateMs = 0.0;  ///< CPU time spent stepping the simulator for this frame
 };
 
 class SceneRenderer {
@@ -29,7 +31,16 @@ class SceneRenderer {
 
   /// Renders frame `frame` into the current draw framebuffer instead (for a window): `target`
   /// must have depth + stencil. The viewport is scene size unless given.
-  void drawFrame(int frame, const cel::Viewport& viewport, FrameStats* stats = nullptr);
+  /// `camera` (optional) replaces the scene's camera for this frame (a viewer's orbit camera).
+  void drawFrame(int frame, const cel::Viewport& viewport, FrameStats* stats = nullptr,
+                 const cel::Camera* camera = nullptr);
+
+  /// Applies an edited scene (a viewer's panel). Style, camera, light, ambient colour, background,
+  /// animation and the simulation's forces take effect at once and the particles keep going;
+  /// anything else (atlas, ramp, gradient, objects, emitters, particles, size, samples, simulation
+  /// settings other than forces) reloads what the scene names and restarts the simulation. On
+  /// error nothing changes and the error names the file or field.
+  Result<void> update(const Scene& scene);
 
   const Scene& scene() const;
 

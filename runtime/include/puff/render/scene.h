@@ -12,16 +12,19 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <glm/gtc/quaternion.hpp>
+#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
 #include <puff/cel/frame.h>
 #include <puff/cel/nailboards.h>
 #include <puff/core/error.h>
+#include <puff/sim/simulator.h>
 
 namespace puff::render {
 
@@ -78,7 +81,9 @@ struct ObjectSpec {
   glm::vec3 rotateDegrees{0.0f};  ///< XYZ Euler angles, applied X then Y then Z
   glm::vec3 scale{1.0f};          ///< plane: half-size in x and z; box: half extents; sphere: radius
   glm::vec3 albedo{0.8f};
-  bool cel = true;  ///< cel (the ramp) or smooth shading
+  bool cel = true;        ///< cel (the ramp) or smooth shading
+  bool collide = true;    ///< simulated particles collide with it (scenes with a "simulation")
+  float friction = 0.0f;  ///< [0, 1], for simulated particles sliding on it
 };
 
 struct Animation {
@@ -106,6 +111,9 @@ struct Scene {
   std::vector<EmitterSpec> emitters;
   std::vector<ObjectSpec> objects;
   Animation animation;
+  /// The smoke simulator (forces, emitters; colliders come from `objects` with collide = true).
+  /// Its fps is the animation's. Absent: particles and emitters above move without forces.
+  std::optional<sim::Settings> simulation;
 };
 
 /// Named style presets: "outlines" (Fig. 8a), "cel" (Fig. 8b), "cel-shadows" (Fig. 8c),
@@ -125,7 +133,15 @@ nlohmann::json toJson(const Scene& scene);
 
 /// Seconds at frame `frame` (frame / fps).
 float frameTime(const Scene& scene, int frame);
-/// The particles alive at `frame`: listed ones and emitted ones, moved, spun and shrunk. Pure.
+/// Object space -> world of an object: translate * rotate (X, then Y, then Z) * scale.
+glm::mat4 objectTransform(const ObjectSpec& object);
+
+/// The simulator's settings for the scene: its "simulation" with the animation's fps and the
+/// colliding objects as colliders (meshes loaded). Errors name the mesh file. No simulation: empty.
+Result<std::optional<sim::Settings>> simulationSettings(const Scene& scene);
+
+/// The particles alive at `frame` that the scene lists or places with its (force-free) emitters:
+/// moved, spun and shrunk. Pure. Simulated particles are not included (see SceneRenderer).
 /// `variations` is the atlas's variation count (>= 1), for emitters that pick any variation.
 std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variations);
 /// The camera at `frame` (orbit applied).

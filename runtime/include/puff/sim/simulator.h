@@ -1,0 +1,231 @@
+// The smoke simulator (McGuire & Fein §3): smoke as tracer particles in air that six
+// artist-controlled forces move: vortex, buoyancy, gravity, wind, turbulence and drag toward the
+// local air velocity. Particles collide with rigid bodies but not with each other, and dissipate:
+// density falls linearly to zero over a particle's lifetime, and its size with it, so it shrinks
+// to nothing instead of popping.
+//
+// Model. Wind (global and local volumes), vortices and turbulence define the AIR velocity u(x, t);
+// gravity and buoyancy are accelerations. A particle obeys
+//     dv/dt = g + buoyancy * density * up + drag * (u(x, t) - v)
+// so drag is what couples smoke to the air: with drag 0 a particle is ballistic and the air fields
+// do nothing to it; with a large drag it follows the air exactly.
+//
+// Integration. Fixed steps of 1 / (fps * substeps) seconds. Within a step u and the accelerations
+// are held and the equation above is integrated exactly (exponential integrator), so the velocity
+// stays between its start and its target u + a/drag for ANY drag * step: unconditionally stable.
+// The paper's forward Euler (Integrator::kForwardEuler, kept for comparison) multiplies the
+// velocity error by (1 - drag * step) per step and diverges once drag * step > 2.
+//
+// Determinism. Every random number is a hash of (seed, emitter, particle index) and time is
+// counted in whole steps, so a frame depends only on the settings and its number: frame k is
+// reached by simulating from the start (reset + advanceToFrame), bit-identical on one machine.
+//
+// Storage is structure-of-arrays; stepping touches only the arrays it needs.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+
+#include <puff/core/error.h>
+
+namespace puff::sim {
+
+/// A point moving through keyframes: linear between them, held before the first and after the
+/// last. Empty: always at the origin. Times strictly increase (seconds).
+struct Path {
+  std::vector<float> times;
+  std::vector<glm::vec3> points;
+  glm::vec3 at(double t) const;
+  glm::vec3 velocityAt(double t) const;  ///< slope of the segment at t; zero outside the keys
+  bool empty() const { return times.empty(); }
+};
+
+/// A line vortex: air turns about `axis` through `position` (plus its path's position). Its
+/// tangential speed is the Lamb–Oseen profile scaled so it peaks at `strength` (world units / s;
+/// negative turns the other way) at 1.12 core radii: linear inside the core, 1/r outside. `falloff`
+/// (world units, 0 = none) multiplies by exp(-(r / falloff)^2) so the swirl ends; `length` (world
+/// units, 0 = infinite line) by exp(-(axial distance / (length / 2))^2).
+struct Vortex {
+  glm::vec3 position{0.0f};
+  glm::vec3 axis{0.0f, 1.0f, 0.0f};  ///< non-zero; normalized on use
+  float strength = 1.0f;
+  float radius = 0.5f;   ///< core radius, > 0
+  float falloff = 0.0f;  ///< >= 0
+  float length = 0.0f;   ///< >= 0
+  Path path;             ///< attach to a moving object: the vortex moves with this path
+  /// > 0: every shedInterval seconds the moving vortex leaves a copy behind at its current place
+  /// (a propeller's wake); each copy's strength fades linearly to 0 over shedLifetime seconds.
+  float shedInterval = 0.0f;
+  float shedLifetime = 1.0f;  ///< > 0
+};
+
+/// Air moving at `velocity` inside the box center +- halfExtent, fading to none over `feather`
+/// world units outside it (0 = hard edge).
+struct WindVolume {
+  glm::vec3 center{0.0f};
+  glm::vec3 halfExtent{1.0f};
+  glm::vec3 velocity{0.0f};
+  float feather = 0.0f;
+};
+
+/// Divergence-free noise (the curl of a smooth periodic noise potential, Bridson 2007), added to
+/// the air velocity: swirls of about `scale` world units, `strength` world units / s, changing
+/// over about 1 / `speed` seconds.
+struct Turbulence {
+  float strength = 0.0f;  ///< >= 0; 0 = off
+  float scale = 1.0f;     ///< > 0
+  float speed = 0.5f;     ///< >= 0
+  std::uint32_t seed = 1;
+};
+
+struct Forces {
+  glm::vec3 gravity{0.0f};  ///< acceleration, world units / s^2 (smoke is nearly weightless)
+  float buoyancy = 0.0f;    ///< upward acceleration per unit density, world units / s^2
+  glm::vec3 up{0.0f, 1.0f, 0.0f};
+  float drag = 2.0f;     ///< 1 / s, >= 0: how fast a particle takes the air's velocity
+  glm::vec3 wind{0.0f};  ///< global air velocity, world units / s
+  std::vector<WindVolume> windVolumes;
+  Turbulence turbulence;
+  std::vector<Vortex> vortices;
+};
+
+/// Particles are born at `rate` per second from `start` to `stop` seconds (stop <= start: forever)
+/// in a shape around `position` + path(t). Path emitters spawn each particle at its own instant
+/// inside the step, so a fast emitter (a missile's tail) leaves a continuous trail.
+struct Emitter {
+  enum class Shape {
+    kPoint,
+    kSphere,  ///< uniform in a ball of `radius`
+    kDisc,    ///< uniform in a disc of `radius` perpendicular to `normal`
+  };
+  Shape shape = Shape::kPoint;
+  glm::vec3 position{0.0f};
+  float radius = 0.5f;                 ///< >= 0
+  glm::vec3 normal{0.0f, 1.0f, 0.0f};  ///< disc normal
+  Path path;
+  float rate = 10.0f;  ///< particles per second, >= 0
+  float start = 0.0f;  ///< seconds
+  float stop = 0.0f;   ///< seconds; <= start = never stops
+  std::uint32_t seed = 1;
+  glm::vec3 velocity{0.0f, 1.0f, 0.0f};  ///< initial velocity, world units / s
+  float spreadDegrees = 0.0f;            ///< [0, 180]: the direction varies inside this cone
+  float speedSpread = 0.0f;              ///< [0, 1]: speed scaled by 1 +- this
+  float inheritVelocity = 0.0f;          ///< share of the path's own velocity added
+  float density = 1.0f;                  ///< (0, 1e3]; falls linearly to 0 at the end of life
+  float sizeMin = 0.5f, sizeMax = 1.0f;  ///< diameter at birth, world units, 0 <= min <= max
+  float lifetime = 2.0f;                 ///< seconds, > 0
+  float lifetimeSpread = 0.0f;           ///< [0, 1): lifetime scaled by 1 +- this
+  std::vector<int> variations;           ///< allowed atlas variations; empty = 0 .. variations-1
+  bool oriented = false;                 ///< random orientation (multi-view atlases)
+  float spin = 0.0f;                     ///< random angular velocity up to this, radians / s
+};
+
+/// A rigid body particles cannot enter. The particle is a sphere of `collisionRadius` times its
+/// current radius; on contact it is put back on the surface and loses its velocity into the
+/// surface (smoke slides along what it meets), and `friction` in [0, 1] of its sliding velocity.
+struct Collider {
+  enum class Type {
+    kPlane,   ///< the square center +- (halfExtent.x, 0, halfExtent.z) in the rotated frame; solid below (-y)
+    kSphere,  ///< radius halfExtent.x
+    kBox,     ///< center +- halfExtent in the rotated frame
+    kMesh,    ///< closed triangle mesh, world space (`positions`, `indices`): kept out by its surface
+  };
+  Type type = Type::kPlane;
+  std::string name;  ///< for messages
+  glm::vec3 center{0.0f};
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+  glm::vec3 halfExtent{1.0f};
+  std::vector<glm::vec3> positions;  ///< kMesh
+  std::vector<std::uint32_t> indices;
+  float friction = 0.0f;
+};
+
+enum class Integrator {
+  kExponential,   ///< exact for drag over each step (the default; stable for any step)
+  kForwardEuler,  ///< the paper's; diverges when drag * step > 2 (kept to show it)
+};
+
+struct Settings {
+  float fps = 24.0f;                   ///< frames per second, > 0
+  int substeps = 4;                    ///< steps per frame, [1, 1000]
+  float preroll = 0.0f;                ///< seconds simulated before frame 0, >= 0
+  std::size_t maxParticles = 200'000;  ///< budget; births beyond it are dropped (counted)
+  float collisionRadius = 0.5f;        ///< share of a particle's radius that collides, [0, 1]
+  Integrator integrator = Integrator::kExponential;
+  Forces forces;
+  std::vector<Emitter> emitters;
+  std::vector<Collider> colliders;
+};
+
+/// The most particles a budget may ask for (about 64 bytes each: 1.3 GB).
+constexpr std::size_t kMaxParticleBudget = 20'000'000;
+
+/// The largest magnitude any position, velocity, strength or acceleration may have (world units,
+/// seconds): beyond it float arithmetic would lose the particles.
+constexpr float kMaxMagnitude = 1e6f;
+
+/// Checks every value: "emitters/2/rate: expected a number >= 0, got -1". The pointers are
+/// relative to the Settings (a scene prefixes its own).
+Result<void> validate(const Settings& settings);
+Result<void> validate(const Forces& forces, const std::string& pointer = "/forces");
+
+/// The state of one particle, read out for rendering.
+struct ParticleState {
+  glm::vec3 position;
+  glm::vec3 velocity;
+  float size;     ///< current diameter: birth size * (1 - age / lifetime)
+  float density;  ///< current density: birth density * (1 - age / lifetime)
+  int variation;
+  bool oriented;
+  glm::quat orientation;
+};
+
+struct StepStats {
+  std::size_t born = 0, died = 0, dropped = 0;  ///< dropped: births refused by the budget
+  std::size_t collisions = 0;
+  std::size_t nonFinite = 0;  ///< particles removed because their state stopped being finite
+};
+
+class Simulator {
+ public:
+  /// Validates (see validate) and prepares the colliders and the turbulence field. `variations` is
+  /// the atlas's variation count (>= 1) for emitters that pick any.
+  static Result<std::unique_ptr<Simulator>> create(Settings settings, int variations = 1);
+  ~Simulator();
+
+  /// Back to time 0 with no particles, then the preroll.
+  void reset();
+  /// One fixed step of 1 / (fps * substeps) seconds.
+  void step(StepStats* stats = nullptr);
+  /// Steps until the time of frame `frame` (>= 0); from the start again when `frame` lies behind.
+  void advanceToFrame(int frame, StepStats* stats = nullptr);
+
+  /// Replaces the forces (live editing); the particles keep going under the new ones. Invalid
+  /// forces are refused (as validate words it) and the old ones kept.
+  Result<void> setForces(const Forces& forces);
+  const Settings& settings() const;
+
+  /// Seconds since the simulation started. Frame f is at preroll + f / fps; emitter start and stop,
+  /// paths and shedding count from the start too.
+  double time() const;
+  std::int64_t stepIndex() const;  ///< steps since the start
+  int frame() const;               ///< the frame the state is at, if it is at one; else -1
+  std::size_t size() const;        ///< live particles
+  ParticleState particle(std::size_t i) const;
+  /// The air velocity at `p` now (wind, volumes, vortices, turbulence), world units / s.
+  glm::vec3 airVelocity(const glm::vec3& p) const;
+  std::size_t liveVortices() const;  ///< the settings' vortices plus shed copies alive now
+
+ private:
+  Simulator();
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace puff::sim

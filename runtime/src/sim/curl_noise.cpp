@@ -1,0 +1,121 @@
+#include "curl_noise.h"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace puff::sim::detail {
+
+namespace {
+
+std::uint32_t hash(std::uint32_t x) {  // lowbias32 (Wellons)
+  x ^= x >> 16;
+  x *= 0x7feb352dU;
+  x ^= x >> 15;
+  x *= 0x846ca68bU;
+  x ^= x >> 16;
+  return x;
+}
+
+int wrap(int i, int n) {
+  const int r = i % n;
+  return r < 0 ? r + n : r;
+}
+
+float fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
+float fadeDerivative(float t) { return 30.0f * t * t * (t * (t - 2.0f) + 1.0f); }
+
+}  // namespace
+
+GradientNoise::GradientNoise(std::uint32_t seed, int period) : seed_(seed), period_(period) {}
+
+glm::vec3 GradientNoise::grad(int x, int y, int z) const {
+  x = wrap(x, period_), y = wrap(y, period_), z = wrap(z, period_);
+  std::uint32_t h = hash(seed_ ^ hash(static_cast<std::uint32_t>(x) +
+                                      hash(static_cast<std::uint32_t>(y) + hash(static_cast<std::uint32_t>(z)))));
+  // A uniform direction from two hashed numbers.
+  const float u = static_cast<float>(h & 0xffffU) / 65535.0f * 2.0f - 1.0f;
+  const float phi = static_cast<float>(h >> 16) / 65536.0f * 6.28318530718f;
+  const float s = std::sqrt(std::max(0.0f, 1.0f - u * u));
+  return {s * std::cos(phi), s * std::sin(phi), u};
+}
+
+float GradientNoise::eval(const glm::vec3& p, glm::vec3* gradient) const {
+  const glm::vec3 fl = glm::floor(p);
+  const int x0 = static_cast<int>(fl.x), y0 = static_cast<int>(fl.y), z0 = static_cast<int>(fl.z);
+  const glm::vec3 f = p - fl;
+  const glm::vec3 w{fade(f.x), fade(f.y), fade(f.z)};
+  const glm::vec3 dw{fadeDerivative(f.x), fadeDerivative(f.y), fadeDerivative(f.z)};
+  float value = 0.0f;
+  glm::vec3 g(0.0f);
+  for (int c = 0; c < 8; ++c) {
+    const int dx = c & 1, dy = (c >> 1) & 1, dz = (c >> 2) & 1;
+    const glm::vec3 gr = grad(x0 + dx, y0 + dy, z0 + dz);
+    const glm::vec3 d = f - glm::vec3(dx, dy, dz);
+    const float n = glm::dot(gr, d);
+    const float wx = dx ? w.x : 1.0f - w.x, wy = dy ? w.y : 1.0f - w.y, wz = dz ? w.z : 1.0f - w.z;
+    const float sx = dx ? dw.x : -dw.x, sy = dy ? dw.y : -dw.y, sz = dz ? dw.z : -dw.z;
+    value += wx * wy * wz * n;
+    g += wx * wy * wz * gr + glm::vec3(sx * wy * wz, wx * sy * wz, wx * wy * sz) * n;
+  }
+  if (gradient) *gradient = g;
+  return value;
+}
+
+CurlField::CurlField(std::uint32_t seed, int n, int noiseCells)
+    : n_(n),
+      a_(seed * 3U + 1U, noiseCells),
+      b_(seed * 3U + 2U, noiseCells),
+      c_(seed * 3U + 3U, noiseCells),
+      noiseCells_(noiseCells) {
+  v_.resize(static_cast<std::size_t>(n) * n * n * 3);
+  double sumSquares = 0.0;
+  for (int z = 0; z < n; ++z) {
+    for (int y = 0; y < n; ++y) {
+      for (int x = 0; x < n; ++x) {
+        const glm::vec3 v = exact(glm::vec3(x, y, z) / static_cast<float>(n));
+        const std::size_t i = ((static_cast<std::size_t>(z) * n + y) * n + x) * 3;
+        v_[i] = v.x, v_[i + 1] = v.y, v_[i + 2] = v.z;
+        sumSquares += glm::dot(v, v);
+      }
+    }
+  }
+  const double rms = std::sqrt(sumSquares / (static_cast<double>(n) * n * n));
+  norm_ = rms > 0.0 ? static_cast<float>(1.0 / rms) : 1.0f;
+  for (float& c : v_) c *= norm_;
+}
+
+glm::vec3 CurlField::exact(const glm::vec3& p) const {
+  // curl (A, B, C) = (dC/dy - dB/dz, dA/dz - dC/dx, dB/dx - dA/dy), in tile units.
+  const glm::vec3 q = p * static_cast<float>(noiseCells_);
+  glm::vec3 ga, gb, gc;
+  a_.eval(q, &ga);
+  b_.eval(q, &gb);
+  c_.eval(q, &gc);
+  const float s = static_cast<float>(noiseCells_) * norm_;
+  return glm::vec3(gc.y - gb.z, ga.z - gc.x, gb.x - ga.y) * s;
+}
+
+glm::vec3 CurlField::sample(const glm::vec3& p) const {
+  const float nf = static_cast<float>(n_);
+  // Into the tile first (the field repeats every 1), so no float -> int conversion can overflow.
+  const glm::vec3 q = glm::clamp((p - glm::floor(p)) * nf, glm::vec3(0.0f), glm::vec3(nf));
+  const glm::vec3 fl = glm::floor(q);
+  const glm::vec3 f = q - fl;
+  const int x0 = wrap(static_cast<int>(fl.x), n_), y0 = wrap(static_cast<int>(fl.y), n_),
+            z0 = wrap(static_cast<int>(fl.z), n_);
+  const int x1 = x0 + 1 == n_ ? 0 : x0 + 1, y1 = y0 + 1 == n_ ? 0 : y0 + 1, z1 = z0 + 1 == n_ ? 0 : z0 + 1;
+  const std::size_t n = static_cast<std::size_t>(n_);
+  auto at = [&](int x, int y, int z) {
+    const float* c =
+        &v_[((static_cast<std::size_t>(z) * n + static_cast<std::size_t>(y)) * n + static_cast<std::size_t>(x)) * 3];
+    return glm::vec3(c[0], c[1], c[2]);
+  };
+  const glm::vec3 c00 = glm::mix(at(x0, y0, z0), at(x1, y0, z0), f.x);
+  const glm::vec3 c10 = glm::mix(at(x0, y1, z0), at(x1, y1, z0), f.x);
+  const glm::vec3 c01 = glm::mix(at(x0, y0, z1), at(x1, y0, z1), f.x);
+  const glm::vec3 c11 = glm::mix(at(x0, y1, z1), at(x1, y1, z1), f.x);
+  return glm::mix(glm::mix(c00, c10, f.y), glm::mix(c01, c11, f.y), f.z);
+}
+
+}  // namespace puff::sim::detail
