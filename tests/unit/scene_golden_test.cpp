@@ -47,6 +47,46 @@ INSTANTIATE_TEST_SUITE_P(ArtScenes, SceneGolden,
                            return n;
                          });
 
+// The animated, simulated scenes (issue 4), each at a frame where its motion shows: the missile's
+// trail, the propeller's wake through the cloud, the lamp's plume. Same tolerances.
+struct AnimatedCase {
+  const char* scene;
+  int frame;
+};
+
+void PrintTo(const AnimatedCase& c, std::ostream* os) { *os << c.scene << " frame " << c.frame; }
+
+class AnimatedSceneGolden : public test::GlTest, public ::testing::WithParamInterface<AnimatedCase> {};
+
+TEST_P(AnimatedSceneGolden, MatchesReference) {
+  const AnimatedCase c = GetParam();
+  const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (std::string(c.scene) + ".json");
+  auto scene = render::loadScene(file, PUFF_ART_DIR);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_TRUE(scene->simulation.has_value());
+  auto renderer = render::SceneRenderer::create(*scene);
+  ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+  render::FrameStats stats;
+  auto image = (*renderer)->renderFrame(c.frame, &stats);
+  ASSERT_TRUE(image.ok()) << image.error().message;
+  EXPECT_GT(stats.simulated, 50u);
+  test::GoldenTolerance tol;
+  tol.pixelThreshold = 8.0f / 255.0f;
+  tol.maxFailingFraction = 0.003;
+  const test::GoldenResult r =
+      test::compareToGolden(*image, "scene-" + std::string(c.scene) + "-" + std::to_string(c.frame), tol);
+  EXPECT_TRUE(r.passed) << r.message;
+}
+
+INSTANTIATE_TEST_SUITE_P(ArtScenes, AnimatedSceneGolden,
+                         ::testing::Values(AnimatedCase{"missile-flight", 30}, AnimatedCase{"propeller-cloud", 60},
+                                           AnimatedCase{"lamp-plume", 24}),
+                         [](const ::testing::TestParamInfo<AnimatedCase>& i) {
+                           std::string n = i.param.scene;
+                           for (char& ch : n) ch = (ch == '-') ? '_' : ch;
+                           return n + "_" + std::to_string(i.param.frame);
+                         });
+
 // A render farm splits frame ranges: a frame rendered alone equals the same frame of a sequence.
 class SceneFrames : public test::GlTest {};
 
@@ -95,6 +135,74 @@ TEST_F(SceneFrames, RenderedAloneEqualsTheSameFrameOfASequence) {
   auto frame0 = (*b)->renderFrame(0);
   ASSERT_TRUE(frame0.ok());
   EXPECT_NE(frame0->pixels, aloneFrame->pixels);  // the camera orbits: frames differ
+}
+
+}  // namespace
+}  // namespace puff
+
+namespace puff {
+namespace {
+
+// The same for a simulated scene: frame 9 reached alone (re-simulated from the start) equals frame
+// 9 of a sequence, and going back to an earlier frame restarts and gives that frame again.
+TEST_F(SceneFrames, SimulatedFrameRenderedAloneEqualsTheSequence) {
+  const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "lamp-plume.json";
+  auto scene = render::loadScene(file, PUFF_ART_DIR);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  scene->width = 160;
+  scene->height = 120;
+  auto a = render::SceneRenderer::create(*scene);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  std::vector<std::vector<float>> frames;
+  for (int f = 0; f <= 9; ++f) {
+    auto image = (*a)->renderFrame(f);
+    ASSERT_TRUE(image.ok());
+    frames.push_back(image->pixels);
+  }
+  auto b = render::SceneRenderer::create(*scene);
+  ASSERT_TRUE(b.ok());
+  auto alone = (*b)->renderFrame(9);
+  ASSERT_TRUE(alone.ok());
+  EXPECT_EQ(alone->pixels, frames[9]);
+  auto back = (*b)->renderFrame(3);
+  ASSERT_TRUE(back.ok());
+  EXPECT_EQ(back->pixels, frames[3]);
+  EXPECT_NE(frames[3], frames[9]);  // the smoke moves
+}
+
+// A viewer's edit: forces change at once and the particles keep going; a bad value is refused and
+// nothing changes; a resource change (another ramp) reloads.
+TEST_F(SceneFrames, UpdateAppliesForcesLiveAndRefusesBadValues) {
+  const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "lamp-plume.json";
+  auto scene = render::loadScene(file, PUFF_ART_DIR);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  scene->width = 160;
+  scene->height = 120;
+  auto r = render::SceneRenderer::create(*scene);
+  ASSERT_TRUE(r.ok());
+  auto before = (*r)->renderFrame(6);
+  ASSERT_TRUE(before.ok());
+  render::Scene edited = *scene;
+  edited.simulation->forces.wind = glm::vec3(3.0f, 0.0f, 0.0f);
+  ASSERT_TRUE((*r)->update(edited).ok());
+  auto after = (*r)->renderFrame(7);
+  ASSERT_TRUE(after.ok());
+  auto reference = render::SceneRenderer::create(*scene);  // frame 7 without the wind
+  ASSERT_TRUE(reference.ok());
+  auto still = (*reference)->renderFrame(7);
+  ASSERT_TRUE(still.ok());
+  EXPECT_NE(after->pixels, still->pixels);
+  render::Scene bad = edited;
+  bad.simulation->forces.drag = -1.0f;
+  auto refused = (*r)->update(bad);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("/simulation/forces/drag"), std::string::npos) << refused.error().message;
+  EXPECT_EQ((*r)->scene().simulation->forces.drag, edited.simulation->forces.drag);
+  render::Scene otherRamp = edited;
+  otherRamp.ramp = fs::path(PUFF_SOURCE_DIR) / "art" / "ramps" / "missing.png";
+  auto reload = (*r)->update(otherRamp);
+  ASSERT_FALSE(reload.ok());
+  EXPECT_NE(reload.error().message.find("missing.png"), std::string::npos) << reload.error().message;
 }
 
 }  // namespace

@@ -667,7 +667,7 @@ TEST(SceneSimulation, ReadsForcesEmittersAndPathsAndRoundTrips) {
                                "length": 2, "path": [{"time": 0, "position": [0, 0, 0]}, {"time": 2, "position": [4, 0, 0]}],
                                "shedInterval": 0.1, "shedLifetime": 0.5}]},
       "emitters": [{"shape": "disc", "position": [0, 1, 0], "radius": 0.2, "normal": [1, 0, 0], "rate": 50,
-                    "start": 0.5, "stop": 3, "seed": 4, "velocity": [0, 2, 0], "spread": 15, "speedSpread": 0.1,
+                    "start": 0.5, "duration": 2.5, "seed": 4, "velocity": [0, 2, 0], "spread": 15, "speedSpread": 0.1,
                     "inheritVelocity": 0.5, "density": 2, "sizeMin": 0.3, "sizeMax": 0.6, "lifetime": 4,
                     "lifetimeSpread": 0.2, "variations": [1, 2], "oriented": true, "spin": 1,
                     "path": [{"time": 0, "position": [0, 0, 0]}, {"time": 1, "position": [0, 0, 5]}]}]
@@ -743,4 +743,38 @@ TEST(SceneSimulation, ImpossibleValuesNameTheField) {
       {R"({"objects": [{"friction": 2}]})", "/objects/0/friction: expected a number in [0, 1], got 2"},
   };
   for (const auto& [text, expected] : cases) EXPECT_EQ(parseError(std::string(text)), f + expected) << text;
+}
+
+TEST(SceneSimulation, VorticesAndEmittersRideOnMovingObjects) {
+  const Scene s = parseOk(R"({
+    "atlas": "a.json",
+    "objects": [{"type": "box", "name": "plane body", "translate": [0, 5, 0],
+                 "path": [{"time": 0, "position": [-10, 0, 0]}, {"time": 4, "position": [10, 0, 0]}]},
+                {"type": "sphere", "name": "still"}],
+    "simulation": {"forces": {"vortices": [{"attach": "plane body", "position": [1, 0, 0]}]},
+                   "emitters": [{"attach": "still", "position": [0, 2, 0]}]}
+  })");
+  const puff::sim::Vortex& v = s.simulation->forces.vortices.at(0);
+  // The object's path, offset by where the object stands; the vortex's position is on top.
+  EXPECT_EQ(v.path.at(2.0) + v.position, glm::vec3(1, 5, 0));
+  EXPECT_EQ(v.path.at(4.0) + v.position, glm::vec3(11, 5, 0));
+  EXPECT_EQ(s.simulation->emitters.at(0).path.at(7.0) + s.simulation->emitters.at(0).position, glm::vec3(0, 2, 0));
+  // The object is drawn where the path puts it, and collides there.
+  const glm::mat4 at1 = puff::render::objectTransform(s.objects[0], 1.0);
+  EXPECT_EQ(glm::vec3(at1[3]), glm::vec3(-5, 5, 0));
+  auto settings = puff::render::simulationSettings(s);
+  ASSERT_TRUE(settings.ok());
+  EXPECT_EQ((*settings)->colliders.at(0).path.at(1.0) + (*settings)->colliders[0].center, glm::vec3(-5, 5, 0));
+  // Written back as the link, and read again to the same thing.
+  const json j = puff::render::toJson(s);
+  EXPECT_EQ(j["simulation"]["forces"]["vortices"][0]["attach"], "plane body");
+  EXPECT_TRUE(j["simulation"]["forces"]["vortices"][0]["path"].empty());
+  auto again = puff::render::parseScene(j, kFile);
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(puff::render::toJson(*again), j);
+
+  EXPECT_EQ(
+      parseError(
+          std::string(R"({"objects": [{"name": "a"}], "simulation": {"forces": {"vortices": [{"attach": "b"}]}}})")),
+      kFile.string() + ": /simulation/forces/vortices/0/attach: expected the name of a scene object (a), got \"b\"");
 }

@@ -28,7 +28,7 @@ Settings oneParticle(float lifetime = 1000.0f, glm::vec3 velocity = glm::vec3(0.
   Emitter e;
   e.rate = 1000.0f;
   e.start = 0.0f;
-  e.stop = 0.001f;  // one birth, at 0.0005 s
+  e.duration = 0.001f;  // one birth, at 0.0005 s
   e.velocity = velocity;
   e.sizeMin = e.sizeMax = 1.0f;
   e.lifetime = lifetime;
@@ -446,7 +446,7 @@ TEST(Simulator, ParticlesStayOutOfPlanesSpheresAndBoxes) {
   e.position = glm::vec3(0.0f, 6.0f, 0.0f);
   e.radius = 3.0f;
   e.rate = 400.0f;
-  e.stop = 1.0f;
+  e.duration = 1.0f;
   e.lifetime = 20.0f;
   e.sizeMin = e.sizeMax = 0.2f;
   s.emitters.push_back(e);
@@ -503,7 +503,7 @@ TEST(Simulator, FastParticlesDoNotTunnelThroughAMesh) {
   e.radius = 0.9f;
   e.velocity = glm::vec3(600.0f, 0.0f, 0.0f);
   e.rate = 2000.0f;
-  e.stop = 0.01f;
+  e.duration = 0.01f;
   e.lifetime = 5.0f;
   s.emitters.push_back(e);
   s.colliders = {cube};
@@ -602,4 +602,36 @@ TEST(Simulator, ExtremeValuesNeverGiveNonFinitePositions) {
       EXPECT_LE(sim->size(), 5000u);
     }
   }
+}
+
+TEST(Simulator, MovingCollidersPushParticlesAside) {
+  // A ball on a path sweeps through smoke at rest: at every step no particle is inside it.
+  Settings s;
+  s.substeps = 2;
+  s.forces.drag = 0.0f;
+  s.collisionRadius = 0.0f;
+  Emitter e;
+  e.shape = Emitter::Shape::kSphere;
+  e.radius = 2.0f;
+  e.velocity = glm::vec3(0.0f);
+  e.rate = 24000.0f;
+  e.duration = 0.02f;
+  e.lifetime = 100.0f;
+  s.emitters.push_back(e);
+  sim::Collider ball;
+  ball.type = sim::Collider::Type::kSphere;
+  ball.halfExtent = glm::vec3(0.8f);
+  ball.path.times = {0.0f, 2.0f};
+  ball.path.points = {glm::vec3(-5.0f, 0.3f, 0.0f), glm::vec3(5.0f, 0.3f, 0.0f)};
+  s.colliders.push_back(ball);
+  auto sim = make(s);
+  sim::StepStats st;
+  for (int f = 1; f <= 48; ++f) {
+    sim->advanceToFrame(f, &st);
+    const glm::vec3 c = ball.path.at(sim->time());
+    for (std::size_t i = 0; i < sim->size(); ++i) {
+      ASSERT_GE(glm::length(sim->particle(i).position - c), 0.8f - 1e-4f) << "frame " << f;
+    }
+  }
+  EXPECT_GT(st.collisions, 100u);
 }

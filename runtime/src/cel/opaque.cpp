@@ -206,6 +206,23 @@ Result<std::unique_ptr<OpaqueRenderer>> OpaqueRenderer::create() {
   return r;
 }
 
+Result<void> OpaqueRenderer::setTransform(std::size_t index, const glm::mat4& transform) {
+  Impl& im = *impl_;
+  if (index >= im.items.size()) {
+    return Error{"opaque object #" + std::to_string(index) + ": there are only " + std::to_string(im.items.size())};
+  }
+  OpaqueObject probe;
+  probe.transform = transform;
+  probe.albedo = im.items[index].albedo;
+  auto item = validateObject(probe);
+  if (!item) return Error{"opaque object #" + std::to_string(index) + ": " + item.error().message};
+  DrawItem& d = im.items[index];
+  d.model = item->model;
+  d.normalMatrix = item->normalMatrix;
+  d.mirrored = item->mirrored;
+  return {};
+}
+
 Result<void> OpaqueRenderer::setObjects(std::vector<OpaqueObject> objects) {
   // Validate everything before touching GL, so a bad object leaves the previous set in place.
   std::unordered_map<const TriangleMesh*, std::size_t> meshIndex;

@@ -138,7 +138,7 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene)
         if (!plane) plane = std::make_shared<const cel::TriangleMesh>(cel::makePlane());
         obj.mesh = plane;
         // Shadow volumes may stop at the lowest horizontal plane: nothing below it is seen.
-        if (o.rotateDegrees == glm::vec3(0.0f) && (!haveFloor || o.translate.y < floorHeight)) {
+        if (o.rotateDegrees == glm::vec3(0.0f) && o.path.empty() && (!haveFloor || o.translate.y < floorHeight)) {
           floorHeight = o.translate.y;
           haveFloor = true;
         }
@@ -234,6 +234,12 @@ void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameSta
   m.ramp->bind();
   if (m.gradient) m.gradient->bind();
 
+  // Objects on paths move to where they are at this frame.
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    if (s.objects[i].path.empty()) continue;
+    auto moved = m.opaque->setTransform(i, objectTransform(s.objects[i], frameTime(s, frame)));
+    PUFF_CHECK(moved.ok());  // the scene's checks keep transforms finite and invertible
+  }
   m.opaque->draw(cel::ShadePass::kLit);
   cel::DrawStats up;
   std::size_t simulated = 0;

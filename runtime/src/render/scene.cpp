@@ -455,9 +455,31 @@ EmitterSpec readEmitter(const json& j, const std::string& ptr) {
   return e;
 }
 
+sim::Path readPath3(const json& j, const std::string& ptr) {
+  // [{"time": t, "position": [x, y, z]}, ...], times increasing.
+  if (!j.is_array()) fail(ptr, "an array of keys {\"time\", \"position\"}", j);
+  sim::Path path;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string p = child(ptr, i);
+    requireObject(j[i], p, {"time", "position"});
+    const json* t = find(j[i], "time");
+    const json* x = find(j[i], "position");
+    if (!t) failText(child(p, "time"), "expected a time in seconds, got none");
+    if (!x) failText(child(p, "position"), "expected a position [x, y, z], got none");
+    const float time = readFloat(*t, child(p, "time"));
+    if (!path.times.empty() && !(time > path.times.back())) {
+      fail(child(p, "time"), "a time after the previous key (" + formatNumber(path.times.back()) + ")", *t);
+    }
+    path.times.push_back(time);
+    path.points.push_back(readVec3(*x, child(p, "position")));
+  }
+  return path;
+}
+
 ObjectSpec readObject(const json& j, const std::string& ptr, std::size_t index, const Reader& r) {
-  requireObject(j, ptr,
-                {"type", "name", "mesh", "translate", "rotate", "scale", "albedo", "shading", "collide", "friction"});
+  requireObject(
+      j, ptr,
+      {"type", "name", "mesh", "translate", "rotate", "scale", "albedo", "shading", "path", "collide", "friction"});
   ObjectSpec o;
   using Type = ObjectSpec::Type;
   if (auto* v = find(j, "type")) {
@@ -485,6 +507,7 @@ ObjectSpec readObject(const json& j, const std::string& ptr, std::size_t index, 
   if (auto* v = find(j, "shading")) {
     o.cel = readEnum<bool>(*v, child(ptr, "shading"), {{"cel", true}, {"smooth", false}});
   }
+  if (auto* v = find(j, "path")) o.path = readPath3(*v, child(ptr, "path"));
   if (auto* v = find(j, "collide")) o.collide = readBool(*v, child(ptr, "collide"));
   if (auto* v = find(j, "friction")) o.friction = readFloat(*v, child(ptr, "friction"), kUnit);
   return o;
@@ -499,27 +522,6 @@ void readAnimation(const json& j, const std::string& ptr, Animation& a) {
 
 // ---- simulation -------------------------------------------------------------------------------
 
-sim::Path readPath3(const json& j, const std::string& ptr) {
-  // [{"time": t, "position": [x, y, z]}, ...], times increasing.
-  if (!j.is_array()) fail(ptr, "an array of keys {\"time\", \"position\"}", j);
-  sim::Path path;
-  for (std::size_t i = 0; i < j.size(); ++i) {
-    const std::string p = child(ptr, i);
-    requireObject(j[i], p, {"time", "position"});
-    const json* t = find(j[i], "time");
-    const json* x = find(j[i], "position");
-    if (!t) failText(child(p, "time"), "expected a time in seconds, got none");
-    if (!x) failText(child(p, "position"), "expected a position [x, y, z], got none");
-    const float time = readFloat(*t, child(p, "time"));
-    if (!path.times.empty() && !(time > path.times.back())) {
-      fail(child(p, "time"), "a time after the previous key (" + formatNumber(path.times.back()) + ")", *t);
-    }
-    path.times.push_back(time);
-    path.points.push_back(readVec3(*x, child(p, "position")));
-  }
-  return path;
-}
-
 const Range kMagnitude{-sim::kMaxMagnitude, sim::kMaxMagnitude};
 const Range kNonNegativeMagnitude{0.0, sim::kMaxMagnitude};
 
@@ -530,8 +532,9 @@ glm::vec3 readDirection(const json& v, const std::string& ptr) {
 }
 
 sim::Vortex readVortex(const json& j, const std::string& ptr) {
-  requireObject(
-      j, ptr, {"position", "axis", "strength", "radius", "falloff", "length", "path", "shedInterval", "shedLifetime"});
+  requireObject(j, ptr,
+                {"position", "axis", "strength", "radius", "falloff", "length", "path", "attach", "shedInterval",
+                 "shedLifetime"});
   sim::Vortex v;
   if (auto* x = find(j, "position")) v.position = readVec3(*x, child(ptr, "position"), kMagnitude);
   if (auto* x = find(j, "axis")) v.axis = readDirection(*x, child(ptr, "axis"));
@@ -540,6 +543,7 @@ sim::Vortex readVortex(const json& j, const std::string& ptr) {
   if (auto* x = find(j, "falloff")) v.falloff = readFloat(*x, child(ptr, "falloff"), kNonNegativeMagnitude);
   if (auto* x = find(j, "length")) v.length = readFloat(*x, child(ptr, "length"), kNonNegativeMagnitude);
   if (auto* x = find(j, "path")) v.path = readPath3(*x, child(ptr, "path"));
+  if (auto* x = find(j, "attach")) v.attach = readString(*x, child(ptr, "attach"), "the name of a scene object");
   if (auto* x = find(j, "shedInterval")) {
     v.shedInterval = readFloat(*x, child(ptr, "shedInterval"), Range{0.0, 1e4},
                                "0 (no shedding) or a number of seconds in [0.001, 10000]");
@@ -593,10 +597,10 @@ sim::Forces readForces(const json& j, const std::string& ptr) {
 }
 
 sim::Emitter readSimEmitter(const json& j, const std::string& ptr) {
-  requireObject(j, ptr, {"shape",           "position", "radius",  "normal",   "path",     "rate",
-                         "start",           "stop",     "seed",    "velocity", "spread",   "speedSpread",
-                         "inheritVelocity", "density",  "sizeMin", "sizeMax",  "lifetime", "lifetimeSpread",
-                         "variations",      "oriented", "spin"});
+  requireObject(j, ptr, {"shape",          "position",        "radius",   "normal",  "path",     "attach",
+                         "rate",           "start",           "duration", "seed",    "velocity", "spread",
+                         "speedSpread",    "inheritVelocity", "density",  "sizeMin", "sizeMax",  "lifetime",
+                         "lifetimeSpread", "variations",      "oriented", "spin"});
   sim::Emitter e;
   using Shape = sim::Emitter::Shape;
   if (auto* v = find(j, "shape")) {
@@ -607,10 +611,12 @@ sim::Emitter readSimEmitter(const json& j, const std::string& ptr) {
   if (auto* v = find(j, "radius")) e.radius = readFloat(*v, child(ptr, "radius"), kNonNegativeMagnitude);
   if (auto* v = find(j, "normal")) e.normal = readDirection(*v, child(ptr, "normal"));
   if (auto* v = find(j, "path")) e.path = readPath3(*v, child(ptr, "path"));
+  if (auto* v = find(j, "attach")) e.attach = readString(*v, child(ptr, "attach"), "the name of a scene object");
   if (auto* v = find(j, "rate"))
     e.rate = readFloat(*v, child(ptr, "rate"), Range{0.0, 1e7}, "particles per second in [0, 1e+07]");
   if (auto* v = find(j, "start")) e.start = readFloat(*v, child(ptr, "start"), kMagnitude);
-  if (auto* v = find(j, "stop")) e.stop = readFloat(*v, child(ptr, "stop"), kMagnitude);
+  if (auto* v = find(j, "duration"))
+    e.duration = readFloat(*v, child(ptr, "duration"), kNonNegativeMagnitude, "seconds >= 0 (0: never stops)");
   if (auto* v = find(j, "seed"))
     e.seed = static_cast<std::uint32_t>(readInteger(*v, child(ptr, "seed"), 0, 0xffffffffLL));
   if (auto* v = find(j, "velocity")) e.velocity = readVec3(*v, child(ptr, "velocity"), kMagnitude);
@@ -710,6 +716,31 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
   if (auto* v = find(j, "simulation")) {
     s.simulation = readSimulation(*v, "/simulation");
     s.simulation->fps = s.animation.fps;
+    // Vortices and emitters that ride on an object follow its path (their position is an offset
+    // from where the object is).
+    auto resolve = [&](const std::string& name, sim::Path& path, const std::string& ptr) {
+      if (name.empty()) return;
+      const auto it =
+          std::find_if(s.objects.begin(), s.objects.end(), [&](const ObjectSpec& o) { return o.name == name; });
+      if (it == s.objects.end()) {
+        std::string names;
+        for (const ObjectSpec& o : s.objects) names += (names.empty() ? "" : ", ") + o.name;
+        failText(ptr, "expected the name of a scene object (" +
+                          (names.empty() ? std::string("there are none") : names) + "), got \"" + name + "\"");
+      }
+      if (!path.empty()) failText(ptr, "a vortex or emitter follows its own path or an object, not both");
+      path = it->path;
+      if (path.empty()) path = sim::Path{{0.0f}, {glm::vec3(0.0f)}};
+      for (glm::vec3& p : path.points) p += it->translate;
+    };
+    for (std::size_t i = 0; i < s.simulation->forces.vortices.size(); ++i) {
+      sim::Vortex& vortex = s.simulation->forces.vortices[i];
+      resolve(vortex.attach, vortex.path, "/simulation/forces/vortices/" + std::to_string(i) + "/attach");
+    }
+    for (std::size_t i = 0; i < s.simulation->emitters.size(); ++i) {
+      sim::Emitter& e = s.simulation->emitters[i];
+      resolve(e.attach, e.path, "/simulation/emitters/" + std::to_string(i) + "/attach");
+    }
     // What the reader does not see (cross-field limits): the simulator's own check.
     if (auto ok = sim::validate(*s.simulation); !ok) throw Failure{"/simulation" + ok.error().message};
     if (!s.simulation->emitters.empty()) total = std::max(total, 1LL);
@@ -827,7 +858,9 @@ json simulationJson(const sim::Settings& s) {
                                   {"radius", number(v.radius)},
                                   {"falloff", number(v.falloff)},
                                   {"length", number(v.length)},
-                                  {"path", pathKeys(v.path)},
+                                  // An attached vortex's path is its object's: written as the link.
+                                  {"path", v.attach.empty() ? pathKeys(v.path) : json::array()},
+                                  {"attach", v.attach},
                                   {"shedInterval", number(v.shedInterval)},
                                   {"shedLifetime", number(v.shedLifetime)}});
   }
@@ -841,10 +874,11 @@ json simulationJson(const sim::Settings& s) {
                              {"position", vec3(e.position)},
                              {"radius", number(e.radius)},
                              {"normal", vec3(e.normal)},
-                             {"path", pathKeys(e.path)},
+                             {"path", e.attach.empty() ? pathKeys(e.path) : json::array()},
+                             {"attach", e.attach},
                              {"rate", number(e.rate)},
                              {"start", number(e.start)},
-                             {"stop", number(e.stop)},
+                             {"duration", number(e.duration)},
                              {"seed", e.seed},
                              {"velocity", vec3(e.velocity)},
                              {"spread", number(e.spreadDegrees)},
@@ -1114,6 +1148,7 @@ json toJson(const Scene& s) {
                             {"scale", vec3(o.scale)},
                             {"albedo", vec3(o.albedo)},
                             {"shading", o.cel ? "cel" : "smooth"},
+                            {"path", pathKeys(o.path)},
                             {"collide", o.collide},
                             {"friction", number(o.friction)}});
   }
@@ -1147,8 +1182,8 @@ std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variat
   return out;
 }
 
-glm::mat4 objectTransform(const ObjectSpec& o) {
-  glm::mat4 m = glm::translate(glm::mat4(1.0f), o.translate);
+glm::mat4 objectTransform(const ObjectSpec& o, double t) {
+  glm::mat4 m = glm::translate(glm::mat4(1.0f), o.translate + o.path.at(t));
   // XYZ Euler angles applied X first: M = T * Rz * Ry * Rx * S.
   m = glm::rotate(m, glm::radians(o.rotateDegrees.z), glm::vec3(0, 0, 1));
   m = glm::rotate(m, glm::radians(o.rotateDegrees.y), glm::vec3(0, 1, 0));
@@ -1170,6 +1205,7 @@ Result<std::optional<sim::Settings>> simulationSettings(const Scene& scene) {
                  glm::angleAxis(glm::radians(o.rotateDegrees.y), glm::vec3(0, 1, 0)) *
                  glm::angleAxis(glm::radians(o.rotateDegrees.x), glm::vec3(1, 0, 0));
     c.friction = o.friction;
+    c.path = o.path;
     switch (o.type) {
       case ObjectSpec::Type::kPlane:
         c.type = sim::Collider::Type::kPlane;
@@ -1188,7 +1224,8 @@ Result<std::optional<sim::Settings>> simulationSettings(const Scene& scene) {
         auto loaded = mesh::loadMesh(o.mesh);
         if (!loaded) return loaded.error();
         c.type = sim::Collider::Type::kMesh;
-        const glm::mat4 m = objectTransform(o);
+        const glm::mat4 m = objectTransform(o, 0.0);  // the path then moves it as a whole
+        c.center = glm::vec3(0.0f);
         c.positions.reserve(loaded->positions.size());
         for (const glm::vec3& v : loaded->positions) c.positions.push_back(glm::vec3(m * glm::vec4(v, 1.0f)));
         for (const glm::uvec3& t : loaded->triangles) c.indices.insert(c.indices.end(), {t.x, t.y, t.z});

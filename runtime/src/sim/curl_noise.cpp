@@ -68,15 +68,21 @@ CurlField::CurlField(std::uint32_t seed, int n, int noiseCells)
       b_(seed * 3U + 2U, noiseCells),
       c_(seed * 3U + 3U, noiseCells),
       noiseCells_(noiseCells) {
-  v_.resize(static_cast<std::size_t>(n) * n * n * 3);
+  top_ = std::nextafter(static_cast<float>(n), 0.0f);
+  const std::size_t m = static_cast<std::size_t>(n) + 1;
+  v_.resize(m * m * m * 3);
   double sumSquares = 0.0;
-  for (int z = 0; z < n; ++z) {
-    for (int y = 0; y < n; ++y) {
-      for (int x = 0; x < n; ++x) {
-        const glm::vec3 v = exact(glm::vec3(x, y, z) / static_cast<float>(n));
-        const std::size_t i = ((static_cast<std::size_t>(z) * n + y) * n + x) * 3;
+  for (std::size_t z = 0; z < m; ++z) {
+    for (std::size_t y = 0; y < m; ++y) {
+      for (std::size_t x = 0; x < m; ++x) {
+        // The padding layer x, y or z = n holds the samples at 0: the field is periodic.
+        const glm::vec3 cell(static_cast<float>(x % static_cast<std::size_t>(n)),
+                             static_cast<float>(y % static_cast<std::size_t>(n)),
+                             static_cast<float>(z % static_cast<std::size_t>(n)));
+        const glm::vec3 v = exact(cell / static_cast<float>(n));
+        const std::size_t i = ((z * m + y) * m + x) * 3;
         v_[i] = v.x, v_[i + 1] = v.y, v_[i + 2] = v.z;
-        sumSquares += glm::dot(v, v);
+        if (x < m - 1 && y < m - 1 && z < m - 1) sumSquares += glm::dot(v, v);
       }
     }
   }
@@ -98,24 +104,26 @@ glm::vec3 CurlField::exact(const glm::vec3& p) const {
 
 glm::vec3 CurlField::sample(const glm::vec3& p) const {
   const float nf = static_cast<float>(n_);
-  // Into the tile first (the field repeats every 1), so no float -> int conversion can overflow.
-  const glm::vec3 q = glm::clamp((p - glm::floor(p)) * nf, glm::vec3(0.0f), glm::vec3(nf));
-  const glm::vec3 fl = glm::floor(q);
-  const glm::vec3 f = q - fl;
-  const int x0 = wrap(static_cast<int>(fl.x), n_), y0 = wrap(static_cast<int>(fl.y), n_),
-            z0 = wrap(static_cast<int>(fl.z), n_);
-  const int x1 = x0 + 1 == n_ ? 0 : x0 + 1, y1 = y0 + 1 == n_ ? 0 : y0 + 1, z1 = z0 + 1 == n_ ? 0 : z0 + 1;
-  const std::size_t n = static_cast<std::size_t>(n_);
-  auto at = [&](int x, int y, int z) {
-    const float* c =
-        &v_[((static_cast<std::size_t>(z) * n + static_cast<std::size_t>(y)) * n + static_cast<std::size_t>(x)) * 3];
-    return glm::vec3(c[0], c[1], c[2]);
-  };
-  const glm::vec3 c00 = glm::mix(at(x0, y0, z0), at(x1, y0, z0), f.x);
-  const glm::vec3 c10 = glm::mix(at(x0, y1, z0), at(x1, y1, z0), f.x);
-  const glm::vec3 c01 = glm::mix(at(x0, y0, z1), at(x1, y0, z1), f.x);
-  const glm::vec3 c11 = glm::mix(at(x0, y1, z1), at(x1, y1, z1), f.x);
-  return glm::mix(glm::mix(c00, c10, f.y), glm::mix(c01, c11, f.y), f.z);
+  // Into the tile first (the field repeats every 1), so no float -> int conversion can overflow;
+  // p - floor(p) can round up to 1, hence the clamp below n.
+  const float top = top_;
+  const glm::vec3 q = glm::clamp((p - glm::floor(p)) * nf, glm::vec3(0.0f), glm::vec3(top));
+  const int x0 = static_cast<int>(q.x), y0 = static_cast<int>(q.y), z0 = static_cast<int>(q.z);
+  const glm::vec3 f = q - glm::vec3(x0, y0, z0);
+  const std::size_t m = static_cast<std::size_t>(n_) + 1;
+  const float* c =
+      &v_[((static_cast<std::size_t>(z0) * m + static_cast<std::size_t>(y0)) * m + static_cast<std::size_t>(x0)) * 3];
+  const std::size_t dy = m * 3, dz = m * m * 3;
+  glm::vec3 out;
+  for (int k = 0; k < 3; ++k) {
+    const float c00 = c[k] + (c[3 + k] - c[k]) * f.x;
+    const float c10 = c[dy + k] + (c[dy + 3 + k] - c[dy + k]) * f.x;
+    const float c01 = c[dz + k] + (c[dz + 3 + k] - c[dz + k]) * f.x;
+    const float c11 = c[dz + dy + k] + (c[dz + dy + 3 + k] - c[dz + dy + k]) * f.x;
+    const float c0 = c00 + (c10 - c00) * f.y, c1 = c01 + (c11 - c01) * f.y;
+    out[k] = c0 + (c1 - c0) * f.z;
+  }
+  return out;
 }
 
 }  // namespace puff::sim::detail

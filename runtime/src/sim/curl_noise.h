@@ -3,12 +3,34 @@
 // per step on one core, which evaluating noise per particle is not).
 #pragma once
 
+#include <bit>
 #include <cstdint>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
 namespace puff::sim::detail {
+
+/// exp(x) for x <= 0, to a few 1e-6 relative error (2e-7 near 0): 2^x split into a power of two (exponent bits)
+/// and 2^f for f in [-1/2, 1/2] (Taylor to degree 6). Branch-free, so loops over particles
+/// vectorize, and the same on every machine; 0 below -87.
+inline float fastExp(float x) {
+  const float xc = x < -87.0f ? -87.0f : (x > 0.0f ? 0.0f : x);
+  const float t = xc * 1.44269504f;  // log2(e)
+  const float a = t + 0.5f;          // fi = round(t) = floor(t + 1/2), so f = t - fi lies in [-1/2, 1/2]
+  const float truncated = static_cast<float>(static_cast<int>(a));
+  const float fi = truncated - (truncated > a ? 1.0f : 0.0f);
+  const float f = t - fi;
+  float p = 1.5403530e-4f;
+  p = p * f + 1.3333558e-3f;
+  p = p * f + 9.6181291e-3f;
+  p = p * f + 5.5504109e-2f;
+  p = p * f + 2.4022651e-1f;
+  p = p * f + 6.9314718e-1f;
+  p = p * f + 1.0f;
+  const float out = std::bit_cast<float>(std::bit_cast<int>(p) + (static_cast<int>(fi) << 23));
+  return x <= -87.0f ? 0.0f : out;
+}
 
 /// Periodic 3D gradient noise (Perlin 2002, quintic fade) with its analytic gradient. The lattice
 /// period is `period` cells in each axis.
@@ -38,9 +60,10 @@ class CurlField {
  private:
   int n_;
   float norm_ = 1.0f;
+  float top_ = 0.0f;  // the largest float below n
   GradientNoise a_, b_, c_;
   int noiseCells_;
-  std::vector<float> v_;  // xyz interleaved, x fastest
+  std::vector<float> v_;  // xyz interleaved, x fastest, (n + 1)^3: the last layer repeats the first
 };
 
 }  // namespace puff::sim::detail

@@ -8,7 +8,9 @@
 #include <numbers>
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_access.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <glm/mat3x3.hpp>
 
 #include "curl_noise.h"
 
@@ -125,7 +127,7 @@ void checkEmitter(Check& c, const Emitter& e, const std::string& p) {
   c.path(p + "/path", e.path);
   c.range(p + "/rate", e.rate, 0.0f, 1e7f);
   c.finite(p + "/start", e.start);
-  c.finite(p + "/stop", e.stop);
+  c.range(p + "/duration", e.duration, 0.0f, kMaxMagnitude);
   c.vec(p + "/velocity", e.velocity);
   c.range(p + "/spread", e.spreadDegrees, 0.0f, 180.0f);
   c.range(p + "/speedSpread", e.speedSpread, 0.0f, 1.0f);
@@ -149,6 +151,7 @@ void checkCollider(Check& c, const Collider& k, const std::string& p) {
   for (int i = 0; i < 4; ++i) c.finite(p + "/rotation", k.rotation[i], 2.0f);
   for (int i = 0; i < 3; ++i) c.range(p + "/halfExtent/" + std::to_string(i), k.halfExtent[i], 0.0f, kMaxMagnitude);
   c.range(p + "/friction", k.friction, 0.0f, 1.0f);
+  c.path(p + "/path", k.path);
   if (k.type == Collider::Type::kMesh) {
     if (c.ok() && (k.indices.empty() || k.indices.size() % 3 != 0)) c.error = p + ": a mesh collider needs triangles";
     for (std::uint32_t i : k.indices) {
@@ -326,6 +329,114 @@ struct LiveVortex {
   float cutoff2;  // beyond this squared distance it adds nothing worth computing
 };
 
+// The air one vortex adds to every particle: vortexVelocity written out in scalars over the arrays,
+// in a free function so the compiler sees no aliasing and vectorizes it.
+void addVortex(const LiveVortex& v, const float* __restrict X, const float* __restrict Y, const float* __restrict Z,
+               float* __restrict UX, float* __restrict UY, float* __restrict UZ, std::size_t n) {
+  const float cx = v.center.x, cy = v.center.y, cz = v.center.z;
+  const float ax = v.axis.x, ay = v.axis.y, az = v.axis.z;
+  const float scale = v.scale, ir2 = v.invRadius2, if2 = v.invFalloff2, ih2 = v.invHalfLength2, cutoff2 = v.cutoff2;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float dx = X[i] - cx, dy = Y[i] - cy, dz = Z[i] - cz;
+    const float along = dx * ax + dy * ay + dz * az;
+    const float rx = dx - along * ax, ry = dy - along * ay, rz = dz - along * az;
+    const float r2 = rx * rx + ry * ry + rz * rz;
+    const float inside = static_cast<float>(r2 >= 1e-12f) * static_cast<float>(r2 <= cutoff2);
+    const float r2s = std::max(r2, 1e-12f);
+    const float core = 1.0f - detail::fastExp(-r2s * ir2);
+    const float k = inside * scale * core / r2s * detail::fastExp(-r2s * if2 - along * along * ih2);
+    UX[i] += k * (ay * rz - az * ry);
+    UY[i] += k * (az * rx - ax * rz);
+    UZ[i] += k * (ax * ry - ay * rx);
+  }
+}
+
+// One exponential-integrator step for every particle (see integrate); free, so it vectorizes.
+void integrateExponential(float* __restrict X, float* __restrict Y, float* __restrict Z, float* __restrict VX,
+                          float* __restrict VY, float* __restrict VZ, const float* __restrict UX,
+                          const float* __restrict UY, const float* __restrict UZ, const float* __restrict A,
+                          const float* __restrict L, const float* __restrict D0, std::size_t n, glm::vec3 g,
+                          glm::vec3 b, float invK, float hf, float e, float c) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const float density = D0[i] * (1.0f - A[i] / L[i]);
+    const float wX = UX[i] + (g.x + b.x * density) * invK;
+    const float wY = UY[i] + (g.y + b.y * density) * invK;
+    const float wZ = UZ[i] + (g.z + b.z * density) * invK;
+    const float dX = VX[i] - wX, dY = VY[i] - wY, dZ = VZ[i] - wZ;
+    X[i] += wX * hf + dX * c, Y[i] += wY * hf + dY * c, Z[i] += wZ * hf + dZ * c;
+    VX[i] = wX + dX * e, VY[i] = wY + dY * e, VZ[i] = wZ + dZ * e;
+  }
+}
+
+// The air a wind volume adds (windWeight over the arrays), branch-free.
+void addWindVolume(const WindVolume& w, const float* __restrict X, const float* __restrict Y, const float* __restrict Z,
+                   float* __restrict UX, float* __restrict UY, float* __restrict UZ, std::size_t n) {
+  const float cx = w.center.x, cy = w.center.y, cz = w.center.z;
+  const float hx = w.halfExtent.x, hy = w.halfExtent.y, hz = w.halfExtent.z;
+  const float invFeather = w.feather > 0.0f ? 1.0f / w.feather : 0.0f;
+  const bool hard = !(w.feather > 0.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float ox = std::max(std::abs(X[i] - cx) - hx, 0.0f), oy = std::max(std::abs(Y[i] - cy) - hy, 0.0f),
+                oz = std::max(std::abs(Z[i] - cz) - hz, 0.0f);
+    const float d = std::sqrt(ox * ox + oy * oy + oz * oz);
+    const float x = std::max(0.0f, 1.0f - d * invFeather);
+    float k = x * x * (3.0f - 2.0f * x);
+    k = (d == 0.0f) ? 1.0f : (hard ? 0.0f : k);
+    UX[i] += k * w.velocity.x, UY[i] += k * w.velocity.y, UZ[i] += k * w.velocity.z;
+  }
+}
+
+// Plane and sphere contacts over the arrays, branch-free; returns the number of contacts.
+std::size_t collidePlane(const glm::mat3& toLocal, const glm::vec3& center, const glm::vec3& halfExtent, float keep,
+                         float* __restrict X, float* __restrict Y, float* __restrict Z, float* __restrict VX,
+                         float* __restrict VY, float* __restrict VZ, const float* __restrict R, std::size_t n) {
+  // toLocal rows: the plane's x, normal, z axes in world space.
+  const glm::vec3 ex = glm::row(toLocal, 0), nrm = glm::row(toLocal, 1), ez = glm::row(toLocal, 2);
+  std::size_t contacts = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float dx = X[i] - center.x, dy = Y[i] - center.y, dz = Z[i] - center.z;
+    const float lx = ex.x * dx + ex.y * dy + ex.z * dz, ly = nrm.x * dx + nrm.y * dy + nrm.z * dz,
+                lz = ez.x * dx + ez.y * dy + ez.z * dz;
+    const bool hit = (ly < R[i]) & (std::abs(lx) <= halfExtent.x) & (std::abs(lz) <= halfExtent.z);
+    const float push = hit ? R[i] - ly : 0.0f;
+    X[i] += push * nrm.x, Y[i] += push * nrm.y, Z[i] += push * nrm.z;
+    const float vn = VX[i] * nrm.x + VY[i] * nrm.y + VZ[i] * nrm.z;
+    const bool slide = hit & (vn < 0.0f);  // & not &&: no branch, so the loop vectorizes
+    const float into = slide ? vn : 0.0f;
+    const float scale = slide ? keep : 1.0f;
+    VX[i] = (VX[i] - into * nrm.x) * scale, VY[i] = (VY[i] - into * nrm.y) * scale,
+    VZ[i] = (VZ[i] - into * nrm.z) * scale;
+    contacts += hit ? 1 : 0;
+  }
+  return contacts;
+}
+
+std::size_t collideSphere(const glm::vec3& center, float radius, const glm::vec3& up, float keep, float* __restrict X,
+                          float* __restrict Y, float* __restrict Z, float* __restrict VX, float* __restrict VY,
+                          float* __restrict VZ, const float* __restrict R, std::size_t n) {
+  std::size_t contacts = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float dx = X[i] - center.x, dy = Y[i] - center.y, dz = Z[i] - center.z;
+    const float reach = radius + R[i];
+    const float l2 = dx * dx + dy * dy + dz * dz;
+    const bool hit = l2 < reach * reach;
+    const float l = std::sqrt(l2);
+    const bool centred = !(l > 1e-12f);  // at the very centre: out along `up`
+    const float inv = centred ? 0.0f : 1.0f / std::max(l, 1e-12f);
+    const float nx = centred ? up.x : dx * inv, ny = centred ? up.y : dy * inv, nz = centred ? up.z : dz * inv;
+    X[i] = hit ? center.x + nx * reach : X[i];
+    Y[i] = hit ? center.y + ny * reach : Y[i];
+    Z[i] = hit ? center.z + nz * reach : Z[i];
+    const float vn = VX[i] * nx + VY[i] * ny + VZ[i] * nz;
+    const bool slide = hit & (vn < 0.0f);  // & not &&: no branch, so the loop vectorizes
+    const float into = slide ? vn : 0.0f;
+    const float scale = slide ? keep : 1.0f;
+    VX[i] = (VX[i] - into * nx) * scale, VY[i] = (VY[i] - into * ny) * scale, VZ[i] = (VZ[i] - into * nz) * scale;
+    contacts += hit ? 1 : 0;
+  }
+  return contacts;
+}
+
 }  // namespace
 
 struct Simulator::Impl {
@@ -344,7 +455,7 @@ struct Simulator::Impl {
   std::vector<float> qx, qy, qz, qw, wx, wy, wz;  // birth orientation, angular velocity
   std::vector<std::uint8_t> variation, oriented;
   // Scratch: air velocity, previous position.
-  std::vector<float> ux, uy, uz, ox, oy, oz;
+  std::vector<float> ux, uy, uz, ox, oy, oz, radii;
 
   std::size_t size() const { return px.size(); }
 
@@ -387,59 +498,74 @@ struct Simulator::Impl {
     return out;
   }
 
+  // The turbulence window at time t: frozen turbulence carried past at `speed` tiles per second
+  // (Taylor's hypothesis): a translated divergence-free field is still divergence-free.
+  glm::vec3 turbulenceOffset(double t) const {
+    const double d = static_cast<double>(s.forces.turbulence.speed) * t;
+    return glm::vec3(static_cast<float>(std::fmod(d * 0.8, 1.0)), static_cast<float>(std::fmod(d * 0.36, 1.0)),
+                     static_cast<float>(std::fmod(d * 0.48, 1.0)));
+  }
+
+  // The air velocity at one point (the same sum airAll makes for every particle).
   glm::vec3 air(const glm::vec3& p, double t, const std::vector<LiveVortex>& vortices) const {
     const Forces& f = s.forces;
     glm::vec3 u = f.wind;
-    for (const WindVolume& w : f.windVolumes) {
-      const glm::vec3 outside = glm::max(glm::abs(p - w.center) - w.halfExtent, glm::vec3(0.0f));
-      const float d = glm::length(outside);
-      if (d == 0.0f) {
-        u += w.velocity;
-      } else if (d < w.feather) {
-        const float x = 1.0f - d / w.feather;
-        u += w.velocity * (x * x * (3.0f - 2.0f * x));
-      }
-    }
-    for (const LiveVortex& v : vortices) {
-      const glm::vec3 d = p - v.center;
-      const float along = glm::dot(d, v.axis);
-      const glm::vec3 radial = d - along * v.axis;
-      const float r2 = glm::dot(radial, radial);
-      if (r2 < 1e-12f || r2 > v.cutoff2) continue;
-      float k = v.scale * (1.0f - std::exp(-r2 * v.invRadius2)) / r2;
-      if (v.invFalloff2 > 0.0f) k *= std::exp(-r2 * v.invFalloff2);
-      if (v.invHalfLength2 > 0.0f) k *= std::exp(-along * along * v.invHalfLength2);
-      u += k * glm::cross(v.axis, radial);
-    }
+    for (const WindVolume& w : f.windVolumes) u += w.velocity * windWeight(p, w);
+    for (const LiveVortex& v : vortices) u += vortexVelocity(p, v);
     const Turbulence& tb = f.turbulence;
-    if (tb.strength > 0.0f && curl) {
-      // Two windows of the same periodic field, drifting, cross-faded with cos/sin weights so
-      // the RMS speed stays `strength`; a sum of divergence-free fields is divergence-free.
-      const float phase = static_cast<float>(t) * tb.speed;
-      const glm::vec3 q = p / tb.scale;
-      const float th = phase * 0.5f * std::numbers::pi_v<float>;
-      const glm::vec3 drift = glm::vec3(0.31f, 0.17f, 0.23f) * phase;
-      u += tb.strength * (std::cos(th) * curl->sample(q + drift) +
-                          std::sin(th) * curl->sample(q - drift + glm::vec3(0.5f, 0.37f, 0.71f)));
-    }
+    if (tb.strength > 0.0f && curl) u += tb.strength * curl->sample(p / tb.scale + turbulenceOffset(t));
     return u;
   }
 
-  // Air velocity for every particle into ux/uy/uz.
+  static float windWeight(const glm::vec3& p, const WindVolume& w) {
+    const glm::vec3 outside = glm::max(glm::abs(p - w.center) - w.halfExtent, glm::vec3(0.0f));
+    const float d = std::sqrt(glm::dot(outside, outside));
+    if (d == 0.0f) return 1.0f;
+    if (!(d < w.feather)) return 0.0f;
+    const float x = 1.0f - d / w.feather;
+    return x * x * (3.0f - 2.0f * x);
+  }
+
+  static glm::vec3 vortexVelocity(const glm::vec3& p, const LiveVortex& v) {
+    const glm::vec3 d = p - v.center;
+    const float along = glm::dot(d, v.axis);
+    const glm::vec3 radial = d - along * v.axis;
+    const float r2 = glm::dot(radial, radial);
+    // Branch-free (so the loop over particles vectorizes): on the axis and past the cutoff, zero.
+    const float inside = (r2 >= 1e-12f && r2 <= v.cutoff2) ? 1.0f : 0.0f;
+    const float r2s = std::max(r2, 1e-12f);
+    // exp(-r^2/rc^2) for the core; one more exponential for the falloff and the length together.
+    const float core = 1.0f - detail::fastExp(-r2s * v.invRadius2);
+    const float k =
+        inside * v.scale * core / r2s * detail::fastExp(-r2s * v.invFalloff2 - along * along * v.invHalfLength2);
+    return k * glm::cross(v.axis, radial);
+  }
+
+  // Air velocity for every particle into ux/uy/uz, one field at a time over the arrays (the vortex
+  // and wind-volume loops vectorize; the turbulence lookup is a gather).
   void airAll(double t) {
     const std::size_t n = size();
     ux.resize(n), uy.resize(n), uz.resize(n);
-    const auto vortices = liveVortices(t);
-    const bool onlyWind = s.forces.windVolumes.empty() && vortices.empty() && !(s.forces.turbulence.strength > 0.0f);
-    if (onlyWind) {
-      std::fill(ux.begin(), ux.end(), s.forces.wind.x);
-      std::fill(uy.begin(), uy.end(), s.forces.wind.y);
-      std::fill(uz.begin(), uz.end(), s.forces.wind.z);
-      return;
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const glm::vec3 u = air(glm::vec3(px[i], py[i], pz[i]), t, vortices);
-      ux[i] = u.x, uy[i] = u.y, uz[i] = u.z;
+    const Forces& f = s.forces;
+    std::fill(ux.begin(), ux.end(), f.wind.x);
+    std::fill(uy.begin(), uy.end(), f.wind.y);
+    std::fill(uz.begin(), uz.end(), f.wind.z);
+    const float* __restrict X = px.data();
+    const float* __restrict Y = py.data();
+    const float* __restrict Z = pz.data();
+    float* __restrict UX = ux.data();
+    float* __restrict UY = uy.data();
+    float* __restrict UZ = uz.data();
+    for (const WindVolume& w : f.windVolumes) addWindVolume(w, X, Y, Z, UX, UY, UZ, n);
+    for (const LiveVortex& v : liveVortices(t)) addVortex(v, X, Y, Z, UX, UY, UZ, n);
+    const Turbulence& tb = f.turbulence;
+    if (tb.strength > 0.0f && curl) {
+      const float inv = 1.0f / tb.scale;
+      const glm::vec3 offset = turbulenceOffset(t);
+      for (std::size_t i = 0; i < n; ++i) {
+        const glm::vec3 u = tb.strength * curl->sample(glm::vec3(X[i], Y[i], Z[i]) * inv + offset);
+        UX[i] += u.x, UY[i] += u.y, UZ[i] += u.z;
+      }
     }
   }
 
@@ -478,16 +604,8 @@ struct Simulator::Impl {
       // v' = w + (v - w) e,  x' = x + w h + (v - w) (1 - e) / k,  w = u + a / k: exact for held u, a.
       const float e = static_cast<float>(std::exp(-static_cast<double>(k) * h));
       const float c = static_cast<float>(-std::expm1(-static_cast<double>(k) * h) / k);
-      const float invK = 1.0f / k;
-      for (std::size_t i = 0; i < n; ++i) {
-        const float density = D0[i] * (1.0f - A[i] / L[i]);
-        const float wX = UX[i] + (gx + bx * density) * invK;
-        const float wY = UY[i] + (gy + by * density) * invK;
-        const float wZ = UZ[i] + (gz + bz * density) * invK;
-        const float dX = VX[i] - wX, dY = VY[i] - wY, dZ = VZ[i] - wZ;
-        X[i] += wX * hf + dX * c, Y[i] += wY * hf + dY * c, Z[i] += wZ * hf + dZ * c;
-        VX[i] = wX + dX * e, VY[i] = wY + dY * e, VZ[i] = wZ + dZ * e;
-      }
+      integrateExponential(X, Y, Z, VX, VY, VZ, UX, UY, UZ, A, L, D0, n, glm::vec3(gx, gy, gz), glm::vec3(bx, by, bz),
+                           1.0f / k, hf, e, c);
     } else {
       for (std::size_t i = 0; i < n; ++i) {
         const float density = D0[i] * (1.0f - A[i] / L[i]);
@@ -502,10 +620,22 @@ struct Simulator::Impl {
   // Puts particles [begin, end) back outside every collider; returns the number of contacts.
   // `prev` (x, y, z arrays indexed from `begin`) is where the particles were before they moved: mesh
   // colliders test the segment, so a fast particle cannot tunnel through a thin wall.
-  std::size_t collide(std::size_t begin, std::size_t end, const float* const* prev) {
+  std::size_t collide(std::size_t begin, std::size_t end, const float* const* prev, double t) {
     std::size_t contacts = 0;
     std::size_t meshIndex = 0;
-    for (const Collider& c : s.colliders) {
+    // Each particle's collision radius, once for all colliders.
+    radii.resize(end - begin);
+    for (std::size_t i = begin; i < end; ++i)
+      radii[i - begin] = s.collisionRadius * 0.5f * size0[i] * std::max(0.0f, 1.0f - age[i] / life[i]);
+    for (const Collider& collider : s.colliders) {
+      Collider moved;  // a collider on a path, where it is now (meshes move by the same offset)
+      const bool onPath = !collider.path.empty();
+      if (onPath) {
+        moved.type = collider.type, moved.rotation = collider.rotation, moved.halfExtent = collider.halfExtent;
+        moved.friction = collider.friction, moved.center = collider.center + collider.path.at(t);
+      }
+      const Collider& c = onPath ? moved : collider;
+      const glm::vec3 meshOffset = onPath ? collider.path.at(t) : glm::vec3(0.0f);
       const glm::quat inv = glm::conjugate(c.rotation);
       const float keep = 1.0f - c.friction;
       auto respond = [&](std::size_t i, const glm::vec3& normal) {
@@ -516,37 +646,18 @@ struct Simulator::Impl {
         vx[i] = v.x, vy[i] = v.y, vz[i] = v.z;
         ++contacts;
       };
-      auto radiusOf = [&](std::size_t i) {
-        return s.collisionRadius * 0.5f * size0[i] * std::max(0.0f, 1.0f - age[i] / life[i]);
-      };
+      auto radiusOf = [&](std::size_t i) { return radii[i - begin]; };
       switch (c.type) {
-        case Collider::Type::kPlane: {
-          const glm::vec3 n = c.rotation * glm::vec3(0, 1, 0);
-          for (std::size_t i = begin; i < end; ++i) {
-            const glm::vec3 p(px[i], py[i], pz[i]);
-            const glm::vec3 local = inv * (p - c.center);
-            const float r = radiusOf(i);
-            if (local.y >= r || std::abs(local.x) > c.halfExtent.x || std::abs(local.z) > c.halfExtent.z) continue;
-            const glm::vec3 q = p + (r - local.y) * n;
-            px[i] = q.x, py[i] = q.y, pz[i] = q.z;
-            respond(i, n);
-          }
+        case Collider::Type::kPlane:
+          contacts += collidePlane(glm::transpose(glm::mat3_cast(c.rotation)), c.center, c.halfExtent, keep,
+                                   px.data() + begin, py.data() + begin, pz.data() + begin, vx.data() + begin,
+                                   vy.data() + begin, vz.data() + begin, radii.data(), end - begin);
           break;
-        }
-        case Collider::Type::kSphere: {
-          const float R = c.halfExtent.x;
-          for (std::size_t i = begin; i < end; ++i) {
-            const glm::vec3 d = glm::vec3(px[i], py[i], pz[i]) - c.center;
-            const float r = radiusOf(i), L2 = glm::dot(d, d);
-            if (L2 >= (R + r) * (R + r)) continue;
-            const float L = std::sqrt(L2);
-            const glm::vec3 n = L > 1e-12f ? d / L : c.rotation * glm::vec3(0, 1, 0);
-            const glm::vec3 q = c.center + n * (R + r);
-            px[i] = q.x, py[i] = q.y, pz[i] = q.z;
-            respond(i, n);
-          }
+        case Collider::Type::kSphere:
+          contacts += collideSphere(c.center, c.halfExtent.x, c.rotation * glm::vec3(0, 1, 0), keep, px.data() + begin,
+                                    py.data() + begin, pz.data() + begin, vx.data() + begin, vy.data() + begin,
+                                    vz.data() + begin, radii.data(), end - begin);
           break;
-        }
         case Collider::Type::kBox: {
           for (std::size_t i = begin; i < end; ++i) {
             const glm::vec3 local = inv * (glm::vec3(px[i], py[i], pz[i]) - c.center);
@@ -557,9 +668,9 @@ struct Simulator::Impl {
             const int axis = pen.x < pen.y ? (pen.x < pen.z ? 0 : 2) : (pen.y < pen.z ? 1 : 2);
             glm::vec3 nLocal(0.0f);
             nLocal[axis] = local[axis] < 0.0f ? -1.0f : 1.0f;
-            glm::vec3 moved = local;
-            moved[axis] = nLocal[axis] * reach[axis];
-            const glm::vec3 q = c.center + c.rotation * moved;
+            glm::vec3 outside = local;
+            outside[axis] = nLocal[axis] * reach[axis];
+            const glm::vec3 q = c.center + c.rotation * outside;
             px[i] = q.x, py[i] = q.y, pz[i] = q.z;
             respond(i, c.rotation * nLocal);
           }
@@ -571,14 +682,15 @@ struct Simulator::Impl {
           const float* OY = prev[1];
           const float* OZ = prev[2];
           for (std::size_t i = begin; i < end; ++i) {
-            const glm::vec3 p(OX[i - begin], OY[i - begin], OZ[i - begin]), q(px[i], py[i], pz[i]);
-            float t;
+            const glm::vec3 p = glm::vec3(OX[i - begin], OY[i - begin], OZ[i - begin]) - meshOffset,
+                            q = glm::vec3(px[i], py[i], pz[i]) - meshOffset;
+            float along;
             std::uint32_t tri;
-            if (!m.firstHit(p, q, t, tri)) continue;
+            if (!m.firstHit(p, q, along, tri)) continue;
             glm::vec3 n = m.n[tri];
             if (glm::dot(p - m.a[tri], n) < 0.0f) n = -n;  // the side it came from
-            const glm::vec3 hit = p + (q - p) * t;
-            const glm::vec3 at = hit + n * 1e-4f * std::max(1.0f, glm::length(m.hi - m.lo));
+            const glm::vec3 hit = p + (q - p) * along;
+            const glm::vec3 at = hit + n * 1e-4f * std::max(1.0f, glm::length(m.hi - m.lo)) + meshOffset;
             px[i] = at.x, py[i] = at.y, pz[i] = at.z;
             respond(i, n);
           }
@@ -593,7 +705,8 @@ struct Simulator::Impl {
     for (std::size_t ei = 0; ei < s.emitters.size(); ++ei) {
       const Emitter& e = s.emitters[ei];
       if (!(e.rate > 0.0f)) continue;
-      const double stop = e.stop > e.start ? e.stop : std::numeric_limits<double>::infinity();
+      const double stop =
+          e.duration > 0.0f ? static_cast<double>(e.start) + e.duration : std::numeric_limits<double>::infinity();
       // Particle k is born at start + (k + 1/2) / rate: E(t) counts those born before t. The half
       // keeps births off step boundaries, where rounding would move one to the next step.
       auto emitted = [&](double t) {
@@ -681,14 +794,16 @@ struct Simulator::Impl {
   }
 
   void advance(StepStats& st) {
-    const double t0 = static_cast<double>(step) * h, t1 = static_cast<double>(step + 1) * h;
+    // Scene time: frame 0 is at 0, the preroll before it.
+    const double t0 = static_cast<double>(step - prerollSteps) * h,
+                 t1 = static_cast<double>(step + 1 - prerollSteps) * h;
     const std::size_t n = size();
     airAll(t0);
     const bool haveMesh = !meshes.empty();
     if (haveMesh) ox = px, oy = py, oz = pz;
     integrate();
     const float* prev[3] = {ox.data(), oy.data(), oz.data()};
-    if (!s.colliders.empty()) st.collisions += collide(0, n, prev);
+    if (!s.colliders.empty()) st.collisions += collide(0, n, prev, t1);
     // Age, and remove the dead and the non-finite, keeping the order.
     const float hf = static_cast<float>(h);
     std::size_t out = 0;
@@ -710,7 +825,7 @@ struct Simulator::Impl {
     ox.clear(), oy.clear(), oz.clear();
     spawn(t0, t1, st);
     const float* born[3] = {ox.data(), oy.data(), oz.data()};
-    if (!s.colliders.empty()) st.collisions += collide(before, size(), born);
+    if (!s.colliders.empty()) st.collisions += collide(before, size(), born, t1);
     shedVortices(t0, t1);
     ++step;
   }
@@ -775,7 +890,7 @@ Result<void> Simulator::setForces(const Forces& forces) {
 }
 
 const Settings& Simulator::settings() const { return impl_->s; }
-double Simulator::time() const { return static_cast<double>(impl_->step) * impl_->h; }
+double Simulator::time() const { return static_cast<double>(impl_->step - impl_->prerollSteps) * impl_->h; }
 std::int64_t Simulator::stepIndex() const { return impl_->step; }
 
 int Simulator::frame() const {

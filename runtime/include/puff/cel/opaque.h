@@ -57,6 +57,10 @@ class OpaqueRenderer {
   /// unnamed).
   Result<void> setObjects(std::vector<OpaqueObject> objects);
 
+  /// Moves object `index` (in the order given to setObjects) to `transform`, for animated objects.
+  /// The same checks as setObjects; on failure the object stays where it was.
+  Result<void> setTransform(std::size_t index, const glm::mat4& transform);
+
   /// Draws every object into the current framebuffer and viewport (the host's glViewport must match
   /// the frame's Viewport) with the bound FrameBlock, ramp (unit 0) and gradient (unit 1), writing
   /// linear depth. kLit: depth LESS + write. kShadowed: depth EQUAL, stencil != 0 (not written), no

@@ -81,7 +81,10 @@ struct ObjectSpec {
   glm::vec3 rotateDegrees{0.0f};  ///< XYZ Euler angles, applied X then Y then Z
   glm::vec3 scale{1.0f};          ///< plane: half-size in x and z; box: half extents; sphere: radius
   glm::vec3 albedo{0.8f};
-  bool cel = true;        ///< cel (the ramp) or smooth shading
+  bool cel = true;  ///< cel (the ramp) or smooth shading
+  /// A moving object: its position is translate + path(t), t in seconds of scene time. Simulated
+  /// vortices and emitters can ride on it ("attach": its name).
+  sim::Path path;
   bool collide = true;    ///< simulated particles collide with it (scenes with a "simulation")
   float friction = 0.0f;  ///< [0, 1], for simulated particles sliding on it
 };
@@ -133,8 +136,9 @@ nlohmann::json toJson(const Scene& scene);
 
 /// Seconds at frame `frame` (frame / fps).
 float frameTime(const Scene& scene, int frame);
-/// Object space -> world of an object: translate * rotate (X, then Y, then Z) * scale.
-glm::mat4 objectTransform(const ObjectSpec& object);
+/// Object space -> world of an object at scene time `t` (seconds): translate(translate + path(t)) *
+/// rotate (X, then Y, then Z) * scale.
+glm::mat4 objectTransform(const ObjectSpec& object, double t = 0.0);
 
 /// The simulator's settings for the scene: its "simulation" with the animation's fps and the
 /// colliding objects as colliders (meshes loaded). Errors name the mesh file. No simulation: empty.

@@ -16,6 +16,9 @@
 // The paper's forward Euler (Integrator::kForwardEuler, kept for comparison) multiplies the
 // velocity error by (1 - drag * step) per step and diverges once drag * step > 2.
 //
+// Time. Every time in the settings (paths, emitter start and stop, shedding) is scene time: frame
+// f is at f / fps, and the preroll runs before 0 (an emitter meant to fill it starts at -preroll).
+//
 // Determinism. Every random number is a hash of (seed, emitter, particle index) and time is
 // counted in whole steps, so a frame depends only on the settings and its number: frame k is
 // reached by simulating from the start (reset + advanceToFrame), bit-identical on one machine.
@@ -58,7 +61,8 @@ struct Vortex {
   float radius = 0.5f;   ///< core radius, > 0
   float falloff = 0.0f;  ///< >= 0
   float length = 0.0f;   ///< >= 0
-  Path path;             ///< attach to a moving object: the vortex moves with this path
+  Path path;             ///< a moving vortex: its position is `position` + path(t)
+  std::string attach;    ///< the scene object it rides on (the scene copies that object's path)
   /// > 0: every shedInterval seconds the moving vortex leaves a copy behind at its current place
   /// (a propeller's wake); each copy's strength fades linearly to 0 over shedLifetime seconds.
   float shedInterval = 0.0f;
@@ -95,7 +99,7 @@ struct Forces {
   std::vector<Vortex> vortices;
 };
 
-/// Particles are born at `rate` per second from `start` to `stop` seconds (stop <= start: forever)
+/// Particles are born at `rate` per second for `duration` seconds from `start` (0: forever)
 /// in a shape around `position` + path(t). Path emitters spawn each particle at its own instant
 /// inside the step, so a fast emitter (a missile's tail) leaves a continuous trail.
 struct Emitter {
@@ -108,10 +112,11 @@ struct Emitter {
   glm::vec3 position{0.0f};
   float radius = 0.5f;                 ///< >= 0
   glm::vec3 normal{0.0f, 1.0f, 0.0f};  ///< disc normal
-  Path path;
-  float rate = 10.0f;  ///< particles per second, >= 0
-  float start = 0.0f;  ///< seconds
-  float stop = 0.0f;   ///< seconds; <= start = never stops
+  Path path;                           ///< a moving emitter: at `position` + path(t)
+  std::string attach;                  ///< the scene object it rides on (the scene copies that object's path)
+  float rate = 10.0f;                  ///< particles per second, >= 0
+  float start = 0.0f;                  ///< seconds
+  float duration = 0.0f;               ///< seconds of emission from start, >= 0; 0 = never stops
   std::uint32_t seed = 1;
   glm::vec3 velocity{0.0f, 1.0f, 0.0f};  ///< initial velocity, world units / s
   float spreadDegrees = 0.0f;            ///< [0, 180]: the direction varies inside this cone
@@ -144,6 +149,7 @@ struct Collider {
   std::vector<glm::vec3> positions;  ///< kMesh
   std::vector<std::uint32_t> indices;
   float friction = 0.0f;
+  Path path;  ///< a moving body: its position is center + path (meshes: every vertex + path)
 };
 
 enum class Integrator {
@@ -211,8 +217,7 @@ class Simulator {
   Result<void> setForces(const Forces& forces);
   const Settings& settings() const;
 
-  /// Seconds since the simulation started. Frame f is at preroll + f / fps; emitter start and stop,
-  /// paths and shedding count from the start too.
+  /// Scene time in seconds: frame f is at f / fps; negative during the preroll.
   double time() const;
   std::int64_t stepIndex() const;  ///< steps since the start
   int frame() const;               ///< the frame the state is at, if it is at one; else -1

@@ -1,0 +1,116 @@
+#include <puffview/options.h>
+
+#include <cstdio>
+#include <cstdlib>
+
+#include <CLI/CLI.hpp>
+
+#include <puffview/paths.h>
+#include <puffview/viewer.h>
+
+namespace puff::view {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kTool = "puffview";
+
+void printError(const std::string& message) { std::fprintf(stderr, "%s: error: %s\n", kTool, message.c_str()); }
+
+// As puffrender: $PUFF_ART, else build/art relative to the working directory.
+fs::path defaultArtDir() {
+  const char* env = std::getenv("PUFF_ART");
+  return env && *env ? fs::path(env) : fs::path("build/art");
+}
+
+}  // namespace
+
+std::variant<Options, int> parse(int argc, char** argv) {
+  Options o;
+  std::vector<std::string> pathNames;
+  std::string pathList;
+  for (const RenderPathInfo& p : renderPaths()) {
+    pathNames.push_back(p.name);
+    pathList += "\n  " + p.name + ": " + p.description;
+  }
+  CLI::App app{
+      "puffview: the artist's live viewer. Opens a scene file (JSON, see docs/scene-format.md) in a window with "
+      "panels for every style and simulation setting; edits show at once and can be saved back to the file. The "
+      "scene, its atlas, ramp, gradient, meshes and (with --shader-dir or $PUFF_SHADER_DIR) shaders are reloaded "
+      "when they change on disk.\n"
+      "Keys: Space play/pause, . or Right step, Left step back, R or Home restart, P or F12 screenshot, F orbit/fly "
+      "camera, C reset camera, H hide panels, Esc quit. Mouse (orbit): left drag turns, right or middle drag pans, "
+      "wheel zooms; (fly): WASD/QE move, right drag looks.",
+      kTool};
+  app.set_version_flag("--version", "puffview 0.1.0");
+  app.add_option("scene", o.scene, "Scene file (JSON)")->required();
+  app.add_option("--frames", o.frames,
+                 "Batch mode: show frames 0 to N-1, one per displayed frame (no wall clock, so every run shows the "
+                 "same frames), then exit")
+      ->check(CLI::Range(1, 1000000));
+  app.add_option("--screenshot", o.screenshot,
+                 "Batch mode: save the window as drawn for the last frame to this PNG (implies --frames 1 when "
+                 "--frames is not given)");
+  app.add_flag("--hide-ui", o.hideUi,
+               "Start with the panels hidden (H shows them); screenshots then show the scene only");
+  app.add_option("--width", o.width, "Window width in pixels (default: the scene's output width, at most 1920)")
+      ->check(CLI::Range(16, 16384));
+  app.add_option("--height", o.height, "Window height in pixels (default: the scene's output height, at most 1200)")
+      ->check(CLI::Range(16, 16384));
+  app.add_option("--art-dir", o.artDir,
+                 "Directory that \"${PUFF_ART}\" in the scene's paths stands for (default: $PUFF_ART, else build/art)");
+  app.add_option("--shader-dir", o.shaderDir,
+                 "Read shaders from this directory instead of the built-in copies, and reload when they change");
+  app.add_option("--screenshot-dir", o.screenshotDir,
+                 "Where P / F12 save screenshots (default: beside the scene file)");
+  app.add_option("--path", o.path, "Render path (default cel). Available:" + pathList)->check(CLI::IsMember(pathNames));
+  app.add_flag("-q,--quiet", o.quiet, "Print errors only");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    printError(e.what());
+    std::fprintf(stderr, "Run with --help for usage.\n");
+    return 2;
+  }
+  if (!o.screenshot.empty() && !o.frames) o.frames = 1;
+  if (o.artDir.empty()) o.artDir = defaultArtDir();
+  return o;
+}
+
+int run(const Options& o) {
+  ViewerOptions vo;
+  vo.scene = o.scene;
+  vo.artDir = o.artDir;
+  vo.shaderDir = o.shaderDir;
+  vo.path = o.path;
+  vo.width = o.width.value_or(0);
+  vo.height = o.height.value_or(0);
+  vo.ui = !o.hideUi;
+  vo.screenshotDir = o.screenshotDir;
+  vo.quiet = o.quiet || o.frames.has_value();
+  auto viewer = Viewer::open(vo);
+  if (!viewer) {
+    printError(viewer.error().message);
+    return 1;
+  }
+  if (!o.frames) return (*viewer)->runInteractive();
+  if (auto r = (*viewer)->runBatch(*o.frames, o.screenshot); !r) {
+    printError(r.error().message);
+    return 1;
+  }
+  if (!o.quiet && !o.screenshot.empty()) {
+    const glm::ivec2 size = (*viewer)->framebufferSize();
+    std::printf("%s: wrote %s (%dx%d, frame %d)\n", kTool, o.screenshot.c_str(), size.x, size.y, *o.frames - 1);
+  }
+  return 0;
+}
+
+}  // namespace puff::view

@@ -1,0 +1,147 @@
+// puffview's core: a GLFW window showing a scene through one render path, the artist's camera,
+// play/pause/step, the panels that edit the scene live, saving it back, screenshots, and hot
+// reload of every file the scene draws on. The app (app.cpp) is a loop around this class; tests
+// drive it one displayed frame at a time (processEvents, checkFiles, drawFrame, readWindow).
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <glm/vec2.hpp>
+
+#include <puff/core/error.h>
+#include <puff/core/image.h>
+#include <puff/render/render.h>
+#include <puff/render/scene.h>
+#include <puffview/camera.h>
+#include <puffview/paths.h>
+#include <puffview/watcher.h>
+
+namespace puff::view {
+
+struct ViewerOptions {
+  std::filesystem::path scene;   ///< the scene file
+  std::filesystem::path artDir;  ///< what "${PUFF_ART}" in the scene's paths stands for
+  /// Shaders are read from here (core::setShaderDir) and every file under it is watched. Empty:
+  /// $PUFF_SHADER_DIR when set (watched too), else the embedded copies (nothing to watch).
+  std::filesystem::path shaderDir;
+  std::string path = "cel";             ///< render path, one of renderPaths()
+  int width = 0, height = 0;            ///< window size; 0: the scene's output size, clamped to [64, 1920] x [64, 1200]
+  bool visible = true;                  ///< show the window (tests under Xvfb may keep it hidden)
+  bool ui = true;                       ///< draw the panels (H toggles them at run time)
+  std::filesystem::path screenshotDir;  ///< screenshots go here; empty: beside the scene file
+  bool quiet = false;                   ///< print nothing but errors
+};
+
+class Viewer {
+ public:
+  /// Loads the scene, opens the window (GL 4.5 core, depth 24, stencil 8) and builds the render
+  /// path. Errors: the scene's ("FILE: /pointer: ..."), no display ("glfw: cannot open a window:
+  /// ..."), or the path's (a missing atlas, a shader that does not compile).
+  static Result<std::unique_ptr<Viewer>> open(const ViewerOptions& options);
+  ~Viewer();
+  Viewer(const Viewer&) = delete;
+  Viewer& operator=(const Viewer&) = delete;
+
+  // ---- the loops ---------------------------------------------------------------------------
+  /// Runs until the window is closed (or Esc); the frame advances with the wall clock at the
+  /// scene's fps while playing. Returns the exit code.
+  int runInteractive();
+  /// Shows frames 0 .. frames-1, one per displayed frame (no wall clock: the same every run),
+  /// then saves the window as drawn for the last one to `screenshot` (when not empty).
+  Result<void> runBatch(int frames, const std::filesystem::path& screenshot);
+
+  // ---- one displayed frame, step by step ------------------------------------------------------
+  /// Processes window events and the keyboard/mouse (camera, keys); true once closing was asked.
+  bool processEvents();
+  /// Hot reload: polls the watched files now and reloads what changed. A broken file sets
+  /// fileError() and keeps the last good state; a later good version clears it.
+  void checkFiles();
+  /// Draws the current frame (and the panels when shown) into the window's back buffer.
+  void drawFrame();
+  /// The back buffer as last drawn: RGBA in [0, 1], top row first, framebufferSize() pixels.
+  Result<core::Image> readWindow();
+  /// Shows the back buffer (swap) and measures the frame time.
+  void present();
+  /// While playing, moves the frame on by `seconds` of wall time at the scene's fps (wrapping
+  /// after the last frame when `loop`). The interactive loop calls it; batch runs never do.
+  void advance(double seconds);
+
+  // ---- the scene ---------------------------------------------------------------------------
+  /// The scene being edited. Change it, then call applyEdit().
+  render::Scene& scene() { return scene_; }
+  /// Applies scene() to the render path at once; on error the view keeps the last good state and
+  /// editError() says why (cleared by the next successful edit).
+  Result<void> applyEdit();
+  /// Writes scene() as JSON (every field) to `file` (default: the scene file), atomically. Saving
+  /// elsewhere makes that file the scene file from then on (watched, saved to).
+  Result<std::filesystem::path> save(const std::filesystem::path& file = {});
+  const std::filesystem::path& sceneFile() const { return scene_.file; }
+  const std::string& fileError() const { return fileError_; }
+  const std::string& editError() const { return editError_; }
+
+  // ---- timeline ----------------------------------------------------------------------------
+  int frame() const { return frame_; }
+  void setFrame(int frame);
+  bool playing() const { return playing_; }
+  void setPlaying(bool playing);
+  void step();       ///< pauses and shows the next frame
+  void restart();    ///< back to frame 0 (the simulation restarts)
+  bool loop = true;  ///< wrap to frame 0 after the scene's last frame while playing
+
+  // ---- camera, path, stats, screenshots -----------------------------------------------------
+  CameraController& cameraController() { return camera_; }
+  /// True once the user moved the camera: the viewer's camera replaces the scene's (and its
+  /// animated orbit) until resetCamera().
+  bool cameraOverridden() const { return cameraOverride_; }
+  void setCameraOverridden(bool on) { cameraOverride_ = on; }
+  void resetCamera();
+  /// Copies the viewer's camera into scene().camera (so Save keeps the view).
+  void cameraToScene();
+
+  const std::string& pathName() const { return pathName_; }
+  /// Switches the render path (one of renderPaths()); on error the old one stays.
+  Result<void> setPath(const std::string& name);
+
+  const render::FrameStats& stats() const { return stats_; }
+  double frameMs() const { return frameMs_; }  ///< wall time between displayed frames, smoothed
+  glm::ivec2 framebufferSize() const;
+
+  /// Saves the window (as drawn last, panels included when shown) as a PNG: to `file`, or when
+  /// empty to a new "<scene>_fNNNN[_K].png" in the screenshot directory. Returns the path.
+  Result<std::filesystem::path> saveScreenshot(const std::filesystem::path& file = {});
+
+  bool uiVisible = true;
+  /// The last status line (saved to ..., screenshot ...), shown in the panel.
+  const std::string& status() const { return status_; }
+  const std::filesystem::path& artDir() const { return options_.artDir; }
+
+ private:
+  Viewer();
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+
+  void watchScene();
+  void reloadScene();
+  void rebuildPath(const std::string& why);
+  void handleInput();
+  void drawUi();
+  void setStatus(std::string text);
+
+  ViewerOptions options_;
+  render::Scene scene_;
+  std::unique_ptr<ScenePath> path_;
+  std::string pathName_;
+  FileWatcher watcher_;
+  std::string fileError_, editError_, status_;
+  int frame_ = 0;
+  bool playing_ = true;
+  double playClock_ = 0.0;  // seconds played since frame_ began
+  render::FrameStats stats_;
+  double frameMs_ = 0.0;
+  CameraController camera_;
+  bool cameraOverride_ = false;
+};
+
+}  // namespace puff::view

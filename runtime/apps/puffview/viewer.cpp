@@ -1,0 +1,587 @@
+#include <glad/gl.h>  // before GLFW, which would otherwise include the system <GL/gl.h>
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include <puff/core/atlas.h>
+#include <puff/core/files.h>
+#include <puff/core/gl.h>
+#include <puff/core/gl_context.h>
+#include <puff/core/shader.h>
+#include <puffview/json_text.h>
+#include <puffview/panels.h>
+#include <puffview/viewer.h>
+
+namespace puff::view {
+
+namespace fs = std::filesystem;
+
+struct Viewer::Impl {
+  std::unique_ptr<core::GlContext> context;
+  GLFWwindow* window = nullptr;
+  ImGuiContext* imgui = nullptr;
+  bool imguiBackends = false;
+  bool uiDrawnLastFrame = false;
+  PanelState panels;
+
+  // The scene is drawn into this multisampled target (the scene's samples, like puffrender) and
+  // resolved into the window, so edges look the same as in puffrender's images.
+  core::Framebuffer fbo;
+  core::Renderbuffer color, depthStencil;
+  int fboWidth = 0, fboHeight = 0, fboSamples = 0;
+
+  std::vector<int> keys;  // key presses (and repeats) since the last processEvents
+  double scroll = 0.0;
+  double cursorX = 0.0, cursorY = 0.0;
+  bool haveCursor = false;
+  double lastInput = 0.0, lastPresent = 0.0, lastPoll = 0.0;
+  bool screenshotRequested = false;
+  std::string sceneError, resourceError;  // what fileError() joins
+
+  static Viewer* of(GLFWwindow* w) { return static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
+  static void onKey(GLFWwindow* w, int key, int /*scancode*/, int action, int /*mods*/) {
+    if (action == GLFW_PRESS || action == GLFW_REPEAT) {
+      if (Viewer* v = of(w)) v->impl_->keys.push_back(key);
+    }
+  }
+  static void onScroll(GLFWwindow* w, double /*x*/, double y) {
+    if (Viewer* v = of(w)) v->impl_->scroll += y;
+  }
+};
+
+namespace {
+
+fs::path normalAbsolute(const fs::path& p) {
+  std::error_code ec;
+  fs::path a = fs::absolute(p, ec);
+  return (ec ? p : a).lexically_normal();
+}
+
+// Paths inside the art directory are written as "${PUFF_ART}/..." again, so a saved scene keeps
+// working with another build's art directory (toJson writes them relative to the scene).
+void restoreArtPaths(nlohmann::json& j, const fs::path& sceneDir, const fs::path& artDir) {
+  if (artDir.empty()) return;
+  const fs::path art = normalAbsolute(artDir);
+  if (j.is_structured()) {
+    for (auto& item : j) restoreArtPaths(item, sceneDir, artDir);
+    return;
+  }
+  if (!j.is_string()) return;
+  const std::string s = j.get<std::string>();
+  if (s.empty() || s.starts_with("${")) return;
+  const fs::path full = normalAbsolute(fs::path(s).is_absolute() ? fs::path(s) : sceneDir / s);
+  const fs::path rel = full.lexically_relative(art);
+  std::error_code ec;
+  if (rel.empty() || *rel.begin() == ".." || !fs::is_regular_file(full, ec)) return;
+  j = "${PUFF_ART}/" + rel.generic_string();
+}
+
+double now() { return glfwGetTime(); }
+
+}  // namespace
+
+Viewer::Viewer() : impl_(std::make_unique<Impl>()) {}
+
+Viewer::~Viewer() {
+  if (!impl_ || !impl_->context) return;
+  impl_->context->makeCurrent();
+  path_.reset();
+  impl_->fbo = {};
+  impl_->color = {};
+  impl_->depthStencil = {};
+  if (impl_->imgui) {
+    ImGui::SetCurrentContext(impl_->imgui);
+    if (impl_->imguiBackends) {
+      ImGui_ImplOpenGL3_Shutdown();
+      ImGui_ImplGlfw_Shutdown();
+    }
+    ImGui::DestroyContext(impl_->imgui);
+  }
+  glfwSetWindowUserPointer(impl_->window, nullptr);
+  impl_->context.reset();
+}
+
+Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
+  auto loaded = render::loadScene(options.scene, options.artDir);
+  if (!loaded) return loaded.error();
+  if (!options.shaderDir.empty()) core::setShaderDir(options.shaderDir);
+
+  std::unique_ptr<Viewer> v(new Viewer());
+  v->options_ = options;
+  v->scene_ = std::move(*loaded);
+  v->uiVisible = options.ui;
+  Impl& m = *v->impl_;
+
+  core::GlContextOptions gl;
+  gl.backend = "glfw";
+  gl.visible = options.visible;
+  gl.width = options.width > 0 ? options.width : std::clamp(v->scene_.width, 64, 1920);
+  gl.height = options.height > 0 ? options.height : std::clamp(v->scene_.height, 64, 1200);
+  gl.title = "puffview: " + options.scene.string();
+  auto context = core::createGlContext(gl);
+  if (!context) return context.error();
+  m.context = std::move(*context);
+  m.window = static_cast<GLFWwindow*>(m.context->nativeWindow());
+  glfwSetWindowUserPointer(m.window, v.get());
+  // Ours first: ImGui's backend chains to the callbacks installed before it.
+  glfwSetKeyCallback(m.window, Impl::onKey);
+  glfwSetScrollCallback(m.window, Impl::onScroll);
+
+  IMGUI_CHECKVERSION();
+  m.imgui = ImGui::CreateContext();
+  ImGui::SetCurrentContext(m.imgui);
+  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the artist's working directory
+  ImGui::StyleColorsDark();
+  if (!ImGui_ImplGlfw_InitForOpenGL(m.window, true)) return Error{"imgui: cannot attach to the GLFW window"};
+  if (!ImGui_ImplOpenGL3_Init("#version 450 core")) {
+    ImGui_ImplGlfw_Shutdown();
+    return Error{"imgui: cannot initialize its OpenGL 3 renderer"};
+  }
+  m.imguiBackends = true;
+
+  auto path = createPath(options.path, v->scene_);
+  if (!path) return path.error();
+  v->path_ = std::move(*path);
+  v->pathName_ = options.path;
+  v->camera_.reset(render::cameraAt(v->scene_, 0));
+  v->watchScene();
+  m.lastInput = m.lastPresent = m.lastPoll = now();
+  return v;
+}
+
+// ---- hot reload -----------------------------------------------------------------------------
+
+void Viewer::watchScene() {
+  std::vector<fs::path> files{scene_.file};
+  if (!scene_.atlas.empty()) {
+    files.push_back(scene_.atlas);
+    if (auto desc = core::loadAtlasDesc(scene_.atlas)) {
+      for (const auto& [name, map] : desc->maps) {
+        for (const std::string& level : map.levels) files.push_back(scene_.atlas.parent_path() / level);
+      }
+    }
+  }
+  if (!scene_.ramp.empty()) files.push_back(scene_.ramp);
+  if (!scene_.ambientGradient.empty()) files.push_back(scene_.ambientGradient);
+  for (const render::ObjectSpec& o : scene_.objects) {
+    if (o.type == render::ObjectSpec::Type::kMesh && !o.mesh.empty()) files.push_back(o.mesh);
+  }
+  std::vector<fs::path> dirs;
+  if (const fs::path shaders = core::shaderDir(); !shaders.empty()) dirs.push_back(shaders);
+  watcher_.watch(std::move(files), std::move(dirs));
+}
+
+void Viewer::checkFiles() {
+  impl_->lastPoll = now();
+  const std::vector<fs::path> changed = watcher_.poll();
+  if (changed.empty()) return;
+  const bool sceneChanged = std::find(changed.begin(), changed.end(), scene_.file) != changed.end();
+  const bool resourcesChanged = changed.size() > (sceneChanged ? 1u : 0u);
+  if (!options_.quiet) {
+    for (const fs::path& p : changed) std::printf("puffview: changed: %s\n", p.c_str());
+    std::fflush(stdout);
+  }
+  if (sceneChanged) {
+    reloadScene();
+    if (resourcesChanged && impl_->sceneError.empty()) rebuildPath("changed files");
+  } else {
+    rebuildPath("changed files");
+  }
+}
+
+void Viewer::reloadScene() {
+  Impl& m = *impl_;
+  auto loaded = render::loadScene(scene_.file, options_.artDir);
+  auto fail = [&](const std::string& message) {
+    m.sceneError = message;
+    fileError_ = m.sceneError + (m.resourceError.empty() ? "" : "\n" + m.resourceError);
+    if (!options_.quiet) std::fprintf(stderr, "puffview: error: %s\n", message.c_str());
+  };
+  if (!loaded) return fail(loaded.error().message);
+  loaded->file = scene_.file;
+  if (auto r = path_->update(*loaded); !r) return fail(r.error().message);
+  scene_ = std::move(*loaded);
+  m.sceneError.clear();
+  m.resourceError.clear();  // update() reloaded what the scene names, or nothing changed there
+  fileError_.clear();
+  editError_.clear();
+  if (!cameraOverride_) camera_.reset(render::cameraAt(scene_, frame_));
+  const fs::path file = scene_.file;
+  watchScene();  // the scene may name other files now
+  setStatus("reloaded " + file.string());
+}
+
+void Viewer::rebuildPath(const std::string& why) {
+  Impl& m = *impl_;
+  auto path = createPath(pathName_, scene_);
+  if (!path) {
+    m.resourceError = path.error().message;
+    if (!options_.quiet) std::fprintf(stderr, "puffview: error: %s\n", m.resourceError.c_str());
+  } else {
+    path_ = std::move(*path);
+    m.resourceError.clear();
+    setStatus("rebuilt the " + pathName_ + " path (" + why + ")");
+  }
+  fileError_ = m.sceneError + (!m.sceneError.empty() && !m.resourceError.empty() ? "\n" : "") + m.resourceError;
+  watchScene();  // an atlas sidecar may name other images now
+}
+
+// ---- editing ---------------------------------------------------------------------------------
+
+Result<void> Viewer::applyEdit() {
+  auto r = path_->update(scene_);
+  editError_ = r ? "" : r.error().message;
+  return r;
+}
+
+Result<fs::path> Viewer::save(const fs::path& file) {
+  const fs::path target = file.empty() ? scene_.file : file;
+  render::Scene copy = scene_;
+  copy.file = target;  // toJson writes paths relative to where the file will be
+  nlohmann::json j = render::toJson(copy);
+  restoreArtPaths(j, target.parent_path(), options_.artDir);
+  if (auto r = core::writeFileAtomic(target, jsonText(j) + "\n"); !r) return r.error();
+  if (target == scene_.file) {
+    watcher_.markSeen(target);  // our own write is not an outside change to reload
+  } else {
+    scene_.file = target;
+    watchScene();
+  }
+  setStatus("saved " + target.string());
+  if (!options_.quiet) std::printf("puffview: saved %s\n", target.c_str());
+  return target;
+}
+
+void Viewer::setStatus(std::string text) { status_ = std::move(text); }
+
+// ---- timeline --------------------------------------------------------------------------------
+
+void Viewer::setFrame(int frame) {
+  frame_ = std::max(0, frame);
+  playClock_ = 0.0;
+}
+void Viewer::setPlaying(bool playing) {
+  playing_ = playing;
+  playClock_ = 0.0;
+}
+void Viewer::step() {
+  playing_ = false;
+  setFrame(frame_ + 1);
+}
+void Viewer::restart() { setFrame(0); }
+
+void Viewer::advance(double seconds) {
+  if (!playing_) return;
+  playClock_ += seconds;
+  const double frameSeconds = 1.0 / std::max(1e-3f, scene_.animation.fps);
+  // A slow frame (a 50,000-particle scene on llvmpipe) skips frames to keep time, as a player
+  // does; the simulation steps through them anyway.
+  const int ahead = static_cast<int>(playClock_ / frameSeconds);
+  if (ahead <= 0) return;
+  playClock_ -= ahead * frameSeconds;
+  int next = frame_ + ahead;
+  const int frames = std::max(1, scene_.animation.frames);
+  if (next >= frames) {
+    if (loop) {
+      next %= frames;
+    } else {
+      next = frames - 1;
+      playing_ = false;
+    }
+  }
+  frame_ = next;
+}
+
+// ---- camera and path -------------------------------------------------------------------------
+
+void Viewer::resetCamera() {
+  cameraOverride_ = false;
+  camera_.reset(render::cameraAt(scene_, frame_));
+}
+
+void Viewer::cameraToScene() {
+  const cel::Camera c = camera_.camera(scene_.camera);
+  scene_.camera = c;
+  scene_.animation.orbitDegreesPerSecond = 0.0f;  // the saved view is the view seen
+  cameraOverride_ = false;
+  (void)applyEdit();
+}
+
+Result<void> Viewer::setPath(const std::string& name) {
+  auto path = createPath(name, scene_);
+  if (!path) return path.error();
+  path_ = std::move(*path);
+  pathName_ = name;
+  return {};
+}
+
+glm::ivec2 Viewer::framebufferSize() const {
+  int w = 0, h = 0;
+  glfwGetFramebufferSize(impl_->window, &w, &h);
+  return {w, h};
+}
+
+// ---- input -----------------------------------------------------------------------------------
+
+bool Viewer::processEvents() {
+  impl_->context->pollEvents();
+  handleInput();
+  return glfwWindowShouldClose(impl_->window) == GLFW_TRUE;
+}
+
+void Viewer::handleInput() {
+  Impl& m = *impl_;
+  ImGui::SetCurrentContext(m.imgui);
+  const ImGuiIO& io = ImGui::GetIO();
+  const bool uiMouse = m.uiDrawnLastFrame && io.WantCaptureMouse;
+  const bool uiKeys = m.uiDrawnLastFrame && io.WantCaptureKeyboard;
+  const double t = now();
+  const float dt = static_cast<float>(std::min(0.1, t - m.lastInput));
+  m.lastInput = t;
+
+  auto touchCamera = [&] {
+    if (!cameraOverride_) {
+      camera_.reset(render::cameraAt(scene_, frame_));
+      cameraOverride_ = true;
+    }
+  };
+  std::vector<int> keys;
+  keys.swap(m.keys);
+  if (!uiKeys) {
+    for (int key : keys) {
+      switch (key) {
+        case GLFW_KEY_SPACE:
+          setPlaying(!playing_);
+          break;
+        case GLFW_KEY_PERIOD:
+        case GLFW_KEY_RIGHT:
+          step();
+          break;
+        case GLFW_KEY_COMMA:
+        case GLFW_KEY_LEFT:
+          playing_ = false;
+          setFrame(frame_ - 1);
+          break;
+        case GLFW_KEY_R:
+        case GLFW_KEY_HOME:
+          restart();
+          break;
+        case GLFW_KEY_F12:
+        case GLFW_KEY_P:
+          m.screenshotRequested = true;
+          break;
+        case GLFW_KEY_F:
+          touchCamera();
+          camera_.setMode(camera_.mode() == CameraController::Mode::kOrbit ? CameraController::Mode::kFly
+                                                                           : CameraController::Mode::kOrbit);
+          break;
+        case GLFW_KEY_C:
+          resetCamera();
+          break;
+        case GLFW_KEY_H:
+          uiVisible = !uiVisible;
+          break;
+        case GLFW_KEY_ESCAPE:
+          glfwSetWindowShouldClose(m.window, GLFW_TRUE);
+          break;
+        default:
+          break;
+      }
+    }
+    if (camera_.mode() == CameraController::Mode::kFly) {
+      glm::vec3 move(0.0f);
+      auto down = [&](int k) { return glfwGetKey(m.window, k) == GLFW_PRESS ? 1.0f : 0.0f; };
+      move.z = down(GLFW_KEY_W) - down(GLFW_KEY_S);
+      move.x = down(GLFW_KEY_D) - down(GLFW_KEY_A);
+      move.y = down(GLFW_KEY_E) - down(GLFW_KEY_Q);
+      if (move != glm::vec3(0.0f)) {
+        touchCamera();
+        const float fast = down(GLFW_KEY_LEFT_SHIFT) > 0.0f ? 4.0f : 1.0f;
+        camera_.fly(move * fast, dt);
+      }
+    }
+  }
+
+  double x = 0.0, y = 0.0;
+  glfwGetCursorPos(m.window, &x, &y);
+  const glm::vec2 delta = m.haveCursor ? glm::vec2(x - m.cursorX, y - m.cursorY) : glm::vec2(0.0f);
+  m.cursorX = x, m.cursorY = y, m.haveCursor = true;
+  const double scroll = m.scroll;
+  m.scroll = 0.0;
+  if (uiMouse) return;
+  const bool left = glfwGetMouseButton(m.window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+  const bool right = glfwGetMouseButton(m.window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+  const bool middle = glfwGetMouseButton(m.window, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
+  const bool moved = delta != glm::vec2(0.0f);
+  if (camera_.mode() == CameraController::Mode::kOrbit) {
+    if (left && moved) touchCamera(), camera_.rotate(delta);
+    if ((right || middle) && moved) touchCamera(), camera_.pan(delta, framebufferSize().y);
+  } else {
+    if ((right || left) && moved) touchCamera(), camera_.rotate(delta);
+    if (middle && moved) touchCamera(), camera_.pan(delta, framebufferSize().y);
+  }
+  if (scroll != 0.0) touchCamera(), camera_.zoom(static_cast<float>(scroll));
+}
+
+// ---- drawing ---------------------------------------------------------------------------------
+
+void Viewer::drawFrame() {
+  Impl& m = *impl_;
+  m.context->makeCurrent();
+  const glm::ivec2 size = framebufferSize();
+  if (size.x <= 0 || size.y <= 0) return;  // minimized
+
+  GLint maxSamples = 1;
+  glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
+  const int samples = std::clamp(scene_.samples, 1, std::max(1, maxSamples));
+  if (!m.fbo || m.fboWidth != size.x || m.fboHeight != size.y || m.fboSamples != samples) {
+    m.fbo = core::makeFramebuffer();
+    m.color = core::makeRenderbuffer();
+    m.depthStencil = core::makeRenderbuffer();
+    const int s = samples > 1 ? samples : 0;
+    glNamedRenderbufferStorageMultisample(m.color.get(), s, GL_RGBA8, size.x, size.y);
+    glNamedRenderbufferStorageMultisample(m.depthStencil.get(), s, GL_DEPTH24_STENCIL8, size.x, size.y);
+    glNamedFramebufferRenderbuffer(m.fbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m.color.get());
+    glNamedFramebufferRenderbuffer(m.fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m.depthStencil.get());
+    m.fboWidth = size.x, m.fboHeight = size.y, m.fboSamples = samples;
+  }
+
+  glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
+  cel::Camera camera;
+  if (cameraOverride_) camera = camera_.camera(render::cameraAt(scene_, frame_));
+  render::FrameStats stats;
+  path_->draw(frame_, cel::Viewport{0, 0, size.x, size.y}, &stats, cameraOverride_ ? &camera : nullptr);
+  stats_ = stats;
+
+  // Resolve into the window's back buffer.
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDrawBuffer(GL_BACK);
+  glDisable(GL_SCISSOR_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glBlitNamedFramebuffer(m.fbo.get(), 0, 0, 0, size.x, size.y, 0, 0, size.x, size.y, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  drawUi();
+}
+
+void Viewer::drawUi() {
+  Impl& m = *impl_;
+  m.uiDrawnLastFrame = uiVisible || !fileError_.empty() || !editError_.empty();
+  if (!m.uiDrawnLastFrame) return;
+  ImGui::SetCurrentContext(m.imgui);
+  ImGui_ImplOpenGL3_NewFrame();
+  ImGui_ImplGlfw_NewFrame();
+  ImGui::NewFrame();
+  if (uiVisible) drawPanels(*this, m.panels);
+  drawErrorOverlay(*this);
+  ImGui::Render();
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+}
+
+Result<core::Image> Viewer::readWindow() {
+  const glm::ivec2 size = framebufferSize();
+  if (size.x <= 0 || size.y <= 0) return Error{"the window has no pixels (minimized?)"};
+  std::vector<unsigned char> bytes(static_cast<std::size_t>(size.x) * size.y * 4);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, size.x, size.y, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+  if (const std::string errors = core::drainGlErrors(); !errors.empty())
+    return Error{"GL error while reading the window: " + errors};
+  core::Image image(size.x, size.y, 4);
+  for (int y = 0; y < size.y; ++y) {
+    const unsigned char* row = &bytes[static_cast<std::size_t>(size.y - 1 - y) * size.x * 4];
+    for (int x = 0; x < size.x; ++x) {
+      for (int c = 0; c < 3; ++c) image.at(x, y, c) = row[x * 4 + c] / 255.0f;
+      image.at(x, y, 3) = 1.0f;  // a window is opaque, whatever alpha the visual keeps
+    }
+  }
+  return image;
+}
+
+void Viewer::present() {
+  Impl& m = *impl_;
+  m.context->swapBuffers();
+  const double t = now();
+  const double ms = (t - m.lastPresent) * 1000.0;
+  m.lastPresent = t;
+  frameMs_ = frameMs_ == 0.0 ? ms : 0.9 * frameMs_ + 0.1 * ms;
+}
+
+Result<fs::path> Viewer::saveScreenshot(const fs::path& file) {
+  fs::path target = file;
+  if (target.empty()) {
+    const fs::path dir = options_.screenshotDir.empty() ? scene_.file.parent_path() : options_.screenshotDir;
+    char number[32];
+    std::snprintf(number, sizeof number, "_f%04d", frame_);
+    const std::string base = scene_.file.stem().string() + number;
+    target = dir / (base + ".png");
+    std::error_code ec;
+    for (int k = 2; fs::exists(target, ec); ++k) target = dir / (base + "_" + std::to_string(k) + ".png");
+  }
+  auto image = readWindow();
+  if (!image) return image.error();
+  core::OutputTransaction tx;
+  if (!target.parent_path().empty()) {
+    if (auto r = tx.prepareDirectory(target.parent_path()); !r) return r.error();
+  }
+  const fs::path temp = tx.stage(target);
+  if (auto r = core::writeImage(temp, *image, core::PixelType::kUInt8, {}, "screenshot.png"); !r)
+    return Error::at(target, r.error().message);
+  if (auto r = tx.commit(); !r) return r.error();
+  setStatus("screenshot " + target.string());
+  return target;
+}
+
+// ---- loops -----------------------------------------------------------------------------------
+
+int Viewer::runInteractive() {
+  Impl& m = *impl_;
+  glfwSwapInterval(1);
+  double last = now();
+  while (!processEvents()) {
+    if (now() - m.lastPoll >= 0.25) checkFiles();
+    drawFrame();
+    if (m.screenshotRequested) {
+      m.screenshotRequested = false;
+      auto shot = saveScreenshot();
+      if (!shot) {
+        editError_ = "screenshot: " + shot.error().message;
+      } else if (!options_.quiet) {
+        std::printf("puffview: wrote %s\n", shot->c_str());
+        std::fflush(stdout);
+      }
+    }
+    present();
+    const double t = now();
+    advance(t - last);
+    last = t;
+  }
+  return 0;
+}
+
+Result<void> Viewer::runBatch(int frames, const fs::path& screenshot) {
+  glfwSwapInterval(0);
+  playing_ = false;
+  for (int f = 0; f < frames; ++f) {
+    setFrame(f);
+    if (processEvents()) return Error{"the window was closed before frame " + std::to_string(f)};
+    frame_ = f;  // keys (space, arrows) must not move a batch run off its frames
+    drawFrame();
+    if (f == frames - 1 && !screenshot.empty()) {
+      if (auto shot = saveScreenshot(screenshot); !shot) return shot.error();
+    }
+    present();
+  }
+  return {};
+}
+
+}  // namespace puff::view

@@ -1,0 +1,360 @@
+// puffview as an artist and a test meet it: --help tells the truth, a broken scene is one line
+// naming the file, the batch screenshot is the very image puffrender makes of the same frame, and
+// the viewer (puffview_lib) reloads a scene or shader changed on disk, keeps the last good state
+// when the file is broken, applies panel edits at once and saves them back.
+//
+// Tests that open a window need a display: ctest runs them under xvfb-run (PuffviewUnderXvfb,
+// with PUFF_TEST_REQUIRE_GLFW=1); in the plain puff_tests run without DISPLAY they skip.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <puff/core/files.h>
+#include <puff/core/image.h>
+#include <puff/core/shader.h>
+#include <puff/render/scene.h>
+#include <puffview/paths.h>
+#include <puffview/viewer.h>
+
+#include "support/cli_test.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using puff::core::Image;
+using puff::test::CliRun;
+
+bool displayRequired() {
+  const char* v = std::getenv("PUFF_TEST_REQUIRE_GLFW");
+  return v != nullptr && std::string(v) == "1";
+}
+bool haveDisplay() { return std::getenv("DISPLAY") != nullptr || std::getenv("WAYLAND_DISPLAY") != nullptr; }
+
+#define PUFFVIEW_NEEDS_DISPLAY()                                                                  \
+  do {                                                                                            \
+    if (!displayRequired() && !haveDisplay())                                                     \
+      GTEST_SKIP() << "no display; ctest runs this under xvfb-run with PUFF_TEST_REQUIRE_GLFW=1"; \
+  } while (0)
+
+// Share of pixels whose R, G and B all lie within `tolerance` (0-255 steps) of the other image's.
+double shareWithin(const Image& a, const Image& b, int tolerance) {
+  std::size_t good = 0;
+  for (int y = 0; y < a.height; ++y) {
+    for (int x = 0; x < a.width; ++x) {
+      bool ok = true;
+      for (int c = 0; c < 3; ++c) ok = ok && std::abs(a.at(x, y, c) - b.at(x, y, c)) * 255.0f <= tolerance + 0.5f;
+      good += ok ? 1 : 0;
+    }
+  }
+  return static_cast<double>(good) / (static_cast<double>(a.width) * a.height);
+}
+
+glm::vec3 rgb(const Image& image, int x, int y) { return {image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2)}; }
+
+void expectColor(const Image& image, int x, int y, glm::vec3 expected, const char* what) {
+  const glm::vec3 got = rgb(image, x, y);
+  EXPECT_NEAR(got.r, expected.r, 1.5 / 255) << what << " at " << x << "," << y;
+  EXPECT_NEAR(got.g, expected.g, 1.5 / 255) << what << " at " << x << "," << y;
+  EXPECT_NEAR(got.b, expected.b, 1.5 / 255) << what << " at " << x << "," << y;
+}
+
+// Share of the puffs' inner pixels (the pixel and its 4 neighbours far from `background` in `a`,
+// so antialiased edges, which mix in the background, do not count) that are the same in `b`.
+double samePuffs(const Image& a, const Image& b, glm::vec3 background, int maxX = 1 << 30, int maxY = 1 << 30) {
+  auto far = [&](int x, int y) { return glm::length(rgb(a, x, y) - background) > 0.3f; };
+  std::size_t inner = 0, same = 0;
+  for (int y = 1; y + 1 < a.height; ++y) {
+    for (int x = 1; x + 1 < a.width; ++x) {
+      if (x < maxX && y >= maxY) continue;  // the error box's corner
+      if (!(far(x, y) && far(x - 1, y) && far(x + 1, y) && far(x, y - 1) && far(x, y + 1))) continue;
+      ++inner;
+      same += glm::length(rgb(a, x, y) - rgb(b, x, y)) < 2.0f / 255 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(inner, 200u) << "the puffs cover part of the image";
+  return inner ? static_cast<double>(same) / static_cast<double>(inner) : 0.0;
+}
+
+class PuffviewCli : public puff::test::CliTest {
+ protected:
+  PuffviewCli() : CliTest(PUFFVIEW_EXE, "puffview") {}
+
+  // puffrender's image of `scene` frame `frame` at 320x240, as the batch screenshot is compared to.
+  Image puffrender(const std::string& scene, int frame) {
+    const fs::path out = dir_ / ("puffrender_" + std::to_string(frame) + ".png");
+    const std::string cmd = std::string(PUFFRENDER_EXE) + " " + scene + " -o " + out.string() + " --frames " +
+                            std::to_string(frame) + " --width 320 --height 240 -q --art-dir " PUFF_ART_DIR;
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    auto image = puff::core::readImage(out);
+    EXPECT_TRUE(image) << image.error().message;
+    return image ? *image : Image{};
+  }
+  Image puffview(const std::string& scene, int frames) {
+    const fs::path out = dir_ / ("puffview_" + std::to_string(frames) + ".png");
+    CliRun r = run(scene + " --frames " + std::to_string(frames) + " --screenshot " + out.string() +
+                   " --hide-ui --width 320 --height 240 --art-dir " PUFF_ART_DIR);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    EXPECT_NE(r.out.find("wrote " + out.string() + " (320x240, frame " + std::to_string(frames - 1) + ")"),
+              std::string::npos)
+        << r.out;
+    auto image = puff::core::readImage(out);
+    EXPECT_TRUE(image) << image.error().message;
+    return image ? *image : Image{};
+  }
+};
+
+TEST(PuffviewPaths, OnlyPathsThatExistAreListed) {
+  ASSERT_EQ(puff::view::renderPaths().size(), 1u);
+  EXPECT_EQ(puff::view::renderPaths()[0].name, "cel");
+  puff::render::Scene scene;
+  auto missing = puff::view::createPath("media", scene);
+  ASSERT_FALSE(missing);
+  EXPECT_EQ(missing.error().message, "unknown render path \"media\" (available: cel)");
+}
+
+TEST_F(PuffviewCli, HelpListsTheOptions) {
+  CliRun r = run("--help");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  for (const char* option : {"scene", "--frames", "--screenshot", "--hide-ui", "--width", "--height", "--art-dir",
+                             "--shader-dir", "--screenshot-dir", "--path", "--quiet", "cel:", "Space", "F12"}) {
+    EXPECT_NE(r.out.find(option), std::string::npos) << option << " missing from --help:\n" << r.out;
+  }
+  // A render path that does not exist is refused, not faked.
+  CliRun bad = run("x.json --path media");
+  EXPECT_EQ(bad.exitCode, 2) << bad.err;
+  EXPECT_NE(bad.err.find("--path"), std::string::npos) << bad.err;
+}
+
+TEST_F(PuffviewCli, BrokenSceneIsOneLineNamingTheFile) {
+  const fs::path broken = write("broken.json", "{\"output\": {\"width\": 320,\n");
+  expectOneLineError(run(broken.string() + " --frames 1"), broken.string() + ":", 1);
+  const fs::path wrong = write("wrong.json", R"({"camera": {"fovY": "wide"}})");
+  expectOneLineError(run(wrong.string()), wrong.string() + ": /camera/fovY", 1);
+  expectOneLineError(run((dir_ / "missing.json").string()), (dir_ / "missing.json").string(), 1);
+}
+
+TEST_F(PuffviewCli, NoDisplayIsOneLineNotACrash) {
+  const std::string scene = std::string(PUFF_SOURCE_DIR) + "/art/scenes/cloud-fig8c.json";
+  const fs::path out = dir_ / "out.txt", err = dir_ / "err.txt";
+  const std::string cmd = "env -u DISPLAY -u WAYLAND_DISPLAY " + std::string(PUFFVIEW_EXE) + " " + scene +
+                          " --frames 1 --art-dir " PUFF_ART_DIR " >" + out.string() + " 2>" + err.string();
+  const int status = std::system(cmd.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  const std::string text = *puff::core::readFileBytes(err);
+  EXPECT_EQ(text.rfind("puffview: error: glfw: cannot open a window", 0), 0u) << text;
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+}
+
+// The batch screenshot of a scene is puffrender's image of the same frame: the viewer draws with
+// the same renderer into a target with the scene's MSAA samples and resolves it into the window.
+// Measured on llvmpipe: identical in every pixel (RGB; puffrender keeps edge coverage in alpha, a
+// window is opaque). The tolerance leaves room for a GPU driver's resolve, nothing more.
+TEST_F(PuffviewCli, BatchScreenshotMatchesPuffrender) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const std::string cloud = std::string(PUFF_SOURCE_DIR) + "/art/scenes/cloud-fig8c.json";
+  // cloud-fig8c does not move (no velocities, lifetimes or orbit): frame 2 is frame 0, the only
+  // frame puffrender renders of it.
+  const Image view = puffview(cloud, 3);
+  const Image render = puffrender(cloud, 0);
+  ASSERT_EQ(view.width, 320);
+  ASSERT_EQ(view.height, 240);
+  ASSERT_EQ(render.width, 320);
+  EXPECT_GE(shareWithin(view, render, 2), 0.999);
+
+  // magic-lamp moves (rising plume, orbiting camera): --frames 5 shows frame 4, not 0.
+  const std::string lamp = std::string(PUFF_SOURCE_DIR) + "/art/scenes/magic-lamp.json";
+  const Image lampView = puffview(lamp, 5);
+  EXPECT_GE(shareWithin(lampView, puffrender(lamp, 4), 2), 0.999);
+  EXPECT_LT(shareWithin(lampView, puffrender(lamp, 0), 2), 0.99) << "frame 4 differs from frame 0";
+
+  // A simulated scene: the viewer steps the simulator frame by frame, puffrender simulates frame 6
+  // from the start; the same smoke either way.
+  const std::string plume = std::string(PUFF_SOURCE_DIR) + "/art/scenes/lamp-plume.json";
+  const Image plumeView = puffview(plume, 7);
+  EXPECT_GE(shareWithin(plumeView, puffrender(plume, 6), 2), 0.999);
+  EXPECT_LT(shareWithin(plumeView, puffrender(plume, 0), 2), 0.99) << "the plume moves";
+}
+
+// ---- the viewer, one displayed frame at a time ----------------------------------------------
+
+class PuffviewWindow : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("puffview_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    puff::core::setShaderDir({});
+    fs::remove_all(dir_);
+  }
+
+  // A red-backed cloud of 30 puffs in front of the default camera.
+  static std::string scene(const std::string& background) {
+    return R"({"output": {"width": 160, "height": 120, "background": ")" + background +
+           R"("}, "atlas": "${PUFF_ART}/default/puff.json",
+               "emitters": [{"count": 30, "seed": 3, "radius": 0.7, "sizeMin": 0.6, "sizeMax": 0.9}]})";
+  }
+  // Writes `text` and moves the file's time on by a second, so the change is seen even where the
+  // file system's clock is coarse.
+  void rewrite(const fs::path& file, const std::string& text) {
+    const auto before = fs::exists(file) ? fs::last_write_time(file) : fs::file_time_type::clock::now();
+    std::ofstream(file, std::ios::binary | std::ios::trunc) << text;
+    fs::last_write_time(file, before + std::chrono::seconds(1));
+  }
+  std::unique_ptr<puff::view::Viewer> open(const fs::path& file, const fs::path& shaderDir = {}) {
+    puff::view::ViewerOptions o;
+    o.scene = file;
+    o.artDir = PUFF_ART_DIR;
+    o.shaderDir = shaderDir;
+    o.width = 160;
+    o.height = 120;
+    o.ui = false;
+    o.quiet = true;
+    auto v = puff::view::Viewer::open(o);
+    EXPECT_TRUE(v) << v.error().message;
+    return v ? std::move(*v) : nullptr;
+  }
+  Image draw(puff::view::Viewer& v) {
+    v.processEvents();
+    v.drawFrame();
+    auto image = v.readWindow();
+    EXPECT_TRUE(image) << image.error().message;
+    v.present();
+    return image ? *image : Image{};
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(PuffviewWindow, SceneFileChangeReloadsAndABrokenFileKeepsTheLastGoodState) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const fs::path file = dir_ / "cloud.json";
+  rewrite(file, scene("#ff0000"));
+  auto v = open(file);
+  ASSERT_TRUE(v);
+  Image first = draw(*v);
+  ASSERT_EQ(first.width, 160);
+  ASSERT_EQ(first.height, 120);
+  expectColor(first, 2, 2, {1, 0, 0}, "background");
+
+  v->checkFiles();  // nothing changed yet
+  EXPECT_EQ(v->fileError(), "");
+
+  rewrite(file, scene("#0000ff"));
+  v->checkFiles();
+  EXPECT_EQ(v->fileError(), "");
+  Image blue = draw(*v);
+  expectColor(blue, 2, 2, {0, 0, 1}, "background after the file changed");
+  EXPECT_GE(samePuffs(first, blue, {1, 0, 0}), 0.99) << "the same puffs";
+
+  // An editor's half-written save: the error is shown, the last good state still drawn.
+  rewrite(file, "{\"output\": {\"background\": ");
+  v->checkFiles();
+  EXPECT_NE(v->fileError().find(file.string()), std::string::npos) << v->fileError();
+  draw(*v);  // Dear ImGui sizes a new auto-sized window on its first frame and shows it on the second
+  Image kept = draw(*v);
+  expectColor(kept, 157, 2, {0, 0, 1}, "last good background (top right, away from the error box)");
+  // The error box covers at most the bottom-left 60% x 50%, inside an 8-pixel margin.
+  EXPECT_GE(samePuffs(first, kept, {1, 0, 0}, 100, 48), 0.99) << "the last good puffs";
+  EXPECT_NE(rgb(kept, 10, 110), glm::vec3(0, 0, 1)) << "the error box is drawn bottom-left";
+
+  // The file vanishes for a moment (delete + create): an error, then the new version loads.
+  fs::remove(file);
+  v->checkFiles();
+  EXPECT_NE(v->fileError(), "");
+  rewrite(file, scene("#00ff00"));
+  v->checkFiles();
+  EXPECT_EQ(v->fileError(), "");
+  expectColor(draw(*v), 2, 2, {0, 1, 0}, "background once the file is good again");
+}
+
+TEST_F(PuffviewWindow, PanelEditsShowAtOnceAndSaveRoundTrips) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const fs::path file = dir_ / "cloud.json";
+  rewrite(file, scene("#ffffff"));
+  auto v = open(file);
+  ASSERT_TRUE(v);
+  auto pixelsNear = [](const Image& image, glm::vec3 color) {
+    int n = 0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) n += glm::length(rgb(image, x, y) - color) < 0.05f ? 1 : 0;
+    return n;
+  };
+  const Image before = draw(*v);
+  EXPECT_GT(pixelsNear(before, {0, 0, 0}), 20) << "black outlines are drawn";
+  EXPECT_EQ(pixelsNear(before, {0, 1, 0}), 0);
+
+  // What a slider does: edit the scene, apply, and the next frame shows it (no reload, no file).
+  v->scene().style.outlineColor = glm::vec3(0.0f, 1.0f, 0.0f);
+  v->scene().background = glm::vec3(0.5f, 0.25f, 0.0f);
+  ASSERT_TRUE(v->applyEdit());
+  const Image edited = draw(*v);
+  EXPECT_GT(pixelsNear(edited, {0, 1, 0}), 20) << "green outlines";
+  EXPECT_LT(pixelsNear(edited, {0, 0, 0}), pixelsNear(before, {0, 0, 0}) / 4) << "no black ones left";
+  expectColor(edited, 2, 2, {0.5f, 0.25f, 0.0f}, "edited background");
+
+  auto saved = v->save();
+  ASSERT_TRUE(saved) << saved.error().message;
+  EXPECT_EQ(*saved, file);
+  auto reloaded = puff::render::loadScene(file, PUFF_ART_DIR);
+  ASSERT_TRUE(reloaded) << reloaded.error().message;
+  EXPECT_EQ(reloaded->style.outlineColor, glm::vec3(0.0f, 1.0f, 0.0f));
+  EXPECT_EQ(reloaded->background, glm::vec3(0.5f, 0.25f, 0.0f));
+  const std::string text = *puff::core::readFileBytes(file);
+  EXPECT_NE(text.find("\"${PUFF_ART}/default/puff.json\""), std::string::npos) << "art paths stay portable:\n" << text;
+  v->checkFiles();
+  EXPECT_EQ(v->status(), "saved " + file.string()) << "our own save is not reloaded as an outside change";
+
+  // Save as: the new file becomes the scene file.
+  const fs::path copy = dir_ / "sub" / "copy.json";
+  fs::create_directories(copy.parent_path());
+  ASSERT_TRUE(v->save(copy));
+  EXPECT_EQ(v->sceneFile(), copy);
+  auto copied = puff::render::loadScene(copy, PUFF_ART_DIR);
+  ASSERT_TRUE(copied) << copied.error().message;
+  EXPECT_EQ(copied->style.outlineColor, glm::vec3(0.0f, 1.0f, 0.0f));
+
+  // An edit the renderer refuses keeps the last good state and says why.
+  v->scene().atlas = dir_ / "no-such-atlas.json";
+  EXPECT_FALSE(v->applyEdit());
+  EXPECT_NE(v->editError().find("no-such-atlas.json"), std::string::npos) << v->editError();
+  expectColor(draw(*v), 157, 2, {0.5f, 0.25f, 0.0f}, "last good state");
+}
+
+TEST_F(PuffviewWindow, BrokenShaderShowsItsErrorAndKeepsTheLastGoodRenderer) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const fs::path shaders = dir_ / "shaders";
+  fs::copy(fs::path(PUFF_SOURCE_DIR) / "shaders", shaders, fs::copy_options::recursive);
+  const fs::path file = dir_ / "cloud.json";
+  rewrite(file, scene("#ff0000"));
+  auto v = open(file, shaders);
+  ASSERT_TRUE(v);
+  const Image good = draw(*v);
+
+  const fs::path frag = shaders / "cel" / "nailboard.frag";
+  const std::string source = *puff::core::readFileBytes(frag);
+  rewrite(frag, source + "\nthis is not glsl;\n");
+  v->checkFiles();
+  EXPECT_NE(v->fileError().find("cel/nailboard.frag"), std::string::npos) << v->fileError();
+  draw(*v);  // the error box appears on the second frame
+  const Image kept = draw(*v);
+  EXPECT_GE(samePuffs(good, kept, {1, 0, 0}, 100, 48), 0.99) << "still drawing with the old programs";
+
+  rewrite(frag, source);
+  v->checkFiles();
+  EXPECT_EQ(v->fileError(), "");
+  EXPECT_GE(shareWithin(draw(*v), good, 0), 0.999);
+}
+
+}  // namespace
