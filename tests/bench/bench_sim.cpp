@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
     sim::Settings s = base(n);
     s.forces.wind = glm::vec3(2.0f, 0.0f, 0.0f);
     s.forces.drag = 6.0f;
-    s.forces.turbulence = {0.5f, 3.0f, 0.3f, 1};
+    s.forces.turbulence = {0.5f, 0.75f, 1.2f, 1};
     sim::Collider ground;
     ground.halfExtent = glm::vec3(100.0f, 0.0f, 100.0f);
     s.colliders.push_back(ground);
@@ -115,7 +115,7 @@ int main(int argc, char** argv) {
     s.forces.buoyancy = 1.0f;
     s.forces.wind = glm::vec3(0.5f, 0.0f, 0.0f);
     s.forces.windVolumes.push_back({glm::vec3(0.0f, 12.0f, 0.0f), glm::vec3(4.0f), glm::vec3(0.0f, 0.0f, 3.0f), 2.0f});
-    s.forces.turbulence = {0.5f, 3.0f, 0.3f, 1};
+    s.forces.turbulence = {0.5f, 0.75f, 1.2f, 1};
     sim::Vortex v;
     v.position = glm::vec3(0.0f, 12.0f, 0.0f);
     v.strength = 3.0f;

@@ -330,6 +330,12 @@ TEST_F(PuffviewWindow, PanelEditsShowAtOnceAndSaveRoundTrips) {
   EXPECT_FALSE(v->applyEdit());
   EXPECT_NE(v->editError().find("no-such-atlas.json"), std::string::npos) << v->editError();
   expectColor(draw(*v), 157, 2, {0.5f, 0.25f, 0.0f}, "last good state");
+  // ... and Save refuses to write it (the file would not load), leaving the file as it was.
+  const std::string beforeRefusal = *puff::core::readFileBytes(copy);
+  auto refused = v->save();
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().message.find("not saved"), std::string::npos) << refused.error().message;
+  EXPECT_EQ(*puff::core::readFileBytes(copy), beforeRefusal);
 }
 
 TEST_F(PuffviewWindow, BrokenShaderShowsItsErrorAndKeepsTheLastGoodRenderer) {

@@ -170,9 +170,10 @@ TEST_F(SceneFrames, SimulatedFrameRenderedAloneEqualsTheSequence) {
   EXPECT_NE(frames[3], frames[9]);  // the smoke moves
 }
 
-// A viewer's edit: forces change at once and the particles keep going; a bad value is refused and
-// nothing changes; a resource change (another ramp) reloads.
-TEST_F(SceneFrames, UpdateAppliesForcesLiveAndRefusesBadValues) {
+// A viewer's edit: new forces show at once, and the frame drawn is that frame of the edited scene
+// (a pure function of the scene, as puffrender would make it from the saved file); a bad value is
+// refused and nothing changes; a resource change (another ramp) reloads, or fails naming the file.
+TEST_F(SceneFrames, UpdateAppliesForcesAndFramesStayPure) {
   const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "lamp-plume.json";
   auto scene = render::loadScene(file, PUFF_ART_DIR);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
@@ -187,11 +188,16 @@ TEST_F(SceneFrames, UpdateAppliesForcesLiveAndRefusesBadValues) {
   ASSERT_TRUE((*r)->update(edited).ok());
   auto after = (*r)->renderFrame(7);
   ASSERT_TRUE(after.ok());
-  auto reference = render::SceneRenderer::create(*scene);  // frame 7 without the wind
-  ASSERT_TRUE(reference.ok());
-  auto still = (*reference)->renderFrame(7);
+  auto fresh = render::SceneRenderer::create(edited);  // frame 7 of the edited scene, from scratch
+  ASSERT_TRUE(fresh.ok());
+  auto expected = (*fresh)->renderFrame(7);
+  ASSERT_TRUE(expected.ok());
+  EXPECT_EQ(after->pixels, expected->pixels);
+  auto unedited = render::SceneRenderer::create(*scene);
+  ASSERT_TRUE(unedited.ok());
+  auto still = (*unedited)->renderFrame(7);
   ASSERT_TRUE(still.ok());
-  EXPECT_NE(after->pixels, still->pixels);
+  EXPECT_NE(after->pixels, still->pixels);  // and the wind shows
   render::Scene bad = edited;
   bad.simulation->forces.drag = -1.0f;
   auto refused = (*r)->update(bad);

@@ -778,3 +778,20 @@ TEST(SceneSimulation, VorticesAndEmittersRideOnMovingObjects) {
           std::string(R"({"objects": [{"name": "a"}], "simulation": {"forces": {"vortices": [{"attach": "b"}]}}})")),
       kFile.string() + ": /simulation/forces/vortices/0/attach: expected the name of a scene object (a), got \"b\"");
 }
+
+TEST(SceneSimulation, ColliderAndAttachProblemsNameTheObject) {
+  // An object that is fine to draw but too far out to simulate: named by the object, not by a
+  // collider list the file does not have.
+  const Scene far =
+      parseOk(R"({"objects": [{"type": "box", "collide": false}, {"type": "sphere", "translate": [3e6, 0, 0]}],
+                                "simulation": {}})");
+  auto settings = puff::render::simulationSettings(far);
+  ASSERT_FALSE(settings.ok());
+  EXPECT_EQ(settings.error().message,
+            kFile.string() + ": /objects/1 (as a collider): expected a number in [-1e+06, 1e+06], got 3e+06");
+  EXPECT_EQ(parseError(std::string(
+                R"({"objects": [{"name": "a"}, {"name": "a"}], "simulation": {"emitters": [{"attach": "a"}]}})")),
+            kFile.string() +
+                ": /simulation/emitters/0/attach: \"a\" names more than one object; give the object a "
+                "unique name");
+}

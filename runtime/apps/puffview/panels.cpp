@@ -29,7 +29,8 @@ struct Edits {
 };
 
 bool direction(const char* label, glm::vec3& v) {
-  if (!ImGui::DragFloat3(label, glm::value_ptr(v), 0.01f, -1.0f, 1.0f, "%.2f")) return false;
+  if (!ImGui::DragFloat3(label, glm::value_ptr(v), 0.01f, -1.0f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp))
+    return false;
   if (v == glm::vec3(0.0f)) v = glm::vec3(0.0f, 1.0f, 0.0f);  // keep it a direction
   return true;
 }
@@ -70,9 +71,11 @@ void cameraPanel(Viewer& v, Edits& edit) {
   if (ImGui::Button("Use as scene camera")) v.cameraToScene();
   ImGui::TextDisabled(v.cameraOverridden() ? "viewer camera" : "scene camera");
   cel::Camera& cam = v.scene().camera;
-  edit(ImGui::SliderFloat("Field of view", &cam.fovYDegrees, 0.0f, 120.0f, "%.1f deg"));
-  if (cam.fovYDegrees == 0.0f) edit(ImGui::DragFloat("Ortho height", &cam.orthoHeight, 0.05f, 0.01f, 1e4f));
-  edit(ImGui::DragFloat("Orbit deg/s", &v.scene().animation.orbitDegreesPerSecond, 0.5f, -360.0f, 360.0f));
+  edit(ImGui::SliderFloat("Field of view", &cam.fovYDegrees, 0.0f, 120.0f, "%.1f deg", ImGuiSliderFlags_AlwaysClamp));
+  if (cam.fovYDegrees == 0.0f)
+    edit(ImGui::DragFloat("Ortho height", &cam.orthoHeight, 0.05f, 0.01f, 1e4f, "%.3f", ImGuiSliderFlags_AlwaysClamp));
+  edit(ImGui::DragFloat("Orbit deg/s", &v.scene().animation.orbitDegreesPerSecond, 0.5f, -360.0f, 360.0f, "%.3f",
+                        ImGuiSliderFlags_AlwaysClamp));
 }
 
 void pathPanel(Viewer& v) {
@@ -109,13 +112,13 @@ void stylePanel(render::Scene& s, Edits& edit) {
   edit(ImGui::Checkbox("Shading", &st.shading));
   ImGui::SameLine();
   edit(ImGui::Checkbox("Shadows", &st.shadows));
-  edit(ImGui::SliderFloat("Outline width", &st.outlineWidth, 0.0f, 10.0f, "%.2f px"));
+  edit(ImGui::SliderFloat("Outline width", &st.outlineWidth, 0.0f, 10.0f, "%.2f px", ImGuiSliderFlags_AlwaysClamp));
   edit(ImGui::ColorEdit3("Outline colour", glm::value_ptr(st.outlineColor)));
   const char* alignments[] = {"view-plane", "viewpoint", "axial"};
   int a = static_cast<int>(st.alignment);
   if (edit(ImGui::Combo("Alignment", &a, alignments, 3))) st.alignment = static_cast<cel::Alignment>(a);
-  edit(ImGui::SliderFloat("Shadow bias", &st.shadowBias, 0.0f, 1.0f, "%.3f"));
-  edit(ImGui::DragFloat("Shadow length", &st.shadowLength, 0.1f, 0.01f, 1000.0f, "%.2f"));
+  edit(ImGui::SliderFloat("Shadow bias", &st.shadowBias, 0.0f, 1.0f, "%.3f", ImGuiSliderFlags_AlwaysClamp));
+  edit(ImGui::DragFloat("Shadow length", &st.shadowLength, 0.1f, 0.01f, 1000.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
   st.shadowLength = std::max(st.shadowLength, 0.01f);
 }
 
@@ -128,24 +131,28 @@ void lightPanel(render::Scene& s, Edits& edit) {
 }
 
 void forcesPanel(sim::Forces& f, Edits& edit) {
-  edit(ImGui::DragFloat3("Gravity", glm::value_ptr(f.gravity), 0.01f, -100.0f, 100.0f, "%.2f"));
-  edit(ImGui::SliderFloat("Buoyancy", &f.buoyancy, -10.0f, 20.0f, "%.2f"));
-  edit(ImGui::SliderFloat("Drag", &f.drag, 0.0f, 20.0f, "%.2f /s"));
-  edit(ImGui::DragFloat3("Wind", glm::value_ptr(f.wind), 0.01f, -50.0f, 50.0f, "%.2f"));
+  edit(ImGui::DragFloat3("Gravity", glm::value_ptr(f.gravity), 0.01f, -100.0f, 100.0f, "%.2f",
+                         ImGuiSliderFlags_AlwaysClamp));
+  edit(ImGui::SliderFloat("Buoyancy", &f.buoyancy, -10.0f, 20.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+  edit(ImGui::SliderFloat("Drag", &f.drag, 0.0f, 20.0f, "%.2f /s", ImGuiSliderFlags_AlwaysClamp));
+  edit(ImGui::DragFloat3("Wind", glm::value_ptr(f.wind), 0.01f, -50.0f, 50.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
   if (ImGui::TreeNode("Turbulence")) {
-    edit(ImGui::SliderFloat("Strength", &f.turbulence.strength, 0.0f, 10.0f, "%.2f"));
-    edit(ImGui::SliderFloat("Scale", &f.turbulence.scale, 0.05f, 20.0f, "%.2f", ImGuiSliderFlags_Logarithmic));
-    edit(ImGui::SliderFloat("Speed", &f.turbulence.speed, 0.0f, 5.0f, "%.2f"));
+    edit(ImGui::SliderFloat("Strength", &f.turbulence.strength, 0.0f, 10.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+    edit(ImGui::SliderFloat("Scale", &f.turbulence.scale, 0.05f, 20.0f, "%.2f",
+                            ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp));
+    edit(ImGui::SliderFloat("Speed", &f.turbulence.speed, 0.0f, 5.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
     ImGui::TreePop();
   }
   for (std::size_t i = 0; i < f.vortices.size(); ++i) {
     sim::Vortex& vx = f.vortices[i];
     ImGui::PushID(static_cast<int>(i));
     if (ImGui::TreeNode("vortex", "Vortex %zu", i)) {
-      edit(ImGui::SliderFloat("Strength", &vx.strength, -20.0f, 20.0f, "%.2f"));
-      edit(ImGui::SliderFloat("Radius", &vx.radius, 0.01f, 10.0f, "%.2f", ImGuiSliderFlags_Logarithmic));
-      edit(ImGui::SliderFloat("Falloff", &vx.falloff, 0.0f, 20.0f, "%.2f"));
-      edit(ImGui::DragFloat3("Position", glm::value_ptr(vx.position), 0.01f, -1000.0f, 1000.0f, "%.2f"));
+      edit(ImGui::SliderFloat("Strength", &vx.strength, -20.0f, 20.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Radius", &vx.radius, 0.01f, 10.0f, "%.2f",
+                              ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Falloff", &vx.falloff, 0.0f, 20.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::DragFloat3("Position", glm::value_ptr(vx.position), 0.01f, -1000.0f, 1000.0f, "%.2f",
+                             ImGuiSliderFlags_AlwaysClamp));
       edit(direction("Axis", vx.axis));
       ImGui::TreePop();
     }
@@ -155,10 +162,13 @@ void forcesPanel(sim::Forces& f, Edits& edit) {
     sim::WindVolume& w = f.windVolumes[i];
     ImGui::PushID(1000 + static_cast<int>(i));
     if (ImGui::TreeNode("wind", "Wind volume %zu", i)) {
-      edit(ImGui::DragFloat3("Velocity", glm::value_ptr(w.velocity), 0.01f, -50.0f, 50.0f, "%.2f"));
-      edit(ImGui::DragFloat3("Center", glm::value_ptr(w.center), 0.01f, -1000.0f, 1000.0f, "%.2f"));
-      edit(ImGui::DragFloat3("Half extent", glm::value_ptr(w.halfExtent), 0.01f, 0.0f, 1000.0f, "%.2f"));
-      edit(ImGui::SliderFloat("Feather", &w.feather, 0.0f, 10.0f, "%.2f"));
+      edit(ImGui::DragFloat3("Velocity", glm::value_ptr(w.velocity), 0.01f, -50.0f, 50.0f, "%.2f",
+                             ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::DragFloat3("Center", glm::value_ptr(w.center), 0.01f, -1000.0f, 1000.0f, "%.2f",
+                             ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::DragFloat3("Half extent", glm::value_ptr(w.halfExtent), 0.01f, 0.0f, 1000.0f, "%.2f",
+                             ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Feather", &w.feather, 0.0f, 10.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
       ImGui::TreePop();
     }
     ImGui::PopID();
@@ -170,16 +180,22 @@ void simEmittersPanel(std::vector<sim::Emitter>& emitters, Edits& edit) {
     sim::Emitter& e = emitters[i];
     ImGui::PushID(2000 + static_cast<int>(i));
     if (ImGui::TreeNode("emitter", "Emitter %zu", i)) {
-      edit(ImGui::SliderFloat("Rate", &e.rate, 0.0f, 1000.0f, "%.1f /s", ImGuiSliderFlags_Logarithmic));
-      edit(ImGui::DragFloat3("Velocity", glm::value_ptr(e.velocity), 0.01f, -100.0f, 100.0f, "%.2f"));
-      edit(ImGui::SliderFloat("Spread", &e.spreadDegrees, 0.0f, 180.0f, "%.1f deg"));
-      edit(ImGui::SliderFloat("Speed spread", &e.speedSpread, 0.0f, 1.0f, "%.2f"));
-      edit(ImGui::SliderFloat("Lifetime", &e.lifetime, 0.05f, 30.0f, "%.2f s", ImGuiSliderFlags_Logarithmic));
-      edit(ImGui::SliderFloat("Lifetime spread", &e.lifetimeSpread, 0.0f, 0.99f, "%.2f"));
-      edit(ImGui::DragFloatRange2("Size", &e.sizeMin, &e.sizeMax, 0.01f, 0.0f, 100.0f, "min %.2f", "max %.2f"));
-      edit(ImGui::SliderFloat("Density", &e.density, 0.01f, 10.0f, "%.2f", ImGuiSliderFlags_Logarithmic));
-      edit(ImGui::SliderFloat("Radius", &e.radius, 0.0f, 10.0f, "%.2f"));
-      edit(ImGui::DragFloat3("Position", glm::value_ptr(e.position), 0.01f, -1000.0f, 1000.0f, "%.2f"));
+      edit(ImGui::SliderFloat("Rate", &e.rate, 0.0f, 1000.0f, "%.1f /s",
+                              ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::DragFloat3("Velocity", glm::value_ptr(e.velocity), 0.01f, -100.0f, 100.0f, "%.2f",
+                             ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Spread", &e.spreadDegrees, 0.0f, 180.0f, "%.1f deg", ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Speed spread", &e.speedSpread, 0.0f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Lifetime", &e.lifetime, 0.05f, 30.0f, "%.2f s",
+                              ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Lifetime spread", &e.lifetimeSpread, 0.0f, 0.99f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::DragFloatRange2("Size", &e.sizeMin, &e.sizeMax, 0.01f, 0.0f, 100.0f, "min %.2f", "max %.2f",
+                                  ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Density", &e.density, 0.01f, 10.0f, "%.2f",
+                              ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Radius", &e.radius, 0.0f, 10.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::DragFloat3("Position", glm::value_ptr(e.position), 0.01f, -1000.0f, 1000.0f, "%.2f",
+                             ImGuiSliderFlags_AlwaysClamp));
       ImGui::TreePop();
     }
     ImGui::PopID();
@@ -192,15 +208,19 @@ void sceneEmittersPanel(std::vector<render::EmitterSpec>& emitters, Edits& edit)
     render::EmitterSpec& e = emitters[i];
     ImGui::PushID(3000 + static_cast<int>(i));
     if (ImGui::TreeNode("placed", "Placed particles %zu", i)) {
-      edit(ImGui::SliderInt("Count", &e.count, 0, 50000, "%d", ImGuiSliderFlags_Logarithmic));
+      edit(ImGui::SliderInt("Count", &e.count, 0, 50000, "%d",
+                            ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp));
       int seed = static_cast<int>(e.seed);
       if (edit(ImGui::DragInt("Seed", &seed, 1.0f, 0, 1 << 30))) e.seed = static_cast<unsigned>(seed);
-      edit(ImGui::DragFloat3("Center", glm::value_ptr(e.center), 0.01f, -1000.0f, 1000.0f, "%.2f"));
-      edit(ImGui::SliderFloat("Radius", &e.radius, 0.0f, 20.0f, "%.2f"));
-      edit(ImGui::DragFloatRange2("Size", &e.sizeMin, &e.sizeMax, 0.01f, 0.0f, 100.0f, "min %.2f", "max %.2f"));
-      edit(ImGui::SliderFloat("Size falloff", &e.sizeFalloff, 0.0f, 1.0f, "%.2f"));
-      edit(ImGui::DragFloat3("Velocity", glm::value_ptr(e.velocity), 0.01f, -100.0f, 100.0f, "%.2f"));
-      edit(ImGui::SliderFloat("Lifetime", &e.lifetime, 0.0f, 30.0f, "%.2f s"));
+      edit(ImGui::DragFloat3("Center", glm::value_ptr(e.center), 0.01f, -1000.0f, 1000.0f, "%.2f",
+                             ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Radius", &e.radius, 0.0f, 20.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::DragFloatRange2("Size", &e.sizeMin, &e.sizeMax, 0.01f, 0.0f, 100.0f, "min %.2f", "max %.2f",
+                                  ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Size falloff", &e.sizeFalloff, 0.0f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::DragFloat3("Velocity", glm::value_ptr(e.velocity), 0.01f, -100.0f, 100.0f, "%.2f",
+                             ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Lifetime", &e.lifetime, 0.0f, 30.0f, "%.2f s", ImGuiSliderFlags_AlwaysClamp));
       ImGui::TreePop();
     }
     ImGui::PopID();

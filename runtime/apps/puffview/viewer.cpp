@@ -245,9 +245,21 @@ Result<void> Viewer::applyEdit() {
 
 Result<fs::path> Viewer::save(const fs::path& file) {
   const fs::path target = file.empty() ? scene_.file : file;
+  // Never write what would not load, and never overwrite newer text edits that failed to load.
+  if (!editError_.empty()) {
+    return Error::at(target, "not saved: the panel holds a value the scene rejects (" + editError_ + ")");
+  }
+  if (!fileError_.empty() && target == scene_.file) {
+    return Error::at(target,
+                     "not saved: the file on disk has edits that do not load (fix them there, or Save as another "
+                     "file); saving would overwrite them");
+  }
   render::Scene copy = scene_;
   copy.file = target;  // toJson writes paths relative to where the file will be
   nlohmann::json j = render::toJson(copy);
+  if (auto check = render::parseScene(j, target, options_.artDir); !check) {
+    return Error::at(target, "not saved: " + check.error().message);
+  }
   restoreArtPaths(j, target.parent_path(), options_.artDir);
   if (auto r = core::writeFileAtomic(target, jsonText(j) + "\n"); !r) return r.error();
   if (target == scene_.file) {

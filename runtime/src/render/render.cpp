@@ -171,7 +171,8 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene)
   auto settings = simulationSettings(scene);
   if (!settings) return settings.error();
   if (*settings) {
-    auto sim = sim::Simulator::create(std::move(**settings), m.variations);
+    // Particles carry an 8-bit variation (cel::Particle): emitters pick among the first 256.
+    auto sim = sim::Simulator::create(std::move(**settings), std::min(m.variations, 256));
     if (!sim) return Error::at(scene.file, "/simulation" + sim.error().message);
     m.sim = std::move(*sim);
   }
@@ -206,6 +207,9 @@ Result<void> SceneRenderer::update(const Scene& next) {
   if (m.sim && next.simulation) {
     auto ok = m.sim->setForces(next.simulation->forces);
     if (!ok) return Error::at(next.file, "/simulation" + ok.error().message);
+    // A frame stays a pure function of the scene: the next draw simulates from the start under the
+    // new forces, so what a viewer shows is what puffrender makes of the saved file.
+    m.sim->reset();
   }
   m.scene = next;
   return {};

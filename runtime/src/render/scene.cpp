@@ -455,6 +455,9 @@ EmitterSpec readEmitter(const json& j, const std::string& ptr) {
   return e;
 }
 
+const Range kMagnitude{-sim::kMaxMagnitude, sim::kMaxMagnitude};
+const Range kNonNegativeMagnitude{0.0, sim::kMaxMagnitude};
+
 sim::Path readPath3(const json& j, const std::string& ptr) {
   // [{"time": t, "position": [x, y, z]}, ...], times increasing.
   if (!j.is_array()) fail(ptr, "an array of keys {\"time\", \"position\"}", j);
@@ -466,12 +469,12 @@ sim::Path readPath3(const json& j, const std::string& ptr) {
     const json* x = find(j[i], "position");
     if (!t) failText(child(p, "time"), "expected a time in seconds, got none");
     if (!x) failText(child(p, "position"), "expected a position [x, y, z], got none");
-    const float time = readFloat(*t, child(p, "time"));
+    const float time = readFloat(*t, child(p, "time"), kMagnitude);
     if (!path.times.empty() && !(time > path.times.back())) {
       fail(child(p, "time"), "a time after the previous key (" + formatNumber(path.times.back()) + ")", *t);
     }
     path.times.push_back(time);
-    path.points.push_back(readVec3(*x, child(p, "position")));
+    path.points.push_back(readVec3(*x, child(p, "position"), kMagnitude));
   }
   return path;
 }
@@ -521,9 +524,6 @@ void readAnimation(const json& j, const std::string& ptr, Animation& a) {
 }
 
 // ---- simulation -------------------------------------------------------------------------------
-
-const Range kMagnitude{-sim::kMaxMagnitude, sim::kMaxMagnitude};
-const Range kNonNegativeMagnitude{0.0, sim::kMaxMagnitude};
 
 glm::vec3 readDirection(const json& v, const std::string& ptr) {
   const glm::vec3 d = readVec3(v, ptr, kMagnitude);
@@ -728,6 +728,8 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
         failText(ptr, "expected the name of a scene object (" +
                           (names.empty() ? std::string("there are none") : names) + "), got \"" + name + "\"");
       }
+      if (std::count_if(s.objects.begin(), s.objects.end(), [&](const ObjectSpec& o) { return o.name == name; }) > 1)
+        failText(ptr, "\"" + name + "\" names more than one object; give the object a unique name");
       if (!path.empty()) failText(ptr, "a vortex or emitter follows its own path or an object, not both");
       path = it->path;
       if (path.empty()) path = sim::Path{{0.0f}, {glm::vec3(0.0f)}};
@@ -1224,7 +1226,9 @@ Result<std::optional<sim::Settings>> simulationSettings(const Scene& scene) {
         auto loaded = mesh::loadMesh(o.mesh);
         if (!loaded) return loaded.error();
         c.type = sim::Collider::Type::kMesh;
-        const glm::mat4 m = objectTransform(o, 0.0);  // the path then moves it as a whole
+        ObjectSpec still = o;  // the vertices where the object stands; the collider's path moves them
+        still.path = {};
+        const glm::mat4 m = objectTransform(still);
         c.center = glm::vec3(0.0f);
         c.positions.reserve(loaded->positions.size());
         for (const glm::vec3& v : loaded->positions) c.positions.push_back(glm::vec3(m * glm::vec4(v, 1.0f)));
@@ -1233,6 +1237,18 @@ Result<std::optional<sim::Settings>> simulationSettings(const Scene& scene) {
       }
     }
     s.colliders.push_back(std::move(c));
+  }
+  // A collider that fails the simulator's checks is named by the object it came from.
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    if (!scene.objects[i].collide) continue;
+    sim::Settings one;
+    one.colliders = {s.colliders[k++]};
+    if (auto ok = sim::validate(one); !ok) {
+      std::string what = ok.error().message;
+      what = what.substr(std::min(what.find(':'), what.size()));  // drop "/colliders/0/field"
+      return Error::at(scene.file, "/objects/" + std::to_string(i) + " (as a collider)" + what);
+    }
   }
   if (auto ok = sim::validate(s); !ok) return Error::at(scene.file, "/simulation" + ok.error().message);
   return std::optional<sim::Settings>(std::move(s));

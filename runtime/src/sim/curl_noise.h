@@ -63,7 +63,7 @@ class CurlField {
   float top_ = 0.0f;  // the largest float below n
   GradientNoise a_, b_, c_;
   int noiseCells_;
-  std::vector<float> v_;  // xyz interleaved, x fastest, (n + 1)^3: the last layer repeats the first
+  std::vector<float> v_;  // xyz0 per sample, x fastest, (n + 1)^3: the last layer repeats the first
 };
 
 }  // namespace puff::sim::detail

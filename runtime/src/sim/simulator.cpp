@@ -18,21 +18,31 @@ namespace puff::sim {
 
 // ---- paths ---------------------------------------------------------------------------------------
 
+namespace {
+
+// The segment [i - 1, i] holding t, for times.front() < t < times.back(): compared in double, and
+// clamped, so a t that rounds to the last key as a float still finds a segment.
+std::size_t segmentOf(const std::vector<float>& times, double t) {
+  const auto it = std::upper_bound(times.begin(), times.end(), t,
+                                   [](double value, float key) { return value < static_cast<double>(key); });
+  return std::clamp<std::size_t>(static_cast<std::size_t>(it - times.begin()), 1, times.size() - 1);
+}
+
+}  // namespace
+
 glm::vec3 Path::at(double t) const {
   if (times.empty()) return glm::vec3(0.0f);
   if (t <= times.front()) return points.front();
   if (t >= times.back()) return points.back();
-  const auto it = std::upper_bound(times.begin(), times.end(), static_cast<float>(t));
-  const std::size_t i = static_cast<std::size_t>(it - times.begin());
+  const std::size_t i = segmentOf(times, t);
   const double t0 = times[i - 1], t1 = times[i];
-  const float f = static_cast<float>((t - t0) / (t1 - t0));
+  const float f = static_cast<float>(std::clamp((t - t0) / (t1 - t0), 0.0, 1.0));
   return glm::mix(points[i - 1], points[i], f);
 }
 
 glm::vec3 Path::velocityAt(double t) const {
   if (times.size() < 2 || t < times.front() || t >= times.back()) return glm::vec3(0.0f);
-  const auto it = std::upper_bound(times.begin(), times.end(), static_cast<float>(t));
-  const std::size_t i = static_cast<std::size_t>(it - times.begin());
+  const std::size_t i = segmentOf(times, t);
   return (points[i] - points[i - 1]) / (times[i] - times[i - 1]);
 }
 
@@ -117,6 +127,13 @@ void checkForces(Check& c, const Forces& f, const std::string& ptr) {
     c.range(p + "/shedInterval", v.shedInterval, 0.0f, 1e4f);
     if (v.shedInterval > 0.0f) c.range(p + "/shedInterval", v.shedInterval, 1e-3f, 1e4f);
     c.range(p + "/shedLifetime", v.shedLifetime, 0.0f, 1e4f, true);
+    // Each shed copy costs a pass over the particles: at most 1000 alive at once.
+    if (c.ok() && v.shedInterval > 0.0f && v.shedLifetime / v.shedInterval > 1000.0f) {
+      c.fail(p + "/shedLifetime",
+             "at most 1000 shed copies alive at once (shedLifetime <= 1000 * shedInterval = " +
+                 Check::num(1000.0 * v.shedInterval) + ")",
+             v.shedLifetime);
+    }
   }
 }
 
@@ -149,6 +166,8 @@ void checkEmitter(Check& c, const Emitter& e, const std::string& p) {
 void checkCollider(Check& c, const Collider& k, const std::string& p) {
   c.vec(p + "/center", k.center);
   for (int i = 0; i < 4; ++i) c.finite(p + "/rotation", k.rotation[i], 2.0f);
+  if (c.ok() && !(glm::length(k.rotation) > 1e-3f))
+    c.error = p + "/rotation: expected a rotation (a non-zero quaternion)";
   for (int i = 0; i < 3; ++i) c.range(p + "/halfExtent/" + std::to_string(i), k.halfExtent[i], 0.0f, kMaxMagnitude);
   c.range(p + "/friction", k.friction, 0.0f, 1.0f);
   c.path(p + "/path", k.path);
@@ -177,6 +196,9 @@ Result<void> validate(const Settings& s) {
   c.range("/fps", s.fps, 0.0f, 1e4f, true);
   if (c.ok() && (s.substeps < 1 || s.substeps > 1000)) c.fail("/substeps", "an integer in [1, 1000]", s.substeps);
   c.range("/preroll", s.preroll, 0.0f, 3600.0f);
+  if (c.ok() && static_cast<double>(s.preroll) * s.fps * s.substeps > 1e6) {
+    c.fail("/preroll", "at most 1e6 steps of preroll (preroll * fps * substeps)", s.preroll);
+  }
   if (c.ok() && s.maxParticles > kMaxParticleBudget) {
     c.fail("/maxParticles",
            "at most " + std::to_string(kMaxParticleBudget) +
@@ -352,19 +374,24 @@ void addVortex(const LiveVortex& v, const float* __restrict X, const float* __re
 }
 
 // One exponential-integrator step for every particle (see integrate); free, so it vectorizes.
+// With e = exp(-k h), c1 = (1 - e) / k and c2 = (h - c1) / k (computed in double, by series for small
+// k h, so nothing divides by a small drag):
+//   v' = v e + u (1 - e) + a c1,   x' = x + v c1 + u (h - c1) + a c2
+// the exact solution of dv/dt = a + k (u - v) with u and a held; k = 0 gives x + v h + a h^2 / 2.
 void integrateExponential(float* __restrict X, float* __restrict Y, float* __restrict Z, float* __restrict VX,
                           float* __restrict VY, float* __restrict VZ, const float* __restrict UX,
                           const float* __restrict UY, const float* __restrict UZ, const float* __restrict A,
                           const float* __restrict L, const float* __restrict D0, std::size_t n, glm::vec3 g,
-                          glm::vec3 b, float invK, float hf, float e, float c) {
+                          glm::vec3 b, float e, float oneMinusE, float c1, float hMinusC1, float c2) {
   for (std::size_t i = 0; i < n; ++i) {
     const float density = D0[i] * (1.0f - A[i] / L[i]);
-    const float wX = UX[i] + (g.x + b.x * density) * invK;
-    const float wY = UY[i] + (g.y + b.y * density) * invK;
-    const float wZ = UZ[i] + (g.z + b.z * density) * invK;
-    const float dX = VX[i] - wX, dY = VY[i] - wY, dZ = VZ[i] - wZ;
-    X[i] += wX * hf + dX * c, Y[i] += wY * hf + dY * c, Z[i] += wZ * hf + dZ * c;
-    VX[i] = wX + dX * e, VY[i] = wY + dY * e, VZ[i] = wZ + dZ * e;
+    const float ax = g.x + b.x * density, ay = g.y + b.y * density, az = g.z + b.z * density;
+    X[i] += VX[i] * c1 + UX[i] * hMinusC1 + ax * c2;
+    Y[i] += VY[i] * c1 + UY[i] * hMinusC1 + ay * c2;
+    Z[i] += VZ[i] * c1 + UZ[i] * hMinusC1 + az * c2;
+    VX[i] = VX[i] * e + UX[i] * oneMinusE + ax * c1;
+    VY[i] = VY[i] * e + UY[i] * oneMinusE + ay * c1;
+    VZ[i] = VZ[i] * e + UZ[i] * oneMinusE + az * c1;
   }
 }
 
@@ -411,7 +438,7 @@ std::size_t collidePlane(const glm::mat3& toLocal, const glm::vec3& center, cons
   return contacts;
 }
 
-std::size_t collideSphere(const glm::vec3& center, float radius, const glm::vec3& up, float keep, float* __restrict X,
+std::size_t collideSphere(const glm::vec3 center, float radius, const glm::vec3 up, float keep, float* __restrict X,
                           float* __restrict Y, float* __restrict Z, float* __restrict VX, float* __restrict VY,
                           float* __restrict VZ, const float* __restrict R, std::size_t n) {
   std::size_t contacts = 0;
@@ -421,14 +448,47 @@ std::size_t collideSphere(const glm::vec3& center, float radius, const glm::vec3
     const float l2 = dx * dx + dy * dy + dz * dz;
     const bool hit = l2 < reach * reach;
     const float l = std::sqrt(l2);
-    const bool centred = !(l > 1e-12f);  // at the very centre: out along `up`
-    const float inv = centred ? 0.0f : 1.0f / std::max(l, 1e-12f);
-    const float nx = centred ? up.x : dx * inv, ny = centred ? up.y : dy * inv, nz = centred ? up.z : dz * inv;
-    X[i] = hit ? center.x + nx * reach : X[i];
-    Y[i] = hit ? center.y + ny * reach : Y[i];
-    Z[i] = hit ? center.z + nz * reach : Z[i];
+    const float centred = static_cast<float>(!(l > 1e-12f));  // at the very centre: out along `up`
+    const float inv = (1.0f - centred) / std::max(l, 1e-12f);
+    const float nx = dx * inv + centred * up.x, ny = dy * inv + centred * up.y, nz = dz * inv + centred * up.z;
+    const float move = static_cast<float>(hit);
+    X[i] += move * (center.x + nx * reach - X[i]);
+    Y[i] += move * (center.y + ny * reach - Y[i]);
+    Z[i] += move * (center.z + nz * reach - Z[i]);
     const float vn = VX[i] * nx + VY[i] * ny + VZ[i] * nz;
     const bool slide = hit & (vn < 0.0f);  // & not &&: no branch, so the loop vectorizes
+    const float into = slide ? vn : 0.0f;
+    const float scale = slide ? keep : 1.0f;
+    VX[i] = (VX[i] - into * nx) * scale, VY[i] = (VY[i] - into * ny) * scale, VZ[i] = (VZ[i] - into * nz) * scale;
+    contacts += hit ? 1 : 0;
+  }
+  return contacts;
+}
+
+// Oriented-box contacts over the arrays, branch-free: a particle inside the box grown by its
+// radius leaves through the nearest face.
+std::size_t collideBox(const glm::mat3& toWorld, const glm::vec3& center, const glm::vec3& halfExtent, float keep,
+                       float* __restrict X, float* __restrict Y, float* __restrict Z, float* __restrict VX,
+                       float* __restrict VY, float* __restrict VZ, const float* __restrict R, std::size_t n) {
+  const glm::vec3 ax = toWorld[0], ay = toWorld[1], az = toWorld[2];  // the box's axes in world space
+  std::size_t contacts = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float dx = X[i] - center.x, dy = Y[i] - center.y, dz = Z[i] - center.z;
+    const float lx = ax.x * dx + ax.y * dy + ax.z * dz, ly = ay.x * dx + ay.y * dy + ay.z * dz,
+                lz = az.x * dx + az.y * dy + az.z * dz;
+    const float rx = halfExtent.x + R[i], ry = halfExtent.y + R[i], rz = halfExtent.z + R[i];
+    const float px = rx - std::abs(lx), py = ry - std::abs(ly), pz = rz - std::abs(lz);
+    const bool hit = (px > 0.0f) & (py > 0.0f) & (pz > 0.0f);
+    const bool outX = (px < py) & (px < pz), outY = !outX & (py < pz), outZ = !outX & !outY;
+    const float sx = lx < 0.0f ? -1.0f : 1.0f, sy = ly < 0.0f ? -1.0f : 1.0f, sz = lz < 0.0f ? -1.0f : 1.0f;
+    // How far to move along the chosen face's normal (local), and that normal in world space.
+    const float push = hit ? (outX ? px : (outY ? py : pz)) : 0.0f;
+    const float nlx = outX ? sx : 0.0f, nly = outY ? sy : 0.0f, nlz = outZ ? sz : 0.0f;
+    const float nx = ax.x * nlx + ay.x * nly + az.x * nlz, ny = ax.y * nlx + ay.y * nly + az.y * nlz,
+                nz = ax.z * nlx + ay.z * nly + az.z * nlz;
+    X[i] += push * nx, Y[i] += push * ny, Z[i] += push * nz;
+    const float vn = VX[i] * nx + VY[i] * ny + VZ[i] * nz;
+    const bool slide = hit & (vn < 0.0f);
     const float into = slide ? vn : 0.0f;
     const float scale = slide ? keep : 1.0f;
     VX[i] = (VX[i] - into * nx) * scale, VY[i] = (VY[i] - into * ny) * scale, VZ[i] = (VZ[i] - into * nz) * scale;
@@ -498,10 +558,14 @@ struct Simulator::Impl {
     return out;
   }
 
-  // The turbulence window at time t: frozen turbulence carried past at `speed` tiles per second
-  // (Taylor's hypothesis): a translated divergence-free field is still divergence-free.
+  // Turbulence lookups: the lattice tile holds 4 noise cells; one cell is `scale` world units (the
+  // swirl size), and the frozen field drifts `speed` cells per second (Taylor's hypothesis: a
+  // translated divergence-free field is still divergence-free), so the air at a point changes
+  // over about 1 / speed seconds.
+  static constexpr float kCellsPerTile = 4.0f;
+  float turbulenceInvTile() const { return 1.0f / (s.forces.turbulence.scale * kCellsPerTile); }
   glm::vec3 turbulenceOffset(double t) const {
-    const double d = static_cast<double>(s.forces.turbulence.speed) * t;
+    const double d = static_cast<double>(s.forces.turbulence.speed) * t / kCellsPerTile;
     return glm::vec3(static_cast<float>(std::fmod(d * 0.8, 1.0)), static_cast<float>(std::fmod(d * 0.36, 1.0)),
                      static_cast<float>(std::fmod(d * 0.48, 1.0)));
   }
@@ -513,7 +577,7 @@ struct Simulator::Impl {
     for (const WindVolume& w : f.windVolumes) u += w.velocity * windWeight(p, w);
     for (const LiveVortex& v : vortices) u += vortexVelocity(p, v);
     const Turbulence& tb = f.turbulence;
-    if (tb.strength > 0.0f && curl) u += tb.strength * curl->sample(p / tb.scale + turbulenceOffset(t));
+    if (tb.strength > 0.0f && curl) u += tb.strength * curl->sample(p * turbulenceInvTile() + turbulenceOffset(t));
     return u;
   }
 
@@ -560,7 +624,7 @@ struct Simulator::Impl {
     for (const LiveVortex& v : liveVortices(t)) addVortex(v, X, Y, Z, UX, UY, UZ, n);
     const Turbulence& tb = f.turbulence;
     if (tb.strength > 0.0f && curl) {
-      const float inv = 1.0f / tb.scale;
+      const float inv = turbulenceInvTile();
       const glm::vec3 offset = turbulenceOffset(t);
       for (std::size_t i = 0; i < n; ++i) {
         const glm::vec3 u = tb.strength * curl->sample(glm::vec3(X[i], Y[i], Z[i]) * inv + offset);
@@ -600,27 +664,21 @@ struct Simulator::Impl {
       }
       return;
     }
-    if (k > 0.0f) {
-      // v' = w + (v - w) e,  x' = x + w h + (v - w) (1 - e) / k,  w = u + a / k: exact for held u, a.
-      const float e = static_cast<float>(std::exp(-static_cast<double>(k) * h));
-      const float c = static_cast<float>(-std::expm1(-static_cast<double>(k) * h) / k);
-      integrateExponential(X, Y, Z, VX, VY, VZ, UX, UY, UZ, A, L, D0, n, glm::vec3(gx, gy, gz), glm::vec3(bx, by, bz),
-                           1.0f / k, hf, e, c);
-    } else {
-      for (std::size_t i = 0; i < n; ++i) {
-        const float density = D0[i] * (1.0f - A[i] / L[i]);
-        const float ax = gx + bx * density, ay = gy + by * density, az = gz + bz * density;
-        X[i] += (VX[i] + 0.5f * hf * ax) * hf, Y[i] += (VY[i] + 0.5f * hf * ay) * hf,
-            Z[i] += (VZ[i] + 0.5f * hf * az) * hf;
-        VX[i] += hf * ax, VY[i] += hf * ay, VZ[i] += hf * az;
-      }
-    }
+    const double kh = static_cast<double>(k) * h;
+    const double e = std::exp(-kh);
+    const double oneMinusE = -std::expm1(-kh);
+    // c1 = (1 - e) / k and c2 = (h - c1) / k; for small k h their series (no cancellation).
+    const double c1 = kh < 1e-4 ? h * (1.0 - kh / 2.0 + kh * kh / 6.0) : oneMinusE / k;
+    const double c2 = kh < 1e-4 ? h * h * (0.5 - kh / 6.0 + kh * kh / 24.0) : (h - c1) / k;
+    integrateExponential(X, Y, Z, VX, VY, VZ, UX, UY, UZ, A, L, D0, n, glm::vec3(gx, gy, gz), glm::vec3(bx, by, bz),
+                         static_cast<float>(e), static_cast<float>(oneMinusE), static_cast<float>(c1),
+                         static_cast<float>(h - c1), static_cast<float>(c2));
   }
 
   // Puts particles [begin, end) back outside every collider; returns the number of contacts.
   // `prev` (x, y, z arrays indexed from `begin`) is where the particles were before they moved: mesh
   // colliders test the segment, so a fast particle cannot tunnel through a thin wall.
-  std::size_t collide(std::size_t begin, std::size_t end, const float* const* prev, double t) {
+  std::size_t collide(std::size_t begin, std::size_t end, const float* const* prev, double t0, double t) {
     std::size_t contacts = 0;
     std::size_t meshIndex = 0;
     // Each particle's collision radius, once for all colliders.
@@ -635,18 +693,12 @@ struct Simulator::Impl {
         moved.friction = collider.friction, moved.center = collider.center + collider.path.at(t);
       }
       const Collider& c = onPath ? moved : collider;
+      // A moving mesh: the particle's step is tested in the mesh's frame (start against where the
+      // mesh was, end against where it is), so a sweeping mesh pushes smoke it passes through.
+      const glm::vec3 meshOffset0 = onPath ? collider.path.at(t0) : glm::vec3(0.0f);
       const glm::vec3 meshOffset = onPath ? collider.path.at(t) : glm::vec3(0.0f);
-      const glm::quat inv = glm::conjugate(c.rotation);
+      const glm::vec3 bodyVelocity = (meshOffset - meshOffset0) / static_cast<float>(t - t0);
       const float keep = 1.0f - c.friction;
-      auto respond = [&](std::size_t i, const glm::vec3& normal) {
-        // Lose the velocity into the surface, and `friction` of what is left (now sliding).
-        glm::vec3 v(vx[i], vy[i], vz[i]);
-        const float vn = glm::dot(v, normal);
-        if (vn < 0.0f) v = (v - vn * normal) * keep;
-        vx[i] = v.x, vy[i] = v.y, vz[i] = v.z;
-        ++contacts;
-      };
-      auto radiusOf = [&](std::size_t i) { return radii[i - begin]; };
       switch (c.type) {
         case Collider::Type::kPlane:
           contacts += collidePlane(glm::transpose(glm::mat3_cast(c.rotation)), c.center, c.halfExtent, keep,
@@ -658,31 +710,18 @@ struct Simulator::Impl {
                                     py.data() + begin, pz.data() + begin, vx.data() + begin, vy.data() + begin,
                                     vz.data() + begin, radii.data(), end - begin);
           break;
-        case Collider::Type::kBox: {
-          for (std::size_t i = begin; i < end; ++i) {
-            const glm::vec3 local = inv * (glm::vec3(px[i], py[i], pz[i]) - c.center);
-            const glm::vec3 reach = c.halfExtent + glm::vec3(radiusOf(i));
-            const glm::vec3 pen = reach - glm::abs(local);
-            if (pen.x <= 0.0f || pen.y <= 0.0f || pen.z <= 0.0f) continue;
-            // Out through the nearest face.
-            const int axis = pen.x < pen.y ? (pen.x < pen.z ? 0 : 2) : (pen.y < pen.z ? 1 : 2);
-            glm::vec3 nLocal(0.0f);
-            nLocal[axis] = local[axis] < 0.0f ? -1.0f : 1.0f;
-            glm::vec3 outside = local;
-            outside[axis] = nLocal[axis] * reach[axis];
-            const glm::vec3 q = c.center + c.rotation * outside;
-            px[i] = q.x, py[i] = q.y, pz[i] = q.z;
-            respond(i, c.rotation * nLocal);
-          }
+        case Collider::Type::kBox:
+          contacts += collideBox(glm::mat3_cast(c.rotation), c.center, c.halfExtent, keep, px.data() + begin,
+                                 py.data() + begin, pz.data() + begin, vx.data() + begin, vy.data() + begin,
+                                 vz.data() + begin, radii.data(), end - begin);
           break;
-        }
         case Collider::Type::kMesh: {
           const MeshGrid& m = meshes[meshIndex++];
           const float* OX = prev[0];
           const float* OY = prev[1];
           const float* OZ = prev[2];
           for (std::size_t i = begin; i < end; ++i) {
-            const glm::vec3 p = glm::vec3(OX[i - begin], OY[i - begin], OZ[i - begin]) - meshOffset,
+            const glm::vec3 p = glm::vec3(OX[i - begin], OY[i - begin], OZ[i - begin]) - meshOffset0,
                             q = glm::vec3(px[i], py[i], pz[i]) - meshOffset;
             float along;
             std::uint32_t tri;
@@ -692,7 +731,13 @@ struct Simulator::Impl {
             const glm::vec3 hit = p + (q - p) * along;
             const glm::vec3 at = hit + n * 1e-4f * std::max(1.0f, glm::length(m.hi - m.lo)) + meshOffset;
             px[i] = at.x, py[i] = at.y, pz[i] = at.z;
-            respond(i, n);
+            // Lose the velocity into the surface relative to the moving body.
+            glm::vec3 v = glm::vec3(vx[i], vy[i], vz[i]) - bodyVelocity;
+            const float vn = glm::dot(v, n);
+            if (vn < 0.0f) v = (v - vn * n) * keep;
+            v += bodyVelocity;
+            vx[i] = v.x, vy[i] = v.y, vz[i] = v.z;
+            ++contacts;
           }
           break;
         }
@@ -713,7 +758,12 @@ struct Simulator::Impl {
         const double tc = std::clamp(t, static_cast<double>(e.start), stop);
         return static_cast<std::int64_t>(std::floor((tc - e.start) * e.rate + 0.5));
       };
-      const std::int64_t k0 = emitted(t0), k1 = emitted(t1);
+      std::int64_t k0 = emitted(t0);
+      const std::int64_t k1 = emitted(t1);
+      // Births before t1 - the longest lifetime die inside this step: skip them without a loop (a
+      // huge rate with short lives must not cost a loop over every birth).
+      const double longest = static_cast<double>(e.lifetime) * (1.0 + e.lifetimeSpread);
+      k0 = std::max(k0, emitted(t1 - longest));
       for (std::int64_t k = k0; k < k1; ++k) {
         if (size() >= s.maxParticles) {
           st.dropped += static_cast<std::size_t>(k1 - k);
@@ -786,6 +836,8 @@ struct Simulator::Impl {
       const auto n1 = static_cast<std::int64_t>(std::floor(t1 / v.shedInterval));
       for (std::int64_t k = n0 + 1; k <= n1; ++k) {
         const double at = static_cast<double>(k) * v.shedInterval;
+        // Only a moving vortex leaves a wake: a still one would stack copies on itself.
+        if (v.path.velocityAt(at) == glm::vec3(0.0f)) continue;
         shed.push_back(ShedVortex{v.position + v.path.at(at), glm::normalize(v.axis), v.strength, v.radius, v.falloff,
                                   v.length, at, v.shedLifetime});
       }
@@ -803,7 +855,7 @@ struct Simulator::Impl {
     if (haveMesh) ox = px, oy = py, oz = pz;
     integrate();
     const float* prev[3] = {ox.data(), oy.data(), oz.data()};
-    if (!s.colliders.empty()) st.collisions += collide(0, n, prev, t1);
+    if (!s.colliders.empty()) st.collisions += collide(0, n, prev, t0, t1);
     // Age, and remove the dead and the non-finite, keeping the order.
     const float hf = static_cast<float>(h);
     std::size_t out = 0;
@@ -825,7 +877,7 @@ struct Simulator::Impl {
     ox.clear(), oy.clear(), oz.clear();
     spawn(t0, t1, st);
     const float* born[3] = {ox.data(), oy.data(), oz.data()};
-    if (!s.colliders.empty()) st.collisions += collide(before, size(), born, t1);
+    if (!s.colliders.empty()) st.collisions += collide(before, size(), born, t0, t1);
     shedVortices(t0, t1);
     ++step;
   }
@@ -854,7 +906,8 @@ Result<std::unique_ptr<Simulator>> Simulator::create(Settings settings, int vari
   m.variations = variations;
   m.h = 1.0 / (static_cast<double>(m.s.fps) * m.s.substeps);
   m.prerollSteps = static_cast<std::int64_t>(std::llround(m.s.preroll / m.h));
-  for (const Collider& c : m.s.colliders) {
+  for (Collider& c : m.s.colliders) {
+    c.rotation = glm::normalize(c.rotation);  // the box and plane use it as a rotation
     if (c.type == Collider::Type::kMesh) m.meshes.emplace_back(c);
   }
   m.prepareTurbulence();

@@ -36,7 +36,8 @@ class SceneRenderer {
                  const cel::Camera* camera = nullptr);
 
   /// Applies an edited scene (a viewer's panel). Style, camera, light, ambient colour, background,
-  /// animation and the simulation's forces take effect at once and the particles keep going;
+  /// animation and the simulation's forces take effect at once (new forces: the next frame drawn is
+  /// simulated from the start under them, so it equals that frame of the saved scene);
   /// anything else (atlas, ramp, gradient, objects, emitters, particles, size, samples, simulation
   /// settings other than forces) reloads what the scene names and restarts the simulation. On
   /// error nothing changes and the error names the file or field.

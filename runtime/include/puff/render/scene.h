@@ -5,10 +5,11 @@
 // paths resolve against the scene file's directory; "${PUFF_ART}" at the start of a path means
 // the baked-art directory given to the loader (puffrender: --art-dir, default build/art).
 //
-// A frame is a pure function of (scene, frame number): particles move by their velocities and
-// spin by their angular velocities from their birth time, shrink linearly to nothing over their
-// lifetime (size follows density, so nothing pops), and emitters place particles from their seed.
-// Any frame rendered alone equals the same frame of a full run.
+// A frame is a pure function of (scene, frame number): listed particles move by their velocities
+// and spin by their angular velocities from their birth time, shrink linearly to nothing over their
+// lifetime (size follows density, so nothing pops), and emitters place particles from their seed;
+// a "simulation" is stepped from its start to the frame (puff::sim). Any frame rendered alone
+// equals the same frame of a full run.
 #pragma once
 
 #include <filesystem>

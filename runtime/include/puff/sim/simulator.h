@@ -79,8 +79,9 @@ struct WindVolume {
 };
 
 /// Divergence-free noise (the curl of a smooth periodic noise potential, Bridson 2007), added to
-/// the air velocity: swirls of about `scale` world units, `strength` world units / s, changing
-/// over about 1 / `speed` seconds.
+/// the air velocity: swirls about `scale` world units across (the field repeats every 4 * scale),
+/// `strength` world units / s RMS, the field drifting `speed` swirls per second, so the air at a
+/// point changes over about 1 / `speed` seconds.
 struct Turbulence {
   float strength = 0.0f;  ///< >= 0; 0 = off
   float scale = 1.0f;     ///< > 0
