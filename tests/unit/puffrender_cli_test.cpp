@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -238,6 +239,79 @@ TEST_F(PuffrenderCli, RendersParticlesFromABakedAtlas) {
   // The big puff covers the centre: not the white background.
   const float centre = image->at(24, 24, 0) + image->at(24, 24, 1) + image->at(24, 24, 2);
   EXPECT_LT(centre, 2.9f);
+}
+
+}  // namespace
+
+// ---- the fixed-function path (issue 5) ------------------------------------------------------
+
+namespace {
+
+class PuffrenderPaths : public PuffrenderCli {
+ protected:
+  const std::string lamp = std::string(PUFF_SOURCE_DIR) + "/art/scenes/magic-lamp.json";
+  std::string common() const { return lamp + " --art-dir " + std::string(PUFF_ART_DIR) + " --width 160 --height 120"; }
+  // Pixels that differ from the scene's background (#2a1838).
+  static int smokeAndObjects(const puff::core::Image& im) {
+    int n = 0;
+    for (int y = 0; y < im.height; ++y)
+      for (int x = 0; x < im.width; ++x)
+        n += std::abs(im.at(x, y, 0) - 0x2a / 255.0f) + std::abs(im.at(x, y, 2) - 0x38 / 255.0f) > 0.05f ? 1 : 0;
+    return n;
+  }
+};
+
+TEST_F(PuffrenderPaths, FixedPathDrawsTheSceneWithoutShaders) {
+  const fs::path fixed = dir_ / "fixed.png", cel = dir_ / "cel.png";
+  CliRun r = run(common() + " --path fixed -o " + fixed.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  ASSERT_EQ(run(common() + " -o " + cel.string()).exitCode, 0);
+  auto a = puff::core::readImage(fixed), b = puff::core::readImage(cel);
+  ASSERT_TRUE(a && b);
+  EXPECT_GT(smokeAndObjects(*a), 160 * 120 / 10);  // the lamp, the table and the plume
+  EXPECT_NE(a->pixels, b->pixels);                 // drawn another way
+  EXPECT_NE(run("--help").out.find("--path"), std::string::npos);
+  EXPECT_EQ(run(common() + " --path gouraud -o x.png").exitCode, 2);
+}
+
+TEST_F(PuffrenderPaths, CompareReportsParityAndWritesSideBySide) {
+  const fs::path out = dir_ / "cmp.png";
+  CliRun r = run(common() + " --compare fixed,cel -o " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("comparing within the fixed path's limits: 1 sample per pixel"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("smoke coverage IoU 0."), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("of shared smoke pixels"), std::string::npos) << r.out;
+  auto image = puff::core::readImage(out);
+  ASSERT_TRUE(image.ok()) << image.error().message;
+  EXPECT_EQ(image->width, 3 * 160);  // fixed | cel | difference
+  EXPECT_EQ(image->height, 120);
+}
+
+TEST_F(PuffrenderPaths, FallsBackToFixedWhenTheProgrammablePathCannotRun) {
+  // A shader that does not build: the cel path cannot run, so puffrender says so and draws fixed.
+  const fs::path shaders = dir_ / "shaders";
+  fs::copy(fs::path(PUFF_SOURCE_DIR) / "shaders", shaders, fs::copy_options::recursive);
+  std::ofstream(shaders / "cel" / "nailboard.frag", std::ios::app) << "\nnot glsl\n";
+  const fs::path out = dir_ / "fallback.png";
+  CliRun r = run(common() + " --shader-dir " + shaders.string() + " -o " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("the programmable (cel) path cannot run here: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("nailboard.frag"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("drawing with the fixed-function path"), std::string::npos) << r.err;
+  auto fallback = puff::core::readImage(out);
+  ASSERT_TRUE(fallback.ok());
+  const fs::path fixed = dir_ / "fixed.png";
+  ASSERT_EQ(run(common() + " --path fixed -o " + fixed.string()).exitCode, 0);
+  EXPECT_EQ(fallback->pixels, puff::core::readImage(fixed)->pixels);
+
+  // A context too old for GL 4.5 (Mesa told to offer 3.3 at most): the same fallback.
+  const fs::path old = dir_ / "old.png";
+  const std::string cmd = "MESA_GL_VERSION_OVERRIDE=3.3 " + std::string(PUFFRENDER_EXE) + " " + common() + " -o " +
+                          old.string() + " 2>" + (dir_ / "err.txt").string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const std::string err = *puff::core::readFileBytes(dir_ / "err.txt");
+  EXPECT_NE(err.find("cannot create a 4.5 core context"), std::string::npos) << err;
+  EXPECT_NE(err.find("drawing with the fixed-function path"), std::string::npos) << err;
 }
 
 }  // namespace

@@ -160,7 +160,7 @@ TEST(Scene, ErrorsNameTheFileThePointerWhatWasExpectedAndWhatCame) {
        "\"fovY\"?)"},
       {R"({"camra": {}})",
        "/camra: unknown key, expected one of output, camera, light, ambient, ramp, atlas, style, particles, emitters, "
-       "objects, animation, simulation (did you mean \"camera\"?)"},
+       "objects, animation, simulation, fixed (did you mean \"camera\"?)"},
       {R"({"output": {"width": 0}})", "/output/width: expected an integer in [1, 16384], got 0"},
       {R"({"output": {"height": 16385}})", "/output/height: expected an integer in [1, 16384], got 16385"},
       {R"({"output": {"width": 640.5}})", "/output/width: expected an integer in [1, 16384], got 640.5"},
@@ -227,7 +227,7 @@ TEST(Scene, ErrorsNameTheFileThePointerWhatWasExpectedAndWhatCame) {
        "/atlas: \"${PUFF_ART}\" needs an art directory, and none was given (--art-dir)"},
       {R"({"a/b~c": 1})",
        "/a~1b~0c: unknown key, expected one of output, camera, light, ambient, ramp, atlas, style, particles, "
-       "emitters, objects, animation, simulation"},
+       "emitters, objects, animation, simulation, fixed"},
       {R"([1, 2])", "expected a JSON object at the top level, got [1,2]"},
   };
   for (const auto& [text, expected] : cases) EXPECT_EQ(parseError(std::string(text)), f + expected) << text;
@@ -794,4 +794,21 @@ TEST(SceneSimulation, ColliderAndAttachProblemsNameTheObject) {
             kFile.string() +
                 ": /simulation/emitters/0/attach: \"a\" names more than one object; give the object a "
                 "unique name");
+}
+
+TEST(SceneFixed, ReadsTheFixedPathSettingsAndRejectsBadOnes) {
+  const Scene s = parseOk(R"({"fixed": {"puff": "../puffs/p.obj", "outlineScale": 1.25, "outlineOffset": 0.5,
+                                        "cellSize": 64}})");
+  EXPECT_EQ(s.fixed.puff, fs::path("art/puffs/p.obj"));
+  EXPECT_EQ(s.fixed.outlineScale, 1.25f);
+  EXPECT_EQ(s.fixed.outlineOffset, 0.5f);
+  EXPECT_EQ(s.fixed.cellSize, 64);
+  auto again = puff::render::parseScene(puff::render::toJson(s), kFile);
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(again->fixed.puff, s.fixed.puff);
+  EXPECT_EQ(again->fixed.cellSize, 64);
+  EXPECT_EQ(parseError(std::string(R"({"fixed": {"cellSize": 100}})")),
+            kFile.string() + ": /fixed/cellSize: expected 32, 64, 128 or 256, got 100");
+  EXPECT_EQ(parseError(std::string(R"({"fixed": {"outlineScale": 0.5}})")),
+            kFile.string() + ": /fixed/outlineScale: expected a number in [1, 4], got 0.5");
 }

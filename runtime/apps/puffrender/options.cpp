@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <memory>
 #include <set>
+#include <tuple>
 
 #include <CLI/CLI.hpp>
 
@@ -13,6 +15,7 @@
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/core/shader.h>
+#include <puff/render/compare.h>
 #include <puff/render/render.h>
 #include <puff/render/scene.h>
 
@@ -115,6 +118,71 @@ Result<Plan> makePlan(const Options& o, const render::Scene& scene) {
   return plan;
 }
 
+// --compare A,B: every frame by both paths, and without particles for the masks; OUT gets the side
+// by side image, stdout a line per frame and a summary.
+int compareFrames(const Options& o, const render::Scene& scene, const Plan& plan) {
+  const std::string first = o.compare.substr(0, o.compare.find(','));
+  const std::string second = o.compare.substr(o.compare.find(',') + 1);
+  const render::RenderPath pa = *render::parseRenderPath(first), pb = *render::parseRenderPath(second);
+  std::vector<std::string> changes;
+  const render::Scene limited = render::restrictToFixedLimits(scene, &changes);
+  const render::Scene bare = render::withoutParticles(limited);
+  if (!changes.empty() && !o.quiet) {
+    std::string list;
+    for (const std::string& c : changes) list += (list.empty() ? "" : ", ") + c;
+    std::printf("%s: comparing within the fixed path's limits: %s\n", kTool, list.c_str());
+  }
+  std::unique_ptr<render::SceneRenderer> ra, rb, ra0, rb0;
+  for (auto [slot, sc, p] : {std::tuple{&ra, &limited, pa}, std::tuple{&rb, &limited, pb}, std::tuple{&ra0, &bare, pa},
+                             std::tuple{&rb0, &bare, pb}}) {
+    auto r = render::SceneRenderer::create(*sc, p);
+    if (!r) {
+      printError(r.error().message);
+      return 1;
+    }
+    *slot = std::move(*r);
+  }
+  double worstIou = 1.0, worstTone = 1.0;
+  const int count = plan.last - plan.first + 1;
+  for (int f = plan.first; f <= plan.last; ++f) {
+    core::Image images[4];
+    render::SceneRenderer* renderers[4] = {ra.get(), ra0.get(), rb.get(), rb0.get()};
+    for (int i = 0; i < 4; ++i) {
+      auto image = renderers[i]->renderFrame(f);
+      if (!image) {
+        printError(image.error().message);
+        return 1;
+      }
+      images[i] = std::move(*image);
+    }
+    core::Image side;
+    const render::Parity p = render::compareFrames(images[0], images[1], images[2], images[3], o.toneTolerance, &side);
+    worstIou = std::min(worstIou, p.iou);
+    worstTone = std::min(worstTone, p.toneShare);
+    const fs::path target = plan.pattern.name(f);
+    core::OutputTransaction out;
+    const fs::path temp = out.stage(target);
+    if (auto r = core::writeImage(temp, side, core::PixelType::kUInt8, {}, "frame.png"); !r) {
+      printError(Error::at(target, r.error().message).message);
+      return 1;
+    }
+    if (auto r = out.commit(); !r) {
+      printError(r.error().message);
+      return 1;
+    }
+    std::printf(
+        "%s: frame %d: smoke coverage IoU %.3f (%s %zu px, %s %zu px, both %zu); tone within %.2f on %.1f%% of "
+        "shared smoke pixels; mean |difference| %.3f over the smoke -> %s\n",
+        kTool, f, p.iou, first.c_str(), p.maskA, second.c_str(), p.maskB, p.both, o.toneTolerance, 100.0 * p.toneShare,
+        p.meanAbsDiff, target.c_str());
+  }
+  if (count > 1) {
+    std::printf("%s: %d frames: lowest IoU %.3f, lowest tone agreement %.1f%%\n", kTool, count, worstIou,
+                100.0 * worstTone);
+  }
+  return 0;
+}
+
 int renderFrames(const Options& o, const render::Scene& scene, const Plan& plan) {
   // Fail before any rendering if an output can never be written: every directory the frames go
   // to is created now (and taken back, if still empty, when the run fails) and must be writable.
@@ -132,15 +200,45 @@ int renderFrames(const Options& o, const render::Scene& scene, const Plan& plan)
   }
 
   if (!o.shaderDir.empty()) core::setShaderDir(o.shaderDir);
+  const bool comparing = !o.compare.empty();
+  render::RenderPath path = *render::parseRenderPath(o.path);
   core::GlContextOptions glOptions;
   glOptions.backend = o.glBackend;
   glOptions.width = glOptions.height = 16;  // frames are drawn into the renderer's own target
+  if (comparing) {
+    glOptions.profile = core::GlProfile::kCompatibility;  // both paths in one context
+  } else if (path == render::RenderPath::kFixed) {
+    // The oldest context the platform gives: compatibility, asked for 2.1 (Mesa may give more).
+    glOptions.profile = core::GlProfile::kCompatibility;
+    glOptions.major = 2, glOptions.minor = 1;
+  }
   auto context = core::createGlContext(glOptions);
-  if (!context) {
+  std::string whyNotProgrammable;
+  if (!context && path == render::RenderPath::kCel && !comparing) {
+    whyNotProgrammable = context.error().message;
+  } else if (!context) {
     printError(context.error().message);
     return 1;
+  } else if (path == render::RenderPath::kCel && !comparing) {
+    if (auto ok = render::SceneRenderer::checkProgrammable(); !ok) whyNotProgrammable = ok.error().message;
   }
-  auto renderer = render::SceneRenderer::create(scene);
+  if (!whyNotProgrammable.empty()) {
+    // The automatic fallback: an old context, or a programmable path that does not build.
+    std::fprintf(stderr,
+                 "%s: the programmable (cel) path cannot run here: %s\n%s: drawing with the fixed-function path\n",
+                 kTool, whyNotProgrammable.c_str(), kTool);
+    context = Error{""};  // the old context goes before the new one is made current
+    glOptions.profile = core::GlProfile::kCompatibility;
+    glOptions.major = 2, glOptions.minor = 1;
+    context = core::createGlContext(glOptions);
+    if (!context) {
+      printError(context.error().message);
+      return 1;
+    }
+    path = render::RenderPath::kFixed;
+  }
+  if (comparing) return compareFrames(o, scene, plan);
+  auto renderer = render::SceneRenderer::create(scene, path);
   if (!renderer) {
     printError(renderer.error().message);
     return 1;
@@ -286,6 +384,19 @@ std::variant<Options, int> parse(int argc, char** argv) {
   app.add_option("--shader-dir", o.shaderDir, "Read shaders from this directory instead of the built-in copies");
   app.add_option("--style", o.style, "Render with this style preset instead of the scene's style: " + presetList)
       ->check(CLI::IsMember(presets));
+  app.add_option(
+         "--path", o.path,
+         "Render path: cel (programmable GL 4.5: nailboards, flange outlines, shadow volumes; falls back to fixed, "
+         "saying so, when the context cannot run it) or fixed (GL 1.x fixed function, McGuire & Fein 4.4: one "
+         "light, uniform ambient, no shadows). Default: cel")
+      ->check(CLI::IsMember({"cel", "fixed"}));
+  app.add_option("--compare", o.compare,
+                 "Render every frame with both paths (fixed,cel or cel,fixed) and report how close they come: smoke "
+                 "coverage agreement (IoU of the masks) and the share of shared smoke pixels within --tolerance; OUT "
+                 "gets [first | second | difference] side by side")
+      ->check(CLI::IsMember({"fixed,cel", "cel,fixed"}));
+  app.add_option("--tolerance", o.toneTolerance, "--compare: per-channel tone tolerance in [0, 1]. Default: 0.1")
+      ->check(CLI::Range(0.0f, 1.0f));
   app.add_flag("--print-scene", o.printScene,
                "Print the scene as it will be rendered (every field, defaults and the options above applied) as JSON, "
                "and exit without rendering");

@@ -20,7 +20,10 @@ struct Options {
   std::optional<int> width, height, samples;  ///< overrides of the scene's output settings
   std::filesystem::path artDir;               ///< replaces "${PUFF_ART}" in the scene's paths
   std::string shaderDir;
-  std::string style;  ///< a style preset replacing the scene's style; empty: the scene's own
+  std::string style;           ///< a style preset replacing the scene's style; empty: the scene's own
+  std::string path = "cel";    ///< "cel" (falls back to "fixed" when the context cannot run it) or "fixed"
+  std::string compare;         ///< "A,B" (cel and fixed, either order): render both, report parity
+  float toneTolerance = 0.1f;  ///< --compare: per-channel tolerance of "the same tone"
   bool printScene = false;
   bool quiet = false;
 };

@@ -6,10 +6,14 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <puff/cel/opaque.h>
+#include <puff/core/gl.h>
+#include <puff/fixedfunc/renderer.h>
 #include <puff/mesh/mesh.h>
 #include <puff/render/render.h>
 
 namespace puff::render {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -66,8 +70,21 @@ std::shared_ptr<const cel::TriangleMesh> toTriangleMesh(const mesh::TriMesh& m) 
 
 }  // namespace
 
+std::string_view toString(RenderPath path) { return path == RenderPath::kCel ? "cel" : "fixed"; }
+
+std::optional<RenderPath> parseRenderPath(std::string_view name) {
+  if (name == "cel") return RenderPath::kCel;
+  if (name == "fixed") return RenderPath::kFixed;
+  return std::nullopt;
+}
+
 struct SceneRenderer::Impl {
   Scene scene;
+  RenderPath path = RenderPath::kCel;
+  std::unique_ptr<fixedfunc::FixedRenderer> fixed;
+  std::vector<fixedfunc::FixedObject> fixedObjects;
+  bool fixedObjectsMove = false;
+  std::string lastError;  // a draw that failed (the fixed path checks the context state)
   std::unique_ptr<cel::NailboardRenderer> nailboards;
   std::unique_ptr<cel::OpaqueRenderer> opaque;
   std::unique_ptr<cel::FrameBlock> block;
@@ -83,8 +100,60 @@ struct SceneRenderer::Impl {
 SceneRenderer::SceneRenderer() : impl_(std::make_unique<Impl>()) {}
 SceneRenderer::~SceneRenderer() = default;
 const Scene& SceneRenderer::scene() const { return impl_->scene; }
+RenderPath SceneRenderer::path() const { return impl_->path; }
 
-Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene) {
+Result<void> SceneRenderer::checkProgrammable() {
+  GLint major = 0, minor = 0;
+  glGetIntegerv(GL_MAJOR_VERSION, &major);
+  glGetIntegerv(GL_MINOR_VERSION, &minor);
+  core::drainGlErrors();  // GL_MAJOR_VERSION is unknown to a GL 2.x context
+  if (major * 10 + minor < 45) {
+    const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
+    return Error{std::string("the context is OpenGL ") + (version ? version : "(unknown)") + ", not 4.5"};
+  }
+  if (auto nb = cel::NailboardRenderer::create(); !nb) return nb.error();
+  if (auto op = cel::OpaqueRenderer::create(); !op) return op.error();
+  return {};
+}
+
+namespace {
+
+// The fixed path's puff: the scene's, or the mesh the atlas's first variation was baked from.
+Result<mesh::TriMesh> fixedPuffMesh(const Scene& scene) {
+  fs::path file = scene.fixed.puff;
+  if (file.empty()) {
+    if (scene.atlas.empty()) return Error::at(scene.file, "/fixed/puff: no puff mesh and no atlas to take one from");
+    auto atlas = core::loadAtlas(scene.atlas);
+    if (!atlas) return atlas.error();
+    if (atlas->desc.sources.empty() || atlas->desc.sources[0].path.empty()) {
+      return Error::at(scene.file,
+                       "/fixed/puff: the atlas's first variation was generated, not loaded from a mesh "
+                       "file; name the puff mesh in /fixed/puff");
+    }
+    file = atlas->desc.sources[0].path;
+    if (file.is_relative()) file = scene.atlas.parent_path() / file;
+  }
+  return mesh::loadMesh(file);
+}
+
+}  // namespace
+
+// The simulator of a simulated scene (any path).
+template <class Impl>
+Result<void> createSimulator(Impl& m, const Scene& scene) {
+  auto settings = simulationSettings(scene);
+  if (!settings) return settings.error();
+  if (*settings) {
+    // Particles carry an 8-bit variation (cel::Particle): emitters pick among the first 256.
+    auto sim = sim::Simulator::create(std::move(**settings), std::min(m.variations, 256));
+    if (!sim) return Error::at(scene.file, "/simulation" + sim.error().message);
+    m.sim = std::move(*sim);
+  }
+  return {};
+}
+
+Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene, RenderPath path) {
+  if (path == RenderPath::kFixed) return createFixed(scene);
   std::unique_ptr<SceneRenderer> r(new SceneRenderer());
   Impl& m = *r->impl_;
   m.scene = scene;
@@ -168,14 +237,70 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene)
   if (!target) return target.error();
   m.target = std::move(*target);
 
-  auto settings = simulationSettings(scene);
-  if (!settings) return settings.error();
-  if (*settings) {
-    // Particles carry an 8-bit variation (cel::Particle): emitters pick among the first 256.
-    auto sim = sim::Simulator::create(std::move(**settings), std::min(m.variations, 256));
-    if (!sim) return Error::at(scene.file, "/simulation" + sim.error().message);
-    m.sim = std::move(*sim);
+  if (auto ok = createSimulator(m, scene); !ok) return ok.error();
+  return r;
+}
+
+Result<std::unique_ptr<SceneRenderer>> SceneRenderer::createFixed(const Scene& scene) {
+  std::unique_ptr<SceneRenderer> r(new SceneRenderer());
+  Impl& m = *r->impl_;
+  m.scene = scene;
+  m.path = RenderPath::kFixed;
+  auto puff = fixedPuffMesh(scene);
+  if (!puff) return puff.error();
+  // The puff texture is drawn through the frame's own pixels (2 x 2 cells): a small frame gets
+  // smaller cells.
+  int cellSize = scene.fixed.cellSize;
+  while (cellSize > 8 && 2 * cellSize > std::min(scene.width, scene.height)) cellSize /= 2;
+  if (2 * cellSize > std::min(scene.width, scene.height)) {
+    return Error::at(scene.file, "/output: the fixed-function path needs a frame of at least 16 x 16 pixels");
   }
+  auto fixed = fixedfunc::FixedRenderer::create(*puff, cellSize);
+  if (!fixed) return fixed.error();
+  m.fixed = std::move(*fixed);
+  if (!scene.ramp.empty()) {
+    auto ramp = core::readImage(scene.ramp);
+    if (!ramp) return ramp.error();
+    if (auto ok = m.fixed->setRamp(*ramp); !ok) return Error::at(scene.ramp, ok.error().message);
+  }
+  if (!scene.atlas.empty()) {
+    auto atlas = core::loadAtlas(scene.atlas);
+    if (!atlas) return atlas.error();
+    m.variations = std::max(1, atlas->desc.variations);
+    m.hasAtlas = true;
+  }
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const ObjectSpec& o = scene.objects[i];
+    fixedfunc::FixedObject obj;
+    switch (o.type) {
+      case ObjectSpec::Type::kPlane:
+        obj.mesh = fixedfunc::makePlaneMesh();
+        break;
+      case ObjectSpec::Type::kBox:
+        obj.mesh = fixedfunc::makeBoxMesh();
+        break;
+      case ObjectSpec::Type::kSphere:
+        obj.mesh = fixedfunc::makeSphereMesh();
+        break;
+      case ObjectSpec::Type::kMesh: {
+        auto loaded = mesh::loadMesh(o.mesh);
+        if (!loaded) return loaded.error();
+        obj.mesh = std::move(*loaded);
+        break;
+      }
+    }
+    obj.transform = objectTransform(o);
+    obj.albedo = o.albedo;
+    obj.shading = o.cel ? fixedfunc::ObjectShading::kCel : fixedfunc::ObjectShading::kSmooth;
+    m.fixedObjects.push_back(std::move(obj));
+    m.fixedObjectsMove |= !o.path.empty();
+  }
+  if (auto ok = m.fixed->setObjects(m.fixedObjects); !ok) return Error::at(scene.file, ok.error().message);
+  // One sample: the fixed path copies the framebuffer into its puff texture (no multisampled copy).
+  auto target = Target::create(scene.width, scene.height, 1);
+  if (!target) return target.error();
+  m.target = std::move(*target);
+  if (auto ok = createSimulator(m, scene); !ok) return ok.error();
   return r;
 }
 
@@ -199,7 +324,7 @@ nlohmann::json reloadKey(const Scene& s) {
 Result<void> SceneRenderer::update(const Scene& next) {
   Impl& m = *impl_;
   if (reloadKey(m.scene) != reloadKey(next)) {
-    auto fresh = create(next);
+    auto fresh = create(next, m.path);
     if (!fresh) return fresh.error();
     impl_ = std::move((*fresh)->impl_);
     return {};
@@ -218,7 +343,67 @@ Result<void> SceneRenderer::update(const Scene& next) {
 void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameStats* stats, const cel::Camera* camera) {
   Impl& m = *impl_;
   const Scene& s = m.scene;
-  cel::Frame f = cel::Frame::fromCamera(camera ? *camera : cameraAt(s, frame), viewport.width, viewport.height);
+  const cel::Camera cam = camera ? *camera : cameraAt(s, frame);
+
+  // The particles: listed, placed and simulated (the same for every path).
+  std::vector<cel::Particle> particles;
+  std::size_t simulated = 0;
+  double simulateMs = 0.0;
+  if (m.hasAtlas) {
+    particles = particlesAt(s, frame, m.variations);
+    if (m.sim) {
+      const auto t0 = std::chrono::steady_clock::now();
+      m.sim->advanceToFrame(frame);
+      simulateMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      particles.reserve(particles.size() + m.sim->size());
+      for (std::size_t i = 0; i < m.sim->size(); ++i) {
+        const sim::ParticleState p = m.sim->particle(i);
+        if (!(p.size > 0.0f)) continue;
+        particles.push_back(cel::Particle{p.position, p.size, p.variation, p.oriented, p.orientation});
+        ++simulated;
+      }
+    }
+  }
+  if (stats) {
+    stats->particles = particles.size();
+    stats->simulated = simulated;
+    stats->simulateMs = simulateMs;
+    stats->bytesUploaded = 0;
+  }
+
+  if (m.path == RenderPath::kFixed) {
+    fixedfunc::FixedFrame f;
+    f.view = cam.view();
+    f.projection = cam.projection(static_cast<float>(viewport.width) / static_cast<float>(viewport.height));
+    f.viewport = {viewport.x, viewport.y, viewport.width, viewport.height};
+    f.lightDirection = s.light.direction;
+    f.lightColor = s.light.color;
+    f.ambientColor = s.ambientColor;  // the fixed path has no ambient gradient
+    f.background = glm::vec4(s.background, 1.0f);
+    if (m.fixedObjectsMove) {
+      for (std::size_t i = 0; i < s.objects.size(); ++i)
+        m.fixedObjects[i].transform = objectTransform(s.objects[i], frameTime(s, frame));
+      auto moved = m.fixed->setObjects(m.fixedObjects);
+      PUFF_CHECK(moved.ok());  // the scene's checks keep transforms finite and invertible
+    }
+    std::vector<fixedfunc::Billboard> billboards;
+    billboards.reserve(particles.size());
+    for (const cel::Particle& p : particles) billboards.push_back({p.position, p.size, p.variation});
+    fixedfunc::FixedStyle style;
+    style.outlines = s.style.outlines;
+    style.shading = s.style.shading;
+    style.outlineScale = s.fixed.outlineScale;
+    style.outlineOffset = s.fixed.outlineOffset;
+    // A cel renderer in the same context (puffrender --compare) may have left its program and
+    // vertex array bound; the fixed path draws only with neither (where the context has them).
+    if (glUseProgram) glUseProgram(0);
+    if (glBindVertexArray) glBindVertexArray(0);
+    auto drawn = m.fixed->drawFrame(f, billboards, style);
+    if (!drawn) m.lastError = drawn.error().message;
+    return;
+  }
+
+  cel::Frame f = cel::Frame::fromCamera(cam, viewport.width, viewport.height);
   f.viewport = viewport;
   f.light = s.light;
   f.ambientColor = s.ambientColor;
@@ -245,38 +430,15 @@ void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameSta
     PUFF_CHECK(moved.ok());  // the scene's checks keep transforms finite and invertible
   }
   m.opaque->draw(cel::ShadePass::kLit);
-  cel::DrawStats up;
-  std::size_t simulated = 0;
-  double simulateMs = 0.0;
   if (m.hasAtlas) {
-    std::vector<cel::Particle> particles = particlesAt(s, frame, m.variations);
-    if (m.sim) {
-      const auto t0 = std::chrono::steady_clock::now();
-      m.sim->advanceToFrame(frame);
-      simulateMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      particles.reserve(particles.size() + m.sim->size());
-      for (std::size_t i = 0; i < m.sim->size(); ++i) {
-        const sim::ParticleState p = m.sim->particle(i);
-        if (!(p.size > 0.0f)) continue;
-        particles.push_back(cel::Particle{p.position, p.size, p.variation, p.oriented, p.orientation});
-        ++simulated;
-      }
-    }
-    up = m.nailboards->upload(particles);
+    const cel::DrawStats up = m.nailboards->upload(particles);
+    if (stats) stats->bytesUploaded = up.bytesUploaded;
     m.nailboards->drawNailboards(s.style, cel::ShadePass::kLit);
     if (s.style.shadows) {
       m.nailboards->drawShadowVolumes(s.style, m.floorPlane);
       m.opaque->draw(cel::ShadePass::kShadowed);
       m.nailboards->drawNailboards(s.style, cel::ShadePass::kShadowed);
     }
-  } else if (s.style.shadows) {
-    // Nothing casts: the stencil stays zero and the shadowed pass would change nothing.
-  }
-  if (stats) {
-    stats->particles = up.particles;
-    stats->simulated = simulated;
-    stats->bytesUploaded = up.bytesUploaded;
-    stats->simulateMs = simulateMs;
   }
 }
 
@@ -297,6 +459,11 @@ Result<core::Image> SceneRenderer::renderFrame(int frame, FrameStats* stats) {
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (!m.lastError.empty()) {
+    std::string e = std::move(m.lastError);
+    m.lastError.clear();
+    return Error::at(m.scene.file, "frame " + std::to_string(frame) + ": " + e);
+  }
   const std::string glErrors = core::drainGlErrors();
   if (!glErrors.empty())
     return Error::at(m.scene.file, "GL error while rendering frame " + std::to_string(frame) + ": " + glErrors);

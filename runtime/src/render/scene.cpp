@@ -676,7 +676,7 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
   if (!j.is_object()) throw Failure{"expected a JSON object at the top level, got " + describe(j)};
   requireObject(j, "",
                 {"output", "camera", "light", "ambient", "ramp", "atlas", "style", "particles", "emitters", "objects",
-                 "animation", "simulation"});
+                 "animation", "simulation", "fixed"});
   const Reader r(file, artDir);
   Scene s;
   s.file = file;
@@ -713,6 +713,20 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
     for (std::size_t i = 0; i < v->size(); ++i) s.objects.push_back(readObject((*v)[i], child("/objects", i), i, r));
   }
   if (auto* v = find(j, "animation")) readAnimation(*v, "/animation", s.animation);
+  if (auto* v = find(j, "fixed")) {
+    const std::string ptr = "/fixed";
+    requireObject(*v, ptr, {"puff", "outlineScale", "outlineOffset", "cellSize"});
+    if (auto* x = find(*v, "puff")) s.fixed.puff = r.readPath(*x, child(ptr, "puff"));
+    if (auto* x = find(*v, "outlineScale"))
+      s.fixed.outlineScale = readFloat(*x, child(ptr, "outlineScale"), Range{1.0, 4.0});
+    if (auto* x = find(*v, "outlineOffset"))
+      s.fixed.outlineOffset = readFloat(*x, child(ptr, "outlineOffset"), kNonNegativeMagnitude);
+    if (auto* x = find(*v, "cellSize")) {
+      const int c = static_cast<int>(readInteger(*x, child(ptr, "cellSize"), 32, 256, "32, 64, 128 or 256"));
+      if (c != 32 && c != 64 && c != 128 && c != 256) fail(child(ptr, "cellSize"), "32, 64, 128 or 256", *x);
+      s.fixed.cellSize = c;
+    }
+  }
   if (auto* v = find(j, "simulation")) {
     s.simulation = readSimulation(*v, "/simulation");
     s.simulation->fps = s.animation.fps;
@@ -1158,6 +1172,10 @@ json toJson(const Scene& s) {
                     {"frames", s.animation.frames},
                     {"orbit", number(s.animation.orbitDegreesPerSecond)}};
   if (s.simulation) j["simulation"] = simulationJson(*s.simulation);
+  j["fixed"] = {{"puff", pathJson(s.fixed.puff, dir)},
+                {"outlineScale", number(s.fixed.outlineScale)},
+                {"outlineOffset", number(s.fixed.outlineOffset)},
+                {"cellSize", s.fixed.cellSize}};
   return j;
 }
 

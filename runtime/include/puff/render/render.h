@@ -5,11 +5,22 @@
 #pragma once
 
 #include <memory>
+#include <optional>
+#include <string_view>
 
 #include <puff/core/image.h>
 #include <puff/render/scene.h>
 
 namespace puff::render {
+
+/// The render paths a scene can be drawn with.
+enum class RenderPath {
+  kCel,    ///< programmable GL 4.5: nailboards, outlines from the flange, shadow volumes (puff::cel)
+  kFixed,  ///< GL 1.x fixed function (puff::fixedfunc, §4.4): per-frame puff texture, backing
+           ///< billboards for outlines; one light, uniform ambient, no shadows, flat billboards
+};
+std::string_view toString(RenderPath path);
+std::optional<RenderPath> parseRenderPath(std::string_view name);  ///< "cel" or "fixed"
 
 struct FrameStats {
   std::size_t particles = 0;  ///< drawn (listed + placed + simulated)
@@ -20,9 +31,18 @@ struct FrameStats {
 
 class SceneRenderer {
  public:
-  /// Loads the scene's resources and builds the GL objects in the CURRENT context (GL 4.5).
+  /// Loads the scene's resources and builds the GL objects in the CURRENT context: GL 4.5 for kCel;
+  /// a compatibility profile of any version >= 1.3 for kFixed, which draws the scene within its
+  /// limits (no shadows, the uniform ambient colour instead of a gradient, view-plane billboards,
+  /// no MSAA) with the puff mesh of `scene.fixed` (default: the atlas's first source mesh).
   /// Errors name the file that failed (atlas, ramp, gradient, mesh) and why.
-  static Result<std::unique_ptr<SceneRenderer>> create(const Scene& scene);
+  static Result<std::unique_ptr<SceneRenderer>> create(const Scene& scene, RenderPath path = RenderPath::kCel);
+
+  /// Whether the current context can run the programmable path: GL >= 4.5 and every cel program
+  /// compiles and links. The error says why not (for an automatic fallback to kFixed).
+  static Result<void> checkProgrammable();
+
+  RenderPath path() const;
   ~SceneRenderer();
 
   /// Renders frame `frame` (>= 0) and reads it back: RGBA floats in [0,1], top row first,
@@ -47,6 +67,7 @@ class SceneRenderer {
 
  private:
   SceneRenderer();
+  static Result<std::unique_ptr<SceneRenderer>> createFixed(const Scene& scene);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

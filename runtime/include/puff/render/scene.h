@@ -97,6 +97,15 @@ struct Animation {
   float orbitDegreesPerSecond = 0.0f;
 };
 
+/// How the fixed-function path (puff::fixedfunc, McGuire & Fein §4.4) draws this scene.
+struct FixedSettings {
+  std::filesystem::path puff;  ///< the puff mesh; empty: the atlas's first source mesh
+  float outlineScale = 1.1f;   ///< backing billboard size / particle size on screen, [1, 4]
+  float outlineOffset = 0.0f;  ///< d, world units, >= 0; 0 = the billboard's width (the paper's)
+  int cellSize = 128;          ///< texels per orientation of the puff texture: 32, 64, 128 or 256
+                               ///< (halved until 2 cells fit in the frame's smaller side)
+};
+
 struct Scene {
   std::filesystem::path file;     ///< the file it was loaded from (for messages)
   int width = 640, height = 480;  ///< output size, [1, 16384]
@@ -118,6 +127,7 @@ struct Scene {
   /// The smoke simulator (forces, emitters; colliders come from `objects` with collide = true).
   /// Its fps is the animation's. Absent: particles and emitters above move without forces.
   std::optional<sim::Settings> simulation;
+  FixedSettings fixed;
 };
 
 /// Named style presets: "outlines" (Fig. 8a), "cel" (Fig. 8b), "cel-shadows" (Fig. 8c),
