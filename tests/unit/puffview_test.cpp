@@ -87,21 +87,25 @@ class PuffviewCli : public puff::test::CliTest {
   PuffviewCli() : CliTest(PUFFVIEW_EXE, "puffview") {}
 
   // puffrender's image of `scene` frame `frame` at 320x240, as the batch screenshot is compared to.
-  Image puffrender(const std::string& scene, int frame) {
-    const fs::path out = dir_ / ("puffrender_" + std::to_string(frame) + ".png");
+  Image puffrender(const std::string& scene, int frame, const std::string& path = "cel") {
+    const fs::path out = dir_ / ("puffrender_" + path + "_" + std::to_string(frame) + ".png");
     const std::string cmd = std::string(PUFFRENDER_EXE) + " " + scene + " -o " + out.string() + " --frames " +
-                            std::to_string(frame) + " --width 320 --height 240 -q --art-dir " PUFF_ART_DIR;
+                            std::to_string(frame) + " --path " + path +
+                            " --width 320 --height 240 -q --art-dir " PUFF_ART_DIR;
     EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
     auto image = puff::core::readImage(out);
     EXPECT_TRUE(image) << image.error().message;
     return image ? *image : Image{};
   }
-  Image puffview(const std::string& scene, int frames) {
-    const fs::path out = dir_ / ("puffview_" + std::to_string(frames) + ".png");
+  // puffview's batch screenshot of frame frames-1 at 320x240; `extra` options go on the command
+  // line, and stderr is expected to be `expectedErr`.
+  Image puffview(const std::string& scene, int frames, const std::string& extra = "",
+                 const std::string& expectedErr = "") {
+    const fs::path out = dir_ / ("puffview_" + std::to_string(frames) + "_" + std::to_string(++shots_) + ".png");
     CliRun r = run(scene + " --frames " + std::to_string(frames) + " --screenshot " + out.string() +
-                   " --hide-ui --width 320 --height 240 --art-dir " PUFF_ART_DIR);
+                   " --hide-ui --width 320 --height 240 --art-dir " PUFF_ART_DIR + (extra.empty() ? "" : " " + extra));
     EXPECT_EQ(r.exitCode, 0) << r.err;
-    EXPECT_EQ(r.err, "");
+    EXPECT_EQ(r.err, expectedErr);
     EXPECT_NE(r.out.find("wrote " + out.string() + " (320x240, frame " + std::to_string(frames - 1) + ")"),
               std::string::npos)
         << r.out;
@@ -109,22 +113,26 @@ class PuffviewCli : public puff::test::CliTest {
     EXPECT_TRUE(image) << image.error().message;
     return image ? *image : Image{};
   }
+
+  int shots_ = 0;
 };
 
 TEST(PuffviewPaths, OnlyPathsThatExistAreListed) {
-  ASSERT_EQ(puff::view::renderPaths().size(), 1u);
-  EXPECT_EQ(puff::view::renderPaths()[0].name, "cel");
+  ASSERT_EQ(puff::view::renderPaths().size(), 2u);
+  EXPECT_EQ(puff::view::renderPaths()[0].name, "cel") << "the default first";
+  EXPECT_EQ(puff::view::renderPaths()[1].name, "fixed");
   puff::render::Scene scene;
   auto missing = puff::view::createPath("media", scene);
   ASSERT_FALSE(missing);
-  EXPECT_EQ(missing.error().message, "unknown render path \"media\" (available: cel)");
+  EXPECT_EQ(missing.error().message, "unknown render path \"media\" (available: cel, fixed)");
 }
 
 TEST_F(PuffviewCli, HelpListsTheOptions) {
   CliRun r = run("--help");
   EXPECT_EQ(r.exitCode, 0) << r.err;
-  for (const char* option : {"scene", "--frames", "--screenshot", "--hide-ui", "--width", "--height", "--art-dir",
-                             "--shader-dir", "--screenshot-dir", "--path", "--quiet", "cel:", "Space", "F12"}) {
+  for (const char* option :
+       {"scene", "--frames", "--screenshot", "--hide-ui", "--width", "--height", "--art-dir", "--shader-dir",
+        "--screenshot-dir", "--path", "--quiet", "cel:", "fixed:", "Space", "F12"}) {
     EXPECT_NE(r.out.find(option), std::string::npos) << option << " missing from --help:\n" << r.out;
   }
   // A render path that does not exist is refused, not faked.
@@ -184,6 +192,42 @@ TEST_F(PuffviewCli, BatchScreenshotMatchesPuffrender) {
   EXPECT_LT(shareWithin(plumeView, puffrender(plume, 0), 2), 0.99) << "the plume moves";
 }
 
+// The fixed path in the viewer is puffrender's --path fixed: the same SceneRenderer, built for the
+// window's size as puffrender builds it for the image's, drawn into a single-sample target.
+// Measured on llvmpipe: every RGB byte the same.
+TEST_F(PuffviewCli, FixedPathScreenshotMatchesPuffrender) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const std::string lamp = std::string(PUFF_SOURCE_DIR) + "/art/scenes/magic-lamp.json";
+  const Image fixedView = puffview(lamp, 1, "--path fixed");
+  const Image fixedRender = puffrender(lamp, 0, "fixed");
+  ASSERT_EQ(fixedView.width, 320);
+  ASSERT_EQ(fixedView.height, 240);
+  ASSERT_EQ(fixedRender.width, 320);
+  EXPECT_GE(shareWithin(fixedView, fixedRender, 0), 0.999);
+  EXPECT_LT(shareWithin(fixedView, puffrender(lamp, 0, "cel"), 2), 0.99) << "the fixed path is not the cel path";
+}
+
+// A cel program that does not build: puffview says so in one line and draws with the fixed path.
+TEST_F(PuffviewCli, BrokenCelShaderFallsBackToTheFixedPath) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const fs::path shaders = dir_ / "shaders";
+  fs::copy(fs::path(PUFF_SOURCE_DIR) / "shaders", shaders, fs::copy_options::recursive);
+  std::ofstream(shaders / "cel" / "nailboard.frag", std::ios::binary | std::ios::app) << "\nthis is not glsl;\n";
+  const std::string lamp = std::string(PUFF_SOURCE_DIR) + "/art/scenes/magic-lamp.json";
+  const fs::path out = dir_ / "fallback.png";
+  CliRun r = run(lamp + " --frames 1 --screenshot " + out.string() + " --hide-ui --width 320 --height 240 --art-dir " +
+                 PUFF_ART_DIR + " --shader-dir " + shaders.string());
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(r.err.rfind("puffview: the programmable (cel) path cannot run here: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("cel/nailboard.frag"), std::string::npos) << r.err;
+  const std::string tail = "; drawing with the fixed-function path\n";
+  EXPECT_TRUE(r.err.size() > tail.size() && r.err.compare(r.err.size() - tail.size(), tail.size(), tail) == 0) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  auto image = puff::core::readImage(out);
+  ASSERT_TRUE(image) << image.error().message;
+  EXPECT_GE(shareWithin(*image, puffrender(lamp, 0, "fixed"), 0), 0.999) << "drawn with the fixed path";
+}
+
 // ---- the viewer, one displayed frame at a time ----------------------------------------------
 
 class PuffviewWindow : public ::testing::Test {
@@ -212,11 +256,13 @@ class PuffviewWindow : public ::testing::Test {
     std::ofstream(file, std::ios::binary | std::ios::trunc) << text;
     fs::last_write_time(file, before + std::chrono::seconds(1));
   }
-  std::unique_ptr<puff::view::Viewer> open(const fs::path& file, const fs::path& shaderDir = {}) {
+  std::unique_ptr<puff::view::Viewer> open(const fs::path& file, const fs::path& shaderDir = {},
+                                           const std::string& path = "cel") {
     puff::view::ViewerOptions o;
     o.scene = file;
     o.artDir = PUFF_ART_DIR;
     o.shaderDir = shaderDir;
+    o.path = path;
     o.width = 160;
     o.height = 120;
     o.ui = false;
@@ -361,6 +407,67 @@ TEST_F(PuffviewWindow, BrokenShaderShowsItsErrorAndKeepsTheLastGoodRenderer) {
   v->checkFiles();
   EXPECT_EQ(v->fileError(), "");
   EXPECT_GE(shareWithin(draw(*v), good, 0), 0.999);
+}
+
+TEST_F(PuffviewWindow, SwitchingPathsRedrawsAndSwitchingBackRestoresCel) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const fs::path file = dir_ / "cloud.json";
+  rewrite(file, scene("#ff0000"));
+  auto v = open(file);
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->pathName(), "cel");
+  const Image cel = draw(*v);
+
+  ASSERT_TRUE(v->setPath("fixed"));
+  EXPECT_EQ(v->pathName(), "fixed");
+  const Image fixed = draw(*v);
+  expectColor(fixed, 157, 2, {1, 0, 0}, "the fixed path's background");
+  EXPECT_LT(shareWithin(fixed, cel, 2), 0.99) << "the fixed path draws other pixels";
+  int puffPixels = 0;
+  for (int y = 0; y < fixed.height; ++y)
+    for (int x = 0; x < fixed.width; ++x) puffPixels += glm::length(rgb(fixed, x, y) - glm::vec3(1, 0, 0)) > 0.3f;
+  EXPECT_GT(puffPixels, 500) << "the fixed path draws the puffs";
+
+  // Edits reach whichever path draws.
+  v->scene().background = glm::vec3(0.0f, 0.0f, 1.0f);
+  ASSERT_TRUE(v->applyEdit());
+  expectColor(draw(*v), 157, 2, {0, 0, 1}, "edited background on the fixed path");
+  v->scene().background = glm::vec3(1.0f, 0.0f, 0.0f);
+  ASSERT_TRUE(v->applyEdit());
+  EXPECT_GE(shareWithin(draw(*v), fixed, 0), 0.999) << "the edit undone";
+
+  // A path that does not exist keeps the one drawing and says why.
+  auto bad = v->setPath("media");
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(v->pathName(), "fixed");
+  EXPECT_NE(v->status().find("media"), std::string::npos) << v->status();
+  EXPECT_GE(shareWithin(draw(*v), fixed, 0), 0.999);
+
+  ASSERT_TRUE(v->setPath("cel"));
+  EXPECT_EQ(v->pathName(), "cel");
+  EXPECT_GE(shareWithin(draw(*v), cel, 0), 0.999) << "back to the cel path's pixels";
+}
+
+TEST_F(PuffviewWindow, BrokenCelShaderAtStartDrawsWithTheFixedPathAndSaysSo) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const fs::path file = dir_ / "cloud.json";
+  rewrite(file, scene("#ff0000"));
+  auto fixedView = open(file, {}, "fixed");
+  ASSERT_TRUE(fixedView);
+  const Image fixed = draw(*fixedView);
+  fixedView.reset();
+
+  const fs::path shaders = dir_ / "shaders";
+  fs::copy(fs::path(PUFF_SOURCE_DIR) / "shaders", shaders, fs::copy_options::recursive);
+  const fs::path frag = shaders / "cel" / "nailboard.frag";
+  rewrite(frag, *puff::core::readFileBytes(frag) + "\nthis is not glsl;\n");
+  auto v = open(file, shaders);
+  ASSERT_TRUE(v);
+  EXPECT_EQ(v->pathName(), "fixed");
+  EXPECT_EQ(v->status().rfind("the programmable (cel) path cannot run here: ", 0), 0u) << v->status();
+  EXPECT_NE(v->status().find("cel/nailboard.frag"), std::string::npos) << v->status();
+  EXPECT_EQ(v->fileError(), "");
+  EXPECT_GE(shareWithin(draw(*v), fixed, 0), 0.999) << "drawn with the fixed path";
 }
 
 }  // namespace

@@ -208,9 +208,12 @@ int renderFrames(const Options& o, const render::Scene& scene, const Plan& plan)
   if (comparing) {
     glOptions.profile = core::GlProfile::kCompatibility;  // both paths in one context
   } else if (path == render::RenderPath::kFixed) {
-    // The oldest context the platform gives: compatibility, asked for 2.1 (Mesa may give more).
+    // The oldest context the platform gives: compatibility, asked for 1.3, the path's minimum (Mesa
+    // gives its highest compatibility version when it can).
+    // Its own framebuffer is the frame's size: a GL 1.x/2.x context has no framebuffer objects.
     glOptions.profile = core::GlProfile::kCompatibility;
-    glOptions.major = 2, glOptions.minor = 1;
+    glOptions.major = 1, glOptions.minor = 3;
+    glOptions.width = scene.width, glOptions.height = scene.height;
   }
   auto context = core::createGlContext(glOptions);
   std::string whyNotProgrammable;
@@ -229,7 +232,8 @@ int renderFrames(const Options& o, const render::Scene& scene, const Plan& plan)
                  kTool, whyNotProgrammable.c_str(), kTool);
     context = Error{""};  // the old context goes before the new one is made current
     glOptions.profile = core::GlProfile::kCompatibility;
-    glOptions.major = 2, glOptions.minor = 1;
+    glOptions.major = 1, glOptions.minor = 3;
+    glOptions.width = scene.width, glOptions.height = scene.height;
     context = core::createGlContext(glOptions);
     if (!context) {
       printError(context.error().message);

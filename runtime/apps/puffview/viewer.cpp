@@ -33,8 +33,10 @@ struct Viewer::Impl {
   bool uiDrawnLastFrame = false;
   PanelState panels;
 
-  // The scene is drawn into this multisampled target (the scene's samples, like puffrender) and
-  // resolved into the window, so edges look the same as in puffrender's images.
+  // The scene is drawn into this target and resolved into the window: the cel path with the scene's
+  // samples (like puffrender), so edges look the same as in puffrender's images; the fixed path
+  // with one sample (it copies part of the framebuffer into a texture). RGBA8: the fixed path needs
+  // alpha.
   core::Framebuffer fbo;
   core::Renderbuffer color, depthStencil;
   int fboWidth = 0, fboHeight = 0, fboSamples = 0;
@@ -123,11 +125,31 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
 
   core::GlContextOptions gl;
   gl.backend = "glfw";
+  gl.profile = core::GlProfile::kCompatibility;  // GL 4.5 for the cel path, GL 1.x calls for the fixed one
   gl.visible = options.visible;
   gl.width = options.width > 0 ? options.width : std::clamp(v->scene_.width, 64, 1920);
   gl.height = options.height > 0 ? options.height : std::clamp(v->scene_.height, 64, 1200);
   gl.title = "puffview: " + options.scene.string();
   auto context = core::createGlContext(gl);
+  // The automatic fallback: the cel path (the default) needs GL 4.5 and programs that build; where
+  // the platform or the shaders cannot give that, the fixed path draws instead, saying so.
+  const bool mayFallBack = options.path == "cel";
+  std::string whyNotCel;
+  if (!context && mayFallBack) {
+    core::GlContextOptions old = gl;  // the oldest compatibility context (Mesa may give more)
+    old.major = 2, old.minor = 1;
+    auto older = core::createGlContext(old);
+    if (!older) return context.error();
+    if (!GLAD_GL_VERSION_4_5) {
+      // puff::render::SceneRenderer builds its targets with GL 4.5 calls on either path: an older
+      // context would crash it, so this is an error, not a fallback (yet).
+      return Error{context.error().message +
+                   "; the fixed-function path cannot run in the older context either (the renderer needs GL 4.5 "
+                   "framebuffer objects)"};
+    }
+    whyNotCel = context.error().message;
+    context = std::move(older);
+  }
   if (!context) return context.error();
   m.context = std::move(*context);
   m.window = static_cast<GLFWwindow*>(m.context->nativeWindow());
@@ -148,10 +170,30 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
   }
   m.imguiBackends = true;
 
-  auto path = createPath(options.path, v->scene_);
+  if (mayFallBack && whyNotCel.empty()) {
+    if (auto ok = render::SceneRenderer::checkProgrammable(); !ok) whyNotCel = ok.error().message;
+  }
+  std::string pathName = options.path;
+  if (!whyNotCel.empty()) {
+    // One line: a compile log's lines joined.
+    std::string why;
+    for (char c : whyNotCel) {
+      if (c != '\n')
+        why += c;
+      else if (!why.empty() && why.back() != ' ')
+        why += "; ";
+    }
+    while (!why.empty() && (why.back() == ' ' || why.back() == ';')) why.pop_back();
+    const std::string message =
+        "the programmable (cel) path cannot run here: " + why + "; drawing with the fixed-function path";
+    std::fprintf(stderr, "puffview: %s\n", message.c_str());
+    v->setStatus(message);
+    pathName = "fixed";
+  }
+  auto path = createPath(pathName, v->scene_);
   if (!path) return path.error();
   v->path_ = std::move(*path);
-  v->pathName_ = options.path;
+  v->pathName_ = pathName;
   v->camera_.reset(render::cameraAt(v->scene_, 0));
   v->watchScene();
   m.lastInput = m.lastPresent = m.lastPoll = now();
@@ -329,10 +371,15 @@ void Viewer::cameraToScene() {
 }
 
 Result<void> Viewer::setPath(const std::string& name) {
+  impl_->context->makeCurrent();
   auto path = createPath(name, scene_);
-  if (!path) return path.error();
+  if (!path) {
+    setStatus("cannot switch to the " + name + " path: " + path.error().message);
+    return path.error();
+  }
   path_ = std::move(*path);
   pathName_ = name;
+  setStatus("drawing with the " + name + " path");
   return {};
 }
 
@@ -454,7 +501,7 @@ void Viewer::drawFrame() {
 
   GLint maxSamples = 1;
   glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
-  const int samples = std::clamp(scene_.samples, 1, std::max(1, maxSamples));
+  const int samples = path_->multisample() ? std::clamp(scene_.samples, 1, std::max(1, maxSamples)) : 1;
   if (!m.fbo || m.fboWidth != size.x || m.fboHeight != size.y || m.fboSamples != samples) {
     m.fbo = core::makeFramebuffer();
     m.color = core::makeRenderbuffer();

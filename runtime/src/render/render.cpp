@@ -21,6 +21,10 @@ namespace {
 // resolve target to read back from.
 struct Target {
   int width = 0, height = 0, samples = 1;
+  /// No framebuffer objects in this context (GL before 4.5's direct state access: the fixed path
+  /// in an old context): frames go to the context's own framebuffer, which must be at least this
+  /// size (puffrender creates it so).
+  bool contextFramebuffer = false;
   core::Framebuffer fbo, resolveFbo;
   core::Renderbuffer color, depthStencil, resolveColor;
 
@@ -297,9 +301,14 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::createFixed(const Scene& s
   }
   if (auto ok = m.fixed->setObjects(m.fixedObjects); !ok) return Error::at(scene.file, ok.error().message);
   // One sample: the fixed path copies the framebuffer into its puff texture (no multisampled copy).
-  auto target = Target::create(scene.width, scene.height, 1);
-  if (!target) return target.error();
-  m.target = std::move(*target);
+  if (glCreateFramebuffers && glNamedRenderbufferStorageMultisample && glBlitNamedFramebuffer) {
+    auto target = Target::create(scene.width, scene.height, 1);
+    if (!target) return target.error();
+    m.target = std::move(*target);
+  } else {
+    m.target.width = scene.width, m.target.height = scene.height;
+    m.target.contextFramebuffer = true;
+  }
   if (auto ok = createSimulator(m, scene); !ok) return ok.error();
   return r;
 }
@@ -445,20 +454,27 @@ void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameSta
 Result<core::Image> SceneRenderer::renderFrame(int frame, FrameStats* stats) {
   Impl& m = *impl_;
   Target& t = m.target;
-  glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
-  drawFrame(frame, cel::Viewport{0, 0, t.width, t.height}, stats);
-  GLuint readFbo = t.fbo.get();
-  if (t.samples > 1) {
-    glBlitNamedFramebuffer(t.fbo.get(), t.resolveFbo.get(), 0, 0, t.width, t.height, 0, 0, t.width, t.height,
-                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    readFbo = t.resolveFbo.get();
-  }
   std::vector<unsigned char> bytes(static_cast<std::size_t>(t.width) * t.height * 4);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, readFbo);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (t.contextFramebuffer) {
+    // GL 1.x-era context: draw and read the context's own framebuffer (only 1.x calls here).
+    drawFrame(frame, cel::Viewport{0, 0, t.width, t.height}, stats);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+  } else {
+    glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
+    drawFrame(frame, cel::Viewport{0, 0, t.width, t.height}, stats);
+    GLuint readFbo = t.fbo.get();
+    if (t.samples > 1) {
+      glBlitNamedFramebuffer(t.fbo.get(), t.resolveFbo.get(), 0, 0, t.width, t.height, 0, 0, t.width, t.height,
+                             GL_COLOR_BUFFER_BIT, GL_NEAREST);
+      readFbo = t.resolveFbo.get();
+    }
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, readFbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  }
   if (!m.lastError.empty()) {
     std::string e = std::move(m.lastError);
     m.lastError.clear();

@@ -36,9 +36,14 @@ struct ViewerOptions {
 
 class Viewer {
  public:
-  /// Loads the scene, opens the window (GL 4.5 core, depth 24, stencil 8) and builds the render
-  /// path. Errors: the scene's ("FILE: /pointer: ..."), no display ("glfw: cannot open a window:
-  /// ..."), or the path's (a missing atlas, a shader that does not compile).
+  /// Loads the scene, opens the window (GL 4.5 compatibility profile, so both render paths run in
+  /// it; depth 24, stencil 8) and builds the render path. With the cel path it falls back to the
+  /// fixed path when a cel program does not build or the context cannot run it
+  /// (SceneRenderer::checkProgrammable), printing one line "puffview: the programmable (cel) path
+  /// cannot run here: WHY; drawing with the fixed-function path" to stderr and showing it as
+  /// status(). Errors: the scene's ("FILE: /pointer: ..."), no display ("glfw: cannot open a
+  /// window: ..."), no GL 4.5 context (the renderer needs GL 4.5 framebuffer objects on either
+  /// path), or the path's (a missing atlas, a mesh that does not load).
   static Result<std::unique_ptr<Viewer>> open(const ViewerOptions& options);
   ~Viewer();
   Viewer(const Viewer&) = delete;
@@ -101,7 +106,8 @@ class Viewer {
   void cameraToScene();
 
   const std::string& pathName() const { return pathName_; }
-  /// Switches the render path (one of renderPaths()); on error the old one stays.
+  /// Switches the render path (one of renderPaths()), building it anew for scene(); on error the
+  /// old one stays and status() says why.
   Result<void> setPath(const std::string& name);
 
   const render::FrameStats& stats() const { return stats_; }

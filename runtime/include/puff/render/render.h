@@ -35,6 +35,8 @@ class SceneRenderer {
   /// a compatibility profile of any version >= 1.3 for kFixed, which draws the scene within its
   /// limits (no shadows, the uniform ambient colour instead of a gradient, view-plane billboards,
   /// no MSAA) with the puff mesh of `scene.fixed` (default: the atlas's first source mesh).
+  /// kFixed in a context without direct-state-access framebuffer objects (GL < 4.5) renders into
+  /// the context's own framebuffer, which must then be at least the scene's size.
   /// Errors name the file that failed (atlas, ramp, gradient, mesh) and why.
   static Result<std::unique_ptr<SceneRenderer>> create(const Scene& scene, RenderPath path = RenderPath::kCel);
 
