@@ -244,6 +244,7 @@ struct FixedRenderer::Impl {
   };
   std::vector<Object> objects;
   GLuint puffTexture = 0, rampTexture = 0, whiteTexture = 0;
+  glm::vec3 rampLow{0.0f};  // q(0): the puff texture's empty texels take the darkest band's tone
   // Per-frame scratch, kept to reuse the allocations.
   std::vector<glm::vec4> puffColors;
   std::vector<glm::vec3> quadPositions;
@@ -261,6 +262,7 @@ struct FixedRenderer::Impl {
 };
 
 void FixedRenderer::Impl::uploadRamp(const std::vector<unsigned char>& texels, int width) {
+  rampLow = glm::vec3(texels[0], texels[1], texels[2]) / 255.0f;
   StateGuard guard(version);
   FF_GL(glActiveTexture, GL_TEXTURE0);
   FF_GL(glBindTexture, GL_TEXTURE_1D, rampTexture);
@@ -404,7 +406,12 @@ void FixedRenderer::Impl::puffPass(const FixedFrame& frame, const FixedStyle& st
   const FixedViewport& vp = frame.viewport;
   FF_GL(glViewport, vp.x, vp.y, 2 * cellSize, 2 * cellSize);
   FF_GL(glScissor, vp.x, vp.y, 2 * cellSize, 2 * cellSize);
-  FF_GL(glClearColor, 0.0f, 0.0f, 0.0f, 0.0f);  // alpha 0: no coverage
+  // Alpha 0: no coverage. The colour is a puff tone (K_a + C.K_L.q(0)), not black: linear filtering
+  // mixes it into the rim texels that pass the alpha test, which would otherwise darken every edge.
+  const glm::vec3 rim =
+      glm::clamp(frame.ambientColor + style.puffColor * frame.lightColor * (style.shading ? rampLow : glm::vec3(1.0f)),
+                 glm::vec3(0.0f), glm::vec3(1.0f));
+  FF_GL(glClearColor, rim.r, rim.g, rim.b, 0.0f);
   FF_GL(glClearDepth, 1.0);
   FF_GL(glClear, static_cast<GLbitfield>(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT));
 

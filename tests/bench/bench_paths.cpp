@@ -1,8 +1,8 @@
 // Fixed-function against programmable (issue 5): the art scenes, restricted to the fixed path's
 // limits (render::restrictToFixedLimits: no shadows, uniform ambient, view-plane billboards, one
 // sample), drawn by both paths in one compatibility context. Per scene and path: 2 warm-up frames,
-// then the median of --reps frames (SceneRenderer::renderFrame of frame 0: draw, glFinish through
-// the read-back, the same for both); the ratio is fixed / cel of the same run. The parity of the
+// then the median of --reps frames (SceneRenderer::renderFrame of frame 0: the draw and the
+// read-back that waits for it, the same for both); the ratio is fixed / cel of the same run. The parity of the
 // two images is reported beside it. Writes CSV (stdout, or --csv FILE). Not a test: nothing here
 // fails on a time.
 #include <algorithm>

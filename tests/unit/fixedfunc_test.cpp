@@ -471,6 +471,36 @@ TEST_F(FixedFuncTest, PuffTextureIsTwoToneNDotLWithCoverageInAlpha) {
   EXPECT_GT(outside, 4 * 500);
 }
 
+// A diagonal light: N.L = (x + y) / sqrt(2). With L along +x alone, a texture matrix holding L in
+// its first column instead of its first row would give the same picture; this one would not.
+TEST_F(FixedFuncTest, DiagonalLightBandFollowsNDotL) {
+  constexpr int kCell = 64;
+  auto r = FixedRenderer::create(unitSphere(), kCell);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_TRUE((*r)->setRamp(twoToneRamp(0.3f, 0.9f)).ok());
+  FixedFrame frame = makeFrame();
+  frame.lightDirection = {1.0f, 1.0f, 0.0f};
+  ASSERT_TRUE((*r)->drawFrame(frame, {}).ok());
+  const std::vector<unsigned char> tex = readPuffTexture(**r);
+  const glm::vec3 lit = frame.ambientColor + frame.lightColor * 0.9f;
+  const float e = (*r)->cellExtent(), texel = 2.0f * e / kCell, tol = 2.0f * texel;
+  int checked = 0, wrong = 0;
+  for (int j = 0; j < kCell; ++j) {
+    for (int i = 0; i < kCell; ++i) {
+      const unsigned char* p = &tex[(static_cast<std::size_t>(j) * 2 * kCell + i) * 4];  // cell 0
+      const float x = -e + (i + 0.5f) * texel, y = -e + (j + 0.5f) * texel;
+      if (std::sqrt(x * x + y * y) > 1.0f - tol) continue;
+      const float nl = (x + y) / std::sqrt(2.0f);
+      if (std::abs(nl - 0.5f) < tol) continue;
+      const bool isLit = std::abs(p[0] / 255.0f - lit.r) < 3.0f / 255.0f;
+      ++checked;
+      wrong += isLit != (nl > 0.5f) ? 1 : 0;
+    }
+  }
+  EXPECT_GT(checked, 1500);
+  EXPECT_EQ(wrong, 0);
+}
+
 TEST_F(FixedFuncTest, ShadingOffIsFlatDiffusePlusAmbient) {
   auto r = FixedRenderer::create(unitSphere(), 32);
   ASSERT_TRUE(r.ok()) << r.error().message;

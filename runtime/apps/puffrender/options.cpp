@@ -170,11 +170,17 @@ int compareFrames(const Options& o, const render::Scene& scene, const Plan& plan
       printError(r.error().message);
       return 1;
     }
+    char tone[96];
+    if (p.both > 0) {
+      std::snprintf(tone, sizeof tone, "tone within %.2f on %.1f%% of shared smoke pixels", o.toneTolerance,
+                    100.0 * p.toneShare);
+    } else {
+      std::snprintf(tone, sizeof tone, "no shared smoke pixels to compare tones on");
+    }
     std::printf(
-        "%s: frame %d: smoke coverage IoU %.3f (%s %zu px, %s %zu px, both %zu); tone within %.2f on %.1f%% of "
-        "shared smoke pixels; mean |difference| %.3f over the smoke -> %s\n",
-        kTool, f, p.iou, first.c_str(), p.maskA, second.c_str(), p.maskB, p.both, o.toneTolerance, 100.0 * p.toneShare,
-        p.meanAbsDiff, target.c_str());
+        "%s: frame %d: smoke coverage IoU %.3f (%s %zu px, %s %zu px, both %zu); %s; mean |difference| %.3f "
+        "over the smoke -> %s\n",
+        kTool, f, p.iou, first.c_str(), p.maskA, second.c_str(), p.maskB, p.both, tone, p.meanAbsDiff, target.c_str());
   }
   if (count > 1) {
     std::printf("%s: %d frames: lowest IoU %.3f, lowest tone agreement %.1f%%\n", kTool, count, worstIou,
@@ -227,22 +233,25 @@ int renderFrames(const Options& o, const render::Scene& scene, const Plan& plan)
   }
   if (!whyNotProgrammable.empty()) {
     // The automatic fallback: an old context, or a programmable path that does not build.
-    std::fprintf(stderr,
-                 "%s: the programmable (cel) path cannot run here: %s\n%s: drawing with the fixed-function path\n",
-                 kTool, whyNotProgrammable.c_str(), kTool);
     context = Error{""};  // the old context goes before the new one is made current
     glOptions.profile = core::GlProfile::kCompatibility;
     glOptions.major = 1, glOptions.minor = 3;
     glOptions.width = scene.width, glOptions.height = scene.height;
     context = core::createGlContext(glOptions);
     if (!context) {
-      printError(context.error().message);
+      printError("the programmable (cel) path cannot run here (" + whyNotProgrammable +
+                 "), and there is no context for the fixed-function path either: " + context.error().message);
       return 1;
     }
+    std::fprintf(stderr,
+                 "%s: the programmable (cel) path cannot run here: %s\n%s: drawing with the fixed-function path\n",
+                 kTool, whyNotProgrammable.c_str(), kTool);
     path = render::RenderPath::kFixed;
   }
   if (comparing) return compareFrames(o, scene, plan);
-  auto renderer = render::SceneRenderer::create(scene, path);
+  // The fixed path draws into the context's own framebuffer (made at the frame's size above):
+  // OpenGL 1.x calls only, no framebuffer objects.
+  auto renderer = render::SceneRenderer::create(scene, path, path == render::RenderPath::kFixed);
   if (!renderer) {
     printError(renderer.error().message);
     return 1;
@@ -399,8 +408,9 @@ std::variant<Options, int> parse(int argc, char** argv) {
                  "coverage agreement (IoU of the masks) and the share of shared smoke pixels within --tolerance; OUT "
                  "gets [first | second | difference] side by side")
       ->check(CLI::IsMember({"fixed,cel", "cel,fixed"}));
-  app.add_option("--tolerance", o.toneTolerance, "--compare: per-channel tone tolerance in [0, 1]. Default: 0.1")
-      ->check(CLI::Range(0.0f, 1.0f));
+  auto* tolerance =
+      app.add_option("--tolerance", o.toneTolerance, "--compare: per-channel tone tolerance in [0, 1]. Default: 0.1")
+          ->check(CLI::Range(0.0f, 1.0f));
   app.add_flag("--print-scene", o.printScene,
                "Print the scene as it will be rendered (every field, defaults and the options above applied) as JSON, "
                "and exit without rendering");
@@ -408,6 +418,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+    o.toleranceGiven = tolerance->count() > 0;
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
@@ -467,6 +478,18 @@ int run(const Options& o) {
   auto plan = makePlan(o, scene);
   if (!plan) {
     printError(plan.error().message);
+    return 2;
+  }
+  if (!o.compare.empty() && plan->exr) {
+    printError("--compare writes 8-bit PNG comparison images: give -o a .png name");
+    return 2;
+  }
+  if (o.compare.empty() && o.toleranceGiven) {
+    printError("--tolerance applies only with --compare");
+    return 2;
+  }
+  if (!o.compare.empty() && o.path != "cel") {
+    printError("--path and --compare do not go together: --compare draws with both paths");
     return 2;
   }
   return renderFrames(o, scene, *plan);

@@ -24,6 +24,7 @@ struct Options {
   std::string path = "cel";    ///< "cel" (falls back to "fixed" when the context cannot run it) or "fixed"
   std::string compare;         ///< "A,B" (cel and fixed, either order): render both, report parity
   float toneTolerance = 0.1f;  ///< --compare: per-channel tolerance of "the same tone"
+  bool toleranceGiven = false;
   bool printScene = false;
   bool quiet = false;
 };

@@ -32,6 +32,7 @@ Parity compareFrames(const core::Image& a, const core::Image& aBare, const core:
                      float tolerance, core::Image* sideBySide) {
   PUFF_CHECK(a.width == b.width && a.height == b.height && a.channels == 4 && b.channels == 4);
   PUFF_CHECK(aBare.width == a.width && bBare.width == a.width && aBare.height == a.height && bBare.height == a.height);
+  PUFF_CHECK(aBare.channels == 4 && bBare.channels == 4);
   constexpr float kMaskThreshold = 1.0f / 64.0f;
   const int w = a.width, h = a.height;
   if (sideBySide) *sideBySide = core::Image(3 * w, h, 4);

@@ -156,8 +156,9 @@ Result<void> createSimulator(Impl& m, const Scene& scene) {
   return {};
 }
 
-Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene, RenderPath path) {
-  if (path == RenderPath::kFixed) return createFixed(scene);
+Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene, RenderPath path,
+                                                             bool contextFramebuffer) {
+  if (path == RenderPath::kFixed) return createFixed(scene, contextFramebuffer);
   std::unique_ptr<SceneRenderer> r(new SceneRenderer());
   Impl& m = *r->impl_;
   m.scene = scene;
@@ -245,7 +246,7 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene,
   return r;
 }
 
-Result<std::unique_ptr<SceneRenderer>> SceneRenderer::createFixed(const Scene& scene) {
+Result<std::unique_ptr<SceneRenderer>> SceneRenderer::createFixed(const Scene& scene, bool contextFramebuffer) {
   std::unique_ptr<SceneRenderer> r(new SceneRenderer());
   Impl& m = *r->impl_;
   m.scene = scene;
@@ -301,13 +302,21 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::createFixed(const Scene& s
   }
   if (auto ok = m.fixed->setObjects(m.fixedObjects); !ok) return Error::at(scene.file, ok.error().message);
   // One sample: the fixed path copies the framebuffer into its puff texture (no multisampled copy).
-  if (glCreateFramebuffers && glNamedRenderbufferStorageMultisample && glBlitNamedFramebuffer) {
+  const bool haveFbo = glCreateFramebuffers && glNamedRenderbufferStorageMultisample && glBlitNamedFramebuffer;
+  GLint alphaBits = 0;
+  glGetIntegerv(GL_ALPHA_BITS, &alphaBits);  // of the context's own framebuffer (OpenGL 1.0)
+  core::drainGlErrors();
+  if ((contextFramebuffer || !haveFbo) && alphaBits > 0) {
+    m.target.width = scene.width, m.target.height = scene.height;
+    m.target.contextFramebuffer = true;
+  } else if (haveFbo) {  // e.g. a surfaceless EGL context: nothing of its own to draw into
     auto target = Target::create(scene.width, scene.height, 1);
     if (!target) return target.error();
     m.target = std::move(*target);
   } else {
-    m.target.width = scene.width, m.target.height = scene.height;
-    m.target.contextFramebuffer = true;
+    return Error{
+        "the fixed-function path needs a framebuffer with alpha, and this context has neither one of its "
+        "own nor framebuffer objects"};
   }
   if (auto ok = createSimulator(m, scene); !ok) return ok.error();
   return r;
@@ -333,7 +342,7 @@ nlohmann::json reloadKey(const Scene& s) {
 Result<void> SceneRenderer::update(const Scene& next) {
   Impl& m = *impl_;
   if (reloadKey(m.scene) != reloadKey(next)) {
-    auto fresh = create(next, m.path);
+    auto fresh = create(next, m.path, m.target.contextFramebuffer);
     if (!fresh) return fresh.error();
     impl_ = std::move((*fresh)->impl_);
     return {};
@@ -404,9 +413,12 @@ void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameSta
     style.outlineScale = s.fixed.outlineScale;
     style.outlineOffset = s.fixed.outlineOffset;
     // A cel renderer in the same context (puffrender --compare) may have left its program and
-    // vertex array bound; the fixed path draws only with neither (where the context has them).
-    if (glUseProgram) glUseProgram(0);
-    if (glBindVertexArray) glBindVertexArray(0);
+    // vertex array bound; the fixed path draws only with neither. Never in a context-framebuffer
+    // frame, which makes OpenGL 1.x calls only.
+    if (!m.target.contextFramebuffer) {
+      if (glUseProgram) glUseProgram(0);
+      if (glBindVertexArray) glBindVertexArray(0);
+    }
     auto drawn = m.fixed->drawFrame(f, billboards, style);
     if (!drawn) m.lastError = drawn.error().message;
     return;

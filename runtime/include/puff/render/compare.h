@@ -23,6 +23,7 @@ Scene restrictToFixedLimits(const Scene& scene, std::vector<std::string>* change
 struct Parity {
   double iou = 0.0;          ///< |A ∩ B| / |A ∪ B| of the two smoke masks; 1 when both are empty
   double toneShare = 0.0;    ///< of the pixels in A ∩ B, the share within `tolerance` in every channel
+                             ///< (1 when A ∩ B is empty: check `both`)
   double meanAbsDiff = 0.0;  ///< mean over A ∪ B of the largest channel difference, in [0, 1]
   std::size_t maskA = 0, maskB = 0, both = 0;  ///< pixels in A, in B, in both
 };

@@ -35,10 +35,13 @@ class SceneRenderer {
   /// a compatibility profile of any version >= 1.3 for kFixed, which draws the scene within its
   /// limits (no shadows, the uniform ambient colour instead of a gradient, view-plane billboards,
   /// no MSAA) with the puff mesh of `scene.fixed` (default: the atlas's first source mesh).
-  /// kFixed in a context without direct-state-access framebuffer objects (GL < 4.5) renders into
-  /// the context's own framebuffer, which must then be at least the scene's size.
+  /// Where frames go: an offscreen target (framebuffer objects) by default; with
+  /// `contextFramebuffer` (kFixed only) the context's own framebuffer, which must then be at least
+  /// the scene's size and have alpha: every call the fixed pipeline makes is then OpenGL 1.x.
+  /// kFixed in a context without GL 4.5's framebuffer objects always draws there.
   /// Errors name the file that failed (atlas, ramp, gradient, mesh) and why.
-  static Result<std::unique_ptr<SceneRenderer>> create(const Scene& scene, RenderPath path = RenderPath::kCel);
+  static Result<std::unique_ptr<SceneRenderer>> create(const Scene& scene, RenderPath path = RenderPath::kCel,
+                                                       bool contextFramebuffer = false);
 
   /// Whether the current context can run the programmable path: GL >= 4.5 and every cel program
   /// compiles and links. The error says why not (for an automatic fallback to kFixed).
@@ -69,7 +72,7 @@ class SceneRenderer {
 
  private:
   SceneRenderer();
-  static Result<std::unique_ptr<SceneRenderer>> createFixed(const Scene& scene);
+  static Result<std::unique_ptr<SceneRenderer>> createFixed(const Scene& scene, bool contextFramebuffer);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
