@@ -623,20 +623,37 @@ TEST_F(FixedFuncTest, BillboardCoversItsDiscAndTheOutlineIsARingBehindIt) {
   EXPECT_EQ(rings.backgroundBad, 0);
 }
 
-TEST_F(FixedFuncTest, NearerParticleHidesAFartherOnesOutline) {
+// §4.4: "the number of internal contours drawn decreases as d increases". A near puff A in front
+// of a bigger far puff B, 0.5 units deeper, overlapping on screen: A's outline ring lies over B's
+// body. With d < 0.5 the backing billboard is in front of B's body and draws an inner contour there;
+// with d > 0.5 it is behind B's body and hidden.
+TEST_F(FixedFuncTest, OffsetDDecidesWhetherAnInnerContourShows) {
   auto r = FixedRenderer::create(unitSphere(), 64);
   ASSERT_TRUE(r.ok()) << r.error().message;
   const FixedFrame frame = makeFrame();
-  // Two overlapping particles; the near one's body covers where the far one's outline would show.
-  const std::vector<Billboard> two = {{{0.0f, 0.0f, -5.0f}, 1.0f, 0}, {{0.35f, 0.0f, -6.0f}, 1.0f, 1}};
-  ASSERT_TRUE((*r)->drawFrame(frame, two).ok());
-  const std::vector<glm::vec4> px = readFramebuffer();
-  // Along the row through both centres, inside the near body's disc, nothing is black.
-  const float rBody = 0.5f / 5.0f / std::tan(glm::radians(kFovY) / 2.0f) * (kSize / 2.0f);
-  for (int x = kSize / 2 - static_cast<int>(rBody) + 2; x < kSize / 2 + static_cast<int>(rBody) - 2; ++x) {
-    const glm::vec4 c = px[static_cast<std::size_t>(kSize / 2) * kSize + x];
-    EXPECT_GT(std::max({c.r, c.g, c.b}), 0.05f) << "black at x " << x;
-  }
+  const std::vector<Billboard> two = {{{0.0f, 0.0f, -5.0f}, 1.0f, 0}, {{0.5f, 0.0f, -5.5f}, 1.2f, 0}};
+  const float pixelsPerUnitAt5 = 1.0f / 5.0f / std::tan(glm::radians(kFovY) / 2.0f) * (kSize / 2.0f);
+  const float rBody = 0.5f * pixelsPerUnitAt5;
+  FixedStyle style;
+  style.outlineScale = 1.6f;
+  auto blackInRing = [&](float d) {
+    style.outlineOffset = d;
+    EXPECT_TRUE((*r)->drawFrame(frame, two, style).ok());
+    const std::vector<glm::vec4> px = readFramebuffer();
+    int black = 0, checked = 0;
+    // The right half of A's ring, on the row through both centres: inside B's disc.
+    for (int x = kSize / 2 + static_cast<int>(rBody) + 2; x < kSize / 2 + static_cast<int>(1.6f * rBody) - 1; ++x) {
+      const glm::vec4 c = px[static_cast<std::size_t>(kSize / 2) * kSize + x];
+      black += std::max({c.r, c.g, c.b}) < 0.05f ? 1 : 0;
+      ++checked;
+    }
+    EXPECT_GE(checked, 4);
+    return std::pair{black, checked};
+  };
+  const auto [nearBlack, nearChecked] = blackInRing(0.2f);
+  EXPECT_EQ(nearBlack, nearChecked) << "d = 0.2 < the gap: A's contour shows over B";
+  const auto [farBlack, farChecked] = blackInRing(1.0f);
+  EXPECT_EQ(farBlack, 0) << "d = 1 > the gap: B's body hides A's contour (of " << farChecked << " pixels)";
 }
 
 TEST_F(FixedFuncTest, RejectsWhatItCannotDraw) {
