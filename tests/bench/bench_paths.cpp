@@ -10,10 +10,10 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
+#include <puff/core/files.h>
 #include <puff/core/gl_context.h>
 #include <puff/render/compare.h>
 #include <puff/render/render.h>
@@ -104,13 +104,9 @@ int main(int argc, char** argv) {
   }
   if (csvPath.empty()) {
     std::fputs(csv.c_str(), stdout);
-  } else {
-    const std::string tmp = csvPath + ".tmp";
-    std::ofstream(tmp) << csv;
-    if (std::rename(tmp.c_str(), csvPath.c_str()) != 0) {
-      std::fprintf(stderr, "puff_bench_paths: error: %s: cannot write\n", csvPath.c_str());
-      return 1;
-    }
+  } else if (auto w = core::writeFileAtomic(csvPath, csv); !w) {
+    std::fprintf(stderr, "puff_bench_paths: error: %s\n", w.error().message.c_str());
+    return 1;
   }
   return 0;
 }

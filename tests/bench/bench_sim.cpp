@@ -7,10 +7,10 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <string>
 #include <vector>
 
+#include <puff/core/files.h>
 #include <puff/sim/simulator.h>
 
 namespace {
@@ -171,13 +171,9 @@ int main(int argc, char** argv) {
   }
   if (csvPath.empty()) {
     std::fputs(csv.c_str(), stdout);
-  } else {
-    const std::string tmp = csvPath + ".tmp";
-    std::ofstream(tmp) << csv;
-    if (std::rename(tmp.c_str(), csvPath.c_str()) != 0) {
-      std::fprintf(stderr, "puff_bench_sim: error: %s: cannot write\n", csvPath.c_str());
-      return 1;
-    }
+  } else if (auto w = core::writeFileAtomic(csvPath, csv); !w) {
+    std::fprintf(stderr, "puff_bench_sim: error: %s\n", w.error().message.c_str());
+    return 1;
   }
   return 0;
 }

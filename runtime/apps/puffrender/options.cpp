@@ -41,36 +41,6 @@ fs::path defaultArtDir() {
   return env && *env ? fs::path(env) : fs::path("build/art");
 }
 
-// JSON as a person writes it: one key per line, but arrays of numbers ([x, y, z]) on one line.
-void printJson(std::string& out, const nlohmann::json& j, int indent) {
-  const std::string pad(static_cast<std::size_t>(indent) + 2, ' ');
-  const bool flat = j.is_array() && std::none_of(j.begin(), j.end(), [](const auto& v) { return v.is_structured(); });
-  if (j.is_object() && !j.empty()) {
-    out += "{\n";
-    std::size_t i = 0;
-    for (const auto& item : j.items()) {
-      out += pad + nlohmann::json(item.key()).dump() + ": ";
-      printJson(out, item.value(), indent + 2);
-      out += ++i < j.size() ? ",\n" : "\n";
-    }
-    out += std::string(static_cast<std::size_t>(indent), ' ') + "}";
-  } else if (j.is_array() && !j.empty() && !flat) {
-    out += "[\n";
-    for (std::size_t i = 0; i < j.size(); ++i) {
-      out += pad;
-      printJson(out, j[i], indent + 2);
-      out += i + 1 < j.size() ? ",\n" : "\n";
-    }
-    out += std::string(static_cast<std::size_t>(indent), ' ') + "]";
-  } else if (flat && !j.empty()) {
-    out += "[";
-    for (std::size_t i = 0; i < j.size(); ++i) out += (i ? ", " : "") + j[i].dump();
-    out += "]";
-  } else {
-    out += j.dump();
-  }
-}
-
 // Everything run() needs once the scene is known: which frames go where, in which format.
 struct Plan {
   OutputPattern pattern;
@@ -470,9 +440,7 @@ int run(const Options& o) {
     scene.stylePreset = o.style;
   }
   if (o.printScene) {
-    std::string text;
-    printJson(text, render::toJson(scene), 0);
-    std::cout << text << "\n";
+    std::cout << render::jsonText(render::toJson(scene)) << "\n";
     return 0;
   }
   auto plan = makePlan(o, scene);

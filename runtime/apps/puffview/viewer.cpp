@@ -17,7 +17,6 @@
 #include <puff/core/gl.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/shader.h>
-#include <puffview/json_text.h>
 #include <puffview/panels.h>
 #include <puffview/viewer.h>
 
@@ -303,7 +302,7 @@ Result<fs::path> Viewer::save(const fs::path& file) {
     return Error::at(target, "not saved: " + check.error().message);
   }
   restoreArtPaths(j, target.parent_path(), options_.artDir);
-  if (auto r = core::writeFileAtomic(target, jsonText(j) + "\n"); !r) return r.error();
+  if (auto r = core::writeFileAtomic(target, render::jsonText(j) + "\n"); !r) return r.error();
   if (target == scene_.file) {
     watcher_.markSeen(target);  // our own write is not an outside change to reload
   } else {

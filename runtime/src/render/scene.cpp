@@ -1179,6 +1179,45 @@ json toJson(const Scene& s) {
   return j;
 }
 
+namespace {
+
+void printJson(std::string& out, const json& j, int indent) {
+  const std::string pad(static_cast<std::size_t>(indent) + 2, ' ');
+  const bool flat = j.is_array() && std::none_of(j.begin(), j.end(), [](const auto& v) { return v.is_structured(); });
+  if (j.is_object() && !j.empty()) {
+    out += "{\n";
+    std::size_t i = 0;
+    for (const auto& item : j.items()) {
+      out += pad + json(item.key()).dump() + ": ";
+      printJson(out, item.value(), indent + 2);
+      out += ++i < j.size() ? ",\n" : "\n";
+    }
+    out += std::string(static_cast<std::size_t>(indent), ' ') + "}";
+  } else if (j.is_array() && !j.empty() && !flat) {
+    out += "[\n";
+    for (std::size_t i = 0; i < j.size(); ++i) {
+      out += pad;
+      printJson(out, j[i], indent + 2);
+      out += i + 1 < j.size() ? ",\n" : "\n";
+    }
+    out += std::string(static_cast<std::size_t>(indent), ' ') + "]";
+  } else if (flat && !j.empty()) {
+    out += "[";
+    for (std::size_t i = 0; i < j.size(); ++i) out += (i ? ", " : "") + j[i].dump();
+    out += "]";
+  } else {
+    out += j.dump();
+  }
+}
+
+}  // namespace
+
+std::string jsonText(const json& j) {
+  std::string out;
+  printJson(out, j, 0);
+  return out;
+}
+
 float frameTime(const Scene& scene, int frame) {
   return static_cast<float>(static_cast<double>(frame) / static_cast<double>(scene.animation.fps));
 }

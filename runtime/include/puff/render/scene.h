@@ -144,6 +144,9 @@ Result<Scene> parseScene(const nlohmann::json& j, const std::filesystem::path& f
 Result<Scene> loadScene(const std::filesystem::path& file, const std::filesystem::path& artDir = {});
 /// The scene written back as JSON (every field), e.g. for --print-defaults or an editor's save.
 nlohmann::json toJson(const Scene& scene);
+/// JSON as a person writes it (puffrender --print-scene, puffview's save): one key per line, arrays
+/// of numbers ([x, y, z]) on one line. No trailing newline.
+std::string jsonText(const nlohmann::json& j);
 
 /// Seconds at frame `frame` (frame / fps).
 float frameTime(const Scene& scene, int frame);
