@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <puff/core/blackbody.h>
+#include <puff/core/detail_video.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/shader.h>
 
@@ -208,6 +211,87 @@ int runBake(const Options& o) {
   return 0;
 }
 
+// "%g": 1000, 3200, 1e+05.
+std::string numberText(double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+std::string lowerExtension(const fs::path& p) {
+  std::string e = p.extension().string();
+  for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+
+// The blackbody flags' ranges (core::makeBlackbodyRamp's), named as the user typed them.
+std::optional<std::string> blackbodyProblem(const BlackbodyOptions& b) {
+  const std::string top = numberText(core::kMaxKelvin);
+  if (!(b.minKelvin > 0.0 && b.minKelvin < core::kMaxKelvin))
+    return "--min must be in (0, " + top + ") kelvin, got " + numberText(b.minKelvin);
+  if (!(b.maxKelvin > b.minKelvin && b.maxKelvin <= core::kMaxKelvin))
+    return "--max must be above --min (" + numberText(b.minKelvin) + ") and at most " + top + " kelvin, got " +
+           numberText(b.maxKelvin);
+  if (b.size < 2 || b.size > core::kMaxBlackbodyTexels)
+    return "--size must be in [2, " + std::to_string(core::kMaxBlackbodyTexels) + "], got " + std::to_string(b.size);
+  if (!(b.normalizeKelvin > 0.0 && b.normalizeKelvin <= core::kMaxKelvin))
+    return "--normalize must be in (0, " + top + "] kelvin, got " + numberText(b.normalizeKelvin);
+  return std::nullopt;
+}
+
+// Import flags checked before any file is read (bad usage, exit 2).
+std::optional<std::string> importProblem(const DetailOptions& d) {
+  if (d.spec.size < core::kMinDetailSize || d.spec.size > core::kMaxDetailSize)
+    return "--size must be in [" + std::to_string(core::kMinDetailSize) + ", " + std::to_string(core::kMaxDetailSize) +
+           "], got " + std::to_string(d.spec.size);
+  const int n = static_cast<int>(d.from.size());
+  if (d.loopFrames < 0 || 2 * d.loopFrames > n)
+    return "--loop-frames must be in [0, " + std::to_string(n / 2) + "] (half of the " + std::to_string(n) +
+           " frames given), got " + std::to_string(d.loopFrames);
+  return std::nullopt;
+}
+
+int runBlackbody(const Options& o) {
+  const BlackbodyOptions& b = o.blackbody;
+  auto ramp = core::makeBlackbodyRamp(b.minKelvin, b.maxKelvin, b.size, b.normalizeKelvin);
+  if (!ramp) {  // the ranges were checked while parsing: what is left is a bad combination
+    printError(ramp.error().message);
+    return 2;
+  }
+  if (auto r = core::writeBlackbodyRamp(o.out, *ramp); !r) {
+    printError(r.error().message);
+    return 1;
+  }
+  if (!o.quiet) {
+    std::printf("%s: wrote %s: black-body ramp %s..%s K in %d texels (linear sRGB, luminance 1 at %s K)\n", kTool,
+                o.out.c_str(), numberText(b.minKelvin).c_str(), numberText(b.maxKelvin).c_str(), b.size,
+                numberText(b.normalizeKelvin).c_str());
+  }
+  return 0;
+}
+
+int runDetail(const Options& o) {
+  const DetailOptions& d = o.detail;
+  auto video =
+      d.from.empty() ? bake::generateDetailVideo(d.spec) : bake::importDetailVideo(d.from, d.spec.size, d.loopFrames);
+  if (!video) {
+    printError(video.error().message);
+    return 1;
+  }
+  if (auto r = core::saveDetailVideo(o.out, *video); !r) {
+    printError(r.error().message);
+    return 1;
+  }
+  if (!o.quiet) {
+    const std::string how = d.from.empty() ? "generated, seed " + std::to_string(d.spec.seed)
+                                           : "imported from " + std::to_string(d.from.size()) + " files, last " +
+                                                 std::to_string(d.loopFrames) + " cross-faded into the first";
+    std::printf("%s: wrote %s: detail video %dx%d, %d frames (%s)\n", kTool, o.out.c_str(), video->width, video->height,
+                video->frames, how.c_str());
+  }
+  return 0;
+}
+
 }  // namespace
 
 std::variant<Options, int> parse(int argc, char** argv) {
@@ -215,7 +299,8 @@ std::variant<Options, int> parse(int argc, char** argv) {
   CLI::App app{
       "puffbake: bakes 3D puff meshes into atlases of camera-space normal + depth, colour + dilated "
       "coverage and signed distance to the silhouette (McGuire & Fein 2006, Fig. 3 / Eq. 1), with a JSON "
-      "sidecar and a contact sheet.",
+      "sidecar and a contact sheet; and writes the fire and smoke media's black-body ramp and detail videos "
+      "(Umenhoffer et al. 2006, §3).",
       kTool};
   app.require_subcommand(1);
   app.set_version_flag("--version", "puffbake 0.1.0");
@@ -285,6 +370,59 @@ std::variant<Options, int> parse(int argc, char** argv) {
   meshCmd->add_option("-o,--out", o.meshOut, "Output mesh file; the extension picks the format")->required();
   meshCmd->add_flag("-q,--quiet", o.quiet, "Print errors only");
 
+  CLI::App* blackbodyCmd = app.add_subcommand(
+      "blackbody",
+      "Write the black-body colour ramp fire is shaded with (Planck's law seen by the CIE 1931 2-degree observer, in "
+      "linear sRGB, luminance 1 at --normalize; negative out-of-gamut components kept) as an N x 1 RGB float EXR");
+  blackbodyCmd->add_option("-o,--out", o.out, "Output file, .exr (written whole or not at all)")->required();
+  blackbodyCmd->add_option("--min", o.blackbody.minKelvin, "Temperature of the first texel, kelvin (0 < min < max)")
+      ->capture_default_str();
+  blackbodyCmd->add_option("--max", o.blackbody.maxKelvin, "Temperature of the last texel, kelvin (at most 100000)")
+      ->capture_default_str();
+  blackbodyCmd->add_option("--size", o.blackbody.size, "Texels, evenly spaced in temperature (2..65536)")
+      ->capture_default_str();
+  blackbodyCmd
+      ->add_option("--normalize", o.blackbody.normalizeKelvin,
+                   "Temperature whose luminance becomes 1, kelvin (0 < T <= 100000); hotter is brighter")
+      ->capture_default_str();
+  blackbodyCmd->add_flag("-q,--quiet", o.quiet, "Print errors only");
+
+  CLI::App* detailCmd = app.add_subcommand(
+      "detail",
+      "Write a detail video (a looping greyscale x, y, time texture that perturbs fire temperature and smoke "
+      "opacity): tileable, looping noise, or imported from image files with --from. One image, frames stacked top "
+      "to bottom, metadata puff:frames");
+  bake::DetailSpec& spec = o.detail.spec;
+  detailCmd
+      ->add_option("-o,--out", o.out, "Output file: .png (16-bit) or .exr (half float); written whole or not at all")
+      ->required();
+  detailCmd->add_option("--size", spec.size, "Width and height in texels (4..4096); imported frames are resampled")
+      ->capture_default_str();
+  CLI::Option* framesOpt =
+      detailCmd->add_option("--frames", spec.frames, "Frames in the loop (1..1024)")->capture_default_str();
+  CLI::Option* seedOpt = detailCmd->add_option("--seed", spec.seed, "Noise seed")->capture_default_str();
+  CLI::Option* octavesOpt =
+      detailCmd->add_option("--octaves", spec.octaves, "Noise octaves (1..10)")->capture_default_str();
+  CLI::Option* frequencyOpt =
+      detailCmd->add_option("--frequency", spec.frequency, "Noise cells across the tile in the first octave (1..256)")
+          ->capture_default_str();
+  CLI::Option* contrastOpt = detailCmd
+                                 ->add_option("--contrast", spec.contrast,
+                                              "Standard deviation around 0.5 is contrast/6, clipped to [0, 1] (0..16)")
+                                 ->capture_default_str();
+  CLI::Option* fromOpt = detailCmd->add_option(
+      "--from", o.detail.from,
+      "Import these image files instead of generating: any format, all one size, in the order given (a shell glob "
+      "such as clip/*.png sorts by name); each becomes luma, resampled to --size x --size");
+  for (CLI::Option* gen : {framesOpt, seedOpt, octavesOpt, frequencyOpt, contrastOpt}) gen->excludes(fromOpt);
+  detailCmd
+      ->add_option("--loop-frames", o.detail.loopFrames,
+                   "With --from: fade the last N frames into the first N to make the clip loop; the output has N "
+                   "fewer frames (0..half the frames)")
+      ->capture_default_str()
+      ->needs(fromOpt);
+  detailCmd->add_flag("-q,--quiet", o.quiet, "Print errors only");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -333,9 +471,33 @@ std::variant<Options, int> parse(int argc, char** argv) {
       printError("bake: nothing to bake: give mesh files or --generate KIND");
       return 2;
     }
-  } else {
+  } else if (meshCmd->parsed()) {
     o.command = Command::kMesh;
     o.generator = meshGen.finish();
+  } else if (blackbodyCmd->parsed()) {
+    o.command = Command::kBlackbody;
+    if (lowerExtension(o.out) != ".exr") {
+      printError("blackbody: -o: the ramp is a float EXR, so FILE must end in .exr, got \"" + o.out.string() + "\"");
+      return 2;
+    }
+    if (auto problem = blackbodyProblem(o.blackbody)) {
+      printError(*problem);
+      return 2;
+    }
+  } else {
+    o.command = Command::kDetail;
+    if (const std::string ext = lowerExtension(o.out); ext != ".png" && ext != ".exr") {
+      printError("detail: -o: FILE must end in .png (16-bit) or .exr (half float), got \"" + o.out.string() + "\"");
+      return 2;
+    }
+    auto problem = o.detail.from.empty() ? std::optional<std::string>() : importProblem(o.detail);
+    if (o.detail.from.empty()) {
+      if (auto v = bake::validate(o.detail.spec); !v) problem = v.error().message;
+    }
+    if (problem) {
+      printError(*problem);
+      return 2;
+    }
   }
   return o;
 }
@@ -346,6 +508,10 @@ int run(const Options& o) {
       return runBake(o);
     case Command::kMesh:
       return runMesh(o);
+    case Command::kBlackbody:
+      return runBlackbody(o);
+    case Command::kDetail:
+      return runDetail(o);
     case Command::kNone:
       break;
   }

@@ -8,10 +8,25 @@
 #include <vector>
 
 #include <puff/bake/baker.h>
+#include <puff/bake/detail.h>
 
 namespace puff::app {
 
-enum class Command { kNone, kBake, kMesh };
+enum class Command { kNone, kBake, kMesh, kBlackbody, kDetail };
+
+/// `puffbake blackbody`: the black-body colour ramp (core/blackbody.h).
+struct BlackbodyOptions {
+  double minKelvin = 1000, maxKelvin = 10000;
+  int size = 1024;
+  double normalizeKelvin = 3200;
+};
+
+/// `puffbake detail`: a generated detail video, or one imported from image files (--from).
+struct DetailOptions {
+  bake::DetailSpec spec;                    ///< generation (size is used by import too)
+  std::vector<std::filesystem::path> from;  ///< frames to import; empty: generate
+  int loopFrames = 8;                       ///< import: frames cross-faded into the first ones
+};
 
 struct Options {
   Command command = Command::kNone;
@@ -19,7 +34,10 @@ struct Options {
   std::optional<bake::GeneratorSpec> generator;
   bake::BakeOptions bake;
   std::filesystem::path meshOut;  ///< `puffbake mesh -o FILE`
-  std::string glBackend;          ///< empty: PUFF_GL or osmesa
+  std::filesystem::path out;      ///< `puffbake blackbody|detail -o FILE`
+  BlackbodyOptions blackbody;
+  DetailOptions detail;
+  std::string glBackend;  ///< empty: PUFF_GL or osmesa
   std::string shaderDir;
   bool quiet = false;
 };

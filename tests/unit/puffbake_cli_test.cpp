@@ -5,14 +5,20 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <thread>
+#include <vector>
 
+#include <puff/core/blackbody.h>
+#include <puff/core/detail_video.h>
 #include <puff/core/files.h>
+#include <puff/core/image.h>
 
 #include "support/cli_test.h"
 
@@ -36,8 +42,17 @@ TEST_F(PuffbakeCli, HelpListsTheOptionsThatExist) {
   }
   CliRun top = run("--help");
   EXPECT_EQ(top.exitCode, 0);
-  EXPECT_NE(top.out.find("bake"), std::string::npos);
-  EXPECT_NE(top.out.find("mesh"), std::string::npos);
+  for (const char* cmd : {"bake", "mesh", "blackbody", "detail"})
+    EXPECT_NE(top.out.find(cmd), std::string::npos) << cmd;
+  CliRun bb = run("blackbody --help");
+  EXPECT_EQ(bb.exitCode, 0);
+  for (const char* flag : {"--out", "--min", "--max", "--size", "--normalize", "--quiet"})
+    EXPECT_NE(bb.out.find(flag), std::string::npos) << flag;
+  CliRun detail = run("detail --help");
+  EXPECT_EQ(detail.exitCode, 0);
+  for (const char* flag : {"--out", "--size", "--frames", "--seed", "--octaves", "--frequency", "--contrast", "--from",
+                           "--loop-frames", "--quiet"})
+    EXPECT_NE(detail.out.find(flag), std::string::npos) << flag;
 }
 
 TEST_F(PuffbakeCli, PrintDefaultsMatchesTheLibrary) {
@@ -141,6 +156,166 @@ TEST_F(PuffbakeCli, MeshCommandWritesAGeneratedPuffThatBakes) {
   ASSERT_TRUE(fs::exists(mesh));
   CliRun b = run("bake " + mesh.string() + " -s 32 -o " + (dir_ / "out").string());
   EXPECT_EQ(b.exitCode, 0) << b.err;
+}
+
+// ---- blackbody ----------------------------------------------------------------------------------
+
+TEST_F(PuffbakeCli, BlackbodyWritesTheRampWithItsRange) {
+  const fs::path out = dir_ / "media" / "blackbody.exr";
+  CliRun r = run("blackbody --min 1500 --max 9000 --size 64 --normalize 3000 -o " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(r.out, "puffbake: wrote " + out.string() +
+                       ": black-body ramp 1500..9000 K in 64 texels (linear sRGB, luminance 1 at 3000 K)\n");
+  auto ramp = puff::core::readBlackbodyRamp(out);
+  ASSERT_TRUE(ramp.ok()) << ramp.error().message;
+  EXPECT_EQ(ramp->minKelvin, 1500.0);
+  EXPECT_EQ(ramp->maxKelvin, 9000.0);
+  EXPECT_EQ(ramp->normalizeKelvin, 3000.0);
+  EXPECT_EQ(ramp->rgb.size(), 64u);
+  // The defaults, quietly.
+  CliRun q = run("blackbody -q -o " + (dir_ / "default.exr").string());
+  ASSERT_EQ(q.exitCode, 0) << q.err;
+  EXPECT_TRUE(q.out.empty()) << q.out;
+  auto d = puff::core::readBlackbodyRamp(dir_ / "default.exr");
+  ASSERT_TRUE(d.ok());
+  EXPECT_EQ(d->minKelvin, 1000.0);
+  EXPECT_EQ(d->maxKelvin, 10000.0);
+  EXPECT_EQ(d->normalizeKelvin, 3200.0);
+  EXPECT_EQ(d->rgb.size(), 1024u);
+}
+
+TEST_F(PuffbakeCli, BlackbodyBadUsageExitsTwoAndWritesNothing) {
+  const std::string o = " -o " + (dir_ / "bb.exr").string();
+  expectOneLineError(run("blackbody --min 0" + o), "--min must be in (0, 100000) kelvin, got 0", 2);
+  expectOneLineError(run("blackbody --min 5000 --max 4000" + o), "--max must be above --min (5000)", 2);
+  expectOneLineError(run("blackbody --max 200000" + o), "--max", 2);
+  expectOneLineError(run("blackbody --size 1" + o), "--size must be in [2, 65536], got 1", 2);
+  expectOneLineError(run("blackbody --normalize -3" + o), "--normalize must be in (0, 100000] kelvin", 2);
+  expectOneLineError(run("blackbody --normalize 10" + o), "no visible light", 2);
+  expectOneLineError(run("blackbody -o " + (dir_ / "bb.png").string()), "must end in .exr", 2);
+  EXPECT_EQ(run("blackbody --min warm" + o).exitCode, 2);
+  EXPECT_EQ(run("blackbody").exitCode, 2);  // -o is required
+  EXPECT_TRUE(fs::is_empty(dir_));
+}
+
+TEST_F(PuffbakeCli, BlackbodyUnwritableOutputFailsAndExistingOutputSurvives) {
+  const fs::path notDir = write("file", "x");
+  expectOneLineError(run("blackbody -o " + (notDir / "bb.exr").string()), "file: not a directory");
+  const fs::path locked = dir_ / "locked";
+  fs::create_directories(locked);
+  fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+  if (::access(locked.c_str(), W_OK) != 0) {
+    expectOneLineError(run("blackbody -o " + (locked / "bb.exr").string()), "cannot write");
+    EXPECT_TRUE(fs::is_empty(locked));
+  }
+  const fs::path out = dir_ / "bb.exr";
+  ASSERT_EQ(run("blackbody -q --size 16 -o " + out.string()).exitCode, 0);
+  const std::string before = *puff::core::readFileBytes(out);
+  EXPECT_EQ(run("blackbody --size 16 --normalize 10 -o " + out.string()).exitCode, 2);
+  // A directory where the file should go cannot be replaced: the run fails and leaves no temporary.
+  fs::create_directories(dir_ / "taken.exr");
+  expectOneLineError(run("blackbody --size 16 -o " + (dir_ / "taken.exr").string()), "is a directory");
+  EXPECT_EQ(*puff::core::readFileBytes(out), before);
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"bb.exr", "file", "locked", "taken.exr"}));
+}
+
+// ---- detail -------------------------------------------------------------------------------------
+
+TEST_F(PuffbakeCli, DetailGeneratesAVideoWithItsMetadataAndTheSameBytesEachRun) {
+  for (const char* name : {"fire.png", "smoke.exr"}) {
+    SCOPED_TRACE(name);
+    const fs::path out = dir_ / "media" / name;
+    CliRun r = run("detail --size 32 --frames 8 --seed 3 --frequency 2 -o " + out.string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.out, "puffbake: wrote " + out.string() + ": detail video 32x32, 8 frames (generated, seed 3)\n");
+    auto v = puff::core::loadDetailVideo(out);
+    ASSERT_TRUE(v.ok()) << v.error().message;
+    EXPECT_EQ(v->width, 32);
+    EXPECT_EQ(v->height, 32);
+    EXPECT_EQ(v->frames, 8);
+    EXPECT_EQ(*puff::core::readImageAttribute(out, "puff:frames"), "8");
+    EXPECT_NE(v->source.find("seed 3"), std::string::npos) << v->source;
+  }
+  // Same flags, same bytes, even a second later (no timestamps in the files).
+  const std::string first = *puff::core::readFileBytes(dir_ / "media" / "fire.png");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+  ASSERT_EQ(run("detail -q --size 32 --frames 8 --seed 3 --frequency 2 -o " + (dir_ / "again.png").string()).exitCode,
+            0);
+  EXPECT_TRUE(*puff::core::readFileBytes(dir_ / "again.png") == first);
+}
+
+TEST_F(PuffbakeCli, DetailImportsFramesAndMakesThemLoop) {
+  std::string from;
+  for (int k = 0; k < 6; ++k) {
+    const fs::path p = dir_ / "clip" / ("f" + std::to_string(k) + ".exr");
+    fs::create_directories(p.parent_path());
+    ASSERT_TRUE(puff::core::writeImage(p, puff::core::Image(8, 6, 3, k / 10.0f), puff::core::PixelType::kFloat).ok());
+    from += " " + p.string();
+  }
+  const fs::path out = dir_ / "clip.png";
+  CliRun r = run("detail --size 4 --loop-frames 2 -o " + out.string() + " --from" + from);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("detail video 4x4, 4 frames (imported from 6 files, last 2 cross-faded into the first)"),
+            std::string::npos)
+      << r.out;
+  auto v = puff::core::loadDetailVideo(out);
+  ASSERT_TRUE(v.ok()) << v.error().message;
+  ASSERT_EQ(v->frames, 4);
+  // out[0] = 2/3 in[4] + 1/3 in[0] (core/detail.h), within 16-bit rounding.
+  EXPECT_NEAR(v->at(2, 2, 0), 2.0f / 3.0f * 0.4f, 1e-5f);
+  EXPECT_NEAR(v->at(2, 2, 3), 0.3f, 1e-5f);
+}
+
+TEST_F(PuffbakeCli, DetailBadUsageExitsTwoAndWritesNothing) {
+  const std::string o = " -o " + (dir_ / "d.png").string();
+  expectOneLineError(run("detail --size 2" + o), "--size must be in [4, 4096], got 2", 2);
+  expectOneLineError(run("detail --frames 0" + o), "--frames must be in [1, 1024], got 0", 2);
+  expectOneLineError(run("detail --octaves 11" + o), "--octaves must be in [1, 10], got 11", 2);
+  expectOneLineError(run("detail --frequency 0" + o), "--frequency", 2);
+  expectOneLineError(run("detail --contrast 20" + o), "--contrast", 2);
+  expectOneLineError(run("detail --size 4096 --frames 8" + o), "too large", 2);
+  expectOneLineError(run("detail -o " + (dir_ / "d.jpg").string()), "must end in .png (16-bit) or .exr", 2);
+  const std::string a = write("a.png", "x").string(), b = write("b.png", "x").string();
+  expectOneLineError(run("detail --loop-frames 2" + o + " --from " + a + " " + b), "--loop-frames must be in [0, 1]",
+                     2);
+  EXPECT_EQ(run("detail --seed 4" + o + " --from " + a).exitCode, 2);  // generator flags exclude --from
+  EXPECT_EQ(run("detail --loop-frames 1" + o).exitCode, 2);            // --loop-frames needs --from
+  EXPECT_EQ(run("detail").exitCode, 2);                                // -o is required
+  EXPECT_FALSE(fs::exists(dir_ / "d.png"));
+  EXPECT_FALSE(fs::exists(dir_ / "d.jpg"));
+}
+
+TEST_F(PuffbakeCli, DetailBadFramesFailNamingTheFileAndExistingOutputSurvives) {
+  const fs::path out = dir_ / "detail.png";
+  ASSERT_EQ(run("detail -q --size 8 --frames 2 -o " + out.string()).exitCode, 0);
+  const std::string before = *puff::core::readFileBytes(out);
+  const fs::path good = dir_ / "good.exr", wide = dir_ / "wide.exr";
+  ASSERT_TRUE(puff::core::writeImage(good, puff::core::Image(8, 8, 1, 0.5f), puff::core::PixelType::kFloat).ok());
+  ASSERT_TRUE(puff::core::writeImage(wide, puff::core::Image(16, 8, 1, 0.5f), puff::core::PixelType::kFloat).ok());
+  const fs::path garbage = write("garbage.png", "this is not a png");
+  const std::string o = " --loop-frames 0 -o " + out.string() + " --from " + good.string() + " ";
+  expectOneLineError(run("detail" + o + (dir_ / "missing.png").string()), "missing.png: cannot open: no such file");
+  expectOneLineError(run("detail" + o + garbage.string()), "garbage.png: not a readable image");
+  expectOneLineError(run("detail" + o + wide.string()),
+                     "wide.exr: frame is 16x8, but good.exr (the first frame) is 8x8");
+  EXPECT_EQ(*puff::core::readFileBytes(out), before);
+  // Unwritable places.
+  const fs::path notDir = write("file", "x");
+  expectOneLineError(run("detail --size 8 --frames 2 -o " + (notDir / "d.png").string()), "file: not a directory");
+  const fs::path locked = dir_ / "locked";
+  fs::create_directories(locked);
+  fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
+  if (::access(locked.c_str(), W_OK) != 0) {
+    expectOneLineError(run("detail --size 8 --frames 2 -o " + (locked / "d.png").string()), "cannot write");
+    EXPECT_TRUE(fs::is_empty(locked));
+  }
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"detail.png", "file", "garbage.png", "good.exr", "locked", "wide.exr"}));
 }
 
 }  // namespace

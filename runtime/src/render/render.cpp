@@ -6,8 +6,11 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <puff/cel/opaque.h>
+#include <puff/core/detail_video.h>
 #include <puff/core/gl.h>
 #include <puff/fixedfunc/renderer.h>
+#include <puff/media/layers.h>
+#include <puff/media/media.h>
 #include <puff/mesh/mesh.h>
 #include <puff/render/render.h>
 
@@ -99,6 +102,12 @@ struct SceneRenderer::Impl {
   bool hasAtlas = false;
   glm::vec4 floorPlane{0.0f};
   std::unique_ptr<sim::Simulator> sim;
+  // Media (fire, smoke, dust): the renderer, the layers (made for the viewport's size on first
+  // use) and the simulator of the media emitters.
+  std::unique_ptr<media::Renderer> media;
+  std::unique_ptr<media::Layers> layers;
+  std::unique_ptr<sim::Simulator> mediaSim;
+  std::vector<media::Particle> mediaParticles;
 };
 
 SceneRenderer::SceneRenderer() : impl_(std::make_unique<Impl>()) {}
@@ -243,7 +252,40 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene,
   m.target = std::move(*target);
 
   if (auto ok = createSimulator(m, scene); !ok) return ok.error();
+  if (scene.media) {
+    if (auto ok = r->createMedia(); !ok) return ok.error();
+  }
   return r;
+}
+
+Result<void> SceneRenderer::createMedia() {
+  Impl& m = *impl_;
+  const MediaSpec& spec = *m.scene.media;
+  auto renderer = media::Renderer::create(spec.settings);
+  if (!renderer) return Error::at(m.scene.file, "/media: " + renderer.error().message);
+  if (auto ok = (*renderer)->setMaterials(spec.materials); !ok)
+    return Error::at(m.scene.file, "/media/materials: " + ok.error().message);
+  std::optional<core::DetailVideo> temperature, opacity;
+  if (!spec.temperatureDetail.empty()) {
+    auto v = core::loadDetailVideo(spec.temperatureDetail);
+    if (!v) return v.error();
+    temperature = std::move(*v);
+  }
+  if (!spec.opacityDetail.empty()) {
+    auto v = core::loadDetailVideo(spec.opacityDetail);
+    if (!v) return v.error();
+    opacity = std::move(*v);
+  }
+  (*renderer)->setDetail(temperature ? &*temperature : nullptr, opacity ? &*opacity : nullptr);
+  m.media = std::move(*renderer);
+  auto settings = mediaSimulationSettings(m.scene);
+  if (!settings) return settings.error();
+  if (*settings) {
+    auto sim = sim::Simulator::create(std::move(**settings), 1);
+    if (!sim) return Error::at(m.scene.file, "/media" + sim.error().message);
+    m.mediaSim = std::move(*sim);
+  }
+  return {};
 }
 
 Result<std::unique_ptr<SceneRenderer>> SceneRenderer::createFixed(const Scene& scene, bool contextFramebuffer) {
@@ -334,6 +376,7 @@ nlohmann::json reloadKey(const Scene& s) {
   j["animation"].erase("orbit");
   j["animation"].erase("frames");
   if (j.contains("simulation")) j["simulation"].erase("forces");
+  if (j.contains("media")) j["media"].erase("forces");
   return j;
 }
 
@@ -346,6 +389,11 @@ Result<void> SceneRenderer::update(const Scene& next) {
     if (!fresh) return fresh.error();
     impl_ = std::move((*fresh)->impl_);
     return {};
+  }
+  if (m.mediaSim && next.media) {
+    auto ok = m.mediaSim->setForces(next.media->forces);
+    if (!ok) return Error::at(next.file, "/media" + ok.error().message);
+    m.mediaSim->reset();
   }
   if (m.sim && next.simulation) {
     auto ok = m.sim->setForces(next.simulation->forces);
@@ -424,13 +472,30 @@ void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameSta
     return;
   }
 
+  // With media the opaque scene goes into the layers' target first, and the composition writes
+  // the caller's framebuffer.
+  GLint callerFbo = 0;
+  cel::Viewport celViewport = viewport;
+  if (m.media) {
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &callerFbo);
+    if (!m.layers || m.layers->width() != viewport.width || m.layers->height() != viewport.height) {
+      auto layers = media::Layers::create(viewport.width, viewport.height, s.samples, s.media->resolution);
+      if (!layers) {
+        m.lastError = layers.error().message;
+        return;
+      }
+      m.layers = std::move(*layers);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, m.layers->opaqueFramebuffer());
+    celViewport = cel::Viewport{0, 0, viewport.width, viewport.height};
+  }
   cel::Frame f = cel::Frame::fromCamera(cam, viewport.width, viewport.height);
-  f.viewport = viewport;
+  f.viewport = celViewport;
   f.light = s.light;
   f.ambientColor = s.ambientColor;
   f.ambientGradient = m.gradient.has_value();
 
-  glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
+  glViewport(celViewport.x, celViewport.y, celViewport.width, celViewport.height);
   glDisable(GL_SCISSOR_TEST);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
@@ -460,6 +525,62 @@ void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameSta
       m.opaque->draw(cel::ShadePass::kShadowed);
       m.nailboards->drawNailboards(s.style, cel::ShadePass::kShadowed);
     }
+  }
+  if (m.media) drawMedia(frame, cam, viewport, static_cast<GLuint>(callerFbo), stats);
+}
+
+void SceneRenderer::drawMedia(int frame, const cel::Camera& cam, const cel::Viewport& viewport, GLuint target,
+                              FrameStats* stats) {
+  Impl& m = *impl_;
+  const Scene& s = m.scene;
+  const MediaSpec& spec = *s.media;
+  // The particles: listed, then simulated (radius growing, density fading over their lives).
+  std::vector<media::Particle>& ps = m.mediaParticles;
+  ps.clear();
+  for (const MediaParticleSpec& p : spec.particles) {
+    ps.push_back(
+        media::Particle{p.position, p.radius, static_cast<std::uint32_t>(p.materialIndex), p.life, p.density, p.seed});
+  }
+  double simulateMs = 0.0;
+  if (m.mediaSim) {
+    const auto t0 = std::chrono::steady_clock::now();
+    m.mediaSim->advanceToFrame(frame);
+    simulateMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    for (std::size_t i = 0; i < m.mediaSim->size(); ++i) {
+      const sim::ParticleState p = m.mediaSim->particle(i);
+      const MediaEmitterSpec& e = spec.emitters[static_cast<std::size_t>(p.emitter)];
+      const float life = std::clamp(p.age / p.lifetime, 0.0f, 1.0f);
+      const float fade = e.emitter.density > 0.0f ? p.density / e.emitter.density : 0.0f;
+      ps.push_back(media::Particle{p.position, 0.5f * p.birthSize * (1.0f + e.growth * life),
+                                   static_cast<std::uint32_t>(e.materialIndex), life, fade, p.id});
+    }
+  }
+  m.layers->resolveOpaque();
+  m.layers->beginMedia();
+  media::Frame mf;
+  mf.view = cam.view();
+  mf.projection = cam.projection(static_cast<float>(viewport.width) / static_cast<float>(viewport.height));
+  mf.nearPlane = cam.nearPlane;
+  mf.farPlane = cam.farPlane;
+  mf.orthographic = cam.fovYDegrees == 0.0f;
+  mf.lightDirection = s.light.direction;
+  mf.lightColor = s.light.color;
+  mf.ambient = s.ambientColor;
+  mf.time = frameTime(s, frame);
+  mf.width = m.layers->mediaWidth();
+  mf.height = m.layers->mediaHeight();
+  media::DrawStats ds;
+  m.media->draw(mf, ps, spec.method, m.layers->mediaDepth(), spec.compose.shimmerPixels > 0.0f, &ds);
+  std::vector<media::ExplosionLight> lights;
+  for (const MediaLightSpec& l : spec.lights) {
+    lights.push_back(
+        media::ExplosionLight{l.center, l.radius, l.color, l.intensityAt(mf.time), l.modulate, l.fullAtBack});
+  }
+  const int vp[4] = {viewport.x, viewport.y, viewport.width, viewport.height};
+  m.layers->compose(target, vp, mf, lights, spec.compose);
+  if (stats) {
+    stats->mediaParticles = ds.particles;
+    stats->simulateMs += simulateMs;
   }
 }
 

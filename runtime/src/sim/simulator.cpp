@@ -514,6 +514,7 @@ struct Simulator::Impl {
   std::vector<float> px, py, pz, vx, vy, vz, age, life, size0, density0;
   std::vector<float> qx, qy, qz, qw, wx, wy, wz;  // birth orientation, angular velocity
   std::vector<std::uint8_t> variation, oriented;
+  std::vector<std::uint32_t> emitterOf, id;  // which emitter; a hash of (seed, emitter, birth index)
   // Scratch: air velocity, previous position.
   std::vector<float> ux, uy, uz, ox, oy, oz, radii;
 
@@ -522,7 +523,7 @@ struct Simulator::Impl {
   void clear() {
     for (auto* v : {&px, &py, &pz, &vx, &vy, &vz, &age, &life, &size0, &density0, &qx, &qy, &qz, &qw, &wx, &wy, &wz})
       v->clear();
-    variation.clear(), oriented.clear();
+    variation.clear(), oriented.clear(), emitterOf.clear(), id.clear();
     shed.clear();
   }
 
@@ -824,6 +825,9 @@ struct Simulator::Impl {
         qx.push_back(q.x), qy.push_back(q.y), qz.push_back(q.z), qw.push_back(q.w);
         wx.push_back(w.x), wy.push_back(w.y), wz.push_back(w.z);
         variation.push_back(static_cast<std::uint8_t>(var)), oriented.push_back(e.oriented ? 1 : 0);
+        emitterOf.push_back(static_cast<std::uint32_t>(ei));
+        id.push_back(
+            static_cast<std::uint32_t>(Rng(e.seed ^ 0x9e3779b9u, ei, static_cast<std::uint64_t>(k)).state >> 32));
         ++st.born;
       }
     }
@@ -886,11 +890,12 @@ struct Simulator::Impl {
     for (auto* v : {&px, &py, &pz, &vx, &vy, &vz, &age, &life, &size0, &density0, &qx, &qy, &qz, &qw, &wx, &wy, &wz})
       (*v)[to] = (*v)[from];
     variation[to] = variation[from], oriented[to] = oriented[from];
+    emitterOf[to] = emitterOf[from], id[to] = id[from];
   }
   void resize(std::size_t n) {
     for (auto* v : {&px, &py, &pz, &vx, &vy, &vz, &age, &life, &size0, &density0, &qx, &qy, &qz, &qw, &wx, &wy, &wz})
       v->resize(n);
-    variation.resize(n), oriented.resize(n);
+    variation.resize(n), oriented.resize(n), emitterOf.resize(n), id.resize(n);
   }
 };
 
@@ -965,6 +970,11 @@ ParticleState Simulator::particle(std::size_t i) const {
   p.density = m.density0[i] * left;
   p.variation = m.variation[i];
   p.oriented = m.oriented[i] != 0;
+  p.birthSize = m.size0[i];
+  p.age = m.age[i];
+  p.lifetime = m.life[i];
+  p.emitter = static_cast<int>(m.emitterOf[i]);
+  p.id = m.id[i];
   glm::quat q(m.qw[i], m.qx[i], m.qy[i], m.qz[i]);
   const glm::vec3 w(m.wx[i], m.wy[i], m.wz[i]);
   const float speed = glm::length(w);

@@ -26,7 +26,8 @@ struct FrameStats {
   std::size_t particles = 0;  ///< drawn (listed + placed + simulated)
   std::size_t simulated = 0;  ///< of which from the simulator
   std::size_t bytesUploaded = 0;
-  double simulateMs = 0.0;  ///< CPU time spent stepping the simulator for this frame
+  double simulateMs = 0.0;         ///< CPU time spent stepping the simulators for this frame
+  std::size_t mediaParticles = 0;  ///< fire, smoke and dust particles drawn
 };
 
 class SceneRenderer {
@@ -73,6 +74,8 @@ class SceneRenderer {
  private:
   SceneRenderer();
   static Result<std::unique_ptr<SceneRenderer>> createFixed(const Scene& scene, bool contextFramebuffer);
+  Result<void> createMedia();
+  void drawMedia(int frame, const cel::Camera& camera, const cel::Viewport& viewport, GLuint target, FrameStats* stats);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

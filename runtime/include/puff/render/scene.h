@@ -25,6 +25,8 @@
 #include <puff/cel/frame.h>
 #include <puff/cel/nailboards.h>
 #include <puff/core/error.h>
+#include <puff/media/layers.h>
+#include <puff/media/media.h>
 #include <puff/sim/simulator.h>
 
 namespace puff::render {
@@ -95,6 +97,64 @@ struct Animation {
   int frames = 1;     ///< frames in the sequence, >= 1
   /// Camera turns about the vertical axis through its target, degrees per second.
   float orbitDegreesPerSecond = 0.0f;
+  /// A camera flight: the camera's position (and, if given, its target) follow these keys
+  /// (seconds of scene time, linear between keys, held outside them); the orbit turns after.
+  sim::Path cameraPath, targetPath;
+};
+
+/// A media particle listed in the scene (it does not move).
+struct MediaParticleSpec {
+  glm::vec3 position{0.0f};
+  float radius = 1.0f;             ///< world units, >= 0
+  std::string material = "smoke";  ///< a name in MediaSpec::materials
+  int materialIndex = 0;           ///< resolved by the parser
+  float life = 0.0f;               ///< [0, 1]: where it is in its material's transition
+  float density = 1.0f;            ///< multiplies the material's tau, >= 0
+  std::uint32_t seed = 0;          ///< its detail window
+};
+
+/// Media particles born by the simulator (an explosion's burst, a fire's stream). The emitter's
+/// size is the diameter at birth; the radius grows to (1 + growth) times its birth value over the
+/// particle's life while its density falls linearly to 0 (it fades, never pops).
+struct MediaEmitterSpec {
+  sim::Emitter emitter;
+  std::string material = "smoke";
+  int materialIndex = 0;  ///< resolved by the parser
+  float growth = 0.0f;    ///< [0, 100]
+};
+
+/// An explosion's light on the scene (media::ExplosionLight), its intensity keyed in time.
+struct MediaLightSpec {
+  glm::vec3 center{0.0f};
+  float radius = 1.0f;
+  glm::vec3 color{1.0f, 0.6f, 0.25f};
+  std::vector<float> times{0.0f}, intensities{1.0f};  ///< linear between keys, held outside
+  bool modulate = false;
+  bool fullAtBack = false;
+  float intensityAt(double t) const;
+};
+
+/// The translucent media (puff::media): fire, smoke and dust composited over the opaque scene.
+struct MediaSpec {
+  media::Method method = media::Method::kSpherical;
+  float resolution = 0.5f;  ///< the media layer's share of the output size: 1, 0.5, 0.25 or 0.125
+  media::Settings settings;
+  std::vector<media::Material> materials{media::smokeMaterial(), media::dustMaterial(), media::fireMaterial()};
+  std::filesystem::path temperatureDetail, opacityDetail;  ///< detail videos; empty = none
+  media::ComposeSettings compose;
+  /// Motion blur: each frame is the weighted sum of itself and the `motionBlurFrames` before it,
+  /// weights persistence^age, so earlier frames fade (0 frames: off). A frame alone equals the same
+  /// frame of a sequence.
+  int motionBlurFrames = 0;
+  float motionBlurPersistence = 0.5f;  ///< [0, 1)
+  std::vector<MediaParticleSpec> particles;
+  std::vector<MediaEmitterSpec> emitters;
+  sim::Forces forces;  ///< what moves the simulated media (buoyancy, drag, wind, turbulence...)
+  int substeps = 2;
+  float preroll = 0.0f;
+  std::size_t maxParticles = 100'000;
+  float collisionRadius = 0.5f;
+  std::vector<MediaLightSpec> lights;
 };
 
 /// How the fixed-function path (puff::fixedfunc, McGuire & Fein §4.4) draws this scene.
@@ -128,6 +188,8 @@ struct Scene {
   /// Its fps is the animation's. Absent: particles and emitters above move without forces.
   std::optional<sim::Settings> simulation;
   FixedSettings fixed;
+  /// Fire, smoke and dust (the programmable path only; the fixed-function path draws without them).
+  std::optional<MediaSpec> media;
 };
 
 /// Named style presets: "outlines" (Fig. 8a), "cel" (Fig. 8b), "cel-shadows" (Fig. 8c),
@@ -157,6 +219,10 @@ glm::mat4 objectTransform(const ObjectSpec& object, double t = 0.0);
 /// The simulator's settings for the scene: its "simulation" with the animation's fps and the
 /// colliding objects as colliders (meshes loaded). Errors name the mesh file. No simulation: empty.
 Result<std::optional<sim::Settings>> simulationSettings(const Scene& scene);
+
+/// The simulator's settings for the scene's media emitters (colliders as above). No media
+/// emitters: empty.
+Result<std::optional<sim::Settings>> mediaSimulationSettings(const Scene& scene);
 
 /// The particles alive at `frame` that the scene lists or places with its (force-free) emitters:
 /// moved, spun and shrunk. Pure. Simulated particles are not included (see SceneRenderer).

@@ -191,6 +191,11 @@ struct ParticleState {
   int variation;
   bool oriented;
   glm::quat orientation;
+  float birthSize;   ///< diameter at birth
+  float age;         ///< seconds since birth
+  float lifetime;    ///< seconds it lives
+  int emitter;       ///< index of the emitter in Settings::emitters
+  std::uint32_t id;  ///< a hash of (seed, emitter, birth index): stable for the particle's life
 };
 
 struct StepStats {

@@ -1,0 +1,90 @@
+// Layer composition (Umenhoffer §4): the opaque scene is drawn into colour + linear depth, the
+// media into a float layer at 1, 1/2, 1/4 or 1/8 of the screen, and a last pass composes them:
+//     out = opaque(x + shimmer offset) * T + M
+// where M (premultiplied radiance) and T (transmittance) come from the media layer, upsampled
+// depth-aware so a low-resolution layer does not halo around opaque edges: of the four layer
+// texels around a pixel, bilinear weights are used when all four were drawn against about the
+// same depth as the pixel, else the texel whose depth is nearest the pixel's ("nearest-depth
+// upsampling"). The layer's depth is the NEAREST opaque depth in its footprint, so thin near
+// objects keep their own texels.
+//
+// The explosion's light on the scene (volumetric-explosion-effects.txt) is applied in the same
+// pass from the depth texture, per pixel: surfaces seen through the explosion's projected circle
+// get its projected texture, 0 in front of the explosion sphere, rising linearly to full at its
+// centre (or its back), full behind; added (additive) or multiplied in (modulating). No z-bias,
+// no polygon clipping. Background pixels (no surface) are left alone, as in the paper.
+#pragma once
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include <puff/core/error.h>
+#include <puff/core/gl.h>
+#include <puff/media/media.h>
+
+namespace puff::media {
+
+/// One explosion's light on the scene.
+struct ExplosionLight {
+  glm::vec3 center{0.0f};  ///< world space
+  float radius = 1.0f;     ///< world units, > 0
+  glm::vec3 color{1.0f, 0.6f, 0.25f};
+  float intensity = 1.0f;   ///< >= 0 (0: off)
+  bool modulate = false;    ///< multiply the surface by mix(1, color, weight) instead of adding
+  bool fullAtBack = false;  ///< full intensity from the sphere's back instead of its centre
+};
+
+struct ComposeSettings {
+  bool depthAware = true;      ///< nearest-depth upsampling (false: plain bilinear, halos)
+  float shimmerPixels = 0.0f;  ///< heat-shimmer displacement, full-resolution pixels per unit offset
+  /// Nearest-depth threshold: layer texels within this share of the pixel's view distance count
+  /// as the same surface.
+  float depthTolerance = 0.02f;
+};
+
+class Layers {
+ public:
+  /// Full size width x height (the output), `samples` MSAA samples for the opaque pass (1, 2, 4, 8),
+  /// media layer at `scale` of it (1, 0.5, 0.25 or 0.125; at least 1 x 1). Needs GL 4.5.
+  static Result<std::unique_ptr<Layers>> create(int width, int height, int samples, float scale);
+  ~Layers();
+
+  int width() const;
+  int height() const;
+  int mediaWidth() const;
+  int mediaHeight() const;
+  float scale() const;
+
+  /// The framebuffer the opaque pass draws into: colour (RGBA8) + depth/stencil (the cel programs'
+  /// linear depth), multisampled as asked. The caller binds it, sets the viewport and clears.
+  GLuint opaqueFramebuffer() const;
+  /// Resolves the opaque pass into single-sample colour + depth textures and builds the media
+  /// layer's depth (nearest depth per layer texel, R32F linear). Sets its own state.
+  void resolveOpaque();
+  /// The opaque depth at the layer's resolution (for Renderer::draw).
+  GLuint mediaDepth() const;
+  /// Binds the media layer framebuffer (attachment 0: RGBA16F radiance + transmittance; 1: RG16F
+  /// shimmer), sets the viewport and clears it to no medium (0, 0, 0, 1).
+  void beginMedia();
+  /// Composes into framebuffer `target` (0 = the default framebuffer) over `viewport` (x, y, w, h,
+  /// which must be width() x height()). `view`/`projection`/planes: the frame's camera, for the
+  /// explosion lights. `time` animates the lights' projected texture.
+  void compose(GLuint target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
+               const ComposeSettings& settings);
+
+  /// The resolved opaque colour and depth textures (for tests and tools).
+  GLuint opaqueColor() const;
+  GLuint opaqueDepth() const;
+  GLuint mediaColor() const;
+
+ private:
+  Layers();
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace puff::media

@@ -1,0 +1,208 @@
+// Layer composition: the opaque target, the low-resolution media layer and the compose pass.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <glm/matrix.hpp>
+
+#include <puff/core/shader.h>
+#include <puff/media/layers.h>
+
+namespace puff::media {
+
+namespace {
+
+constexpr int kMaxLights = 8;
+
+struct LightGpu {
+  glm::vec4 centreRadius, colorIntensity;
+  glm::ivec4 flags;
+};
+struct ComposeBlockData {
+  glm::mat4 invProj;
+  glm::vec4 viewport, depth, layer, shimmer;
+  glm::ivec4 counts;
+  LightGpu lights[kMaxLights];
+};
+
+core::Texture makeTexture2D(GLenum format, int w, int h, GLenum filter) {
+  core::Texture t = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(t.get(), 1, format, w, h);
+  glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, static_cast<GLint>(filter));
+  glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, static_cast<GLint>(filter));
+  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
+}  // namespace
+
+struct Layers::Impl {
+  int width = 0, height = 0, samples = 1, factor = 1, mediaWidth = 0, mediaHeight = 0;
+  float scale = 1.0f;
+  core::Framebuffer opaqueFbo, resolveFbo, depthFbo, mediaFbo;
+  core::Renderbuffer msColor, msDepth;
+  core::Texture color, depth, mediaDepth, media, shimmer;
+  core::Program downsample, compose;
+  core::VertexArray vao;
+  core::Buffer block;
+};
+
+Layers::Layers() : impl_(std::make_unique<Impl>()) {}
+Layers::~Layers() = default;
+int Layers::width() const { return impl_->width; }
+int Layers::height() const { return impl_->height; }
+int Layers::mediaWidth() const { return impl_->mediaWidth; }
+int Layers::mediaHeight() const { return impl_->mediaHeight; }
+float Layers::scale() const { return impl_->scale; }
+GLuint Layers::opaqueFramebuffer() const { return impl_->opaqueFbo.get(); }
+GLuint Layers::mediaDepth() const { return impl_->mediaDepth.get(); }
+GLuint Layers::opaqueColor() const { return impl_->color.get(); }
+GLuint Layers::opaqueDepth() const { return impl_->depth.get(); }
+GLuint Layers::mediaColor() const { return impl_->media.get(); }
+
+Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int samples, float scale) {
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    return Error{"media layers: size " + std::to_string(width) + "x" + std::to_string(height) + " outside 1..16384"};
+  int factor = 0;
+  for (int f : {1, 2, 4, 8})
+    if (std::abs(scale - 1.0f / static_cast<float>(f)) < 1e-6f) factor = f;
+  if (factor == 0) return Error{"media resolution: expected 1, 0.5, 0.25 or 0.125, got " + std::to_string(scale)};
+  GLint maxSamples = 1;
+  glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
+  if (samples < 1 || samples > maxSamples)
+    return Error{std::to_string(samples) + " samples per pixel asked, but this GL gives 1 to " +
+                 std::to_string(maxSamples)};
+  auto downsample = core::buildProgram({"media/fullscreen.vert", "media/downsample.frag"});
+  if (!downsample) return downsample.error();
+  auto compose = core::buildProgram({"media/fullscreen.vert", "media/compose.frag"});
+  if (!compose) return compose.error();
+
+  std::unique_ptr<Layers> l(new Layers());
+  Impl& m = *l->impl_;
+  m.width = width, m.height = height, m.samples = samples, m.factor = factor, m.scale = scale;
+  m.mediaWidth = std::max(1, (width + factor - 1) / factor);
+  m.mediaHeight = std::max(1, (height + factor - 1) / factor);
+  m.downsample = std::move(*downsample);
+  m.compose = std::move(*compose);
+  m.vao = core::makeVertexArray();
+  m.block = core::makeBuffer();
+  glNamedBufferStorage(m.block.get(), sizeof(ComposeBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
+
+  // Opaque pass: multisampled renderbuffers, resolved into textures.
+  m.opaqueFbo = core::makeFramebuffer();
+  m.msColor = core::makeRenderbuffer();
+  m.msDepth = core::makeRenderbuffer();
+  const int s = samples > 1 ? samples : 0;
+  glNamedRenderbufferStorageMultisample(m.msColor.get(), s, GL_RGBA8, width, height);
+  glNamedRenderbufferStorageMultisample(m.msDepth.get(), s, GL_DEPTH24_STENCIL8, width, height);
+  glNamedFramebufferRenderbuffer(m.opaqueFbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m.msColor.get());
+  glNamedFramebufferRenderbuffer(m.opaqueFbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m.msDepth.get());
+
+  m.color = makeTexture2D(GL_RGBA8, width, height, GL_NEAREST);
+  m.depth = makeTexture2D(GL_DEPTH24_STENCIL8, width, height, GL_NEAREST);
+  glTextureParameteri(m.depth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
+  m.resolveFbo = core::makeFramebuffer();
+  glNamedFramebufferTexture(m.resolveFbo.get(), GL_COLOR_ATTACHMENT0, m.color.get(), 0);
+  glNamedFramebufferTexture(m.resolveFbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, m.depth.get(), 0);
+
+  m.mediaDepth = makeTexture2D(GL_R32F, m.mediaWidth, m.mediaHeight, GL_NEAREST);
+  m.depthFbo = core::makeFramebuffer();
+  glNamedFramebufferTexture(m.depthFbo.get(), GL_COLOR_ATTACHMENT0, m.mediaDepth.get(), 0);
+
+  m.media = makeTexture2D(GL_RGBA16F, m.mediaWidth, m.mediaHeight, GL_NEAREST);
+  m.shimmer = makeTexture2D(GL_RG16F, m.mediaWidth, m.mediaHeight, GL_NEAREST);
+  m.mediaFbo = core::makeFramebuffer();
+  glNamedFramebufferTexture(m.mediaFbo.get(), GL_COLOR_ATTACHMENT0, m.media.get(), 0);
+  glNamedFramebufferTexture(m.mediaFbo.get(), GL_COLOR_ATTACHMENT1, m.shimmer.get(), 0);
+  const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glNamedFramebufferDrawBuffers(m.mediaFbo.get(), 2, both);
+
+  for (GLuint fbo : {m.opaqueFbo.get(), m.resolveFbo.get(), m.depthFbo.get(), m.mediaFbo.get()}) {
+    if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      return Error{"media layers of " + std::to_string(width) + "x" + std::to_string(height) + " with " +
+                   std::to_string(samples) + " samples are not supported by this GL"};
+  }
+  return l;
+}
+
+void Layers::resolveOpaque() {
+  Impl& m = *impl_;
+  glDisable(GL_SCISSOR_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDepthMask(GL_TRUE);
+  glBlitNamedFramebuffer(m.opaqueFbo.get(), m.resolveFbo.get(), 0, 0, m.width, m.height, 0, 0, m.width, m.height,
+                         GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  // Depth cannot be averaged: a multisampled depth resolves to one of its samples.
+  glBlitNamedFramebuffer(m.opaqueFbo.get(), m.resolveFbo.get(), 0, 0, m.width, m.height, 0, 0, m.width, m.height,
+                         GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT, GL_NEAREST);
+
+  glBindFramebuffer(GL_FRAMEBUFFER, m.depthFbo.get());
+  glViewport(0, 0, m.mediaWidth, m.mediaHeight);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glUseProgram(m.downsample.get());
+  glUniform1i(0, m.factor);
+  glBindTextureUnit(0, m.depth.get());
+  glBindVertexArray(m.vao.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glUseProgram(0);
+}
+
+void Layers::beginMedia() {
+  Impl& m = *impl_;
+  glBindFramebuffer(GL_FRAMEBUFFER, m.mediaFbo.get());
+  glViewport(0, 0, m.mediaWidth, m.mediaHeight);
+  glDisable(GL_SCISSOR_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  const float none[4] = {0.0f, 0.0f, 0.0f, 1.0f}, zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  glClearNamedFramebufferfv(m.mediaFbo.get(), GL_COLOR, 0, none);
+  glClearNamedFramebufferfv(m.mediaFbo.get(), GL_COLOR, 1, zero);
+}
+
+void Layers::compose(GLuint target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
+                     const ComposeSettings& settings) {
+  Impl& m = *impl_;
+  ComposeBlockData d{};
+  d.invProj = glm::inverse(frame.projection);
+  d.viewport = glm::vec4(viewport[0], viewport[1], viewport[2], viewport[3]);
+  d.depth = glm::vec4(frame.nearPlane, frame.farPlane, frame.farPlane - frame.nearPlane, frame.orthographic ? 1 : 0);
+  d.layer = glm::vec4(m.mediaWidth, m.mediaHeight, m.factor, settings.depthTolerance);
+  d.shimmer = glm::vec4(settings.shimmerPixels, 0.0f, 0.0f, 0.0f);
+  int n = 0;
+  for (const ExplosionLight& l : lights) {
+    if (n == kMaxLights) break;
+    if (!(l.intensity > 0.0f) || !(l.radius > 0.0f)) continue;
+    d.lights[n].centreRadius = glm::vec4(glm::vec3(frame.view * glm::vec4(l.center, 1.0f)), l.radius);
+    d.lights[n].colorIntensity = glm::vec4(l.color, l.intensity);
+    d.lights[n].flags = glm::ivec4(l.modulate ? 1 : 0, l.fullAtBack ? 1 : 0, 0, 0);
+    ++n;
+  }
+  d.counts = glm::ivec4(n, settings.depthAware ? 1 : 0, 0, 0);
+  glNamedBufferSubData(m.block.get(), 0, sizeof(d), &d);
+
+  glBindFramebuffer(GL_FRAMEBUFFER, target);
+  glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glUseProgram(m.compose.get());
+  glBindBufferBase(GL_UNIFORM_BUFFER, 5, m.block.get());
+  glBindTextureUnit(0, m.color.get());
+  glBindTextureUnit(1, m.depth.get());
+  glBindTextureUnit(2, m.media.get());
+  glBindTextureUnit(3, m.mediaDepth.get());
+  glBindTextureUnit(4, m.shimmer.get());
+  glBindVertexArray(m.vao.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glUseProgram(0);
+}
+
+}  // namespace puff::media

@@ -1,0 +1,351 @@
+// The media pass: materials, back-to-front sorting, the GPU tables and the draw.
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+
+#include <puff/core/shader.h>
+#include <puff/media/media.h>
+
+namespace puff::media {
+
+namespace {
+
+constexpr int kMaxMaterials = 32;
+
+std::string fmt(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+Result<void> inRange(const std::string& field, double v, double lo, double hi) {
+  if (!(v >= lo && v <= hi))
+    return Error{field + ": expected a number in [" + fmt(lo) + ", " + fmt(hi) + "], got " + fmt(v)};
+  return {};
+}
+
+// std140 mirrors of shaders/common/media.glsl.
+struct MediaBlockData {
+  glm::mat4 view, proj, invProj;
+  glm::vec4 target, depth, lightDir, lightColor, ambient, kelvin;
+  glm::ivec4 mode;
+  glm::vec4 time;
+};
+struct MaterialGpu {
+  glm::vec4 colorAlbedo, densityGEmissiveEmission, tempRangeBurnDetail, windowSpeedShimmerNext, transition;
+};
+static_assert(sizeof(MaterialGpu) == 80);
+
+core::Texture makeDetailTexture(const core::DetailVideo* v) {
+  core::Texture t = core::makeTexture(GL_TEXTURE_3D);
+  const bool have = v != nullptr && v->width > 0 && v->height > 0 && v->frames > 0;
+  const int w = have ? v->width : 1, h = have ? v->height : 1, f = have ? v->frames : 1;
+  glTextureStorage3D(t.get(), 1, GL_R16F, w, h, f);
+  std::vector<float> flipped(static_cast<std::size_t>(w) * h * f, 0.5f);
+  if (have) {
+    // DetailVideo rows run top to bottom; GL's t runs bottom to top. Flip so uv (0,0) is bottom-left.
+    for (int k = 0; k < f; ++k)
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) flipped[(static_cast<std::size_t>(k) * h + (h - 1 - y)) * w + x] = v->at(x, y, k);
+  }
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage3D(t.get(), 0, 0, 0, 0, w, h, f, GL_RED, GL_FLOAT, flipped.data());
+  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glTextureParameteri(t.get(), wrap, GL_REPEAT);  // tileable and looping
+  glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  return t;
+}
+
+}  // namespace
+
+Material smokeMaterial() {
+  Material m;
+  m.name = "smoke";
+  m.albedo = 0.2f;
+  m.density = 0.4f;
+  return m;
+}
+
+Material dustMaterial() {
+  Material m;
+  m.name = "dust";
+  m.albedo = 0.9f;
+  m.density = 0.4f;
+  m.color = {0.85f, 0.75f, 0.6f};
+  return m;
+}
+
+Material fireMaterial() {
+  Material m;
+  m.name = "fire";
+  m.albedo = 0.0f;
+  m.density = 0.4f;
+  m.emissive = true;
+  m.temperature = 2500.0f;
+  m.temperatureRange = 700.0f;
+  m.burn = 1.0f;
+  m.shimmer = 1.0f;
+  return m;
+}
+
+Result<void> validate(const Material& m, int count) {
+  const std::string at = m.name.empty() ? std::string() : m.name + ": ";
+  const std::pair<const char*, std::array<double, 3>> checks[] = {
+      {"albedo", {m.albedo, 0, 1}},
+      {"density", {m.density, 0, 1e4}},
+      {"color/0", {m.color.r, 0, 1}},
+      {"color/1", {m.color.g, 0, 1}},
+      {"color/2", {m.color.b, 0, 1}},
+      {"g", {m.g, -0.95, 0.95}},
+      {"temperature", {m.temperature, 0, 1e5}},
+      {"temperatureRange", {m.temperatureRange, -1e5, 1e5}},
+      {"emission", {m.emission, 0, 1e4}},
+      {"burn", {m.burn, 0, 1}},
+      {"detail", {m.detail, 0, 1}},
+      {"detailWindow", {m.detailWindow, 1e-3, 1}},
+      {"detailSpeed", {m.detailSpeed, 0, 1e3}},
+      {"shimmer", {m.shimmer, 0, 1}},
+      {"transitionStart", {m.transitionStart, 0, 1}},
+      {"transitionEnd", {m.transitionEnd, 0, 1}},
+  };
+  for (const auto& [name, v] : checks)
+    if (auto ok = inRange(at + name, v[0], v[1], v[2]); !ok) return ok;
+  if (m.transitionEnd < m.transitionStart)
+    return Error{at + "transitionEnd: expected >= transitionStart (" + fmt(m.transitionStart) + "), got " +
+                 fmt(m.transitionEnd)};
+  if (m.becomes < -1 || m.becomes >= count)
+    return Error{at + "becomes: expected -1 or a material index below " + std::to_string(count) + ", got " +
+                 std::to_string(m.becomes)};
+  return {};
+}
+
+double sphereOpacity(const glm::dvec3& o, const glm::dvec3& dir, const glm::dvec3& c, double r, double tau,
+                     double sceneDepth, double nearPlane) {
+  const glm::dvec3 m = o - c;
+  const double b = glm::dot(m, dir);
+  const glm::dvec3 across = glm::cross(m, dir);
+  const double d2 = glm::dot(across, across);
+  if (!(d2 < r * r)) return 0.0;
+  const double d = std::sqrt(d2), w = std::sqrt(r * r - d2);
+  const double cosA = -dir.z, oz = -o.z;
+  const double tScene = (sceneDepth - oz) / cosA, tNear = (nearPlane - oz) / cosA;
+  const double ds = std::max(0.0, std::min(-b + w, tScene) - std::max(-b - w, tNear));
+  return 1.0 - std::exp(-tau * (1.0 - d / r) * ds);
+}
+
+std::vector<std::uint32_t> backToFront(const glm::mat4& view, std::span<const Particle> particles) {
+  const std::size_t n = particles.size();
+  std::vector<std::uint32_t> keys(n), idx(n), tmpKeys(n), tmpIdx(n);
+  const glm::vec4 row(view[0][2], view[1][2], view[2][2], view[3][2]);  // camera-space z
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::vec3& p = particles[i].position;
+    float z = row.x * p.x + row.y * p.y + row.z * p.z + row.w;  // more negative = farther
+    if (!std::isfinite(z)) z = 0.0f;
+    std::uint32_t bits;
+    std::memcpy(&bits, &z, 4);
+    // Order-preserving map of floats to unsigned: ascending key = ascending z = farthest first.
+    bits = (bits & 0x80000000u) ? ~bits : bits | 0x80000000u;
+    keys[i] = bits;
+    idx[i] = static_cast<std::uint32_t>(i);
+  }
+  // LSD radix sort, 4 passes of 8 bits: stable, O(n).
+  for (int shift = 0; shift < 32; shift += 8) {
+    std::array<std::size_t, 257> count{};
+    for (std::size_t i = 0; i < n; ++i) ++count[((keys[i] >> shift) & 0xFF) + 1];
+    for (int b = 0; b < 256; ++b) count[b + 1] += count[b];
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t to = count[(keys[i] >> shift) & 0xFF]++;
+      tmpKeys[to] = keys[i];
+      tmpIdx[to] = idx[i];
+    }
+    keys.swap(tmpKeys);
+    idx.swap(tmpIdx);
+  }
+  return idx;
+}
+
+struct Renderer::Impl {
+  Settings settings;
+  core::Program program;
+  core::VertexArray vao;
+  core::Buffer block, materialBlock, particleBuffer;
+  std::size_t particleCapacity = 0;
+  core::Texture blackbody, phase, temperatureDetail, opacityDetail;
+  std::vector<Material> materials;
+  std::vector<Particle> sorted;
+};
+
+Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
+Renderer::~Renderer() = default;
+const std::vector<Material>& Renderer::materials() const { return impl_->materials; }
+
+Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings) {
+  if (auto ok = inRange("exposure", settings.exposure, 0, 1e4); !ok) return ok.error();
+  auto ramp = core::makeBlackbodyRamp(settings.minKelvin, settings.maxKelvin, 1024, settings.normalizeKelvin);
+  if (!ramp) return ramp.error();
+  auto program = core::buildProgram({"media/billboard.vert", "media/billboard.frag"});
+  if (!program) return program.error();
+
+  std::unique_ptr<Renderer> r(new Renderer());
+  Impl& m = *r->impl_;
+  m.settings = settings;
+  m.program = std::move(*program);
+  m.vao = core::makeVertexArray();
+  m.block = core::makeBuffer();
+  glNamedBufferStorage(m.block.get(), sizeof(MediaBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  m.materialBlock = core::makeBuffer();
+  glNamedBufferStorage(m.materialBlock.get(), sizeof(MaterialGpu) * kMaxMaterials, nullptr, GL_DYNAMIC_STORAGE_BIT);
+
+  // Black body: linear sRGB radiance, negative (out-of-gamut) components kept; the shader clips.
+  m.blackbody = core::makeTexture(GL_TEXTURE_1D);
+  const int n = static_cast<int>(ramp->rgb.size());
+  glTextureStorage1D(m.blackbody.get(), 1, GL_RGB32F, n);
+  glTextureSubImage1D(m.blackbody.get(), 0, 0, n, GL_RGB, GL_FLOAT, ramp->rgb.data());
+  glTextureParameteri(m.blackbody.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(m.blackbody.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(m.blackbody.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+
+  // Phase: 4 pi P(cos, g), so an isotropic medium scatters exactly the light's colour.
+  constexpr int kCos = 256, kG = 64;
+  std::vector<float> table(static_cast<std::size_t>(kCos) * kG);
+  for (int j = 0; j < kG; ++j) {
+    const double g = -0.95 + 1.9 * j / (kG - 1);
+    for (int i = 0; i < kCos; ++i) {
+      const double c = -1.0 + 2.0 * i / (kCos - 1);
+      table[static_cast<std::size_t>(j) * kCos + i] =
+          static_cast<float>(4.0 * 3.14159265358979323846 * phase(settings.phase, c, g));
+    }
+  }
+  m.phase = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(m.phase.get(), 1, GL_R32F, kCos, kG);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(m.phase.get(), 0, 0, 0, kCos, kG, GL_RED, GL_FLOAT, table.data());
+  glTextureParameteri(m.phase.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(m.phase.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(m.phase.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(m.phase.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+
+  r->setDetail(nullptr, nullptr);
+  auto mats = r->setMaterials({smokeMaterial(), dustMaterial(), fireMaterial()});
+  PUFF_CHECK(mats.ok());
+  return r;
+}
+
+Result<void> Renderer::setMaterials(std::vector<Material> materials) {
+  if (materials.empty() || materials.size() > kMaxMaterials)
+    return Error{"materials: expected 1 to " + std::to_string(kMaxMaterials) + ", got " +
+                 std::to_string(materials.size())};
+  std::array<MaterialGpu, kMaxMaterials> gpu{};
+  for (std::size_t i = 0; i < materials.size(); ++i) {
+    const Material& mt = materials[i];
+    if (auto ok = validate(mt, static_cast<int>(materials.size())); !ok) return ok;
+    gpu[i].colorAlbedo = glm::vec4(mt.color, mt.emissive ? 0.0f : mt.albedo);
+    gpu[i].densityGEmissiveEmission = glm::vec4(mt.density, mt.g, mt.emissive ? 1.0f : 0.0f, mt.emission);
+    gpu[i].tempRangeBurnDetail = glm::vec4(mt.temperature, mt.temperatureRange, mt.burn, mt.detail);
+    gpu[i].windowSpeedShimmerNext =
+        glm::vec4(mt.detailWindow, mt.detailSpeed, mt.shimmer, static_cast<float>(mt.becomes));
+    gpu[i].transition = glm::vec4(mt.transitionStart, mt.transitionEnd, 0.0f, 0.0f);
+  }
+  glNamedBufferSubData(impl_->materialBlock.get(), 0, sizeof(gpu), gpu.data());
+  impl_->materials = std::move(materials);
+  return {};
+}
+
+void Renderer::setDetail(const core::DetailVideo* temperature, const core::DetailVideo* opacity) {
+  impl_->temperatureDetail = makeDetailTexture(temperature);
+  impl_->opacityDetail = makeDetailTexture(opacity);
+}
+
+void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Method method, GLuint depth, bool shimmer,
+                    DrawStats* stats) {
+  Impl& m = *impl_;
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<std::uint32_t> order = backToFront(frame.view, particles);
+  m.sorted.clear();
+  m.sorted.reserve(particles.size());
+  for (std::uint32_t i : order)
+    if (particles[i].radius > 0.0f) m.sorted.push_back(particles[i]);
+  if (stats) {
+    stats->sortMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    stats->particles = m.sorted.size();
+  }
+  if (m.sorted.empty()) return;
+
+  const std::size_t bytes = m.sorted.size() * sizeof(Particle);
+  if (bytes > m.particleCapacity) {
+    m.particleCapacity = std::max(bytes, m.particleCapacity * 2);
+    m.particleBuffer = core::makeBuffer();
+    glNamedBufferStorage(m.particleBuffer.get(), static_cast<GLsizeiptr>(m.particleCapacity), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
+  }
+  glNamedBufferSubData(m.particleBuffer.get(), 0, static_cast<GLsizeiptr>(bytes), m.sorted.data());
+
+  MediaBlockData d{};
+  d.view = frame.view;
+  d.proj = frame.projection;
+  d.invProj = glm::inverse(frame.projection);
+  d.target = glm::vec4(frame.width, frame.height, 1.0f / static_cast<float>(frame.width),
+                       1.0f / static_cast<float>(frame.height));
+  d.depth = glm::vec4(frame.nearPlane, frame.farPlane, frame.farPlane - frame.nearPlane, frame.orthographic ? 1 : 0);
+  glm::vec3 l = frame.lightDirection;
+  l = glm::length(l) > 0.0f ? glm::normalize(l) : glm::vec3(0, 1, 0);
+  d.lightDir = glm::vec4(glm::normalize(glm::vec3(frame.view * glm::vec4(l, 0.0f))), 0.0f);
+  d.lightColor = glm::vec4(frame.lightColor, 1.0f);
+  d.ambient = glm::vec4(frame.ambient, 1.0f);
+  d.kelvin = glm::vec4(m.settings.minKelvin, m.settings.maxKelvin, 1.0f / (m.settings.maxKelvin - m.settings.minKelvin),
+                       m.settings.exposure);
+  d.mode = glm::ivec4(static_cast<int>(method), shimmer ? 1 : 0, 0, 0);
+  d.time = glm::vec4(frame.time, 0.0f, 0.0f, 0.0f);
+  glNamedBufferSubData(m.block.get(), 0, sizeof(d), &d);
+
+  // State: blending per Ilmonen (premultiplied colour, alpha = transmittance multiplier), no depth
+  // test (surfaces clip in the shader), depth clamp for the spherical method only (its far-point
+  // quads must not be clipped; planar billboards keep the near-plane clipping that makes them pop).
+  glDisable(GL_DEPTH_TEST);
+  glDepthMask(GL_FALSE);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  glDisable(GL_FRAMEBUFFER_SRGB);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  if (method == Method::kSpherical)
+    glEnable(GL_DEPTH_CLAMP);
+  else
+    glDisable(GL_DEPTH_CLAMP);
+  glEnable(GL_BLEND);
+  glBlendEquationi(0, GL_FUNC_ADD);
+  glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA);
+  if (shimmer) {
+    glBlendEquationi(1, GL_FUNC_ADD);
+    glBlendFunci(1, GL_ONE, GL_ONE);
+  }
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+
+  glUseProgram(m.program.get());
+  glBindVertexArray(m.vao.get());
+  glBindBufferBase(GL_UNIFORM_BUFFER, 3, m.block.get());
+  glBindBufferBase(GL_UNIFORM_BUFFER, 4, m.materialBlock.get());
+  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, m.particleBuffer.get(), 0, static_cast<GLsizeiptr>(bytes));
+  glBindTextureUnit(0, depth);
+  glBindTextureUnit(1, m.blackbody.get());
+  glBindTextureUnit(2, m.phase.get());
+  glBindTextureUnit(3, m.temperatureDetail.get());
+  glBindTextureUnit(4, m.opacityDetail.get());
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.sorted.size() * 6));
+
+  glBindVertexArray(0);
+  glUseProgram(0);
+  glDisable(GL_BLEND);
+  glDisable(GL_DEPTH_CLAMP);
+  glDepthMask(GL_TRUE);
+}
+
+}  // namespace puff::media

@@ -1,0 +1,39 @@
+// The media pass's per-frame values (puff::media::Renderer, uniform binding 3) and its particle
+// and material layouts (std430 binding 0, std140 binding 4). Mirrors runtime/src/media/media.cpp.
+layout(std140, binding = 3) uniform MediaBlock {
+  mat4 uView;         // world -> camera
+  mat4 uProj;         // camera -> clip
+  mat4 uInvProj;      // clip -> camera
+  vec4 uTarget;       // width, height, 1 / width, 1 / height of the media target, pixels
+  vec4 uDepth;        // near, far, far - near, 1 if orthographic
+  vec4 uLightDir;     // xyz: unit camera-space direction toward the light
+  vec4 uLightColor;   // rgb: radiance an isotropic medium scatters toward the eye
+  vec4 uAmbient;      // rgb: isotropic in-scattered radiance
+  vec4 uKelvin;       // black-body texture range: min, max, 1 / (max - min), exposure
+  ivec4 uMode;        // x: method (0 planar, 1 soft linear, 2 soft S-curve, 3 spherical), y: shimmer target
+  vec4 uTime;         // x: seconds
+};
+
+struct MaterialGpu {
+  vec4 colorAlbedo;              // rgb tint, albedo a
+  vec4 densityGEmissiveEmission; // tau, g, emissive weight (0/1), emission scale
+  vec4 tempRangeBurnDetail;      // T0, T1, burn, opacity detail amount
+  vec4 windowSpeedShimmerNext;   // detail window, detail fps, shimmer, becomes (-1 = none)
+  vec4 transition;               // start, end (life fractions)
+};
+layout(std140, binding = 4) uniform MaterialBlock {
+  MaterialGpu uMaterials[32];
+};
+
+struct MediaParticle {
+  vec4 positionRadius;  // world position, radius
+  uvec4 data;           // material, life (float bits), density (float bits), seed
+};
+layout(std430, binding = 0) readonly buffer MediaParticles {
+  MediaParticle particles[];
+};
+
+const int kPlanar = 0;
+const int kSoftLinear = 1;
+const int kSoftSCurve = 2;
+const int kSpherical = 3;

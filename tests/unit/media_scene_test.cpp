@@ -1,0 +1,179 @@
+// The media art scenes (issue 6): golden frames, a frame alone equal to the same frame of a
+// sequence, the camera flying into smoke without popping, and the scene file's media section.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <vector>
+
+#include <puff/render/render.h>
+
+#include "golden/golden.h"
+#include "support/gl_fixture.h"
+
+namespace puff {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path sceneFile(const std::string& name) { return fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (name + ".json"); }
+
+struct MediaCase {
+  const char* scene;
+  int frame;
+};
+void PrintTo(const MediaCase& c, std::ostream* os) { *os << c.scene << " frame " << c.frame; }
+
+class MediaSceneGolden : public test::GlTest, public ::testing::WithParamInterface<MediaCase> {};
+
+// Same tolerances as the cel scenes (8/255 per channel, 0.3% of pixels).
+TEST_P(MediaSceneGolden, MatchesReference) {
+  const MediaCase c = GetParam();
+  auto scene = render::loadScene(sceneFile(c.scene), PUFF_ART_DIR);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_TRUE(scene->media.has_value());
+  auto renderer = render::SceneRenderer::create(*scene);
+  ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+  render::FrameStats stats;
+  auto image = (*renderer)->renderFrame(c.frame, &stats);
+  ASSERT_TRUE(image.ok()) << image.error().message;
+  EXPECT_GT(stats.mediaParticles, 20u);
+  test::GoldenTolerance tol;
+  tol.pixelThreshold = 8.0f / 255.0f;
+  tol.maxFailingFraction = 0.003;
+  const test::GoldenResult r =
+      test::compareToGolden(*image, "scene-" + std::string(c.scene) + "-" + std::to_string(c.frame), tol);
+  EXPECT_TRUE(r.passed) << r.message;
+}
+
+INSTANTIATE_TEST_SUITE_P(ArtScenes, MediaSceneGolden,
+                         ::testing::Values(MediaCase{"explosion-walls", 5}, MediaCase{"explosion-walls", 20},
+                                           MediaCase{"smoke-flythrough", 30}, MediaCase{"fire-to-smoke", 48}),
+                         [](const ::testing::TestParamInfo<MediaCase>& i) {
+                           std::string n = i.param.scene;
+                           for (char& ch : n) ch = (ch == '-') ? '_' : ch;
+                           return n + "_" + std::to_string(i.param.frame);
+                         });
+
+class MediaScenes : public test::GlTest {};
+
+render::Scene smaller(render::Scene s, int width, int height) {
+  s.width = width;
+  s.height = height;
+  return s;
+}
+
+TEST_F(MediaScenes, AFrameAloneEqualsTheSameFrameOfASequence) {
+  auto scene = render::loadScene(sceneFile("explosion-walls"), PUFF_ART_DIR);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  const render::Scene s = smaller(*scene, 160, 120);
+  auto sequence = render::SceneRenderer::create(s);
+  ASSERT_TRUE(sequence.ok()) << sequence.error().message;
+  core::Image inSequence;
+  for (int f = 0; f <= 9; ++f) {
+    auto image = (*sequence)->renderFrame(f);
+    ASSERT_TRUE(image.ok()) << image.error().message;
+    if (f == 9) inSequence = std::move(*image);
+  }
+  auto alone = render::SceneRenderer::create(s);
+  ASSERT_TRUE(alone.ok());
+  auto image = (*alone)->renderFrame(9);
+  ASSERT_TRUE(image.ok());
+  EXPECT_EQ(image->pixels, inSequence.pixels);
+}
+
+// The temporal metric: the second difference of consecutive frames along the camera path,
+// |f[k+1] - 2 f[k] + f[k-1]| per pixel and channel. Smooth motion keeps it near the 8-bit rounding
+// of the images (a few /255); a particle that pops in or out of view shows as a spike of its
+// opacity. Returns the largest value over every pixel of every frame.
+double largestSecondDifference(render::SceneRenderer& r, int first, int last) {
+  std::vector<core::Image> frames;
+  for (int f = first; f <= last; ++f) {
+    auto image = r.renderFrame(f);
+    EXPECT_TRUE(image.ok()) << image.error().message;
+    frames.push_back(std::move(*image));
+  }
+  double worst = 0.0;
+  for (std::size_t k = 1; k + 1 < frames.size(); ++k) {
+    for (std::size_t i = 0; i < frames[k].pixels.size(); ++i) {
+      if (i % 4 == 3) continue;
+      worst = std::max(worst, static_cast<double>(std::abs(frames[k + 1].pixels[i] - 2.0f * frames[k].pixels[i] +
+                                                           frames[k - 1].pixels[i])));
+    }
+  }
+  return worst;
+}
+
+TEST_F(MediaScenes, FlyingIntoSmokePopsWithPlanarBillboardsNotSpherical) {
+  // The camera flies at 1 unit/s (1/24 per frame) through three dense smoke spheres against a black
+  // sky. A planar billboard vanishes whole when its centre crosses the near plane: a jump of its
+  // full opacity (1 - e^-3 = 0.95 at its centre). A spherical billboard only changes slope when
+  // the camera enters or leaves it: tau * step = 1.5 / 24 = 0.06 at most.
+  const auto j = nlohmann::json::parse(R"({
+    "output": {"width": 32, "height": 24, "samples": 1, "background": [0, 0, 0]},
+    "camera": {"position": [0, 0, 6], "target": [0, 0, 0], "near": 0.05, "far": 50},
+    "ambient": {"color": [1, 1, 1]},
+    "light": {"color": [0, 0, 0]},
+    "animation": {"fps": 24, "frames": 289,
+                  "cameraPath": [{"time": 0, "position": [0, 0, 6]}, {"time": 12, "position": [0, 0, -6]}],
+                  "targetPath": [{"time": 0, "position": [0, 0, 0]}, {"time": 12, "position": [0, 0, -12]}]},
+    "media": {"resolution": 1,
+              "materials": [{"name": "smoke", "albedo": 1, "density": 1.5, "detail": 0}],
+              "particles": [{"position": [0.2, 0.1, 4]}, {"position": [-0.3, 0, 0]}, {"position": [0, -0.2, -4]}]}
+  })");
+  auto scene = render::parseScene(j, "flythrough.json");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  auto spherical = render::SceneRenderer::create(*scene);
+  ASSERT_TRUE(spherical.ok()) << spherical.error().message;
+  const double smooth = largestSecondDifference(**spherical, 0, 288);
+  scene->media->method = media::Method::kPlanar;
+  auto planar = render::SceneRenderer::create(*scene);
+  ASSERT_TRUE(planar.ok()) << planar.error().message;
+  const double popping = largestSecondDifference(**planar, 0, 288);
+  std::printf("largest second difference: spherical %.4f, planar %.4f\n", smooth, popping);
+  EXPECT_LT(smooth, 0.06 + 3.0 / 255.0);  // the slope change, plus 8-bit rounding
+  EXPECT_GT(popping, 0.5);
+}
+
+TEST_F(MediaScenes, MediaSectionRoundTripsThroughJson) {
+  auto scene = render::loadScene(sceneFile("explosion-walls"), PUFF_ART_DIR);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  const nlohmann::json j = render::toJson(*scene);
+  auto again = render::parseScene(j, scene->file, PUFF_ART_DIR);
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(render::toJson(*again), j);
+  ASSERT_TRUE(again->media.has_value());
+  EXPECT_EQ(again->media->materials.size(), 4u);
+  EXPECT_EQ(again->media->materials[0].becomes, 1);  // fire becomes soot
+  EXPECT_EQ(again->media->emitters.size(), 3u);
+}
+
+TEST_F(MediaScenes, BadMediaFieldsNameThePointer) {
+  const struct {
+    const char* json;
+    const char* message;
+  } cases[] = {
+      {R"({"media": {"resolution": 0.3}})", "/media/resolution: expected 1, 0.5, 0.25 or 0.125, got 0.3"},
+      {R"({"media": {"method": "flat"}})",
+       "/media/method: expected one of planar, soft-linear, soft-scurve, spherical, got \"flat\""},
+      {R"({"media": {"particles": [{"material": "steam"}]}})",
+       "/media/particles/0/material: expected the name of a material (smoke, dust, fire), got \"steam\""},
+      {R"({"media": {"materials": [{"name": "a", "albedo": 2}]}})",
+       "/media/materials/0/albedo: expected a number in [0, 1], got 2"},
+      {R"({"media": {"materials": [{"name": "a", "becomes": "b"}]}})",
+       "/media/materials/0/becomes: expected the name of a material (a), got \"b\""},
+      {R"({"media": {"emitters": [{"material": "fire", "lifetime": 0}]}})",
+       "/media/emitters/0/lifetime: expected a lifetime in seconds > 0, got 0"},
+      {R"({"media": {"blackbody": {"minKelvin": 5000, "maxKelvin": 4000}}})",
+       "/media/blackbody/maxKelvin: expected maxKelvin > minKelvin, got 4000"},
+  };
+  for (const auto& c : cases) {
+    auto s = render::parseScene(nlohmann::json::parse(c.json), "x.json");
+    ASSERT_FALSE(s.ok()) << c.json;
+    EXPECT_EQ(s.error().message, std::string("x.json: ") + c.message);
+  }
+}
+
+}  // namespace
+}  // namespace puff
