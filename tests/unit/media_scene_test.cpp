@@ -83,6 +83,45 @@ TEST_F(MediaScenes, AFrameAloneEqualsTheSameFrameOfASequence) {
   EXPECT_EQ(image->pixels, inSequence.pixels);
 }
 
+TEST_F(MediaScenes, MotionBlurIsTheWeightedSumOfTheLastFramesAndAFrameAloneEqualsTheSequence) {
+  auto scene = render::loadScene(sceneFile("explosion-walls"), PUFF_ART_DIR);
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  render::Scene sharp = smaller(*scene, 128, 96);
+  sharp.samples = 1;
+  render::Scene blurred = sharp;
+  blurred.media->motionBlurFrames = 3;
+  blurred.media->motionBlurPersistence = 0.5f;
+  auto a = render::SceneRenderer::create(sharp);
+  ASSERT_TRUE(a.ok()) << a.error().message;
+  std::vector<core::Image> frames;
+  for (int f = 0; f <= 8; ++f) frames.push_back(*(*a)->renderFrame(f));
+  auto sequence = render::SceneRenderer::create(blurred);
+  ASSERT_TRUE(sequence.ok());
+  core::Image last;
+  for (int f = 0; f <= 8; ++f) last = *(*sequence)->renderFrame(f);
+  // sum of p^i F(8 - i), i = 0..3, over sum of p^i (each F rounded to 8 bits here, not there).
+  const float w[4] = {1.0f, 0.5f, 0.25f, 0.125f};
+  float worst = 0.0f;
+  for (std::size_t i = 0; i < last.pixels.size(); ++i) {
+    if (i % 4 == 3) continue;
+    float sum = 0.0f;
+    for (int k = 0; k < 4; ++k) sum += w[k] * frames[static_cast<std::size_t>(8 - k)].pixels[i];
+    worst = std::max(worst, std::abs(sum / 1.875f - last.pixels[i]));
+  }
+  EXPECT_LT(worst, 2.0f / 255.0f);
+  EXPECT_NE(last.pixels, frames[8].pixels);  // it did blur
+  auto alone = render::SceneRenderer::create(blurred);
+  ASSERT_TRUE(alone.ok());
+  EXPECT_EQ((*alone)->renderFrame(8)->pixels, last.pixels);
+  // Frame 1 has one frame before it: weights 1 and 0.5 over 1.5.
+  auto early = render::SceneRenderer::create(blurred);
+  const core::Image one = *(*early)->renderFrame(1);
+  for (std::size_t i = 0; i < one.pixels.size(); i += 97) {
+    if (i % 4 == 3) continue;
+    EXPECT_NEAR(one.pixels[i], (frames[1].pixels[i] + 0.5f * frames[0].pixels[i]) / 1.5f, 2.0f / 255.0f);
+  }
+}
+
 // The temporal metric: the second difference of consecutive frames along the camera path,
 // |f[k+1] - 2 f[k] + f[k-1]| per pixel and channel. Smooth motion keeps it near the 8-bit rounding
 // of the images (a few /255); a particle that pops in or out of view shows as a spike of its

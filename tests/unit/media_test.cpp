@@ -426,7 +426,7 @@ void fillOpaque(media::Layers& layers, int x0, int x1, float poleDepth, const gl
 }
 
 std::vector<glm::vec4> composeScene(media::Renderer& r, float scale, bool depthAware,
-                                    std::span<const media::ExplosionLight> lights = {}) {
+                                    std::span<const media::ExplosionLight> lights = {}, float shimmerPixels = 0.0f) {
   const int w = 96, h = 64;
   auto layers = media::Layers::create(w, h, 1, scale);
   EXPECT_TRUE(layers.ok()) << layers.error().message;
@@ -447,6 +447,7 @@ std::vector<glm::vec4> composeScene(media::Renderer& r, float scale, bool depthA
   const int vp[4] = {0, 0, w, h};
   media::ComposeSettings cs;
   cs.depthAware = depthAware;
+  cs.shimmerPixels = shimmerPixels;
   (*layers)->compose(out.get(), vp, f, lights, cs);
   std::vector<glm::vec4> px(static_cast<std::size_t>(w) * h);
   glGetTextureImage(color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px.size() * sizeof(glm::vec4)), px.data());
@@ -492,6 +493,40 @@ TEST_F(MediaLayersTest, DepthAwareUpsamplingRemovesHalosAroundNearEdges) {
     for (int y = 0; y < 64; ++y)
       for (int x = 45; x < 51; ++x) ASSERT_EQ(aware[y * 96 + x].r, reference[y * 96 + x].r) << x << "," << y;
   }
+}
+
+TEST_F(MediaLayersTest, HeatShimmerDisplacesTheSceneOnlyBehindFire) {
+  media::Material fire = media::fireMaterial();
+  fire.shimmer = 1.0f;
+  fire.emission = 0.0f;  // no colour of its own: what changes is where the scene is sampled
+  fire.burn = 1.0f;      // and it hides nothing
+  media::Renderer& r = *renderer_;
+  ASSERT_TRUE(r.setMaterials({fire}).ok());
+  // The offsets come from the temperature detail video: a ramp across x.
+  core::DetailVideo ramp;
+  ramp.width = ramp.height = 16;
+  ramp.frames = 2;
+  for (int f = 0; f < 2; ++f)
+    for (int y = 0; y < 16; ++y)
+      for (int x = 0; x < 16; ++x) ramp.values.push_back(static_cast<float>(x) / 15.0f);
+  r.setDetail(&ramp, nullptr);
+  const auto still = composeScene(r, 1.0f, true);
+  const auto shimmering = composeScene(r, 1.0f, true, {}, 40.0f);
+  r.setDetail(nullptr, nullptr);
+  int moved = 0;
+  for (int y = 0; y < 64; ++y) {
+    for (int x = 0; x < 96; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * 96 + x;
+      // Outside the sphere's disc (radius about 31 px around the centre) nothing moves.
+      const float dx = x + 0.5f - 48.0f, dy = y + 0.5f - 32.0f;
+      if (dx * dx + dy * dy > 33.0f * 33.0f) {
+        ASSERT_EQ(shimmering[i], still[i]) << x << "," << y;
+      } else {
+        moved += shimmering[i] != still[i] ? 1 : 0;
+      }
+    }
+  }
+  EXPECT_GT(moved, 10);  // the pole's edges move where the fire is
 }
 
 TEST_F(MediaLayersTest, ExplosionLightFollowsDepthNotPolygons) {

@@ -43,7 +43,9 @@ struct Layers::Impl {
   core::Framebuffer opaqueFbo, resolveFbo, depthFbo, mediaFbo;
   core::Renderbuffer msColor, msDepth;
   core::Texture color, depth, mediaDepth, media, shimmer;
-  core::Program downsample, compose;
+  core::Program downsample, compose, blur;
+  std::vector<core::Texture> history;
+  std::vector<core::Framebuffer> historyFbo;
   core::VertexArray vao;
   core::Buffer block;
 };
@@ -77,6 +79,8 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
   if (!downsample) return downsample.error();
   auto compose = core::buildProgram({"media/fullscreen.vert", "media/compose.frag"});
   if (!compose) return compose.error();
+  auto blur = core::buildProgram({"media/fullscreen.vert", "media/blur.frag"});
+  if (!blur) return blur.error();
 
   std::unique_ptr<Layers> l(new Layers());
   Impl& m = *l->impl_;
@@ -85,6 +89,7 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
   m.mediaHeight = std::max(1, (height + factor - 1) / factor);
   m.downsample = std::move(*downsample);
   m.compose = std::move(*compose);
+  m.blur = std::move(*blur);
   m.vao = core::makeVertexArray();
   m.block = core::makeBuffer();
   glNamedBufferStorage(m.block.get(), sizeof(ComposeBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -124,6 +129,51 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
                    std::to_string(samples) + " samples are not supported by this GL"};
   }
   return l;
+}
+
+void Layers::setHistorySlots(int slots) {
+  Impl& m = *impl_;
+  PUFF_CHECK(slots >= 1 && slots <= 8);
+  if (static_cast<int>(m.history.size()) == slots) return;
+  m.history.clear();
+  m.historyFbo.clear();
+  for (int i = 0; i < slots; ++i) {
+    m.history.push_back(makeTexture2D(GL_RGBA16F, m.width, m.height, GL_NEAREST));
+    m.historyFbo.push_back(core::makeFramebuffer());
+    glNamedFramebufferTexture(m.historyFbo.back().get(), GL_COLOR_ATTACHMENT0, m.history.back().get(), 0);
+  }
+}
+
+GLuint Layers::historyFramebuffer(int slot) const {
+  PUFF_CHECK(slot >= 0 && slot < static_cast<int>(impl_->historyFbo.size()));
+  return impl_->historyFbo[static_cast<std::size_t>(slot)].get();
+}
+
+void Layers::blendHistory(GLuint target, const int viewport[4], std::span<const int> slots,
+                          std::span<const float> weights) {
+  Impl& m = *impl_;
+  PUFF_CHECK(slots.size() == weights.size() && !slots.empty() && slots.size() <= 8);
+  glBindFramebuffer(GL_FRAMEBUFFER, target);
+  glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glUseProgram(m.blur.get());
+  glUniform1i(0, static_cast<GLint>(slots.size()));
+  glUniform1fv(1, static_cast<GLsizei>(weights.size()), weights.data());
+  glUniform4f(9, static_cast<float>(viewport[0]), static_cast<float>(viewport[1]), 0.0f, 0.0f);
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    const int slot = slots[i];
+    PUFF_CHECK(slot >= 0 && slot < static_cast<int>(m.history.size()));
+    glBindTextureUnit(static_cast<GLuint>(i), m.history[static_cast<std::size_t>(slot)].get());
+  }
+  glBindVertexArray(m.vao.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glUseProgram(0);
 }
 
 void Layers::resolveOpaque() {

@@ -110,6 +110,27 @@ struct SceneRenderer::Impl {
   std::vector<media::Particle> mediaParticles;
 };
 
+namespace {
+
+// What a motion-blur history slot holds: a frame seen by a camera at a size.
+struct HistoryTag {
+  int frame = -1;
+  glm::vec3 position{0.0f}, target{0.0f}, up{0.0f};
+  float fov = 0.0f, ortho = 0.0f;
+  int width = 0, height = 0;
+  bool operator==(const HistoryTag&) const = default;
+};
+
+HistoryTag historyTag(int frame, const cel::Camera& c, const cel::Viewport& v) {
+  return HistoryTag{frame, c.position, c.target, c.up, c.fovYDegrees, c.orthoHeight, v.width, v.height};
+}
+
+}  // namespace
+
+struct SceneRenderer::History {
+  std::vector<HistoryTag> tags;
+};
+
 SceneRenderer::SceneRenderer() : impl_(std::make_unique<Impl>()) {}
 SceneRenderer::~SceneRenderer() = default;
 const Scene& SceneRenderer::scene() const { return impl_->scene; }
@@ -384,6 +405,7 @@ nlohmann::json reloadKey(const Scene& s) {
 
 Result<void> SceneRenderer::update(const Scene& next) {
   Impl& m = *impl_;
+  history_.reset();  // kept frames were drawn from the old scene
   if (reloadKey(m.scene) != reloadKey(next)) {
     auto fresh = create(next, m.path, m.target.contextFramebuffer);
     if (!fresh) return fresh.error();
@@ -407,6 +429,60 @@ Result<void> SceneRenderer::update(const Scene& next) {
 }
 
 void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameStats* stats, const cel::Camera* camera) {
+  Impl& m = *impl_;
+  const Scene& s = m.scene;
+  if (m.path == RenderPath::kFixed || !s.media || s.media->motionBlurFrames == 0) {
+    drawSingle(frame, viewport, stats, camera);
+    return;
+  }
+  // Motion blur: frame k is sum_i w_i F(k - i), i = 0..n, w_i = p^i normalized over the frames
+  // that exist (k - i >= 0). Each F is a pure function of its frame (and camera), kept in a ring
+  // of n + 1 slots, so a sequence draws one new frame per call and a frame alone draws the n before
+  // it first: the same sums, the same pixels.
+  GLint callerFbo = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &callerFbo);
+  const int n = s.media->motionBlurFrames;
+  if (!ensureLayers(viewport)) return;
+  m.layers->setHistorySlots(n + 1);
+  if (!history_) history_ = std::make_unique<History>();
+  history_->tags.resize(static_cast<std::size_t>(n + 1));
+  const cel::Viewport local{0, 0, viewport.width, viewport.height};
+  std::vector<int> slots;
+  std::vector<float> weights;
+  float total = 0.0f;
+  for (int k = std::max(0, frame - n); k <= frame; ++k) {
+    const cel::Camera cam = camera ? *camera : cameraAt(s, k);
+    const int slot = k % (n + 1);
+    const HistoryTag tag = historyTag(k, cam, viewport);
+    if (k == frame || !(history_->tags[static_cast<std::size_t>(slot)] == tag)) {
+      glBindFramebuffer(GL_FRAMEBUFFER, m.layers->historyFramebuffer(slot));
+      drawSingle(k, local, k == frame ? stats : nullptr, &cam);
+      history_->tags[static_cast<std::size_t>(slot)] = tag;
+    }
+    const float w = std::pow(s.media->motionBlurPersistence, static_cast<float>(frame - k));
+    slots.push_back(slot);
+    weights.push_back(w);
+    total += w;
+  }
+  for (float& w : weights) w /= total;
+  const int vp[4] = {viewport.x, viewport.y, viewport.width, viewport.height};
+  m.layers->blendHistory(static_cast<GLuint>(callerFbo), vp, slots, weights);
+}
+
+bool SceneRenderer::ensureLayers(const cel::Viewport& viewport) {
+  Impl& m = *impl_;
+  if (m.layers && m.layers->width() == viewport.width && m.layers->height() == viewport.height) return true;
+  auto layers = media::Layers::create(viewport.width, viewport.height, m.scene.samples, m.scene.media->resolution);
+  if (!layers) {
+    m.lastError = layers.error().message;
+    return false;
+  }
+  m.layers = std::move(*layers);
+  if (history_) history_->tags.clear();
+  return true;
+}
+
+void SceneRenderer::drawSingle(int frame, const cel::Viewport& viewport, FrameStats* stats, const cel::Camera* camera) {
   Impl& m = *impl_;
   const Scene& s = m.scene;
   const cel::Camera cam = camera ? *camera : cameraAt(s, frame);
@@ -478,14 +554,7 @@ void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameSta
   cel::Viewport celViewport = viewport;
   if (m.media) {
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &callerFbo);
-    if (!m.layers || m.layers->width() != viewport.width || m.layers->height() != viewport.height) {
-      auto layers = media::Layers::create(viewport.width, viewport.height, s.samples, s.media->resolution);
-      if (!layers) {
-        m.lastError = layers.error().message;
-        return;
-      }
-      m.layers = std::move(*layers);
-    }
+    if (!ensureLayers(viewport)) return;
     glBindFramebuffer(GL_FRAMEBUFFER, m.layers->opaqueFramebuffer());
     celViewport = cel::Viewport{0, 0, viewport.width, viewport.height};
   }

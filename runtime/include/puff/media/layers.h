@@ -76,6 +76,13 @@ class Layers {
   void compose(GLuint target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
                const ComposeSettings& settings);
 
+  /// Motion blur: `slots` full-size RGBA16F frames kept between calls (1..8; reallocated when the
+  /// count changes). A frame is composed into historyFramebuffer(slot), then blendHistory sums
+  /// the chosen slots with their weights into `target` (colour only, over `viewport`).
+  void setHistorySlots(int slots);
+  GLuint historyFramebuffer(int slot) const;
+  void blendHistory(GLuint target, const int viewport[4], std::span<const int> slots, std::span<const float> weights);
+
   /// The resolved opaque colour and depth textures (for tests and tools).
   GLuint opaqueColor() const;
   GLuint opaqueDepth() const;

@@ -75,9 +75,13 @@ class SceneRenderer {
   SceneRenderer();
   static Result<std::unique_ptr<SceneRenderer>> createFixed(const Scene& scene, bool contextFramebuffer);
   Result<void> createMedia();
+  void drawSingle(int frame, const cel::Viewport& viewport, FrameStats* stats, const cel::Camera* camera);
+  bool ensureLayers(const cel::Viewport& viewport);
   void drawMedia(int frame, const cel::Camera& camera, const cel::Viewport& viewport, GLuint target, FrameStats* stats);
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  struct History;  // motion blur's kept frames
+  std::unique_ptr<History> history_;
 };
 
 }  // namespace puff::render

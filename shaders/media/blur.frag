@@ -1,0 +1,16 @@
+#version 450 core
+// Motion blur (Umenhoffer §4: the new frame fades into the previous ones): the weighted sum of
+// the last frames, weights persistence^age normalized to 1 on the host.
+layout(binding = 0) uniform sampler2D uHistory[8];
+layout(location = 0) uniform int uCount;
+layout(location = 1) uniform float uWeights[8];
+layout(location = 9) uniform vec4 uViewport;  // x, y of the output viewport
+layout(location = 0) out vec4 outColor;
+
+void main() {
+  const ivec2 p = ivec2(gl_FragCoord.xy - uViewport.xy);
+  vec3 sum = vec3(0.0);
+  // Each frame as it would have been shown (clamped to the display range), as a frame buffer fades.
+  for (int i = 0; i < uCount; ++i) sum += uWeights[i] * clamp(texelFetch(uHistory[i], p, 0).rgb, 0.0, 1.0);
+  outColor = vec4(sum, 1.0);
+}
