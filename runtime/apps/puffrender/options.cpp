@@ -219,6 +219,9 @@ int renderFrames(const Options& o, const render::Scene& scene, const Plan& plan)
     path = render::RenderPath::kFixed;
   }
   if (comparing) return compareFrames(o, scene, plan);
+  if (path == render::RenderPath::kFixed && scene.media && !o.quiet) {
+    std::fprintf(stderr, "%s: the fixed-function path draws no fire, smoke or dust: /media is left out\n", kTool);
+  }
   // The fixed path draws into the context's own framebuffer (made at the frame's size above):
   // OpenGL 1.x calls only, no framebuffer objects.
   auto renderer = render::SceneRenderer::create(scene, path, path == render::RenderPath::kFixed);

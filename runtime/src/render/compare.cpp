@@ -25,6 +25,7 @@ Scene restrictToFixedLimits(const Scene& scene, std::vector<std::string>* change
     note("view-plane billboards");
   }
   if (s.samples != 1) s.samples = 1, note("1 sample per pixel");
+  if (s.media) s.media.reset(), note("no fire, smoke or dust media");
   return s;
 }
 

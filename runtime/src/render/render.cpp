@@ -147,6 +147,8 @@ Result<void> SceneRenderer::checkProgrammable() {
   }
   if (auto nb = cel::NailboardRenderer::create(); !nb) return nb.error();
   if (auto op = cel::OpaqueRenderer::create(); !op) return op.error();
+  if (auto md = media::Renderer::create(); !md) return md.error();
+  if (auto ly = media::Layers::create(16, 16, 1, 0.5f); !ly) return ly.error();
   return {};
 }
 
@@ -156,6 +158,10 @@ namespace {
 Result<mesh::TriMesh> fixedPuffMesh(const Scene& scene) {
   fs::path file = scene.fixed.puff;
   if (file.empty()) {
+    const bool particles =
+        !scene.particles.empty() || !scene.emitters.empty() || (scene.simulation && !scene.simulation->emitters.empty());
+    // A scene of objects (and media, which this path does not draw) needs no puff: any will do.
+    if (scene.atlas.empty() && !particles) return mesh::generateSphere(mesh::SphereParams{});
     if (scene.atlas.empty()) return Error::at(scene.file, "/fixed/puff: no puff mesh and no atlas to take one from");
     auto atlas = core::loadAtlas(scene.atlas);
     if (!atlas) return atlas.error();

@@ -17,7 +17,7 @@ Scene withoutParticles(const Scene& scene);
 
 /// The scene within the fixed-function path's limits (McGuire & Fein §4.4), so both paths draw the
 /// same thing: no shadows, the uniform ambient colour instead of a gradient, view-plane billboards,
-/// one sample per pixel. `changes` (optional) lists what was changed, for a report.
+/// one sample per pixel, no media (fire, smoke, dust). `changes` (optional) lists what was changed, for a report.
 Scene restrictToFixedLimits(const Scene& scene, std::vector<std::string>* changes = nullptr);
 
 struct Parity {
