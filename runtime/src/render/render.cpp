@@ -158,8 +158,8 @@ namespace {
 Result<mesh::TriMesh> fixedPuffMesh(const Scene& scene) {
   fs::path file = scene.fixed.puff;
   if (file.empty()) {
-    const bool particles =
-        !scene.particles.empty() || !scene.emitters.empty() || (scene.simulation && !scene.simulation->emitters.empty());
+    const bool particles = !scene.particles.empty() || !scene.emitters.empty() ||
+                           (scene.simulation && !scene.simulation->emitters.empty());
     // A scene of objects (and media, which this path does not draw) needs no puff: any will do.
     if (scene.atlas.empty() && !particles) return mesh::generateSphere(mesh::SphereParams{});
     if (scene.atlas.empty()) return Error::at(scene.file, "/fixed/puff: no puff mesh and no atlas to take one from");
