@@ -4,7 +4,8 @@ layout(std140, binding = 3) uniform MediaBlock {
   mat4 uView;         // world -> camera
   mat4 uProj;         // camera -> clip
   mat4 uInvProj;      // clip -> camera
-  vec4 uTarget;       // width, height, 1 / width, 1 / height of the media target, pixels
+  vec4 uTarget;       // width, height, 1 / width, 1 / height of the media viewport, pixels
+  vec4 uOrigin;       // xy: the viewport's origin, pixels
   vec4 uDepth;        // near, far, far - near, 1 if orthographic
   vec4 uLightDir;     // xyz: unit camera-space direction toward the light
   vec4 uLightColor;   // rgb: radiance an isotropic medium scatters toward the eye

@@ -8,7 +8,7 @@ flat in uvec4 vData;
 
 layout(binding = 0) uniform sampler2D uDepthTex;        // opaque linear depth at this target's size
 layout(binding = 1) uniform sampler1D uBlackbody;       // linear sRGB radiance over uKelvin.xy
-layout(binding = 2) uniform sampler2D uPhase;           // 4 pi P(cos, g): s = (cos + 1) / 2, t = (g + 0.95) / 1.9
+layout(binding = 2) uniform sampler2D uPhase;  // 4 pi P(cos, g): s = sqrt((1 - cos) / 2), t = (g + 0.95) / 1.9
 layout(binding = 3) uniform sampler3D uTemperatureDetail;  // (x, y, time), repeating
 layout(binding = 4) uniform sampler3D uOpacityDetail;
 
@@ -46,7 +46,8 @@ void main() {
   const bool ortho = uDepth.w > 0.5;
 
   // The pixel's ray in camera space (exact, through the texel centre).
-  const vec2 ndc = gl_FragCoord.xy * uTarget.zw * 2.0 - 1.0;
+  const vec2 pixel = gl_FragCoord.xy - uOrigin.xy;
+  const vec2 ndc = pixel * uTarget.zw * 2.0 - 1.0;
   const vec4 pn = uInvProj * vec4(ndc, -1.0, 1.0);
   const vec4 pf = uInvProj * vec4(ndc, 1.0, 1.0);
   vec3 o, dir;
@@ -67,7 +68,7 @@ void main() {
   const float tF = -b - w, tB = -b + w;
   // Depths along the view axis become ray parameters through the ray's slope.
   const float cosA = -dir.z, oz = -o.z;
-  const float lin = texelFetch(uDepthTex, ivec2(gl_FragCoord.xy), 0).r;
+  const float lin = texelFetch(uDepthTex, ivec2(pixel), 0).r;
   const float zs = lin >= 1.0 ? 3.0e38 : uDepth.x + lin * uDepth.z;  // cleared depth: no surface
   const float tScene = (zs - oz) / cosA, tNear = (uDepth.x - oz) / cosA;
 
@@ -115,7 +116,7 @@ void main() {
     tau *= max(0.0, 1.0 + mat.tempRangeBurnDetail.w * (2.0 * D - 1.0));
     const float cosTheta = dot(uLightDir.xyz, dir);  // light's travel vs the scattered direction
     const float g = mat.densityGEmissiveEmission.y;
-    const vec2 pc = vec2((cosTheta + 1.0) * 0.5, (g + 0.95) / 1.9);
+    const vec2 pc = vec2(sqrt(clamp((1.0 - cosTheta) * 0.5, 0.0, 1.0)), (g + 0.95) / 1.9);
     const vec2 ps = vec2(textureSize(uPhase, 0));
     const float p4pi = texture(uPhase, (pc * (ps - 1.0) + 0.5) / ps).r;
     const vec3 C = uAmbient.rgb + uLightColor.rgb * p4pi;

@@ -188,6 +188,56 @@ TEST_F(MediaScenes, MediaSectionRoundTripsThroughJson) {
   EXPECT_EQ(again->media->emitters.size(), 3u);
 }
 
+TEST_F(MediaScenes, EveryMediaFieldSurvivesAWriteAndARead) {
+  const auto j = nlohmann::json::parse(R"({
+    "objects": [{"type": "box", "name": "cart", "path": [{"time": 0, "position": [0, 0, 0]},
+                                                          {"time": 2, "position": [4, 0, 0]}]}],
+    "animation": {"cameraPath": [{"time": 0, "position": [0, 1, 9]}, {"time": 1, "position": [0, 1, 5]}]},
+    "media": {
+      "method": "soft-scurve", "resolution": 0.25, "phase": "henyey-greenstein", "exposure": 2,
+      "blackbody": {"minKelvin": 800, "maxKelvin": 9000, "normalizeKelvin": 3000},
+      "shimmer": 3, "depthAware": false, "depthTolerance": 0.05,
+      "motionBlur": {"frames": 2, "persistence": 0.25},
+      "materials": [{"name": "hot", "preset": "fire", "becomes": "cold", "transitionStart": 0.1, "transitionEnd": 0.7},
+                    {"name": "cold", "preset": "dust", "g": 0.4, "detailSpeed": 3}],
+      "particles": [{"position": [1, 2, 3], "radius": 0.5, "material": "cold", "life": 0.25, "density": 2, "seed": 7}],
+      "emitters": [{"material": "hot", "attach": "cart", "rate": 20, "density": 3, "growth": 0.5}],
+      "forces": {"buoyancy": 1, "vortices": [{"attach": "cart", "strength": 2}]},
+      "substeps": 3, "preroll": 0.5, "maxParticles": 500, "collisionRadius": 0.25,
+      "lights": [{"center": [0, 1, 0], "radius": 2, "intensity": 0.75, "mode": "modulate", "full": "back"}]
+    }
+  })");
+  auto scene = render::parseScene(j, "x.json");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  const render::MediaSpec& m = *scene->media;
+  // Attached emitters and vortices ride on the cart.
+  ASSERT_FALSE(m.emitters[0].emitter.path.empty());
+  EXPECT_EQ(m.emitters[0].emitter.path.at(2.0), glm::vec3(4, 0, 0));
+  EXPECT_EQ(m.forces.vortices[0].path.at(1.0), glm::vec3(2, 0, 0));
+  const nlohmann::json out = render::toJson(*scene);
+  auto again = render::parseScene(out, "x.json");
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(render::toJson(*again), out);
+  const render::MediaSpec& n = *again->media;
+  EXPECT_EQ(n.method, media::Method::kSoftSCurve);
+  EXPECT_EQ(n.resolution, 0.25f);
+  EXPECT_EQ(n.settings.phase, media::PhaseModel::kHenyeyGreenstein);
+  EXPECT_EQ(n.settings.minKelvin, 800.0f);
+  EXPECT_EQ(n.compose.depthAware, false);
+  EXPECT_EQ(n.motionBlurFrames, 2);
+  EXPECT_EQ(n.materials[0].becomes, 1);
+  EXPECT_EQ(n.materials[1].detailSpeed, 3.0f);
+  ASSERT_EQ(n.particles.size(), 1u);
+  EXPECT_EQ(n.particles[0].materialIndex, 1);
+  EXPECT_EQ(n.particles[0].seed, 7u);
+  EXPECT_EQ(n.emitters[0].emitter.density, 3.0f);
+  EXPECT_EQ(n.emitters[0].emitter.path.at(2.0), glm::vec3(4, 0, 0));
+  EXPECT_EQ(n.lights[0].intensityAt(5.0), 0.75f);
+  EXPECT_TRUE(n.lights[0].modulate);
+  EXPECT_TRUE(n.lights[0].fullAtBack);
+  EXPECT_EQ(again->animation.cameraPath.at(0.5), glm::vec3(0, 1, 7));
+}
+
 TEST_F(MediaScenes, BadMediaFieldsNameThePointer) {
   const struct {
     const char* json;
@@ -206,6 +256,10 @@ TEST_F(MediaScenes, BadMediaFieldsNameThePointer) {
        "/media/emitters/0/lifetime: expected a lifetime in seconds > 0, got 0"},
       {R"({"media": {"blackbody": {"minKelvin": 5000, "maxKelvin": 4000}}})",
        "/media/blackbody/maxKelvin: expected maxKelvin > minKelvin, got 4000"},
+      {R"({"media": {"emitters": [{"material": "fire", "variations": [1]}]}})",
+       "/media/emitters/0/variations: unknown key: media particles are spheres (no atlas variation or orientation)"},
+      {R"({"media": {"emitters": [{"attach": "nothing"}]}})",
+       "/media/emitters/0/attach: expected the name of a scene object (there are none), got \"nothing\""},
   };
   for (const auto& c : cases) {
     auto s = render::parseScene(nlohmann::json::parse(c.json), "x.json");

@@ -271,6 +271,8 @@ TEST_F(MediaTest, BurnBlendingIsIlmonenEquationThree) {
                 const double expected = fg[c] * a + bg[c] * (1.0 - a * (1.0 - burn));
                 worst = std::max(worst, std::abs(got[c] - expected));
               }
+              // The layer's alpha: the transmittance left for what is behind, 1 - alpha (1 - burn).
+              worst = std::max(worst, std::abs(got.a - (1.0 - a * (1.0 - burn))));
               if (a > 0.0) ++checked;
             }
           }
@@ -309,28 +311,81 @@ TEST_F(MediaTest, InScatteringFollowsThePhaseFunction) {
     s.phase = model;
     auto r = media::Renderer::create(s);
     ASSERT_TRUE(r.ok()) << r.error().message;
-    media::Material m = plainMaterial(0.5f);
-    m.g = 0.6f;
-    ASSERT_TRUE((*r)->setMaterials({m}).ok());
-    MediaTarget t(kSize);
-    t.setDepth(1.0f);
+    for (float g : {0.6f, 0.9f, 0.95f, -0.7f}) {
+      media::Material m = plainMaterial(0.5f);
+      m.g = g;
+      ASSERT_TRUE((*r)->setMaterials({m}).ok());
+      MediaTarget t(kSize);
+      t.setDepth(1.0f);
+      t.clear({0, 0, 0, 1});
+      t.bind();
+      Camera cam;
+      media::Frame f = cam.frame(kSize);
+      f.ambient = glm::vec3(0.0f);
+      f.lightColor = glm::vec3(1.0f);
+      for (glm::vec3 l : {glm::vec3(0, 0.6f, 0.8f), glm::vec3(0, 0.6f, -0.8f), glm::vec3(1, 0, 0),
+                          glm::vec3(0, 0.1f, -1), glm::vec3(0, 0.03f, -1), glm::vec3(0, 0, -1)}) {
+        f.lightDirection = l;
+        t.clear({0, 0, 0, 1});
+        const media::Particle p = sphereAt({0, 0, -5}, 1.0f);
+        (*r)->draw(f, std::span(&p, 1), Method::kSpherical, t.depth.get());
+        const glm::vec4 c = t.read()[(kSize / 2) * kSize + kSize / 2];
+        // Centre ray: direction (0, 0, -1); the light travels along -l.
+        const double cosTheta = glm::dot(glm::normalize(glm::dvec3(l)), glm::dvec3(0, 0, -1));
+        const double expected = 4.0 * std::numbers::pi * media::phase(model, cosTheta, g);
+        // g rows are 0.0075 apart: the lookup mixes the two nearest (a normalized mix), within 2% of the
+        // exact value even on the g = 0.95 peak.
+        EXPECT_NEAR(c.r / (1.0f - c.a), expected, 0.02 * expected)
+            << media::toString(model) << " g " << g << " cos " << cosTheta;
+      }
+    }
+  }
+}
+
+TEST_F(MediaTest, OrthographicRaysAreParallel) {
+  ASSERT_TRUE(renderer_->setMaterials({plainMaterial(0.5f)}).ok());
+  MediaTarget t(kSize);
+  t.setDepth(1.0f);
+  media::Frame f = Camera{}.frame(kSize);
+  f.orthographic = true;
+  f.projection = glm::ortho(-2.0f, 2.0f, -2.0f, 2.0f, f.nearPlane, f.farPlane);
+  const media::Particle p = sphereAt({0.3f, -0.4f, -5}, 1.1f);
+  for (Method m : {Method::kSpherical, Method::kPlanar}) {
     t.clear({0, 0, 0, 1});
     t.bind();
-    Camera cam;
-    media::Frame f = cam.frame(kSize);
-    f.ambient = glm::vec3(0.0f);
-    f.lightColor = glm::vec3(1.0f);
-    for (glm::vec3 l : {glm::vec3(0, 0.6f, 0.8f), glm::vec3(0, 0.6f, -0.8f), glm::vec3(1, 0, 0)}) {
-      f.lightDirection = l;
-      t.clear({0, 0, 0, 1});
-      const media::Particle p = sphereAt({0, 0, -5}, 1.0f);
-      (*r)->draw(f, std::span(&p, 1), Method::kSpherical, t.depth.get());
-      const glm::vec4 c = t.read()[(kSize / 2) * kSize + kSize / 2];
-      // Centre ray: direction (0, 0, -1); the light travels along -l.
-      const double cosTheta = glm::dot(glm::normalize(glm::dvec3(l)), glm::dvec3(0, 0, -1));
-      const double expected = 4.0 * std::numbers::pi * media::phase(model, cosTheta, 0.6);
-      EXPECT_NEAR(c.r / (1.0f - c.a), expected, 0.01 * expected) << media::toString(model) << " cos " << cosTheta;
-    }
+    renderer_->draw(f, std::span(&p, 1), m, t.depth.get());
+    const auto px = t.read();
+    double worst = 0.0;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        const glm::dvec3 o((x + 0.5) / kSize * 4.0 - 2.0, (y + 0.5) / kSize * 4.0 - 2.0, 0.0);
+        const double a = media::sphereOpacity(o, {0, 0, -1}, {0.3, -0.4, -5}, 1.1, 0.5, 1e30, f.nearPlane);
+        worst = std::max(worst, std::abs((1.0 - px[static_cast<std::size_t>(y) * kSize + x].a) - a));
+      }
+    EXPECT_LT(worst, 2e-5) << media::toString(m);
+  }
+}
+
+TEST_F(MediaTest, AMaterialBecomesAnotherOverItsLife) {
+  media::Material red = plainMaterial(0.8f), blue = plainMaterial(0.8f);
+  red.color = {1, 0, 0};
+  red.becomes = 1;
+  red.transitionStart = 0.2f;
+  red.transitionEnd = 0.6f;
+  blue.color = {0, 0, 1};
+  blue.burn = 1.0f;
+  ASSERT_TRUE(renderer_->setMaterials({red, blue}).ok());
+  MediaTarget t(kSize);
+  t.setDepth(1.0f);
+  const Camera cam;
+  for (auto [life, f] : {std::pair{0.1f, 0.0f}, std::pair{0.4f, 0.5f}, std::pair{0.9f, 1.0f}}) {
+    media::Particle p = sphereAt({0, 0, -5}, 1.0f);
+    p.life = life;
+    const glm::vec4 c = drawOne(t, cam, p, Method::kSpherical)[(kSize / 2) * kSize + kSize / 2];
+    const double a = 1.0 - std::exp(-0.8 * 2.0);
+    EXPECT_NEAR(c.r, (1.0 - f) * a, 1e-4) << life;
+    EXPECT_NEAR(c.b, f * a, 1e-4) << life;
+    EXPECT_NEAR(c.a, 1.0 - a * (1.0 - f), 1e-4) << life;  // burn 0 -> 1 along the way
   }
 }
 
@@ -426,20 +481,21 @@ void fillOpaque(media::Layers& layers, int x0, int x1, float poleDepth, const gl
 }
 
 std::vector<glm::vec4> composeScene(media::Renderer& r, float scale, bool depthAware,
-                                    std::span<const media::ExplosionLight> lights = {}, float shimmerPixels = 0.0f) {
-  const int w = 96, h = 64;
+                                    std::span<const media::ExplosionLight> lights = {}, float shimmerPixels = 0.0f,
+                                    int w = 96, int h = 64, bool pole = true) {
   auto layers = media::Layers::create(w, h, 1, scale);
   EXPECT_TRUE(layers.ok()) << layers.error().message;
   Camera cam;
-  fillOpaque(**layers, 45, 51, cam.linear(3.0f), {0.1f, 0.1f, 0.1f, 1.0f});  // a pole at 3, smoke behind at 6
+  // A pole at 3 (columns 45-50), smoke behind it at 6.
+  fillOpaque(**layers, 45, pole ? 51 : 45, cam.linear(3.0f), {0.1f, 0.1f, 0.1f, 1.0f});
   (*layers)->resolveOpaque();
   (*layers)->beginMedia();
   media::Frame f = cam.frame(0);
   f.projection = glm::perspective(glm::radians(cam.fovDegrees), static_cast<float>(w) / h, cam.nearPlane, cam.farPlane);
-  f.width = (*layers)->mediaWidth();
-  f.height = (*layers)->mediaHeight();
+  f.width = w;
+  f.height = h;
   const media::Particle p = sphereAt({0, 0, -6}, 2.0f);
-  r.draw(f, std::span(&p, 1), Method::kSpherical, (*layers)->mediaDepth(), true);
+  r.draw((*layers)->layerFrame(f), std::span(&p, 1), Method::kSpherical, (*layers)->mediaDepth(), true);
   core::Framebuffer out = core::makeFramebuffer();
   core::Texture color = core::makeTexture(GL_TEXTURE_2D);
   glTextureStorage2D(color.get(), 1, GL_RGBA32F, w, h);
@@ -495,6 +551,29 @@ TEST_F(MediaLayersTest, DepthAwareUpsamplingRemovesHalosAroundNearEdges) {
   }
 }
 
+TEST_F(MediaLayersTest, ALowResolutionLayerStaysAlignedAtSizesNotAMultipleOfItsFactor) {
+  ASSERT_TRUE(renderer_->setMaterials({plainMaterial(0.6f)}).ok());
+  for (auto [w, h] : {std::pair{100, 61}, std::pair{201, 77}}) {
+    // Where the smoke is: the centroid of how far each pixel moved from the bare sky.
+    auto centroid = [&](const std::vector<glm::vec4>& px) {
+      double sx = 0, sy = 0, sw = 0;
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const double wgt = std::abs(px[static_cast<std::size_t>(y) * w + x].r - 0.4);
+          sx += wgt * x, sy += wgt * y, sw += wgt;
+        }
+      return glm::dvec2(sx / sw, sy / sw);
+    };
+    const auto fullpx = composeScene(*renderer_, 1.0f, true, {}, 0.0f, w, h, false);
+    const glm::dvec2 full = centroid(fullpx);
+    for (float scale : {0.5f, 0.25f, 0.125f}) {
+      const glm::dvec2 low = centroid(composeScene(*renderer_, scale, true, {}, 0.0f, w, h, false));
+      EXPECT_LT(glm::length(low - full), 0.6)
+          << w << "x" << h << " at " << scale << ": " << low.x - full.x << ", " << low.y - full.y;
+    }
+  }
+}
+
 TEST_F(MediaLayersTest, HeatShimmerDisplacesTheSceneOnlyBehindFire) {
   media::Material fire = media::fireMaterial();
   fire.shimmer = 1.0f;
@@ -546,8 +625,7 @@ TEST_F(MediaLayersTest, ExplosionLightFollowsDepthNotPolygons) {
   light.center = {0, 0, -2.5f};
   light.radius = 1.0f;
   const auto behind = composeScene(*renderer_, 1.0f, true, std::span(&light, 1));
-  const float rho = 0.0f;  // column 48 is on the view axis only to half a pixel: weight ~1
-  (void)rho;
+  // Column 48 is half a pixel off the view axis: the radial weight is ~1.
   EXPECT_NEAR(behind[32 * 96 + 48].r, 0.1f + 0.5f, 0.01f);
   EXPECT_NEAR(behind[32 * 96 + 48].g, 0.1f + 0.25f, 0.01f);
   // Halfway between the sphere's front (1.5) and centre (2.5): the pole at 3 is past the centre;
@@ -555,6 +633,20 @@ TEST_F(MediaLayersTest, ExplosionLightFollowsDepthNotPolygons) {
   light.center = {0, 0, -3.5f};
   const auto half = composeScene(*renderer_, 1.0f, true, std::span(&light, 1));
   EXPECT_NEAR(half[32 * 96 + 48].r, 0.1f + 0.25f, 0.02f);
+  // Full at the back instead: at the same depth a quarter of the way from front to back.
+  light.fullAtBack = true;
+  const auto back = composeScene(*renderer_, 1.0f, true, std::span(&light, 1));
+  EXPECT_NEAR(back[32 * 96 + 48].r, 0.1f + 0.125f, 0.02f);
+  // Modulating: the surface times mix(1, colour, weight), here weight 0.5 * intensity... with
+  // intensity 0.5 at half depth: k = 0.25 -> red x 1, green x 0.875, blue x 0.75.
+  light.fullAtBack = false;
+  light.modulate = true;
+  light.color = {1.0f, 0.5f, 0.0f};
+  const auto modulated = composeScene(*renderer_, 1.0f, true, std::span(&light, 1));
+  const float pole = 26.0f / 255.0f;
+  EXPECT_NEAR(modulated[32 * 96 + 48].r, pole, 0.005f);
+  EXPECT_NEAR(modulated[32 * 96 + 48].g, pole * 0.875f, 0.005f);
+  EXPECT_NEAR(modulated[32 * 96 + 48].b, pole * 0.75f, 0.005f);
 }
 
 }  // namespace

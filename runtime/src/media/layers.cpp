@@ -40,10 +40,10 @@ core::Texture makeTexture2D(GLenum format, int w, int h, GLenum filter) {
 struct Layers::Impl {
   int width = 0, height = 0, samples = 1, factor = 1, mediaWidth = 0, mediaHeight = 0;
   float scale = 1.0f;
-  core::Framebuffer opaqueFbo, resolveFbo, depthFbo, mediaFbo;
-  core::Renderbuffer msColor, msDepth;
-  core::Texture color, depth, mediaDepth, media, shimmer;
-  core::Program downsample, compose, blur;
+  core::Framebuffer opaqueFbo, resolveFbo, linearFbo, depthFbo, mediaFbo;
+  core::Texture msColor, msDepth;                          // multisample textures (1 sample when MSAA is off)
+  core::Texture color, depth, mediaDepth, media, shimmer;  // depth: R32F linear, the samples' nearest
+  core::Program resolveDepth, downsample, compose, blur;
   std::vector<core::Texture> history;
   std::vector<core::Framebuffer> historyFbo;
   core::VertexArray vao;
@@ -75,6 +75,8 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
   if (samples < 1 || samples > maxSamples)
     return Error{std::to_string(samples) + " samples per pixel asked, but this GL gives 1 to " +
                  std::to_string(maxSamples)};
+  auto resolveDepth = core::buildProgram({"media/fullscreen.vert", "media/resolve_depth.frag"});
+  if (!resolveDepth) return resolveDepth.error();
   auto downsample = core::buildProgram({"media/fullscreen.vert", "media/downsample.frag"});
   if (!downsample) return downsample.error();
   auto compose = core::buildProgram({"media/fullscreen.vert", "media/compose.frag"});
@@ -87,6 +89,7 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
   m.width = width, m.height = height, m.samples = samples, m.factor = factor, m.scale = scale;
   m.mediaWidth = std::max(1, (width + factor - 1) / factor);
   m.mediaHeight = std::max(1, (height + factor - 1) / factor);
+  m.resolveDepth = std::move(*resolveDepth);
   m.downsample = std::move(*downsample);
   m.compose = std::move(*compose);
   m.blur = std::move(*blur);
@@ -94,22 +97,22 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
   m.block = core::makeBuffer();
   glNamedBufferStorage(m.block.get(), sizeof(ComposeBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
 
-  // Opaque pass: multisampled renderbuffers, resolved into textures.
+  // Opaque pass: multisample textures (the depth is read per sample), resolved into textures.
   m.opaqueFbo = core::makeFramebuffer();
-  m.msColor = core::makeRenderbuffer();
-  m.msDepth = core::makeRenderbuffer();
-  const int s = samples > 1 ? samples : 0;
-  glNamedRenderbufferStorageMultisample(m.msColor.get(), s, GL_RGBA8, width, height);
-  glNamedRenderbufferStorageMultisample(m.msDepth.get(), s, GL_DEPTH24_STENCIL8, width, height);
-  glNamedFramebufferRenderbuffer(m.opaqueFbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m.msColor.get());
-  glNamedFramebufferRenderbuffer(m.opaqueFbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m.msDepth.get());
+  m.msColor = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
+  m.msDepth = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
+  glTextureStorage2DMultisample(m.msColor.get(), samples, GL_RGBA8, width, height, GL_TRUE);
+  glTextureStorage2DMultisample(m.msDepth.get(), samples, GL_DEPTH24_STENCIL8, width, height, GL_TRUE);
+  glTextureParameteri(m.msDepth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
+  glNamedFramebufferTexture(m.opaqueFbo.get(), GL_COLOR_ATTACHMENT0, m.msColor.get(), 0);
+  glNamedFramebufferTexture(m.opaqueFbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, m.msDepth.get(), 0);
 
   m.color = makeTexture2D(GL_RGBA8, width, height, GL_NEAREST);
-  m.depth = makeTexture2D(GL_DEPTH24_STENCIL8, width, height, GL_NEAREST);
-  glTextureParameteri(m.depth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
   m.resolveFbo = core::makeFramebuffer();
   glNamedFramebufferTexture(m.resolveFbo.get(), GL_COLOR_ATTACHMENT0, m.color.get(), 0);
-  glNamedFramebufferTexture(m.resolveFbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, m.depth.get(), 0);
+  m.depth = makeTexture2D(GL_R32F, width, height, GL_NEAREST);
+  m.linearFbo = core::makeFramebuffer();
+  glNamedFramebufferTexture(m.linearFbo.get(), GL_COLOR_ATTACHMENT0, m.depth.get(), 0);
 
   m.mediaDepth = makeTexture2D(GL_R32F, m.mediaWidth, m.mediaHeight, GL_NEAREST);
   m.depthFbo = core::makeFramebuffer();
@@ -123,7 +126,7 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
   const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
   glNamedFramebufferDrawBuffers(m.mediaFbo.get(), 2, both);
 
-  for (GLuint fbo : {m.opaqueFbo.get(), m.resolveFbo.get(), m.depthFbo.get(), m.mediaFbo.get()}) {
+  for (GLuint fbo : {m.opaqueFbo.get(), m.resolveFbo.get(), m.linearFbo.get(), m.depthFbo.get(), m.mediaFbo.get()}) {
     if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       return Error{"media layers of " + std::to_string(width) + "x" + std::to_string(height) + " with " +
                    std::to_string(samples) + " samples are not supported by this GL"};
@@ -153,7 +156,7 @@ void Layers::blendHistory(GLuint target, const int viewport[4], std::span<const 
                           std::span<const float> weights) {
   Impl& m = *impl_;
   PUFF_CHECK(slots.size() == weights.size() && !slots.empty() && slots.size() <= 8);
-  glBindFramebuffer(GL_FRAMEBUFFER, target);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_STENCIL_TEST);
@@ -176,27 +179,49 @@ void Layers::blendHistory(GLuint target, const int viewport[4], std::span<const 
   glUseProgram(0);
 }
 
+Frame Layers::layerFrame(const Frame& full) const {
+  const Impl& m = *impl_;
+  // Clip x' = sx x + (sx - 1) w maps the full image's [-1, 1] onto the first width() of the layer's
+  // mediaWidth * factor pixels.
+  const float sx = static_cast<float>(m.width) / static_cast<float>(m.mediaWidth * m.factor);
+  const float sy = static_cast<float>(m.height) / static_cast<float>(m.mediaHeight * m.factor);
+  glm::mat4 s(1.0f);
+  s[0][0] = sx, s[3][0] = sx - 1.0f;
+  s[1][1] = sy, s[3][1] = sy - 1.0f;
+  Frame f = full;
+  f.projection = s * full.projection;
+  f.x = f.y = 0;
+  f.width = m.mediaWidth;
+  f.height = m.mediaHeight;
+  return f;
+}
+
 void Layers::resolveOpaque() {
   Impl& m = *impl_;
   glDisable(GL_SCISSOR_TEST);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDepthMask(GL_TRUE);
+  glDisable(GL_FRAMEBUFFER_SRGB);
   glBlitNamedFramebuffer(m.opaqueFbo.get(), m.resolveFbo.get(), 0, 0, m.width, m.height, 0, 0, m.width, m.height,
                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
-  // Depth cannot be averaged: a multisampled depth resolves to one of its samples.
-  glBlitNamedFramebuffer(m.opaqueFbo.get(), m.resolveFbo.get(), 0, 0, m.width, m.height, 0, 0, m.width, m.height,
-                         GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT, GL_NEAREST);
-
-  glBindFramebuffer(GL_FRAMEBUFFER, m.depthFbo.get());
-  glViewport(0, 0, m.mediaWidth, m.mediaHeight);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_STENCIL_TEST);
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
+  glBindVertexArray(m.vao.get());
+  // Depth cannot be averaged: each pixel keeps the nearest of its samples.
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.linearFbo.get());
+  glViewport(0, 0, m.width, m.height);
+  glUseProgram(m.resolveDepth.get());
+  glUniform1i(0, m.samples);
+  glBindTextureUnit(0, m.msDepth.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.depthFbo.get());
+  glViewport(0, 0, m.mediaWidth, m.mediaHeight);
   glUseProgram(m.downsample.get());
   glUniform1i(0, m.factor);
   glBindTextureUnit(0, m.depth.get());
-  glBindVertexArray(m.vao.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   glUseProgram(0);
@@ -204,7 +229,7 @@ void Layers::resolveOpaque() {
 
 void Layers::beginMedia() {
   Impl& m = *impl_;
-  glBindFramebuffer(GL_FRAMEBUFFER, m.mediaFbo.get());
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.mediaFbo.get());
   glViewport(0, 0, m.mediaWidth, m.mediaHeight);
   glDisable(GL_SCISSOR_TEST);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
@@ -216,6 +241,7 @@ void Layers::beginMedia() {
 void Layers::compose(GLuint target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
                      const ComposeSettings& settings) {
   Impl& m = *impl_;
+  PUFF_CHECK(viewport[2] == m.width && viewport[3] == m.height);
   ComposeBlockData d{};
   d.invProj = glm::inverse(frame.projection);
   d.viewport = glm::vec4(viewport[0], viewport[1], viewport[2], viewport[3]);
@@ -234,13 +260,14 @@ void Layers::compose(GLuint target, const int viewport[4], const Frame& frame, s
   d.counts = glm::ivec4(n, settings.depthAware ? 1 : 0, 0, 0);
   glNamedBufferSubData(m.block.get(), 0, sizeof(d), &d);
 
-  glBindFramebuffer(GL_FRAMEBUFFER, target);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_STENCIL_TEST);
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
   glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_FRAMEBUFFER_SRGB);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glUseProgram(m.compose.get());
   glBindBufferBase(GL_UNIFORM_BUFFER, 5, m.block.get());

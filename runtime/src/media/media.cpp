@@ -33,7 +33,7 @@ Result<void> inRange(const std::string& field, double v, double lo, double hi) {
 // std140 mirrors of shaders/common/media.glsl.
 struct MediaBlockData {
   glm::mat4 view, proj, invProj;
-  glm::vec4 target, depth, lightDir, lightColor, ambient, kelvin;
+  glm::vec4 target, origin, depth, lightDir, lightColor, ambient, kelvin;
   glm::ivec4 mode;
   glm::vec4 time;
 };
@@ -54,7 +54,7 @@ core::Texture makeDetailTexture(const core::DetailVideo* v) {
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) flipped[(static_cast<std::size_t>(k) * h + (h - 1 - y)) * w + x] = v->at(x, y, k);
   }
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);  // floats: rows are always 4-byte aligned
   glTextureSubImage3D(t.get(), 0, 0, 0, 0, w, h, f, GL_RED, GL_FLOAT, flipped.data());
   for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
     glTextureParameteri(t.get(), wrap, GL_REPEAT);  // tileable and looping
@@ -212,20 +212,25 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings) {
   glTextureParameteri(m.blackbody.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTextureParameteri(m.blackbody.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
 
-  // Phase: 4 pi P(cos, g), so an isotropic medium scatters exactly the light's colour.
-  constexpr int kCos = 256, kG = 64;
+  // Phase: 4 pi P(cos, g), so an isotropic medium scatters exactly the light's colour. Addressed by
+  // s = sin(theta / 2) = sqrt((1 - cos) / 2), not cos: the forward peak of g = 0.95 is about 0.03
+  // wide in s and 0.001 in cos, so evenly spaced s samples resolve it. Between g rows the lookup
+  // mixes two normalized functions, which stays normalized; 256 rows keep that mix within 1% of the
+  // exact value on the g = 0.9 peak.
+  constexpr int kCos = 512, kG = 256;
   std::vector<float> table(static_cast<std::size_t>(kCos) * kG);
   for (int j = 0; j < kG; ++j) {
     const double g = -0.95 + 1.9 * j / (kG - 1);
     for (int i = 0; i < kCos; ++i) {
-      const double c = -1.0 + 2.0 * i / (kCos - 1);
+      const double sHalf = static_cast<double>(i) / (kCos - 1);
+      const double c = 1.0 - 2.0 * sHalf * sHalf;
       table[static_cast<std::size_t>(j) * kCos + i] =
           static_cast<float>(4.0 * 3.14159265358979323846 * phase(settings.phase, c, g));
     }
   }
   m.phase = core::makeTexture(GL_TEXTURE_2D);
   glTextureStorage2D(m.phase.get(), 1, GL_R32F, kCos, kG);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glTextureSubImage2D(m.phase.get(), 0, 0, 0, kCos, kG, GL_RED, GL_FLOAT, table.data());
   glTextureParameteri(m.phase.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTextureParameteri(m.phase.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
@@ -293,6 +298,7 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
   d.invProj = glm::inverse(frame.projection);
   d.target = glm::vec4(frame.width, frame.height, 1.0f / static_cast<float>(frame.width),
                        1.0f / static_cast<float>(frame.height));
+  d.origin = glm::vec4(frame.x, frame.y, 0.0f, 0.0f);
   d.depth = glm::vec4(frame.nearPlane, frame.farPlane, frame.farPlane - frame.nearPlane, frame.orthographic ? 1 : 0);
   glm::vec3 l = frame.lightDirection;
   l = glm::length(l) > 0.0f ? glm::normalize(l) : glm::vec3(0, 1, 0);
@@ -323,11 +329,12 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
   glEnable(GL_BLEND);
   glBlendEquationi(0, GL_FUNC_ADD);
   glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA);
-  if (shimmer) {
-    glBlendEquationi(1, GL_FUNC_ADD);
-    glBlendFunci(1, GL_ONE, GL_ONE);
-  }
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glBlendEquationi(1, GL_FUNC_ADD);
+  glBlendFunci(1, GL_ONE, GL_ONE);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  // Without shimmer, a second attachment (if the host has one) is left untouched.
+  const GLboolean s = shimmer ? GL_TRUE : GL_FALSE;
+  glColorMaski(1, s, s, s, s);
 
   glUseProgram(m.program.get());
   glBindVertexArray(m.vao.get());
@@ -346,6 +353,7 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
   glDisable(GL_BLEND);
   glDisable(GL_DEPTH_CLAMP);
   glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
 }  // namespace puff::media

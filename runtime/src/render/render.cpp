@@ -445,8 +445,9 @@ void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameSta
   // that exist (k - i >= 0). Each F is a pure function of its frame (and camera), kept in a ring
   // of n + 1 slots, so a sequence draws one new frame per call and a frame alone draws the n before
   // it first: the same sums, the same pixels.
-  GLint callerFbo = 0;
+  GLint callerFbo = 0, callerRead = 0;
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &callerFbo);
+  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &callerRead);
   const int n = s.media->motionBlurFrames;
   if (!ensureLayers(viewport)) return;
   m.layers->setHistorySlots(n + 1);
@@ -461,7 +462,7 @@ void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameSta
     const int slot = k % (n + 1);
     const HistoryTag tag = historyTag(k, cam, viewport);
     if (k == frame || !(history_->tags[static_cast<std::size_t>(slot)] == tag)) {
-      glBindFramebuffer(GL_FRAMEBUFFER, m.layers->historyFramebuffer(slot));
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.layers->historyFramebuffer(slot));
       drawSingle(k, local, k == frame ? stats : nullptr, &cam);
       history_->tags[static_cast<std::size_t>(slot)] = tag;
     }
@@ -473,6 +474,7 @@ void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameSta
   for (float& w : weights) w /= total;
   const int vp[4] = {viewport.x, viewport.y, viewport.width, viewport.height};
   m.layers->blendHistory(static_cast<GLuint>(callerFbo), vp, slots, weights);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(callerRead));
 }
 
 bool SceneRenderer::ensureLayers(const cel::Viewport& viewport) {
@@ -556,10 +558,11 @@ void SceneRenderer::drawSingle(int frame, const cel::Viewport& viewport, FrameSt
 
   // With media the opaque scene goes into the layers' target first, and the composition writes
   // the caller's framebuffer.
-  GLint callerFbo = 0;
+  GLint callerFbo = 0, callerRead = 0;
   cel::Viewport celViewport = viewport;
   if (m.media) {
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &callerFbo);
+    glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &callerRead);
     if (!ensureLayers(viewport)) return;
     glBindFramebuffer(GL_FRAMEBUFFER, m.layers->opaqueFramebuffer());
     celViewport = cel::Viewport{0, 0, viewport.width, viewport.height};
@@ -601,7 +604,10 @@ void SceneRenderer::drawSingle(int frame, const cel::Viewport& viewport, FrameSt
       m.nailboards->drawNailboards(s.style, cel::ShadePass::kShadowed);
     }
   }
-  if (m.media) drawMedia(frame, cam, viewport, static_cast<GLuint>(callerFbo), stats);
+  if (m.media) {
+    drawMedia(frame, cam, viewport, static_cast<GLuint>(callerFbo), stats);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(callerRead));
+  }
 }
 
 void SceneRenderer::drawMedia(int frame, const cel::Camera& cam, const cel::Viewport& viewport, GLuint target,
@@ -625,9 +631,9 @@ void SceneRenderer::drawMedia(int frame, const cel::Camera& cam, const cel::View
       const sim::ParticleState p = m.mediaSim->particle(i);
       const MediaEmitterSpec& e = spec.emitters[static_cast<std::size_t>(p.emitter)];
       const float life = std::clamp(p.age / p.lifetime, 0.0f, 1.0f);
-      const float fade = e.emitter.density > 0.0f ? p.density / e.emitter.density : 0.0f;
+      // The emitter's density multiplies the material's tau and falls linearly to 0 with age.
       ps.push_back(media::Particle{p.position, 0.5f * p.birthSize * (1.0f + e.growth * life),
-                                   static_cast<std::uint32_t>(e.materialIndex), life, fade, p.id});
+                                   static_cast<std::uint32_t>(e.materialIndex), life, p.density, p.id});
     }
   }
   m.layers->resolveOpaque();
@@ -642,10 +648,11 @@ void SceneRenderer::drawMedia(int frame, const cel::Camera& cam, const cel::View
   mf.lightColor = s.light.color;
   mf.ambient = s.ambientColor;
   mf.time = frameTime(s, frame);
-  mf.width = m.layers->mediaWidth();
-  mf.height = m.layers->mediaHeight();
+  mf.width = viewport.width;
+  mf.height = viewport.height;
   media::DrawStats ds;
-  m.media->draw(mf, ps, spec.method, m.layers->mediaDepth(), spec.compose.shimmerPixels > 0.0f, &ds);
+  m.media->draw(m.layers->layerFrame(mf), ps, spec.method, m.layers->mediaDepth(), spec.compose.shimmerPixels > 0.0f,
+                &ds);
   std::vector<media::ExplosionLight> lights;
   for (const MediaLightSpec& l : spec.lights) {
     lights.push_back(

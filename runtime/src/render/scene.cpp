@@ -877,6 +877,10 @@ MediaSpec readMedia(const json& j, const std::string& ptr, const Reader& r) {
       if (auto* y = find(e, "growth")) s.growth = readFloat(*y, child(q, "growth"), Range{0.0, 100.0});
       e.erase("material");
       e.erase("growth");
+      for (const char* key : {"variations", "oriented", "spin"}) {
+        if (e.contains(key))
+          failText(child(q, key), "unknown key: media particles are spheres (no atlas variation or orientation)");
+      }
       s.emitter = readSimEmitter(e, q);
       m.emitters.push_back(std::move(s));
     }
@@ -952,28 +956,28 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
       s.fixed.cellSize = c;
     }
   }
+  // Vortices and emitters that ride on an object follow its path (their position is an offset
+  // from where the object is).
+  auto resolve = [&](const std::string& name, sim::Path& path, const std::string& ptr) {
+    if (name.empty()) return;
+    const auto it =
+        std::find_if(s.objects.begin(), s.objects.end(), [&](const ObjectSpec& o) { return o.name == name; });
+    if (it == s.objects.end()) {
+      std::string names;
+      for (const ObjectSpec& o : s.objects) names += (names.empty() ? "" : ", ") + o.name;
+      failText(ptr, "expected the name of a scene object (" + (names.empty() ? std::string("there are none") : names) +
+                        "), got \"" + name + "\"");
+    }
+    if (std::count_if(s.objects.begin(), s.objects.end(), [&](const ObjectSpec& o) { return o.name == name; }) > 1)
+      failText(ptr, "\"" + name + "\" names more than one object; give the object a unique name");
+    if (!path.empty()) failText(ptr, "a vortex or emitter follows its own path or an object, not both");
+    path = it->path;
+    if (path.empty()) path = sim::Path{{0.0f}, {glm::vec3(0.0f)}};
+    for (glm::vec3& p : path.points) p += it->translate;
+  };
   if (auto* v = find(j, "simulation")) {
     s.simulation = readSimulation(*v, "/simulation");
     s.simulation->fps = s.animation.fps;
-    // Vortices and emitters that ride on an object follow its path (their position is an offset
-    // from where the object is).
-    auto resolve = [&](const std::string& name, sim::Path& path, const std::string& ptr) {
-      if (name.empty()) return;
-      const auto it =
-          std::find_if(s.objects.begin(), s.objects.end(), [&](const ObjectSpec& o) { return o.name == name; });
-      if (it == s.objects.end()) {
-        std::string names;
-        for (const ObjectSpec& o : s.objects) names += (names.empty() ? "" : ", ") + o.name;
-        failText(ptr, "expected the name of a scene object (" +
-                          (names.empty() ? std::string("there are none") : names) + "), got \"" + name + "\"");
-      }
-      if (std::count_if(s.objects.begin(), s.objects.end(), [&](const ObjectSpec& o) { return o.name == name; }) > 1)
-        failText(ptr, "\"" + name + "\" names more than one object; give the object a unique name");
-      if (!path.empty()) failText(ptr, "a vortex or emitter follows its own path or an object, not both");
-      path = it->path;
-      if (path.empty()) path = sim::Path{{0.0f}, {glm::vec3(0.0f)}};
-      for (glm::vec3& p : path.points) p += it->translate;
-    };
     for (std::size_t i = 0; i < s.simulation->forces.vortices.size(); ++i) {
       sim::Vortex& vortex = s.simulation->forces.vortices[i];
       resolve(vortex.attach, vortex.path, "/simulation/forces/vortices/" + std::to_string(i) + "/attach");
@@ -988,7 +992,15 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
   }
   if (auto* v = find(j, "media")) {
     s.media = readMedia(*v, "/media", r);
-    if (!s.media->emitters.empty()) {
+    for (std::size_t i = 0; i < s.media->forces.vortices.size(); ++i) {
+      sim::Vortex& vortex = s.media->forces.vortices[i];
+      resolve(vortex.attach, vortex.path, "/media/forces/vortices/" + std::to_string(i) + "/attach");
+    }
+    for (std::size_t i = 0; i < s.media->emitters.size(); ++i) {
+      sim::Emitter& e = s.media->emitters[i].emitter;
+      resolve(e.attach, e.path, "/media/emitters/" + std::to_string(i) + "/attach");
+    }
+    if (!s.media->emitters.empty() || !s.media->forces.vortices.empty()) {
       sim::Settings check;
       check.forces = s.media->forces;
       for (const MediaEmitterSpec& e : s.media->emitters) check.emitters.push_back(e.emitter);

@@ -67,12 +67,17 @@ class Layers {
   void resolveOpaque();
   /// The opaque depth at the layer's resolution (for Renderer::draw).
   GLuint mediaDepth() const;
+  /// The frame to draw the media layer with, from the full-size frame: the layer's size, and a
+  /// projection whose viewport is the layer's (mediaWidth * factor may exceed width(): layer texel
+  /// i covers full pixels [i * factor, (i + 1) * factor), the last ones partly outside the image).
+  Frame layerFrame(const Frame& full) const;
   /// Binds the media layer framebuffer (attachment 0: RGBA16F radiance + transmittance; 1: RG16F
   /// shimmer), sets the viewport and clears it to no medium (0, 0, 0, 1).
   void beginMedia();
-  /// Composes into framebuffer `target` (0 = the default framebuffer) over `viewport` (x, y, w, h,
-  /// which must be width() x height()). `view`/`projection`/planes: the frame's camera, for the
-  /// explosion lights. `time` animates the lights' projected texture.
+  /// Composes into framebuffer `target` (0 = the default framebuffer; bound as the DRAW framebuffer,
+  /// the read binding is left alone) over `viewport` (x, y, w, h; w x h must be width() x height()).
+  /// `frame`: the full-size frame (camera, planes) for the explosion lights. Colour only: the
+  /// target's depth and stencil are not written.
   void compose(GLuint target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
                const ComposeSettings& settings);
 
@@ -83,7 +88,8 @@ class Layers {
   GLuint historyFramebuffer(int slot) const;
   void blendHistory(GLuint target, const int viewport[4], std::span<const int> slots, std::span<const float> weights);
 
-  /// The resolved opaque colour and depth textures (for tests and tools).
+  /// The resolved opaque colour (RGBA8) and linear depth (R32F: the nearest of each pixel's
+  /// samples) textures (for tests and tools).
   GLuint opaqueColor() const;
   GLuint opaqueDepth() const;
   GLuint mediaColor() const;

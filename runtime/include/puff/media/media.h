@@ -78,7 +78,7 @@ struct Material {
   float burn = 0.0f;             ///< Ilmonen's burn, [0, 1]: 0 blends as a medium, 1 adds
   float detail = 0.5f;           ///< opacity perturbation by the detail video (non-emissive), [0, 1]
   float detailWindow = 0.3f;     ///< share of the detail video's width one particle shows, (0, 1]
-  float detailSpeed = 8.0f;      ///< detail video frames per second of particle age, [0, 1e3]
+  float detailSpeed = 8.0f;      ///< detail video frames per second of scene time, [0, 1e3]
   float shimmer = 0.0f;          ///< heat-shimmer weight this material writes, [0, 1] (fire: 1)
   /// Over its life a particle turns into another material (fire into smoke): between life
   /// fractions transitionStart and transitionEnd every value above is interpolated towards
@@ -116,8 +116,9 @@ struct Frame {
   glm::vec3 lightColor{1.0f};                  ///< radiance an isotropic medium scatters to the eye
   glm::vec3 ambient{0.25f};                    ///< isotropic in-scattered radiance
   float time = 0.0f;                           ///< seconds (animates the detail video)
-  /// The target drawn into (the media layer): its size in pixels; rays go through texel centres.
-  int width = 0, height = 0;
+  /// The viewport drawn into (the media layer): origin and size in pixels; rays go through pixel
+  /// centres. The depth texture is read at the same pixels.
+  int x = 0, y = 0, width = 0, height = 0;
 };
 
 struct Settings {

@@ -55,8 +55,10 @@ class SceneRenderer {
   /// `scene.width` x `scene.height`. The same frame always gives the same pixels.
   Result<core::Image> renderFrame(int frame, FrameStats* stats = nullptr);
 
-  /// Renders frame `frame` into the current draw framebuffer instead (for a window): `target`
-  /// must have depth + stencil. The viewport is scene size unless given.
+  /// Renders frame `frame` into the current draw framebuffer instead (for a window), which must have
+  /// depth + stencil for the cel path. A scene with media draws its opaque pass into the renderer's
+  /// own layers and composes colour only into the framebuffer (its depth and stencil are left as
+  /// they were); the draw and read framebuffer bindings are as they were on return.
   /// `camera` (optional) replaces the scene's camera for this frame (a viewer's orbit camera).
   void drawFrame(int frame, const cel::Viewport& viewport, FrameStats* stats = nullptr,
                  const cel::Camera* camera = nullptr);

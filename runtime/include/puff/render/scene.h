@@ -115,7 +115,8 @@ struct MediaParticleSpec {
 
 /// Media particles born by the simulator (an explosion's burst, a fire's stream). The emitter's
 /// size is the diameter at birth; the radius grows to (1 + growth) times its birth value over the
-/// particle's life while its density falls linearly to 0 (it fades, never pops).
+/// particle's life while its density (which multiplies the material's tau) falls linearly to 0:
+/// it fades, never pops.
 struct MediaEmitterSpec {
   sim::Emitter emitter;
   std::string material = "smoke";
