@@ -110,17 +110,21 @@ void main() {
   float tau = mat.densityGEmissiveEmission.x * density;
   vec3 radiance = vec3(0.0);
   float temperatureDetail = 0.5, shimmerY = 0.5;
-  if (emissive < 1.0) {
+  // Opacity detail and scattering: both amounts are uploaded as 0 for emitters, so a material
+  // turning from fire into smoke takes them up continuously (linearly) across its transition.
+  if (mat.tempRangeBurnDetail.w > 0.0) {
     const vec3 size = vec3(textureSize(uOpacityDetail, 0));
     const float D = texture(uOpacityDetail, vec3(tex3.xy, tex3.z + uTime.x * speed / size.z)).r;
     tau *= max(0.0, 1.0 + mat.tempRangeBurnDetail.w * (2.0 * D - 1.0));
+  }
+  if (mat.colorAlbedo.a > 0.0) {
     const float cosTheta = dot(uLightDir.xyz, dir);  // light's travel vs the scattered direction
     const float g = mat.densityGEmissiveEmission.y;
     const vec2 pc = vec2(sqrt(clamp((1.0 - cosTheta) * 0.5, 0.0, 1.0)), (g + 0.95) / 1.9);
     const vec2 ps = vec2(textureSize(uPhase, 0));
     const float p4pi = texture(uPhase, (pc * (ps - 1.0) + 0.5) / ps).r;
     const vec3 C = uAmbient.rgb + uLightColor.rgb * p4pi;
-    radiance += (1.0 - emissive) * mat.colorAlbedo.a * mat.colorAlbedo.rgb * C;
+    radiance += mat.colorAlbedo.a * mat.colorAlbedo.rgb * C;
   }
   if (emissive > 0.0) {
     const vec3 size = vec3(textureSize(uTemperatureDetail, 0));

@@ -15,7 +15,8 @@ namespace {
 constexpr float kQuatRange = 0.70710678f;  // the three smallest components lie in [-1/sqrt2, 1/sqrt2]
 
 std::uint32_t quantize16(float v, float lo, float hi) {
-  const float t = std::clamp((v - lo) / (hi - lo), 0.0f, 1.0f);
+  float t = (v - lo) / (hi - lo);
+  t = t >= 0.0f ? std::min(t, 1.0f) : 0.0f;  // NaN (a position not drawn) goes to 0 too
   return static_cast<std::uint32_t>(std::lround(t * 65535.0f));
 }
 
@@ -58,13 +59,16 @@ glm::quat unpackQuat(std::uint32_t bits) {
 }  // namespace
 
 PackBounds packParticles(std::span<const Particle> particles, std::vector<PackedParticle>& out) {
+  // A particle whose position is not finite is not drawn (size 0) and does not widen the bounds:
+  // one bad position must not take the batch with it.
+  auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
   PackBounds b;
-  if (!particles.empty()) {
-    b.min = b.max = particles[0].position;
-    for (const Particle& p : particles) {
-      b.min = glm::min(b.min, p.position);
-      b.max = glm::max(b.max, p.position);
-    }
+  bool any = false;
+  for (const Particle& p : particles) {
+    if (!finite(p.position)) continue;
+    b.min = any ? glm::min(b.min, p.position) : p.position;
+    b.max = any ? glm::max(b.max, p.position) : p.position;
+    any = true;
   }
   for (int a = 0; a < 3; ++a) {
     if (!(b.max[a] > b.min[a])) b.max[a] = b.min[a] + 1.0f;
@@ -72,7 +76,7 @@ PackBounds packParticles(std::span<const Particle> particles, std::vector<Packed
   out.resize(particles.size());
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const Particle& p = particles[i];
-    const float size = std::isfinite(p.size) ? std::clamp(p.size, 0.0f, 65504.0f) : 0.0f;
+    const float size = std::isfinite(p.size) && finite(p.position) ? std::clamp(p.size, 0.0f, 65504.0f) : 0.0f;
     PackedParticle& o = out[i];
     o.x = quantize16(p.position.x, b.min.x, b.max.x) | (quantize16(p.position.y, b.min.y, b.max.y) << 16);
     o.y = quantize16(p.position.z, b.min.z, b.max.z) | (static_cast<std::uint32_t>(glm::packHalf1x16(size)) << 16);
