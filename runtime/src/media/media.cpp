@@ -254,7 +254,8 @@ Result<void> Renderer::setMaterials(std::vector<Material> materials) {
     gpu[i].colorAlbedo = glm::vec4(mt.color, mt.emissive ? 0.0f : mt.albedo);
     gpu[i].densityGEmissiveEmission = glm::vec4(mt.density, mt.g, mt.emissive ? 1.0f : 0.0f, mt.emission);
     // An emitter has no opacity detail (its detail is temperature) and scatters nothing (albedo 0).
-    gpu[i].tempRangeBurnDetail = glm::vec4(mt.temperature, mt.temperatureRange, mt.burn, mt.emissive ? 0.0f : mt.detail);
+    gpu[i].tempRangeBurnDetail =
+        glm::vec4(mt.temperature, mt.temperatureRange, mt.burn, mt.emissive ? 0.0f : mt.detail);
     gpu[i].windowSpeedShimmerNext =
         glm::vec4(mt.detailWindow, mt.detailSpeed, mt.shimmer, static_cast<float>(mt.becomes));
     gpu[i].transition = glm::vec4(mt.transitionStart, mt.transitionEnd, 0.0f, 0.0f);
