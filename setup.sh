@@ -17,6 +17,8 @@ packages=(
   libgtest-dev xvfb xauth openimageio-tools
   # formatting
   clang-format
+  # charts of the speed-against-accuracy report (tests/bench/report.sh)
+  gnuplot-nox
 )
 
 missing=()

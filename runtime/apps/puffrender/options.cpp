@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -15,6 +16,7 @@
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/core/shader.h>
+#include <puff/render/budget.h>
 #include <puff/render/compare.h>
 #include <puff/render/render.h>
 #include <puff/render/scene.h>
@@ -159,7 +161,39 @@ int compareFrames(const Options& o, const render::Scene& scene, const Plan& plan
   return 0;
 }
 
-int renderFrames(const Options& o, const render::Scene& scene, const Plan& plan) {
+// --max-error: measures every media layer resolution at up to three of the frames to render, against
+// the exact reference, and sets the cheapest within the budget on `scene` (render/budget.h).
+// Returns 0, or the exit code of a failure (after saying why).
+int chooseMediaResolution(const Options& o, render::Scene& scene, const Plan& plan) {
+  const std::vector<int> frames = render::budgetFrames(plan.first, plan.last);
+  if (!o.quiet) {
+    std::string list;
+    for (int f : frames) list += (list.empty() ? "" : ", ") + std::to_string(f);
+    std::fprintf(stderr, "%s: --max-error %g: measuring media resolutions 0.125 to 1 against the reference at %s %s\n",
+                 kTool, *o.maxError, frames.size() == 1 ? "frame" : "frames", list.c_str());
+    std::fflush(stderr);
+  }
+  auto budget = render::measureMediaBudget(scene, frames);
+  if (!budget) {
+    printError(budget.error().message);
+    return 1;
+  }
+  auto choice = render::chooseMediaResolution(*budget, *o.maxError);
+  if (!choice) {  // parse() checked the value
+    printError("--max-error: " + choice.error().message);
+    return 2;
+  }
+  if (!o.quiet) {
+    std::fprintf(stderr, "%s", render::budgetTable(*budget, *choice).c_str());
+    if (!choice->met) std::fprintf(stderr, "%s: warning: %s\n", kTool, render::budgetWarning(*budget, *choice).c_str());
+  }
+  std::fprintf(stderr, "%s: %s\n", kTool, render::budgetSummary(*budget, *choice).c_str());
+  std::fflush(stderr);
+  scene.media->resolution = budget->candidates[choice->chosen].resolution;
+  return 0;
+}
+
+int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
   // Fail before any rendering if an output can never be written: every directory the frames go
   // to is created now (and taken back, if still empty, when the run fails) and must be writable.
   core::OutputTransaction directories;
@@ -219,6 +253,15 @@ int renderFrames(const Options& o, const render::Scene& scene, const Plan& plan)
     path = render::RenderPath::kFixed;
   }
   if (comparing) return compareFrames(o, scene, plan);
+  if (o.maxError) {
+    if (path == render::RenderPath::kFixed) {
+      printError(
+          "--max-error chooses the media layer's resolution, and the programmable path that draws media "
+          "cannot run here");
+      return 1;
+    }
+    if (const int code = chooseMediaResolution(o, scene, plan); code != 0) return code;
+  }
   if (path == render::RenderPath::kFixed && scene.media && !o.quiet) {
     std::fprintf(stderr, "%s: the fixed-function path draws no fire, smoke or dust: /media is left out\n", kTool);
   }
@@ -384,14 +427,37 @@ std::variant<Options, int> parse(int argc, char** argv) {
   auto* tolerance =
       app.add_option("--tolerance", o.toneTolerance, "--compare: per-channel tone tolerance in [0, 1]. Default: 0.1")
           ->check(CLI::Range(0.0f, 1.0f));
+  std::string maxErrorText;
+  auto* maxError = app.add_option("--max-error", maxErrorText,
+                                  "Scenes with media: render with the cheapest media layer resolution "
+                                  "(/media/resolution: 0.125, 0.25, 0.5 or 1) whose image stays within RMSE E "
+                                  "(linear colour, in (0, 1], e.g. 0.01) of the exact reference, measured at the "
+                                  "first, middle and last of the frames rendered (the worst of them); if none does, "
+                                  "1, with a warning. Prints the measurements (resolution, worst RMSE, median ms) "
+                                  "and one line saying what it chose and why on stderr; -q: that line only. The "
+                                  "method stays the scene's; particle count and atlas/mesh level of detail are not "
+                                  "chosen. The measured frames leave out explosion lights, heat shimmer and motion "
+                                  "blur (the reference has none); the output keeps them")
+                       ->type_name("E");
   app.add_flag("--print-scene", o.printScene,
                "Print the scene as it will be rendered (every field, defaults and the options above applied) as JSON, "
                "and exit without rendering");
-  app.add_flag("-q,--quiet", o.quiet, "Print errors only");
+  app.add_flag("-q,--quiet", o.quiet, "Print errors only (and --max-error's one-line choice)");
 
   try {
     app.parse(argc, argv);
     o.toleranceGiven = tolerance->count() > 0;
+    if (maxError->count() > 0) {
+      // Parsed here, not by CLI11, so that nan and inf get the same message as 0 or 2.
+      char* end = nullptr;
+      const double e = std::strtod(maxErrorText.c_str(), &end);
+      if (maxErrorText.empty() || end != maxErrorText.c_str() + maxErrorText.size() || !std::isfinite(e) ||
+          !(e > 0.0 && e <= 1.0)) {
+        printError("--max-error: expected an RMSE in (0, 1] (linear colour, e.g. 0.01), got \"" + maxErrorText + "\"");
+        return 2;
+      }
+      o.maxError = e;
+    }
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
@@ -462,6 +528,22 @@ int run(const Options& o) {
   if (!o.compare.empty() && o.path != "cel") {
     printError("--path and --compare do not go together: --compare draws with both paths");
     return 2;
+  }
+  if (o.maxError) {
+    if (!scene.media) {
+      printError("--max-error chooses the media layer's resolution, and " + o.scene.string() +
+                 " has no media (/media)");
+      return 2;
+    }
+    if (!o.compare.empty()) {
+      printError("--max-error and --compare do not go together: --compare draws within the fixed path's limits");
+      return 2;
+    }
+    if (o.path != "cel") {
+      printError("--max-error chooses the media layer's resolution, which only the cel path draws: leave out --path " +
+                 o.path);
+      return 2;
+    }
   }
   return renderFrames(o, scene, *plan);
 }

@@ -25,6 +25,9 @@ struct Options {
   std::string compare;         ///< "A,B" (cel and fixed, either order): render both, report parity
   float toneTolerance = 0.1f;  ///< --compare: per-channel tolerance of "the same tone"
   bool toleranceGiven = false;
+  /// --max-error: the largest RMSE (linear colour, (0, 1]) the media may differ from the exact
+  /// reference by; puffrender then measures and picks the cheapest media layer resolution within it.
+  std::optional<double> maxError;
   bool printScene = false;
   bool quiet = false;
 };

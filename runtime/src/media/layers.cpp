@@ -118,7 +118,9 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
   m.depthFbo = core::makeFramebuffer();
   glNamedFramebufferTexture(m.depthFbo.get(), GL_COLOR_ATTACHMENT0, m.mediaDepth.get(), 0);
 
-  m.media = makeTexture2D(GL_RGBA16F, m.mediaWidth, m.mediaHeight, GL_NEAREST);
+  // 32-bit floats: Mesa llvmpipe blends half floats rounding toward zero, which over the ~100 layers of
+  // a camera inside smoke darkened the image by 0.004 (4x the 8-bit rounding; puffbench measures it).
+  m.media = makeTexture2D(GL_RGBA32F, m.mediaWidth, m.mediaHeight, GL_NEAREST);
   m.shimmer = makeTexture2D(GL_RG16F, m.mediaWidth, m.mediaHeight, GL_NEAREST);
   m.mediaFbo = core::makeFramebuffer();
   glNamedFramebufferTexture(m.mediaFbo.get(), GL_COLOR_ATTACHMENT0, m.media.get(), 0);

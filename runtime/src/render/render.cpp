@@ -108,6 +108,7 @@ struct SceneRenderer::Impl {
   std::unique_ptr<media::Layers> layers;
   std::unique_ptr<sim::Simulator> mediaSim;
   std::vector<media::Particle> mediaParticles;
+  std::optional<media::Frame> lastMediaFrame;  // the full-size frame of the last media draw
 };
 
 namespace {
@@ -660,10 +661,30 @@ void SceneRenderer::drawMedia(int frame, const cel::Camera& cam, const cel::View
   }
   const int vp[4] = {viewport.x, viewport.y, viewport.width, viewport.height};
   m.layers->compose(target, vp, mf, lights, spec.compose);
+  m.lastMediaFrame = mf;
   if (stats) {
     stats->mediaParticles = ds.particles;
     stats->simulateMs += simulateMs;
   }
+}
+
+Result<SceneRenderer::MediaFrameInputs> SceneRenderer::lastMediaFrame() const {
+  const Impl& m = *impl_;
+  if (!m.media) return Error{"the scene has no media, or this path does not draw them"};
+  if (!m.layers || !m.lastMediaFrame) return Error{"no frame with media has been drawn yet"};
+  MediaFrameInputs in;
+  in.frame = *m.lastMediaFrame;
+  in.particles = m.mediaParticles;
+  const std::size_t n = static_cast<std::size_t>(m.layers->width()) * static_cast<std::size_t>(m.layers->height());
+  in.opaqueColor.resize(n);
+  in.opaqueDepth.resize(n);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(m.layers->opaqueColor(), 0, GL_RGB, GL_FLOAT, static_cast<GLsizei>(n * sizeof(glm::vec3)),
+                    in.opaqueColor.data());
+  glGetTextureImage(m.layers->opaqueDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(n * sizeof(float)),
+                    in.opaqueDepth.data());
+  if (const std::string e = core::drainGlErrors(); !e.empty()) return Error{"reading the opaque layer back: " + e};
+  return in;
 }
 
 Result<core::Image> SceneRenderer::renderFrame(int frame, FrameStats* stats) {

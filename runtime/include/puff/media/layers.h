@@ -71,7 +71,7 @@ class Layers {
   /// projection whose viewport is the layer's (mediaWidth * factor may exceed width(): layer texel
   /// i covers full pixels [i * factor, (i + 1) * factor), the last ones partly outside the image).
   Frame layerFrame(const Frame& full) const;
-  /// Binds the media layer framebuffer (attachment 0: RGBA16F radiance + transmittance; 1: RG16F
+  /// Binds the media layer framebuffer (attachment 0: RGBA32F radiance + transmittance; 1: RG16F
   /// shimmer), sets the viewport and clears it to no medium (0, 0, 0, 1).
   void beginMedia();
   /// Composes into framebuffer `target` (0 = the default framebuffer; bound as the DRAW framebuffer,

@@ -29,7 +29,7 @@
 //  - Order: per ray, by the distance along THIS ray to each chord's midpoint (the point of the ray
 //    nearest the sphere's centre), farthest first; the GPU sorts once per frame by the centres'
 //    view-axis depth, which differs where overlapping spheres lie off the view axis.
-//  - Arithmetic: doubles throughout (the GPU: 32-bit floats, a 16-bit float layer, an 8-bit
+//  - Arithmetic: doubles throughout (the GPU: 32-bit floats, a 32-bit float layer, an 8-bit
 //    opaque colour target); no clamping of the result.
 //
 // DELIBERATELY THE RENDERER'S MODEL (the choices, not approximations, that the two share):
@@ -52,7 +52,7 @@
 //
 // tests/unit/reference_test.cpp: in a float target and with viewAxisOrder, billboard.frag equals
 // this to an RMSE of about 1e-5 (32-bit arithmetic and the GPU's tables); everything else the full
-// GPU path differs by is the order, the 16-bit float layer and the 8-bit opaque colour.
+// GPU path differs by is the order, the float layer's blending and the 8-bit opaque colour.
 #pragma once
 
 #include <cstdint>

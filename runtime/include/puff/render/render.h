@@ -7,6 +7,9 @@
 #include <memory>
 #include <optional>
 #include <string_view>
+#include <vector>
+
+#include <glm/vec3.hpp>
 
 #include <puff/core/image.h>
 #include <puff/render/scene.h>
@@ -72,6 +75,21 @@ class SceneRenderer {
   Result<void> update(const Scene& scene);
 
   const Scene& scene() const;
+
+  /// What the media path drew in the most recent frame, read back (for tools and tests:
+  /// render::measureMediaBudget, budget.h, hands it to puff::reference to compute the exact image
+  /// over the same opaque layer). With motion blur, the last frame drawn is the frame itself.
+  struct MediaFrameInputs {
+    media::Frame frame;                      ///< the FULL-SIZE frame (camera, planes, light, ambient, time, size)
+    std::vector<media::Particle> particles;  ///< listed + simulated, as handed to media::Renderer::draw
+    /// The resolved opaque layer the media were composed over, width x height, row 0 at the BOTTOM:
+    /// the colour as its RGBA8 texture holds it (k / 255) and the linear depth (R32F, >= 1: none).
+    std::vector<glm::vec3> opaqueColor;
+    std::vector<float> opaqueDepth;
+  };
+  /// Needs this renderer's context current. Errors: the scene has no media, the path is kFixed,
+  /// or no frame with media has been drawn yet.
+  Result<MediaFrameInputs> lastMediaFrame() const;
 
  private:
   SceneRenderer();

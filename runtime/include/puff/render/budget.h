@@ -1,0 +1,97 @@
+// "Just enough model" (issue 7) for the media path: for a scene and some frames of its camera path,
+// measure what each media layer resolution (MediaSpec::resolution: 1/8, 1/4, 1/2, 1) costs and how
+// far its image lies from the exact reference (puff::reference), then pick the cheapest resolution
+// whose error stays within a budget. puffrender --max-error is a shell around these calls.
+//
+// What is compared, apples to apples:
+//  - the GPU: SceneRenderer::renderFrame, the composed 8-bit image read back as values in [0, 1];
+//  - the reference: reference::renderMediaReference over the SAME opaque layer the GPU composed
+//    over (SceneRenderer::lastMediaFrame: the resolved RGBA8 colour and the linear depth of that
+//    very frame), the same particles, materials, settings and detail videos, at full output size,
+//    composited along each ray, then clamped to [0, 1] as the 8-bit target clamps;
+//  - the error: reference::imageError's RMSE over every pixel's R, G, B, linear colour.
+// Both sides leave out what the reference does not model, which the measured renders therefore
+// leave out too: the explosion lights (media.lights), heat shimmer and motion blur. The 8-bit
+// output alone costs an RMSE of about 0.0011 (uniform rounding: 1 / (255 sqrt 12)), so budgets
+// below about 0.002 are not met at any resolution.
+//
+// Only the layer resolution is chosen. The method stays the scene's (it changes what the image
+// IS where media meet surfaces, not how much it costs to approximate it); particle count and
+// atlas / mesh level of detail are not cost parameters here.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <puff/core/error.h>
+#include <puff/render/scene.h>
+
+namespace puff::render {
+
+/// The media layer resolutions measured, cheapest first: the layer has resolution^2 of the output's
+/// pixels, so this is also the order of cost (the measured times are reported, not used to order).
+inline constexpr std::array<float, 4> kMediaResolutions{0.125f, 0.25f, 0.5f, 1.0f};
+
+struct MediaBudgetOptions {
+  /// Timed renders per frame and resolution, [1, 100]. The first render of a frame (which also steps
+  /// the simulators there and gives the measured image) is never timed.
+  int timedRenders = 3;
+};
+
+/// One resolution, measured.
+struct MediaCandidate {
+  float resolution = 1.0f;   ///< MediaSpec::resolution
+  std::vector<double> rmse;  ///< per measured frame (MediaBudget::frames order), linear colour
+  double worstRmse = 0.0;    ///< the largest of `rmse`
+  double medianMs = 0.0;     ///< median wall time of one SceneRenderer::renderFrame, milliseconds
+};
+
+struct MediaBudget {
+  std::vector<int> frames;                 ///< the frames measured, ascending
+  std::vector<MediaCandidate> candidates;  ///< in kMediaResolutions order: cheapest first
+  double referenceMs = 0.0;                ///< wall time spent computing the references, milliseconds
+};
+
+/// The frames to measure for a render of frames first..last (0 <= first <= last): first, middle
+/// ((first + last + 1) / 2) and last, without repeats, ascending (1 to 3 frames).
+std::vector<int> budgetFrames(int first, int last);
+
+/// Renders `frames` (each in [0, scene.animation.frames), 1 .. 16 of them) at every resolution of
+/// kMediaResolutions on the programmable path in the CURRENT context (GL 4.5), computes the
+/// reference of each frame (once: the opaque layer does not depend on the media's resolution; again
+/// if a render's opaque layer differs) and returns the errors and times. The scene's method, size,
+/// samples and everything else are kept; lights, shimmer and motion blur are left out (see above).
+/// Deterministic except for the times. Cost: 4 x (1 + timedRenders) renders per frame, plus one
+/// reference per frame (explosion-walls, 640 x 480, 241 particles and a temperature video: about
+/// 1.5 s on 2 cores; all of `puffrender --frames 0-71 --max-error` measuring: about 6 s).
+/// Errors: a scene without media, no frames or a frame outside the scene, timedRenders outside
+/// [1, 100], and what SceneRenderer::create, renderFrame, core::loadDetailVideo and
+/// reference::renderMediaReference return.
+Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> frames,
+                                       const MediaBudgetOptions& options = {});
+
+/// What chooseMediaResolution picked.
+struct MediaChoice {
+  double maxError = 0.0;   ///< the budget: the largest worst RMSE accepted, linear colour
+  std::size_t chosen = 0;  ///< index into MediaBudget::candidates
+  bool met = false;        ///< false: no candidate's worst RMSE is <= maxError; `chosen` is then the dearest
+  std::size_t best = 0;    ///< the candidate with the smallest worst RMSE (for the message when not met)
+};
+
+/// The cheapest candidate whose worstRmse <= maxError; none: the dearest (the last), met = false.
+/// Errors: maxError not in (0, 1] (NaN included), a budget without candidates.
+Result<MediaChoice> chooseMediaResolution(const MediaBudget& budget, double maxError);
+
+/// For people. The table: a header and one line per candidate (resolution, worst RMSE, median ms;
+/// the chosen one marked "<- chosen"), each line ending in '\n'. The summary, one line without
+/// '\n', e.g. "--max-error 0.01: media resolution 0.25 (worst RMSE 0.0063 over frames 0, 36, 71;
+/// 0.125 misses with 0.0132; 0.5 would cost 1.8x as much)". The warning, when !choice.met (else
+/// empty), one line without '\n': the budget cannot be met, and the best error measured.
+std::string budgetTable(const MediaBudget& budget, const MediaChoice& choice);
+std::string budgetSummary(const MediaBudget& budget, const MediaChoice& choice);
+std::string budgetWarning(const MediaBudget& budget, const MediaChoice& choice);
+
+}  // namespace puff::render

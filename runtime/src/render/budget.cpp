@@ -1,0 +1,274 @@
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include <puff/core/detail_video.h>
+#include <puff/reference/media_reference.h>
+#include <puff/reference/metrics.h>
+#include <puff/render/budget.h>
+#include <puff/render/render.h>
+
+namespace puff::render {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// A resolution as the scene file writes it: 0.125, 0.25, 0.5, 1.
+std::string resolutionText(float r) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", static_cast<double>(r));
+  return buf;
+}
+
+// An RMSE: four decimals like the other reports, two significant digits below 0.001.
+std::string errorText(double e) {
+  char buf[32];
+  if (e >= 0.001 || e == 0.0) {
+    std::snprintf(buf, sizeof buf, "%.4f", e);
+  } else {
+    std::snprintf(buf, sizeof buf, "%.2g", e);
+  }
+  return buf;
+}
+
+std::string framesText(const std::vector<int>& frames) {
+  std::string s;
+  for (int f : frames) s += (s.empty() ? "" : ", ") + std::to_string(f);
+  return s;
+}
+
+// The reference of one frame: what the GPU drew it from, and the exact image, clamped to the 8-bit
+// target's [0, 1].
+struct FrameReference {
+  std::vector<glm::vec3> opaqueColor;
+  std::vector<float> opaqueDepth;
+  std::size_t particles = 0;
+  core::Image image;
+};
+
+Result<FrameReference> makeReference(const Scene& scene, const SceneRenderer::MediaFrameInputs& in,
+                                     const core::DetailVideo* temperature, const core::DetailVideo* opacity) {
+  const MediaSpec& spec = *scene.media;
+  reference::MediaReferenceInput ri;
+  ri.frame = in.frame;
+  ri.particles = in.particles;
+  ri.materials = spec.materials;
+  ri.settings = spec.settings;
+  ri.temperatureDetail = temperature;
+  ri.opacityDetail = opacity;
+  ri.opaqueColor = in.opaqueColor;
+  ri.opaqueDepth = in.opaqueDepth;
+  ri.background = scene.background;
+  auto image = reference::renderMediaReference(ri);
+  if (!image) return Error::at(scene.file, "the media reference: " + image.error().message);
+  for (float& v : image->pixels) v = std::clamp(v, 0.0f, 1.0f);
+  FrameReference r;
+  r.opaqueColor = in.opaqueColor;
+  r.opaqueDepth = in.opaqueDepth;
+  r.particles = in.particles.size();
+  r.image = std::move(*image);
+  return r;
+}
+
+bool sameInputs(const FrameReference& r, const SceneRenderer::MediaFrameInputs& in) {
+  return r.particles == in.particles.size() && r.opaqueColor == in.opaqueColor && r.opaqueDepth == in.opaqueDepth;
+}
+
+}  // namespace
+
+std::vector<int> budgetFrames(int first, int last) {
+  PUFF_CHECK(first >= 0 && first <= last);
+  std::vector<int> frames{first, first + (last - first + 1) / 2, last};
+  frames.erase(std::unique(frames.begin(), frames.end()), frames.end());
+  return frames;
+}
+
+Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> frames,
+                                       const MediaBudgetOptions& options) {
+  if (!scene.media) return Error::at(scene.file, "/media: the scene has no media, so no media resolution to choose");
+  if (frames.empty() || frames.size() > 16) {
+    return Error{"measuring the media budget: expected 1 to 16 frames, got " + std::to_string(frames.size())};
+  }
+  for (int f : frames) {
+    if (f < 0 || f >= scene.animation.frames) {
+      return Error::at(scene.file, "frame " + std::to_string(f) + " is outside the scene's frames 0 to " +
+                                       std::to_string(scene.animation.frames - 1) + " (/animation/frames)");
+    }
+  }
+  if (options.timedRenders < 1 || options.timedRenders > 100) {
+    return Error{"measuring the media budget: timedRenders must be 1 to 100, got " +
+                 std::to_string(options.timedRenders)};
+  }
+
+  // What the reference does not model is left out of the renders measured (budget.h).
+  Scene measured = scene;
+  measured.media->lights.clear();
+  measured.media->compose.shimmerPixels = 0.0f;
+  measured.media->motionBlurFrames = 0;
+
+  std::optional<core::DetailVideo> temperature, opacity;
+  if (!scene.media->temperatureDetail.empty()) {
+    auto v = core::loadDetailVideo(scene.media->temperatureDetail);
+    if (!v) return v.error();
+    temperature = std::move(*v);
+  }
+  if (!scene.media->opacityDetail.empty()) {
+    auto v = core::loadDetailVideo(scene.media->opacityDetail);
+    if (!v) return v.error();
+    opacity = std::move(*v);
+  }
+
+  MediaBudget budget;
+  budget.frames.assign(frames.begin(), frames.end());
+  std::sort(budget.frames.begin(), budget.frames.end());
+  budget.frames.erase(std::unique(budget.frames.begin(), budget.frames.end()), budget.frames.end());
+
+  // One renderer per resolution, all alive at once, so the timed renders can take turns and any
+  // change in the machine's load falls on every resolution alike.
+  std::vector<std::unique_ptr<SceneRenderer>> renderers;
+  for (float r : kMediaResolutions) {
+    measured.media->resolution = r;
+    auto renderer = SceneRenderer::create(measured);
+    if (!renderer) return renderer.error();
+    renderers.push_back(std::move(*renderer));
+    MediaCandidate c;
+    c.resolution = r;
+    budget.candidates.push_back(c);
+  }
+  std::vector<std::vector<double>> times(renderers.size());
+
+  for (int f : budget.frames) {
+    std::optional<FrameReference> shared;
+    for (std::size_t i = 0; i < renderers.size(); ++i) {
+      auto image = renderers[i]->renderFrame(f);
+      if (!image) return image.error();
+      auto inputs = renderers[i]->lastMediaFrame();
+      if (!inputs) return Error::at(scene.file, "frame " + std::to_string(f) + ": " + inputs.error().message);
+      // Every resolution draws the same opaque pass; should one ever differ, it gets its own reference.
+      std::optional<FrameReference> own;
+      if (!shared || !sameInputs(*shared, *inputs)) {
+        const auto t0 = Clock::now();
+        auto ref =
+            makeReference(measured, *inputs, temperature ? &*temperature : nullptr, opacity ? &*opacity : nullptr);
+        budget.referenceMs += msSince(t0);
+        if (!ref) return ref.error();
+        if (!shared) {
+          shared = std::move(*ref);
+        } else {
+          own = std::move(*ref);
+        }
+      }
+      const core::Image& ref = own ? own->image : shared->image;
+      budget.candidates[i].rmse.push_back(reference::imageError(*image, ref).rmse);
+    }
+    for (int k = 0; k < options.timedRenders; ++k) {
+      for (std::size_t i = 0; i < renderers.size(); ++i) {
+        const auto t0 = Clock::now();
+        auto image = renderers[i]->renderFrame(f);
+        times[i].push_back(msSince(t0));
+        if (!image) return image.error();
+      }
+    }
+  }
+  for (std::size_t i = 0; i < budget.candidates.size(); ++i) {
+    MediaCandidate& c = budget.candidates[i];
+    c.worstRmse = *std::max_element(c.rmse.begin(), c.rmse.end());
+    c.medianMs = median(times[i]);
+  }
+  return budget;
+}
+
+Result<MediaChoice> chooseMediaResolution(const MediaBudget& budget, double maxError) {
+  if (!(maxError > 0.0 && maxError <= 1.0)) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g", maxError);
+    return Error{std::string("the error budget must be an RMSE in (0, 1], got ") + buf};
+  }
+  if (budget.candidates.empty()) return Error{"the media budget has no measured candidates"};
+  MediaChoice c;
+  c.maxError = maxError;
+  for (std::size_t i = 0; i < budget.candidates.size(); ++i) {
+    if (budget.candidates[i].worstRmse < budget.candidates[c.best].worstRmse) c.best = i;
+  }
+  for (std::size_t i = 0; i < budget.candidates.size(); ++i) {
+    if (budget.candidates[i].worstRmse <= maxError) {
+      c.chosen = i;
+      c.met = true;
+      return c;
+    }
+  }
+  c.chosen = budget.candidates.size() - 1;
+  return c;
+}
+
+std::string budgetTable(const MediaBudget& budget, const MediaChoice& choice) {
+  std::string s = "  resolution  worst RMSE  median ms\n";
+  for (std::size_t i = 0; i < budget.candidates.size(); ++i) {
+    const MediaCandidate& c = budget.candidates[i];
+    char line[128];
+    std::snprintf(line, sizeof line, "  %10s  %10s  %9.1f%s\n", resolutionText(c.resolution).c_str(),
+                  errorText(c.worstRmse).c_str(), c.medianMs, i == choice.chosen ? "  <- chosen" : "");
+    s += line;
+  }
+  return s;
+}
+
+std::string budgetSummary(const MediaBudget& budget, const MediaChoice& choice) {
+  PUFF_CHECK(choice.chosen < budget.candidates.size() && choice.best < budget.candidates.size());
+  char maxError[32];
+  std::snprintf(maxError, sizeof maxError, "%g", choice.maxError);
+  const MediaCandidate& c = budget.candidates[choice.chosen];
+  std::string s = std::string("--max-error ") + maxError + ": media resolution " + resolutionText(c.resolution);
+  const std::string frames = (budget.frames.size() == 1 ? "frame " : "frames ") + framesText(budget.frames);
+  if (!choice.met) {
+    const MediaCandidate& b = budget.candidates[choice.best];
+    return s + ", the dearest (no resolution meets it: the smallest worst RMSE is " + errorText(b.worstRmse) + ", at " +
+           resolutionText(b.resolution) + ", over " + frames + ")";
+  }
+  s += " (worst RMSE " + errorText(c.worstRmse) + " over " + frames;
+  if (choice.chosen > 0) {
+    // Why not cheaper: the next cheaper one misses.
+    const MediaCandidate& cheaper = budget.candidates[choice.chosen - 1];
+    s += "; " + resolutionText(cheaper.resolution) + " misses with " + errorText(cheaper.worstRmse);
+  } else {
+    s += "; the cheapest";
+  }
+  if (choice.chosen + 1 < budget.candidates.size()) {
+    // Why not dearer: what it would cost.
+    const MediaCandidate& dearer = budget.candidates[choice.chosen + 1];
+    char ratio[64];
+    if (c.medianMs > 0.0) {
+      std::snprintf(ratio, sizeof ratio, "%.1fx as much", dearer.medianMs / c.medianMs);
+    } else {
+      std::snprintf(ratio, sizeof ratio, "more");
+    }
+    s += "; " + resolutionText(dearer.resolution) + " would cost " + ratio;
+  }
+  return s + ")";
+}
+
+std::string budgetWarning(const MediaBudget& budget, const MediaChoice& choice) {
+  if (choice.met) return {};
+  PUFF_CHECK(choice.chosen < budget.candidates.size() && choice.best < budget.candidates.size());
+  char maxError[32];
+  std::snprintf(maxError, sizeof maxError, "%g", choice.maxError);
+  const MediaCandidate& b = budget.candidates[choice.best];
+  return std::string("--max-error ") + maxError + " cannot be met: the smallest worst RMSE measured is " +
+         errorText(b.worstRmse) + " (media resolution " + resolutionText(b.resolution) + "); rendering at " +
+         resolutionText(budget.candidates[choice.chosen].resolution);
+}
+
+}  // namespace puff::render

@@ -1,0 +1,176 @@
+// puffbench (issue 7): speed against accuracy for the media path on the art scenes. For every
+// scene, method (planar, soft-linear, soft-scurve, spherical) and media layer resolution (1/8 ..
+// 1), the median frame time and the worst error against the exact reference over three frames of
+// the scene's camera path (render::measureMediaBudget: reference::renderMediaReference over the
+// same opaque layer, RMSE in linear colour), and the scene's frame without media particles (the
+// baseline: opaque pass, resolve and compose) measured in the same run. Marks the Pareto front per
+// scene: the configurations no other one beats on both time and error. Writes CSV (--csv FILE,
+// atomically; else stdout) for tests/bench/report.sh, which draws the charts. Not a test: nothing
+// here fails on a time.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <puff/core/files.h>
+#include <puff/core/gl_context.h>
+#include <puff/render/budget.h>
+#include <puff/render/render.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace puff;
+using Clock = std::chrono::steady_clock;
+
+double medianMs(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+struct Row {
+  std::string scene, method;
+  float resolution = 1.0f;
+  int width = 0, height = 0;
+  std::size_t particles = 0;
+  double ms = 0.0, baselineMs = 0.0, rmse = 0.0;
+  bool pareto = false;
+};
+
+// The frame without media particles: what every configuration pays before the media.
+Result<double> baselineMs(render::Scene s, std::span<const int> frames, int reps) {
+  s.media->particles.clear();
+  s.media->emitters.clear();
+  auto r = render::SceneRenderer::create(s);
+  if (!r) return r.error();
+  std::vector<double> times;
+  for (int f : frames) {
+    if (auto first = (*r)->renderFrame(f); !first) return first.error();
+    for (int i = 0; i < reps; ++i) {
+      const auto t0 = Clock::now();
+      if (auto im = (*r)->renderFrame(f); !im) return im.error();
+      times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    }
+  }
+  return medianMs(times);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int reps = 3, width = 320, height = 240;
+  std::string csvPath;
+  fs::path artDir = PUFF_ART_DIR, sceneDir = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes";
+  std::vector<std::string> scenes = {"explosion-walls", "smoke-flythrough", "fire-to-smoke"};
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) {
+      reps = std::clamp(std::atoi(argv[++i]), 1, 100);
+    } else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) {
+      csvPath = argv[++i];
+    } else if (!std::strcmp(argv[i], "--art-dir") && i + 1 < argc) {
+      artDir = argv[++i];
+    } else if (!std::strcmp(argv[i], "--size") && i + 2 < argc) {
+      width = std::clamp(std::atoi(argv[++i]), 16, 4096);
+      height = std::clamp(std::atoi(argv[++i]), 16, 4096);
+    } else if (!std::strcmp(argv[i], "--scene") && i + 1 < argc) {
+      if (scenes.size() == 3 && scenes[0] == "explosion-walls") scenes.clear();
+      scenes.push_back(argv[++i]);
+    } else {
+      std::fprintf(stderr,
+                   "usage: puffbench [--reps N (3)] [--size W H (320 240)] [--scene NAME ...] [--csv FILE] "
+                   "[--art-dir DIR]\n");
+      return 2;
+    }
+  }
+  auto context = core::createGlContext({});
+  if (!context) {
+    std::fprintf(stderr, "puffbench: error: %s\n", context.error().message.c_str());
+    return 1;
+  }
+  std::fprintf(stderr, "puffbench: %s\n", (*context)->describe().c_str());
+
+  std::vector<Row> rows;
+  for (const std::string& name : scenes) {
+    auto loaded = render::loadScene(sceneDir / (name + ".json"), artDir);
+    if (!loaded) {
+      std::fprintf(stderr, "puffbench: error: %s\n", loaded.error().message.c_str());
+      return 1;
+    }
+    render::Scene scene = *loaded;
+    if (!scene.media) {
+      std::fprintf(stderr, "puffbench: error: %s has no media\n", name.c_str());
+      return 1;
+    }
+    scene.width = width;
+    scene.height = height;
+    const std::vector<int> frames = render::budgetFrames(0, scene.animation.frames - 1);
+    auto base = baselineMs(scene, frames, reps);
+    if (!base) {
+      std::fprintf(stderr, "puffbench: error: %s\n", base.error().message.c_str());
+      return 1;
+    }
+    const std::size_t first = rows.size();
+    for (media::Method m :
+         {media::Method::kPlanar, media::Method::kSoftLinear, media::Method::kSoftSCurve, media::Method::kSpherical}) {
+      render::Scene s = scene;
+      s.media->method = m;
+      render::MediaBudgetOptions o;
+      o.timedRenders = reps;
+      const auto t0 = Clock::now();
+      auto budget = render::measureMediaBudget(s, frames, o);
+      if (!budget) {
+        std::fprintf(stderr, "puffbench: error: %s\n", budget.error().message.c_str());
+        return 1;
+      }
+      std::fprintf(stderr, "puffbench: %s, %s: measured in %.1f s\n", name.c_str(),
+                   std::string(media::toString(m)).c_str(), std::chrono::duration<double>(Clock::now() - t0).count());
+      for (const render::MediaCandidate& c : budget->candidates) {
+        Row r;
+        r.scene = name;
+        r.method = std::string(media::toString(m));
+        r.resolution = c.resolution;
+        r.width = width;
+        r.height = height;
+        r.ms = c.medianMs;
+        r.baselineMs = *base;
+        r.rmse = c.worstRmse;
+        rows.push_back(r);
+      }
+    }
+    // The Pareto front of this scene: nothing else both as fast and as close, and better in one.
+    for (std::size_t i = first; i < rows.size(); ++i) {
+      bool beaten = false;
+      for (std::size_t j = first; j < rows.size() && !beaten; ++j) {
+        beaten = j != i && rows[j].ms <= rows[i].ms && rows[j].rmse <= rows[i].rmse &&
+                 (rows[j].ms < rows[i].ms || rows[j].rmse < rows[i].rmse);
+      }
+      rows[i].pareto = !beaten;
+    }
+  }
+
+  std::string csv =
+      "scene,method,resolution,width,height,median_ms,baseline_ms,ratio_to_baseline,worst_rmse,psnr_db,"
+      "pareto\n";
+  char line[512];
+  for (const Row& r : rows) {
+    const double psnr = r.rmse > 0.0 ? -20.0 * std::log10(r.rmse) : 999.0;
+    std::snprintf(line, sizeof line, "%s,%s,%g,%d,%d,%.3f,%.3f,%.3f,%.6f,%.2f,%d\n", r.scene.c_str(), r.method.c_str(),
+                  static_cast<double>(r.resolution), r.width, r.height, r.ms, r.baselineMs,
+                  r.baselineMs > 0.0 ? r.ms / r.baselineMs : 0.0, r.rmse, psnr, r.pareto ? 1 : 0);
+    csv += line;
+    std::fprintf(stderr, "%-17s %-12s %5g  %8.2f ms (%5.2fx)  rmse %.5f%s\n", r.scene.c_str(), r.method.c_str(),
+                 static_cast<double>(r.resolution), r.ms, r.baselineMs > 0.0 ? r.ms / r.baselineMs : 0.0, r.rmse,
+                 r.pareto ? "  pareto" : "");
+  }
+  if (csvPath.empty()) {
+    std::fputs(csv.c_str(), stdout);
+  } else if (auto ok = core::writeFileAtomic(csvPath, csv); !ok) {
+    std::fprintf(stderr, "puffbench: error: %s\n", ok.error().message.c_str());
+    return 1;
+  }
+  return 0;
+}
