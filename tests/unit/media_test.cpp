@@ -15,6 +15,7 @@
 #include <puff/media/media.h>
 
 #include "support/gl_fixture.h"
+#include "support/media_target.h"
 
 namespace puff {
 namespace {
@@ -23,64 +24,10 @@ using media::Method;
 
 constexpr int kSize = 65;  // odd: the centre pixel's ray goes through the sphere's centre
 
-// A float target for the media layer plus an R32F linear-depth texture of the same size.
-struct MediaTarget {
-  core::Framebuffer fbo = core::makeFramebuffer();
-  core::Texture color = core::makeTexture(GL_TEXTURE_2D), depth = core::makeTexture(GL_TEXTURE_2D);
-  int size;
-  explicit MediaTarget(int s) : size(s) {
-    glTextureStorage2D(color.get(), 1, GL_RGBA32F, s, s);
-    glTextureStorage2D(depth.get(), 1, GL_R32F, s, s);
-    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
-  }
-  void setDepth(const std::vector<float>& linear) const {  // row 0 at the bottom
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage2D(depth.get(), 0, 0, 0, size, size, GL_RED, GL_FLOAT, linear.data());
-  }
-  void setDepth(float linear) const { setDepth(std::vector<float>(static_cast<std::size_t>(size) * size, linear)); }
-  void clear(const glm::vec4& c) const { glClearNamedFramebufferfv(fbo.get(), GL_COLOR, 0, &c.x); }
-  void bind() const {
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
-    glViewport(0, 0, size, size);
-  }
-  std::vector<glm::vec4> read() const {
-    std::vector<glm::vec4> out(static_cast<std::size_t>(size) * size);
-    glGetTextureImage(color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(out.size() * sizeof(glm::vec4)),
-                      out.data());
-    return out;
-  }
-};
-
-struct Camera {
-  float nearPlane = 0.5f, farPlane = 50.0f, fovDegrees = 40.0f;
-  media::Frame frame(int size) const {
-    media::Frame f;
-    f.view = glm::mat4(1.0f);  // at the origin looking down -z
-    f.projection = glm::perspective(glm::radians(fovDegrees), 1.0f, nearPlane, farPlane);
-    f.nearPlane = nearPlane;
-    f.farPlane = farPlane;
-    f.width = f.height = size;
-    f.lightColor = glm::vec3(0.0f);
-    f.ambient = glm::vec3(1.0f);
-    return f;
-  }
-  float linear(float distance) const { return (distance - nearPlane) / (farPlane - nearPlane); }
-  // The ray through pixel (x, y) (texel centres, row 0 at the bottom), camera space.
-  glm::dvec3 ray(int x, int y, int size) const {
-    const double t = std::tan(glm::radians(static_cast<double>(fovDegrees)) / 2.0);
-    const double nx = (x + 0.5) / size * 2.0 - 1.0, ny = (y + 0.5) / size * 2.0 - 1.0;
-    return glm::normalize(glm::dvec3(nx * t, ny * t, -1.0));
-  }
-};
-
-media::Material plainMaterial(float tau) {
-  media::Material m;
-  m.name = "plain";
-  m.albedo = 1.0f;
-  m.density = tau;
-  m.detail = 0.0f;  // no perturbation: the closed form holds exactly
-  return m;
-}
+using test::MediaTarget;
+using test::plainMaterial;
+using test::sphereAt;
+using Camera = test::MediaCamera;
 
 class MediaTest : public test::GlTest {
  protected:
@@ -109,14 +56,6 @@ class MediaTest : public test::GlTest {
 
   static inline std::unique_ptr<media::Renderer> renderer_;
 };
-
-media::Particle sphereAt(glm::vec3 c, float r) {
-  media::Particle p;
-  p.position = c;
-  p.radius = r;
-  p.material = 0;
-  return p;
-}
 
 // Every pixel's opacity (1 - transmittance) against the closed form for a wall at `wallDistance`.
 void expectMatchesClosedForm(const std::vector<glm::vec4>& px, const Camera& cam, glm::dvec3 centre, double r,

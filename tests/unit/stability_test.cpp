@@ -97,6 +97,7 @@
 
 #include "support/gl_fixture.h"
 #include "support/gl_target.h"
+#include "support/media_target.h"
 #include "support/sphere_atlas.h"
 
 namespace puff {
@@ -440,59 +441,10 @@ TEST_F(StabilityCel, ANonFiniteParticleDoesNotTakeTheOthersWithIt) {
 
 constexpr int kMediaPx = 65;  // odd: the centre pixel's ray is the view axis
 
-// A float media target and an R32F linear-depth texture of the same size (as media_test.cpp).
-struct MediaTarget {
-  core::Framebuffer fbo = core::makeFramebuffer();
-  core::Texture color = core::makeTexture(GL_TEXTURE_2D), depth = core::makeTexture(GL_TEXTURE_2D);
-  MediaTarget() {
-    glTextureStorage2D(color.get(), 1, GL_RGBA32F, kMediaPx, kMediaPx);
-    glTextureStorage2D(depth.get(), 1, GL_R32F, kMediaPx, kMediaPx);
-    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
-    const std::vector<float> none(static_cast<std::size_t>(kMediaPx) * kMediaPx, 1.0f);  // no surface
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage2D(depth.get(), 0, 0, 0, kMediaPx, kMediaPx, GL_RED, GL_FLOAT, none.data());
-  }
-  std::vector<glm::vec4> read() const {
-    std::vector<glm::vec4> out(static_cast<std::size_t>(kMediaPx) * kMediaPx);
-    glGetTextureImage(color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(out.size() * sizeof(glm::vec4)),
-                      out.data());
-    return out;
-  }
-};
-
-// The camera at the origin looking down -z, like media_test.cpp's.
-struct MediaCamera {
-  float nearPlane = 0.5f, farPlane = 50.0f, fovDegrees = 40.0f;
-  media::Frame frame() const {
-    media::Frame f;
-    f.projection = glm::perspective(glm::radians(fovDegrees), 1.0f, nearPlane, farPlane);
-    f.nearPlane = nearPlane;
-    f.farPlane = farPlane;
-    f.width = f.height = kMediaPx;
-    f.lightColor = glm::vec3(0.0f);
-    f.ambient = glm::vec3(1.0f);
-    return f;
-  }
-  glm::dvec3 ray(int x, int y) const {
-    return pixelRay(x, y, kMediaPx, std::tan(glm::radians(static_cast<double>(fovDegrees)) / 2.0));
-  }
-};
-
-media::Material plainMaterial(float tau) {
-  media::Material m;
-  m.name = "plain";
-  m.albedo = 1.0f;
-  m.density = tau;
-  m.detail = 0.0f;  // no perturbation: the closed form holds exactly
-  return m;
-}
-
-media::Particle sphereAt(glm::vec3 c, float r) {
-  media::Particle p;
-  p.position = c;
-  p.radius = r;
-  return p;
-}
+using test::MediaCamera;
+using test::MediaTarget;
+using test::plainMaterial;
+using test::sphereAt;
 
 const glm::vec4 kClear(0.25f, 0.5f, 0.75f, 1.0f);
 
@@ -516,7 +468,7 @@ class StabilityMedia : public test::GlTest {
     glClearNamedFramebufferfv(t.fbo.get(), GL_COLOR, 0, &kClear.x);
     glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
     glViewport(0, 0, kMediaPx, kMediaPx);
-    renderer_->draw(cam.frame(), std::span(&p, 1), method, t.depth.get(), false, stats);
+    renderer_->draw(cam.frame(kMediaPx), std::span(&p, 1), method, t.depth.get(), false, stats);
     EXPECT_EQ(core::drainGlErrors(), "");
     return t.read();
   }
@@ -532,8 +484,8 @@ class StabilityMedia : public test::GlTest {
         const glm::vec4 c = px[static_cast<std::size_t>(y) * kMediaPx + x];
         if (nonFinite) *nonFinite += finite(c) ? 0 : 1;
         if (drawn) *drawn += c.a < 1.0f ? 1 : 0;
-        const double expected =
-            media::sphereOpacity(glm::dvec3(0.0), cam.ray(x, y), glm::dvec3(p.position), p.radius, tau, 1e30, clipNear);
+        const double expected = media::sphereOpacity(glm::dvec3(0.0), cam.ray(x, y, kMediaPx), glm::dvec3(p.position),
+                                                     p.radius, tau, 1e30, clipNear);
         worst = std::max(worst, std::abs((1.0 - c.a) - expected));
         if (above) *above = std::max(*above, (1.0 - c.a) - expected);
       }
@@ -553,7 +505,7 @@ class StabilityMedia : public test::GlTest {
 TEST_F(StabilityMedia, AParticleShrinkingToZeroRadiusFadesToNothing) {
   const float tau = 0.4f;
   ASSERT_TRUE(renderer_->setMaterials({plainMaterial(tau)}).ok());
-  const MediaTarget t;
+  const MediaTarget t(kMediaPx);
   const MediaCamera cam;
   std::vector<glm::vec4> last;
   for (float r : {1.0f, 0.3f, 0.1f, 0.03f, 0.01f, 3e-3f, 1e-3f, 1e-4f, 1e-6f, 1e-9f, 1e-20f, 1e-40f, 0.0f}) {
@@ -588,7 +540,7 @@ TEST_F(StabilityMedia, AParticleShrinkingToZeroRadiusFadesToNothing) {
 // whole target), one larger than the view but in front of the near plane (planar and spherical
 // agree there). Every pixel is drawn and on the formula.
 TEST_F(StabilityMedia, ASphereOverTheWholeScreenMatchesTheFormulaAtEveryPixel) {
-  const MediaTarget t;
+  const MediaTarget t(kMediaPx);
   const MediaCamera cam;
   struct Case {
     const char* name;
@@ -624,7 +576,7 @@ TEST_F(StabilityMedia, ASphereOverTheWholeScreenMatchesTheFormulaAtEveryPixel) {
 TEST_F(StabilityMedia, TheCameraInsideAParticle) {
   const float tau = 0.3f;
   ASSERT_TRUE(renderer_->setMaterials({plainMaterial(tau)}).ok());
-  const MediaTarget t;
+  const MediaTarget t(kMediaPx);
   const MediaCamera cam;  // near plane at 0.5
   const int centre = (kMediaPx / 2) * kMediaPx + kMediaPx / 2;
   for (float z : {-1.0f, -0.3f, 0.8f}) {  // centre in front of the near plane, between it and the eye, behind
