@@ -150,8 +150,9 @@ class Renderer {
   /// attachment 0 is the media layer (float RGBA: premultiplied radiance, transmittance in alpha)
   /// and attachment 1 (if `shimmer`) the heat-shimmer offsets (RG). `depth` is a texture of the
   /// opaque scene's LINEAR depth ((-z - near) / (far - near)) at the target's resolution (R32F, or a
-  /// depth texture). The viewport must be set to frame.width x frame.height. Sets the GL state it
-  /// needs; leaves blending, depth test and depth clamp off and its program unbound.
+  /// depth texture), read at each pixel's offset from the viewport's origin. The viewport must be
+  /// (frame.x, frame.y, frame.width, frame.height). Sets the GL state it needs; leaves blending,
+  /// depth test and depth clamp off, every colour write mask on and its program unbound.
   void draw(const Frame& frame, std::span<const Particle> particles, Method method, GLuint depth, bool shimmer = false,
             DrawStats* stats = nullptr);
 
