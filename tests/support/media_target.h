@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -13,6 +14,8 @@
 
 #include <puff/core/gl.h>
 #include <puff/media/media.h>
+
+#include "support/gl_fixture.h"
 
 namespace puff::test {
 
@@ -89,5 +92,23 @@ inline media::Particle sphereAt(glm::vec3 centre, float radius) {
   p.material = 0;
   return p;
 }
+
+/// A suite of GL tests sharing one media::Renderer (default settings), made on first use.
+class MediaRendererTest : public GlTest {
+ protected:
+  void SetUp() override {
+    GlTest::SetUp();
+    if (!renderer_) {
+      auto r = media::Renderer::create();
+      ASSERT_TRUE(r.ok()) << r.error().message;
+      renderer_ = std::move(*r);
+    }
+  }
+  static void TearDownTestSuite() {
+    renderer_.reset();  // before the context goes
+    GlTest::TearDownTestSuite();
+  }
+  static inline std::unique_ptr<media::Renderer> renderer_;
+};
 
 }  // namespace puff::test

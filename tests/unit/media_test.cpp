@@ -29,21 +29,8 @@ using test::plainMaterial;
 using test::sphereAt;
 using Camera = test::MediaCamera;
 
-class MediaTest : public test::GlTest {
+class MediaTest : public test::MediaRendererTest {
  protected:
-  void SetUp() override {
-    test::GlTest::SetUp();
-    if (!renderer_) {
-      auto r = media::Renderer::create();
-      ASSERT_TRUE(r.ok()) << r.error().message;
-      renderer_ = std::move(*r);
-    }
-  }
-  static void TearDownTestSuite() {
-    renderer_.reset();
-    test::GlTest::TearDownTestSuite();
-  }
-
   // Draws one particle over background `bg` and returns the target.
   std::vector<glm::vec4> drawOne(MediaTarget& t, const Camera& cam, const media::Particle& p, Method method,
                                  const glm::vec4& bg = {0, 0, 0, 1}) {
@@ -53,8 +40,6 @@ class MediaTest : public test::GlTest {
     EXPECT_EQ(core::drainGlErrors(), "");
     return t.read();
   }
-
-  static inline std::unique_ptr<media::Renderer> renderer_;
 };
 
 // Every pixel's opacity (1 - transmittance) against the closed form for a wall at `wallDistance`.

@@ -20,6 +20,7 @@
 #include <puff/reference/metrics.h>
 
 #include "support/gl_fixture.h"
+#include "support/media_target.h"
 
 namespace puff {
 namespace {
@@ -436,22 +437,7 @@ constexpr float kWallDistance = 6.0f;  // a wall behind the right part of the im
 constexpr int kWallFrom = 60;          // first column of the wall
 const glm::vec3 kSky(0.4f, 0.6f, 0.8f), kWall(0.6f, 0.4f, 0.2f);  // multiples of 1/255: exact in RGBA8
 
-class ReferenceGpu : public test::GlTest {
- protected:
-  void SetUp() override {
-    test::GlTest::SetUp();
-    if (!renderer_) {
-      auto r = media::Renderer::create();
-      ASSERT_TRUE(r.ok()) << r.error().message;
-      renderer_ = std::move(*r);
-    }
-  }
-  static void TearDownTestSuite() {
-    renderer_.reset();
-    test::GlTest::TearDownTestSuite();
-  }
-  static inline std::unique_ptr<media::Renderer> renderer_;
-};
+class ReferenceGpu : public test::MediaRendererTest {};
 
 // The scene's frame: a turned camera (so the view transform matters) looking into the cloud.
 media::Frame cloudFrame() {

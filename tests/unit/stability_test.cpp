@@ -448,21 +448,8 @@ using test::sphereAt;
 
 const glm::vec4 kClear(0.25f, 0.5f, 0.75f, 1.0f);
 
-class StabilityMedia : public test::GlTest {
+class StabilityMedia : public test::MediaRendererTest {
  protected:
-  void SetUp() override {
-    test::GlTest::SetUp();
-    if (!renderer_) {
-      auto r = media::Renderer::create();
-      ASSERT_TRUE(r.ok()) << r.error().message;
-      renderer_ = std::move(*r);
-    }
-  }
-  static void TearDownTestSuite() {
-    renderer_.reset();
-    test::GlTest::TearDownTestSuite();
-  }
-
   std::vector<glm::vec4> draw(const MediaTarget& t, const MediaCamera& cam, const media::Particle& p,
                               media::Method method, media::DrawStats* stats = nullptr) {
     glClearNamedFramebufferfv(t.fbo.get(), GL_COLOR, 0, &kClear.x);
@@ -492,8 +479,6 @@ class StabilityMedia : public test::GlTest {
     }
     return worst;
   }
-
-  static inline std::unique_ptr<media::Renderer> renderer_;
 };
 
 // A particle shrinking to nothing over its life: every pixel's opacity falls monotonically with the
