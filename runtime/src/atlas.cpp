@@ -102,6 +102,7 @@ json toJson(const AtlasDesc& d) {
     }
     o["faces"] = s.faces;
     o["facesBaked"] = s.facesBaked;
+    o["defaultColor"] = vec3Json(s.defaultColor);
     sources.push_back(o);
   }
   j["sources"] = sources;
@@ -203,6 +204,15 @@ Result<AtlasDesc> atlasFromJson(const json& j, const fs::path& file) {
     }
     PUFF_READ(src.faces, std::size_t, s, "faces", where);
     PUFF_READ(src.facesBaked, std::size_t, s, "facesBaked", where);
+    if (s.contains("defaultColor")) {
+      auto c = readVec3(reader, s, "defaultColor", where);
+      if (!c) return c.error();
+      for (int k = 0; k < 3; ++k) {
+        if (!((*c)[k] >= 0.0f && (*c)[k] <= 1.0f))
+          return reader.fail(where + "/defaultColor", "components must be in [0, 1]");
+      }
+      src.defaultColor = *c;
+    }
     d.sources.push_back(src);
   }
   if (!j.contains("maps") || !j["maps"].is_object()) return reader.fail("/maps", "missing or not an object");

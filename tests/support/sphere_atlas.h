@@ -19,6 +19,7 @@ inline Result<std::filesystem::path> bakeSphereAtlas(const std::filesystem::path
   bake::PuffSource src;
   src.mesh = mesh::generateSphere({6});
   src.provenance.generator = "sphere";
+  src.provenance.params = {{"subdivisions", 6}};  // what the cel reference regenerates it from
   auto r = bake::bakeAtlas({src}, o);
   if (!r) return r.error();
   return r->sidecar;

@@ -257,6 +257,7 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
     core::AtlasSource prov = src.provenance;
     prov.faces = src.mesh.faceCount();
     prov.facesBaked = bakeMesh->faceCount();
+    prov.defaultColor = o.defaultColor;
     desc.sources.push_back(prov);
     const std::vector<CellMaps> cells = renderViews(**rasterizer, g.supersample, *bakeMesh, g.flange);
     for (int v = 0; v < g.views; ++v) {

@@ -265,6 +265,9 @@ int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
   if (path == render::RenderPath::kFixed && scene.media && !o.quiet) {
     std::fprintf(stderr, "%s: the fixed-function path draws no fire, smoke or dust: /media is left out\n", kTool);
   }
+  if (path == render::RenderPath::kReference && scene.media && !o.quiet) {
+    std::fprintf(stderr, "%s: the cel reference draws no fire, smoke or dust: /media is left out\n", kTool);
+  }
   // The fixed path draws into the context's own framebuffer (made at the frame's size above):
   // OpenGL 1.x calls only, no framebuffer objects.
   auto renderer = render::SceneRenderer::create(scene, path, path == render::RenderPath::kFixed);
@@ -417,8 +420,10 @@ std::variant<Options, int> parse(int argc, char** argv) {
          "--path", o.path,
          "Render path: cel (programmable GL 4.5: nailboards, flange outlines, shadow volumes; falls back to fixed, "
          "saying so, when the context cannot run it) or fixed (GL 1.x fixed function, McGuire & Fein 4.4: one "
-         "light, uniform ambient, no shadows). Default: cel")
-      ->check(CLI::IsMember({"cel", "fixed"}));
+         "light, uniform ambient, no shadows) or reference (the image the nailboards approximate: every "
+         "particle's actual puff mesh, Eq. 2 per pixel, outlines around the true silhouettes, exact shadows; "
+         "supersampled 3x3 and slow; no media). Default: cel")
+      ->check(CLI::IsMember({"cel", "fixed", "reference"}));
   app.add_option("--compare", o.compare,
                  "Render every frame with both paths (fixed,cel or cel,fixed) and report how close they come: smoke "
                  "coverage agreement (IoU of the masks) and the share of shared smoke pixels within --tolerance; OUT "

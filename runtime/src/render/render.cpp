@@ -14,6 +14,8 @@
 #include <puff/mesh/mesh.h>
 #include <puff/render/render.h>
 
+#include "cel_reference.h"
+
 namespace puff::render {
 
 namespace fs = std::filesystem;
@@ -77,11 +79,22 @@ std::shared_ptr<const cel::TriangleMesh> toTriangleMesh(const mesh::TriMesh& m) 
 
 }  // namespace
 
-std::string_view toString(RenderPath path) { return path == RenderPath::kCel ? "cel" : "fixed"; }
+std::string_view toString(RenderPath path) {
+  switch (path) {
+    case RenderPath::kCel:
+      return "cel";
+    case RenderPath::kFixed:
+      return "fixed";
+    case RenderPath::kReference:
+      return "reference";
+  }
+  return "cel";
+}
 
 std::optional<RenderPath> parseRenderPath(std::string_view name) {
-  if (name == "cel") return RenderPath::kCel;
-  if (name == "fixed") return RenderPath::kFixed;
+  for (RenderPath p : {RenderPath::kCel, RenderPath::kFixed, RenderPath::kReference}) {
+    if (name == toString(p)) return p;
+  }
   return std::nullopt;
 }
 
@@ -108,7 +121,9 @@ struct SceneRenderer::Impl {
   std::unique_ptr<media::Layers> layers;
   std::unique_ptr<sim::Simulator> mediaSim;
   std::vector<media::Particle> mediaParticles;
-  std::optional<media::Frame> lastMediaFrame;  // the full-size frame of the last media draw
+  std::optional<media::Frame> lastMediaFrame;       // the full-size frame of the last media draw
+  std::unique_ptr<detail::CelReference> reference;  // RenderPath::kReference
+  CelReferenceOptions referenceOptions;
 };
 
 namespace {
@@ -196,9 +211,25 @@ Result<void> createSimulator(Impl& m, const Scene& scene) {
 Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene, RenderPath path,
                                                              bool contextFramebuffer) {
   if (path == RenderPath::kFixed) return createFixed(scene, contextFramebuffer);
+  if (path == RenderPath::kReference) return createReference(scene);
+  return createProgrammable(scene, nullptr);
+}
+
+Result<std::unique_ptr<SceneRenderer>> SceneRenderer::createReference(const Scene& scene,
+                                                                      const CelReferenceOptions& options) {
+  return createProgrammable(scene, &options);
+}
+
+Result<std::unique_ptr<SceneRenderer>> SceneRenderer::createProgrammable(const Scene& scene,
+                                                                         const CelReferenceOptions* reference) {
   std::unique_ptr<SceneRenderer> r(new SceneRenderer());
   Impl& m = *r->impl_;
   m.scene = scene;
+  if (reference) {
+    if (auto ok = detail::validate(*reference); !ok) return ok.error();
+    m.path = RenderPath::kReference;
+    m.referenceOptions = *reference;
+  }
   auto nb = cel::NailboardRenderer::create();
   if (!nb) return nb.error();
   m.nailboards = std::move(*nb);
@@ -216,6 +247,13 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene,
     if (!set) return Error::at(scene.atlas, set.error().message);
     m.variations = std::max(1, atlas->desc.variations);
     m.hasAtlas = true;
+    if (reference) {
+      auto meshes = detail::atlasSourceMeshes(atlas->desc, scene.atlas);
+      if (!meshes) return meshes.error();
+      auto ref = detail::CelReference::create(std::move(*meshes), *reference);
+      if (!ref) return ref.error();
+      m.reference = std::move(*ref);
+    }
   } else if (needsAtlas) {
     return Error::at(scene.file, "/atlas: the scene has particles but names no atlas");
   }
@@ -275,12 +313,19 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const Scene& scene,
   auto set = m.opaque->setObjects(std::move(objects));
   if (!set) return Error::at(scene.file, set.error().message);
 
-  auto target = Target::create(scene.width, scene.height, scene.samples);
+  if (reference && !m.reference) {
+    // Nothing to draw but objects: the reference still supersamples them like the puffs.
+    auto ref = detail::CelReference::create({mesh::generateSphere(mesh::SphereParams{})}, *reference);
+    if (!ref) return ref.error();
+    m.reference = std::move(*ref);
+  }
+  // The reference supersamples instead of multisampling.
+  auto target = Target::create(scene.width, scene.height, reference ? 1 : scene.samples);
   if (!target) return target.error();
   m.target = std::move(*target);
 
   if (auto ok = createSimulator(m, scene); !ok) return ok.error();
-  if (scene.media) {
+  if (scene.media && !reference) {
     if (auto ok = r->createMedia(); !ok) return ok.error();
   }
   return r;
@@ -414,7 +459,8 @@ Result<void> SceneRenderer::update(const Scene& next) {
   Impl& m = *impl_;
   history_.reset();  // kept frames were drawn from the old scene
   if (reloadKey(m.scene) != reloadKey(next)) {
-    auto fresh = create(next, m.path, m.target.contextFramebuffer);
+    auto fresh = m.path == RenderPath::kReference ? createReference(next, m.referenceOptions)
+                                                  : create(next, m.path, m.target.contextFramebuffer);
     if (!fresh) return fresh.error();
     impl_ = std::move((*fresh)->impl_);
     return {};
@@ -438,7 +484,7 @@ Result<void> SceneRenderer::update(const Scene& next) {
 void SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, FrameStats* stats, const cel::Camera* camera) {
   Impl& m = *impl_;
   const Scene& s = m.scene;
-  if (m.path == RenderPath::kFixed || !s.media || s.media->motionBlurFrames == 0) {
+  if (m.path != RenderPath::kCel || !s.media || s.media->motionBlurFrames == 0) {
     drawSingle(frame, viewport, stats, camera);
     return;
   }
@@ -554,6 +600,26 @@ void SceneRenderer::drawSingle(int frame, const cel::Viewport& viewport, FrameSt
     }
     auto drawn = m.fixed->drawFrame(f, billboards, style);
     if (!drawn) m.lastError = drawn.error().message;
+    return;
+  }
+
+  if (m.path == RenderPath::kReference) {
+    GLint callerFbo = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &callerFbo);
+    cel::Frame f = cel::Frame::fromCamera(cam, viewport.width, viewport.height);
+    f.viewport = m.reference->supersampledViewport(viewport.width, viewport.height);
+    f.light = s.light;
+    f.ambientColor = s.ambientColor;
+    f.ambientGradient = m.gradient.has_value();
+    m.ramp->bind();
+    if (m.gradient) m.gradient->bind();
+    for (std::size_t i = 0; i < s.objects.size(); ++i) {
+      if (s.objects[i].path.empty()) continue;
+      auto moved = m.opaque->setTransform(i, objectTransform(s.objects[i], frameTime(s, frame)));
+      PUFF_CHECK(moved.ok());  // the scene's checks keep transforms finite and invertible
+    }
+    m.reference->draw(f, *m.block, *m.opaque, particles, s.style, s.background, static_cast<GLuint>(callerFbo),
+                      viewport);
     return;
   }
 

@@ -46,6 +46,9 @@ struct AtlasSource {
   nlohmann::json params;       ///< generator parameters (seed included)
   std::size_t faces = 0;       ///< faces of the normalized source mesh
   std::size_t facesBaked = 0;  ///< faces actually rasterized (fewer with --lod auto)
+  /// Diffuse colour baked where the mesh has no vertex colours (puffbake --color; sRGB-encoded as
+  /// authored). Sidecars written before it was recorded read as white, puffbake's default.
+  glm::vec3 defaultColor{1.0f};
 };
 
 struct AtlasMap {

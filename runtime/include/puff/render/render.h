@@ -21,9 +21,25 @@ enum class RenderPath {
   kCel,    ///< programmable GL 4.5: nailboards, outlines from the flange, shadow volumes (puff::cel)
   kFixed,  ///< GL 1.x fixed function (puff::fixedfunc, §4.4): per-frame puff texture, backing
            ///< billboards for outlines; one light, uniform ambient, no shadows, flat billboards
+  /// The cel REFERENCE (issue 7): the image nailboards approximate. Every particle is its actual puff
+  /// mesh (the atlas's source mesh of its variation, full detail), placed and turned as its billboard
+  /// (the puff frame of Style::alignment, or its orientation), shaded by Eq. 2 per pixel with the
+  /// same K_a, C, K_L and q; ink around each puff's true silhouette in the image (a pixel within
+  /// Style::outlineWidth of a NEARER puff's visible pixels); exact shadows from a shadow map of the
+  /// puff meshes at high resolution that knows which puff each texel saw, so a puff is shadowed by
+  /// every other puff (and opaque objects by all puffs) but never by itself, as the billboard shadow
+  /// volumes intend; shadows are not cut at Style::shadowLength. Supersampled (no MSAA), slow, GL 4.5.
+  /// Media (fire, smoke, dust) are left out: puff::reference::renderMediaReference is theirs.
+  kReference,
 };
 std::string_view toString(RenderPath path);
-std::optional<RenderPath> parseRenderPath(std::string_view name);  ///< "cel" or "fixed"
+std::optional<RenderPath> parseRenderPath(std::string_view name);  ///< "cel", "fixed" or "reference"
+
+/// How finely the cel reference (RenderPath::kReference) samples.
+struct CelReferenceOptions {
+  int supersample = 3;       ///< samples per pixel side, box-filtered down; [1, 8]
+  int shadowMapSize = 4096;  ///< texels per side of the shadow map over the puffs' bounding sphere; [256, 8192]
+};
 
 struct FrameStats {
   std::size_t particles = 0;  ///< drawn (listed + placed + simulated)
@@ -46,6 +62,11 @@ class SceneRenderer {
   /// Errors name the file that failed (atlas, ramp, gradient, mesh) and why.
   static Result<std::unique_ptr<SceneRenderer>> create(const Scene& scene, RenderPath path = RenderPath::kCel,
                                                        bool contextFramebuffer = false);
+  /// RenderPath::kReference with chosen sampling. Needs GL 4.5; the atlas's sources must still be
+  /// where the sidecar says, unchanged (their hash is checked), or be its generators' puffs. Errors
+  /// name the file (scene, atlas, mesh) and why, or the option out of range.
+  static Result<std::unique_ptr<SceneRenderer>> createReference(const Scene& scene,
+                                                                const CelReferenceOptions& options = {});
 
   /// Whether the current context can run the programmable path: GL >= 4.5 and every cel program
   /// compiles and links. The error says why not (for an automatic fallback to kFixed).
@@ -94,6 +115,8 @@ class SceneRenderer {
  private:
   SceneRenderer();
   static Result<std::unique_ptr<SceneRenderer>> createFixed(const Scene& scene, bool contextFramebuffer);
+  static Result<std::unique_ptr<SceneRenderer>> createProgrammable(const Scene& scene,
+                                                                   const CelReferenceOptions* reference);
   Result<void> createMedia();
   void drawSingle(int frame, const cel::Viewport& viewport, FrameStats* stats, const cel::Camera* camera);
   bool ensureLayers(const cel::Viewport& viewport);

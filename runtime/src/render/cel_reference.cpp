@@ -1,0 +1,508 @@
+#include "cel_reference.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <puff/core/files.h>
+#include <puff/core/shader.h>
+
+namespace puff::render::detail {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// Reads a generator parameter recorded in the sidecar, keeping the default when absent.
+template <class T>
+Result<void> param(const json& params, const char* key, T& out, const std::string& where) {
+  if (!params.contains(key)) return {};
+  try {
+    out = params.at(key).get<T>();
+  } catch (const json::exception&) {
+    return Error{where + "/params/" + key + ": not a number of the right kind"};
+  }
+  return {};
+}
+
+Result<mesh::TriMesh> generatedSource(const core::AtlasSource& s, const std::string& where) {
+  const json& p = s.params;
+  if (s.generator == "sphere") {
+    mesh::SphereParams sp;
+    PUFF_TRY(param(p, "subdivisions", sp.subdivisions, where));
+    PUFF_TRY(mesh::validate(sp));
+    return mesh::generateSphere(sp);
+  }
+  if (s.generator == "lumpy") {
+    mesh::LumpyParams lp;
+    PUFF_TRY(param(p, "subdivisions", lp.subdivisions, where));
+    PUFF_TRY(param(p, "amplitude", lp.amplitude, where));
+    PUFF_TRY(param(p, "frequency", lp.frequency, where));
+    PUFF_TRY(param(p, "octaves", lp.octaves, where));
+    PUFF_TRY(param(p, "seed", lp.seed, where));
+    PUFF_TRY(mesh::validate(lp));
+    return mesh::generateLumpy(lp);
+  }
+  if (s.generator == "cluster") {
+    mesh::ClusterParams cp;
+    PUFF_TRY(param(p, "count", cp.count, where));
+    PUFF_TRY(param(p, "radiusMin", cp.radiusMin, where));
+    PUFF_TRY(param(p, "radiusMax", cp.radiusMax, where));
+    PUFF_TRY(param(p, "spread", cp.spread, where));
+    PUFF_TRY(param(p, "subdivisions", cp.subdivisions, where));
+    PUFF_TRY(param(p, "seed", cp.seed, where));
+    PUFF_TRY(mesh::validate(cp));
+    return mesh::generateCluster(cp);
+  }
+  return Error{where + "/generator: \"" + s.generator + "\" is not a generator this build knows"};
+}
+
+void setInt(GLuint prog, const char* name, int v) { glProgramUniform1i(prog, glGetUniformLocation(prog, name), v); }
+void setFloat(GLuint prog, const char* name, float v) { glProgramUniform1f(prog, glGetUniformLocation(prog, name), v); }
+void setMat4(GLuint prog, const char* name, const glm::mat4& m) {
+  glProgramUniformMatrix4fv(prog, glGetUniformLocation(prog, name), 1, GL_FALSE, glm::value_ptr(m));
+}
+
+}  // namespace
+
+Result<std::vector<mesh::TriMesh>> atlasSourceMeshes(const core::AtlasDesc& desc, const fs::path& sidecar) {
+  std::vector<mesh::TriMesh> out;
+  for (std::size_t i = 0; i < desc.sources.size(); ++i) {
+    const core::AtlasSource& s = desc.sources[i];
+    const std::string where = sidecar.string() + ": /sources/" + std::to_string(i);
+    mesh::TriMesh m;
+    if (!s.path.empty()) {
+      fs::path file = s.path;
+      if (file.is_relative()) file = sidecar.parent_path() / file;
+      auto bytes = core::readFileBytes(file);
+      if (!bytes) return Error{where + ": the puff mesh it was baked from cannot be read: " + bytes.error().message};
+      if (!s.hash.empty() && "fnv1a64:" + core::fnv1a64Hex(*bytes) != s.hash) {
+        return Error{where + ": " + file.string() + " has changed since the atlas was baked (re-bake it)"};
+      }
+      auto loaded = mesh::loadMesh(file);
+      if (!loaded) return loaded.error();
+      m = std::move(*loaded);
+    } else {
+      auto generated = generatedSource(s, where);
+      if (!generated) return generated.error();
+      m = std::move(*generated);
+      if (s.faces != 0 && m.faceCount() != s.faces) {
+        return Error{where + ": the " + s.generator + " generator with these parameters gives " +
+                     std::to_string(m.faceCount()) + " faces, the baked puff had " + std::to_string(s.faces) +
+                     " (an atlas from another puffbake version?)"};
+      }
+    }
+    if (!m.hasColors()) m.colors.assign(m.positions.size(), s.defaultColor);
+    out.push_back(std::move(m));
+  }
+  if (out.empty()) return Error{sidecar.string() + ": the atlas lists no sources"};
+  return out;
+}
+
+glm::mat4 puffTransform(const cel::Particle& p, cel::Alignment alignment, const glm::mat4& view, bool orthographic) {
+  const glm::mat4 inv = glm::inverse(view);
+  const glm::vec3 camRight = glm::normalize(glm::vec3(inv[0])), camUp = glm::normalize(glm::vec3(inv[1]));
+  const glm::vec3 camBack = glm::normalize(glm::vec3(inv[2])), eye = glm::vec3(inv[3]);
+  glm::mat3 frame(camRight, camUp, camBack);
+  const glm::vec3 toward = orthographic ? camBack : glm::normalize(eye - p.position);
+  if (alignment == cel::Alignment::kViewpoint) {
+    const glm::vec3 r = glm::cross(camUp, toward);
+    if (glm::dot(r, r) > 1e-8f) {
+      const glm::vec3 rn = glm::normalize(r);
+      frame = glm::mat3(rn, glm::cross(toward, rn), toward);
+    }
+  } else if (alignment == cel::Alignment::kAxial) {
+    const glm::vec3 u(0.0f, 1.0f, 0.0f);
+    glm::vec3 w = toward - glm::dot(toward, u) * u;
+    if (glm::dot(w, w) > 1e-8f) {
+      w = glm::normalize(w);
+      frame = glm::mat3(glm::cross(u, w), u, w);
+    }
+  }
+  if (p.oriented) frame = glm::mat3_cast(glm::normalize(p.orientation));
+  glm::mat4 m(frame * (0.5f * p.size));
+  m[3] = glm::vec4(p.position, 1.0f);
+  return m;
+}
+
+struct CelReference::Impl {
+  CelReferenceOptions options;
+  struct PuffMesh {
+    core::VertexArray vao;
+    core::Buffer vertices, indices, adjacency;
+    GLsizei indexCount = 0;
+    core::VertexArray adjacencyVao;  // the same vertices, triangles with their neighbours (outlines)
+  };
+  std::vector<PuffMesh> meshes;
+  core::Program meshProgram, stencilProgram, silhouetteProgram, downsampleProgram;
+  core::VertexArray emptyVao;
+  core::Buffer instances;
+  std::size_t instanceCapacity = 0;
+  // The supersampled frame: colour, puff ids, depth + stencil, and a copy of the depth to sample.
+  int width = 0, height = 0;
+  core::Framebuffer fbo;
+  core::Texture color, ids, depthStencil, depthCopy;
+  // The shadow map: pass 1 (distance, id) and pass 2 (distance), one depth buffer each.
+  int shadowSize = 0;
+  core::Framebuffer shadowFbo1, shadowFbo2;
+  core::Texture shadowNear, shadowId, shadowOther, shadowDepth1, shadowDepth2;
+
+  void ensureTarget(int w, int h) {
+    if (w == width && h == height && fbo) return;
+    width = w;
+    height = h;
+    fbo = core::makeFramebuffer();
+    color = core::makeTexture(GL_TEXTURE_2D);
+    ids = core::makeTexture(GL_TEXTURE_2D);
+    depthStencil = core::makeTexture(GL_TEXTURE_2D);
+    depthCopy = core::makeTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(color.get(), 1, GL_RGBA8, w, h);
+    glTextureStorage2D(ids.get(), 1, GL_R32UI, w, h);
+    glTextureStorage2D(depthStencil.get(), 1, GL_DEPTH24_STENCIL8, w, h);
+    glTextureStorage2D(depthCopy.get(), 1, GL_DEPTH24_STENCIL8, w, h);
+    for (GLuint t : {color.get(), ids.get(), depthStencil.get(), depthCopy.get()}) {
+      glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+    glTextureParameteri(depthCopy.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
+    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
+    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT1, ids.get(), 0);
+    glNamedFramebufferTexture(fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, depthStencil.get(), 0);
+  }
+
+  void ensureShadowMaps() {
+    if (shadowSize == options.shadowMapSize) return;
+    shadowSize = options.shadowMapSize;
+    const int s = shadowSize;
+    shadowNear = core::makeTexture(GL_TEXTURE_2D);
+    shadowId = core::makeTexture(GL_TEXTURE_2D);
+    shadowOther = core::makeTexture(GL_TEXTURE_2D);
+    shadowDepth1 = core::makeTexture(GL_TEXTURE_2D);
+    shadowDepth2 = core::makeTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(shadowNear.get(), 1, GL_R32F, s, s);
+    glTextureStorage2D(shadowId.get(), 1, GL_R32UI, s, s);
+    glTextureStorage2D(shadowOther.get(), 1, GL_R32F, s, s);
+    glTextureStorage2D(shadowDepth1.get(), 1, GL_DEPTH_COMPONENT32F, s, s);
+    glTextureStorage2D(shadowDepth2.get(), 1, GL_DEPTH_COMPONENT32F, s, s);
+    for (GLuint t : {shadowNear.get(), shadowId.get(), shadowOther.get()}) {
+      glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    }
+    shadowFbo1 = core::makeFramebuffer();
+    glNamedFramebufferTexture(shadowFbo1.get(), GL_COLOR_ATTACHMENT0, shadowNear.get(), 0);
+    glNamedFramebufferTexture(shadowFbo1.get(), GL_COLOR_ATTACHMENT1, shadowId.get(), 0);
+    glNamedFramebufferTexture(shadowFbo1.get(), GL_DEPTH_ATTACHMENT, shadowDepth1.get(), 0);
+    const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(shadowFbo1.get(), 2, both);
+    shadowFbo2 = core::makeFramebuffer();
+    glNamedFramebufferTexture(shadowFbo2.get(), GL_COLOR_ATTACHMENT0, shadowOther.get(), 0);
+    glNamedFramebufferTexture(shadowFbo2.get(), GL_DEPTH_ATTACHMENT, shadowDepth2.get(), 0);
+    glNamedFramebufferDrawBuffer(shadowFbo2.get(), GL_COLOR_ATTACHMENT0);
+  }
+
+  // Draws every instance, one instanced call per variation (instances are grouped by variation).
+  // Draws every instance, one instanced call per variation (instances are grouped by variation):
+  // triangles, or triangles with adjacency for the silhouette program.
+  void drawInstances(const std::vector<std::size_t>& firstOfVariation, bool adjacency = false) {
+    const GLuint prog = adjacency ? silhouetteProgram.get() : meshProgram.get();
+    for (std::size_t v = 0; v + 1 < firstOfVariation.size(); ++v) {
+      const std::size_t first = firstOfVariation[v], count = firstOfVariation[v + 1] - first;
+      if (count == 0) continue;
+      setInt(prog, "uFirst", static_cast<int>(first));
+      glBindVertexArray(adjacency ? meshes[v].adjacencyVao.get() : meshes[v].vao.get());
+      glDrawElementsInstanced(adjacency ? GL_TRIANGLES_ADJACENCY : GL_TRIANGLES,
+                              meshes[v].indexCount * (adjacency ? 2 : 1), GL_UNSIGNED_INT, nullptr,
+                              static_cast<GLsizei>(count));
+    }
+  }
+};
+
+CelReference::CelReference() : impl_(std::make_unique<Impl>()) {}
+CelReference::~CelReference() = default;
+int CelReference::supersample() const { return impl_->options.supersample; }
+
+cel::Viewport CelReference::supersampledViewport(int width, int height) const {
+  return cel::Viewport{0, 0, width * impl_->options.supersample, height * impl_->options.supersample};
+}
+
+Result<void> validate(const CelReferenceOptions& options) {
+  if (options.supersample < 1 || options.supersample > 8)
+    return Error{"reference supersampling must be in [1, 8], got " + std::to_string(options.supersample)};
+  if (options.shadowMapSize < 256 || options.shadowMapSize > 8192)
+    return Error{"reference shadow map size must be in [256, 8192], got " + std::to_string(options.shadowMapSize)};
+  return {};
+}
+
+Result<std::unique_ptr<CelReference>> CelReference::create(std::vector<mesh::TriMesh> meshes,
+                                                           const CelReferenceOptions& options) {
+  PUFF_TRY(validate(options));
+  if (meshes.empty()) return Error{"the cel reference needs at least one puff mesh"};
+  std::unique_ptr<CelReference> r(new CelReference());
+  Impl& m = *r->impl_;
+  m.options = options;
+  auto mesh = core::buildProgram({"reference/puff_mesh.vert", "reference/puff_mesh.frag"});
+  if (!mesh) return mesh.error();
+  auto stencil = core::buildProgram({"reference/fullscreen.vert", "reference/shadow_stencil.frag"});
+  if (!stencil) return stencil.error();
+  auto silhouette =
+      core::buildProgram({"reference/silhouette.vert", "reference/silhouette.geom", "reference/silhouette.frag"});
+  if (!silhouette) return silhouette.error();
+  auto down = core::buildProgram({"reference/fullscreen.vert", "reference/downsample.frag"});
+  if (!down) return down.error();
+  m.meshProgram = std::move(*mesh);
+  m.stencilProgram = std::move(*stencil);
+  m.silhouetteProgram = std::move(*silhouette);
+  m.downsampleProgram = std::move(*down);
+  m.emptyVao = core::makeVertexArray();
+  m.instances = core::makeBuffer();
+
+  struct Vertex {
+    glm::vec3 position, normal, color;
+  };
+  for (const mesh::TriMesh& t : meshes) {
+    Impl::PuffMesh pm;
+    std::vector<Vertex> vertices(t.positions.size());
+    for (std::size_t i = 0; i < vertices.size(); ++i) {
+      vertices[i] = {t.positions[i], t.normals[i], t.hasColors() ? t.colors[i] : glm::vec3(1.0f)};
+    }
+    pm.vertices = core::makeBuffer();
+    pm.indices = core::makeBuffer();
+    glNamedBufferStorage(pm.vertices.get(), static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(),
+                         0);
+    glNamedBufferStorage(pm.indices.get(), static_cast<GLsizeiptr>(t.triangles.size() * sizeof(glm::uvec3)),
+                         t.triangles.data(), 0);
+    pm.indexCount = static_cast<GLsizei>(t.triangles.size() * 3);
+    pm.vao = core::makeVertexArray();
+    const GLuint vao = pm.vao.get();
+    glVertexArrayVertexBuffer(vao, 0, pm.vertices.get(), 0, sizeof(Vertex));
+    glVertexArrayElementBuffer(vao, pm.indices.get());
+    for (GLuint a = 0; a < 3; ++a) {
+      glEnableVertexArrayAttrib(vao, a);
+      glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, a * sizeof(glm::vec3));
+      glVertexArrayAttribBinding(vao, a, 0);
+    }
+    // Each triangle with the vertex across each of its edges (GL_TRIANGLES_ADJACENCY order); an edge
+    // with no neighbour (an open mesh) gets the triangle's own third vertex: never a silhouette.
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> across;
+    for (const glm::uvec3& tri : t.triangles) {
+      for (int e = 0; e < 3; ++e) across[{tri[e], tri[(e + 1) % 3]}] = tri[(e + 2) % 3];
+    }
+    std::vector<std::uint32_t> adjacency;
+    adjacency.reserve(t.triangles.size() * 6);
+    for (const glm::uvec3& tri : t.triangles) {
+      for (int e = 0; e < 3; ++e) {
+        const auto it = across.find({tri[(e + 1) % 3], tri[e]});
+        adjacency.push_back(tri[e]);
+        adjacency.push_back(it != across.end() ? it->second : tri[(e + 2) % 3]);
+      }
+    }
+    pm.adjacency = core::makeBuffer();
+    glNamedBufferStorage(pm.adjacency.get(), static_cast<GLsizeiptr>(adjacency.size() * sizeof(std::uint32_t)),
+                         adjacency.data(), 0);
+    pm.adjacencyVao = core::makeVertexArray();
+    glVertexArrayVertexBuffer(pm.adjacencyVao.get(), 0, pm.vertices.get(), 0, sizeof(Vertex));
+    glVertexArrayElementBuffer(pm.adjacencyVao.get(), pm.adjacency.get());
+    glEnableVertexArrayAttrib(pm.adjacencyVao.get(), 0);
+    glVertexArrayAttribFormat(pm.adjacencyVao.get(), 0, 3, GL_FLOAT, GL_FALSE, 0);
+    glVertexArrayAttribBinding(pm.adjacencyVao.get(), 0, 0);
+    m.meshes.push_back(std::move(pm));
+  }
+  if (const std::string e = core::drainGlErrors(); !e.empty())
+    return Error{"uploading the reference's puff meshes: " + e};
+  return r;
+}
+
+void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::OpaqueRenderer& opaque,
+                        std::span<const cel::Particle> particles, const cel::Style& style, const glm::vec3& background,
+                        GLuint outputFbo, const cel::Viewport& viewport) {
+  Impl& m = *impl_;
+  const int ss = m.options.supersample;
+  const int w = viewport.width * ss, h = viewport.height * ss;
+  m.ensureTarget(w, h);
+
+  // The instances, grouped by variation: rows of the model matrix and the particle's id.
+  struct Instance {
+    glm::vec4 rows[3];
+    glm::uvec4 id;
+  };
+  const bool ortho = frame.projection[3][3] == 1.0f;
+  const std::size_t variations = m.meshes.size();
+  std::vector<std::vector<std::size_t>> byVariation(variations);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const cel::Particle& p = particles[i];
+    if (!(p.size > 0.0f) || !std::isfinite(p.size) || !std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||
+        !std::isfinite(p.position.z))
+      continue;
+    byVariation[static_cast<std::size_t>(std::max(0, p.variation)) % variations].push_back(i);
+  }
+  std::vector<Instance> instances;
+  std::vector<std::size_t> firstOfVariation{0};
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (const auto& list : byVariation) {
+    for (std::size_t i : list) {
+      const cel::Particle& p = particles[i];
+      const glm::mat4 model = glm::transpose(puffTransform(p, style.alignment, frame.view, ortho));
+      instances.push_back(Instance{{model[0], model[1], model[2]}, glm::uvec4(static_cast<unsigned>(i + 1), 0, 0, 0)});
+      lo = glm::min(lo, p.position - glm::vec3(0.5f * p.size));
+      hi = glm::max(hi, p.position + glm::vec3(0.5f * p.size));
+    }
+    firstOfVariation.push_back(instances.size());
+  }
+  if (!instances.empty()) {
+    const std::size_t bytes = instances.size() * sizeof(Instance);
+    if (bytes > m.instanceCapacity) {
+      m.instances = core::makeBuffer();
+      m.instanceCapacity = std::max<std::size_t>(bytes, 2 * m.instanceCapacity);
+      glNamedBufferStorage(m.instances.get(), static_cast<GLsizeiptr>(m.instanceCapacity), nullptr,
+                           GL_DYNAMIC_STORAGE_BIT);
+    }
+    glNamedBufferSubData(m.instances.get(), 0, static_cast<GLsizeiptr>(bytes), instances.data());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m.instances.get());
+  }
+  const GLuint meshProg = m.meshProgram.get();
+
+  // The shadow map over the puffs' bounding sphere, seen along the light.
+  const bool shadows = style.shadows && !instances.empty();
+  glm::mat4 lightView(1.0f), lightProj(1.0f);
+  float bias = 0.0f;
+  if (shadows) {
+    m.ensureShadowMaps();
+    const glm::vec3 centre = 0.5f * (lo + hi);
+    const float radius = std::max(1e-3f, 0.5f * glm::length(hi - lo));
+    const glm::vec3 l = glm::normalize(frame.light.direction);
+    const glm::vec3 up = std::abs(l.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+    lightView = glm::lookAt(centre + 2.0f * radius * l, centre, up);
+    lightProj = glm::ortho(-radius, radius, -radius, radius, 0.0f, 4.0f * radius);
+    bias = 2.0f * radius / static_cast<float>(m.shadowSize);  // one texel
+    setMat4(meshProg, "uLightView", lightView);
+    setMat4(meshProg, "uLightProj", lightProj);
+    glViewport(0, 0, m.shadowSize, m.shadowSize);
+    glDisable(GL_STENCIL_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_DEPTH_CLAMP);
+    glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glUseProgram(meshProg);
+    const float far[4] = {1e30f, 0, 0, 0};
+    const GLuint none[4] = {0, 0, 0, 0};
+    glBindFramebuffer(GL_FRAMEBUFFER, m.shadowFbo1.get());
+    glClearNamedFramebufferfv(m.shadowFbo1.get(), GL_COLOR, 0, far);
+    glClearNamedFramebufferuiv(m.shadowFbo1.get(), GL_COLOR, 1, none);
+    glClearNamedFramebufferfi(m.shadowFbo1.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    setInt(meshProg, "uMode", 1);
+    m.drawInstances(firstOfVariation);
+    glBindFramebuffer(GL_FRAMEBUFFER, m.shadowFbo2.get());
+    glClearNamedFramebufferfv(m.shadowFbo2.get(), GL_COLOR, 0, far);
+    glClearNamedFramebufferfi(m.shadowFbo2.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    glBindTextureUnit(5, m.shadowId.get());
+    setInt(meshProg, "uMode", 2);
+    m.drawInstances(firstOfVariation);
+    glBindTextureUnit(4, m.shadowNear.get());
+    glBindTextureUnit(6, m.shadowOther.get());
+    for (GLuint prog : {meshProg, m.stencilProgram.get()}) {
+      setMat4(prog, "uShadowView", lightView);
+      setMat4(prog, "uShadowProj", lightProj);
+      setFloat(prog, "uShadowBias", bias);
+    }
+  }
+
+  // The frame: clear, opaque objects lit (colour only: their program writes no id), puffs.
+  const GLuint fbo = m.fbo.get();
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glViewport(0, 0, w, h);
+  glDisable(GL_SCISSOR_TEST);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDepthMask(GL_TRUE);
+  glStencilMask(0xFF);
+  const float bg[4] = {background.r, background.g, background.b, 1.0f};
+  const GLuint zero[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferfv(fbo, GL_COLOR, 0, bg);
+  glClearNamedFramebufferuiv(fbo, GL_COLOR, 1, zero);
+  glClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
+  glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
+  block.upload(frame);
+  opaque.draw(cel::ShadePass::kLit);
+  if (!instances.empty()) {
+    const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(fbo, 2, both);
+    glDisable(GL_STENCIL_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_DEPTH_CLAMP);
+    glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glUseProgram(meshProg);
+    setInt(meshProg, "uMode", 0);
+    setInt(meshProg, "uShading", style.shading ? 1 : 0);
+    setInt(meshProg, "uShadows", shadows ? 1 : 0);
+    m.drawInstances(firstOfVariation);
+    glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
+  }
+  const bool outlines = style.outlines && style.outlineWidth > 0.0f && !instances.empty();
+  if (shadows) {
+    glCopyImageSubData(m.depthStencil.get(), GL_TEXTURE_2D, 0, 0, 0, 0, m.depthCopy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w,
+                       h, 1);
+    glBindTextureUnit(2, m.depthCopy.get());
+    glBindTextureUnit(3, m.ids.get());
+    glBindVertexArray(m.emptyVao.get());
+  }
+  if (shadows) {
+    // Opaque pixels some puff shadows: stencil 1, then the opaque objects' own shadowed pass.
+    glUseProgram(m.stencilProgram.get());
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    glEnable(GL_STENCIL_TEST);
+    glStencilFunc(GL_ALWAYS, 1, 0xFF);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    opaque.draw(cel::ShadePass::kShadowed);
+    glDisable(GL_STENCIL_TEST);
+  }
+  if (outlines) {
+    const GLuint prog = m.silhouetteProgram.get();
+    glUseProgram(prog);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_FALSE);
+    glDisable(GL_STENCIL_TEST);
+    setFloat(prog, "uWidth", style.outlineWidth * static_cast<float>(ss));
+    glProgramUniform3f(prog, glGetUniformLocation(prog, "uInk"), style.outlineColor.r, style.outlineColor.g,
+                       style.outlineColor.b);
+    m.drawInstances(firstOfVariation, true);
+  }
+
+  // Box-filter into the caller's framebuffer.
+  glBindFramebuffer(GL_FRAMEBUFFER, outputFbo);
+  glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glDepthMask(GL_FALSE);
+  const GLuint down = m.downsampleProgram.get();
+  glUseProgram(down);
+  setInt(down, "uFactor", ss);
+  glProgramUniform2i(down, glGetUniformLocation(down, "uOrigin"), viewport.x, viewport.y);
+  glBindTextureUnit(0, m.color.get());
+  glBindVertexArray(m.emptyVao.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDepthMask(GL_TRUE);
+  glEnable(GL_DEPTH_TEST);
+  glBindVertexArray(0);
+  glUseProgram(0);
+}
+
+}  // namespace puff::render::detail

@@ -1,0 +1,52 @@
+#version 450 core
+// The cel reference's outlines: the TRUE silhouette of each puff mesh, its edges between a triangle
+// facing the eye and one facing away, each drawn as a band uWidth pixels wide on the side away from
+// the puff (and uWidth longer at both ends, so the bands of consecutive edges join), at the edge's own
+// depth. Drawn after everything else with the depth test and no depth write: a nearer surface hides
+// the ink, a farther one or the background shows it, as the nailboards' flange (§4.2, Fig. 5).
+#include "common/frame.glsl"
+
+layout(triangles_adjacency) in;
+layout(triangle_strip, max_vertices = 12) out;
+
+in vec3 vView[];
+out float gDist;  // view-axis distance, for linear depth
+
+uniform float uWidth;  // pixels of the (supersampled) target
+
+bool facesEye(vec3 a, vec3 b, vec3 c) {
+  vec3 n = cross(b - a, c - a);
+  return uDepthRange.w > 0.5 ? n.z > 0.0 : dot(n, -a) > 0.0;
+}
+
+vec2 toPixels(vec4 clip) { return (clip.xy / clip.w * 0.5 + 0.5) * uViewport.zw; }
+
+void emit(vec4 clip, vec2 offsetPixels, float dist) {
+  gl_Position = vec4(clip.xy + offsetPixels / uViewport.zw * 2.0 * clip.w, clip.zw);
+  gDist = dist;
+  EmitVertex();
+}
+
+void main() {
+  // Triangle 0, 2, 4; vertex 1, 3, 5 lies opposite edge 0-2, 2-4, 4-0 across the neighbour.
+  if (!facesEye(vView[0], vView[2], vView[4])) return;
+  for (int e = 0; e < 3; ++e) {
+    int i0 = 2 * e, i1 = (2 * e + 2) % 6, across = 2 * e + 1, inner = (2 * e + 4) % 6;
+    if (facesEye(vView[i1], vView[i0], vView[across])) continue;  // both faces front: not a silhouette
+    vec4 c0 = gl_in[i0].gl_Position, c1 = gl_in[i1].gl_Position, ci = gl_in[inner].gl_Position;
+    if (c0.w <= 0.0 || c1.w <= 0.0 || ci.w <= 0.0) continue;  // through the eye plane: left out
+    vec2 p0 = toPixels(c0), p1 = toPixels(c1), pi = toPixels(ci);
+    vec2 along = p1 - p0;
+    float len = length(along);
+    if (len < 1e-6) continue;
+    along /= len;
+    vec2 out2 = vec2(-along.y, along.x);
+    if (dot(out2, pi - p0) > 0.0) out2 = -out2;  // away from the front face's third vertex
+    vec2 a = -along * uWidth, b = along * uWidth, o = out2 * uWidth;
+    emit(c0, a, -vView[i0].z);
+    emit(c0, a + o, -vView[i0].z);
+    emit(c1, b, -vView[i1].z);
+    emit(c1, b + o, -vView[i1].z);
+    EndPrimitive();
+  }
+}
