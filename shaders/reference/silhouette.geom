@@ -3,14 +3,18 @@
 // facing the eye and one facing away, each drawn as a band uWidth pixels wide on the side away from
 // the puff (and uWidth longer at both ends, so the bands of consecutive edges join), at the edge's own
 // depth. Drawn after everything else with the depth test and no depth write: a nearer surface hides
-// the ink, a farther one or the background shows it, as the nailboards' flange (§4.2, Fig. 5).
+// the ink, a farther one or the background shows it, as the nailboards' flange (§4.2, Fig. 5). Only
+// the puff's OUTER silhouette is inked, as the nailboards' distance map outlines it: silhouette.frag
+// drops ink over the puff's own pixels (a fold inside its outline shows the puff itself behind it).
 #include "common/frame.glsl"
 
 layout(triangles_adjacency) in;
 layout(triangle_strip, max_vertices = 12) out;
 
 in vec3 vView[];
+flat in uint vId[];
 out float gDist;  // view-axis distance, for linear depth
+flat out uint gId;
 
 uniform float uWidth;  // pixels of the (supersampled) target
 
@@ -24,6 +28,7 @@ vec2 toPixels(vec4 clip) { return (clip.xy / clip.w * 0.5 + 0.5) * uViewport.zw;
 void emit(vec4 clip, vec2 offsetPixels, float dist) {
   gl_Position = vec4(clip.xy + offsetPixels / uViewport.zw * 2.0 * clip.w, clip.zw);
   gDist = dist;
+  gId = vId[0];
   EmitVertex();
 }
 

@@ -147,7 +147,7 @@ struct CelReference::Impl {
   // The supersampled frame: colour, puff ids, depth + stencil, and a copy of the depth to sample.
   int width = 0, height = 0;
   core::Framebuffer fbo;
-  core::Texture color, ids, depthStencil, depthCopy;
+  core::Texture color, ids, depthStencil, depthCopy, idsCopy;
   // The shadow map: pass 1 (distance, id) and pass 2 (distance), one depth buffer each.
   int shadowSize = 0;
   core::Framebuffer shadowFbo1, shadowFbo2;
@@ -162,11 +162,13 @@ struct CelReference::Impl {
     ids = core::makeTexture(GL_TEXTURE_2D);
     depthStencil = core::makeTexture(GL_TEXTURE_2D);
     depthCopy = core::makeTexture(GL_TEXTURE_2D);
+    idsCopy = core::makeTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(idsCopy.get(), 1, GL_R32UI, w, h);
     glTextureStorage2D(color.get(), 1, GL_RGBA8, w, h);
     glTextureStorage2D(ids.get(), 1, GL_R32UI, w, h);
     glTextureStorage2D(depthStencil.get(), 1, GL_DEPTH24_STENCIL8, w, h);
     glTextureStorage2D(depthCopy.get(), 1, GL_DEPTH24_STENCIL8, w, h);
-    for (GLuint t : {color.get(), ids.get(), depthStencil.get(), depthCopy.get()}) {
+    for (GLuint t : {color.get(), ids.get(), depthStencil.get(), depthCopy.get(), idsCopy.get()}) {
       glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
       glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     }
@@ -451,11 +453,13 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
     glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
   }
   const bool outlines = style.outlines && style.outlineWidth > 0.0f && !instances.empty();
-  if (shadows) {
+  if (shadows || outlines) {
+    // Sampled copies: the frame's own attachments are not read while it is bound.
     glCopyImageSubData(m.depthStencil.get(), GL_TEXTURE_2D, 0, 0, 0, 0, m.depthCopy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w,
                        h, 1);
+    glCopyImageSubData(m.ids.get(), GL_TEXTURE_2D, 0, 0, 0, 0, m.idsCopy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
     glBindTextureUnit(2, m.depthCopy.get());
-    glBindTextureUnit(3, m.ids.get());
+    glBindTextureUnit(3, m.idsCopy.get());
     glBindVertexArray(m.emptyVao.get());
   }
   if (shadows) {
