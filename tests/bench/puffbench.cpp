@@ -1,4 +1,6 @@
-// puffbench (issue 7): speed against accuracy for the media path on the art scenes. For every
+// puffbench (issue 7): speed against accuracy on the art scenes. The cel part (nailboards and the
+// fixed-function path against the cel reference over atlas size, mesh detail and particle count) is
+// in puffbench_cel.cpp and writes --cel-csv. The media part: for every
 // scene, method (planar, soft-linear, soft-scurve, spherical) and media layer resolution (1/8 ..
 // 1), the median frame time and the worst error against the exact reference over three frames of
 // the scene's camera path (render::measureMediaBudget: reference::renderMediaReference over the
@@ -20,6 +22,8 @@
 #include <puff/core/gl_context.h>
 #include <puff/render/budget.h>
 #include <puff/render/render.h>
+
+#include "puffbench_cel.h"
 
 namespace {
 
@@ -63,7 +67,8 @@ Result<double> baselineMs(render::Scene s, std::span<const int> frames, int reps
 
 int main(int argc, char** argv) {
   int reps = 3, width = 320, height = 240;
-  std::string csvPath;
+  std::string csvPath, celCsvPath, part = "all";
+  puffbench::CelBenchOptions cel;
   fs::path artDir = PUFF_ART_DIR, sceneDir = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes";
   std::vector<std::string> scenes = {"explosion-walls", "smoke-flythrough", "fire-to-smoke"};
   for (int i = 1; i < argc; ++i) {
@@ -76,22 +81,64 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(argv[i], "--size") && i + 2 < argc) {
       width = std::clamp(std::atoi(argv[++i]), 16, 4096);
       height = std::clamp(std::atoi(argv[++i]), 16, 4096);
+    } else if (!std::strcmp(argv[i], "--cel-csv") && i + 1 < argc) {
+      celCsvPath = argv[++i];
+    } else if (!std::strcmp(argv[i], "--part") && i + 1 < argc &&
+               (!std::strcmp(argv[i + 1], "media") || !std::strcmp(argv[i + 1], "cel") ||
+                !std::strcmp(argv[i + 1], "all"))) {
+      part = argv[++i];
+    } else if (!std::strcmp(argv[i], "--reference-limit") && i + 1 < argc) {
+      cel.referenceLimit = static_cast<std::size_t>(std::max(0, std::atoi(argv[++i])));
+    } else if (!std::strcmp(argv[i], "--no-counts")) {
+      cel.counts.clear();
     } else if (!std::strcmp(argv[i], "--scene") && i + 1 < argc) {
       if (scenes.size() == 3 && scenes[0] == "explosion-walls") scenes.clear();
       scenes.push_back(argv[++i]);
     } else {
       std::fprintf(stderr,
-                   "usage: puffbench [--reps N (3)] [--size W H (320 240)] [--scene NAME ...] [--csv FILE] "
-                   "[--art-dir DIR]\n");
+                   "usage: puffbench [--part media|cel|all (all)] [--reps N (3)] [--size W H (320 240)]\n"
+                   "                 [--scene NAME ... (media scenes)] [--csv FILE (media)] [--cel-csv FILE]\n"
+                   "                 [--reference-limit N (12500): no cel reference above N particles]\n"
+                   "                 [--no-counts: skip the particle-count sweep] [--art-dir DIR]\n");
       return 2;
     }
   }
-  auto context = core::createGlContext({});
+  // Compatibility profile: the fixed-function path (GL 1.x calls) runs beside the programmable ones.
+  core::GlContextOptions glOptions;
+  glOptions.profile = core::GlProfile::kCompatibility;
+  auto context = core::createGlContext(glOptions);
   if (!context) {
     std::fprintf(stderr, "puffbench: error: %s\n", context.error().message.c_str());
     return 1;
   }
   std::fprintf(stderr, "puffbench: %s\n", (*context)->describe().c_str());
+
+  if (part != "media") {
+    cel.sceneDir = sceneDir;
+    cel.artDir = artDir;
+    cel.width = width;
+    cel.height = height;
+    cel.reps = reps;
+    auto celRows = puffbench::runCelBench(cel);
+    if (!celRows) {
+      std::fprintf(stderr, "puffbench: error: %s\n", celRows.error().message.c_str());
+      return 1;
+    }
+    for (const puffbench::CelRow& r : *celRows) {
+      std::fprintf(stderr, "%-12s %-16s %-6s %7s  %8.2f ms (%5.2fx floor)  rmse %.5f  cov %.3f  ink %.3f%s\n",
+                   r.scene.c_str(), r.path.c_str(), r.parameter.c_str(), r.label.c_str(), r.ms,
+                   r.floorMs > 0.0 ? r.ms / r.floorMs : 0.0, r.rmse, r.coverageIoU, r.outlineIoU,
+                   r.pareto ? "  pareto" : "");
+    }
+    const std::string csv = puffbench::celCsv(*celRows);
+    if (celCsvPath.empty()) {
+      std::fputs(csv.c_str(), stdout);
+    } else if (auto ok = core::writeFileAtomic(celCsvPath, csv); !ok) {
+      std::fprintf(stderr, "puffbench: error: %s\n", ok.error().message.c_str());
+      return 1;
+    }
+    if (part == "cel") return 0;
+  }
 
   std::vector<Row> rows;
   for (const std::string& name : scenes) {

@@ -274,6 +274,26 @@ TEST_F(PuffrenderPaths, FixedPathDrawsTheSceneWithoutShaders) {
   EXPECT_EQ(run(common() + " --path gouraud -o x.png").exitCode, 2);
 }
 
+// The cel reference (issue 7) is a path of its own: the same scene, meshes instead of nailboards.
+TEST_F(PuffrenderPaths, ReferencePathDrawsThePuffMeshes) {
+  const fs::path ref = dir_ / "ref.png", cel = dir_ / "cel.png";
+  CliRun r = run(common() + " --path reference -o " + ref.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  ASSERT_EQ(run(common() + " -o " + cel.string()).exitCode, 0);
+  auto a = puff::core::readImage(ref), b = puff::core::readImage(cel);
+  ASSERT_TRUE(a && b);
+  EXPECT_EQ(a->width, 160);
+  EXPECT_GT(smokeAndObjects(*a), 160 * 120 / 10);
+  EXPECT_NE(a->pixels, b->pixels);
+  EXPECT_NE(run("--help").out.find("reference"), std::string::npos);
+  // A media scene: the reference draws no fire, smoke or dust, and says so.
+  const std::string media = std::string(PUFF_SOURCE_DIR) + "/art/scenes/fire-to-smoke.json --art-dir " +
+                            std::string(PUFF_ART_DIR) + " --width 48 --height 64";
+  CliRun m = run(media + " --path reference -o " + (dir_ / "media.png").string());
+  ASSERT_EQ(m.exitCode, 0) << m.err;
+  EXPECT_NE(m.err.find("the cel reference draws no fire, smoke or dust"), std::string::npos) << m.err;
+}
+
 TEST_F(PuffrenderPaths, CompareReportsParityAndWritesSideBySide) {
   const fs::path out = dir_ / "cmp.png";
   CliRun r = run(common() + " --compare fixed,cel -o " + out.string());

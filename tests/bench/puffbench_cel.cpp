@@ -1,0 +1,340 @@
+// puffbench's cel part (issue 7): the nailboards and the fixed-function path against the cel
+// reference (RenderPath::kReference: the actual puff meshes, true outer silhouettes, exact shadows)
+// over their cost parameters: the atlas's cell size (64 .. 1024 texels, baked here from the scene's
+// source meshes), the puff mesh's level of detail (the atlas baked from decimated meshes; the fixed
+// path drawing a decimated mesh) and the particle count (263 .. 50,000 on cloud-50k). Each point:
+// the median frame time, its ratio to the same frame without particles (opaque pass, clear and
+// read-back: the floor every configuration pays), and the error against the reference of the very
+// same particles: RMSE and PSNR of the 8-bit output values, coverage IoU and outline IoU (the ink).
+#include "puffbench_cel.h"
+
+#include <unistd.h>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include <puff/bake/baker.h>
+#include <puff/core/files.h>
+#include <puff/mesh/mesh.h>
+#include <puff/reference/metrics.h>
+#include <puff/render/budget.h>
+#include <puff/render/compare.h>
+
+namespace puffbench {
+
+namespace fs = std::filesystem;
+using namespace puff;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
+
+struct Frames {
+  double ms = 0.0;                  // median over frames x reps (0 when reps == 0)
+  std::vector<core::Image> images;  // one per frame
+  std::size_t particles = 0;
+};
+
+// Renders `frames` with `path` (the reference with its default sampling), each once untimed (the
+// image) and then `reps` times timed.
+Result<Frames> renderFrames(const render::Scene& scene, render::RenderPath path, std::span<const int> frames,
+                            int reps) {
+  auto r = render::SceneRenderer::create(scene, path);
+  if (!r) return r.error();
+  Frames out;
+  std::vector<double> times;
+  for (int f : frames) {
+    render::FrameStats stats;
+    auto image = (*r)->renderFrame(f, &stats);
+    if (!image) return image.error();
+    out.images.push_back(std::move(*image));
+    out.particles = std::max(out.particles, stats.particles);
+    for (int i = 0; i < reps; ++i) {
+      const auto t0 = Clock::now();
+      if (auto im = (*r)->renderFrame(f); !im) return im.error();
+      times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    }
+  }
+  out.ms = median(times);
+  return out;
+}
+
+// Ink: every channel within 0.1 of the outline colour where the bare frame is not.
+std::vector<bool> inkMask(const core::Image& image, const core::Image& bare, const glm::vec3& ink) {
+  std::vector<bool> m(static_cast<std::size_t>(image.width) * image.height);
+  auto isInk = [&](const core::Image& im, int x, int y) {
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(im.at(x, y, c) - ink[c]) > 0.1f) return false;
+    return true;
+  };
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      m[static_cast<std::size_t>(y) * image.width + x] = isInk(image, x, y) && !isInk(bare, x, y);
+  return m;
+}
+
+struct Errors {
+  double rmse = 0.0, coverageIoU = 1.0, outlineIoU = 1.0;
+};
+
+// Worst over the frames: largest RMSE, smallest IoUs.
+Errors compare(const Frames& a, const Frames& ref, const Frames& bare, const glm::vec3& ink) {
+  Errors e;
+  for (std::size_t i = 0; i < a.images.size(); ++i) {
+    e.rmse = std::max(e.rmse, reference::imageError(a.images[i], ref.images[i]).rmse);
+    e.coverageIoU = std::min(e.coverageIoU, reference::coverageIoU(a.images[i], ref.images[i], bare.images[i]));
+    e.outlineIoU = std::min(e.outlineIoU, reference::maskIoU(inkMask(a.images[i], bare.images[i], ink),
+                                                             inkMask(ref.images[i], bare.images[i], ink)));
+  }
+  return e;
+}
+
+// Bakes the scene atlas's source meshes (each decimated to 1 / `decimation` of its faces when > 1)
+// at `cellSize` into `dir`, with puffbake's defaults otherwise. Returns the sidecar.
+Result<fs::path> bake(const fs::path& sidecar, int cellSize, int decimation, const fs::path& dir, std::size_t* faces) {
+  auto desc = core::loadAtlasDesc(sidecar);
+  if (!desc) return desc.error();
+  std::vector<fs::path> files;
+  for (const core::AtlasSource& s : desc->sources) {
+    if (s.path.empty()) return Error{sidecar.string() + ": puffbench re-bakes from mesh files; a source was generated"};
+    files.push_back(fs::path(s.path).is_relative() ? sidecar.parent_path() / s.path : fs::path(s.path));
+  }
+  auto sources = bake::loadSources(files, std::nullopt);
+  if (!sources) return sources.error();
+  *faces = 0;
+  for (bake::PuffSource& s : *sources) {
+    if (decimation > 1) s.mesh = mesh::decimate(s.mesh, std::max<std::size_t>(20, s.mesh.faceCount() / decimation));
+    *faces += s.mesh.faceCount();
+  }
+  bake::BakeOptions o;
+  o.cellSize = cellSize;
+  o.outDir = dir;
+  o.contactSheet = false;
+  o.defaultColor = desc->sources.front().defaultColor;
+  auto report = bake::bakeAtlas(*sources, o);
+  if (!report) return report.error();
+  return report->sidecar;
+}
+
+}  // namespace
+
+Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
+  std::vector<CelRow> rows;
+  const fs::path work = fs::temp_directory_path() / ("puffbench-cel-" + std::to_string(::getpid()));
+  fs::remove_all(work);
+  struct Cleanup {
+    fs::path dir;
+    ~Cleanup() {
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+    }
+  } cleanup{work};
+
+  auto log = [&](const std::string& what, Clock::time_point t0) {
+    std::fprintf(stderr, "puffbench: %s (%.1f s)\n", what.c_str(),
+                 std::chrono::duration<double>(Clock::now() - t0).count());
+  };
+
+  for (const std::string& name : opt.scenes) {
+    auto loaded = render::loadScene(opt.sceneDir / (name + ".json"), opt.artDir);
+    if (!loaded) return loaded.error();
+    render::Scene scene = *loaded;
+    if (scene.atlas.empty()) return Error{name + ": not a cel scene (no atlas)"};
+    scene.width = opt.width;
+    scene.height = opt.height;
+    scene.media.reset();
+    const std::vector<int> frames = render::budgetFrames(0, scene.animation.frames - 1);
+    const glm::vec3 ink = scene.style.outlineColor;
+    const auto t0 = Clock::now();
+    // The programmable path's scene, and the same within the fixed path's limits (both references).
+    const render::Scene fixedScene = render::restrictToFixedLimits(scene);
+    auto bare = renderFrames(render::withoutParticles(scene), render::RenderPath::kCel, frames, opt.reps);
+    if (!bare) return bare.error();
+    auto bareFixed = renderFrames(render::withoutParticles(fixedScene), render::RenderPath::kFixed, frames, opt.reps);
+    if (!bareFixed) return bareFixed.error();
+    auto ref = renderFrames(scene, render::RenderPath::kReference, frames, 0);
+    if (!ref) return ref.error();
+    auto refFixed = renderFrames(fixedScene, render::RenderPath::kReference, frames, 0);
+    if (!refFixed) return refFixed.error();
+    log(name + ": floors and references", t0);
+
+    auto add = [&](const std::string& path, const std::string& parameter, double value, const Frames& f,
+                   const Frames& reference, const Frames& floor, const std::string& label) {
+      CelRow r;
+      r.scene = name;
+      r.path = path;
+      r.parameter = parameter;
+      r.value = value;
+      r.label = label;
+      r.particles = f.particles;
+      r.width = opt.width;
+      r.height = opt.height;
+      r.ms = f.ms;
+      r.floorMs = floor.ms;
+      const Errors e = compare(f, reference, floor, ink);
+      r.rmse = e.rmse;
+      r.coverageIoU = e.coverageIoU;
+      r.outlineIoU = e.outlineIoU;
+      rows.push_back(r);
+    };
+
+    // Atlas resolution: the nailboards with the scene's puffs baked at each cell size.
+    for (int cell : opt.atlasCells) {
+      const auto t1 = Clock::now();
+      std::size_t faces = 0;
+      auto sidecar = bake(scene.atlas, cell, 1, work / (name + "-cell" + std::to_string(cell)), &faces);
+      if (!sidecar) return sidecar.error();
+      render::Scene s = scene;
+      s.atlas = *sidecar;
+      auto f = renderFrames(s, render::RenderPath::kCel, frames, opt.reps);
+      if (!f) return f.error();
+      add("cel", "atlas", cell, *f, *ref, *bare, std::to_string(cell));
+      log(name + ": nailboards, atlas cells " + std::to_string(cell), t1);
+    }
+    // Mesh level of detail: the atlas (256-texel cells) baked from decimated meshes; the fixed path
+    // drawing the first variation's mesh decimated alike. The reference keeps the full meshes.
+    for (int k : opt.decimations) {
+      const auto t1 = Clock::now();
+      std::size_t faces = 0;
+      auto sidecar = bake(scene.atlas, 256, k, work / (name + "-lod" + std::to_string(k)), &faces);
+      if (!sidecar) return sidecar.error();
+      render::Scene s = scene;
+      s.atlas = *sidecar;
+      auto f = renderFrames(s, render::RenderPath::kCel, frames, opt.reps);
+      if (!f) return f.error();
+      add("cel", "lod", static_cast<double>(faces), *f, *ref, *bare, std::to_string(faces));
+      // The fixed path's puff: the first source mesh at this level of detail, written beside the atlas.
+      auto desc = core::loadAtlasDesc(scene.atlas);
+      if (!desc) return desc.error();
+      fs::path first = desc->sources.front().path;
+      if (first.is_relative()) first = scene.atlas.parent_path() / first;
+      auto full = mesh::loadMesh(first);
+      if (!full) return full.error();
+      const mesh::TriMesh m = k > 1 ? mesh::decimate(*full, std::max<std::size_t>(20, full->faceCount() / k)) : *full;
+      const fs::path puff = work / (name + "-lod" + std::to_string(k)) / "fixed-puff.obj";
+      if (auto ok = mesh::saveMesh(m, puff); !ok) return ok.error();
+      render::Scene lodScene = fixedScene;
+      lodScene.fixed.puff = puff;
+      auto ff = renderFrames(lodScene, render::RenderPath::kFixed, frames, opt.reps);
+      if (!ff) return ff.error();
+      add("fixed", "lod", static_cast<double>(m.faceCount()), *ff, *refFixed, *bareFixed,
+          std::to_string(m.faceCount()));
+      // The programmable path within the same limits, for the fixed path to be read against.
+      if (k == 1) {
+        auto cf = renderFrames(fixedScene, render::RenderPath::kCel, frames, opt.reps);
+        if (!cf) return cf.error();
+        add("cel-fixed-limits", "lod", static_cast<double>(faces), *cf, *refFixed, *bare, std::to_string(faces));
+      }
+      log(name + ": level of detail 1/" + std::to_string(k), t1);
+    }
+  }
+
+  // Particle count: cloud-50k's emitters scaled (a scene's first N particles are the same whatever
+  // its count), the error against the reference of the same particles at frame 0.
+  if (!opt.counts.empty()) {
+    auto loaded = render::loadScene(opt.sceneDir / "cloud-50k.json", opt.artDir);
+    if (!loaded) return loaded.error();
+    render::Scene base = *loaded;
+    base.width = opt.width;
+    base.height = opt.height;
+    std::size_t total = 0;
+    for (const render::EmitterSpec& e : base.emitters) total += static_cast<std::size_t>(e.count);
+    const std::vector<int> frame0{0};
+    auto bare = renderFrames(render::withoutParticles(base), render::RenderPath::kCel, frame0, opt.reps);
+    if (!bare) return bare.error();
+    const render::Scene baseFixed = render::restrictToFixedLimits(base);
+    auto bareFixed = renderFrames(render::withoutParticles(baseFixed), render::RenderPath::kFixed, frame0, opt.reps);
+    if (!bareFixed) return bareFixed.error();
+    for (std::size_t n : opt.counts) {
+      const auto t1 = Clock::now();
+      render::Scene s = base;
+      std::size_t placed = 0;
+      for (std::size_t i = 0; i < s.emitters.size(); ++i) {
+        const std::size_t share = i + 1 == s.emitters.size()
+                                      ? n - placed
+                                      : static_cast<std::size_t>(std::llround(double(n) * s.emitters[i].count / total));
+        s.emitters[i].count = static_cast<int>(share);
+        placed += share;
+      }
+      const render::Scene sf = render::restrictToFixedLimits(s);
+      auto f = renderFrames(s, render::RenderPath::kCel, frame0, opt.reps);
+      if (!f) return f.error();
+      auto ff = renderFrames(sf, render::RenderPath::kFixed, frame0, opt.reps);
+      if (!ff) return ff.error();
+      const bool measureError = n <= opt.referenceLimit;
+      Frames ref, refFixed;
+      if (measureError) {
+        auto r = renderFrames(s, render::RenderPath::kReference, frame0, 0);
+        if (!r) return r.error();
+        ref = std::move(*r);
+        auto rf = renderFrames(sf, render::RenderPath::kReference, frame0, 0);
+        if (!rf) return rf.error();
+        refFixed = std::move(*rf);
+      }
+      for (int which = 0; which < 2; ++which) {
+        const Frames& x = which == 0 ? *f : *ff;
+        CelRow r;
+        r.scene = "cloud-50k";
+        r.path = which == 0 ? "cel" : "fixed";
+        r.parameter = "count";
+        r.value = static_cast<double>(n);
+        r.label = std::to_string(n);
+        r.particles = x.particles;
+        r.width = opt.width;
+        r.height = opt.height;
+        r.ms = x.ms;
+        r.floorMs = which == 0 ? bare->ms : bareFixed->ms;
+        if (measureError) {
+          const Errors e =
+              compare(x, which == 0 ? ref : refFixed, which == 0 ? *bare : *bareFixed, base.style.outlineColor);
+          r.rmse = e.rmse;
+          r.coverageIoU = e.coverageIoU;
+          r.outlineIoU = e.outlineIoU;
+        } else {
+          r.rmse = std::nan("");
+          r.coverageIoU = r.outlineIoU = std::nan("");
+        }
+        rows.push_back(r);
+      }
+      log("cloud-50k: " + std::to_string(n) + " particles" + (measureError ? "" : " (no reference: above the limit)"),
+          t1);
+    }
+  }
+  markParetoFronts(rows);
+  return rows;
+}
+
+void markParetoFronts(std::vector<CelRow>& rows) {
+  // Per scene and parameter, over every path: nothing else as fast and as close, better in one.
+  for (CelRow& a : rows) {
+    a.pareto = std::isfinite(a.rmse);
+    for (const CelRow& b : rows) {
+      if (!a.pareto) break;
+      if (&a == &b || b.scene != a.scene || b.parameter != a.parameter || !std::isfinite(b.rmse)) continue;
+      if (b.ms <= a.ms && b.rmse <= a.rmse && (b.ms < a.ms || b.rmse < a.rmse)) a.pareto = false;
+    }
+  }
+}
+
+std::string celCsv(const std::vector<CelRow>& rows) {
+  std::string csv =
+      "scene,path,parameter,value,label,particles,width,height,median_ms,floor_ms,ratio_to_floor,rmse,psnr_db,"
+      "coverage_iou,outline_iou,pareto\n";
+  char line[512];
+  for (const CelRow& r : rows) {
+    const double psnr = !std::isfinite(r.rmse) ? std::nan("") : r.rmse > 0.0 ? -20.0 * std::log10(r.rmse) : 999.0;
+    std::snprintf(line, sizeof line, "%s,%s,%s,%g,%s,%zu,%d,%d,%.3f,%.3f,%.3f,%.6f,%.2f,%.4f,%.4f,%d\n",
+                  r.scene.c_str(), r.path.c_str(), r.parameter.c_str(), r.value, r.label.c_str(), r.particles, r.width,
+                  r.height, r.ms, r.floorMs, r.floorMs > 0.0 ? r.ms / r.floorMs : 0.0, r.rmse, psnr, r.coverageIoU,
+                  r.outlineIoU, r.pareto ? 1 : 0);
+    csv += line;
+  }
+  return csv;
+}
+
+}  // namespace puffbench

@@ -1,0 +1,39 @@
+// puffbench's cel part (issue 7): see puffbench_cel.cpp.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <puff/core/error.h>
+#include <puff/render/render.h>
+
+namespace puffbench {
+
+struct CelBenchOptions {
+  std::filesystem::path sceneDir, artDir;
+  std::vector<std::string> scenes{"explosion", "cloud-fig8c"};  ///< atlas and level-of-detail sweeps
+  std::vector<int> atlasCells{64, 128, 256, 512, 1024};
+  std::vector<int> decimations{1, 4, 16, 64};                      ///< faces / k
+  std::vector<std::size_t> counts{263, 1052, 4000, 12500, 50000};  ///< on cloud-50k; empty: none
+  std::size_t referenceLimit = 12500;  ///< no reference (so no error) above this many particles
+  int width = 320, height = 240, reps = 3;
+};
+
+struct CelRow {
+  std::string scene, path, parameter, label;  ///< path: cel, fixed or cel-fixed-limits
+  double value = 0.0;                         ///< cell size, faces or particle count
+  std::size_t particles = 0;
+  int width = 0, height = 0;
+  double ms = 0.0, floorMs = 0.0;
+  double rmse = 0.0, coverageIoU = 1.0, outlineIoU = 1.0;  ///< NaN: not measured
+  bool pareto = false;
+};
+
+/// Needs a current compatibility-profile context that runs both paths (GL 4.5 and 1.x calls).
+puff::Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& options);
+void markParetoFronts(std::vector<CelRow>& rows);
+std::string celCsv(const std::vector<CelRow>& rows);
+
+}  // namespace puffbench
