@@ -258,4 +258,55 @@ Result<Atlas> loadAtlas(const fs::path& sidecar) {
   return atlas;
 }
 
+int deepestAtlasLevel(const AtlasDesc& desc) {
+  int level = 0;
+  while (level + 1 < desc.mipLevels && desc.cellSize % (2 << level) == 0 && desc.margin % (2 << level) == 0) ++level;
+  return level;
+}
+
+Result<Atlas> atlasFromLevel(const Atlas& atlas, int level) {
+  const AtlasDesc& d = atlas.desc;
+  const int deepest = deepestAtlasLevel(d);
+  if (level < 0 || level > deepest) {
+    return Error{"atlas level " + std::to_string(level) + " is not in [0, " + std::to_string(deepest) +
+                 "] (this atlas has " + std::to_string(d.mipLevels) + " mip levels of " + std::to_string(d.cellSize) +
+                 "-texel cells with " + std::to_string(d.margin) + "-texel margins)"};
+  }
+  if (level == 0) return atlas;
+  const int k = 1 << level;
+  Atlas out;
+  AtlasDesc& n = out.desc;
+  n = d;
+  n.width = std::max(1, d.width >> level);
+  n.height = std::max(1, d.height >> level);
+  n.cellSize = d.cellSize / k;
+  n.margin = d.margin / k;
+  n.contentSize = n.cellSize - 2 * n.margin;
+  n.flangeTexels = d.flangeTexels / static_cast<float>(k);
+  n.distanceRange = d.distanceRange / static_cast<float>(k);
+  n.mipLevels = d.mipLevels - level;
+  for (AtlasCell& c : n.cells) {
+    for (int& v : c.rect) v /= k;
+  }
+  for (auto& [name, m] : n.maps) m.levels.erase(m.levels.begin(), m.levels.begin() + level);
+  for (const auto& [name, levels] : atlas.maps) {
+    if (levels.size() != static_cast<std::size_t>(d.mipLevels)) {
+      return Error{"atlas map \"" + name + "\" holds " + std::to_string(levels.size()) + " levels, the sidecar says " +
+                   std::to_string(d.mipLevels)};
+    }
+    out.maps[name].assign(levels.begin() + level, levels.end());
+  }
+  return out;
+}
+
+std::size_t atlasTextureBytes(const AtlasDesc& d) {
+  std::size_t bytes = 0;
+  for (int level = 0; level < d.mipLevels; ++level) {
+    const std::size_t texels = static_cast<std::size_t>(std::max(1, d.width >> level)) *
+                               static_cast<std::size_t>(std::max(1, d.height >> level));
+    bytes += texels * (4 + 4 + 2);
+  }
+  return bytes;
+}
+
 }  // namespace puff::core

@@ -23,12 +23,14 @@ layout(location = 1) out uint oId;
 
 void main() {
   if (uMode == 1) {
+    gl_FragDepth = gl_FragCoord.z;  // written on every path: the light passes' depth test needs it
     oColor = vec4(vDist);
     oId = vId;
     return;
   }
   if (uMode == 2) {
     if (texelFetch(uShadowId, ivec2(gl_FragCoord.xy), 0).r == vId) discard;
+    gl_FragDepth = gl_FragCoord.z;
     oColor = vec4(vDist);
     oId = vId;
     return;

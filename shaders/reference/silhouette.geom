@@ -37,6 +37,7 @@ void main() {
   if (!facesEye(vView[0], vView[2], vView[4])) return;
   for (int e = 0; e < 3; ++e) {
     int i0 = 2 * e, i1 = (2 * e + 2) % 6, across = 2 * e + 1, inner = (2 * e + 4) % 6;
+    if (vView[across] == vView[inner]) continue;  // no neighbour (an open mesh's border): not inked
     if (facesEye(vView[i1], vView[i0], vView[across])) continue;  // both faces front: not a silhouette
     vec4 c0 = gl_in[i0].gl_Position, c1 = gl_in[i1].gl_Position, ci = gl_in[inner].gl_Position;
     if (c0.w <= 0.0 || c1.w <= 0.0 || ci.w <= 0.0) continue;  // through the eye plane: left out

@@ -5,7 +5,8 @@
 // path drawing a decimated mesh) and the particle count (263 .. 50,000 on cloud-50k). Each point:
 // the median frame time, its ratio to the same frame without particles (opaque pass, clear and
 // read-back: the floor every configuration pays), and the error against the reference of the very
-// same particles: RMSE and PSNR of the 8-bit output values, coverage IoU and outline IoU (the ink).
+// same particles: RMSE and PSNR of the 8-bit output values over the pixels where either image shows
+// puffs, coverage IoU and outline IoU (the ink).
 #include "puffbench_cel.h"
 
 #include <unistd.h>
@@ -82,14 +83,22 @@ struct Errors {
   double rmse = 0.0, coverageIoU = 1.0, outlineIoU = 1.0;
 };
 
-// Worst over the frames: largest RMSE, smallest IoUs.
-Errors compare(const Frames& a, const Frames& ref, const Frames& bare, const glm::vec3& ink) {
+// Worst over the frames: largest RMSE, smallest IoUs. Each image is judged against its own bare frame
+// (the same frame without particles, drawn by the same path: the fixed path and the reference shade
+// and antialias objects their own ways), and the RMSE is taken over the pixels where either image
+// shows puffs, so it measures the puffs, not the objects around them.
+Errors compare(const Frames& a, const Frames& aBare, const Frames& ref, const Frames& refBare, const glm::vec3& ink) {
   Errors e;
   for (std::size_t i = 0; i < a.images.size(); ++i) {
-    e.rmse = std::max(e.rmse, reference::imageError(a.images[i], ref.images[i]).rmse);
-    e.coverageIoU = std::min(e.coverageIoU, reference::coverageIoU(a.images[i], ref.images[i], bare.images[i]));
-    e.outlineIoU = std::min(e.outlineIoU, reference::maskIoU(inkMask(a.images[i], bare.images[i], ink),
-                                                             inkMask(ref.images[i], bare.images[i], ink)));
+    const std::vector<bool> ma = reference::coverageMask(a.images[i], aBare.images[i]);
+    const std::vector<bool> mr = reference::coverageMask(ref.images[i], refBare.images[i]);
+    std::vector<bool> either(ma.size());
+    for (std::size_t k = 0; k < ma.size(); ++k) either[k] = ma[k] || mr[k];
+    const reference::ImageError err = reference::imageError(a.images[i], ref.images[i], either);
+    e.rmse = std::max(e.rmse, err.rmse);  // no puff pixels at all: 0
+    e.coverageIoU = std::min(e.coverageIoU, reference::maskIoU(ma, mr));
+    e.outlineIoU = std::min(e.outlineIoU, reference::maskIoU(inkMask(a.images[i], aBare.images[i], ink),
+                                                             inkMask(ref.images[i], refBare.images[i], ink)));
   }
   return e;
 }
@@ -157,14 +166,21 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
     if (!bare) return bare.error();
     auto bareFixed = renderFrames(render::withoutParticles(fixedScene), render::RenderPath::kFixed, frames, opt.reps);
     if (!bareFixed) return bareFixed.error();
+    auto bareCelLimits = renderFrames(render::withoutParticles(fixedScene), render::RenderPath::kCel, frames, opt.reps);
+    if (!bareCelLimits) return bareCelLimits.error();
     auto ref = renderFrames(scene, render::RenderPath::kReference, frames, 0);
     if (!ref) return ref.error();
+    auto refBare = renderFrames(render::withoutParticles(scene), render::RenderPath::kReference, frames, 0);
+    if (!refBare) return refBare.error();
     auto refFixed = renderFrames(fixedScene, render::RenderPath::kReference, frames, 0);
     if (!refFixed) return refFixed.error();
+    auto refFixedBare = renderFrames(render::withoutParticles(fixedScene), render::RenderPath::kReference, frames, 0);
+    if (!refFixedBare) return refFixedBare.error();
     log(name + ": floors and references", t0);
 
     auto add = [&](const std::string& path, const std::string& parameter, double value, const Frames& f,
-                   const Frames& reference, const Frames& floor, const std::string& label) {
+                   const Frames& floor, const Frames& reference, const Frames& referenceBare,
+                   const std::string& label) {
       CelRow r;
       r.scene = name;
       r.path = path;
@@ -176,7 +192,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
       r.height = opt.height;
       r.ms = f.ms;
       r.floorMs = floor.ms;
-      const Errors e = compare(f, reference, floor, ink);
+      const Errors e = compare(f, floor, reference, referenceBare, ink);
       r.rmse = e.rmse;
       r.coverageIoU = e.coverageIoU;
       r.outlineIoU = e.outlineIoU;
@@ -193,7 +209,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
       s.atlas = *sidecar;
       auto f = renderFrames(s, render::RenderPath::kCel, frames, opt.reps);
       if (!f) return f.error();
-      add("cel", "atlas", cell, *f, *ref, *bare, std::to_string(cell));
+      add("cel", "atlas", cell, *f, *bare, *ref, *refBare, std::to_string(cell));
       log(name + ": nailboards, atlas cells " + std::to_string(cell), t1);
     }
     // Mesh level of detail: the atlas (256-texel cells) baked from decimated meshes; the fixed path
@@ -207,7 +223,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
       s.atlas = *sidecar;
       auto f = renderFrames(s, render::RenderPath::kCel, frames, opt.reps);
       if (!f) return f.error();
-      add("cel", "lod", static_cast<double>(faces), *f, *ref, *bare, std::to_string(faces));
+      add("cel", "lod", static_cast<double>(faces), *f, *bare, *ref, *refBare, std::to_string(faces));
       // The fixed path's puff: the first source mesh at this level of detail, written beside the atlas.
       auto desc = core::loadAtlasDesc(scene.atlas);
       if (!desc) return desc.error();
@@ -222,13 +238,14 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
       lodScene.fixed.puff = puff;
       auto ff = renderFrames(lodScene, render::RenderPath::kFixed, frames, opt.reps);
       if (!ff) return ff.error();
-      add("fixed", "lod", static_cast<double>(m.faceCount()), *ff, *refFixed, *bareFixed,
+      add("fixed", "lod", static_cast<double>(m.faceCount()), *ff, *bareFixed, *refFixed, *refFixedBare,
           std::to_string(m.faceCount()));
       // The programmable path within the same limits, for the fixed path to be read against.
       if (k == 1) {
         auto cf = renderFrames(fixedScene, render::RenderPath::kCel, frames, opt.reps);
         if (!cf) return cf.error();
-        add("cel-fixed-limits", "lod", static_cast<double>(faces), *cf, *refFixed, *bare, std::to_string(faces));
+        add("cel-fixed-limits", "lod", static_cast<double>(faces), *cf, *bareCelLimits, *refFixed, *refFixedBare,
+            std::to_string(faces));
       }
       log(name + ": level of detail 1/" + std::to_string(k), t1);
     }
@@ -250,6 +267,10 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
     const render::Scene baseFixed = render::restrictToFixedLimits(base);
     auto bareFixed = renderFrames(render::withoutParticles(baseFixed), render::RenderPath::kFixed, frame0, opt.reps);
     if (!bareFixed) return bareFixed.error();
+    auto refBare = renderFrames(render::withoutParticles(base), render::RenderPath::kReference, frame0, 0);
+    if (!refBare) return refBare.error();
+    auto refFixedBare = renderFrames(render::withoutParticles(baseFixed), render::RenderPath::kReference, frame0, 0);
+    if (!refFixedBare) return refFixedBare.error();
     for (std::size_t n : opt.counts) {
       const auto t1 = Clock::now();
       render::Scene s = base;
@@ -290,8 +311,8 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
         r.ms = x.ms;
         r.floorMs = which == 0 ? bare->ms : bareFixed->ms;
         if (measureError) {
-          const Errors e =
-              compare(x, which == 0 ? ref : refFixed, which == 0 ? *bare : *bareFixed, base.style.outlineColor);
+          const Errors e = which == 0 ? compare(x, *bare, ref, *refBare, base.style.outlineColor)
+                                      : compare(x, *bareFixed, refFixed, *refFixedBare, base.style.outlineColor);
           r.rmse = e.rmse;
           r.coverageIoU = e.coverageIoU;
           r.outlineIoU = e.outlineIoU;

@@ -1,6 +1,7 @@
-// "Just enough model" (issue 7) for the media path: render/budget.h measures every media layer
-// resolution against the exact reference and picks the cheapest within an error budget;
-// puffrender --max-error is its shell. Measured on a 96 x 72 explosion-walls at two frames with fire.
+// "Just enough model" (issue 7): render/budget.h measures every media layer resolution against the
+// exact reference (on a 96 x 72 explosion-walls at two frames with fire), and every atlas level of
+// the nailboards against the cel reference, and picks the cheapest within an error budget;
+// puffrender --max-error is its shell.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include <puff/core/atlas.h>
 #include <puff/core/image.h>
 #include <puff/render/budget.h>
 #include <puff/render/render.h>
@@ -19,6 +21,7 @@
 
 #include "support/cli_test.h"
 #include "support/gl_fixture.h"
+#include "support/sphere_atlas.h"
 
 namespace puff {
 namespace {
@@ -291,12 +294,12 @@ TEST_F(BudgetCli, SaysWhatItChoseAndWhyAndRendersWithIt) {
   EXPECT_NE(r.err.find("puffrender: warning: --max-error 1e-06 cannot be met"), std::string::npos) << r.err;
 }
 
-TEST_F(BudgetCli, NeedsASceneWithMedia) {
+TEST_F(BudgetCli, NeedsASceneWithMediaOrCelParticles) {
   const fs::path scene = write("ground.json", R"({"output": {"width": 40, "height": 30, "samples": 1},
                                                    "objects": [{"type": "plane"}]})");
   test::CliRun r = run(scene.string() + " --max-error 0.01 -o " + (dir_ / "x.png").string());
   expectOneLineError(r, "--max-error", 2);
-  EXPECT_NE(r.err.find("has no media"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("has neither cel particles nor media"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
   expectOneLineError(run(explosion() + " --max-error 0.01 --path fixed -o " + (dir_ / "x.png").string()), "--max-error",
                      2);
@@ -313,7 +316,121 @@ TEST_F(BudgetCli, BadBudgetsExitTwo) {
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
   const test::CliRun help = run("--help");
   EXPECT_NE(help.out.find("--max-error"), std::string::npos);
-  EXPECT_NE(help.out.find("particle count and atlas/mesh level of detail are not"), std::string::npos);
+  EXPECT_NE(help.out.find("mesh detail (baked into the atlas) and particle count are not chosen"), std::string::npos);
+}
+
+// ---- the cel path: atlas levels -------------------------------------------------------------------
+
+class CelBudget : public test::GlTest {
+ protected:
+  static void SetUpTestSuite() {
+    GlTest::SetUpTestSuite();
+    dir_ = fs::temp_directory_path() / ("puff-cel-budget-test-" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    auto sidecar = test::bakeSphereAtlas(dir_);
+    ASSERT_TRUE(sidecar.ok()) << sidecar.error().message;
+    sidecar_ = *sidecar;
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+
+  // Two sphere puffs, shaded and outlined, 96 x 72, orthographic, two frames.
+  static render::Scene scene(int atlasLevel = 0) {
+    nlohmann::json j = {
+        {"output", {{"width", 96}, {"height", 72}, {"samples", 1}, {"background", {0.9, 0.9, 0.9}}}},
+        {"camera",
+         {{"position", {0, 0, 10}}, {"target", {0, 0, 0}}, {"fovY", 0}, {"orthoHeight", 6}, {"near", 1}, {"far", 20}}},
+        {"light", {{"direction", {0.4, 0.8, 0.45}}, {"color", {0.6, 0.6, 0.6}}}},
+        {"ambient", {{"color", {0.2, 0.2, 0.25}}}},
+        {"atlas", sidecar_.string()},
+        {"atlasLevel", atlasLevel},
+        {"style", {{"preset", "cel"}, {"outlineWidth", 1.5}}},
+        {"particles", {{{"position", {0.3, 0.2, 0}}, {"size", 3.0}}, {{"position", {-1.2, -0.8, 1}}, {"size", 2.0}}}},
+        {"animation", {{"frames", 2}, {"fps", 4}, {"orbit", 20}}}};
+    auto s = render::parseScene(j, dir_ / "scene.json");
+    EXPECT_TRUE(s.ok()) << s.error().message;
+    return s ? *s : render::Scene{};
+  }
+  static inline fs::path dir_, sidecar_;
+};
+
+// A level is the atlas with its finest levels dropped: every texel size shrinks by 2^level and the
+// new level 0 is the old level `level`, texel for texel.
+TEST_F(CelBudget, AnAtlasLevelIsTheAtlasWithoutItsFinestMips) {
+  auto atlas = core::loadAtlas(sidecar_);
+  ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+  const core::AtlasDesc& d = atlas->desc;
+  const int deepest = core::deepestAtlasLevel(d);
+  EXPECT_GE(deepest, 2);
+  EXPECT_EQ(d.cellSize % (1 << deepest), 0);
+  EXPECT_EQ(d.margin % (1 << deepest), 0);
+  auto two = core::atlasFromLevel(*atlas, 2);
+  ASSERT_TRUE(two.ok()) << two.error().message;
+  EXPECT_EQ(two->desc.cellSize, d.cellSize / 4);
+  EXPECT_EQ(two->desc.margin, d.margin / 4);
+  EXPECT_EQ(two->desc.contentSize, d.contentSize / 4);
+  EXPECT_EQ(two->desc.width, d.width / 4);
+  EXPECT_FLOAT_EQ(two->desc.distanceRange, d.distanceRange / 4);
+  EXPECT_FLOAT_EQ(two->desc.flangeTexels, d.flangeTexels / 4);
+  EXPECT_EQ(two->desc.mipLevels, d.mipLevels - 2);
+  EXPECT_EQ(two->desc.cells[0].rect[2], d.cells[0].rect[2] / 4);
+  for (const auto& [name, levels] : atlas->maps) {
+    ASSERT_EQ(two->maps.at(name).size(), levels.size() - 2) << name;
+    EXPECT_EQ(two->maps.at(name)[0].pixels, levels[2].pixels) << name;
+  }
+  EXPECT_LT(core::atlasTextureBytes(two->desc), core::atlasTextureBytes(d) / 15);
+  auto tooDeep = core::atlasFromLevel(*atlas, deepest + 1);
+  ASSERT_FALSE(tooDeep.ok());
+  EXPECT_NE(tooDeep.error().message.find("is not in [0, " + std::to_string(deepest) + "]"), std::string::npos)
+      << tooDeep.error().message;
+
+  // The scene's field, read, written and refused past the atlas's depth.
+  EXPECT_EQ(scene(2).atlasLevel, 2);
+  EXPECT_EQ(render::toJson(scene(2)).at("atlasLevel"), 2);
+  auto r = render::SceneRenderer::create(scene(deepest + 1));
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("/atlasLevel: atlas level"), std::string::npos) << r.error().message;
+}
+
+TEST_F(CelBudget, EveryLevelIsMeasuredAndTheBudgetPicksTheSmallestWithinIt) {
+  const int frames[] = {0, 1};
+  auto b = render::measureCelBudget(scene(), frames, {.timedRenders = 1});
+  ASSERT_TRUE(b.ok()) << b.error().message;
+  ASSERT_GE(b->candidates.size(), 3u);
+  EXPECT_EQ(b->frames, (std::vector<int>{0, 1}));
+  for (std::size_t i = 0; i + 1 < b->candidates.size(); ++i) {
+    EXPECT_EQ(b->candidates[i].atlasLevel, b->candidates[i + 1].atlasLevel + 1) << "deepest (cheapest) first";
+    EXPECT_LT(b->candidates[i].atlasBytes, b->candidates[i + 1].atlasBytes);
+  }
+  EXPECT_EQ(b->candidates.back().atlasLevel, 0);
+  for (const render::CelCandidate& c : b->candidates) {
+    ASSERT_EQ(c.rmse.size(), 2u);
+    EXPECT_GT(c.worstRmse, 0.0);  // the nailboards are not the meshes
+    EXPECT_GE(c.cellSize, 16);
+  }
+  // The smallest atlas is the farthest from the reference, the full one among the closest.
+  const double smallest = b->candidates.front().worstRmse, full = b->candidates.back().worstRmse;
+  EXPECT_GT(smallest, full);
+  auto all = render::chooseCelAtlasLevel(*b, 1.0);
+  ASSERT_TRUE(all.ok());
+  EXPECT_TRUE(all->met);
+  EXPECT_EQ(all->chosen, 0u);
+  auto tiny = render::chooseCelAtlasLevel(*b, 1e-6);
+  ASSERT_TRUE(tiny.ok());
+  EXPECT_FALSE(tiny->met);
+  EXPECT_EQ(tiny->chosen, b->candidates.size() - 1);
+  EXPECT_NE(render::celBudgetWarning(*b, *tiny).find("cannot be met by the nailboards"), std::string::npos);
+  EXPECT_NE(render::celBudgetSummary(*b, *all).find("atlas level " + std::to_string(b->candidates[0].atlasLevel)),
+            std::string::npos)
+      << render::celBudgetSummary(*b, *all);
+  EXPECT_NE(render::celBudgetTable(*b, *all).find("<- chosen"), std::string::npos);
+  EXPECT_FALSE(render::chooseCelAtlasLevel(*b, 0.0).ok());
+
+  // Bad input.
+  render::Scene bare = scene();
+  bare.particles.clear();
+  EXPECT_FALSE(render::measureCelBudget(bare, frames).ok());
+  const int outside[] = {5};
+  EXPECT_FALSE(render::measureCelBudget(scene(), outside).ok());
 }
 
 }  // namespace

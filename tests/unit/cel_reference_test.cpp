@@ -273,6 +273,32 @@ TEST_F(CelReference, NailboardsComeCloseToTheReferenceOnASpherePuff) {
   EXPECT_GT(e.rmse, 1e-3);
 }
 
+// A frame is a function of the scene and its number, not of what was drawn before: with the camera
+// orbiting, frame 6 after frame 0 equals frame 6 drawn first (the puff ids, shadow maps and copies
+// the reference keeps between frames are all cleared or rewritten).
+TEST_F(CelReference, AFrameDoesNotDependOnTheFramesBeforeIt) {
+  nlohmann::json j = {
+      {"output", {{"width", 96}, {"height", 72}, {"samples", 1}}},
+      {"camera", {{"position", {0, 4, 8}}, {"target", {0, 0.5, 0}}, {"near", 1}, {"far", 30}}},
+      {"light", {{"direction", {0.6, 1, 0.2}}, {"color", {0.5, 0.5, 0.5}}}},
+      {"atlas", sidecar_.string()},
+      {"style", {{"preset", "cel-shadows"}}},
+      {"objects", {{{"type", "plane"}, {"scale", {6, 1, 6}}}}},
+      {"particles", {{{"position", {-1.5, 1.2, 0}}, {"size", 1.5}}, {{"position", {1, 1.6, 0.5}}, {"size", 1.2}}}},
+      {"animation", {{"fps", 4}, {"frames", 8}, {"orbit", 60}}}};
+  auto scene = render::parseScene(j, dir_ / "scene.json");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  auto first = render::SceneRenderer::createReference(*scene);
+  ASSERT_TRUE(first.ok()) << first.error().message;
+  ASSERT_TRUE((*first)->renderFrame(0).ok());
+  auto after = (*first)->renderFrame(6);
+  auto fresh = render::SceneRenderer::createReference(*scene);
+  ASSERT_TRUE(fresh.ok());
+  auto alone = (*fresh)->renderFrame(6);
+  ASSERT_TRUE(after.ok() && alone.ok());
+  EXPECT_EQ(after->pixels, alone->pixels);
+}
+
 TEST_F(CelReference, AStaleOrMissingSourceMeshIsNamed) {
   const fs::path dir = dir_ / "stale";
   fs::create_directories(dir);

@@ -193,6 +193,39 @@ int chooseMediaResolution(const Options& o, render::Scene& scene, const Plan& pl
   return 0;
 }
 
+// --max-error on a scene with cel particles: measures the atlas at each of its mip levels against the
+// cel reference and sets the smallest within the budget on `scene` (render/budget.h).
+int chooseAtlasLevel(const Options& o, render::Scene& scene, const Plan& plan) {
+  const std::vector<int> frames = render::budgetFrames(plan.first, plan.last);
+  if (!o.quiet) {
+    std::string list;
+    for (int f : frames) list += (list.empty() ? "" : ", ") + std::to_string(f);
+    std::fprintf(stderr,
+                 "%s: --max-error %g: measuring the atlas at each mip level against the cel reference at %s %s\n",
+                 kTool, *o.maxError, frames.size() == 1 ? "frame" : "frames", list.c_str());
+    std::fflush(stderr);
+  }
+  auto budget = render::measureCelBudget(scene, frames);
+  if (!budget) {
+    printError(budget.error().message);
+    return 1;
+  }
+  auto choice = render::chooseCelAtlasLevel(*budget, *o.maxError);
+  if (!choice) {
+    printError("--max-error: " + choice.error().message);
+    return 2;
+  }
+  if (!o.quiet) {
+    std::fprintf(stderr, "%s", render::celBudgetTable(*budget, *choice).c_str());
+    if (!choice->met)
+      std::fprintf(stderr, "%s: warning: %s\n", kTool, render::celBudgetWarning(*budget, *choice).c_str());
+  }
+  std::fprintf(stderr, "%s: %s\n", kTool, render::celBudgetSummary(*budget, *choice).c_str());
+  std::fflush(stderr);
+  scene.atlasLevel = budget->candidates[choice->chosen].atlasLevel;
+  return 0;
+}
+
 int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
   // Fail before any rendering if an output can never be written: every directory the frames go
   // to is created now (and taken back, if still empty, when the run fails) and must be writable.
@@ -256,11 +289,19 @@ int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
   if (o.maxError) {
     if (path == render::RenderPath::kFixed) {
       printError(
-          "--max-error chooses the media layer's resolution, and the programmable path that draws media "
-          "cannot run here");
+          "--max-error chooses the media layer's resolution and the nailboards' atlas level, and the "
+          "programmable path that draws them cannot run here");
       return 1;
     }
-    if (const int code = chooseMediaResolution(o, scene, plan); code != 0) return code;
+    // parse() made sure the path is cel and there is something to choose.
+    const bool cel = !scene.atlas.empty() && (!scene.particles.empty() || !scene.emitters.empty() ||
+                                              (scene.simulation && !scene.simulation->emitters.empty()));
+    if (cel) {
+      if (const int code = chooseAtlasLevel(o, scene, plan); code != 0) return code;
+    }
+    if (scene.media) {
+      if (const int code = chooseMediaResolution(o, scene, plan); code != 0) return code;
+    }
   }
   if (path == render::RenderPath::kFixed && scene.media && !o.quiet) {
     std::fprintf(stderr, "%s: the fixed-function path draws no fire, smoke or dust: /media is left out\n", kTool);
@@ -434,15 +475,19 @@ std::variant<Options, int> parse(int argc, char** argv) {
           ->check(CLI::Range(0.0f, 1.0f));
   std::string maxErrorText;
   auto* maxError = app.add_option("--max-error", maxErrorText,
-                                  "Scenes with media: render with the cheapest media layer resolution "
-                                  "(/media/resolution: 0.125, 0.25, 0.5 or 1) whose image stays within RMSE E "
-                                  "(linear colour, in (0, 1], e.g. 0.01) of the exact reference, measured at the "
-                                  "first, middle and last of the frames rendered (the worst of them); if none does, "
-                                  "1, with a warning. Prints the measurements (resolution, worst RMSE, median ms) "
-                                  "and one line saying what it chose and why on stderr; -q: that line only. The "
-                                  "method stays the scene's; particle count and atlas/mesh level of detail are not "
-                                  "chosen. The measured frames leave out explosion lights, heat shimmer and motion "
-                                  "blur (the reference has none); the output keeps them")
+                                  "Render with just enough model, measured against the references at the first, "
+                                  "middle and last of the frames rendered (the worst of them), E an RMSE in (0, 1]. "
+                                  "Scenes with cel particles: the smallest atlas (/atlasLevel: the atlas from one of "
+                                  "its mip levels on) whose frame stays within E of the cel reference (--path "
+                                  "reference; 8-bit values; e.g. 0.12: the nailboards' own error is about 0.09 on "
+                                  "the art scenes); if none does, the full atlas, with a warning. Scenes with media: "
+                                  "the cheapest media layer resolution (/media/resolution: 0.125, 0.25, 0.5 or 1) "
+                                  "within E (linear colour, e.g. 0.01) of the exact media reference; if none does, 1. "
+                                  "Prints the measurements and one line per choice saying what it chose and why on "
+                                  "stderr; -q: those lines only. The media method, mesh detail (baked into the "
+                                  "atlas) and particle count are not chosen. Measured frames leave out explosion "
+                                  "lights, heat shimmer and motion blur (the reference has none); the output keeps "
+                                  "them")
                        ->type_name("E");
   app.add_flag("--print-scene", o.printScene,
                "Print the scene as it will be rendered (every field, defaults and the options above applied) as JSON, "
@@ -535,9 +580,11 @@ int run(const Options& o) {
     return 2;
   }
   if (o.maxError) {
-    if (!scene.media) {
-      printError("--max-error chooses the media layer's resolution, and " + o.scene.string() +
-                 " has no media (/media)");
+    const bool cel = !scene.atlas.empty() && (!scene.particles.empty() || !scene.emitters.empty() ||
+                                              (scene.simulation && !scene.simulation->emitters.empty()));
+    if (!scene.media && !cel) {
+      printError("--max-error chooses the nailboards' atlas level and the media layer's resolution, and " +
+                 o.scene.string() + " has neither cel particles nor media (/media)");
       return 2;
     }
     if (!o.compare.empty()) {
@@ -545,8 +592,7 @@ int run(const Options& o) {
       return 2;
     }
     if (o.path != "cel") {
-      printError("--max-error chooses the media layer's resolution, which only the cel path draws: leave out --path " +
-                 o.path);
+      printError("--max-error chooses what the programmable (cel) path draws with: leave out --path " + o.path);
       return 2;
     }
   }

@@ -50,6 +50,31 @@ std::string framesText(const std::vector<int>& frames) {
   return s;
 }
 
+// The cheapest candidate within the budget (candidates cheapest first), else the dearest.
+template <class Candidates>
+Result<MediaChoice> chooseWithin(const Candidates& candidates, double maxError, const char* what) {
+  if (!(maxError > 0.0 && maxError <= 1.0)) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%g", maxError);
+    return Error{std::string("the error budget must be an RMSE in (0, 1], got ") + buf};
+  }
+  if (candidates.empty()) return Error{std::string("the ") + what + " budget has no measured candidates"};
+  MediaChoice c;
+  c.maxError = maxError;
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (candidates[i].worstRmse < candidates[c.best].worstRmse) c.best = i;
+  }
+  for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (candidates[i].worstRmse <= maxError) {
+      c.chosen = i;
+      c.met = true;
+      return c;
+    }
+  }
+  c.chosen = candidates.size() - 1;
+  return c;
+}
+
 // The reference of one frame: what the GPU drew it from, and the exact image, clamped to the 8-bit
 // target's [0, 1].
 struct FrameReference {
@@ -192,26 +217,7 @@ Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> 
 }
 
 Result<MediaChoice> chooseMediaResolution(const MediaBudget& budget, double maxError) {
-  if (!(maxError > 0.0 && maxError <= 1.0)) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%g", maxError);
-    return Error{std::string("the error budget must be an RMSE in (0, 1], got ") + buf};
-  }
-  if (budget.candidates.empty()) return Error{"the media budget has no measured candidates"};
-  MediaChoice c;
-  c.maxError = maxError;
-  for (std::size_t i = 0; i < budget.candidates.size(); ++i) {
-    if (budget.candidates[i].worstRmse < budget.candidates[c.best].worstRmse) c.best = i;
-  }
-  for (std::size_t i = 0; i < budget.candidates.size(); ++i) {
-    if (budget.candidates[i].worstRmse <= maxError) {
-      c.chosen = i;
-      c.met = true;
-      return c;
-    }
-  }
-  c.chosen = budget.candidates.size() - 1;
-  return c;
+  return chooseWithin(budget.candidates, maxError, "media");
 }
 
 std::string budgetTable(const MediaBudget& budget, const MediaChoice& choice) {
@@ -269,6 +275,146 @@ std::string budgetWarning(const MediaBudget& budget, const MediaChoice& choice) 
   return std::string("--max-error ") + maxError + " cannot be met: the smallest worst RMSE measured is " +
          errorText(b.worstRmse) + " (media resolution " + resolutionText(b.resolution) + "); rendering at " +
          resolutionText(budget.candidates[choice.chosen].resolution);
+}
+
+namespace {
+
+std::string levelText(const CelCandidate& c) {
+  return "atlas level " + std::to_string(c.atlasLevel) + " (" + std::to_string(c.cellSize) + "-texel cells)";
+}
+
+std::string megabytes(std::size_t bytes) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f MB", static_cast<double>(bytes) / (1024.0 * 1024.0));
+  return buf;
+}
+
+}  // namespace
+
+Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames, const MediaBudgetOptions& options) {
+  if (scene.atlas.empty()) return Error::at(scene.file, "/atlas: the scene has no atlas, so no atlas level to choose");
+  if (scene.particles.empty() && scene.emitters.empty() && !(scene.simulation && !scene.simulation->emitters.empty()))
+    return Error::at(scene.file, "the scene has no cel particles, so no atlas level to choose");
+  if (frames.empty() || frames.size() > 16)
+    return Error{"measure 1 to 16 frames, got " + std::to_string(frames.size())};
+  for (int f : frames) {
+    if (f < 0 || f >= scene.animation.frames)
+      return Error{"frame " + std::to_string(f) + " is not in the scene (0.." +
+                   std::to_string(scene.animation.frames - 1) + ")"};
+  }
+  if (options.timedRenders < 1 || options.timedRenders > 100)
+    return Error{"timed renders must be in [1, 100], got " + std::to_string(options.timedRenders)};
+  auto desc = core::loadAtlasDesc(scene.atlas);
+  if (!desc) return desc.error();
+  Scene s = scene;
+  s.media.reset();
+  CelBudget budget;
+  budget.frames.assign(frames.begin(), frames.end());
+  std::sort(budget.frames.begin(), budget.frames.end());
+
+  std::vector<core::Image> references;
+  {
+    const auto t0 = Clock::now();
+    auto ref = SceneRenderer::createReference(s);
+    if (!ref) return ref.error();
+    for (int f : budget.frames) {
+      auto image = (*ref)->renderFrame(f);
+      if (!image) return image.error();
+      references.push_back(std::move(*image));
+    }
+    budget.referenceMs = msSince(t0);
+  }
+  int deepest = core::deepestAtlasLevel(*desc);
+  while (deepest > 0 && (desc->cellSize >> deepest) < 16) --deepest;
+  for (int level = deepest; level >= 0; --level) {
+    Scene c = s;
+    c.atlasLevel = level;
+    auto r = SceneRenderer::create(c);
+    if (!r) return r.error();
+    CelCandidate cand;
+    cand.atlasLevel = level;
+    cand.cellSize = desc->cellSize >> level;
+    core::AtlasDesc reduced = *desc;
+    reduced.width = std::max(1, desc->width >> level);
+    reduced.height = std::max(1, desc->height >> level);
+    reduced.mipLevels = desc->mipLevels - level;
+    cand.atlasBytes = core::atlasTextureBytes(reduced);
+    std::vector<double> times;
+    for (std::size_t i = 0; i < budget.frames.size(); ++i) {
+      auto image = (*r)->renderFrame(budget.frames[i]);
+      if (!image) return image.error();
+      cand.rmse.push_back(reference::imageError(*image, references[i]).rmse);
+      for (int k = 0; k < options.timedRenders; ++k) {
+        const auto t0 = Clock::now();
+        if (auto again = (*r)->renderFrame(budget.frames[i]); !again) return again.error();
+        times.push_back(msSince(t0));
+      }
+    }
+    cand.worstRmse = *std::max_element(cand.rmse.begin(), cand.rmse.end());
+    cand.medianMs = median(times);
+    budget.candidates.push_back(std::move(cand));
+  }
+  return budget;
+}
+
+Result<MediaChoice> chooseCelAtlasLevel(const CelBudget& budget, double maxError) {
+  return chooseWithin(budget.candidates, maxError, "atlas");
+}
+
+std::string celBudgetTable(const CelBudget& budget, const MediaChoice& choice) {
+  std::string s = "  atlas level  cell texels  atlas MB  worst RMSE  median ms\n";
+  for (std::size_t i = 0; i < budget.candidates.size(); ++i) {
+    const CelCandidate& c = budget.candidates[i];
+    char line[160];
+    std::snprintf(line, sizeof line, "  %11d  %11d  %8.2f  %10s  %9.1f%s\n", c.atlasLevel, c.cellSize,
+                  static_cast<double>(c.atlasBytes) / (1024.0 * 1024.0), errorText(c.worstRmse).c_str(), c.medianMs,
+                  i == choice.chosen ? "  <- chosen" : "");
+    s += line;
+  }
+  return s;
+}
+
+std::string celBudgetSummary(const CelBudget& budget, const MediaChoice& choice) {
+  PUFF_CHECK(choice.chosen < budget.candidates.size() && choice.best < budget.candidates.size());
+  char maxError[32];
+  std::snprintf(maxError, sizeof maxError, "%g", choice.maxError);
+  const CelCandidate& c = budget.candidates[choice.chosen];
+  std::string s = std::string("--max-error ") + maxError + ": " + levelText(c);
+  const std::string frames = (budget.frames.size() == 1 ? "frame " : "frames ") + framesText(budget.frames);
+  if (!choice.met) {
+    const CelCandidate& b = budget.candidates[choice.best];
+    return s + ", the largest (no level meets it: the smallest worst RMSE against the cel reference is " +
+           errorText(b.worstRmse) + ", at level " + std::to_string(b.atlasLevel) + ", over " + frames + ")";
+  }
+  s += ": worst RMSE " + errorText(c.worstRmse) + " against the cel reference over " + frames + ", atlas " +
+       megabytes(c.atlasBytes);
+  if (choice.chosen > 0) {
+    const CelCandidate& cheaper = budget.candidates[choice.chosen - 1];
+    s += "; level " + std::to_string(cheaper.atlasLevel) + " misses with " + errorText(cheaper.worstRmse);
+  } else {
+    s += "; the smallest measured";
+  }
+  const CelCandidate& full = budget.candidates.back();
+  if (choice.chosen + 1 < budget.candidates.size()) {
+    char ratio[96];
+    std::snprintf(ratio, sizeof ratio, "; the full atlas (level 0) takes %s, %.0fx as much, for RMSE %s",
+                  megabytes(full.atlasBytes).c_str(),
+                  c.atlasBytes > 0 ? static_cast<double>(full.atlasBytes) / static_cast<double>(c.atlasBytes) : 0.0,
+                  errorText(full.worstRmse).c_str());
+    s += ratio;
+  }
+  return s;
+}
+
+std::string celBudgetWarning(const CelBudget& budget, const MediaChoice& choice) {
+  if (choice.met) return {};
+  PUFF_CHECK(choice.chosen < budget.candidates.size() && choice.best < budget.candidates.size());
+  char maxError[32];
+  std::snprintf(maxError, sizeof maxError, "%g", choice.maxError);
+  const CelCandidate& b = budget.candidates[choice.best];
+  return std::string("--max-error ") + maxError + " cannot be met by the nailboards: the smallest worst RMSE " +
+         "against the cel reference is " + errorText(b.worstRmse) + " (" + levelText(b) + "); rendering with " +
+         levelText(budget.candidates[choice.chosen]);
 }
 
 }  // namespace puff::render

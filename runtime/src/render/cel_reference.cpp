@@ -1,5 +1,7 @@
 #include "cel_reference.h"
 
+#include "../cel/pass_state.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -290,7 +292,8 @@ Result<std::unique_ptr<CelReference>> CelReference::create(std::vector<mesh::Tri
       glVertexArrayAttribBinding(vao, a, 0);
     }
     // Each triangle with the vertex across each of its edges (GL_TRIANGLES_ADJACENCY order); an edge
-    // with no neighbour (an open mesh) gets the triangle's own third vertex: never a silhouette.
+    // with no neighbour (an open mesh) gets the triangle's own third vertex, which silhouette.geom
+    // takes for "no neighbour" and never inks.
     std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> across;
     for (const glm::uvec3& tri : t.triangles) {
       for (int e = 0; e < 3; ++e) across[{tri[e], tri[(e + 1) % 3]}] = tri[(e + 2) % 3];
@@ -327,6 +330,7 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
   const int ss = m.options.supersample;
   const int w = viewport.width * ss, h = viewport.height * ss;
   m.ensureTarget(w, h);
+  cel::detail::resetPassState();  // no scissor, blending, culling, clamp, ... whatever the host left
 
   // The instances, grouped by variation: rows of the model matrix and the particle's id.
   struct Instance {
@@ -341,7 +345,8 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
     if (!(p.size > 0.0f) || !std::isfinite(p.size) || !std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||
         !std::isfinite(p.position.z))
       continue;
-    byVariation[static_cast<std::size_t>(std::max(0, p.variation)) % variations].push_back(i);
+    // As the nailboards pick it: the packed 8 bits, modulo the atlas's variations.
+    byVariation[static_cast<std::size_t>(p.variation & 0xFF) % variations].push_back(i);
   }
   std::vector<Instance> instances;
   std::vector<std::size_t> firstOfVariation{0};
@@ -377,7 +382,8 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
     m.ensureShadowMaps();
     const glm::vec3 centre = 0.5f * (lo + hi);
     const float radius = std::max(1e-3f, 0.5f * glm::length(hi - lo));
-    const glm::vec3 l = glm::normalize(frame.light.direction);
+    const float len = glm::length(frame.light.direction);
+    const glm::vec3 l = len > 0.0f && std::isfinite(len) ? frame.light.direction / len : glm::vec3(0, 1, 0);
     const glm::vec3 up = std::abs(l.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
     lightView = glm::lookAt(centre + 2.0f * radius * l, centre, up);
     lightProj = glm::ortho(-radius, radius, -radius, radius, 0.0f, 4.0f * radius);
@@ -395,15 +401,17 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
     glDepthMask(GL_TRUE);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glUseProgram(meshProg);
+    // None of the shadow maps may sit on a texture unit while it is being drawn into.
+    for (GLuint unit : {4u, 5u, 6u}) glBindTextureUnit(unit, 0);
     const float far[4] = {1e30f, 0, 0, 0};
     const GLuint none[4] = {0, 0, 0, 0};
-    glBindFramebuffer(GL_FRAMEBUFFER, m.shadowFbo1.get());
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.shadowFbo1.get());
     glClearNamedFramebufferfv(m.shadowFbo1.get(), GL_COLOR, 0, far);
     glClearNamedFramebufferuiv(m.shadowFbo1.get(), GL_COLOR, 1, none);
     glClearNamedFramebufferfi(m.shadowFbo1.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
     setInt(meshProg, "uMode", 1);
     m.drawInstances(firstOfVariation);
-    glBindFramebuffer(GL_FRAMEBUFFER, m.shadowFbo2.get());
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.shadowFbo2.get());
     glClearNamedFramebufferfv(m.shadowFbo2.get(), GL_COLOR, 0, far);
     glClearNamedFramebufferfi(m.shadowFbo2.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
     glBindTextureUnit(5, m.shadowId.get());
@@ -420,7 +428,7 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
 
   // The frame: clear, opaque objects lit (colour only: their program writes no id), puffs.
   const GLuint fbo = m.fbo.get();
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
   glViewport(0, 0, w, h);
   glDisable(GL_SCISSOR_TEST);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
@@ -429,7 +437,7 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
   const float bg[4] = {background.r, background.g, background.b, 1.0f};
   const GLuint zero[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(fbo, GL_COLOR, 0, bg);
-  glClearNamedFramebufferuiv(fbo, GL_COLOR, 1, zero);
+  glClearTexImage(m.ids.get(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, zero);  // (not a draw buffer here)  // (not a draw buffer here)
   glClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
   glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
   block.upload(frame);
@@ -489,8 +497,8 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
     m.drawInstances(firstOfVariation, true);
   }
 
-  // Box-filter into the caller's framebuffer.
-  glBindFramebuffer(GL_FRAMEBUFFER, outputFbo);
+  // Box-filter into the caller's framebuffer (its read binding stays the caller's).
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, outputFbo);
   glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_STENCIL_TEST);
@@ -505,6 +513,7 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glDepthMask(GL_TRUE);
   glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
   glBindVertexArray(0);
   glUseProgram(0);
 }

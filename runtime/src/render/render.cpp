@@ -243,6 +243,11 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::createProgrammable(const S
   if (!scene.atlas.empty()) {
     auto atlas = core::loadAtlas(scene.atlas);
     if (!atlas) return atlas.error();
+    if (scene.atlasLevel > 0) {
+      auto level = core::atlasFromLevel(*atlas, scene.atlasLevel);
+      if (!level) return Error::at(scene.file, "/atlasLevel: " + level.error().message);
+      atlas = std::move(*level);
+    }
     auto set = m.nailboards->setAtlas(*atlas);
     if (!set) return Error::at(scene.atlas, set.error().message);
     m.variations = std::max(1, atlas->desc.variations);

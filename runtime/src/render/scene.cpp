@@ -904,8 +904,8 @@ MediaSpec readMedia(const json& j, const std::string& ptr, const Reader& r) {
 Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
   if (!j.is_object()) throw Failure{"expected a JSON object at the top level, got " + describe(j)};
   requireObject(j, "",
-                {"output", "camera", "light", "ambient", "ramp", "atlas", "style", "particles", "emitters", "objects",
-                 "animation", "simulation", "fixed", "media"});
+                {"output", "camera", "light", "ambient", "ramp", "atlas", "atlasLevel", "style", "particles", "emitters",
+                 "objects", "animation", "simulation", "fixed", "media"});
   const Reader r(file, artDir);
   Scene s;
   s.file = file;
@@ -915,6 +915,7 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
   if (auto* v = find(j, "ambient")) readAmbient(*v, "/ambient", r, s);
   if (auto* v = find(j, "ramp")) readRamp(*v, "/ramp", r, s);
   if (auto* v = find(j, "atlas")) s.atlas = r.readPath(*v, "/atlas");
+  if (auto* v = find(j, "atlasLevel")) s.atlasLevel = readInt(*v, "/atlasLevel", 0, 14);
   if (auto* v = find(j, "style")) readStyle(*v, "/style", s);
   long long total = 0;
   if (auto* v = find(j, "particles")) {
@@ -1434,6 +1435,7 @@ json toJson(const Scene& s) {
   j["ambient"] = {{"color", vec3(s.ambientColor)}, {"gradient", pathJson(s.ambientGradient, dir)}};
   j["ramp"] = {{"image", pathJson(s.ramp, dir)}, {"smooth", s.rampSmooth}};
   j["atlas"] = pathJson(s.atlas, dir);
+  j["atlasLevel"] = s.atlasLevel;
   const cel::Style& st = s.style;
   j["style"] = {{"outlines", st.outlines},
                 {"outlineWidth", number(st.outlineWidth)},

@@ -98,4 +98,18 @@ struct Atlas {
 /// Loads the sidecar and every image it names, checking each level's size against the desc.
 Result<Atlas> loadAtlas(const std::filesystem::path& sidecar);
 
+/// The deepest level atlasFromLevel accepts: cells and margins stay whole texels (the cell size and
+/// the margin divisible by 2^level) and within the stored mip levels.
+int deepestAtlasLevel(const AtlasDesc& desc);
+
+/// The atlas as it would be shipped without its `level` finest mip levels: level `level` becomes
+/// level 0, and every size in texels (atlas, cells, margin, content, flange, distance range) shrinks
+/// by 2^level. Same puffs, same encoding; a smaller atlas (issue 7's "just enough model"). Level 0 is
+/// the atlas itself. Errors: level outside [0, deepestAtlasLevel(desc)].
+Result<Atlas> atlasFromLevel(const Atlas& atlas, int level);
+
+/// Bytes the atlas's maps take as RGBA8 / RGBA8 / R16 textures with their mip levels (what the
+/// nailboard renderer uploads for an 8-bit atlas).
+std::size_t atlasTextureBytes(const AtlasDesc& desc);
+
 }  // namespace puff::core

@@ -94,4 +94,46 @@ std::string budgetTable(const MediaBudget& budget, const MediaChoice& choice);
 std::string budgetSummary(const MediaBudget& budget, const MediaChoice& choice);
 std::string budgetWarning(const MediaBudget& budget, const MediaChoice& choice);
 
+// ---- the cel path: atlas resolution ---------------------------------------------------------------
+// The nailboards' cost parameter a scene can choose at run time is the atlas's resolution
+// (Scene::atlasLevel: the atlas from one of its mip levels on, as if baked that much smaller). A
+// candidate's cost is its texture memory (what a smaller atlas saves; on a GPU also bandwidth) and its
+// measured frame time; its error the RMSE of the 8-bit frame against the cel reference
+// (RenderPath::kReference: the puff meshes themselves), media left out of both. Mesh detail is baked
+// into the atlas (no run-time cost to save) and particle count changes what the scene IS, so neither
+// is chosen here; docs/report/ charts both.
+
+/// One atlas level, measured.
+struct CelCandidate {
+  int atlasLevel = 0;          ///< Scene::atlasLevel
+  int cellSize = 0;            ///< texels per cell at that level
+  std::size_t atlasBytes = 0;  ///< core::atlasTextureBytes at that level
+  std::vector<double> rmse;    ///< per measured frame
+  double worstRmse = 0.0;
+  double medianMs = 0.0;  ///< median wall time of one SceneRenderer::renderFrame, milliseconds
+};
+
+struct CelBudget {
+  std::vector<int> frames;               ///< the frames measured, ascending
+  std::vector<CelCandidate> candidates;  ///< deepest level (smallest atlas) first: cheapest first
+  double referenceMs = 0.0;              ///< wall time spent rendering the references
+};
+
+/// Renders `frames` (1..16, each in the scene) at every atlas level from core::deepestAtlasLevel (but
+/// no smaller than 16-texel cells) to 0 on the programmable path in the CURRENT context (GL 4.5, where
+/// the reference path runs too), and the cel reference of each frame once. Media are left out.
+/// Errors: a scene without an atlas or particles, bad frames, timedRenders outside [1, 100], and what
+/// SceneRenderer::create / createReference / renderFrame return.
+Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames,
+                                   const MediaBudgetOptions& options = {});
+
+/// The cheapest candidate (smallest atlas) whose worstRmse <= maxError; none: the dearest (level 0),
+/// met = false. Errors: maxError not in (0, 1], no candidates.
+Result<MediaChoice> chooseCelAtlasLevel(const CelBudget& budget, double maxError);
+
+/// For people, as budgetTable / budgetSummary / budgetWarning above.
+std::string celBudgetTable(const CelBudget& budget, const MediaChoice& choice);
+std::string celBudgetSummary(const CelBudget& budget, const MediaChoice& choice);
+std::string celBudgetWarning(const CelBudget& budget, const MediaChoice& choice);
+
 }  // namespace puff::render

@@ -179,6 +179,10 @@ struct Scene {
   std::filesystem::path ramp;             ///< q ramp image; empty = the built-in two-tone ramp
   bool rampSmooth = false;                ///< linear filtering of the ramp
   std::filesystem::path atlas;            ///< atlas sidecar JSON (required if there are particles)
+  /// Draw the nailboards with the atlas from this mip level on (0: the atlas as baked; k: its cells
+  /// 2^k times smaller, as if baked at that size). [0, 14]; SceneRenderer refuses a level deeper than
+  /// the atlas allows (core::deepestAtlasLevel). puffrender --max-error chooses it.
+  int atlasLevel = 0;
   std::string stylePreset;                ///< named preset applied before the explicit style fields
   cel::Style style;
   std::vector<ParticleSpec> particles;
