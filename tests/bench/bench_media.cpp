@@ -31,6 +31,12 @@
 // screen: the pixels the rasterizer shades).
 //  sort    media::backToFront alone (CPU, one thread) for 1578, 10k and 50k particles: sort_ms.
 //
+// Error (issue 7: the two measurements with the error added): for every table1 and fig12 case, one
+// more frame (heat shimmer off, untimed) read back and compared with the exact reference
+// (puff::reference::renderMediaReference over the same resolved opaque layer, same particles,
+// materials and detail video, clamped to [0, 1] as the 8-bit target is): RMSE in linear colour,
+// rmse_vs_reference. --no-error skips it (the references take a few minutes on 2 cores).
+//
 // Writes CSV (stdout, or --csv FILE written atomically) and prints tables on stderr.
 // Not a test: nothing here fails on a time.
 #include <algorithm>
@@ -42,6 +48,7 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -56,6 +63,8 @@
 #include <puff/core/image.h>
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
+#include <puff/reference/media_reference.h>
+#include <puff/reference/metrics.h>
 
 namespace {
 
@@ -249,7 +258,7 @@ struct Case {
   std::vector<FrameTime> times;
 };
 
-FrameTime drawFrame(media::Renderer& renderer, Case& c) {
+FrameTime drawFrame(media::Renderer& renderer, Case& c, bool shimmer = true) {
   media::Layers& layers = *c.layers;
   const media::Frame f = makeFrame(layers);
   FrameTime t;
@@ -259,12 +268,12 @@ FrameTime drawFrame(media::Renderer& renderer, Case& c) {
   const auto t1 = Clock::now();
   layers.beginMedia();
   media::DrawStats stats;
-  renderer.draw(f, *c.particles, c.method, layers.mediaDepth(), true, &stats);
+  renderer.draw(f, *c.particles, c.method, layers.mediaDepth(), shimmer, &stats);
   glFinish();
   const auto t2 = Clock::now();
   const int vp[4] = {0, 0, layers.width(), layers.height()};
   media::ComposeSettings cs;
-  cs.shimmerPixels = kShimmerPixels;
+  cs.shimmerPixels = shimmer ? kShimmerPixels : 0.0f;
   layers.compose(c.output->fbo.get(), vp, f, {}, cs);
   glFinish();
   const auto t3 = Clock::now();
@@ -299,7 +308,51 @@ struct Row {
   double downsample = 0, sort = 0, pass = 0, compose = 0, frame = 0, total = 0;
   // table1: this / planar of the same count; fig12: scale 1 / this. 0: not applicable.
   double frameRatioToPlanar = 0, passRatioToPlanar = 0, passSpeedup = 0, totalSpeedup = 0;
+  double rmse = 0;  ///< against the exact reference; 0: not measured
 };
+
+// What the reference needs besides the case: the renderer's materials, settings and detail video.
+struct ReferenceSetup {
+  std::vector<media::Material> materials;
+  const core::DetailVideo* detail = nullptr;
+};
+
+// The exact image of a case's particles over its resolved opaque layer (the last frame drawn),
+// clamped to [0, 1]: row 0 at the top.
+core::Image referenceImage(const Case& c, const ReferenceSetup& setup) {
+  const media::Layers& layers = *c.layers;
+  const int w = layers.width(), h = layers.height();
+  const std::size_t n = static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  std::vector<glm::vec3> color(n);
+  std::vector<float> depth(n);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(layers.opaqueColor(), 0, GL_RGB, GL_FLOAT, static_cast<GLsizei>(n * sizeof(glm::vec3)),
+                    color.data());
+  glGetTextureImage(layers.opaqueDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(n * sizeof(float)), depth.data());
+  reference::MediaReferenceInput in;
+  in.frame = makeFrame(layers);
+  in.frame.width = w;
+  in.frame.height = h;
+  in.particles = *c.particles;
+  in.materials = setup.materials;
+  in.temperatureDetail = setup.detail;
+  in.opacityDetail = setup.detail;
+  in.opaqueColor = color;
+  in.opaqueDepth = depth;
+  auto image = reference::renderMediaReference(in);
+  if (!image) {
+    std::fprintf(stderr, "puff_bench_media: error: the reference: %s\n", image.error().message.c_str());
+    std::exit(1);
+  }
+  for (float& v : image->pixels) v = std::clamp(v, 0.0f, 1.0f);
+  return std::move(*image);
+}
+
+// One more frame of the case, shimmer off, against `reference`.
+double errorAgainst(media::Renderer& renderer, Case& c, const core::Image& reference) {
+  drawFrame(renderer, c, false);
+  return reference::imageError(c.output->image(), reference).rmse;
+}
 
 Row summarize(const std::string& experiment, const Case& c, const std::string& method, float radius,
               const Overdraw& o) {
@@ -343,7 +396,7 @@ std::string fmt(double v, const char* f = "%.3f") {
 int main(int argc, char** argv) {
   int reps = 5;
   std::string csvPath, dumpDir;
-  bool runTable = true, runFig = true;
+  bool runTable = true, runFig = true, withError = true;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
       reps = std::max(1, std::atoi(argv[++i]));
@@ -353,11 +406,14 @@ int main(int argc, char** argv) {
       dumpDir = argv[++i];
     else if (!std::strcmp(argv[i], "--no-table1"))
       runTable = false;
+    else if (!std::strcmp(argv[i], "--no-error"))
+      withError = false;
     else if (!std::strcmp(argv[i], "--no-fig12"))
       runFig = false;
     else {
       std::fprintf(stderr,
-                   "usage: puff_bench_media [--reps N (5)] [--csv FILE] [--dump DIR] [--no-table1] [--no-fig12]\n");
+                   "usage: puff_bench_media [--reps N (5)] [--csv FILE] [--dump DIR] [--no-table1] [--no-fig12] "
+                   "[--no-error]\n");
       return 2;
     }
   }
@@ -383,6 +439,7 @@ int main(int argc, char** argv) {
   }
   const core::DetailVideo detail = makeDetail();
   renderer->setDetail(&detail, &detail);
+  const ReferenceSetup setup{{media::smokeMaterial(), media::dustMaterial(), fire}, &detail};
 
   auto makeLayers = [](int size, float scale) {
     auto l = media::Layers::create(size, size, 1, scale);
@@ -426,6 +483,11 @@ int main(int argc, char** argv) {
         checkGl("table1");
         Row s = summarize("table1", spherical, "spherical", radius, o);
         Row p = summarize("table1", planar, "planar", radius, o);
+        if (withError) {  // one reference for both: the same particles over the same opaque layer
+          const core::Image ref = referenceImage(spherical, setup);
+          s.rmse = errorAgainst(*renderer, spherical, ref);
+          p.rmse = errorAgainst(*renderer, planar, ref);
+        }
         s.frameRatioToPlanar = s.frame / p.frame;
         s.passRatioToPlanar = s.pass / p.pass;
         p.frameRatioToPlanar = p.passRatioToPlanar = 1.0;
@@ -457,8 +519,11 @@ int main(int argc, char** argv) {
     runRounds(*renderer, all, reps);
     checkGl("fig12");
     const std::size_t first = rows.size();
+    std::optional<core::Image> ref;
+    if (withError) ref = referenceImage(cases.front(), setup);  // the full-size opaque layer: every scale's
     for (Case& c : cases) {
       Row r = summarize("fig12", c, "spherical", radius, o);
+      if (ref) r.rmse = errorAgainst(*renderer, c, *ref);
       r.passSpeedup = rows.size() > first ? rows[first].pass / r.pass : 1.0;
       r.totalSpeedup = rows.size() > first ? rows[first].total / r.total : 1.0;
       rows.push_back(r);
@@ -494,14 +559,15 @@ int main(int argc, char** argv) {
   std::string csv =
       "experiment,method,particles,output_px,layer_scale,layer_px,radius,overdraw_disc,overdraw_quad,reps,"
       "downsample_ms,sort_ms,pass_ms,compose_ms,frame_ms,total_ms,frame_ratio_to_planar,pass_ratio_to_planar,"
-      "pass_speedup_over_scale1,total_speedup_over_scale1\n";
+      "pass_speedup_over_scale1,total_speedup_over_scale1,rmse_vs_reference\n";
   for (const Row& r : rows) {
     char line[512];
-    std::snprintf(line, sizeof line, "%s,%s,%d,%d,%g,%d,%.4f,%.2f,%.2f,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%s,%s,%s,%s\n",
+    std::snprintf(line, sizeof line,
+                  "%s,%s,%d,%d,%g,%d,%.4f,%.2f,%.2f,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%s,%s,%s,%s,%s\n",
                   r.experiment.c_str(), r.method.c_str(), r.particles, r.outputPx, r.scale, r.layerPx, r.radius,
                   r.overdraw.disc, r.overdraw.quad, r.reps, r.downsample, r.sort, r.pass, r.compose, r.frame, r.total,
                   fmt(r.frameRatioToPlanar).c_str(), fmt(r.passRatioToPlanar).c_str(), fmt(r.passSpeedup).c_str(),
-                  fmt(r.totalSpeedup).c_str());
+                  fmt(r.totalSpeedup).c_str(), fmt(r.rmse, "%.5f").c_str());
     csv += line;
   }
   if (csvPath.empty()) {
@@ -512,30 +578,31 @@ int main(int argc, char** argv) {
   }
 
   std::fprintf(stderr, "\nTable 1 (%d^2 output, layer at 1/2; median ms of %d frames)\n", kTableSize, reps);
-  std::fprintf(stderr, "%9s %7s %8s %10s %10s %10s %14s %10s %10s %14s\n", "particles", "radius", "overdraw", "planar",
-               "spherical", "ratio", "planar pass", "sph. pass", "ratio", "compose");
+  std::fprintf(stderr, "%9s %7s %8s %10s %10s %10s %14s %10s %10s %14s %12s %12s\n", "particles", "radius", "overdraw",
+               "planar", "spherical", "ratio", "planar pass", "sph. pass", "ratio", "compose", "planar RMSE",
+               "sph. RMSE");
   for (const Row& r : rows) {
     if (r.experiment != "table1" || r.method == "planar") continue;
     const Row* p = nullptr;
     for (const Row& q : rows)
       if (q.experiment == "table1" && q.method == "planar" && q.particles == r.particles) p = &q;
     if (!p) {
-      std::fprintf(stderr, "%9d %7s %8s %10s %10.2f %10s %14s %10.2f %10s %14.2f\n", r.particles, "-", "-", "-",
-                   r.frame, "-", "-", r.pass, "-", r.compose);
+      std::fprintf(stderr, "%9d %7s %8s %10s %10.2f %10s %14s %10.2f %10s %14.2f %12s %12s\n", r.particles, "-", "-",
+                   "-", r.frame, "-", "-", r.pass, "-", r.compose, "-", "-");
       continue;
     }
-    std::fprintf(stderr, "%9d %7.3f %8.2f %10.2f %10.2f %10.3f %14.2f %10.2f %10.3f %14.2f\n", r.particles, r.radius,
-                 r.overdraw.disc, p->frame, r.frame, r.frameRatioToPlanar, p->pass, r.pass, r.passRatioToPlanar,
-                 r.compose);
+    std::fprintf(stderr, "%9d %7.3f %8.2f %10.2f %10.2f %10.3f %14.2f %10.2f %10.3f %14.2f %12s %12s\n", r.particles,
+                 r.radius, r.overdraw.disc, p->frame, r.frame, r.frameRatioToPlanar, p->pass, r.pass,
+                 r.passRatioToPlanar, r.compose, fmt(p->rmse, "%.5f").c_str(), fmt(r.rmse, "%.5f").c_str());
   }
   std::fprintf(stderr, "\nFig. 12 (%d^2 output, spherical, %d particles; median ms of %d frames)\n", kFigSize,
                kFigParticles, reps);
-  std::fprintf(stderr, "%6s %8s %10s %10s %10s %10s %10s %10s\n", "scale", "layer", "pass", "speedup", "downsample",
-               "compose", "total", "speedup");
+  std::fprintf(stderr, "%6s %8s %10s %10s %10s %10s %10s %10s %12s\n", "scale", "layer", "pass", "speedup",
+               "downsample", "compose", "total", "speedup", "RMSE");
   for (const Row& r : rows) {
     if (r.experiment != "fig12") continue;
-    std::fprintf(stderr, "%6g %8d %10.2f %10.2f %10.2f %10.2f %10.2f %10.2f\n", r.scale, r.layerPx, r.pass,
-                 r.passSpeedup, r.downsample, r.compose, r.total, r.totalSpeedup);
+    std::fprintf(stderr, "%6g %8d %10.2f %10.2f %10.2f %10.2f %10.2f %10.2f %12s\n", r.scale, r.layerPx, r.pass,
+                 r.passSpeedup, r.downsample, r.compose, r.total, r.totalSpeedup, fmt(r.rmse, "%.5f").c_str());
   }
   std::fprintf(stderr, "\npuff_bench_media: %.0f s in all\n", runS);
   return 0;

@@ -28,6 +28,7 @@ struct CelRow {
   int width = 0, height = 0;
   double ms = 0.0, floorMs = 0.0;
   double rmse = 0.0, coverageIoU = 1.0, outlineIoU = 1.0;  ///< NaN: not measured
+  double rmsePuffs = 0.0;                                  ///< RMSE over the pixels either image shows puffs on
   bool pareto = false;
 };
 
