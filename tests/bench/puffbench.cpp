@@ -20,6 +20,8 @@
 
 #include <puff/core/files.h>
 #include <puff/core/gl_context.h>
+#include <puff/core/image.h>
+#include <puff/reference/metrics.h>
 #include <puff/render/budget.h>
 #include <puff/render/render.h>
 
@@ -63,11 +65,139 @@ Result<double> baselineMs(render::Scene s, std::span<const int> frames, int reps
   return medianMs(times);
 }
 
+// The places media methods break, measured (issue 7): per method,
+//  - temporal: smoke-flythrough's camera flying into the smoke (its pillar taken out, so only the
+//    media change), every frame in order; the largest and the mean second difference of consecutive
+//    frames (reference::largestSecondDifference: popping shows as spikes);
+//  - spatial: explosion-walls at its fireball frames (explosion lights and shimmer off), the largest
+//    jump between neighbouring pixels of the ERROR image, frame minus exact reference
+//    (render::mediaReference), over the pixels either shows media on, away from the bare frame's own
+//    edges: the fire's texture is in both and cancels, a billboard cut by a wall is a hard step in
+//    the error that the reference does not have.
+struct StabilityRow {
+  std::string scene, method, metric;
+  double value = 0.0;
+  int frames = 0, width = 0, height = 0;
+};
+
+Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::path& artDir, int width, int height) {
+  std::vector<StabilityRow> rows;
+  const media::Method methods[] = {media::Method::kPlanar, media::Method::kSoftLinear, media::Method::kSoftSCurve,
+                                   media::Method::kSpherical};
+  {
+    auto loaded = render::loadScene(sceneDir / "smoke-flythrough.json", artDir);
+    if (!loaded) return loaded.error();
+    // The smoke frozen as it is at frame 0 (births pop in whatever the method; that is the
+    // simulator's, not the billboards'), listed as particles; the pillar taken out.
+    render::Scene frozen = *loaded;
+    frozen.width = width;
+    frozen.height = height;
+    frozen.objects.clear();
+    {
+      auto r = render::SceneRenderer::create(frozen);
+      if (!r) return r.error();
+      if (auto im = (*r)->renderFrame(0); !im) return im.error();
+      auto in = (*r)->lastMediaFrame();
+      if (!in) return in.error();
+      frozen.media->emitters.clear();
+      frozen.media->particles.clear();
+      for (const media::Particle& p : in->particles) {
+        render::MediaParticleSpec spec;
+        spec.position = p.position;
+        spec.radius = p.radius;
+        spec.materialIndex = static_cast<int>(p.material);
+        spec.life = p.life;
+        spec.density = p.density;
+        spec.seed = p.seed;
+        frozen.media->particles.push_back(spec);
+      }
+    }
+    for (media::Method m : methods) {
+      render::Scene s = frozen;
+      s.media->method = m;
+      auto r = render::SceneRenderer::create(s);
+      if (!r) return r.error();
+      std::vector<core::Image> frames;
+      for (int f = 0; f < s.animation.frames; ++f) {
+        auto im = (*r)->renderFrame(f);
+        if (!im) return im.error();
+        frames.push_back(std::move(*im));
+      }
+      const std::string method(media::toString(m));
+      rows.push_back({"smoke-flythrough", method, "largest_second_difference",
+                      reference::largestSecondDifference(frames), s.animation.frames, width, height});
+      rows.push_back({"smoke-flythrough", method, "mean_second_difference", reference::meanSecondDifference(frames),
+                      s.animation.frames, width, height});
+    }
+  }
+  {
+    auto loaded = render::loadScene(sceneDir / "explosion-walls.json", artDir);
+    if (!loaded) return loaded.error();
+    render::Scene bareScene = *loaded;
+    bareScene.width = width;
+    bareScene.height = height;
+    bareScene.media->particles.clear();
+    bareScene.media->emitters.clear();
+    bareScene.media->lights.clear();
+    auto bare = render::SceneRenderer::create(bareScene);
+    if (!bare) return bare.error();
+    const int fireFrames[] = {5, 20};
+    std::vector<core::Image> bareFrames;
+    for (int f : fireFrames) {
+      auto im = (*bare)->renderFrame(f);
+      if (!im) return im.error();
+      bareFrames.push_back(std::move(*im));
+    }
+    for (media::Method m : methods) {
+      render::Scene s = *loaded;
+      s.width = width;
+      s.height = height;
+      s.media->method = m;
+      s.media->lights.clear();  // their light is not the media's: leave the walls as the bare frame has them
+      s.media->compose.shimmerPixels = 0.0f;
+      s.media->resolution = 1.0f;  // no upsampling error: what is left at the walls is the method's
+      auto r = render::SceneRenderer::create(s);
+      if (!r) return r.error();
+      double worst = 0.0;
+      for (std::size_t i = 0; i < std::size(fireFrames); ++i) {
+        auto im = (*r)->renderFrame(fireFrames[i]);
+        if (!im) return im.error();
+        auto ref = render::mediaReference(s, **r);
+        if (!ref) return ref.error();
+        const core::Image& b = bareFrames[i];
+        const std::vector<bool> shown = reference::coverageMask(*im, b), exact = reference::coverageMask(*ref, b);
+        core::Image error(width, height, 3);
+        for (int y = 0; y < height; ++y)
+          for (int x = 0; x < width; ++x)
+            for (int c = 0; c < 3; ++c) error.at(x, y, c) = im->at(x, y, c) - ref->at(x, y, c);
+        std::vector<bool> region(shown.size(), false);
+        for (int y = 1; y + 1 < height; ++y) {
+          for (int x = 1; x + 1 < width; ++x) {
+            // The bare frame is flat here (no object edge within a pixel), and media cover it.
+            bool flat = true;
+            for (int c = 0; c < 3 && flat; ++c) {
+              const float v = b.at(x, y, c);
+              flat = std::abs(v - b.at(x + 1, y, c)) < 1.0f / 64 && std::abs(v - b.at(x - 1, y, c)) < 1.0f / 64 &&
+                     std::abs(v - b.at(x, y + 1, c)) < 1.0f / 64 && std::abs(v - b.at(x, y - 1, c)) < 1.0f / 64;
+            }
+            const std::size_t k = static_cast<std::size_t>(y) * width + x;
+            region[k] = flat && (shown[k] || exact[k]);
+          }
+        }
+        worst = std::max(worst, reference::largestJump(error, region));
+      }
+      rows.push_back({"explosion-walls", std::string(media::toString(m)), "largest_error_jump", worst,
+                      static_cast<int>(std::size(fireFrames)), width, height});
+    }
+  }
+  return rows;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int reps = 3, width = 320, height = 240;
-  std::string csvPath, celCsvPath, part = "all";
+  std::string csvPath, celCsvPath, stabilityCsvPath, part = "all";
   puffbench::CelBenchOptions cel;
   fs::path artDir = PUFF_ART_DIR, sceneDir = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes";
   std::vector<std::string> scenes = {"explosion-walls", "smoke-flythrough", "fire-to-smoke"};
@@ -81,6 +211,8 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(argv[i], "--size") && i + 2 < argc) {
       width = std::clamp(std::atoi(argv[++i]), 16, 4096);
       height = std::clamp(std::atoi(argv[++i]), 16, 4096);
+    } else if (!std::strcmp(argv[i], "--stability-csv") && i + 1 < argc) {
+      stabilityCsvPath = argv[++i];
     } else if (!std::strcmp(argv[i], "--cel-csv") && i + 1 < argc) {
       celCsvPath = argv[++i];
     } else if (!std::strcmp(argv[i], "--part") && i + 1 < argc &&
@@ -98,6 +230,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: puffbench [--part media|cel|all (all)] [--reps N (3)] [--size W H (320 240)]\n"
                    "                 [--scene NAME ... (media scenes)] [--csv FILE (media)] [--cel-csv FILE]\n"
+                   "                 [--stability-csv FILE (media methods where they break)]\n"
                    "                 [--reference-limit N (12500): no cel reference above N particles]\n"
                    "                 [--no-counts: skip the particle-count sweep] [--art-dir DIR]\n");
       return 2;
@@ -212,6 +345,28 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "%-17s %-12s %5g  %8.2f ms (%5.2fx)  rmse %.5f%s\n", r.scene.c_str(), r.method.c_str(),
                  static_cast<double>(r.resolution), r.ms, r.baselineMs > 0.0 ? r.ms / r.baselineMs : 0.0, r.rmse,
                  r.pareto ? "  pareto" : "");
+  }
+  {
+    // Where the media methods break, at a small size (every frame of the flight is drawn).
+    auto st = stability(sceneDir, artDir, 160, 120);
+    if (!st) {
+      std::fprintf(stderr, "puffbench: error: %s\n", st.error().message.c_str());
+      return 1;
+    }
+    std::string stCsv = "scene,method,metric,value,frames,width,height\n";
+    for (const StabilityRow& r : *st) {
+      char stLine[256];
+      std::snprintf(stLine, sizeof stLine, "%s,%s,%s,%.6f,%d,%d,%d\n", r.scene.c_str(), r.method.c_str(),
+                    r.metric.c_str(), r.value, r.frames, r.width, r.height);
+      stCsv += stLine;
+      std::fprintf(stderr, "%-17s %-12s %-26s %.4f\n", r.scene.c_str(), r.method.c_str(), r.metric.c_str(), r.value);
+    }
+    if (stabilityCsvPath.empty()) {
+      std::fputs(stCsv.c_str(), stdout);
+    } else if (auto ok = core::writeFileAtomic(stabilityCsvPath, stCsv); !ok) {
+      std::fprintf(stderr, "puffbench: error: %s\n", ok.error().message.c_str());
+      return 1;
+    }
   }
   if (csvPath.empty()) {
     std::fputs(csv.c_str(), stdout);

@@ -43,10 +43,11 @@ struct Frames {
 
 // Renders `frames` with `path` (the reference with its default sampling), each once untimed (the
 // image) and then `reps` times timed.
-Result<Frames> renderFrames(const render::Scene& scene, render::RenderPath path, std::span<const int> frames,
-                            int reps) {
+Result<Frames> renderFrames(const render::Scene& scene, render::RenderPath path, std::span<const int> frames, int reps,
+                            bool fillRateFloor = false) {
   auto r = render::SceneRenderer::create(scene, path);
   if (!r) return r.error();
+  (*r)->setFillRateFloor(fillRateFloor);
   Frames out;
   std::vector<double> times;
   for (int f : frames) {
@@ -176,10 +177,13 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
     if (!refFixed) return refFixed.error();
     auto refFixedBare = renderFrames(render::withoutParticles(fixedScene), render::RenderPath::kReference, frames, 0);
     if (!refFixedBare) return refFixedBare.error();
+    // The fill-rate floor: the scene's particles as bare alpha-tested quads, same frames.
+    auto fillFloor = renderFrames(scene, render::RenderPath::kCel, frames, opt.reps, true);
+    if (!fillFloor) return fillFloor.error();
     log(name + ": floors and references", t0);
 
     auto add = [&](const std::string& path, const std::string& parameter, double value, const Frames& f,
-                   const Frames& floor, const Frames& reference, const Frames& referenceBare,
+                   const Frames& bareFrames, const Frames& reference, const Frames& referenceBare,
                    const std::string& label) {
       CelRow r;
       r.scene = name;
@@ -191,8 +195,9 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
       r.width = opt.width;
       r.height = opt.height;
       r.ms = f.ms;
-      r.floorMs = floor.ms;
-      const Errors e = compare(f, floor, reference, referenceBare, ink);
+      r.floorMs = fillFloor->ms;
+      r.bareMs = bareFrames.ms;
+      const Errors e = compare(f, bareFrames, reference, referenceBare, ink);
       r.rmse = e.rmse;
       r.rmsePuffs = e.rmsePuffs;
       r.coverageIoU = e.coverageIoU;
@@ -286,6 +291,8 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
       const render::Scene sf = render::restrictToFixedLimits(s);
       auto f = renderFrames(s, render::RenderPath::kCel, frame0, opt.reps);
       if (!f) return f.error();
+      auto fillFloor = renderFrames(s, render::RenderPath::kCel, frame0, opt.reps, true);
+      if (!fillFloor) return fillFloor.error();
       auto ff = renderFrames(sf, render::RenderPath::kFixed, frame0, opt.reps);
       if (!ff) return ff.error();
       const bool measureError = n <= opt.referenceLimit;
@@ -310,7 +317,8 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
         r.width = opt.width;
         r.height = opt.height;
         r.ms = x.ms;
-        r.floorMs = which == 0 ? bare->ms : bareFixed->ms;
+        r.floorMs = fillFloor->ms;
+        r.bareMs = which == 0 ? bare->ms : bareFixed->ms;
         if (measureError) {
           const Errors e = which == 0 ? compare(x, *bare, ref, *refBare, base.style.outlineColor)
                                       : compare(x, *bareFixed, refFixed, *refFixedBare, base.style.outlineColor);
@@ -347,14 +355,14 @@ void markParetoFronts(std::vector<CelRow>& rows) {
 std::string celCsv(const std::vector<CelRow>& rows) {
   std::string csv =
       "scene,path,parameter,value,label,particles,width,height,median_ms,floor_ms,ratio_to_floor,rmse,psnr_db,"
-      "coverage_iou,outline_iou,pareto,rmse_puffs\n";
+      "coverage_iou,outline_iou,pareto,rmse_puffs,bare_ms\n";
   char line[512];
   for (const CelRow& r : rows) {
     const double psnr = !std::isfinite(r.rmse) ? std::nan("") : r.rmse > 0.0 ? -20.0 * std::log10(r.rmse) : 999.0;
-    std::snprintf(line, sizeof line, "%s,%s,%s,%g,%s,%zu,%d,%d,%.3f,%.3f,%.3f,%.6f,%.2f,%.4f,%.4f,%d,%.6f\n",
+    std::snprintf(line, sizeof line, "%s,%s,%s,%g,%s,%zu,%d,%d,%.3f,%.3f,%.3f,%.6f,%.2f,%.4f,%.4f,%d,%.6f,%.3f\n",
                   r.scene.c_str(), r.path.c_str(), r.parameter.c_str(), r.value, r.label.c_str(), r.particles, r.width,
                   r.height, r.ms, r.floorMs, r.floorMs > 0.0 ? r.ms / r.floorMs : 0.0, r.rmse, psnr, r.coverageIoU,
-                  r.outlineIoU, r.pareto ? 1 : 0, r.rmsePuffs);
+                  r.outlineIoU, r.pareto ? 1 : 0, r.rmsePuffs, r.bareMs);
     csv += line;
   }
   return csv;

@@ -299,6 +299,40 @@ TEST_F(CelReference, AFrameDoesNotDependOnTheFramesBeforeIt) {
   EXPECT_EQ(after->pixels, alone->pixels);
 }
 
+// The benchmarks' fill-rate floor: the same particles as bare alpha-tested quads of the atlas colour,
+// no shading: the puff's disc white (C as baked), the flange (alpha-tested in, C black) over the
+// same pixels as the nailboard's ink.
+TEST_F(CelReference, TheFillRateFloorDrawsBareQuads) {
+  const float R = 2.0f;
+  nlohmann::json j = frontScene({{"outlines", true}, {"outlineWidth", 2}, {"shading", true}, {"shadows", false}},
+                                {{{"position", {0, 0, 0}}, {"size", 2 * R}}});
+  auto scene = render::parseScene(j, dir_ / "scene.json");
+  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  auto r = render::SceneRenderer::create(*scene);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  auto lit = (*r)->renderFrame(0);
+  (*r)->setFillRateFloor(true);
+  auto floor = (*r)->renderFrame(0);
+  ASSERT_TRUE(lit.ok() && floor.ok());
+  int disc = 0;
+  for (int y = 0; y < kPx; ++y) {
+    for (int x = 0; x < kPx; ++x) {
+      const float rPx = glm::length(world(x, y)) * kPxPerUnit, edge = R * kPxPerUnit;
+      if (rPx < edge - 1.5f) {
+        ++disc;
+        EXPECT_NEAR(floor->at(x, y, 0), 1.0f, 3.0f / 255.0f) << "unshaded C at " << x << "," << y;  // (its mips)
+        EXPECT_LT(lit->at(x, y, 0), 0.71f) << "Eq. 2 at " << x << "," << y;
+      }
+      if (rPx > edge + 0.5f && rPx < edge + 1.5f) {
+        EXPECT_LT(lit->at(x, y, 0), 0.05f) << "the nailboard's ink at " << x << "," << y;
+        // (bilinear colour next to the white disc: dark, not the 0.9 background)
+        EXPECT_LT(floor->at(x, y, 0), 0.5f) << "the flange on the floor at " << x << "," << y;
+      }
+    }
+  }
+  EXPECT_GT(disc, 2500);
+}
+
 TEST_F(CelReference, AStaleOrMissingSourceMeshIsNamed) {
   const fs::path dir = dir_ / "stale";
   fs::create_directories(dir);

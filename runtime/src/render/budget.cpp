@@ -114,6 +114,26 @@ bool sameInputs(const FrameReference& r, const SceneRenderer::MediaFrameInputs& 
 
 }  // namespace
 
+Result<core::Image> mediaReference(const Scene& scene, const SceneRenderer& renderer) {
+  if (!scene.media) return Error::at(scene.file, "/media: the scene has no media");
+  auto in = renderer.lastMediaFrame();
+  if (!in) return in.error();
+  std::optional<core::DetailVideo> temperature, opacity;
+  if (!scene.media->temperatureDetail.empty()) {
+    auto v = core::loadDetailVideo(scene.media->temperatureDetail);
+    if (!v) return v.error();
+    temperature = std::move(*v);
+  }
+  if (!scene.media->opacityDetail.empty()) {
+    auto v = core::loadDetailVideo(scene.media->opacityDetail);
+    if (!v) return v.error();
+    opacity = std::move(*v);
+  }
+  auto ref = makeReference(scene, *in, temperature ? &*temperature : nullptr, opacity ? &*opacity : nullptr);
+  if (!ref) return ref.error();
+  return std::move(ref->image);
+}
+
 std::vector<int> budgetFrames(int first, int last) {
   PUFF_CHECK(first >= 0 && first <= last);
   std::vector<int> frames{first, first + (last - first + 1) / 2, last};

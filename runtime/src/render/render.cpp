@@ -124,6 +124,7 @@ struct SceneRenderer::Impl {
   std::optional<media::Frame> lastMediaFrame;       // the full-size frame of the last media draw
   std::unique_ptr<detail::CelReference> reference;  // RenderPath::kReference
   CelReferenceOptions referenceOptions;
+  bool fillRateFloor = false;  // setFillRateFloor
 };
 
 namespace {
@@ -151,6 +152,7 @@ SceneRenderer::SceneRenderer() : impl_(std::make_unique<Impl>()) {}
 SceneRenderer::~SceneRenderer() = default;
 const Scene& SceneRenderer::scene() const { return impl_->scene; }
 RenderPath SceneRenderer::path() const { return impl_->path; }
+void SceneRenderer::setFillRateFloor(bool on) { impl_->fillRateFloor = on; }
 
 Result<void> SceneRenderer::checkProgrammable() {
   GLint major = 0, minor = 0;
@@ -669,8 +671,12 @@ void SceneRenderer::drawSingle(int frame, const cel::Viewport& viewport, FrameSt
   if (m.hasAtlas) {
     const cel::DrawStats up = m.nailboards->upload(particles);
     if (stats) stats->bytesUploaded = up.bytesUploaded;
-    m.nailboards->drawNailboards(s.style, cel::ShadePass::kLit);
-    if (s.style.shadows) {
+    if (m.fillRateFloor) {
+      m.nailboards->drawBaseline(s.style);
+    } else {
+      m.nailboards->drawNailboards(s.style, cel::ShadePass::kLit);
+    }
+    if (s.style.shadows && !m.fillRateFloor) {
       m.nailboards->drawShadowVolumes(s.style, m.floorPlane);
       m.opaque->draw(cel::ShadePass::kShadowed);
       m.nailboards->drawNailboards(s.style, cel::ShadePass::kShadowed);

@@ -27,9 +27,12 @@
 #include <vector>
 
 #include <puff/core/error.h>
+#include <puff/core/image.h>
 #include <puff/render/scene.h>
 
 namespace puff::render {
+
+class SceneRenderer;
 
 /// The media layer resolutions measured, cheapest first: the layer has resolution^2 of the output's
 /// pixels, so this is also the order of cost (the measured times are reported, not used to order).
@@ -80,6 +83,12 @@ struct MediaChoice {
   bool met = false;        ///< false: no candidate's worst RMSE is <= maxError; `chosen` is then the dearest
   std::size_t best = 0;    ///< the candidate with the smallest worst RMSE (for the message when not met)
 };
+
+/// The exact media image of the frame `renderer` drew last (SceneRenderer::lastMediaFrame: the same
+/// particles over the same opaque layer), as measureMediaBudget computes it: clamped to [0, 1], RGBA,
+/// row 0 at the top. `scene` is the renderer's scene (its materials, settings and detail videos).
+/// Needs the renderer's context current.
+Result<core::Image> mediaReference(const Scene& scene, const SceneRenderer& renderer);
 
 /// The cheapest candidate whose worstRmse <= maxError; none: the dearest (the last), met = false.
 /// Errors: maxError not in (0, 1] (NaN included), a budget without candidates.

@@ -97,6 +97,12 @@ class SceneRenderer {
 
   const Scene& scene() const;
 
+  /// Benchmarks (issue 7): on the programmable cel path, draw every cel particle as the fill-rate
+  /// floor instead, a bare alpha-tested quad of the nailboard's size (NailboardRenderer::drawBaseline:
+  /// no shading, depth offset, outlines or shadows), the rest of the frame as usual: what any billboard
+  /// method pays to touch those pixels. Ignored by the other paths. Off by default.
+  void setFillRateFloor(bool on);
+
   /// What the media path drew in the most recent frame, read back (for tools and tests:
   /// render::measureMediaBudget, budget.h, hands it to puff::reference to compute the exact image
   /// over the same opaque layer). With motion blur, the last frame drawn is the frame itself.
