@@ -316,7 +316,8 @@ TEST_F(BudgetCli, BadBudgetsExitTwo) {
   EXPECT_FALSE(fs::exists(dir_ / "x.png"));
   const test::CliRun help = run("--help");
   EXPECT_NE(help.out.find("--max-error"), std::string::npos);
-  EXPECT_NE(help.out.find("mesh detail (baked into the atlas) and particle count are not chosen"), std::string::npos);
+  EXPECT_NE(help.out.find("/particleFraction"), std::string::npos);
+  EXPECT_NE(help.out.find("mesh detail (baked into the atlas: puffbake --lod auto) are not chosen"), std::string::npos);
 }
 
 // ---- the cel path: atlas levels -------------------------------------------------------------------
@@ -410,11 +411,11 @@ TEST_F(CelBudget, EveryLevelIsMeasuredAndTheBudgetPicksTheSmallestWithinIt) {
   // The smallest atlas is the farthest from the reference, the full one among the closest.
   const double smallest = b->candidates.front().worstRmse, full = b->candidates.back().worstRmse;
   EXPECT_GT(smallest, full);
-  auto all = render::chooseCelAtlasLevel(*b, 1.0);
+  auto all = render::chooseCelBudget(*b, 1.0);
   ASSERT_TRUE(all.ok());
   EXPECT_TRUE(all->met);
   EXPECT_EQ(all->chosen, 0u);
-  auto tiny = render::chooseCelAtlasLevel(*b, 1e-6);
+  auto tiny = render::chooseCelBudget(*b, 1e-6);
   ASSERT_TRUE(tiny.ok());
   EXPECT_FALSE(tiny->met);
   EXPECT_EQ(tiny->chosen, b->candidates.size() - 1);
@@ -423,7 +424,7 @@ TEST_F(CelBudget, EveryLevelIsMeasuredAndTheBudgetPicksTheSmallestWithinIt) {
             std::string::npos)
       << render::celBudgetSummary(*b, *all);
   EXPECT_NE(render::celBudgetTable(*b, *all).find("<- chosen"), std::string::npos);
-  EXPECT_FALSE(render::chooseCelAtlasLevel(*b, 0.0).ok());
+  EXPECT_FALSE(render::chooseCelBudget(*b, 0.0).ok());
 
   // Bad input.
   render::Scene bare = scene();
@@ -431,6 +432,72 @@ TEST_F(CelBudget, EveryLevelIsMeasuredAndTheBudgetPicksTheSmallestWithinIt) {
   EXPECT_FALSE(render::measureCelBudget(bare, frames).ok());
   const int outside[] = {5};
   EXPECT_FALSE(render::measureCelBudget(scene(), outside).ok());
+}
+
+// Fewer, bigger particles: a placed emitter's first round(count * f) particles, each (1/f)^(1/3)
+// times larger, so N d^3 (the volume they fill) stays; listed particles are kept as they are.
+TEST_F(CelBudget, AParticleFractionKeepsTheFirstParticlesAndTheirVolume) {
+  render::Scene s = scene();
+  render::EmitterSpec e;
+  e.count = 40;
+  e.seed = 3;
+  e.radius = 1.5f;
+  s.emitters.push_back(e);
+  const std::vector<cel::Particle> all = render::particlesAt(s, 0, 1);
+  ASSERT_EQ(all.size(), 2u + 40u);
+  s.particleFraction = 0.25f;
+  const std::vector<cel::Particle> quarter = render::particlesAt(s, 0, 1);
+  ASSERT_EQ(quarter.size(), 2u + 10u);
+  for (std::size_t i = 0; i < 2; ++i) EXPECT_EQ(quarter[i].size, all[i].size) << "listed particles stay";
+  double volumeAll = 0.0, volumeQuarter = 0.0;
+  for (std::size_t i = 2; i < quarter.size(); ++i) {
+    EXPECT_EQ(quarter[i].position, all[i].position) << "the first particles are the same ones";
+    EXPECT_NEAR(quarter[i].size, all[i].size * std::cbrt(4.0f), 1e-5f);
+  }
+  for (std::size_t i = 2; i < all.size(); ++i) volumeAll += std::pow(all[i].size, 3.0);
+  for (std::size_t i = 2; i < quarter.size(); ++i) volumeQuarter += std::pow(quarter[i].size, 3.0);
+  EXPECT_NEAR(volumeQuarter / volumeAll, 1.0, 0.35);  // the same volume on average (10 of 40 samples)
+  EXPECT_FLOAT_EQ(render::toJson(s).at("particleFraction").get<float>(), 0.25f);
+  nlohmann::json bad = render::toJson(s);
+  for (double f : {0.0, 1.5, -0.25}) {
+    bad["particleFraction"] = f;
+    auto parsed = render::parseScene(bad, dir_ / "bad.json");
+    ASSERT_FALSE(parsed.ok()) << f;
+    EXPECT_NE(parsed.error().message.find("/particleFraction: expected a number in (0, 1]"), std::string::npos)
+        << parsed.error().message;
+  }
+}
+
+TEST_F(CelBudget, TheParticleCountIsMeasuredAgainstTheFullModel) {
+  render::Scene s = scene();
+  s.particles.clear();
+  render::EmitterSpec e;
+  e.count = 48;
+  e.seed = 9;
+  e.radius = 1.6f;
+  e.sizeMin = 0.5f;
+  e.sizeMax = 0.9f;
+  s.emitters.push_back(e);
+  const int frames[] = {0};
+  auto b = render::measureCelBudget(s, frames, {.timedRenders = 1}, render::CelKnob::kParticleFraction);
+  ASSERT_TRUE(b.ok()) << b.error().message;
+  ASSERT_EQ(b->candidates.size(), render::kParticleFractions.size());
+  EXPECT_EQ(b->candidates[0].particles, 6u);  // 48 / 8
+  EXPECT_EQ(b->candidates.back().particles, 48u);
+  for (std::size_t i = 0; i + 1 < b->candidates.size(); ++i)
+    EXPECT_LT(b->candidates[i].particles, b->candidates[i + 1].particles) << "fewest (cheapest) first";
+  // All the particles are closer to the full model than an eighth of them.
+  EXPECT_GT(b->candidates.front().worstRmse, b->candidates.back().worstRmse);
+  auto c = render::chooseCelBudget(*b, 1.0);
+  ASSERT_TRUE(c.ok());
+  EXPECT_EQ(c->chosen, 0u);
+  EXPECT_NE(render::celBudgetSummary(*b, *c).find("particles 1/8 (6)"), std::string::npos)
+      << render::celBudgetSummary(*b, *c);
+  EXPECT_NE(render::celBudgetTable(*b, *c).find("<- chosen"), std::string::npos);
+  // Only placed emitters are thinned: a scene of listed particles has no count to choose.
+  auto none = render::measureCelBudget(scene(), frames, {.timedRenders = 1}, render::CelKnob::kParticleFraction);
+  ASSERT_FALSE(none.ok());
+  EXPECT_NE(none.error().message.find("no particle count to choose"), std::string::npos) << none.error().message;
 }
 
 }  // namespace

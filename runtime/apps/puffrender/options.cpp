@@ -193,24 +193,26 @@ int chooseMediaResolution(const Options& o, render::Scene& scene, const Plan& pl
   return 0;
 }
 
-// --max-error on a scene with cel particles: measures the atlas at each of its mip levels against the
-// cel reference and sets the smallest within the budget on `scene` (render/budget.h).
-int chooseAtlasLevel(const Options& o, render::Scene& scene, const Plan& plan) {
+// --max-error on a scene with cel particles: measures one of the nailboards' run-time parameters
+// (the share of the emitters' particles, or the atlas level) against the cel reference of the full
+// model and sets the cheapest within the budget on `scene` (render/budget.h).
+int chooseCelModel(const Options& o, render::Scene& scene, const Plan& plan, render::CelKnob knob) {
   const std::vector<int> frames = render::budgetFrames(plan.first, plan.last);
+  const bool atlas = knob == render::CelKnob::kAtlasLevel;
   if (!o.quiet) {
     std::string list;
     for (int f : frames) list += (list.empty() ? "" : ", ") + std::to_string(f);
-    std::fprintf(stderr,
-                 "%s: --max-error %g: measuring the atlas at each mip level against the cel reference at %s %s\n",
-                 kTool, *o.maxError, frames.size() == 1 ? "frame" : "frames", list.c_str());
+    std::fprintf(stderr, "%s: --max-error %g: measuring %s against the cel reference at %s %s\n", kTool, *o.maxError,
+                 atlas ? "the atlas at each mip level" : "1/8, 1/4, 1/2 and all of the emitters' particles",
+                 frames.size() == 1 ? "frame" : "frames", list.c_str());
     std::fflush(stderr);
   }
-  auto budget = render::measureCelBudget(scene, frames);
+  auto budget = render::measureCelBudget(scene, frames, {}, knob);
   if (!budget) {
     printError(budget.error().message);
     return 1;
   }
-  auto choice = render::chooseCelAtlasLevel(*budget, *o.maxError);
+  auto choice = render::chooseCelBudget(*budget, *o.maxError);
   if (!choice) {
     printError("--max-error: " + choice.error().message);
     return 2;
@@ -222,7 +224,12 @@ int chooseAtlasLevel(const Options& o, render::Scene& scene, const Plan& plan) {
   }
   std::fprintf(stderr, "%s: %s\n", kTool, render::celBudgetSummary(*budget, *choice).c_str());
   std::fflush(stderr);
-  scene.atlasLevel = budget->candidates[choice->chosen].atlasLevel;
+  const render::CelCandidate& c = budget->candidates[choice->chosen];
+  if (atlas) {
+    scene.atlasLevel = c.atlasLevel;
+  } else {
+    scene.particleFraction = c.particleFraction;
+  }
   return 0;
 }
 
@@ -297,7 +304,11 @@ int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
     const bool cel = !scene.atlas.empty() && (!scene.particles.empty() || !scene.emitters.empty() ||
                                               (scene.simulation && !scene.simulation->emitters.empty()));
     if (cel) {
-      if (const int code = chooseAtlasLevel(o, scene, plan); code != 0) return code;
+      // Fewer particles first (the frame time), then the smallest atlas for them (the memory).
+      if (!scene.emitters.empty()) {
+        if (const int code = chooseCelModel(o, scene, plan, render::CelKnob::kParticleFraction); code != 0) return code;
+      }
+      if (const int code = chooseCelModel(o, scene, plan, render::CelKnob::kAtlasLevel); code != 0) return code;
     }
     if (scene.media) {
       if (const int code = chooseMediaResolution(o, scene, plan); code != 0) return code;
@@ -477,15 +488,18 @@ std::variant<Options, int> parse(int argc, char** argv) {
   auto* maxError = app.add_option("--max-error", maxErrorText,
                                   "Render with just enough model, measured against the references at the first, "
                                   "middle and last of the frames rendered (the worst of them), E an RMSE in (0, 1]. "
-                                  "Scenes with cel particles: the smallest atlas (/atlasLevel: the atlas from one of "
-                                  "its mip levels on) whose frame stays within E of the cel reference (--path "
+                                  "Scenes with cel particles: first the fewest of the placed emitters' particles "
+                                  "(/particleFraction: 1/8, 1/4, 1/2 or all, each larger to fill the same volume), "
+                                  "then the smallest atlas (/atlasLevel: the atlas from one of its mip levels on), "
+                                  "whose frames stay within E of the cel reference of the full model (--path "
                                   "reference; 8-bit values; e.g. 0.12: the nailboards' own error is about 0.09 on "
-                                  "the art scenes); if none does, the full atlas, with a warning. Scenes with media: "
+                                  "the art scenes); if none does, all the particles and the full atlas, with a "
+                                  "warning. Scenes with media: "
                                   "the cheapest media layer resolution (/media/resolution: 0.125, 0.25, 0.5 or 1) "
                                   "within E (linear colour, e.g. 0.01) of the exact media reference; if none does, 1. "
                                   "Prints the measurements and one line per choice saying what it chose and why on "
-                                  "stderr; -q: those lines only. The media method, mesh detail (baked into the "
-                                  "atlas) and particle count are not chosen. Measured frames leave out explosion "
+                                  "stderr; -q: those lines only. The media method and mesh detail (baked into the "
+                                  "atlas: puffbake --lod auto) are not chosen. Measured frames leave out explosion "
                                   "lights, heat shimmer and motion blur (the reference has none); the output keeps "
                                   "them")
                        ->type_name("E");

@@ -299,8 +299,19 @@ std::string budgetWarning(const MediaBudget& budget, const MediaChoice& choice) 
 
 namespace {
 
-std::string levelText(const CelCandidate& c) {
-  return "atlas level " + std::to_string(c.atlasLevel) + " (" + std::to_string(c.cellSize) + "-texel cells)";
+std::string fractionText(float f) {
+  if (f >= 1.0f) return "1";
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "1/%d", static_cast<int>(std::lround(1.0 / f)));
+  return buf;
+}
+
+// What a candidate is, for people: "atlas level 2 (64-texel cells)" or "particles 1/4 (1052)".
+std::string candidateText(const CelBudget& b, const CelCandidate& c) {
+  if (b.knob == CelKnob::kAtlasLevel) {
+    return "atlas level " + std::to_string(c.atlasLevel) + " (" + std::to_string(c.cellSize) + "-texel cells)";
+  }
+  return "particles " + fractionText(c.particleFraction) + " (" + std::to_string(c.particles) + ")";
 }
 
 std::string megabytes(std::size_t bytes) {
@@ -311,10 +322,13 @@ std::string megabytes(std::size_t bytes) {
 
 }  // namespace
 
-Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames, const MediaBudgetOptions& options) {
-  if (scene.atlas.empty()) return Error::at(scene.file, "/atlas: the scene has no atlas, so no atlas level to choose");
+Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames, const MediaBudgetOptions& options,
+                                   CelKnob knob) {
+  if (scene.atlas.empty()) return Error::at(scene.file, "/atlas: the scene has no atlas, so no cel model to choose");
   if (scene.particles.empty() && scene.emitters.empty() && !(scene.simulation && !scene.simulation->emitters.empty()))
-    return Error::at(scene.file, "the scene has no cel particles, so no atlas level to choose");
+    return Error::at(scene.file, "the scene has no cel particles, so no cel model to choose");
+  if (knob == CelKnob::kParticleFraction && scene.emitters.empty())
+    return Error::at(scene.file, "/emitters: the scene places no particles, so no particle count to choose");
   if (frames.empty() || frames.size() > 16)
     return Error{"measure 1 to 16 frames, got " + std::to_string(frames.size())};
   for (int f : frames) {
@@ -329,13 +343,17 @@ Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> fram
   Scene s = scene;
   s.media.reset();
   CelBudget budget;
+  budget.knob = knob;
   budget.frames.assign(frames.begin(), frames.end());
   std::sort(budget.frames.begin(), budget.frames.end());
 
+  // The reference: the full model (every particle), whatever the scene asks for.
   std::vector<core::Image> references;
   {
     const auto t0 = Clock::now();
-    auto ref = SceneRenderer::createReference(s);
+    Scene full = s;
+    full.particleFraction = 1.0f;
+    auto ref = SceneRenderer::createReference(full);
     if (!ref) return ref.error();
     for (int f : budget.frames) {
       auto image = (*ref)->renderFrame(f);
@@ -344,25 +362,38 @@ Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> fram
     }
     budget.referenceMs = msSince(t0);
   }
-  int deepest = core::deepestAtlasLevel(*desc);
-  while (deepest > 0 && (desc->cellSize >> deepest) < 16) --deepest;
-  for (int level = deepest; level >= 0; --level) {
-    Scene c = s;
-    c.atlasLevel = level;
+  std::vector<Scene> candidates;
+  if (knob == CelKnob::kAtlasLevel) {
+    int deepest = core::deepestAtlasLevel(*desc);
+    while (deepest > 0 && (desc->cellSize >> deepest) < 16) --deepest;
+    for (int level = deepest; level >= 0; --level) {
+      candidates.push_back(s);
+      candidates.back().atlasLevel = level;
+    }
+  } else {
+    for (float f : kParticleFractions) {
+      candidates.push_back(s);
+      candidates.back().particleFraction = f;
+    }
+  }
+  for (const Scene& c : candidates) {
     auto r = SceneRenderer::create(c);
     if (!r) return r.error();
     CelCandidate cand;
-    cand.atlasLevel = level;
-    cand.cellSize = desc->cellSize >> level;
+    cand.atlasLevel = c.atlasLevel;
+    cand.particleFraction = c.particleFraction;
+    cand.cellSize = desc->cellSize >> c.atlasLevel;
     core::AtlasDesc reduced = *desc;
-    reduced.width = std::max(1, desc->width >> level);
-    reduced.height = std::max(1, desc->height >> level);
-    reduced.mipLevels = desc->mipLevels - level;
+    reduced.width = std::max(1, desc->width >> c.atlasLevel);
+    reduced.height = std::max(1, desc->height >> c.atlasLevel);
+    reduced.mipLevels = desc->mipLevels - c.atlasLevel;
     cand.atlasBytes = core::atlasTextureBytes(reduced);
     std::vector<double> times;
     for (std::size_t i = 0; i < budget.frames.size(); ++i) {
-      auto image = (*r)->renderFrame(budget.frames[i]);
+      FrameStats stats;
+      auto image = (*r)->renderFrame(budget.frames[i], &stats);
       if (!image) return image.error();
+      cand.particles = std::max(cand.particles, stats.particles);
       cand.rmse.push_back(reference::imageError(*image, references[i]).rmse);
       for (int k = 0; k < options.timedRenders; ++k) {
         const auto t0 = Clock::now();
@@ -377,18 +408,25 @@ Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> fram
   return budget;
 }
 
-Result<MediaChoice> chooseCelAtlasLevel(const CelBudget& budget, double maxError) {
-  return chooseWithin(budget.candidates, maxError, "atlas");
+Result<MediaChoice> chooseCelBudget(const CelBudget& budget, double maxError) {
+  return chooseWithin(budget.candidates, maxError, budget.knob == CelKnob::kAtlasLevel ? "atlas" : "particle");
 }
 
 std::string celBudgetTable(const CelBudget& budget, const MediaChoice& choice) {
-  std::string s = "  atlas level  cell texels  atlas MB  worst RMSE  median ms\n";
+  const bool atlas = budget.knob == CelKnob::kAtlasLevel;
+  std::string s = atlas ? "  atlas level  cell texels  atlas MB  worst RMSE  median ms\n"
+                        : "   particles       count  worst RMSE  median ms\n";
   for (std::size_t i = 0; i < budget.candidates.size(); ++i) {
     const CelCandidate& c = budget.candidates[i];
     char line[160];
-    std::snprintf(line, sizeof line, "  %11d  %11d  %8.2f  %10s  %9.1f%s\n", c.atlasLevel, c.cellSize,
-                  static_cast<double>(c.atlasBytes) / (1024.0 * 1024.0), errorText(c.worstRmse).c_str(), c.medianMs,
-                  i == choice.chosen ? "  <- chosen" : "");
+    if (atlas) {
+      std::snprintf(line, sizeof line, "  %11d  %11d  %8.2f  %10s  %9.1f%s\n", c.atlasLevel, c.cellSize,
+                    static_cast<double>(c.atlasBytes) / (1024.0 * 1024.0), errorText(c.worstRmse).c_str(), c.medianMs,
+                    i == choice.chosen ? "  <- chosen" : "");
+    } else {
+      std::snprintf(line, sizeof line, "  %10s  %10zu  %10s  %9.1f%s\n", fractionText(c.particleFraction).c_str(),
+                    c.particles, errorText(c.worstRmse).c_str(), c.medianMs, i == choice.chosen ? "  <- chosen" : "");
+    }
     s += line;
   }
   return s;
@@ -396,32 +434,41 @@ std::string celBudgetTable(const CelBudget& budget, const MediaChoice& choice) {
 
 std::string celBudgetSummary(const CelBudget& budget, const MediaChoice& choice) {
   PUFF_CHECK(choice.chosen < budget.candidates.size() && choice.best < budget.candidates.size());
+  const bool atlas = budget.knob == CelKnob::kAtlasLevel;
   char maxError[32];
   std::snprintf(maxError, sizeof maxError, "%g", choice.maxError);
   const CelCandidate& c = budget.candidates[choice.chosen];
-  std::string s = std::string("--max-error ") + maxError + ": " + levelText(c);
+  std::string s = std::string("--max-error ") + maxError + ": " + candidateText(budget, c);
   const std::string frames = (budget.frames.size() == 1 ? "frame " : "frames ") + framesText(budget.frames);
   if (!choice.met) {
     const CelCandidate& b = budget.candidates[choice.best];
-    return s + ", the largest (no level meets it: the smallest worst RMSE against the cel reference is " +
-           errorText(b.worstRmse) + ", at level " + std::to_string(b.atlasLevel) + ", over " + frames + ")";
+    return s + (atlas ? ", the largest" : ", all of them") + " (none meets it: the smallest worst RMSE against the " +
+           "cel reference is " + errorText(b.worstRmse) + ", with " + candidateText(budget, b) + ", over " + frames +
+           ")";
   }
-  s += ": worst RMSE " + errorText(c.worstRmse) + " against the cel reference over " + frames + ", atlas " +
-       megabytes(c.atlasBytes);
+  s += ": worst RMSE " + errorText(c.worstRmse) + " against the cel reference over " + frames;
+  if (atlas) s += ", atlas " + megabytes(c.atlasBytes);
   if (choice.chosen > 0) {
     const CelCandidate& cheaper = budget.candidates[choice.chosen - 1];
-    s += "; level " + std::to_string(cheaper.atlasLevel) + " misses with " + errorText(cheaper.worstRmse);
+    s += "; " + candidateText(budget, cheaper) + " misses with " + errorText(cheaper.worstRmse);
   } else {
-    s += "; the smallest measured";
+    s += "; the cheapest measured";
   }
   const CelCandidate& full = budget.candidates.back();
   if (choice.chosen + 1 < budget.candidates.size()) {
-    char ratio[96];
-    std::snprintf(ratio, sizeof ratio, "; the full atlas (level 0) takes %s, %.0fx as much, for RMSE %s",
-                  megabytes(full.atlasBytes).c_str(),
-                  c.atlasBytes > 0 ? static_cast<double>(full.atlasBytes) / static_cast<double>(c.atlasBytes) : 0.0,
-                  errorText(full.worstRmse).c_str());
-    s += ratio;
+    char more[160];
+    if (atlas) {
+      std::snprintf(more, sizeof more, "; the full atlas (level 0) takes %s, %.0fx as much, for RMSE %s",
+                    megabytes(full.atlasBytes).c_str(),
+                    c.atlasBytes > 0 ? static_cast<double>(full.atlasBytes) / static_cast<double>(c.atlasBytes) : 0.0,
+                    errorText(full.worstRmse).c_str());
+    } else {
+      std::snprintf(more, sizeof more,
+                    "; all the particles would cost %.1fx as much (%.1f ms against %.1f) for RMSE %s",
+                    c.medianMs > 0.0 ? full.medianMs / c.medianMs : 0.0, full.medianMs, c.medianMs,
+                    errorText(full.worstRmse).c_str());
+    }
+    s += more;
   }
   return s;
 }
@@ -433,8 +480,8 @@ std::string celBudgetWarning(const CelBudget& budget, const MediaChoice& choice)
   std::snprintf(maxError, sizeof maxError, "%g", choice.maxError);
   const CelCandidate& b = budget.candidates[choice.best];
   return std::string("--max-error ") + maxError + " cannot be met by the nailboards: the smallest worst RMSE " +
-         "against the cel reference is " + errorText(b.worstRmse) + " (" + levelText(b) + "); rendering with " +
-         levelText(budget.candidates[choice.chosen]);
+         "against the cel reference is " + errorText(b.worstRmse) + " (" + candidateText(budget, b) +
+         "); rendering with " + candidateText(budget, budget.candidates[choice.chosen]);
 }
 
 }  // namespace puff::render

@@ -904,8 +904,8 @@ MediaSpec readMedia(const json& j, const std::string& ptr, const Reader& r) {
 Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
   if (!j.is_object()) throw Failure{"expected a JSON object at the top level, got " + describe(j)};
   requireObject(j, "",
-                {"output", "camera", "light", "ambient", "ramp", "atlas", "atlasLevel", "style", "particles", "emitters",
-                 "objects", "animation", "simulation", "fixed", "media"});
+                {"output", "camera", "light", "ambient", "ramp", "atlas", "atlasLevel", "particleFraction", "style",
+                 "particles", "emitters", "objects", "animation", "simulation", "fixed", "media"});
   const Reader r(file, artDir);
   Scene s;
   s.file = file;
@@ -916,6 +916,9 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
   if (auto* v = find(j, "ramp")) readRamp(*v, "/ramp", r, s);
   if (auto* v = find(j, "atlas")) s.atlas = r.readPath(*v, "/atlas");
   if (auto* v = find(j, "atlasLevel")) s.atlasLevel = readInt(*v, "/atlasLevel", 0, 14);
+  if (auto* v = find(j, "particleFraction")) {
+    s.particleFraction = readFloat(*v, "/particleFraction", Range{0.0, 1.0, true, false});
+  }
   if (auto* v = find(j, "style")) readStyle(*v, "/style", s);
   long long total = 0;
   if (auto* v = find(j, "particles")) {
@@ -1436,6 +1439,7 @@ json toJson(const Scene& s) {
   j["ramp"] = {{"image", pathJson(s.ramp, dir)}, {"smooth", s.rampSmooth}};
   j["atlas"] = pathJson(s.atlas, dir);
   j["atlasLevel"] = s.atlasLevel;
+  j["particleFraction"] = s.particleFraction;
   const cel::Style& st = s.style;
   j["style"] = {{"outlines", st.outlines},
                 {"outlineWidth", number(st.outlineWidth)},
@@ -1568,9 +1572,14 @@ std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variat
   for (const ParticleSpec& spec : scene.particles) {
     if (evolve(spec, t, p)) out.push_back(p);
   }
+  const float f = scene.particleFraction;
+  const float grow = f < 1.0f ? std::cbrt(1.0f / f) : 1.0f;
   for (const EmitterSpec& e : scene.emitters) {
-    for (int i = 0; i < e.count; ++i) {
-      if (evolve(emit(e, i, variations), t, p)) out.push_back(p);
+    const int count = f < 1.0f && e.count > 0 ? std::max(1, static_cast<int>(std::lround(e.count * f))) : e.count;
+    for (int i = 0; i < count; ++i) {
+      ParticleSpec spec = emit(e, i, variations);
+      spec.size *= grow;
+      if (evolve(spec, t, p)) out.push_back(p);
     }
   }
   return out;

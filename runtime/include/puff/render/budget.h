@@ -103,42 +103,58 @@ std::string budgetTable(const MediaBudget& budget, const MediaChoice& choice);
 std::string budgetSummary(const MediaBudget& budget, const MediaChoice& choice);
 std::string budgetWarning(const MediaBudget& budget, const MediaChoice& choice);
 
-// ---- the cel path: atlas resolution ---------------------------------------------------------------
-// The nailboards' cost parameter a scene can choose at run time is the atlas's resolution
-// (Scene::atlasLevel: the atlas from one of its mip levels on, as if baked that much smaller). A
-// candidate's cost is its texture memory (what a smaller atlas saves; on a GPU also bandwidth) and its
-// measured frame time; its error the RMSE of the 8-bit frame against the cel reference
-// (RenderPath::kReference: the puff meshes themselves), media left out of both. Mesh detail is baked
-// into the atlas (no run-time cost to save) and particle count changes what the scene IS, so neither
-// is chosen here; docs/report/ charts both.
+// ---- the cel path: particle count and atlas resolution ----------------------------------------------
+// Two cost parameters of the nailboards a scene can choose at run time, measured against the cel
+// reference of the FULL model (RenderPath::kReference: every particle of the scene's emitters as its
+// puff mesh; Scene::particleFraction 1), error = RMSE of the 8-bit frame over the whole frame, media
+// left out of both:
+//  - the particle count (Scene::particleFraction: 1/8, 1/4, 1/2, 1 of each placed emitter's
+//    particles, each (1/f)^(1/3) larger): fewer, bigger puffs; cost = the measured frame time, order
+//    = the count;
+//  - the atlas's resolution (Scene::atlasLevel: the atlas from one of its mip levels on, as if baked
+//    that much smaller); cost = its texture memory (what a smaller atlas saves; on a GPU also
+//    bandwidth), the frame time measured and reported.
+// Mesh detail is baked into the atlas (no run-time cost to save; `puffbake --lod auto` picks it when
+// baking), so it is not chosen here; docs/report/ charts it.
 
-/// One atlas level, measured.
+/// Which parameter a CelBudget varies.
+enum class CelKnob { kParticleFraction, kAtlasLevel };
+
+/// One candidate, measured.
 struct CelCandidate {
-  int atlasLevel = 0;          ///< Scene::atlasLevel
-  int cellSize = 0;            ///< texels per cell at that level
-  std::size_t atlasBytes = 0;  ///< core::atlasTextureBytes at that level
-  std::vector<double> rmse;    ///< per measured frame
+  float particleFraction = 1.0f;  ///< Scene::particleFraction
+  std::size_t particles = 0;      ///< cel particles drawn (the most over the measured frames)
+  int atlasLevel = 0;             ///< Scene::atlasLevel
+  int cellSize = 0;               ///< texels per cell at that level
+  std::size_t atlasBytes = 0;     ///< core::atlasTextureBytes at that level
+  std::vector<double> rmse;       ///< per measured frame
   double worstRmse = 0.0;
   double medianMs = 0.0;  ///< median wall time of one SceneRenderer::renderFrame, milliseconds
 };
 
 struct CelBudget {
+  CelKnob knob = CelKnob::kAtlasLevel;
   std::vector<int> frames;               ///< the frames measured, ascending
-  std::vector<CelCandidate> candidates;  ///< deepest level (smallest atlas) first: cheapest first
+  std::vector<CelCandidate> candidates;  ///< cheapest first: fewest particles / smallest atlas
   double referenceMs = 0.0;              ///< wall time spent rendering the references
 };
 
-/// Renders `frames` (1..16, each in the scene) at every atlas level from core::deepestAtlasLevel (but
-/// no smaller than 16-texel cells) to 0 on the programmable path in the CURRENT context (GL 4.5, where
-/// the reference path runs too), and the cel reference of each frame once. Media are left out.
-/// Errors: a scene without an atlas or particles, bad frames, timedRenders outside [1, 100], and what
-/// SceneRenderer::create / createReference / renderFrame return.
-Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames,
-                                   const MediaBudgetOptions& options = {});
+/// The particle fractions measured, cheapest first.
+inline constexpr std::array<float, 4> kParticleFractions{0.125f, 0.25f, 0.5f, 1.0f};
 
-/// The cheapest candidate (smallest atlas) whose worstRmse <= maxError; none: the dearest (level 0),
-/// met = false. Errors: maxError not in (0, 1], no candidates.
-Result<MediaChoice> chooseCelAtlasLevel(const CelBudget& budget, double maxError);
+/// Renders `frames` (1..16, each in the scene) with every value of `knob` on the programmable path in
+/// the CURRENT context (GL 4.5, where the reference path runs too), the other parameter as the scene
+/// has it, and the cel reference of the full model at each frame once. kAtlasLevel: every level from
+/// core::deepestAtlasLevel (but no smaller than 16-texel cells) to 0. kParticleFraction:
+/// kParticleFractions (the scene needs placed emitters). Media are left out. Errors: a scene without
+/// an atlas or particles (or, for kParticleFraction, without placed emitters), bad frames,
+/// timedRenders outside [1, 100], and what SceneRenderer::create / createReference / renderFrame return.
+Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames,
+                                   const MediaBudgetOptions& options = {}, CelKnob knob = CelKnob::kAtlasLevel);
+
+/// The cheapest candidate whose worstRmse <= maxError; none: the dearest (the last: level 0, or all
+/// the particles), met = false. Errors: maxError not in (0, 1], no candidates.
+Result<MediaChoice> chooseCelBudget(const CelBudget& budget, double maxError);
 
 /// For people, as budgetTable / budgetSummary / budgetWarning above.
 std::string celBudgetTable(const CelBudget& budget, const MediaChoice& choice);

@@ -183,7 +183,12 @@ struct Scene {
   /// 2^k times smaller, as if baked at that size). [0, 14]; SceneRenderer refuses a level deeper than
   /// the atlas allows (core::deepestAtlasLevel). puffrender --max-error chooses it.
   int atlasLevel = 0;
-  std::string stylePreset;                ///< named preset applied before the explicit style fields
+  /// Draw this share of each placed emitter's particles (`emitters`: its first round(count * f), at
+  /// least 1), each (1 / f)^(1/3) times larger so they fill about the same volume: fewer, bigger puffs
+  /// (issue 7's particle count). (0, 1]; listed particles and the simulator's are not thinned.
+  /// puffrender --max-error chooses it.
+  float particleFraction = 1.0f;
+  std::string stylePreset;  ///< named preset applied before the explicit style fields
   cel::Style style;
   std::vector<ParticleSpec> particles;
   std::vector<EmitterSpec> emitters;
