@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -44,15 +45,21 @@ struct Row {
   int width = 0, height = 0;
   std::size_t particles = 0;
   double ms = 0.0, baselineMs = 0.0, rmse = 0.0;
+  double floorMs = 0.0;  ///< the fill-rate floor: the same particles' quads computing nothing
   bool pareto = false;
 };
 
-// The frame without media particles: what every configuration pays before the media.
-Result<double> baselineMs(render::Scene s, std::span<const int> frames, int reps) {
-  s.media->particles.clear();
-  s.media->emitters.clear();
+// The frame without media particles (what every configuration pays before the media), or with
+// `fillRateFloor` the frame with the media particles' quads computing nothing (SceneRenderer::
+// setFillRateFloor: the fill-rate floor of the media, at the scene's layer resolution).
+Result<double> baselineMs(render::Scene s, std::span<const int> frames, int reps, bool fillRateFloor = false) {
+  if (!fillRateFloor) {
+    s.media->particles.clear();
+    s.media->emitters.clear();
+  }
   auto r = render::SceneRenderer::create(s);
   if (!r) return r.error();
+  (*r)->setFillRateFloor(fillRateFloor);
   std::vector<double> times;
   for (int f : frames) {
     if (auto first = (*r)->renderFrame(f); !first) return first.error();
@@ -293,6 +300,18 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "puffbench: error: %s\n", base.error().message.c_str());
       return 1;
     }
+    // The fill-rate floor at each layer resolution (the quads' pixels scale with it).
+    std::map<float, double> floors;
+    for (float res : render::kMediaResolutions) {
+      render::Scene fs = scene;
+      fs.media->resolution = res;
+      auto fl = baselineMs(fs, frames, reps, true);
+      if (!fl) {
+        std::fprintf(stderr, "puffbench: error: %s\n", fl.error().message.c_str());
+        return 1;
+      }
+      floors[res] = *fl;
+    }
     const std::size_t first = rows.size();
     for (media::Method m :
          {media::Method::kPlanar, media::Method::kSoftLinear, media::Method::kSoftSCurve, media::Method::kSpherical}) {
@@ -317,6 +336,7 @@ int main(int argc, char** argv) {
         r.height = height;
         r.ms = c.medianMs;
         r.baselineMs = *base;
+        r.floorMs = floors[c.resolution];
         r.rmse = c.worstRmse;
         rows.push_back(r);
       }
@@ -334,13 +354,14 @@ int main(int argc, char** argv) {
 
   std::string csv =
       "scene,method,resolution,width,height,median_ms,baseline_ms,ratio_to_baseline,worst_rmse,psnr_db,"
-      "pareto\n";
+      "pareto,floor_ms,ratio_to_floor\n";
   char line[512];
   for (const Row& r : rows) {
     const double psnr = r.rmse > 0.0 ? -20.0 * std::log10(r.rmse) : 999.0;
-    std::snprintf(line, sizeof line, "%s,%s,%g,%d,%d,%.3f,%.3f,%.3f,%.6f,%.2f,%d\n", r.scene.c_str(), r.method.c_str(),
-                  static_cast<double>(r.resolution), r.width, r.height, r.ms, r.baselineMs,
-                  r.baselineMs > 0.0 ? r.ms / r.baselineMs : 0.0, r.rmse, psnr, r.pareto ? 1 : 0);
+    std::snprintf(line, sizeof line, "%s,%s,%g,%d,%d,%.3f,%.3f,%.3f,%.6f,%.2f,%d,%.3f,%.3f\n", r.scene.c_str(),
+                  r.method.c_str(), static_cast<double>(r.resolution), r.width, r.height, r.ms, r.baselineMs,
+                  r.baselineMs > 0.0 ? r.ms / r.baselineMs : 0.0, r.rmse, psnr, r.pareto ? 1 : 0, r.floorMs,
+                  r.floorMs > 0.0 ? r.ms / r.floorMs : 0.0);
     csv += line;
     std::fprintf(stderr, "%-17s %-12s %5g  %8.2f ms (%5.2fx)  rmse %.5f%s\n", r.scene.c_str(), r.method.c_str(),
                  static_cast<double>(r.resolution), r.ms, r.baselineMs > 0.0 ? r.ms / r.baselineMs : 0.0, r.rmse,

@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include <puff/bake/baker.h>
 #include <puff/core/files.h>
@@ -277,6 +278,45 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
     if (!refBare) return refBare.error();
     auto refFixedBare = renderFrames(render::withoutParticles(baseFixed), render::RenderPath::kReference, frame0, 0);
     if (!refFixedBare) return refFixedBare.error();
+    // Rows of one cel and one fixed measurement of cloud-50k against the references given (none:
+    // not measured).
+    auto addCountRows = [&](const std::string& parameter, double value, const std::string& label, const Frames& cel,
+                            const Frames& fixed, double floorMs, const Frames* ref, const Frames* refFixed) {
+      for (int which = 0; which < 2; ++which) {
+        const Frames& x = which == 0 ? cel : fixed;
+        CelRow r;
+        r.scene = "cloud-50k";
+        r.path = which == 0 ? "cel" : "fixed";
+        r.parameter = parameter;
+        r.value = value;
+        r.label = label;
+        r.particles = x.particles;
+        r.width = opt.width;
+        r.height = opt.height;
+        r.ms = x.ms;
+        r.floorMs = floorMs;
+        r.bareMs = which == 0 ? bare->ms : bareFixed->ms;
+        if (ref) {
+          const Errors e = which == 0 ? compare(x, *bare, *ref, *refBare, base.style.outlineColor)
+                                      : compare(x, *bareFixed, *refFixed, *refFixedBare, base.style.outlineColor);
+          r.rmse = e.rmse;
+          r.rmsePuffs = e.rmsePuffs;
+          r.coverageIoU = e.coverageIoU;
+          r.outlineIoU = e.outlineIoU;
+        } else {
+          r.rmse = r.rmsePuffs = std::nan("");
+          r.coverageIoU = r.outlineIoU = std::nan("");
+        }
+        rows.push_back(r);
+      }
+    };
+    // The largest count measured against its reference: the full model of the fraction sweep below.
+    struct FullModel {
+      render::Scene scene;
+      std::size_t count = 0;
+      Frames ref, refFixed;
+    };
+    std::optional<FullModel> full;
     for (std::size_t n : opt.counts) {
       const auto t1 = Clock::now();
       render::Scene s = base;
@@ -305,35 +345,31 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
         if (!rf) return rf.error();
         refFixed = std::move(*rf);
       }
-      for (int which = 0; which < 2; ++which) {
-        const Frames& x = which == 0 ? *f : *ff;
-        CelRow r;
-        r.scene = "cloud-50k";
-        r.path = which == 0 ? "cel" : "fixed";
-        r.parameter = "count";
-        r.value = static_cast<double>(n);
-        r.label = std::to_string(n);
-        r.particles = x.particles;
-        r.width = opt.width;
-        r.height = opt.height;
-        r.ms = x.ms;
-        r.floorMs = fillFloor->ms;
-        r.bareMs = which == 0 ? bare->ms : bareFixed->ms;
-        if (measureError) {
-          const Errors e = which == 0 ? compare(x, *bare, ref, *refBare, base.style.outlineColor)
-                                      : compare(x, *bareFixed, refFixed, *refFixedBare, base.style.outlineColor);
-          r.rmse = e.rmse;
-          r.rmsePuffs = e.rmsePuffs;
-          r.coverageIoU = e.coverageIoU;
-          r.outlineIoU = e.outlineIoU;
-        } else {
-          r.rmse = r.rmsePuffs = std::nan("");
-          r.coverageIoU = r.outlineIoU = std::nan("");
-        }
-        rows.push_back(r);
-      }
+      addCountRows("count", static_cast<double>(n), std::to_string(n), *f, *ff, fillFloor->ms,
+                   measureError ? &ref : nullptr, measureError ? &refFixed : nullptr);
+      if (measureError) full = FullModel{s, n, std::move(ref), std::move(refFixed)};
       log("cloud-50k: " + std::to_string(n) + " particles" + (measureError ? "" : " (no reference: above the limit)"),
           t1);
+    }
+    // Fewer, bigger particles (Scene::particleFraction, what --max-error chooses) against the
+    // reference of the full model: the largest count measured above.
+    if (full) {
+      for (float f : render::kParticleFractions) {
+        const auto t1 = Clock::now();
+        render::Scene s = full->scene;
+        s.particleFraction = f;
+        auto cel = renderFrames(s, render::RenderPath::kCel, std::vector<int>{0}, opt.reps);
+        if (!cel) return cel.error();
+        auto fixed =
+            renderFrames(render::restrictToFixedLimits(s), render::RenderPath::kFixed, std::vector<int>{0}, opt.reps);
+        if (!fixed) return fixed.error();
+        auto floor = renderFrames(s, render::RenderPath::kCel, std::vector<int>{0}, opt.reps, true);
+        if (!floor) return floor.error();
+        char label[64];
+        std::snprintf(label, sizeof label, "1/%d of %zu", static_cast<int>(std::lround(1.0 / f)), full->count);
+        addCountRows("fraction", f, label, *cel, *fixed, floor->ms, &full->ref, &full->refFixed);
+        log(std::string("cloud-50k: ") + label + " particles, each larger", t1);
+      }
     }
   }
   markParetoFronts(rows);

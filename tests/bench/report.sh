@@ -116,6 +116,27 @@ GP
   done
 fi
 
+# Fewer, bigger particles against the full model (cloud-50k): error against frame time.
+if grep -q ",fraction," "$tmp/cel.csv"; then
+  grep ",fraction," "$tmp/cel.csv" > "$tmp/fraction.dat"
+  for term in "pngcairo size 900,600 font ',11'" "svg size 900,600 font 'sans,11'"; do
+    ext=$([[ $term == png* ]] && echo png || echo svg)
+    gnuplot <<GP
+set terminal $term
+set output "$tmp/cel-fraction.$ext"
+set datafile separator ","
+set title "cloud-50k: fewer, bigger particles against the reference of all of them (labels: share)"
+set xlabel "median frame time, ms (this machine)"
+set ylabel "RMSE against the full model's reference, 8-bit output values"
+set grid
+set key top right
+plot "$tmp/fraction.dat" using (stringcolumn(2) eq "cel" ? \$9 : 1/0):12 with linespoints pt 7 ps 1.3 title "nailboards", \
+     "$tmp/fraction.dat" using (stringcolumn(2) eq "fixed" ? \$9 : 1/0):12 with linespoints pt 9 ps 1.5 title "fixed function", \
+     "$tmp/fraction.dat" using 9:12:(sprintf("%g", \$4)) with labels offset 1.2,0.6 font ",8" notitle
+GP
+  done
+fi
+
 cp "$tmp/media.csv" "$out/media.csv"
 cp "$tmp/cel.csv" "$out/cel.csv"
 cp "$tmp/stability.csv" "$out/stability.csv"
@@ -188,6 +209,21 @@ for f in "$tmp"/*.png "$tmp"/*.svg; do cp "$f" "$out/"; done
     grep ",count," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %.1f | %.2f | %.1f | %s | %s | %s | %s |\n", $2, $4, $9, $10, $11, $12, $17, $14, $15}'
     echo
   fi
+  if grep -q ",fraction," "$out/cel.csv"; then
+    echo "## Fewer, bigger particles (cloud-50k, frame 0)"
+    echo
+    echo "![particle fraction](cel-fraction.svg)"
+    echo
+    echo "What \`--max-error\` chooses for a scene's particle count (\`particleFraction\`): the first"
+    echo "share of each emitter's particles, each (1/share)^(1/3) larger so they fill about the same"
+    echo "volume, measured against the reference of ALL the particles (the largest count above with a"
+    echo "reference). Fewer particles are cheaper; how much error each saving costs is the chart."
+    echo
+    echo "| path | share | particles | frame ms | x floor | RMSE vs all | coverage IoU | outline IoU |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
+    grep ",fraction," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %s | %.1f | %.1f | %s | %s | %s |\n", $2, $5, $6, $9, $11, $12, $14, $15}'
+    echo
+  fi
   echo "# The media path: fire, smoke and dust"
   echo
   echo "## Where the methods break (\`stability.csv\`)"
@@ -224,7 +260,10 @@ for f in "$tmp"/*.png "$tmp"/*.svg; do cp "$f" "$out/"; done
   echo "particle's exact path through each pixel's ray, double precision, composited along the ray,"
   echo "over the same opaque layer; \`runtime/include/puff/render/budget.h\` says what both sides"
   echo "leave out). The dashed line is the Pareto front: the configurations nothing else beats on"
-  echo "both. \`baseline_ms\` in the CSV is the same frame without media particles."
+  echo "both. \`baseline_ms\` in the CSV is the same frame without media particles; \`floor_ms\` the"
+  echo "fill-rate floor, measured in the same run at each layer resolution: the same frame with every"
+  echo "media particle's quad drawn by a fragment program that computes nothing"
+  echo "(\`SceneRenderer::setFillRateFloor\`), and \`ratio_to_floor\` divides by it."
   echo
   echo "How to read it: along one method's points the layer resolution trades time for error. Where a"
   echo "method's error stops falling as the layer gets finer, what is left is the method's own error"
@@ -238,9 +277,9 @@ for f in "$tmp"/*.png "$tmp"/*.svg; do cp "$f" "$out/"; done
     echo
     echo "![$scene]($scene.svg)"
     echo
-    echo "| method | resolution | frame ms | x baseline | worst RMSE | PSNR dB | Pareto |"
-    echo "| --- | --- | --- | --- | --- | --- | --- |"
-    grep "^$scene," "$out/media.csv" | awk -F, '{printf "| %s | %s | %.1f | %.2f | %.5f | %.1f | %s |\n", $2, $3, $6, $8, $9, $10, ($11 == 1 ? "yes" : "")}'
+    echo "| method | resolution | frame ms | x no media | x fill-rate floor | worst RMSE | PSNR dB | Pareto |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
+    grep "^$scene," "$out/media.csv" | awk -F, '{printf "| %s | %s | %.1f | %.2f | %.2f | %.5f | %.1f | %s |\n", $2, $3, $6, $8, $13, $9, $10, ($11 == 1 ? "yes" : "")}'
     echo
   done
 } > "$out/README.md"

@@ -70,6 +70,32 @@ TEST_F(MediaTest, SphereCentreOpacityIsOneMinusExpTwoTauR) {
   EXPECT_EQ(px[0].a, 1.0f);
 }
 
+// The benchmarks' fill-rate floor: the same quads, a constant (alpha 0.01 each) wherever the quad
+// covers, the sphere's formula nowhere; back to the real program when switched off.
+TEST_F(MediaTest, TheFillRateFloorDrawsTheSameQuadsComputingNothing) {
+  ASSERT_TRUE(renderer_->setMaterials({plainMaterial(0.4f)}).ok());
+  MediaTarget t(kSize);
+  t.setDepth(1.0f);
+  const Camera cam;
+  const media::Particle p = sphereAt({0, 0, -5}, 1.0f);
+  renderer_->setFillRateFloor(true);
+  const auto floor = drawOne(t, cam, p, Method::kSpherical);
+  renderer_->setFillRateFloor(false);
+  const auto real = drawOne(t, cam, p, Method::kSpherical);
+  const std::size_t centre = (kSize / 2) * kSize + kSize / 2;
+  EXPECT_NEAR(floor[centre].a, 0.99f, 1e-6f);
+  EXPECT_NEAR(1.0f - real[centre].a, 1.0 - std::exp(-2.0 * 0.4), 1e-5);
+  int covered = 0;
+  for (std::size_t i = 0; i < floor.size(); ++i) {
+    if (real[i].a < 1.0f) {
+      EXPECT_NEAR(floor[i].a, 0.99f, 1e-6f) << "the floor covers what the particle covers";
+    }
+    covered += floor[i].a < 1.0f ? 1 : 0;
+  }
+  EXPECT_GT(covered, 100);
+  EXPECT_EQ(floor[0].a, 1.0f);  // outside the quad: untouched
+}
+
 TEST_F(MediaTest, PlanarAndSoftMatchSphericalAwayFromSurfaces) {
   ASSERT_TRUE(renderer_->setMaterials({plainMaterial(0.7f)}).ok());
   MediaTarget t(kSize);

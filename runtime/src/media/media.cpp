@@ -173,7 +173,8 @@ std::vector<std::uint32_t> backToFront(const glm::mat4& view, std::span<const Pa
 
 struct Renderer::Impl {
   Settings settings;
-  core::Program program;
+  core::Program program, floorProgram;
+  bool fillRateFloor = false;
   core::VertexArray vao;
   core::Buffer block, materialBlock, particleBuffer;
   std::size_t particleCapacity = 0;
@@ -185,6 +186,7 @@ struct Renderer::Impl {
 Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
 Renderer::~Renderer() = default;
 const std::vector<Material>& Renderer::materials() const { return impl_->materials; }
+void Renderer::setFillRateFloor(bool on) { impl_->fillRateFloor = on; }
 
 Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings) {
   if (auto ok = inRange("exposure", settings.exposure, 0, 1e4); !ok) return ok.error();
@@ -192,11 +194,14 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings) {
   if (!ramp) return ramp.error();
   auto program = core::buildProgram({"media/billboard.vert", "media/billboard.frag"});
   if (!program) return program.error();
+  auto floorProgram = core::buildProgram({"media/billboard.vert", "media/floor.frag"});
+  if (!floorProgram) return floorProgram.error();
 
   std::unique_ptr<Renderer> r(new Renderer());
   Impl& m = *r->impl_;
   m.settings = settings;
   m.program = std::move(*program);
+  m.floorProgram = std::move(*floorProgram);
   m.vao = core::makeVertexArray();
   m.block = core::makeBuffer();
   glNamedBufferStorage(m.block.get(), sizeof(MediaBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -338,7 +343,7 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
   const GLboolean s = shimmer ? GL_TRUE : GL_FALSE;
   glColorMaski(1, s, s, s, s);
 
-  glUseProgram(m.program.get());
+  glUseProgram(m.fillRateFloor ? m.floorProgram.get() : m.program.get());
   glBindVertexArray(m.vao.get());
   glBindBufferBase(GL_UNIFORM_BUFFER, 3, m.block.get());
   glBindBufferBase(GL_UNIFORM_BUFFER, 4, m.materialBlock.get());

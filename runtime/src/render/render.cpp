@@ -152,7 +152,10 @@ SceneRenderer::SceneRenderer() : impl_(std::make_unique<Impl>()) {}
 SceneRenderer::~SceneRenderer() = default;
 const Scene& SceneRenderer::scene() const { return impl_->scene; }
 RenderPath SceneRenderer::path() const { return impl_->path; }
-void SceneRenderer::setFillRateFloor(bool on) { impl_->fillRateFloor = on; }
+void SceneRenderer::setFillRateFloor(bool on) {
+  impl_->fillRateFloor = on;
+  if (impl_->media) impl_->media->setFillRateFloor(on);
+}
 
 Result<void> SceneRenderer::checkProgrammable() {
   GLint major = 0, minor = 0;

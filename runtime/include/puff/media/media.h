@@ -158,6 +158,10 @@ class Renderer {
 
   const std::vector<Material>& materials() const;
 
+  /// Benchmarks (issue 7): draw the same quads with the same blending but a fragment program that
+  /// computes nothing (shaders/media/floor.frag): the fill-rate floor any billboard method pays.
+  void setFillRateFloor(bool on);
+
  private:
   Renderer();
   struct Impl;

@@ -99,8 +99,10 @@ class SceneRenderer {
 
   /// Benchmarks (issue 7): on the programmable cel path, draw every cel particle as the fill-rate
   /// floor instead, a bare alpha-tested quad of the nailboard's size (NailboardRenderer::drawBaseline:
-  /// no shading, depth offset, outlines or shadows), the rest of the frame as usual: what any billboard
-  /// method pays to touch those pixels. Ignored by the other paths. Off by default.
+  /// no shading, depth offset, outlines or shadows), and every media particle as its quad with a
+  /// fragment program that computes nothing (media::Renderer::setFillRateFloor); the rest of the frame
+  /// as usual: what any billboard method pays to touch those pixels. Ignored by the other paths. Off by
+  /// default.
   void setFillRateFloor(bool on);
 
   /// What the media path drew in the most recent frame, read back (for tools and tests:
