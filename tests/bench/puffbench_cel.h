@@ -26,8 +26,8 @@ struct CelRow {
   double value = 0.0;                         ///< cell size, faces or particle count
   std::size_t particles = 0;
   int width = 0, height = 0;
-  double ms = 0.0, floorMs = 0.0;  ///< floorMs: the fill-rate floor (particles as bare quads)
-  double bareMs = 0.0;              ///< the frame without particles
+  double ms = 0.0, floorMs = 0.0;                          ///< floorMs: the fill-rate floor (particles as bare quads)
+  double bareMs = 0.0;                                     ///< the frame without particles
   double rmse = 0.0, coverageIoU = 1.0, outlineIoU = 1.0;  ///< NaN: not measured
   double rmsePuffs = 0.0;                                  ///< RMSE over the pixels either image shows puffs on
   bool pareto = false;

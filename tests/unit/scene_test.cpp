@@ -159,7 +159,8 @@ TEST(Scene, ErrorsNameTheFileThePointerWhatWasExpectedAndWhatCame) {
        "/camera/fov: unknown key, expected one of position, target, up, fovY, orthoHeight, near, far (did you mean "
        "\"fovY\"?)"},
       {R"({"camra": {}})",
-       "/camra: unknown key, expected one of output, camera, light, ambient, ramp, atlas, atlasLevel, particleFraction, style, particles, emitters, "
+       "/camra: unknown key, expected one of output, camera, light, ambient, ramp, atlas, atlasLevel, "
+       "particleFraction, style, particles, emitters, "
        "objects, animation, simulation, fixed, media (did you mean \"camera\"?)"},
       {R"({"output": {"width": 0}})", "/output/width: expected an integer in [1, 16384], got 0"},
       {R"({"output": {"height": 16385}})", "/output/height: expected an integer in [1, 16384], got 16385"},
@@ -226,7 +227,8 @@ TEST(Scene, ErrorsNameTheFileThePointerWhatWasExpectedAndWhatCame) {
       {R"({"atlas": "${PUFF_ART}/a.json"})",
        "/atlas: \"${PUFF_ART}\" needs an art directory, and none was given (--art-dir)"},
       {R"({"a/b~c": 1})",
-       "/a~1b~0c: unknown key, expected one of output, camera, light, ambient, ramp, atlas, atlasLevel, particleFraction, style, particles, "
+       "/a~1b~0c: unknown key, expected one of output, camera, light, ambient, ramp, atlas, atlasLevel, "
+       "particleFraction, style, particles, "
        "emitters, objects, animation, simulation, fixed, media"},
       {R"([1, 2])", "expected a JSON object at the top level, got [1,2]"},
   };

@@ -437,7 +437,8 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
   const float bg[4] = {background.r, background.g, background.b, 1.0f};
   const GLuint zero[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(fbo, GL_COLOR, 0, bg);
-  glClearTexImage(m.ids.get(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, zero);  // (not a draw buffer here)  // (not a draw buffer here)
+  // The ids by their texture: attachment 1 is not a draw buffer at this point.
+  glClearTexImage(m.ids.get(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, zero);
   glClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
   glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
   block.upload(frame);
