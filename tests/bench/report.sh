@@ -17,6 +17,9 @@ trap 'rm -rf "$tmp"' EXIT
 
 start=$(date +%s)
 PUFF_GL=${PUFF_GL:-osmesa} "$build/tests/puffbench" --csv "$tmp/media.csv" --cel-csv "$tmp/cel.csv" --stability-csv "$tmp/stability.csv" "$@" 2> "$tmp/log.txt" || { cat "$tmp/log.txt" >&2; exit 1; }
+# Umenhoffer et al.'s Table 1 and Fig. 12, with the error against the exact reference added.
+[ -x "$build/tests/puff_bench_media" ] || { echo "report.sh: error: $build/tests/puff_bench_media not built" >&2; exit 1; }
+PUFF_GL=${PUFF_GL:-osmesa} "$build/tests/puff_bench_media" --reps 5 --csv "$tmp/paper.csv" 2> "$tmp/log-paper.txt" || { cat "$tmp/log-paper.txt" >&2; exit 1; }
 seconds=$(( $(date +%s) - start ))
 gl=$(sed -n '1s/^puffbench: //p' "$tmp/log.txt")
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
@@ -137,7 +140,42 @@ GP
   done
 fi
 
+# Table 1 and Fig. 12 as error against time.
+grep "^table1,\(planar\|spherical\)," "$tmp/paper.csv" > "$tmp/table1.dat"
+grep "^fig12," "$tmp/paper.csv" > "$tmp/fig12.dat"
+for term in "pngcairo size 900,600 font ',11'" "svg size 900,600 font 'sans,11'"; do
+  ext=$([[ $term == png* ]] && echo png || echo svg)
+  gnuplot <<GP
+set terminal $term
+set output "$tmp/paper-table1.$ext"
+set datafile separator ","
+set title "Table 1 redone (512^2, layer 1/2, 4 screens of overdraw): error against frame time (labels: particles)"
+set xlabel "median frame ms, pass + compose (this machine)"
+set ylabel "RMSE against the exact reference, linear colour"
+set grid
+set key top left
+plot "$tmp/table1.dat" using (stringcolumn(2) eq "planar" ? \$15 : 1/0):21 with linespoints pt 9 ps 1.5 title "planar", \
+     "$tmp/table1.dat" using (stringcolumn(2) eq "spherical" ? \$15 : 1/0):21 with linespoints pt 7 ps 1.3 title "spherical", \
+     "$tmp/table1.dat" using 15:21:3 with labels offset 1.5,0.6 font ",8" notitle
+GP
+  gnuplot <<GP
+set terminal $term
+set output "$tmp/paper-fig12.$ext"
+set datafile separator ","
+set title "Fig. 12 redone (1024^2, spherical, 1052 particles): error against time (labels: layer scale)"
+set xlabel "median ms (this machine)"
+set ylabel "RMSE against the exact reference, linear colour"
+set logscale xy
+set grid
+set key top right
+plot "$tmp/fig12.dat" using 16:21 with linespoints pt 7 ps 1.3 title "whole frame (downsample + pass + compose)", \
+     "$tmp/fig12.dat" using 13:21 with linespoints pt 5 ps 1.3 title "particle pass alone", \
+     "$tmp/fig12.dat" using 16:21:5 with labels offset 1.5,0.6 font ",8" notitle
+GP
+done
+
 cp "$tmp/media.csv" "$out/media.csv"
+cp "$tmp/paper.csv" "$out/paper.csv"
 cp "$tmp/cel.csv" "$out/cel.csv"
 cp "$tmp/stability.csv" "$out/stability.csv"
 for f in "$tmp"/*.png "$tmp"/*.svg; do cp "$f" "$out/"; done
@@ -146,7 +184,7 @@ for f in "$tmp"/*.png "$tmp"/*.svg; do cp "$f" "$out/"; done
   echo "# Speed against accuracy"
   echo
   echo "Regenerate with \`tests/bench/report.sh${*:+ $build $*}\` (it rewrites this page, the charts,"
-  echo "\`cel.csv\` and \`media.csv\`). Last run: $(date -u +%Y-%m-%d), $seconds s, on $cores cores of $cpu;"
+  echo "\`cel.csv\`, \`media.csv\`, \`stability.csv\` and \`paper.csv\`). Last run: $(date -u +%Y-%m-%d), $seconds s, on $cores cores of $cpu;"
   echo "GL: $gl. Times are this machine's (a software rasterizer, not a GPU): compare them within one"
   echo "run. No test fails on these numbers; they are measurements."
   echo
@@ -225,6 +263,25 @@ for f in "$tmp"/*.png "$tmp"/*.svg; do cp "$f" "$out/"; done
     echo
   fi
   echo "# The media path: fire, smoke and dust"
+  echo
+  echo "## Umenhoffer et al.'s Table 1 and Fig. 12, with the error added (\`paper.csv\`)"
+  echo
+  echo "\`build/tests/puff_bench_media\` (docs/bench/README.md says how it is set up): an explosion-like"
+  echo "ball of fire, smoke and dust cut by a floor and a wall; each case once more with heat shimmer off,"
+  echo "read back and compared with \`puff::reference::renderMediaReference\` over the same opaque layer."
+  echo
+  echo "![Table 1](paper-table1.svg)"
+  echo
+  echo "| particles | planar frame ms | spherical frame ms | planar RMSE | spherical RMSE |"
+  echo "| --- | --- | --- | --- | --- |"
+  awk -F, '$1 == "table1" && $2 == "planar" {p[$3] = $15; pe[$3] = $21} $1 == "table1" && $2 == "spherical" {s[$3] = $15; se[$3] = $21}
+           END {for (k in p) printf "%d | %.1f | %.1f | %s | %s\n", k, p[k], s[k], pe[k], se[k]}' "$out/paper.csv" | sort -n | sed 's/^/| /; s/$/ |/'
+  echo
+  echo "![Fig. 12](paper-fig12.svg)"
+  echo
+  echo "| layer scale | pass ms | whole frame ms | RMSE |"
+  echo "| --- | --- | --- | --- |"
+  awk -F, '$1 == "fig12" {printf "| %s | %.1f | %.1f | %s |\n", $5, $13, $16, $21}' "$out/paper.csv"
   echo
   echo "## Where the methods break (\`stability.csv\`)"
   echo

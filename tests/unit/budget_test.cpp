@@ -426,6 +426,19 @@ TEST_F(CelBudget, EveryLevelIsMeasuredAndTheBudgetPicksTheSmallestWithinIt) {
   EXPECT_NE(render::celBudgetTable(*b, *all).find("<- chosen"), std::string::npos);
   EXPECT_FALSE(render::chooseCelBudget(*b, 0.0).ok());
 
+  // The references reused (puffrender measures the particle count and then the atlas against the
+  // same ones): the same errors, no time spent on references; references of other frames are refused.
+  ASSERT_EQ(b->references.size(), 2u);
+  auto again =
+      render::measureCelBudget(scene(), frames, {.timedRenders = 1}, render::CelKnob::kAtlasLevel, b->references);
+  ASSERT_TRUE(again.ok()) << again.error().message;
+  EXPECT_EQ(again->referenceMs, 0.0);
+  for (std::size_t i = 0; i < b->candidates.size(); ++i)
+    EXPECT_EQ(again->candidates[i].rmse, b->candidates[i].rmse) << "level " << b->candidates[i].atlasLevel;
+  EXPECT_FALSE(render::measureCelBudget(scene(), std::span(frames).first(1), {.timedRenders = 1},
+                                        render::CelKnob::kAtlasLevel, b->references)
+                   .ok());
+
   // Bad input.
   render::Scene bare = scene();
   bare.particles.clear();

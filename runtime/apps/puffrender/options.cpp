@@ -196,7 +196,8 @@ int chooseMediaResolution(const Options& o, render::Scene& scene, const Plan& pl
 // --max-error on a scene with cel particles: measures one of the nailboards' run-time parameters
 // (the share of the emitters' particles, or the atlas level) against the cel reference of the full
 // model and sets the cheapest within the budget on `scene` (render/budget.h).
-int chooseCelModel(const Options& o, render::Scene& scene, const Plan& plan, render::CelKnob knob) {
+int chooseCelModel(const Options& o, render::Scene& scene, const Plan& plan, render::CelKnob knob,
+                   std::vector<core::Image>* references) {
   const std::vector<int> frames = render::budgetFrames(plan.first, plan.last);
   const bool atlas = knob == render::CelKnob::kAtlasLevel;
   if (!o.quiet) {
@@ -207,7 +208,7 @@ int chooseCelModel(const Options& o, render::Scene& scene, const Plan& plan, ren
                  frames.size() == 1 ? "frame" : "frames", list.c_str());
     std::fflush(stderr);
   }
-  auto budget = render::measureCelBudget(scene, frames, {}, knob);
+  auto budget = render::measureCelBudget(scene, frames, {}, knob, *references);
   if (!budget) {
     printError(budget.error().message);
     return 1;
@@ -224,6 +225,7 @@ int chooseCelModel(const Options& o, render::Scene& scene, const Plan& plan, ren
   }
   std::fprintf(stderr, "%s: %s\n", kTool, render::celBudgetSummary(*budget, *choice).c_str());
   std::fflush(stderr);
+  *references = std::move(budget->references);  // the next parameter measures against the same
   const render::CelCandidate& c = budget->candidates[choice->chosen];
   if (atlas) {
     scene.atlasLevel = c.atlasLevel;
@@ -304,11 +306,15 @@ int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
     const bool cel = !scene.atlas.empty() && (!scene.particles.empty() || !scene.emitters.empty() ||
                                               (scene.simulation && !scene.simulation->emitters.empty()));
     if (cel) {
-      // Fewer particles first (the frame time), then the smallest atlas for them (the memory).
+      // Fewer particles first (the frame time), then the smallest atlas for them (the memory), both
+      // against the same references of the full model.
+      std::vector<core::Image> references;
       if (!scene.emitters.empty()) {
-        if (const int code = chooseCelModel(o, scene, plan, render::CelKnob::kParticleFraction); code != 0) return code;
+        if (const int code = chooseCelModel(o, scene, plan, render::CelKnob::kParticleFraction, &references); code != 0)
+          return code;
       }
-      if (const int code = chooseCelModel(o, scene, plan, render::CelKnob::kAtlasLevel); code != 0) return code;
+      if (const int code = chooseCelModel(o, scene, plan, render::CelKnob::kAtlasLevel, &references); code != 0)
+        return code;
     }
     if (scene.media) {
       if (const int code = chooseMediaResolution(o, scene, plan); code != 0) return code;

@@ -323,7 +323,7 @@ std::string megabytes(std::size_t bytes) {
 }  // namespace
 
 Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames, const MediaBudgetOptions& options,
-                                   CelKnob knob) {
+                                   CelKnob knob, std::span<const core::Image> reuse) {
   if (scene.atlas.empty()) return Error::at(scene.file, "/atlas: the scene has no atlas, so no cel model to choose");
   if (scene.particles.empty() && scene.emitters.empty() && !(scene.simulation && !scene.simulation->emitters.empty()))
     return Error::at(scene.file, "the scene has no cel particles, so no cel model to choose");
@@ -348,8 +348,12 @@ Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> fram
   std::sort(budget.frames.begin(), budget.frames.end());
 
   // The reference: the full model (every particle), whatever the scene asks for.
-  std::vector<core::Image> references;
-  {
+  std::vector<core::Image>& references = budget.references;
+  if (!reuse.empty()) {
+    if (reuse.size() != budget.frames.size() || reuse[0].width != s.width || reuse[0].height != s.height)
+      return Error{"the references to reuse are not of these frames at the scene's size"};
+    references.assign(reuse.begin(), reuse.end());
+  } else {
     const auto t0 = Clock::now();
     Scene full = s;
     full.particleFraction = 1.0f;

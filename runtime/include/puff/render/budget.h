@@ -136,7 +136,8 @@ struct CelBudget {
   CelKnob knob = CelKnob::kAtlasLevel;
   std::vector<int> frames;               ///< the frames measured, ascending
   std::vector<CelCandidate> candidates;  ///< cheapest first: fewest particles / smallest atlas
-  double referenceMs = 0.0;              ///< wall time spent rendering the references
+  double referenceMs = 0.0;              ///< wall time spent rendering the references (0: reused)
+  std::vector<core::Image> references;   ///< the full model's reference of each frame (for reuse)
 };
 
 /// The particle fractions measured, cheapest first.
@@ -149,8 +150,11 @@ inline constexpr std::array<float, 4> kParticleFractions{0.125f, 0.25f, 0.5f, 1.
 /// kParticleFractions (the scene needs placed emitters). Media are left out. Errors: a scene without
 /// an atlas or particles (or, for kParticleFraction, without placed emitters), bad frames,
 /// timedRenders outside [1, 100], and what SceneRenderer::create / createReference / renderFrame return.
+/// `references` (optional): the full model's references of these frames from an earlier budget of the
+/// same scene and frames (CelBudget::references), reused instead of rendered again.
 Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames,
-                                   const MediaBudgetOptions& options = {}, CelKnob knob = CelKnob::kAtlasLevel);
+                                   const MediaBudgetOptions& options = {}, CelKnob knob = CelKnob::kAtlasLevel,
+                                   std::span<const core::Image> references = {});
 
 /// The cheapest candidate whose worstRmse <= maxError; none: the dearest (the last: level 0, or all
 /// the particles), met = false. Errors: maxError not in (0, 1], no candidates.
