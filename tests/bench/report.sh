@@ -87,9 +87,9 @@ set ylabel "median frame time, ms (this machine)"
 set logscale xy
 set grid
 set key top left
-plot "$tmp/counts.dat" using (stringcolumn(2) eq "cel" ? \$4 : 1/0):9 with linespoints pt 7 ps 1.3 title "nailboards", \
-     "$tmp/counts.dat" using (stringcolumn(2) eq "fixed" ? \$4 : 1/0):9 with linespoints pt 9 ps 1.5 title "fixed function", \
-     "$tmp/counts.dat" using (stringcolumn(2) eq "cel" ? \$4 : 1/0):10 with linespoints dt 2 pt 1 lc rgb "#555555" title "fill-rate floor (bare quads)", \
+plot "$tmp/counts.dat" using (stringcolumn(2) eq "cel" ? \$4 : 1/0):9 with points pt 7 ps 1.3 title "nailboards", \
+     "$tmp/counts.dat" using (stringcolumn(2) eq "fixed" ? \$4 : 1/0):9 with points pt 9 ps 1.5 title "fixed function", \
+     "$tmp/counts.dat" using (stringcolumn(2) eq "cel" ? \$4 : 1/0):10 with points pt 1 ps 1.5 lc rgb "#555555" title "fill-rate floor (bare quads)", \
      "$tmp/counts.dat" using 4:9:(stringcolumn(12) eq "nan" ? "" : sprintf("%.3f", \$12)) with labels offset 0,1 font ",8" notitle
 GP
   done
@@ -133,8 +133,8 @@ set xlabel "median frame time, ms (this machine)"
 set ylabel "RMSE against the full model's reference, 8-bit output values"
 set grid
 set key top right
-plot "$tmp/fraction.dat" using (stringcolumn(2) eq "cel" ? \$9 : 1/0):12 with linespoints pt 7 ps 1.3 title "nailboards", \
-     "$tmp/fraction.dat" using (stringcolumn(2) eq "fixed" ? \$9 : 1/0):12 with linespoints pt 9 ps 1.5 title "fixed function", \
+plot "$tmp/fraction.dat" using (stringcolumn(2) eq "cel" ? \$9 : 1/0):12 with points pt 7 ps 1.3 title "nailboards", \
+     "$tmp/fraction.dat" using (stringcolumn(2) eq "fixed" ? \$9 : 1/0):12 with points pt 9 ps 1.5 title "fixed function", \
      "$tmp/fraction.dat" using 9:12:(sprintf("%g", \$4)) with labels offset 1.2,0.6 font ",8" notitle
 GP
   done
@@ -154,8 +154,8 @@ set xlabel "median frame ms, pass + compose (this machine)"
 set ylabel "RMSE against the exact reference, linear colour"
 set grid
 set key top left
-plot "$tmp/table1.dat" using (stringcolumn(2) eq "planar" ? \$15 : 1/0):21 with linespoints pt 9 ps 1.5 title "planar", \
-     "$tmp/table1.dat" using (stringcolumn(2) eq "spherical" ? \$15 : 1/0):21 with linespoints pt 7 ps 1.3 title "spherical", \
+plot "$tmp/table1.dat" using (stringcolumn(2) eq "planar" ? \$15 : 1/0):21 with points pt 9 ps 1.5 title "planar", \
+     "$tmp/table1.dat" using (stringcolumn(2) eq "spherical" ? \$15 : 1/0):21 with points pt 7 ps 1.3 title "spherical", \
      "$tmp/table1.dat" using 15:21:3 with labels offset 1.5,0.6 font ",8" notitle
 GP
   gnuplot <<GP
