@@ -174,6 +174,32 @@ plot "$tmp/fig12.dat" using 16:21 with linespoints pt 7 ps 1.3 title "whole fram
 GP
 done
 
+# Opaque surfaces through the media: the largest step of the error image at the wall, per method.
+awk -F, '$3 == "largest_error_jump" {print $1 "," $2 "," $4}' "$tmp/stability.csv" > "$tmp/jump.dat"
+if [ -s "$tmp/jump.dat" ]; then
+  awk -F, '$1 == "wall-through-smoke" {w[$2] = $3} $1 == "explosion-walls" {e[$2] = $3}
+           END {for (k in w) print k "," w[k] "," e[k]}' "$tmp/jump.dat" | sort > "$tmp/jump2.dat"
+  for term in "pngcairo size 900,500 font ',11'" "svg size 900,500 font 'sans,11'"; do
+    ext=$([[ $term == png* ]] && echo png || echo svg)
+    gnuplot <<GP
+set terminal $term
+set output "$tmp/walls.$ext"
+set datafile separator ","
+set title "Walls through the media: largest step of the error image (frame minus exact reference)"
+set ylabel "largest neighbour step, linear colour"
+set logscale y
+set yrange [0.001:1]
+set style data histograms
+set style histogram clustered gap 1
+set style fill solid 0.8 border -1
+set boxwidth 0.9
+set grid ytics
+set key top right
+plot "$tmp/jump2.dat" using 2:xtic(1) title "wall through a smoke ball", "" using 3 title "explosion-walls (frames 5, 20)"
+GP
+  done
+fi
+
 cp "$tmp/media.csv" "$out/media.csv"
 cp "$tmp/paper.csv" "$out/paper.csv"
 cp "$tmp/cel.csv" "$out/cel.csv"
@@ -299,13 +325,17 @@ for f in "$tmp"/*.png "$tmp"/*.svg; do cp "$f" "$out/"; done
   echo "| --- | --- | --- | --- |"
   tail -n +2 "$out/stability.csv" | awk -F, '{printf "| %s | %s | %s | %.4f |\n", $1, $2, $3, $4}'
   echo
-  echo "The spatial metric (explosion-walls at frames 5 and 20, media layer at full resolution, no lights"
-  echo "or shimmer: the largest step between neighbouring pixels of the frame minus its exact reference,"
-  echo "where either shows media and the bare frame is flat) comes out the same for every method on this"
-  echo "scene: whatever sets it is shared by all four, and the walls' cuts through the billboards are"
-  echo "smaller than it here. The clipping artefact is asserted where it can be isolated: \`media_test\`'s"
-  echo "slanted wall through a ball (a planar billboard jumps more than 0.3 between neighbours, spherical"
-  echo "and soft less than 0.12) and \`stability_test\`."
+  echo "![walls through the media](walls.svg)"
+  echo
+  echo "The spatial metric: the largest step between neighbouring pixels of the ERROR image (the frame"
+  echo "minus its exact reference, \`render::mediaReference\`), where either shows media and the bare frame"
+  echo "is flat, layer at full resolution, no lights or shimmer. The medium's own gradients are in both"
+  echo "and cancel; a billboard cut by a wall is a step the reference does not have. On one dense smoke"
+  echo "ball with a slanted wall through its centre (no detail video, 160 x 120) planar billboards show"
+  echo "the cut, soft ones a little of it, spherical ones none. On explosion-walls the four methods come"
+  echo "out the same: whatever sets that scene's largest step is shared by all of them, and the walls'"
+  echo "cuts are smaller there. The tests assert the isolated case too (\`media_test\`'s slanted wall:"
+  echo "planar jumps more than 0.3 between neighbours, spherical and soft less than 0.12)."
   echo
   echo "## Speed against accuracy"
   echo
