@@ -75,6 +75,25 @@ Result<MediaChoice> chooseWithin(const Candidates& candidates, double maxError, 
   return c;
 }
 
+// The scene's detail videos, loaded (none: a constant, as media::Renderer::setDetail takes nullptr).
+struct Detail {
+  std::optional<core::DetailVideo> temperatureVideo, opacityVideo;
+  const core::DetailVideo* temperature() const { return temperatureVideo ? &*temperatureVideo : nullptr; }
+  const core::DetailVideo* opacity() const { return opacityVideo ? &*opacityVideo : nullptr; }
+};
+
+Result<Detail> loadDetail(const MediaSpec& spec) {
+  Detail d;
+  for (auto [path, video] :
+       {std::pair{&spec.temperatureDetail, &d.temperatureVideo}, std::pair{&spec.opacityDetail, &d.opacityVideo}}) {
+    if (path->empty()) continue;
+    auto v = core::loadDetailVideo(*path);
+    if (!v) return v.error();
+    *video = std::move(*v);
+  }
+  return d;
+}
+
 // The reference of one frame: what the GPU drew it from, and the exact image, clamped to the 8-bit
 // target's [0, 1].
 struct FrameReference {
@@ -118,18 +137,9 @@ Result<core::Image> mediaReference(const Scene& scene, const SceneRenderer& rend
   if (!scene.media) return Error::at(scene.file, "/media: the scene has no media");
   auto in = renderer.lastMediaFrame();
   if (!in) return in.error();
-  std::optional<core::DetailVideo> temperature, opacity;
-  if (!scene.media->temperatureDetail.empty()) {
-    auto v = core::loadDetailVideo(scene.media->temperatureDetail);
-    if (!v) return v.error();
-    temperature = std::move(*v);
-  }
-  if (!scene.media->opacityDetail.empty()) {
-    auto v = core::loadDetailVideo(scene.media->opacityDetail);
-    if (!v) return v.error();
-    opacity = std::move(*v);
-  }
-  auto ref = makeReference(scene, *in, temperature ? &*temperature : nullptr, opacity ? &*opacity : nullptr);
+  auto detail = loadDetail(*scene.media);
+  if (!detail) return detail.error();
+  auto ref = makeReference(scene, *in, detail->temperature(), detail->opacity());
   if (!ref) return ref.error();
   return std::move(ref->image);
 }
@@ -164,17 +174,8 @@ Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> 
   measured.media->compose.shimmerPixels = 0.0f;
   measured.media->motionBlurFrames = 0;
 
-  std::optional<core::DetailVideo> temperature, opacity;
-  if (!scene.media->temperatureDetail.empty()) {
-    auto v = core::loadDetailVideo(scene.media->temperatureDetail);
-    if (!v) return v.error();
-    temperature = std::move(*v);
-  }
-  if (!scene.media->opacityDetail.empty()) {
-    auto v = core::loadDetailVideo(scene.media->opacityDetail);
-    if (!v) return v.error();
-    opacity = std::move(*v);
-  }
+  auto detail = loadDetail(*scene.media);
+  if (!detail) return detail.error();
 
   MediaBudget budget;
   budget.frames.assign(frames.begin(), frames.end());
@@ -206,8 +207,7 @@ Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> 
       std::optional<FrameReference> own;
       if (!shared || !sameInputs(*shared, *inputs)) {
         const auto t0 = Clock::now();
-        auto ref =
-            makeReference(measured, *inputs, temperature ? &*temperature : nullptr, opacity ? &*opacity : nullptr);
+        auto ref = makeReference(measured, *inputs, detail->temperature(), detail->opacity());
         budget.referenceMs += msSince(t0);
         if (!ref) return ref.error();
         if (!shared) {

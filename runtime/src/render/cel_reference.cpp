@@ -391,15 +391,7 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
     setMat4(meshProg, "uLightView", lightView);
     setMat4(meshProg, "uLightProj", lightProj);
     glViewport(0, 0, m.shadowSize, m.shadowSize);
-    glDisable(GL_STENCIL_TEST);
-    glDisable(GL_BLEND);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_DEPTH_CLAMP);
-    glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    cel::detail::applyShadePass(cel::ShadePass::kLit);  // depth LESS + write, colour on, no stencil
     glUseProgram(meshProg);
     // None of the shadow maps may sit on a texture unit while it is being drawn into.
     for (GLuint unit : {4u, 5u, 6u}) glBindTextureUnit(unit, 0);
@@ -446,14 +438,8 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
   if (!instances.empty()) {
     const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
     glNamedFramebufferDrawBuffers(fbo, 2, both);
-    glDisable(GL_STENCIL_TEST);
-    glDisable(GL_BLEND);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_DEPTH_CLAMP);
-    glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
+    cel::detail::resetPassState();  // whatever the opaque pass left
+    cel::detail::applyShadePass(cel::ShadePass::kLit);
     glUseProgram(meshProg);
     setInt(meshProg, "uMode", 0);
     setInt(meshProg, "uShading", style.shading ? 1 : 0);

@@ -547,6 +547,32 @@ bool SceneRenderer::ensureLayers(const cel::Viewport& viewport) {
   return true;
 }
 
+namespace {
+
+// The cel frame of `frame` through `cam` for an output of viewport's size drawn at `drawViewport`
+// (the reference supersamples): light and ambient, the ramp and gradient bound, objects on paths
+// moved to where they are at this frame. Shared by the cel path and its reference.
+template <class Impl>
+cel::Frame prepareCelFrame(Impl& m, int frame, const cel::Camera& cam, const cel::Viewport& viewport,
+                           const cel::Viewport& drawViewport) {
+  const Scene& s = m.scene;
+  cel::Frame f = cel::Frame::fromCamera(cam, viewport.width, viewport.height);
+  f.viewport = drawViewport;
+  f.light = s.light;
+  f.ambientColor = s.ambientColor;
+  f.ambientGradient = m.gradient.has_value();
+  m.ramp->bind();
+  if (m.gradient) m.gradient->bind();
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    if (s.objects[i].path.empty()) continue;
+    auto moved = m.opaque->setTransform(i, objectTransform(s.objects[i], frameTime(s, frame)));
+    PUFF_CHECK(moved.ok());  // the scene's checks keep transforms finite and invertible
+  }
+  return f;
+}
+
+}  // namespace
+
 void SceneRenderer::drawSingle(int frame, const cel::Viewport& viewport, FrameStats* stats, const cel::Camera* camera) {
   Impl& m = *impl_;
   const Scene& s = m.scene;
@@ -616,18 +642,8 @@ void SceneRenderer::drawSingle(int frame, const cel::Viewport& viewport, FrameSt
   if (m.path == RenderPath::kReference) {
     GLint callerFbo = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &callerFbo);
-    cel::Frame f = cel::Frame::fromCamera(cam, viewport.width, viewport.height);
-    f.viewport = m.reference->supersampledViewport(viewport.width, viewport.height);
-    f.light = s.light;
-    f.ambientColor = s.ambientColor;
-    f.ambientGradient = m.gradient.has_value();
-    m.ramp->bind();
-    if (m.gradient) m.gradient->bind();
-    for (std::size_t i = 0; i < s.objects.size(); ++i) {
-      if (s.objects[i].path.empty()) continue;
-      auto moved = m.opaque->setTransform(i, objectTransform(s.objects[i], frameTime(s, frame)));
-      PUFF_CHECK(moved.ok());  // the scene's checks keep transforms finite and invertible
-    }
+    const cel::Frame f =
+        prepareCelFrame(m, frame, cam, viewport, m.reference->supersampledViewport(viewport.width, viewport.height));
     m.reference->draw(f, *m.block, *m.opaque, particles, s.style, s.background, static_cast<GLuint>(callerFbo),
                       viewport);
     return;
@@ -644,12 +660,6 @@ void SceneRenderer::drawSingle(int frame, const cel::Viewport& viewport, FrameSt
     glBindFramebuffer(GL_FRAMEBUFFER, m.layers->opaqueFramebuffer());
     celViewport = cel::Viewport{0, 0, viewport.width, viewport.height};
   }
-  cel::Frame f = cel::Frame::fromCamera(cam, viewport.width, viewport.height);
-  f.viewport = celViewport;
-  f.light = s.light;
-  f.ambientColor = s.ambientColor;
-  f.ambientGradient = m.gradient.has_value();
-
   glViewport(celViewport.x, celViewport.y, celViewport.width, celViewport.height);
   glDisable(GL_SCISSOR_TEST);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
@@ -660,16 +670,8 @@ void SceneRenderer::drawSingle(int frame, const cel::Viewport& viewport, FrameSt
   glClearStencil(0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
 
+  const cel::Frame f = prepareCelFrame(m, frame, cam, viewport, celViewport);
   m.block->upload(f);
-  m.ramp->bind();
-  if (m.gradient) m.gradient->bind();
-
-  // Objects on paths move to where they are at this frame.
-  for (std::size_t i = 0; i < s.objects.size(); ++i) {
-    if (s.objects[i].path.empty()) continue;
-    auto moved = m.opaque->setTransform(i, objectTransform(s.objects[i], frameTime(s, frame)));
-    PUFF_CHECK(moved.ok());  // the scene's checks keep transforms finite and invertible
-  }
   m.opaque->draw(cel::ShadePass::kLit);
   if (m.hasAtlas) {
     const cel::DrawStats up = m.nailboards->upload(particles);
