@@ -1,6 +1,7 @@
 // Backend selection and the parts of GlContext every backend shares. The backends live in
 // gl_context_{osmesa,egl,glfw}.cpp, each compiled only when its PUFF_HAVE_* is defined.
 #include <puff/core/gl_context.h>
+#include <puff/core/text.h>
 
 #include "gl_backends.h"
 
@@ -50,11 +51,7 @@ std::string versionName(const GlContextOptions& options) {
 namespace {
 constexpr const char* kAccepted = "osmesa, egl, glfw";
 
-std::string lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
+using core::lower;
 
 [[maybe_unused]] Error notBuilt(GlBackend backend, const char* option) {
   return Error{std::string(toString(backend)) + ": backend not built into this binary (configure with -D" + option +

@@ -150,30 +150,17 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
     for (int i = 0; i < gen->count; ++i) {
       PuffSource s;
       s.provenance.generator = gen->kind;
-      if (gen->kind == "sphere") {
-        PUFF_TRY(mesh::validate(gen->sphere));
-        s.mesh = mesh::generateSphere(gen->sphere);
-        s.provenance.params = {{"subdivisions", gen->sphere.subdivisions}};
-      } else if (gen->kind == "lumpy") {
-        mesh::LumpyParams p = gen->lumpy;
-        p.seed += static_cast<std::uint64_t>(i);
-        PUFF_TRY(mesh::validate(p));
-        s.mesh = mesh::generateLumpy(p);
-        s.provenance.params = {{"subdivisions", p.subdivisions},
-                               {"amplitude", p.amplitude},
-                               {"frequency", p.frequency},
-                               {"octaves", p.octaves},
-                               {"seed", p.seed}};
-      } else if (gen->kind == "cluster") {
-        mesh::ClusterParams p = gen->cluster;
-        p.seed += static_cast<std::uint64_t>(i);
-        PUFF_TRY(mesh::validate(p));
-        s.mesh = mesh::generateCluster(p);
-        s.provenance.params = {{"count", p.count},   {"radiusMin", p.radiusMin},       {"radiusMax", p.radiusMax},
-                               {"spread", p.spread}, {"subdivisions", p.subdivisions}, {"seed", p.seed}};
-      } else {
+      if (!mesh::isGeneratorKind(gen->kind)) {
         return Error{"--generate must be sphere, lumpy or cluster, got \"" + gen->kind + "\""};
       }
+      // Each variation is the generator with its seed advanced by the variation's index.
+      mesh::Generator g{gen->kind, gen->sphere, gen->lumpy, gen->cluster};
+      g.lumpy.seed += static_cast<std::uint64_t>(i);
+      g.cluster.seed += static_cast<std::uint64_t>(i);
+      auto generated = mesh::generate(g);
+      if (!generated) return generated.error();
+      s.mesh = std::move(*generated);
+      s.provenance.params = mesh::generatorToJson(g);
       s.provenance.faces = s.mesh.faceCount();
       sources.push_back(std::move(s));
     }

@@ -14,6 +14,7 @@
 
 #include <puff/core/image.h>
 #include <puff/core/parallel.h>
+#include <puff/core/random.h>
 
 namespace puff::bake {
 
@@ -21,11 +22,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::uint64_t mix(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
+using core::mix64;
 
 // Perlin's improved-noise gradients: the 12 edge midpoints of a cube.
 constexpr double kGradients[12][3] = {{1, 1, 0},  {-1, 1, 0},  {1, -1, 0}, {-1, -1, 0}, {1, 0, 1},  {-1, 0, 1},
@@ -47,9 +44,9 @@ double periodicGradientNoise(std::uint64_t key, double x, double y, double t, lo
   double corner[8];
   for (int c = 0; c < 8; ++c) {
     const int ox = c & 1, oy = (c >> 1) & 1, ot = (c >> 2) & 1;
-    std::uint64_t h = mix(key ^ static_cast<std::uint64_t>(wrap(it + ot, pt)));
-    h = mix(h ^ static_cast<std::uint64_t>(wrap(iy + oy, py)));
-    h = mix(h ^ static_cast<std::uint64_t>(wrap(ix + ox, px)));
+    std::uint64_t h = mix64(key ^ static_cast<std::uint64_t>(wrap(it + ot, pt)));
+    h = mix64(h ^ static_cast<std::uint64_t>(wrap(iy + oy, py)));
+    h = mix64(h ^ static_cast<std::uint64_t>(wrap(ix + ox, px)));
     const double* g = kGradients[(h >> 32) % 12];
     corner[c] = g[0] * (dx - ox) + g[1] * (dy - oy) + g[2] * (dt - ot);
   }
@@ -150,13 +147,13 @@ namespace {
 
 // detailNoise without the check (generateDetailVideo validates once, not per texel).
 double fbm(const DetailSpec& spec, double x, double y, double t) {
-  const std::uint64_t seedKey = mix(0x5EED0000D37A11ull ^ spec.seed);
+  const std::uint64_t seedKey = mix64(0x5EED0000D37A11ull ^ spec.seed);
   const long long maxTimeCells = std::max(1, spec.frames / 4);
   double sum = 0.0, amplitude = 1.0;
   for (int o = 0; o < spec.octaves; ++o) {
     const long long cells = static_cast<long long>(spec.frequency) << o;
     const long long timeCells = std::min(cells, maxTimeCells);
-    const std::uint64_t key = mix(seedKey ^ (static_cast<std::uint64_t>(o) + 1) * 0x9E3779B97F4A7C15ull);
+    const std::uint64_t key = mix64(seedKey ^ (static_cast<std::uint64_t>(o) + 1) * 0x9E3779B97F4A7C15ull);
     const double cx = static_cast<double>(cells) / spec.size, ct = static_cast<double>(timeCells) / spec.frames;
     sum += amplitude * periodicGradientNoise(key, x * cx, y * cx, t * ct, cells, cells, timeCells);
     amplitude *= 0.5;

@@ -14,6 +14,7 @@
 
 #include <puff/core/blackbody.h>
 #include <puff/core/parallel.h>
+#include <puff/core/random.h>
 #include <puff/reference/media_reference.h>
 
 namespace puff::reference {
@@ -84,14 +85,8 @@ struct Hit {
   glm::dvec3 radiance;
 };
 
-std::uint32_t hash(std::uint32_t x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
+// The shader's detail-window hash (shaders/media/billboard.frag).
+using core::lowbias32;
 
 bool haveVideo(const core::DetailVideo* v) { return v != nullptr && v->width > 0 && v->height > 0 && v->frames > 0; }
 
@@ -127,7 +122,7 @@ std::string number(double v) {
 
 }  // namespace
 
-double unitHash(std::uint32_t x) { return static_cast<double>(hash(x) >> 8) / 16777216.0; }
+double unitHash(std::uint32_t x) { return static_cast<double>(lowbias32(x) >> 8) / 16777216.0; }
 
 double sampleDetail(const core::DetailVideo* v, double s, double t, double r) {
   if (!haveVideo(v)) return 0.5;

@@ -21,50 +21,6 @@ using nlohmann::json;
 
 namespace {
 
-// Reads a generator parameter recorded in the sidecar, keeping the default when absent.
-template <class T>
-Result<void> param(const json& params, const char* key, T& out, const std::string& where) {
-  if (!params.contains(key)) return {};
-  try {
-    out = params.at(key).get<T>();
-  } catch (const json::exception&) {
-    return Error{where + "/params/" + key + ": not a number of the right kind"};
-  }
-  return {};
-}
-
-Result<mesh::TriMesh> generatedSource(const core::AtlasSource& s, const std::string& where) {
-  const json& p = s.params;
-  if (s.generator == "sphere") {
-    mesh::SphereParams sp;
-    PUFF_TRY(param(p, "subdivisions", sp.subdivisions, where));
-    PUFF_TRY(mesh::validate(sp));
-    return mesh::generateSphere(sp);
-  }
-  if (s.generator == "lumpy") {
-    mesh::LumpyParams lp;
-    PUFF_TRY(param(p, "subdivisions", lp.subdivisions, where));
-    PUFF_TRY(param(p, "amplitude", lp.amplitude, where));
-    PUFF_TRY(param(p, "frequency", lp.frequency, where));
-    PUFF_TRY(param(p, "octaves", lp.octaves, where));
-    PUFF_TRY(param(p, "seed", lp.seed, where));
-    PUFF_TRY(mesh::validate(lp));
-    return mesh::generateLumpy(lp);
-  }
-  if (s.generator == "cluster") {
-    mesh::ClusterParams cp;
-    PUFF_TRY(param(p, "count", cp.count, where));
-    PUFF_TRY(param(p, "radiusMin", cp.radiusMin, where));
-    PUFF_TRY(param(p, "radiusMax", cp.radiusMax, where));
-    PUFF_TRY(param(p, "spread", cp.spread, where));
-    PUFF_TRY(param(p, "subdivisions", cp.subdivisions, where));
-    PUFF_TRY(param(p, "seed", cp.seed, where));
-    PUFF_TRY(mesh::validate(cp));
-    return mesh::generateCluster(cp);
-  }
-  return Error{where + "/generator: \"" + s.generator + "\" is not a generator this build knows"};
-}
-
 void setInt(GLuint prog, const char* name, int v) { glProgramUniform1i(prog, glGetUniformLocation(prog, name), v); }
 void setFloat(GLuint prog, const char* name, float v) { glProgramUniform1f(prog, glGetUniformLocation(prog, name), v); }
 void setMat4(GLuint prog, const char* name, const glm::mat4& m) {
@@ -91,7 +47,9 @@ Result<std::vector<mesh::TriMesh>> atlasSourceMeshes(const core::AtlasDesc& desc
       if (!loaded) return loaded.error();
       m = std::move(*loaded);
     } else {
-      auto generated = generatedSource(s, where);
+      auto generator = mesh::generatorFromJson(s.generator, s.params, where);
+      if (!generator) return generator.error();
+      auto generated = mesh::generate(*generator);
       if (!generated) return generated.error();
       m = std::move(*generated);
       if (s.faces != 0 && m.faceCount() != s.faces) {

@@ -6,20 +6,14 @@
 #include <immintrin.h>
 #endif
 
+#include <puff/core/random.h>
 #include <glm/geometric.hpp>
 
 namespace puff::sim::detail {
 
 namespace {
 
-std::uint32_t hash(std::uint32_t x) {  // lowbias32 (Wellons)
-  x ^= x >> 16;
-  x *= 0x7feb352dU;
-  x ^= x >> 15;
-  x *= 0x846ca68bU;
-  x ^= x >> 16;
-  return x;
-}
+constexpr std::uint32_t hash(std::uint32_t x) { return core::lowbias32(x); }
 
 int wrap(int i, int n) {
   const int r = i % n;

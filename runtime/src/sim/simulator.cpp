@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 
+#include <puff/core/random.h>
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_access.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -222,21 +223,14 @@ namespace {
 constexpr float kLambOseenPeak = 0.638172f;  // max of (1 - exp(-s^2)) / s, at s = 1.12092
 
 // Counter-based random numbers: the value for (seed, stream, index, k) never depends on order.
-std::uint64_t mix64(std::uint64_t x) {
-  x ^= x >> 30;
-  x *= 0xbf58476d1ce4e5b9ULL;
-  x ^= x >> 27;
-  x *= 0x94d049bb133111ebULL;
-  x ^= x >> 31;
-  return x;
-}
+using core::mix64;
 
 struct Rng {
   std::uint64_t state;
   Rng(std::uint32_t seed, std::uint64_t stream, std::uint64_t index)
-      : state(mix64(mix64(seed * 0x9e3779b97f4a7c15ULL + stream) ^ (index + 0x632be59bd9b4e019ULL))) {}
+      : state(mix64(mix64(seed * core::kGoldenGamma + stream) ^ (index + 0x632be59bd9b4e019ULL))) {}
   float uniform() {  // [0, 1)
-    state += 0x9e3779b97f4a7c15ULL;
+    state += core::kGoldenGamma;
     return static_cast<float>(mix64(state) >> 40) / 16777216.0f;
   }
 };

@@ -6,6 +6,7 @@
 // no fused multiply-adds (below).
 #include <puff/mesh/mesh.h>
 
+#include <puff/core/random.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -23,26 +24,7 @@ DVec3 operator*(const DVec3& a, double s) { return {a.x * s, a.y * s, a.z * s}; 
 double dot(const DVec3& a, const DVec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 DVec3 normalized(const DVec3& a) { return a * (1.0 / std::sqrt(dot(a, a))); }
 
-/// splitmix64 (Steele, Lea, Flood 2014): tiny, fast, and fully specified by its integer ops.
-class SplitMix64 {
- public:
-  explicit SplitMix64(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() {
-    state_ += 0x9E3779B97F4A7C15ull;
-    return mix(state_);
-  }
-  /// Uniform in [0, 1) with 53 random bits: exact, so identical everywhere.
-  double unit() { return double(next() >> 11) * 0x1.0p-53; }
-
-  static std::uint64_t mix(std::uint64_t z) {
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-
- private:
-  std::uint64_t state_;
-};
+using core::SplitMix64;
 
 struct Icosphere {
   std::vector<DVec3> positions;  // unit length
@@ -105,9 +87,9 @@ TriMesh finish(const std::vector<DVec3>& positions, std::vector<glm::uvec3> tria
 
 double latticeValue(std::int64_t x, std::int64_t y, std::int64_t z, std::uint64_t seed) {
   std::uint64_t h = seed;
-  h = SplitMix64::mix(h ^ (std::uint64_t(x) * 0x9E3779B97F4A7C15ull));
-  h = SplitMix64::mix(h ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full));
-  h = SplitMix64::mix(h ^ (std::uint64_t(z) * 0x165667B19E3779F9ull));
+  h = core::mix64(h ^ (std::uint64_t(x) * 0x9E3779B97F4A7C15ull));
+  h = core::mix64(h ^ (std::uint64_t(y) * 0xC2B2AE3D27D4EB4Full));
+  h = core::mix64(h ^ (std::uint64_t(z) * 0x165667B19E3779F9ull));
   return double(h >> 11) * 0x1.0p-52 - 1.0;  // [-1, 1)
 }
 

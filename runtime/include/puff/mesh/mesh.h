@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
 
 #include <puff/core/error.h>
 
@@ -92,6 +93,27 @@ TriMesh generateCluster(const ClusterParams& p);
 Result<void> validate(const SphereParams& p);
 Result<void> validate(const LumpyParams& p);
 Result<void> validate(const ClusterParams& p);
+
+// ---- generator provenance ------------------------------------------------------------------
+// An atlas sidecar records a generated puff as its generator's kind and parameters, so the puff can
+// be made again (the cel reference draws it). These two functions are the one owner of that record.
+
+/// A generated puff: the generator's kind and its parameters (only the kind's own are used).
+struct Generator {
+  std::string kind = "lumpy";  ///< "sphere", "lumpy" or "cluster"
+  SphereParams sphere;
+  LumpyParams lumpy;
+  ClusterParams cluster;
+};
+/// Whether `kind` names a generator: "sphere", "lumpy" or "cluster".
+bool isGeneratorKind(const std::string& kind);
+/// The kind's parameters as a JSON object (the sidecar's "params").
+nlohmann::json generatorToJson(const Generator& generator);
+/// The generator of `kind` with `params` read back; absent keys keep their defaults. Errors read
+/// "WHERE/params/KEY: ..." or, for an unknown kind, "WHERE/generator: ...".
+Result<Generator> generatorFromJson(const std::string& kind, const nlohmann::json& params, const std::string& where);
+/// Checks the parameters (validate) and generates the puff.
+Result<TriMesh> generate(const Generator& generator);
 
 // ---- level of detail ------------------------------------------------------------------------
 

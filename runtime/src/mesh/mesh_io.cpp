@@ -4,6 +4,7 @@
 // faces it cannot add, separates non-manifold faces onto duplicated vertices, and reports all of
 // that only on its own log streams. So each file is first scanned here for what it declares
 // (face counts, OBJ vertex lines), and what OpenMesh built is compared with that.
+#include <puff/core/text.h>
 #include <puff/mesh/mesh.h>
 
 #include <algorithm>
@@ -66,10 +67,7 @@ const char* formatName(Format f) {
   return "?";
 }
 
-std::string lower(std::string s) {
-  for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
+using core::lower;
 
 Result<Format> formatOf(const fs::path& path) {
   const std::string ext = lower(path.extension().string());
