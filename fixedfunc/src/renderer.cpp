@@ -174,62 +174,6 @@ void loadMatrix(GLenum mode, const glm::mat4& m) {
 
 // ---- primitive meshes ----------------------------------------------------------------------------
 
-mesh::TriMesh makePlaneMesh() {
-  mesh::TriMesh m;
-  m.positions = {{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}};
-  m.normals.assign(4, glm::vec3(0, 1, 0));
-  m.triangles = {{0, 1, 2}, {0, 2, 3}};
-  return m;
-}
-
-mesh::TriMesh makeBoxMesh() {
-  mesh::TriMesh m;
-  for (int axis = 0; axis < 3; ++axis) {
-    for (int sign = -1; sign <= 1; sign += 2) {
-      glm::vec3 n(0.0f);
-      n[axis] = static_cast<float>(sign);
-      // Two axes spanning the face, ordered so (u x v) = n: counter-clockwise from outside.
-      glm::vec3 u(0.0f), v(0.0f);
-      u[(axis + 1) % 3] = 1.0f;
-      v[(axis + 2) % 3] = 1.0f;
-      if (sign < 0) std::swap(u, v);
-      const auto base = static_cast<std::uint32_t>(m.positions.size());
-      for (const auto& [a, b] : {std::pair{-1.0f, -1.0f}, {1.0f, -1.0f}, {1.0f, 1.0f}, {-1.0f, 1.0f}}) {
-        m.positions.push_back(n + a * u + b * v);
-        m.normals.push_back(n);
-      }
-      m.triangles.push_back({base, base + 1, base + 2});
-      m.triangles.push_back({base, base + 2, base + 3});
-    }
-  }
-  return m;
-}
-
-mesh::TriMesh makeSphereMesh(int segments) {
-  segments = std::max(segments, 3);
-  const int rings = std::max(segments / 2, 2);
-  mesh::TriMesh m;
-  for (int r = 0; r <= rings; ++r) {
-    const float theta = kPi * static_cast<float>(r) / static_cast<float>(rings);  // from +y down
-    for (int s = 0; s <= segments; ++s) {
-      const float phi = 2.0f * kPi * static_cast<float>(s) / static_cast<float>(segments);
-      const glm::vec3 p(std::sin(theta) * std::cos(phi), std::cos(theta), -std::sin(theta) * std::sin(phi));
-      m.positions.push_back(p);
-      m.normals.push_back(p);
-    }
-  }
-  const auto row = static_cast<std::uint32_t>(segments + 1);
-  for (int r = 0; r < rings; ++r) {
-    for (int s = 0; s < segments; ++s) {
-      const auto a = static_cast<std::uint32_t>(r) * row + static_cast<std::uint32_t>(s);
-      const std::uint32_t b = a + row;  // the ring below
-      if (r != 0) m.triangles.push_back({a, b, a + 1});
-      if (r != rings - 1) m.triangles.push_back({a + 1, b, b + 1});
-    }
-  }
-  return m;
-}
-
 // ---- the renderer --------------------------------------------------------------------------------
 
 struct FixedRenderer::Impl {

@@ -1,5 +1,5 @@
 // Fixed-function against programmable (issue 5): the art scenes, restricted to the fixed path's
-// limits (render::restrictToFixedLimits: no shadows, uniform ambient, view-plane billboards, one
+// limits (eval::restrictToFixedLimits: no shadows, uniform ambient, view-plane billboards, one
 // sample), drawn by both paths in one compatibility context. Per scene and path: 2 warm-up frames,
 // then the median of --reps frames (SceneRenderer::renderFrame of frame 0: the draw and the
 // read-back that waits for it, the same for both); the ratio is fixed / cel of the same run. The parity of the
@@ -15,8 +15,9 @@
 
 #include <puff/core/files.h>
 #include <puff/core/gl_context.h>
-#include <puff/render/compare.h>
+#include <puff/eval/compare.h>
 #include <puff/render/render.h>
+#include <puff/scene/read.h>
 
 namespace {
 
@@ -58,19 +59,19 @@ int main(int argc, char** argv) {
 
   std::string csv = "scene,width,height,particles,cel_ms,fixed_ms,ratio_fixed_to_cel,iou,tone_share_0.1\n";
   for (const char* name : {"cloud-fig8a", "magic-lamp", "missile-trail", "explosion", "lamp-plume", "cloud-50k"}) {
-    auto loaded = render::loadScene(sceneDir / (std::string(name) + ".json"), artDir);
+    auto loaded = scene::loadScene(sceneDir / (std::string(name) + ".json"), artDir);
     if (!loaded) {
       std::fprintf(stderr, "puff_bench_paths: error: %s\n", loaded.error().message.c_str());
       return 1;
     }
-    const render::Scene scene = render::restrictToFixedLimits(*loaded);
+    const scene::Scene scene = eval::restrictToFixedLimits(*loaded);
     double ms[2] = {0, 0};
     core::Image images[2], bare[2];
     std::size_t particles = 0;
     for (int k = 0; k < 2; ++k) {
       const render::RenderPath path = k == 0 ? render::RenderPath::kCel : render::RenderPath::kFixed;
       auto r = render::SceneRenderer::create(scene, path);
-      auto r0 = render::SceneRenderer::create(render::withoutParticles(scene), path);
+      auto r0 = render::SceneRenderer::create(eval::withoutParticles(scene), path);
       if (!r || !r0) {
         std::fprintf(stderr, "puff_bench_paths: error: %s\n", (!r ? r.error() : r0.error()).message.c_str());
         return 1;
@@ -94,7 +95,7 @@ int main(int argc, char** argv) {
       if (!b) return 1;
       bare[k] = std::move(*b);
     }
-    const render::Parity p = render::compareFrames(images[1], bare[1], images[0], bare[0], 0.1f);
+    const eval::Parity p = eval::compareFrames(images[1], bare[1], images[0], bare[0], 0.1f);
     char line[256];
     std::snprintf(line, sizeof line, "%s,%d,%d,%zu,%.2f,%.2f,%.3f,%.3f,%.3f\n", name, scene.width, scene.height,
                   particles, ms[0], ms[1], ms[1] / ms[0], p.iou, p.toneShare);

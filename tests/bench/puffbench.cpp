@@ -3,7 +3,7 @@
 // in puffbench_cel.cpp and writes --cel-csv. The media part: for every
 // scene, method (planar, soft-linear, soft-scurve, spherical) and media layer resolution (1/8 ..
 // 1), the median frame time and the worst error against the exact reference over three frames of
-// the scene's camera path (render::measureMediaBudget: reference::renderMediaReference over the
+// the scene's camera path (eval::measureMediaBudget: reference::renderMediaReference over the
 // same opaque layer, RMSE in linear colour), and the scene's frame without media particles (the
 // baseline: opaque pass, resolve and compose) measured in the same run. Marks the Pareto front per
 // scene: the configurations no other one beats on both time and error. Writes CSV (--csv FILE,
@@ -24,9 +24,10 @@
 #include <puff/core/files.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
+#include <puff/eval/budget.h>
 #include <puff/reference/metrics.h>
-#include <puff/render/budget.h>
 #include <puff/render/render.h>
+#include <puff/scene/read.h>
 
 #include "puffbench_cel.h"
 
@@ -54,7 +55,7 @@ struct Row {
 // The frame without media particles (what every configuration pays before the media), or with
 // `fillRateFloor` the frame with the media particles' quads computing nothing (SceneRenderer::
 // setFillRateFloor: the fill-rate floor of the media, at the scene's layer resolution).
-Result<double> baselineMs(render::Scene s, std::span<const int> frames, int reps, bool fillRateFloor = false) {
+Result<double> baselineMs(scene::Scene s, std::span<const int> frames, int reps, bool fillRateFloor = false) {
   if (!fillRateFloor) {
     s.media->particles.clear();
     s.media->emitters.clear();
@@ -80,7 +81,7 @@ Result<double> baselineMs(render::Scene s, std::span<const int> frames, int reps
 //    frames (reference::largestSecondDifference: popping shows as spikes);
 //  - spatial: explosion-walls at its fireball frames (explosion lights and shimmer off), the largest
 //    jump between neighbouring pixels of the ERROR image, frame minus exact reference
-//    (render::mediaReference), over the pixels either shows media on, away from the bare frame's own
+//    (eval::mediaReference), over the pixels either shows media on, away from the bare frame's own
 //    edges: the fire's texture is in both and cancels, a billboard cut by a wall is a hard step in
 //    the error that the reference does not have.
 // The largest step between neighbouring pixels of the error image (frame minus its exact reference)
@@ -120,11 +121,11 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
   const media::Method methods[] = {media::Method::kPlanar, media::Method::kSoftLinear, media::Method::kSoftSCurve,
                                    media::Method::kSpherical};
   {
-    auto loaded = render::loadScene(sceneDir / "smoke-flythrough.json", artDir);
+    auto loaded = scene::loadScene(sceneDir / "smoke-flythrough.json", artDir);
     if (!loaded) return loaded.error();
     // The smoke frozen as it is at frame 0 (births pop in whatever the method; that is the
     // simulator's, not the billboards'), listed as particles; the pillar taken out.
-    render::Scene frozen = *loaded;
+    scene::Scene frozen = *loaded;
     frozen.width = width;
     frozen.height = height;
     frozen.objects.clear();
@@ -137,7 +138,7 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
       frozen.media->emitters.clear();
       frozen.media->particles.clear();
       for (const media::Particle& p : in->particles) {
-        render::MediaParticleSpec spec;
+        scene::MediaParticleSpec spec;
         spec.position = p.position;
         spec.radius = p.radius;
         spec.materialIndex = static_cast<int>(p.material);
@@ -148,7 +149,7 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
       }
     }
     for (media::Method m : methods) {
-      render::Scene s = frozen;
+      scene::Scene s = frozen;
       s.media->method = m;
       auto r = render::SceneRenderer::create(s);
       if (!r) return r.error();
@@ -166,9 +167,9 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
     }
   }
   {
-    auto loaded = render::loadScene(sceneDir / "explosion-walls.json", artDir);
+    auto loaded = scene::loadScene(sceneDir / "explosion-walls.json", artDir);
     if (!loaded) return loaded.error();
-    render::Scene bareScene = *loaded;
+    scene::Scene bareScene = *loaded;
     bareScene.width = width;
     bareScene.height = height;
     bareScene.media->particles.clear();
@@ -184,7 +185,7 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
       bareFrames.push_back(std::move(*im));
     }
     for (media::Method m : methods) {
-      render::Scene s = *loaded;
+      scene::Scene s = *loaded;
       s.width = width;
       s.height = height;
       s.media->method = m;
@@ -197,7 +198,7 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
       for (std::size_t i = 0; i < std::size(fireFrames); ++i) {
         auto im = (*r)->renderFrame(fireFrames[i]);
         if (!im) return im.error();
-        auto ref = render::mediaReference(s, **r);
+        auto ref = eval::mediaReference(s, **r);
         if (!ref) return ref.error();
         worst = std::max(worst, largestErrorJump(*im, *ref, bareFrames[i]));
       }
@@ -214,22 +215,22 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
         {"camera", {{"position", {0, 0, 6}}, {"target", {0, 0, 0}}, {"fovY", 40}, {"near", 0.5}, {"far", 30}}},
         {"objects", {{{"type", "plane"}, {"rotate", {70, 25, 0}}, {"scale", {4, 1, 4}}, {"albedo", {0.7, 0.5, 0.4}}}}},
         {"media", {{"resolution", 1}, {"particles", {{{"position", {0, 0, 0}}, {"radius", 1.6}, {"density", 3}}}}}}};
-    auto wall = render::parseScene(j, sceneDir / "wall-through-smoke.json");
+    auto wall = scene::parseScene(j, sceneDir / "wall-through-smoke.json");
     if (!wall) return wall.error();
-    render::Scene bareScene = *wall;
+    scene::Scene bareScene = *wall;
     bareScene.media->particles.clear();
     auto bare = render::SceneRenderer::create(bareScene);
     if (!bare) return bare.error();
     auto b = (*bare)->renderFrame(0);
     if (!b) return b.error();
     for (media::Method m : methods) {
-      render::Scene s = *wall;
+      scene::Scene s = *wall;
       s.media->method = m;
       auto r = render::SceneRenderer::create(s);
       if (!r) return r.error();
       auto im = (*r)->renderFrame(0);
       if (!im) return im.error();
-      auto ref = render::mediaReference(s, **r);
+      auto ref = eval::mediaReference(s, **r);
       if (!ref) return ref.error();
       rows.push_back({"wall-through-smoke", std::string(media::toString(m)), "largest_error_jump",
                       largestErrorJump(*im, *ref, *b), 1, width, height});
@@ -320,19 +321,19 @@ int main(int argc, char** argv) {
 
   std::vector<Row> rows;
   for (const std::string& name : scenes) {
-    auto loaded = render::loadScene(sceneDir / (name + ".json"), artDir);
+    auto loaded = scene::loadScene(sceneDir / (name + ".json"), artDir);
     if (!loaded) {
       std::fprintf(stderr, "puffbench: error: %s\n", loaded.error().message.c_str());
       return 1;
     }
-    render::Scene scene = *loaded;
+    scene::Scene scene = *loaded;
     if (!scene.media) {
       std::fprintf(stderr, "puffbench: error: %s has no media\n", name.c_str());
       return 1;
     }
     scene.width = width;
     scene.height = height;
-    const std::vector<int> frames = render::budgetFrames(0, scene.animation.frames - 1);
+    const std::vector<int> frames = eval::budgetFrames(0, scene.animation.frames - 1);
     auto base = baselineMs(scene, frames, reps);
     if (!base) {
       std::fprintf(stderr, "puffbench: error: %s\n", base.error().message.c_str());
@@ -340,8 +341,8 @@ int main(int argc, char** argv) {
     }
     // The fill-rate floor at each layer resolution (the quads' pixels scale with it).
     std::map<float, double> floors;
-    for (float res : render::kMediaResolutions) {
-      render::Scene fs = scene;
+    for (float res : eval::kMediaResolutions) {
+      scene::Scene fs = scene;
       fs.media->resolution = res;
       auto fl = baselineMs(fs, frames, reps, true);
       if (!fl) {
@@ -353,19 +354,19 @@ int main(int argc, char** argv) {
     const std::size_t first = rows.size();
     for (media::Method m :
          {media::Method::kPlanar, media::Method::kSoftLinear, media::Method::kSoftSCurve, media::Method::kSpherical}) {
-      render::Scene s = scene;
+      scene::Scene s = scene;
       s.media->method = m;
-      render::MediaBudgetOptions o;
+      eval::MediaBudgetOptions o;
       o.timedRenders = reps;
       const auto t0 = Clock::now();
-      auto budget = render::measureMediaBudget(s, frames, o);
+      auto budget = eval::measureMediaBudget(s, frames, o);
       if (!budget) {
         std::fprintf(stderr, "puffbench: error: %s\n", budget.error().message.c_str());
         return 1;
       }
       std::fprintf(stderr, "puffbench: %s, %s: measured in %.1f s\n", name.c_str(),
                    std::string(media::toString(m)).c_str(), std::chrono::duration<double>(Clock::now() - t0).count());
-      for (const render::MediaCandidate& c : budget->candidates) {
+      for (const eval::MediaCandidate& c : budget->candidates) {
         Row r;
         r.scene = name;
         r.method = std::string(media::toString(m));

@@ -18,10 +18,12 @@
 
 #include <puff/bake/baker.h>
 #include <puff/core/files.h>
+#include <puff/eval/budget.h>
+#include <puff/eval/cel_reference.h>
+#include <puff/eval/compare.h>
 #include <puff/mesh/mesh.h>
 #include <puff/reference/metrics.h>
-#include <puff/render/budget.h>
-#include <puff/render/compare.h>
+#include <puff/scene/read.h>
 
 namespace puffbench {
 
@@ -44,9 +46,9 @@ struct Frames {
 
 // Renders `frames` with `path` (the reference with its default sampling), each once untimed (the
 // image) and then `reps` times timed.
-Result<Frames> renderFrames(const render::Scene& scene, render::RenderPath path, std::span<const int> frames, int reps,
+Result<Frames> renderFrames(const scene::Scene& scene, render::RenderPath path, std::span<const int> frames, int reps,
                             bool fillRateFloor = false) {
-  auto r = render::SceneRenderer::create(scene, path);
+  auto r = eval::createRenderer(scene, path);
   if (!r) return r.error();
   (*r)->setFillRateFloor(fillRateFloor);
   Frames out;
@@ -152,31 +154,31 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
   };
 
   for (const std::string& name : opt.scenes) {
-    auto loaded = render::loadScene(opt.sceneDir / (name + ".json"), opt.artDir);
+    auto loaded = scene::loadScene(opt.sceneDir / (name + ".json"), opt.artDir);
     if (!loaded) return loaded.error();
-    render::Scene scene = *loaded;
+    scene::Scene scene = *loaded;
     if (scene.atlas.empty()) return Error{name + ": not a cel scene (no atlas)"};
     scene.width = opt.width;
     scene.height = opt.height;
     scene.media.reset();
-    const std::vector<int> frames = render::budgetFrames(0, scene.animation.frames - 1);
+    const std::vector<int> frames = eval::budgetFrames(0, scene.animation.frames - 1);
     const glm::vec3 ink = scene.style.outlineColor;
     const auto t0 = Clock::now();
     // The programmable path's scene, and the same within the fixed path's limits (both references).
-    const render::Scene fixedScene = render::restrictToFixedLimits(scene);
-    auto bare = renderFrames(render::withoutParticles(scene), render::RenderPath::kCel, frames, opt.reps);
+    const scene::Scene fixedScene = eval::restrictToFixedLimits(scene);
+    auto bare = renderFrames(eval::withoutParticles(scene), render::RenderPath::kCel, frames, opt.reps);
     if (!bare) return bare.error();
-    auto bareFixed = renderFrames(render::withoutParticles(fixedScene), render::RenderPath::kFixed, frames, opt.reps);
+    auto bareFixed = renderFrames(eval::withoutParticles(fixedScene), render::RenderPath::kFixed, frames, opt.reps);
     if (!bareFixed) return bareFixed.error();
-    auto bareCelLimits = renderFrames(render::withoutParticles(fixedScene), render::RenderPath::kCel, frames, opt.reps);
+    auto bareCelLimits = renderFrames(eval::withoutParticles(fixedScene), render::RenderPath::kCel, frames, opt.reps);
     if (!bareCelLimits) return bareCelLimits.error();
     auto ref = renderFrames(scene, render::RenderPath::kReference, frames, 0);
     if (!ref) return ref.error();
-    auto refBare = renderFrames(render::withoutParticles(scene), render::RenderPath::kReference, frames, 0);
+    auto refBare = renderFrames(eval::withoutParticles(scene), render::RenderPath::kReference, frames, 0);
     if (!refBare) return refBare.error();
     auto refFixed = renderFrames(fixedScene, render::RenderPath::kReference, frames, 0);
     if (!refFixed) return refFixed.error();
-    auto refFixedBare = renderFrames(render::withoutParticles(fixedScene), render::RenderPath::kReference, frames, 0);
+    auto refFixedBare = renderFrames(eval::withoutParticles(fixedScene), render::RenderPath::kReference, frames, 0);
     if (!refFixedBare) return refFixedBare.error();
     // The fill-rate floor: the scene's particles as bare alpha-tested quads, same frames.
     auto fillFloor = renderFrames(scene, render::RenderPath::kCel, frames, opt.reps, true);
@@ -212,7 +214,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
       std::size_t faces = 0;
       auto sidecar = bake(scene.atlas, cell, 1, work / (name + "-cell" + std::to_string(cell)), &faces);
       if (!sidecar) return sidecar.error();
-      render::Scene s = scene;
+      scene::Scene s = scene;
       s.atlas = *sidecar;
       auto f = renderFrames(s, render::RenderPath::kCel, frames, opt.reps);
       if (!f) return f.error();
@@ -226,7 +228,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
       std::size_t faces = 0;
       auto sidecar = bake(scene.atlas, 256, k, work / (name + "-lod" + std::to_string(k)), &faces);
       if (!sidecar) return sidecar.error();
-      render::Scene s = scene;
+      scene::Scene s = scene;
       s.atlas = *sidecar;
       auto f = renderFrames(s, render::RenderPath::kCel, frames, opt.reps);
       if (!f) return f.error();
@@ -241,7 +243,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
       const mesh::TriMesh m = k > 1 ? mesh::decimate(*full, std::max<std::size_t>(20, full->faceCount() / k)) : *full;
       const fs::path puff = work / (name + "-lod" + std::to_string(k)) / "fixed-puff.obj";
       if (auto ok = mesh::saveMesh(m, puff); !ok) return ok.error();
-      render::Scene lodScene = fixedScene;
+      scene::Scene lodScene = fixedScene;
       lodScene.fixed.puff = puff;
       auto ff = renderFrames(lodScene, render::RenderPath::kFixed, frames, opt.reps);
       if (!ff) return ff.error();
@@ -261,22 +263,22 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
   // Particle count: cloud-50k's emitters scaled (a scene's first N particles are the same whatever
   // its count), the error against the reference of the same particles at frame 0.
   if (!opt.counts.empty()) {
-    auto loaded = render::loadScene(opt.sceneDir / "cloud-50k.json", opt.artDir);
+    auto loaded = scene::loadScene(opt.sceneDir / "cloud-50k.json", opt.artDir);
     if (!loaded) return loaded.error();
-    render::Scene base = *loaded;
+    scene::Scene base = *loaded;
     base.width = opt.width;
     base.height = opt.height;
     std::size_t total = 0;
-    for (const render::EmitterSpec& e : base.emitters) total += static_cast<std::size_t>(e.count);
+    for (const scene::EmitterSpec& e : base.emitters) total += static_cast<std::size_t>(e.count);
     const std::vector<int> frame0{0};
-    auto bare = renderFrames(render::withoutParticles(base), render::RenderPath::kCel, frame0, opt.reps);
+    auto bare = renderFrames(eval::withoutParticles(base), render::RenderPath::kCel, frame0, opt.reps);
     if (!bare) return bare.error();
-    const render::Scene baseFixed = render::restrictToFixedLimits(base);
-    auto bareFixed = renderFrames(render::withoutParticles(baseFixed), render::RenderPath::kFixed, frame0, opt.reps);
+    const scene::Scene baseFixed = eval::restrictToFixedLimits(base);
+    auto bareFixed = renderFrames(eval::withoutParticles(baseFixed), render::RenderPath::kFixed, frame0, opt.reps);
     if (!bareFixed) return bareFixed.error();
-    auto refBare = renderFrames(render::withoutParticles(base), render::RenderPath::kReference, frame0, 0);
+    auto refBare = renderFrames(eval::withoutParticles(base), render::RenderPath::kReference, frame0, 0);
     if (!refBare) return refBare.error();
-    auto refFixedBare = renderFrames(render::withoutParticles(baseFixed), render::RenderPath::kReference, frame0, 0);
+    auto refFixedBare = renderFrames(eval::withoutParticles(baseFixed), render::RenderPath::kReference, frame0, 0);
     if (!refFixedBare) return refFixedBare.error();
     // Rows of one cel and one fixed measurement of cloud-50k against the references given (none:
     // not measured).
@@ -312,14 +314,14 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
     };
     // The largest count measured against its reference: the full model of the fraction sweep below.
     struct FullModel {
-      render::Scene scene;
+      scene::Scene scene;
       std::size_t count = 0;
       Frames ref, refFixed;
     };
     std::optional<FullModel> full;
     for (std::size_t n : opt.counts) {
       const auto t1 = Clock::now();
-      render::Scene s = base;
+      scene::Scene s = base;
       std::size_t placed = 0;
       for (std::size_t i = 0; i < s.emitters.size(); ++i) {
         const std::size_t share = i + 1 == s.emitters.size()
@@ -328,7 +330,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
         s.emitters[i].count = static_cast<int>(share);
         placed += share;
       }
-      const render::Scene sf = render::restrictToFixedLimits(s);
+      const scene::Scene sf = eval::restrictToFixedLimits(s);
       auto f = renderFrames(s, render::RenderPath::kCel, frame0, opt.reps);
       if (!f) return f.error();
       auto fillFloor = renderFrames(s, render::RenderPath::kCel, frame0, opt.reps, true);
@@ -354,14 +356,14 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
     // Fewer, bigger particles (Scene::particleFraction, what --max-error chooses) against the
     // reference of the full model: the largest count measured above.
     if (full) {
-      for (float f : render::kParticleFractions) {
+      for (float f : eval::kParticleFractions) {
         const auto t1 = Clock::now();
-        render::Scene s = full->scene;
+        scene::Scene s = full->scene;
         s.particleFraction = f;
         auto cel = renderFrames(s, render::RenderPath::kCel, std::vector<int>{0}, opt.reps);
         if (!cel) return cel.error();
         auto fixed =
-            renderFrames(render::restrictToFixedLimits(s), render::RenderPath::kFixed, std::vector<int>{0}, opt.reps);
+            renderFrames(eval::restrictToFixedLimits(s), render::RenderPath::kFixed, std::vector<int>{0}, opt.reps);
         if (!fixed) return fixed.error();
         auto floor = renderFrames(s, render::RenderPath::kCel, std::vector<int>{0}, opt.reps, true);
         if (!floor) return floor.error();

@@ -15,9 +15,11 @@
 
 #include <puff/core/atlas.h>
 #include <puff/core/image.h>
-#include <puff/render/budget.h>
+#include <puff/eval/budget.h>
 #include <puff/render/render.h>
-#include <puff/render/scene.h>
+#include <puff/scene/evaluate.h>
+#include <puff/scene/read.h>
+#include <puff/scene/write.h>
 
 #include "support/cli_test.h"
 #include "support/gl_fixture.h"
@@ -31,12 +33,12 @@ namespace fs = std::filesystem;
 const fs::path kExplosion = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "explosion-walls.json";
 constexpr int kFireFrames[] = {5, 20};  // the fireball (5) and fire turning into soot (20)
 
-render::MediaBudget syntheticBudget(std::vector<double> worst) {
-  render::MediaBudget b;
+eval::MediaBudget syntheticBudget(std::vector<double> worst) {
+  eval::MediaBudget b;
   b.frames = {0, 5};
   for (std::size_t i = 0; i < worst.size(); ++i) {
-    render::MediaCandidate c;
-    c.resolution = render::kMediaResolutions[i];
+    eval::MediaCandidate c;
+    c.resolution = eval::kMediaResolutions[i];
     c.rmse = {worst[i] / 2, worst[i]};
     c.worstRmse = worst[i];
     c.medianMs = 10.0 * static_cast<double>(1 << i);  // 10, 20, 40, 80
@@ -48,58 +50,58 @@ render::MediaBudget syntheticBudget(std::vector<double> worst) {
 // ---- choosing (no GL) -------------------------------------------------------------------------------
 
 TEST(BudgetFrames, FirstMiddleAndLastWithoutRepeats) {
-  EXPECT_EQ(render::budgetFrames(0, 71), (std::vector<int>{0, 36, 71}));
-  EXPECT_EQ(render::budgetFrames(10, 20), (std::vector<int>{10, 15, 20}));
-  EXPECT_EQ(render::budgetFrames(0, 2), (std::vector<int>{0, 1, 2}));
-  EXPECT_EQ(render::budgetFrames(3, 4), (std::vector<int>{3, 4}));
-  EXPECT_EQ(render::budgetFrames(7, 7), (std::vector<int>{7}));
+  EXPECT_EQ(eval::budgetFrames(0, 71), (std::vector<int>{0, 36, 71}));
+  EXPECT_EQ(eval::budgetFrames(10, 20), (std::vector<int>{10, 15, 20}));
+  EXPECT_EQ(eval::budgetFrames(0, 2), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(eval::budgetFrames(3, 4), (std::vector<int>{3, 4}));
+  EXPECT_EQ(eval::budgetFrames(7, 7), (std::vector<int>{7}));
 }
 
 TEST(BudgetChoice, TheCheapestWithinTheBudgetWithoutAssumingMonotony) {
-  const render::MediaBudget b = syntheticBudget({0.03, 0.02, 0.01, 0.005});
-  auto c = render::chooseMediaResolution(b, 0.015);
+  const eval::MediaBudget b = syntheticBudget({0.03, 0.02, 0.01, 0.005});
+  auto c = eval::chooseMediaResolution(b, 0.015);
   ASSERT_TRUE(c.ok()) << c.error().message;
   EXPECT_TRUE(c->met);
   EXPECT_EQ(c->chosen, 2u);
-  EXPECT_EQ(render::budgetSummary(b, *c),
+  EXPECT_EQ(eval::budgetSummary(b, *c),
             "--max-error 0.015: media resolution 0.5 (worst RMSE 0.0100 over frames 0, 5; 0.25 misses with 0.0200; "
             "1 would cost 2.0x as much)");
-  EXPECT_EQ(render::budgetWarning(b, *c), "");
+  EXPECT_EQ(eval::budgetWarning(b, *c), "");
   // The bound is inclusive.
-  EXPECT_EQ(render::chooseMediaResolution(b, 0.02)->chosen, 1u);
+  EXPECT_EQ(eval::chooseMediaResolution(b, 0.02)->chosen, 1u);
   // A cheaper candidate that happens to be better than a dearer one is still the cheapest.
-  const render::MediaBudget bumpy = syntheticBudget({0.02, 0.03, 0.01, 0.012});
-  EXPECT_EQ(render::chooseMediaResolution(bumpy, 0.025)->chosen, 0u);
-  EXPECT_EQ(render::chooseMediaResolution(bumpy, 0.011)->chosen, 2u);
+  const eval::MediaBudget bumpy = syntheticBudget({0.02, 0.03, 0.01, 0.012});
+  EXPECT_EQ(eval::chooseMediaResolution(bumpy, 0.025)->chosen, 0u);
+  EXPECT_EQ(eval::chooseMediaResolution(bumpy, 0.011)->chosen, 2u);
   // None qualifies: the dearest, and the best measured in the warning.
-  c = render::chooseMediaResolution(bumpy, 0.001);
+  c = eval::chooseMediaResolution(bumpy, 0.001);
   ASSERT_TRUE(c.ok());
   EXPECT_FALSE(c->met);
   EXPECT_EQ(c->chosen, 3u);
   EXPECT_EQ(c->best, 2u);
-  EXPECT_EQ(render::budgetWarning(bumpy, *c),
+  EXPECT_EQ(eval::budgetWarning(bumpy, *c),
             "--max-error 0.001 cannot be met: the smallest worst RMSE measured is 0.0100 (media resolution 0.5); "
             "rendering at 1");
-  const std::string table = render::budgetTable(bumpy, *c);
+  const std::string table = eval::budgetTable(bumpy, *c);
   EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 5) << table;
   EXPECT_NE(table.find("1      0.0120       80.0  <- chosen\n"), std::string::npos) << table;
 }
 
 TEST(BudgetChoice, BudgetsOutsideZeroToOneAreErrors) {
-  const render::MediaBudget b = syntheticBudget({0.03, 0.02, 0.01, 0.005});
+  const eval::MediaBudget b = syntheticBudget({0.03, 0.02, 0.01, 0.005});
   for (double e : {0.0, -1.0, 2.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
-    auto c = render::chooseMediaResolution(b, e);
+    auto c = eval::chooseMediaResolution(b, e);
     ASSERT_FALSE(c.ok()) << e;
     EXPECT_NE(c.error().message.find("(0, 1]"), std::string::npos) << c.error().message;
   }
-  EXPECT_TRUE(render::chooseMediaResolution(b, 1.0).ok());
-  EXPECT_FALSE(render::chooseMediaResolution(render::MediaBudget{}, 0.5).ok());
+  EXPECT_TRUE(eval::chooseMediaResolution(b, 1.0).ok());
+  EXPECT_FALSE(eval::chooseMediaResolution(eval::MediaBudget{}, 0.5).ok());
 }
 
 // ---- measuring (GL) ---------------------------------------------------------------------------------
 
-Result<render::Scene> smallExplosion() {
-  auto scene = render::loadScene(kExplosion, PUFF_ART_DIR);
+Result<scene::Scene> smallExplosion() {
+  auto scene = scene::loadScene(kExplosion, PUFF_ART_DIR);
   if (!scene) return scene.error();
   scene->width = 96;
   scene->height = 72;
@@ -114,18 +116,18 @@ class BudgetExplosion : public test::GlTest {
     if (budget_ || !error_.empty()) return;
     auto scene = smallExplosion();
     ASSERT_TRUE(scene.ok()) << scene.error().message;
-    auto b = render::measureMediaBudget(*scene, kFireFrames, render::MediaBudgetOptions{1});
+    auto b = eval::measureMediaBudget(*scene, kFireFrames, eval::MediaBudgetOptions{1});
     if (!b) {
       error_ = b.error().message;
       return;
     }
     budget_ = std::move(*b);
-    for (const render::MediaCandidate& c : budget_->candidates) {
+    for (const eval::MediaCandidate& c : budget_->candidates) {
       std::printf("resolution %5.3f: rmse %.5f (frame 5) %.5f (frame 20), median %.1f ms\n", c.resolution, c.rmse[0],
                   c.rmse[1], c.medianMs);
     }
   }
-  const render::MediaBudget& budget() {
+  const eval::MediaBudget& budget() {
     EXPECT_TRUE(error_.empty()) << error_;
     return *budget_;
   }
@@ -133,18 +135,18 @@ class BudgetExplosion : public test::GlTest {
     budget_.reset();
     test::GlTest::TearDownTestSuite();
   }
-  static inline std::optional<render::MediaBudget> budget_;
+  static inline std::optional<eval::MediaBudget> budget_;
   static inline std::string error_;
 };
 
 TEST_F(BudgetExplosion, EveryResolutionIsMeasuredAtEveryFrame) {
   ASSERT_TRUE(error_.empty()) << error_;
-  const render::MediaBudget& b = budget();
+  const eval::MediaBudget& b = budget();
   EXPECT_EQ(b.frames, (std::vector<int>{5, 20}));
   ASSERT_EQ(b.candidates.size(), 4u);
   for (std::size_t i = 0; i < 4; ++i) {
-    const render::MediaCandidate& c = b.candidates[i];
-    EXPECT_EQ(c.resolution, render::kMediaResolutions[i]);
+    const eval::MediaCandidate& c = b.candidates[i];
+    EXPECT_EQ(c.resolution, eval::kMediaResolutions[i]);
     ASSERT_EQ(c.rmse.size(), 2u);
     EXPECT_EQ(c.worstRmse, std::max(c.rmse[0], c.rmse[1]));
     EXPECT_GT(c.medianMs, 0.0);
@@ -154,7 +156,7 @@ TEST_F(BudgetExplosion, EveryResolutionIsMeasuredAtEveryFrame) {
 
 TEST_F(BudgetExplosion, FullResolutionIsClosestToTheReference) {
   ASSERT_TRUE(error_.empty()) << error_;
-  const std::vector<render::MediaCandidate>& c = budget().candidates;
+  const std::vector<eval::MediaCandidate>& c = budget().candidates;
   for (std::size_t i = 0; i + 1 < c.size(); ++i) {
     EXPECT_GT(c[i].worstRmse, c.back().worstRmse) << "resolution " << c[i].resolution;
   }
@@ -168,40 +170,40 @@ TEST_F(BudgetExplosion, FullResolutionIsClosestToTheReference) {
 
 TEST_F(BudgetExplosion, AHugeBudgetTakesTheCheapest) {
   ASSERT_TRUE(error_.empty()) << error_;
-  auto c = render::chooseMediaResolution(budget(), 1.0);
+  auto c = eval::chooseMediaResolution(budget(), 1.0);
   ASSERT_TRUE(c.ok());
   EXPECT_TRUE(c->met);
   EXPECT_EQ(c->chosen, 0u);
-  const std::string s = render::budgetSummary(budget(), *c);
+  const std::string s = eval::budgetSummary(budget(), *c);
   EXPECT_EQ(s.rfind("--max-error 1: media resolution 0.125 (worst RMSE ", 0), 0u) << s;
   EXPECT_NE(s.find("over frames 5, 20; the cheapest; 0.25 would cost "), std::string::npos) << s;
 }
 
 TEST_F(BudgetExplosion, ATinyBudgetCannotBeMetAndTakesTheDearest) {
   ASSERT_TRUE(error_.empty()) << error_;
-  auto c = render::chooseMediaResolution(budget(), 1e-6);
+  auto c = eval::chooseMediaResolution(budget(), 1e-6);
   ASSERT_TRUE(c.ok());
   EXPECT_FALSE(c->met);
   EXPECT_EQ(c->chosen, 3u);
   EXPECT_EQ(c->best, 3u);
-  EXPECT_NE(render::budgetWarning(budget(), *c).find("--max-error 1e-06 cannot be met"), std::string::npos);
-  EXPECT_NE(render::budgetSummary(budget(), *c).find("media resolution 1, the dearest"), std::string::npos);
+  EXPECT_NE(eval::budgetWarning(budget(), *c).find("--max-error 1e-06 cannot be met"), std::string::npos);
+  EXPECT_NE(eval::budgetSummary(budget(), *c).find("media resolution 1, the dearest"), std::string::npos);
 }
 
 TEST_F(BudgetExplosion, ABudgetBetweenTwoMeasuredErrorsTakesTheCheaperThatMeetsIt) {
   ASSERT_TRUE(error_.empty()) << error_;
-  const std::vector<render::MediaCandidate>& c = budget().candidates;
+  const std::vector<eval::MediaCandidate>& c = budget().candidates;
   // Half way between 1/2's worst error and the better of 1/8 and 1/4: only 1/2 and 1 meet it.
   const double cheaper = std::min(c[0].worstRmse, c[1].worstRmse);
   ASSERT_GT(cheaper, c[2].worstRmse) << "1/2 measured no better than a cheaper resolution";
   const double e = 0.5 * (cheaper + c[2].worstRmse);
-  auto choice = render::chooseMediaResolution(budget(), e);
+  auto choice = eval::chooseMediaResolution(budget(), e);
   ASSERT_TRUE(choice.ok());
   EXPECT_TRUE(choice->met);
   EXPECT_EQ(choice->chosen, 2u);
-  EXPECT_NE(render::budgetSummary(budget(), *choice).find("0.25 misses with"), std::string::npos);
+  EXPECT_NE(eval::budgetSummary(budget(), *choice).find("0.25 misses with"), std::string::npos);
   // Just under 1/2's own error: 1.
-  EXPECT_EQ(render::chooseMediaResolution(budget(), c[2].worstRmse * 0.999)->chosen, 3u);
+  EXPECT_EQ(eval::chooseMediaResolution(budget(), c[2].worstRmse * 0.999)->chosen, 3u);
 }
 
 TEST_F(BudgetExplosion, TheErrorsAreTheSameEveryTime) {
@@ -209,7 +211,7 @@ TEST_F(BudgetExplosion, TheErrorsAreTheSameEveryTime) {
   auto scene = smallExplosion();
   ASSERT_TRUE(scene.ok());
   const int frame[] = {20};
-  auto again = render::measureMediaBudget(*scene, frame, render::MediaBudgetOptions{1});
+  auto again = eval::measureMediaBudget(*scene, frame, eval::MediaBudgetOptions{1});
   ASSERT_TRUE(again.ok()) << again.error().message;
   for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(again->candidates[i].rmse[0], budget().candidates[i].rmse[1]);
 }
@@ -242,15 +244,15 @@ TEST_F(BudgetExplosion, BadInputIsAnError) {
   auto scene = smallExplosion();
   ASSERT_TRUE(scene.ok());
   const int outside[] = {72};
-  auto r = render::measureMediaBudget(*scene, outside);
+  auto r = eval::measureMediaBudget(*scene, outside);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("/animation/frames"), std::string::npos) << r.error().message;
-  EXPECT_FALSE(render::measureMediaBudget(*scene, std::span<const int>{}).ok());
+  EXPECT_FALSE(eval::measureMediaBudget(*scene, std::span<const int>{}).ok());
   const int one[] = {0};
-  EXPECT_FALSE(render::measureMediaBudget(*scene, one, render::MediaBudgetOptions{0}).ok());
-  render::Scene bare = *scene;
+  EXPECT_FALSE(eval::measureMediaBudget(*scene, one, eval::MediaBudgetOptions{0}).ok());
+  scene::Scene bare = *scene;
   bare.media.reset();
-  r = render::measureMediaBudget(bare, one);
+  r = eval::measureMediaBudget(bare, one);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("/media"), std::string::npos) << r.error().message;
 }
@@ -335,7 +337,7 @@ class CelBudget : public test::GlTest {
   static void TearDownTestSuite() { fs::remove_all(dir_); }
 
   // Two sphere puffs, shaded and outlined, 96 x 72, orthographic, two frames.
-  static render::Scene scene(int atlasLevel = 0) {
+  static scene::Scene scene(int atlasLevel = 0) {
     nlohmann::json j = {
         {"output", {{"width", 96}, {"height", 72}, {"samples", 1}, {"background", {0.9, 0.9, 0.9}}}},
         {"camera",
@@ -347,9 +349,9 @@ class CelBudget : public test::GlTest {
         {"style", {{"preset", "cel"}, {"outlineWidth", 1.5}}},
         {"particles", {{{"position", {0.3, 0.2, 0}}, {"size", 3.0}}, {{"position", {-1.2, -0.8, 1}}, {"size", 2.0}}}},
         {"animation", {{"frames", 2}, {"fps", 4}, {"orbit", 20}}}};
-    auto s = render::parseScene(j, dir_ / "scene.json");
+    auto s = scene::parseScene(j, dir_ / "scene.json");
     EXPECT_TRUE(s.ok()) << s.error().message;
-    return s ? *s : render::Scene{};
+    return s ? *s : scene::Scene{};
   }
   static inline fs::path dir_, sidecar_;
 };
@@ -386,7 +388,7 @@ TEST_F(CelBudget, AnAtlasLevelIsTheAtlasWithoutItsFinestMips) {
 
   // The scene's field, read, written and refused past the atlas's depth.
   EXPECT_EQ(scene(2).atlasLevel, 2);
-  EXPECT_EQ(render::toJson(scene(2)).at("atlasLevel"), 2);
+  EXPECT_EQ(scene::toJson(scene(2)).at("atlasLevel"), 2);
   auto r = render::SceneRenderer::create(scene(deepest + 1));
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("/atlasLevel: atlas level"), std::string::npos) << r.error().message;
@@ -394,7 +396,7 @@ TEST_F(CelBudget, AnAtlasLevelIsTheAtlasWithoutItsFinestMips) {
 
 TEST_F(CelBudget, EveryLevelIsMeasuredAndTheBudgetPicksTheSmallestWithinIt) {
   const int frames[] = {0, 1};
-  auto b = render::measureCelBudget(scene(), frames, {.timedRenders = 1});
+  auto b = eval::measureCelBudget(scene(), frames, {.timedRenders = 1});
   ASSERT_TRUE(b.ok()) << b.error().message;
   ASSERT_GE(b->candidates.size(), 3u);
   EXPECT_EQ(b->frames, (std::vector<int>{0, 1}));
@@ -403,7 +405,7 @@ TEST_F(CelBudget, EveryLevelIsMeasuredAndTheBudgetPicksTheSmallestWithinIt) {
     EXPECT_LT(b->candidates[i].atlasBytes, b->candidates[i + 1].atlasBytes);
   }
   EXPECT_EQ(b->candidates.back().atlasLevel, 0);
-  for (const render::CelCandidate& c : b->candidates) {
+  for (const eval::CelCandidate& c : b->candidates) {
     ASSERT_EQ(c.rmse.size(), 2u);
     EXPECT_GT(c.worstRmse, 0.0);  // the nailboards are not the meshes
     EXPECT_GE(c.cellSize, 16);
@@ -411,55 +413,54 @@ TEST_F(CelBudget, EveryLevelIsMeasuredAndTheBudgetPicksTheSmallestWithinIt) {
   // The smallest atlas is the farthest from the reference, the full one among the closest.
   const double smallest = b->candidates.front().worstRmse, full = b->candidates.back().worstRmse;
   EXPECT_GT(smallest, full);
-  auto all = render::chooseCelBudget(*b, 1.0);
+  auto all = eval::chooseCelBudget(*b, 1.0);
   ASSERT_TRUE(all.ok());
   EXPECT_TRUE(all->met);
   EXPECT_EQ(all->chosen, 0u);
-  auto tiny = render::chooseCelBudget(*b, 1e-6);
+  auto tiny = eval::chooseCelBudget(*b, 1e-6);
   ASSERT_TRUE(tiny.ok());
   EXPECT_FALSE(tiny->met);
   EXPECT_EQ(tiny->chosen, b->candidates.size() - 1);
-  EXPECT_NE(render::celBudgetWarning(*b, *tiny).find("cannot be met by the nailboards"), std::string::npos);
-  EXPECT_NE(render::celBudgetSummary(*b, *all).find("atlas level " + std::to_string(b->candidates[0].atlasLevel)),
+  EXPECT_NE(eval::celBudgetWarning(*b, *tiny).find("cannot be met by the nailboards"), std::string::npos);
+  EXPECT_NE(eval::celBudgetSummary(*b, *all).find("atlas level " + std::to_string(b->candidates[0].atlasLevel)),
             std::string::npos)
-      << render::celBudgetSummary(*b, *all);
-  EXPECT_NE(render::celBudgetTable(*b, *all).find("<- chosen"), std::string::npos);
-  EXPECT_FALSE(render::chooseCelBudget(*b, 0.0).ok());
+      << eval::celBudgetSummary(*b, *all);
+  EXPECT_NE(eval::celBudgetTable(*b, *all).find("<- chosen"), std::string::npos);
+  EXPECT_FALSE(eval::chooseCelBudget(*b, 0.0).ok());
 
   // The references reused (puffrender measures the particle count and then the atlas against the
   // same ones): the same errors, no time spent on references; references of other frames are refused.
   ASSERT_EQ(b->references.size(), 2u);
-  auto again =
-      render::measureCelBudget(scene(), frames, {.timedRenders = 1}, render::CelKnob::kAtlasLevel, b->references);
+  auto again = eval::measureCelBudget(scene(), frames, {.timedRenders = 1}, eval::CelKnob::kAtlasLevel, b->references);
   ASSERT_TRUE(again.ok()) << again.error().message;
   EXPECT_EQ(again->referenceMs, 0.0);
   for (std::size_t i = 0; i < b->candidates.size(); ++i)
     EXPECT_EQ(again->candidates[i].rmse, b->candidates[i].rmse) << "level " << b->candidates[i].atlasLevel;
-  EXPECT_FALSE(render::measureCelBudget(scene(), std::span(frames).first(1), {.timedRenders = 1},
-                                        render::CelKnob::kAtlasLevel, b->references)
+  EXPECT_FALSE(eval::measureCelBudget(scene(), std::span(frames).first(1), {.timedRenders = 1},
+                                      eval::CelKnob::kAtlasLevel, b->references)
                    .ok());
 
   // Bad input.
-  render::Scene bare = scene();
+  scene::Scene bare = scene();
   bare.particles.clear();
-  EXPECT_FALSE(render::measureCelBudget(bare, frames).ok());
+  EXPECT_FALSE(eval::measureCelBudget(bare, frames).ok());
   const int outside[] = {5};
-  EXPECT_FALSE(render::measureCelBudget(scene(), outside).ok());
+  EXPECT_FALSE(eval::measureCelBudget(scene(), outside).ok());
 }
 
 // Fewer, bigger particles: a placed emitter's first round(count * f) particles, each (1/f)^(1/3)
 // times larger, so N d^3 (the volume they fill) stays; listed particles are kept as they are.
 TEST_F(CelBudget, AParticleFractionKeepsTheFirstParticlesAndTheirVolume) {
-  render::Scene s = scene();
-  render::EmitterSpec e;
+  scene::Scene s = scene();
+  scene::EmitterSpec e;
   e.count = 40;
   e.seed = 3;
   e.radius = 1.5f;
   s.emitters.push_back(e);
-  const std::vector<cel::Particle> all = render::particlesAt(s, 0, 1);
+  const std::vector<cel::Particle> all = scene::particlesAt(s, 0, 1);
   ASSERT_EQ(all.size(), 2u + 40u);
   s.particleFraction = 0.25f;
-  const std::vector<cel::Particle> quarter = render::particlesAt(s, 0, 1);
+  const std::vector<cel::Particle> quarter = scene::particlesAt(s, 0, 1);
   ASSERT_EQ(quarter.size(), 2u + 10u);
   for (std::size_t i = 0; i < 2; ++i) EXPECT_EQ(quarter[i].size, all[i].size) << "listed particles stay";
   double volumeAll = 0.0, volumeQuarter = 0.0;
@@ -470,11 +471,11 @@ TEST_F(CelBudget, AParticleFractionKeepsTheFirstParticlesAndTheirVolume) {
   for (std::size_t i = 2; i < all.size(); ++i) volumeAll += std::pow(all[i].size, 3.0);
   for (std::size_t i = 2; i < quarter.size(); ++i) volumeQuarter += std::pow(quarter[i].size, 3.0);
   EXPECT_NEAR(volumeQuarter / volumeAll, 1.0, 0.35);  // the same volume on average (10 of 40 samples)
-  EXPECT_FLOAT_EQ(render::toJson(s).at("particleFraction").get<float>(), 0.25f);
-  nlohmann::json bad = render::toJson(s);
+  EXPECT_FLOAT_EQ(scene::toJson(s).at("particleFraction").get<float>(), 0.25f);
+  nlohmann::json bad = scene::toJson(s);
   for (double f : {0.0, 1.5, -0.25}) {
     bad["particleFraction"] = f;
-    auto parsed = render::parseScene(bad, dir_ / "bad.json");
+    auto parsed = scene::parseScene(bad, dir_ / "bad.json");
     ASSERT_FALSE(parsed.ok()) << f;
     EXPECT_NE(parsed.error().message.find("/particleFraction: expected a number in (0, 1]"), std::string::npos)
         << parsed.error().message;
@@ -482,9 +483,9 @@ TEST_F(CelBudget, AParticleFractionKeepsTheFirstParticlesAndTheirVolume) {
 }
 
 TEST_F(CelBudget, TheParticleCountIsMeasuredAgainstTheFullModel) {
-  render::Scene s = scene();
+  scene::Scene s = scene();
   s.particles.clear();
-  render::EmitterSpec e;
+  scene::EmitterSpec e;
   e.count = 48;
   e.seed = 9;
   e.radius = 1.6f;
@@ -492,23 +493,23 @@ TEST_F(CelBudget, TheParticleCountIsMeasuredAgainstTheFullModel) {
   e.sizeMax = 0.9f;
   s.emitters.push_back(e);
   const int frames[] = {0};
-  auto b = render::measureCelBudget(s, frames, {.timedRenders = 1}, render::CelKnob::kParticleFraction);
+  auto b = eval::measureCelBudget(s, frames, {.timedRenders = 1}, eval::CelKnob::kParticleFraction);
   ASSERT_TRUE(b.ok()) << b.error().message;
-  ASSERT_EQ(b->candidates.size(), render::kParticleFractions.size());
+  ASSERT_EQ(b->candidates.size(), eval::kParticleFractions.size());
   EXPECT_EQ(b->candidates[0].particles, 6u);  // 48 / 8
   EXPECT_EQ(b->candidates.back().particles, 48u);
   for (std::size_t i = 0; i + 1 < b->candidates.size(); ++i)
     EXPECT_LT(b->candidates[i].particles, b->candidates[i + 1].particles) << "fewest (cheapest) first";
   // All the particles are closer to the full model than an eighth of them.
   EXPECT_GT(b->candidates.front().worstRmse, b->candidates.back().worstRmse);
-  auto c = render::chooseCelBudget(*b, 1.0);
+  auto c = eval::chooseCelBudget(*b, 1.0);
   ASSERT_TRUE(c.ok());
   EXPECT_EQ(c->chosen, 0u);
-  EXPECT_NE(render::celBudgetSummary(*b, *c).find("particles 1/8 (6)"), std::string::npos)
-      << render::celBudgetSummary(*b, *c);
-  EXPECT_NE(render::celBudgetTable(*b, *c).find("<- chosen"), std::string::npos);
+  EXPECT_NE(eval::celBudgetSummary(*b, *c).find("particles 1/8 (6)"), std::string::npos)
+      << eval::celBudgetSummary(*b, *c);
+  EXPECT_NE(eval::celBudgetTable(*b, *c).find("<- chosen"), std::string::npos);
   // Only placed emitters are thinned: a scene of listed particles has no count to choose.
-  auto none = render::measureCelBudget(scene(), frames, {.timedRenders = 1}, render::CelKnob::kParticleFraction);
+  auto none = eval::measureCelBudget(scene(), frames, {.timedRenders = 1}, eval::CelKnob::kParticleFraction);
   ASSERT_FALSE(none.ok());
   EXPECT_NE(none.error().message.find("no particle count to choose"), std::string::npos) << none.error().message;
 }

@@ -11,9 +11,11 @@
 
 #include <puff/bake/baker.h>
 #include <puff/core/files.h>
+#include <puff/eval/cel_reference.h>
 #include <puff/mesh/mesh.h>
 #include <puff/reference/metrics.h>
 #include <puff/render/render.h>
+#include <puff/scene/read.h>
 
 #include "support/gl_fixture.h"
 #include "support/sphere_atlas.h"
@@ -58,10 +60,10 @@ class CelReference : public test::GlTest {
   }
 
   static core::Image render(const nlohmann::json& j, render::RenderPath path = render::RenderPath::kReference) {
-    auto scene = render::parseScene(j, dir_ / "scene.json");
+    auto scene = scene::parseScene(j, dir_ / "scene.json");
     EXPECT_TRUE(scene.ok()) << scene.error().message;
     if (!scene) return {};
-    auto renderer = render::SceneRenderer::create(*scene, path);
+    auto renderer = eval::createRenderer(*scene, path);
     EXPECT_TRUE(renderer.ok()) << renderer.error().message;
     if (!renderer) return {};
     auto image = (*renderer)->renderFrame(0);
@@ -286,13 +288,13 @@ TEST_F(CelReference, AFrameDoesNotDependOnTheFramesBeforeIt) {
       {"objects", {{{"type", "plane"}, {"scale", {6, 1, 6}}}}},
       {"particles", {{{"position", {-1.5, 1.2, 0}}, {"size", 1.5}}, {{"position", {1, 1.6, 0.5}}, {"size", 1.2}}}},
       {"animation", {{"fps", 4}, {"frames", 8}, {"orbit", 60}}}};
-  auto scene = render::parseScene(j, dir_ / "scene.json");
+  auto scene = scene::parseScene(j, dir_ / "scene.json");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  auto first = render::SceneRenderer::createReference(*scene);
+  auto first = eval::createCelReference(*scene);
   ASSERT_TRUE(first.ok()) << first.error().message;
   ASSERT_TRUE((*first)->renderFrame(0).ok());
   auto after = (*first)->renderFrame(6);
-  auto fresh = render::SceneRenderer::createReference(*scene);
+  auto fresh = eval::createCelReference(*scene);
   ASSERT_TRUE(fresh.ok());
   auto alone = (*fresh)->renderFrame(6);
   ASSERT_TRUE(after.ok() && alone.ok());
@@ -306,7 +308,7 @@ TEST_F(CelReference, TheFillRateFloorDrawsBareQuads) {
   const float R = 2.0f;
   nlohmann::json j = frontScene({{"outlines", true}, {"outlineWidth", 2}, {"shading", true}, {"shadows", false}},
                                 {{{"position", {0, 0, 0}}, {"size", 2 * R}}});
-  auto scene = render::parseScene(j, dir_ / "scene.json");
+  auto scene = scene::parseScene(j, dir_ / "scene.json");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   auto r = render::SceneRenderer::create(*scene);
   ASSERT_TRUE(r.ok()) << r.error().message;
@@ -348,22 +350,22 @@ TEST_F(CelReference, AStaleOrMissingSourceMeshIsNamed) {
   ASSERT_TRUE(baked.ok()) << baked.error().message;
   nlohmann::json j = frontScene(kFlat, {{{"position", {0, 0, 0}}}});
   j["atlas"] = baked->sidecar.string();
-  auto scene = render::parseScene(j, dir / "scene.json");
+  auto scene = scene::parseScene(j, dir / "scene.json");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  ASSERT_TRUE(render::SceneRenderer::createReference(*scene).ok());
+  ASSERT_TRUE(eval::createCelReference(*scene).ok());
 
   std::ofstream(meshFile, std::ios::app) << "# edited\n";
-  auto stale = render::SceneRenderer::createReference(*scene);
+  auto stale = eval::createCelReference(*scene);
   ASSERT_FALSE(stale.ok());
   EXPECT_NE(stale.error().message.find(meshFile.string() + " has changed since the atlas was baked"), std::string::npos)
       << stale.error().message;
 
   fs::remove(meshFile);
-  auto missing = render::SceneRenderer::createReference(*scene);
+  auto missing = eval::createCelReference(*scene);
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(missing.error().message.find("cannot be read"), std::string::npos) << missing.error().message;
 
-  auto bad = render::SceneRenderer::createReference(*scene, {.supersample = 0});
+  auto bad = eval::createCelReference(*scene, {.supersample = 0});
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.error().message.find("supersampling must be in [1, 8]"), std::string::npos) << bad.error().message;
 }

@@ -144,11 +144,11 @@ std::set<std::string> gl15EntryPoints() {
 /// A host frame: everything the path can draw (objects of both shadings, outlines, shading on).
 void drawEverything(FixedRenderer& r) {
   FixedObject plane{
-      makePlaneMesh(), glm::translate(glm::mat4(1.0f), {0, -1.5f, -6}), {0.5f, 0.7f, 0.4f}, ObjectShading::kCel};
+      mesh::makePlane(), glm::translate(glm::mat4(1.0f), {0, -1.5f, -6}), {0.5f, 0.7f, 0.4f}, ObjectShading::kCel};
   FixedObject ball{
-      makeSphereMesh(24), glm::translate(glm::mat4(1.0f), {1.5f, 0, -7}), {0.8f, 0.3f, 0.3f}, ObjectShading::kSmooth};
+      mesh::makeSphere(24), glm::translate(glm::mat4(1.0f), {1.5f, 0, -7}), {0.8f, 0.3f, 0.3f}, ObjectShading::kSmooth};
   FixedObject box{
-      makeBoxMesh(), glm::translate(glm::mat4(1.0f), {-1.5f, 0, -7}), {0.3f, 0.3f, 0.8f}, ObjectShading::kCel};
+      mesh::makeBox(), glm::translate(glm::mat4(1.0f), {-1.5f, 0, -7}), {0.3f, 0.3f, 0.8f}, ObjectShading::kCel};
   ASSERT_TRUE(r.setObjects({plane, ball, box}).ok());
   std::vector<Billboard> billboards;
   for (int i = 0; i < 8; ++i) billboards.push_back({{0.3f * i - 1.0f, 0.1f * i, -5.0f - 0.2f * i}, 0.8f, i});
@@ -667,7 +667,7 @@ TEST_F(FixedFuncTest, RejectsWhatItCannotDraw) {
   ASSERT_FALSE(small.ok());
   EXPECT_NE(small.error().message.find("viewport"), std::string::npos);
   EXPECT_FALSE((*r)->setRamp(core::Image{}).ok());
-  FixedObject bad{makePlaneMesh()};
+  FixedObject bad{mesh::makePlane()};
   bad.mesh.normals.pop_back();
   EXPECT_FALSE((*r)->setObjects({bad}).ok());
 }

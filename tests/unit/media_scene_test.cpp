@@ -8,6 +8,8 @@
 #include <vector>
 
 #include <puff/render/render.h>
+#include <puff/scene/read.h>
+#include <puff/scene/write.h>
 
 #include "golden/golden.h"
 #include "support/gl_fixture.h"
@@ -30,7 +32,7 @@ class MediaSceneGolden : public test::GlTest, public ::testing::WithParamInterfa
 // Same tolerances as the cel scenes (8/255 per channel, 0.3% of pixels).
 TEST_P(MediaSceneGolden, MatchesReference) {
   const MediaCase c = GetParam();
-  auto scene = render::loadScene(sceneFile(c.scene), PUFF_ART_DIR);
+  auto scene = scene::loadScene(sceneFile(c.scene), PUFF_ART_DIR);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   ASSERT_TRUE(scene->media.has_value());
   auto renderer = render::SceneRenderer::create(*scene);
@@ -58,16 +60,16 @@ INSTANTIATE_TEST_SUITE_P(ArtScenes, MediaSceneGolden,
 
 class MediaScenes : public test::GlTest {};
 
-render::Scene smaller(render::Scene s, int width, int height) {
+scene::Scene smaller(scene::Scene s, int width, int height) {
   s.width = width;
   s.height = height;
   return s;
 }
 
 TEST_F(MediaScenes, AFrameAloneEqualsTheSameFrameOfASequence) {
-  auto scene = render::loadScene(sceneFile("explosion-walls"), PUFF_ART_DIR);
+  auto scene = scene::loadScene(sceneFile("explosion-walls"), PUFF_ART_DIR);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  const render::Scene s = smaller(*scene, 160, 120);
+  const scene::Scene s = smaller(*scene, 160, 120);
   auto sequence = render::SceneRenderer::create(s);
   ASSERT_TRUE(sequence.ok()) << sequence.error().message;
   core::Image inSequence;
@@ -84,11 +86,11 @@ TEST_F(MediaScenes, AFrameAloneEqualsTheSameFrameOfASequence) {
 }
 
 TEST_F(MediaScenes, MotionBlurIsTheWeightedSumOfTheLastFramesAndAFrameAloneEqualsTheSequence) {
-  auto scene = render::loadScene(sceneFile("explosion-walls"), PUFF_ART_DIR);
+  auto scene = scene::loadScene(sceneFile("explosion-walls"), PUFF_ART_DIR);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  render::Scene sharp = smaller(*scene, 128, 96);
+  scene::Scene sharp = smaller(*scene, 128, 96);
   sharp.samples = 1;
-  render::Scene blurred = sharp;
+  scene::Scene blurred = sharp;
   blurred.media->motionBlurFrames = 3;
   blurred.media->motionBlurPersistence = 0.5f;
   auto a = render::SceneRenderer::create(sharp);
@@ -161,7 +163,7 @@ TEST_F(MediaScenes, FlyingIntoSmokePopsWithPlanarBillboardsNotSpherical) {
               "materials": [{"name": "smoke", "albedo": 1, "density": 1.5, "detail": 0}],
               "particles": [{"position": [0.2, 0.1, 4]}, {"position": [-0.3, 0, 0]}, {"position": [0, -0.2, -4]}]}
   })");
-  auto scene = render::parseScene(j, "flythrough.json");
+  auto scene = scene::parseScene(j, "flythrough.json");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   auto spherical = render::SceneRenderer::create(*scene);
   ASSERT_TRUE(spherical.ok()) << spherical.error().message;
@@ -176,12 +178,12 @@ TEST_F(MediaScenes, FlyingIntoSmokePopsWithPlanarBillboardsNotSpherical) {
 }
 
 TEST_F(MediaScenes, MediaSectionRoundTripsThroughJson) {
-  auto scene = render::loadScene(sceneFile("explosion-walls"), PUFF_ART_DIR);
+  auto scene = scene::loadScene(sceneFile("explosion-walls"), PUFF_ART_DIR);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  const nlohmann::json j = render::toJson(*scene);
-  auto again = render::parseScene(j, scene->file, PUFF_ART_DIR);
+  const nlohmann::json j = scene::toJson(*scene);
+  auto again = scene::parseScene(j, scene->file, PUFF_ART_DIR);
   ASSERT_TRUE(again.ok()) << again.error().message;
-  EXPECT_EQ(render::toJson(*again), j);
+  EXPECT_EQ(scene::toJson(*again), j);
   ASSERT_TRUE(again->media.has_value());
   EXPECT_EQ(again->media->materials.size(), 4u);
   EXPECT_EQ(again->media->materials[0].becomes, 1);  // fire becomes soot
@@ -207,18 +209,18 @@ TEST_F(MediaScenes, EveryMediaFieldSurvivesAWriteAndARead) {
       "lights": [{"center": [0, 1, 0], "radius": 2, "intensity": 0.75, "mode": "modulate", "full": "back"}]
     }
   })");
-  auto scene = render::parseScene(j, "x.json");
+  auto scene = scene::parseScene(j, "x.json");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
-  const render::MediaSpec& m = *scene->media;
+  const scene::MediaSpec& m = *scene->media;
   // Attached emitters and vortices ride on the cart.
   ASSERT_FALSE(m.emitters[0].emitter.path.empty());
   EXPECT_EQ(m.emitters[0].emitter.path.at(2.0), glm::vec3(4, 0, 0));
   EXPECT_EQ(m.forces.vortices[0].path.at(1.0), glm::vec3(2, 0, 0));
-  const nlohmann::json out = render::toJson(*scene);
-  auto again = render::parseScene(out, "x.json");
+  const nlohmann::json out = scene::toJson(*scene);
+  auto again = scene::parseScene(out, "x.json");
   ASSERT_TRUE(again.ok()) << again.error().message;
-  EXPECT_EQ(render::toJson(*again), out);
-  const render::MediaSpec& n = *again->media;
+  EXPECT_EQ(scene::toJson(*again), out);
+  const scene::MediaSpec& n = *again->media;
   EXPECT_EQ(n.method, media::Method::kSoftSCurve);
   EXPECT_EQ(n.resolution, 0.25f);
   EXPECT_EQ(n.settings.phase, media::PhaseModel::kHenyeyGreenstein);
@@ -262,7 +264,7 @@ TEST_F(MediaScenes, BadMediaFieldsNameThePointer) {
        "/media/emitters/0/attach: expected the name of a scene object (there are none), got \"nothing\""},
   };
   for (const auto& c : cases) {
-    auto s = render::parseScene(nlohmann::json::parse(c.json), "x.json");
+    auto s = scene::parseScene(nlohmann::json::parse(c.json), "x.json");
     ASSERT_FALSE(s.ok()) << c.json;
     EXPECT_EQ(s.error().message, std::string("x.json: ") + c.message);
   }

@@ -14,12 +14,19 @@
 
 #include <puff/cel/frame.h>
 #include <puff/cel/opaque.h>
+#include <puff/mesh/mesh.h>
+#include <puff/render/cel_scene.h>
 
 #include "support/gl_fixture.h"
 #include "support/gl_target.h"
 
 namespace puff::cel {
 namespace {
+
+// The primitives (puff::mesh) as the opaque renderer takes them (puff::render).
+TriangleMesh makePlane() { return *render::toTriangleMesh(mesh::makePlane()); }
+TriangleMesh makeBox() { return *render::toTriangleMesh(mesh::makeBox()); }
+TriangleMesh makeSphere(int segments = 48) { return *render::toTriangleMesh(mesh::makeSphere(segments)); }
 
 constexpr int kSize = 128;
 constexpr float kColorTol = 1.0f / 255.0f;

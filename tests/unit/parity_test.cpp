@@ -19,8 +19,9 @@
 #include <filesystem>
 
 #include <puff/core/gl_context.h>
-#include <puff/render/compare.h>
+#include <puff/eval/compare.h>
 #include <puff/render/render.h>
+#include <puff/scene/read.h>
 
 #include "golden/golden.h"
 
@@ -43,7 +44,7 @@ class FixedParity : public ::testing::TestWithParam<const char*> {
     ASSERT_NE(context_, nullptr);
     context_->makeCurrent();
   }
-  static core::Image render(const render::Scene& scene, render::RenderPath path) {
+  static core::Image render(const scene::Scene& scene, render::RenderPath path) {
     auto r = render::SceneRenderer::create(scene, path);
     EXPECT_TRUE(r.ok()) << r.error().message;
     if (!r) return {};
@@ -56,17 +57,17 @@ class FixedParity : public ::testing::TestWithParam<const char*> {
 
 TEST_P(FixedParity, WithinTheMethodsKnownDifferences) {
   const std::string name = GetParam();
-  auto loaded = render::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (name + ".json"), PUFF_ART_DIR);
+  auto loaded = scene::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (name + ".json"), PUFF_ART_DIR);
   ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-  const render::Scene scene = render::restrictToFixedLimits(*loaded);
-  const render::Scene bare = render::withoutParticles(scene);
+  const scene::Scene scene = eval::restrictToFixedLimits(*loaded);
+  const scene::Scene bare = eval::withoutParticles(scene);
   const core::Image fixed = render(scene, render::RenderPath::kFixed);
   const core::Image cel = render(scene, render::RenderPath::kCel);
   const core::Image fixedBare = render(bare, render::RenderPath::kFixed);
   const core::Image celBare = render(bare, render::RenderPath::kCel);
   ASSERT_FALSE(fixed.pixels.empty() || cel.pixels.empty() || fixedBare.pixels.empty() || celBare.pixels.empty());
   core::Image side;
-  const render::Parity p = render::compareFrames(fixed, fixedBare, cel, celBare, 0.1f, &side);
+  const eval::Parity p = eval::compareFrames(fixed, fixedBare, cel, celBare, 0.1f, &side);
   const fs::path out = test::outputDir() / ("parity-" + name + ".png");
   fs::create_directories(out.parent_path());
   ASSERT_TRUE(core::writeImage(out, side, core::PixelType::kUInt8).ok());
@@ -95,11 +96,11 @@ TEST(ParityMeasure, IdenticalFramesAgreeAndMissingSmokeScoresZero) {
   for (std::size_t i = 0; i < bare.pixels.size(); ++i) bare.pixels[i] = 0.5f;
   smoke = bare;
   for (int x = 2; x < 6; ++x) smoke.pixels[(3 * 8 + x) * 4 + 0] = 0.9f;  // 4 smoke pixels
-  render::Parity same = render::compareFrames(smoke, bare, smoke, bare, 0.1f);
+  eval::Parity same = eval::compareFrames(smoke, bare, smoke, bare, 0.1f);
   EXPECT_EQ(same.iou, 1.0);
   EXPECT_EQ(same.toneShare, 1.0);
   EXPECT_EQ(same.both, 4u);
-  render::Parity none = render::compareFrames(smoke, bare, bare, bare, 0.1f);
+  eval::Parity none = eval::compareFrames(smoke, bare, bare, bare, 0.1f);
   EXPECT_EQ(none.iou, 0.0);
   EXPECT_EQ(none.maskA, 4u);
   EXPECT_EQ(none.maskB, 0u);

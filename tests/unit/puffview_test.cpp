@@ -19,8 +19,8 @@
 #include <puff/core/files.h>
 #include <puff/core/image.h>
 #include <puff/core/shader.h>
-#include <puff/render/scene.h>
-#include <puffview/paths.h>
+#include <puff/render/path.h>
+#include <puff/scene/read.h>
 #include <puffview/viewer.h>
 
 #include "support/cli_test.h"
@@ -118,11 +118,11 @@ class PuffviewCli : public puff::test::CliTest {
 };
 
 TEST(PuffviewPaths, OnlyPathsThatExistAreListed) {
-  ASSERT_EQ(puff::view::renderPaths().size(), 2u);
-  EXPECT_EQ(puff::view::renderPaths()[0].name, "cel") << "the default first";
-  EXPECT_EQ(puff::view::renderPaths()[1].name, "fixed");
-  puff::render::Scene scene;
-  auto missing = puff::view::createPath("media", scene);
+  ASSERT_EQ(puff::render::renderPaths().size(), 2u);
+  EXPECT_EQ(puff::render::renderPaths()[0].name, "cel") << "the default first";
+  EXPECT_EQ(puff::render::renderPaths()[1].name, "fixed");
+  puff::scene::Scene scene;
+  auto missing = puff::view::createRenderer("media", scene);
   ASSERT_FALSE(missing);
   EXPECT_EQ(missing.error().message, "unknown render path \"media\" (available: cel, fixed)");
 }
@@ -353,7 +353,7 @@ TEST_F(PuffviewWindow, PanelEditsShowAtOnceAndSaveRoundTrips) {
   auto saved = v->save();
   ASSERT_TRUE(saved) << saved.error().message;
   EXPECT_EQ(*saved, file);
-  auto reloaded = puff::render::loadScene(file, PUFF_ART_DIR);
+  auto reloaded = puff::scene::loadScene(file, PUFF_ART_DIR);
   ASSERT_TRUE(reloaded) << reloaded.error().message;
   EXPECT_EQ(reloaded->style.outlineColor, glm::vec3(0.0f, 1.0f, 0.0f));
   EXPECT_EQ(reloaded->background, glm::vec3(0.5f, 0.25f, 0.0f));
@@ -367,7 +367,7 @@ TEST_F(PuffviewWindow, PanelEditsShowAtOnceAndSaveRoundTrips) {
   fs::create_directories(copy.parent_path());
   ASSERT_TRUE(v->save(copy));
   EXPECT_EQ(v->sceneFile(), copy);
-  auto copied = puff::render::loadScene(copy, PUFF_ART_DIR);
+  auto copied = puff::scene::loadScene(copy, PUFF_ART_DIR);
   ASSERT_TRUE(copied) << copied.error().message;
   EXPECT_EQ(copied->style.outlineColor, glm::vec3(0.0f, 1.0f, 0.0f));
 

@@ -10,6 +10,7 @@
 #include <puff/core/files.h>
 #include <puff/mesh/mesh.h>
 #include <puff/render/render.h>
+#include <puff/scene/read.h>
 
 #include "support/gl_fixture.h"
 #include "support/sphere_atlas.h"
@@ -54,7 +55,7 @@ TEST_F(RenderFrame, ShadowOnTheGroundWhereTheLightProjectsIt) {
                       {"style", {{"preset", "cel-shadows"}}},
                       {"objects", {{{"type", "plane"}, {"scale", {10, 1, 10}}, {"albedo", {1, 1, 1}}}}},
                       {"particles", {{{"position", {0, H, 0}}, {"size", 2 * R}}}}};
-  auto scene = render::parseScene(j, dir_ / "scene.json");
+  auto scene = scene::parseScene(j, dir_ / "scene.json");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   auto renderer = render::SceneRenderer::create(*scene);
   ASSERT_TRUE(renderer.ok()) << renderer.error().message;
@@ -85,7 +86,7 @@ TEST_F(RenderFrame, ShadowOnTheGroundWhereTheLightProjectsIt) {
 // A scene with particles and no atlas, or an atlas that does not exist, fails with the file named.
 TEST_F(RenderFrame, MissingAtlasIsAClearError) {
   nlohmann::json j = {{"atlas", (dir_ / "nope.json").string()}, {"particles", {{{"position", {0, 0, 0}}}}}};
-  auto scene = render::parseScene(j, dir_ / "scene.json");
+  auto scene = scene::parseScene(j, dir_ / "scene.json");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   auto renderer = render::SceneRenderer::create(*scene);
   ASSERT_FALSE(renderer.ok());
@@ -100,7 +101,7 @@ TEST_F(RenderFrame, AtlasOfAnotherFormatVersionIsAClearError) {
   const fs::path future = dir_ / "future.json";
   ASSERT_TRUE(core::writeFileAtomic(future, sidecar.dump()).ok());
   nlohmann::json j = {{"atlas", future.string()}, {"particles", {{{"position", {0, 0, 0}}}}}};
-  auto scene = render::parseScene(j, dir_ / "scene.json");
+  auto scene = scene::parseScene(j, dir_ / "scene.json");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   auto renderer = render::SceneRenderer::create(*scene);
   ASSERT_FALSE(renderer.ok());

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <puff/render/render.h>
+#include <puff/scene/read.h>
 
 #include "golden/golden.h"
 #include "support/gl_fixture.h"
@@ -25,7 +26,7 @@ class SceneGolden : public test::GlTest, public ::testing::WithParamInterface<co
 TEST_P(SceneGolden, MatchesReference) {
   const std::string name = GetParam();
   const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (name + ".json");
-  auto scene = render::loadScene(file, PUFF_ART_DIR);
+  auto scene = scene::loadScene(file, PUFF_ART_DIR);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   auto renderer = render::SceneRenderer::create(*scene);
   ASSERT_TRUE(renderer.ok()) << renderer.error().message;
@@ -61,7 +62,7 @@ class AnimatedSceneGolden : public test::GlTest, public ::testing::WithParamInte
 TEST_P(AnimatedSceneGolden, MatchesReference) {
   const AnimatedCase c = GetParam();
   const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (std::string(c.scene) + ".json");
-  auto scene = render::loadScene(file, PUFF_ART_DIR);
+  auto scene = scene::loadScene(file, PUFF_ART_DIR);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   ASSERT_TRUE(scene->simulation.has_value());
   auto renderer = render::SceneRenderer::create(*scene);
@@ -96,7 +97,7 @@ TEST_F(SceneFrames, Fig8StagesDifferByMoreThanTheGoldenTolerance) {
   std::vector<core::Image> stages;
   for (const char* name : {"cloud-fig8a", "cloud-fig8b", "cloud-fig8c"}) {
     auto scene =
-        render::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (std::string(name) + ".json"), PUFF_ART_DIR);
+        scene::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (std::string(name) + ".json"), PUFF_ART_DIR);
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     auto renderer = render::SceneRenderer::create(*scene);
     ASSERT_TRUE(renderer.ok()) << renderer.error().message;
@@ -119,7 +120,7 @@ TEST_F(SceneFrames, Fig8StagesDifferByMoreThanTheGoldenTolerance) {
 
 TEST_F(SceneFrames, RenderedAloneEqualsTheSameFrameOfASequence) {
   const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "magic-lamp.json";
-  auto scene = render::loadScene(file, PUFF_ART_DIR);
+  auto scene = scene::loadScene(file, PUFF_ART_DIR);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   scene->width = 160;
   scene->height = 120;
@@ -147,7 +148,7 @@ namespace {
 // 9 of a sequence, and going back to an earlier frame restarts and gives that frame again.
 TEST_F(SceneFrames, SimulatedFrameRenderedAloneEqualsTheSequence) {
   const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "lamp-plume.json";
-  auto scene = render::loadScene(file, PUFF_ART_DIR);
+  auto scene = scene::loadScene(file, PUFF_ART_DIR);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   scene->width = 160;
   scene->height = 120;
@@ -175,7 +176,7 @@ TEST_F(SceneFrames, SimulatedFrameRenderedAloneEqualsTheSequence) {
 // refused and nothing changes; a resource change (another ramp) reloads, or fails naming the file.
 TEST_F(SceneFrames, UpdateAppliesForcesAndFramesStayPure) {
   const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "lamp-plume.json";
-  auto scene = render::loadScene(file, PUFF_ART_DIR);
+  auto scene = scene::loadScene(file, PUFF_ART_DIR);
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   scene->width = 160;
   scene->height = 120;
@@ -183,7 +184,7 @@ TEST_F(SceneFrames, UpdateAppliesForcesAndFramesStayPure) {
   ASSERT_TRUE(r.ok());
   auto before = (*r)->renderFrame(6);
   ASSERT_TRUE(before.ok());
-  render::Scene edited = *scene;
+  scene::Scene edited = *scene;
   edited.simulation->forces.wind = glm::vec3(3.0f, 0.0f, 0.0f);
   ASSERT_TRUE((*r)->update(edited).ok());
   auto after = (*r)->renderFrame(7);
@@ -198,13 +199,13 @@ TEST_F(SceneFrames, UpdateAppliesForcesAndFramesStayPure) {
   auto still = (*unedited)->renderFrame(7);
   ASSERT_TRUE(still.ok());
   EXPECT_NE(after->pixels, still->pixels);  // and the wind shows
-  render::Scene bad = edited;
+  scene::Scene bad = edited;
   bad.simulation->forces.drag = -1.0f;
   auto refused = (*r)->update(bad);
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.error().message.find("/simulation/forces/drag"), std::string::npos) << refused.error().message;
   EXPECT_EQ((*r)->scene().simulation->forces.drag, edited.simulation->forces.drag);
-  render::Scene otherRamp = edited;
+  scene::Scene otherRamp = edited;
   otherRamp.ramp = fs::path(PUFF_SOURCE_DIR) / "art" / "ramps" / "missing.png";
   auto reload = (*r)->update(otherRamp);
   ASSERT_FALSE(reload.ok());

@@ -14,26 +14,29 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include <puff/render/scene.h>
+#include <puff/scene/evaluate.h>
+#include <puff/scene/geometry.h>
+#include <puff/scene/read.h>
+#include <puff/scene/write.h>
 
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
-using puff::render::EmitterSpec;
-using puff::render::ObjectSpec;
-using puff::render::Scene;
+using puff::scene::EmitterSpec;
+using puff::scene::ObjectSpec;
+using puff::scene::Scene;
 
 const fs::path kFile = "art/scenes/x.json";
 
 Scene parseOk(const std::string& text, const fs::path& artDir = {}) {
-  auto s = puff::render::parseScene(json::parse(text), kFile, artDir);
+  auto s = puff::scene::parseScene(json::parse(text), kFile, artDir);
   EXPECT_TRUE(s.ok()) << s.error().message;
   return s.ok() ? *s : Scene{};
 }
 
 std::string parseError(const json& j, const fs::path& artDir = {}) {
-  auto s = puff::render::parseScene(j, kFile, artDir);
+  auto s = puff::scene::parseScene(j, kFile, artDir);
   EXPECT_FALSE(s.ok());
   return s.ok() ? std::string() : s.error().message;
 }
@@ -262,51 +265,51 @@ class SceneFiles : public ::testing::Test {
 
 TEST_F(SceneFiles, SyntaxErrorsGiveLineAndColumn) {
   const fs::path p = write("bad.json", "{\n  \"output\": {\"width\": 3,}\n}\n");
-  auto s = puff::render::loadScene(p);
+  auto s = puff::scene::loadScene(p);
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().message.rfind(p.string() + ":2:25: ", 0), 0u) << s.error().message;
   EXPECT_NE(s.error().message.find("syntax error"), std::string::npos) << s.error().message;
 
   const fs::path q = write("bad2.json", "{\"a\": tru}");
-  s = puff::render::loadScene(q);
+  s = puff::scene::loadScene(q);
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().message.rfind(q.string() + ":1:10: ", 0), 0u) << s.error().message;
 
   const fs::path empty = write("empty.json", "");
-  s = puff::render::loadScene(empty);
+  s = puff::scene::loadScene(empty);
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().message.rfind(empty.string() + ":1:1: ", 0), 0u) << s.error().message;
 }
 
 TEST_F(SceneFiles, OverflowingNumbersInTheFileAreRejected) {
   const fs::path p = write("big.json", R"({"camera": {"fovY": 1e999}})");
-  auto s = puff::render::loadScene(p);
+  auto s = puff::scene::loadScene(p);
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().message, p.string() + ":1:21: number 1e999 is out of range");
 }
 
 TEST_F(SceneFiles, MissingFileSaysCannotRead) {
-  auto s = puff::render::loadScene(dir_ / "nope.json");
+  auto s = puff::scene::loadScene(dir_ / "nope.json");
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().message, (dir_ / "nope.json").string() + ": cannot read: No such file or directory");
-  s = puff::render::loadScene(dir_);
+  s = puff::scene::loadScene(dir_);
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().message, dir_.string() + ": cannot read: is a directory");
 }
 
 TEST_F(SceneFiles, LoadedPathsAreRelativeToTheFile) {
   const fs::path p = write("s.json", R"({"atlas": "puff.json", "emitters": [{"count": 1}]})");
-  auto s = puff::render::loadScene(p);
+  auto s = puff::scene::loadScene(p);
   ASSERT_TRUE(s.ok()) << s.error().message;
   EXPECT_EQ(s->atlas, dir_ / "puff.json");
   EXPECT_EQ(s->file, p);
 }
 
 TEST(Scene, PresetsSetTheStyleAndExplicitFieldsWin) {
-  const auto names = puff::render::stylePresetNames();
+  const auto names = puff::scene::stylePresetNames();
   EXPECT_EQ(names, (std::vector<std::string>{"outlines", "cel", "cel-shadows", "ink", "solid"}));
   for (const std::string& name : names) {
-    auto style = puff::render::stylePreset(name);
+    auto style = puff::scene::stylePreset(name);
     ASSERT_TRUE(style.ok()) << name;
     EXPECT_TRUE(style->outlines) << name;  // every preset draws outlines
     const Scene s = parseOk(R"({"style": {"preset": ")" + name + R"("}})");
@@ -315,15 +318,15 @@ TEST(Scene, PresetsSetTheStyleAndExplicitFieldsWin) {
     EXPECT_EQ(s.style.shadows, style->shadows);
     EXPECT_EQ(s.style.outlineWidth, style->outlineWidth);
   }
-  EXPECT_FALSE(puff::render::stylePreset("outlines")->shading);
-  EXPECT_TRUE(puff::render::stylePreset("cel")->shading);
-  EXPECT_FALSE(puff::render::stylePreset("cel")->shadows);
-  EXPECT_TRUE(puff::render::stylePreset("cel-shadows")->shadows);
-  EXPECT_TRUE(puff::render::stylePreset("cel-shadows")->shading);
-  EXPECT_FALSE(puff::render::stylePreset("ink")->shading);
-  EXPECT_EQ(puff::render::stylePreset("ink")->outlineColor, glm::vec3(0.0f));
-  EXPECT_FALSE(puff::render::stylePreset("solid")->shading);
-  auto bad = puff::render::stylePreset("nope");
+  EXPECT_FALSE(puff::scene::stylePreset("outlines")->shading);
+  EXPECT_TRUE(puff::scene::stylePreset("cel")->shading);
+  EXPECT_FALSE(puff::scene::stylePreset("cel")->shadows);
+  EXPECT_TRUE(puff::scene::stylePreset("cel-shadows")->shadows);
+  EXPECT_TRUE(puff::scene::stylePreset("cel-shadows")->shading);
+  EXPECT_FALSE(puff::scene::stylePreset("ink")->shading);
+  EXPECT_EQ(puff::scene::stylePreset("ink")->outlineColor, glm::vec3(0.0f));
+  EXPECT_FALSE(puff::scene::stylePreset("solid")->shading);
+  auto bad = puff::scene::stylePreset("nope");
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.error().message.find("outlines, cel, cel-shadows, ink, solid"), std::string::npos);
 
@@ -362,14 +365,14 @@ json everything() {
 }
 
 TEST(Scene, ToJsonRoundTripsEveryField) {
-  auto a = puff::render::parseScene(everything(), kFile, "build/art");
+  auto a = puff::scene::parseScene(everything(), kFile, "build/art");
   ASSERT_TRUE(a.ok()) << a.error().message;
-  const json written = puff::render::toJson(*a);
-  auto b = puff::render::parseScene(written, kFile, "build/art");
+  const json written = puff::scene::toJson(*a);
+  auto b = puff::scene::parseScene(written, kFile, "build/art");
   ASSERT_TRUE(b.ok()) << b.error().message << "\n" << written.dump(2);
   // Writing the re-read scene gives the same JSON: nothing drifts (axis-angle orientations may
   // move in their last bit, so they are compared below).
-  json rewritten = puff::render::toJson(*b), expected = written;
+  json rewritten = puff::scene::toJson(*b), expected = written;
   rewritten["particles"][0].erase("orientation");
   expected["particles"][0].erase("orientation");
   EXPECT_EQ(rewritten, expected);
@@ -452,9 +455,9 @@ TEST(Scene, ToJsonRoundTripsEveryField) {
   EXPECT_EQ(written["camera"]["fovY"].dump(), "33.3");
   EXPECT_EQ(written["ramp"]["image"], "../ramps/q.png");
   // The defaults round-trip too.
-  auto d = puff::render::parseScene(puff::render::toJson(Scene{}), "");
+  auto d = puff::scene::parseScene(puff::scene::toJson(Scene{}), "");
   ASSERT_TRUE(d.ok()) << d.error().message;
-  EXPECT_EQ(puff::render::toJson(*d), puff::render::toJson(Scene{}));
+  EXPECT_EQ(puff::scene::toJson(*d), puff::scene::toJson(Scene{}));
 }
 
 TEST(Scene, ListedParticlesMoveSpinShrinkAndDieOnTime) {
@@ -462,7 +465,7 @@ TEST(Scene, ListedParticlesMoveSpinShrinkAndDieOnTime) {
     "particles": [{"position": [1, 2, 3], "size": 2, "variation": 7, "velocity": [1, 0, -2], "birth": 1,
                    "lifetime": 2, "oriented": true, "angularVelocity": [0, 3.14159265, 0]},
                   {"position": [0, 0, 0], "size": 1}]})");
-  auto at = [&](int frame) { return puff::render::particlesAt(s, frame, 8); };
+  auto at = [&](int frame) { return puff::scene::particlesAt(s, frame, 8); };
   // Before its birth only the immortal one is drawn.
   ASSERT_EQ(at(5).size(), 1u);
   EXPECT_EQ(at(5)[0].position, glm::vec3(0.0f));
@@ -500,15 +503,15 @@ Scene emitterScene(const std::string& emitter) {
 TEST(Scene, FramesArePureFunctionsOfTheFrameNumber) {
   const Scene s = emitterScene(R"({"shape": "sphere", "count": 500, "seed": 9, "oriented": true, "spin": 2,
     "speedSpread": 0.5, "velocity": [0, 1, 0], "birthSpread": 2, "lifetime": 1.5})");
-  const auto alone = puff::render::particlesAt(s, 37, 4);
+  const auto alone = puff::scene::particlesAt(s, 37, 4);
   std::vector<puff::cel::Particle> afterOthers;
-  for (int frame = 0; frame <= 37; ++frame) afterOthers = puff::render::particlesAt(s, frame, 4);
+  for (int frame = 0; frame <= 37; ++frame) afterOthers = puff::scene::particlesAt(s, frame, 4);
   ASSERT_EQ(alone.size(), afterOthers.size());
   ASSERT_GT(alone.size(), 0u);
   for (std::size_t i = 0; i < alone.size(); ++i) expectSameParticle(alone[i], afterOthers[i]);
   // A copy of the scene (another process, another machine of the farm) agrees.
   const Scene copy = s;
-  const auto again = puff::render::particlesAt(copy, 37, 4);
+  const auto again = puff::scene::particlesAt(copy, 37, 4);
   ASSERT_EQ(again.size(), alone.size());
   for (std::size_t i = 0; i < alone.size(); ++i) expectSameParticle(alone[i], again[i]);
 }
@@ -516,16 +519,16 @@ TEST(Scene, FramesArePureFunctionsOfTheFrameNumber) {
 TEST(Scene, EmittedParticleDependsOnlyOnSeedAndIndex) {
   const Scene few = emitterScene(R"({"count": 10, "seed": 3, "sizeMin": 0.1, "sizeMax": 2})");
   const Scene many = emitterScene(R"({"count": 1000, "seed": 3, "sizeMin": 0.1, "sizeMax": 2})");
-  const auto a = puff::render::particlesAt(few, 0, 4), b = puff::render::particlesAt(many, 0, 4);
+  const auto a = puff::scene::particlesAt(few, 0, 4), b = puff::scene::particlesAt(many, 0, 4);
   ASSERT_EQ(a.size(), 10u);
   ASSERT_EQ(b.size(), 1000u);
   for (std::size_t i = 0; i < a.size(); ++i) expectSameParticle(a[i], b[i]);
   // Another seed gives other particles.
   const Scene other = emitterScene(R"({"count": 10, "seed": 4, "sizeMin": 0.1, "sizeMax": 2})");
-  EXPECT_NE(puff::render::particlesAt(other, 0, 4)[0].position, a[0].position);
+  EXPECT_NE(puff::scene::particlesAt(other, 0, 4)[0].position, a[0].position);
   // Turning orientation on does not move anyone.
   const Scene oriented = emitterScene(R"({"count": 10, "seed": 3, "sizeMin": 0.1, "sizeMax": 2, "oriented": true})");
-  const auto c = puff::render::particlesAt(oriented, 0, 4);
+  const auto c = puff::scene::particlesAt(oriented, 0, 4);
   for (std::size_t i = 0; i < a.size(); ++i) {
     EXPECT_EQ(c[i].position, a[i].position);
     EXPECT_EQ(c[i].size, a[i].size);
@@ -538,7 +541,7 @@ TEST(Scene, EmittersPlaceParticlesInsideTheirShapes) {
   {
     const Scene s = emitterScene(R"({"shape": "sphere", "count": 4000, "center": [1, 2, 3], "radius": 2,
                                      "sizeMin": 0.5, "sizeMax": 1.5, "variations": [2, 5]})");
-    const auto ps = puff::render::particlesAt(s, 0, 8);
+    const auto ps = puff::scene::particlesAt(s, 0, 8);
     ASSERT_EQ(ps.size(), static_cast<std::size_t>(n));
     glm::vec3 mean(0.0f);
     int inner = 0, two = 0;
@@ -562,7 +565,7 @@ TEST(Scene, EmittersPlaceParticlesInsideTheirShapes) {
   {
     const Scene s = emitterScene(R"({"shape": "box", "count": 4000, "center": [0, 1, 0], "halfExtent": [3, 0.5, 1],
                                      "sizeMin": 1, "sizeMax": 1, "sizeFalloff": 1})");
-    const auto ps = puff::render::particlesAt(s, 0, 3);
+    const auto ps = puff::scene::particlesAt(s, 0, 3);
     ASSERT_EQ(ps.size(), static_cast<std::size_t>(n));
     int variations[3] = {};
     for (const auto& p : ps) {
@@ -580,7 +583,7 @@ TEST(Scene, EmittersPlaceParticlesInsideTheirShapes) {
   {
     const Scene s = emitterScene(R"({"shape": "cone", "count": 4000, "center": [0, 0, 0], "end": [0, 0, 10],
                                      "radius": 0.5, "endRadius": 2, "velocity": [1, 0, 0], "speedSpread": 0.25})");
-    const auto ps = puff::render::particlesAt(s, 0, 1);
+    const auto ps = puff::scene::particlesAt(s, 0, 1);
     ASSERT_EQ(ps.size(), static_cast<std::size_t>(n));
     for (const auto& p : ps) {
       const float along = p.position.z / 10.0f;
@@ -598,8 +601,8 @@ TEST(Scene, EmittedVelocitiesBirthsAndSpinsStayWithinTheirSpreads) {
   const Scene s = parseOk(R"({"atlas": "a.json", "animation": {"fps": 1, "frames": 3},
     "emitters": [{"shape": "sphere", "count": 2000, "radius": 0, "velocity": [2, 0, 0], "speedSpread": 0.5,
                   "birthSpread": 0.5, "oriented": true, "spin": 1}]})");
-  const auto at0 = puff::render::particlesAt(s, 0, 1);
-  const auto at1 = puff::render::particlesAt(s, 1, 1);
+  const auto at0 = puff::scene::particlesAt(s, 0, 1);
+  const auto at1 = puff::scene::particlesAt(s, 1, 1);
   ASSERT_EQ(at1.size(), 2000u);  // all born by t = 0.5
   EXPECT_LT(at0.size(), 2000u);  // only those born at exactly 0 are there at t = 0 (almost none)
   for (const auto& p : at1) {
@@ -618,7 +621,7 @@ TEST(Scene, ConeParticlesNearTheEndAreBornLaterSoTheTrailGrows) {
                   "endRadius": 1, "birthSpread": 2}]})");
   for (int frame : {0, 5, 10, 15, 20, 25}) {
     const float t = frame / 10.0f;
-    const auto ps = puff::render::particlesAt(s, frame, 1);
+    const auto ps = puff::scene::particlesAt(s, frame, 1);
     float reach = 0.0f;
     for (const auto& p : ps) {
       // Born at s * birthSpread, s = y / 8: nothing beyond y = 8 t / 2 is alive yet.
@@ -630,25 +633,25 @@ TEST(Scene, ConeParticlesNearTheEndAreBornLaterSoTheTrailGrows) {
       EXPECT_NEAR(ps.size() / 3000.0, std::min(1.0, t / 2.0), 0.05) << "frame " << frame;
     }
   }
-  EXPECT_EQ(puff::render::particlesAt(s, 25, 1).size(), 3000u);
+  EXPECT_EQ(puff::scene::particlesAt(s, 25, 1).size(), 3000u);
 }
 
 TEST(Scene, CameraOrbitsTheTargetAboutTheVerticalAxis) {
   const Scene s = parseOk(R"({"camera": {"position": [4, 2, 0], "target": [1, 1, 0]},
                              "animation": {"fps": 2, "frames": 10, "orbit": 90}})");
-  const auto c0 = puff::render::cameraAt(s, 0);
+  const auto c0 = puff::scene::cameraAt(s, 0);
   EXPECT_EQ(c0.position, glm::vec3(4, 2, 0));
   // Frame 2 = 1 s = 90 degrees counter-clockwise seen from above: +x turns to -z.
-  const auto c2 = puff::render::cameraAt(s, 2);
+  const auto c2 = puff::scene::cameraAt(s, 2);
   EXPECT_NEAR(c2.position.x, 1.0f, 1e-5f);
   EXPECT_NEAR(c2.position.y, 2.0f, 1e-5f);
   EXPECT_NEAR(c2.position.z, -3.0f, 1e-5f);
   EXPECT_EQ(c2.target, glm::vec3(1, 1, 0));
   EXPECT_NEAR(glm::length(c2.up - glm::vec3(0, 1, 0)), 0.0f, 1e-6f);
-  EXPECT_FLOAT_EQ(puff::render::frameTime(s, 3), 1.5f);
+  EXPECT_FLOAT_EQ(puff::scene::frameTime(s, 3), 1.5f);
   // No orbit: the scene's camera as it is.
   const Scene still = parseOk(R"({"animation": {"fps": 2, "frames": 10}})");
-  EXPECT_EQ(puff::render::cameraAt(still, 7).position, still.camera.position);
+  EXPECT_EQ(puff::scene::cameraAt(still, 7).position, still.camera.position);
 }
 
 }  // namespace
@@ -693,7 +696,7 @@ TEST(SceneSimulation, ReadsForcesEmittersAndPathsAndRoundTrips) {
   EXPECT_EQ(sim.emitters[0].spreadDegrees, 15.0f);
 
   // Colliders come from the objects that collide, placed as they are drawn.
-  auto settings = puff::render::simulationSettings(s);
+  auto settings = puff::scene::simulationSettings(s, *puff::scene::loadGeometry(s));
   ASSERT_TRUE(settings.ok()) << settings.error().message;
   ASSERT_EQ((*settings)->colliders.size(), 1u);
   EXPECT_EQ((*settings)->colliders[0].type, puff::sim::Collider::Type::kPlane);
@@ -701,9 +704,9 @@ TEST(SceneSimulation, ReadsForcesEmittersAndPathsAndRoundTrips) {
   EXPECT_EQ((*settings)->colliders[0].friction, 0.25f);
 
   // toJson writes every field; reading it back gives the same scene.
-  auto again = puff::render::parseScene(puff::render::toJson(s), kFile);
+  auto again = puff::scene::parseScene(puff::scene::toJson(s), kFile);
   ASSERT_TRUE(again.ok()) << again.error().message;
-  EXPECT_EQ(puff::render::toJson(*again), puff::render::toJson(s));
+  EXPECT_EQ(puff::scene::toJson(*again), puff::scene::toJson(s));
   EXPECT_EQ(again->simulation->emitters[0].path.times, sim.emitters[0].path.times);
 }
 
@@ -762,18 +765,18 @@ TEST(SceneSimulation, VorticesAndEmittersRideOnMovingObjects) {
   EXPECT_EQ(v.path.at(4.0) + v.position, glm::vec3(11, 5, 0));
   EXPECT_EQ(s.simulation->emitters.at(0).path.at(7.0) + s.simulation->emitters.at(0).position, glm::vec3(0, 2, 0));
   // The object is drawn where the path puts it, and collides there.
-  const glm::mat4 at1 = puff::render::objectTransform(s.objects[0], 1.0);
+  const glm::mat4 at1 = puff::scene::objectTransform(s.objects[0], 1.0);
   EXPECT_EQ(glm::vec3(at1[3]), glm::vec3(-5, 5, 0));
-  auto settings = puff::render::simulationSettings(s);
+  auto settings = puff::scene::simulationSettings(s, *puff::scene::loadGeometry(s));
   ASSERT_TRUE(settings.ok());
   EXPECT_EQ((*settings)->colliders.at(0).path.at(1.0) + (*settings)->colliders[0].center, glm::vec3(-5, 5, 0));
   // Written back as the link, and read again to the same thing.
-  const json j = puff::render::toJson(s);
+  const json j = puff::scene::toJson(s);
   EXPECT_EQ(j["simulation"]["forces"]["vortices"][0]["attach"], "plane body");
   EXPECT_TRUE(j["simulation"]["forces"]["vortices"][0]["path"].empty());
-  auto again = puff::render::parseScene(j, kFile);
+  auto again = puff::scene::parseScene(j, kFile);
   ASSERT_TRUE(again.ok()) << again.error().message;
-  EXPECT_EQ(puff::render::toJson(*again), j);
+  EXPECT_EQ(puff::scene::toJson(*again), j);
 
   EXPECT_EQ(
       parseError(
@@ -787,7 +790,7 @@ TEST(SceneSimulation, ColliderAndAttachProblemsNameTheObject) {
   const Scene far =
       parseOk(R"({"objects": [{"type": "box", "collide": false}, {"type": "sphere", "translate": [3e6, 0, 0]}],
                                 "simulation": {}})");
-  auto settings = puff::render::simulationSettings(far);
+  auto settings = puff::scene::simulationSettings(far, *puff::scene::loadGeometry(far));
   ASSERT_FALSE(settings.ok());
   EXPECT_EQ(settings.error().message,
             kFile.string() + ": /objects/1 (as a collider): expected a number in [-1e+06, 1e+06], got 3e+06");
@@ -805,7 +808,7 @@ TEST(SceneFixed, ReadsTheFixedPathSettingsAndRejectsBadOnes) {
   EXPECT_EQ(s.fixed.outlineScale, 1.25f);
   EXPECT_EQ(s.fixed.outlineOffset, 0.5f);
   EXPECT_EQ(s.fixed.cellSize, 64);
-  auto again = puff::render::parseScene(puff::render::toJson(s), kFile);
+  auto again = puff::scene::parseScene(puff::scene::toJson(s), kFile);
   ASSERT_TRUE(again.ok()) << again.error().message;
   EXPECT_EQ(again->fixed.puff, s.fixed.puff);
   EXPECT_EQ(again->fixed.cellSize, 64);

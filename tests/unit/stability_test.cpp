@@ -92,7 +92,7 @@
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
 #include <puff/render/render.h>
-#include <puff/render/scene.h>
+#include <puff/scene/read.h>
 #include <puff/sim/simulator.h>
 
 #include "support/gl_fixture.h"
@@ -626,7 +626,7 @@ TEST(StabilityBudget, AMillionBirthsPerSecondOnABudgetOfAThousand) {
 
 // The parsers' budgets, at the boundary: the largest accepted, one more refused with its message.
 TEST(StabilityBudget, ScenesAskingForMoreThanTheBudgetLimitAreRefused) {
-  auto parse = [](const std::string& text) { return render::parseScene(nlohmann::json::parse(text), "x.json"); };
+  auto parse = [](const std::string& text) { return scene::parseScene(nlohmann::json::parse(text), "x.json"); };
   auto ok = parse(R"({"simulation": {"maxParticles": 20000000}})");
   ASSERT_TRUE(ok.ok()) << ok.error().message;
   EXPECT_EQ(ok->simulation->maxParticles, sim::kMaxParticleBudget);
@@ -658,7 +658,7 @@ TEST_F(StabilityBudgetScene, AMediaSceneDrawsItsBudgetNotTheRequest) {
               "emitters": [{"material": "smoke", "shape": "sphere", "radius": 1, "rate": 1000000,
                             "lifetime": 100, "sizeMin": 0.2, "sizeMax": 0.4}]}
   })");
-  auto scene = render::parseScene(j, "budget.json");
+  auto scene = scene::parseScene(j, "budget.json");
   ASSERT_TRUE(scene.ok()) << scene.error().message;
   auto renderer = render::SceneRenderer::create(*scene);
   ASSERT_TRUE(renderer.ok()) << renderer.error().message;

@@ -16,10 +16,12 @@
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/core/shader.h>
-#include <puff/render/budget.h>
-#include <puff/render/compare.h>
+#include <puff/eval/budget.h>
+#include <puff/eval/cel_reference.h>
+#include <puff/eval/compare.h>
 #include <puff/render/render.h>
-#include <puff/render/scene.h>
+#include <puff/scene/read.h>
+#include <puff/scene/write.h>
 
 namespace puff::app {
 
@@ -51,7 +53,7 @@ struct Plan {
 };
 
 // Checks the options against the scene; errors are usage errors (exit 2).
-Result<Plan> makePlan(const Options& o, const render::Scene& scene) {
+Result<Plan> makePlan(const Options& o, const scene::Scene& scene) {
   Plan plan;
   auto pattern = parseOutputPattern(o.out);
   if (!pattern) return pattern.error();
@@ -92,13 +94,13 @@ Result<Plan> makePlan(const Options& o, const render::Scene& scene) {
 
 // --compare A,B: every frame by both paths, and without particles for the masks; OUT gets the side
 // by side image, stdout a line per frame and a summary.
-int compareFrames(const Options& o, const render::Scene& scene, const Plan& plan) {
+int compareFrames(const Options& o, const scene::Scene& scene, const Plan& plan) {
   const std::string first = o.compare.substr(0, o.compare.find(','));
   const std::string second = o.compare.substr(o.compare.find(',') + 1);
   const render::RenderPath pa = *render::parseRenderPath(first), pb = *render::parseRenderPath(second);
   std::vector<std::string> changes;
-  const render::Scene limited = render::restrictToFixedLimits(scene, &changes);
-  const render::Scene bare = render::withoutParticles(limited);
+  const scene::Scene limited = eval::restrictToFixedLimits(scene, &changes);
+  const scene::Scene bare = eval::withoutParticles(limited);
   if (!changes.empty() && !o.quiet) {
     std::string list;
     for (const std::string& c : changes) list += (list.empty() ? "" : ", ") + c;
@@ -107,7 +109,7 @@ int compareFrames(const Options& o, const render::Scene& scene, const Plan& plan
   std::unique_ptr<render::SceneRenderer> ra, rb, ra0, rb0;
   for (auto [slot, sc, p] : {std::tuple{&ra, &limited, pa}, std::tuple{&rb, &limited, pb}, std::tuple{&ra0, &bare, pa},
                              std::tuple{&rb0, &bare, pb}}) {
-    auto r = render::SceneRenderer::create(*sc, p);
+    auto r = eval::createRenderer(*sc, p);
     if (!r) {
       printError(r.error().message);
       return 1;
@@ -128,7 +130,7 @@ int compareFrames(const Options& o, const render::Scene& scene, const Plan& plan
       images[i] = std::move(*image);
     }
     core::Image side;
-    const render::Parity p = render::compareFrames(images[0], images[1], images[2], images[3], o.toneTolerance, &side);
+    const eval::Parity p = eval::compareFrames(images[0], images[1], images[2], images[3], o.toneTolerance, &side);
     worstIou = std::min(worstIou, p.iou);
     worstTone = std::min(worstTone, p.toneShare);
     const fs::path target = plan.pattern.name(f);
@@ -164,8 +166,8 @@ int compareFrames(const Options& o, const render::Scene& scene, const Plan& plan
 // --max-error: measures every media layer resolution at up to three of the frames to render, against
 // the exact reference, and sets the cheapest within the budget on `scene` (render/budget.h).
 // Returns 0, or the exit code of a failure (after saying why).
-int chooseMediaResolution(const Options& o, render::Scene& scene, const Plan& plan) {
-  const std::vector<int> frames = render::budgetFrames(plan.first, plan.last);
+int chooseMediaResolution(const Options& o, scene::Scene& scene, const Plan& plan) {
+  const std::vector<int> frames = eval::budgetFrames(plan.first, plan.last);
   if (!o.quiet) {
     std::string list;
     for (int f : frames) list += (list.empty() ? "" : ", ") + std::to_string(f);
@@ -173,21 +175,21 @@ int chooseMediaResolution(const Options& o, render::Scene& scene, const Plan& pl
                  kTool, *o.maxError, frames.size() == 1 ? "frame" : "frames", list.c_str());
     std::fflush(stderr);
   }
-  auto budget = render::measureMediaBudget(scene, frames);
+  auto budget = eval::measureMediaBudget(scene, frames);
   if (!budget) {
     printError(budget.error().message);
     return 1;
   }
-  auto choice = render::chooseMediaResolution(*budget, *o.maxError);
+  auto choice = eval::chooseMediaResolution(*budget, *o.maxError);
   if (!choice) {  // parse() checked the value
     printError("--max-error: " + choice.error().message);
     return 2;
   }
   if (!o.quiet) {
-    std::fprintf(stderr, "%s", render::budgetTable(*budget, *choice).c_str());
-    if (!choice->met) std::fprintf(stderr, "%s: warning: %s\n", kTool, render::budgetWarning(*budget, *choice).c_str());
+    std::fprintf(stderr, "%s", eval::budgetTable(*budget, *choice).c_str());
+    if (!choice->met) std::fprintf(stderr, "%s: warning: %s\n", kTool, eval::budgetWarning(*budget, *choice).c_str());
   }
-  std::fprintf(stderr, "%s: %s\n", kTool, render::budgetSummary(*budget, *choice).c_str());
+  std::fprintf(stderr, "%s: %s\n", kTool, eval::budgetSummary(*budget, *choice).c_str());
   std::fflush(stderr);
   scene.media->resolution = budget->candidates[choice->chosen].resolution;
   return 0;
@@ -196,10 +198,10 @@ int chooseMediaResolution(const Options& o, render::Scene& scene, const Plan& pl
 // --max-error on a scene with cel particles: measures one of the nailboards' run-time parameters
 // (the share of the emitters' particles, or the atlas level) against the cel reference of the full
 // model and sets the cheapest within the budget on `scene` (render/budget.h).
-int chooseCelModel(const Options& o, render::Scene& scene, const Plan& plan, render::CelKnob knob,
+int chooseCelModel(const Options& o, scene::Scene& scene, const Plan& plan, eval::CelKnob knob,
                    std::vector<core::Image>* references) {
-  const std::vector<int> frames = render::budgetFrames(plan.first, plan.last);
-  const bool atlas = knob == render::CelKnob::kAtlasLevel;
+  const std::vector<int> frames = eval::budgetFrames(plan.first, plan.last);
+  const bool atlas = knob == eval::CelKnob::kAtlasLevel;
   if (!o.quiet) {
     std::string list;
     for (int f : frames) list += (list.empty() ? "" : ", ") + std::to_string(f);
@@ -208,25 +210,25 @@ int chooseCelModel(const Options& o, render::Scene& scene, const Plan& plan, ren
                  frames.size() == 1 ? "frame" : "frames", list.c_str());
     std::fflush(stderr);
   }
-  auto budget = render::measureCelBudget(scene, frames, {}, knob, *references);
+  auto budget = eval::measureCelBudget(scene, frames, {}, knob, *references);
   if (!budget) {
     printError(budget.error().message);
     return 1;
   }
-  auto choice = render::chooseCelBudget(*budget, *o.maxError);
+  auto choice = eval::chooseCelBudget(*budget, *o.maxError);
   if (!choice) {
     printError("--max-error: " + choice.error().message);
     return 2;
   }
   if (!o.quiet) {
-    std::fprintf(stderr, "%s", render::celBudgetTable(*budget, *choice).c_str());
+    std::fprintf(stderr, "%s", eval::celBudgetTable(*budget, *choice).c_str());
     if (!choice->met)
-      std::fprintf(stderr, "%s: warning: %s\n", kTool, render::celBudgetWarning(*budget, *choice).c_str());
+      std::fprintf(stderr, "%s: warning: %s\n", kTool, eval::celBudgetWarning(*budget, *choice).c_str());
   }
-  std::fprintf(stderr, "%s: %s\n", kTool, render::celBudgetSummary(*budget, *choice).c_str());
+  std::fprintf(stderr, "%s: %s\n", kTool, eval::celBudgetSummary(*budget, *choice).c_str());
   std::fflush(stderr);
   *references = std::move(budget->references);  // the next parameter measures against the same
-  const render::CelCandidate& c = budget->candidates[choice->chosen];
+  const eval::CelCandidate& c = budget->candidates[choice->chosen];
   if (atlas) {
     scene.atlasLevel = c.atlasLevel;
   } else {
@@ -235,7 +237,7 @@ int chooseCelModel(const Options& o, render::Scene& scene, const Plan& plan, ren
   return 0;
 }
 
-int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
+int renderFrames(const Options& o, scene::Scene scene, const Plan& plan) {
   // Fail before any rendering if an output can never be written: every directory the frames go
   // to is created now (and taken back, if still empty, when the run fails) and must be writable.
   core::OutputTransaction directories;
@@ -310,10 +312,10 @@ int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
       // against the same references of the full model.
       std::vector<core::Image> references;
       if (!scene.emitters.empty()) {
-        if (const int code = chooseCelModel(o, scene, plan, render::CelKnob::kParticleFraction, &references); code != 0)
+        if (const int code = chooseCelModel(o, scene, plan, eval::CelKnob::kParticleFraction, &references); code != 0)
           return code;
       }
-      if (const int code = chooseCelModel(o, scene, plan, render::CelKnob::kAtlasLevel, &references); code != 0)
+      if (const int code = chooseCelModel(o, scene, plan, eval::CelKnob::kAtlasLevel, &references); code != 0)
         return code;
     }
     if (scene.media) {
@@ -328,7 +330,7 @@ int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
   }
   // The fixed path draws into the context's own framebuffer (made at the frame's size above):
   // OpenGL 1.x calls only, no framebuffer objects.
-  auto renderer = render::SceneRenderer::create(scene, path, path == render::RenderPath::kFixed);
+  auto renderer = eval::createRenderer(scene, path, path == render::RenderPath::kFixed);
   if (!renderer) {
     printError(renderer.error().message);
     return 1;
@@ -441,7 +443,7 @@ Result<std::pair<int, int>> parseFrameRange(const std::string& text) {
 
 std::variant<Options, int> parse(int argc, char** argv) {
   Options o;
-  std::vector<std::string> presets = render::stylePresetNames();
+  std::vector<std::string> presets = scene::stylePresetNames();
   std::string presetList;
   for (const std::string& p : presets) presetList += (presetList.empty() ? "" : ", ") + p;
   CLI::App app{
@@ -560,17 +562,17 @@ std::variant<Options, int> parse(int argc, char** argv) {
 }
 
 int run(const Options& o) {
-  auto loaded = render::loadScene(o.scene, o.artDir);
+  auto loaded = scene::loadScene(o.scene, o.artDir);
   if (!loaded) {
     printError(loaded.error().message);
     return 1;
   }
-  render::Scene scene = std::move(*loaded);
+  scene::Scene scene = std::move(*loaded);
   if (o.width) scene.width = *o.width;
   if (o.height) scene.height = *o.height;
   if (o.samples) scene.samples = *o.samples;
   if (!o.style.empty()) {
-    auto style = render::stylePreset(o.style);
+    auto style = scene::stylePreset(o.style);
     if (!style) {
       printError(style.error().message);
       return 2;
@@ -579,7 +581,7 @@ int run(const Options& o) {
     scene.stylePreset = o.style;
   }
   if (o.printScene) {
-    std::cout << render::jsonText(render::toJson(scene)) << "\n";
+    std::cout << scene::jsonText(scene::toJson(scene)) << "\n";
     return 0;
   }
   auto plan = makePlan(o, scene);

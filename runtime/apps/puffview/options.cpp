@@ -5,7 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include <puffview/paths.h>
+#include <puff/render/path.h>
 #include <puffview/viewer.h>
 
 namespace puff::view {
@@ -30,7 +30,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
   Options o;
   std::vector<std::string> pathNames;
   std::string pathList;
-  for (const RenderPathInfo& p : renderPaths()) {
+  for (const render::RenderPathInfo& p : render::renderPaths()) {
     pathNames.push_back(p.name);
     pathList += "\n  " + p.name + ": " + p.description;
   }

@@ -9,8 +9,9 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include <puff/render/scene.h>
-#include <puffview/paths.h>
+#include <puff/render/path.h>
+#include <puff/scene/evaluate.h>
+#include <puff/scene/read.h>
 #include <puffview/viewer.h>
 
 namespace puff::view {
@@ -60,7 +61,7 @@ void cameraPanel(Viewer& v, Edits& edit) {
   ImGui::SameLine();
   if (ImGui::RadioButton("Fly (F)", &mode, 1)) {
     if (!v.cameraOverridden()) {
-      c.reset(render::cameraAt(v.scene(), v.frame()));
+      c.reset(scene::cameraAt(v.scene(), v.frame()));
       v.setCameraOverridden(true);
     }
     c.setMode(CameraController::Mode::kFly);
@@ -79,9 +80,9 @@ void cameraPanel(Viewer& v, Edits& edit) {
 }
 
 void pathPanel(Viewer& v) {
-  const std::vector<RenderPathInfo>& paths = renderPaths();
+  const std::vector<render::RenderPathInfo>& paths = render::renderPaths();
   if (ImGui::BeginCombo("Render path", v.pathName().c_str())) {
-    for (const RenderPathInfo& p : paths) {
+    for (const render::RenderPathInfo& p : paths) {
       if (ImGui::Selectable(p.name.c_str(), p.name == v.pathName()) && p.name != v.pathName()) {
         if (auto r = v.setPath(p.name); !r) std::fprintf(stderr, "puffview: error: %s\n", r.error().message.c_str());
       }
@@ -91,13 +92,13 @@ void pathPanel(Viewer& v) {
   }
 }
 
-void stylePanel(render::Scene& s, Edits& edit) {
-  const std::vector<std::string> presets = render::stylePresetNames();
+void stylePanel(scene::Scene& s, Edits& edit) {
+  const std::vector<std::string> presets = scene::stylePresetNames();
   const std::string current = s.stylePreset.empty() ? "(none)" : s.stylePreset;
   if (ImGui::BeginCombo("Preset", current.c_str())) {
     for (const std::string& name : presets) {
       if (ImGui::Selectable(name.c_str(), name == s.stylePreset)) {
-        if (auto style = render::stylePreset(name)) {
+        if (auto style = scene::stylePreset(name)) {
           s.style = *style;
           s.stylePreset = name;
           edit(true);
@@ -122,7 +123,7 @@ void stylePanel(render::Scene& s, Edits& edit) {
   st.shadowLength = std::max(st.shadowLength, 0.01f);
 }
 
-void lightPanel(render::Scene& s, Edits& edit) {
+void lightPanel(scene::Scene& s, Edits& edit) {
   edit(direction("Light direction", s.light.direction));
   edit(ImGui::ColorEdit3("Light colour", glm::value_ptr(s.light.color), ImGuiColorEditFlags_Float));
   edit(ImGui::ColorEdit3("Ambient colour", glm::value_ptr(s.ambientColor), ImGuiColorEditFlags_Float));
@@ -203,9 +204,9 @@ void simEmittersPanel(std::vector<sim::Emitter>& emitters, Edits& edit) {
 }
 
 // The force-free emitters (placed particles) a scene may list besides the simulator's.
-void sceneEmittersPanel(std::vector<render::EmitterSpec>& emitters, Edits& edit) {
+void sceneEmittersPanel(std::vector<scene::EmitterSpec>& emitters, Edits& edit) {
   for (std::size_t i = 0; i < emitters.size(); ++i) {
-    render::EmitterSpec& e = emitters[i];
+    scene::EmitterSpec& e = emitters[i];
     ImGui::PushID(3000 + static_cast<int>(i));
     if (ImGui::TreeNode("placed", "Placed particles %zu", i)) {
       edit(ImGui::SliderInt("Count", &e.count, 0, 50000, "%d",
@@ -257,7 +258,7 @@ void drawPanels(Viewer& v, PanelState& state) {
   ImGui::TextUnformatted(v.sceneFile().c_str());
   timelinePanel(v);
   Edits edit;
-  render::Scene& s = v.scene();
+  scene::Scene& s = v.scene();
   if (ImGui::CollapsingHeader("Camera")) cameraPanel(v, edit);
   pathPanel(v);
   if (ImGui::CollapsingHeader("Style", ImGuiTreeNodeFlags_DefaultOpen)) stylePanel(s, edit);

@@ -17,10 +17,22 @@
 #include <puff/core/gl.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/shader.h>
+#include <puff/scene/evaluate.h>
+#include <puff/scene/read.h>
+#include <puff/scene/write.h>
 #include <puffview/panels.h>
 #include <puffview/viewer.h>
 
 namespace puff::view {
+
+Result<std::unique_ptr<render::SceneRenderer>> createRenderer(const std::string& pathName, const scene::Scene& scene) {
+  for (const render::RenderPathInfo& p : render::renderPaths()) {
+    if (p.name == pathName) return render::SceneRenderer::create(scene, p.path);
+  }
+  std::string list;
+  for (const render::RenderPathInfo& p : render::renderPaths()) list += (list.empty() ? "" : ", ") + p.name;
+  return Error{"unknown render path \"" + pathName + "\" (available: " + list + ")"};
+}
 
 namespace fs = std::filesystem;
 
@@ -95,7 +107,7 @@ Viewer::Viewer() : impl_(std::make_unique<Impl>()) {}
 Viewer::~Viewer() {
   if (!impl_ || !impl_->context) return;
   impl_->context->makeCurrent();
-  path_.reset();
+  renderer_.reset();
   impl_->fbo = {};
   impl_->color = {};
   impl_->depthStencil = {};
@@ -112,7 +124,7 @@ Viewer::~Viewer() {
 }
 
 Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
-  auto loaded = render::loadScene(options.scene, options.artDir);
+  auto loaded = scene::loadScene(options.scene, options.artDir);
   if (!loaded) return loaded.error();
   if (!options.shaderDir.empty()) core::setShaderDir(options.shaderDir);
 
@@ -189,11 +201,11 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
     v->setStatus(message);
     pathName = "fixed";
   }
-  auto path = createPath(pathName, v->scene_);
+  auto path = createRenderer(pathName, v->scene_);
   if (!path) return path.error();
-  v->path_ = std::move(*path);
+  v->renderer_ = std::move(*path);
   v->pathName_ = pathName;
-  v->camera_.reset(render::cameraAt(v->scene_, 0));
+  v->camera_.reset(scene::cameraAt(v->scene_, 0));
   v->watchScene();
   m.lastInput = m.lastPresent = m.lastPoll = now();
   return v;
@@ -213,8 +225,8 @@ void Viewer::watchScene() {
   }
   if (!scene_.ramp.empty()) files.push_back(scene_.ramp);
   if (!scene_.ambientGradient.empty()) files.push_back(scene_.ambientGradient);
-  for (const render::ObjectSpec& o : scene_.objects) {
-    if (o.type == render::ObjectSpec::Type::kMesh && !o.mesh.empty()) files.push_back(o.mesh);
+  for (const scene::ObjectSpec& o : scene_.objects) {
+    if (o.type == scene::ObjectSpec::Type::kMesh && !o.mesh.empty()) files.push_back(o.mesh);
   }
   std::vector<fs::path> dirs;
   if (const fs::path shaders = core::shaderDir(); !shaders.empty()) dirs.push_back(shaders);
@@ -241,7 +253,7 @@ void Viewer::checkFiles() {
 
 void Viewer::reloadScene() {
   Impl& m = *impl_;
-  auto loaded = render::loadScene(scene_.file, options_.artDir);
+  auto loaded = scene::loadScene(scene_.file, options_.artDir);
   auto fail = [&](const std::string& message) {
     m.sceneError = message;
     fileError_ = m.sceneError + (m.resourceError.empty() ? "" : "\n" + m.resourceError);
@@ -249,13 +261,13 @@ void Viewer::reloadScene() {
   };
   if (!loaded) return fail(loaded.error().message);
   loaded->file = scene_.file;
-  if (auto r = path_->update(*loaded); !r) return fail(r.error().message);
+  if (auto r = renderer_->update(*loaded); !r) return fail(r.error().message);
   scene_ = std::move(*loaded);
   m.sceneError.clear();
   m.resourceError.clear();  // update() reloaded what the scene names, or nothing changed there
   fileError_.clear();
   editError_.clear();
-  if (!cameraOverride_) camera_.reset(render::cameraAt(scene_, frame_));
+  if (!cameraOverride_) camera_.reset(scene::cameraAt(scene_, frame_));
   const fs::path file = scene_.file;
   watchScene();  // the scene may name other files now
   setStatus("reloaded " + file.string());
@@ -263,12 +275,12 @@ void Viewer::reloadScene() {
 
 void Viewer::rebuildPath(const std::string& why) {
   Impl& m = *impl_;
-  auto path = createPath(pathName_, scene_);
+  auto path = createRenderer(pathName_, scene_);
   if (!path) {
     m.resourceError = path.error().message;
     if (!options_.quiet) std::fprintf(stderr, "puffview: error: %s\n", m.resourceError.c_str());
   } else {
-    path_ = std::move(*path);
+    renderer_ = std::move(*path);
     m.resourceError.clear();
     setStatus("rebuilt the " + pathName_ + " path (" + why + ")");
   }
@@ -279,7 +291,7 @@ void Viewer::rebuildPath(const std::string& why) {
 // ---- editing ---------------------------------------------------------------------------------
 
 Result<void> Viewer::applyEdit() {
-  auto r = path_->update(scene_);
+  auto r = renderer_->update(scene_);
   editError_ = r ? "" : r.error().message;
   return r;
 }
@@ -295,14 +307,14 @@ Result<fs::path> Viewer::save(const fs::path& file) {
                      "not saved: the file on disk has edits that do not load (fix them there, or Save as another "
                      "file); saving would overwrite them");
   }
-  render::Scene copy = scene_;
+  scene::Scene copy = scene_;
   copy.file = target;  // toJson writes paths relative to where the file will be
-  nlohmann::json j = render::toJson(copy);
-  if (auto check = render::parseScene(j, target, options_.artDir); !check) {
+  nlohmann::json j = scene::toJson(copy);
+  if (auto check = scene::parseScene(j, target, options_.artDir); !check) {
     return Error::at(target, "not saved: " + check.error().message);
   }
   restoreArtPaths(j, target.parent_path(), options_.artDir);
-  if (auto r = core::writeFileAtomic(target, render::jsonText(j) + "\n"); !r) return r.error();
+  if (auto r = core::writeFileAtomic(target, scene::jsonText(j) + "\n"); !r) return r.error();
   if (target == scene_.file) {
     watcher_.markSeen(target);  // our own write is not an outside change to reload
   } else {
@@ -358,7 +370,7 @@ void Viewer::advance(double seconds) {
 
 void Viewer::resetCamera() {
   cameraOverride_ = false;
-  camera_.reset(render::cameraAt(scene_, frame_));
+  camera_.reset(scene::cameraAt(scene_, frame_));
 }
 
 void Viewer::cameraToScene() {
@@ -371,12 +383,12 @@ void Viewer::cameraToScene() {
 
 Result<void> Viewer::setPath(const std::string& name) {
   impl_->context->makeCurrent();
-  auto path = createPath(name, scene_);
+  auto path = createRenderer(name, scene_);
   if (!path) {
     setStatus("cannot switch to the " + name + " path: " + path.error().message);
     return path.error();
   }
-  path_ = std::move(*path);
+  renderer_ = std::move(*path);
   pathName_ = name;
   setStatus("drawing with the " + name + " path");
   return {};
@@ -408,7 +420,7 @@ void Viewer::handleInput() {
 
   auto touchCamera = [&] {
     if (!cameraOverride_) {
-      camera_.reset(render::cameraAt(scene_, frame_));
+      camera_.reset(scene::cameraAt(scene_, frame_));
       cameraOverride_ = true;
     }
   };
@@ -500,7 +512,7 @@ void Viewer::drawFrame() {
 
   GLint maxSamples = 1;
   glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
-  const int samples = path_->multisample() ? std::clamp(scene_.samples, 1, std::max(1, maxSamples)) : 1;
+  const int samples = std::clamp(renderer_->targetNeeds().samples, 1, std::max(1, maxSamples));
   if (!m.fbo || m.fboWidth != size.x || m.fboHeight != size.y || m.fboSamples != samples) {
     m.fbo = core::makeFramebuffer();
     m.color = core::makeRenderbuffer();
@@ -515,9 +527,13 @@ void Viewer::drawFrame() {
 
   glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
   cel::Camera camera;
-  if (cameraOverride_) camera = camera_.camera(render::cameraAt(scene_, frame_));
+  if (cameraOverride_) camera = camera_.camera(scene::cameraAt(scene_, frame_));
   render::FrameStats stats;
-  path_->draw(frame_, cel::Viewport{0, 0, size.x, size.y}, &stats, cameraOverride_ ? &camera : nullptr);
+  auto drawn =
+      renderer_->drawFrame(frame_, cel::Viewport{0, 0, size.x, size.y}, &stats, cameraOverride_ ? &camera : nullptr);
+  const std::string drawError = drawn ? "" : drawn.error().message;
+  if (drawError != drawError_ && !drawError.empty()) setStatus("cannot draw: " + drawError);
+  drawError_ = drawError;
   stats_ = stats;
 
   // Resolve into the window's back buffer.

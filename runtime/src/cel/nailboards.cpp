@@ -5,9 +5,8 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <puff/cel/nailboards.h>
+#include <puff/cel/pass_state.h>
 #include <puff/core/shader.h>
-
-#include "pass_state.h"
 
 namespace puff::cel {
 
@@ -333,15 +332,15 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
 
   // Every state this pass relies on is set here.
   glUseProgram(p);
-  detail::resetPassState();
+  resetPassState();
   if (msaa) {
     glEnable(GL_MULTISAMPLE);
     glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   }
-  detail::applyShadePass(pass);
+  applyShadePass(pass);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
   glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-  detail::restoreWriteMasks();
+  restoreWriteMasks();
   s.drawCalls = 1;
   return s;
 }
@@ -353,8 +352,8 @@ DrawStats NailboardRenderer::drawBaseline(const Style& style) {
   if (m.count == 0 || !m.hasAtlas) return s;
   m.setCommon(m.sprite.get(), m.spAtlas, style);
   glUseProgram(m.sprite.get());
-  detail::resetPassState();
-  detail::applyShadePass(ShadePass::kLit);
+  resetPassState();
+  applyShadePass(ShadePass::kLit);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
   s.drawCalls = 1;
   return s;
@@ -372,7 +371,7 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   glProgramUniform4fv(p, m.shadowFloor, 1, glm::value_ptr(floorPlane));
 
   glUseProgram(p);
-  detail::resetPassState();
+  resetPassState();
   // No near or far clipping of the faces: the fragment shader clamps their depth instead.
   glEnable(GL_DEPTH_CLAMP);
   glDepthFunc(GL_LESS);
@@ -390,7 +389,7 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 24));
   glDisable(GL_DEPTH_CLAMP);
   glDisable(GL_STENCIL_TEST);
-  detail::restoreWriteMasks();
+  restoreWriteMasks();
   s.drawCalls = 1;
   return s;
 }

@@ -1,7 +1,6 @@
 // Opaque scene objects: primitives, validation, one packed upload, and the three shade passes.
 #include <puff/cel/opaque.h>
-
-#include "pass_state.h"
+#include <puff/cel/pass_state.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,69 +16,6 @@
 #include <puff/core/shader.h>
 
 namespace puff::cel {
-
-// ---- primitives ----------------------------------------------------------------------------------
-
-TriangleMesh makePlane() {
-  TriangleMesh m;
-  m.positions = {{-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}};
-  m.normals.assign(4, glm::vec3(0, 1, 0));
-  m.indices = {0, 1, 2, 0, 2, 3};  // counter-clockwise seen from +y
-  return m;
-}
-
-TriangleMesh makeBox() {
-  TriangleMesh m;
-  // Per face: the outward normal n and two axes u, v with u x v = n, so the quad n + s u + t v
-  // taken (s, t) = (-1,-1), (1,-1), (1,1), (-1,1) is counter-clockwise from outside.
-  const glm::vec3 x(1, 0, 0), y(0, 1, 0), z(0, 0, 1);
-  const glm::vec3 faces[6][3] = {{x, y, z}, {-x, z, y}, {y, z, x}, {-y, x, z}, {z, x, y}, {-z, y, x}};
-  const float st[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-  for (const auto& [n, u, v] : faces) {
-    const auto base = static_cast<std::uint32_t>(m.positions.size());
-    for (const auto& [s, t] : st) {
-      m.positions.push_back(n + s * u + t * v);
-      m.normals.push_back(n);
-    }
-    for (std::uint32_t i : {0u, 1u, 2u, 0u, 2u, 3u}) m.indices.push_back(base + i);
-  }
-  return m;
-}
-
-TriangleMesh makeSphere(int segments) {
-  segments = std::clamp(segments, 3, 4096);
-  const int rings = std::max(2, segments / 2);
-  TriangleMesh m;
-  // Poles are single vertices; the rings in between hold `segments` vertices each (no seam
-  // duplicates: the mesh has no texture coordinates).
-  auto ring = [&](int i) {  // first vertex of ring i in [1, rings - 1]
-    return static_cast<std::uint32_t>(1 + (i - 1) * segments);
-  };
-  m.positions.emplace_back(0, 1, 0);
-  for (int i = 1; i < rings; ++i) {
-    const double theta = std::numbers::pi * i / rings;  // from +y
-    for (int j = 0; j < segments; ++j) {
-      const double phi = 2.0 * std::numbers::pi * j / segments;
-      m.positions.emplace_back(static_cast<float>(std::sin(theta) * std::cos(phi)), static_cast<float>(std::cos(theta)),
-                               static_cast<float>(-std::sin(theta) * std::sin(phi)));
-    }
-  }
-  m.positions.emplace_back(0, -1, 0);
-  const auto south = static_cast<std::uint32_t>(m.positions.size() - 1);
-  m.normals = m.positions;  // the unit sphere's normal is its position
-  // phi grows counter-clockwise seen from +y (x toward -z), so seen from outside a quad
-  // (i, j), (i+1, j), (i+1, j+1), (i, j+1) runs counter-clockwise.
-  for (int j = 0; j < segments; ++j) {
-    const auto j0 = static_cast<std::uint32_t>(j), j1 = static_cast<std::uint32_t>((j + 1) % segments);
-    m.indices.insert(m.indices.end(), {0u, ring(1) + j0, ring(1) + j1});
-    for (int i = 1; i + 1 < rings; ++i) {
-      const std::uint32_t a = ring(i), b = ring(i + 1);
-      m.indices.insert(m.indices.end(), {a + j0, b + j0, b + j1, a + j0, b + j1, a + j1});
-    }
-    m.indices.insert(m.indices.end(), {ring(rings - 1) + j0, south, ring(rings - 1) + j1});
-  }
-  return m;
-}
 
 // ---- renderer ------------------------------------------------------------------------------------
 
@@ -285,8 +221,8 @@ void OpaqueRenderer::draw(ShadePass pass) {
 
   // Every state this pass relies on is set here; nothing is inherited from the host or a pass.
   // Culling stays off: planes show both sides; the fragment shader turns back-face normals around.
-  detail::resetPassState();
-  const int passMode = detail::applyShadePass(pass);
+  resetPassState();
+  const int passMode = applyShadePass(pass);
 
   const GLuint program = im.program.get();
   glUseProgram(program);
@@ -306,7 +242,7 @@ void OpaqueRenderer::draw(ShadePass pass) {
   glBindVertexArray(0);
   glUseProgram(0);
   glFrontFace(GL_CCW);
-  detail::restoreWriteMasks();
+  restoreWriteMasks();
 }
 
 }  // namespace puff::cel

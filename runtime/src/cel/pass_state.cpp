@@ -1,6 +1,6 @@
-#include "pass_state.h"
 
-namespace puff::cel::detail {
+#include <puff/cel/pass_state.h>
+namespace puff::cel {
 
 void resetPassState() {
   glDisable(GL_BLEND);
@@ -51,4 +51,4 @@ void restoreWriteMasks() {
   glStencilMask(0xFF);
 }
 
-}  // namespace puff::cel::detail
+}  // namespace puff::cel

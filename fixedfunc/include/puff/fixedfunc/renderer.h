@@ -69,20 +69,13 @@ enum class ObjectShading {
 };
 
 /// An opaque object: a triangle mesh with per-vertex normals (positions, normals, triangles;
-/// colours are ignored), placed in the world by `transform`.
+/// colours are ignored; puff::mesh makes the primitives), placed in the world by `transform`.
 struct FixedObject {
   mesh::TriMesh mesh;
   glm::mat4 transform{1.0f};  ///< object -> world, affine and invertible (normals use GL_NORMALIZE)
   glm::vec3 albedo{0.8f};     ///< >= 0
   ObjectShading shading = ObjectShading::kCel;
 };
-
-/// Primitive meshes for objects (counter-clockwise from outside). Plane: the square [-1,1]^2 in
-/// y = 0, normal +y. Box: [-1,1]^3, flat face normals. Sphere: unit radius, `segments` (>= 3)
-/// around and segments/2 (>= 2) rings.
-mesh::TriMesh makePlaneMesh();
-mesh::TriMesh makeBoxMesh();
-mesh::TriMesh makeSphereMesh(int segments = 32);
 
 struct FixedViewport {
   int x = 0, y = 0;           ///< lower-left corner, GL window coordinates (pixels)

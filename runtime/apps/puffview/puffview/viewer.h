@@ -13,9 +13,8 @@
 #include <puff/core/error.h>
 #include <puff/core/image.h>
 #include <puff/render/render.h>
-#include <puff/render/scene.h>
+#include <puff/scene/scene.h>
 #include <puffview/camera.h>
-#include <puffview/paths.h>
 #include <puffview/watcher.h>
 
 namespace puff::view {
@@ -26,13 +25,18 @@ struct ViewerOptions {
   /// Shaders are read from here (core::setShaderDir) and every file under it is watched. Empty:
   /// $PUFF_SHADER_DIR when set (watched too), else the embedded copies (nothing to watch).
   std::filesystem::path shaderDir;
-  std::string path = "cel";             ///< render path, one of renderPaths()
+  std::string path = "cel";             ///< render path, one of render::renderPaths()
   int width = 0, height = 0;            ///< window size; 0: the scene's output size, clamped to [64, 1920] x [64, 1200]
   bool visible = true;                  ///< show the window (tests under Xvfb may keep it hidden)
   bool ui = true;                       ///< draw the panels (H toggles them at run time)
   std::filesystem::path screenshotDir;  ///< screenshots go here; empty: beside the scene file
   bool quiet = false;                   ///< print nothing but errors
 };
+
+/// A renderer drawing `scene` with the path named `pathName` (one of render::renderPaths()) in the
+/// current GL context. Errors: an unknown name (listing the available ones), or whatever loading the
+/// scene's resources or building the programs reported.
+Result<std::unique_ptr<render::SceneRenderer>> createRenderer(const std::string& pathName, const scene::Scene& scene);
 
 class Viewer {
  public:
@@ -75,7 +79,7 @@ class Viewer {
 
   // ---- the scene ---------------------------------------------------------------------------
   /// The scene being edited. Change it, then call applyEdit().
-  render::Scene& scene() { return scene_; }
+  scene::Scene& scene() { return scene_; }
   /// Applies scene() to the render path at once; on error the view keeps the last good state and
   /// editError() says why (cleared by the next successful edit).
   Result<void> applyEdit();
@@ -106,7 +110,7 @@ class Viewer {
   void cameraToScene();
 
   const std::string& pathName() const { return pathName_; }
-  /// Switches the render path (one of renderPaths()), building it anew for scene(); on error the
+  /// Switches the render path (one of render::renderPaths()), building it anew for scene(); on error the
   /// old one stays and status() says why.
   Result<void> setPath(const std::string& name);
 
@@ -136,8 +140,9 @@ class Viewer {
   void setStatus(std::string text);
 
   ViewerOptions options_;
-  render::Scene scene_;
-  std::unique_ptr<ScenePath> path_;
+  scene::Scene scene_;
+  std::unique_ptr<render::SceneRenderer> renderer_;
+  std::string drawError_;  // the last draw's error, shown once
   std::string pathName_;
   FileWatcher watcher_;
   std::string fileError_, editError_, status_;

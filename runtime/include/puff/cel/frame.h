@@ -15,33 +15,12 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <puff/cel/types.h>
 #include <puff/core/error.h>
 #include <puff/core/gl.h>
 #include <puff/core/image.h>
 
 namespace puff::cel {
-
-struct Camera {
-  glm::vec3 position{0.0f, 0.0f, 5.0f};  ///< world space
-  glm::vec3 target{0.0f};                ///< point looked at
-  glm::vec3 up{0.0f, 1.0f, 0.0f};        ///< world up hint; must not be parallel to target - position
-  float fovYDegrees = 45.0f;             ///< vertical field of view, (0, 180); 0 means orthographic
-  float orthoHeight = 2.0f;              ///< world-space height of the view when orthographic
-  float nearPlane = 0.1f;                ///< > 0
-  float farPlane = 100.0f;               ///< > nearPlane
-
-  glm::mat4 view() const;
-  glm::mat4 projection(float aspect) const;  ///< aspect = width / height
-};
-
-struct Light {
-  glm::vec3 direction{0.4f, 1.0f, 0.3f};  ///< world space, toward the light (normalized on use); directional
-  glm::vec3 color{1.0f};                  ///< K_L
-};
-
-struct Viewport {
-  int x = 0, y = 0, width = 0, height = 0;  ///< pixels, GL convention (origin bottom-left)
-};
 
 /// Everything a pass needs to know about the frame. No GL objects: textures are set separately.
 struct Frame {

@@ -34,18 +34,6 @@
 
 namespace puff::cel {
 
-/// One particle as a host or simulator holds it.
-struct Particle {
-  glm::vec3 position{0.0f};  ///< world space, centre of the puff
-  float size = 1.0f;         ///< world-space diameter of the puff; >= 0 (0 draws nothing)
-  int variation = 0;         ///< atlas variation, [0, 255]; taken modulo the atlas's variations
-  /// false: the puff always shows its front view, upright on the billboard (the paper's particles).
-  /// true: `orientation` turns the puff in the world; a multi-view atlas shows it from the side
-  /// the camera sees, blending the nearest baked views, so it tumbles in 3D.
-  bool oriented = false;
-  glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f};  ///< puff space -> world; unit quaternion
-};
-
 /// The 16 bytes one particle costs per frame on the bus.
 ///   x: position x | y << 16   (16-bit unorm inside PackBounds)
 ///   y: position z | half(size) << 16
@@ -66,37 +54,6 @@ struct PackBounds {
 PackBounds packParticles(std::span<const Particle> particles, std::vector<PackedParticle>& out);
 /// The particle the GPU sees after packing (for tests and the CPU reference).
 Particle unpackParticle(const PackedParticle& packed, const PackBounds& bounds);
-
-/// How a billboard turns toward the camera (Real-Time Rendering §10.6).
-enum class Alignment {
-  kViewPlane,  ///< parallel to the image plane, screen up (the paper's; default)
-  kViewpoint,  ///< facing the camera position, world up projected
-  kAxial,      ///< rotates only about world up (y), facing the camera
-};
-std::string_view toString(Alignment a);
-Result<Alignment> parseAlignment(std::string_view name);  ///< "view-plane", "viewpoint", "axial"
-
-/// The Fig. 8 progression and its knobs. Every effect toggles on its own.
-struct Style {
-  bool outlines = true;          ///< black flange (§4.2); off = the body's silhouette only
-  float outlineWidth = 2.0f;     ///< pixels on screen, from the baked distance field; >= 0
-  glm::vec3 outlineColor{0.0f};  ///< the ink
-  bool shading = true;           ///< Eq. 2 with q(max(0, N.L)); off = flat K_a + C * K_L
-  bool shadows = false;          ///< billboard shadow volumes (§4.3)
-  Alignment alignment = Alignment::kViewPlane;
-  /// Shadow volumes start this far (in puff diameters) past the puff's own far side (as its depth
-  /// map gives it), so a puff does not shadow itself. [0, 1].
-  float shadowBias = 0.05f;
-  /// World-space length of each shadow volume along the light; > 0. Longer costs fill rate.
-  float shadowLength = 20.0f;
-};
-
-/// Which colour a nailboard pass writes.
-enum class ShadePass {
-  kLit,        ///< Eq. 2 in full; depth test LESS, depth written
-  kShadowed,   ///< ambient only, depth test EQUAL, stencil != 0, no depth write (step 5 above)
-  kDepthOnly,  ///< depth only (no colour), e.g. for a host's own shadow or depth pre-pass
-};
 
 /// Counts for the benchmark and tests.
 struct DrawStats {

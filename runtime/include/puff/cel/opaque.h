@@ -21,19 +21,12 @@
 namespace puff::cel {
 
 /// Triangles in object space with per-vertex normals; indices are counter-clockwise from outside.
+/// (puff::mesh makes the primitives; puff::render turns its meshes into these.)
 struct TriangleMesh {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;  ///< same count as positions, unit length
   std::vector<std::uint32_t> indices;
 };
-
-/// Primitive meshes, counter-clockwise from outside. Plane: the square [-1,1]^2 in y = 0, normal +y
-/// (4 vertices). Box: [-1,1]^3 with flat face normals (24 vertices). Sphere: unit radius, normals =
-/// positions, `segments` around (clamped to [3, 4096]) and max(2, segments/2) rings, one vertex
-/// per pole.
-TriangleMesh makePlane();
-TriangleMesh makeBox();
-TriangleMesh makeSphere(int segments = 48);
 
 struct OpaqueObject {
   std::string name;  ///< for messages

@@ -24,27 +24,10 @@
 
 #include <puff/core/error.h>
 #include <puff/core/gl.h>
+#include <puff/media/types.h>
 #include <puff/media/media.h>
 
 namespace puff::media {
-
-/// One explosion's light on the scene.
-struct ExplosionLight {
-  glm::vec3 center{0.0f};  ///< world space
-  float radius = 1.0f;     ///< world units, > 0
-  glm::vec3 color{1.0f, 0.6f, 0.25f};
-  float intensity = 1.0f;   ///< >= 0 (0: off)
-  bool modulate = false;    ///< multiply the surface by mix(1, color, weight) instead of adding
-  bool fullAtBack = false;  ///< full intensity from the sphere's back instead of its centre
-};
-
-struct ComposeSettings {
-  bool depthAware = true;      ///< nearest-depth upsampling (false: plain bilinear, halos)
-  float shimmerPixels = 0.0f;  ///< heat-shimmer displacement, full-resolution pixels per unit offset
-  /// Nearest-depth threshold: layer texels within this share of the pixel's view distance count
-  /// as the same surface.
-  float depthTolerance = 0.02f;
-};
 
 class Layers {
  public:

@@ -61,6 +61,17 @@ void computeNormals(TriMesh& mesh);
 /// Colors are written where the format carries them (PLY, OFF, OBJ).
 Result<void> saveMesh(const TriMesh& mesh, const std::filesystem::path& path);
 
+// ---- primitives ------------------------------------------------------------------------------
+// Scene objects' shapes, counter-clockwise from outside, in object space (not normalized).
+
+/// The square [-1,1]^2 in y = 0, normal +y (4 vertices).
+TriMesh makePlane();
+/// [-1,1]^3 with flat face normals (24 vertices).
+TriMesh makeBox();
+/// Unit radius, normals = positions, `segments` around (clamped to [3, 4096]) and
+/// max(2, segments/2) rings, one vertex per pole.
+TriMesh makeSphere(int segments = 48);
+
 // ---- generators -------------------------------------------------------------------------------
 // All are deterministic for a given seed on every platform (own PRNG and noise, no std::
 // distributions), and return normalized meshes with normals and no colors. Parameters must pass

@@ -47,6 +47,7 @@ struct Path {
   glm::vec3 at(double t) const;
   glm::vec3 velocityAt(double t) const;  ///< slope of the segment at t; zero outside the keys
   bool empty() const { return times.empty(); }
+  bool operator==(const Path&) const = default;
 };
 
 /// A line vortex: air turns about `axis` through `position` (plus its path's position). Its
@@ -67,6 +68,7 @@ struct Vortex {
   /// (a propeller's wake); each copy's strength fades linearly to 0 over shedLifetime seconds.
   float shedInterval = 0.0f;
   float shedLifetime = 1.0f;  ///< > 0
+  bool operator==(const Vortex&) const = default;
 };
 
 /// Air moving at `velocity` inside the box center +- halfExtent, fading to none over `feather`
@@ -76,6 +78,7 @@ struct WindVolume {
   glm::vec3 halfExtent{1.0f};
   glm::vec3 velocity{0.0f};
   float feather = 0.0f;
+  bool operator==(const WindVolume&) const = default;
 };
 
 /// Divergence-free noise (the curl of a smooth periodic noise potential, Bridson 2007), added to
@@ -87,6 +90,7 @@ struct Turbulence {
   float scale = 1.0f;     ///< > 0
   float speed = 0.5f;     ///< >= 0
   std::uint32_t seed = 1;
+  bool operator==(const Turbulence&) const = default;
 };
 
 struct Forces {
@@ -98,6 +102,7 @@ struct Forces {
   std::vector<WindVolume> windVolumes;
   Turbulence turbulence;
   std::vector<Vortex> vortices;
+  bool operator==(const Forces&) const = default;
 };
 
 /// Particles are born at `rate` per second for `duration` seconds from `start` (0: forever)
@@ -130,6 +135,7 @@ struct Emitter {
   std::vector<int> variations;           ///< allowed atlas variations; empty = 0 .. variations-1
   bool oriented = false;                 ///< random orientation (multi-view atlases)
   float spin = 0.0f;                     ///< random angular velocity up to this, radians / s
+  bool operator==(const Emitter&) const = default;
 };
 
 /// A rigid body particles cannot enter. The particle is a sphere of `collisionRadius` times its
@@ -151,6 +157,7 @@ struct Collider {
   std::vector<std::uint32_t> indices;
   float friction = 0.0f;
   Path path;  ///< a moving body: its position is center + path (meshes: every vertex + path)
+  bool operator==(const Collider&) const = default;
 };
 
 enum class Integrator {
@@ -168,6 +175,7 @@ struct Settings {
   Forces forces;
   std::vector<Emitter> emitters;
   std::vector<Collider> colliders;
+  bool operator==(const Settings&) const = default;
 };
 
 /// The most particles a budget may ask for (about 64 bytes each: 1.3 GB).

@@ -1,7 +1,6 @@
-// The cel reference's GL side (RenderPath::kReference, issue 7): puff meshes instanced at every
-// particle, a two-pass shadow map that knows which puff each texel saw, true-silhouette outlines and
-// the supersampled target. SceneRenderer drives it (render.cpp); this header is private to
-// puff::render.
+// The cel reference's GL side: puff meshes instanced at every particle, a two-pass shadow map that
+// knows which puff each texel saw, true-silhouette outlines and the supersampled target. Its render
+// path (reference_path.cpp) drives it; this header is private to puff::eval.
 #pragma once
 
 #include <filesystem>
@@ -15,10 +14,10 @@
 #include <puff/core/atlas.h>
 #include <puff/core/error.h>
 #include <puff/core/gl.h>
+#include <puff/eval/cel_reference.h>
 #include <puff/mesh/mesh.h>
-#include <puff/render/render.h>
 
-namespace puff::render::detail {
+namespace puff::eval::detail {
 
 /// The puff mesh each variation of an atlas was baked from, at full detail: the file the sidecar
 /// names (relative paths against the sidecar's folder; its fnv1a64 hash must match, or the atlas is
@@ -61,4 +60,4 @@ class CelReference {
   std::unique_ptr<Impl> impl_;
 };
 
-}  // namespace puff::render::detail
+}  // namespace puff::eval::detail

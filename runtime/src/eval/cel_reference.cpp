@@ -1,6 +1,4 @@
-#include "cel_reference.h"
-
-#include "../cel/pass_state.h"
+#include "cel_reference_gl.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,10 +9,11 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <puff/cel/pass_state.h>
 #include <puff/core/files.h>
 #include <puff/core/shader.h>
 
-namespace puff::render::detail {
+namespace puff::eval::detail {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -288,7 +287,7 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
   const int ss = m.options.supersample;
   const int w = viewport.width * ss, h = viewport.height * ss;
   m.ensureTarget(w, h);
-  cel::detail::resetPassState();  // no scissor, blending, culling, clamp, ... whatever the host left
+  cel::resetPassState();  // no scissor, blending, culling, clamp, ... whatever the host left
 
   // The instances, grouped by variation: rows of the model matrix and the particle's id.
   struct Instance {
@@ -349,7 +348,7 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
     setMat4(meshProg, "uLightView", lightView);
     setMat4(meshProg, "uLightProj", lightProj);
     glViewport(0, 0, m.shadowSize, m.shadowSize);
-    cel::detail::applyShadePass(cel::ShadePass::kLit);  // depth LESS + write, colour on, no stencil
+    cel::applyShadePass(cel::ShadePass::kLit);  // depth LESS + write, colour on, no stencil
     glUseProgram(meshProg);
     // None of the shadow maps may sit on a texture unit while it is being drawn into.
     for (GLuint unit : {4u, 5u, 6u}) glBindTextureUnit(unit, 0);
@@ -396,8 +395,8 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
   if (!instances.empty()) {
     const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
     glNamedFramebufferDrawBuffers(fbo, 2, both);
-    cel::detail::resetPassState();  // whatever the opaque pass left
-    cel::detail::applyShadePass(cel::ShadePass::kLit);
+    cel::resetPassState();  // whatever the opaque pass left
+    cel::applyShadePass(cel::ShadePass::kLit);
     glUseProgram(meshProg);
     setInt(meshProg, "uMode", 0);
     setInt(meshProg, "uShading", style.shading ? 1 : 0);
@@ -463,4 +462,4 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
   glUseProgram(0);
 }
 
-}  // namespace puff::render::detail
+}  // namespace puff::eval::detail

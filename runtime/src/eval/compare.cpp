@@ -1,9 +1,15 @@
-#include <puff/render/compare.h>
+#include <puff/eval/compare.h>
+
+#include <puff/render/render.h>
 
 #include <algorithm>
 #include <cmath>
 
-namespace puff::render {
+namespace puff::eval {
+
+using render::RenderPath;
+using render::SceneRenderer;
+using scene::Scene;
 
 Scene withoutParticles(const Scene& scene) {
   Scene s = scene;
@@ -78,4 +84,4 @@ Parity compareFrames(const core::Image& a, const core::Image& aBare, const core:
   return p;
 }
 
-}  // namespace puff::render
+}  // namespace puff::eval

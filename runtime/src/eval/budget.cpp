@@ -5,13 +5,21 @@
 #include <memory>
 #include <optional>
 
+#include <puff/core/atlas.h>
 #include <puff/core/detail_video.h>
+#include <puff/eval/budget.h>
+#include <puff/eval/cel_reference.h>
 #include <puff/reference/media_reference.h>
 #include <puff/reference/metrics.h>
-#include <puff/render/budget.h>
 #include <puff/render/render.h>
 
-namespace puff::render {
+namespace puff::eval {
+
+using render::FrameStats;
+using render::RenderPath;
+using render::SceneRenderer;
+using scene::MediaSpec;
+using scene::Scene;
 
 namespace {
 
@@ -357,7 +365,7 @@ Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> fram
     const auto t0 = Clock::now();
     Scene full = s;
     full.particleFraction = 1.0f;
-    auto ref = SceneRenderer::createReference(full);
+    auto ref = createCelReference(full);
     if (!ref) return ref.error();
     for (int f : budget.frames) {
       auto image = (*ref)->renderFrame(f);
@@ -488,4 +496,4 @@ std::string celBudgetWarning(const CelBudget& budget, const MediaChoice& choice)
          "); rendering with " + candidateText(budget, budget.candidates[choice.chosen]);
 }
 
-}  // namespace puff::render
+}  // namespace puff::eval

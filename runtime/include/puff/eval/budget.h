@@ -4,9 +4,9 @@
 // whose error stays within a budget. puffrender --max-error is a shell around these calls.
 //
 // What is compared, apples to apples:
-//  - the GPU: SceneRenderer::renderFrame, the composed 8-bit image read back as values in [0, 1];
+//  - the GPU: render::SceneRenderer::renderFrame, the composed 8-bit image read back as values in [0, 1];
 //  - the reference: reference::renderMediaReference over the SAME opaque layer the GPU composed
-//    over (SceneRenderer::lastMediaFrame: the resolved RGBA8 colour and the linear depth of that
+//    over (render::SceneRenderer::lastMediaFrame: the resolved RGBA8 colour and the linear depth of that
 //    very frame), the same particles, materials, settings and detail videos, at full output size,
 //    composited along each ray, then clamped to [0, 1] as the 8-bit target clamps;
 //  - the error: reference::imageError's RMSE over every pixel's R, G, B, linear colour.
@@ -28,11 +28,10 @@
 
 #include <puff/core/error.h>
 #include <puff/core/image.h>
-#include <puff/render/scene.h>
+#include <puff/render/render.h>
+#include <puff/scene/scene.h>
 
-namespace puff::render {
-
-class SceneRenderer;
+namespace puff::eval {
 
 /// The media layer resolutions measured, cheapest first: the layer has resolution^2 of the output's
 /// pixels, so this is also the order of cost (the measured times are reported, not used to order).
@@ -49,7 +48,7 @@ struct MediaCandidate {
   float resolution = 1.0f;   ///< MediaSpec::resolution
   std::vector<double> rmse;  ///< per measured frame (MediaBudget::frames order), linear colour
   double worstRmse = 0.0;    ///< the largest of `rmse`
-  double medianMs = 0.0;     ///< median wall time of one SceneRenderer::renderFrame, milliseconds
+  double medianMs = 0.0;     ///< median wall time of one render::SceneRenderer::renderFrame, milliseconds
 };
 
 struct MediaBudget {
@@ -71,9 +70,9 @@ std::vector<int> budgetFrames(int first, int last);
 /// reference per frame (explosion-walls, 640 x 480, 241 particles and a temperature video: about
 /// 1.5 s on 2 cores; all of `puffrender --frames 0-71 --max-error` measuring: about 6 s).
 /// Errors: a scene without media, no frames or a frame outside the scene, timedRenders outside
-/// [1, 100], and what SceneRenderer::create, renderFrame, core::loadDetailVideo and
+/// [1, 100], and what render::SceneRenderer::create, renderFrame, core::loadDetailVideo and
 /// reference::renderMediaReference return.
-Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> frames,
+Result<MediaBudget> measureMediaBudget(const scene::Scene& scene, std::span<const int> frames,
                                        const MediaBudgetOptions& options = {});
 
 /// What chooseMediaResolution picked.
@@ -84,11 +83,11 @@ struct MediaChoice {
   std::size_t best = 0;    ///< the candidate with the smallest worst RMSE (for the message when not met)
 };
 
-/// The exact media image of the frame `renderer` drew last (SceneRenderer::lastMediaFrame: the same
+/// The exact media image of the frame `renderer` drew last (render::SceneRenderer::lastMediaFrame: the same
 /// particles over the same opaque layer), as measureMediaBudget computes it: clamped to [0, 1], RGBA,
 /// row 0 at the top. `scene` is the renderer's scene (its materials, settings and detail videos).
 /// Needs the renderer's context current.
-Result<core::Image> mediaReference(const Scene& scene, const SceneRenderer& renderer);
+Result<core::Image> mediaReference(const scene::Scene& scene, const render::SceneRenderer& renderer);
 
 /// The cheapest candidate whose worstRmse <= maxError; none: the dearest (the last), met = false.
 /// Errors: maxError not in (0, 1] (NaN included), a budget without candidates.
@@ -105,13 +104,13 @@ std::string budgetWarning(const MediaBudget& budget, const MediaChoice& choice);
 
 // ---- the cel path: particle count and atlas resolution ----------------------------------------------
 // Two cost parameters of the nailboards a scene can choose at run time, measured against the cel
-// reference of the FULL model (RenderPath::kReference: every particle of the scene's emitters as its
-// puff mesh; Scene::particleFraction 1), error = RMSE of the 8-bit frame over the whole frame, media
+// reference of the FULL model (render::RenderPath::kReference: every particle of the scene's emitters as its
+// puff mesh; scene::Scene::particleFraction 1), error = RMSE of the 8-bit frame over the whole frame, media
 // left out of both:
-//  - the particle count (Scene::particleFraction: 1/8, 1/4, 1/2, 1 of each placed emitter's
+//  - the particle count (scene::Scene::particleFraction: 1/8, 1/4, 1/2, 1 of each placed emitter's
 //    particles, each (1/f)^(1/3) larger): fewer, bigger puffs; cost = the measured frame time, order
 //    = the count;
-//  - the atlas's resolution (Scene::atlasLevel: the atlas from one of its mip levels on, as if baked
+//  - the atlas's resolution (scene::Scene::atlasLevel: the atlas from one of its mip levels on, as if baked
 //    that much smaller); cost = its texture memory (what a smaller atlas saves; on a GPU also
 //    bandwidth), the frame time measured and reported.
 // Mesh detail is baked into the atlas (no run-time cost to save; `puffbake --lod auto` picks it when
@@ -122,14 +121,14 @@ enum class CelKnob { kParticleFraction, kAtlasLevel };
 
 /// One candidate, measured.
 struct CelCandidate {
-  float particleFraction = 1.0f;  ///< Scene::particleFraction
+  float particleFraction = 1.0f;  ///< scene::Scene::particleFraction
   std::size_t particles = 0;      ///< cel particles drawn (the most over the measured frames)
-  int atlasLevel = 0;             ///< Scene::atlasLevel
+  int atlasLevel = 0;             ///< scene::Scene::atlasLevel
   int cellSize = 0;               ///< texels per cell at that level
   std::size_t atlasBytes = 0;     ///< core::atlasTextureBytes at that level
   std::vector<double> rmse;       ///< per measured frame
   double worstRmse = 0.0;
-  double medianMs = 0.0;  ///< median wall time of one SceneRenderer::renderFrame, milliseconds
+  double medianMs = 0.0;  ///< median wall time of one render::SceneRenderer::renderFrame, milliseconds
 };
 
 struct CelBudget {
@@ -149,10 +148,10 @@ inline constexpr std::array<float, 4> kParticleFractions{0.125f, 0.25f, 0.5f, 1.
 /// core::deepestAtlasLevel (but no smaller than 16-texel cells) to 0. kParticleFraction:
 /// kParticleFractions (the scene needs placed emitters). Media are left out. Errors: a scene without
 /// an atlas or particles (or, for kParticleFraction, without placed emitters), bad frames,
-/// timedRenders outside [1, 100], and what SceneRenderer::create / createReference / renderFrame return.
+/// timedRenders outside [1, 100], and what render::SceneRenderer::create / createReference / renderFrame return.
 /// `references` (optional): the full model's references of these frames from an earlier budget of the
 /// same scene and frames (CelBudget::references), reused instead of rendered again.
-Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames,
+Result<CelBudget> measureCelBudget(const scene::Scene& scene, std::span<const int> frames,
                                    const MediaBudgetOptions& options = {}, CelKnob knob = CelKnob::kAtlasLevel,
                                    std::span<const core::Image> references = {});
 
@@ -165,4 +164,4 @@ std::string celBudgetTable(const CelBudget& budget, const MediaChoice& choice);
 std::string celBudgetSummary(const CelBudget& budget, const MediaChoice& choice);
 std::string celBudgetWarning(const CelBudget& budget, const MediaChoice& choice);
 
-}  // namespace puff::render
+}  // namespace puff::eval

@@ -7,18 +7,18 @@
 #include <vector>
 
 #include <puff/core/image.h>
-#include <puff/render/scene.h>
+#include <puff/scene/scene.h>
 
-namespace puff::render {
+namespace puff::eval {
 
 /// The scene without any particle (listed, placed or simulated): the background a mask is taken
 /// against.
-Scene withoutParticles(const Scene& scene);
+scene::Scene withoutParticles(const scene::Scene& scene);
 
 /// The scene within the fixed-function path's limits (McGuire & Fein §4.4), so both paths draw the
 /// same thing: no shadows, the uniform ambient colour instead of a gradient, view-plane billboards,
 /// one sample per pixel, no media (fire, smoke, dust). `changes` (optional) lists what was changed, for a report.
-Scene restrictToFixedLimits(const Scene& scene, std::vector<std::string>* changes = nullptr);
+scene::Scene restrictToFixedLimits(const scene::Scene& scene, std::vector<std::string>* changes = nullptr);
 
 struct Parity {
   double iou = 0.0;          ///< |A ∩ B| / |A ∪ B| of the two smoke masks; 1 when both are empty
@@ -36,4 +36,4 @@ struct Parity {
 Parity compareFrames(const core::Image& a, const core::Image& aBare, const core::Image& b, const core::Image& bBare,
                      float tolerance, core::Image* sideBySide = nullptr);
 
-}  // namespace puff::render
+}  // namespace puff::eval

@@ -1,11 +1,12 @@
 // GL state shared by the cel passes (nailboards, shadow volumes, opaque objects). Each pass sets
-// every state it relies on, never trusting what the previous pass or the host left.
+// every state it relies on, never trusting what the previous pass or the host left. Public so that
+// a pass drawn alongside them (the cel reference in puff::eval, a host's own) sets the same state.
 #pragma once
 
 #include <puff/cel/nailboards.h>
 #include <puff/core/gl.h>
 
-namespace puff::cel::detail {
+namespace puff::cel {
 
 /// The state every cel pass starts from: no blending, culling, scissor, depth clamp, polygon
 /// offset, alpha-to-coverage, rasterizer discard, sRGB conversion or primitive restart; filled
@@ -21,4 +22,4 @@ int applyShadePass(ShadePass pass);
 /// turned them off must not be silently masked.
 void restoreWriteMasks();
 
-}  // namespace puff::cel::detail
+}  // namespace puff::cel

@@ -1,35 +1,28 @@
-// The scene file: everything puffrender (and later puffview) needs to draw a frame, as JSON.
-// docs/scene-format.md is the annotated reference; art/scenes/ holds working examples.
+// The scene file's contents: everything puffrender and puffview need to draw a frame. Reading
+// (read.h) and writing (write.h) are separate; evaluate.h turns a scene and a frame number into
+// what that frame draws. docs/scene-format.md is the annotated reference; art/scenes/ holds
+// working examples. No GL anywhere in puff::scene.
 //
 // Every field is optional ("zero means default": a scene lists only what it changes). Relative
 // paths resolve against the scene file's directory; "${PUFF_ART}" at the start of a path means
-// the baked-art directory given to the loader (puffrender: --art-dir, default build/art).
-//
-// A frame is a pure function of (scene, frame number): listed particles move by their velocities
-// and spin by their angular velocities from their birth time, shrink linearly to nothing over their
-// lifetime (size follows density, so nothing pops), and emitters place particles from their seed;
-// a "simulation" is stepped from its start to the frame (puff::sim). Any frame rendered alone
-// equals the same frame of a full run.
+// the baked-art directory given to the loader.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <glm/gtc/quaternion.hpp>
-#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
-#include <nlohmann/json.hpp>
 
-#include <puff/cel/frame.h>
-#include <puff/cel/nailboards.h>
+#include <puff/cel/types.h>
 #include <puff/core/error.h>
-#include <puff/media/layers.h>
-#include <puff/media/media.h>
+#include <puff/media/types.h>
 #include <puff/sim/simulator.h>
 
-namespace puff::render {
+namespace puff::scene {
 
 /// One particle listed in the scene.
 struct ParticleSpec {
@@ -42,6 +35,7 @@ struct ParticleSpec {
   glm::vec3 angularVelocity{0.0f};                ///< world-space axis * radians per second
   float birth = 0.0f;                             ///< seconds; not drawn before
   float lifetime = 0.0f;                          ///< seconds; 0 = lives forever. Size falls linearly to 0 at the end.
+  bool operator==(const ParticleSpec&) const = default;
 };
 
 /// A deterministic generator of particles (not the simulator: no forces). Places `count`
@@ -73,6 +67,7 @@ struct EmitterSpec {
   float speedSpread = 0.0f;
   float birthSpread = 0.0f;
   float lifetime = 0.0f;
+  bool operator==(const EmitterSpec&) const = default;
 };
 
 struct ObjectSpec {
@@ -90,6 +85,7 @@ struct ObjectSpec {
   sim::Path path;
   bool collide = true;    ///< simulated particles collide with it (scenes with a "simulation")
   float friction = 0.0f;  ///< [0, 1], for simulated particles sliding on it
+  bool operator==(const ObjectSpec&) const = default;
 };
 
 struct Animation {
@@ -100,6 +96,7 @@ struct Animation {
   /// A camera flight: the camera's position (and, if given, its target) follow these keys
   /// (seconds of scene time, linear between keys, held outside them); the orbit turns after.
   sim::Path cameraPath, targetPath;
+  bool operator==(const Animation&) const = default;
 };
 
 /// A media particle listed in the scene (it does not move).
@@ -111,6 +108,7 @@ struct MediaParticleSpec {
   float life = 0.0f;               ///< [0, 1]: where it is in its material's transition
   float density = 1.0f;            ///< multiplies the material's tau, >= 0
   std::uint32_t seed = 0;          ///< its detail window
+  bool operator==(const MediaParticleSpec&) const = default;
 };
 
 /// Media particles born by the simulator (an explosion's burst, a fire's stream). The emitter's
@@ -122,6 +120,7 @@ struct MediaEmitterSpec {
   std::string material = "smoke";
   int materialIndex = 0;  ///< resolved by the parser
   float growth = 0.0f;    ///< [0, 100]
+  bool operator==(const MediaEmitterSpec&) const = default;
 };
 
 /// An explosion's light on the scene (media::ExplosionLight), its intensity keyed in time.
@@ -133,6 +132,7 @@ struct MediaLightSpec {
   bool modulate = false;
   bool fullAtBack = false;
   float intensityAt(double t) const;
+  bool operator==(const MediaLightSpec&) const = default;
 };
 
 /// The translucent media (puff::media): fire, smoke and dust composited over the opaque scene.
@@ -156,6 +156,7 @@ struct MediaSpec {
   std::size_t maxParticles = 100'000;
   float collisionRadius = 0.5f;
   std::vector<MediaLightSpec> lights;
+  bool operator==(const MediaSpec&) const = default;
 };
 
 /// How the fixed-function path (puff::fixedfunc, McGuire & Fein §4.4) draws this scene.
@@ -165,6 +166,7 @@ struct FixedSettings {
   float outlineOffset = 0.0f;  ///< d, world units, >= 0; 0 = the billboard's width (the paper's)
   int cellSize = 128;          ///< texels per orientation of the puff texture: 32, 64, 128 or 256
                                ///< (halved until 2 cells fit in the frame's smaller side)
+  bool operator==(const FixedSettings&) const = default;
 };
 
 struct Scene {
@@ -200,6 +202,7 @@ struct Scene {
   FixedSettings fixed;
   /// Fire, smoke and dust (the programmable path only; the fixed-function path draws without them).
   std::optional<MediaSpec> media;
+  bool operator==(const Scene&) const = default;
 };
 
 /// Named style presets: "outlines" (Fig. 8a), "cel" (Fig. 8b), "cel-shadows" (Fig. 8c),
@@ -208,37 +211,4 @@ struct Scene {
 std::vector<std::string> stylePresetNames();
 Result<cel::Style> stylePreset(const std::string& name);
 
-/// Parses and validates. Errors read "FILE: /json/pointer: what was expected" (JSON syntax errors:
-/// "FILE:LINE:COLUMN: ..."). Unknown keys are errors too (a typo must not be silently ignored).
-/// `artDir` replaces a leading "${PUFF_ART}" in paths.
-Result<Scene> parseScene(const nlohmann::json& j, const std::filesystem::path& file,
-                         const std::filesystem::path& artDir = {});
-Result<Scene> loadScene(const std::filesystem::path& file, const std::filesystem::path& artDir = {});
-/// The scene written back as JSON (every field), e.g. for --print-defaults or an editor's save.
-nlohmann::json toJson(const Scene& scene);
-/// JSON as a person writes it (puffrender --print-scene, puffview's save): one key per line, arrays
-/// of numbers ([x, y, z]) on one line. No trailing newline.
-std::string jsonText(const nlohmann::json& j);
-
-/// Seconds at frame `frame` (frame / fps).
-float frameTime(const Scene& scene, int frame);
-/// Object space -> world of an object at scene time `t` (seconds): translate(translate + path(t)) *
-/// rotate (X, then Y, then Z) * scale.
-glm::mat4 objectTransform(const ObjectSpec& object, double t = 0.0);
-
-/// The simulator's settings for the scene: its "simulation" with the animation's fps and the
-/// colliding objects as colliders (meshes loaded). Errors name the mesh file. No simulation: empty.
-Result<std::optional<sim::Settings>> simulationSettings(const Scene& scene);
-
-/// The simulator's settings for the scene's media emitters (colliders as above). No media
-/// emitters: empty.
-Result<std::optional<sim::Settings>> mediaSimulationSettings(const Scene& scene);
-
-/// The particles alive at `frame` that the scene lists or places with its (force-free) emitters:
-/// moved, spun and shrunk. Pure. Simulated particles are not included (see SceneRenderer).
-/// `variations` is the atlas's variation count (>= 1), for emitters that pick any variation.
-std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variations);
-/// The camera at `frame` (orbit applied).
-cel::Camera cameraAt(const Scene& scene, int frame);
-
-}  // namespace puff::render
+}  // namespace puff::scene

@@ -1,0 +1,83 @@
+// The plain values the cel path speaks and a scene file describes: camera, light, viewport, a
+// particle, the style. No GL: puff::scene and tools include this without a context.
+#pragma once
+
+#include <string_view>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include <puff/core/error.h>
+
+namespace puff::cel {
+
+struct Camera {
+  glm::vec3 position{0.0f, 0.0f, 5.0f};  ///< world space
+  glm::vec3 target{0.0f};                ///< point looked at
+  glm::vec3 up{0.0f, 1.0f, 0.0f};        ///< world up hint; must not be parallel to target - position
+  float fovYDegrees = 45.0f;             ///< vertical field of view, (0, 180); 0 means orthographic
+  float orthoHeight = 2.0f;              ///< world-space height of the view when orthographic
+  float nearPlane = 0.1f;                ///< > 0
+  float farPlane = 100.0f;               ///< > nearPlane
+
+  glm::mat4 view() const;
+  glm::mat4 projection(float aspect) const;  ///< aspect = width / height
+  bool operator==(const Camera&) const = default;
+};
+
+struct Light {
+  glm::vec3 direction{0.4f, 1.0f, 0.3f};  ///< world space, toward the light (normalized on use); directional
+  glm::vec3 color{1.0f};                  ///< K_L
+  bool operator==(const Light&) const = default;
+};
+
+struct Viewport {
+  int x = 0, y = 0, width = 0, height = 0;  ///< pixels, GL convention (origin bottom-left)
+};
+
+/// One particle as a host or simulator holds it.
+struct Particle {
+  glm::vec3 position{0.0f};  ///< world space, centre of the puff
+  float size = 1.0f;         ///< world-space diameter of the puff; >= 0 (0 draws nothing)
+  int variation = 0;         ///< atlas variation, [0, 255]; taken modulo the atlas's variations
+  /// false: the puff always shows its front view, upright on the billboard (the paper's particles).
+  /// true: `orientation` turns the puff in the world; a multi-view atlas shows it from the side
+  /// the camera sees, blending the nearest baked views, so it tumbles in 3D.
+  bool oriented = false;
+  glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f};  ///< puff space -> world; unit quaternion
+};
+
+/// How a billboard turns toward the camera (Real-Time Rendering §10.6).
+enum class Alignment {
+  kViewPlane,  ///< parallel to the image plane, screen up (the paper's; default)
+  kViewpoint,  ///< facing the camera position, world up projected
+  kAxial,      ///< rotates only about world up (y), facing the camera
+};
+std::string_view toString(Alignment a);
+Result<Alignment> parseAlignment(std::string_view name);  ///< "view-plane", "viewpoint", "axial"
+
+/// The Fig. 8 progression and its knobs. Every effect toggles on its own.
+struct Style {
+  bool outlines = true;          ///< black flange (§4.2); off = the body's silhouette only
+  float outlineWidth = 2.0f;     ///< pixels on screen, from the baked distance field; >= 0
+  glm::vec3 outlineColor{0.0f};  ///< the ink
+  bool shading = true;           ///< Eq. 2 with q(max(0, N.L)); off = flat K_a + C * K_L
+  bool shadows = false;          ///< billboard shadow volumes (§4.3)
+  Alignment alignment = Alignment::kViewPlane;
+  /// Shadow volumes start this far (in puff diameters) past the puff's own far side (as its depth
+  /// map gives it), so a puff does not shadow itself. [0, 1].
+  float shadowBias = 0.05f;
+  /// World-space length of each shadow volume along the light; > 0. Longer costs fill rate.
+  float shadowLength = 20.0f;
+  bool operator==(const Style&) const = default;
+};
+
+/// Which colour a nailboard pass writes.
+enum class ShadePass {
+  kLit,        ///< Eq. 2 in full; depth test LESS, depth written
+  kShadowed,   ///< ambient only, depth test EQUAL, stencil != 0, no depth write (step 5 above)
+  kDepthOnly,  ///< depth only (no colour), e.g. for a host's own shadow or depth pre-pass
+};
+
+}  // namespace puff::cel

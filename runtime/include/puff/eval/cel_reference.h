@@ -1,0 +1,38 @@
+// The cel reference: the image nailboards approximate, drawn by a SceneRenderer like any path
+// (render::RenderPath::kReference). Every particle is its actual puff mesh (the atlas's source mesh
+// of its variation, at full detail), placed and turned as its billboard (the puff frame of
+// Style::alignment, or its orientation), shaded by Eq. 2 per pixel with the same K_a, C, K_L and q.
+// Ink rings each puff's true silhouette in the image (a pixel within Style::outlineWidth of a
+// NEARER puff's visible pixels). Shadows are exact, from a shadow map of the puff meshes that knows
+// which puff each texel saw: a puff is shadowed by every other puff (and opaque objects by all
+// puffs) but never by itself, as the billboard shadow volumes intend; they are not cut at
+// Style::shadowLength. Supersampled (no MSAA), slow, GL 4.5. Media (fire, smoke, dust) are left out:
+// puff::reference::renderMediaReference is theirs. docs/cel-rendering.md has the details.
+#pragma once
+
+#include <memory>
+
+#include <puff/core/error.h>
+#include <puff/render/render.h>
+#include <puff/scene/scene.h>
+
+namespace puff::eval {
+
+/// How finely the cel reference samples.
+struct CelReferenceOptions {
+  int supersample = 3;       ///< samples per pixel side, box-filtered down; [1, 8]
+  int shadowMapSize = 4096;  ///< texels per side of the shadow map over the puffs' bounding sphere; [256, 8192]
+};
+
+/// A renderer drawing `scene` as the cel reference, in the current GL 4.5 context. The atlas's
+/// sources must still be where the sidecar says, unchanged (their hash is checked), or be its
+/// generators' puffs. Errors name the file (scene, atlas, mesh) and why, or the option out of range.
+Result<std::unique_ptr<render::SceneRenderer>> createCelReference(const scene::Scene& scene,
+                                                                  const CelReferenceOptions& options = {});
+
+/// A renderer for any path, the cel reference included (for tools that take a path by name); see
+/// render::SceneRenderer::create for the others and `contextFramebuffer`.
+Result<std::unique_ptr<render::SceneRenderer>> createRenderer(const scene::Scene& scene, render::RenderPath path,
+                                                              bool contextFramebuffer = false);
+
+}  // namespace puff::eval

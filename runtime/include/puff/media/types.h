@@ -1,0 +1,119 @@
+// The plain values the media path speaks and a scene file describes: methods, materials, a
+// particle, a frame, settings, explosion lights and composition. No GL: puff::scene and tools
+// include this without a context.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include <puff/core/error.h>
+
+namespace puff::media {
+
+enum class Method { kPlanar, kSoftLinear, kSoftSCurve, kSpherical };
+std::string_view toString(Method m);
+std::optional<Method> parseMethod(std::string_view name);  ///< planar, soft-linear, soft-scurve, spherical
+
+enum class PhaseModel {
+  kCornetteShanks,    ///< the form Umenhoffer §3.1 prints (and calls Henyey–Greenstein); not isotropic at g = 0
+  kHenyeyGreenstein,  ///< (1 - g^2) / (4 pi (1 + g^2 - 2 g cos)^1.5)
+};
+std::string_view toString(PhaseModel m);
+std::optional<PhaseModel> parsePhaseModel(std::string_view name);  ///< cornette-shanks, henyey-greenstein
+
+/// The phase function in 1/sr: integrates to 1 over the sphere for g in (-1, 1). cosTheta is the
+/// cosine between the light's direction of travel and the scattered direction (1 = forward).
+double phase(PhaseModel model, double cosTheta, double g);
+
+/// What one kind of particle is made of. The paper's defaults: smoke a = 0.2, tau = 0.4; dust
+/// a = 0.9, tau = 0.4; fire emits (a = 0). Every value is checked by validate().
+struct Material {
+  std::string name;
+  float albedo = 0.2f;           ///< a, [0, 1]
+  float density = 0.4f;          ///< tau, extinction per world unit, [0, 1e4]
+  glm::vec3 color{1.0f};         ///< tint of the scattered light, each in [0, 1]
+  float g = 0.0f;                ///< phase asymmetry, [-0.95, 0.95]
+  bool emissive = false;         ///< a black-body emitter (fire): Le from the temperature, albedo ignored
+  float temperature = 2500;      ///< T0, kelvin, [0, 1e5]
+  float temperatureRange = 700;  ///< T1: T = T0 + T1 * detail, kelvin, [-1e5, 1e5]
+  float emission = 1.0f;         ///< scales Le, [0, 1e4]
+  float burn = 0.0f;             ///< Ilmonen's burn, [0, 1]: 0 blends as a medium, 1 adds
+  float detail = 0.5f;           ///< opacity perturbation by the detail video (non-emissive), [0, 1]
+  float detailWindow = 0.3f;     ///< share of the detail video's width one particle shows, (0, 1]
+  float detailSpeed = 8.0f;      ///< detail video frames per second of scene time, [0, 1e3]
+  float shimmer = 0.0f;          ///< heat-shimmer weight this material writes, [0, 1] (fire: 1)
+  /// Over its life a particle turns into another material (fire into smoke): between life
+  /// fractions transitionStart and transitionEnd every value above is interpolated towards
+  /// material `becomes` (an index into the renderer's table; -1 = stays).
+  int becomes = -1;
+  float transitionStart = 0.3f, transitionEnd = 0.8f;  ///< 0 <= start <= end <= 1
+  bool operator==(const Material&) const = default;
+};
+
+/// The paper's materials: "smoke" (a 0.2, tau 0.4), "dust" (a 0.9, tau 0.4), "fire" (emissive,
+/// T = 2500 + 700 * detail, burn 1, shimmer 1).
+Material smokeMaterial();
+Material dustMaterial();
+Material fireMaterial();
+
+/// "FIELD: expected ..., got ..." for the first bad value; `count` is the table size (for becomes).
+Result<void> validate(const Material& m, int count);
+
+/// One particle as the GPU sees it: 32 bytes.
+struct Particle {
+  glm::vec3 position{0.0f};    ///< world space
+  float radius = 0.5f;         ///< world units, >= 0 (0 draws nothing)
+  std::uint32_t material = 0;  ///< index into the material table
+  float life = 0.0f;           ///< age / lifetime, [0, 1]
+  float density = 1.0f;        ///< multiplies the material's tau (a fading particle), >= 0
+  std::uint32_t seed = 0;      ///< picks its window of the detail video and its time offset
+};
+static_assert(sizeof(Particle) == 32);
+
+/// Everything about the frame a media draw needs.
+struct Frame {
+  glm::mat4 view{1.0f}, projection{1.0f};
+  float nearPlane = 0.1f, farPlane = 100.0f;
+  bool orthographic = false;
+  glm::vec3 lightDirection{0.4f, 1.0f, 0.3f};  ///< world space, toward the light
+  glm::vec3 lightColor{1.0f};                  ///< radiance an isotropic medium scatters to the eye
+  glm::vec3 ambient{0.25f};                    ///< isotropic in-scattered radiance
+  float time = 0.0f;                           ///< seconds (animates the detail video)
+  /// The viewport drawn into (the media layer): origin and size in pixels; rays go through pixel
+  /// centres. The depth texture is read at the same pixels.
+  int x = 0, y = 0, width = 0, height = 0;
+};
+
+struct Settings {
+  PhaseModel phase = PhaseModel::kCornetteShanks;
+  float minKelvin = 1000.0f, maxKelvin = 10000.0f;  ///< the black-body texture's range
+  float normalizeKelvin = 3200.0f;                  ///< luminance 1 at this temperature
+  float exposure = 1.0f;                            ///< scales every emission, [0, 1e4]
+  bool operator==(const Settings&) const = default;
+};
+
+/// One explosion's light on the scene.
+struct ExplosionLight {
+  glm::vec3 center{0.0f};  ///< world space
+  float radius = 1.0f;     ///< world units, > 0
+  glm::vec3 color{1.0f, 0.6f, 0.25f};
+  float intensity = 1.0f;   ///< >= 0 (0: off)
+  bool modulate = false;    ///< multiply the surface by mix(1, color, weight) instead of adding
+  bool fullAtBack = false;  ///< full intensity from the sphere's back instead of its centre
+};
+
+struct ComposeSettings {
+  bool depthAware = true;      ///< nearest-depth upsampling (false: plain bilinear, halos)
+  float shimmerPixels = 0.0f;  ///< heat-shimmer displacement, full-resolution pixels per unit offset
+  /// Nearest-depth threshold: layer texels within this share of the pixel's view distance count
+  /// as the same surface.
+  float depthTolerance = 0.02f;
+  bool operator==(const ComposeSettings&) const = default;
+};
+
+}  // namespace puff::media

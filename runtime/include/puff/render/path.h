@@ -1,0 +1,113 @@
+// A render path: one way of drawing a scene's frames. SceneRenderer (render.h) owns the target, the
+// read-back, motion blur and the scene's evaluation, and hands each frame's inputs to its path:
+// the cel path (nailboards, shadow volumes, and the media pass for fire, smoke and dust) and the
+// GL 1.x fixed path live in puff::render; puff::eval adds the cel reference through this interface.
+#pragma once
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include <puff/cel/types.h>
+#include <puff/core/error.h>
+#include <puff/media/types.h>
+#include <puff/scene/evaluate.h>
+#include <puff/scene/scene.h>
+
+namespace puff::media {
+class Layers;
+}
+
+namespace puff::render {
+
+/// The render paths a scene can be drawn with.
+enum class RenderPath {
+  kCel,    ///< programmable GL 4.5: nailboards, outlines from the flange, shadow volumes (puff::cel)
+  kFixed,  ///< GL 1.x fixed function (puff::fixedfunc, §4.4): per-frame puff texture, backing
+           ///< billboards for outlines; one light, uniform ambient, no shadows, flat billboards
+  /// The image the nailboards approximate: every particle as its actual puff mesh (puff::eval,
+  /// eval/cel_reference.h). Measurement, not a path a game draws with.
+  kReference,
+};
+std::string_view toString(RenderPath path);
+std::optional<RenderPath> parseRenderPath(std::string_view name);  ///< "cel", "fixed" or "reference"
+
+struct RenderPathInfo {
+  RenderPath path;
+  std::string name;         ///< toString(path)
+  std::string description;  ///< one line, for a tool's --help or a menu's tooltip
+};
+/// The paths SceneRenderer::create draws with, the default first (the cel reference is made by
+/// puff::eval).
+const std::vector<RenderPathInfo>& renderPaths();
+
+struct FrameStats {
+  std::size_t particles = 0;  ///< drawn (listed + placed + simulated)
+  std::size_t simulated = 0;  ///< of which from the simulator
+  std::size_t bytesUploaded = 0;
+  double simulateMs = 0.0;         ///< CPU time spent stepping the simulators for this frame
+  std::size_t mediaParticles = 0;  ///< fire, smoke and dust particles drawn
+};
+
+/// What the media pass drew in its most recent frame, read back (for tools and tests: puff::eval
+/// hands it to puff::reference to compute the exact image over the same opaque layer).
+struct MediaFrameInputs {
+  media::Frame frame;                      ///< the FULL-SIZE frame (camera, planes, light, ambient, time, size)
+  std::vector<media::Particle> particles;  ///< listed + simulated, as handed to media::Renderer::draw
+  /// The resolved opaque layer the media were composed over, width x height, row 0 at the BOTTOM:
+  /// the colour as its RGBA8 texture holds it (k / 255) and the linear depth (R32F, >= 1: none).
+  std::vector<glm::vec3> opaqueColor;
+  std::vector<float> opaqueDepth;
+};
+
+/// One frame for a path to draw into the current draw framebuffer.
+struct PathFrame {
+  const scene::Scene& scene;         ///< as it is now (style, light and other looks are read here)
+  const scene::FrameInputs& inputs;  ///< camera, time and particles of this frame
+  cel::Viewport viewport;            ///< where in the draw framebuffer
+  FrameStats& stats;                 ///< the path adds what it drew (bytesUploaded, mediaParticles)
+};
+
+/// The offscreen target a path draws into.
+struct TargetNeeds {
+  int samples = 1;  ///< MSAA samples per pixel
+  /// Draw into the context's own framebuffer instead (GL 1.x contexts), which must then be at least
+  /// the scene's size and have alpha.
+  bool contextFramebuffer = false;
+  /// What the path made depends on the frame's size (the fixed path's puff texture): drawn into a
+  /// viewport of another size, it is made again for that size first.
+  bool sizedToFrame = false;
+};
+
+class Path {
+ public:
+  virtual ~Path() = default;
+  virtual RenderPath kind() const = 0;
+  virtual TargetNeeds targetNeeds() const = 0;
+  /// The atlas's variation count (cel particles pick among them), or 0 when the path draws no cel
+  /// particles (the scene names no atlas).
+  virtual int variations() const = 0;
+  /// Whether the evaluator should simulate the fire, smoke and dust (only paths that draw them).
+  virtual bool drawsMedia() const { return false; }
+  /// The path's reload rule: whether an edit from `current` to `next` changes what it loaded when
+  /// it was made (files, meshes, programs' tables). Anything else it reads from the scene each frame.
+  virtual bool needsRebuild(const scene::Scene& current, const scene::Scene& next) const = 0;
+  /// Draws the frame. Errors: what the draw found wrong (a context without what the path needs).
+  virtual Result<void> draw(const PathFrame& frame) = 0;
+
+  /// Benchmarks: draw each particle as the fill-rate floor instead (see SceneRenderer).
+  virtual void setFillRateFloor(bool) {}
+  /// The media layers drawn into for a viewport of this size (made on first use), or null when the
+  /// path draws no media. Motion blur keeps its history there. Errors: the layers could not be made.
+  virtual Result<media::Layers*> mediaLayers(const scene::Scene&, const cel::Viewport&) { return nullptr; }
+  /// See SceneRenderer::lastMediaFrame.
+  virtual Result<MediaFrameInputs> lastMediaFrame() const {
+    return Error{"the scene has no media, or this path does not draw them"};
+  }
+};
+
+}  // namespace puff::render

@@ -1,0 +1,94 @@
+// What a frame of a scene draws. A frame is a pure function of (scene, frame number): listed
+// particles move by their velocities and spin by their angular velocities from their birth time,
+// shrink linearly to nothing over their lifetime (size follows density, so nothing pops), and
+// emitters place particles from their seed; a "simulation" is stepped from its start to the frame
+// (puff::sim). Any frame evaluated alone equals the same frame of a full run.
+#pragma once
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+
+#include <puff/cel/types.h>
+#include <puff/core/error.h>
+#include <puff/media/types.h>
+#include <puff/scene/geometry.h>
+#include <puff/scene/scene.h>
+#include <puff/sim/simulator.h>
+
+namespace puff::scene {
+
+/// Whether the scene has cel particles: listed, placed by emitters, or simulated.
+bool hasParticles(const Scene& scene);
+
+/// Seconds at frame `frame` (frame / fps).
+float frameTime(const Scene& scene, int frame);
+/// Object space -> world of an object at scene time `t` (seconds): translate(translate + path(t)) *
+/// rotate (X, then Y, then Z) * scale.
+glm::mat4 objectTransform(const ObjectSpec& object, double t = 0.0);
+
+/// The simulator's settings for the scene: its "simulation" with the animation's fps and the
+/// colliding objects as colliders (their shapes from `geometry`). No simulation: empty.
+Result<std::optional<sim::Settings>> simulationSettings(const Scene& scene, const SceneGeometry& geometry);
+
+/// The simulator's settings for the scene's media emitters (colliders as above). No media
+/// emitters: empty.
+Result<std::optional<sim::Settings>> mediaSimulationSettings(const Scene& scene, const SceneGeometry& geometry);
+
+/// The particles alive at `frame` that the scene lists or places with its (force-free) emitters:
+/// moved, spun and shrunk. Pure. Simulated particles are not included (see SceneRenderer).
+/// `variations` is the atlas's variation count (>= 1), for emitters that pick any variation.
+std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variations);
+/// The camera at `frame` (orbit applied).
+cel::Camera cameraAt(const Scene& scene, int frame);
+
+/// What one frame draws, evaluated from the scene and the frame number alone.
+struct FrameInputs {
+  int frame = 0;
+  float time = 0.0f;   ///< seconds of scene time (frameTime)
+  cel::Camera camera;  ///< cameraAt(frame), or the caller's camera
+  /// Listed, placed and simulated cel particles, in that order (none when the scene draws no
+  /// nailboards: FrameEvaluator::create got 0 variations).
+  std::vector<cel::Particle> particles;
+  std::size_t simulated = 0;           ///< of `particles`, from the simulator
+  std::vector<media::Particle> media;  ///< listed, then simulated fire, smoke and dust
+  double simulateMs = 0.0;             ///< CPU time spent stepping the simulators for this frame
+};
+
+/// Evaluates a scene frame by frame. Owns the scene's simulators (the smoke's and the media
+/// emitters'), steps them from the start to each frame asked (an earlier frame restarts them), so
+/// any frame equals the same frame of a full run.
+class FrameEvaluator {
+ public:
+  /// `variations`: the atlas's variation count (cel particles pick among the first min(n, 256)), or
+  /// 0 when the scene draws no cel particles. `media`: evaluate the fire, smoke and dust too (a path
+  /// that does not draw them skips their simulation). Errors name the scene field or the collider mesh.
+  static Result<std::unique_ptr<FrameEvaluator>> create(const Scene& scene, const SceneGeometry& geometry,
+                                                        int variations, bool media = true);
+  ~FrameEvaluator();
+
+  /// The reload rule: whether `next` needs a new evaluator. It does when anything that places or
+  /// simulates particles differs (particles, emitters, objects, fps, simulation and media settings)
+  /// other than the forces; camera, style and every other look are read at each frame.
+  bool needsRebuild(const Scene& next) const;
+  /// Takes an edited scene that does not need a rebuild. New forces restart the simulators, so the
+  /// next frame is simulated from the start under them. Errors (forces out of range) change nothing.
+  Result<void> update(const Scene& next);
+
+  /// Frame `frame` (>= 0); `camera` replaces the scene's camera when given.
+  FrameInputs evaluate(int frame, const cel::Camera* camera = nullptr);
+
+  const Scene& scene() const;
+
+ private:
+  FrameEvaluator() = default;
+  Scene scene_;
+  int variations_ = 0;
+  bool media_ = true;
+  std::unique_ptr<sim::Simulator> sim_, mediaSim_;
+};
+
+}  // namespace puff::scene

@@ -1,0 +1,18 @@
+// Writing a scene back as JSON: every field, in the form the reader takes back unchanged.
+#pragma once
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include <puff/scene/scene.h>
+
+namespace puff::scene {
+
+/// The scene written back as JSON (every field), e.g. for --print-defaults or an editor's save.
+nlohmann::json toJson(const Scene& scene);
+/// JSON as a person writes it (puffrender --print-scene, puffview's save): one key per line, arrays
+/// of numbers ([x, y, z]) on one line. No trailing newline.
+std::string jsonText(const nlohmann::json& j);
+
+}  // namespace puff::scene

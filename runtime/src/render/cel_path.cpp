@@ -1,0 +1,138 @@
+// The cel path: opaque objects, nailboards, billboard shadow volumes, shadowed receivers, and the
+// media pass composed over them.
+#include <algorithm>
+
+#include <puff/cel/nailboards.h>
+#include <puff/core/atlas.h>
+#include <puff/render/cel_scene.h>
+#include <puff/scene/evaluate.h>
+
+#include "media_pass.h"
+#include "paths.h"
+
+namespace puff::render::detail {
+
+namespace {
+
+class CelPath final : public Path {
+ public:
+  static Result<std::unique_ptr<Path>> create(const scene::Scene& scene, const scene::SceneGeometry& geometry) {
+    std::unique_ptr<CelPath> p(new CelPath());
+    auto nb = cel::NailboardRenderer::create();
+    if (!nb) return nb.error();
+    p->nailboards_ = std::move(*nb);
+    if (!scene.atlas.empty()) {
+      auto atlas = core::loadAtlas(scene.atlas);
+      if (!atlas) return atlas.error();
+      if (scene.atlasLevel > 0) {
+        auto level = core::atlasFromLevel(*atlas, scene.atlasLevel);
+        if (!level) return Error::at(scene.file, "/atlasLevel: " + level.error().message);
+        atlas = std::move(*level);
+      }
+      if (auto set = p->nailboards_->setAtlas(*atlas); !set) return Error::at(scene.atlas, set.error().message);
+      p->variations_ = std::max(1, atlas->desc.variations);
+    } else if (scene::hasParticles(scene)) {
+      return Error::at(scene.file, "/atlas: the scene has particles but names no atlas");
+    }
+    auto celScene = CelScene::create(scene, geometry);
+    if (!celScene) return celScene.error();
+    p->scene_ = std::move(*celScene);
+    p->samples_ = scene.samples;
+    if (scene.media) {
+      auto media = MediaPass::create(scene);
+      if (!media) return media.error();
+      p->media_ = std::move(*media);
+    }
+    return std::unique_ptr<Path>(std::move(p));
+  }
+
+  RenderPath kind() const override { return RenderPath::kCel; }
+  TargetNeeds targetNeeds() const override { return {samples_, false}; }
+  int variations() const override { return variations_; }
+  bool drawsMedia() const override { return media_ != nullptr; }
+
+  bool needsRebuild(const scene::Scene& a, const scene::Scene& b) const override {
+    return a.atlas != b.atlas || a.atlasLevel != b.atlasLevel || CelScene::needsRebuild(a, b) ||
+           MediaPass::needsRebuild(a, b);
+  }
+
+  Result<void> draw(const PathFrame& frame) override {
+    const scene::Scene& s = frame.scene;
+    // With media the opaque scene goes into the layers' target first, and the composition writes
+    // the caller's framebuffer.
+    GLint callerFbo = 0, callerRead = 0;
+    cel::Viewport celViewport = frame.viewport;
+    if (media_) {
+      glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &callerFbo);
+      glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &callerRead);
+      auto layers = media_->layers(s, frame.viewport);
+      if (!layers) return layers.error();
+      glBindFramebuffer(GL_FRAMEBUFFER, (*layers)->opaqueFramebuffer());
+      celViewport = cel::Viewport{0, 0, frame.viewport.width, frame.viewport.height};
+    }
+    glViewport(celViewport.x, celViewport.y, celViewport.width, celViewport.height);
+    glDisable(GL_SCISSOR_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_TRUE);
+    glStencilMask(0xFF);
+    glClearColor(s.background.r, s.background.g, s.background.b, 1.0f);
+    glClearDepth(1.0);
+    glClearStencil(0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+
+    const cel::Frame f = scene_->prepare(s, frame.inputs, frame.viewport, celViewport);
+    scene_->block().upload(f);
+    scene_->opaque().draw(cel::ShadePass::kLit);
+    if (variations_ > 0) {
+      const cel::DrawStats up = nailboards_->upload(frame.inputs.particles);
+      frame.stats.bytesUploaded = up.bytesUploaded;
+      if (fillRateFloor_) {
+        nailboards_->drawBaseline(s.style);
+      } else {
+        nailboards_->drawNailboards(s.style, cel::ShadePass::kLit);
+      }
+      if (s.style.shadows && !fillRateFloor_) {
+        nailboards_->drawShadowVolumes(s.style, scene_->floorPlane());
+        scene_->opaque().draw(cel::ShadePass::kShadowed);
+        nailboards_->drawNailboards(s.style, cel::ShadePass::kShadowed);
+      }
+    }
+    if (media_) {
+      media_->draw(s, frame.inputs, frame.viewport, static_cast<GLuint>(callerFbo), frame.stats);
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(callerRead));
+    }
+    return {};
+  }
+
+  void setFillRateFloor(bool on) override {
+    fillRateFloor_ = on;
+    if (media_) media_->setFillRateFloor(on);
+  }
+
+  Result<media::Layers*> mediaLayers(const scene::Scene& scene, const cel::Viewport& viewport) override {
+    if (!media_) return nullptr;
+    return media_->layers(scene, viewport);
+  }
+
+  Result<MediaFrameInputs> lastMediaFrame() const override {
+    if (!media_) return Path::lastMediaFrame();
+    return media_->lastFrame();
+  }
+
+ private:
+  CelPath() = default;
+  std::unique_ptr<cel::NailboardRenderer> nailboards_;
+  std::unique_ptr<CelScene> scene_;
+  std::unique_ptr<MediaPass> media_;
+  int variations_ = 0;  // 0: no atlas, no cel particles
+  int samples_ = 1;
+  bool fillRateFloor_ = false;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<Path>> createCelPath(const scene::Scene& scene, const scene::SceneGeometry& geometry) {
+  return CelPath::create(scene, geometry);
+}
+
+}  // namespace puff::render::detail

@@ -1,0 +1,103 @@
+#include "media_pass.h"
+
+#include <tuple>
+
+#include <puff/core/detail_video.h>
+
+namespace puff::render::detail {
+
+Result<std::unique_ptr<MediaPass>> MediaPass::create(const scene::Scene& scene) {
+  const scene::MediaSpec& spec = *scene.media;
+  std::unique_ptr<MediaPass> pass(new MediaPass());
+  auto renderer = media::Renderer::create(spec.settings);
+  if (!renderer) return Error::at(scene.file, "/media: " + renderer.error().message);
+  if (auto ok = (*renderer)->setMaterials(spec.materials); !ok)
+    return Error::at(scene.file, "/media/materials: " + ok.error().message);
+  std::optional<core::DetailVideo> temperature, opacity;
+  if (!spec.temperatureDetail.empty()) {
+    auto v = core::loadDetailVideo(spec.temperatureDetail);
+    if (!v) return v.error();
+    temperature = std::move(*v);
+  }
+  if (!spec.opacityDetail.empty()) {
+    auto v = core::loadDetailVideo(spec.opacityDetail);
+    if (!v) return v.error();
+    opacity = std::move(*v);
+  }
+  (*renderer)->setDetail(temperature ? &*temperature : nullptr, opacity ? &*opacity : nullptr);
+  pass->renderer_ = std::move(*renderer);
+  return pass;
+}
+
+MediaPass::~MediaPass() = default;
+
+bool MediaPass::needsRebuild(const scene::Scene& a, const scene::Scene& b) {
+  auto key = [](const scene::Scene& s) {
+    const scene::MediaSpec& m = *s.media;
+    return std::tie(m.settings, m.materials, m.temperatureDetail, m.opacityDetail, m.resolution, s.samples);
+  };
+  if (a.media.has_value() != b.media.has_value()) return true;
+  return a.media && key(a) != key(b);
+}
+
+Result<media::Layers*> MediaPass::layers(const scene::Scene& scene, const cel::Viewport& viewport) {
+  if (layers_ && layers_->width() == viewport.width && layers_->height() == viewport.height) return layers_.get();
+  auto layers = media::Layers::create(viewport.width, viewport.height, scene.samples, scene.media->resolution);
+  if (!layers) return layers.error();
+  layers_ = std::move(*layers);
+  return layers_.get();
+}
+
+void MediaPass::draw(const scene::Scene& s, const scene::FrameInputs& inputs, const cel::Viewport& viewport,
+                     GLuint target, FrameStats& stats) {
+  const scene::MediaSpec& spec = *s.media;
+  particles_ = inputs.media;
+  layers_->resolveOpaque();
+  layers_->beginMedia();
+  const cel::Camera& cam = inputs.camera;
+  media::Frame mf;
+  mf.view = cam.view();
+  mf.projection = cam.projection(static_cast<float>(viewport.width) / static_cast<float>(viewport.height));
+  mf.nearPlane = cam.nearPlane;
+  mf.farPlane = cam.farPlane;
+  mf.orthographic = cam.fovYDegrees == 0.0f;
+  mf.lightDirection = s.light.direction;
+  mf.lightColor = s.light.color;
+  mf.ambient = s.ambientColor;
+  mf.time = inputs.time;
+  mf.width = viewport.width;
+  mf.height = viewport.height;
+  media::DrawStats ds;
+  renderer_->draw(layers_->layerFrame(mf), particles_, spec.method, layers_->mediaDepth(),
+                  spec.compose.shimmerPixels > 0.0f, &ds);
+  std::vector<media::ExplosionLight> lights;
+  for (const scene::MediaLightSpec& l : spec.lights) {
+    lights.push_back(
+        media::ExplosionLight{l.center, l.radius, l.color, l.intensityAt(mf.time), l.modulate, l.fullAtBack});
+  }
+  const int vp[4] = {viewport.x, viewport.y, viewport.width, viewport.height};
+  layers_->compose(target, vp, mf, lights, spec.compose);
+  lastFrame_ = mf;
+  stats.mediaParticles = ds.particles;
+}
+
+void MediaPass::setFillRateFloor(bool on) { renderer_->setFillRateFloor(on); }
+
+Result<MediaFrameInputs> MediaPass::lastFrame() const {
+  if (!layers_ || !lastFrame_) return Error{"no frame with media has been drawn yet"};
+  MediaFrameInputs in;
+  in.frame = *lastFrame_;
+  in.particles = particles_;
+  const std::size_t n = static_cast<std::size_t>(layers_->width()) * static_cast<std::size_t>(layers_->height());
+  in.opaqueColor.resize(n);
+  in.opaqueDepth.resize(n);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(layers_->opaqueColor(), 0, GL_RGB, GL_FLOAT, static_cast<GLsizei>(n * sizeof(glm::vec3)),
+                    in.opaqueColor.data());
+  glGetTextureImage(layers_->opaqueDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(n * sizeof(float)),
+                    in.opaqueDepth.data());
+  if (const std::string e = core::drainGlErrors(); !e.empty()) return Error{"reading the opaque layer back: " + e};
+  return in;
+}
+
+}  // namespace puff::render::detail

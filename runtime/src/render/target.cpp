@@ -1,0 +1,48 @@
+#include "target.h"
+
+#include <algorithm>
+#include <string>
+
+namespace puff::render::detail {
+
+Result<Target> Target::create(int w, int h, int samples) {
+  Target t;
+  t.width = w;
+  t.height = h;
+  GLint maxSamples = 1;
+  glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
+  if (samples > maxSamples) {
+    return Error{std::to_string(samples) + " samples per pixel asked, but this GL gives at most " +
+                 std::to_string(maxSamples) + " (set /output/samples or --samples lower)"};
+  }
+  t.samples = std::max(1, samples);
+  t.fbo = core::makeFramebuffer();
+  t.color = core::makeRenderbuffer();
+  t.depthStencil = core::makeRenderbuffer();
+  const int s = t.samples > 1 ? t.samples : 0;
+  glNamedRenderbufferStorageMultisample(t.color.get(), s, GL_RGBA8, w, h);
+  glNamedRenderbufferStorageMultisample(t.depthStencil.get(), s, GL_DEPTH24_STENCIL8, w, h);
+  glNamedFramebufferRenderbuffer(t.fbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.color.get());
+  glNamedFramebufferRenderbuffer(t.fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, t.depthStencil.get());
+  if (glCheckNamedFramebufferStatus(t.fbo.get(), GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    return Error{"render target of " + std::to_string(w) + "x" + std::to_string(h) + " with " +
+                 std::to_string(t.samples) + " samples is not supported by this GL"};
+  }
+  if (t.samples > 1) {
+    t.resolveFbo = core::makeFramebuffer();
+    t.resolveColor = core::makeRenderbuffer();
+    glNamedRenderbufferStorage(t.resolveColor.get(), GL_RGBA8, w, h);
+    glNamedFramebufferRenderbuffer(t.resolveFbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.resolveColor.get());
+  }
+  return t;
+}
+
+Target Target::contextOwn(int width, int height) {
+  Target t;
+  t.width = width;
+  t.height = height;
+  t.contextFramebuffer = true;
+  return t;
+}
+
+}  // namespace puff::render::detail

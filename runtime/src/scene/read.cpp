@@ -1,0 +1,425 @@
+// Scene files: JSON -> Scene with every value checked (docs/scene-format.md is the reference).
+#include <puff/scene/read.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "read_detail.h"
+
+namespace puff::scene {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace detail {
+
+void readOutput(const json& j, const std::string& ptr, Scene& s) {
+  requireObject(j, ptr, {"width", "height", "samples", "background"});
+  if (auto* v = find(j, "width")) s.width = readInt(*v, child(ptr, "width"), 1, kMaxImageSize);
+  if (auto* v = find(j, "height")) s.height = readInt(*v, child(ptr, "height"), 1, kMaxImageSize);
+  if (auto* v = find(j, "samples")) {
+    const int n = static_cast<int>(readInteger(*v, child(ptr, "samples"), 1, 8, "1, 2, 4 or 8"));
+    if (n != 1 && n != 2 && n != 4 && n != 8) fail(child(ptr, "samples"), "1, 2, 4 or 8", *v);
+    s.samples = n;
+  }
+  if (auto* v = find(j, "background")) s.background = readColor(*v, child(ptr, "background"));
+}
+
+void readCamera(const json& j, const std::string& ptr, cel::Camera& c) {
+  requireObject(j, ptr, {"position", "target", "up", "fovY", "orthoHeight", "near", "far"});
+  if (auto* v = find(j, "position")) c.position = readVec3(*v, child(ptr, "position"));
+  if (auto* v = find(j, "target")) c.target = readVec3(*v, child(ptr, "target"));
+  if (auto* v = find(j, "up")) c.up = readVec3(*v, child(ptr, "up"));
+  if (auto* v = find(j, "fovY")) {
+    // 0 is orthographic; anything else is a perspective angle.
+    const std::string what = "a number in (0, 180), or 0 for orthographic";
+    c.fovYDegrees = readFloat(*v, child(ptr, "fovY"), Range{0.0, 180.0, false, true}, what);
+  }
+  if (auto* v = find(j, "orthoHeight")) c.orthoHeight = readFloat(*v, child(ptr, "orthoHeight"), kPositive);
+  if (auto* v = find(j, "near")) c.nearPlane = readFloat(*v, child(ptr, "near"), kPositive);
+  if (auto* v = find(j, "far")) c.farPlane = readFloat(*v, child(ptr, "far"), kPositive);
+
+  if (!(c.farPlane > c.nearPlane)) {
+    if (auto* v = find(j, "far")) fail(child(ptr, "far"), "a number > near (" + formatNumber(c.nearPlane) + ")", *v);
+    fail(child(ptr, "near"), "a number < far (" + formatNumber(c.farPlane) + ")", *find(j, "near"));
+  }
+  const glm::vec3 view = c.target - c.position;
+  if (!(glm::length(view) > 0.0f)) {
+    const char* key = find(j, "target") ? "target" : "position";
+    fail(child(ptr, key), "a point apart from the camera's other point (position != target)", *find(j, key));
+  }
+  const float upLength = glm::length(c.up);
+  if (!(upLength > 0.0f) || glm::length(glm::cross(glm::normalize(view), c.up / upLength)) < 1e-4f) {
+    const std::string what = "a direction not parallel to the view direction (target - position)";
+    if (auto* v = find(j, "up")) fail(child(ptr, "up"), what, *v);
+    // The default up: the fault lies with position/target.
+    const char* key = find(j, "target") ? "target" : "position";
+    fail(child(ptr, key), "a point that does not put the view along up " + json{c.up.x, c.up.y, c.up.z}.dump(),
+         *find(j, key));
+  }
+}
+
+void readLight(const json& j, const std::string& ptr, cel::Light& l) {
+  requireObject(j, ptr, {"direction", "color"});
+  if (auto* v = find(j, "direction")) {
+    l.direction = readVec3(*v, child(ptr, "direction"));
+    if (!(glm::length(l.direction) > 0.0f)) fail(child(ptr, "direction"), "a non-zero direction toward the light", *v);
+  }
+  if (auto* v = find(j, "color")) l.color = readColor(*v, child(ptr, "color"));
+}
+
+void readAmbient(const json& j, const std::string& ptr, const Reader& r, Scene& s) {
+  requireObject(j, ptr, {"color", "gradient"});
+  if (auto* v = find(j, "color")) s.ambientColor = readColor(*v, child(ptr, "color"));
+  if (auto* v = find(j, "gradient")) s.ambientGradient = r.readPath(*v, child(ptr, "gradient"));
+}
+
+void readRamp(const json& j, const std::string& ptr, const Reader& r, Scene& s) {
+  if (j.is_string()) {
+    s.ramp = r.readPath(j, ptr);
+    return;
+  }
+  if (!j.is_object()) fail(ptr, "a ramp image path or an object {\"image\", \"smooth\"}", j);
+  requireObject(j, ptr, {"image", "smooth"});
+  if (auto* v = find(j, "image")) s.ramp = r.readPath(*v, child(ptr, "image"));
+  if (auto* v = find(j, "smooth")) s.rampSmooth = readBool(*v, child(ptr, "smooth"));
+}
+
+void readStyle(const json& j, const std::string& ptr, Scene& s) {
+  requireObject(j, ptr,
+                {"preset", "outlines", "outlineWidth", "outlineColor", "shading", "shadows", "alignment", "shadowBias",
+                 "shadowLength"});
+  // The preset first, whatever the key order: explicit fields then change what it set.
+  if (auto* v = find(j, "preset")) {
+    const std::string name = readString(*v, child(ptr, "preset"));
+    auto preset = stylePreset(name);
+    if (!preset) {
+      std::string list;
+      for (const std::string& n : stylePresetNames()) list += (list.empty() ? "" : ", ") + n;
+      fail(child(ptr, "preset"), "one of " + list, *v);
+    }
+    s.stylePreset = name;
+    s.style = *preset;
+  }
+  cel::Style& st = s.style;
+  if (auto* v = find(j, "outlines")) st.outlines = readBool(*v, child(ptr, "outlines"));
+  if (auto* v = find(j, "outlineWidth")) st.outlineWidth = readFloat(*v, child(ptr, "outlineWidth"), Range{0.0, 64.0});
+  if (auto* v = find(j, "outlineColor")) st.outlineColor = readColor(*v, child(ptr, "outlineColor"));
+  if (auto* v = find(j, "shading")) st.shading = readBool(*v, child(ptr, "shading"));
+  if (auto* v = find(j, "shadows")) st.shadows = readBool(*v, child(ptr, "shadows"));
+  if (auto* v = find(j, "alignment")) {
+    const std::string what = "one of view-plane, viewpoint, axial";
+    const std::string name = readString(*v, child(ptr, "alignment"), what);
+    auto a = cel::parseAlignment(name);
+    if (!a) fail(child(ptr, "alignment"), what, *v);
+    st.alignment = *a;
+  }
+  if (auto* v = find(j, "shadowBias")) st.shadowBias = readFloat(*v, child(ptr, "shadowBias"), kUnit);
+  if (auto* v = find(j, "shadowLength")) st.shadowLength = readFloat(*v, child(ptr, "shadowLength"), kPositive);
+}
+
+// {"axis": [x, y, z], "degrees": a}
+glm::quat readOrientation(const json& j, const std::string& ptr) {
+  requireObject(j, ptr, {"axis", "degrees"});
+  glm::vec3 axis{0.0f, 1.0f, 0.0f};
+  float degrees = 0.0f;
+  if (auto* v = find(j, "axis")) {
+    axis = readVec3(*v, child(ptr, "axis"));
+    if (!(glm::length(axis) > 0.0f)) fail(child(ptr, "axis"), "a non-zero rotation axis", *v);
+  }
+  if (auto* v = find(j, "degrees")) degrees = readFloat(*v, child(ptr, "degrees"));
+  return glm::angleAxis(glm::radians(degrees), glm::normalize(axis));
+}
+
+ParticleSpec readParticle(const json& j, const std::string& ptr) {
+  requireObject(
+      j, ptr,
+      {"position", "size", "variation", "oriented", "orientation", "velocity", "angularVelocity", "birth", "lifetime"});
+  ParticleSpec p;
+  if (auto* v = find(j, "position")) p.position = readVec3(*v, child(ptr, "position"));
+  if (auto* v = find(j, "size")) p.size = readFloat(*v, child(ptr, "size"), kNonNegative);
+  if (auto* v = find(j, "variation")) p.variation = readInt(*v, child(ptr, "variation"), 0, 255);
+  if (auto* v = find(j, "oriented")) p.oriented = readBool(*v, child(ptr, "oriented"));
+  if (auto* v = find(j, "orientation")) p.orientation = readOrientation(*v, child(ptr, "orientation"));
+  if (auto* v = find(j, "velocity")) p.velocity = readVec3(*v, child(ptr, "velocity"));
+  if (auto* v = find(j, "angularVelocity")) p.angularVelocity = readVec3(*v, child(ptr, "angularVelocity"));
+  if (auto* v = find(j, "birth")) p.birth = readFloat(*v, child(ptr, "birth"));
+  if (auto* v = find(j, "lifetime")) p.lifetime = readFloat(*v, child(ptr, "lifetime"), kNonNegative);
+  return p;
+}
+
+EmitterSpec readEmitter(const json& j, const std::string& ptr) {
+  requireObject(
+      j, ptr,
+      {"shape", "count", "seed", "center", "radius", "halfExtent", "end", "endRadius", "sizeMin", "sizeMax",
+       "sizeFalloff", "variations", "oriented", "spin", "velocity", "speedSpread", "birthSpread", "lifetime"});
+  EmitterSpec e;
+  using Shape = EmitterSpec::Shape;
+  if (auto* v = find(j, "shape")) {
+    e.shape = readEnum<Shape>(*v, child(ptr, "shape"),
+                              {{"sphere", Shape::kSphere}, {"box", Shape::kBox}, {"cone", Shape::kCone}});
+  }
+  if (auto* v = find(j, "count")) e.count = readInt(*v, child(ptr, "count"), 0, kMaxEmitterCount);
+  if (auto* v = find(j, "seed")) {
+    e.seed = static_cast<unsigned>(readInteger(*v, child(ptr, "seed"), 0, 4294967295LL));
+  }
+  if (auto* v = find(j, "center")) e.center = readVec3(*v, child(ptr, "center"));
+  if (auto* v = find(j, "radius")) e.radius = readFloat(*v, child(ptr, "radius"), kNonNegative);
+  if (auto* v = find(j, "halfExtent")) e.halfExtent = readVec3(*v, child(ptr, "halfExtent"), kNonNegative);
+  if (auto* v = find(j, "end")) e.end = readVec3(*v, child(ptr, "end"));
+  if (auto* v = find(j, "endRadius")) e.endRadius = readFloat(*v, child(ptr, "endRadius"), kNonNegative);
+  if (auto* v = find(j, "sizeMin")) e.sizeMin = readFloat(*v, child(ptr, "sizeMin"), kNonNegative);
+  if (auto* v = find(j, "sizeMax")) e.sizeMax = readFloat(*v, child(ptr, "sizeMax"), kNonNegative);
+  if (e.sizeMin > e.sizeMax) {
+    if (auto* v = find(j, "sizeMax")) {
+      fail(child(ptr, "sizeMax"), "a number >= sizeMin (" + formatNumber(e.sizeMin) + ")", *v);
+    }
+    fail(child(ptr, "sizeMin"), "a number <= sizeMax (" + formatNumber(e.sizeMax) + ")", *find(j, "sizeMin"));
+  }
+  if (auto* v = find(j, "sizeFalloff")) e.sizeFalloff = readFloat(*v, child(ptr, "sizeFalloff"), kUnit);
+  if (auto* v = find(j, "variations")) {
+    const std::string p = child(ptr, "variations");
+    if (!v->is_array()) fail(p, "an array of variation numbers in [0, 255]", *v);
+    for (std::size_t i = 0; i < v->size(); ++i) e.variations.push_back(readInt((*v)[i], child(p, i), 0, 255));
+  }
+  if (auto* v = find(j, "oriented")) e.oriented = readBool(*v, child(ptr, "oriented"));
+  if (auto* v = find(j, "spin")) e.spin = readFloat(*v, child(ptr, "spin"), kNonNegative);
+  if (auto* v = find(j, "velocity")) e.velocity = readVec3(*v, child(ptr, "velocity"));
+  if (auto* v = find(j, "speedSpread")) e.speedSpread = readFloat(*v, child(ptr, "speedSpread"), kNonNegative);
+  if (auto* v = find(j, "birthSpread")) e.birthSpread = readFloat(*v, child(ptr, "birthSpread"), kNonNegative);
+  if (auto* v = find(j, "lifetime")) e.lifetime = readFloat(*v, child(ptr, "lifetime"), kNonNegative);
+  return e;
+}
+
+
+sim::Path readPath3(const json& j, const std::string& ptr) {
+  // [{"time": t, "position": [x, y, z]}, ...], times increasing.
+  if (!j.is_array()) fail(ptr, "an array of keys {\"time\", \"position\"}", j);
+  sim::Path path;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string p = child(ptr, i);
+    requireObject(j[i], p, {"time", "position"});
+    const json* t = find(j[i], "time");
+    const json* x = find(j[i], "position");
+    if (!t) failText(child(p, "time"), "expected a time in seconds, got none");
+    if (!x) failText(child(p, "position"), "expected a position [x, y, z], got none");
+    const float time = readFloat(*t, child(p, "time"), kMagnitude);
+    if (!path.times.empty() && !(time > path.times.back())) {
+      fail(child(p, "time"), "a time after the previous key (" + formatNumber(path.times.back()) + ")", *t);
+    }
+    path.times.push_back(time);
+    path.points.push_back(readVec3(*x, child(p, "position"), kMagnitude));
+  }
+  return path;
+}
+
+ObjectSpec readObject(const json& j, const std::string& ptr, std::size_t index, const Reader& r) {
+  requireObject(
+      j, ptr,
+      {"type", "name", "mesh", "translate", "rotate", "scale", "albedo", "shading", "path", "collide", "friction"});
+  ObjectSpec o;
+  using Type = ObjectSpec::Type;
+  if (auto* v = find(j, "type")) {
+    o.type = readEnum<Type>(
+        *v, child(ptr, "type"),
+        {{"plane", Type::kPlane}, {"box", Type::kBox}, {"sphere", Type::kSphere}, {"mesh", Type::kMesh}});
+  }
+  o.name = "objects/" + std::to_string(index);
+  if (auto* v = find(j, "name")) {
+    o.name = readString(*v, child(ptr, "name"), "a non-empty name");
+    if (o.name.empty()) fail(child(ptr, "name"), "a non-empty name", *v);
+  }
+  if (auto* v = find(j, "mesh")) o.mesh = r.readPath(*v, child(ptr, "mesh"));
+  if (o.type == Type::kMesh && o.mesh.empty()) {
+    if (auto* v = find(j, "mesh")) fail(child(ptr, "mesh"), "a mesh file (OBJ, OFF, PLY or STL)", *v);
+    failText(child(ptr, "mesh"), "expected a mesh file (OBJ, OFF, PLY or STL) for type \"mesh\", got none");
+  }
+  if (o.type != Type::kMesh && !o.mesh.empty()) {
+    fail(child(ptr, "mesh"), "no mesh (or \"\") unless type is \"mesh\"", *find(j, "mesh"));
+  }
+  if (auto* v = find(j, "translate")) o.translate = readVec3(*v, child(ptr, "translate"));
+  if (auto* v = find(j, "rotate")) o.rotateDegrees = readVec3(*v, child(ptr, "rotate"));
+  if (auto* v = find(j, "scale")) o.scale = readVec3(*v, child(ptr, "scale"), kPositive);
+  if (auto* v = find(j, "albedo")) o.albedo = readColor(*v, child(ptr, "albedo"));
+  if (auto* v = find(j, "shading")) {
+    o.cel = readEnum<bool>(*v, child(ptr, "shading"), {{"cel", true}, {"smooth", false}});
+  }
+  if (auto* v = find(j, "path")) o.path = readPath3(*v, child(ptr, "path"));
+  if (auto* v = find(j, "collide")) o.collide = readBool(*v, child(ptr, "collide"));
+  if (auto* v = find(j, "friction")) o.friction = readFloat(*v, child(ptr, "friction"), kUnit);
+  return o;
+}
+
+void readAnimation(const json& j, const std::string& ptr, Animation& a) {
+  requireObject(j, ptr, {"fps", "frames", "orbit", "cameraPath", "targetPath"});
+  if (auto* v = find(j, "fps")) a.fps = readFloat(*v, child(ptr, "fps"), Range{0.0, 1000.0, true, false});
+  if (auto* v = find(j, "frames")) a.frames = readInt(*v, child(ptr, "frames"), 1, kMaxFrames);
+  if (auto* v = find(j, "orbit")) a.orbitDegreesPerSecond = readFloat(*v, child(ptr, "orbit"));
+  if (auto* v = find(j, "cameraPath")) a.cameraPath = readPath3(*v, child(ptr, "cameraPath"));
+  if (auto* v = find(j, "targetPath")) a.targetPath = readPath3(*v, child(ptr, "targetPath"));
+}
+
+Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
+  if (!j.is_object()) throw Failure{"expected a JSON object at the top level, got " + describe(j)};
+  requireObject(j, "",
+                {"output", "camera", "light", "ambient", "ramp", "atlas", "atlasLevel", "particleFraction", "style",
+                 "particles", "emitters", "objects", "animation", "simulation", "fixed", "media"});
+  const Reader r(file, artDir);
+  Scene s;
+  s.file = file;
+  if (auto* v = find(j, "output")) readOutput(*v, "/output", s);
+  if (auto* v = find(j, "camera")) readCamera(*v, "/camera", s.camera);
+  if (auto* v = find(j, "light")) readLight(*v, "/light", s.light);
+  if (auto* v = find(j, "ambient")) readAmbient(*v, "/ambient", r, s);
+  if (auto* v = find(j, "ramp")) readRamp(*v, "/ramp", r, s);
+  if (auto* v = find(j, "atlas")) s.atlas = r.readPath(*v, "/atlas");
+  if (auto* v = find(j, "atlasLevel")) s.atlasLevel = readInt(*v, "/atlasLevel", 0, 14);
+  if (auto* v = find(j, "particleFraction")) {
+    s.particleFraction = readFloat(*v, "/particleFraction", Range{0.0, 1.0, true, false});
+  }
+  if (auto* v = find(j, "style")) readStyle(*v, "/style", s);
+  long long total = 0;
+  if (auto* v = find(j, "particles")) {
+    if (!v->is_array()) fail("/particles", "an array of particles", *v);
+    if (static_cast<long long>(v->size()) > kMaxParticles) {
+      fail("/particles", "at most " + std::to_string(kMaxParticles) + " particles", *v);
+    }
+    for (std::size_t i = 0; i < v->size(); ++i) s.particles.push_back(readParticle((*v)[i], child("/particles", i)));
+    total = static_cast<long long>(s.particles.size());
+  }
+  if (auto* v = find(j, "emitters")) {
+    if (!v->is_array()) fail("/emitters", "an array of emitters", *v);
+    for (std::size_t i = 0; i < v->size(); ++i) {
+      const std::string p = child("/emitters", i);
+      s.emitters.push_back(readEmitter((*v)[i], p));
+      total += s.emitters.back().count;
+      if (total > kMaxParticles) {
+        failText(child(p, "count"), "the scene's particles (listed and emitted) come to " + std::to_string(total) +
+                                        " here; at most " + std::to_string(kMaxParticles) + " are allowed");
+      }
+    }
+  }
+  if (auto* v = find(j, "objects")) {
+    if (!v->is_array()) fail("/objects", "an array of objects", *v);
+    for (std::size_t i = 0; i < v->size(); ++i) s.objects.push_back(readObject((*v)[i], child("/objects", i), i, r));
+  }
+  if (auto* v = find(j, "animation")) readAnimation(*v, "/animation", s.animation);
+  if (auto* v = find(j, "fixed")) {
+    const std::string ptr = "/fixed";
+    requireObject(*v, ptr, {"puff", "outlineScale", "outlineOffset", "cellSize"});
+    if (auto* x = find(*v, "puff")) s.fixed.puff = r.readPath(*x, child(ptr, "puff"));
+    if (auto* x = find(*v, "outlineScale"))
+      s.fixed.outlineScale = readFloat(*x, child(ptr, "outlineScale"), Range{1.0, 4.0});
+    if (auto* x = find(*v, "outlineOffset"))
+      s.fixed.outlineOffset = readFloat(*x, child(ptr, "outlineOffset"), kNonNegativeMagnitude);
+    if (auto* x = find(*v, "cellSize")) {
+      const int c = static_cast<int>(readInteger(*x, child(ptr, "cellSize"), 32, 256, "32, 64, 128 or 256"));
+      if (c != 32 && c != 64 && c != 128 && c != 256) fail(child(ptr, "cellSize"), "32, 64, 128 or 256", *x);
+      s.fixed.cellSize = c;
+    }
+  }
+  // Vortices and emitters that ride on an object follow its path (their position is an offset
+  // from where the object is).
+  auto resolve = [&](const std::string& name, sim::Path& path, const std::string& ptr) {
+    if (name.empty()) return;
+    const auto it =
+        std::find_if(s.objects.begin(), s.objects.end(), [&](const ObjectSpec& o) { return o.name == name; });
+    if (it == s.objects.end()) {
+      std::string names;
+      for (const ObjectSpec& o : s.objects) names += (names.empty() ? "" : ", ") + o.name;
+      failText(ptr, "expected the name of a scene object (" + (names.empty() ? std::string("there are none") : names) +
+                        "), got \"" + name + "\"");
+    }
+    if (std::count_if(s.objects.begin(), s.objects.end(), [&](const ObjectSpec& o) { return o.name == name; }) > 1)
+      failText(ptr, "\"" + name + "\" names more than one object; give the object a unique name");
+    if (!path.empty()) failText(ptr, "a vortex or emitter follows its own path or an object, not both");
+    path = it->path;
+    if (path.empty()) path = sim::Path{{0.0f}, {glm::vec3(0.0f)}};
+    for (glm::vec3& p : path.points) p += it->translate;
+  };
+  if (auto* v = find(j, "simulation")) {
+    s.simulation = readSimulation(*v, "/simulation");
+    s.simulation->fps = s.animation.fps;
+    for (std::size_t i = 0; i < s.simulation->forces.vortices.size(); ++i) {
+      sim::Vortex& vortex = s.simulation->forces.vortices[i];
+      resolve(vortex.attach, vortex.path, "/simulation/forces/vortices/" + std::to_string(i) + "/attach");
+    }
+    for (std::size_t i = 0; i < s.simulation->emitters.size(); ++i) {
+      sim::Emitter& e = s.simulation->emitters[i];
+      resolve(e.attach, e.path, "/simulation/emitters/" + std::to_string(i) + "/attach");
+    }
+    // What the reader does not see (cross-field limits): the simulator's own check.
+    if (auto ok = sim::validate(*s.simulation); !ok) throw Failure{"/simulation" + ok.error().message};
+    if (!s.simulation->emitters.empty()) total = std::max(total, 1LL);
+  }
+  if (auto* v = find(j, "media")) {
+    s.media = readMedia(*v, "/media", r);
+    for (std::size_t i = 0; i < s.media->forces.vortices.size(); ++i) {
+      sim::Vortex& vortex = s.media->forces.vortices[i];
+      resolve(vortex.attach, vortex.path, "/media/forces/vortices/" + std::to_string(i) + "/attach");
+    }
+    for (std::size_t i = 0; i < s.media->emitters.size(); ++i) {
+      sim::Emitter& e = s.media->emitters[i].emitter;
+      resolve(e.attach, e.path, "/media/emitters/" + std::to_string(i) + "/attach");
+    }
+    if (!s.media->emitters.empty() || !s.media->forces.vortices.empty()) {
+      sim::Settings check;
+      check.forces = s.media->forces;
+      for (const MediaEmitterSpec& e : s.media->emitters) check.emitters.push_back(e.emitter);
+      if (auto ok = sim::validate(check); !ok) throw Failure{"/media" + ok.error().message};
+    }
+  }
+  if (total > 0 && s.atlas.empty()) {
+    if (auto* v = find(j, "atlas")) fail("/atlas", "an atlas sidecar path (the scene has particles)", *v);
+    failText("/atlas", "expected an atlas sidecar path (the scene has particles), got none");
+  }
+  return s;
+}
+
+}  // namespace detail
+
+std::vector<std::string> stylePresetNames() { return {"outlines", "cel", "cel-shadows", "ink", "solid"}; }
+
+Result<cel::Style> stylePreset(const std::string& name) {
+  cel::Style s;  // outlines on, shading on, shadows off: the "cel" look
+  if (name == "outlines") {
+    // Fig. 8a: the nailboards with their outlines, flat colour, no cel shading.
+    s.shading = false;
+  } else if (name == "cel") {
+  } else if (name == "cel-shadows") {
+    s.shadows = true;
+  } else if (name == "ink") {
+    // Fig. 9: a pen drawing: black ink on the flat (white) puff colour, a heavier line.
+    s.shading = false;
+    s.outlineColor = glm::vec3(0.0f);
+    s.outlineWidth = 3.0f;
+  } else if (name == "solid") {
+    // Fig. 13d: flat fill with thin outlines.
+    s.shading = false;
+    s.outlineWidth = 1.0f;
+  } else {
+    std::string list;
+    for (const std::string& n : stylePresetNames()) list += (list.empty() ? "" : ", ") + n;
+    return Error{"unknown style preset \"" + name + "\" (expected one of " + list + ")"};
+  }
+  return s;
+}
+
+Result<Scene> parseScene(const json& j, const fs::path& file, const fs::path& artDir) {
+  return detail::catchFailure(file, [&] { return detail::readScene(j, file, artDir); });
+}
+
+Result<Scene> loadScene(const fs::path& file, const fs::path& artDir) {
+  auto j = detail::loadJsonFile(file);
+  if (!j) return j.error();
+  return parseScene(*j, file, artDir);
+}
+
+}  // namespace puff::scene
