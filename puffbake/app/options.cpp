@@ -10,6 +10,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cli/app.h>
+
 #include <puff/core/blackbody.h>
 #include <puff/core/detail_video.h>
 #include <puff/core/gl_context.h>
@@ -20,10 +22,6 @@ namespace puff::app {
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr const char* kTool = "puffbake";
-
-void printError(const std::string& message) { std::fprintf(stderr, "%s: error: %s\n", kTool, message.c_str()); }
 
 // "6" (texels) or "3%" (of the cell).
 std::optional<bake::FlangeWidth> parseFlange(const std::string& text) {
@@ -116,10 +114,10 @@ class Progress {
     if (elapsed < 1.0 && !shown_) return;
     const int percent = total > 0 ? 100 * done / total : 100;
     if (tty_) {
-      std::fprintf(stderr, "\r%s: %.*s %d/%d (%d%%)   ", kTool, static_cast<int>(stage.size()), stage.data(), done,
-                   total, percent);
+      std::fprintf(stderr, "\r%s: %.*s %d/%d (%d%%)   ", cli::name(), static_cast<int>(stage.size()), stage.data(),
+                   done, total, percent);
     } else if (stage != lastStage_ || percent / 25 != lastQuarter_ || done == total) {
-      std::fprintf(stderr, "%s: %.*s %d/%d\n", kTool, static_cast<int>(stage.size()), stage.data(), done, total);
+      std::fprintf(stderr, "%s: %.*s %d/%d\n", cli::name(), static_cast<int>(stage.size()), stage.data(), done, total);
       lastQuarter_ = percent / 25;
     }
     lastStage_ = std::string(stage);
@@ -136,27 +134,27 @@ class Progress {
 
 int runMesh(const Options& o) {
   if (o.meshOut.empty()) {
-    printError("mesh: -o FILE is required");
+    cli::printError("mesh: -o FILE is required");
     return 2;
   }
   if (o.inputs.size() + (o.generator ? 1 : 0) != 1) {
-    printError("mesh: give exactly one mesh file or --generate KIND");
+    cli::printError("mesh: give exactly one mesh file or --generate KIND");
     return 2;
   }
   std::optional<bake::GeneratorSpec> gen = o.generator;
   if (gen) gen->count = 1;
   auto sources = bake::loadSources(o.inputs, gen);
   if (!sources) {
-    printError(sources.error().message);
+    cli::printError(sources.error());
     return 1;
   }
   const mesh::TriMesh& m = sources->front().mesh;
   if (auto r = mesh::saveMesh(m, o.meshOut); !r) {
-    printError(r.error().message);
+    cli::printError(r.error());
     return 1;
   }
   if (!o.quiet) {
-    std::printf("%s: wrote %s (%zu faces, %zu vertices, unit bounding sphere)\n", kTool, o.meshOut.c_str(),
+    std::printf("%s: wrote %s (%zu faces, %zu vertices, unit bounding sphere)\n", cli::name(), o.meshOut.c_str(),
                 m.faceCount(), m.positions.size());
   }
   return 0;
@@ -165,11 +163,11 @@ int runMesh(const Options& o) {
 int runBake(const Options& o) {
   auto sources = bake::loadSources(o.inputs, o.generator);
   if (!sources) {
-    printError(sources.error().message);
+    cli::printError(sources.error());
     return 1;
   }
   if (auto v = bake::validate(o.bake, static_cast<int>(sources->size())); !v) {
-    printError(v.error().message);
+    cli::printError(v.error());
     return 2;
   }
   if (!o.shaderDir.empty()) core::setShaderDir(o.shaderDir);
@@ -177,14 +175,14 @@ int runBake(const Options& o) {
   glOptions.backend = o.glBackend;
   auto context = core::createGlContext(glOptions);
   if (!context) {
-    printError(context.error().message);
+    cli::printError(context.error());
     return 1;
   }
   Progress progress(o.quiet);
   auto result = bake::bakeAtlas(*sources, o.bake, std::ref(progress));
   progress.finish();
   if (!result) {
-    printError(result.error().message);
+    cli::printError(result.error());
     return 1;
   }
   if (o.quiet) return 0;
@@ -194,15 +192,15 @@ int runBake(const Options& o) {
       std::printf(
           "%s: lod: variation %zu: %zu -> %zu faces (mean normal error %.4f = %.2f/255, silhouette %.2f texels, %d "
           "trials)\n",
-          kTool, i, lod->facesBefore, lod->facesAfter, static_cast<double>(lod->normalError),
+          cli::name(), i, lod->facesBefore, lod->facesAfter, static_cast<double>(lod->normalError),
           static_cast<double>(lod->normalError * 255.0f), static_cast<double>(lod->silhouetteError), lod->evaluations);
     }
   }
   std::printf("%s: wrote %s: %d variation(s) x %d view(s), %dx%d atlas of %d-texel cells, %d mip level(s), %zu files\n",
-              kTool, result->sidecar.c_str(), d.variations, d.views, d.width, d.height, d.cellSize, d.mipLevels,
+              cli::name(), result->sidecar.c_str(), d.variations, d.views, d.width, d.height, d.cellSize, d.mipLevels,
               result->files.size());
   if (!result->contactSheet.empty()) {
-    std::printf("%s: contact sheet: %s", kTool, result->contactSheet.c_str());
+    std::printf("%s: contact sheet: %s", cli::name(), result->contactSheet.c_str());
     if (result->contactSheetCells < static_cast<int>(d.cells.size())) {
       std::printf(" (the first %d of %zu cells)", result->contactSheetCells, d.cells.size());
     }
@@ -255,15 +253,15 @@ int runBlackbody(const Options& o) {
   const BlackbodyOptions& b = o.blackbody;
   auto ramp = core::makeBlackbodyRamp(b.minKelvin, b.maxKelvin, b.size, b.normalizeKelvin);
   if (!ramp) {  // the ranges were checked while parsing: what is left is a bad combination
-    printError(ramp.error().message);
+    cli::printError(ramp.error());
     return 2;
   }
   if (auto r = core::writeBlackbodyRamp(o.out, *ramp); !r) {
-    printError(r.error().message);
+    cli::printError(r.error());
     return 1;
   }
   if (!o.quiet) {
-    std::printf("%s: wrote %s: black-body ramp %s..%s K in %d texels (linear sRGB, luminance 1 at %s K)\n", kTool,
+    std::printf("%s: wrote %s: black-body ramp %s..%s K in %d texels (linear sRGB, luminance 1 at %s K)\n", cli::name(),
                 o.out.c_str(), numberText(b.minKelvin).c_str(), numberText(b.maxKelvin).c_str(), b.size,
                 numberText(b.normalizeKelvin).c_str());
   }
@@ -275,19 +273,19 @@ int runDetail(const Options& o) {
   auto video =
       d.from.empty() ? bake::generateDetailVideo(d.spec) : bake::importDetailVideo(d.from, d.spec.size, d.loopFrames);
   if (!video) {
-    printError(video.error().message);
+    cli::printError(video.error());
     return 1;
   }
   if (auto r = core::saveDetailVideo(o.out, *video); !r) {
-    printError(r.error().message);
+    cli::printError(r.error());
     return 1;
   }
   if (!o.quiet) {
     const std::string how = d.from.empty() ? "generated, seed " + std::to_string(d.spec.seed)
                                            : "imported from " + std::to_string(d.from.size()) + " files, last " +
                                                  std::to_string(d.loopFrames) + " cross-faded into the first";
-    std::printf("%s: wrote %s: detail video %dx%d, %d frames (%s)\n", kTool, o.out.c_str(), video->width, video->height,
-                video->frames, how.c_str());
+    std::printf("%s: wrote %s: detail video %dx%d, %d frames (%s)\n", cli::name(), o.out.c_str(), video->width,
+                video->height, video->frames, how.c_str());
   }
   return 0;
 }
@@ -301,7 +299,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
       "coverage and signed distance to the silhouette (McGuire & Fein 2006, Fig. 3 / Eq. 1), with a JSON "
       "sidecar and a contact sheet; and writes the fire and smoke media's black-body ramp and detail videos "
       "(Umenhoffer et al. 2006, §3).",
-      kTool};
+      cli::name()};
   app.require_subcommand(1);
   app.set_version_flag("--version", "puffbake 0.1.0");
 
@@ -423,19 +421,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
       ->needs(fromOpt);
   detailCmd->add_flag("-q,--quiet", o.quiet, "Print errors only");
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    printError(e.what());
-    std::fprintf(stderr, "Run with --help for usage.\n");
-    return 2;
-  }
+  if (const auto exitCode = cli::parse(app, argc, argv)) return *exitCode;
 
   if (printDefaults) {
     bake::BakeOptions d;
@@ -452,13 +438,13 @@ std::variant<Options, int> parse(int argc, char** argv) {
     o.generator = bakeGen.finish();
     auto f = parseFlange(flange);
     if (!f) {
-      printError("--flange: expected texels (\"6\") or a percentage (\"3%\"), got \"" + flange + "\"");
+      cli::printError("--flange: expected texels (\"6\") or a percentage (\"3%\"), got \"" + flange + "\"");
       return 2;
     }
     o.bake.flange = *f;
     auto c = parseColor(color);
     if (!c) {
-      printError("--color: expected #rrggbb or r,g,b, got \"" + color + "\"");
+      cli::printError("--color: expected #rrggbb or r,g,b, got \"" + color + "\"");
       return 2;
     }
     o.bake.defaultColor = *c;
@@ -468,7 +454,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
     o.bake.contactSheet = !noSheet;
     o.bake.lodAuto = lod == "auto";
     if (o.inputs.empty() && !o.generator) {
-      printError("bake: nothing to bake: give mesh files or --generate KIND");
+      cli::printError("bake: nothing to bake: give mesh files or --generate KIND");
       return 2;
     }
   } else if (meshCmd->parsed()) {
@@ -477,17 +463,19 @@ std::variant<Options, int> parse(int argc, char** argv) {
   } else if (blackbodyCmd->parsed()) {
     o.command = Command::kBlackbody;
     if (lowerExtension(o.out) != ".exr") {
-      printError("blackbody: -o: the ramp is a float EXR, so FILE must end in .exr, got \"" + o.out.string() + "\"");
+      cli::printError("blackbody: -o: the ramp is a float EXR, so FILE must end in .exr, got \"" + o.out.string() +
+                      "\"");
       return 2;
     }
     if (auto problem = blackbodyProblem(o.blackbody)) {
-      printError(*problem);
+      cli::printError(*problem);
       return 2;
     }
   } else {
     o.command = Command::kDetail;
     if (const std::string ext = lowerExtension(o.out); ext != ".png" && ext != ".exr") {
-      printError("detail: -o: FILE must end in .png (16-bit) or .exr (half float), got \"" + o.out.string() + "\"");
+      cli::printError("detail: -o: FILE must end in .png (16-bit) or .exr (half float), got \"" + o.out.string() +
+                      "\"");
       return 2;
     }
     auto problem = o.detail.from.empty() ? std::optional<std::string>() : importProblem(o.detail);
@@ -495,7 +483,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
       if (auto v = bake::validate(o.detail.spec); !v) problem = v.error().message;
     }
     if (problem) {
-      printError(*problem);
+      cli::printError(*problem);
       return 2;
     }
   }

@@ -12,6 +12,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cli/app.h>
+
 #include <puff/core/files.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
@@ -26,10 +28,6 @@ namespace puff::app {
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr const char* kTool = "puffrender";
-
-void printError(const std::string& message) { std::fprintf(stderr, "%s: error: %s\n", kTool, message.c_str()); }
 
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -102,14 +100,14 @@ int compareFrames(const Options& o, const render::Scene& scene, const Plan& plan
   if (!changes.empty() && !o.quiet) {
     std::string list;
     for (const std::string& c : changes) list += (list.empty() ? "" : ", ") + c;
-    std::printf("%s: comparing within the fixed path's limits: %s\n", kTool, list.c_str());
+    std::printf("%s: comparing within the fixed path's limits: %s\n", cli::name(), list.c_str());
   }
   std::unique_ptr<render::SceneRenderer> ra, rb, ra0, rb0;
   for (auto [slot, sc, p] : {std::tuple{&ra, &limited, pa}, std::tuple{&rb, &limited, pb}, std::tuple{&ra0, &bare, pa},
                              std::tuple{&rb0, &bare, pb}}) {
     auto r = render::SceneRenderer::create(*sc, p);
     if (!r) {
-      printError(r.error().message);
+      cli::printError(r.error());
       return 1;
     }
     *slot = std::move(*r);
@@ -122,7 +120,7 @@ int compareFrames(const Options& o, const render::Scene& scene, const Plan& plan
     for (int i = 0; i < 4; ++i) {
       auto image = renderers[i]->renderFrame(f);
       if (!image) {
-        printError(image.error().message);
+        cli::printError(image.error());
         return 1;
       }
       images[i] = std::move(*image);
@@ -135,11 +133,11 @@ int compareFrames(const Options& o, const render::Scene& scene, const Plan& plan
     core::OutputTransaction out;
     const fs::path temp = out.stage(target);
     if (auto r = core::writeImage(temp, side, core::PixelType::kUInt8, {}, "frame.png"); !r) {
-      printError(Error::at(target, r.error().message).message);
+      cli::printError(Error::at(target, r.error().message));
       return 1;
     }
     if (auto r = out.commit(); !r) {
-      printError(r.error().message);
+      cli::printError(r.error());
       return 1;
     }
     char tone[96];
@@ -152,10 +150,11 @@ int compareFrames(const Options& o, const render::Scene& scene, const Plan& plan
     std::printf(
         "%s: frame %d: smoke coverage IoU %.3f (%s %zu px, %s %zu px, both %zu); %s; mean |difference| %.3f "
         "over the smoke -> %s\n",
-        kTool, f, p.iou, first.c_str(), p.maskA, second.c_str(), p.maskB, p.both, tone, p.meanAbsDiff, target.c_str());
+        cli::name(), f, p.iou, first.c_str(), p.maskA, second.c_str(), p.maskB, p.both, tone, p.meanAbsDiff,
+        target.c_str());
   }
   if (count > 1) {
-    std::printf("%s: %d frames: lowest IoU %.3f, lowest tone agreement %.1f%%\n", kTool, count, worstIou,
+    std::printf("%s: %d frames: lowest IoU %.3f, lowest tone agreement %.1f%%\n", cli::name(), count, worstIou,
                 100.0 * worstTone);
   }
   return 0;
@@ -170,24 +169,25 @@ int chooseMediaResolution(const Options& o, render::Scene& scene, const Plan& pl
     std::string list;
     for (int f : frames) list += (list.empty() ? "" : ", ") + std::to_string(f);
     std::fprintf(stderr, "%s: --max-error %g: measuring media resolutions 0.125 to 1 against the reference at %s %s\n",
-                 kTool, *o.maxError, frames.size() == 1 ? "frame" : "frames", list.c_str());
+                 cli::name(), *o.maxError, frames.size() == 1 ? "frame" : "frames", list.c_str());
     std::fflush(stderr);
   }
   auto budget = render::measureMediaBudget(scene, frames);
   if (!budget) {
-    printError(budget.error().message);
+    cli::printError(budget.error());
     return 1;
   }
   auto choice = render::chooseMediaResolution(*budget, *o.maxError);
   if (!choice) {  // parse() checked the value
-    printError("--max-error: " + choice.error().message);
+    cli::printError("--max-error: " + choice.error().message);
     return 2;
   }
   if (!o.quiet) {
     std::fprintf(stderr, "%s", render::budgetTable(*budget, *choice).c_str());
-    if (!choice->met) std::fprintf(stderr, "%s: warning: %s\n", kTool, render::budgetWarning(*budget, *choice).c_str());
+    if (!choice->met)
+      std::fprintf(stderr, "%s: warning: %s\n", cli::name(), render::budgetWarning(*budget, *choice).c_str());
   }
-  std::fprintf(stderr, "%s: %s\n", kTool, render::budgetSummary(*budget, *choice).c_str());
+  std::fprintf(stderr, "%s: %s\n", cli::name(), render::budgetSummary(*budget, *choice).c_str());
   std::fflush(stderr);
   scene.media->resolution = budget->candidates[choice->chosen].resolution;
   return 0;
@@ -203,27 +203,28 @@ int chooseCelModel(const Options& o, render::Scene& scene, const Plan& plan, ren
   if (!o.quiet) {
     std::string list;
     for (int f : frames) list += (list.empty() ? "" : ", ") + std::to_string(f);
-    std::fprintf(stderr, "%s: --max-error %g: measuring %s against the cel reference at %s %s\n", kTool, *o.maxError,
+    std::fprintf(stderr, "%s: --max-error %g: measuring %s against the cel reference at %s %s\n", cli::name(),
+                 *o.maxError,
                  atlas ? "the atlas at each mip level" : "1/8, 1/4, 1/2 and all of the emitters' particles",
                  frames.size() == 1 ? "frame" : "frames", list.c_str());
     std::fflush(stderr);
   }
   auto budget = render::measureCelBudget(scene, frames, {}, knob, *references);
   if (!budget) {
-    printError(budget.error().message);
+    cli::printError(budget.error());
     return 1;
   }
   auto choice = render::chooseCelBudget(*budget, *o.maxError);
   if (!choice) {
-    printError("--max-error: " + choice.error().message);
+    cli::printError("--max-error: " + choice.error().message);
     return 2;
   }
   if (!o.quiet) {
     std::fprintf(stderr, "%s", render::celBudgetTable(*budget, *choice).c_str());
     if (!choice->met)
-      std::fprintf(stderr, "%s: warning: %s\n", kTool, render::celBudgetWarning(*budget, *choice).c_str());
+      std::fprintf(stderr, "%s: warning: %s\n", cli::name(), render::celBudgetWarning(*budget, *choice).c_str());
   }
-  std::fprintf(stderr, "%s: %s\n", kTool, render::celBudgetSummary(*budget, *choice).c_str());
+  std::fprintf(stderr, "%s: %s\n", cli::name(), render::celBudgetSummary(*budget, *choice).c_str());
   std::fflush(stderr);
   *references = std::move(budget->references);  // the next parameter measures against the same
   const render::CelCandidate& c = budget->candidates[choice->chosen];
@@ -246,7 +247,7 @@ int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
   }
   for (const fs::path& dir : dirs) {
     if (auto r = directories.prepareDirectory(dir); !r) {
-      printError(r.error().message);
+      cli::printError(r.error());
       return 1;
     }
   }
@@ -272,7 +273,7 @@ int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
   if (!context && path == render::RenderPath::kCel && !comparing) {
     whyNotProgrammable = context.error().message;
   } else if (!context) {
-    printError(context.error().message);
+    cli::printError(context.error());
     return 1;
   } else if (path == render::RenderPath::kCel && !comparing) {
     if (auto ok = render::SceneRenderer::checkProgrammable(); !ok) whyNotProgrammable = ok.error().message;
@@ -285,19 +286,19 @@ int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
     glOptions.width = scene.width, glOptions.height = scene.height;
     context = core::createGlContext(glOptions);
     if (!context) {
-      printError("the programmable (cel) path cannot run here (" + whyNotProgrammable +
-                 "), and there is no context for the fixed-function path either: " + context.error().message);
+      cli::printError("the programmable (cel) path cannot run here (" + whyNotProgrammable +
+                      "), and there is no context for the fixed-function path either: " + context.error().message);
       return 1;
     }
     std::fprintf(stderr,
                  "%s: the programmable (cel) path cannot run here: %s\n%s: drawing with the fixed-function path\n",
-                 kTool, whyNotProgrammable.c_str(), kTool);
+                 cli::name(), whyNotProgrammable.c_str(), cli::name());
     path = render::RenderPath::kFixed;
   }
   if (comparing) return compareFrames(o, scene, plan);
   if (o.maxError) {
     if (path == render::RenderPath::kFixed) {
-      printError(
+      cli::printError(
           "--max-error chooses the media layer's resolution and the nailboards' atlas level, and the "
           "programmable path that draws them cannot run here");
       return 1;
@@ -321,16 +322,16 @@ int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
     }
   }
   if (path == render::RenderPath::kFixed && scene.media && !o.quiet) {
-    std::fprintf(stderr, "%s: the fixed-function path draws no fire, smoke or dust: /media is left out\n", kTool);
+    std::fprintf(stderr, "%s: the fixed-function path draws no fire, smoke or dust: /media is left out\n", cli::name());
   }
   if (path == render::RenderPath::kReference && scene.media && !o.quiet) {
-    std::fprintf(stderr, "%s: the cel reference draws no fire, smoke or dust: /media is left out\n", kTool);
+    std::fprintf(stderr, "%s: the cel reference draws no fire, smoke or dust: /media is left out\n", cli::name());
   }
   // The fixed path draws into the context's own framebuffer (made at the frame's size above):
   // OpenGL 1.x calls only, no framebuffer objects.
   auto renderer = render::SceneRenderer::create(scene, path, path == render::RenderPath::kFixed);
   if (!renderer) {
-    printError(renderer.error().message);
+    cli::printError(renderer.error());
     return 1;
   }
 
@@ -340,32 +341,32 @@ int renderFrames(const Options& o, render::Scene scene, const Plan& plan) {
   for (int f = plan.first; f <= plan.last; ++f) {
     const fs::path target = plan.pattern.name(f);
     if (!o.quiet && count > 1) {
-      std::fprintf(stderr, "%s: frame %d (%d/%d) -> %s\n", kTool, f, f - plan.first + 1, count, target.c_str());
+      std::fprintf(stderr, "%s: frame %d (%d/%d) -> %s\n", cli::name(), f, f - plan.first + 1, count, target.c_str());
       std::fflush(stderr);
     }
     auto image = (*renderer)->renderFrame(f);
     if (!image) {
-      printError(image.error().message);
+      cli::printError(image.error());
       return 1;
     }
     // Each frame is written beside its target and renamed over it only when complete.
     core::OutputTransaction frame;
     const fs::path temp = frame.stage(target);
     if (auto r = core::writeImage(temp, *image, type, {}, formatHint); !r) {
-      printError(Error::at(target, r.error().message).message);
+      cli::printError(Error::at(target, r.error().message));
       return 1;
     }
     if (auto r = frame.commit(); !r) {
-      printError(r.error().message);
+      cli::printError(r.error());
       return 1;
     }
   }
   if (!o.quiet) {
     if (count == 1) {
-      std::printf("%s: wrote %s (%dx%d, frame %d)\n", kTool, plan.pattern.name(plan.first).c_str(), scene.width,
+      std::printf("%s: wrote %s (%dx%d, frame %d)\n", cli::name(), plan.pattern.name(plan.first).c_str(), scene.width,
                   scene.height, plan.first);
     } else {
-      std::printf("%s: wrote %d frames (%dx%d): %s .. %s\n", kTool, count, scene.width, scene.height,
+      std::printf("%s: wrote %d frames (%dx%d): %s .. %s\n", cli::name(), count, scene.width, scene.height,
                   plan.pattern.name(plan.first).c_str(), plan.pattern.name(plan.last).c_str());
     }
   }
@@ -448,7 +449,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
       "puffrender: renders a scene file (JSON: camera, light, style, particles, emitters, objects; see "
       "docs/scene-format.md) with cel-shaded nailboards, outlines and billboard shadow volumes (McGuire & Fein "
       "2006) into a PNG or EXR image, or a numbered image sequence.",
-      kTool};
+      cli::name()};
   app.set_version_flag("--version", "puffrender 0.1.0");
   app.add_option("scene", o.scene, "Scene file (JSON)")->required();
   app.add_option("-o,--out", o.out,
@@ -514,44 +515,33 @@ std::variant<Options, int> parse(int argc, char** argv) {
                "and exit without rendering");
   app.add_flag("-q,--quiet", o.quiet, "Print errors only (and --max-error's one-line choice)");
 
-  try {
-    app.parse(argc, argv);
-    o.toleranceGiven = tolerance->count() > 0;
-    if (maxError->count() > 0) {
-      // Parsed here, not by CLI11, so that nan and inf get the same message as 0 or 2.
-      char* end = nullptr;
-      const double e = std::strtod(maxErrorText.c_str(), &end);
-      if (maxErrorText.empty() || end != maxErrorText.c_str() + maxErrorText.size() || !std::isfinite(e) ||
-          !(e > 0.0 && e <= 1.0)) {
-        printError("--max-error: expected an RMSE in (0, 1] (linear colour, e.g. 0.01), got \"" + maxErrorText + "\"");
-        return 2;
-      }
-      o.maxError = e;
+  if (const auto exitCode = cli::parse(app, argc, argv)) return *exitCode;
+  o.toleranceGiven = tolerance->count() > 0;
+  if (maxError->count() > 0) {
+    // Parsed here, not by CLI11, so that nan and inf get the same message as 0 or 2.
+    char* end = nullptr;
+    const double e = std::strtod(maxErrorText.c_str(), &end);
+    if (maxErrorText.empty() || end != maxErrorText.c_str() + maxErrorText.size() || !std::isfinite(e) ||
+        !(e > 0.0 && e <= 1.0)) {
+      cli::printError("--max-error: expected an RMSE in (0, 1] (linear colour, e.g. 0.01), got \"" + maxErrorText +
+                      "\"");
+      return 2;
     }
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    printError(e.what());
-    std::fprintf(stderr, "Run with --help for usage.\n");
-    return 2;
+    o.maxError = e;
   }
   if (o.out.empty() && !o.printScene) {
-    printError("-o OUT is required (or --print-scene); see --help");
+    cli::printError("-o OUT is required (or --print-scene); see --help");
     return 2;
   }
   if (!o.out.empty()) {
     if (auto p = parseOutputPattern(o.out); !p) {
-      printError(p.error().message);
+      cli::printError(p.error());
       return 2;
     }
   }
   if (!o.frames.empty()) {
     if (auto r = parseFrameRange(o.frames); !r) {
-      printError(r.error().message);
+      cli::printError(r.error());
       return 2;
     }
   }
@@ -562,7 +552,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
 int run(const Options& o) {
   auto loaded = render::loadScene(o.scene, o.artDir);
   if (!loaded) {
-    printError(loaded.error().message);
+    cli::printError(loaded.error());
     return 1;
   }
   render::Scene scene = std::move(*loaded);
@@ -572,7 +562,7 @@ int run(const Options& o) {
   if (!o.style.empty()) {
     auto style = render::stylePreset(o.style);
     if (!style) {
-      printError(style.error().message);
+      cli::printError(style.error());
       return 2;
     }
     scene.style = *style;
@@ -584,35 +574,35 @@ int run(const Options& o) {
   }
   auto plan = makePlan(o, scene);
   if (!plan) {
-    printError(plan.error().message);
+    cli::printError(plan.error());
     return 2;
   }
   if (!o.compare.empty() && plan->exr) {
-    printError("--compare writes 8-bit PNG comparison images: give -o a .png name");
+    cli::printError("--compare writes 8-bit PNG comparison images: give -o a .png name");
     return 2;
   }
   if (o.compare.empty() && o.toleranceGiven) {
-    printError("--tolerance applies only with --compare");
+    cli::printError("--tolerance applies only with --compare");
     return 2;
   }
   if (!o.compare.empty() && o.path != "cel") {
-    printError("--path and --compare do not go together: --compare draws with both paths");
+    cli::printError("--path and --compare do not go together: --compare draws with both paths");
     return 2;
   }
   if (o.maxError) {
     const bool cel = !scene.atlas.empty() && (!scene.particles.empty() || !scene.emitters.empty() ||
                                               (scene.simulation && !scene.simulation->emitters.empty()));
     if (!scene.media && !cel) {
-      printError("--max-error chooses the nailboards' atlas level and the media layer's resolution, and " +
-                 o.scene.string() + " has neither cel particles nor media (/media)");
+      cli::printError("--max-error chooses the nailboards' atlas level and the media layer's resolution, and " +
+                      o.scene.string() + " has neither cel particles nor media (/media)");
       return 2;
     }
     if (!o.compare.empty()) {
-      printError("--max-error and --compare do not go together: --compare draws within the fixed path's limits");
+      cli::printError("--max-error and --compare do not go together: --compare draws within the fixed path's limits");
       return 2;
     }
     if (o.path != "cel") {
-      printError("--max-error chooses what the programmable (cel) path draws with: leave out --path " + o.path);
+      cli::printError("--max-error chooses what the programmable (cel) path draws with: leave out --path " + o.path);
       return 2;
     }
   }
