@@ -1,27 +1,21 @@
+// puffrender's command line: the options, their checks (alone and against the scene) and the plan
+// of which frames go where; the commands themselves are render.cpp, compare.cpp and choose.cpp.
 #include "options.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <cstdlib>
 #include <iostream>
-#include <memory>
-#include <set>
-#include <tuple>
 
 #include <CLI/CLI.hpp>
 
-#include <puff/core/files.h>
-#include <puff/core/gl_context.h>
-#include <puff/core/image.h>
-#include <puff/core/shader.h>
-#include <puff/eval/budget.h>
-#include <puff/eval/cel_reference.h>
-#include <puff/eval/compare.h>
-#include <puff/render/render.h>
+#include <cli/app.h>
+#include <puff/core/text.h>
 #include <puff/scene/read.h>
 #include <puff/scene/write.h>
+
+#include "commands.h"
 
 namespace puff::app {
 
@@ -29,28 +23,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kTool = "puffrender";
-
-void printError(const std::string& message) { std::fprintf(stderr, "%s: error: %s\n", kTool, message.c_str()); }
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
 // The art directory when --art-dir is not given: $PUFF_ART, else build/art (where the build bakes
 // art/), relative to the working directory.
 fs::path defaultArtDir() {
   const char* env = std::getenv("PUFF_ART");
   return env && *env ? fs::path(env) : fs::path("build/art");
 }
-
-// Everything run() needs once the scene is known: which frames go where, in which format.
-struct Plan {
-  OutputPattern pattern;
-  int first = 0, last = 0;
-  bool exr = false;
-};
 
 // Checks the options against the scene; errors are usage errors (exit 2).
 Result<Plan> makePlan(const Options& o, const scene::Scene& scene) {
@@ -75,7 +53,7 @@ Result<Plan> makePlan(const Options& o, const scene::Scene& scene) {
     return Error{"-o " + o.out + ": " + std::to_string(plan.last - plan.first + 1) +
                  " frames need a numbered output, e.g. frame_####.png or frame_%04d.png"};
   }
-  const std::string ext = lower(fs::path(plan.pattern.name(plan.first)).extension().string());
+  const std::string ext = core::lower(fs::path(plan.pattern.name(plan.first)).extension().string());
   const std::string fromName = ext == ".png" ? "png" : ext == ".exr" ? "exr" : "";
   if (o.format.empty()) {
     if (fromName.empty()) {
@@ -92,286 +70,127 @@ Result<Plan> makePlan(const Options& o, const scene::Scene& scene) {
   return plan;
 }
 
-// --compare A,B: every frame by both paths, and without particles for the masks; OUT gets the side
-// by side image, stdout a line per frame and a summary.
-int compareFrames(const Options& o, const scene::Scene& scene, const Plan& plan) {
-  const std::string first = o.compare.substr(0, o.compare.find(','));
-  const std::string second = o.compare.substr(o.compare.find(',') + 1);
-  const render::RenderPath pa = *render::parseRenderPath(first), pb = *render::parseRenderPath(second);
-  std::vector<std::string> changes;
-  const scene::Scene limited = eval::restrictToFixedLimits(scene, &changes);
-  const scene::Scene bare = eval::withoutParticles(limited);
-  if (!changes.empty() && !o.quiet) {
-    std::string list;
-    for (const std::string& c : changes) list += (list.empty() ? "" : ", ") + c;
-    std::printf("%s: comparing within the fixed path's limits: %s\n", kTool, list.c_str());
-  }
-  std::unique_ptr<render::SceneRenderer> ra, rb, ra0, rb0;
-  for (auto [slot, sc, p] : {std::tuple{&ra, &limited, pa}, std::tuple{&rb, &limited, pb}, std::tuple{&ra0, &bare, pa},
-                             std::tuple{&rb0, &bare, pb}}) {
-    auto r = eval::createRenderer(*sc, p);
-    if (!r) {
-      printError(r.error().message);
-      return 1;
-    }
-    *slot = std::move(*r);
-  }
-  double worstIou = 1.0, worstTone = 1.0;
-  const int count = plan.last - plan.first + 1;
-  for (int f = plan.first; f <= plan.last; ++f) {
-    core::Image images[4];
-    render::SceneRenderer* renderers[4] = {ra.get(), ra0.get(), rb.get(), rb0.get()};
-    for (int i = 0; i < 4; ++i) {
-      auto image = renderers[i]->renderFrame(f);
-      if (!image) {
-        printError(image.error().message);
-        return 1;
-      }
-      images[i] = std::move(*image);
-    }
-    core::Image side;
-    const eval::Parity p = eval::compareFrames(images[0], images[1], images[2], images[3], o.toneTolerance, &side);
-    worstIou = std::min(worstIou, p.iou);
-    worstTone = std::min(worstTone, p.toneShare);
-    const fs::path target = plan.pattern.name(f);
-    core::OutputTransaction out;
-    const fs::path temp = out.stage(target);
-    if (auto r = core::writeImage(temp, side, core::PixelType::kUInt8, {}, "frame.png"); !r) {
-      printError(Error::at(target, r.error().message).message);
-      return 1;
-    }
-    if (auto r = out.commit(); !r) {
-      printError(r.error().message);
-      return 1;
-    }
-    char tone[96];
-    if (p.both > 0) {
-      std::snprintf(tone, sizeof tone, "tone within %.2f on %.1f%% of shared smoke pixels", o.toneTolerance,
-                    100.0 * p.toneShare);
-    } else {
-      std::snprintf(tone, sizeof tone, "no shared smoke pixels to compare tones on");
-    }
-    std::printf(
-        "%s: frame %d: smoke coverage IoU %.3f (%s %zu px, %s %zu px, both %zu); %s; mean |difference| %.3f "
-        "over the smoke -> %s\n",
-        kTool, f, p.iou, first.c_str(), p.maskA, second.c_str(), p.maskB, p.both, tone, p.meanAbsDiff, target.c_str());
-  }
-  if (count > 1) {
-    std::printf("%s: %d frames: lowest IoU %.3f, lowest tone agreement %.1f%%\n", kTool, count, worstIou,
-                100.0 * worstTone);
-  }
-  return 0;
+// The scene and where its frames go: scene, -o, --frames, --format.
+void addOutputOptions(CLI::App& app, Options& o) {
+  app.add_option("scene", o.scene, "Scene file (JSON)")->required();
+  app.add_option("-o,--out", o.out,
+                 "Output image. For a sequence, a name with one %d, %0Nd or run of # (frame_####.png) that the frame "
+                 "number fills in; without one, a single frame is written to exactly OUT. Required unless "
+                 "--print-scene");
+  app.add_option("--frames", o.frames,
+                 "Frame N or range A-B (0-based, inclusive). Default: frame 0 for a single OUT, every frame of the "
+                 "scene (/animation/frames) for a numbered OUT");
+  app.add_option("--format", o.format,
+                 "png (8-bit RGBA) or exr (half-float RGBA). Default: from OUT's extension (.png or .exr)")
+      ->check(CLI::IsMember({"png", "exr"}));
 }
 
-// --max-error: measures every media layer resolution at up to three of the frames to render, against
-// the exact reference, and sets the cheapest within the budget on `scene` (render/budget.h).
-// Returns 0, or the exit code of a failure (after saying why).
-int chooseMediaResolution(const Options& o, scene::Scene& scene, const Plan& plan) {
-  const std::vector<int> frames = eval::budgetFrames(plan.first, plan.last);
-  if (!o.quiet) {
-    std::string list;
-    for (int f : frames) list += (list.empty() ? "" : ", ") + std::to_string(f);
-    std::fprintf(stderr, "%s: --max-error %g: measuring media resolutions 0.125 to 1 against the reference at %s %s\n",
-                 kTool, *o.maxError, frames.size() == 1 ? "frame" : "frames", list.c_str());
-    std::fflush(stderr);
-  }
-  auto budget = eval::measureMediaBudget(scene, frames);
-  if (!budget) {
-    printError(budget.error().message);
-    return 1;
-  }
-  auto choice = eval::chooseMediaResolution(*budget, *o.maxError);
-  if (!choice) {  // parse() checked the value
-    printError("--max-error: " + choice.error().message);
-    return 2;
-  }
-  if (!o.quiet) {
-    std::fprintf(stderr, "%s", eval::budgetTable(*budget, *choice).c_str());
-    if (!choice->met) std::fprintf(stderr, "%s: warning: %s\n", kTool, eval::budgetWarning(*budget, *choice).c_str());
-  }
-  std::fprintf(stderr, "%s: %s\n", kTool, eval::budgetSummary(*budget, *choice).c_str());
-  std::fflush(stderr);
-  scene.media->resolution = budget->candidates[choice->chosen].resolution;
-  return 0;
+// How it is drawn: --gl, --width, --height, --samples, --art-dir, --shader-dir, --style, --path.
+void addRenderOptions(CLI::App& app, Options& o) {
+  std::vector<std::string> presets = scene::stylePresetNames();
+  std::string presetList;
+  for (const std::string& p : presets) presetList += (presetList.empty() ? "" : ", ") + p;
+  app.add_option("--gl", o.glBackend, "GL backend: osmesa, egl or glfw (default: $PUFF_GL, else osmesa)")
+      ->check(CLI::IsMember({"osmesa", "egl", "glfw"}));
+  app.add_option("--width", o.width, "Output width in pixels, replacing the scene's (1..16384)")
+      ->check(CLI::Range(1, 16384));
+  app.add_option("--height", o.height, "Output height in pixels, replacing the scene's (1..16384)")
+      ->check(CLI::Range(1, 16384));
+  app.add_option("--samples", o.samples, "MSAA samples per pixel, replacing the scene's: 1, 2, 4 or 8")
+      ->check(CLI::IsMember({1, 2, 4, 8}));
+  app.add_option("--art-dir", o.artDir,
+                 "Directory that \"${PUFF_ART}\" in the scene's paths stands for (default: $PUFF_ART, else build/art)");
+  app.add_option("--shader-dir", o.shaderDir, "Read shaders from this directory instead of the built-in copies");
+  app.add_option("--style", o.style, "Render with this style preset instead of the scene's style: " + presetList)
+      ->check(CLI::IsMember(presets));
+  app.add_option(
+         "--path", o.path,
+         "Render path: cel (programmable GL 4.5: nailboards, flange outlines, shadow volumes; falls back to fixed, "
+         "saying so, when the context cannot run it) or fixed (GL 1.x fixed function, McGuire & Fein 4.4: one "
+         "light, uniform ambient, no shadows) or reference (the image the nailboards approximate: every "
+         "particle's actual puff mesh, Eq. 2 per pixel, outlines around the true silhouettes, exact shadows; "
+         "supersampled 3x3 and slow; no media). Default: cel")
+      ->check(CLI::IsMember({"cel", "fixed", "reference"}));
 }
 
-// --max-error on a scene with cel particles: measures one of the nailboards' run-time parameters
-// (the share of the emitters' particles, or the atlas level) against the cel reference of the full
-// model and sets the cheapest within the budget on `scene` (render/budget.h).
-int chooseCelModel(const Options& o, scene::Scene& scene, const Plan& plan, eval::CelKnob knob,
-                   std::vector<core::Image>* references) {
-  const std::vector<int> frames = eval::budgetFrames(plan.first, plan.last);
-  const bool atlas = knob == eval::CelKnob::kAtlasLevel;
-  if (!o.quiet) {
-    std::string list;
-    for (int f : frames) list += (list.empty() ? "" : ", ") + std::to_string(f);
-    std::fprintf(stderr, "%s: --max-error %g: measuring %s against the cel reference at %s %s\n", kTool, *o.maxError,
-                 atlas ? "the atlas at each mip level" : "1/8, 1/4, 1/2 and all of the emitters' particles",
-                 frames.size() == 1 ? "frame" : "frames", list.c_str());
-    std::fflush(stderr);
-  }
-  auto budget = eval::measureCelBudget(scene, frames, {}, knob, *references);
-  if (!budget) {
-    printError(budget.error().message);
-    return 1;
-  }
-  auto choice = eval::chooseCelBudget(*budget, *o.maxError);
-  if (!choice) {
-    printError("--max-error: " + choice.error().message);
-    return 2;
-  }
-  if (!o.quiet) {
-    std::fprintf(stderr, "%s", eval::celBudgetTable(*budget, *choice).c_str());
-    if (!choice->met)
-      std::fprintf(stderr, "%s: warning: %s\n", kTool, eval::celBudgetWarning(*budget, *choice).c_str());
-  }
-  std::fprintf(stderr, "%s: %s\n", kTool, eval::celBudgetSummary(*budget, *choice).c_str());
-  std::fflush(stderr);
-  *references = std::move(budget->references);  // the next parameter measures against the same
-  const eval::CelCandidate& c = budget->candidates[choice->chosen];
-  if (atlas) {
-    scene.atlasLevel = c.atlasLevel;
-  } else {
-    scene.particleFraction = c.particleFraction;
-  }
-  return 0;
+// --compare and its --tolerance (returned, to tell whether it was given).
+CLI::Option* addCompareOptions(CLI::App& app, Options& o) {
+  app.add_option("--compare", o.compare,
+                 "Render every frame with both paths (fixed,cel or cel,fixed) and report how close they come: smoke "
+                 "coverage agreement (IoU of the masks) and the share of shared smoke pixels within --tolerance; OUT "
+                 "gets [first | second | difference] side by side")
+      ->check(CLI::IsMember({"fixed,cel", "cel,fixed"}));
+  return app
+      .add_option("--tolerance", o.toneTolerance, "--compare: per-channel tone tolerance in [0, 1]. Default: 0.1")
+      ->check(CLI::Range(0.0f, 1.0f));
 }
 
-int renderFrames(const Options& o, scene::Scene scene, const Plan& plan) {
-  // Fail before any rendering if an output can never be written: every directory the frames go
-  // to is created now (and taken back, if still empty, when the run fails) and must be writable.
-  core::OutputTransaction directories;
-  std::set<fs::path> dirs;
-  for (int f = plan.first; f <= plan.last; ++f) {
-    dirs.insert(fs::path(plan.pattern.name(f)).parent_path());
-    if (!plan.pattern.numbered) break;
-  }
-  for (const fs::path& dir : dirs) {
-    if (auto r = directories.prepareDirectory(dir); !r) {
-      printError(r.error().message);
-      return 1;
-    }
-  }
+// --max-error E, kept as text: parseMaxError() reads it.
+CLI::Option* addMaxErrorOption(CLI::App& app, std::string& text) {
+  return app
+      .add_option("--max-error", text,
+                  "Render with just enough model, measured against the references at the first, "
+                  "middle and last of the frames rendered (the worst of them), E an RMSE in (0, 1]. "
+                  "Scenes with cel particles: first the fewest of the placed emitters' particles "
+                  "(/particleFraction: 1/8, 1/4, 1/2 or all, each larger to fill the same volume), "
+                  "then the smallest atlas (/atlasLevel: the atlas from one of its mip levels on), "
+                  "whose frames stay within E of the cel reference of the full model (--path "
+                  "reference; 8-bit values; e.g. 0.12: the nailboards' own error is about 0.09 on "
+                  "the art scenes); if none does, all the particles and the full atlas, with a "
+                  "warning. Scenes with media: "
+                  "the cheapest media layer resolution (/media/resolution: 0.125, 0.25, 0.5 or 1) "
+                  "within E (linear colour, e.g. 0.01) of the exact media reference; if none does, 1. "
+                  "Prints the measurements and one line per choice saying what it chose and why on "
+                  "stderr; -q: those lines only. The media method and mesh detail (baked into the "
+                  "atlas: puffbake --lod auto) are not chosen. Measured frames leave out explosion "
+                  "lights, heat shimmer and motion blur (the reference has none); the output keeps "
+                  "them")
+      ->type_name("E");
+}
 
-  if (!o.shaderDir.empty()) core::setShaderDir(o.shaderDir);
-  const bool comparing = !o.compare.empty();
-  render::RenderPath path = *render::parseRenderPath(o.path);
-  core::GlContextOptions glOptions;
-  glOptions.backend = o.glBackend;
-  glOptions.width = glOptions.height = 16;  // frames are drawn into the renderer's own target
-  if (comparing) {
-    glOptions.profile = core::GlProfile::kCompatibility;  // both paths in one context
-  } else if (path == render::RenderPath::kFixed) {
-    // The oldest context the platform gives: compatibility, asked for 1.3, the path's minimum (Mesa
-    // gives its highest compatibility version when it can).
-    // Its own framebuffer is the frame's size: a GL 1.x/2.x context has no framebuffer objects.
-    glOptions.profile = core::GlProfile::kCompatibility;
-    glOptions.major = 1, glOptions.minor = 3;
-    glOptions.width = scene.width, glOptions.height = scene.height;
+// Parsed here, not by CLI11, so that nan and inf get the same message as 0 or 2.
+Result<double> parseMaxError(const std::string& text) {
+  char* end = nullptr;
+  const double e = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(e) || !(e > 0.0 && e <= 1.0)) {
+    return Error{"--max-error: expected an RMSE in (0, 1] (linear colour, e.g. 0.01), got \"" + text + "\""};
   }
-  auto context = core::createGlContext(glOptions);
-  std::string whyNotProgrammable;
-  if (!context && path == render::RenderPath::kCel && !comparing) {
-    whyNotProgrammable = context.error().message;
-  } else if (!context) {
-    printError(context.error().message);
-    return 1;
-  } else if (path == render::RenderPath::kCel && !comparing) {
-    if (auto ok = render::SceneRenderer::checkProgrammable(); !ok) whyNotProgrammable = ok.error().message;
+  return e;
+}
+
+// The checks of the options alone that CLI11 does not make; errors are usage errors (exit 2).
+Result<void> checkOptions(const Options& o) {
+  if (o.out.empty() && !o.printScene) return Error{"-o OUT is required (or --print-scene); see --help"};
+  if (!o.out.empty()) {
+    if (auto p = parseOutputPattern(o.out); !p) return p.error();
   }
-  if (!whyNotProgrammable.empty()) {
-    // The automatic fallback: an old context, or a programmable path that does not build.
-    context = Error{""};  // the old context goes before the new one is made current
-    glOptions.profile = core::GlProfile::kCompatibility;
-    glOptions.major = 1, glOptions.minor = 3;
-    glOptions.width = scene.width, glOptions.height = scene.height;
-    context = core::createGlContext(glOptions);
-    if (!context) {
-      printError("the programmable (cel) path cannot run here (" + whyNotProgrammable +
-                 "), and there is no context for the fixed-function path either: " + context.error().message);
-      return 1;
-    }
-    std::fprintf(stderr,
-                 "%s: the programmable (cel) path cannot run here: %s\n%s: drawing with the fixed-function path\n",
-                 kTool, whyNotProgrammable.c_str(), kTool);
-    path = render::RenderPath::kFixed;
+  if (!o.frames.empty()) {
+    if (auto r = parseFrameRange(o.frames); !r) return r.error();
   }
-  if (comparing) return compareFrames(o, scene, plan);
+  return {};
+}
+
+// The checks of the options against the scene, before anything is drawn; errors are usage errors
+// (exit 2).
+Result<void> checkAgainstScene(const Options& o, const scene::Scene& scene, const Plan& plan) {
+  if (!o.compare.empty() && plan.exr) return Error{"--compare writes 8-bit PNG comparison images: give -o a .png name"};
+  if (o.compare.empty() && o.toleranceGiven) return Error{"--tolerance applies only with --compare"};
+  if (!o.compare.empty() && o.path != "cel") {
+    return Error{"--path and --compare do not go together: --compare draws with both paths"};
+  }
   if (o.maxError) {
-    if (path == render::RenderPath::kFixed) {
-      printError(
-          "--max-error chooses the media layer's resolution and the nailboards' atlas level, and the "
-          "programmable path that draws them cannot run here");
-      return 1;
+    if (!scene.media && !hasCelParticles(scene)) {
+      return Error{"--max-error chooses the nailboards' atlas level and the media layer's resolution, and " +
+                   o.scene.string() + " has neither cel particles nor media (/media)"};
     }
-    // parse() made sure the path is cel and there is something to choose.
-    const bool cel = !scene.atlas.empty() && (!scene.particles.empty() || !scene.emitters.empty() ||
-                                              (scene.simulation && !scene.simulation->emitters.empty()));
-    if (cel) {
-      // Fewer particles first (the frame time), then the smallest atlas for them (the memory), both
-      // against the same references of the full model.
-      std::vector<core::Image> references;
-      if (!scene.emitters.empty()) {
-        if (const int code = chooseCelModel(o, scene, plan, eval::CelKnob::kParticleFraction, &references); code != 0)
-          return code;
-      }
-      if (const int code = chooseCelModel(o, scene, plan, eval::CelKnob::kAtlasLevel, &references); code != 0)
-        return code;
+    if (!o.compare.empty()) {
+      return Error{"--max-error and --compare do not go together: --compare draws within the fixed path's limits"};
     }
-    if (scene.media) {
-      if (const int code = chooseMediaResolution(o, scene, plan); code != 0) return code;
+    if (o.path != "cel") {
+      return Error{"--max-error chooses what the programmable (cel) path draws with: leave out --path " + o.path};
     }
   }
-  if (path == render::RenderPath::kFixed && scene.media && !o.quiet) {
-    std::fprintf(stderr, "%s: the fixed-function path draws no fire, smoke or dust: /media is left out\n", kTool);
-  }
-  if (path == render::RenderPath::kReference && scene.media && !o.quiet) {
-    std::fprintf(stderr, "%s: the cel reference draws no fire, smoke or dust: /media is left out\n", kTool);
-  }
-  // The fixed path draws into the context's own framebuffer (made at the frame's size above):
-  // OpenGL 1.x calls only, no framebuffer objects.
-  auto renderer = eval::createRenderer(scene, path, path == render::RenderPath::kFixed);
-  if (!renderer) {
-    printError(renderer.error().message);
-    return 1;
-  }
-
-  const core::PixelType type = plan.exr ? core::PixelType::kHalf : core::PixelType::kUInt8;
-  const fs::path formatHint = plan.exr ? "frame.exr" : "frame.png";
-  const int count = plan.last - plan.first + 1;
-  for (int f = plan.first; f <= plan.last; ++f) {
-    const fs::path target = plan.pattern.name(f);
-    if (!o.quiet && count > 1) {
-      std::fprintf(stderr, "%s: frame %d (%d/%d) -> %s\n", kTool, f, f - plan.first + 1, count, target.c_str());
-      std::fflush(stderr);
-    }
-    auto image = (*renderer)->renderFrame(f);
-    if (!image) {
-      printError(image.error().message);
-      return 1;
-    }
-    // Each frame is written beside its target and renamed over it only when complete.
-    core::OutputTransaction frame;
-    const fs::path temp = frame.stage(target);
-    if (auto r = core::writeImage(temp, *image, type, {}, formatHint); !r) {
-      printError(Error::at(target, r.error().message).message);
-      return 1;
-    }
-    if (auto r = frame.commit(); !r) {
-      printError(r.error().message);
-      return 1;
-    }
-  }
-  if (!o.quiet) {
-    if (count == 1) {
-      std::printf("%s: wrote %s (%dx%d, frame %d)\n", kTool, plan.pattern.name(plan.first).c_str(), scene.width,
-                  scene.height, plan.first);
-    } else {
-      std::printf("%s: wrote %d frames (%dx%d): %s .. %s\n", kTool, count, scene.width, scene.height,
-                  plan.pattern.name(plan.first).c_str(), plan.pattern.name(plan.last).c_str());
-    }
-  }
-  return 0;
+  return {};
 }
 
 }  // namespace
@@ -443,119 +262,35 @@ Result<std::pair<int, int>> parseFrameRange(const std::string& text) {
 
 std::variant<Options, int> parse(int argc, char** argv) {
   Options o;
-  std::vector<std::string> presets = scene::stylePresetNames();
-  std::string presetList;
-  for (const std::string& p : presets) presetList += (presetList.empty() ? "" : ", ") + p;
   CLI::App app{
       "puffrender: renders a scene file (JSON: camera, light, style, particles, emitters, objects; see "
       "docs/scene-format.md) with cel-shaded nailboards, outlines and billboard shadow volumes (McGuire & Fein "
       "2006) into a PNG or EXR image, or a numbered image sequence.",
-      kTool};
+      cli::name()};
   app.set_version_flag("--version", "puffrender 0.1.0");
-  app.add_option("scene", o.scene, "Scene file (JSON)")->required();
-  app.add_option("-o,--out", o.out,
-                 "Output image. For a sequence, a name with one %d, %0Nd or run of # (frame_####.png) that the frame "
-                 "number fills in; without one, a single frame is written to exactly OUT. Required unless "
-                 "--print-scene");
-  app.add_option("--frames", o.frames,
-                 "Frame N or range A-B (0-based, inclusive). Default: frame 0 for a single OUT, every frame of the "
-                 "scene (/animation/frames) for a numbered OUT");
-  app.add_option("--format", o.format,
-                 "png (8-bit RGBA) or exr (half-float RGBA). Default: from OUT's extension (.png or .exr)")
-      ->check(CLI::IsMember({"png", "exr"}));
-  app.add_option("--gl", o.glBackend, "GL backend: osmesa, egl or glfw (default: $PUFF_GL, else osmesa)")
-      ->check(CLI::IsMember({"osmesa", "egl", "glfw"}));
-  app.add_option("--width", o.width, "Output width in pixels, replacing the scene's (1..16384)")
-      ->check(CLI::Range(1, 16384));
-  app.add_option("--height", o.height, "Output height in pixels, replacing the scene's (1..16384)")
-      ->check(CLI::Range(1, 16384));
-  app.add_option("--samples", o.samples, "MSAA samples per pixel, replacing the scene's: 1, 2, 4 or 8")
-      ->check(CLI::IsMember({1, 2, 4, 8}));
-  app.add_option("--art-dir", o.artDir,
-                 "Directory that \"${PUFF_ART}\" in the scene's paths stands for (default: $PUFF_ART, else build/art)");
-  app.add_option("--shader-dir", o.shaderDir, "Read shaders from this directory instead of the built-in copies");
-  app.add_option("--style", o.style, "Render with this style preset instead of the scene's style: " + presetList)
-      ->check(CLI::IsMember(presets));
-  app.add_option(
-         "--path", o.path,
-         "Render path: cel (programmable GL 4.5: nailboards, flange outlines, shadow volumes; falls back to fixed, "
-         "saying so, when the context cannot run it) or fixed (GL 1.x fixed function, McGuire & Fein 4.4: one "
-         "light, uniform ambient, no shadows) or reference (the image the nailboards approximate: every "
-         "particle's actual puff mesh, Eq. 2 per pixel, outlines around the true silhouettes, exact shadows; "
-         "supersampled 3x3 and slow; no media). Default: cel")
-      ->check(CLI::IsMember({"cel", "fixed", "reference"}));
-  app.add_option("--compare", o.compare,
-                 "Render every frame with both paths (fixed,cel or cel,fixed) and report how close they come: smoke "
-                 "coverage agreement (IoU of the masks) and the share of shared smoke pixels within --tolerance; OUT "
-                 "gets [first | second | difference] side by side")
-      ->check(CLI::IsMember({"fixed,cel", "cel,fixed"}));
-  auto* tolerance =
-      app.add_option("--tolerance", o.toneTolerance, "--compare: per-channel tone tolerance in [0, 1]. Default: 0.1")
-          ->check(CLI::Range(0.0f, 1.0f));
+  addOutputOptions(app, o);
+  addRenderOptions(app, o);
+  CLI::Option* tolerance = addCompareOptions(app, o);
   std::string maxErrorText;
-  auto* maxError = app.add_option("--max-error", maxErrorText,
-                                  "Render with just enough model, measured against the references at the first, "
-                                  "middle and last of the frames rendered (the worst of them), E an RMSE in (0, 1]. "
-                                  "Scenes with cel particles: first the fewest of the placed emitters' particles "
-                                  "(/particleFraction: 1/8, 1/4, 1/2 or all, each larger to fill the same volume), "
-                                  "then the smallest atlas (/atlasLevel: the atlas from one of its mip levels on), "
-                                  "whose frames stay within E of the cel reference of the full model (--path "
-                                  "reference; 8-bit values; e.g. 0.12: the nailboards' own error is about 0.09 on "
-                                  "the art scenes); if none does, all the particles and the full atlas, with a "
-                                  "warning. Scenes with media: "
-                                  "the cheapest media layer resolution (/media/resolution: 0.125, 0.25, 0.5 or 1) "
-                                  "within E (linear colour, e.g. 0.01) of the exact media reference; if none does, 1. "
-                                  "Prints the measurements and one line per choice saying what it chose and why on "
-                                  "stderr; -q: those lines only. The media method and mesh detail (baked into the "
-                                  "atlas: puffbake --lod auto) are not chosen. Measured frames leave out explosion "
-                                  "lights, heat shimmer and motion blur (the reference has none); the output keeps "
-                                  "them")
-                       ->type_name("E");
+  CLI::Option* maxError = addMaxErrorOption(app, maxErrorText);
   app.add_flag("--print-scene", o.printScene,
                "Print the scene as it will be rendered (every field, defaults and the options above applied) as JSON, "
                "and exit without rendering");
   app.add_flag("-q,--quiet", o.quiet, "Print errors only (and --max-error's one-line choice)");
 
-  try {
-    app.parse(argc, argv);
-    o.toleranceGiven = tolerance->count() > 0;
-    if (maxError->count() > 0) {
-      // Parsed here, not by CLI11, so that nan and inf get the same message as 0 or 2.
-      char* end = nullptr;
-      const double e = std::strtod(maxErrorText.c_str(), &end);
-      if (maxErrorText.empty() || end != maxErrorText.c_str() + maxErrorText.size() || !std::isfinite(e) ||
-          !(e > 0.0 && e <= 1.0)) {
-        printError("--max-error: expected an RMSE in (0, 1] (linear colour, e.g. 0.01), got \"" + maxErrorText + "\"");
-        return 2;
-      }
-      o.maxError = e;
-    }
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    printError(e.what());
-    std::fprintf(stderr, "Run with --help for usage.\n");
-    return 2;
-  }
-  if (o.out.empty() && !o.printScene) {
-    printError("-o OUT is required (or --print-scene); see --help");
-    return 2;
-  }
-  if (!o.out.empty()) {
-    if (auto p = parseOutputPattern(o.out); !p) {
-      printError(p.error().message);
+  if (const auto exitCode = cli::parse(app, argc, argv)) return *exitCode;
+  o.toleranceGiven = tolerance->count() > 0;
+  if (maxError->count() > 0) {
+    auto e = parseMaxError(maxErrorText);
+    if (!e) {
+      cli::printError(e.error());
       return 2;
     }
+    o.maxError = *e;
   }
-  if (!o.frames.empty()) {
-    if (auto r = parseFrameRange(o.frames); !r) {
-      printError(r.error().message);
-      return 2;
-    }
+  if (auto r = checkOptions(o); !r) {
+    cli::printError(r.error());
+    return 2;
   }
   if (o.artDir.empty()) o.artDir = defaultArtDir();
   return o;
@@ -564,7 +299,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
 int run(const Options& o) {
   auto loaded = scene::loadScene(o.scene, o.artDir);
   if (!loaded) {
-    printError(loaded.error().message);
+    cli::printError(loaded.error());
     return 1;
   }
   scene::Scene scene = std::move(*loaded);
@@ -574,7 +309,7 @@ int run(const Options& o) {
   if (!o.style.empty()) {
     auto style = scene::stylePreset(o.style);
     if (!style) {
-      printError(style.error().message);
+      cli::printError(style.error());
       return 2;
     }
     scene.style = *style;
@@ -586,37 +321,12 @@ int run(const Options& o) {
   }
   auto plan = makePlan(o, scene);
   if (!plan) {
-    printError(plan.error().message);
+    cli::printError(plan.error());
     return 2;
   }
-  if (!o.compare.empty() && plan->exr) {
-    printError("--compare writes 8-bit PNG comparison images: give -o a .png name");
+  if (auto r = checkAgainstScene(o, scene, *plan); !r) {
+    cli::printError(r.error());
     return 2;
-  }
-  if (o.compare.empty() && o.toleranceGiven) {
-    printError("--tolerance applies only with --compare");
-    return 2;
-  }
-  if (!o.compare.empty() && o.path != "cel") {
-    printError("--path and --compare do not go together: --compare draws with both paths");
-    return 2;
-  }
-  if (o.maxError) {
-    const bool cel = !scene.atlas.empty() && (!scene.particles.empty() || !scene.emitters.empty() ||
-                                              (scene.simulation && !scene.simulation->emitters.empty()));
-    if (!scene.media && !cel) {
-      printError("--max-error chooses the nailboards' atlas level and the media layer's resolution, and " +
-                 o.scene.string() + " has neither cel particles nor media (/media)");
-      return 2;
-    }
-    if (!o.compare.empty()) {
-      printError("--max-error and --compare do not go together: --compare draws within the fixed path's limits");
-      return 2;
-    }
-    if (o.path != "cel") {
-      printError("--max-error chooses what the programmable (cel) path draws with: leave out --path " + o.path);
-      return 2;
-    }
   }
   return renderFrames(o, scene, *plan);
 }

@@ -5,6 +5,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cli/app.h>
+
 #include <puff/render/path.h>
 #include <puffview/viewer.h>
 
@@ -13,10 +15,6 @@ namespace puff::view {
 namespace fs = std::filesystem;
 
 namespace {
-
-constexpr const char* kTool = "puffview";
-
-void printError(const std::string& message) { std::fprintf(stderr, "%s: error: %s\n", kTool, message.c_str()); }
 
 // As puffrender: $PUFF_ART, else build/art relative to the working directory.
 fs::path defaultArtDir() {
@@ -42,7 +40,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
       "Keys: Space play/pause, . or Right step, Left step back, R or Home restart, P or F12 screenshot, F orbit/fly "
       "camera, C reset camera, H hide panels, Esc quit. Mouse (orbit): left drag turns, right or middle drag pans, "
       "wheel zooms; (fly): WASD/QE move, right drag looks.",
-      kTool};
+      cli::name()};
   app.set_version_flag("--version", "puffview 0.1.0");
   app.add_option("scene", o.scene, "Scene file (JSON)")->required();
   app.add_option("--frames", o.frames,
@@ -67,19 +65,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
   app.add_option("--path", o.path, "Render path (default cel). Available:" + pathList)->check(CLI::IsMember(pathNames));
   app.add_flag("-q,--quiet", o.quiet, "Print errors only");
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    printError(e.what());
-    std::fprintf(stderr, "Run with --help for usage.\n");
-    return 2;
-  }
+  if (const auto exitCode = cli::parse(app, argc, argv)) return *exitCode;
   if (!o.screenshot.empty() && !o.frames) o.frames = 1;
   if (o.artDir.empty()) o.artDir = defaultArtDir();
   return o;
@@ -98,17 +84,17 @@ int run(const Options& o) {
   vo.quiet = o.quiet || o.frames.has_value();
   auto viewer = Viewer::open(vo);
   if (!viewer) {
-    printError(viewer.error().message);
+    cli::printError(viewer.error());
     return 1;
   }
   if (!o.frames) return (*viewer)->runInteractive();
   if (auto r = (*viewer)->runBatch(*o.frames, o.screenshot); !r) {
-    printError(r.error().message);
+    cli::printError(r.error());
     return 1;
   }
   if (!o.quiet && !o.screenshot.empty()) {
     const glm::ivec2 size = (*viewer)->framebufferSize();
-    std::printf("%s: wrote %s (%dx%d, frame %d)\n", kTool, o.screenshot.c_str(), size.x, size.y, *o.frames - 1);
+    std::printf("%s: wrote %s (%dx%d, frame %d)\n", cli::name(), o.screenshot.c_str(), size.x, size.y, *o.frames - 1);
   }
   return 0;
 }

@@ -1,0 +1,223 @@
+// puffbake bake: mesh files and/or generated puffs into an atlas (bake/baker.h).
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <string_view>
+
+#include <cli/app.h>
+#include <puff/core/gl_context.h>
+#include <puff/core/shader.h>
+
+#include "commands.h"
+
+namespace puff::app {
+
+namespace {
+
+// "6" (texels) or "3%" (of the cell).
+std::optional<bake::FlangeWidth> parseFlange(const std::string& text) {
+  bake::FlangeWidth f;
+  std::string s = text;
+  f.fractionOfCell = !s.empty() && s.back() == '%';
+  if (f.fractionOfCell) s.pop_back();
+  try {
+    std::size_t used = 0;
+    f.value = std::stof(s, &used);
+    if (used != s.size()) return std::nullopt;
+  } catch (...) {
+    return std::nullopt;
+  }
+  if (f.fractionOfCell) f.value /= 100.0f;
+  return f;
+}
+
+// "#rrggbb" or "r,g,b" with components in [0,1].
+std::optional<glm::vec3> parseColor(const std::string& s) {
+  glm::vec3 c;
+  if (s.size() == 7 && s[0] == '#') {
+    unsigned r, g, b;
+    if (std::sscanf(s.c_str() + 1, "%2x%2x%2x", &r, &g, &b) != 3) return std::nullopt;
+    return glm::vec3(r, g, b) / 255.0f;
+  }
+  char tail;
+  if (std::sscanf(s.c_str(), "%f,%f,%f%c", &c.r, &c.g, &c.b, &tail) != 3) return std::nullopt;
+  return c;
+}
+
+std::string flangeText(const bake::FlangeWidth& f) {
+  char b[32];
+  if (f.fractionOfCell)
+    std::snprintf(b, sizeof b, "%g%%", static_cast<double>(f.value * 100.0f));
+  else
+    std::snprintf(b, sizeof b, "%g", static_cast<double>(f.value));
+  return b;
+}
+
+// Progress on stderr, only for work that takes more than about a second.
+class Progress {
+ public:
+  explicit Progress(bool quiet) : quiet_(quiet), tty_(::isatty(2) != 0), start_(std::chrono::steady_clock::now()) {}
+  ~Progress() { finish(); }
+  /// Ends a progress line left open on a terminal, so what is printed next starts on its own line.
+  void finish() {
+    if (shown_ && tty_) std::fputc('\n', stderr);
+    shown_ = false;
+  }
+  void operator()(std::string_view stage, int done, int total) {
+    if (quiet_) return;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (elapsed < 1.0 && !shown_) return;
+    const int percent = total > 0 ? 100 * done / total : 100;
+    if (tty_) {
+      std::fprintf(stderr, "\r%s: %.*s %d/%d (%d%%)   ", cli::name(), static_cast<int>(stage.size()), stage.data(),
+                   done, total, percent);
+    } else if (stage != lastStage_ || percent / 25 != lastQuarter_ || done == total) {
+      std::fprintf(stderr, "%s: %.*s %d/%d\n", cli::name(), static_cast<int>(stage.size()), stage.data(), done, total);
+      lastQuarter_ = percent / 25;
+    }
+    lastStage_ = std::string(stage);
+    shown_ = true;
+    std::fflush(stderr);
+  }
+
+ private:
+  bool quiet_, tty_, shown_ = false;
+  std::chrono::steady_clock::time_point start_;
+  std::string lastStage_;
+  int lastQuarter_ = -1;
+};
+
+// What the bake wrote: LOD results, the atlas, the contact sheet.
+void printBakeResult(const bake::BakeReport& result) {
+  const core::AtlasDesc& d = result.desc;
+  for (std::size_t i = 0; i < result.lod.size(); ++i) {
+    if (const auto& lod = result.lod[i]) {
+      std::printf(
+          "%s: lod: variation %zu: %zu -> %zu faces (mean normal error %.4f = %.2f/255, silhouette %.2f texels, %d "
+          "trials)\n",
+          cli::name(), i, lod->facesBefore, lod->facesAfter, static_cast<double>(lod->normalError),
+          static_cast<double>(lod->normalError * 255.0f), static_cast<double>(lod->silhouetteError), lod->evaluations);
+    }
+  }
+  std::printf("%s: wrote %s: %d variation(s) x %d view(s), %dx%d atlas of %d-texel cells, %d mip level(s), %zu files\n",
+              cli::name(), result.sidecar.c_str(), d.variations, d.views, d.width, d.height, d.cellSize, d.mipLevels,
+              result.files.size());
+  if (!result.contactSheet.empty()) {
+    std::printf("%s: contact sheet: %s", cli::name(), result.contactSheet.c_str());
+    if (result.contactSheetCells < static_cast<int>(d.cells.size())) {
+      std::printf(" (the first %d of %zu cells)", result.contactSheetCells, d.cells.size());
+    }
+    std::printf("\n");
+  }
+}
+
+}  // namespace
+
+CLI::App* addBakeCommand(CLI::App& app, Options& o, BakeFlags& flags) {
+  CLI::App* cmd =
+      app.add_subcommand("bake", "Bake mesh files (OBJ, OFF, PLY, STL; one variation each) and/or generated puffs");
+  cmd->add_option("meshes", o.inputs, "Puff mesh files, one variation each");
+  flags.generator.add(*cmd, true);
+  cmd->add_option("-o,--out", o.bake.outDir, "Output directory (created if missing)")->capture_default_str();
+  cmd->add_option("--name", o.bake.name, "File prefix: NAME.json, NAME_color.png, ...")->capture_default_str();
+  cmd->add_option(
+         "-s,--size", o.bake.cellSize,
+         "Cell size in texels, per variation and view (8..16384; a bake that would need more than 12 GiB is refused)")
+      ->capture_default_str();
+  cmd->add_option("--supersample", o.bake.supersample,
+                  "Samples per texel side for clean edges; 0 = auto (4, fewer for cells above 1024)")
+      ->capture_default_str();
+  flags.flange = flangeText(o.bake.flange);
+  cmd->add_option("--flange", flags.flange,
+                  "Outline flange width: texels (\"6\") or percent of the cell (\"3%\"); 0 = none")
+      ->capture_default_str();
+  cmd->add_option("--views", o.bake.viewGrid, "Views per variation as an N x N grid of directions (1 = front only)")
+      ->capture_default_str();
+  cmd->add_option("--view-layout", flags.layout, "View grid: hemioct (front hemisphere) or oct (whole sphere)")
+      ->check(CLI::IsMember({"hemioct", "oct"}))
+      ->capture_default_str();
+  cmd->add_option("--format", flags.format, "Map files: png (8-bit maps, 16-bit distance) or exr (half float)")
+      ->check(CLI::IsMember({"png", "exr"}))
+      ->capture_default_str();
+  cmd->add_option("--color", flags.color, "Diffuse colour of meshes without vertex colours: #rrggbb or r,g,b in [0,1]")
+      ->capture_default_str();
+  cmd->add_flag("--no-mips", flags.noMips, "Write level 0 only");
+  cmd->add_flag("--no-contact-sheet", flags.noSheet, "Skip NAME_contact.png");
+  cmd->add_option("--lod", flags.lod,
+                  "full: bake meshes as given; auto: decimate each to the fewest faces within the tolerances")
+      ->check(CLI::IsMember({"full", "auto"}))
+      ->capture_default_str();
+  cmd->add_option("--lod-normal-tolerance", o.bake.lodNormalTolerance,
+                  "--lod auto: mean encoded normal error allowed, per channel (1/255 = 0.00392)")
+      ->capture_default_str();
+  cmd->add_option("--lod-silhouette-tolerance", o.bake.lodSilhouetteTolerance,
+                  "--lod auto: silhouette displacement allowed, texels")
+      ->capture_default_str();
+  cmd->add_option("--gl", o.glBackend, "GL backend: osmesa, egl or glfw (default: $PUFF_GL, else osmesa)")
+      ->check(CLI::IsMember({"osmesa", "egl", "glfw"}));
+  cmd->add_option("--shader-dir", o.shaderDir, "Read shaders from this directory instead of the built-in copies");
+  cmd->add_flag("-q,--quiet", o.quiet, "Print errors only");
+  cmd->add_flag("--print-defaults", flags.printDefaults, "Print every bake option's default value and exit");
+  return cmd;
+}
+
+Result<void> finishBake(Options& o, const BakeFlags& flags) {
+  o.generator = flags.generator.finish();
+  auto f = parseFlange(flags.flange);
+  if (!f) return Error{"--flange: expected texels (\"6\") or a percentage (\"3%\"), got \"" + flags.flange + "\""};
+  o.bake.flange = *f;
+  auto c = parseColor(flags.color);
+  if (!c) return Error{"--color: expected #rrggbb or r,g,b, got \"" + flags.color + "\""};
+  o.bake.defaultColor = *c;
+  o.bake.viewLayout = flags.layout == "oct" ? bake::ViewLayout::kOct : bake::ViewLayout::kHemiOct;
+  o.bake.format = flags.format == "exr" ? bake::MapFormat::kExr : bake::MapFormat::kPng;
+  o.bake.mips = !flags.noMips;
+  o.bake.contactSheet = !flags.noSheet;
+  o.bake.lodAuto = flags.lod == "auto";
+  if (o.inputs.empty() && !o.generator) return Error{"bake: nothing to bake: give mesh files or --generate KIND"};
+  return {};
+}
+
+int printBakeDefaults() {
+  bake::BakeOptions d;
+  std::printf(
+      "size = %d\nsupersample = 0 (auto)\nflange = %s\nviews = %d\nview-layout = hemioct\nformat = png\n"
+      "color = #ffffff\nmips = on\ncontact-sheet = on\nlod = full\nlod-normal-tolerance = %g\n"
+      "lod-silhouette-tolerance = %g\nname = %s\nout = %s\nvariations = %d (with --generate)\n",
+      d.cellSize, flangeText(d.flange).c_str(), d.viewGrid, static_cast<double>(d.lodNormalTolerance),
+      static_cast<double>(d.lodSilhouetteTolerance), d.name.c_str(), d.outDir.c_str(), bake::GeneratorSpec{}.count);
+  return 0;
+}
+
+int runBake(const Options& o) {
+  auto sources = bake::loadSources(o.inputs, o.generator);
+  if (!sources) {
+    cli::printError(sources.error());
+    return 1;
+  }
+  if (auto v = bake::validate(o.bake, static_cast<int>(sources->size())); !v) {
+    cli::printError(v.error());
+    return 2;
+  }
+  if (!o.shaderDir.empty()) core::setShaderDir(o.shaderDir);
+  core::GlContextOptions glOptions;
+  glOptions.backend = o.glBackend;
+  auto context = core::createGlContext(glOptions);
+  if (!context) {
+    cli::printError(context.error());
+    return 1;
+  }
+  Progress progress(o.quiet);
+  auto result = bake::bakeAtlas(*sources, o.bake, std::ref(progress));
+  progress.finish();
+  if (!result) {
+    cli::printError(result.error());
+    return 1;
+  }
+  if (!o.quiet) printBakeResult(*result);
+  return 0;
+}
+
+}  // namespace puff::app

@@ -1,0 +1,163 @@
+// puffrender's frames: the GL context (falling back to the fixed-function path), then each frame
+// rendered and written whole or not at all.
+#include <cstdio>
+#include <memory>
+#include <set>
+#include <string>
+
+#include <cli/app.h>
+#include <puff/core/files.h>
+#include <puff/core/gl_context.h>
+#include <puff/core/image.h>
+#include <puff/core/shader.h>
+#include <puff/eval/cel_reference.h>
+#include <puff/render/render.h>
+
+#include "commands.h"
+
+namespace puff::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Fails before any rendering if an output can never be written: every directory the frames go to
+// is created now (and taken back by `directories`, if still empty, when the run fails) and must be
+// writable.
+Result<void> prepareDirectories(const Plan& plan, core::OutputTransaction& directories) {
+  std::set<fs::path> dirs;
+  for (int f = plan.first; f <= plan.last; ++f) {
+    dirs.insert(fs::path(plan.pattern.name(f)).parent_path());
+    if (!plan.pattern.numbered) break;
+  }
+  for (const fs::path& dir : dirs) {
+    if (auto r = directories.prepareDirectory(dir); !r) return r;
+  }
+  return {};
+}
+
+// The context `path` draws in. When the programmable (cel) path cannot run (an old context, or a
+// path that does not build), the automatic fallback: says so on stderr and sets `path` to fixed.
+Result<std::unique_ptr<core::GlContext>> createContext(const Options& o, const scene::Scene& scene,
+                                                       render::RenderPath& path) {
+  const bool comparing = !o.compare.empty();
+  core::GlContextOptions glOptions;
+  glOptions.backend = o.glBackend;
+  glOptions.width = glOptions.height = 16;  // frames are drawn into the renderer's own target
+  if (comparing) {
+    glOptions.profile = core::GlProfile::kCompatibility;  // both paths in one context
+  } else if (path == render::RenderPath::kFixed) {
+    // The oldest context the platform gives: compatibility, asked for 1.3, the path's minimum (Mesa
+    // gives its highest compatibility version when it can).
+    // Its own framebuffer is the frame's size: a GL 1.x/2.x context has no framebuffer objects.
+    glOptions.profile = core::GlProfile::kCompatibility;
+    glOptions.major = 1, glOptions.minor = 3;
+    glOptions.width = scene.width, glOptions.height = scene.height;
+  }
+  auto context = core::createGlContext(glOptions);
+  std::string whyNotProgrammable;
+  if (!context && path == render::RenderPath::kCel && !comparing) {
+    whyNotProgrammable = context.error().message;
+  } else if (!context) {
+    return context.error();
+  } else if (path == render::RenderPath::kCel && !comparing) {
+    if (auto ok = render::SceneRenderer::checkProgrammable(); !ok) whyNotProgrammable = ok.error().message;
+  }
+  if (whyNotProgrammable.empty()) return context;
+  context = Error{""};  // the old context goes before the new one is made current
+  glOptions.profile = core::GlProfile::kCompatibility;
+  glOptions.major = 1, glOptions.minor = 3;
+  glOptions.width = scene.width, glOptions.height = scene.height;
+  context = core::createGlContext(glOptions);
+  if (!context) {
+    return Error{"the programmable (cel) path cannot run here (" + whyNotProgrammable +
+                 "), and there is no context for the fixed-function path either: " + context.error().message};
+  }
+  std::fprintf(stderr,
+               "%s: the programmable (cel) path cannot run here: %s\n%s: drawing with the fixed-function path\n",
+               cli::name(), whyNotProgrammable.c_str(), cli::name());
+  path = render::RenderPath::kFixed;
+  return context;
+}
+
+// Renders the plan's frames, each written beside its target and renamed over it only when complete.
+int writeFrames(const Options& o, const scene::Scene& scene, const Plan& plan, render::SceneRenderer& renderer) {
+  const core::PixelType type = plan.exr ? core::PixelType::kHalf : core::PixelType::kUInt8;
+  const fs::path formatHint = plan.exr ? "frame.exr" : "frame.png";
+  const int count = plan.last - plan.first + 1;
+  for (int f = plan.first; f <= plan.last; ++f) {
+    const fs::path target = plan.pattern.name(f);
+    if (!o.quiet && count > 1) {
+      std::fprintf(stderr, "%s: frame %d (%d/%d) -> %s\n", cli::name(), f, f - plan.first + 1, count, target.c_str());
+      std::fflush(stderr);
+    }
+    auto image = renderer.renderFrame(f);
+    if (!image) {
+      cli::printError(image.error());
+      return 1;
+    }
+    core::OutputTransaction frame;
+    const fs::path temp = frame.stage(target);
+    if (auto r = core::writeImage(temp, *image, type, {}, formatHint); !r) {
+      cli::printError(Error::at(target, r.error().message));
+      return 1;
+    }
+    if (auto r = frame.commit(); !r) {
+      cli::printError(r.error());
+      return 1;
+    }
+  }
+  if (!o.quiet) {
+    if (count == 1) {
+      std::printf("%s: wrote %s (%dx%d, frame %d)\n", cli::name(), plan.pattern.name(plan.first).c_str(), scene.width,
+                  scene.height, plan.first);
+    } else {
+      std::printf("%s: wrote %d frames (%dx%d): %s .. %s\n", cli::name(), count, scene.width, scene.height,
+                  plan.pattern.name(plan.first).c_str(), plan.pattern.name(plan.last).c_str());
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+int renderFrames(const Options& o, scene::Scene scene, const Plan& plan) {
+  core::OutputTransaction directories;
+  if (auto r = prepareDirectories(plan, directories); !r) {
+    cli::printError(r.error());
+    return 1;
+  }
+  if (!o.shaderDir.empty()) core::setShaderDir(o.shaderDir);
+  render::RenderPath path = *render::parseRenderPath(o.path);
+  auto context = createContext(o, scene, path);
+  if (!context) {
+    cli::printError(context.error());
+    return 1;
+  }
+  if (!o.compare.empty()) return compareFrames(o, scene, plan);
+  if (o.maxError) {
+    if (path == render::RenderPath::kFixed) {
+      cli::printError(
+          "--max-error chooses the media layer's resolution and the nailboards' atlas level, and the "
+          "programmable path that draws them cannot run here");
+      return 1;
+    }
+    if (const int code = chooseModel(o, scene, plan); code != 0) return code;
+  }
+  if (path == render::RenderPath::kFixed && scene.media && !o.quiet) {
+    std::fprintf(stderr, "%s: the fixed-function path draws no fire, smoke or dust: /media is left out\n", cli::name());
+  }
+  if (path == render::RenderPath::kReference && scene.media && !o.quiet) {
+    std::fprintf(stderr, "%s: the cel reference draws no fire, smoke or dust: /media is left out\n", cli::name());
+  }
+  // The fixed path draws into the context's own framebuffer (made at the frame's size above):
+  // OpenGL 1.x calls only, no framebuffer objects.
+  auto renderer = eval::createRenderer(scene, path, path == render::RenderPath::kFixed);
+  if (!renderer) {
+    cli::printError(renderer.error());
+    return 1;
+  }
+  return writeFrames(o, scene, plan, **renderer);
+}
+
+}  // namespace puff::app
