@@ -1,7 +1,8 @@
 // Fixed-function parity (issue 5): every art scene, restricted to the fixed path's limits (no
 // shadows, uniform ambient, view-plane billboards, one sample), rendered by both paths in one
 // compatibility context; per scene the smoke masks' agreement and the share of shared smoke pixels
-// within a tone tolerance. Side-by-side and difference images go to golden-out/parity-*.png.
+// within a tone tolerance. Side-by-side and difference images go to
+// build/tests/golden-out/parity-*.png.
 //
 // Thresholds, from what the methods are known to do differently (docs/fixed-function.md):
 //  - Coverage: both draw the same particles at the same size with silhouettes baked from puff

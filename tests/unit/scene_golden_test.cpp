@@ -3,7 +3,7 @@
 // channel differs by more than 8/255 and a scene fails when more than 0.3% of its pixels do —
 // room for rounding differences between llvmpipe builds, far below what any change to shading,
 // outlines or shadows moves (a one-pixel outline shift alone fails ~1%).
-// New references: tests/golden/accept.sh after looking at golden-out/*.actual.png.
+// New references: tests/golden/accept.sh after looking at build/tests/golden-out/*.actual.png.
 #include <gtest/gtest.h>
 
 #include <cmath>
