@@ -17,6 +17,7 @@
 #include <puff/core/atlas.h>
 #include <puff/core/files.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 
 namespace puff::bake {
@@ -63,9 +64,9 @@ class BakeSphere : public test::GlTest {
     o.supersample = 4;
     o.outDir = dir_;
     auto r = bakeAtlas(sphereSources(), o);
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     auto atlas = core::loadAtlas(r->sidecar);
-    ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+    ASSERT_OK(atlas);
     atlas_ = std::make_unique<core::Atlas>(std::move(*atlas));
   }
   static void TearDownTestSuite() {
@@ -184,7 +185,7 @@ TEST_F(BakeSphere, MipLevelsKeepCoverageAndCellsApart) {
 TEST_F(BakeSphere, SidecarRoundTrips) {
   const core::AtlasDesc& d = atlas_->desc;
   auto again = core::atlasFromJson(core::toJson(d));
-  ASSERT_TRUE(again.ok()) << again.error().message;
+  ASSERT_OK(again);
   EXPECT_EQ(core::toJson(*again), core::toJson(d));
   EXPECT_EQ(d.sources.size(), 1u);
   EXPECT_EQ(d.sources[0].generator, "sphere");
@@ -220,9 +221,9 @@ TEST_F(BakeGl, EllipsoidProjectedAreaInEveryView) {
     o.contactSheet = false;
     o.outDir = tempDir("ellipsoid");
     auto r = bakeAtlas(src, o);
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     auto atlas = core::loadAtlas(r->sidecar);
-    ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+    ASSERT_OK(atlas);
     const core::AtlasDesc& d = atlas->desc;
     ASSERT_EQ(d.cells.size(), 9u);
     for (const core::AtlasCell& c : d.cells) {
@@ -252,7 +253,7 @@ TEST_F(BakeGl, VertexColoursReachTheColourMap) {
   o.outDir = tempDir("colors");
   o.defaultColor = glm::vec3(1.0f, 0.0f, 0.0f);  // must not be used
   auto r = bakeAtlas(src, o);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   auto atlas = core::loadAtlas(r->sidecar);
   ASSERT_TRUE(atlas.ok());
   const core::Image& color = atlas->maps.at("color")[0];
@@ -286,7 +287,7 @@ TEST_F(BakeGl, TwoBakesAreByteIdentical) {
     }
     o.outDir = tempDir("determinism" + std::to_string(i));
     auto r = bakeAtlas(src, o);
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     runs.push_back(readAll(o.outDir));
     fs::remove_all(o.outDir);
   }
@@ -301,14 +302,14 @@ TEST_F(BakeGl, ExrMapsMatchThePngMaps) {
   o.cellSize = 32;
   o.outDir = tempDir("exr");
   auto png = bakeAtlas(src, o);
-  ASSERT_TRUE(png.ok()) << png.error().message;
+  ASSERT_OK(png);
   o.format = MapFormat::kExr;
   auto exr = bakeAtlas(src, o);
-  ASSERT_TRUE(exr.ok()) << exr.error().message;
+  ASSERT_OK(exr);
   EXPECT_EQ(exr->desc.fileFormat, "exr");
   EXPECT_EQ(exr->sidecar, png->sidecar);  // same sidecar name: the EXR bake replaced it
   auto a = core::loadAtlas(exr->sidecar);
-  ASSERT_TRUE(a.ok()) << a.error().message;
+  ASSERT_OK(a);
   EXPECT_EQ(fs::path(a->desc.maps.at("color").levels[0]).extension(), ".exr");
   auto pngColor = core::readImage(o.outDir / "puff_color.png");
   ASSERT_TRUE(pngColor.ok());
@@ -363,7 +364,7 @@ TEST(BakeOptions, RejectsAbsurdSizes) {
   o.cellSize = 16385;
   EXPECT_FALSE(validate(o, 1).ok());
   o.cellSize = 2048;
-  EXPECT_TRUE(validate(o, 16).ok()) << validate(o, 16).error().message;  // an 8192^2 atlas fits
+  EXPECT_OK(validate(o, 16));  // an 8192^2 atlas fits
   o.cellSize = 4096;
   EXPECT_NE(validate(o, 17).error().message.find("above the 16384 limit"), std::string::npos);
   o.cellSize = 8192;
@@ -400,7 +401,7 @@ TEST_F(BakeLod, AutoLodFindsFewerFacesWithinTheTolerances) {
   o.contactSheet = false;
   o.outDir = fs::temp_directory_path() / ("puff_bake_test_lod_" + std::to_string(::getpid()));
   auto r = bakeAtlas(src, o);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   ASSERT_EQ(r->lod.size(), 1u);
   ASSERT_TRUE(r->lod[0].has_value());
   const LodResult& lod = *r->lod[0];
@@ -413,7 +414,7 @@ TEST_F(BakeLod, AutoLodFindsFewerFacesWithinTheTolerances) {
   // texel side, no flange): the chosen mesh is within both tolerances, and half its faces is not.
   const core::AtlasDesc& d = r->desc;
   auto raster = PuffRasterizer::create(d.cellSize * 2);
-  ASSERT_TRUE(raster.ok()) << raster.error().message;
+  ASSERT_OK(raster);
   SampleBuffer samples;
   auto maps = [&](const mesh::TriMesh& m) {
     (*raster)->setMesh(m, glm::vec3(1.0f));
@@ -512,9 +513,9 @@ TEST_F(BakeFlange, PercentOfTheCellGivesThatWidth) {
   o.contactSheet = false;
   o.outDir = tempDir("flange_percent");
   auto r = bakeAtlas(src, o);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   auto atlas = core::loadAtlas(r->sidecar);
-  ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+  ASSERT_OK(atlas);
   const core::AtlasDesc& d = atlas->desc;
   EXPECT_NEAR(d.flangeTexels, 3.84f, 1e-4f);
   double dilatedArea = 0;

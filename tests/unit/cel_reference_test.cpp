@@ -15,6 +15,7 @@
 #include <puff/reference/metrics.h>
 #include <puff/render/render.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/sphere_atlas.h"
 
@@ -32,7 +33,7 @@ class CelReference : public test::GlTest {
     dir_ = fs::temp_directory_path() / ("puff-cel-reference-test-" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_TRUE(sidecar.ok()) << sidecar.error().message;
+    ASSERT_OK(sidecar);
     sidecar_ = *sidecar;
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
@@ -59,13 +60,13 @@ class CelReference : public test::GlTest {
 
   static core::Image render(const nlohmann::json& j, render::RenderPath path = render::RenderPath::kReference) {
     auto scene = render::parseScene(j, dir_ / "scene.json");
-    EXPECT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_OK(scene);
     if (!scene) return {};
     auto renderer = render::SceneRenderer::create(*scene, path);
-    EXPECT_TRUE(renderer.ok()) << renderer.error().message;
+    EXPECT_OK(renderer);
     if (!renderer) return {};
     auto image = (*renderer)->renderFrame(0);
-    EXPECT_TRUE(image.ok()) << image.error().message;
+    EXPECT_OK(image);
     return image ? std::move(*image) : core::Image{};
   }
 
@@ -287,9 +288,9 @@ TEST_F(CelReference, AFrameDoesNotDependOnTheFramesBeforeIt) {
       {"particles", {{{"position", {-1.5, 1.2, 0}}, {"size", 1.5}}, {{"position", {1, 1.6, 0.5}}, {"size", 1.2}}}},
       {"animation", {{"fps", 4}, {"frames", 8}, {"orbit", 60}}}};
   auto scene = render::parseScene(j, dir_ / "scene.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto first = render::SceneRenderer::createReference(*scene);
-  ASSERT_TRUE(first.ok()) << first.error().message;
+  ASSERT_OK(first);
   ASSERT_TRUE((*first)->renderFrame(0).ok());
   auto after = (*first)->renderFrame(6);
   auto fresh = render::SceneRenderer::createReference(*scene);
@@ -307,9 +308,9 @@ TEST_F(CelReference, TheFillRateFloorDrawsBareQuads) {
   nlohmann::json j = frontScene({{"outlines", true}, {"outlineWidth", 2}, {"shading", true}, {"shadows", false}},
                                 {{{"position", {0, 0, 0}}, {"size", 2 * R}}});
   auto scene = render::parseScene(j, dir_ / "scene.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto r = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   auto lit = (*r)->renderFrame(0);
   (*r)->setFillRateFloor(true);
   auto floor = (*r)->renderFrame(0);
@@ -343,13 +344,13 @@ TEST_F(CelReference, AStaleOrMissingSourceMeshIsNamed) {
   o.outDir = dir / "atlas";
   o.contactSheet = false;
   auto sources = bake::loadSources({meshFile}, std::nullopt);
-  ASSERT_TRUE(sources.ok()) << sources.error().message;
+  ASSERT_OK(sources);
   auto baked = bake::bakeAtlas(*sources, o);
-  ASSERT_TRUE(baked.ok()) << baked.error().message;
+  ASSERT_OK(baked);
   nlohmann::json j = frontScene(kFlat, {{{"position", {0, 0, 0}}}});
   j["atlas"] = baked->sidecar.string();
   auto scene = render::parseScene(j, dir / "scene.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   ASSERT_TRUE(render::SceneRenderer::createReference(*scene).ok());
 
   std::ofstream(meshFile, std::ios::app) << "# edited\n";

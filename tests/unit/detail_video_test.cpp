@@ -17,6 +17,8 @@
 #include <puff/core/files.h>
 #include <puff/core/image.h>
 
+#include "support/assert_ok.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -81,7 +83,7 @@ TEST(DetailVideoGenerate, TilesInXAndYAndLoopsInTime) {
   spec.frames = 24;
   spec.seed = 7;
   auto v = puff::bake::generateDetailVideo(spec);
-  ASSERT_TRUE(v.ok()) << v.error().message;
+  ASSERT_OK(v);
   for (int axis = 0; axis < 3; ++axis) {
     SCOPED_TRACE("axis " + std::to_string(axis));
     const Steps s = steps(*v, axis);
@@ -215,7 +217,7 @@ TEST_F(DetailVideoFile, PngRoundTripsWithin16BitPrecisionAndExrWithinHalf) {
     ASSERT_TRUE(puff::core::saveDetailVideo(path, *v).ok());
     EXPECT_EQ(puff::core::readImageAttribute(path, "puff:frames").value(), "6");
     auto back = puff::core::loadDetailVideo(path);
-    ASSERT_TRUE(back.ok()) << back.error().message;
+    ASSERT_OK(back);
     EXPECT_EQ(back->width, 32);
     EXPECT_EQ(back->height, 32);
     EXPECT_EQ(back->frames, 6);
@@ -250,7 +252,7 @@ TEST_F(DetailVideoFile, LoadTakesLuminanceOfColourImages) {
   const fs::path p = dir_ / "rgb.exr";
   ASSERT_TRUE(puff::core::writeImage(p, img, puff::core::PixelType::kFloat, {{"puff:frames", "2"}}).ok());
   auto v = puff::core::loadDetailVideo(p);
-  ASSERT_TRUE(v.ok()) << v.error().message;
+  ASSERT_OK(v);
   EXPECT_EQ(v->frames, 2);
   EXPECT_EQ(v->height, 4);
   EXPECT_NEAR(v->at(3, 3, 1), 0.2126f + 0.7152f * 0.5f, 1e-6f);
@@ -313,7 +315,7 @@ TEST_F(DetailVideoFile, ImportCrossFadesTheTailIntoTheHeadExactly) {
     frames.push_back(frame(name, 4, 4, [k](int, int) { return k / 10.0f; }));
   }
   auto v = puff::bake::importDetailVideo(frames, 4, 2);
-  ASSERT_TRUE(v.ok()) << v.error().message;
+  ASSERT_OK(v);
   ASSERT_EQ(v->frames, 4);
   const float expected[4] = {(2.0f * 0.4f + 0.0f) / 3.0f, (0.5f + 2.0f * 0.1f) / 3.0f, 0.2f, 0.3f};
   for (int f = 0; f < 4; ++f)
@@ -330,7 +332,7 @@ TEST_F(DetailVideoFile, ImportResamplesWithABoxDownAndBilinearUp) {
   auto pattern = [](int x, int y) { return static_cast<float>((x * 7 + y * 3) % 11) / 10.0f; };
   const fs::path big = frame("big.exr", 8, 8, pattern);
   auto down = puff::bake::importDetailVideo({big}, 4, 0);
-  ASSERT_TRUE(down.ok()) << down.error().message;
+  ASSERT_OK(down);
   for (int y = 0; y < 4; ++y)
     for (int x = 0; x < 4; ++x) {
       const float box = (pattern(2 * x, 2 * y) + pattern(2 * x + 1, 2 * y) + pattern(2 * x, 2 * y + 1) +

@@ -17,6 +17,7 @@
 #include <puff/core/atlas.h>
 #include <puff/mesh/mesh.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/gl_target.h"
 #include "support/sphere_atlas.h"
@@ -77,9 +78,9 @@ class Nailboards : public test::GlTest {
     dir_ = fs::temp_directory_path() / ("puff-nailboard-test-" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_TRUE(sidecar.ok()) << sidecar.error().message;
+    ASSERT_OK(sidecar);
     auto atlas = core::loadAtlas(*sidecar);
-    ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+    ASSERT_OK(atlas);
     atlas_ = std::make_unique<core::Atlas>(std::move(*atlas));
   }
   static void TearDownTestSuite() {
@@ -89,7 +90,7 @@ class Nailboards : public test::GlTest {
   void SetUp() override {
     GlTest::SetUp();
     auto r = cel::NailboardRenderer::create();
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     renderer_ = std::move(*r);
     ASSERT_TRUE(renderer_->setAtlas(*atlas_).ok());
     block_ = std::make_unique<cel::FrameBlock>();
@@ -480,9 +481,9 @@ TEST_F(Nailboards, OrientedParticlesShowTheBakedViewNearestTheCamera) {
   src.mesh = m;
   src.provenance.generator = "sphere";
   auto r = bake::bakeAtlas({src}, o);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   auto atlas = core::loadAtlas(r->sidecar);
-  ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+  ASSERT_OK(atlas);
   ASSERT_TRUE(renderer_->setAtlas(*atlas).ok());
 
   cel::Style style;

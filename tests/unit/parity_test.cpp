@@ -24,6 +24,7 @@
 #include <puff/render/render.h>
 
 #include "golden/golden.h"
+#include "support/assert_ok.h"
 
 namespace puff {
 namespace {
@@ -36,7 +37,7 @@ class FixedParity : public ::testing::TestWithParam<const char*> {
     core::GlContextOptions o;
     o.profile = core::GlProfile::kCompatibility;  // both paths in one context
     auto c = core::createGlContext(o);
-    ASSERT_TRUE(c.ok()) << c.error().message;
+    ASSERT_OK(c);
     context_ = std::move(*c);
   }
   static void TearDownTestSuite() { context_.reset(); }
@@ -46,10 +47,10 @@ class FixedParity : public ::testing::TestWithParam<const char*> {
   }
   static core::Image render(const render::Scene& scene, render::RenderPath path) {
     auto r = render::SceneRenderer::create(scene, path);
-    EXPECT_TRUE(r.ok()) << r.error().message;
+    EXPECT_OK(r);
     if (!r) return {};
     auto image = (*r)->renderFrame(0);
-    EXPECT_TRUE(image.ok()) << image.error().message;
+    EXPECT_OK(image);
     return image ? *image : core::Image{};
   }
   static inline std::unique_ptr<core::GlContext> context_;
@@ -58,7 +59,7 @@ class FixedParity : public ::testing::TestWithParam<const char*> {
 TEST_P(FixedParity, WithinTheMethodsKnownDifferences) {
   const std::string name = GetParam();
   auto loaded = render::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (name + ".json"), PUFF_ART_DIR);
-  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  ASSERT_OK(loaded);
   const render::Scene scene = render::restrictToFixedLimits(*loaded);
   const render::Scene bare = render::withoutParticles(scene);
   const core::Image fixed = render(scene, render::RenderPath::kFixed);

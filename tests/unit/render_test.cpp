@@ -11,6 +11,7 @@
 #include <puff/mesh/mesh.h>
 #include <puff/render/render.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/sphere_atlas.h"
 
@@ -26,7 +27,7 @@ class RenderFrame : public test::GlTest {
     dir_ = fs::temp_directory_path() / ("puff-render-test-" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_TRUE(sidecar.ok()) << sidecar.error().message;
+    ASSERT_OK(sidecar);
     sidecar_ = *sidecar;
   }
   static void TearDownTestSuite() { fs::remove_all(dir_); }
@@ -55,11 +56,11 @@ TEST_F(RenderFrame, ShadowOnTheGroundWhereTheLightProjectsIt) {
                       {"objects", {{{"type", "plane"}, {"scale", {10, 1, 10}}, {"albedo", {1, 1, 1}}}}},
                       {"particles", {{{"position", {0, H, 0}}, {"size", 2 * R}}}}};
   auto scene = render::parseScene(j, dir_ / "scene.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto renderer = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+  ASSERT_OK(renderer);
   auto image = (*renderer)->renderFrame(0);
-  ASSERT_TRUE(image.ok()) << image.error().message;
+  ASSERT_OK(image);
   int shadowed = 0, lit = 0;
   for (int y = 0; y < 128; ++y) {
     for (int x = 0; x < 128; ++x) {
@@ -86,7 +87,7 @@ TEST_F(RenderFrame, ShadowOnTheGroundWhereTheLightProjectsIt) {
 TEST_F(RenderFrame, MissingAtlasIsAClearError) {
   nlohmann::json j = {{"atlas", (dir_ / "nope.json").string()}, {"particles", {{{"position", {0, 0, 0}}}}}};
   auto scene = render::parseScene(j, dir_ / "scene.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto renderer = render::SceneRenderer::create(*scene);
   ASSERT_FALSE(renderer.ok());
   EXPECT_NE(renderer.error().message.find("nope.json"), std::string::npos) << renderer.error().message;
@@ -101,7 +102,7 @@ TEST_F(RenderFrame, AtlasOfAnotherFormatVersionIsAClearError) {
   ASSERT_TRUE(core::writeFileAtomic(future, sidecar.dump()).ok());
   nlohmann::json j = {{"atlas", future.string()}, {"particles", {{{"position", {0, 0, 0}}}}}};
   auto scene = render::parseScene(j, dir_ / "scene.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto renderer = render::SceneRenderer::create(*scene);
   ASSERT_FALSE(renderer.ok());
   EXPECT_NE(renderer.error().message.find("future.json"), std::string::npos) << renderer.error().message;

@@ -16,6 +16,8 @@
 
 #include <puff/render/scene.h>
 
+#include "support/assert_ok.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -28,7 +30,7 @@ const fs::path kFile = "art/scenes/x.json";
 
 Scene parseOk(const std::string& text, const fs::path& artDir = {}) {
   auto s = puff::render::parseScene(json::parse(text), kFile, artDir);
-  EXPECT_TRUE(s.ok()) << s.error().message;
+  EXPECT_OK(s);
   return s.ok() ? *s : Scene{};
 }
 
@@ -297,7 +299,7 @@ TEST_F(SceneFiles, MissingFileSaysCannotRead) {
 TEST_F(SceneFiles, LoadedPathsAreRelativeToTheFile) {
   const fs::path p = write("s.json", R"({"atlas": "puff.json", "emitters": [{"count": 1}]})");
   auto s = puff::render::loadScene(p);
-  ASSERT_TRUE(s.ok()) << s.error().message;
+  ASSERT_OK(s);
   EXPECT_EQ(s->atlas, dir_ / "puff.json");
   EXPECT_EQ(s->file, p);
 }
@@ -363,10 +365,10 @@ json everything() {
 
 TEST(Scene, ToJsonRoundTripsEveryField) {
   auto a = puff::render::parseScene(everything(), kFile, "build/art");
-  ASSERT_TRUE(a.ok()) << a.error().message;
+  ASSERT_OK(a);
   const json written = puff::render::toJson(*a);
   auto b = puff::render::parseScene(written, kFile, "build/art");
-  ASSERT_TRUE(b.ok()) << b.error().message << "\n" << written.dump(2);
+  ASSERT_OK(b) << written.dump(2);
   // Writing the re-read scene gives the same JSON: nothing drifts (axis-angle orientations may
   // move in their last bit, so they are compared below).
   json rewritten = puff::render::toJson(*b), expected = written;
@@ -453,7 +455,7 @@ TEST(Scene, ToJsonRoundTripsEveryField) {
   EXPECT_EQ(written["ramp"]["image"], "../ramps/q.png");
   // The defaults round-trip too.
   auto d = puff::render::parseScene(puff::render::toJson(Scene{}), "");
-  ASSERT_TRUE(d.ok()) << d.error().message;
+  ASSERT_OK(d);
   EXPECT_EQ(puff::render::toJson(*d), puff::render::toJson(Scene{}));
 }
 
@@ -694,7 +696,7 @@ TEST(SceneSimulation, ReadsForcesEmittersAndPathsAndRoundTrips) {
 
   // Colliders come from the objects that collide, placed as they are drawn.
   auto settings = puff::render::simulationSettings(s);
-  ASSERT_TRUE(settings.ok()) << settings.error().message;
+  ASSERT_OK(settings);
   ASSERT_EQ((*settings)->colliders.size(), 1u);
   EXPECT_EQ((*settings)->colliders[0].type, puff::sim::Collider::Type::kPlane);
   EXPECT_EQ((*settings)->colliders[0].halfExtent, glm::vec3(5, 0, 5));
@@ -702,7 +704,7 @@ TEST(SceneSimulation, ReadsForcesEmittersAndPathsAndRoundTrips) {
 
   // toJson writes every field; reading it back gives the same scene.
   auto again = puff::render::parseScene(puff::render::toJson(s), kFile);
-  ASSERT_TRUE(again.ok()) << again.error().message;
+  ASSERT_OK(again);
   EXPECT_EQ(puff::render::toJson(*again), puff::render::toJson(s));
   EXPECT_EQ(again->simulation->emitters[0].path.times, sim.emitters[0].path.times);
 }
@@ -772,7 +774,7 @@ TEST(SceneSimulation, VorticesAndEmittersRideOnMovingObjects) {
   EXPECT_EQ(j["simulation"]["forces"]["vortices"][0]["attach"], "plane body");
   EXPECT_TRUE(j["simulation"]["forces"]["vortices"][0]["path"].empty());
   auto again = puff::render::parseScene(j, kFile);
-  ASSERT_TRUE(again.ok()) << again.error().message;
+  ASSERT_OK(again);
   EXPECT_EQ(puff::render::toJson(*again), j);
 
   EXPECT_EQ(
@@ -806,7 +808,7 @@ TEST(SceneFixed, ReadsTheFixedPathSettingsAndRejectsBadOnes) {
   EXPECT_EQ(s.fixed.outlineOffset, 0.5f);
   EXPECT_EQ(s.fixed.cellSize, 64);
   auto again = puff::render::parseScene(puff::render::toJson(s), kFile);
-  ASSERT_TRUE(again.ok()) << again.error().message;
+  ASSERT_OK(again);
   EXPECT_EQ(again->fixed.puff, s.fixed.puff);
   EXPECT_EQ(again->fixed.cellSize, 64);
   EXPECT_EQ(parseError(std::string(R"({"fixed": {"cellSize": 100}})")),

@@ -16,6 +16,8 @@
 
 #include <unistd.h>
 
+#include "support/assert_ok.h"
+
 namespace fs = std::filesystem;
 
 namespace puff::core {
@@ -38,7 +40,7 @@ std::unique_ptr<GlContext> osmesaCore45() {
   GlContextOptions options;
   options.backend = "osmesa";
   Result<std::unique_ptr<GlContext>> context = createGlContext(options);
-  EXPECT_TRUE(context) << context.error().message;
+  EXPECT_OK(context);
   return context ? std::move(*context) : nullptr;
 }
 
@@ -76,7 +78,7 @@ TEST(ShaderPrograms, EveryProgramCompilesAndLinksOnOSMesaCore45) {
     EXPECT_FALSE(name.starts_with("common/"));
     sawBake |= name == "bake/puff";
     Result<Program> program = buildProgram(stages);
-    ASSERT_TRUE(program) << program.error().message;
+    ASSERT_OK(program);
     EXPECT_TRUE(*program);
     EXPECT_TRUE(glIsProgram(program->get()));
   }
@@ -161,7 +163,7 @@ TEST_F(ShaderInclude, NestedIncludeAppearsOnceAndVersionStaysFirst) {
         "void main() { oColor = vec4(midValue() + leafValue()); }\n");
   std::vector<std::string> files;
   Result<std::string> source = preprocessShader("test/main.frag", &files);
-  ASSERT_TRUE(source) << source.error().message;
+  ASSERT_OK(source);
   EXPECT_EQ(source->rfind("#version 450 core\n", 0), 0u) << *source;
   EXPECT_EQ(count(*source, "LEAF-MARKER"), 1u) << *source;
   EXPECT_EQ(count(*source, "midValue() {"), 1u) << *source;
@@ -173,7 +175,7 @@ TEST_F(ShaderInclude, NestedIncludeAppearsOnceAndVersionStaysFirst) {
   write("test/main.vert",
         "#version 450 core\n#include \"common/leaf.glsl\"\nvoid main() { gl_Position = vec4(leafValue()); }\n");
   Result<Program> program = buildProgram({"test/main.vert", "test/main.frag"});
-  EXPECT_TRUE(program) << program.error().message;
+  EXPECT_OK(program);
 }
 
 TEST_F(ShaderInclude, CycleIsAnError) {

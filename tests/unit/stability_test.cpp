@@ -95,6 +95,7 @@
 #include <puff/render/scene.h>
 #include <puff/sim/simulator.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/gl_target.h"
 #include "support/media_target.h"
@@ -124,9 +125,9 @@ class CelFixture : public test::GlTest {
     dir_ = fs::temp_directory_path() / ("puff-stability-test-" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_TRUE(sidecar.ok()) << sidecar.error().message;
+    ASSERT_OK(sidecar);
     auto atlas = core::loadAtlas(*sidecar);
-    ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+    ASSERT_OK(atlas);
     atlas_ = std::make_unique<core::Atlas>(std::move(*atlas));
   }
   static void TearDownTestSuite() {
@@ -136,7 +137,7 @@ class CelFixture : public test::GlTest {
   void SetUp() override {
     GlTest::SetUp();
     auto r = cel::NailboardRenderer::create();
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     renderer_ = std::move(*r);
     ASSERT_TRUE(renderer_->setAtlas(*atlas_).ok());
     block_ = std::make_unique<cel::FrameBlock>();
@@ -604,7 +605,7 @@ TEST(StabilityBudget, AMillionBirthsPerSecondOnABudgetOfAThousand) {
     e.lifetime = lifetime;
     s.emitters.push_back(e);
     auto sim = sim::Simulator::create(s);
-    ASSERT_TRUE(sim.ok()) << sim.error().message;
+    ASSERT_OK(sim);
     sim::StepStats st;
     const int steps = 2 * 24 * 4;  // 2 s
     for (int i = 0; i < steps; ++i) {
@@ -628,7 +629,7 @@ TEST(StabilityBudget, AMillionBirthsPerSecondOnABudgetOfAThousand) {
 TEST(StabilityBudget, ScenesAskingForMoreThanTheBudgetLimitAreRefused) {
   auto parse = [](const std::string& text) { return render::parseScene(nlohmann::json::parse(text), "x.json"); };
   auto ok = parse(R"({"simulation": {"maxParticles": 20000000}})");
-  ASSERT_TRUE(ok.ok()) << ok.error().message;
+  ASSERT_OK(ok);
   EXPECT_EQ(ok->simulation->maxParticles, sim::kMaxParticleBudget);
   auto bad = parse(R"({"simulation": {"maxParticles": 20000001}})");
   ASSERT_FALSE(bad.ok());
@@ -636,7 +637,7 @@ TEST(StabilityBudget, ScenesAskingForMoreThanTheBudgetLimitAreRefused) {
             "x.json: /simulation/maxParticles: expected a particle budget in [0, 20000000] (about 64 bytes each; more "
             "would not fit in memory), got 20000001");
   ok = parse(R"({"media": {"maxParticles": 1000000}})");
-  ASSERT_TRUE(ok.ok()) << ok.error().message;
+  ASSERT_OK(ok);
   EXPECT_EQ(ok->media->maxParticles, 1'000'000u);
   for (const char* v : {"1000001", "-1", "1000.5"}) {
     bad = parse(std::string(R"({"media": {"maxParticles": )") + v + "}}");
@@ -659,12 +660,12 @@ TEST_F(StabilityBudgetScene, AMediaSceneDrawsItsBudgetNotTheRequest) {
                             "lifetime": 100, "sizeMin": 0.2, "sizeMax": 0.4}]}
   })");
   auto scene = render::parseScene(j, "budget.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto renderer = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+  ASSERT_OK(renderer);
   render::FrameStats stats;
   auto image = (*renderer)->renderFrame(12, &stats);
-  ASSERT_TRUE(image.ok()) << image.error().message;
+  ASSERT_OK(image);
   EXPECT_EQ(stats.mediaParticles, 1000u);
   int lit = 0;
   for (float v : image->pixels) {
@@ -735,7 +736,7 @@ TEST_F(StabilityInputs, MediaRefusesEmptyLayersAndNonFiniteSettingsAndMaterials)
   EXPECT_NE(r.error().message.find("minKelvin"), std::string::npos) << r.error().message;
 
   r = media::Renderer::create();
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   media::Renderer& renderer = **r;
   ASSERT_TRUE(renderer.setMaterials({plainMaterial(0.4f)}).ok());
   auto refused = [&](std::vector<media::Material> table) {
@@ -873,7 +874,7 @@ TEST(StabilityInputsSim, ZeroSizesAndDegenerateContactsStayFinite) {
       c.halfExtent = glm::vec3(extent);
       s.colliders.push_back(c);
       auto sim = sim::Simulator::create(s);
-      ASSERT_TRUE(sim.ok()) << sim.error().message;
+      ASSERT_OK(sim);
       sim::StepStats st;
       (*sim)->advanceToFrame(24, &st);
       ASSERT_GT((*sim)->size(), 900u);
