@@ -2,11 +2,10 @@
 // and distance field; an ellipsoid's projected area in every view; determinism; mips.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include <glm/geometric.hpp>
@@ -19,18 +18,13 @@
 
 #include "support/assert_ok.h"
 #include "support/gl_fixture.h"
+#include "support/temp_dir.h"
 
 namespace puff::bake {
 namespace {
 
 namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
-
-fs::path tempDir(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("puff_bake_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  return p;
-}
 
 std::vector<PuffSource> sphereSources(int count = 1, int subdivisions = 6) {
   std::vector<PuffSource> s(static_cast<std::size_t>(count));
@@ -57,12 +51,12 @@ class BakeSphere : public test::GlTest {
  protected:
   static void SetUpTestSuite() {
     GlTest::SetUpTestSuite();
-    dir_ = tempDir("sphere");
+    dir_.emplace("puff_bake_test_sphere");
     BakeOptions o;
     o.cellSize = 128;
     o.flange = {4.0f, false};
     o.supersample = 4;
-    o.outDir = dir_;
+    o.outDir = dir_->path();
     auto r = bakeAtlas(sphereSources(), o);
     ASSERT_OK(r);
     auto atlas = core::loadAtlas(r->sidecar);
@@ -70,10 +64,10 @@ class BakeSphere : public test::GlTest {
     atlas_ = std::make_unique<core::Atlas>(std::move(*atlas));
   }
   static void TearDownTestSuite() {
-    fs::remove_all(dir_);
+    dir_.reset();
     atlas_.reset();
   }
-  static inline fs::path dir_;
+  static inline std::optional<test::ScopedTempDir> dir_;
   static inline std::unique_ptr<core::Atlas> atlas_;
 };
 
@@ -219,7 +213,8 @@ TEST_F(BakeGl, EllipsoidProjectedAreaInEveryView) {
     o.flange = {0.0f, false};
     o.mips = false;
     o.contactSheet = false;
-    o.outDir = tempDir("ellipsoid");
+    const test::ScopedTempDir out("puff_bake_test_ellipsoid");
+    o.outDir = out.path();
     auto r = bakeAtlas(src, o);
     ASSERT_OK(r);
     auto atlas = core::loadAtlas(r->sidecar);
@@ -241,7 +236,6 @@ TEST_F(BakeGl, EllipsoidProjectedAreaInEveryView) {
       EXPECT_NEAR(area / (texelsPerUnit * texelsPerUnit), expectedUnits, 0.01 * expectedUnits)
           << "view " << c.view << " dir " << v.x << "," << v.y << "," << v.z;
     }
-    fs::remove_all(o.outDir);
   }
 }
 
@@ -250,7 +244,8 @@ TEST_F(BakeGl, VertexColoursReachTheColourMap) {
   src[0].mesh.colors.assign(src[0].mesh.positions.size(), glm::vec3(0.2f, 0.6f, 0.8f));
   BakeOptions o;
   o.cellSize = 64;
-  o.outDir = tempDir("colors");
+  const test::ScopedTempDir out("puff_bake_test_colors");
+  o.outDir = out.path();
   o.defaultColor = glm::vec3(1.0f, 0.0f, 0.0f);  // must not be used
   auto r = bakeAtlas(src, o);
   ASSERT_OK(r);
@@ -261,7 +256,6 @@ TEST_F(BakeGl, VertexColoursReachTheColourMap) {
   EXPECT_NEAR(color.at(32, 32, 1), 0.6, 0.5 / 255 + 1e-6);
   EXPECT_NEAR(color.at(32, 32, 2), 0.8, 0.5 / 255 + 1e-6);
   EXPECT_EQ(color.at(32, 32, 3), 1.0f);
-  fs::remove_all(o.outDir);
 }
 
 std::map<std::string, std::string> readAll(const fs::path& dir) {
@@ -285,11 +279,11 @@ TEST_F(BakeGl, TwoBakesAreByteIdentical) {
       src[static_cast<std::size_t>(k)].mesh = mesh::generateLumpy(p);
       src[static_cast<std::size_t>(k)].provenance.generator = "lumpy";
     }
-    o.outDir = tempDir("determinism" + std::to_string(i));
+    const test::ScopedTempDir out("puff_bake_test_determinism" + std::to_string(i));
+    o.outDir = out.path();
     auto r = bakeAtlas(src, o);
     ASSERT_OK(r);
     runs.push_back(readAll(o.outDir));
-    fs::remove_all(o.outDir);
   }
   ASSERT_EQ(runs[0].size(), runs[1].size());
   ASSERT_GE(runs[0].size(), 5u);
@@ -300,7 +294,8 @@ TEST_F(BakeGl, ExrMapsMatchThePngMaps) {
   auto src = sphereSources(1, 4);
   BakeOptions o;
   o.cellSize = 32;
-  o.outDir = tempDir("exr");
+  const test::ScopedTempDir out("puff_bake_test_exr");
+  o.outDir = out.path();
   auto png = bakeAtlas(src, o);
   ASSERT_OK(png);
   o.format = MapFormat::kExr;
@@ -317,7 +312,6 @@ TEST_F(BakeGl, ExrMapsMatchThePngMaps) {
   ASSERT_EQ(exrColor.pixels.size(), pngColor->pixels.size());
   for (std::size_t i = 0; i < exrColor.pixels.size(); ++i)
     ASSERT_NEAR(exrColor.pixels[i], pngColor->pixels[i], 0.5 / 255 + 1e-3);
-  fs::remove_all(o.outDir);
 }
 
 TEST(BakeDistance, ExactTransformOfAPointAndAnEmptyImage) {
@@ -399,7 +393,8 @@ TEST_F(BakeLod, AutoLodFindsFewerFacesWithinTheTolerances) {
   o.cellSize = 32;
   o.lodAuto = true;
   o.contactSheet = false;
-  o.outDir = fs::temp_directory_path() / ("puff_bake_test_lod_" + std::to_string(::getpid()));
+  const test::ScopedTempDir out("puff_bake_test_lod");
+  o.outDir = out.path();
   auto r = bakeAtlas(src, o);
   ASSERT_OK(r);
   ASSERT_EQ(r->lod.size(), 1u);
@@ -429,7 +424,6 @@ TEST_F(BakeLod, AutoLodFindsFewerFacesWithinTheTolerances) {
   EXPECT_TRUE(half.meanNormalError > o.lodNormalTolerance || half.silhouetteTexels > o.lodSilhouetteTolerance)
       << "half the faces still passes: the search did not find the fewest";
   RecordProperty("faces_after", std::to_string(lod.facesAfter));
-  fs::remove_all(o.outDir);
 }
 
 TEST(BakeCompare, IdenticalCellsDifferByNothingAndAShiftedDiscByItsShift) {
@@ -511,7 +505,8 @@ TEST_F(BakeFlange, PercentOfTheCellGivesThatWidth) {
   o.flange = {0.03f, true};  // "3%"
   o.mips = false;
   o.contactSheet = false;
-  o.outDir = tempDir("flange_percent");
+  const test::ScopedTempDir out("puff_bake_test_flange_percent");
+  o.outDir = out.path();
   auto r = bakeAtlas(src, o);
   ASSERT_OK(r);
   auto atlas = core::loadAtlas(r->sidecar);
@@ -524,7 +519,6 @@ TEST_F(BakeFlange, PercentOfTheCellGivesThatWidth) {
     for (int x = 0; x < d.cellSize; ++x) dilatedArea += color.at(x, y, 3);
   }
   EXPECT_NEAR(std::sqrt(dilatedArea / kPi) - d.contentSize / 2.0, 0.03 * 128, 0.25);
-  fs::remove_all(o.outDir);
 }
 
 }  // namespace

@@ -3,8 +3,6 @@
 // previous run.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -16,6 +14,7 @@
 #include <puff/core/image.h>
 
 #include "support/assert_ok.h"
+#include "support/temp_dir.h"
 
 namespace {
 
@@ -176,14 +175,7 @@ TEST(BlackbodyRamp, AtInterpolatesLinearlyAndClamps) {
 
 class BlackbodyFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("puff_blackbody_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  puff::test::ScopedTempDir dir_{"puff_blackbody"};
 };
 
 TEST_F(BlackbodyFile, WriteReadRoundTripIsExact) {

@@ -3,8 +3,6 @@
 // exactly as documented.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -18,6 +16,7 @@
 #include <puff/core/image.h>
 
 #include "support/assert_ok.h"
+#include "support/temp_dir.h"
 
 namespace {
 
@@ -182,14 +181,6 @@ TEST(DetailVideoGenerate, BadSpecsNameTheFlag) {
 
 class DetailVideoFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("puff_detail_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   // A float EXR frame (stored exactly) filled by fn(x, y) in every channel.
   template <class Fn>
   fs::path frame(const std::string& name, int w, int h, Fn fn, int channels = 1) {
@@ -202,7 +193,7 @@ class DetailVideoFile : public ::testing::Test {
     return p;
   }
 
-  fs::path dir_;
+  puff::test::ScopedTempDir dir_{"puff_detail"};
 };
 
 TEST_F(DetailVideoFile, PngRoundTripsWithin16BitPrecisionAndExrWithinHalf) {
@@ -303,7 +294,7 @@ TEST_F(DetailVideoFile, SaveRefusesBadVideosAndNeverClobbers) {
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("good.png"), std::string::npos) << r.error().message;
   EXPECT_EQ(puff::core::readFileBytes(good).value(), before);
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);  // no temporaries
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_.path()), fs::directory_iterator()), 1);  // no temporaries
 }
 
 TEST_F(DetailVideoFile, ImportCrossFadesTheTailIntoTheHeadExactly) {

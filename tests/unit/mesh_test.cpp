@@ -3,7 +3,6 @@
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -27,6 +26,7 @@
 #pragma GCC diagnostic pop
 
 #include "support/assert_ok.h"
+#include "support/temp_dir.h"
 
 namespace fs = std::filesystem;
 using namespace puff::mesh;
@@ -97,17 +97,9 @@ bool oneLine(const std::string& s) { return !s.empty() && s.find('\n') == std::s
 /// A per-test scratch directory, removed afterwards.
 class MeshIo : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("puff_mesh_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   std::vector<std::string> listDir() const {
     std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(dir_.path())) names.push_back(e.path().filename().string());
     std::sort(names.begin(), names.end());
     return names;
   }
@@ -126,7 +118,7 @@ class MeshIo : public ::testing::Test {
     EXPECT_TRUE(oneLine(r.error().message)) << r.error().message;
   }
 
-  fs::path dir_;
+  puff::test::ScopedTempDir dir_{"puff_mesh_test"};
 };
 
 TriMesh colored(TriMesh m) {

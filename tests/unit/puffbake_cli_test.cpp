@@ -104,7 +104,7 @@ TEST_F(PuffbakeCli, BadMeshesFailWithTheFileAndTheProblem) {
   }
   expectOneLineError(run("bake " + (dir_ / "missing.obj").string() + " -o " + out.string()),
                      "missing.obj: cannot open");
-  expectOneLineError(run("bake " + dir_.string() + " -o " + out.string()), ": cannot open");  // a directory
+  expectOneLineError(run("bake " + dir_.path().string() + " -o " + out.string()), ": cannot open");  // a directory
   EXPECT_FALSE(fs::exists(out));
 }
 
@@ -196,7 +196,7 @@ TEST_F(PuffbakeCli, BlackbodyBadUsageExitsTwoAndWritesNothing) {
   expectOneLineError(run("blackbody -o " + (dir_ / "bb.png").string()), "must end in .exr", 2);
   EXPECT_EQ(run("blackbody --min warm" + o).exitCode, 2);
   EXPECT_EQ(run("blackbody").exitCode, 2);  // -o is required
-  EXPECT_TRUE(fs::is_empty(dir_));
+  EXPECT_TRUE(fs::is_empty(dir_.path()));
 }
 
 TEST_F(PuffbakeCli, BlackbodyUnwritableOutputFailsAndExistingOutputSurvives) {
@@ -218,7 +218,7 @@ TEST_F(PuffbakeCli, BlackbodyUnwritableOutputFailsAndExistingOutputSurvives) {
   expectOneLineError(run("blackbody --size 16 -o " + (dir_ / "taken.exr").string()), "is a directory");
   EXPECT_EQ(*puff::core::readFileBytes(out), before);
   std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+  for (const auto& e : fs::directory_iterator(dir_.path())) names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"bb.exr", "file", "locked", "taken.exr"}));
 }
@@ -314,7 +314,7 @@ TEST_F(PuffbakeCli, DetailBadFramesFailNamingTheFileAndExistingOutputSurvives) {
     EXPECT_TRUE(fs::is_empty(locked));
   }
   std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+  for (const auto& e : fs::directory_iterator(dir_.path())) names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"detail.png", "file", "garbage.png", "good.exr", "locked", "wide.exr"}));
 }

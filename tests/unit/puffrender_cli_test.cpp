@@ -41,8 +41,8 @@ class PuffrenderCli : public puff::test::CliTest {
   // Files in dir_ other than the scenes the test wrote.
   std::vector<std::string> outputs() {
     std::vector<std::string> names;
-    for (const auto& e : fs::recursive_directory_iterator(dir_)) {
-      if (e.path().extension() != ".json") names.push_back(fs::relative(e.path(), dir_).string());
+    for (const auto& e : fs::recursive_directory_iterator(dir_.path())) {
+      if (e.path().extension() != ".json") names.push_back(fs::relative(e.path(), dir_.path()).string());
     }
     std::sort(names.begin(), names.end());
     return names;

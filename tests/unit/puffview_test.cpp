@@ -7,8 +7,6 @@
 // with PUFF_TEST_REQUIRE_GLFW=1); in the plain puff_tests run without DISPLAY they skip.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
@@ -25,6 +23,7 @@
 
 #include "support/assert_ok.h"
 #include "support/cli_test.h"
+#include "support/temp_dir.h"
 
 namespace {
 
@@ -233,16 +232,7 @@ TEST_F(PuffviewCli, BrokenCelShaderFallsBackToTheFixedPath) {
 
 class PuffviewWindow : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("puffview_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    puff::core::setShaderDir({});
-    fs::remove_all(dir_);
-  }
+  void TearDown() override { puff::core::setShaderDir({}); }
 
   // A red-backed cloud of 30 puffs in front of the default camera.
   static std::string scene(const std::string& background) {
@@ -281,7 +271,7 @@ class PuffviewWindow : public ::testing::Test {
     return image ? *image : Image{};
   }
 
-  fs::path dir_;
+  puff::test::ScopedTempDir dir_{"puffview"};
 };
 
 TEST_F(PuffviewWindow, SceneFileChangeReloadsAndABrokenFileKeepsTheLastGoodState) {

@@ -2,8 +2,6 @@
 // through toJson, and the frame evaluation checked against the motion it promises.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +15,7 @@
 #include <puff/render/scene.h>
 
 #include "support/assert_ok.h"
+#include "support/temp_dir.h"
 
 namespace {
 
@@ -249,17 +248,12 @@ TEST(Scene, NonFiniteNumbersAreRejected) {
 
 class SceneFiles : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("scene_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   fs::path write(const std::string& name, const std::string& text) {
     const fs::path p = dir_ / name;
     std::ofstream(p, std::ios::binary) << text;
     return p;
   }
-  fs::path dir_;
+  puff::test::ScopedTempDir dir_{"scene_test"};
 };
 
 TEST_F(SceneFiles, SyntaxErrorsGiveLineAndColumn) {
@@ -291,9 +285,9 @@ TEST_F(SceneFiles, MissingFileSaysCannotRead) {
   auto s = puff::render::loadScene(dir_ / "nope.json");
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().message, (dir_ / "nope.json").string() + ": cannot read: No such file or directory");
-  s = puff::render::loadScene(dir_);
+  s = puff::render::loadScene(dir_.path());
   ASSERT_FALSE(s.ok());
-  EXPECT_EQ(s.error().message, dir_.string() + ": cannot read: is a directory");
+  EXPECT_EQ(s.error().message, dir_.path().string() + ": cannot read: is a directory");
 }
 
 TEST_F(SceneFiles, LoadedPathsAreRelativeToTheFile) {
