@@ -323,18 +323,8 @@ TEST_F(BudgetCli, BadBudgetsExitTwo) {
 
 // ---- the cel path: atlas levels -------------------------------------------------------------------
 
-class CelBudget : public test::GlTest {
+class CelBudget : public test::SphereAtlasTest {
  protected:
-  static void SetUpTestSuite() {
-    GlTest::SetUpTestSuite();
-    dir_ = fs::temp_directory_path() / ("puff-cel-budget-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_OK(sidecar);
-    sidecar_ = *sidecar;
-  }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
-
   // Two sphere puffs, shaded and outlined, 96 x 72, orthographic, two frames.
   static render::Scene scene(int atlasLevel = 0) {
     nlohmann::json j = {
@@ -352,7 +342,6 @@ class CelBudget : public test::GlTest {
     EXPECT_OK(s);
     return s ? *s : render::Scene{};
   }
-  static inline fs::path dir_, sidecar_;
 };
 
 // A level is the atlas with its finest levels dropped: every texel size shrinks by 2^level and the

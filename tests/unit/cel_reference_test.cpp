@@ -26,18 +26,8 @@ namespace fs = std::filesystem;
 constexpr int kPx = 128;
 constexpr float kPxPerUnit = 16.0f;  // orthoHeight 8 over 128 pixels
 
-class CelReference : public test::GlTest {
+class CelReference : public test::SphereAtlasTest {
  protected:
-  static void SetUpTestSuite() {
-    GlTest::SetUpTestSuite();
-    dir_ = fs::temp_directory_path() / ("puff-cel-reference-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_OK(sidecar);
-    sidecar_ = *sidecar;
-  }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
-
   // An orthographic camera looking down -z at the origin, 16 px per unit, white light K_L, ambient
   // 0.2, background 0.9; `style` and `particles` (and `objects`) as given.
   static nlohmann::json frontScene(const nlohmann::json& style, const nlohmann::json& particles,
@@ -74,8 +64,6 @@ class CelReference : public test::GlTest {
   static glm::vec2 world(int px, int py) {
     return {(px + 0.5f - kPx / 2) / kPxPerUnit, (kPx / 2 - py - 0.5f) / kPxPerUnit};
   }
-
-  static inline fs::path dir_, sidecar_;
 };
 
 const nlohmann::json kFlat = {{"outlines", false}, {"shading", false}, {"shadows", false}};

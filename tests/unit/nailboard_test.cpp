@@ -68,25 +68,12 @@ struct Target : test::OffscreenTarget {
   }
 };
 
-class Nailboards : public test::GlTest {
+class Nailboards : public test::SphereAtlasTest {
  protected:
   static constexpr int kPx = 128;        // target size
   static constexpr float kWorld = 8.0f;  // orthographic view height (and width): 16 px per unit
 
-  static void SetUpTestSuite() {
-    GlTest::SetUpTestSuite();
-    dir_ = fs::temp_directory_path() / ("puff-nailboard-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_OK(sidecar);
-    auto atlas = core::loadAtlas(*sidecar);
-    ASSERT_OK(atlas);
-    atlas_ = std::make_unique<core::Atlas>(std::move(*atlas));
-  }
-  static void TearDownTestSuite() {
-    atlas_.reset();
-    fs::remove_all(dir_);
-  }
+  static void SetUpTestSuite() { setUpSphereAtlas(true); }
   void SetUp() override {
     GlTest::SetUp();
     auto r = cel::NailboardRenderer::create();
@@ -134,8 +121,6 @@ class Nailboards : public test::GlTest {
     renderer_->drawNailboards(style, cel::ShadePass::kLit);
   }
 
-  static inline fs::path dir_;
-  static inline std::unique_ptr<core::Atlas> atlas_;
   std::unique_ptr<cel::NailboardRenderer> renderer_;
   std::unique_ptr<cel::FrameBlock> block_;
   std::unique_ptr<Target> target_;

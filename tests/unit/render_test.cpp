@@ -20,19 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class RenderFrame : public test::GlTest {
- protected:
-  static void SetUpTestSuite() {
-    GlTest::SetUpTestSuite();
-    dir_ = fs::temp_directory_path() / ("puff-render-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_OK(sidecar);
-    sidecar_ = *sidecar;
-  }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
-  static inline fs::path dir_, sidecar_;
-};
+class RenderFrame : public test::SphereAtlasTest {};
 
 // Camera straight down (orthographic, 16 px per unit), a white sphere puff of radius R at height
 // H over a ground plane, light from 45 degrees in +x: the shadow on the ground is the ellipse

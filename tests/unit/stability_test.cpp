@@ -72,8 +72,6 @@
 //                         (zero-size particles and colliders, particles born at a collider's centre)
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -115,25 +113,11 @@ bool finite(const glm::vec4& c) {
 
 // ---- cel: a baked sphere puff ---------------------------------------------------------------------
 
-class CelFixture : public test::GlTest {
+class CelFixture : public test::SphereAtlasTest {
  protected:
   static constexpr int kPx = 128;
 
-  static void SetUpTestSuite() {
-    GlTest::SetUpTestSuite();
-    if (atlas_) return;
-    dir_ = fs::temp_directory_path() / ("puff-stability-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_OK(sidecar);
-    auto atlas = core::loadAtlas(*sidecar);
-    ASSERT_OK(atlas);
-    atlas_ = std::make_unique<core::Atlas>(std::move(*atlas));
-  }
-  static void TearDownTestSuite() {
-    atlas_.reset();
-    fs::remove_all(dir_);
-  }
+  static void SetUpTestSuite() { setUpSphereAtlas(true); }
   void SetUp() override {
     GlTest::SetUp();
     auto r = cel::NailboardRenderer::create();
@@ -159,8 +143,6 @@ class CelFixture : public test::GlTest {
     renderer_->drawNailboards(style, cel::ShadePass::kLit);
   }
 
-  static inline fs::path dir_;
-  static inline std::unique_ptr<core::Atlas> atlas_;
   std::unique_ptr<cel::NailboardRenderer> renderer_;
   std::unique_ptr<cel::FrameBlock> block_;
   std::unique_ptr<test::OffscreenTarget> target_;
