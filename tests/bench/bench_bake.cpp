@@ -3,7 +3,6 @@
 // 256^2 full-detail case measured in the same run. Writes CSV (stdout, or --csv FILE).
 // Not a test: nothing here fails on a time.
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -12,6 +11,8 @@
 
 #include <puff/bake/baker.h>
 #include <puff/core/gl_context.h>
+
+#include "harness.h"
 
 namespace {
 
@@ -23,11 +24,6 @@ struct Case {
   int cellSize;
   bool lod;
 };
-
-double medianMs(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 }  // namespace
 
@@ -83,9 +79,9 @@ int main(int argc, char** argv) {
     std::vector<double> times;
     std::size_t facesIn = 0, facesBaked = 0;
     for (int r = -1; r < reps; ++r) {  // r == -1: warm-up
-      const auto t0 = std::chrono::steady_clock::now();
+      const auto t0 = bench::Clock::now();
       auto result = bake::bakeAtlas(sources, o);
-      const auto t1 = std::chrono::steady_clock::now();
+      const auto t1 = bench::Clock::now();
       if (!result) {
         std::fprintf(stderr, "puff_bench: error: %s\n", result.error().message.c_str());
         return 1;
@@ -95,9 +91,9 @@ int main(int argc, char** argv) {
         facesIn += s.faces;
         facesBaked += s.facesBaked;
       }
-      if (r >= 0) times.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+      if (r >= 0) times.push_back(bench::msBetween(t0, t1));
     }
-    const double median = medianMs(times);
+    const double median = bench::median(times);
     if (baseline == 0) baseline = median;
     std::fprintf(csv, "%s,%d,%d,4,%zu,%zu,%d,%.1f,%.3f\n", c.name, c.cellSize, c.lod ? 1 : 0, facesIn, facesBaked, reps,
                  median, median / baseline);

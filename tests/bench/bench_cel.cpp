@@ -24,7 +24,6 @@
 // Writes CSV (stdout, or --csv FILE written atomically) and prints a table on stderr.
 // Not a test: nothing here fails on a time.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -44,19 +43,24 @@
 #include <puff/cel/frame.h>
 #include <puff/cel/nailboards.h>
 #include <puff/core/atlas.h>
-#include <puff/core/files.h>
 #include <puff/core/gl.h>
 
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/mesh/mesh.h>
+
+#include "harness.h"
 #include "support/gl_target.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using namespace puff;
-using Clock = std::chrono::steady_clock;
+using bench::Clock;
+using bench::msBetween;
+using bench::msSince;
+using bench::splitmix64;
+using bench::uniform;
 
 // Scene: camera on +z looking at the origin; the box spans view-axis distances [kNear, kFar].
 constexpr float kFovYDegrees = 45.0f;
@@ -71,17 +75,6 @@ constexpr int kWarmUp = 2;
 // kSlowReps timed frames; see main for kVerySlowFrameMs. Keeps the run within minutes on llvmpipe.
 constexpr double kSlowFrameMs = 2000.0, kVerySlowFrameMs = 15000.0;
 constexpr int kSlowReps = 3;
-
-std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-// Uniform in [lo, hi): the top 24 bits as a float fraction.
-float uniform(std::uint64_t& state, float lo, float hi) {
-  return lo + (hi - lo) * static_cast<float>(splitmix64(state) >> 40) / 16777216.0f;
-}
 
 float tanHalfFov() { return std::tan(0.5f * kFovYDegrees * 3.14159265358979f / 180.0f); }
 
@@ -136,13 +129,6 @@ struct FrameTime {
   double pass[3] = {0, 0, 0};
 };
 
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-double medianOf(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
 struct Bench {
   cel::NailboardRenderer& renderer;
   cel::FrameBlock& block;
@@ -176,8 +162,8 @@ struct Bench {
         renderer.drawNailboards(style, cel::ShadePass::kShadowed);
         if (split) {
           glFinish();
-          t.pass[0] = std::chrono::duration<double, std::milli>(t1 - t0).count();
-          t.pass[1] = std::chrono::duration<double, std::milli>(t2 - t1).count();
+          t.pass[0] = msBetween(t0, t1);
+          t.pass[1] = msBetween(t1, t2);
           t.pass[2] = msSince(t2);
         }
         break;
@@ -353,7 +339,7 @@ int main(int argc, char** argv) {
         row.method = name;
         row.reps = static_cast<int>(times.size());
         if (!times.empty()) {
-          row.medianMs = medianOf(times);
+          row.medianMs = bench::median(times);
           row.minMs = *std::min_element(times.begin(), times.end());
           if (name == "floor") floorMs = row.medianMs;
           row.ratio = row.medianMs / floorMs;
@@ -433,7 +419,7 @@ int main(int argc, char** argv) {
       }
       dump(Method::kFull);
       checkGl("full");
-      lastFullMs = medianOf(totals);
+      lastFullMs = bench::median(totals);
       lastFullWork = work;
       addRow("full", totals, fullNote);
       if (split) {
@@ -447,23 +433,15 @@ int main(int argc, char** argv) {
   std::string csv =
       "particles,size,method,reps,median_ms,min_ms,ratio_to_floor,bytes_per_particle,overdraw,quad_px,note\n";
   for (const Row& r : rows) {
-    char line[512];
     if (r.reps > 0) {
-      std::snprintf(line, sizeof line, "%zu,%d,%s,%d,%.2f,%.2f,%.3f,%.1f,%.2f,%.1f,%s\n", r.particles, r.size,
-                    r.method.c_str(), r.reps, r.medianMs, r.minMs, r.ratio, r.bytesPerParticle, r.overdraw, r.quadPx,
-                    r.note.c_str());
+      bench::appendf(csv, "%zu,%d,%s,%d,%.2f,%.2f,%.3f,%.1f,%.2f,%.1f,%s\n", r.particles, r.size, r.method.c_str(),
+                     r.reps, r.medianMs, r.minMs, r.ratio, r.bytesPerParticle, r.overdraw, r.quadPx, r.note.c_str());
     } else {
-      std::snprintf(line, sizeof line, "%zu,%d,%s,0,,,,%.1f,%.2f,%.1f,%s\n", r.particles, r.size, r.method.c_str(),
-                    r.bytesPerParticle, r.overdraw, r.quadPx, r.note.c_str());
+      bench::appendf(csv, "%zu,%d,%s,0,,,,%.1f,%.2f,%.1f,%s\n", r.particles, r.size, r.method.c_str(),
+                     r.bytesPerParticle, r.overdraw, r.quadPx, r.note.c_str());
     }
-    csv += line;
   }
-  if (csvPath.empty()) {
-    std::fputs(csv.c_str(), stdout);
-  } else if (auto w = core::writeFileAtomic(csvPath, csv); !w) {
-    std::fprintf(stderr, "puff_bench_cel: error: %s\n", w.error().message.c_str());
-    return 1;
-  }
+  if (!bench::writeCsv("puff_bench_cel", csvPath, csv)) return 1;
 
   // The table: per count and size, each method's median and its ratio to the floor.
   std::fprintf(stderr, "\n%9s %5s %9s %20s %20s %20s %5s\n", "particles", "size", "floor ms", "nailboards ms (x)",

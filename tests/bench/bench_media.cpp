@@ -40,7 +40,6 @@
 // Writes CSV (stdout, or --csv FILE written atomically) and prints tables on stderr.
 // Not a test: nothing here fails on a time.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -57,7 +56,6 @@
 #include <glm/vec4.hpp>
 
 #include <puff/core/detail_video.h>
-#include <puff/core/files.h>
 #include <puff/core/gl.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
@@ -66,11 +64,16 @@
 #include <puff/reference/media_reference.h>
 #include <puff/reference/metrics.h>
 
+#include "harness.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 using namespace puff;
-using Clock = std::chrono::steady_clock;
+using bench::Clock;
+using bench::msBetween;
+using bench::splitmix64;
+using bench::uniform;
 
 constexpr float kFovYDegrees = 45.0f;
 constexpr float kCameraZ = 8.0f;  // camera at (0, 0, kCameraZ) looking at the ball's centre, the origin
@@ -86,17 +89,6 @@ constexpr int kTableSize = 512, kFigSize = 1024, kFigParticles = 1052;
 constexpr int kTableCounts[] = {0, 263, 526, 1052, 1578};
 constexpr float kFigScales[] = {1.0f, 0.5f, 0.25f, 0.125f};
 constexpr float kShimmerPixels = 3.0f;
-
-std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-// Uniform in [lo, hi): the top 24 bits as a float fraction.
-float uniform(std::uint64_t& state, float lo, float hi) {
-  return lo + (hi - lo) * static_cast<float>(splitmix64(state) >> 40) / 16777216.0f;
-}
 
 float focal() { return 1.0f / std::tan(0.5f * kFovYDegrees * 3.14159265358979f / 180.0f); }
 
@@ -235,16 +227,6 @@ media::Frame makeFrame(const media::Layers& layers) {
   return f;
 }
 
-double msBetween(Clock::time_point a, Clock::time_point b) {
-  return std::chrono::duration<double, std::milli>(b - a).count();
-}
-
-double medianOf(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
-
 struct FrameTime {
   double downsample = 0, sort = 0, pass = 0, compose = 0;
 };
@@ -375,12 +357,12 @@ Row summarize(const std::string& experiment, const Case& c, const std::string& m
     fr.push_back(t.pass + t.compose);
     to.push_back(t.downsample + t.pass + t.compose);
   }
-  r.downsample = medianOf(ds);
-  r.sort = medianOf(so);
-  r.pass = medianOf(pa);
-  r.compose = medianOf(co);
-  r.frame = medianOf(fr);
-  r.total = medianOf(to);
+  r.downsample = bench::median(ds);
+  r.sort = bench::median(so);
+  r.pass = bench::median(pa);
+  r.compose = bench::median(co);
+  r.frame = bench::median(fr);
+  r.total = bench::median(to);
   return r;
 }
 
@@ -550,7 +532,7 @@ int main(int argc, char** argv) {
     r.method = "radix";
     r.particles = count;
     r.reps = reps;
-    r.sort = medianOf(times);
+    r.sort = bench::median(times);
     rows.push_back(r);
     std::fprintf(stderr, "puff_bench_media: sort %d particles back to front: %.3f ms\n", count, r.sort);
   }
@@ -561,21 +543,13 @@ int main(int argc, char** argv) {
       "downsample_ms,sort_ms,pass_ms,compose_ms,frame_ms,total_ms,frame_ratio_to_planar,pass_ratio_to_planar,"
       "pass_speedup_over_scale1,total_speedup_over_scale1,rmse_vs_reference\n";
   for (const Row& r : rows) {
-    char line[512];
-    std::snprintf(line, sizeof line,
-                  "%s,%s,%d,%d,%g,%d,%.4f,%.2f,%.2f,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%s,%s,%s,%s,%s\n",
-                  r.experiment.c_str(), r.method.c_str(), r.particles, r.outputPx, r.scale, r.layerPx, r.radius,
-                  r.overdraw.disc, r.overdraw.quad, r.reps, r.downsample, r.sort, r.pass, r.compose, r.frame, r.total,
-                  fmt(r.frameRatioToPlanar).c_str(), fmt(r.passRatioToPlanar).c_str(), fmt(r.passSpeedup).c_str(),
-                  fmt(r.totalSpeedup).c_str(), fmt(r.rmse, "%.5f").c_str());
-    csv += line;
+    bench::appendf(csv, "%s,%s,%d,%d,%g,%d,%.4f,%.2f,%.2f,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%s,%s,%s,%s,%s\n",
+                   r.experiment.c_str(), r.method.c_str(), r.particles, r.outputPx, r.scale, r.layerPx, r.radius,
+                   r.overdraw.disc, r.overdraw.quad, r.reps, r.downsample, r.sort, r.pass, r.compose, r.frame, r.total,
+                   fmt(r.frameRatioToPlanar).c_str(), fmt(r.passRatioToPlanar).c_str(), fmt(r.passSpeedup).c_str(),
+                   fmt(r.totalSpeedup).c_str(), fmt(r.rmse, "%.5f").c_str());
   }
-  if (csvPath.empty()) {
-    std::fputs(csv.c_str(), stdout);
-  } else if (auto w = core::writeFileAtomic(csvPath, csv); !w) {
-    std::fprintf(stderr, "puff_bench_media: error: %s\n", w.error().message.c_str());
-    return 1;
-  }
+  if (!bench::writeCsv("puff_bench_media", csvPath, csv)) return 1;
 
   std::fprintf(stderr, "\nTable 1 (%d^2 output, layer at 1/2; median ms of %d frames)\n", kTableSize, reps);
   std::fprintf(stderr, "%9s %7s %8s %10s %10s %10s %14s %10s %10s %14s %12s %12s\n", "particles", "radius", "overdraw",

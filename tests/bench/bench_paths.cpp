@@ -6,29 +6,23 @@
 // two images is reported beside it. Writes CSV (stdout, or --csv FILE). Not a test: nothing here
 // fails on a time.
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include <puff/core/files.h>
 #include <puff/core/gl_context.h>
 #include <puff/eval/compare.h>
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 
+#include "harness.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 using namespace puff;
-using Clock = std::chrono::steady_clock;
-
-double medianMs(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 }  // namespace
 
@@ -79,9 +73,9 @@ int main(int argc, char** argv) {
       std::vector<double> times;
       for (int i = 0; i < reps + 2; ++i) {
         render::FrameStats stats;
-        const auto t0 = Clock::now();
+        const auto t0 = bench::Clock::now();
         auto image = (*r)->renderFrame(0, &stats);
-        const double t = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+        const double t = bench::msSince(t0);
         if (!image) {
           std::fprintf(stderr, "puff_bench_paths: error: %s\n", image.error().message.c_str());
           return 1;
@@ -90,24 +84,16 @@ int main(int argc, char** argv) {
         images[k] = std::move(*image);
         particles = stats.particles;
       }
-      ms[k] = medianMs(times);
+      ms[k] = bench::median(times);
       auto b = (*r0)->renderFrame(0);
       if (!b) return 1;
       bare[k] = std::move(*b);
     }
     const eval::Parity p = eval::compareFrames(images[1], bare[1], images[0], bare[0], 0.1f);
-    char line[256];
-    std::snprintf(line, sizeof line, "%s,%d,%d,%zu,%.2f,%.2f,%.3f,%.3f,%.3f\n", name, scene.width, scene.height,
-                  particles, ms[0], ms[1], ms[1] / ms[0], p.iou, p.toneShare);
-    csv += line;
+    bench::appendf(csv, "%s,%d,%d,%zu,%.2f,%.2f,%.3f,%.3f,%.3f\n", name, scene.width, scene.height, particles, ms[0],
+                   ms[1], ms[1] / ms[0], p.iou, p.toneShare);
     std::fprintf(stderr, "puff_bench_paths: %-14s cel %.2f ms, fixed %.2f ms (%.2fx), IoU %.3f\n", name, ms[0], ms[1],
                  ms[1] / ms[0], p.iou);
   }
-  if (csvPath.empty()) {
-    std::fputs(csv.c_str(), stdout);
-  } else if (auto w = core::writeFileAtomic(csvPath, csv); !w) {
-    std::fprintf(stderr, "puff_bench_paths: error: %s\n", w.error().message.c_str());
-    return 1;
-  }
-  return 0;
+  return bench::writeCsv("puff_bench_paths", csvPath, csv) ? 0 : 1;
 }

@@ -4,24 +4,18 @@
 // x += v * h over the same structure-of-arrays: what no step can beat). Writes CSV (stdout, or
 // --csv FILE). Not a test: nothing here fails on a time.
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
 
-#include <puff/core/files.h>
 #include <puff/sim/simulator.h>
+
+#include "harness.h"
 
 namespace {
 
 using namespace puff;
-using Clock = std::chrono::steady_clock;
-
-double medianMs(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 struct Row {
   std::string name, forces;
@@ -73,17 +67,13 @@ int main(int argc, char** argv) {
   // The floor: one streaming pass over positions and velocities of the same size.
   {
     std::vector<float> px(n, 1.0f), py(n, 2.0f), pz(n, 3.0f), vx(n, 0.1f), vy(n, 0.2f), vz(n, 0.3f);
-    std::vector<double> times;
     const float h = 1.0f / 24.0f;
-    for (int r = 0; r < reps + 10; ++r) {
-      const auto t0 = Clock::now();
+    const std::vector<double> times = bench::timeRuns(10, reps, [&] {
       for (std::size_t i = 0; i < n; ++i) px[i] += vx[i] * h, py[i] += vy[i] * h, pz[i] += vz[i] * h;
-      const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-      if (r >= 10) times.push_back(ms);
-    }
+    });
     volatile float sink = px[n / 2] + py[n / 3] + pz[n / 4];
     (void)sink;
-    rows.push_back({"floor", "x += v h", n, medianMs(times), *std::min_element(times.begin(), times.end())});
+    rows.push_back({"floor", "x += v h", n, bench::median(times), *std::min_element(times.begin(), times.end())});
   }
 
   struct Case {
@@ -147,15 +137,10 @@ int main(int argc, char** argv) {
       return 1;
     }
     sim::Simulator& simulator = **created;
-    std::vector<double> times;
-    for (int r = 0; r < reps + 10; ++r) {
-      const auto t0 = Clock::now();
-      simulator.step();
-      const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-      if (r >= 10) times.push_back(ms);  // the first steps include the births
-    }
+    // 10 warm-up steps: the first steps include the births.
+    const std::vector<double> times = bench::timeRuns(10, reps, [&] { simulator.step(); });
     rows.push_back(
-        {c.name, c.forces, simulator.size(), medianMs(times), *std::min_element(times.begin(), times.end())});
+        {c.name, c.forces, simulator.size(), bench::median(times), *std::min_element(times.begin(), times.end())});
     std::fprintf(stderr, "puff_bench_sim: %-20s %zu particles: %.3f ms per step\n", c.name, simulator.size(),
                  rows.back().medianMs);
   }
@@ -163,17 +148,9 @@ int main(int argc, char** argv) {
   std::string csv = "case,particles,reps,median_ms,min_ms,ratio_to_floor,ns_per_particle,forces\n";
   const double floorMs = rows.front().medianMs;
   for (const Row& r : rows) {
-    char line[512];
-    std::snprintf(line, sizeof line, "%s,%zu,%d,%.4f,%.4f,%.2f,%.1f,\"%s\"\n", r.name.c_str(), r.particles, reps,
-                  r.medianMs, r.minMs, r.medianMs / floorMs, r.medianMs * 1e6 / static_cast<double>(r.particles),
-                  r.forces.c_str());
-    csv += line;
+    bench::appendf(csv, "%s,%zu,%d,%.4f,%.4f,%.2f,%.1f,\"%s\"\n", r.name.c_str(), r.particles, reps, r.medianMs,
+                   r.minMs, r.medianMs / floorMs, r.medianMs * 1e6 / static_cast<double>(r.particles),
+                   r.forces.c_str());
   }
-  if (csvPath.empty()) {
-    std::fputs(csv.c_str(), stdout);
-  } else if (auto w = core::writeFileAtomic(csvPath, csv); !w) {
-    std::fprintf(stderr, "puff_bench_sim: error: %s\n", w.error().message.c_str());
-    return 1;
-  }
-  return 0;
+  return bench::writeCsv("puff_bench_sim", csvPath, csv) ? 0 : 1;
 }

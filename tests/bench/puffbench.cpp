@@ -21,7 +21,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include <puff/core/files.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/eval/budget.h>
@@ -29,18 +28,14 @@
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 
+#include "harness.h"
 #include "puffbench_cel.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 using namespace puff;
-using Clock = std::chrono::steady_clock;
-
-double medianMs(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
+using bench::Clock;
 
 struct Row {
   std::string scene, method;
@@ -66,13 +61,9 @@ Result<double> baselineMs(scene::Scene s, std::span<const int> frames, int reps,
   std::vector<double> times;
   for (int f : frames) {
     if (auto first = (*r)->renderFrame(f); !first) return first.error();
-    for (int i = 0; i < reps; ++i) {
-      const auto t0 = Clock::now();
-      if (auto im = (*r)->renderFrame(f); !im) return im.error();
-      times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-    }
+    PUFF_TRY(puffbench::timeFrame(**r, f, reps, times));
   }
-  return medianMs(times);
+  return bench::median(times);
 }
 
 // The places media methods break, measured (issue 7): per method,
@@ -309,13 +300,7 @@ int main(int argc, char** argv) {
                    r.floorMs > 0.0 ? r.ms / r.floorMs : 0.0, r.rmse, r.coverageIoU, r.outlineIoU,
                    r.pareto ? "  pareto" : "");
     }
-    const std::string csv = puffbench::celCsv(*celRows);
-    if (celCsvPath.empty()) {
-      std::fputs(csv.c_str(), stdout);
-    } else if (auto ok = core::writeFileAtomic(celCsvPath, csv); !ok) {
-      std::fprintf(stderr, "puffbench: error: %s\n", ok.error().message.c_str());
-      return 1;
-    }
+    if (!bench::writeCsv("puffbench", celCsvPath, puffbench::celCsv(*celRows))) return 1;
     if (part == "cel") return 0;
   }
 
@@ -394,14 +379,12 @@ int main(int argc, char** argv) {
   std::string csv =
       "scene,method,resolution,width,height,median_ms,baseline_ms,ratio_to_baseline,worst_rmse,psnr_db,"
       "pareto,floor_ms,ratio_to_floor\n";
-  char line[512];
   for (const Row& r : rows) {
     const double psnr = r.rmse > 0.0 ? -20.0 * std::log10(r.rmse) : 999.0;
-    std::snprintf(line, sizeof line, "%s,%s,%g,%d,%d,%.3f,%.3f,%.3f,%.6f,%.2f,%d,%.3f,%.3f\n", r.scene.c_str(),
-                  r.method.c_str(), static_cast<double>(r.resolution), r.width, r.height, r.ms, r.baselineMs,
-                  r.baselineMs > 0.0 ? r.ms / r.baselineMs : 0.0, r.rmse, psnr, r.pareto ? 1 : 0, r.floorMs,
-                  r.floorMs > 0.0 ? r.ms / r.floorMs : 0.0);
-    csv += line;
+    bench::appendf(csv, "%s,%s,%g,%d,%d,%.3f,%.3f,%.3f,%.6f,%.2f,%d,%.3f,%.3f\n", r.scene.c_str(), r.method.c_str(),
+                   static_cast<double>(r.resolution), r.width, r.height, r.ms, r.baselineMs,
+                   r.baselineMs > 0.0 ? r.ms / r.baselineMs : 0.0, r.rmse, psnr, r.pareto ? 1 : 0, r.floorMs,
+                   r.floorMs > 0.0 ? r.ms / r.floorMs : 0.0);
     std::fprintf(stderr, "%-17s %-12s %5g  %8.2f ms (%5.2fx)  rmse %.5f%s\n", r.scene.c_str(), r.method.c_str(),
                  static_cast<double>(r.resolution), r.ms, r.baselineMs > 0.0 ? r.ms / r.baselineMs : 0.0, r.rmse,
                  r.pareto ? "  pareto" : "");
@@ -415,24 +398,11 @@ int main(int argc, char** argv) {
     }
     std::string stCsv = "scene,method,metric,value,frames,width,height\n";
     for (const StabilityRow& r : *st) {
-      char stLine[256];
-      std::snprintf(stLine, sizeof stLine, "%s,%s,%s,%.6f,%d,%d,%d\n", r.scene.c_str(), r.method.c_str(),
-                    r.metric.c_str(), r.value, r.frames, r.width, r.height);
-      stCsv += stLine;
+      bench::appendf(stCsv, "%s,%s,%s,%.6f,%d,%d,%d\n", r.scene.c_str(), r.method.c_str(), r.metric.c_str(), r.value,
+                     r.frames, r.width, r.height);
       std::fprintf(stderr, "%-17s %-12s %-26s %.4f\n", r.scene.c_str(), r.method.c_str(), r.metric.c_str(), r.value);
     }
-    if (stabilityCsvPath.empty()) {
-      std::fputs(stCsv.c_str(), stdout);
-    } else if (auto ok = core::writeFileAtomic(stabilityCsvPath, stCsv); !ok) {
-      std::fprintf(stderr, "puffbench: error: %s\n", ok.error().message.c_str());
-      return 1;
-    }
+    if (!bench::writeCsv("puffbench", stabilityCsvPath, stCsv)) return 1;
   }
-  if (csvPath.empty()) {
-    std::fputs(csv.c_str(), stdout);
-  } else if (auto ok = core::writeFileAtomic(csvPath, csv); !ok) {
-    std::fprintf(stderr, "puffbench: error: %s\n", ok.error().message.c_str());
-    return 1;
-  }
-  return 0;
+  return bench::writeCsv("puffbench", csvPath, csv) ? 0 : 1;
 }

@@ -17,7 +17,6 @@
 #include <optional>
 
 #include <puff/bake/baker.h>
-#include <puff/core/files.h>
 #include <puff/eval/budget.h>
 #include <puff/eval/cel_reference.h>
 #include <puff/eval/compare.h>
@@ -25,18 +24,15 @@
 #include <puff/reference/metrics.h>
 #include <puff/scene/read.h>
 
+#include "harness.h"
+
 namespace puffbench {
 
 namespace fs = std::filesystem;
 using namespace puff;
-using Clock = std::chrono::steady_clock;
+using bench::Clock;
 
 namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
-}
 
 struct Frames {
   double ms = 0.0;                  // median over frames x reps (0 when reps == 0)
@@ -59,13 +55,9 @@ Result<Frames> renderFrames(const scene::Scene& scene, render::RenderPath path, 
     if (!image) return image.error();
     out.images.push_back(std::move(*image));
     out.particles = std::max(out.particles, stats.particles);
-    for (int i = 0; i < reps; ++i) {
-      const auto t0 = Clock::now();
-      if (auto im = (*r)->renderFrame(f); !im) return im.error();
-      times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-    }
+    PUFF_TRY(timeFrame(**r, f, reps, times));
   }
-  out.ms = median(times);
+  out.ms = bench::median(times);
   return out;
 }
 
@@ -135,6 +127,15 @@ Result<fs::path> bake(const fs::path& sidecar, int cellSize, int decimation, con
 }
 
 }  // namespace
+
+Result<void> timeFrame(render::SceneRenderer& renderer, int frame, int reps, std::vector<double>& times) {
+  for (int i = 0; i < reps; ++i) {
+    const auto t0 = Clock::now();
+    if (auto im = renderer.renderFrame(frame); !im) return im.error();
+    times.push_back(bench::msSince(t0));
+  }
+  return {};
+}
 
 Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
   std::vector<CelRow> rows;
@@ -394,14 +395,12 @@ std::string celCsv(const std::vector<CelRow>& rows) {
   std::string csv =
       "scene,path,parameter,value,label,particles,width,height,median_ms,floor_ms,ratio_to_floor,rmse,psnr_db,"
       "coverage_iou,outline_iou,pareto,rmse_puffs,bare_ms\n";
-  char line[512];
   for (const CelRow& r : rows) {
     const double psnr = !std::isfinite(r.rmse) ? std::nan("") : r.rmse > 0.0 ? -20.0 * std::log10(r.rmse) : 999.0;
-    std::snprintf(line, sizeof line, "%s,%s,%s,%g,%s,%zu,%d,%d,%.3f,%.3f,%.3f,%.6f,%.2f,%.4f,%.4f,%d,%.6f,%.3f\n",
-                  r.scene.c_str(), r.path.c_str(), r.parameter.c_str(), r.value, r.label.c_str(), r.particles, r.width,
-                  r.height, r.ms, r.floorMs, r.floorMs > 0.0 ? r.ms / r.floorMs : 0.0, r.rmse, psnr, r.coverageIoU,
-                  r.outlineIoU, r.pareto ? 1 : 0, r.rmsePuffs, r.bareMs);
-    csv += line;
+    bench::appendf(csv, "%s,%s,%s,%g,%s,%zu,%d,%d,%.3f,%.3f,%.3f,%.6f,%.2f,%.4f,%.4f,%d,%.6f,%.3f\n", r.scene.c_str(),
+                   r.path.c_str(), r.parameter.c_str(), r.value, r.label.c_str(), r.particles, r.width, r.height, r.ms,
+                   r.floorMs, r.floorMs > 0.0 ? r.ms / r.floorMs : 0.0, r.rmse, psnr, r.coverageIoU, r.outlineIoU,
+                   r.pareto ? 1 : 0, r.rmsePuffs, r.bareMs);
   }
   return csv;
 }

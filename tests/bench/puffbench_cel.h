@@ -38,4 +38,8 @@ puff::Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& options);
 void markParetoFronts(std::vector<CelRow>& rows);
 std::string celCsv(const std::vector<CelRow>& rows);
 
+/// Renders `frame` `reps` times, appending each render's wall time (ms) to `times`: how both parts of
+/// puffbench time a frame, after a first render of it that is not timed (the caller's).
+puff::Result<void> timeFrame(puff::render::SceneRenderer& renderer, int frame, int reps, std::vector<double>& times);
+
 }  // namespace puffbench

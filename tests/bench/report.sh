@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates docs/report/ (issue 7: speed against accuracy): runs puffbench on the art scenes (the
-# cel part, then the media part), keeps its CSVs, draws the charts with gnuplot (PNG and SVG) and writes the page
+# cel part, then the media part), keeps its CSVs, draws the charts with gnuplot (SVG) and writes the page
 # docs/report/README.md with what was run on what machine.
 #   tests/bench/report.sh [BUILD_DIR (build)] [puffbench options, e.g. --reps 5 --size 640 480]
 # Needs a build with PUFF_BUILD_BENCH=ON (the default) and gnuplot (Debian: gnuplot-nox).
@@ -25,17 +25,23 @@ gl=$(sed -n '1s/^puffbench: //p' "$tmp/log.txt")
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
 cores=$(nproc)
 
+# chart NAME [SIZE (900,600)]: draws $tmp/NAME.svg with the gnuplot commands on stdin, which come after
+# the terminal, the output file and the CSV separator.
+chart() {
+  {
+    echo "set terminal svg size ${2:-900,600} font 'sans,11'"
+    echo "set output \"$tmp/$1.svg\""
+    echo 'set datafile separator ","'
+    cat
+  } | gnuplot
+}
+
 # One chart per scene: worst RMSE (log) against median frame time, one series per method, each point
 # labelled with its layer resolution; the Pareto front drawn through.
 for scene in $(tail -n +2 "$tmp/media.csv" | cut -d, -f1 | sort -u); do
   grep "^$scene," "$tmp/media.csv" > "$tmp/$scene.dat"
   awk -F, '$11 == 1' "$tmp/$scene.dat" | sort -t, -k6,6g > "$tmp/$scene.front"
-  for term in "pngcairo size 900,600 font ',11'" "svg size 900,600 font 'sans,11'"; do
-    ext=$([[ $term == png* ]] && echo png || echo svg)
-    gnuplot <<GP
-set terminal $term
-set output "$tmp/$scene.$ext"
-set datafile separator ","
+  chart "$scene" <<GP
 set title "$scene: error against the exact reference vs frame time (labels: media layer resolution)"
 set xlabel "median frame time, ms (this machine)"
 set ylabel "worst RMSE over 3 frames, linear colour"
@@ -46,19 +52,13 @@ plot for [m in "planar soft-linear soft-scurve spherical"] "$tmp/$scene.dat" usi
      "$tmp/$scene.dat" using 6:9:(sprintf("%g", \$3)) with labels offset 1.2,0.6 font ",8" notitle, \
      "$tmp/$scene.front" using 6:9 with lines lw 1.5 dt 2 lc rgb "#555555" title "Pareto front"
 GP
-  done
 done
 
 # The cel charts. Per scene: RMSE against frame time for the nailboards over atlas cell size and mesh
 # detail, the fixed-function path over mesh detail and the nailboards within the fixed path's limits.
 for scene in $(tail -n +2 "$tmp/cel.csv" | awk -F, '$3 != "count"' | cut -d, -f1 | sort -u); do
   grep "^$scene," "$tmp/cel.csv" > "$tmp/cel-$scene.dat"
-  for term in "pngcairo size 900,600 font ',11'" "svg size 900,600 font 'sans,11'"; do
-    ext=$([[ $term == png* ]] && echo png || echo svg)
-    gnuplot <<GP
-set terminal $term
-set output "$tmp/cel-$scene.$ext"
-set datafile separator ","
+  chart "cel-$scene" <<GP
 set title "$scene (cel): error against the cel reference vs frame time (labels: atlas cell texels / mesh faces)"
 set xlabel "median frame time, ms (this machine)"
 set ylabel "worst RMSE over 3 frames, 8-bit output values"
@@ -70,17 +70,11 @@ plot "$tmp/cel-$scene.dat" using (stringcolumn(2) eq "cel" && stringcolumn(3) eq
      "$tmp/cel-$scene.dat" using (stringcolumn(2) eq "cel-fixed-limits" ? \$9 : 1/0):12 with points pt 13 ps 1.5 title "nailboards within the fixed path's limits", \
      "$tmp/cel-$scene.dat" using 9:12:5 with labels offset 1.5,0.6 font ",8" notitle
 GP
-  done
 done
 # Particle count (cloud-50k): frame time against particles, both paths, and the floor.
 if grep -q ",count," "$tmp/cel.csv"; then
   grep ",count," "$tmp/cel.csv" > "$tmp/counts.dat"
-  for term in "pngcairo size 900,600 font ',11'" "svg size 900,600 font 'sans,11'"; do
-    ext=$([[ $term == png* ]] && echo png || echo svg)
-    gnuplot <<GP
-set terminal $term
-set output "$tmp/cel-counts.$ext"
-set datafile separator ","
+  chart "cel-counts" <<GP
 set title "cloud-50k: frame time against particle count (labels: RMSE against the reference, where measured)"
 set xlabel "particles"
 set ylabel "median frame time, ms (this machine)"
@@ -92,7 +86,6 @@ plot "$tmp/counts.dat" using (stringcolumn(2) eq "cel" ? \$4 : 1/0):9 with point
      "$tmp/counts.dat" using (stringcolumn(2) eq "cel" ? \$4 : 1/0):10 with points pt 1 ps 1.5 lc rgb "#555555" title "fill-rate floor (bare quads)", \
      "$tmp/counts.dat" using 4:9:(stringcolumn(12) eq "nan" ? "" : sprintf("%.3f", \$12)) with labels offset 0,1 font ",8" notitle
 GP
-  done
 fi
 
 # Where the media methods break: the camera flying into smoke, largest and mean second difference.
@@ -100,12 +93,7 @@ grep "^smoke-flythrough," "$tmp/stability.csv" > "$tmp/flight.dat" || true
 if [ -s "$tmp/flight.dat" ]; then
   awk -F, '$3 == "largest_second_difference" {l[$2] = $4} $3 == "mean_second_difference" {m[$2] = $4}
            END {for (k in l) print k "," l[k] "," m[k]}' "$tmp/flight.dat" | sort > "$tmp/flight2.dat"
-  for term in "pngcairo size 900,500 font ',11'" "svg size 900,500 font 'sans,11'"; do
-    ext=$([[ $term == png* ]] && echo png || echo svg)
-    gnuplot <<GP
-set terminal $term
-set output "$tmp/flight.$ext"
-set datafile separator ","
+  chart "flight" 900,500 <<GP
 set title "Flying into smoke (smoke-flythrough, frozen particles, 96 frames): frame-to-frame second difference"
 set ylabel "second difference of frame values"
 set style data histograms
@@ -116,18 +104,12 @@ set grid ytics
 set key top right
 plot "$tmp/flight2.dat" using 2:xtic(1) title "largest (popping)", "" using 3 title "mean"
 GP
-  done
 fi
 
 # Fewer, bigger particles against the full model (cloud-50k): error against frame time.
 if grep -q ",fraction," "$tmp/cel.csv"; then
   grep ",fraction," "$tmp/cel.csv" > "$tmp/fraction.dat"
-  for term in "pngcairo size 900,600 font ',11'" "svg size 900,600 font 'sans,11'"; do
-    ext=$([[ $term == png* ]] && echo png || echo svg)
-    gnuplot <<GP
-set terminal $term
-set output "$tmp/cel-fraction.$ext"
-set datafile separator ","
+  chart "cel-fraction" <<GP
 set title "cloud-50k: fewer, bigger particles against the reference of all of them (labels: share)"
 set xlabel "median frame time, ms (this machine)"
 set ylabel "RMSE against the full model's reference, 8-bit output values"
@@ -137,18 +119,12 @@ plot "$tmp/fraction.dat" using (stringcolumn(2) eq "cel" ? \$9 : 1/0):12 with po
      "$tmp/fraction.dat" using (stringcolumn(2) eq "fixed" ? \$9 : 1/0):12 with points pt 9 ps 1.5 title "fixed function", \
      "$tmp/fraction.dat" using 9:12:(sprintf("%g", \$4)) with labels offset 1.2,0.6 font ",8" notitle
 GP
-  done
 fi
 
 # Table 1 and Fig. 12 as error against time.
 grep "^table1,\(planar\|spherical\)," "$tmp/paper.csv" > "$tmp/table1.dat"
 grep "^fig12," "$tmp/paper.csv" > "$tmp/fig12.dat"
-for term in "pngcairo size 900,600 font ',11'" "svg size 900,600 font 'sans,11'"; do
-  ext=$([[ $term == png* ]] && echo png || echo svg)
-  gnuplot <<GP
-set terminal $term
-set output "$tmp/paper-table1.$ext"
-set datafile separator ","
+chart "paper-table1" <<GP
 set title "Table 1 redone (512^2, layer 1/2, 4 screens of overdraw): error against frame time (labels: particles)"
 set xlabel "median frame ms, pass + compose (this machine)"
 set ylabel "RMSE against the exact reference, linear colour"
@@ -158,10 +134,7 @@ plot "$tmp/table1.dat" using (stringcolumn(2) eq "planar" ? \$15 : 1/0):21 with 
      "$tmp/table1.dat" using (stringcolumn(2) eq "spherical" ? \$15 : 1/0):21 with points pt 7 ps 1.3 title "spherical", \
      "$tmp/table1.dat" using 15:21:3 with labels offset 1.5,0.6 font ",8" notitle
 GP
-  gnuplot <<GP
-set terminal $term
-set output "$tmp/paper-fig12.$ext"
-set datafile separator ","
+chart "paper-fig12" <<GP
 set title "Fig. 12 redone (1024^2, spherical, 1052 particles): error against time (labels: layer scale)"
 set xlabel "median ms (this machine)"
 set ylabel "RMSE against the exact reference, linear colour"
@@ -172,19 +145,13 @@ plot "$tmp/fig12.dat" using 16:21 with linespoints pt 7 ps 1.3 title "whole fram
      "$tmp/fig12.dat" using 13:21 with linespoints pt 5 ps 1.3 title "particle pass alone", \
      "$tmp/fig12.dat" using 16:21:5 with labels offset 1.5,0.6 font ",8" notitle
 GP
-done
 
 # Opaque surfaces through the media: the largest step of the error image at the wall, per method.
 awk -F, '$3 == "largest_error_jump" {print $1 "," $2 "," $4}' "$tmp/stability.csv" > "$tmp/jump.dat"
 if [ -s "$tmp/jump.dat" ]; then
   awk -F, '$1 == "wall-through-smoke" {w[$2] = $3} $1 == "explosion-walls" {e[$2] = $3}
            END {for (k in w) print k "," w[k] "," e[k]}' "$tmp/jump.dat" | sort > "$tmp/jump2.dat"
-  for term in "pngcairo size 900,500 font ',11'" "svg size 900,500 font 'sans,11'"; do
-    ext=$([[ $term == png* ]] && echo png || echo svg)
-    gnuplot <<GP
-set terminal $term
-set output "$tmp/walls.$ext"
-set datafile separator ","
+  chart "walls" 900,500 <<GP
 set title "Walls through the media: largest step of the error image (frame minus exact reference)"
 set ylabel "largest neighbour step, linear colour"
 set logscale y
@@ -197,14 +164,13 @@ set grid ytics
 set key top right
 plot "$tmp/jump2.dat" using 2:xtic(1) title "wall through a smoke ball", "" using 3 title "explosion-walls (frames 5, 20)"
 GP
-  done
 fi
 
 cp "$tmp/media.csv" "$out/media.csv"
 cp "$tmp/paper.csv" "$out/paper.csv"
 cp "$tmp/cel.csv" "$out/cel.csv"
 cp "$tmp/stability.csv" "$out/stability.csv"
-for f in "$tmp"/*.png "$tmp"/*.svg; do cp "$f" "$out/"; done
+cp "$tmp"/*.svg "$out/"
 
 {
   echo "# Speed against accuracy"

@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
-# Accepts new golden references: copies every CASE.actual.png from the golden output directory
-# (default: build/golden-out, or $PUFF_GOLDEN_OUTPUT_DIR) to tests/golden/references/CASE.png.
+# Accepts new golden references: copies every CASE.actual.png from the golden output directory to
+# tests/golden/references/CASE.png.
+#   tests/golden/accept.sh [BUILD_DIR (build)]
+# The tests write to BUILD_DIR/tests/golden-out (or to $PUFF_GOLDEN_OUTPUT_DIR when it is set).
 # Look at the actual and diff images first: this makes them the new truth.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
-out=${1:-${PUFF_GOLDEN_OUTPUT_DIR:-$here/../../build/tests/golden-out}}
+build=${1:-$here/../../build}
+out=${PUFF_GOLDEN_OUTPUT_DIR:-$build/tests/golden-out}
 refs=$here/references
 shopt -s nullglob
 files=("$out"/*.actual.png)

@@ -16,7 +16,7 @@ fs::path referenceDir() {
 
 fs::path outputDir() {
   if (const char* d = std::getenv("PUFF_GOLDEN_OUTPUT_DIR"); d && *d) return d;
-  return fs::current_path() / "golden-out";
+  return PUFF_GOLDEN_OUT_DIR;
 }
 
 GoldenResult compareToGolden(const core::Image& actual, const std::string& name, const GoldenTolerance& tol) {

@@ -30,7 +30,8 @@ GoldenResult compareToGolden(const core::Image& actual, const std::string& caseN
 
 /// $PUFF_GOLDEN_REFERENCE_DIR, else tests/golden/references in the source tree.
 std::filesystem::path referenceDir();
-/// $PUFF_GOLDEN_OUTPUT_DIR, else golden-out/ under the current directory.
+/// $PUFF_GOLDEN_OUTPUT_DIR, else golden-out/ in the build's tests directory (PUFF_GOLDEN_OUT_DIR,
+/// set by tests/CMakeLists.txt: build/tests/golden-out, where tests/golden/accept.sh looks).
 std::filesystem::path outputDir();
 
 }  // namespace puff::test

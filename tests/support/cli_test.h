@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -14,6 +13,8 @@
 #include <string>
 
 #include <puff/core/files.h>
+
+#include "support/temp_dir.h"
 
 namespace puff::test {
 
@@ -25,18 +26,12 @@ struct CliRun {
 class CliTest : public ::testing::Test {
  protected:
   /// `exe`: the tool's path; `tool`: its name as its messages start ("puffbake").
-  CliTest(std::string exe, std::string tool) : exe_(std::move(exe)), tool_(std::move(tool)) {}
+  CliTest(std::string exe, std::string tool) : dir_(tool + "_cli"), exe_(std::move(exe)), tool_(std::move(tool)) {}
 
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() / (tool_ + "_cli_" + std::to_string(::getpid()) + "_" +
-                                                     ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
+  /// A test may lock dir_/locked; unlocked here so that dir_ can be removed.
   void TearDown() override {
     std::error_code ec;
     std::filesystem::permissions(dir_ / "locked", std::filesystem::perms::owner_all, ec);
-    std::filesystem::remove_all(dir_);
   }
 
   /// Runs the tool with `args` (shell syntax) and returns its exit code and output.
@@ -69,7 +64,7 @@ class CliTest : public ::testing::Test {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   }
 
-  std::filesystem::path dir_;
+  ScopedTempDir dir_;
 
  private:
   std::string exe_, tool_;

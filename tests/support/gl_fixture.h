@@ -7,6 +7,8 @@
 
 #include <puff/core/gl_context.h>
 
+#include "support/assert_ok.h"
+
 namespace puff::test {
 
 class GlTest : public ::testing::Test {
@@ -14,7 +16,7 @@ class GlTest : public ::testing::Test {
   static void SetUpTestSuite() {
     if (context_) return;
     auto c = core::createGlContext({});
-    ASSERT_TRUE(c.ok()) << c.error().message;
+    ASSERT_OK(c);
     context_ = std::move(*c);
   }
   static void TearDownTestSuite() { context_.reset(); }

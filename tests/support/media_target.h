@@ -15,6 +15,7 @@
 #include <puff/core/gl.h>
 #include <puff/media/media.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 
 namespace puff::test {
@@ -100,7 +101,7 @@ class MediaRendererTest : public GlTest {
     GlTest::SetUp();
     if (!renderer_) {
       auto r = media::Renderer::create();
-      ASSERT_TRUE(r.ok()) << r.error().message;
+      ASSERT_OK(r);
       renderer_ = std::move(*r);
     }
   }

@@ -2,11 +2,10 @@
 // and distance field; an ellipsoid's projected area in every view; determinism; mips.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include <glm/geometric.hpp>
@@ -17,19 +16,15 @@
 #include <puff/core/atlas.h>
 #include <puff/core/files.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
+#include "support/temp_dir.h"
 
 namespace puff::bake {
 namespace {
 
 namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
-
-fs::path tempDir(const std::string& name) {
-  fs::path p = fs::temp_directory_path() / ("puff_bake_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(p);
-  return p;
-}
 
 std::vector<PuffSource> sphereSources(int count = 1, int subdivisions = 6) {
   std::vector<PuffSource> s(static_cast<std::size_t>(count));
@@ -56,23 +51,23 @@ class BakeSphere : public test::GlTest {
  protected:
   static void SetUpTestSuite() {
     GlTest::SetUpTestSuite();
-    dir_ = tempDir("sphere");
+    dir_.emplace("puff_bake_test_sphere");
     BakeOptions o;
     o.cellSize = 128;
     o.flange = {4.0f, false};
     o.supersample = 4;
-    o.outDir = dir_;
+    o.outDir = dir_->path();
     auto r = bakeAtlas(sphereSources(), o);
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     auto atlas = core::loadAtlas(r->sidecar);
-    ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+    ASSERT_OK(atlas);
     atlas_ = std::make_unique<core::Atlas>(std::move(*atlas));
   }
   static void TearDownTestSuite() {
-    fs::remove_all(dir_);
+    dir_.reset();
     atlas_.reset();
   }
-  static inline fs::path dir_;
+  static inline std::optional<test::ScopedTempDir> dir_;
   static inline std::unique_ptr<core::Atlas> atlas_;
 };
 
@@ -184,7 +179,7 @@ TEST_F(BakeSphere, MipLevelsKeepCoverageAndCellsApart) {
 TEST_F(BakeSphere, SidecarRoundTrips) {
   const core::AtlasDesc& d = atlas_->desc;
   auto again = core::atlasFromJson(core::toJson(d));
-  ASSERT_TRUE(again.ok()) << again.error().message;
+  ASSERT_OK(again);
   EXPECT_EQ(core::toJson(*again), core::toJson(d));
   EXPECT_EQ(d.sources.size(), 1u);
   EXPECT_EQ(d.sources[0].generator, "sphere");
@@ -218,11 +213,12 @@ TEST_F(BakeGl, EllipsoidProjectedAreaInEveryView) {
     o.flange = {0.0f, false};
     o.mips = false;
     o.contactSheet = false;
-    o.outDir = tempDir("ellipsoid");
+    const test::ScopedTempDir out("puff_bake_test_ellipsoid");
+    o.outDir = out.path();
     auto r = bakeAtlas(src, o);
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     auto atlas = core::loadAtlas(r->sidecar);
-    ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+    ASSERT_OK(atlas);
     const core::AtlasDesc& d = atlas->desc;
     ASSERT_EQ(d.cells.size(), 9u);
     for (const core::AtlasCell& c : d.cells) {
@@ -240,7 +236,6 @@ TEST_F(BakeGl, EllipsoidProjectedAreaInEveryView) {
       EXPECT_NEAR(area / (texelsPerUnit * texelsPerUnit), expectedUnits, 0.01 * expectedUnits)
           << "view " << c.view << " dir " << v.x << "," << v.y << "," << v.z;
     }
-    fs::remove_all(o.outDir);
   }
 }
 
@@ -249,10 +244,11 @@ TEST_F(BakeGl, VertexColoursReachTheColourMap) {
   src[0].mesh.colors.assign(src[0].mesh.positions.size(), glm::vec3(0.2f, 0.6f, 0.8f));
   BakeOptions o;
   o.cellSize = 64;
-  o.outDir = tempDir("colors");
+  const test::ScopedTempDir out("puff_bake_test_colors");
+  o.outDir = out.path();
   o.defaultColor = glm::vec3(1.0f, 0.0f, 0.0f);  // must not be used
   auto r = bakeAtlas(src, o);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   auto atlas = core::loadAtlas(r->sidecar);
   ASSERT_TRUE(atlas.ok());
   const core::Image& color = atlas->maps.at("color")[0];
@@ -260,7 +256,6 @@ TEST_F(BakeGl, VertexColoursReachTheColourMap) {
   EXPECT_NEAR(color.at(32, 32, 1), 0.6, 0.5 / 255 + 1e-6);
   EXPECT_NEAR(color.at(32, 32, 2), 0.8, 0.5 / 255 + 1e-6);
   EXPECT_EQ(color.at(32, 32, 3), 1.0f);
-  fs::remove_all(o.outDir);
 }
 
 std::map<std::string, std::string> readAll(const fs::path& dir) {
@@ -284,11 +279,11 @@ TEST_F(BakeGl, TwoBakesAreByteIdentical) {
       src[static_cast<std::size_t>(k)].mesh = mesh::generateLumpy(p);
       src[static_cast<std::size_t>(k)].provenance.generator = "lumpy";
     }
-    o.outDir = tempDir("determinism" + std::to_string(i));
+    const test::ScopedTempDir out("puff_bake_test_determinism" + std::to_string(i));
+    o.outDir = out.path();
     auto r = bakeAtlas(src, o);
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     runs.push_back(readAll(o.outDir));
-    fs::remove_all(o.outDir);
   }
   ASSERT_EQ(runs[0].size(), runs[1].size());
   ASSERT_GE(runs[0].size(), 5u);
@@ -299,16 +294,17 @@ TEST_F(BakeGl, ExrMapsMatchThePngMaps) {
   auto src = sphereSources(1, 4);
   BakeOptions o;
   o.cellSize = 32;
-  o.outDir = tempDir("exr");
+  const test::ScopedTempDir out("puff_bake_test_exr");
+  o.outDir = out.path();
   auto png = bakeAtlas(src, o);
-  ASSERT_TRUE(png.ok()) << png.error().message;
+  ASSERT_OK(png);
   o.format = MapFormat::kExr;
   auto exr = bakeAtlas(src, o);
-  ASSERT_TRUE(exr.ok()) << exr.error().message;
+  ASSERT_OK(exr);
   EXPECT_EQ(exr->desc.fileFormat, "exr");
   EXPECT_EQ(exr->sidecar, png->sidecar);  // same sidecar name: the EXR bake replaced it
   auto a = core::loadAtlas(exr->sidecar);
-  ASSERT_TRUE(a.ok()) << a.error().message;
+  ASSERT_OK(a);
   EXPECT_EQ(fs::path(a->desc.maps.at("color").levels[0]).extension(), ".exr");
   auto pngColor = core::readImage(o.outDir / "puff_color.png");
   ASSERT_TRUE(pngColor.ok());
@@ -316,7 +312,6 @@ TEST_F(BakeGl, ExrMapsMatchThePngMaps) {
   ASSERT_EQ(exrColor.pixels.size(), pngColor->pixels.size());
   for (std::size_t i = 0; i < exrColor.pixels.size(); ++i)
     ASSERT_NEAR(exrColor.pixels[i], pngColor->pixels[i], 0.5 / 255 + 1e-3);
-  fs::remove_all(o.outDir);
 }
 
 TEST(BakeDistance, ExactTransformOfAPointAndAnEmptyImage) {
@@ -363,7 +358,7 @@ TEST(BakeOptions, RejectsAbsurdSizes) {
   o.cellSize = 16385;
   EXPECT_FALSE(validate(o, 1).ok());
   o.cellSize = 2048;
-  EXPECT_TRUE(validate(o, 16).ok()) << validate(o, 16).error().message;  // an 8192^2 atlas fits
+  EXPECT_OK(validate(o, 16));  // an 8192^2 atlas fits
   o.cellSize = 4096;
   EXPECT_NE(validate(o, 17).error().message.find("above the 16384 limit"), std::string::npos);
   o.cellSize = 8192;
@@ -398,9 +393,10 @@ TEST_F(BakeLod, AutoLodFindsFewerFacesWithinTheTolerances) {
   o.cellSize = 32;
   o.lodAuto = true;
   o.contactSheet = false;
-  o.outDir = fs::temp_directory_path() / ("puff_bake_test_lod_" + std::to_string(::getpid()));
+  const test::ScopedTempDir out("puff_bake_test_lod");
+  o.outDir = out.path();
   auto r = bakeAtlas(src, o);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   ASSERT_EQ(r->lod.size(), 1u);
   ASSERT_TRUE(r->lod[0].has_value());
   const LodResult& lod = *r->lod[0];
@@ -413,7 +409,7 @@ TEST_F(BakeLod, AutoLodFindsFewerFacesWithinTheTolerances) {
   // texel side, no flange): the chosen mesh is within both tolerances, and half its faces is not.
   const core::AtlasDesc& d = r->desc;
   auto raster = PuffRasterizer::create(d.cellSize * 2);
-  ASSERT_TRUE(raster.ok()) << raster.error().message;
+  ASSERT_OK(raster);
   SampleBuffer samples;
   auto maps = [&](const mesh::TriMesh& m) {
     (*raster)->setMesh(m, glm::vec3(1.0f));
@@ -428,7 +424,6 @@ TEST_F(BakeLod, AutoLodFindsFewerFacesWithinTheTolerances) {
   EXPECT_TRUE(half.meanNormalError > o.lodNormalTolerance || half.silhouetteTexels > o.lodSilhouetteTolerance)
       << "half the faces still passes: the search did not find the fewest";
   RecordProperty("faces_after", std::to_string(lod.facesAfter));
-  fs::remove_all(o.outDir);
 }
 
 TEST(BakeCompare, IdenticalCellsDifferByNothingAndAShiftedDiscByItsShift) {
@@ -510,11 +505,12 @@ TEST_F(BakeFlange, PercentOfTheCellGivesThatWidth) {
   o.flange = {0.03f, true};  // "3%"
   o.mips = false;
   o.contactSheet = false;
-  o.outDir = tempDir("flange_percent");
+  const test::ScopedTempDir out("puff_bake_test_flange_percent");
+  o.outDir = out.path();
   auto r = bakeAtlas(src, o);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   auto atlas = core::loadAtlas(r->sidecar);
-  ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+  ASSERT_OK(atlas);
   const core::AtlasDesc& d = atlas->desc;
   EXPECT_NEAR(d.flangeTexels, 3.84f, 1e-4f);
   double dilatedArea = 0;
@@ -523,7 +519,6 @@ TEST_F(BakeFlange, PercentOfTheCellGivesThatWidth) {
     for (int x = 0; x < d.cellSize; ++x) dilatedArea += color.at(x, y, 3);
   }
   EXPECT_NEAR(std::sqrt(dilatedArea / kPi) - d.contentSize / 2.0, 0.03 * 128, 0.25);
-  fs::remove_all(o.outDir);
 }
 
 }  // namespace

@@ -3,8 +3,6 @@
 // previous run.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -14,6 +12,9 @@
 
 #include <puff/core/blackbody.h>
 #include <puff/core/image.h>
+
+#include "support/assert_ok.h"
+#include "support/temp_dir.h"
 
 namespace {
 
@@ -50,7 +51,7 @@ TEST(BlackbodyLocus, XyzMatchesThePublishedPlanckianLocus) {
 
 TEST(BlackbodyLocus, RampColoursConvertBackToThePublishedLocus) {
   auto ramp = puff::core::makeBlackbodyRamp(1000, 10000, 1024, 3200);
-  ASSERT_TRUE(ramp.ok()) << ramp.error().message;
+  ASSERT_OK(ramp);
   for (const LocusPoint& p : kPublishedLocus) {
     SCOPED_TRACE(std::to_string(p.kelvin) + " K");
     const glm::dvec2 xy = chromaticity(puff::core::linearSrgbToXyz(glm::dvec3(ramp->at(p.kelvin))));
@@ -72,7 +73,7 @@ TEST(BlackbodyLocus, SrgbMatricesAreInversesAndMapD65ToWhite) {
 
 TEST(BlackbodyRamp, HotterIsBluerAndBrighter) {
   auto ramp = puff::core::makeBlackbodyRamp(1000, 10000, 256, 3200);
-  ASSERT_TRUE(ramp.ok()) << ramp.error().message;
+  ASSERT_OK(ramp);
   int negativeBlue = 0;
   for (std::size_t i = 1; i < ramp->rgb.size(); ++i) {
     SCOPED_TRACE("texel " + std::to_string(i) + ", " + std::to_string(ramp->minKelvin + 9000.0 * i / 255) + " K");
@@ -146,7 +147,7 @@ TEST(BlackbodyPlanck, IntegratesToStefanBoltzmannAndMeetsRayleighJeans) {
 TEST(BlackbodyRamp, NormalizationGivesLuminanceOneAtTheChosenTemperature) {
   for (double normalize : {1500.0, 3200.0, 6500.0}) {
     auto ramp = puff::core::makeBlackbodyRamp(1000, 10000, 1024, normalize);
-    ASSERT_TRUE(ramp.ok()) << ramp.error().message;
+    ASSERT_OK(ramp);
     EXPECT_NEAR(puff::core::linearSrgbToXyz(glm::dvec3(ramp->at(normalize))).y, 1.0, 1e-3) << normalize;
   }
   // A normalization temperature outside the range works too: texel 0 of [3200, 4000] is Y = 1 at 3200 K,
@@ -174,14 +175,7 @@ TEST(BlackbodyRamp, AtInterpolatesLinearlyAndClamps) {
 
 class BlackbodyFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("puff_blackbody_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  puff::test::ScopedTempDir dir_{"puff_blackbody"};
 };
 
 TEST_F(BlackbodyFile, WriteReadRoundTripIsExact) {
@@ -192,7 +186,7 @@ TEST_F(BlackbodyFile, WriteReadRoundTripIsExact) {
   // Nothing but the file: the temporary was renamed over it.
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_ / "sub"), fs::directory_iterator()), 1);
   auto back = puff::core::readBlackbodyRamp(path);
-  ASSERT_TRUE(back.ok()) << back.error().message;
+  ASSERT_OK(back);
   EXPECT_EQ(back->minKelvin, 1000.0);
   EXPECT_EQ(back->maxKelvin, 10000.0);
   EXPECT_EQ(back->normalizeKelvin, 3200.0);

@@ -21,6 +21,7 @@
 #include <puff/scene/read.h>
 #include <puff/scene/write.h>
 
+#include "support/assert_ok.h"
 #include "support/cli_test.h"
 #include "support/gl_fixture.h"
 #include "support/sphere_atlas.h"
@@ -60,7 +61,7 @@ TEST(BudgetFrames, FirstMiddleAndLastWithoutRepeats) {
 TEST(BudgetChoice, TheCheapestWithinTheBudgetWithoutAssumingMonotony) {
   const eval::MediaBudget b = syntheticBudget({0.03, 0.02, 0.01, 0.005});
   auto c = eval::chooseMediaResolution(b, 0.015);
-  ASSERT_TRUE(c.ok()) << c.error().message;
+  ASSERT_OK(c);
   EXPECT_TRUE(c->met);
   EXPECT_EQ(c->chosen, 2u);
   EXPECT_EQ(eval::budgetSummary(b, *c),
@@ -115,7 +116,7 @@ class BudgetExplosion : public test::GlTest {
     test::GlTest::SetUp();
     if (budget_ || !error_.empty()) return;
     auto scene = smallExplosion();
-    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    ASSERT_OK(scene);
     auto b = eval::measureMediaBudget(*scene, kFireFrames, eval::MediaBudgetOptions{1});
     if (!b) {
       error_ = b.error().message;
@@ -212,7 +213,7 @@ TEST_F(BudgetExplosion, TheErrorsAreTheSameEveryTime) {
   ASSERT_TRUE(scene.ok());
   const int frame[] = {20};
   auto again = eval::measureMediaBudget(*scene, frame, eval::MediaBudgetOptions{1});
-  ASSERT_TRUE(again.ok()) << again.error().message;
+  ASSERT_OK(again);
   for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(again->candidates[i].rmse[0], budget().candidates[i].rmse[1]);
 }
 
@@ -220,11 +221,11 @@ TEST_F(BudgetExplosion, TheRendererHandsOutWhatItComposedOver) {
   auto scene = smallExplosion();
   ASSERT_TRUE(scene.ok());
   auto renderer = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+  ASSERT_OK(renderer);
   EXPECT_FALSE((*renderer)->lastMediaFrame().ok());  // nothing drawn yet
   ASSERT_TRUE((*renderer)->renderFrame(5).ok());
   auto in = (*renderer)->lastMediaFrame();
-  ASSERT_TRUE(in.ok()) << in.error().message;
+  ASSERT_OK(in);
   EXPECT_EQ(in->frame.width, 96);
   EXPECT_EQ(in->frame.height, 72);
   EXPECT_GT(in->particles.size(), 20u);
@@ -277,7 +278,7 @@ TEST_F(BudgetCli, SaysWhatItChoseAndWhyAndRendersWithIt) {
   EXPECT_NE(r.err.find(" over frames 4, 5, 6"), std::string::npos) << r.err;
   for (int f : {4, 5, 6}) {
     auto image = core::readImage(dir_ / ("ex_0" + std::to_string(f) + ".png"));
-    ASSERT_TRUE(image.ok()) << image.error().message;
+    ASSERT_OK(image);
     EXPECT_EQ(image->width, 96);
     EXPECT_EQ(image->height, 72);
   }
@@ -324,18 +325,8 @@ TEST_F(BudgetCli, BadBudgetsExitTwo) {
 
 // ---- the cel path: atlas levels -------------------------------------------------------------------
 
-class CelBudget : public test::GlTest {
+class CelBudget : public test::SphereAtlasTest {
  protected:
-  static void SetUpTestSuite() {
-    GlTest::SetUpTestSuite();
-    dir_ = fs::temp_directory_path() / ("puff-cel-budget-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_TRUE(sidecar.ok()) << sidecar.error().message;
-    sidecar_ = *sidecar;
-  }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
-
   // Two sphere puffs, shaded and outlined, 96 x 72, orthographic, two frames.
   static scene::Scene scene(int atlasLevel = 0) {
     nlohmann::json j = {
@@ -350,24 +341,23 @@ class CelBudget : public test::GlTest {
         {"particles", {{{"position", {0.3, 0.2, 0}}, {"size", 3.0}}, {{"position", {-1.2, -0.8, 1}}, {"size", 2.0}}}},
         {"animation", {{"frames", 2}, {"fps", 4}, {"orbit", 20}}}};
     auto s = scene::parseScene(j, dir_ / "scene.json");
-    EXPECT_TRUE(s.ok()) << s.error().message;
+    EXPECT_OK(s);
     return s ? *s : scene::Scene{};
   }
-  static inline fs::path dir_, sidecar_;
 };
 
 // A level is the atlas with its finest levels dropped: every texel size shrinks by 2^level and the
 // new level 0 is the old level `level`, texel for texel.
 TEST_F(CelBudget, AnAtlasLevelIsTheAtlasWithoutItsFinestMips) {
   auto atlas = core::loadAtlas(sidecar_);
-  ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+  ASSERT_OK(atlas);
   const core::AtlasDesc& d = atlas->desc;
   const int deepest = core::deepestAtlasLevel(d);
   EXPECT_GE(deepest, 2);
   EXPECT_EQ(d.cellSize % (1 << deepest), 0);
   EXPECT_EQ(d.margin % (1 << deepest), 0);
   auto two = core::atlasFromLevel(*atlas, 2);
-  ASSERT_TRUE(two.ok()) << two.error().message;
+  ASSERT_OK(two);
   EXPECT_EQ(two->desc.cellSize, d.cellSize / 4);
   EXPECT_EQ(two->desc.margin, d.margin / 4);
   EXPECT_EQ(two->desc.contentSize, d.contentSize / 4);
@@ -397,7 +387,7 @@ TEST_F(CelBudget, AnAtlasLevelIsTheAtlasWithoutItsFinestMips) {
 TEST_F(CelBudget, EveryLevelIsMeasuredAndTheBudgetPicksTheSmallestWithinIt) {
   const int frames[] = {0, 1};
   auto b = eval::measureCelBudget(scene(), frames, {.timedRenders = 1});
-  ASSERT_TRUE(b.ok()) << b.error().message;
+  ASSERT_OK(b);
   ASSERT_GE(b->candidates.size(), 3u);
   EXPECT_EQ(b->frames, (std::vector<int>{0, 1}));
   for (std::size_t i = 0; i + 1 < b->candidates.size(); ++i) {
@@ -432,7 +422,7 @@ TEST_F(CelBudget, EveryLevelIsMeasuredAndTheBudgetPicksTheSmallestWithinIt) {
   // same ones): the same errors, no time spent on references; references of other frames are refused.
   ASSERT_EQ(b->references.size(), 2u);
   auto again = eval::measureCelBudget(scene(), frames, {.timedRenders = 1}, eval::CelKnob::kAtlasLevel, b->references);
-  ASSERT_TRUE(again.ok()) << again.error().message;
+  ASSERT_OK(again);
   EXPECT_EQ(again->referenceMs, 0.0);
   for (std::size_t i = 0; i < b->candidates.size(); ++i)
     EXPECT_EQ(again->candidates[i].rmse, b->candidates[i].rmse) << "level " << b->candidates[i].atlasLevel;
@@ -494,7 +484,7 @@ TEST_F(CelBudget, TheParticleCountIsMeasuredAgainstTheFullModel) {
   s.emitters.push_back(e);
   const int frames[] = {0};
   auto b = eval::measureCelBudget(s, frames, {.timedRenders = 1}, eval::CelKnob::kParticleFraction);
-  ASSERT_TRUE(b.ok()) << b.error().message;
+  ASSERT_OK(b);
   ASSERT_EQ(b->candidates.size(), eval::kParticleFractions.size());
   EXPECT_EQ(b->candidates[0].particles, 6u);  // 48 / 8
   EXPECT_EQ(b->candidates.back().particles, 48u);

@@ -17,6 +17,7 @@
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/sphere_atlas.h"
 
@@ -27,18 +28,8 @@ namespace fs = std::filesystem;
 constexpr int kPx = 128;
 constexpr float kPxPerUnit = 16.0f;  // orthoHeight 8 over 128 pixels
 
-class CelReference : public test::GlTest {
+class CelReference : public test::SphereAtlasTest {
  protected:
-  static void SetUpTestSuite() {
-    GlTest::SetUpTestSuite();
-    dir_ = fs::temp_directory_path() / ("puff-cel-reference-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_TRUE(sidecar.ok()) << sidecar.error().message;
-    sidecar_ = *sidecar;
-  }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
-
   // An orthographic camera looking down -z at the origin, 16 px per unit, white light K_L, ambient
   // 0.2, background 0.9; `style` and `particles` (and `objects`) as given.
   static nlohmann::json frontScene(const nlohmann::json& style, const nlohmann::json& particles,
@@ -61,13 +52,13 @@ class CelReference : public test::GlTest {
 
   static core::Image render(const nlohmann::json& j, render::RenderPath path = render::RenderPath::kReference) {
     auto scene = scene::parseScene(j, dir_ / "scene.json");
-    EXPECT_TRUE(scene.ok()) << scene.error().message;
+    EXPECT_OK(scene);
     if (!scene) return {};
     auto renderer = eval::createRenderer(*scene, path);
-    EXPECT_TRUE(renderer.ok()) << renderer.error().message;
+    EXPECT_OK(renderer);
     if (!renderer) return {};
     auto image = (*renderer)->renderFrame(0);
-    EXPECT_TRUE(image.ok()) << image.error().message;
+    EXPECT_OK(image);
     return image ? std::move(*image) : core::Image{};
   }
 
@@ -75,8 +66,6 @@ class CelReference : public test::GlTest {
   static glm::vec2 world(int px, int py) {
     return {(px + 0.5f - kPx / 2) / kPxPerUnit, (kPx / 2 - py - 0.5f) / kPxPerUnit};
   }
-
-  static inline fs::path dir_, sidecar_;
 };
 
 const nlohmann::json kFlat = {{"outlines", false}, {"shading", false}, {"shadows", false}};
@@ -289,9 +278,9 @@ TEST_F(CelReference, AFrameDoesNotDependOnTheFramesBeforeIt) {
       {"particles", {{{"position", {-1.5, 1.2, 0}}, {"size", 1.5}}, {{"position", {1, 1.6, 0.5}}, {"size", 1.2}}}},
       {"animation", {{"fps", 4}, {"frames", 8}, {"orbit", 60}}}};
   auto scene = scene::parseScene(j, dir_ / "scene.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto first = eval::createCelReference(*scene);
-  ASSERT_TRUE(first.ok()) << first.error().message;
+  ASSERT_OK(first);
   ASSERT_TRUE((*first)->renderFrame(0).ok());
   auto after = (*first)->renderFrame(6);
   auto fresh = eval::createCelReference(*scene);
@@ -309,9 +298,9 @@ TEST_F(CelReference, TheFillRateFloorDrawsBareQuads) {
   nlohmann::json j = frontScene({{"outlines", true}, {"outlineWidth", 2}, {"shading", true}, {"shadows", false}},
                                 {{{"position", {0, 0, 0}}, {"size", 2 * R}}});
   auto scene = scene::parseScene(j, dir_ / "scene.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto r = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   auto lit = (*r)->renderFrame(0);
   (*r)->setFillRateFloor(true);
   auto floor = (*r)->renderFrame(0);
@@ -345,13 +334,13 @@ TEST_F(CelReference, AStaleOrMissingSourceMeshIsNamed) {
   o.outDir = dir / "atlas";
   o.contactSheet = false;
   auto sources = bake::loadSources({meshFile}, std::nullopt);
-  ASSERT_TRUE(sources.ok()) << sources.error().message;
+  ASSERT_OK(sources);
   auto baked = bake::bakeAtlas(*sources, o);
-  ASSERT_TRUE(baked.ok()) << baked.error().message;
+  ASSERT_OK(baked);
   nlohmann::json j = frontScene(kFlat, {{{"position", {0, 0, 0}}}});
   j["atlas"] = baked->sidecar.string();
   auto scene = scene::parseScene(j, dir / "scene.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   ASSERT_TRUE(eval::createCelReference(*scene).ok());
 
   std::ofstream(meshFile, std::ios::app) << "# edited\n";

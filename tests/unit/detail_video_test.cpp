@@ -3,8 +3,6 @@
 // exactly as documented.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -16,6 +14,9 @@
 #include <puff/core/detail_video.h>
 #include <puff/core/files.h>
 #include <puff/core/image.h>
+
+#include "support/assert_ok.h"
+#include "support/temp_dir.h"
 
 namespace {
 
@@ -81,7 +82,7 @@ TEST(DetailVideoGenerate, TilesInXAndYAndLoopsInTime) {
   spec.frames = 24;
   spec.seed = 7;
   auto v = puff::bake::generateDetailVideo(spec);
-  ASSERT_TRUE(v.ok()) << v.error().message;
+  ASSERT_OK(v);
   for (int axis = 0; axis < 3; ++axis) {
     SCOPED_TRACE("axis " + std::to_string(axis));
     const Steps s = steps(*v, axis);
@@ -180,14 +181,6 @@ TEST(DetailVideoGenerate, BadSpecsNameTheFlag) {
 
 class DetailVideoFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("puff_detail_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   // A float EXR frame (stored exactly) filled by fn(x, y) in every channel.
   template <class Fn>
   fs::path frame(const std::string& name, int w, int h, Fn fn, int channels = 1) {
@@ -200,7 +193,7 @@ class DetailVideoFile : public ::testing::Test {
     return p;
   }
 
-  fs::path dir_;
+  puff::test::ScopedTempDir dir_{"puff_detail"};
 };
 
 TEST_F(DetailVideoFile, PngRoundTripsWithin16BitPrecisionAndExrWithinHalf) {
@@ -215,7 +208,7 @@ TEST_F(DetailVideoFile, PngRoundTripsWithin16BitPrecisionAndExrWithinHalf) {
     ASSERT_TRUE(puff::core::saveDetailVideo(path, *v).ok());
     EXPECT_EQ(puff::core::readImageAttribute(path, "puff:frames").value(), "6");
     auto back = puff::core::loadDetailVideo(path);
-    ASSERT_TRUE(back.ok()) << back.error().message;
+    ASSERT_OK(back);
     EXPECT_EQ(back->width, 32);
     EXPECT_EQ(back->height, 32);
     EXPECT_EQ(back->frames, 6);
@@ -250,7 +243,7 @@ TEST_F(DetailVideoFile, LoadTakesLuminanceOfColourImages) {
   const fs::path p = dir_ / "rgb.exr";
   ASSERT_TRUE(puff::core::writeImage(p, img, puff::core::PixelType::kFloat, {{"puff:frames", "2"}}).ok());
   auto v = puff::core::loadDetailVideo(p);
-  ASSERT_TRUE(v.ok()) << v.error().message;
+  ASSERT_OK(v);
   EXPECT_EQ(v->frames, 2);
   EXPECT_EQ(v->height, 4);
   EXPECT_NEAR(v->at(3, 3, 1), 0.2126f + 0.7152f * 0.5f, 1e-6f);
@@ -301,7 +294,7 @@ TEST_F(DetailVideoFile, SaveRefusesBadVideosAndNeverClobbers) {
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("good.png"), std::string::npos) << r.error().message;
   EXPECT_EQ(puff::core::readFileBytes(good).value(), before);
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir_), fs::directory_iterator()), 1);  // no temporaries
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_.path()), fs::directory_iterator()), 1);  // no temporaries
 }
 
 TEST_F(DetailVideoFile, ImportCrossFadesTheTailIntoTheHeadExactly) {
@@ -313,7 +306,7 @@ TEST_F(DetailVideoFile, ImportCrossFadesTheTailIntoTheHeadExactly) {
     frames.push_back(frame(name, 4, 4, [k](int, int) { return k / 10.0f; }));
   }
   auto v = puff::bake::importDetailVideo(frames, 4, 2);
-  ASSERT_TRUE(v.ok()) << v.error().message;
+  ASSERT_OK(v);
   ASSERT_EQ(v->frames, 4);
   const float expected[4] = {(2.0f * 0.4f + 0.0f) / 3.0f, (0.5f + 2.0f * 0.1f) / 3.0f, 0.2f, 0.3f};
   for (int f = 0; f < 4; ++f)
@@ -330,7 +323,7 @@ TEST_F(DetailVideoFile, ImportResamplesWithABoxDownAndBilinearUp) {
   auto pattern = [](int x, int y) { return static_cast<float>((x * 7 + y * 3) % 11) / 10.0f; };
   const fs::path big = frame("big.exr", 8, 8, pattern);
   auto down = puff::bake::importDetailVideo({big}, 4, 0);
-  ASSERT_TRUE(down.ok()) << down.error().message;
+  ASSERT_OK(down);
   for (int y = 0; y < 4; ++y)
     for (int x = 0; x < 4; ++x) {
       const float box = (pattern(2 * x, 2 * y) + pattern(2 * x + 1, 2 * y) + pattern(2 * x, 2 * y + 1) +

@@ -27,6 +27,8 @@
 #include <puff/fixedfunc/renderer.h>
 #include <puff/mesh/mesh.h>
 
+#include "support/assert_ok.h"
+
 namespace puff::fixedfunc {
 namespace {
 
@@ -153,7 +155,7 @@ void drawEverything(FixedRenderer& r) {
   std::vector<Billboard> billboards;
   for (int i = 0; i < 8; ++i) billboards.push_back({{0.3f * i - 1.0f, 0.1f * i, -5.0f - 0.2f * i}, 0.8f, i});
   auto drawn = r.drawFrame(makeFrame(), billboards, FixedStyle{});
-  ASSERT_TRUE(drawn.ok()) << drawn.error().message;
+  ASSERT_OK(drawn);
   dumpIfAsked("fixedfunc-everything");
 }
 
@@ -172,7 +174,7 @@ TEST_F(FixedFuncTest, CallsOnlyOpenGl15EntryPoints) {
     glGenBuffers(1, &buffer);
     glBindBuffer(GL_ARRAY_BUFFER, buffer);
     auto r = FixedRenderer::create(unitSphere(), 64);
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     ASSERT_TRUE((*r)->setRamp(twoToneRamp(0.3f, 0.9f)).ok());
     drawEverything(**r);
     r->reset();
@@ -338,7 +340,7 @@ std::map<std::string, std::vector<double>> captureState() {
 
 TEST_F(FixedFuncTest, RestoresTheHostsState) {
   auto r = FixedRenderer::create(unitSphere(), 32);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
 
   // A distinctive host state, nothing like GL's defaults or what the path sets.
   GLuint textures[3] = {};
@@ -422,7 +424,7 @@ TEST_F(FixedFuncTest, RestoresTheHostsState) {
 TEST_F(FixedFuncTest, PuffTextureIsTwoToneNDotLWithCoverageInAlpha) {
   constexpr int kCell = 64;
   auto r = FixedRenderer::create(unitSphere(), kCell);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   const float low = 0.3f, high = 0.9f;
   ASSERT_TRUE((*r)->setRamp(twoToneRamp(low, high)).ok());
   const FixedFrame frame = makeFrame();
@@ -476,7 +478,7 @@ TEST_F(FixedFuncTest, PuffTextureIsTwoToneNDotLWithCoverageInAlpha) {
 TEST_F(FixedFuncTest, DiagonalLightBandFollowsNDotL) {
   constexpr int kCell = 64;
   auto r = FixedRenderer::create(unitSphere(), kCell);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   ASSERT_TRUE((*r)->setRamp(twoToneRamp(0.3f, 0.9f)).ok());
   FixedFrame frame = makeFrame();
   frame.lightDirection = {1.0f, 1.0f, 0.0f};
@@ -503,7 +505,7 @@ TEST_F(FixedFuncTest, DiagonalLightBandFollowsNDotL) {
 
 TEST_F(FixedFuncTest, ShadingOffIsFlatDiffusePlusAmbient) {
   auto r = FixedRenderer::create(unitSphere(), 32);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   const FixedFrame frame = makeFrame();
   FixedStyle style;
   style.shading = false;
@@ -523,7 +525,7 @@ TEST_F(FixedFuncTest, ShadingOffIsFlatDiffusePlusAmbient) {
 TEST_F(FixedFuncTest, TheFourOrientationsDiffer) {
   constexpr int kCell = 64;
   auto r = FixedRenderer::create(mesh::generateLumpy({}), kCell);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   FixedFrame frame = makeFrame();
   frame.lightDirection = {0.3f, 1.0f, 0.5f};
   ASSERT_TRUE((*r)->drawFrame(frame, {}).ok());
@@ -582,7 +584,7 @@ Rings classify(const std::vector<glm::vec4>& px, const glm::vec4& background, fl
 
 TEST_F(FixedFuncTest, BillboardCoversItsDiscAndTheOutlineIsARingBehindIt) {
   auto r = FixedRenderer::create(unitSphere(), 64);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   ASSERT_TRUE((*r)->setRamp(twoToneRamp(0.3f, 0.9f)).ok());
   const FixedFrame frame = makeFrame();
   const float distance = 5.0f, size = 1.0f;
@@ -629,7 +631,7 @@ TEST_F(FixedFuncTest, BillboardCoversItsDiscAndTheOutlineIsARingBehindIt) {
 // with d > 0.5 it is behind B's body and hidden.
 TEST_F(FixedFuncTest, OffsetDDecidesWhetherAnInnerContourShows) {
   auto r = FixedRenderer::create(unitSphere(), 64);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   const FixedFrame frame = makeFrame();
   const std::vector<Billboard> two = {{{0.0f, 0.0f, -5.0f}, 1.0f, 0}, {{0.5f, 0.0f, -5.5f}, 1.2f, 0}};
   const float pixelsPerUnitAt5 = 1.0f / 5.0f / std::tan(glm::radians(kFovY) / 2.0f) * (kSize / 2.0f);
@@ -685,7 +687,7 @@ TEST(FixedFuncCore, RefusesACoreProfileContext) {
 /// One small frame with a billboard at the centre; checks its centre is the puff, not background.
 void drawOneBillboard(const std::string& expectVersionPrefix) {
   auto r = FixedRenderer::create(unitSphere(), 32);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   if (!expectVersionPrefix.empty()) {
     EXPECT_EQ((*r)->contextVersion().rfind(expectVersionPrefix, 0), 0u) << (*r)->contextVersion();
   }
@@ -719,7 +721,7 @@ TEST(FixedFuncOldestContext, Compatibility21) {
 TEST(FixedFuncOldestContext, OpenGl13) {
   if (std::getenv("PUFF_FIXEDFUNC_GL13_CHILD") != nullptr) {
     auto c = makeCompatContext(1, 3);
-    ASSERT_TRUE(c.ok()) << c.error().message;
+    ASSERT_OK(c);
     drawOneBillboard("1.3");
     return;
   }

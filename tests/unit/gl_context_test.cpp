@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "support/assert_ok.h"
+
 namespace puff::core {
 namespace {
 
@@ -152,7 +154,7 @@ Result<std::unique_ptr<GlContext>> create(const char* backend, GlProfile profile
 TEST(GlContext, BackendNamesRoundTrip) {
   for (GlBackend b : {GlBackend::kOSMesa, GlBackend::kEgl, GlBackend::kGlfw}) {
     Result<GlBackend> parsed = parseGlBackend(toString(b));
-    ASSERT_TRUE(parsed) << parsed.error().message;
+    ASSERT_OK(parsed);
     EXPECT_EQ(*parsed, b);
   }
   Result<GlBackend> upper = parseGlBackend("EGL");
@@ -176,13 +178,13 @@ TEST(GlContext, PuffGlEnvironmentChoosesTheBackend) {
   {
     ScopedEnv env("PUFF_GL", nullptr);
     Result<std::unique_ptr<GlContext>> context = createGlContext();
-    ASSERT_TRUE(context) << context.error().message;
+    ASSERT_OK(context);
     EXPECT_EQ((*context)->backend(), GlBackend::kOSMesa) << "OSMesa is the default";
   }
   {
     ScopedEnv env("PUFF_GL", "egl");
     Result<std::unique_ptr<GlContext>> context = createGlContext();
-    ASSERT_TRUE(context) << context.error().message;
+    ASSERT_OK(context);
     EXPECT_EQ((*context)->backend(), GlBackend::kEgl);
   }
 }
@@ -191,7 +193,7 @@ TEST(GlContext, PuffGlEnvironmentChoosesTheBackend) {
 
 TEST(GlContextOSMesa, Core45DrawsIntoAnFbo) {
   Result<std::unique_ptr<GlContext>> context = create("osmesa");
-  ASSERT_TRUE(context) << context.error().message;
+  ASSERT_OK(context);
   GlContext& gl = **context;
   EXPECT_EQ(gl.backend(), GlBackend::kOSMesa);
   EXPECT_EQ(gl.nativeWindow(), nullptr);
@@ -205,7 +207,7 @@ TEST(GlContextOSMesa, Core45DrawsIntoAnFbo) {
 
 TEST(GlContextOSMesa, CompatibilityProfileHasFixedFunction) {
   Result<std::unique_ptr<GlContext>> context = create("osmesa", GlProfile::kCompatibility);
-  ASSERT_TRUE(context) << context.error().message;
+  ASSERT_OK(context);
   GLint profile = 0;
   glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
   EXPECT_TRUE(profile & GL_CONTEXT_COMPATIBILITY_PROFILE_BIT);
@@ -227,7 +229,7 @@ TEST(GlContextOSMesa, UnavailableVersionIsAnError) {
 
 TEST(GlContextOSMesa, DrainGlErrorsNamesAndClearsThem) {
   Result<std::unique_ptr<GlContext>> context = create("osmesa");
-  ASSERT_TRUE(context) << context.error().message;
+  ASSERT_OK(context);
   EXPECT_EQ(drainGlErrors(), "");
   glEnable(0x7fff);  // not a capability
   EXPECT_EQ(drainGlErrors(), "GL_INVALID_ENUM");
@@ -236,7 +238,7 @@ TEST(GlContextOSMesa, DrainGlErrorsNamesAndClearsThem) {
 
 TEST(GlContextOSMesa, GlNamesAreOwnedAndMoved) {
   Result<std::unique_ptr<GlContext>> context = create("osmesa");
-  ASSERT_TRUE(context) << context.error().message;
+  ASSERT_OK(context);
   Texture a = makeTexture(GL_TEXTURE_2D);
   ASSERT_TRUE(a);
   const GLuint id = a.get();
@@ -258,7 +260,7 @@ TEST(GlContextOSMesa, GlNamesAreOwnedAndMoved) {
 TEST(GlContextEgl, Core45DrawsIntoAnFbo) {
   // PLATFORM.md: EGL surfaceless works on these machines, so failing to create is a failure.
   Result<std::unique_ptr<GlContext>> context = create("egl");
-  ASSERT_TRUE(context) << context.error().message;
+  ASSERT_OK(context);
   GlContext& gl = **context;
   EXPECT_EQ(gl.backend(), GlBackend::kEgl);
   EXPECT_EQ(gl.nativeWindow(), nullptr);
@@ -271,14 +273,14 @@ TEST(GlContextEgl, DevicePlatformDrawsIntoAnFbo) {
   // The path a headless NVIDIA GPU takes; Mesa offers a software device to exercise it.
   ScopedEnv env("PUFF_EGL_PLATFORM", "device");
   Result<std::unique_ptr<GlContext>> context = create("egl");
-  ASSERT_TRUE(context) << context.error().message;
+  ASSERT_OK(context);
   expectVersionAtLeast45Core();
   expectFboTriangle();
 }
 
 TEST(GlContextEgl, CompatibilityProfile) {
   Result<std::unique_ptr<GlContext>> context = create("egl", GlProfile::kCompatibility);
-  ASSERT_TRUE(context) << context.error().message;
+  ASSERT_OK(context);
   GLint profile = 0;
   glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
   EXPECT_TRUE(profile & GL_CONTEXT_COMPATIBILITY_PROFILE_BIT);
@@ -302,9 +304,9 @@ TEST(GlContext, OSMesaAndEglContextsTakeTurns) {
   // glad holds one set of function pointers; each backend's pointers only reach its own
   // contexts, so makeCurrent must switch them.
   Result<std::unique_ptr<GlContext>> osmesa = create("osmesa");
-  ASSERT_TRUE(osmesa) << osmesa.error().message;
+  ASSERT_OK(osmesa);
   Result<std::unique_ptr<GlContext>> egl = create("egl");
-  ASSERT_TRUE(egl) << egl.error().message;
+  ASSERT_OK(egl);
   for (int round = 0; round < 2; ++round) {
     for (GlContext* gl : {osmesa->get(), egl->get()}) {
       SCOPED_TRACE(std::string(toString(gl->backend())) + " round " + std::to_string(round));
@@ -317,7 +319,7 @@ TEST(GlContext, OSMesaAndEglContextsTakeTurns) {
   // other working.
   {
     Result<std::unique_ptr<GlContext>> egl2 = create("egl");
-    ASSERT_TRUE(egl2) << egl2.error().message;
+    ASSERT_OK(egl2);
   }
   (*egl)->makeCurrent();
   expectFboTriangle(16, 16);
@@ -339,7 +341,7 @@ TEST(GlContextGlfw, WindowDrawsAndReadsTheDefaultFramebuffer) {
   options.height = 40;
   options.visible = true;  // a mapped window owns its pixels; Xvfb shows it to no one
   Result<std::unique_ptr<GlContext>> context = createGlContext(options);
-  ASSERT_TRUE(context) << context.error().message;
+  ASSERT_OK(context);
   GlContext& gl = **context;
   EXPECT_EQ(gl.backend(), GlBackend::kGlfw);
   EXPECT_NE(gl.nativeWindow(), nullptr);

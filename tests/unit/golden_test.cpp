@@ -1,12 +1,11 @@
 // The golden-image helper itself: thresholds, failing fractions, and the files it writes.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cstdlib>
 #include <filesystem>
 
 #include "golden/golden.h"
+#include "support/temp_dir.h"
 
 namespace puff::test {
 namespace {
@@ -16,8 +15,6 @@ namespace fs = std::filesystem;
 class Golden : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() / ("puff_golden_test_" + std::to_string(::getpid()));
-    fs::remove_all(root_);
     fs::create_directories(root_ / "refs");
     setenv("PUFF_GOLDEN_REFERENCE_DIR", (root_ / "refs").c_str(), 1);
     setenv("PUFF_GOLDEN_OUTPUT_DIR", (root_ / "out").c_str(), 1);
@@ -27,9 +24,8 @@ class Golden : public ::testing::Test {
   void TearDown() override {
     unsetenv("PUFF_GOLDEN_REFERENCE_DIR");
     unsetenv("PUFF_GOLDEN_OUTPUT_DIR");
-    fs::remove_all(root_);
   }
-  fs::path root_;
+  ScopedTempDir root_{"puff_golden_test"};
   core::Image ref_;
 };
 

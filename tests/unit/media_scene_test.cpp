@@ -12,6 +12,7 @@
 #include <puff/scene/write.h>
 
 #include "golden/golden.h"
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 
 namespace puff {
@@ -33,13 +34,13 @@ class MediaSceneGolden : public test::GlTest, public ::testing::WithParamInterfa
 TEST_P(MediaSceneGolden, MatchesReference) {
   const MediaCase c = GetParam();
   auto scene = scene::loadScene(sceneFile(c.scene), PUFF_ART_DIR);
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   ASSERT_TRUE(scene->media.has_value());
   auto renderer = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+  ASSERT_OK(renderer);
   render::FrameStats stats;
   auto image = (*renderer)->renderFrame(c.frame, &stats);
-  ASSERT_TRUE(image.ok()) << image.error().message;
+  ASSERT_OK(image);
   EXPECT_GT(stats.mediaParticles, 20u);
   test::GoldenTolerance tol;
   tol.pixelThreshold = 8.0f / 255.0f;
@@ -68,14 +69,14 @@ scene::Scene smaller(scene::Scene s, int width, int height) {
 
 TEST_F(MediaScenes, AFrameAloneEqualsTheSameFrameOfASequence) {
   auto scene = scene::loadScene(sceneFile("explosion-walls"), PUFF_ART_DIR);
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   const scene::Scene s = smaller(*scene, 160, 120);
   auto sequence = render::SceneRenderer::create(s);
-  ASSERT_TRUE(sequence.ok()) << sequence.error().message;
+  ASSERT_OK(sequence);
   core::Image inSequence;
   for (int f = 0; f <= 9; ++f) {
     auto image = (*sequence)->renderFrame(f);
-    ASSERT_TRUE(image.ok()) << image.error().message;
+    ASSERT_OK(image);
     if (f == 9) inSequence = std::move(*image);
   }
   auto alone = render::SceneRenderer::create(s);
@@ -87,14 +88,14 @@ TEST_F(MediaScenes, AFrameAloneEqualsTheSameFrameOfASequence) {
 
 TEST_F(MediaScenes, MotionBlurIsTheWeightedSumOfTheLastFramesAndAFrameAloneEqualsTheSequence) {
   auto scene = scene::loadScene(sceneFile("explosion-walls"), PUFF_ART_DIR);
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   scene::Scene sharp = smaller(*scene, 128, 96);
   sharp.samples = 1;
   scene::Scene blurred = sharp;
   blurred.media->motionBlurFrames = 3;
   blurred.media->motionBlurPersistence = 0.5f;
   auto a = render::SceneRenderer::create(sharp);
-  ASSERT_TRUE(a.ok()) << a.error().message;
+  ASSERT_OK(a);
   std::vector<core::Image> frames;
   for (int f = 0; f <= 8; ++f) frames.push_back(*(*a)->renderFrame(f));
   auto sequence = render::SceneRenderer::create(blurred);
@@ -132,7 +133,7 @@ double largestSecondDifference(render::SceneRenderer& r, int first, int last) {
   std::vector<core::Image> frames;
   for (int f = first; f <= last; ++f) {
     auto image = r.renderFrame(f);
-    EXPECT_TRUE(image.ok()) << image.error().message;
+    EXPECT_OK(image);
     frames.push_back(std::move(*image));
   }
   double worst = 0.0;
@@ -164,13 +165,13 @@ TEST_F(MediaScenes, FlyingIntoSmokePopsWithPlanarBillboardsNotSpherical) {
               "particles": [{"position": [0.2, 0.1, 4]}, {"position": [-0.3, 0, 0]}, {"position": [0, -0.2, -4]}]}
   })");
   auto scene = scene::parseScene(j, "flythrough.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto spherical = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(spherical.ok()) << spherical.error().message;
+  ASSERT_OK(spherical);
   const double smooth = largestSecondDifference(**spherical, 0, 288);
   scene->media->method = media::Method::kPlanar;
   auto planar = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(planar.ok()) << planar.error().message;
+  ASSERT_OK(planar);
   const double popping = largestSecondDifference(**planar, 0, 288);
   std::printf("largest second difference: spherical %.4f, planar %.4f\n", smooth, popping);
   EXPECT_LT(smooth, 0.06 + 3.0 / 255.0);  // the slope change, plus 8-bit rounding
@@ -179,10 +180,10 @@ TEST_F(MediaScenes, FlyingIntoSmokePopsWithPlanarBillboardsNotSpherical) {
 
 TEST_F(MediaScenes, MediaSectionRoundTripsThroughJson) {
   auto scene = scene::loadScene(sceneFile("explosion-walls"), PUFF_ART_DIR);
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   const nlohmann::json j = scene::toJson(*scene);
   auto again = scene::parseScene(j, scene->file, PUFF_ART_DIR);
-  ASSERT_TRUE(again.ok()) << again.error().message;
+  ASSERT_OK(again);
   EXPECT_EQ(scene::toJson(*again), j);
   ASSERT_TRUE(again->media.has_value());
   EXPECT_EQ(again->media->materials.size(), 4u);
@@ -210,7 +211,7 @@ TEST_F(MediaScenes, EveryMediaFieldSurvivesAWriteAndARead) {
     }
   })");
   auto scene = scene::parseScene(j, "x.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   const scene::MediaSpec& m = *scene->media;
   // Attached emitters and vortices ride on the cart.
   ASSERT_FALSE(m.emitters[0].emitter.path.empty());
@@ -218,7 +219,7 @@ TEST_F(MediaScenes, EveryMediaFieldSurvivesAWriteAndARead) {
   EXPECT_EQ(m.forces.vortices[0].path.at(1.0), glm::vec3(2, 0, 0));
   const nlohmann::json out = scene::toJson(*scene);
   auto again = scene::parseScene(out, "x.json");
-  ASSERT_TRUE(again.ok()) << again.error().message;
+  ASSERT_OK(again);
   EXPECT_EQ(scene::toJson(*again), out);
   const scene::MediaSpec& n = *again->media;
   EXPECT_EQ(n.method, media::Method::kSoftSCurve);

@@ -14,6 +14,7 @@
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/media_target.h"
 
@@ -260,7 +261,7 @@ TEST_F(MediaTest, InScatteringFollowsThePhaseFunction) {
     media::Settings s;
     s.phase = model;
     auto r = media::Renderer::create(s);
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     for (float g : {0.6f, 0.9f, 0.95f, -0.7f}) {
       media::Material m = plainMaterial(0.5f);
       m.g = g;
@@ -434,7 +435,7 @@ std::vector<glm::vec4> composeScene(media::Renderer& r, float scale, bool depthA
                                     std::span<const media::ExplosionLight> lights = {}, float shimmerPixels = 0.0f,
                                     int w = 96, int h = 64, bool pole = true) {
   auto layers = media::Layers::create(w, h, 1, scale);
-  EXPECT_TRUE(layers.ok()) << layers.error().message;
+  EXPECT_OK(layers);
   Camera cam;
   // A pole at 3 (columns 45-50), smoke behind it at 6.
   fillOpaque(**layers, 45, pole ? 51 : 45, cam.linear(3.0f), {0.1f, 0.1f, 0.1f, 1.0f});

@@ -3,7 +3,6 @@
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -25,6 +24,9 @@
 #pragma GCC diagnostic ignored "-Wpedantic"
 #include <OpenMesh/Core/System/omstream.hh>
 #pragma GCC diagnostic pop
+
+#include "support/assert_ok.h"
+#include "support/temp_dir.h"
 
 namespace fs = std::filesystem;
 using namespace puff::mesh;
@@ -95,17 +97,9 @@ bool oneLine(const std::string& s) { return !s.empty() && s.find('\n') == std::s
 /// A per-test scratch directory, removed afterwards.
 class MeshIo : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("puff_mesh_test_" + std::to_string(::getpid()) + "_" + info->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   std::vector<std::string> listDir() const {
     std::vector<std::string> names;
-    for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(dir_.path())) names.push_back(e.path().filename().string());
     std::sort(names.begin(), names.end());
     return names;
   }
@@ -124,7 +118,7 @@ class MeshIo : public ::testing::Test {
     EXPECT_TRUE(oneLine(r.error().message)) << r.error().message;
   }
 
-  fs::path dir_;
+  puff::test::ScopedTempDir dir_{"puff_mesh_test"};
 };
 
 TriMesh colored(TriMesh m) {
@@ -377,7 +371,7 @@ TEST(MeshValidate, NormalsAreAreaWeightedAndIsolatedVerticesGetPlusZ) {
 TEST_F(MeshIo, LoadsAQuadCubeNormalized) {
   LoadInfo info;
   const auto r = loadMesh(kData / "cube.obj", &info);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   EXPECT_EQ(info.sourceFaces, 6u);
   EXPECT_EQ(info.sourceVertices, 8u);
   EXPECT_FALSE(info.flippedInward);
@@ -396,7 +390,7 @@ TEST_F(MeshIo, LoadsAQuadCubeNormalized) {
 TEST_F(MeshIo, AnInwardCubeIsFlipped) {
   LoadInfo info;
   const auto r = loadMesh(kData / "cube_inward.obj", &info);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   EXPECT_TRUE(info.flippedInward);
   EXPECT_NEAR(signedVolume(*r), 8.0 / (3.0 * std::sqrt(3.0)), 1e-5);
   for (std::size_t i = 0; i < r->positions.size(); ++i) EXPECT_GT(glm::dot(r->normals[i], r->positions[i]), 0.5f);
@@ -408,7 +402,7 @@ TEST_F(MeshIo, ReadsEightBitColorsFromPlyAndOff) {
     SCOPED_TRACE(name);
     LoadInfo info;
     const auto r = loadMesh(kData / name, &info);
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     EXPECT_TRUE(info.hadColors);
     EXPECT_FALSE(info.flippedInward);
     EXPECT_EQ(r->faceCount(), 4u);
@@ -425,7 +419,7 @@ TEST_F(MeshIo, ReadsEightBitColorsFromPlyAndOff) {
 TEST_F(MeshIo, ReadsAsciiStlMergingCorners) {
   LoadInfo info;
   const auto r = loadMesh(kData / "tetra.stl", &info);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   EXPECT_EQ(r->faceCount(), 4u);
   EXPECT_EQ(r->positions.size(), 4u);  // 12 corners, 4 distinct points
   EXPECT_FALSE(info.hadColors);
@@ -439,7 +433,7 @@ TEST_F(MeshIo, ReadsAsciiStlMergingCorners) {
 TEST_F(MeshIo, KeepsUnitNormalsFromTheFile) {
   LoadInfo info;
   const auto r = loadMesh(kData / "tetra_normals.obj", &info);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   EXPECT_TRUE(info.hadNormals);
   for (const glm::vec3& n : r->normals) EXPECT_EQ(n, glm::vec3(0, 0, 1));
 }
@@ -487,7 +481,7 @@ TEST_F(MeshIo, ObjColorsWrittenAsBytesAreScaledToUnit) {
              "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n");
   LoadInfo info;
   const auto r = loadMesh(dir_ / "bytes.obj", &info);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   EXPECT_TRUE(info.hadColors);
   EXPECT_EQ(r->colors[0], glm::vec3(1, 0, 0));
   EXPECT_NEAR(glm::length(r->colors[3] - glm::vec3(0.2f, 0.4f, 0.6f)), 0.0f, 1e-6f);
@@ -538,10 +532,10 @@ TEST_F(MeshIo, EachFormatRoundTrips) {
     const TriMesh src = carriesColor ? colored(plain) : plain;
     const fs::path p = dir_ / (std::string("rt") + ext);
     const auto saved = saveMesh(src, p);
-    ASSERT_TRUE(saved.ok()) << saved.error().message;
+    ASSERT_OK(saved);
     LoadInfo info;
     const auto r = loadMesh(p, &info);
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     EXPECT_EQ(r->faceCount(), src.faceCount());
     EXPECT_EQ(r->positions.size(), src.positions.size());  // STL's corners merge back to shared vertices
     EXPECT_EQ(info.sourceFaces, src.faceCount());
@@ -593,7 +587,7 @@ TEST_F(MeshIo, SavingReplacesAnExistingFileByRename) {
     // A new inode: the target was swapped whole, never truncated and rewritten in place.
     EXPECT_NE(before.st_ino, after.st_ino);
     const auto r = loadMesh(p);
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     EXPECT_EQ(r->faceCount(), 320u);
   }
   EXPECT_EQ(listDir(), (std::vector<std::string>{"a.obj", "a.ply"}));  // no temporaries left

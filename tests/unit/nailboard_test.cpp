@@ -17,6 +17,7 @@
 #include <puff/core/atlas.h>
 #include <puff/mesh/mesh.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/gl_target.h"
 #include "support/sphere_atlas.h"
@@ -67,29 +68,16 @@ struct Target : test::OffscreenTarget {
   }
 };
 
-class Nailboards : public test::GlTest {
+class Nailboards : public test::SphereAtlasTest {
  protected:
   static constexpr int kPx = 128;        // target size
   static constexpr float kWorld = 8.0f;  // orthographic view height (and width): 16 px per unit
 
-  static void SetUpTestSuite() {
-    GlTest::SetUpTestSuite();
-    dir_ = fs::temp_directory_path() / ("puff-nailboard-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_TRUE(sidecar.ok()) << sidecar.error().message;
-    auto atlas = core::loadAtlas(*sidecar);
-    ASSERT_TRUE(atlas.ok()) << atlas.error().message;
-    atlas_ = std::make_unique<core::Atlas>(std::move(*atlas));
-  }
-  static void TearDownTestSuite() {
-    atlas_.reset();
-    fs::remove_all(dir_);
-  }
+  static void SetUpTestSuite() { setUpSphereAtlas(true); }
   void SetUp() override {
     GlTest::SetUp();
     auto r = cel::NailboardRenderer::create();
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     renderer_ = std::move(*r);
     ASSERT_TRUE(renderer_->setAtlas(*atlas_).ok());
     block_ = std::make_unique<cel::FrameBlock>();
@@ -133,8 +121,6 @@ class Nailboards : public test::GlTest {
     renderer_->drawNailboards(style, cel::ShadePass::kLit);
   }
 
-  static inline fs::path dir_;
-  static inline std::unique_ptr<core::Atlas> atlas_;
   std::unique_ptr<cel::NailboardRenderer> renderer_;
   std::unique_ptr<cel::FrameBlock> block_;
   std::unique_ptr<Target> target_;
@@ -480,9 +466,9 @@ TEST_F(Nailboards, OrientedParticlesShowTheBakedViewNearestTheCamera) {
   src.mesh = m;
   src.provenance.generator = "sphere";
   auto r = bake::bakeAtlas({src}, o);
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   auto atlas = core::loadAtlas(r->sidecar);
-  ASSERT_TRUE(atlas.ok()) << atlas.error().message;
+  ASSERT_OK(atlas);
   ASSERT_TRUE(renderer_->setAtlas(*atlas).ok());
 
   cel::Style style;

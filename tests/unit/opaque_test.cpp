@@ -17,6 +17,7 @@
 #include <puff/mesh/mesh.h>
 #include <puff/render/cel_scene.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/gl_target.h"
 
@@ -117,7 +118,7 @@ class OpaqueTest : public test::GlTest {
     GlTest::SetUp();
     if (HasFatalFailure()) return;
     auto r = OpaqueRenderer::create();
-    ASSERT_TRUE(r) << r.error().message;
+    ASSERT_OK(r);
     renderer_ = std::move(*r);
     block_ = std::make_unique<FrameBlock>();
     ramp_ = std::make_unique<Ramp>(Ramp::twoTone());
@@ -142,7 +143,7 @@ class OpaqueTest : public test::GlTest {
 
   void setObjects(std::vector<OpaqueObject> objects) {
     auto ok = renderer_->setObjects(std::move(objects));
-    ASSERT_TRUE(ok) << ok.error().message;
+    ASSERT_OK(ok);
   }
 
   // An orthographic camera looking straight down -y at the origin, the view `height` units tall.
@@ -453,7 +454,7 @@ TEST_F(OpaqueTest, AmbientGradientIsStretchedOverTheViewport) {
     image.at(0, 1, c) = bottom[c];
   }
   auto gradient = Gradient::create(image, "test gradient");
-  ASSERT_TRUE(gradient) << gradient.error().message;
+  ASSERT_OK(gradient);
   Frame frame = topDown();
   frame.ambientGradient = true;
   frame.light.direction = {0, -1, 0};  // ambient only

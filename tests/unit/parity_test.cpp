@@ -1,7 +1,8 @@
 // Fixed-function parity (issue 5): every art scene, restricted to the fixed path's limits (no
 // shadows, uniform ambient, view-plane billboards, one sample), rendered by both paths in one
 // compatibility context; per scene the smoke masks' agreement and the share of shared smoke pixels
-// within a tone tolerance. Side-by-side and difference images go to golden-out/parity-*.png.
+// within a tone tolerance. Side-by-side and difference images go to
+// build/tests/golden-out/parity-*.png.
 //
 // Thresholds, from what the methods are known to do differently (docs/fixed-function.md):
 //  - Coverage: both draw the same particles at the same size with silhouettes baked from puff
@@ -24,6 +25,7 @@
 #include <puff/scene/read.h>
 
 #include "golden/golden.h"
+#include "support/assert_ok.h"
 
 namespace puff {
 namespace {
@@ -36,7 +38,7 @@ class FixedParity : public ::testing::TestWithParam<const char*> {
     core::GlContextOptions o;
     o.profile = core::GlProfile::kCompatibility;  // both paths in one context
     auto c = core::createGlContext(o);
-    ASSERT_TRUE(c.ok()) << c.error().message;
+    ASSERT_OK(c);
     context_ = std::move(*c);
   }
   static void TearDownTestSuite() { context_.reset(); }
@@ -46,10 +48,10 @@ class FixedParity : public ::testing::TestWithParam<const char*> {
   }
   static core::Image render(const scene::Scene& scene, render::RenderPath path) {
     auto r = render::SceneRenderer::create(scene, path);
-    EXPECT_TRUE(r.ok()) << r.error().message;
+    EXPECT_OK(r);
     if (!r) return {};
     auto image = (*r)->renderFrame(0);
-    EXPECT_TRUE(image.ok()) << image.error().message;
+    EXPECT_OK(image);
     return image ? *image : core::Image{};
   }
   static inline std::unique_ptr<core::GlContext> context_;
@@ -58,7 +60,7 @@ class FixedParity : public ::testing::TestWithParam<const char*> {
 TEST_P(FixedParity, WithinTheMethodsKnownDifferences) {
   const std::string name = GetParam();
   auto loaded = scene::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (name + ".json"), PUFF_ART_DIR);
-  ASSERT_TRUE(loaded.ok()) << loaded.error().message;
+  ASSERT_OK(loaded);
   const scene::Scene scene = eval::restrictToFixedLimits(*loaded);
   const scene::Scene bare = eval::withoutParticles(scene);
   const core::Image fixed = render(scene, render::RenderPath::kFixed);

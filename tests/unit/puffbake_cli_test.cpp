@@ -20,6 +20,7 @@
 #include <puff/core/files.h>
 #include <puff/core/image.h>
 
+#include "support/assert_ok.h"
 #include "support/cli_test.h"
 
 namespace {
@@ -103,7 +104,7 @@ TEST_F(PuffbakeCli, BadMeshesFailWithTheFileAndTheProblem) {
   }
   expectOneLineError(run("bake " + (dir_ / "missing.obj").string() + " -o " + out.string()),
                      "missing.obj: cannot open");
-  expectOneLineError(run("bake " + dir_.string() + " -o " + out.string()), ": cannot open");  // a directory
+  expectOneLineError(run("bake " + dir_.path().string() + " -o " + out.string()), ": cannot open");  // a directory
   EXPECT_FALSE(fs::exists(out));
 }
 
@@ -167,7 +168,7 @@ TEST_F(PuffbakeCli, BlackbodyWritesTheRampWithItsRange) {
   EXPECT_EQ(r.out, "puffbake: wrote " + out.string() +
                        ": black-body ramp 1500..9000 K in 64 texels (linear sRGB, luminance 1 at 3000 K)\n");
   auto ramp = puff::core::readBlackbodyRamp(out);
-  ASSERT_TRUE(ramp.ok()) << ramp.error().message;
+  ASSERT_OK(ramp);
   EXPECT_EQ(ramp->minKelvin, 1500.0);
   EXPECT_EQ(ramp->maxKelvin, 9000.0);
   EXPECT_EQ(ramp->normalizeKelvin, 3000.0);
@@ -195,7 +196,7 @@ TEST_F(PuffbakeCli, BlackbodyBadUsageExitsTwoAndWritesNothing) {
   expectOneLineError(run("blackbody -o " + (dir_ / "bb.png").string()), "must end in .exr", 2);
   EXPECT_EQ(run("blackbody --min warm" + o).exitCode, 2);
   EXPECT_EQ(run("blackbody").exitCode, 2);  // -o is required
-  EXPECT_TRUE(fs::is_empty(dir_));
+  EXPECT_TRUE(fs::is_empty(dir_.path()));
 }
 
 TEST_F(PuffbakeCli, BlackbodyUnwritableOutputFailsAndExistingOutputSurvives) {
@@ -217,7 +218,7 @@ TEST_F(PuffbakeCli, BlackbodyUnwritableOutputFailsAndExistingOutputSurvives) {
   expectOneLineError(run("blackbody --size 16 -o " + (dir_ / "taken.exr").string()), "is a directory");
   EXPECT_EQ(*puff::core::readFileBytes(out), before);
   std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+  for (const auto& e : fs::directory_iterator(dir_.path())) names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"bb.exr", "file", "locked", "taken.exr"}));
 }
@@ -232,7 +233,7 @@ TEST_F(PuffbakeCli, DetailGeneratesAVideoWithItsMetadataAndTheSameBytesEachRun) 
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(r.out, "puffbake: wrote " + out.string() + ": detail video 32x32, 8 frames (generated, seed 3)\n");
     auto v = puff::core::loadDetailVideo(out);
-    ASSERT_TRUE(v.ok()) << v.error().message;
+    ASSERT_OK(v);
     EXPECT_EQ(v->width, 32);
     EXPECT_EQ(v->height, 32);
     EXPECT_EQ(v->frames, 8);
@@ -262,7 +263,7 @@ TEST_F(PuffbakeCli, DetailImportsFramesAndMakesThemLoop) {
             std::string::npos)
       << r.out;
   auto v = puff::core::loadDetailVideo(out);
-  ASSERT_TRUE(v.ok()) << v.error().message;
+  ASSERT_OK(v);
   ASSERT_EQ(v->frames, 4);
   // out[0] = 2/3 in[4] + 1/3 in[0] (core/detail.h), within 16-bit rounding.
   EXPECT_NEAR(v->at(2, 2, 0), 2.0f / 3.0f * 0.4f, 1e-5f);
@@ -313,7 +314,7 @@ TEST_F(PuffbakeCli, DetailBadFramesFailNamingTheFileAndExistingOutputSurvives) {
     EXPECT_TRUE(fs::is_empty(locked));
   }
   std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir_)) names.push_back(e.path().filename().string());
+  for (const auto& e : fs::directory_iterator(dir_.path())) names.push_back(e.path().filename().string());
   std::sort(names.begin(), names.end());
   EXPECT_EQ(names, (std::vector<std::string>{"detail.png", "file", "garbage.png", "good.exr", "locked", "wide.exr"}));
 }

@@ -18,6 +18,7 @@
 #include <puff/core/files.h>
 
 #include <puff/core/image.h>
+#include "support/assert_ok.h"
 #include "support/cli_test.h"
 
 namespace {
@@ -40,8 +41,8 @@ class PuffrenderCli : public puff::test::CliTest {
   // Files in dir_ other than the scenes the test wrote.
   std::vector<std::string> outputs() {
     std::vector<std::string> names;
-    for (const auto& e : fs::recursive_directory_iterator(dir_)) {
-      if (e.path().extension() != ".json") names.push_back(fs::relative(e.path(), dir_).string());
+    for (const auto& e : fs::recursive_directory_iterator(dir_.path())) {
+      if (e.path().extension() != ".json") names.push_back(fs::relative(e.path(), dir_.path()).string());
     }
     std::sort(names.begin(), names.end());
     return names;
@@ -169,7 +170,7 @@ TEST_F(PuffrenderCli, RendersOneFrameToExactlyTheNamedFile) {
   EXPECT_NE(r.out.find("wrote " + out.string()), std::string::npos) << r.out;
   EXPECT_EQ(outputs(), (std::vector<std::string>{"out", "out/ground.png"}));
   auto image = puff::core::readImage(out);
-  ASSERT_TRUE(image.ok()) << image.error().message;
+  ASSERT_OK(image);
   EXPECT_EQ(image->width, 40);
   EXPECT_EQ(image->height, 30);
   EXPECT_EQ(image->channels, 4);
@@ -200,7 +201,7 @@ TEST_F(PuffrenderCli, RendersANumberedSequenceAsHalfFloatExr) {
             (std::vector<std::string>{"seq", "seq/f_000.exr", "seq/f_001.exr", "seq/f_002.exr", "seq/f_003.exr"}));
   EXPECT_NE(r.err.find("frame 3 (4/4)"), std::string::npos) << r.err;
   auto image = puff::core::readImage(dir_ / "seq" / "f_002.exr");
-  ASSERT_TRUE(image.ok()) << image.error().message;
+  ASSERT_OK(image);
   EXPECT_EQ(image->channels, 4);
   // A range of a printf-style pattern; a frame rendered alone equals the same frame of the run.
   r = run(scene.string() + " -q -o " + (dir_ / "part" / "g%04d.exr").string() + " --frames 1-2");
@@ -214,7 +215,7 @@ TEST_F(PuffrenderCli, RendersANumberedSequenceAsHalfFloatExr) {
   r = run(scene.string() + " -q -o " + (dir_ / "frame.img").string() + " --format png");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   image = puff::core::readImage(dir_ / "frame.img");
-  ASSERT_TRUE(image.ok()) << image.error().message;
+  ASSERT_OK(image);
 }
 
 TEST_F(PuffrenderCli, RendersParticlesFromABakedAtlas) {
@@ -235,7 +236,7 @@ TEST_F(PuffrenderCli, RendersParticlesFromABakedAtlas) {
   CliRun r = run(scene.string() + " -o " + out.string() + " --art-dir " + art.string());
   ASSERT_EQ(r.exitCode, 0) << r.err;
   auto image = puff::core::readImage(out);
-  ASSERT_TRUE(image.ok()) << image.error().message;
+  ASSERT_OK(image);
   // The big puff covers the centre: not the white background.
   const float centre = image->at(24, 24, 0) + image->at(24, 24, 1) + image->at(24, 24, 2);
   EXPECT_LT(centre, 2.9f);
@@ -302,7 +303,7 @@ TEST_F(PuffrenderPaths, CompareReportsParityAndWritesSideBySide) {
   EXPECT_NE(r.out.find("smoke coverage IoU 0."), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("of shared smoke pixels"), std::string::npos) << r.out;
   auto image = puff::core::readImage(out);
-  ASSERT_TRUE(image.ok()) << image.error().message;
+  ASSERT_OK(image);
   EXPECT_EQ(image->width, 3 * 160);  // fixed | cel | difference
   EXPECT_EQ(image->height, 120);
 }

@@ -7,8 +7,6 @@
 // with PUFF_TEST_REQUIRE_GLFW=1); in the plain puff_tests run without DISPLAY they skip.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdlib>
@@ -23,7 +21,9 @@
 #include <puff/scene/read.h>
 #include <puffview/viewer.h>
 
+#include "support/assert_ok.h"
 #include "support/cli_test.h"
+#include "support/temp_dir.h"
 
 namespace {
 
@@ -94,7 +94,7 @@ class PuffviewCli : public puff::test::CliTest {
                             " --width 320 --height 240 -q --art-dir " PUFF_ART_DIR;
     EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
     auto image = puff::core::readImage(out);
-    EXPECT_TRUE(image) << image.error().message;
+    EXPECT_OK(image);
     return image ? *image : Image{};
   }
   // puffview's batch screenshot of frame frames-1 at 320x240; `extra` options go on the command
@@ -110,7 +110,7 @@ class PuffviewCli : public puff::test::CliTest {
               std::string::npos)
         << r.out;
     auto image = puff::core::readImage(out);
-    EXPECT_TRUE(image) << image.error().message;
+    EXPECT_OK(image);
     return image ? *image : Image{};
   }
 
@@ -224,7 +224,7 @@ TEST_F(PuffviewCli, BrokenCelShaderFallsBackToTheFixedPath) {
   EXPECT_TRUE(r.err.size() > tail.size() && r.err.compare(r.err.size() - tail.size(), tail.size(), tail) == 0) << r.err;
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   auto image = puff::core::readImage(out);
-  ASSERT_TRUE(image) << image.error().message;
+  ASSERT_OK(image);
   EXPECT_GE(shareWithin(*image, puffrender(lamp, 0, "fixed"), 0), 0.999) << "drawn with the fixed path";
 }
 
@@ -232,16 +232,7 @@ TEST_F(PuffviewCli, BrokenCelShaderFallsBackToTheFixedPath) {
 
 class PuffviewWindow : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("puffview_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    puff::core::setShaderDir({});
-    fs::remove_all(dir_);
-  }
+  void TearDown() override { puff::core::setShaderDir({}); }
 
   // A red-backed cloud of 30 puffs in front of the default camera.
   static std::string scene(const std::string& background) {
@@ -268,19 +259,19 @@ class PuffviewWindow : public ::testing::Test {
     o.ui = false;
     o.quiet = true;
     auto v = puff::view::Viewer::open(o);
-    EXPECT_TRUE(v) << v.error().message;
+    EXPECT_OK(v);
     return v ? std::move(*v) : nullptr;
   }
   Image draw(puff::view::Viewer& v) {
     v.processEvents();
     v.drawFrame();
     auto image = v.readWindow();
-    EXPECT_TRUE(image) << image.error().message;
+    EXPECT_OK(image);
     v.present();
     return image ? *image : Image{};
   }
 
-  fs::path dir_;
+  puff::test::ScopedTempDir dir_{"puffview"};
 };
 
 TEST_F(PuffviewWindow, SceneFileChangeReloadsAndABrokenFileKeepsTheLastGoodState) {
@@ -351,10 +342,10 @@ TEST_F(PuffviewWindow, PanelEditsShowAtOnceAndSaveRoundTrips) {
   expectColor(edited, 2, 2, {0.5f, 0.25f, 0.0f}, "edited background");
 
   auto saved = v->save();
-  ASSERT_TRUE(saved) << saved.error().message;
+  ASSERT_OK(saved);
   EXPECT_EQ(*saved, file);
   auto reloaded = puff::scene::loadScene(file, PUFF_ART_DIR);
-  ASSERT_TRUE(reloaded) << reloaded.error().message;
+  ASSERT_OK(reloaded);
   EXPECT_EQ(reloaded->style.outlineColor, glm::vec3(0.0f, 1.0f, 0.0f));
   EXPECT_EQ(reloaded->background, glm::vec3(0.5f, 0.25f, 0.0f));
   const std::string text = *puff::core::readFileBytes(file);
@@ -368,7 +359,7 @@ TEST_F(PuffviewWindow, PanelEditsShowAtOnceAndSaveRoundTrips) {
   ASSERT_TRUE(v->save(copy));
   EXPECT_EQ(v->sceneFile(), copy);
   auto copied = puff::scene::loadScene(copy, PUFF_ART_DIR);
-  ASSERT_TRUE(copied) << copied.error().message;
+  ASSERT_OK(copied);
   EXPECT_EQ(copied->style.outlineColor, glm::vec3(0.0f, 1.0f, 0.0f));
 
   // An edit the renderer refuses keeps the last good state and says why.

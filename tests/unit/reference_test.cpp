@@ -19,6 +19,7 @@
 #include <puff/reference/media_reference.h>
 #include <puff/reference/metrics.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/media_target.h"
 
@@ -84,7 +85,7 @@ glm::dvec3 pixel(const core::Image& im, int x, int glRow) {
 
 core::Image render(const MediaReferenceInput& in, core::Image* layer = nullptr) {
   auto image = reference::renderMediaReference(in, layer);
-  EXPECT_TRUE(image.ok()) << image.error().message;
+  EXPECT_OK(image);
   return image.ok() ? std::move(*image) : core::Image();
 }
 
@@ -520,7 +521,7 @@ core::Image opaqueImage(const Opaque& o) {
 core::Image drawGpu(media::Renderer& r, const media::Frame& f, const Opaque& opaque, bool wall,
                     std::span<const media::Particle> particles, media::Method method) {
   auto layers = media::Layers::create(kW, kH, 1, 1.0f);
-  EXPECT_TRUE(layers.ok()) << layers.error().message;
+  EXPECT_OK(layers);
   const GLuint fbo = (*layers)->opaqueFramebuffer();
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glDisable(GL_SCISSOR_TEST);

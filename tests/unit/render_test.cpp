@@ -12,6 +12,7 @@
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/sphere_atlas.h"
 
@@ -20,19 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-class RenderFrame : public test::GlTest {
- protected:
-  static void SetUpTestSuite() {
-    GlTest::SetUpTestSuite();
-    dir_ = fs::temp_directory_path() / ("puff-render-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_TRUE(sidecar.ok()) << sidecar.error().message;
-    sidecar_ = *sidecar;
-  }
-  static void TearDownTestSuite() { fs::remove_all(dir_); }
-  static inline fs::path dir_, sidecar_;
-};
+class RenderFrame : public test::SphereAtlasTest {};
 
 // Camera straight down (orthographic, 16 px per unit), a white sphere puff of radius R at height
 // H over a ground plane, light from 45 degrees in +x: the shadow on the ground is the ellipse
@@ -56,11 +45,11 @@ TEST_F(RenderFrame, ShadowOnTheGroundWhereTheLightProjectsIt) {
                       {"objects", {{{"type", "plane"}, {"scale", {10, 1, 10}}, {"albedo", {1, 1, 1}}}}},
                       {"particles", {{{"position", {0, H, 0}}, {"size", 2 * R}}}}};
   auto scene = scene::parseScene(j, dir_ / "scene.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto renderer = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+  ASSERT_OK(renderer);
   auto image = (*renderer)->renderFrame(0);
-  ASSERT_TRUE(image.ok()) << image.error().message;
+  ASSERT_OK(image);
   int shadowed = 0, lit = 0;
   for (int y = 0; y < 128; ++y) {
     for (int x = 0; x < 128; ++x) {
@@ -87,7 +76,7 @@ TEST_F(RenderFrame, ShadowOnTheGroundWhereTheLightProjectsIt) {
 TEST_F(RenderFrame, MissingAtlasIsAClearError) {
   nlohmann::json j = {{"atlas", (dir_ / "nope.json").string()}, {"particles", {{{"position", {0, 0, 0}}}}}};
   auto scene = scene::parseScene(j, dir_ / "scene.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto renderer = render::SceneRenderer::create(*scene);
   ASSERT_FALSE(renderer.ok());
   EXPECT_NE(renderer.error().message.find("nope.json"), std::string::npos) << renderer.error().message;
@@ -102,7 +91,7 @@ TEST_F(RenderFrame, AtlasOfAnotherFormatVersionIsAClearError) {
   ASSERT_TRUE(core::writeFileAtomic(future, sidecar.dump()).ok());
   nlohmann::json j = {{"atlas", future.string()}, {"particles", {{{"position", {0, 0, 0}}}}}};
   auto scene = scene::parseScene(j, dir_ / "scene.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto renderer = render::SceneRenderer::create(*scene);
   ASSERT_FALSE(renderer.ok());
   EXPECT_NE(renderer.error().message.find("future.json"), std::string::npos) << renderer.error().message;

@@ -3,7 +3,7 @@
 // channel differs by more than 8/255 and a scene fails when more than 0.3% of its pixels do —
 // room for rounding differences between llvmpipe builds, far below what any change to shading,
 // outlines or shadows moves (a one-pixel outline shift alone fails ~1%).
-// New references: tests/golden/accept.sh after looking at golden-out/*.actual.png.
+// New references: tests/golden/accept.sh after looking at build/tests/golden-out/*.actual.png.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +14,7 @@
 #include <puff/scene/read.h>
 
 #include "golden/golden.h"
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 
 namespace puff {
@@ -27,11 +28,11 @@ TEST_P(SceneGolden, MatchesReference) {
   const std::string name = GetParam();
   const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (name + ".json");
   auto scene = scene::loadScene(file, PUFF_ART_DIR);
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto renderer = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+  ASSERT_OK(renderer);
   auto image = (*renderer)->renderFrame(0);
-  ASSERT_TRUE(image.ok()) << image.error().message;
+  ASSERT_OK(image);
   test::GoldenTolerance tol;
   tol.pixelThreshold = 8.0f / 255.0f;
   tol.maxFailingFraction = 0.003;
@@ -63,13 +64,13 @@ TEST_P(AnimatedSceneGolden, MatchesReference) {
   const AnimatedCase c = GetParam();
   const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (std::string(c.scene) + ".json");
   auto scene = scene::loadScene(file, PUFF_ART_DIR);
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   ASSERT_TRUE(scene->simulation.has_value());
   auto renderer = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+  ASSERT_OK(renderer);
   render::FrameStats stats;
   auto image = (*renderer)->renderFrame(c.frame, &stats);
-  ASSERT_TRUE(image.ok()) << image.error().message;
+  ASSERT_OK(image);
   EXPECT_GT(stats.simulated, 50u);
   test::GoldenTolerance tol;
   tol.pixelThreshold = 8.0f / 255.0f;
@@ -98,11 +99,11 @@ TEST_F(SceneFrames, Fig8StagesDifferByMoreThanTheGoldenTolerance) {
   for (const char* name : {"cloud-fig8a", "cloud-fig8b", "cloud-fig8c"}) {
     auto scene =
         scene::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (std::string(name) + ".json"), PUFF_ART_DIR);
-    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    ASSERT_OK(scene);
     auto renderer = render::SceneRenderer::create(*scene);
-    ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+    ASSERT_OK(renderer);
     auto image = (*renderer)->renderFrame(0);
-    ASSERT_TRUE(image.ok()) << image.error().message;
+    ASSERT_OK(image);
     stages.push_back(std::move(*image));
   }
   auto differing = [](const core::Image& a, const core::Image& b) {
@@ -121,11 +122,11 @@ TEST_F(SceneFrames, Fig8StagesDifferByMoreThanTheGoldenTolerance) {
 TEST_F(SceneFrames, RenderedAloneEqualsTheSameFrameOfASequence) {
   const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "magic-lamp.json";
   auto scene = scene::loadScene(file, PUFF_ART_DIR);
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   scene->width = 160;
   scene->height = 120;
   auto a = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(a.ok()) << a.error().message;
+  ASSERT_OK(a);
   for (int f = 0; f < 5; ++f) ASSERT_TRUE((*a)->renderFrame(f).ok());
   auto sequenceFrame = (*a)->renderFrame(5);
   auto b = render::SceneRenderer::create(*scene);
@@ -149,11 +150,11 @@ namespace {
 TEST_F(SceneFrames, SimulatedFrameRenderedAloneEqualsTheSequence) {
   const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "lamp-plume.json";
   auto scene = scene::loadScene(file, PUFF_ART_DIR);
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   scene->width = 160;
   scene->height = 120;
   auto a = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(a.ok()) << a.error().message;
+  ASSERT_OK(a);
   std::vector<std::vector<float>> frames;
   for (int f = 0; f <= 9; ++f) {
     auto image = (*a)->renderFrame(f);
@@ -177,7 +178,7 @@ TEST_F(SceneFrames, SimulatedFrameRenderedAloneEqualsTheSequence) {
 TEST_F(SceneFrames, UpdateAppliesForcesAndFramesStayPure) {
   const fs::path file = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "lamp-plume.json";
   auto scene = scene::loadScene(file, PUFF_ART_DIR);
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   scene->width = 160;
   scene->height = 120;
   auto r = render::SceneRenderer::create(*scene);

@@ -2,8 +2,6 @@
 // through toJson, and the frame evaluation checked against the motion it promises.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +17,9 @@
 #include <puff/scene/read.h>
 #include <puff/scene/write.h>
 
+#include "support/assert_ok.h"
+#include "support/temp_dir.h"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -31,7 +32,7 @@ const fs::path kFile = "art/scenes/x.json";
 
 Scene parseOk(const std::string& text, const fs::path& artDir = {}) {
   auto s = puff::scene::parseScene(json::parse(text), kFile, artDir);
-  EXPECT_TRUE(s.ok()) << s.error().message;
+  EXPECT_OK(s);
   return s.ok() ? *s : Scene{};
 }
 
@@ -250,17 +251,12 @@ TEST(Scene, NonFiniteNumbersAreRejected) {
 
 class SceneFiles : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("scene_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   fs::path write(const std::string& name, const std::string& text) {
     const fs::path p = dir_ / name;
     std::ofstream(p, std::ios::binary) << text;
     return p;
   }
-  fs::path dir_;
+  puff::test::ScopedTempDir dir_{"scene_test"};
 };
 
 TEST_F(SceneFiles, SyntaxErrorsGiveLineAndColumn) {
@@ -292,15 +288,15 @@ TEST_F(SceneFiles, MissingFileSaysCannotRead) {
   auto s = puff::scene::loadScene(dir_ / "nope.json");
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.error().message, (dir_ / "nope.json").string() + ": cannot read: No such file or directory");
-  s = puff::scene::loadScene(dir_);
+  s = puff::scene::loadScene(dir_.path());
   ASSERT_FALSE(s.ok());
-  EXPECT_EQ(s.error().message, dir_.string() + ": cannot read: is a directory");
+  EXPECT_EQ(s.error().message, dir_.path().string() + ": cannot read: is a directory");
 }
 
 TEST_F(SceneFiles, LoadedPathsAreRelativeToTheFile) {
   const fs::path p = write("s.json", R"({"atlas": "puff.json", "emitters": [{"count": 1}]})");
   auto s = puff::scene::loadScene(p);
-  ASSERT_TRUE(s.ok()) << s.error().message;
+  ASSERT_OK(s);
   EXPECT_EQ(s->atlas, dir_ / "puff.json");
   EXPECT_EQ(s->file, p);
 }
@@ -366,10 +362,10 @@ json everything() {
 
 TEST(Scene, ToJsonRoundTripsEveryField) {
   auto a = puff::scene::parseScene(everything(), kFile, "build/art");
-  ASSERT_TRUE(a.ok()) << a.error().message;
+  ASSERT_OK(a);
   const json written = puff::scene::toJson(*a);
   auto b = puff::scene::parseScene(written, kFile, "build/art");
-  ASSERT_TRUE(b.ok()) << b.error().message << "\n" << written.dump(2);
+  ASSERT_OK(b) << written.dump(2);
   // Writing the re-read scene gives the same JSON: nothing drifts (axis-angle orientations may
   // move in their last bit, so they are compared below).
   json rewritten = puff::scene::toJson(*b), expected = written;
@@ -456,7 +452,7 @@ TEST(Scene, ToJsonRoundTripsEveryField) {
   EXPECT_EQ(written["ramp"]["image"], "../ramps/q.png");
   // The defaults round-trip too.
   auto d = puff::scene::parseScene(puff::scene::toJson(Scene{}), "");
-  ASSERT_TRUE(d.ok()) << d.error().message;
+  ASSERT_OK(d);
   EXPECT_EQ(puff::scene::toJson(*d), puff::scene::toJson(Scene{}));
 }
 
@@ -697,7 +693,7 @@ TEST(SceneSimulation, ReadsForcesEmittersAndPathsAndRoundTrips) {
 
   // Colliders come from the objects that collide, placed as they are drawn.
   auto settings = puff::scene::simulationSettings(s, *puff::scene::loadGeometry(s));
-  ASSERT_TRUE(settings.ok()) << settings.error().message;
+  ASSERT_OK(settings);
   ASSERT_EQ((*settings)->colliders.size(), 1u);
   EXPECT_EQ((*settings)->colliders[0].type, puff::sim::Collider::Type::kPlane);
   EXPECT_EQ((*settings)->colliders[0].halfExtent, glm::vec3(5, 0, 5));
@@ -705,7 +701,7 @@ TEST(SceneSimulation, ReadsForcesEmittersAndPathsAndRoundTrips) {
 
   // toJson writes every field; reading it back gives the same scene.
   auto again = puff::scene::parseScene(puff::scene::toJson(s), kFile);
-  ASSERT_TRUE(again.ok()) << again.error().message;
+  ASSERT_OK(again);
   EXPECT_EQ(puff::scene::toJson(*again), puff::scene::toJson(s));
   EXPECT_EQ(again->simulation->emitters[0].path.times, sim.emitters[0].path.times);
 }
@@ -775,7 +771,7 @@ TEST(SceneSimulation, VorticesAndEmittersRideOnMovingObjects) {
   EXPECT_EQ(j["simulation"]["forces"]["vortices"][0]["attach"], "plane body");
   EXPECT_TRUE(j["simulation"]["forces"]["vortices"][0]["path"].empty());
   auto again = puff::scene::parseScene(j, kFile);
-  ASSERT_TRUE(again.ok()) << again.error().message;
+  ASSERT_OK(again);
   EXPECT_EQ(puff::scene::toJson(*again), j);
 
   EXPECT_EQ(
@@ -809,7 +805,7 @@ TEST(SceneFixed, ReadsTheFixedPathSettingsAndRejectsBadOnes) {
   EXPECT_EQ(s.fixed.outlineOffset, 0.5f);
   EXPECT_EQ(s.fixed.cellSize, 64);
   auto again = puff::scene::parseScene(puff::scene::toJson(s), kFile);
-  ASSERT_TRUE(again.ok()) << again.error().message;
+  ASSERT_OK(again);
   EXPECT_EQ(again->fixed.puff, s.fixed.puff);
   EXPECT_EQ(again->fixed.cellSize, 64);
   EXPECT_EQ(parseError(std::string(R"({"fixed": {"cellSize": 100}})")),

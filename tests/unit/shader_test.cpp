@@ -14,7 +14,8 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
+#include "support/assert_ok.h"
+#include "support/temp_dir.h"
 
 namespace fs = std::filesystem;
 
@@ -38,7 +39,7 @@ std::unique_ptr<GlContext> osmesaCore45() {
   GlContextOptions options;
   options.backend = "osmesa";
   Result<std::unique_ptr<GlContext>> context = createGlContext(options);
-  EXPECT_TRUE(context) << context.error().message;
+  EXPECT_OK(context);
   return context ? std::move(*context) : nullptr;
 }
 
@@ -76,7 +77,7 @@ TEST(ShaderPrograms, EveryProgramCompilesAndLinksOnOSMesaCore45) {
     EXPECT_FALSE(name.starts_with("common/"));
     sawBake |= name == "bake/puff";
     Result<Program> program = buildProgram(stages);
-    ASSERT_TRUE(program) << program.error().message;
+    ASSERT_OK(program);
     EXPECT_TRUE(*program);
     EXPECT_TRUE(glIsProgram(program->get()));
   }
@@ -107,18 +108,11 @@ TEST(ShaderFile, MissingFileIsNamed) {
 class ShaderInclude : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("puff_shader_test_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
     fs::create_directories(dir_ / "common");
     fs::create_directories(dir_ / "test");
-    setShaderDir(dir_);
+    setShaderDir(dir_.path());
   }
-  void TearDown() override {
-    setShaderDir({});
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
+  void TearDown() override { setShaderDir({}); }
   void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name, std::ios::binary) << text; }
   /// A fragment shader that includes `includes` (one per line) and then has `body` after main.
   void writeMain(const std::string& name, const std::vector<std::string>& includes, const std::string& body = "") {
@@ -127,11 +121,11 @@ class ShaderInclude : public ::testing::Test {
     text += "out vec4 oColor;\nvoid main() { oColor = vec4(1.0); }\n" + body;
     write(name, text);
   }
-  fs::path dir_;
+  puff::test::ScopedTempDir dir_{"puff_shader_test"};
 };
 
 TEST_F(ShaderInclude, ShaderDirOverridesTheEmbeddedFiles) {
-  EXPECT_EQ(shaderDir(), dir_);
+  EXPECT_EQ(shaderDir(), dir_.path());
   write("test/a.vert", "#version 450 core\nvoid main() { gl_Position = vec4(0.0); }\n");
   write("test/a.frag", "#version 450 core\nout vec4 c;\nvoid main() { c = vec4(1.0); }\n");
   write("test/only.comp", "#version 450 core\nlayout(local_size_x = 1) in;\nvoid main() {}\n");
@@ -161,7 +155,7 @@ TEST_F(ShaderInclude, NestedIncludeAppearsOnceAndVersionStaysFirst) {
         "void main() { oColor = vec4(midValue() + leafValue()); }\n");
   std::vector<std::string> files;
   Result<std::string> source = preprocessShader("test/main.frag", &files);
-  ASSERT_TRUE(source) << source.error().message;
+  ASSERT_OK(source);
   EXPECT_EQ(source->rfind("#version 450 core\n", 0), 0u) << *source;
   EXPECT_EQ(count(*source, "LEAF-MARKER"), 1u) << *source;
   EXPECT_EQ(count(*source, "midValue() {"), 1u) << *source;
@@ -173,7 +167,7 @@ TEST_F(ShaderInclude, NestedIncludeAppearsOnceAndVersionStaysFirst) {
   write("test/main.vert",
         "#version 450 core\n#include \"common/leaf.glsl\"\nvoid main() { gl_Position = vec4(leafValue()); }\n");
   Result<Program> program = buildProgram({"test/main.vert", "test/main.frag"});
-  EXPECT_TRUE(program) << program.error().message;
+  EXPECT_OK(program);
 }
 
 TEST_F(ShaderInclude, CycleIsAnError) {
@@ -192,8 +186,8 @@ TEST_F(ShaderInclude, MissingIncludeNamesTheIncludingFileAndLine) {
   writeMain("test/main.frag", {"common/ok.glsl", "common/nope.glsl"});  // the second include is line 3
   Result<std::string> source = preprocessShader("test/main.frag");
   ASSERT_FALSE(source);
-  EXPECT_EQ(source.error().message,
-            "shaders/test/main.frag:3: shader file not found: common/nope.glsl (shader dir " + dir_.string() + ")");
+  EXPECT_EQ(source.error().message, "shaders/test/main.frag:3: shader file not found: common/nope.glsl (shader dir " +
+                                        dir_.path().string() + ")");
 }
 
 TEST_F(ShaderInclude, MalformedIncludeIsAnError) {

@@ -11,6 +11,7 @@
 #include <puff/sim/simulator.h>
 
 #include "../../runtime/src/sim/curl_noise.h"
+#include "support/assert_ok.h"
 
 using namespace puff;
 using sim::Emitter;
@@ -38,7 +39,7 @@ Settings oneParticle(float lifetime = 1000.0f, glm::vec3 velocity = glm::vec3(0.
 
 std::unique_ptr<Simulator> make(const Settings& s, int variations = 1) {
   auto r = Simulator::create(s, variations);
-  EXPECT_TRUE(r.ok()) << (r ? "" : r.error().message);
+  EXPECT_OK(r);
   return r ? std::move(*r) : nullptr;
 }
 

@@ -72,8 +72,6 @@
 //                         (zero-size particles and colliders, particles born at a collider's centre)
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -95,6 +93,7 @@
 #include <puff/scene/read.h>
 #include <puff/sim/simulator.h>
 
+#include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/gl_target.h"
 #include "support/media_target.h"
@@ -114,29 +113,15 @@ bool finite(const glm::vec4& c) {
 
 // ---- cel: a baked sphere puff ---------------------------------------------------------------------
 
-class CelFixture : public test::GlTest {
+class CelFixture : public test::SphereAtlasTest {
  protected:
   static constexpr int kPx = 128;
 
-  static void SetUpTestSuite() {
-    GlTest::SetUpTestSuite();
-    if (atlas_) return;
-    dir_ = fs::temp_directory_path() / ("puff-stability-test-" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    auto sidecar = test::bakeSphereAtlas(dir_);
-    ASSERT_TRUE(sidecar.ok()) << sidecar.error().message;
-    auto atlas = core::loadAtlas(*sidecar);
-    ASSERT_TRUE(atlas.ok()) << atlas.error().message;
-    atlas_ = std::make_unique<core::Atlas>(std::move(*atlas));
-  }
-  static void TearDownTestSuite() {
-    atlas_.reset();
-    fs::remove_all(dir_);
-  }
+  static void SetUpTestSuite() { setUpSphereAtlas(true); }
   void SetUp() override {
     GlTest::SetUp();
     auto r = cel::NailboardRenderer::create();
-    ASSERT_TRUE(r.ok()) << r.error().message;
+    ASSERT_OK(r);
     renderer_ = std::move(*r);
     ASSERT_TRUE(renderer_->setAtlas(*atlas_).ok());
     block_ = std::make_unique<cel::FrameBlock>();
@@ -158,8 +143,6 @@ class CelFixture : public test::GlTest {
     renderer_->drawNailboards(style, cel::ShadePass::kLit);
   }
 
-  static inline fs::path dir_;
-  static inline std::unique_ptr<core::Atlas> atlas_;
   std::unique_ptr<cel::NailboardRenderer> renderer_;
   std::unique_ptr<cel::FrameBlock> block_;
   std::unique_ptr<test::OffscreenTarget> target_;
@@ -604,7 +587,7 @@ TEST(StabilityBudget, AMillionBirthsPerSecondOnABudgetOfAThousand) {
     e.lifetime = lifetime;
     s.emitters.push_back(e);
     auto sim = sim::Simulator::create(s);
-    ASSERT_TRUE(sim.ok()) << sim.error().message;
+    ASSERT_OK(sim);
     sim::StepStats st;
     const int steps = 2 * 24 * 4;  // 2 s
     for (int i = 0; i < steps; ++i) {
@@ -628,7 +611,7 @@ TEST(StabilityBudget, AMillionBirthsPerSecondOnABudgetOfAThousand) {
 TEST(StabilityBudget, ScenesAskingForMoreThanTheBudgetLimitAreRefused) {
   auto parse = [](const std::string& text) { return scene::parseScene(nlohmann::json::parse(text), "x.json"); };
   auto ok = parse(R"({"simulation": {"maxParticles": 20000000}})");
-  ASSERT_TRUE(ok.ok()) << ok.error().message;
+  ASSERT_OK(ok);
   EXPECT_EQ(ok->simulation->maxParticles, sim::kMaxParticleBudget);
   auto bad = parse(R"({"simulation": {"maxParticles": 20000001}})");
   ASSERT_FALSE(bad.ok());
@@ -636,7 +619,7 @@ TEST(StabilityBudget, ScenesAskingForMoreThanTheBudgetLimitAreRefused) {
             "x.json: /simulation/maxParticles: expected a particle budget in [0, 20000000] (about 64 bytes each; more "
             "would not fit in memory), got 20000001");
   ok = parse(R"({"media": {"maxParticles": 1000000}})");
-  ASSERT_TRUE(ok.ok()) << ok.error().message;
+  ASSERT_OK(ok);
   EXPECT_EQ(ok->media->maxParticles, 1'000'000u);
   for (const char* v : {"1000001", "-1", "1000.5"}) {
     bad = parse(std::string(R"({"media": {"maxParticles": )") + v + "}}");
@@ -659,12 +642,12 @@ TEST_F(StabilityBudgetScene, AMediaSceneDrawsItsBudgetNotTheRequest) {
                             "lifetime": 100, "sizeMin": 0.2, "sizeMax": 0.4}]}
   })");
   auto scene = scene::parseScene(j, "budget.json");
-  ASSERT_TRUE(scene.ok()) << scene.error().message;
+  ASSERT_OK(scene);
   auto renderer = render::SceneRenderer::create(*scene);
-  ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+  ASSERT_OK(renderer);
   render::FrameStats stats;
   auto image = (*renderer)->renderFrame(12, &stats);
-  ASSERT_TRUE(image.ok()) << image.error().message;
+  ASSERT_OK(image);
   EXPECT_EQ(stats.mediaParticles, 1000u);
   int lit = 0;
   for (float v : image->pixels) {
@@ -735,7 +718,7 @@ TEST_F(StabilityInputs, MediaRefusesEmptyLayersAndNonFiniteSettingsAndMaterials)
   EXPECT_NE(r.error().message.find("minKelvin"), std::string::npos) << r.error().message;
 
   r = media::Renderer::create();
-  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_OK(r);
   media::Renderer& renderer = **r;
   ASSERT_TRUE(renderer.setMaterials({plainMaterial(0.4f)}).ok());
   auto refused = [&](std::vector<media::Material> table) {
@@ -873,7 +856,7 @@ TEST(StabilityInputsSim, ZeroSizesAndDegenerateContactsStayFinite) {
       c.halfExtent = glm::vec3(extent);
       s.colliders.push_back(c);
       auto sim = sim::Simulator::create(s);
-      ASSERT_TRUE(sim.ok()) << sim.error().message;
+      ASSERT_OK(sim);
       sim::StepStats st;
       (*sim)->advanceToFrame(24, &st);
       ASSERT_GT((*sim)->size(), 900u);

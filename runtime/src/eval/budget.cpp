@@ -7,6 +7,7 @@
 
 #include <puff/core/atlas.h>
 #include <puff/core/detail_video.h>
+#include <puff/core/statistics.h>
 #include <puff/eval/budget.h>
 #include <puff/eval/cel_reference.h>
 #include <puff/reference/media_reference.h>
@@ -27,12 +28,7 @@ using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
+using core::median;
 
 // A resolution as the scene file writes it: 0.125, 0.25, 0.5, 1.
 std::string resolutionText(float r) {

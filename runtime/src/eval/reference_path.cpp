@@ -18,13 +18,8 @@ class ReferencePath final : public render::Path {
                                                       const CelReferenceOptions& options) {
     std::unique_ptr<ReferencePath> p(new ReferencePath());
     if (!scene.atlas.empty()) {
-      auto atlas = core::loadAtlas(scene.atlas);
+      auto atlas = render::loadSceneAtlas(scene);
       if (!atlas) return atlas.error();
-      if (scene.atlasLevel > 0) {
-        auto level = core::atlasFromLevel(*atlas, scene.atlasLevel);
-        if (!level) return Error::at(scene.file, "/atlasLevel: " + level.error().message);
-        atlas = std::move(*level);
-      }
       p->variations_ = std::max(1, atlas->desc.variations);
       auto meshes = detail::atlasSourceMeshes(atlas->desc, scene.atlas);
       if (!meshes) return meshes.error();

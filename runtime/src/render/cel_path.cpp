@@ -22,13 +22,8 @@ class CelPath final : public Path {
     if (!nb) return nb.error();
     p->nailboards_ = std::move(*nb);
     if (!scene.atlas.empty()) {
-      auto atlas = core::loadAtlas(scene.atlas);
+      auto atlas = loadSceneAtlas(scene);
       if (!atlas) return atlas.error();
-      if (scene.atlasLevel > 0) {
-        auto level = core::atlasFromLevel(*atlas, scene.atlasLevel);
-        if (!level) return Error::at(scene.file, "/atlasLevel: " + level.error().message);
-        atlas = std::move(*level);
-      }
       if (auto set = p->nailboards_->setAtlas(*atlas); !set) return Error::at(scene.atlas, set.error().message);
       p->variations_ = std::max(1, atlas->desc.variations);
     } else if (scene::hasParticles(scene)) {

@@ -5,6 +5,14 @@
 
 namespace puff::render {
 
+Result<core::Atlas> loadSceneAtlas(const scene::Scene& scene) {
+  auto atlas = core::loadAtlas(scene.atlas);
+  if (!atlas || scene.atlasLevel == 0) return atlas;
+  auto level = core::atlasFromLevel(*atlas, scene.atlasLevel);
+  if (!level) return Error::at(scene.file, "/atlasLevel: " + level.error().message);
+  return level;
+}
+
 std::shared_ptr<const cel::TriangleMesh> toTriangleMesh(const mesh::TriMesh& m) {
   auto out = std::make_shared<cel::TriangleMesh>();
   out->positions = m.positions;

@@ -42,7 +42,7 @@ struct BakeOptions {
   glm::vec3 defaultColor{1.0f};  ///< diffuse colour of meshes without vertex colours
   bool mips = true;              ///< write coverage-preserving mip levels
   bool contactSheet = true;
-  // --lod auto: the fewest faces whose maps stay within these of the full mesh's.
+  // Automatic level of detail: the fewest faces whose maps stay within these of the full mesh's.
   bool lodAuto = false;
   float lodNormalTolerance = 1.0f / 255.0f;  ///< mean |encoded normal| difference, per channel
   float lodSilhouetteTolerance = 1.0f;       ///< texels between the two silhouettes
@@ -72,7 +72,7 @@ struct GeneratorSpec {
 Result<std::vector<PuffSource>> loadSources(const std::vector<std::filesystem::path>& meshFiles,
                                             const std::optional<GeneratorSpec>& generator);
 
-/// What --lod auto chose for one variation.
+/// What the automatic level of detail chose for one variation.
 struct LodResult {
   std::size_t facesBefore = 0, facesAfter = 0;
   float normalError = 0.0f;      ///< mean |encoded normal difference| reached
@@ -85,7 +85,7 @@ struct BakeReport {
   std::filesystem::path sidecar, contactSheet;
   int contactSheetCells = 0;                  ///< cells the contact sheet shows (it caps its height)
   std::vector<std::filesystem::path> files;   ///< every file written
-  std::vector<std::optional<LodResult>> lod;  ///< per variation when --lod auto
+  std::vector<std::optional<LodResult>> lod;  ///< per variation when the level of detail was automatic
 };
 
 /// Progress: a stage name, steps done and total. Called from the baking thread.
@@ -97,7 +97,7 @@ using ProgressFn = std::function<void(std::string_view stage, int done, int tota
 Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeOptions& options,
                              const ProgressFn& progress = {});
 
-/// Compares two cells' maps for --lod auto: the mean encoded-normal error per channel over texels
+/// Compares two cells' maps for the automatic level of detail: the mean encoded-normal error per channel over texels
 /// both cover, and the largest difference of the two distance maps near either silhouette
 /// (texels within 1 of it): how far the silhouette moved.
 struct MapDifference {

@@ -45,8 +45,8 @@ struct AtlasSource {
   std::string generator;       ///< "sphere", "lumpy", "cluster", or empty for a file
   nlohmann::json params;       ///< generator parameters (seed included)
   std::size_t faces = 0;       ///< faces of the normalized source mesh
-  std::size_t facesBaked = 0;  ///< faces actually rasterized (fewer with --lod auto)
-  /// Diffuse colour baked where the mesh has no vertex colours (puffbake --color; sRGB-encoded as
+  std::size_t facesBaked = 0;  ///< faces actually rasterized (fewer when the bake decimated)
+  /// Diffuse colour baked where the mesh has no vertex colours (the bake's default colour; sRGB-encoded as
   /// authored). Sidecars written before it was recorded read as white, puffbake's default.
   glm::vec3 defaultColor{1.0f};
 };
@@ -104,7 +104,7 @@ int deepestAtlasLevel(const AtlasDesc& desc);
 
 /// The atlas as it would be shipped without its `level` finest mip levels: level `level` becomes
 /// level 0, and every size in texels (atlas, cells, margin, content, flange, distance range) shrinks
-/// by 2^level. Same puffs, same encoding; a smaller atlas (issue 7's "just enough model"). Level 0 is
+/// by 2^level. Same puffs, same encoding; a smaller atlas (just enough model, eval/budget.h). Level 0 is
 /// the atlas itself. Errors: level outside [0, deepestAtlasLevel(desc)].
 Result<Atlas> atlasFromLevel(const Atlas& atlas, int level);
 

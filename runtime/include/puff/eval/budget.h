@@ -1,23 +1,8 @@
-// "Just enough model" (issue 7) for the media path: for a scene and some frames of its camera path,
-// measure what each media layer resolution (MediaSpec::resolution: 1/8, 1/4, 1/2, 1) costs and how
-// far its image lies from the exact reference (puff::reference), then pick the cheapest resolution
-// whose error stays within a budget. puffrender --max-error is a shell around these calls.
-//
-// What is compared, apples to apples:
-//  - the GPU: render::SceneRenderer::renderFrame, the composed 8-bit image read back as values in [0, 1];
-//  - the reference: reference::renderMediaReference over the SAME opaque layer the GPU composed
-//    over (render::SceneRenderer::lastMediaFrame: the resolved RGBA8 colour and the linear depth of that
-//    very frame), the same particles, materials, settings and detail videos, at full output size,
-//    composited along each ray, then clamped to [0, 1] as the 8-bit target clamps;
-//  - the error: reference::imageError's RMSE over every pixel's R, G, B, linear colour.
-// Both sides leave out what the reference does not model, which the measured renders therefore
-// leave out too: the explosion lights (media.lights), heat shimmer and motion blur. The 8-bit
-// output alone costs an RMSE of about 0.0011 (uniform rounding: 1 / (255 sqrt 12)), so budgets
-// below about 0.002 are not met at any resolution.
-//
-// Only the layer resolution is chosen. The method stays the scene's (it changes what the image
-// IS where media meet surfaces, not how much it costs to approximate it); particle count and
-// atlas / mesh level of detail are not cost parameters here.
+// Just enough model: for a scene and some of its frames, measure what each candidate model costs
+// and how far its image lies from a reference, then pick the cheapest within an error budget.
+// Media: the layer resolution against the exact media image (puff::reference). Cel: the particle
+// count and the atlas level against the cel reference of the full model. docs/measurement.md says
+// what is compared and what is left out.
 #pragma once
 
 #include <array>
@@ -68,7 +53,7 @@ std::vector<int> budgetFrames(int first, int last);
 /// samples and everything else are kept; lights, shimmer and motion blur are left out (see above).
 /// Deterministic except for the times. Cost: 4 x (1 + timedRenders) renders per frame, plus one
 /// reference per frame (explosion-walls, 640 x 480, 241 particles and a temperature video: about
-/// 1.5 s on 2 cores; all of `puffrender --frames 0-71 --max-error` measuring: about 6 s).
+/// 1.5 s on 2 cores; measuring frames 0, 36 and 71 of it: about 6 s).
 /// Errors: a scene without media, no frames or a frame outside the scene, timedRenders outside
 /// [1, 100], and what render::SceneRenderer::create, renderFrame, core::loadDetailVideo and
 /// reference::renderMediaReference return.
@@ -103,18 +88,6 @@ std::string budgetSummary(const MediaBudget& budget, const MediaChoice& choice);
 std::string budgetWarning(const MediaBudget& budget, const MediaChoice& choice);
 
 // ---- the cel path: particle count and atlas resolution ----------------------------------------------
-// Two cost parameters of the nailboards a scene can choose at run time, measured against the cel
-// reference of the FULL model (render::RenderPath::kReference: every particle of the scene's emitters as its
-// puff mesh; scene::Scene::particleFraction 1), error = RMSE of the 8-bit frame over the whole frame, media
-// left out of both:
-//  - the particle count (scene::Scene::particleFraction: 1/8, 1/4, 1/2, 1 of each placed emitter's
-//    particles, each (1/f)^(1/3) larger): fewer, bigger puffs; cost = the measured frame time, order
-//    = the count;
-//  - the atlas's resolution (scene::Scene::atlasLevel: the atlas from one of its mip levels on, as if baked
-//    that much smaller); cost = its texture memory (what a smaller atlas saves; on a GPU also
-//    bandwidth), the frame time measured and reported.
-// Mesh detail is baked into the atlas (no run-time cost to save; `puffbake --lod auto` picks it when
-// baking), so it is not chosen here; docs/report/ charts it.
 
 /// Which parameter a CelBudget varies.
 enum class CelKnob { kParticleFraction, kAtlasLevel };

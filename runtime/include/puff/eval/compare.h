@@ -1,6 +1,6 @@
 // Comparing two render paths on one scene: where each draws smoke (its mask: the pixels that
 // differ from the same frame drawn without particles) and how close the tones are where both do.
-// puffrender --compare and the fixed-function parity tests use it.
+// The command line's path comparison and the fixed-function parity tests use it.
 #pragma once
 
 #include <string>

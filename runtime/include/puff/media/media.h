@@ -44,8 +44,8 @@
 #include <puff/core/blackbody.h>
 #include <puff/core/detail_video.h>
 #include <puff/core/error.h>
-#include <puff/media/types.h>
 #include <puff/core/gl.h>
+#include <puff/media/types.h>
 
 namespace puff::media {
 
@@ -79,7 +79,7 @@ class Renderer {
 
   const std::vector<Material>& materials() const;
 
-  /// Benchmarks (issue 7): draw the same quads with the same blending but a fragment program that
+  /// Benchmarks: draw the same quads with the same blending but a fragment program that
   /// computes nothing (shaders/media/floor.frag): the fill-rate floor any billboard method pays.
   void setFillRateFloor(bool on);
 

@@ -10,6 +10,7 @@
 
 #include <puff/cel/frame.h>
 #include <puff/cel/opaque.h>
+#include <puff/core/atlas.h>
 #include <puff/core/error.h>
 #include <puff/mesh/mesh.h>
 #include <puff/scene/evaluate.h>
@@ -17,6 +18,10 @@
 #include <puff/scene/scene.h>
 
 namespace puff::render {
+
+/// The scene's atlas from its atlasLevel on. Errors name the sidecar, or /atlasLevel when the atlas
+/// has no such level.
+Result<core::Atlas> loadSceneAtlas(const scene::Scene& scene);
 
 /// A puff::mesh mesh as the cel path's opaque renderer takes it.
 std::shared_ptr<const cel::TriangleMesh> toTriangleMesh(const mesh::TriMesh& mesh);

@@ -183,12 +183,12 @@ struct Scene {
   std::filesystem::path atlas;            ///< atlas sidecar JSON (required if there are particles)
   /// Draw the nailboards with the atlas from this mip level on (0: the atlas as baked; k: its cells
   /// 2^k times smaller, as if baked at that size). [0, 14]; SceneRenderer refuses a level deeper than
-  /// the atlas allows (core::deepestAtlasLevel). puffrender --max-error chooses it.
+  /// the atlas allows (core::deepestAtlasLevel). eval::chooseCelBudget can choose it.
   int atlasLevel = 0;
   /// Draw this share of each placed emitter's particles (`emitters`: its first round(count * f), at
   /// least 1), each (1 / f)^(1/3) times larger so they fill about the same volume: fewer, bigger puffs
-  /// (issue 7's particle count). (0, 1]; listed particles and the simulator's are not thinned.
-  /// puffrender --max-error chooses it.
+  /// (the particle count a budget chooses). (0, 1]; listed particles and the simulator's are not thinned.
+  /// eval::chooseCelBudget can choose it.
   float particleFraction = 1.0f;
   std::string stylePreset;  ///< named preset applied before the explicit style fields
   cel::Style style;

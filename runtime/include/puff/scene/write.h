@@ -9,9 +9,9 @@
 
 namespace puff::scene {
 
-/// The scene written back as JSON (every field), e.g. for --print-defaults or an editor's save.
+/// The scene written back as JSON (every field): every default shown, or an editor's save.
 nlohmann::json toJson(const Scene& scene);
-/// JSON as a person writes it (puffrender --print-scene, puffview's save): one key per line, arrays
+/// JSON as a person writes it (a tool printing a scene, an editor's save): one key per line, arrays
 /// of numbers ([x, y, z]) on one line. No trailing newline.
 std::string jsonText(const nlohmann::json& j);
 

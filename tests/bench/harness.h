@@ -1,0 +1,86 @@
+// What the benchmarks share: the clock, timed runs after warm-up runs and their median, the one
+// splitmix64 generator their particles come from, and the CSV written to stdout or to a file.
+// Header-only; every benchmark links puff_core. Not a test: nothing here fails on a time.
+#pragma once
+
+#include <algorithm>
+#include <chrono>
+#include <cstdarg>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include <puff/core/files.h>
+
+#include <puff/core/random.h>
+#include <puff/core/statistics.h>
+
+namespace puff::bench {
+
+using Clock = std::chrono::steady_clock;
+
+/// Milliseconds from `t0` to `t1`.
+inline double msBetween(Clock::time_point t0, Clock::time_point t1) {
+  return std::chrono::duration<double, std::milli>(t1 - t0).count();
+}
+/// Milliseconds from `t0` to now.
+inline double msSince(Clock::time_point t0) { return msBetween(t0, Clock::now()); }
+
+using core::median;  // the median of a run's times
+
+/// Runs `run()` `warmUp` + `reps` times, each run timed alone, and returns the last `reps` times (ms).
+template <class Run>
+std::vector<double> timeRuns(int warmUp, int reps, Run&& run) {
+  std::vector<double> times;
+  for (int r = 0; r < warmUp + reps; ++r) {
+    const auto t0 = Clock::now();
+    run();
+    const double ms = msSince(t0);
+    if (r >= warmUp) times.push_back(ms);
+  }
+  return times;
+}
+
+/// splitmix64 (Steele, Lea and Flood 2014): the next value of the sequence that starts at `state`.
+inline std::uint64_t splitmix64(std::uint64_t& state) {
+  state += core::kGoldenGamma;
+  return core::mix64(state);
+}
+/// Uniform in [lo, hi): the top 24 bits of the next splitmix64 value as a float fraction.
+inline float uniform(std::uint64_t& state, float lo, float hi) {
+  return lo + (hi - lo) * static_cast<float>(splitmix64(state) >> 40) / 16777216.0f;
+}
+
+/// Appends printf-style text (a CSV line) to `out`.
+[[gnu::format(printf, 2, 3)]] inline void appendf(std::string& out, const char* format, ...) {
+  std::va_list args;
+  va_start(args, format);
+  std::va_list again;
+  va_copy(again, args);
+  const int n = std::vsnprintf(nullptr, 0, format, args);
+  va_end(args);
+  if (n > 0) {
+    const std::size_t at = out.size();
+    out.resize(at + static_cast<std::size_t>(n) + 1);
+    std::vsnprintf(out.data() + at, static_cast<std::size_t>(n) + 1, format, again);
+    out.resize(at + static_cast<std::size_t>(n));
+  }
+  va_end(again);
+}
+
+/// Writes `csv` to `path` (atomically), or to stdout when `path` is empty. A failure is printed as
+/// "TOOL: error: ..." and returns false.
+inline bool writeCsv(const char* tool, const std::string& path, const std::string& csv) {
+  if (path.empty()) {
+    std::fputs(csv.c_str(), stdout);
+    return true;
+  }
+  if (auto w = core::writeFileAtomic(path, csv); !w) {
+    std::fprintf(stderr, "%s: error: %s\n", tool, w.error().message.c_str());
+    return false;
+  }
+  return true;
+}
+
+}  // namespace puff::bench
