@@ -1,6 +1,10 @@
 #include <puff/core/atlas.h>
 
+#include <array>
+#include <limits>
+
 #include <puff/core/files.h>
+#include <puff/core/json_read.h>
 
 namespace puff::core {
 
@@ -11,43 +15,167 @@ namespace {
 
 json vec3Json(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
 
-// Reads typed fields with errors that carry the JSON pointer of the field.
-class Reader {
- public:
-  Reader(const fs::path& file) : file_(file) {}
+// The sidecar's fields, read with the scene's reader (core/json_read.h): a missing field is
+// "/pointer: missing", a wrong one "/pointer: expected ..., got ...".
+using namespace jsonread;
 
-  template <class T>
-  Result<T> get(const json& obj, const std::string& key, const std::string& where) const {
-    const std::string ptr = where + "/" + key;
-    if (!obj.is_object() || !obj.contains(key)) return fail(ptr, "missing");
-    try {
-      return obj.at(key).get<T>();
-    } catch (const json::exception&) {
-      return fail(ptr, "has the wrong type");
-    }
-  }
-  Error fail(const std::string& ptr, const std::string& what) const {
-    return Error::at(file_, (ptr.empty() ? "/" : ptr) + ": " + what);
-  }
-
- private:
-  fs::path file_;
-};
-
-#define PUFF_READ(var, T, obj, key, where)             \
-  do {                                                 \
-    auto readResult_ = reader.get<T>(obj, key, where); \
-    if (!readResult_) return readResult_.error();      \
-    var = *readResult_;                                \
-  } while (0)
+const json& member(const json& obj, const char* key, const std::string& where) {
+  if (!obj.is_object() || !obj.contains(key)) failText(where + "/" + key, "missing");
+  return obj.at(key);
+}
+int intField(const json& obj, const char* key, const std::string& where) {
+  return static_cast<int>(readInteger(member(obj, key, where), where + "/" + key, std::numeric_limits<int>::min(),
+                                      std::numeric_limits<int>::max(), "an integer"));
+}
+std::size_t countField(const json& obj, const char* key, const std::string& where) {
+  return static_cast<std::size_t>(readInteger(member(obj, key, where), where + "/" + key, 0,
+                                              std::numeric_limits<long long>::max(), "a count (an integer >= 0)"));
+}
+float floatField(const json& obj, const char* key, const std::string& where) {
+  return readFloat(member(obj, key, where), where + "/" + key);
+}
+std::string stringField(const json& obj, const char* key, const std::string& where) {
+  return readString(member(obj, key, where), where + "/" + key);
+}
+glm::vec3 vec3Field(const json& obj, const char* key, const std::string& where) {
+  return readVec3(member(obj, key, where), where + "/" + key);
+}
 
 using Rect = std::array<int, 4>;
 
-Result<glm::vec3> readVec3(const Reader& reader, const json& obj, const std::string& key, const std::string& where) {
-  auto arr = reader.get<std::vector<float>>(obj, key, where);
-  if (!arr) return arr.error();
-  if (arr->size() != 3) return reader.fail(where + "/" + key, "must have 3 numbers");
-  return glm::vec3((*arr)[0], (*arr)[1], (*arr)[2]);
+Rect rectField(const json& obj, const char* key, const std::string& where) {
+  const json& v = member(obj, key, where);
+  const std::string ptr = where + "/" + key;
+  if (!v.is_array() || v.size() != 4) fail(ptr, "[x, y, width, height]", v);
+  Rect r;
+  for (std::size_t k = 0; k < 4; ++k) {
+    r[k] = static_cast<int>(readInteger(v[k], child(ptr, k), std::numeric_limits<int>::min(),
+                                        std::numeric_limits<int>::max(), "an integer"));
+  }
+  return r;
+}
+
+std::vector<std::string> stringsField(const json& obj, const char* key, const std::string& where) {
+  const json& v = member(obj, key, where);
+  const std::string ptr = where + "/" + key;
+  if (!v.is_array()) fail(ptr, "an array of file names", v);
+  std::vector<std::string> out;
+  for (std::size_t k = 0; k < v.size(); ++k) out.push_back(readString(v[k], child(ptr, k)));
+  return out;
+}
+
+void check(bool ok, const std::string& ptr, const std::string& what) {
+  if (!ok) failText(ptr, what);
+}
+
+AtlasDesc readLayout(const json& j) {
+  AtlasDesc d;
+  d.formatVersion = intField(j, "formatVersion", "");
+  check(d.formatVersion == kAtlasFormatVersion, "/formatVersion",
+        "is " + std::to_string(d.formatVersion) + ", this build reads " + std::to_string(kAtlasFormatVersion));
+  d.fileFormat = stringField(j, "fileFormat", "");
+  for (auto [field, key] : {std::pair{&d.width, "width"},
+                            {&d.height, "height"},
+                            {&d.columns, "columns"},
+                            {&d.rows, "rows"},
+                            {&d.cellSize, "cellSize"},
+                            {&d.margin, "margin"},
+                            {&d.contentSize, "contentSize"},
+                            {&d.supersample, "supersample"}}) {
+    *field = intField(j, key, "");
+  }
+  d.depthScale = floatField(j, "depthScale", "");
+  d.flangeTexels = floatField(j, "flangeTexels", "");
+  d.distanceRange = floatField(j, "distanceRange", "");
+  d.alphaThreshold = floatField(j, "alphaThreshold", "");
+  d.mipLevels = intField(j, "mipLevels", "");
+  d.variations = intField(j, "variations", "");
+  d.views = intField(j, "views", "");
+  d.viewGrid = intField(j, "viewGrid", "");
+  d.viewLayout = stringField(j, "viewLayout", "");
+  return d;
+}
+
+void checkLayout(const AtlasDesc& d) {
+  check(d.fileFormat == "png" || d.fileFormat == "exr", "/fileFormat", "must be \"png\" or \"exr\"");
+  check(d.cellSize > 0 && d.cellSize <= 16384, "/cellSize", "must be in [1, 16384]");
+  check(d.columns > 0 && d.rows > 0 && d.columns <= 16384 && d.rows <= 16384, "/columns",
+        "columns and rows must be in [1, 16384]");
+  check(static_cast<long long>(d.width) == static_cast<long long>(d.columns) * d.cellSize &&
+            static_cast<long long>(d.height) == static_cast<long long>(d.rows) * d.cellSize,
+        "/width", "width and height must be columns and rows times cellSize");
+  check(d.margin >= 0 && d.contentSize == d.cellSize - 2 * d.margin && d.contentSize > 0, "/contentSize",
+        "must equal cellSize - 2 * margin and be positive");
+  check(d.variations > 0 && d.variations <= 65536, "/variations", "must be in [1, 65536]");
+  check(d.viewGrid > 0 && d.viewGrid <= 64 && d.views == d.viewGrid * d.viewGrid, "/views",
+        "must be viewGrid squared, viewGrid in [1, 64]");
+  check(d.viewLayout == "hemioct" || d.viewLayout == "oct", "/viewLayout", "must be \"hemioct\" or \"oct\"");
+  // Cells stay apart at every level only if each level halves the cell exactly.
+  check(d.mipLevels > 0 && d.mipLevels <= 15 && d.cellSize % (1 << (d.mipLevels - 1)) == 0, "/mipLevels",
+        "must be in [1, 15] with cellSize divisible by 2^(mipLevels-1)");
+  check(d.distanceRange > 0, "/distanceRange", "must be positive");
+}
+
+void readCells(const json& j, AtlasDesc& d) {
+  check(j.contains("cells") && j["cells"].is_array(), "/cells", "missing or not an array");
+  const json& cells = j["cells"];
+  check(cells.size() == static_cast<std::size_t>(d.variations * d.views), "/cells",
+        "must hold variations * views entries");
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    const std::string where = "/cells/" + std::to_string(i);
+    AtlasCell c;
+    c.variation = intField(cells[i], "variation", where);
+    c.view = intField(cells[i], "view", where);
+    c.rect = rectField(cells[i], "rect", where);
+    c.viewDir = vec3Field(cells[i], "viewDir", where);
+    c.viewUp = vec3Field(cells[i], "viewUp", where);
+    check(c.variation * d.views + c.view == static_cast<int>(i), where, "cells must be variation-major");
+    const auto& r = c.rect;
+    check(r[0] >= 0 && r[1] >= 0 && r[2] == d.cellSize && r[3] == d.cellSize && r[0] + r[2] <= d.width &&
+              r[1] + r[3] <= d.height,
+          where + "/rect", "lies outside the atlas or is not cellSize square");
+    d.cells.push_back(c);
+  }
+}
+
+void readSources(const json& j, AtlasDesc& d) {
+  check(
+      j.contains("sources") && j["sources"].is_array() && j["sources"].size() == static_cast<std::size_t>(d.variations),
+      "/sources", "must hold one entry per variation");
+  for (std::size_t i = 0; i < j["sources"].size(); ++i) {
+    const json& s = j["sources"][i];
+    const std::string where = "/sources/" + std::to_string(i);
+    AtlasSource src;
+    if (s.contains("path")) {
+      src.path = stringField(s, "path", where);
+      src.hash = stringField(s, "hash", where);
+    } else {
+      src.generator = stringField(s, "generator", where);
+      src.params = s.value("params", json::object());
+    }
+    src.faces = countField(s, "faces", where);
+    src.facesBaked = countField(s, "facesBaked", where);
+    if (s.contains("defaultColor")) {
+      const glm::vec3 c = vec3Field(s, "defaultColor", where);
+      for (int k = 0; k < 3; ++k) {
+        check(c[k] >= 0.0f && c[k] <= 1.0f, where + "/defaultColor", "components must be in [0, 1]");
+      }
+      src.defaultColor = c;
+    }
+    d.sources.push_back(src);
+  }
+}
+
+void readMaps(const json& j, AtlasDesc& d) {
+  check(j.contains("maps") && j["maps"].is_object(), "/maps", "missing or not an object");
+  for (const char* name : {"normalDepth", "color", "distance"}) {
+    const std::string where = std::string("/maps/") + name;
+    check(j["maps"].contains(name), where, "missing");
+    AtlasMap m;
+    m.levels = stringsField(j["maps"][name], "levels", where);
+    check(m.levels.size() == static_cast<std::size_t>(d.mipLevels), where + "/levels", "must list mipLevels files");
+    d.maps[name] = m;
+  }
 }
 
 }  // namespace
@@ -110,122 +238,15 @@ json toJson(const AtlasDesc& d) {
 }
 
 Result<AtlasDesc> atlasFromJson(const json& j, const fs::path& file) {
-  Reader reader(file);
-  if (!j.is_object()) return reader.fail("", "not a JSON object");
-  AtlasDesc d;
-  PUFF_READ(d.formatVersion, int, j, "formatVersion", "");
-  if (d.formatVersion != kAtlasFormatVersion) {
-    return reader.fail("/formatVersion", "is " + std::to_string(d.formatVersion) + ", this build reads " +
-                                             std::to_string(kAtlasFormatVersion));
-  }
-  PUFF_READ(d.fileFormat, std::string, j, "fileFormat", "");
-  PUFF_READ(d.width, int, j, "width", "");
-  PUFF_READ(d.height, int, j, "height", "");
-  PUFF_READ(d.columns, int, j, "columns", "");
-  PUFF_READ(d.rows, int, j, "rows", "");
-  PUFF_READ(d.cellSize, int, j, "cellSize", "");
-  PUFF_READ(d.margin, int, j, "margin", "");
-  PUFF_READ(d.contentSize, int, j, "contentSize", "");
-  PUFF_READ(d.supersample, int, j, "supersample", "");
-  PUFF_READ(d.depthScale, float, j, "depthScale", "");
-  PUFF_READ(d.flangeTexels, float, j, "flangeTexels", "");
-  PUFF_READ(d.distanceRange, float, j, "distanceRange", "");
-  PUFF_READ(d.alphaThreshold, float, j, "alphaThreshold", "");
-  PUFF_READ(d.mipLevels, int, j, "mipLevels", "");
-  PUFF_READ(d.variations, int, j, "variations", "");
-  PUFF_READ(d.views, int, j, "views", "");
-  PUFF_READ(d.viewGrid, int, j, "viewGrid", "");
-  PUFF_READ(d.viewLayout, std::string, j, "viewLayout", "");
-
-  if (d.fileFormat != "png" && d.fileFormat != "exr") return reader.fail("/fileFormat", "must be \"png\" or \"exr\"");
-  if (d.cellSize <= 0 || d.cellSize > 16384) return reader.fail("/cellSize", "must be in [1, 16384]");
-  if (d.columns <= 0 || d.rows <= 0 || d.columns > 16384 || d.rows > 16384) {
-    return reader.fail("/columns", "columns and rows must be in [1, 16384]");
-  }
-  if (static_cast<long long>(d.width) != static_cast<long long>(d.columns) * d.cellSize ||
-      static_cast<long long>(d.height) != static_cast<long long>(d.rows) * d.cellSize) {
-    return reader.fail("/width", "width and height must be columns and rows times cellSize");
-  }
-  if (d.margin < 0 || d.contentSize != d.cellSize - 2 * d.margin || d.contentSize <= 0) {
-    return reader.fail("/contentSize", "must equal cellSize - 2 * margin and be positive");
-  }
-  if (d.variations <= 0 || d.variations > 65536) return reader.fail("/variations", "must be in [1, 65536]");
-  if (d.viewGrid <= 0 || d.viewGrid > 64 || d.views != d.viewGrid * d.viewGrid) {
-    return reader.fail("/views", "must be viewGrid squared, viewGrid in [1, 64]");
-  }
-  if (d.viewLayout != "hemioct" && d.viewLayout != "oct")
-    return reader.fail("/viewLayout", "must be \"hemioct\" or \"oct\"");
-  // Cells stay apart at every level only if each level halves the cell exactly.
-  if (d.mipLevels <= 0 || d.mipLevels > 15 || d.cellSize % (1 << (d.mipLevels - 1)) != 0) {
-    return reader.fail("/mipLevels", "must be in [1, 15] with cellSize divisible by 2^(mipLevels-1)");
-  }
-  if (!(d.distanceRange > 0)) return reader.fail("/distanceRange", "must be positive");
-
-  if (!j.contains("cells") || !j["cells"].is_array()) return reader.fail("/cells", "missing or not an array");
-  const json& cells = j["cells"];
-  if (cells.size() != static_cast<std::size_t>(d.variations * d.views)) {
-    return reader.fail("/cells", "must hold variations * views entries");
-  }
-  for (std::size_t i = 0; i < cells.size(); ++i) {
-    const std::string where = "/cells/" + std::to_string(i);
-    AtlasCell c;
-    PUFF_READ(c.variation, int, cells[i], "variation", where);
-    PUFF_READ(c.view, int, cells[i], "view", where);
-    PUFF_READ(c.rect, Rect, cells[i], "rect", where);
-    auto dir = readVec3(reader, cells[i], "viewDir", where);
-    if (!dir) return dir.error();
-    auto up = readVec3(reader, cells[i], "viewUp", where);
-    if (!up) return up.error();
-    c.viewDir = *dir;
-    c.viewUp = *up;
-    if (c.variation * d.views + c.view != static_cast<int>(i))
-      return reader.fail(where, "cells must be variation-major");
-    const auto& r = c.rect;
-    if (r[0] < 0 || r[1] < 0 || r[2] != d.cellSize || r[3] != d.cellSize || r[0] + r[2] > d.width ||
-        r[1] + r[3] > d.height) {
-      return reader.fail(where + "/rect", "lies outside the atlas or is not cellSize square");
-    }
-    d.cells.push_back(c);
-  }
-  if (!j.contains("sources") || !j["sources"].is_array() ||
-      j["sources"].size() != static_cast<std::size_t>(d.variations)) {
-    return reader.fail("/sources", "must hold one entry per variation");
-  }
-  for (std::size_t i = 0; i < j["sources"].size(); ++i) {
-    const json& s = j["sources"][i];
-    const std::string where = "/sources/" + std::to_string(i);
-    AtlasSource src;
-    if (s.contains("path")) {
-      PUFF_READ(src.path, std::string, s, "path", where);
-      PUFF_READ(src.hash, std::string, s, "hash", where);
-    } else {
-      PUFF_READ(src.generator, std::string, s, "generator", where);
-      src.params = s.value("params", json::object());
-    }
-    PUFF_READ(src.faces, std::size_t, s, "faces", where);
-    PUFF_READ(src.facesBaked, std::size_t, s, "facesBaked", where);
-    if (s.contains("defaultColor")) {
-      auto c = readVec3(reader, s, "defaultColor", where);
-      if (!c) return c.error();
-      for (int k = 0; k < 3; ++k) {
-        if (!((*c)[k] >= 0.0f && (*c)[k] <= 1.0f))
-          return reader.fail(where + "/defaultColor", "components must be in [0, 1]");
-      }
-      src.defaultColor = *c;
-    }
-    d.sources.push_back(src);
-  }
-  if (!j.contains("maps") || !j["maps"].is_object()) return reader.fail("/maps", "missing or not an object");
-  for (const char* name : {"normalDepth", "color", "distance"}) {
-    const std::string where = std::string("/maps/") + name;
-    AtlasMap m;
-    if (!j["maps"].contains(name)) return reader.fail(where, "missing");
-    PUFF_READ(m.levels, std::vector<std::string>, j["maps"][name], "levels", where);
-    if (m.levels.size() != static_cast<std::size_t>(d.mipLevels))
-      return reader.fail(where + "/levels", "must list mipLevels files");
-    d.maps[name] = m;
-  }
-  return d;
+  return jsonread::catchFailure(file, [&] {
+    if (!j.is_object()) jsonread::failText("/", "not a JSON object");
+    AtlasDesc d = readLayout(j);
+    checkLayout(d);
+    readCells(j, d);
+    readSources(j, d);
+    readMaps(j, d);
+    return d;
+  });
 }
 
 Result<AtlasDesc> loadAtlasDesc(const fs::path& sidecar) {

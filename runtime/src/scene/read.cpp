@@ -198,7 +198,6 @@ EmitterSpec readEmitter(const json& j, const std::string& ptr) {
   return e;
 }
 
-
 sim::Path readPath3(const json& j, const std::string& ptr) {
   // [{"time": t, "position": [x, y, z]}, ...], times increasing.
   if (!j.is_array()) fail(ptr, "an array of keys {\"time\", \"position\"}", j);
@@ -266,25 +265,8 @@ void readAnimation(const json& j, const std::string& ptr, Animation& a) {
   if (auto* v = find(j, "targetPath")) a.targetPath = readPath3(*v, child(ptr, "targetPath"));
 }
 
-Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
-  if (!j.is_object()) throw Failure{"expected a JSON object at the top level, got " + describe(j)};
-  requireObject(j, "",
-                {"output", "camera", "light", "ambient", "ramp", "atlas", "atlasLevel", "particleFraction", "style",
-                 "particles", "emitters", "objects", "animation", "simulation", "fixed", "media"});
-  const Reader r(file, artDir);
-  Scene s;
-  s.file = file;
-  if (auto* v = find(j, "output")) readOutput(*v, "/output", s);
-  if (auto* v = find(j, "camera")) readCamera(*v, "/camera", s.camera);
-  if (auto* v = find(j, "light")) readLight(*v, "/light", s.light);
-  if (auto* v = find(j, "ambient")) readAmbient(*v, "/ambient", r, s);
-  if (auto* v = find(j, "ramp")) readRamp(*v, "/ramp", r, s);
-  if (auto* v = find(j, "atlas")) s.atlas = r.readPath(*v, "/atlas");
-  if (auto* v = find(j, "atlasLevel")) s.atlasLevel = readInt(*v, "/atlasLevel", 0, 14);
-  if (auto* v = find(j, "particleFraction")) {
-    s.particleFraction = readFloat(*v, "/particleFraction", Range{0.0, 1.0, true, false});
-  }
-  if (auto* v = find(j, "style")) readStyle(*v, "/style", s);
+// Listed particles and placed emitters; returns how many particles they come to.
+long long readParticleSources(const json& j, Scene& s) {
   long long total = 0;
   if (auto* v = find(j, "particles")) {
     if (!v->is_array()) fail("/particles", "an array of particles", *v);
@@ -306,76 +288,111 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
       }
     }
   }
+  return total;
+}
+
+void readFixed(const json& j, const std::string& ptr, const Reader& r, FixedSettings& f) {
+  requireObject(j, ptr, {"puff", "outlineScale", "outlineOffset", "cellSize"});
+  if (auto* x = find(j, "puff")) f.puff = r.readPath(*x, child(ptr, "puff"));
+  if (auto* x = find(j, "outlineScale")) f.outlineScale = readFloat(*x, child(ptr, "outlineScale"), Range{1.0, 4.0});
+  if (auto* x = find(j, "outlineOffset"))
+    f.outlineOffset = readFloat(*x, child(ptr, "outlineOffset"), kNonNegativeMagnitude);
+  if (auto* x = find(j, "cellSize")) {
+    const int c = static_cast<int>(readInteger(*x, child(ptr, "cellSize"), 32, 256, "32, 64, 128 or 256"));
+    if (c != 32 && c != 64 && c != 128 && c != 256) fail(child(ptr, "cellSize"), "32, 64, 128 or 256", *x);
+    f.cellSize = c;
+  }
+}
+
+// A vortex or emitter that rides on an object follows its path (its position is an offset from
+// where the object is).
+void attachToObject(const std::vector<ObjectSpec>& objects, const std::string& name, sim::Path& path,
+                    const std::string& ptr) {
+  if (name.empty()) return;
+  const auto named = [&](const ObjectSpec& o) { return o.name == name; };
+  const auto it = std::find_if(objects.begin(), objects.end(), named);
+  if (it == objects.end()) {
+    std::string names;
+    for (const ObjectSpec& o : objects) names += (names.empty() ? "" : ", ") + o.name;
+    failText(ptr, "expected the name of a scene object (" + (names.empty() ? std::string("there are none") : names) +
+                      "), got \"" + name + "\"");
+  }
+  if (std::count_if(objects.begin(), objects.end(), named) > 1)
+    failText(ptr, "\"" + name + "\" names more than one object; give the object a unique name");
+  if (!path.empty()) failText(ptr, "a vortex or emitter follows its own path or an object, not both");
+  path = it->path;
+  if (path.empty()) path = sim::Path{{0.0f}, {glm::vec3(0.0f)}};
+  for (glm::vec3& p : path.points) p += it->translate;
+}
+
+// The vortices and emitters of `forces` / `emitters` under `ptr` attached to their objects.
+template <class EmitterOf, class Emitters>
+void attachAll(const std::vector<ObjectSpec>& objects, sim::Forces& forces, Emitters& emitters, EmitterOf emitterOf,
+               const std::string& ptr) {
+  for (std::size_t i = 0; i < forces.vortices.size(); ++i) {
+    sim::Vortex& vortex = forces.vortices[i];
+    attachToObject(objects, vortex.attach, vortex.path, ptr + "/forces/vortices/" + std::to_string(i) + "/attach");
+  }
+  for (std::size_t i = 0; i < emitters.size(); ++i) {
+    sim::Emitter& e = emitterOf(emitters[i]);
+    attachToObject(objects, e.attach, e.path, ptr + "/emitters/" + std::to_string(i) + "/attach");
+  }
+}
+
+void readSimulationSection(const json& j, Scene& s) {
+  s.simulation = readSimulation(j, "/simulation");
+  s.simulation->fps = s.animation.fps;
+  attachAll(
+      s.objects, s.simulation->forces, s.simulation->emitters, [](sim::Emitter& e) -> sim::Emitter& { return e; },
+      "/simulation");
+  // What the reader does not see (cross-field limits): the simulator's own check.
+  if (auto ok = sim::validate(*s.simulation); !ok) throw Failure{"/simulation" + ok.error().message};
+}
+
+void readMediaSection(const json& j, const Reader& r, Scene& s) {
+  s.media = readMedia(j, "/media", r);
+  attachAll(
+      s.objects, s.media->forces, s.media->emitters, [](MediaEmitterSpec& e) -> sim::Emitter& { return e.emitter; },
+      "/media");
+  if (!s.media->emitters.empty() || !s.media->forces.vortices.empty()) {
+    sim::Settings check;
+    check.forces = s.media->forces;
+    for (const MediaEmitterSpec& e : s.media->emitters) check.emitters.push_back(e.emitter);
+    if (auto ok = sim::validate(check); !ok) throw Failure{"/media" + ok.error().message};
+  }
+}
+
+Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
+  if (!j.is_object()) throw Failure{"expected a JSON object at the top level, got " + describe(j)};
+  requireObject(j, "",
+                {"output", "camera", "light", "ambient", "ramp", "atlas", "atlasLevel", "particleFraction", "style",
+                 "particles", "emitters", "objects", "animation", "simulation", "fixed", "media"});
+  const Reader r(file, artDir);
+  Scene s;
+  s.file = file;
+  if (auto* v = find(j, "output")) readOutput(*v, "/output", s);
+  if (auto* v = find(j, "camera")) readCamera(*v, "/camera", s.camera);
+  if (auto* v = find(j, "light")) readLight(*v, "/light", s.light);
+  if (auto* v = find(j, "ambient")) readAmbient(*v, "/ambient", r, s);
+  if (auto* v = find(j, "ramp")) readRamp(*v, "/ramp", r, s);
+  if (auto* v = find(j, "atlas")) s.atlas = r.readPath(*v, "/atlas");
+  if (auto* v = find(j, "atlasLevel")) s.atlasLevel = readInt(*v, "/atlasLevel", 0, 14);
+  if (auto* v = find(j, "particleFraction")) {
+    s.particleFraction = readFloat(*v, "/particleFraction", Range{0.0, 1.0, true, false});
+  }
+  if (auto* v = find(j, "style")) readStyle(*v, "/style", s);
+  long long total = readParticleSources(j, s);
   if (auto* v = find(j, "objects")) {
     if (!v->is_array()) fail("/objects", "an array of objects", *v);
     for (std::size_t i = 0; i < v->size(); ++i) s.objects.push_back(readObject((*v)[i], child("/objects", i), i, r));
   }
   if (auto* v = find(j, "animation")) readAnimation(*v, "/animation", s.animation);
-  if (auto* v = find(j, "fixed")) {
-    const std::string ptr = "/fixed";
-    requireObject(*v, ptr, {"puff", "outlineScale", "outlineOffset", "cellSize"});
-    if (auto* x = find(*v, "puff")) s.fixed.puff = r.readPath(*x, child(ptr, "puff"));
-    if (auto* x = find(*v, "outlineScale"))
-      s.fixed.outlineScale = readFloat(*x, child(ptr, "outlineScale"), Range{1.0, 4.0});
-    if (auto* x = find(*v, "outlineOffset"))
-      s.fixed.outlineOffset = readFloat(*x, child(ptr, "outlineOffset"), kNonNegativeMagnitude);
-    if (auto* x = find(*v, "cellSize")) {
-      const int c = static_cast<int>(readInteger(*x, child(ptr, "cellSize"), 32, 256, "32, 64, 128 or 256"));
-      if (c != 32 && c != 64 && c != 128 && c != 256) fail(child(ptr, "cellSize"), "32, 64, 128 or 256", *x);
-      s.fixed.cellSize = c;
-    }
-  }
-  // Vortices and emitters that ride on an object follow its path (their position is an offset
-  // from where the object is).
-  auto resolve = [&](const std::string& name, sim::Path& path, const std::string& ptr) {
-    if (name.empty()) return;
-    const auto it =
-        std::find_if(s.objects.begin(), s.objects.end(), [&](const ObjectSpec& o) { return o.name == name; });
-    if (it == s.objects.end()) {
-      std::string names;
-      for (const ObjectSpec& o : s.objects) names += (names.empty() ? "" : ", ") + o.name;
-      failText(ptr, "expected the name of a scene object (" + (names.empty() ? std::string("there are none") : names) +
-                        "), got \"" + name + "\"");
-    }
-    if (std::count_if(s.objects.begin(), s.objects.end(), [&](const ObjectSpec& o) { return o.name == name; }) > 1)
-      failText(ptr, "\"" + name + "\" names more than one object; give the object a unique name");
-    if (!path.empty()) failText(ptr, "a vortex or emitter follows its own path or an object, not both");
-    path = it->path;
-    if (path.empty()) path = sim::Path{{0.0f}, {glm::vec3(0.0f)}};
-    for (glm::vec3& p : path.points) p += it->translate;
-  };
+  if (auto* v = find(j, "fixed")) readFixed(*v, "/fixed", r, s.fixed);
   if (auto* v = find(j, "simulation")) {
-    s.simulation = readSimulation(*v, "/simulation");
-    s.simulation->fps = s.animation.fps;
-    for (std::size_t i = 0; i < s.simulation->forces.vortices.size(); ++i) {
-      sim::Vortex& vortex = s.simulation->forces.vortices[i];
-      resolve(vortex.attach, vortex.path, "/simulation/forces/vortices/" + std::to_string(i) + "/attach");
-    }
-    for (std::size_t i = 0; i < s.simulation->emitters.size(); ++i) {
-      sim::Emitter& e = s.simulation->emitters[i];
-      resolve(e.attach, e.path, "/simulation/emitters/" + std::to_string(i) + "/attach");
-    }
-    // What the reader does not see (cross-field limits): the simulator's own check.
-    if (auto ok = sim::validate(*s.simulation); !ok) throw Failure{"/simulation" + ok.error().message};
+    readSimulationSection(*v, s);
     if (!s.simulation->emitters.empty()) total = std::max(total, 1LL);
   }
-  if (auto* v = find(j, "media")) {
-    s.media = readMedia(*v, "/media", r);
-    for (std::size_t i = 0; i < s.media->forces.vortices.size(); ++i) {
-      sim::Vortex& vortex = s.media->forces.vortices[i];
-      resolve(vortex.attach, vortex.path, "/media/forces/vortices/" + std::to_string(i) + "/attach");
-    }
-    for (std::size_t i = 0; i < s.media->emitters.size(); ++i) {
-      sim::Emitter& e = s.media->emitters[i].emitter;
-      resolve(e.attach, e.path, "/media/emitters/" + std::to_string(i) + "/attach");
-    }
-    if (!s.media->emitters.empty() || !s.media->forces.vortices.empty()) {
-      sim::Settings check;
-      check.forces = s.media->forces;
-      for (const MediaEmitterSpec& e : s.media->emitters) check.emitters.push_back(e.emitter);
-      if (auto ok = sim::validate(check); !ok) throw Failure{"/media" + ok.error().message};
-    }
-  }
+  if (auto* v = find(j, "media")) readMediaSection(*v, r, s);
   if (total > 0 && s.atlas.empty()) {
     if (auto* v = find(j, "atlas")) fail("/atlas", "an atlas sidecar path (the scene has particles)", *v);
     failText("/atlas", "expected an atlas sidecar path (the scene has particles), got none");

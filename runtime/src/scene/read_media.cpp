@@ -103,12 +103,22 @@ MediaLightSpec readMediaLight(const json& j, const std::string& ptr) {
   return l;
 }
 
-MediaSpec readMedia(const json& j, const std::string& ptr, const Reader& r) {
-  requireObject(j, ptr,
-                {"method", "resolution", "phase", "blackbody", "exposure", "detail", "shimmer", "depthAware",
-                 "depthTolerance", "motionBlur", "materials", "particles", "emitters", "forces", "substeps", "preroll",
-                 "maxParticles", "collisionRadius", "lights"});
-  MediaSpec m;
+void readBlackbody(const json& v, const std::string& p, media::Settings& settings) {
+  requireObject(v, p, {"minKelvin", "maxKelvin", "normalizeKelvin"});
+  const Range kelvin{0.0, 1e5, true, false};
+  if (auto* x = find(v, "minKelvin")) settings.minKelvin = readFloat(*x, child(p, "minKelvin"), kelvin);
+  if (auto* x = find(v, "maxKelvin")) settings.maxKelvin = readFloat(*x, child(p, "maxKelvin"), kelvin);
+  if (auto* x = find(v, "normalizeKelvin"))
+    settings.normalizeKelvin = readFloat(*x, child(p, "normalizeKelvin"), kelvin);
+  if (!(settings.maxKelvin > settings.minKelvin)) {
+    const char* key = find(v, "maxKelvin") ? "maxKelvin" : "minKelvin";
+    fail(child(p, key), "maxKelvin > minKelvin", *find(v, key));
+  }
+}
+
+// How the media are drawn: method, layer resolution, phase, black body, exposure, detail videos,
+// composition and motion blur.
+void readLook(const json& j, const std::string& ptr, const Reader& r, MediaSpec& m) {
   if (auto* v = find(j, "method")) {
     m.method = readEnum<media::Method>(*v, child(ptr, "method"),
                                        {{"planar", media::Method::kPlanar},
@@ -127,19 +137,7 @@ MediaSpec readMedia(const json& j, const std::string& ptr, const Reader& r) {
                                                    {{"cornette-shanks", media::PhaseModel::kCornetteShanks},
                                                     {"henyey-greenstein", media::PhaseModel::kHenyeyGreenstein}});
   }
-  if (auto* v = find(j, "blackbody")) {
-    const std::string p = child(ptr, "blackbody");
-    requireObject(*v, p, {"minKelvin", "maxKelvin", "normalizeKelvin"});
-    const Range kelvin{0.0, 1e5, true, false};
-    if (auto* x = find(*v, "minKelvin")) m.settings.minKelvin = readFloat(*x, child(p, "minKelvin"), kelvin);
-    if (auto* x = find(*v, "maxKelvin")) m.settings.maxKelvin = readFloat(*x, child(p, "maxKelvin"), kelvin);
-    if (auto* x = find(*v, "normalizeKelvin"))
-      m.settings.normalizeKelvin = readFloat(*x, child(p, "normalizeKelvin"), kelvin);
-    if (!(m.settings.maxKelvin > m.settings.minKelvin)) {
-      const char* key = find(*v, "maxKelvin") ? "maxKelvin" : "minKelvin";
-      fail(child(p, key), "maxKelvin > minKelvin", *find(*v, key));
-    }
-  }
+  if (auto* v = find(j, "blackbody")) readBlackbody(*v, child(ptr, "blackbody"), m.settings);
   if (auto* v = find(j, "exposure")) m.settings.exposure = readFloat(*v, child(ptr, "exposure"), Range{0.0, 1e4});
   if (auto* v = find(j, "detail")) {
     const std::string p = child(ptr, "detail");
@@ -159,71 +157,83 @@ MediaSpec readMedia(const json& j, const std::string& ptr, const Reader& r) {
     if (auto* x = find(*v, "persistence"))
       m.motionBlurPersistence = readFloat(*x, child(p, "persistence"), Range{0.0, 1.0, false, true});
   }
-  if (auto* v = find(j, "materials")) {
-    const std::string p = child(ptr, "materials");
-    if (!v->is_array() || v->empty() || v->size() > 32) fail(p, "an array of 1 to 32 materials", *v);
-    m.materials.clear();
-    std::vector<std::string> becomes;
-    for (std::size_t i = 0; i < v->size(); ++i) {
-      m.materials.push_back(readMaterial((*v)[i], child(p, i), becomes));
-      for (std::size_t k = 0; k + 1 < m.materials.size(); ++k)
-        if (m.materials[k].name == m.materials.back().name)
-          fail(child(child(p, i), "name"), "a name no other material has", *find((*v)[i], "name"));
-    }
-    for (std::size_t i = 0; i < becomes.size(); ++i) {
-      if (becomes[i].empty()) continue;
-      m.materials[i].becomes = materialIndex(m, *find((*v)[i], "becomes"), child(child(p, i), "becomes"));
-    }
+}
+
+void readMaterials(const json& v, const std::string& p, MediaSpec& m) {
+  if (!v.is_array() || v.empty() || v.size() > 32) fail(p, "an array of 1 to 32 materials", v);
+  m.materials.clear();
+  std::vector<std::string> becomes;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    m.materials.push_back(readMaterial(v[i], child(p, i), becomes));
+    for (std::size_t k = 0; k + 1 < m.materials.size(); ++k)
+      if (m.materials[k].name == m.materials.back().name)
+        fail(child(child(p, i), "name"), "a name no other material has", *find(v[i], "name"));
   }
-  if (auto* v = find(j, "particles")) {
-    const std::string p = child(ptr, "particles");
-    if (!v->is_array() || v->size() > static_cast<std::size_t>(kMaxParticles))
-      fail(p, "an array of at most " + std::to_string(kMaxParticles) + " particles", *v);
-    for (std::size_t i = 0; i < v->size(); ++i) {
-      const std::string q = child(p, i);
-      const json& x = (*v)[i];
-      requireObject(x, q, {"position", "radius", "material", "life", "density", "seed"});
-      MediaParticleSpec s;
-      if (auto* y = find(x, "position")) s.position = readVec3(*y, child(q, "position"), kMagnitude);
-      if (auto* y = find(x, "radius")) s.radius = readFloat(*y, child(q, "radius"), kNonNegativeMagnitude);
-      if (auto* y = find(x, "material")) {
-        s.materialIndex = materialIndex(m, *y, child(q, "material"));
-        s.material = m.materials[static_cast<std::size_t>(s.materialIndex)].name;
-      } else {
-        s.materialIndex = materialIndex(m, json(s.material), child(q, "material"));
-      }
-      if (auto* y = find(x, "life")) s.life = readFloat(*y, child(q, "life"), kUnit);
-      if (auto* y = find(x, "density")) s.density = readFloat(*y, child(q, "density"), Range{0.0, 1e4});
-      if (auto* y = find(x, "seed"))
-        s.seed = static_cast<std::uint32_t>(readInteger(*y, child(q, "seed"), 0, 0xffffffffLL));
-      m.particles.push_back(std::move(s));
-    }
+  for (std::size_t i = 0; i < becomes.size(); ++i) {
+    if (becomes[i].empty()) continue;
+    m.materials[i].becomes = materialIndex(m, *find(v[i], "becomes"), child(child(p, i), "becomes"));
   }
-  if (auto* v = find(j, "emitters")) {
-    const std::string p = child(ptr, "emitters");
-    if (!v->is_array()) fail(p, "an array of emitters", *v);
-    for (std::size_t i = 0; i < v->size(); ++i) {
-      const std::string q = child(p, i);
-      json e = (*v)[i];
-      if (!e.is_object()) fail(q, "an emitter object", e);
-      MediaEmitterSpec s;
-      if (auto* y = find(e, "material")) {
-        s.materialIndex = materialIndex(m, *y, child(q, "material"));
-        s.material = m.materials[static_cast<std::size_t>(s.materialIndex)].name;
-      } else {
-        s.materialIndex = materialIndex(m, json(s.material), child(q, "material"));
-      }
-      if (auto* y = find(e, "growth")) s.growth = readFloat(*y, child(q, "growth"), Range{0.0, 100.0});
-      e.erase("material");
-      e.erase("growth");
-      for (const char* key : {"variations", "oriented", "spin"}) {
-        if (e.contains(key))
-          failText(child(q, key), "unknown key: media particles are spheres (no atlas variation or orientation)");
-      }
-      s.emitter = readSimEmitter(e, q);
-      m.emitters.push_back(std::move(s));
+}
+
+void readMediaParticles(const json& v, const std::string& p, MediaSpec& m) {
+  if (!v.is_array() || v.size() > static_cast<std::size_t>(kMaxParticles))
+    fail(p, "an array of at most " + std::to_string(kMaxParticles) + " particles", v);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const std::string q = child(p, i);
+    const json& x = v[i];
+    requireObject(x, q, {"position", "radius", "material", "life", "density", "seed"});
+    MediaParticleSpec s;
+    if (auto* y = find(x, "position")) s.position = readVec3(*y, child(q, "position"), kMagnitude);
+    if (auto* y = find(x, "radius")) s.radius = readFloat(*y, child(q, "radius"), kNonNegativeMagnitude);
+    if (auto* y = find(x, "material")) {
+      s.materialIndex = materialIndex(m, *y, child(q, "material"));
+      s.material = m.materials[static_cast<std::size_t>(s.materialIndex)].name;
+    } else {
+      s.materialIndex = materialIndex(m, json(s.material), child(q, "material"));
     }
+    if (auto* y = find(x, "life")) s.life = readFloat(*y, child(q, "life"), kUnit);
+    if (auto* y = find(x, "density")) s.density = readFloat(*y, child(q, "density"), Range{0.0, 1e4});
+    if (auto* y = find(x, "seed"))
+      s.seed = static_cast<std::uint32_t>(readInteger(*y, child(q, "seed"), 0, 0xffffffffLL));
+    m.particles.push_back(std::move(s));
   }
+}
+
+void readMediaEmitters(const json& v, const std::string& p, MediaSpec& m) {
+  if (!v.is_array()) fail(p, "an array of emitters", v);
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const std::string q = child(p, i);
+    json e = v[i];
+    if (!e.is_object()) fail(q, "an emitter object", e);
+    MediaEmitterSpec s;
+    if (auto* y = find(e, "material")) {
+      s.materialIndex = materialIndex(m, *y, child(q, "material"));
+      s.material = m.materials[static_cast<std::size_t>(s.materialIndex)].name;
+    } else {
+      s.materialIndex = materialIndex(m, json(s.material), child(q, "material"));
+    }
+    if (auto* y = find(e, "growth")) s.growth = readFloat(*y, child(q, "growth"), Range{0.0, 100.0});
+    e.erase("material");
+    e.erase("growth");
+    for (const char* key : {"variations", "oriented", "spin"}) {
+      if (e.contains(key))
+        failText(child(q, key), "unknown key: media particles are spheres (no atlas variation or orientation)");
+    }
+    s.emitter = readSimEmitter(e, q);
+    m.emitters.push_back(std::move(s));
+  }
+}
+
+MediaSpec readMedia(const json& j, const std::string& ptr, const Reader& r) {
+  requireObject(j, ptr,
+                {"method", "resolution", "phase", "blackbody", "exposure", "detail", "shimmer", "depthAware",
+                 "depthTolerance", "motionBlur", "materials", "particles", "emitters", "forces", "substeps", "preroll",
+                 "maxParticles", "collisionRadius", "lights"});
+  MediaSpec m;
+  readLook(j, ptr, r, m);
+  if (auto* v = find(j, "materials")) readMaterials(*v, child(ptr, "materials"), m);
+  if (auto* v = find(j, "particles")) readMediaParticles(*v, child(ptr, "particles"), m);
+  if (auto* v = find(j, "emitters")) readMediaEmitters(*v, child(ptr, "emitters"), m);
   if (auto* v = find(j, "forces")) m.forces = readForces(*v, child(ptr, "forces"));
   if (auto* v = find(j, "substeps")) m.substeps = readInt(*v, child(ptr, "substeps"), 1, 1000);
   if (auto* v = find(j, "preroll")) m.preroll = readFloat(*v, child(ptr, "preroll"), Range{0.0, 3600.0});

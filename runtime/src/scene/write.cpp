@@ -207,6 +207,60 @@ json mediaJson(const MediaSpec& m, const fs::path& dir) {
   return j;
 }
 
+json particleJson(const ParticleSpec& p) {
+  return {{"position", vec3(p.position)},
+          {"size", number(p.size)},
+          {"variation", p.variation},
+          {"oriented", p.oriented},
+          {"orientation", orientationJson(p.orientation)},
+          {"velocity", vec3(p.velocity)},
+          {"angularVelocity", vec3(p.angularVelocity)},
+          {"birth", number(p.birth)},
+          {"lifetime", number(p.lifetime)}};
+}
+
+json emitterJson(const EmitterSpec& e) {
+  const char* shape = e.shape == EmitterSpec::Shape::kSphere ? "sphere"
+                      : e.shape == EmitterSpec::Shape::kBox  ? "box"
+                                                             : "cone";
+  return {{"shape", shape},
+          {"count", e.count},
+          {"seed", e.seed},
+          {"center", vec3(e.center)},
+          {"radius", number(e.radius)},
+          {"halfExtent", vec3(e.halfExtent)},
+          {"end", vec3(e.end)},
+          {"endRadius", number(e.endRadius)},
+          {"sizeMin", number(e.sizeMin)},
+          {"sizeMax", number(e.sizeMax)},
+          {"sizeFalloff", number(e.sizeFalloff)},
+          {"variations", e.variations},
+          {"oriented", e.oriented},
+          {"spin", number(e.spin)},
+          {"velocity", vec3(e.velocity)},
+          {"speedSpread", number(e.speedSpread)},
+          {"birthSpread", number(e.birthSpread)},
+          {"lifetime", number(e.lifetime)}};
+}
+
+json objectJson(const ObjectSpec& o, const fs::path& dir) {
+  const char* type = o.type == ObjectSpec::Type::kPlane    ? "plane"
+                     : o.type == ObjectSpec::Type::kBox    ? "box"
+                     : o.type == ObjectSpec::Type::kSphere ? "sphere"
+                                                           : "mesh";
+  return {{"type", type},
+          {"name", o.name},
+          {"mesh", pathJson(o.mesh, dir)},
+          {"translate", vec3(o.translate)},
+          {"rotate", vec3(o.rotateDegrees)},
+          {"scale", vec3(o.scale)},
+          {"albedo", vec3(o.albedo)},
+          {"shading", o.cel ? "cel" : "smooth"},
+          {"path", pathKeys(o.path)},
+          {"collide", o.collide},
+          {"friction", number(o.friction)}};
+}
+
 }  // namespace
 
 json toJson(const Scene& s) {
@@ -238,59 +292,11 @@ json toJson(const Scene& s) {
                 {"shadowLength", number(st.shadowLength)}};
   if (!s.stylePreset.empty()) j["style"]["preset"] = s.stylePreset;
   j["particles"] = json::array();
-  for (const ParticleSpec& p : s.particles) {
-    j["particles"].push_back({{"position", vec3(p.position)},
-                              {"size", number(p.size)},
-                              {"variation", p.variation},
-                              {"oriented", p.oriented},
-                              {"orientation", orientationJson(p.orientation)},
-                              {"velocity", vec3(p.velocity)},
-                              {"angularVelocity", vec3(p.angularVelocity)},
-                              {"birth", number(p.birth)},
-                              {"lifetime", number(p.lifetime)}});
-  }
+  for (const ParticleSpec& p : s.particles) j["particles"].push_back(particleJson(p));
   j["emitters"] = json::array();
-  for (const EmitterSpec& e : s.emitters) {
-    const char* shape = e.shape == EmitterSpec::Shape::kSphere ? "sphere"
-                        : e.shape == EmitterSpec::Shape::kBox  ? "box"
-                                                               : "cone";
-    j["emitters"].push_back({{"shape", shape},
-                             {"count", e.count},
-                             {"seed", e.seed},
-                             {"center", vec3(e.center)},
-                             {"radius", number(e.radius)},
-                             {"halfExtent", vec3(e.halfExtent)},
-                             {"end", vec3(e.end)},
-                             {"endRadius", number(e.endRadius)},
-                             {"sizeMin", number(e.sizeMin)},
-                             {"sizeMax", number(e.sizeMax)},
-                             {"sizeFalloff", number(e.sizeFalloff)},
-                             {"variations", e.variations},
-                             {"oriented", e.oriented},
-                             {"spin", number(e.spin)},
-                             {"velocity", vec3(e.velocity)},
-                             {"speedSpread", number(e.speedSpread)},
-                             {"birthSpread", number(e.birthSpread)},
-                             {"lifetime", number(e.lifetime)}});
-  }
+  for (const EmitterSpec& e : s.emitters) j["emitters"].push_back(emitterJson(e));
   j["objects"] = json::array();
-  for (const ObjectSpec& o : s.objects) {
-    const char* type = o.type == ObjectSpec::Type::kPlane    ? "plane"
-                       : o.type == ObjectSpec::Type::kBox    ? "box"
-                       : o.type == ObjectSpec::Type::kSphere ? "sphere"
-                                                             : "mesh";
-    j["objects"].push_back({{"type", type},
-                            {"name", o.name},
-                            {"mesh", pathJson(o.mesh, dir)},
-                            {"translate", vec3(o.translate)},
-                            {"rotate", vec3(o.rotateDegrees)},
-                            {"scale", vec3(o.scale)},
-                            {"albedo", vec3(o.albedo)},
-                            {"shading", o.cel ? "cel" : "smooth"},
-                            {"path", pathKeys(o.path)},
-                            {"collide", o.collide},
-                            {"friction", number(o.friction)}});
-  }
+  for (const ObjectSpec& o : s.objects) j["objects"].push_back(objectJson(o, dir));
   j["animation"] = {{"fps", number(s.animation.fps)},
                     {"frames", s.animation.frames},
                     {"orbit", number(s.animation.orbitDegreesPerSecond)},
