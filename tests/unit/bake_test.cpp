@@ -197,6 +197,45 @@ TEST(BakeSidecar, RejectsBrokenFieldsWithTheirPointer) {
   EXPECT_NE(v.error().message.find("/formatVersion"), std::string::npos);
 }
 
+// The sidecar is read with the scene's reader: a value of the wrong kind names its pointer, what was
+// expected and what came, at every depth of the file.
+TEST(BakeSidecar, WrongKindsOfValueSayWhatWasExpected) {
+  const core::AtlasDesc good = [] {
+    core::AtlasDesc d;
+    d.fileFormat = "png";
+    d.width = d.height = d.cellSize = 64;
+    d.columns = d.rows = 1;
+    d.margin = 4;
+    d.contentSize = 56;
+    d.mipLevels = 1;
+    d.variations = d.views = d.viewGrid = 1;
+    d.viewLayout = "hemioct";
+    d.distanceRange = 8.0f;
+    d.cells.push_back(core::AtlasCell{0, 0, {0, 0, 64, 64}, {0, 0, 1}, {0, 1, 0}});
+    d.sources.push_back(core::AtlasSource{});
+    d.sources[0].generator = "sphere";
+    for (const char* name : {"normalDepth", "color", "distance"}) d.maps[name].levels = {std::string(name) + ".png"};
+    return d;
+  }();
+  ASSERT_OK(core::atlasFromJson(core::toJson(good), "x.json"));
+  const std::tuple<const char*, nlohmann::json, std::string> cases[] = {
+      {"/cellSize", "big", "x.json: /cellSize: expected an integer, got \"big\""},
+      {"/cellSize", 64.5, "x.json: /cellSize: expected an integer, got 64.5"},
+      {"/depthScale", "big", "x.json: /depthScale: expected a number, got \"big\""},
+      {"/cells/0/viewDir", "big", "x.json: /cells/0/viewDir: expected an array of 3 numbers, got \"big\""},
+      {"/cells/0/rect/2", "big", "x.json: /cells/0/rect/2: expected an integer, got \"big\""},
+      {"/sources/0/faces", -1, "x.json: /sources/0/faces: expected a count (an integer >= 0), got -1"},
+      {"/maps/color/levels/0", 7, "x.json: /maps/color/levels/0: expected a string, got 7"},
+  };
+  for (const auto& [pointer, value, message] : cases) {
+    nlohmann::json j = core::toJson(good);
+    j[nlohmann::json::json_pointer(pointer)] = value;
+    auto r = core::atlasFromJson(j, "x.json");
+    ASSERT_FALSE(r.ok()) << pointer;
+    EXPECT_EQ(r.error().message, message);
+  }
+}
+
 class BakeGl : public test::GlTest {};
 
 TEST_F(BakeGl, EllipsoidProjectedAreaInEveryView) {
