@@ -11,11 +11,16 @@
 
 namespace puff::test {
 
-class GlTest : public ::testing::Test {
+/// `Compatibility`: a compatibility-profile context, where the fixed path draws too. `Base`: the
+/// gtest base (::testing::TestWithParam<T> for parameterized suites).
+template <bool Compatibility = false, class Base = ::testing::Test>
+class GlSuite : public Base {
  protected:
   static void SetUpTestSuite() {
     if (context_) return;
-    auto c = core::createGlContext({});
+    core::GlContextOptions o;
+    if (Compatibility) o.profile = core::GlProfile::kCompatibility;
+    auto c = core::createGlContext(o);
     ASSERT_OK(c);
     context_ = std::move(*c);
   }
@@ -26,5 +31,7 @@ class GlTest : public ::testing::Test {
   }
   static inline std::unique_ptr<core::GlContext> context_;
 };
+
+class GlTest : public GlSuite<> {};
 
 }  // namespace puff::test

@@ -26,26 +26,16 @@
 
 #include "golden/golden.h"
 #include "support/assert_ok.h"
+#include "support/gl_fixture.h"
 
 namespace puff {
 namespace {
 
 namespace fs = std::filesystem;
 
-class FixedParity : public ::testing::TestWithParam<const char*> {
+// Both paths in one compatibility-profile context.
+class FixedParity : public test::GlSuite<true, ::testing::TestWithParam<const char*>> {
  protected:
-  static void SetUpTestSuite() {
-    core::GlContextOptions o;
-    o.profile = core::GlProfile::kCompatibility;  // both paths in one context
-    auto c = core::createGlContext(o);
-    ASSERT_OK(c);
-    context_ = std::move(*c);
-  }
-  static void TearDownTestSuite() { context_.reset(); }
-  void SetUp() override {
-    ASSERT_NE(context_, nullptr);
-    context_->makeCurrent();
-  }
   static core::Image render(const scene::Scene& scene, render::RenderPath path) {
     auto r = render::SceneRenderer::create(scene, path);
     EXPECT_OK(r);
@@ -54,7 +44,6 @@ class FixedParity : public ::testing::TestWithParam<const char*> {
     EXPECT_OK(image);
     return image ? *image : core::Image{};
   }
-  static inline std::unique_ptr<core::GlContext> context_;
 };
 
 TEST_P(FixedParity, WithinTheMethodsKnownDifferences) {

@@ -9,11 +9,11 @@
 
 #include <gtest/gtest.h>
 
-#include <puff/core/gl_context.h>
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 
 #include "support/assert_ok.h"
+#include "support/gl_fixture.h"
 
 namespace puff {
 namespace {
@@ -26,22 +26,8 @@ struct Edit {
 };
 
 // A compatibility-profile context: the fixed path draws in it too.
-class Reload : public ::testing::Test {
+class Reload : public test::GlSuite<true> {
  protected:
-  static void SetUpTestSuite() {
-    core::GlContextOptions o;
-    o.profile = core::GlProfile::kCompatibility;
-    auto c = core::createGlContext(o);
-    ASSERT_OK(c);
-    context_ = std::move(*c);
-  }
-  static void TearDownTestSuite() { context_.reset(); }
-  void SetUp() override {
-    ASSERT_NE(context_, nullptr);
-    context_->makeCurrent();
-  }
-  static inline std::unique_ptr<core::GlContext> context_;
-
   static scene::Scene load(const char* name) {
     auto s = scene::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / name, PUFF_ART_DIR);
     EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().message);

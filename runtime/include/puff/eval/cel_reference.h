@@ -1,13 +1,8 @@
 // The cel reference: the image nailboards approximate, drawn by a SceneRenderer like any path
-// (render::RenderPath::kReference). Every particle is its actual puff mesh (the atlas's source mesh
-// of its variation, at full detail), placed and turned as its billboard (the puff frame of
-// Style::alignment, or its orientation), shaded by Eq. 2 per pixel with the same K_a, C, K_L and q.
-// Ink rings each puff's true silhouette in the image (a pixel within Style::outlineWidth of a
-// NEARER puff's visible pixels). Shadows are exact, from a shadow map of the puff meshes that knows
-// which puff each texel saw: a puff is shadowed by every other puff (and opaque objects by all
-// puffs) but never by itself, as the billboard shadow volumes intend; they are not cut at
-// Style::shadowLength. Supersampled (no MSAA), slow, GL 4.5. Media (fire, smoke, dust) are left out:
-// puff::reference::renderMediaReference is theirs. docs/cel-rendering.md has the details.
+// (render::RenderPath::kReference). Every particle is its actual puff mesh, shaded by Eq. 2 per
+// pixel, inked around its true silhouette, with exact shadows from a shadow map that knows which
+// puff each texel saw; supersampled, slow, GL 4.5, no media. docs/cel-rendering.md ("The
+// reference") says what it draws and why.
 #pragma once
 
 #include <memory>
