@@ -117,8 +117,7 @@ float readFloat(const json& v, const std::string& ptr, const Range& range, const
   return f;
 }
 
-long long readInteger(const json& v, const std::string& ptr, long long lo, long long hi,
-                      const std::string& expected) {
+long long readInteger(const json& v, const std::string& ptr, long long lo, long long hi, const std::string& expected) {
   const std::string what =
       expected.empty() ? "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]" : expected;
   if (!v.is_number()) fail(ptr, what, v);

@@ -24,8 +24,8 @@
 
 #include <puff/core/error.h>
 #include <puff/core/gl.h>
-#include <puff/media/types.h>
 #include <puff/media/media.h>
+#include <puff/media/types.h>
 
 namespace puff::media {
 
