@@ -94,6 +94,177 @@ std::string mapFileName(const std::string& name, const char* map, int level, con
   return name + "_" + map + (level == 0 ? "" : ".mip" + std::to_string(level)) + "." + ext;
 }
 
+// The atlas's layout and its maps' format; the cells, sources and map files are added as they are made.
+core::AtlasDesc describeAtlas(const BakeOptions& o, const Geometry& g, int variations) {
+  const int cellSize = o.cellSize;
+  core::AtlasDesc desc;
+  desc.fileFormat = o.format == MapFormat::kExr ? "exr" : "png";
+  desc.cellSize = cellSize;
+  desc.columns = g.columns;
+  desc.rows = g.rows;
+  desc.width = g.columns * cellSize;
+  desc.height = g.rows * cellSize;
+  desc.margin = g.margin;
+  desc.contentSize = g.content;
+  desc.supersample = g.supersample;
+  desc.flangeTexels = g.flange;
+  desc.distanceRange = static_cast<float>(g.margin);
+  desc.mipLevels = o.mips ? mipLevelCount(cellSize) : 1;
+  desc.variations = variations;
+  desc.views = g.views;
+  desc.viewGrid = o.viewGrid;
+  desc.viewLayout = o.viewLayout == ViewLayout::kOct ? "oct" : "hemioct";
+  return desc;
+}
+
+// Renders a mesh from every view direction and resolves each view into a cell's maps: with the
+// bake's rasterizer, or (for --lod auto's trials) a cheaper one.
+struct ViewRenderer {
+  ViewRenderer(const BakeOptions& options, const Geometry& geometry) : o(options), g(geometry) {}
+
+  const BakeOptions& o;
+  const Geometry& g;
+  std::unique_ptr<PuffRasterizer> rasterizer, lodRasterizer;
+  int lodSupersample = 1;
+  SampleBuffer samples;
+  std::vector<glm::vec3> viewDirs;
+
+  Result<void> create() {
+    auto made = PuffRasterizer::create(o.cellSize * g.supersample);
+    if (!made) return made.error();
+    rasterizer = std::move(*made);
+    // --lod auto rasterizes a mesh a dozen times or more; two samples per texel side still place
+    // silhouettes to a quarter texel, and cost a quarter of four.
+    lodSupersample = std::min(g.supersample, 2);
+    if (o.lodAuto && lodSupersample != g.supersample) {
+      auto lod = PuffRasterizer::create(o.cellSize * lodSupersample);
+      if (!lod) return lod.error();
+      lodRasterizer = std::move(*lod);
+    }
+    viewDirs.resize(static_cast<std::size_t>(g.views));
+    for (int v = 0; v < g.views; ++v)
+      viewDirs[static_cast<std::size_t>(v)] = viewDirection(o.viewLayout, o.viewGrid, v);
+    return {};
+  }
+
+  std::vector<CellMaps> render(PuffRasterizer& r, int ss, const mesh::TriMesh& m, float flange) {
+    r.setMesh(m, o.defaultColor);
+    std::vector<CellMaps> maps;
+    for (const glm::vec3& dir : viewDirs) {
+      r.render(viewRotation(dir), g.margin * ss, g.content * ss, samples);
+      maps.push_back(resolveCell(samples, ss, flange));
+    }
+    return maps;
+  }
+
+  PuffRasterizer& lodRaster() { return lodRasterizer ? *lodRasterizer : *rasterizer; }
+};
+
+// One bake's description and report, filled as the variations are rasterized and the files written.
+struct AtlasBake {
+  const BakeOptions& o;
+  const Geometry& g;
+  const ProgressFn& progress;
+  core::AtlasDesc desc;
+  BakeReport result;
+
+  void report(std::string_view stage, int done, int total) const {
+    if (progress) progress(stage, done, total);
+  }
+
+  // One variation's views (its level of detail chosen first with --lod auto) into level 0, its
+  // cells and source into the description.
+  void rasterizeVariation(ViewRenderer& views, const PuffSource& src, int var, AtlasLevel& level0) {
+    const int cellSize = o.cellSize;
+    const int totalCells = desc.variations * g.views;
+    const mesh::TriMesh* bakeMesh = &src.mesh;
+    mesh::TriMesh reduced;
+    if (o.lodAuto) {
+      const std::string stage = "choosing level of detail, variation " + std::to_string(var + 1);
+      LodResult lod = chooseLod(
+          src.mesh,
+          [&](const mesh::TriMesh& m) { return views.render(views.lodRaster(), views.lodSupersample, m, 0.0f); },
+          o.lodNormalTolerance, o.lodSilhouetteTolerance, &reduced,
+          [&](int step, int maxSteps) { report(stage, step, maxSteps); });
+      bakeMesh = &reduced;
+      result.lod.push_back(lod);
+    } else {
+      result.lod.emplace_back();
+    }
+    core::AtlasSource prov = src.provenance;
+    prov.faces = src.mesh.faceCount();
+    prov.facesBaked = bakeMesh->faceCount();
+    prov.defaultColor = o.defaultColor;
+    desc.sources.push_back(prov);
+    const std::vector<CellMaps> cells = views.render(*views.rasterizer, g.supersample, *bakeMesh, g.flange);
+    for (int v = 0; v < g.views; ++v) {
+      const int index = var * g.views + v;
+      core::AtlasCell cell;
+      cell.variation = var;
+      cell.view = v;
+      cell.rect = {(index % g.columns) * cellSize, (index / g.columns) * cellSize, cellSize, cellSize};
+      cell.viewDir = views.viewDirs[static_cast<std::size_t>(v)];
+      const glm::mat3 rot = viewRotation(cell.viewDir);
+      cell.viewUp = glm::vec3(rot[0][1], rot[1][1], rot[2][1]);  // second row
+      placeCell(level0, cells[static_cast<std::size_t>(v)], cell.rect[0], cell.rect[1]);
+      desc.cells.push_back(cell);
+      report("rasterizing", index + 1, totalCells);
+    }
+  }
+
+  // Writes every map level, the contact sheet and the sidecar to staged files; the rename at the
+  // end makes the bake appear all at once.
+  Result<void> write(const std::vector<AtlasLevel>& levels) {
+    core::OutputTransaction tx;
+    PUFF_TRY(tx.prepareDirectory(o.outDir));
+    const std::string ext = desc.fileFormat;
+    const core::PixelType mapType = o.format == MapFormat::kExr ? core::PixelType::kHalf : core::PixelType::kUInt8;
+    const core::PixelType distType = o.format == MapFormat::kExr ? core::PixelType::kHalf : core::PixelType::kUInt16;
+    const int totalFiles = desc.mipLevels * 3 + 2;
+    int written = 0;
+    auto put = [&](const char* map, int level, const core::Image& img, core::PixelType type) -> Result<void> {
+      const std::string file = mapFileName(o.name, map, level, ext);
+      const fs::path target = o.outDir / file;
+      PUFF_TRY(core::writeImage(tx.stage(target), img, type, {{"puff:map", map}, {"puff:level", std::to_string(level)}},
+                                target));
+      result.files.push_back(target);
+      report("writing", ++written, totalFiles);
+      return {};
+    };
+    for (int l = 0; l < desc.mipLevels; ++l) {
+      const AtlasLevel& lv = levels[static_cast<std::size_t>(l)];
+      PUFF_TRY(put("normal_depth", l, encodeNormalDepth(lv.normalDepth), mapType));
+      PUFF_TRY(put("color", l, lv.color, mapType));
+      PUFF_TRY(put("distance", l, encodeDistance(lv.distance, desc.distanceRange), distType));
+      desc.maps["normalDepth"].levels.push_back(mapFileName(o.name, "normal_depth", l, ext));
+      desc.maps["color"].levels.push_back(mapFileName(o.name, "color", l, ext));
+      desc.maps["distance"].levels.push_back(mapFileName(o.name, "distance", l, ext));
+    }
+    PUFF_TRY(writeContactSheet(tx, levels[0]));
+    result.sidecar = o.outDir / (o.name + ".json");
+    // Paths need not be UTF-8 on Linux: replace what JSON cannot hold rather than throw.
+    const std::string text = core::toJson(desc).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+    PUFF_TRY(core::writeFileBytes(tx.stage(result.sidecar), text, result.sidecar));
+    result.files.push_back(result.sidecar);
+    report("writing", totalFiles, totalFiles);
+    PUFF_TRY(tx.commit());
+    result.desc = std::move(desc);
+    return {};
+  }
+
+  Result<void> writeContactSheet(core::OutputTransaction& tx, const AtlasLevel& level0) {
+    if (!o.contactSheet) return {};
+    result.contactSheet = o.outDir / (o.name + "_contact.png");
+    const int thumb = std::min(o.cellSize, 160);
+    // One row per cell, up to a sheet about 8192 pixels tall; beyond that the first cells only.
+    result.contactSheetCells = std::min<int>(static_cast<int>(desc.cells.size()), 8192 / (thumb + 4));
+    const core::Image sheet = contactSheet(level0, desc, thumb, result.contactSheetCells);
+    PUFF_TRY(core::writeImage(tx.stage(result.contactSheet), sheet, core::PixelType::kUInt8, {}, result.contactSheet));
+    result.files.push_back(result.contactSheet);
+    return {};
+  }
+};
+
 }  // namespace
 
 Result<void> validate(const BakeOptions& o, int variations) {
@@ -172,147 +343,29 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
   const int variations = static_cast<int>(sources.size());
   PUFF_TRY(validate(o, variations));
   const Geometry g = *planGeometry(o, variations);
-  const int cellSize = o.cellSize;
-  auto report = [&](std::string_view stage, int done, int total) {
-    if (progress) progress(stage, done, total);
-  };
+  AtlasBake bake{o, g, progress, describeAtlas(o, g, variations), {}};
 
-  core::AtlasDesc desc;
-  desc.fileFormat = o.format == MapFormat::kExr ? "exr" : "png";
-  desc.cellSize = cellSize;
-  desc.columns = g.columns;
-  desc.rows = g.rows;
-  desc.width = g.columns * cellSize;
-  desc.height = g.rows * cellSize;
-  desc.margin = g.margin;
-  desc.contentSize = g.content;
-  desc.supersample = g.supersample;
-  desc.flangeTexels = g.flange;
-  desc.distanceRange = static_cast<float>(g.margin);
-  desc.mipLevels = o.mips ? mipLevelCount(cellSize) : 1;
-  desc.variations = variations;
-  desc.views = g.views;
-  desc.viewGrid = o.viewGrid;
-  desc.viewLayout = o.viewLayout == ViewLayout::kOct ? "oct" : "hemioct";
+  ViewRenderer views{o, g};
+  PUFF_TRY(views.create());
 
-  auto rasterizer = PuffRasterizer::create(cellSize * g.supersample);
-  if (!rasterizer) return rasterizer.error();
-  // --lod auto rasterizes a mesh a dozen times or more; two samples per texel side still place
-  // silhouettes to a quarter texel, and cost a quarter of four.
-  const int lodSupersample = std::min(g.supersample, 2);
-  Result<std::unique_ptr<PuffRasterizer>> lodRasterizer = std::unique_ptr<PuffRasterizer>();
-  if (o.lodAuto && lodSupersample != g.supersample) {
-    lodRasterizer = PuffRasterizer::create(cellSize * lodSupersample);
-    if (!lodRasterizer) return lodRasterizer.error();
-  }
-  SampleBuffer samples;
-
-  std::vector<glm::vec3> viewDirs(static_cast<std::size_t>(g.views));
-  for (int v = 0; v < g.views; ++v) viewDirs[static_cast<std::size_t>(v)] = viewDirection(o.viewLayout, o.viewGrid, v);
-  auto renderViews = [&](PuffRasterizer& r, int ss, const mesh::TriMesh& m, float flange) {
-    r.setMesh(m, o.defaultColor);
-    std::vector<CellMaps> maps;
-    for (const glm::vec3& dir : viewDirs) {
-      r.render(viewRotation(dir), g.margin * ss, g.content * ss, samples);
-      maps.push_back(resolveCell(samples, ss, flange));
-    }
-    return maps;
-  };
-  PuffRasterizer& lodRaster = *lodRasterizer ? **lodRasterizer : **rasterizer;
-
+  const core::AtlasDesc& desc = bake.desc;
   AtlasLevel level0{core::Image(desc.width, desc.height, 4), core::Image(desc.width, desc.height, 4),
                     core::Image(desc.width, desc.height, 1, desc.distanceRange)};
   for (std::size_t i = 2; i < level0.normalDepth.pixels.size(); i += 4) level0.normalDepth.pixels[i] = 1.0f;  // N = +z
 
-  BakeReport result;
-  const int totalCells = variations * g.views;
   for (int var = 0; var < variations; ++var) {
-    const PuffSource& src = sources[static_cast<std::size_t>(var)];
-    const mesh::TriMesh* bakeMesh = &src.mesh;
-    mesh::TriMesh reduced;
-    if (o.lodAuto) {
-      const std::string stage = "choosing level of detail, variation " + std::to_string(var + 1);
-      LodResult lod = chooseLod(
-          src.mesh, [&](const mesh::TriMesh& m) { return renderViews(lodRaster, lodSupersample, m, 0.0f); },
-          o.lodNormalTolerance, o.lodSilhouetteTolerance, &reduced,
-          [&](int step, int maxSteps) { report(stage, step, maxSteps); });
-      bakeMesh = &reduced;
-      result.lod.push_back(lod);
-    } else {
-      result.lod.emplace_back();
-    }
-    core::AtlasSource prov = src.provenance;
-    prov.faces = src.mesh.faceCount();
-    prov.facesBaked = bakeMesh->faceCount();
-    prov.defaultColor = o.defaultColor;
-    desc.sources.push_back(prov);
-    const std::vector<CellMaps> cells = renderViews(**rasterizer, g.supersample, *bakeMesh, g.flange);
-    for (int v = 0; v < g.views; ++v) {
-      const int index = var * g.views + v;
-      core::AtlasCell cell;
-      cell.variation = var;
-      cell.view = v;
-      cell.rect = {(index % g.columns) * cellSize, (index / g.columns) * cellSize, cellSize, cellSize};
-      cell.viewDir = viewDirs[static_cast<std::size_t>(v)];
-      const glm::mat3 rot = viewRotation(cell.viewDir);
-      cell.viewUp = glm::vec3(rot[0][1], rot[1][1], rot[2][1]);  // second row
-      placeCell(level0, cells[static_cast<std::size_t>(v)], cell.rect[0], cell.rect[1]);
-      desc.cells.push_back(cell);
-      report("rasterizing", index + 1, totalCells);
-    }
+    bake.rasterizeVariation(views, sources[static_cast<std::size_t>(var)], var, level0);
   }
 
   std::vector<AtlasLevel> levels;
   levels.push_back(std::move(level0));
   for (int l = 1; l < desc.mipLevels; ++l) {
-    levels.push_back(buildMipLevel(levels[0], cellSize, l, desc.alphaThreshold));
-    report("mip levels", l, desc.mipLevels - 1);
+    levels.push_back(buildMipLevel(levels[0], o.cellSize, l, desc.alphaThreshold));
+    bake.report("mip levels", l, desc.mipLevels - 1);
   }
 
-  // Write everything to staged files; the rename at the end makes the bake appear all at once.
-  core::OutputTransaction tx;
-  PUFF_TRY(tx.prepareDirectory(o.outDir));
-  const std::string ext = desc.fileFormat;
-  const core::PixelType mapType = o.format == MapFormat::kExr ? core::PixelType::kHalf : core::PixelType::kUInt8;
-  const core::PixelType distType = o.format == MapFormat::kExr ? core::PixelType::kHalf : core::PixelType::kUInt16;
-  const int totalFiles = desc.mipLevels * 3 + 2;
-  int written = 0;
-  auto put = [&](const char* map, int level, const core::Image& img, core::PixelType type) -> Result<void> {
-    const std::string file = mapFileName(o.name, map, level, ext);
-    const fs::path target = o.outDir / file;
-    PUFF_TRY(core::writeImage(tx.stage(target), img, type, {{"puff:map", map}, {"puff:level", std::to_string(level)}},
-                              target));
-    result.files.push_back(target);
-    report("writing", ++written, totalFiles);
-    return {};
-  };
-  for (int l = 0; l < desc.mipLevels; ++l) {
-    const AtlasLevel& lv = levels[static_cast<std::size_t>(l)];
-    PUFF_TRY(put("normal_depth", l, encodeNormalDepth(lv.normalDepth), mapType));
-    PUFF_TRY(put("color", l, lv.color, mapType));
-    PUFF_TRY(put("distance", l, encodeDistance(lv.distance, desc.distanceRange), distType));
-    desc.maps["normalDepth"].levels.push_back(mapFileName(o.name, "normal_depth", l, ext));
-    desc.maps["color"].levels.push_back(mapFileName(o.name, "color", l, ext));
-    desc.maps["distance"].levels.push_back(mapFileName(o.name, "distance", l, ext));
-  }
-  if (o.contactSheet) {
-    result.contactSheet = o.outDir / (o.name + "_contact.png");
-    const int thumb = std::min(cellSize, 160);
-    // One row per cell, up to a sheet about 8192 pixels tall; beyond that the first cells only.
-    result.contactSheetCells = std::min<int>(static_cast<int>(desc.cells.size()), 8192 / (thumb + 4));
-    const core::Image sheet = contactSheet(levels[0], desc, thumb, result.contactSheetCells);
-    PUFF_TRY(core::writeImage(tx.stage(result.contactSheet), sheet, core::PixelType::kUInt8, {}, result.contactSheet));
-    result.files.push_back(result.contactSheet);
-  }
-  result.sidecar = o.outDir / (o.name + ".json");
-  // Paths need not be UTF-8 on Linux: replace what JSON cannot hold rather than throw.
-  const std::string text = core::toJson(desc).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
-  PUFF_TRY(core::writeFileBytes(tx.stage(result.sidecar), text, result.sidecar));
-  result.files.push_back(result.sidecar);
-  report("writing", totalFiles, totalFiles);
-  PUFF_TRY(tx.commit());
-  result.desc = std::move(desc);
-  return result;
+  PUFF_TRY(bake.write(levels));
+  return std::move(bake.result);
 }
 
 }  // namespace puff::bake

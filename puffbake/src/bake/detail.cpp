@@ -204,9 +204,10 @@ Result<core::DetailVideo> generateDetailVideo(const DetailSpec& spec) {
   return v;
 }
 
-Result<core::DetailVideo> importDetailVideo(const std::vector<fs::path>& frames, int size, int loopFrames) {
-  if (frames.empty()) return Error{"detail import: no frames given"};
-  const int count = static_cast<int>(frames.size());
+namespace {
+
+// The import's limits: the size, the frames cross-faded, and what the video would hold.
+Result<void> checkImport(int count, int size, int loopFrames) {
   if (size < core::kMinDetailSize || size > core::kMaxDetailSize) {
     return Error{"--size must be in " + rangeText(core::kMinDetailSize, core::kMaxDetailSize) + ", got " +
                  std::to_string(size)};
@@ -225,6 +226,40 @@ Result<core::DetailVideo> importDetailVideo(const std::vector<fs::path>& frames,
     return Error{"detail import: --size " + std::to_string(size) + " x " + std::to_string(outFrames) +
                  " frames is too large: size * size * frames must be at most " + std::to_string(kMaxDetailTexels)};
   }
+  return {};
+}
+
+// Resamples one frame's luminance (srcW x srcH) to size x size into `out`, separably: rows first
+// (srcH x size), then columns (size x size).
+void resample(const std::vector<double>& lum, int srcW, int srcH, const AxisWeights& wx, const AxisWeights& wy,
+              int size, std::vector<double>& out) {
+  const std::size_t plane = static_cast<std::size_t>(size) * size;
+  std::vector<double> rowsOut(static_cast<std::size_t>(srcH) * size);
+  for (int y = 0; y < srcH; ++y) {
+    for (int x = 0; x < size; ++x) {
+      double acc = 0.0;
+      for (const auto& [i, w] : wx[static_cast<std::size_t>(x)]) acc += w * lum[static_cast<std::size_t>(y) * srcW + i];
+      rowsOut[static_cast<std::size_t>(y) * size + x] = acc;
+    }
+  }
+  out.assign(plane, 0.0);
+  for (int y = 0; y < size; ++y) {
+    for (int x = 0; x < size; ++x) {
+      double acc = 0.0;
+      for (const auto& [j, w] : wy[static_cast<std::size_t>(y)])
+        acc += w * rowsOut[static_cast<std::size_t>(j) * size + x];
+      out[static_cast<std::size_t>(y) * size + x] = acc;
+    }
+  }
+}
+
+}  // namespace
+
+Result<core::DetailVideo> importDetailVideo(const std::vector<fs::path>& frames, int size, int loopFrames) {
+  if (frames.empty()) return Error{"detail import: no frames given"};
+  const int count = static_cast<int>(frames.size());
+  PUFF_TRY(checkImport(count, size, loopFrames));
+  const int outFrames = count - loopFrames;
 
   // Read and resample every frame first: a bad file fails before any work is kept.
   const std::size_t plane = static_cast<std::size_t>(size) * size;
@@ -247,26 +282,7 @@ Result<core::DetailVideo> importDetailVideo(const std::vector<fs::path>& frames,
     }
     auto lum = luminance(*img, path);
     if (!lum) return lum.error();
-    // Separable: rows first (srcH x size), then columns (size x size).
-    std::vector<double> rowsOut(static_cast<std::size_t>(srcH) * size);
-    for (int y = 0; y < srcH; ++y) {
-      for (int x = 0; x < size; ++x) {
-        double acc = 0.0;
-        for (const auto& [i, w] : wx[static_cast<std::size_t>(x)])
-          acc += w * (*lum)[static_cast<std::size_t>(y) * srcW + i];
-        rowsOut[static_cast<std::size_t>(y) * size + x] = acc;
-      }
-    }
-    std::vector<double>& out = in[static_cast<std::size_t>(k)];
-    out.assign(plane, 0.0);
-    for (int y = 0; y < size; ++y) {
-      for (int x = 0; x < size; ++x) {
-        double acc = 0.0;
-        for (const auto& [j, w] : wy[static_cast<std::size_t>(y)])
-          acc += w * rowsOut[static_cast<std::size_t>(j) * size + x];
-        out[static_cast<std::size_t>(y) * size + x] = acc;
-      }
-    }
+    resample(*lum, srcW, srcH, wx, wy, size, in[static_cast<std::size_t>(k)]);
   }
 
   core::DetailVideo v;

@@ -11,6 +11,26 @@ namespace puff::bake {
 namespace {
 // Stand-in for "no silhouette anywhere" so averages stay finite.
 constexpr float kFar = 1.0e6f;
+
+// Distance from each sample centre to the nearest sample of the other kind, made into a
+// signed distance to the boundary that lies half a sample before that neighbour.
+std::vector<float> signedSampleDistances(const std::vector<std::uint8_t>& inside,
+                                         const std::vector<std::uint8_t>& outside, int n) {
+  const std::size_t count = static_cast<std::size_t>(n) * n;
+  const std::vector<float> toInside = squaredDistanceTransform(inside, n, n);
+  const std::vector<float> toOutside = squaredDistanceTransform(outside, n, n);
+  std::vector<float> signedSamples(count);
+  core::parallelFor(
+      count,
+      [&](std::size_t i) {
+        const float sq = inside[i] ? toOutside[i] : toInside[i];
+        const float dist = std::isfinite(sq) ? std::sqrt(sq) - 0.5f : kFar;
+        signedSamples[i] = inside[i] ? -dist : dist;
+      },
+      1 << 16);
+  return signedSamples;
+}
+
 }  // namespace
 
 CellMaps resolveCell(const SampleBuffer& samples, int supersample, float flangeTexels) {
@@ -25,19 +45,7 @@ CellMaps resolveCell(const SampleBuffer& samples, int supersample, float flangeT
     inside[i] = samples.color[i].a > 0.5f;
     outside[i] = !inside[i];
   }
-  // Distance from each sample centre to the nearest sample of the other kind, made into a
-  // signed distance to the boundary that lies half a sample before that neighbour.
-  const std::vector<float> toInside = squaredDistanceTransform(inside, n, n);
-  const std::vector<float> toOutside = squaredDistanceTransform(outside, n, n);
-  std::vector<float> signedSamples(count);
-  core::parallelFor(
-      count,
-      [&](std::size_t i) {
-        const float sq = inside[i] ? toOutside[i] : toInside[i];
-        const float dist = std::isfinite(sq) ? std::sqrt(sq) - 0.5f : kFar;
-        signedSamples[i] = inside[i] ? -dist : dist;
-      },
-      1 << 16);
+  const std::vector<float> signedSamples = signedSampleDistances(inside, outside, n);
   const float flangeSamples = flangeTexels * static_cast<float>(ss);
 
   CellMaps out;

@@ -69,9 +69,150 @@ struct Viewer::Impl {
   static void onScroll(GLFWwindow* w, double /*x*/, double y) {
     if (Viewer* v = of(w)) v->impl_->scroll += y;
   }
+
+  // The camera is the user's from the first touch on: it leaves the scene's.
+  static void touchCamera(Viewer& v) {
+    if (!v.cameraOverride_) {
+      v.camera_.reset(scene::cameraAt(v.scene_, v.frame_));
+      v.cameraOverride_ = true;
+    }
+  }
+
+  static void pressKey(Viewer& v, int key) {
+    switch (key) {
+      case GLFW_KEY_SPACE:
+        v.setPlaying(!v.playing_);
+        break;
+      case GLFW_KEY_PERIOD:
+      case GLFW_KEY_RIGHT:
+        v.step();
+        break;
+      case GLFW_KEY_COMMA:
+      case GLFW_KEY_LEFT:
+        v.playing_ = false;
+        v.setFrame(v.frame_ - 1);
+        break;
+      case GLFW_KEY_R:
+      case GLFW_KEY_HOME:
+        v.restart();
+        break;
+      case GLFW_KEY_F12:
+      case GLFW_KEY_P:
+        v.impl_->screenshotRequested = true;
+        break;
+      case GLFW_KEY_F:
+        touchCamera(v);
+        v.camera_.setMode(v.camera_.mode() == CameraController::Mode::kOrbit ? CameraController::Mode::kFly
+                                                                             : CameraController::Mode::kOrbit);
+        break;
+      case GLFW_KEY_C:
+        v.resetCamera();
+        break;
+      case GLFW_KEY_H:
+        v.uiVisible = !v.uiVisible;
+        break;
+      case GLFW_KEY_ESCAPE:
+        glfwSetWindowShouldClose(v.impl_->window, GLFW_TRUE);
+        break;
+      default:
+        break;
+    }
+  }
+
+  // Fly mode: W/S, A/D and Q/E move the camera (Shift: faster).
+  static void fly(Viewer& v, float dt) {
+    GLFWwindow* window = v.impl_->window;
+    glm::vec3 move(0.0f);
+    auto down = [&](int k) { return glfwGetKey(window, k) == GLFW_PRESS ? 1.0f : 0.0f; };
+    move.z = down(GLFW_KEY_W) - down(GLFW_KEY_S);
+    move.x = down(GLFW_KEY_D) - down(GLFW_KEY_A);
+    move.y = down(GLFW_KEY_E) - down(GLFW_KEY_Q);
+    if (move != glm::vec3(0.0f)) {
+      touchCamera(v);
+      const float fast = down(GLFW_KEY_LEFT_SHIFT) > 0.0f ? 4.0f : 1.0f;
+      v.camera_.fly(move * fast, dt);
+    }
+  }
+
+  // The mouse: the cursor's move rotates or pans the camera, the wheel zooms (unless the UI has it).
+  static void drag(Viewer& v, bool uiMouse) {
+    Impl& m = *v.impl_;
+    CameraController& camera = v.camera_;
+    double x = 0.0, y = 0.0;
+    glfwGetCursorPos(m.window, &x, &y);
+    const glm::vec2 delta = m.haveCursor ? glm::vec2(x - m.cursorX, y - m.cursorY) : glm::vec2(0.0f);
+    m.cursorX = x, m.cursorY = y, m.haveCursor = true;
+    const double scroll = m.scroll;
+    m.scroll = 0.0;
+    if (uiMouse) return;
+    const bool left = glfwGetMouseButton(m.window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+    const bool right = glfwGetMouseButton(m.window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
+    const bool middle = glfwGetMouseButton(m.window, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
+    const bool moved = delta != glm::vec2(0.0f);
+    if (camera.mode() == CameraController::Mode::kOrbit) {
+      if (left && moved) touchCamera(v), camera.rotate(delta);
+      if ((right || middle) && moved) touchCamera(v), camera.pan(delta, v.framebufferSize().y);
+    } else {
+      if ((right || left) && moved) touchCamera(v), camera.rotate(delta);
+      if (middle && moved) touchCamera(v), camera.pan(delta, v.framebufferSize().y);
+    }
+    if (scroll != 0.0) touchCamera(v), camera.zoom(static_cast<float>(scroll));
+  }
+
+  // ImGui on the window, its GLFW and OpenGL 3 backends.
+  Result<void> initImgui() {
+    IMGUI_CHECKVERSION();
+    imgui = ImGui::CreateContext();
+    ImGui::SetCurrentContext(imgui);
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the artist's working directory
+    ImGui::StyleColorsDark();
+    if (!ImGui_ImplGlfw_InitForOpenGL(window, true)) return Error{"imgui: cannot attach to the GLFW window"};
+    if (!ImGui_ImplOpenGL3_Init("#version 450 core")) {
+      ImGui_ImplGlfw_Shutdown();
+      return Error{"imgui: cannot initialize its OpenGL 3 renderer"};
+    }
+    imguiBackends = true;
+    return {};
+  }
 };
 
 namespace {
+
+// One line: a compile log's lines joined.
+std::string oneLine(const std::string& log) {
+  std::string why;
+  for (char c : log) {
+    if (c != '\n')
+      why += c;
+    else if (!why.empty() && why.back() != ' ')
+      why += "; ";
+  }
+  while (!why.empty() && (why.back() == ' ' || why.back() == ';')) why.pop_back();
+  return why;
+}
+
+// The window's context; where `mayFallBack` and GL 4.5 compatibility is not to be had, the oldest
+// compatibility context, with the reason in `whyNotCel`.
+Result<std::unique_ptr<core::GlContext>> createContext(const core::GlContextOptions& gl, bool mayFallBack,
+                                                       std::string& whyNotCel) {
+  auto context = core::createGlContext(gl);
+  if (!context && mayFallBack) {
+    core::GlContextOptions old = gl;  // the oldest compatibility context (Mesa may give more)
+    old.major = 2, old.minor = 1;
+    auto older = core::createGlContext(old);
+    if (!older) return context.error();
+    if (!GLAD_GL_VERSION_4_5) {
+      // puff::render::SceneRenderer builds its targets with GL 4.5 calls on either path: an older
+      // context would crash it, so this is an error, not a fallback (yet).
+      return Error{context.error().message +
+                   "; the fixed-function path cannot run in the older context either (the renderer needs GL 4.5 "
+                   "framebuffer objects)"};
+    }
+    whyNotCel = context.error().message;
+    context = std::move(older);
+  }
+  return context;
+}
 
 fs::path normalAbsolute(const fs::path& p) {
   std::error_code ec;
@@ -141,26 +282,11 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
   gl.width = options.width > 0 ? options.width : std::clamp(v->scene_.width, 64, 1920);
   gl.height = options.height > 0 ? options.height : std::clamp(v->scene_.height, 64, 1200);
   gl.title = "puffview: " + options.scene.string();
-  auto context = core::createGlContext(gl);
   // The automatic fallback: the cel path (the default) needs GL 4.5 and programs that build; where
   // the platform or the shaders cannot give that, the fixed path draws instead, saying so.
   const bool mayFallBack = options.path == "cel";
   std::string whyNotCel;
-  if (!context && mayFallBack) {
-    core::GlContextOptions old = gl;  // the oldest compatibility context (Mesa may give more)
-    old.major = 2, old.minor = 1;
-    auto older = core::createGlContext(old);
-    if (!older) return context.error();
-    if (!GLAD_GL_VERSION_4_5) {
-      // puff::render::SceneRenderer builds its targets with GL 4.5 calls on either path: an older
-      // context would crash it, so this is an error, not a fallback (yet).
-      return Error{context.error().message +
-                   "; the fixed-function path cannot run in the older context either (the renderer needs GL 4.5 "
-                   "framebuffer objects)"};
-    }
-    whyNotCel = context.error().message;
-    context = std::move(older);
-  }
+  auto context = createContext(gl, mayFallBack, whyNotCel);
   if (!context) return context.error();
   m.context = std::move(*context);
   m.window = static_cast<GLFWwindow*>(m.context->nativeWindow());
@@ -169,34 +295,15 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
   glfwSetKeyCallback(m.window, Impl::onKey);
   glfwSetScrollCallback(m.window, Impl::onScroll);
 
-  IMGUI_CHECKVERSION();
-  m.imgui = ImGui::CreateContext();
-  ImGui::SetCurrentContext(m.imgui);
-  ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the artist's working directory
-  ImGui::StyleColorsDark();
-  if (!ImGui_ImplGlfw_InitForOpenGL(m.window, true)) return Error{"imgui: cannot attach to the GLFW window"};
-  if (!ImGui_ImplOpenGL3_Init("#version 450 core")) {
-    ImGui_ImplGlfw_Shutdown();
-    return Error{"imgui: cannot initialize its OpenGL 3 renderer"};
-  }
-  m.imguiBackends = true;
+  PUFF_TRY(m.initImgui());
 
   if (mayFallBack && whyNotCel.empty()) {
     if (auto ok = render::SceneRenderer::checkProgrammable(); !ok) whyNotCel = ok.error().message;
   }
   std::string pathName = options.path;
   if (!whyNotCel.empty()) {
-    // One line: a compile log's lines joined.
-    std::string why;
-    for (char c : whyNotCel) {
-      if (c != '\n')
-        why += c;
-      else if (!why.empty() && why.back() != ' ')
-        why += "; ";
-    }
-    while (!why.empty() && (why.back() == ' ' || why.back() == ';')) why.pop_back();
     const std::string message =
-        "the programmable (cel) path cannot run here: " + why + "; drawing with the fixed-function path";
+        "the programmable (cel) path cannot run here: " + oneLine(whyNotCel) + "; drawing with the fixed-function path";
     std::fprintf(stderr, "puffview: %s\n", message.c_str());
     v->setStatus(message);
     pathName = "fixed";
@@ -418,88 +525,13 @@ void Viewer::handleInput() {
   const float dt = static_cast<float>(std::min(0.1, t - m.lastInput));
   m.lastInput = t;
 
-  auto touchCamera = [&] {
-    if (!cameraOverride_) {
-      camera_.reset(scene::cameraAt(scene_, frame_));
-      cameraOverride_ = true;
-    }
-  };
   std::vector<int> keys;
   keys.swap(m.keys);
   if (!uiKeys) {
-    for (int key : keys) {
-      switch (key) {
-        case GLFW_KEY_SPACE:
-          setPlaying(!playing_);
-          break;
-        case GLFW_KEY_PERIOD:
-        case GLFW_KEY_RIGHT:
-          step();
-          break;
-        case GLFW_KEY_COMMA:
-        case GLFW_KEY_LEFT:
-          playing_ = false;
-          setFrame(frame_ - 1);
-          break;
-        case GLFW_KEY_R:
-        case GLFW_KEY_HOME:
-          restart();
-          break;
-        case GLFW_KEY_F12:
-        case GLFW_KEY_P:
-          m.screenshotRequested = true;
-          break;
-        case GLFW_KEY_F:
-          touchCamera();
-          camera_.setMode(camera_.mode() == CameraController::Mode::kOrbit ? CameraController::Mode::kFly
-                                                                           : CameraController::Mode::kOrbit);
-          break;
-        case GLFW_KEY_C:
-          resetCamera();
-          break;
-        case GLFW_KEY_H:
-          uiVisible = !uiVisible;
-          break;
-        case GLFW_KEY_ESCAPE:
-          glfwSetWindowShouldClose(m.window, GLFW_TRUE);
-          break;
-        default:
-          break;
-      }
-    }
-    if (camera_.mode() == CameraController::Mode::kFly) {
-      glm::vec3 move(0.0f);
-      auto down = [&](int k) { return glfwGetKey(m.window, k) == GLFW_PRESS ? 1.0f : 0.0f; };
-      move.z = down(GLFW_KEY_W) - down(GLFW_KEY_S);
-      move.x = down(GLFW_KEY_D) - down(GLFW_KEY_A);
-      move.y = down(GLFW_KEY_E) - down(GLFW_KEY_Q);
-      if (move != glm::vec3(0.0f)) {
-        touchCamera();
-        const float fast = down(GLFW_KEY_LEFT_SHIFT) > 0.0f ? 4.0f : 1.0f;
-        camera_.fly(move * fast, dt);
-      }
-    }
+    for (int key : keys) Impl::pressKey(*this, key);
+    if (camera_.mode() == CameraController::Mode::kFly) Impl::fly(*this, dt);
   }
-
-  double x = 0.0, y = 0.0;
-  glfwGetCursorPos(m.window, &x, &y);
-  const glm::vec2 delta = m.haveCursor ? glm::vec2(x - m.cursorX, y - m.cursorY) : glm::vec2(0.0f);
-  m.cursorX = x, m.cursorY = y, m.haveCursor = true;
-  const double scroll = m.scroll;
-  m.scroll = 0.0;
-  if (uiMouse) return;
-  const bool left = glfwGetMouseButton(m.window, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
-  const bool right = glfwGetMouseButton(m.window, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS;
-  const bool middle = glfwGetMouseButton(m.window, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS;
-  const bool moved = delta != glm::vec2(0.0f);
-  if (camera_.mode() == CameraController::Mode::kOrbit) {
-    if (left && moved) touchCamera(), camera_.rotate(delta);
-    if ((right || middle) && moved) touchCamera(), camera_.pan(delta, framebufferSize().y);
-  } else {
-    if ((right || left) && moved) touchCamera(), camera_.rotate(delta);
-    if (middle && moved) touchCamera(), camera_.pan(delta, framebufferSize().y);
-  }
-  if (scroll != 0.0) touchCamera(), camera_.zoom(static_cast<float>(scroll));
+  Impl::drag(*this, uiMouse);
 }
 
 // ---- drawing ---------------------------------------------------------------------------------

@@ -135,6 +135,54 @@ bool sameInputs(const FrameReference& r, const SceneRenderer::MediaFrameInputs& 
   return r.particles == in.particles.size() && r.opaqueColor == in.opaqueColor && r.opaqueDepth == in.opaqueDepth;
 }
 
+Result<void> checkMediaBudget(const Scene& scene, std::span<const int> frames, const MediaBudgetOptions& options) {
+  if (!scene.media) return Error::at(scene.file, "/media: the scene has no media, so no media resolution to choose");
+  if (frames.empty() || frames.size() > 16) {
+    return Error{"measuring the media budget: expected 1 to 16 frames, got " + std::to_string(frames.size())};
+  }
+  for (int f : frames) {
+    if (f < 0 || f >= scene.animation.frames) {
+      return Error::at(scene.file, "frame " + std::to_string(f) + " is outside the scene's frames 0 to " +
+                                       std::to_string(scene.animation.frames - 1) + " (/animation/frames)");
+    }
+  }
+  if (options.timedRenders < 1 || options.timedRenders > 100) {
+    return Error{"measuring the media budget: timedRenders must be 1 to 100, got " +
+                 std::to_string(options.timedRenders)};
+  }
+  return {};
+}
+
+// Every resolution's error at frame f against the exact media reference, made once for all of them
+// while they draw the same opaque pass.
+Result<void> measureMediaErrors(const Scene& scene, const Scene& measured, int f,
+                                const std::vector<std::unique_ptr<SceneRenderer>>& renderers, const Detail& detail,
+                                MediaBudget& budget) {
+  std::optional<FrameReference> shared;
+  for (std::size_t i = 0; i < renderers.size(); ++i) {
+    auto image = renderers[i]->renderFrame(f);
+    if (!image) return image.error();
+    auto inputs = renderers[i]->lastMediaFrame();
+    if (!inputs) return Error::at(scene.file, "frame " + std::to_string(f) + ": " + inputs.error().message);
+    // Every resolution draws the same opaque pass; should one ever differ, it gets its own reference.
+    std::optional<FrameReference> own;
+    if (!shared || !sameInputs(*shared, *inputs)) {
+      const auto t0 = Clock::now();
+      auto ref = makeReference(measured, *inputs, detail.temperature(), detail.opacity());
+      budget.referenceMs += msSince(t0);
+      if (!ref) return ref.error();
+      if (!shared) {
+        shared = std::move(*ref);
+      } else {
+        own = std::move(*ref);
+      }
+    }
+    const core::Image& ref = own ? own->image : shared->image;
+    budget.candidates[i].rmse.push_back(reference::imageError(*image, ref).rmse);
+  }
+  return {};
+}
+
 }  // namespace
 
 Result<core::Image> mediaReference(const Scene& scene, const SceneRenderer& renderer) {
@@ -157,20 +205,7 @@ std::vector<int> budgetFrames(int first, int last) {
 
 Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> frames,
                                        const MediaBudgetOptions& options) {
-  if (!scene.media) return Error::at(scene.file, "/media: the scene has no media, so no media resolution to choose");
-  if (frames.empty() || frames.size() > 16) {
-    return Error{"measuring the media budget: expected 1 to 16 frames, got " + std::to_string(frames.size())};
-  }
-  for (int f : frames) {
-    if (f < 0 || f >= scene.animation.frames) {
-      return Error::at(scene.file, "frame " + std::to_string(f) + " is outside the scene's frames 0 to " +
-                                       std::to_string(scene.animation.frames - 1) + " (/animation/frames)");
-    }
-  }
-  if (options.timedRenders < 1 || options.timedRenders > 100) {
-    return Error{"measuring the media budget: timedRenders must be 1 to 100, got " +
-                 std::to_string(options.timedRenders)};
-  }
+  PUFF_TRY(checkMediaBudget(scene, frames, options));
 
   // What the reference does not model is left out of the renders measured (budget.h).
   Scene measured = scene;
@@ -201,28 +236,7 @@ Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> 
   std::vector<std::vector<double>> times(renderers.size());
 
   for (int f : budget.frames) {
-    std::optional<FrameReference> shared;
-    for (std::size_t i = 0; i < renderers.size(); ++i) {
-      auto image = renderers[i]->renderFrame(f);
-      if (!image) return image.error();
-      auto inputs = renderers[i]->lastMediaFrame();
-      if (!inputs) return Error::at(scene.file, "frame " + std::to_string(f) + ": " + inputs.error().message);
-      // Every resolution draws the same opaque pass; should one ever differ, it gets its own reference.
-      std::optional<FrameReference> own;
-      if (!shared || !sameInputs(*shared, *inputs)) {
-        const auto t0 = Clock::now();
-        auto ref = makeReference(measured, *inputs, detail->temperature(), detail->opacity());
-        budget.referenceMs += msSince(t0);
-        if (!ref) return ref.error();
-        if (!shared) {
-          shared = std::move(*ref);
-        } else {
-          own = std::move(*ref);
-        }
-      }
-      const core::Image& ref = own ? own->image : shared->image;
-      budget.candidates[i].rmse.push_back(reference::imageError(*image, ref).rmse);
-    }
+    PUFF_TRY(measureMediaErrors(scene, measured, f, renderers, *detail, budget));
     for (int k = 0; k < options.timedRenders; ++k) {
       for (std::size_t i = 0; i < renderers.size(); ++i) {
         const auto t0 = Clock::now();
@@ -324,10 +338,8 @@ std::string megabytes(std::size_t bytes) {
   return buf;
 }
 
-}  // namespace
-
-Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames, const MediaBudgetOptions& options,
-                                   CelKnob knob, std::span<const core::Image> reuse) {
+Result<void> checkCelBudget(const Scene& scene, std::span<const int> frames, const MediaBudgetOptions& options,
+                            CelKnob knob) {
   if (scene.atlas.empty()) return Error::at(scene.file, "/atlas: the scene has no atlas, so no cel model to choose");
   if (scene.particles.empty() && scene.emitters.empty() && !(scene.simulation && !scene.simulation->emitters.empty()))
     return Error::at(scene.file, "the scene has no cel particles, so no cel model to choose");
@@ -342,16 +354,11 @@ Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> fram
   }
   if (options.timedRenders < 1 || options.timedRenders > 100)
     return Error{"timed renders must be in [1, 100], got " + std::to_string(options.timedRenders)};
-  auto desc = core::loadAtlasDesc(scene.atlas);
-  if (!desc) return desc.error();
-  Scene s = scene;
-  s.media.reset();
-  CelBudget budget;
-  budget.knob = knob;
-  budget.frames.assign(frames.begin(), frames.end());
-  std::sort(budget.frames.begin(), budget.frames.end());
+  return {};
+}
 
-  // The reference: the full model (every particle), whatever the scene asks for.
+// The reference: the full model (every particle), whatever the scene asks for.
+Result<void> celReferences(const Scene& s, std::span<const core::Image> reuse, CelBudget& budget) {
   std::vector<core::Image>& references = budget.references;
   if (!reuse.empty()) {
     if (reuse.size() != budget.frames.size() || reuse[0].width != s.width || reuse[0].height != s.height)
@@ -370,10 +377,16 @@ Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> fram
     }
     budget.referenceMs = msSince(t0);
   }
+  return {};
+}
+
+// The scenes to measure: each atlas level from the deepest with cells of 16 texels or more, or
+// each particle fraction.
+std::vector<Scene> celCandidates(const Scene& s, const core::AtlasDesc& desc, CelKnob knob) {
   std::vector<Scene> candidates;
   if (knob == CelKnob::kAtlasLevel) {
-    int deepest = core::deepestAtlasLevel(*desc);
-    while (deepest > 0 && (desc->cellSize >> deepest) < 16) --deepest;
+    int deepest = core::deepestAtlasLevel(desc);
+    while (deepest > 0 && (desc.cellSize >> deepest) < 16) --deepest;
     for (int level = deepest; level >= 0; --level) {
       candidates.push_back(s);
       candidates.back().atlasLevel = level;
@@ -384,34 +397,60 @@ Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> fram
       candidates.back().particleFraction = f;
     }
   }
-  for (const Scene& c : candidates) {
-    auto r = SceneRenderer::create(c);
-    if (!r) return r.error();
-    CelCandidate cand;
-    cand.atlasLevel = c.atlasLevel;
-    cand.particleFraction = c.particleFraction;
-    cand.cellSize = desc->cellSize >> c.atlasLevel;
-    core::AtlasDesc reduced = *desc;
-    reduced.width = std::max(1, desc->width >> c.atlasLevel);
-    reduced.height = std::max(1, desc->height >> c.atlasLevel);
-    reduced.mipLevels = desc->mipLevels - c.atlasLevel;
-    cand.atlasBytes = core::atlasTextureBytes(reduced);
-    std::vector<double> times;
-    for (std::size_t i = 0; i < budget.frames.size(); ++i) {
-      FrameStats stats;
-      auto image = (*r)->renderFrame(budget.frames[i], &stats);
-      if (!image) return image.error();
-      cand.particles = std::max(cand.particles, stats.particles);
-      cand.rmse.push_back(reference::imageError(*image, references[i]).rmse);
-      for (int k = 0; k < options.timedRenders; ++k) {
-        const auto t0 = Clock::now();
-        if (auto again = (*r)->renderFrame(budget.frames[i]); !again) return again.error();
-        times.push_back(msSince(t0));
-      }
+  return candidates;
+}
+
+// One candidate: its atlas's size, its error at each frame against the reference, its time.
+Result<CelCandidate> measureCelCandidate(const Scene& c, const core::AtlasDesc& desc, const CelBudget& budget,
+                                         const MediaBudgetOptions& options) {
+  auto r = SceneRenderer::create(c);
+  if (!r) return r.error();
+  CelCandidate cand;
+  cand.atlasLevel = c.atlasLevel;
+  cand.particleFraction = c.particleFraction;
+  cand.cellSize = desc.cellSize >> c.atlasLevel;
+  core::AtlasDesc reduced = desc;
+  reduced.width = std::max(1, desc.width >> c.atlasLevel);
+  reduced.height = std::max(1, desc.height >> c.atlasLevel);
+  reduced.mipLevels = desc.mipLevels - c.atlasLevel;
+  cand.atlasBytes = core::atlasTextureBytes(reduced);
+  std::vector<double> times;
+  for (std::size_t i = 0; i < budget.frames.size(); ++i) {
+    FrameStats stats;
+    auto image = (*r)->renderFrame(budget.frames[i], &stats);
+    if (!image) return image.error();
+    cand.particles = std::max(cand.particles, stats.particles);
+    cand.rmse.push_back(reference::imageError(*image, budget.references[i]).rmse);
+    for (int k = 0; k < options.timedRenders; ++k) {
+      const auto t0 = Clock::now();
+      if (auto again = (*r)->renderFrame(budget.frames[i]); !again) return again.error();
+      times.push_back(msSince(t0));
     }
-    cand.worstRmse = *std::max_element(cand.rmse.begin(), cand.rmse.end());
-    cand.medianMs = median(times);
-    budget.candidates.push_back(std::move(cand));
+  }
+  cand.worstRmse = *std::max_element(cand.rmse.begin(), cand.rmse.end());
+  cand.medianMs = median(times);
+  return cand;
+}
+
+}  // namespace
+
+Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames, const MediaBudgetOptions& options,
+                                   CelKnob knob, std::span<const core::Image> reuse) {
+  PUFF_TRY(checkCelBudget(scene, frames, options, knob));
+  auto desc = core::loadAtlasDesc(scene.atlas);
+  if (!desc) return desc.error();
+  Scene s = scene;
+  s.media.reset();
+  CelBudget budget;
+  budget.knob = knob;
+  budget.frames.assign(frames.begin(), frames.end());
+  std::sort(budget.frames.begin(), budget.frames.end());
+
+  PUFF_TRY(celReferences(s, reuse, budget));
+  for (const Scene& c : celCandidates(s, *desc, knob)) {
+    auto cand = measureCelCandidate(c, *desc, budget, options);
+    if (!cand) return cand.error();
+    budget.candidates.push_back(std::move(*cand));
   }
   return budget;
 }

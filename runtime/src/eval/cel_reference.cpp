@@ -167,7 +167,6 @@ struct CelReference::Impl {
     glNamedFramebufferDrawBuffer(shadowFbo2.get(), GL_COLOR_ATTACHMENT0);
   }
 
-  // Draws every instance, one instanced call per variation (instances are grouped by variation).
   // Draws every instance, one instanced call per variation (instances are grouped by variation):
   // triangles, or triangles with adjacency for the silhouette program.
   void drawInstances(const std::vector<std::size_t>& firstOfVariation, bool adjacency = false) {
@@ -181,6 +180,197 @@ struct CelReference::Impl {
                               meshes[v].indexCount * (adjacency ? 2 : 1), GL_UNSIGNED_INT, nullptr,
                               static_cast<GLsizei>(count));
     }
+  }
+  // The particles drawn this frame, grouped by variation (instance firstOfVariation[v] is the
+  // first of variation v), and the box around them.
+  struct Instances {
+    std::size_t count = 0;
+    std::vector<std::size_t> firstOfVariation{0};
+    glm::vec3 lo{INFINITY}, hi{-INFINITY};
+  };
+
+  // Uploads the instances, grouped by variation: rows of the model matrix and the particle's id.
+  Instances uploadInstances(const cel::Frame& frame, std::span<const cel::Particle> particles,
+                            const cel::Style& style) {
+    struct Instance {
+      glm::vec4 rows[3];
+      glm::uvec4 id;
+    };
+    const bool ortho = frame.projection[3][3] == 1.0f;
+    const std::size_t variations = meshes.size();
+    std::vector<std::vector<std::size_t>> byVariation(variations);
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      const cel::Particle& p = particles[i];
+      if (!(p.size > 0.0f) || !std::isfinite(p.size) || !std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||
+          !std::isfinite(p.position.z))
+        continue;
+      // As the nailboards pick it: the packed 8 bits, modulo the atlas's variations.
+      byVariation[static_cast<std::size_t>(p.variation & 0xFF) % variations].push_back(i);
+    }
+    std::vector<Instance> packed;
+    Instances out;
+    for (const auto& list : byVariation) {
+      for (std::size_t i : list) {
+        const cel::Particle& p = particles[i];
+        const glm::mat4 model = glm::transpose(puffTransform(p, style.alignment, frame.view, ortho));
+        packed.push_back(Instance{{model[0], model[1], model[2]}, glm::uvec4(static_cast<unsigned>(i + 1), 0, 0, 0)});
+        out.lo = glm::min(out.lo, p.position - glm::vec3(0.5f * p.size));
+        out.hi = glm::max(out.hi, p.position + glm::vec3(0.5f * p.size));
+      }
+      out.firstOfVariation.push_back(packed.size());
+    }
+    out.count = packed.size();
+    if (!packed.empty()) {
+      const std::size_t bytes = packed.size() * sizeof(Instance);
+      if (bytes > instanceCapacity) {
+        instances = core::makeBuffer();
+        instanceCapacity = std::max<std::size_t>(bytes, 2 * instanceCapacity);
+        glNamedBufferStorage(instances.get(), static_cast<GLsizeiptr>(instanceCapacity), nullptr,
+                             GL_DYNAMIC_STORAGE_BIT);
+      }
+      glNamedBufferSubData(instances.get(), 0, static_cast<GLsizeiptr>(bytes), packed.data());
+      glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, instances.get());
+    }
+    return out;
+  }
+
+  // The shadow map over the puffs' bounding sphere, seen along the light: pass 1 the nearest
+  // distance and its puff, pass 2 the nearest of any other puff; then bound for the frame.
+  void drawShadowMaps(const cel::Frame& frame, const Instances& inst) {
+    const GLuint meshProg = meshProgram.get();
+    ensureShadowMaps();
+    const glm::vec3 centre = 0.5f * (inst.lo + inst.hi);
+    const float radius = std::max(1e-3f, 0.5f * glm::length(inst.hi - inst.lo));
+    const float len = glm::length(frame.light.direction);
+    const glm::vec3 l = len > 0.0f && std::isfinite(len) ? frame.light.direction / len : glm::vec3(0, 1, 0);
+    const glm::vec3 up = std::abs(l.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+    const glm::mat4 lightView = glm::lookAt(centre + 2.0f * radius * l, centre, up);
+    const glm::mat4 lightProj = glm::ortho(-radius, radius, -radius, radius, 0.0f, 4.0f * radius);
+    const float bias = 2.0f * radius / static_cast<float>(shadowSize);  // one texel
+    setMat4(meshProg, "uLightView", lightView);
+    setMat4(meshProg, "uLightProj", lightProj);
+    glViewport(0, 0, shadowSize, shadowSize);
+    cel::applyShadePass(cel::ShadePass::kLit);  // depth LESS + write, colour on, no stencil
+    glUseProgram(meshProg);
+    // None of the shadow maps may sit on a texture unit while it is being drawn into.
+    for (GLuint unit : {4u, 5u, 6u}) glBindTextureUnit(unit, 0);
+    const float far[4] = {1e30f, 0, 0, 0};
+    const GLuint none[4] = {0, 0, 0, 0};
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, shadowFbo1.get());
+    glClearNamedFramebufferfv(shadowFbo1.get(), GL_COLOR, 0, far);
+    glClearNamedFramebufferuiv(shadowFbo1.get(), GL_COLOR, 1, none);
+    glClearNamedFramebufferfi(shadowFbo1.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    setInt(meshProg, "uMode", 1);
+    drawInstances(inst.firstOfVariation);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, shadowFbo2.get());
+    glClearNamedFramebufferfv(shadowFbo2.get(), GL_COLOR, 0, far);
+    glClearNamedFramebufferfi(shadowFbo2.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    glBindTextureUnit(5, shadowId.get());
+    setInt(meshProg, "uMode", 2);
+    drawInstances(inst.firstOfVariation);
+    glBindTextureUnit(4, shadowNear.get());
+    glBindTextureUnit(6, shadowOther.get());
+    for (GLuint prog : {meshProg, stencilProgram.get()}) {
+      setMat4(prog, "uShadowView", lightView);
+      setMat4(prog, "uShadowProj", lightProj);
+      setFloat(prog, "uShadowBias", bias);
+    }
+  }
+
+  // The frame: clear, opaque objects lit (colour only: their program writes no id), puffs.
+  void drawFrame(const cel::Frame& frame, cel::FrameBlock& block, cel::OpaqueRenderer& opaque, const cel::Style& style,
+                 const glm::vec3& background, const Instances& inst, bool shadows, int w, int h) {
+    const GLuint meshProg = meshProgram.get();
+    const GLuint target = fbo.get();
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+    glViewport(0, 0, w, h);
+    glDisable(GL_SCISSOR_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDepthMask(GL_TRUE);
+    glStencilMask(0xFF);
+    const float bg[4] = {background.r, background.g, background.b, 1.0f};
+    const GLuint zero[4] = {0, 0, 0, 0};
+    glClearNamedFramebufferfv(target, GL_COLOR, 0, bg);
+    // The ids by their texture: attachment 1 is not a draw buffer at this point.
+    glClearTexImage(ids.get(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, zero);
+    glClearNamedFramebufferfi(target, GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    glNamedFramebufferDrawBuffer(target, GL_COLOR_ATTACHMENT0);
+    block.upload(frame);
+    opaque.draw(cel::ShadePass::kLit);
+    if (inst.count > 0) {
+      const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+      glNamedFramebufferDrawBuffers(target, 2, both);
+      cel::resetPassState();  // whatever the opaque pass left
+      cel::applyShadePass(cel::ShadePass::kLit);
+      glUseProgram(meshProg);
+      setInt(meshProg, "uMode", 0);
+      setInt(meshProg, "uShading", style.shading ? 1 : 0);
+      setInt(meshProg, "uShadows", shadows ? 1 : 0);
+      drawInstances(inst.firstOfVariation);
+      glNamedFramebufferDrawBuffer(target, GL_COLOR_ATTACHMENT0);
+    }
+  }
+
+  // The opaque pixels some puff shadows, drawn again shadowed; then the puffs' outlines.
+  void drawShadowsAndOutlines(cel::OpaqueRenderer& opaque, const cel::Style& style, const Instances& inst, bool shadows,
+                              bool outlines, int w, int h) {
+    if (shadows || outlines) {
+      // Sampled copies: the frame's own attachments are not read while it is bound.
+      glCopyImageSubData(depthStencil.get(), GL_TEXTURE_2D, 0, 0, 0, 0, depthCopy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w,
+                         h, 1);
+      glCopyImageSubData(ids.get(), GL_TEXTURE_2D, 0, 0, 0, 0, idsCopy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
+      glBindTextureUnit(2, depthCopy.get());
+      glBindTextureUnit(3, idsCopy.get());
+      glBindVertexArray(emptyVao.get());
+    }
+    if (shadows) {
+      // Opaque pixels some puff shadows: stencil 1, then the opaque objects' own shadowed pass.
+      glUseProgram(stencilProgram.get());
+      glDisable(GL_DEPTH_TEST);
+      glDepthMask(GL_FALSE);
+      glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+      glEnable(GL_STENCIL_TEST);
+      glStencilFunc(GL_ALWAYS, 1, 0xFF);
+      glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      opaque.draw(cel::ShadePass::kShadowed);
+      glDisable(GL_STENCIL_TEST);
+    }
+    if (outlines) {
+      const GLuint prog = silhouetteProgram.get();
+      glUseProgram(prog);
+      glEnable(GL_DEPTH_TEST);
+      glDepthFunc(GL_LESS);
+      glDepthMask(GL_FALSE);
+      glDisable(GL_STENCIL_TEST);
+      setFloat(prog, "uWidth", style.outlineWidth * static_cast<float>(options.supersample));
+      glProgramUniform3f(prog, glGetUniformLocation(prog, "uInk"), style.outlineColor.r, style.outlineColor.g,
+                         style.outlineColor.b);
+      drawInstances(inst.firstOfVariation, true);
+    }
+  }
+
+  // Box-filter into the caller's framebuffer (its read binding stays the caller's).
+  void downsample(GLuint outputFbo, const cel::Viewport& viewport) {
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, outputFbo);
+    glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_STENCIL_TEST);
+    glDisable(GL_BLEND);
+    glDepthMask(GL_FALSE);
+    const GLuint down = downsampleProgram.get();
+    glUseProgram(down);
+    setInt(down, "uFactor", options.supersample);
+    glProgramUniform2i(down, glGetUniformLocation(down, "uOrigin"), viewport.x, viewport.y);
+    glBindTextureUnit(0, color.get());
+    glBindVertexArray(emptyVao.get());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glDepthMask(GL_TRUE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glBindVertexArray(0);
+    glUseProgram(0);
   }
 };
 
@@ -289,177 +479,14 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
   m.ensureTarget(w, h);
   cel::resetPassState();  // no scissor, blending, culling, clamp, ... whatever the host left
 
-  // The instances, grouped by variation: rows of the model matrix and the particle's id.
-  struct Instance {
-    glm::vec4 rows[3];
-    glm::uvec4 id;
-  };
-  const bool ortho = frame.projection[3][3] == 1.0f;
-  const std::size_t variations = m.meshes.size();
-  std::vector<std::vector<std::size_t>> byVariation(variations);
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    const cel::Particle& p = particles[i];
-    if (!(p.size > 0.0f) || !std::isfinite(p.size) || !std::isfinite(p.position.x) || !std::isfinite(p.position.y) ||
-        !std::isfinite(p.position.z))
-      continue;
-    // As the nailboards pick it: the packed 8 bits, modulo the atlas's variations.
-    byVariation[static_cast<std::size_t>(p.variation & 0xFF) % variations].push_back(i);
-  }
-  std::vector<Instance> instances;
-  std::vector<std::size_t> firstOfVariation{0};
-  glm::vec3 lo(INFINITY), hi(-INFINITY);
-  for (const auto& list : byVariation) {
-    for (std::size_t i : list) {
-      const cel::Particle& p = particles[i];
-      const glm::mat4 model = glm::transpose(puffTransform(p, style.alignment, frame.view, ortho));
-      instances.push_back(Instance{{model[0], model[1], model[2]}, glm::uvec4(static_cast<unsigned>(i + 1), 0, 0, 0)});
-      lo = glm::min(lo, p.position - glm::vec3(0.5f * p.size));
-      hi = glm::max(hi, p.position + glm::vec3(0.5f * p.size));
-    }
-    firstOfVariation.push_back(instances.size());
-  }
-  if (!instances.empty()) {
-    const std::size_t bytes = instances.size() * sizeof(Instance);
-    if (bytes > m.instanceCapacity) {
-      m.instances = core::makeBuffer();
-      m.instanceCapacity = std::max<std::size_t>(bytes, 2 * m.instanceCapacity);
-      glNamedBufferStorage(m.instances.get(), static_cast<GLsizeiptr>(m.instanceCapacity), nullptr,
-                           GL_DYNAMIC_STORAGE_BIT);
-    }
-    glNamedBufferSubData(m.instances.get(), 0, static_cast<GLsizeiptr>(bytes), instances.data());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, m.instances.get());
-  }
-  const GLuint meshProg = m.meshProgram.get();
-
+  const Impl::Instances instances = m.uploadInstances(frame, particles, style);
   // The shadow map over the puffs' bounding sphere, seen along the light.
-  const bool shadows = style.shadows && !instances.empty();
-  glm::mat4 lightView(1.0f), lightProj(1.0f);
-  float bias = 0.0f;
-  if (shadows) {
-    m.ensureShadowMaps();
-    const glm::vec3 centre = 0.5f * (lo + hi);
-    const float radius = std::max(1e-3f, 0.5f * glm::length(hi - lo));
-    const float len = glm::length(frame.light.direction);
-    const glm::vec3 l = len > 0.0f && std::isfinite(len) ? frame.light.direction / len : glm::vec3(0, 1, 0);
-    const glm::vec3 up = std::abs(l.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
-    lightView = glm::lookAt(centre + 2.0f * radius * l, centre, up);
-    lightProj = glm::ortho(-radius, radius, -radius, radius, 0.0f, 4.0f * radius);
-    bias = 2.0f * radius / static_cast<float>(m.shadowSize);  // one texel
-    setMat4(meshProg, "uLightView", lightView);
-    setMat4(meshProg, "uLightProj", lightProj);
-    glViewport(0, 0, m.shadowSize, m.shadowSize);
-    cel::applyShadePass(cel::ShadePass::kLit);  // depth LESS + write, colour on, no stencil
-    glUseProgram(meshProg);
-    // None of the shadow maps may sit on a texture unit while it is being drawn into.
-    for (GLuint unit : {4u, 5u, 6u}) glBindTextureUnit(unit, 0);
-    const float far[4] = {1e30f, 0, 0, 0};
-    const GLuint none[4] = {0, 0, 0, 0};
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.shadowFbo1.get());
-    glClearNamedFramebufferfv(m.shadowFbo1.get(), GL_COLOR, 0, far);
-    glClearNamedFramebufferuiv(m.shadowFbo1.get(), GL_COLOR, 1, none);
-    glClearNamedFramebufferfi(m.shadowFbo1.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
-    setInt(meshProg, "uMode", 1);
-    m.drawInstances(firstOfVariation);
-    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.shadowFbo2.get());
-    glClearNamedFramebufferfv(m.shadowFbo2.get(), GL_COLOR, 0, far);
-    glClearNamedFramebufferfi(m.shadowFbo2.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
-    glBindTextureUnit(5, m.shadowId.get());
-    setInt(meshProg, "uMode", 2);
-    m.drawInstances(firstOfVariation);
-    glBindTextureUnit(4, m.shadowNear.get());
-    glBindTextureUnit(6, m.shadowOther.get());
-    for (GLuint prog : {meshProg, m.stencilProgram.get()}) {
-      setMat4(prog, "uShadowView", lightView);
-      setMat4(prog, "uShadowProj", lightProj);
-      setFloat(prog, "uShadowBias", bias);
-    }
-  }
-
-  // The frame: clear, opaque objects lit (colour only: their program writes no id), puffs.
-  const GLuint fbo = m.fbo.get();
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
-  glViewport(0, 0, w, h);
-  glDisable(GL_SCISSOR_TEST);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glDepthMask(GL_TRUE);
-  glStencilMask(0xFF);
-  const float bg[4] = {background.r, background.g, background.b, 1.0f};
-  const GLuint zero[4] = {0, 0, 0, 0};
-  glClearNamedFramebufferfv(fbo, GL_COLOR, 0, bg);
-  // The ids by their texture: attachment 1 is not a draw buffer at this point.
-  glClearTexImage(m.ids.get(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, zero);
-  glClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
-  glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
-  block.upload(frame);
-  opaque.draw(cel::ShadePass::kLit);
-  if (!instances.empty()) {
-    const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-    glNamedFramebufferDrawBuffers(fbo, 2, both);
-    cel::resetPassState();  // whatever the opaque pass left
-    cel::applyShadePass(cel::ShadePass::kLit);
-    glUseProgram(meshProg);
-    setInt(meshProg, "uMode", 0);
-    setInt(meshProg, "uShading", style.shading ? 1 : 0);
-    setInt(meshProg, "uShadows", shadows ? 1 : 0);
-    m.drawInstances(firstOfVariation);
-    glNamedFramebufferDrawBuffer(fbo, GL_COLOR_ATTACHMENT0);
-  }
-  const bool outlines = style.outlines && style.outlineWidth > 0.0f && !instances.empty();
-  if (shadows || outlines) {
-    // Sampled copies: the frame's own attachments are not read while it is bound.
-    glCopyImageSubData(m.depthStencil.get(), GL_TEXTURE_2D, 0, 0, 0, 0, m.depthCopy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w,
-                       h, 1);
-    glCopyImageSubData(m.ids.get(), GL_TEXTURE_2D, 0, 0, 0, 0, m.idsCopy.get(), GL_TEXTURE_2D, 0, 0, 0, 0, w, h, 1);
-    glBindTextureUnit(2, m.depthCopy.get());
-    glBindTextureUnit(3, m.idsCopy.get());
-    glBindVertexArray(m.emptyVao.get());
-  }
-  if (shadows) {
-    // Opaque pixels some puff shadows: stencil 1, then the opaque objects' own shadowed pass.
-    glUseProgram(m.stencilProgram.get());
-    glDisable(GL_DEPTH_TEST);
-    glDepthMask(GL_FALSE);
-    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    glEnable(GL_STENCIL_TEST);
-    glStencilFunc(GL_ALWAYS, 1, 0xFF);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    opaque.draw(cel::ShadePass::kShadowed);
-    glDisable(GL_STENCIL_TEST);
-  }
-  if (outlines) {
-    const GLuint prog = m.silhouetteProgram.get();
-    glUseProgram(prog);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_FALSE);
-    glDisable(GL_STENCIL_TEST);
-    setFloat(prog, "uWidth", style.outlineWidth * static_cast<float>(ss));
-    glProgramUniform3f(prog, glGetUniformLocation(prog, "uInk"), style.outlineColor.r, style.outlineColor.g,
-                       style.outlineColor.b);
-    m.drawInstances(firstOfVariation, true);
-  }
-
-  // Box-filter into the caller's framebuffer (its read binding stays the caller's).
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, outputFbo);
-  glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_BLEND);
-  glDepthMask(GL_FALSE);
-  const GLuint down = m.downsampleProgram.get();
-  glUseProgram(down);
-  setInt(down, "uFactor", ss);
-  glProgramUniform2i(down, glGetUniformLocation(down, "uOrigin"), viewport.x, viewport.y);
-  glBindTextureUnit(0, m.color.get());
-  glBindVertexArray(m.emptyVao.get());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glDepthMask(GL_TRUE);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glBindVertexArray(0);
-  glUseProgram(0);
+  const bool shadows = style.shadows && instances.count > 0;
+  if (shadows) m.drawShadowMaps(frame, instances);
+  m.drawFrame(frame, block, opaque, style, background, instances, shadows, w, h);
+  const bool outlines = style.outlines && style.outlineWidth > 0.0f && instances.count > 0;
+  m.drawShadowsAndOutlines(opaque, style, instances, shadows, outlines, w, h);
+  m.downsample(outputFbo, viewport);
 }
 
 }  // namespace puff::eval::detail

@@ -63,6 +63,55 @@ core::Texture makeDetailTexture(const core::DetailVideo* v) {
   return t;
 }
 
+// The frame's uniform block: camera, target, light in view space, black-body range, method.
+MediaBlockData blockData(const Frame& frame, const Settings& settings, Method method, bool shimmer) {
+  MediaBlockData d{};
+  d.view = frame.view;
+  d.proj = frame.projection;
+  d.invProj = glm::inverse(frame.projection);
+  d.target = glm::vec4(frame.width, frame.height, 1.0f / static_cast<float>(frame.width),
+                       1.0f / static_cast<float>(frame.height));
+  d.origin = glm::vec4(frame.x, frame.y, 0.0f, 0.0f);
+  d.depth = glm::vec4(frame.nearPlane, frame.farPlane, frame.farPlane - frame.nearPlane, frame.orthographic ? 1 : 0);
+  glm::vec3 l = frame.lightDirection;
+  l = glm::length(l) > 0.0f ? glm::normalize(l) : glm::vec3(0, 1, 0);
+  d.lightDir = glm::vec4(glm::normalize(glm::vec3(frame.view * glm::vec4(l, 0.0f))), 0.0f);
+  d.lightColor = glm::vec4(frame.lightColor, 1.0f);
+  d.ambient = glm::vec4(frame.ambient, 1.0f);
+  d.kelvin = glm::vec4(settings.minKelvin, settings.maxKelvin, 1.0f / (settings.maxKelvin - settings.minKelvin),
+                       settings.exposure);
+  d.mode = glm::ivec4(static_cast<int>(method), shimmer ? 1 : 0, 0, 0);
+  d.time = glm::vec4(frame.time, 0.0f, 0.0f, 0.0f);
+  return d;
+}
+
+// State: blending per Ilmonen (premultiplied colour, alpha = transmittance multiplier), no depth
+// test (surfaces clip in the shader), depth clamp for the spherical method only (its far-point
+// quads must not be clipped; planar billboards keep the near-plane clipping that makes them pop).
+void applyBlendState(Method method, bool shimmer) {
+  glDisable(GL_DEPTH_TEST);
+  glDepthMask(GL_FALSE);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  glDisable(GL_FRAMEBUFFER_SRGB);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  if (method == Method::kSpherical)
+    glEnable(GL_DEPTH_CLAMP);
+  else
+    glDisable(GL_DEPTH_CLAMP);
+  glEnable(GL_BLEND);
+  glBlendEquationi(0, GL_FUNC_ADD);
+  glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA);
+  glBlendEquationi(1, GL_FUNC_ADD);
+  glBlendFunci(1, GL_ONE, GL_ONE);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  // Without shimmer, a second attachment (if the host has one) is left untouched.
+  const GLboolean s = shimmer ? GL_TRUE : GL_FALSE;
+  glColorMaski(1, s, s, s, s);
+}
+
 }  // namespace
 
 Material smokeMaterial() {
@@ -299,49 +348,10 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
   }
   glNamedBufferSubData(m.particleBuffer.get(), 0, static_cast<GLsizeiptr>(bytes), m.sorted.data());
 
-  MediaBlockData d{};
-  d.view = frame.view;
-  d.proj = frame.projection;
-  d.invProj = glm::inverse(frame.projection);
-  d.target = glm::vec4(frame.width, frame.height, 1.0f / static_cast<float>(frame.width),
-                       1.0f / static_cast<float>(frame.height));
-  d.origin = glm::vec4(frame.x, frame.y, 0.0f, 0.0f);
-  d.depth = glm::vec4(frame.nearPlane, frame.farPlane, frame.farPlane - frame.nearPlane, frame.orthographic ? 1 : 0);
-  glm::vec3 l = frame.lightDirection;
-  l = glm::length(l) > 0.0f ? glm::normalize(l) : glm::vec3(0, 1, 0);
-  d.lightDir = glm::vec4(glm::normalize(glm::vec3(frame.view * glm::vec4(l, 0.0f))), 0.0f);
-  d.lightColor = glm::vec4(frame.lightColor, 1.0f);
-  d.ambient = glm::vec4(frame.ambient, 1.0f);
-  d.kelvin = glm::vec4(m.settings.minKelvin, m.settings.maxKelvin, 1.0f / (m.settings.maxKelvin - m.settings.minKelvin),
-                       m.settings.exposure);
-  d.mode = glm::ivec4(static_cast<int>(method), shimmer ? 1 : 0, 0, 0);
-  d.time = glm::vec4(frame.time, 0.0f, 0.0f, 0.0f);
+  const MediaBlockData d = blockData(frame, m.settings, method, shimmer);
   glNamedBufferSubData(m.block.get(), 0, sizeof(d), &d);
 
-  // State: blending per Ilmonen (premultiplied colour, alpha = transmittance multiplier), no depth
-  // test (surfaces clip in the shader), depth clamp for the spherical method only (its far-point
-  // quads must not be clipped; planar billboards keep the near-plane clipping that makes them pop).
-  glDisable(GL_DEPTH_TEST);
-  glDepthMask(GL_FALSE);
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-  glDisable(GL_FRAMEBUFFER_SRGB);
-  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-  if (method == Method::kSpherical)
-    glEnable(GL_DEPTH_CLAMP);
-  else
-    glDisable(GL_DEPTH_CLAMP);
-  glEnable(GL_BLEND);
-  glBlendEquationi(0, GL_FUNC_ADD);
-  glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA);
-  glBlendEquationi(1, GL_FUNC_ADD);
-  glBlendFunci(1, GL_ONE, GL_ONE);
-  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  // Without shimmer, a second attachment (if the host has one) is left untouched.
-  const GLboolean s = shimmer ? GL_TRUE : GL_FALSE;
-  glColorMaski(1, s, s, s, s);
+  applyBlendState(method, shimmer);
 
   glUseProgram(m.fillRateFloor ? m.floorProgram.get() : m.program.get());
   glBindVertexArray(m.vao.get());

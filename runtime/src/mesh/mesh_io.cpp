@@ -483,56 +483,48 @@ class CommentFreeOffCopy {
   bool ok_ = false;
 };
 
-}  // namespace
-
-Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info) {
-  const Result<Format> format = formatOf(path);
-  if (!format) return format.error();
-  PUFF_TRY(checkReadable(path));
-  const Result<Declared> declared = scan(path, *format);
-  if (!declared) return declared.error();
-
-  OmMesh om;
-  om.request_vertex_colors();
-  om.request_vertex_normals();
-  om.request_face_status();  // the importer marks faces it had to separate as non-manifold
-  OmOptions opt = OmOptions::VertexColor | OmOptions::VertexNormal;
+// Reads the file into `om` with OpenMesh; `opt` says what it found.
+Result<void> readOpenMesh(const fs::path& path, Format format, const Declared& declared, OmMesh& om, OmOptions& opt) {
   bool readOk = false;
   {
     // OpenMesh's OFF reader does not skip comments, though the format allows them; its stream
     // reader would lose the header's color flag, so it gets a cleaned copy as a file.
     std::optional<CommentFreeOffCopy> clean;
-    if (declared->offComments) {
+    if (declared.offComments) {
       clean.emplace(path);
       if (!clean->ok()) return Error::at(path, "cannot read: no room for a temporary copy");
     }
     OmSilence silence;
     readOk = OpenMesh::IO::read_mesh(om, (clean ? clean->path() : path).string(), opt);
   }
-  if (!readOk || (om.n_vertices() == 0 && declared->faces > 0)) return notValid(path, *format);
+  if (!readOk || (om.n_vertices() == 0 && declared.faces > 0)) return notValid(path, format);
+  return {};
+}
 
+// Every face the file declares made it in: the number added.
+Result<std::size_t> checkFaces(const fs::path& path, const Declared& declared, const OmMesh& om) {
   const std::size_t added = om.n_faces();
   std::size_t separated = 0;
   for (const auto fh : om.faces())
     if (om.status(fh).fixed_nonmanifold()) ++separated;
-  if (declared->faces == 0 && added == 0) return Error::at(path, "no faces");
+  if (declared.faces == 0 && added == 0) return Error::at(path, "no faces");
   if (separated > 0)
-    return Error::at(path, "non-manifold mesh: the file declares " + std::to_string(declared->faces) + " faces, only " +
+    return Error::at(path, "non-manifold mesh: the file declares " + std::to_string(declared.faces) + " faces, only " +
                                std::to_string(added - separated) + " could be added");
-  if (added < declared->faces)
-    return Error::at(path, "the file declares " + std::to_string(declared->faces) + " faces, only " +
+  if (added < declared.faces)
+    return Error::at(path, "the file declares " + std::to_string(declared.faces) + " faces, only " +
                                std::to_string(added) +
                                " could be added (the others repeat a vertex or refer to a missing one)");
+  return added;
+}
 
-  TriMesh mesh;
+// The vertices' positions, and their colours and normals where the file gives them for every one.
+void copyVertices(const OmMesh& om, bool fileColors, bool fileNormals, TriMesh& mesh) {
   mesh.positions.reserve(om.n_vertices());
   for (const auto vh : om.vertices()) {
     const OmMesh::Point& p = om.point(vh);
     mesh.positions.emplace_back(p[0], p[1], p[2]);
   }
-  // STL carries neither; OpenMesh's STL reader leaves the requested flags set regardless.
-  const bool fileColors = *format != Format::Stl && opt.vertex_has_color() && declared->colorsOnEveryVertex;
-  const bool fileNormals = *format != Format::Stl && opt.vertex_has_normal() && declared->normalsOnEveryCorner;
   if (fileColors) {
     mesh.colors.reserve(om.n_vertices());
     float maxComponent = 0.0f;
@@ -553,6 +545,10 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info) {
       mesh.normals.emplace_back(n[0], n[1], n[2]);
     }
   }
+}
+
+// The faces as triangles; returns each triangle's face in the file.
+std::vector<std::uint32_t> triangulate(const OmMesh& om, TriMesh& mesh) {
   std::vector<std::uint32_t> sourceFace;
   mesh.triangles.reserve(om.n_faces());
   sourceFace.reserve(om.n_faces());
@@ -566,12 +562,39 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info) {
       sourceFace.push_back(std::uint32_t(fh.idx()));
     }
   }
+  return sourceFace;
+}
+
+}  // namespace
+
+Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info) {
+  const Result<Format> format = formatOf(path);
+  if (!format) return format.error();
+  PUFF_TRY(checkReadable(path));
+  const Result<Declared> declared = scan(path, *format);
+  if (!declared) return declared.error();
+
+  OmMesh om;
+  om.request_vertex_colors();
+  om.request_vertex_normals();
+  om.request_face_status();  // the importer marks faces it had to separate as non-manifold
+  OmOptions opt = OmOptions::VertexColor | OmOptions::VertexNormal;
+  PUFF_TRY(readOpenMesh(path, *format, *declared, om, opt));
+  const Result<std::size_t> added = checkFaces(path, *declared, om);
+  if (!added) return added.error();
+
+  TriMesh mesh;
+  // STL carries neither; OpenMesh's STL reader leaves the requested flags set regardless.
+  const bool fileColors = *format != Format::Stl && opt.vertex_has_color() && declared->colorsOnEveryVertex;
+  const bool fileNormals = *format != Format::Stl && opt.vertex_has_normal() && declared->normalsOnEveryCorner;
+  copyVertices(om, fileColors, fileNormals, mesh);
+  const std::vector<std::uint32_t> sourceFace = triangulate(om, mesh);
 
   PUFF_TRY(validateMesh(mesh, path.string(), sourceFace));
   removeUnreferenced(mesh);
 
   LoadInfo li;
-  li.sourceFaces = added;
+  li.sourceFaces = *added;
   li.sourceVertices = om.n_vertices();
   li.hadColors = fileColors;
   if (signedVolume(mesh) < 0.0) {

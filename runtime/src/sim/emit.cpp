@@ -1,0 +1,162 @@
+// Births (emitters) and the wakes moving vortices shed.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <puff/core/random.h>
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "simulator_impl.h"
+
+namespace puff::sim {
+
+namespace {
+
+// Counter-based random numbers: the value for (seed, stream, index, k) never depends on order.
+using core::mix64;
+
+struct Rng {
+  std::uint64_t state;
+  Rng(std::uint32_t seed, std::uint64_t stream, std::uint64_t index)
+      : state(mix64(mix64(seed * core::kGoldenGamma + stream) ^ (index + 0x632be59bd9b4e019ULL))) {}
+  float uniform() {  // [0, 1)
+    state += core::kGoldenGamma;
+    return static_cast<float>(mix64(state) >> 40) / 16777216.0f;
+  }
+};
+
+glm::vec3 anyPerpendicular(const glm::vec3& n) {
+  const glm::vec3 a = std::abs(n.x) < 0.9f ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0);
+  return glm::normalize(glm::cross(n, a));
+}
+
+glm::vec3 randomUnit(Rng& r) {
+  const float z = r.uniform() * 2.0f - 1.0f, phi = r.uniform() * 2.0f * std::numbers::pi_v<float>;
+  const float s = std::sqrt(std::max(0.0f, 1.0f - z * z));
+  return {s * std::cos(phi), s * std::sin(phi), z};
+}
+
+// Where in the emitter's shape a particle is born, from its centre.
+glm::vec3 birthOffset(const Emitter& e, Rng& r) {
+  glm::vec3 offset(0.0f);
+  switch (e.shape) {
+    case Emitter::Shape::kPoint:
+      break;
+    case Emitter::Shape::kSphere:
+      offset = randomUnit(r) * (e.radius * std::cbrt(r.uniform()));
+      break;
+    case Emitter::Shape::kDisc: {
+      const glm::vec3 n = glm::normalize(e.normal), a = anyPerpendicular(n), b = glm::cross(n, a);
+      const float rr = e.radius * std::sqrt(r.uniform()), phi = r.uniform() * 2.0f * std::numbers::pi_v<float>;
+      offset = rr * (std::cos(phi) * a + std::sin(phi) * b);
+      break;
+    }
+  }
+  return offset;
+}
+
+// The emitter's velocity, spread over a cone of spreadDegrees and in speed by speedSpread (without
+// the velocity inherited from the path).
+glm::vec3 birthVelocity(const Emitter& e, Rng& r) {
+  glm::vec3 v = e.velocity;
+  const float speed = glm::length(v);
+  if (speed > 0.0f) {
+    const glm::vec3 dir = v / speed, a = anyPerpendicular(dir), b = glm::cross(dir, a);
+    const float cosMax = std::cos(glm::radians(e.spreadDegrees));
+    const float cz = 1.0f - r.uniform() * (1.0f - cosMax);
+    const float sz = std::sqrt(std::max(0.0f, 1.0f - cz * cz));
+    const float phi = r.uniform() * 2.0f * std::numbers::pi_v<float>;
+    const float scale = 1.0f + e.speedSpread * (2.0f * r.uniform() - 1.0f);
+    v = speed * scale * (cz * dir + sz * (std::cos(phi) * a + std::sin(phi) * b));
+  }
+  return v;
+}
+
+// The atlas variation: any of `variations`, or one of the emitter's list.
+int birthVariation(const Emitter& e, Rng& r, int variations) {
+  return e.variations.empty()
+             ? std::min(variations - 1, static_cast<int>(r.uniform() * static_cast<float>(variations)))
+             : e.variations[std::min(e.variations.size() - 1,
+                                     static_cast<std::size_t>(r.uniform() * static_cast<float>(e.variations.size())))];
+}
+
+}  // namespace
+
+void Simulator::Impl::spawn(double t0, double t1, StepStats& st) {
+  for (std::size_t ei = 0; ei < s.emitters.size(); ++ei) {
+    const Emitter& e = s.emitters[ei];
+    if (!(e.rate > 0.0f)) continue;
+    const double stop =
+        e.duration > 0.0f ? static_cast<double>(e.start) + e.duration : std::numeric_limits<double>::infinity();
+    // Particle k is born at start + (k + 1/2) / rate: E(t) counts those born before t. The half
+    // keeps births off step boundaries, where rounding would move one to the next step.
+    auto emitted = [&](double t) {
+      const double tc = std::clamp(t, static_cast<double>(e.start), stop);
+      return static_cast<std::int64_t>(std::floor((tc - e.start) * e.rate + 0.5));
+    };
+    std::int64_t k0 = emitted(t0);
+    const std::int64_t k1 = emitted(t1);
+    // Births before t1 - the longest lifetime die inside this step: skip them without a loop (a
+    // huge rate with short lives must not cost a loop over every birth).
+    const double longest = static_cast<double>(e.lifetime) * (1.0 + e.lifetimeSpread);
+    k0 = std::max(k0, emitted(t1 - longest));
+    for (std::int64_t k = k0; k < k1; ++k) {
+      if (size() >= s.maxParticles) {
+        st.dropped += static_cast<std::size_t>(k1 - k);
+        break;
+      }
+      Rng r(e.seed, ei, static_cast<std::uint64_t>(k));
+      // The instant of birth inside the step, and the time left to the step's end.
+      const double tb = std::clamp(e.start + (static_cast<double>(k) + 0.5) / e.rate, t0, t1);
+      const float remaining = static_cast<float>(t1 - tb);
+      const glm::vec3 offset = birthOffset(e, r);
+      glm::vec3 v = birthVelocity(e, r);
+      v += e.inheritVelocity * e.path.velocityAt(tb);
+      const glm::vec3 p = e.position + e.path.at(tb) + offset + v * remaining;  // moved to the step's end
+      const float lifetime = e.lifetime * (1.0f + e.lifetimeSpread * (2.0f * r.uniform() - 1.0f));
+      const float size = e.sizeMin + (e.sizeMax - e.sizeMin) * r.uniform();
+      const int var = birthVariation(e, r, variations);
+      glm::quat q(1.0f, 0.0f, 0.0f, 0.0f);
+      glm::vec3 w(0.0f);
+      if (e.oriented) {
+        q = glm::angleAxis(r.uniform() * 2.0f * std::numbers::pi_v<float>, randomUnit(r));
+        w = randomUnit(r) * (e.spin * r.uniform());
+      }
+      if (remaining >= lifetime) continue;  // born and dead inside one step
+      if (!meshes.empty()) {                // where it was born, for the mesh colliders' segment test
+        const glm::vec3 o = e.position + e.path.at(tb) + offset;
+        ox.push_back(o.x), oy.push_back(o.y), oz.push_back(o.z);
+      }
+      px.push_back(p.x), py.push_back(p.y), pz.push_back(p.z);
+      vx.push_back(v.x), vy.push_back(v.y), vz.push_back(v.z);
+      age.push_back(remaining), life.push_back(lifetime), size0.push_back(size), density0.push_back(e.density);
+      qx.push_back(q.x), qy.push_back(q.y), qz.push_back(q.z), qw.push_back(q.w);
+      wx.push_back(w.x), wy.push_back(w.y), wz.push_back(w.z);
+      variation.push_back(static_cast<std::uint8_t>(var)), oriented.push_back(e.oriented ? 1 : 0);
+      emitterOf.push_back(static_cast<std::uint32_t>(ei));
+      id.push_back(
+          static_cast<std::uint32_t>(Rng(e.seed ^ 0x9e3779b9u, ei, static_cast<std::uint64_t>(k)).state >> 32));
+      ++st.born;
+    }
+  }
+}
+
+void Simulator::Impl::shedVortices(double t0, double t1) {
+  for (const Vortex& v : s.forces.vortices) {
+    if (!(v.shedInterval > 0.0f)) continue;
+    const auto n0 = static_cast<std::int64_t>(std::floor(t0 / v.shedInterval));
+    const auto n1 = static_cast<std::int64_t>(std::floor(t1 / v.shedInterval));
+    for (std::int64_t k = n0 + 1; k <= n1; ++k) {
+      const double at = static_cast<double>(k) * v.shedInterval;
+      // Only a moving vortex leaves a wake: a still one would stack copies on itself.
+      if (v.path.velocityAt(at) == glm::vec3(0.0f)) continue;
+      shed.push_back(detail::ShedVortex{v.position + v.path.at(at), glm::normalize(v.axis), v.strength, v.radius,
+                                        v.falloff, v.length, at, v.shedLifetime});
+    }
+  }
+  std::erase_if(shed, [&](const detail::ShedVortex& v) { return t1 - v.born >= v.lifetime; });
+}
+
+}  // namespace puff::sim

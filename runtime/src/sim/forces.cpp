@@ -1,0 +1,232 @@
+// The air (wind, wind volumes, vortices, turbulence) and the integrator that moves the particles
+// through it.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <glm/geometric.hpp>
+
+#include "simulator_impl.h"
+
+namespace puff::sim {
+
+using detail::LiveVortex;
+
+namespace {
+
+constexpr float kLambOseenPeak = 0.638172f;  // max of (1 - exp(-s^2)) / s, at s = 1.12092
+
+// Turbulence lookups: the lattice tile holds 4 noise cells; one cell is `scale` world units (the
+// swirl size), and the frozen field drifts `speed` cells per second (Taylor's hypothesis: a
+// translated divergence-free field is still divergence-free), so the air at a point changes
+// over about 1 / speed seconds.
+constexpr float kCellsPerTile = 4.0f;
+
+// The air one vortex adds to every particle: vortexVelocity written out in scalars over the arrays,
+// in a free function so the compiler sees no aliasing and vectorizes it.
+void addVortex(const LiveVortex& v, const float* __restrict X, const float* __restrict Y, const float* __restrict Z,
+               float* __restrict UX, float* __restrict UY, float* __restrict UZ, std::size_t n) {
+  const float cx = v.center.x, cy = v.center.y, cz = v.center.z;
+  const float ax = v.axis.x, ay = v.axis.y, az = v.axis.z;
+  const float scale = v.scale, ir2 = v.invRadius2, if2 = v.invFalloff2, ih2 = v.invHalfLength2, cutoff2 = v.cutoff2;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float dx = X[i] - cx, dy = Y[i] - cy, dz = Z[i] - cz;
+    const float along = dx * ax + dy * ay + dz * az;
+    const float rx = dx - along * ax, ry = dy - along * ay, rz = dz - along * az;
+    const float r2 = rx * rx + ry * ry + rz * rz;
+    const float inside = static_cast<float>(r2 >= 1e-12f) * static_cast<float>(r2 <= cutoff2);
+    const float r2s = std::max(r2, 1e-12f);
+    const float core = 1.0f - detail::fastExp(-r2s * ir2);
+    const float k = inside * scale * core / r2s * detail::fastExp(-r2s * if2 - along * along * ih2);
+    UX[i] += k * (ay * rz - az * ry);
+    UY[i] += k * (az * rx - ax * rz);
+    UZ[i] += k * (ax * ry - ay * rx);
+  }
+}
+
+// One exponential-integrator step for every particle (see integrate); free, so it vectorizes.
+// With e = exp(-k h), c1 = (1 - e) / k and c2 = (h - c1) / k (computed in double, by series for small
+// k h, so nothing divides by a small drag):
+//   v' = v e + u (1 - e) + a c1,   x' = x + v c1 + u (h - c1) + a c2
+// the exact solution of dv/dt = a + k (u - v) with u and a held; k = 0 gives x + v h + a h^2 / 2.
+void integrateExponential(float* __restrict X, float* __restrict Y, float* __restrict Z, float* __restrict VX,
+                          float* __restrict VY, float* __restrict VZ, const float* __restrict UX,
+                          const float* __restrict UY, const float* __restrict UZ, const float* __restrict A,
+                          const float* __restrict L, const float* __restrict D0, std::size_t n, glm::vec3 g,
+                          glm::vec3 b, float e, float oneMinusE, float c1, float hMinusC1, float c2) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const float density = D0[i] * (1.0f - A[i] / L[i]);
+    const float ax = g.x + b.x * density, ay = g.y + b.y * density, az = g.z + b.z * density;
+    X[i] += VX[i] * c1 + UX[i] * hMinusC1 + ax * c2;
+    Y[i] += VY[i] * c1 + UY[i] * hMinusC1 + ay * c2;
+    Z[i] += VZ[i] * c1 + UZ[i] * hMinusC1 + az * c2;
+    VX[i] = VX[i] * e + UX[i] * oneMinusE + ax * c1;
+    VY[i] = VY[i] * e + UY[i] * oneMinusE + ay * c1;
+    VZ[i] = VZ[i] * e + UZ[i] * oneMinusE + az * c1;
+  }
+}
+
+// The air a wind volume adds (windWeight over the arrays), branch-free.
+void addWindVolume(const WindVolume& w, const float* __restrict X, const float* __restrict Y, const float* __restrict Z,
+                   float* __restrict UX, float* __restrict UY, float* __restrict UZ, std::size_t n) {
+  const float cx = w.center.x, cy = w.center.y, cz = w.center.z;
+  const float hx = w.halfExtent.x, hy = w.halfExtent.y, hz = w.halfExtent.z;
+  const float invFeather = w.feather > 0.0f ? 1.0f / w.feather : 0.0f;
+  const bool hard = !(w.feather > 0.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float ox = std::max(std::abs(X[i] - cx) - hx, 0.0f), oy = std::max(std::abs(Y[i] - cy) - hy, 0.0f),
+                oz = std::max(std::abs(Z[i] - cz) - hz, 0.0f);
+    const float d = std::sqrt(ox * ox + oy * oy + oz * oz);
+    const float x = std::max(0.0f, 1.0f - d * invFeather);
+    float k = x * x * (3.0f - 2.0f * x);
+    k = (d == 0.0f) ? 1.0f : (hard ? 0.0f : k);
+    UX[i] += k * w.velocity.x, UY[i] += k * w.velocity.y, UZ[i] += k * w.velocity.z;
+  }
+}
+
+float windWeight(const glm::vec3& p, const WindVolume& w) {
+  const glm::vec3 outside = glm::max(glm::abs(p - w.center) - w.halfExtent, glm::vec3(0.0f));
+  const float d = std::sqrt(glm::dot(outside, outside));
+  if (d == 0.0f) return 1.0f;
+  if (!(d < w.feather)) return 0.0f;
+  const float x = 1.0f - d / w.feather;
+  return x * x * (3.0f - 2.0f * x);
+}
+
+glm::vec3 vortexVelocity(const glm::vec3& p, const LiveVortex& v) {
+  const glm::vec3 d = p - v.center;
+  const float along = glm::dot(d, v.axis);
+  const glm::vec3 radial = d - along * v.axis;
+  const float r2 = glm::dot(radial, radial);
+  // Branch-free (so the loop over particles vectorizes): on the axis and past the cutoff, zero.
+  const float inside = (r2 >= 1e-12f && r2 <= v.cutoff2) ? 1.0f : 0.0f;
+  const float r2s = std::max(r2, 1e-12f);
+  // exp(-r^2/rc^2) for the core; one more exponential for the falloff and the length together.
+  const float core = 1.0f - detail::fastExp(-r2s * v.invRadius2);
+  const float k =
+      inside * v.scale * core / r2s * detail::fastExp(-r2s * v.invFalloff2 - along * along * v.invHalfLength2);
+  return k * glm::cross(v.axis, radial);
+}
+
+}  // namespace
+
+void Simulator::Impl::prepareTurbulence() {
+  if (s.forces.turbulence.strength > 0.0f && (!curl || curlSeed != s.forces.turbulence.seed)) {
+    curl = std::make_unique<detail::CurlField>(s.forces.turbulence.seed);
+    curlSeed = s.forces.turbulence.seed;
+  }
+}
+
+std::vector<LiveVortex> Simulator::Impl::liveVortices(double t) const {
+  std::vector<LiveVortex> out;
+  auto add = [&](const glm::vec3& c, const glm::vec3& axis, float strength, float radius, float falloff, float length) {
+    if (strength == 0.0f) return;
+    LiveVortex v;
+    v.center = c;
+    v.axis = glm::normalize(axis);
+    v.scale = strength / kLambOseenPeak * radius;
+    v.invRadius2 = 1.0f / (radius * radius);
+    v.invFalloff2 = falloff > 0.0f ? 1.0f / (falloff * falloff) : 0.0f;
+    v.invHalfLength2 = length > 0.0f ? 4.0f / (length * length) : 0.0f;
+    // exp(-16) ~ 1e-7 of the speed: stop there. Without a falloff the 1/r tail never ends.
+    v.cutoff2 = falloff > 0.0f ? 16.0f * falloff * falloff : std::numeric_limits<float>::infinity();
+    out.push_back(v);
+  };
+  for (const Vortex& v : s.forces.vortices)
+    add(v.position + v.path.at(t), v.axis, v.strength, v.radius, v.falloff, v.length);
+  for (const detail::ShedVortex& v : shed) {
+    const float fade = static_cast<float>(std::max(0.0, 1.0 - (t - v.born) / v.lifetime));
+    add(v.position, v.axis, v.strength * fade, v.radius, v.falloff, v.length);
+  }
+  return out;
+}
+
+float Simulator::Impl::turbulenceInvTile() const { return 1.0f / (s.forces.turbulence.scale * kCellsPerTile); }
+glm::vec3 Simulator::Impl::turbulenceOffset(double t) const {
+  const double d = static_cast<double>(s.forces.turbulence.speed) * t / kCellsPerTile;
+  return glm::vec3(static_cast<float>(std::fmod(d * 0.8, 1.0)), static_cast<float>(std::fmod(d * 0.36, 1.0)),
+                   static_cast<float>(std::fmod(d * 0.48, 1.0)));
+}
+
+// The air velocity at one point (the same sum airAll makes for every particle).
+glm::vec3 Simulator::Impl::air(const glm::vec3& p, double t, const std::vector<LiveVortex>& vortices) const {
+  const Forces& f = s.forces;
+  glm::vec3 u = f.wind;
+  for (const WindVolume& w : f.windVolumes) u += w.velocity * windWeight(p, w);
+  for (const LiveVortex& v : vortices) u += vortexVelocity(p, v);
+  const Turbulence& tb = f.turbulence;
+  if (tb.strength > 0.0f && curl) u += tb.strength * curl->sample(p * turbulenceInvTile() + turbulenceOffset(t));
+  return u;
+}
+
+// Air velocity for every particle into ux/uy/uz, one field at a time over the arrays (the vortex
+// and wind-volume loops vectorize; the turbulence lookup is a gather).
+void Simulator::Impl::airAll(double t) {
+  const std::size_t n = size();
+  ux.resize(n), uy.resize(n), uz.resize(n);
+  const Forces& f = s.forces;
+  std::fill(ux.begin(), ux.end(), f.wind.x);
+  std::fill(uy.begin(), uy.end(), f.wind.y);
+  std::fill(uz.begin(), uz.end(), f.wind.z);
+  const float* __restrict X = px.data();
+  const float* __restrict Y = py.data();
+  const float* __restrict Z = pz.data();
+  float* __restrict UX = ux.data();
+  float* __restrict UY = uy.data();
+  float* __restrict UZ = uz.data();
+  for (const WindVolume& w : f.windVolumes) addWindVolume(w, X, Y, Z, UX, UY, UZ, n);
+  for (const LiveVortex& v : liveVortices(t)) addVortex(v, X, Y, Z, UX, UY, UZ, n);
+  const Turbulence& tb = f.turbulence;
+  if (tb.strength > 0.0f && curl) {
+    const float inv = turbulenceInvTile();
+    const glm::vec3 offset = turbulenceOffset(t);
+    for (std::size_t i = 0; i < n; ++i) {
+      const glm::vec3 u = tb.strength * curl->sample(glm::vec3(X[i], Y[i], Z[i]) * inv + offset);
+      UX[i] += u.x, UY[i] += u.y, UZ[i] += u.z;
+    }
+  }
+}
+
+void Simulator::Impl::integrate() {
+  const std::size_t n = size();
+  const Forces& f = s.forces;
+  const float hf = static_cast<float>(h);
+  const glm::vec3 up = glm::normalize(f.up);
+  const float bx = f.buoyancy * up.x, by = f.buoyancy * up.y, bz = f.buoyancy * up.z;
+  const float gx = f.gravity.x, gy = f.gravity.y, gz = f.gravity.z;
+  const float k = f.drag;
+  float* __restrict X = px.data();
+  float* __restrict Y = py.data();
+  float* __restrict Z = pz.data();
+  float* __restrict VX = vx.data();
+  float* __restrict VY = vy.data();
+  float* __restrict VZ = vz.data();
+  const float* __restrict UX = ux.data();
+  const float* __restrict UY = uy.data();
+  const float* __restrict UZ = uz.data();
+  const float* __restrict A = age.data();
+  const float* __restrict L = life.data();
+  const float* __restrict D0 = density0.data();
+  if (s.integrator == Integrator::kForwardEuler) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const float density = D0[i] * (1.0f - A[i] / L[i]);
+      const float ax = gx + bx * density + k * (UX[i] - VX[i]);
+      const float ay = gy + by * density + k * (UY[i] - VY[i]);
+      const float az = gz + bz * density + k * (UZ[i] - VZ[i]);
+      X[i] += hf * VX[i], Y[i] += hf * VY[i], Z[i] += hf * VZ[i];
+      VX[i] += hf * ax, VY[i] += hf * ay, VZ[i] += hf * az;
+    }
+    return;
+  }
+  const double kh = static_cast<double>(k) * h;
+  const double e = std::exp(-kh);
+  const double oneMinusE = -std::expm1(-kh);
+  // c1 = (1 - e) / k and c2 = (h - c1) / k; for small k h their series (no cancellation).
+  const double c1 = kh < 1e-4 ? h * (1.0 - kh / 2.0 + kh * kh / 6.0) : oneMinusE / k;
+  const double c2 = kh < 1e-4 ? h * h * (0.5 - kh / 6.0 + kh * kh / 24.0) : (h - c1) / k;
+  integrateExponential(X, Y, Z, VX, VY, VZ, UX, UY, UZ, A, L, D0, n, glm::vec3(gx, gy, gz), glm::vec3(bx, by, bz),
+                       static_cast<float>(e), static_cast<float>(oneMinusE), static_cast<float>(c1),
+                       static_cast<float>(h - c1), static_cast<float>(c2));
+}
+
+}  // namespace puff::sim

@@ -1,0 +1,103 @@
+// Private to puff::sim: the simulator's state (Simulator::Impl) and the pieces its files share.
+// simulator.cpp steps it and keeps the arrays; forces.cpp works out the air and integrates;
+// colliders.cpp puts particles back outside the colliders; emit.cpp gives birth to particles and
+// sheds the moving vortices' wakes.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include <puff/sim/simulator.h>
+#include <glm/common.hpp>
+#include <glm/vec3.hpp>
+
+#include "curl_noise.h"
+
+namespace puff::sim {
+
+namespace detail {
+
+// A mesh collider: world-space triangles binned in a uniform grid.
+struct MeshGrid {
+  std::vector<glm::vec3> a, e1, e2, n;  // vertex 0, edges, unit normal
+  glm::vec3 lo{0.0f}, hi{0.0f}, cell{1.0f};
+  glm::ivec3 dims{1};
+  std::vector<std::uint32_t> start, items;
+
+  explicit MeshGrid(const Collider& c);
+  glm::ivec3 cellOf(const glm::vec3& p) const {
+    // Clamped while still float: a far-away point must not overflow the int conversion.
+    return glm::ivec3(glm::clamp(glm::floor((p - lo) / cell), glm::vec3(0.0f), glm::vec3(dims - 1)));
+  }
+  std::size_t index(int x, int y, int z) const {
+    return (static_cast<std::size_t>(z) * dims.y + static_cast<std::size_t>(y)) * dims.x + static_cast<std::size_t>(x);
+  }
+
+  // The first crossing of the segment p -> q with the surface: its parameter and the triangle.
+  bool firstHit(const glm::vec3& p, const glm::vec3& q, float& tHit, std::uint32_t& triHit) const;
+};
+
+struct ShedVortex {
+  glm::vec3 position, axis;
+  float strength, radius, falloff, length;
+  double born, lifetime;
+};
+
+// A vortex resolved for one step: where it is and how strong.
+struct LiveVortex {
+  glm::vec3 center, axis;
+  float scale;        // strength / peak * radius
+  float invRadius2;   // 1 / radius^2
+  float invFalloff2;  // 0 = none
+  float invHalfLength2;
+  float cutoff2;  // beyond this squared distance it adds nothing worth computing
+};
+
+}  // namespace detail
+
+struct Simulator::Impl {
+  Settings s;
+  int variations = 1;
+  double h = 0.0;
+  std::int64_t prerollSteps = 0;
+  std::int64_t step = 0;
+  std::unique_ptr<detail::CurlField> curl;
+  std::uint32_t curlSeed = 0;
+  std::vector<detail::MeshGrid> meshes;  // one per kMesh collider, in order
+  std::vector<detail::ShedVortex> shed;
+
+  // Structure of arrays.
+  std::vector<float> px, py, pz, vx, vy, vz, age, life, size0, density0;
+  std::vector<float> qx, qy, qz, qw, wx, wy, wz;  // birth orientation, angular velocity
+  std::vector<std::uint8_t> variation, oriented;
+  std::vector<std::uint32_t> emitterOf, id;  // which emitter; a hash of (seed, emitter, birth index)
+  // Scratch: air velocity, previous position.
+  std::vector<float> ux, uy, uz, ox, oy, oz, radii;
+
+  std::size_t size() const { return px.size(); }
+
+  // simulator.cpp: one step, and the arrays.
+  void advance(StepStats& st);
+  void clear();
+  void move(std::size_t from, std::size_t to);
+  void resize(std::size_t n);
+
+  // forces.cpp: the air and the integrator.
+  void prepareTurbulence();
+  std::vector<detail::LiveVortex> liveVortices(double t) const;
+  float turbulenceInvTile() const;
+  glm::vec3 turbulenceOffset(double t) const;
+  glm::vec3 air(const glm::vec3& p, double t, const std::vector<detail::LiveVortex>& vortices) const;
+  void airAll(double t);
+  void integrate();
+
+  // colliders.cpp
+  std::size_t collide(std::size_t begin, std::size_t end, const float* const* prev, double t0, double t);
+
+  // emit.cpp
+  void spawn(double t0, double t1, StepStats& st);
+  void shedVortices(double t0, double t1);
+};
+
+}  // namespace puff::sim
