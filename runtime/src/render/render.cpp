@@ -153,8 +153,9 @@ Result<void> SceneRenderer::update(const scene::Scene& next) {
   if (targetChanged || now.objects != next.objects || m.path->needsRebuild(now, next)) {
     auto fresh = create(next, m.factory);
     if (!fresh) return fresh.error();
-    impl_ = std::move((*fresh)->impl_);
-    impl_->path->setFillRateFloor(m.fillRateFloor);
+    const bool fillRateFloor = m.fillRateFloor;
+    impl_ = std::move((*fresh)->impl_);  // `m` and `now` are gone from here on
+    if (fillRateFloor) setFillRateFloor(true);
     return {};
   }
   if (m.evaluator->needsRebuild(next)) {
