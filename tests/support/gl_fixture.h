@@ -17,7 +17,10 @@ template <bool Compatibility = false, class Base = ::testing::Test>
 class GlSuite : public Base {
  protected:
   static void SetUpTestSuite() {
-    if (context_) return;
+    if (context_) {  // kept from an earlier suite; another suite's context may be current now
+      context_->makeCurrent();
+      return;
+    }
     core::GlContextOptions o;
     if (Compatibility) o.profile = core::GlProfile::kCompatibility;
     auto c = core::createGlContext(o);

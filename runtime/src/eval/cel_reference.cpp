@@ -20,6 +20,15 @@ using nlohmann::json;
 
 namespace {
 
+// A 2D texture of one level, sampled nearest (ids and depths must never be filtered).
+core::Texture nearestTexture(GLenum format, int w, int h) {
+  core::Texture t = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(t.get(), 1, format, w, h);
+  glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  return t;
+}
+
 void setInt(GLuint prog, const char* name, int v) { glProgramUniform1i(prog, glGetUniformLocation(prog, name), v); }
 void setFloat(GLuint prog, const char* name, float v) { glProgramUniform1f(prog, glGetUniformLocation(prog, name), v); }
 void setMat4(GLuint prog, const char* name, const glm::mat4& m) {
@@ -117,20 +126,11 @@ struct CelReference::Impl {
     width = w;
     height = h;
     fbo = core::makeFramebuffer();
-    color = core::makeTexture(GL_TEXTURE_2D);
-    ids = core::makeTexture(GL_TEXTURE_2D);
-    depthStencil = core::makeTexture(GL_TEXTURE_2D);
-    depthCopy = core::makeTexture(GL_TEXTURE_2D);
-    idsCopy = core::makeTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(idsCopy.get(), 1, GL_R32UI, w, h);
-    glTextureStorage2D(color.get(), 1, GL_RGBA8, w, h);
-    glTextureStorage2D(ids.get(), 1, GL_R32UI, w, h);
-    glTextureStorage2D(depthStencil.get(), 1, GL_DEPTH24_STENCIL8, w, h);
-    glTextureStorage2D(depthCopy.get(), 1, GL_DEPTH24_STENCIL8, w, h);
-    for (GLuint t : {color.get(), ids.get(), depthStencil.get(), depthCopy.get(), idsCopy.get()}) {
-      glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-      glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    }
+    idsCopy = nearestTexture(GL_R32UI, w, h);
+    color = nearestTexture(GL_RGBA8, w, h);
+    ids = nearestTexture(GL_R32UI, w, h);
+    depthStencil = nearestTexture(GL_DEPTH24_STENCIL8, w, h);
+    depthCopy = nearestTexture(GL_DEPTH24_STENCIL8, w, h);
     glTextureParameteri(depthCopy.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
     glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
     glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT1, ids.get(), 0);
@@ -141,20 +141,13 @@ struct CelReference::Impl {
     if (shadowSize == options.shadowMapSize) return;
     shadowSize = options.shadowMapSize;
     const int s = shadowSize;
-    shadowNear = core::makeTexture(GL_TEXTURE_2D);
-    shadowId = core::makeTexture(GL_TEXTURE_2D);
-    shadowOther = core::makeTexture(GL_TEXTURE_2D);
+    shadowNear = nearestTexture(GL_R32F, s, s);
+    shadowId = nearestTexture(GL_R32UI, s, s);
+    shadowOther = nearestTexture(GL_R32F, s, s);
     shadowDepth1 = core::makeTexture(GL_TEXTURE_2D);
     shadowDepth2 = core::makeTexture(GL_TEXTURE_2D);
-    glTextureStorage2D(shadowNear.get(), 1, GL_R32F, s, s);
-    glTextureStorage2D(shadowId.get(), 1, GL_R32UI, s, s);
-    glTextureStorage2D(shadowOther.get(), 1, GL_R32F, s, s);
     glTextureStorage2D(shadowDepth1.get(), 1, GL_DEPTH_COMPONENT32F, s, s);
     glTextureStorage2D(shadowDepth2.get(), 1, GL_DEPTH_COMPONENT32F, s, s);
-    for (GLuint t : {shadowNear.get(), shadowId.get(), shadowOther.get()}) {
-      glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-      glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    }
     shadowFbo1 = core::makeFramebuffer();
     glNamedFramebufferTexture(shadowFbo1.get(), GL_COLOR_ATTACHMENT0, shadowNear.get(), 0);
     glNamedFramebufferTexture(shadowFbo1.get(), GL_COLOR_ATTACHMENT1, shadowId.get(), 0);

@@ -1,5 +1,6 @@
 // The fixed-function path (puff::fixedfunc, McGuire & Fein §4.4) drawing a scene within its limits.
 #include <algorithm>
+#include <optional>
 
 #include <puff/core/atlas.h>
 #include <puff/core/gl.h>
@@ -17,15 +18,13 @@ namespace fs = std::filesystem;
 namespace {
 
 // The fixed path's puff: the scene's, or the mesh the atlas's first variation was baked from.
-Result<mesh::TriMesh> fixedPuffMesh(const scene::Scene& scene) {
+Result<mesh::TriMesh> fixedPuffMesh(const scene::Scene& scene, const core::Atlas* atlas) {
   fs::path file = scene.fixed.puff;
   if (file.empty()) {
     const bool particles = scene::hasParticles(scene);
     // A scene of objects (and media, which this path does not draw) needs no puff: any will do.
-    if (scene.atlas.empty() && !particles) return mesh::generateSphere(mesh::SphereParams{});
-    if (scene.atlas.empty()) return Error::at(scene.file, "/fixed/puff: no puff mesh and no atlas to take one from");
-    auto atlas = core::loadAtlas(scene.atlas);
-    if (!atlas) return atlas.error();
+    if (!atlas && !particles) return mesh::generateSphere(mesh::SphereParams{});
+    if (!atlas) return Error::at(scene.file, "/fixed/puff: no puff mesh and no atlas to take one from");
     if (atlas->desc.sources.empty() || atlas->desc.sources[0].path.empty()) {
       return Error::at(scene.file,
                        "/fixed/puff: the atlas's first variation was generated, not loaded from a mesh "
@@ -42,7 +41,14 @@ class FixedPath final : public Path {
   static Result<std::unique_ptr<Path>> create(const scene::Scene& scene, const scene::SceneGeometry& geometry,
                                               bool contextFramebuffer) {
     std::unique_ptr<FixedPath> p(new FixedPath());
-    auto puff = fixedPuffMesh(scene);
+    std::optional<core::Atlas> atlas;  // for the variation count and the default puff
+    if (!scene.atlas.empty()) {
+      auto loaded = core::loadAtlas(scene.atlas);
+      if (!loaded) return loaded.error();
+      atlas = std::move(*loaded);
+      p->variations_ = std::max(1, atlas->desc.variations);
+    }
+    auto puff = fixedPuffMesh(scene, atlas ? &*atlas : nullptr);
     if (!puff) return puff.error();
     // The puff texture is drawn through the frame's own pixels (2 x 2 cells): a small frame gets
     // smaller cells.
@@ -58,11 +64,6 @@ class FixedPath final : public Path {
       auto ramp = core::readImage(scene.ramp);
       if (!ramp) return ramp.error();
       if (auto ok = p->fixed_->setRamp(*ramp); !ok) return Error::at(scene.ramp, ok.error().message);
-    }
-    if (!scene.atlas.empty()) {
-      auto atlas = core::loadAtlas(scene.atlas);
-      if (!atlas) return atlas.error();
-      p->variations_ = std::max(1, atlas->desc.variations);
     }
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
       const scene::ObjectSpec& o = scene.objects[i];
