@@ -16,13 +16,13 @@ flat in mat3 vNormalXf[PUFF_VIEWS];
 // Two reads per pixel, as in the paper: normal x, y (z rebuilt), depth offset and distance to the
 // silhouette packed by NailboardRenderer::setAtlas; and the colour.
 layout(binding = 2) uniform sampler2D uPacked;
-layout(binding = 3) uniform sampler2D uColor;
+layout(binding = 3) uniform sampler2D uColor;  // scene-linear (an sRGB texture decodes the atlas's display values)
 
 uniform int uPass;          // 0 lit, 1 shadowed (ambient only), 2 depth only
 uniform int uShading;       // 1: q(N.L); 0: flat
 uniform int uOutlines;      // 1: draw the outline band
 uniform float uOutlineWidth;   // pixels
-uniform vec3 uOutlineColor;
+uniform vec3 uOutlineColor;   // display value
 uniform int uMultisample;   // 1: alpha-to-coverage resolves the edge; 0: hard edge at half coverage
 
 out vec4 fragColor;
@@ -71,11 +71,14 @@ void main() {
     for (int k = 0; k < PUFF_VIEWS; ++k) {
       float w = vWeight[k];
       n += w * (vNormalXf[k] * vec3(nxy[k], sqrt(max(0.0, 1.0 - dot(nxy[k], nxy[k])))));
-      color += w * textureLod(uColor, uv[k], lod).rgb;
+      color += w * textureLod(uColor, uv[k], lod).rgb;  // views blended in linear light
     }
+    color = linearToSrgb(color);  // Eq. 2 combines display values
     vec3 q = uShading == 1 ? quantize(dot(normalize(n), uLightDirView.xyz)) : vec3(1.0);
     rgb = ka + color * uLightColor.rgb * q;
   }
-  if (uOutlines == 1) rgb = mix(uOutlineColor, rgb, body);
+  // Eq. 2's result to scene-linear, then the outline's antialiased edge blends in linear light.
+  rgb = srgbToLinear(rgb);
+  if (uOutlines == 1) rgb = mix(srgbToLinear(uOutlineColor), rgb, body);
   fragColor = vec4(rgb, uMultisample == 1 ? coverage : 1.0);
 }

@@ -6,6 +6,13 @@
 // distance along the view axis mapped so that the near plane is 0 and the far plane 1:
 //   depth = (-z_view - near) / (far - near)
 // Every cel program writes gl_FragDepth this way, so a nailboard's per-pixel offset is an addition.
+//
+// Colour (docs/colour.md): Eq. 2 combines DISPLAY values (sRGB-encoded, as the paper and the
+// artist's palette do): uLightColor and uAmbientColor are display values, and ambientAt and quantize
+// return display values (their textures hold scene-linear values, so filtering happens in linear
+// light, and are encoded after the lookup). A program decodes Eq. 2's result with srgbToLinear
+// before it leaves the shader: the target holds scene-linear colour.
+#include "common/colour.glsl"
 layout(std140, binding = 0) uniform FrameBlock {
   mat4 uView;            // world -> camera
   mat4 uProj;            // camera -> clip
@@ -22,21 +29,21 @@ layout(std140, binding = 0) uniform FrameBlock {
   ivec4 uAmbientMode;    // x: 1 = K_a from the gradient texture, 0 = uniform colour
 };
 
-layout(binding = 0) uniform sampler1D uRamp;      // q: the artist's ramp, clamp-to-edge
-layout(binding = 1) uniform sampler2D uGradient;  // K_a(x, y): image-space gradient, top row at the top
+layout(binding = 0) uniform sampler1D uRamp;      // q: the artist's ramp, clamp-to-edge; scene-linear texels
+layout(binding = 1) uniform sampler2D uGradient;  // K_a(x, y): image-space gradient, top row at the top; scene-linear
 
 // Linear depth of a camera-space point at view-axis distance `dist` (= -z_view).
 float linearDepth(float dist) { return (dist - uDepthRange.x) * uDepthRange.z; }
 
-// K_a at the current fragment (Eq. 2): the gradient image stretched over the viewport.
+// K_a at the current fragment (Eq. 2), a display value: the gradient image stretched over the viewport.
 vec3 ambientAt(vec2 fragCoord) {
   if (uAmbientMode.x == 0) return uAmbientColor.rgb;
   vec2 uv = (fragCoord - uViewport.xy) / uViewport.zw;
-  return texture(uGradient, uv).rgb;  // stored bottom-up: t = 1 is the image's top row
+  return linearToSrgb(texture(uGradient, uv).rgb);  // stored bottom-up: t = 1 is the image's top row
 }
 
-// q(max(0, N.L)): the ramp's clamp-to-edge addressing enforces the max (§4.1), so the raw dot
-// product goes in.
+// q(max(0, N.L)), a display value: the ramp's clamp-to-edge addressing enforces the max (§4.1), so
+// the raw dot product goes in.
 vec3 quantize(float nDotL) {
-  return texture(uRamp, nDotL).rgb;
+  return linearToSrgb(texture(uRamp, nDotL).rgb);
 }

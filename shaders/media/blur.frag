@@ -10,7 +10,8 @@ layout(location = 0) out vec4 outColor;
 void main() {
   const ivec2 p = ivec2(gl_FragCoord.xy - uViewport.xy);
   vec3 sum = vec3(0.0);
-  // Each frame as it would have been shown (clamped to the display range), as a frame buffer fades.
-  for (int i = 0; i < uCount; ++i) sum += uWeights[i] * clamp(texelFetch(uHistory[i], p, 0).rgb, 0.0, 1.0);
+  // Scene-linear frames (not clamped: a shutter integrates light, fire above 1 included); the view
+  // transform comes after (docs/colour.md).
+  for (int i = 0; i < uCount; ++i) sum += uWeights[i] * max(texelFetch(uHistory[i], p, 0).rgb, vec3(0.0));
   outColor = vec4(sum, 1.0);
 }

@@ -47,6 +47,6 @@ void main() {
     vec3 q = uShading == 1 ? quantize(dot(n, uLightDirView.xyz)) : vec3(1.0);
     rgb = ka + vColor * uLightColor.rgb * q;
   }
-  oColor = vec4(rgb, 1.0);
+  oColor = vec4(srgbToLinear(rgb), 1.0);  // Eq. 2 in display values, out in scene-linear
   oId = vId;
 }

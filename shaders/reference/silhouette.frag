@@ -6,11 +6,11 @@
 in float gDist;
 flat in uint gId;
 layout(binding = 3) uniform usampler2D uIds;  // a copy of the frame's puff ids
-uniform vec3 uInk;
+uniform vec3 uInk;  // display value
 layout(location = 0) out vec4 oColor;
 
 void main() {
   if (texelFetch(uIds, ivec2(gl_FragCoord.xy), 0).r == gId) discard;  // over the puff itself
   gl_FragDepth = linearDepth(gDist) + 1e-5;
-  oColor = vec4(uInk, 1.0);
+  oColor = vec4(srgbToLinear(uInk), 1.0);  // the target holds scene-linear colour
 }

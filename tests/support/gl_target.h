@@ -1,5 +1,8 @@
 // An offscreen square render target for GL tests and benchmarks: a colour renderbuffer and a
 // 24-bit depth + 8-bit stencil renderbuffer, with readback helpers. Needs a current GL context.
+// Colour: the cel programs write scene-linear values (docs/colour.md), so the target is RGBA16F;
+// clear() takes and readColor() gives DISPLAY values (sRGB-encoded, what Eq. 2 and a viewer speak),
+// readLinear() the scene-linear values as stored.
 #pragma once
 
 #include <cstddef>
@@ -7,6 +10,7 @@
 
 #include <glm/vec4.hpp>
 
+#include <puff/core/colour.h>
 #include <puff/core/gl.h>
 #include <puff/core/image.h>
 
@@ -14,7 +18,7 @@ namespace puff::test {
 
 class OffscreenTarget {
  public:
-  explicit OffscreenTarget(int size, GLenum colorFormat = GL_RGBA8)
+  explicit OffscreenTarget(int size, GLenum colorFormat = GL_RGBA16F)
       : size_(size), fbo_(core::makeFramebuffer()), color_(core::makeRenderbuffer()), depth_(core::makeRenderbuffer()) {
     glNamedRenderbufferStorage(color_.get(), colorFormat, size, size);
     glNamedRenderbufferStorage(depth_.get(), GL_DEPTH24_STENCIL8, size, size);
@@ -31,8 +35,10 @@ class OffscreenTarget {
     glViewport(0, 0, size_, size_);
   }
 
-  /// Binds, then clears colour, depth and stencil (write masks and scissor reset first).
-  void clear(const glm::vec4& color, float depth = 1.0f, int stencil = 0) const {
+  /// Binds, then clears colour (a display value, stored decoded), depth and stencil (write masks and
+  /// scissor reset first).
+  void clear(const glm::vec4& display, float depth = 1.0f, int stencil = 0) const {
+    const glm::vec4 color(core::srgbToLinear(glm::vec3(display)), display.a);
     bind();
     glDisable(GL_SCISSOR_TEST);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
@@ -51,8 +57,15 @@ class OffscreenTarget {
     glDisable(GL_SCISSOR_TEST);
   }
 
-  /// Colour as floats, row 0 at the bottom (GL order): index y * size + x.
+  /// Colour as display values (RGB sRGB-encoded, alpha as stored), row 0 at the bottom (GL order):
+  /// index y * size + x.
   std::vector<glm::vec4> readColor() const {
+    std::vector<glm::vec4> out = readLinear();
+    for (glm::vec4& c : out) c = glm::vec4(core::linearToSrgb(glm::vec3(c)), c.a);
+    return out;
+  }
+  /// Colour as stored (scene-linear), row 0 at the bottom.
+  std::vector<glm::vec4> readLinear() const {
     std::vector<glm::vec4> out(count());
     glNamedFramebufferReadBuffer(fbo_.get(), GL_COLOR_ATTACHMENT0);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_.get());

@@ -13,7 +13,10 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/packing.hpp>
+
 #include <puff/core/atlas.h>
+#include <puff/core/colour.h>
 #include <puff/core/image.h>
 #include <puff/eval/budget.h>
 #include <puff/render/render.h>
@@ -231,14 +234,17 @@ TEST_F(BudgetExplosion, TheRendererHandsOutWhatItComposedOver) {
   EXPECT_GT(in->particles.size(), 20u);
   ASSERT_EQ(in->opaqueColor.size(), 96u * 72u);
   ASSERT_EQ(in->opaqueDepth.size(), 96u * 72u);
-  // The sky (no surface) and the walls and ground; the colour as 8 bits hold it.
+  // The sky (no surface) and the walls and ground; the colour scene-linear, as half floats hold it.
   EXPECT_EQ(*std::max_element(in->opaqueDepth.begin(), in->opaqueDepth.end()), 1.0f);
   EXPECT_LT(*std::min_element(in->opaqueDepth.begin(), in->opaqueDepth.end()), 0.5f);
   const glm::vec3 c = in->opaqueColor[96 * 36 + 48];
-  for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(c[k] * 255.0f, std::round(c[k] * 255.0f));
-  // The top-left pixel (the last row, GL order) is the sky: the scene's background.
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(glm::unpackHalf1x16(glm::packHalf1x16(c[k])), c[k]);  // exactly a half float
+  }
+  // The top-left pixel (the last row, GL order) is the sky: the scene's background, decoded.
   const glm::vec3 sky = in->opaqueColor[96 * 71];
-  for (int k = 0; k < 3; ++k) EXPECT_NEAR(sky[k], scene->background[k], 0.5f / 255.0f);
+  const glm::vec3 background = core::srgbToLinear(scene->background);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(sky[k], background[k], 1e-3f * background[k] + 1e-6f);
 }
 
 TEST_F(BudgetExplosion, BadInputIsAnError) {

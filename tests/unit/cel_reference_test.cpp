@@ -17,6 +17,7 @@
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 
+#include "support/display.h"
 #include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/sphere_atlas.h"
@@ -59,7 +60,7 @@ class CelReference : public test::SphereAtlasTest {
     if (!renderer) return {};
     auto image = (*renderer)->renderFrame(0);
     EXPECT_OK(image);
-    return image ? std::move(*image) : core::Image{};
+    return image ? test::display(*image) : core::Image{};
   }
 
   // World (x, y) of pixel (px, py)'s centre in the front scene (image row 0 at the top).
@@ -304,6 +305,8 @@ TEST_F(CelReference, TheFillRateFloorDrawsBareQuads) {
   auto lit = (*r)->renderFrame(0);
   (*r)->setFillRateFloor(true);
   auto floor = (*r)->renderFrame(0);
+  if (lit) *lit = test::display(*lit);
+  if (floor) *floor = test::display(*floor);
   ASSERT_TRUE(lit.ok() && floor.ok());
   int disc = 0;
   for (int y = 0; y < kPx; ++y) {

@@ -12,6 +12,7 @@
 #include <puff/scene/write.h>
 
 #include "golden/golden.h"
+#include "support/display.h"
 #include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 
@@ -46,7 +47,8 @@ TEST_P(MediaSceneGolden, MatchesReference) {
   tol.pixelThreshold = 8.0f / 255.0f;
   tol.maxFailingFraction = 0.003;
   const test::GoldenResult r =
-      test::compareToGolden(*image, "scene-" + std::string(c.scene) + "-" + std::to_string(c.frame), tol);
+      test::compareToGolden(test::display(*image, scene::viewTransformFor(*scene)),
+                            "scene-" + std::string(c.scene) + "-" + std::to_string(c.frame), tol);
   EXPECT_TRUE(r.passed) << r.message;
 }
 

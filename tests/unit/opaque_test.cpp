@@ -12,6 +12,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/matrix.hpp>
 
+#include <puff/core/colour.h>
 #include <puff/cel/frame.h>
 #include <puff/cel/opaque.h>
 #include <puff/mesh/mesh.h>
@@ -467,7 +468,9 @@ TEST_F(OpaqueTest, AmbientGradientIsStretchedOverTheViewport) {
   expectColor(color[at(10, 120)], kAlbedo * top, "top rows", 10, 120);
   expectColor(color[at(100, 5)], kAlbedo * bottom, "bottom rows", 100, 5);
   const float t = (64.5f / kSize - 0.25f) / 0.5f;  // row 64's position between the texel centres
-  expectColor(color[at(64, 64)], kAlbedo * glm::mix(bottom, top, t), "middle row", 64, 64);
+  // Filtering mixes light (docs/colour.md): the display values are decoded, mixed, encoded again.
+  const glm::vec3 mixed = core::linearToSrgb(glm::mix(core::srgbToLinear(bottom), core::srgbToLinear(top), t));
+  expectColor(color[at(64, 64)], kAlbedo * mixed, "middle row", 64, 64);
 }
 
 TEST_F(OpaqueTest, DrawSetsEveryStateItReliesOn) {

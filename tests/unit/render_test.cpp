@@ -12,6 +12,7 @@
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 
+#include "support/display.h"
 #include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/sphere_atlas.h"
@@ -50,6 +51,7 @@ TEST_F(RenderFrame, ShadowOnTheGroundWhereTheLightProjectsIt) {
   ASSERT_OK(renderer);
   auto image = (*renderer)->renderFrame(0);
   ASSERT_OK(image);
+  *image = test::display(*image);
   int shadowed = 0, lit = 0;
   for (int y = 0; y < 128; ++y) {
     for (int x = 0; x < 128; ++x) {

@@ -14,6 +14,7 @@
 #include <puff/scene/read.h>
 
 #include "golden/golden.h"
+#include "support/display.h"
 #include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 
@@ -36,7 +37,8 @@ TEST_P(SceneGolden, MatchesReference) {
   test::GoldenTolerance tol;
   tol.pixelThreshold = 8.0f / 255.0f;
   tol.maxFailingFraction = 0.003;
-  const test::GoldenResult r = test::compareToGolden(*image, "scene-" + name, tol);
+  const test::GoldenResult r =
+      test::compareToGolden(test::display(*image, scene::viewTransformFor(*scene)), "scene-" + name, tol);
   EXPECT_TRUE(r.passed) << r.message;
 }
 
@@ -76,7 +78,8 @@ TEST_P(AnimatedSceneGolden, MatchesReference) {
   tol.pixelThreshold = 8.0f / 255.0f;
   tol.maxFailingFraction = 0.003;
   const test::GoldenResult r =
-      test::compareToGolden(*image, "scene-" + std::string(c.scene) + "-" + std::to_string(c.frame), tol);
+      test::compareToGolden(test::display(*image, scene::viewTransformFor(*scene)),
+                            "scene-" + std::string(c.scene) + "-" + std::to_string(c.frame), tol);
   EXPECT_TRUE(r.passed) << r.message;
 }
 

@@ -81,8 +81,15 @@ void addOutputOptions(CLI::App& app, Options& o) {
                  "Frame N or range A-B (0-based, inclusive). Default: frame 0 for a single OUT, every frame of the "
                  "scene (/animation/frames) for a numbered OUT");
   app.add_option("--format", o.format,
-                 "png (8-bit RGBA) or exr (half-float RGBA). Default: from OUT's extension (.png or .exr)")
+                 "png (8-bit sRGB RGBA, after the view transform) or exr (the scene-linear frame before the view "
+                 "transform, half-float RGBA; values above 1 kept). Default: from OUT's extension (.png or .exr)")
       ->check(CLI::IsMember({"png", "exr"}));
+  app.add_flag("--float32", o.float32, "EXR output: 32-bit float channels instead of half float");
+  app.add_option("--view", o.view,
+                 "View transform from scene-linear to the PNG's display values, replacing the scene's /output/view: "
+                 "standard (clip, then sRGB) or filmic (highlights rolled off keeping hue). Default: the scene's, "
+                 "else filmic for scenes with fire and standard for the rest (docs/colour.md)")
+      ->check(CLI::IsMember({"standard", "filmic"}));
 }
 
 // How it is drawn: --gl, --width, --height, --samples, --art-dir, --shader-dir, --style, --path.
@@ -173,6 +180,7 @@ Result<void> checkOptions(const Options& o) {
 // The checks of the options against the scene, before anything is drawn; errors are usage errors
 // (exit 2).
 Result<void> checkAgainstScene(const Options& o, const scene::Scene& scene, const Plan& plan) {
+  if (o.float32 && !plan.exr) return Error{"--float32 applies only to EXR output (-o NAME.exr or --format exr)"};
   if (!o.compare.empty() && plan.exr) return Error{"--compare writes 8-bit PNG comparison images: give -o a .png name"};
   if (o.compare.empty() && o.toleranceGiven) return Error{"--tolerance applies only with --compare"};
   if (!o.compare.empty() && o.path != "cel") {
@@ -306,6 +314,7 @@ int run(const Options& o) {
   if (o.width) scene.width = *o.width;
   if (o.height) scene.height = *o.height;
   if (o.samples) scene.samples = *o.samples;
+  if (!o.view.empty()) scene.view = core::parseViewTransform(o.view);
   if (!o.style.empty()) {
     auto style = scene::stylePreset(o.style);
     if (!style) {

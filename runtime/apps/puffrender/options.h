@@ -16,6 +16,8 @@ struct Options {
   std::string out;                            ///< output image, or a numbered pattern ("out/f_####.png", "f%04d.exr")
   std::string frames;                         ///< "N" or "A-B"; empty: frame 0, or every frame for a pattern
   std::string format;                         ///< "png" or "exr"; empty: from the output's extension
+  bool float32 = false;                       ///< EXR channels as 32-bit floats instead of half
+  std::string view;                           ///< "standard" or "filmic": replaces the scene's /output/view
   std::string glBackend;                      ///< empty: PUFF_GL or osmesa
   std::optional<int> width, height, samples;  ///< overrides of the scene's output settings
   std::filesystem::path artDir;               ///< replaces "${PUFF_ART}" in the scene's paths

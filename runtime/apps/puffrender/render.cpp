@@ -6,12 +6,14 @@
 #include <string>
 
 #include <cli/app.h>
+#include <puff/core/colour.h>
 #include <puff/core/files.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/core/shader.h>
 #include <puff/eval/cel_reference.h>
 #include <puff/render/render.h>
+#include <puff/scene/evaluate.h>
 
 #include "commands.h"
 
@@ -82,7 +84,10 @@ Result<std::unique_ptr<core::GlContext>> createContext(const Options& o, const s
 
 // Renders the plan's frames, each written beside its target and renamed over it only when complete.
 int writeFrames(const Options& o, const scene::Scene& scene, const Plan& plan, render::SceneRenderer& renderer) {
-  const core::PixelType type = plan.exr ? core::PixelType::kHalf : core::PixelType::kUInt8;
+  // PNG: display values through the scene's view transform; EXR: the scene-linear frame as it is.
+  const core::PixelType type =
+      plan.exr ? (o.float32 ? core::PixelType::kFloat : core::PixelType::kHalf) : core::PixelType::kUInt8;
+  const core::ViewTransform view = scene::viewTransformFor(scene);
   const fs::path formatHint = plan.exr ? "frame.exr" : "frame.png";
   const int count = plan.last - plan.first + 1;
   for (int f = plan.first; f <= plan.last; ++f) {
@@ -98,7 +103,11 @@ int writeFrames(const Options& o, const scene::Scene& scene, const Plan& plan, r
     }
     core::OutputTransaction frame;
     const fs::path temp = frame.stage(target);
-    if (auto r = core::writeImage(temp, *image, type, {}, formatHint); !r) {
+    const core::Image out = plan.exr ? std::move(*image) : core::viewTransform(*image, view);
+    const core::ImageAttributes attributes =
+        plan.exr ? core::ImageAttributes{{"puff:colorspace", "scene-linear Rec.709"}}
+                 : core::ImageAttributes{{"puff:view", std::string(core::toString(view))}};
+    if (auto r = core::writeImage(temp, out, type, attributes, formatHint); !r) {
       cli::printError(Error::at(target, r.error().message));
       return 1;
     }

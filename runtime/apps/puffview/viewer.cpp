@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <vector>
 
 #include <puff/core/atlas.h>
@@ -17,6 +18,7 @@
 #include <puff/core/gl.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/shader.h>
+#include <puff/render/view.h>
 #include <puff/scene/evaluate.h>
 #include <puff/scene/read.h>
 #include <puff/scene/write.h>
@@ -51,6 +53,11 @@ struct Viewer::Impl {
   core::Framebuffer fbo;
   core::Renderbuffer color, depthStencil;
   int fboWidth = 0, fboHeight = 0, fboSamples = 0;
+  bool fboDisplayValues = false;  // the fixed path writes display values into an 8-bit target
+  // The scene-linear frame resolved to one sample, which the view transform reads (programmable paths).
+  core::Framebuffer resolveFbo;
+  core::Texture resolved;
+  std::optional<render::ViewPass> viewPass;
 
   std::vector<int> keys;  // key presses (and repeats) since the last processEvents
   double scroll = 0.0;
@@ -545,16 +552,24 @@ void Viewer::drawFrame() {
   GLint maxSamples = 1;
   glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
   const int samples = std::clamp(renderer_->targetNeeds().samples, 1, std::max(1, maxSamples));
-  if (!m.fbo || m.fboWidth != size.x || m.fboHeight != size.y || m.fboSamples != samples) {
+  const bool displayValues = renderer_->targetNeeds().displayValues;
+  if (!m.fbo || m.fboWidth != size.x || m.fboHeight != size.y || m.fboSamples != samples ||
+      m.fboDisplayValues != displayValues) {
     m.fbo = core::makeFramebuffer();
     m.color = core::makeRenderbuffer();
     m.depthStencil = core::makeRenderbuffer();
     const int s = samples > 1 ? samples : 0;
-    glNamedRenderbufferStorageMultisample(m.color.get(), s, GL_RGBA8, size.x, size.y);
+    // Scene-linear half floats (docs/colour.md), or the fixed path's 8-bit display values.
+    const GLenum format = displayValues ? GL_RGBA8 : GL_RGBA16F;
+    glNamedRenderbufferStorageMultisample(m.color.get(), s, format, size.x, size.y);
     glNamedRenderbufferStorageMultisample(m.depthStencil.get(), s, GL_DEPTH24_STENCIL8, size.x, size.y);
     glNamedFramebufferRenderbuffer(m.fbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, m.color.get());
     glNamedFramebufferRenderbuffer(m.fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, m.depthStencil.get());
-    m.fboWidth = size.x, m.fboHeight = size.y, m.fboSamples = samples;
+    m.fboWidth = size.x, m.fboHeight = size.y, m.fboSamples = samples, m.fboDisplayValues = displayValues;
+    m.resolveFbo = core::makeFramebuffer();
+    m.resolved = core::makeTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(m.resolved.get(), 1, GL_RGBA16F, size.x, size.y);
+    glNamedFramebufferTexture(m.resolveFbo.get(), GL_COLOR_ATTACHMENT0, m.resolved.get(), 0);
   }
 
   glBindFramebuffer(GL_FRAMEBUFFER, m.fbo.get());
@@ -568,12 +583,30 @@ void Viewer::drawFrame() {
   drawError_ = drawError;
   stats_ = stats;
 
-  // Resolve into the window's back buffer.
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glDrawBuffer(GL_BACK);
+  // Into the window's back buffer: display values as they are, a scene-linear frame resolved and
+  // through the scene's view transform.
   glDisable(GL_SCISSOR_TEST);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glBlitNamedFramebuffer(m.fbo.get(), 0, 0, 0, size.x, size.y, 0, 0, size.x, size.y, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  if (!m.viewPass && !displayValues) {
+    auto pass = render::ViewPass::create();
+    if (!pass) {
+      setStatus("cannot show the frame: " + pass.error().message);
+      return;
+    }
+    m.viewPass = std::move(*pass);
+  }
+  if (displayValues) {
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDrawBuffer(GL_BACK);
+    glBlitNamedFramebuffer(m.fbo.get(), 0, 0, 0, size.x, size.y, 0, 0, size.x, size.y, GL_COLOR_BUFFER_BIT,
+                           GL_NEAREST);
+  } else {
+    glBlitNamedFramebuffer(m.fbo.get(), m.resolveFbo.get(), 0, 0, size.x, size.y, 0, 0, size.x, size.y,
+                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDrawBuffer(GL_BACK);
+    m.viewPass->draw(m.resolved.get(), cel::Viewport{0, 0, size.x, size.y}, scene::viewTransformFor(scene_));
+  }
   drawUi();
 }
 

@@ -7,6 +7,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/matrix.hpp>
 
+#include <puff/core/colour.h>
 #include <puff/cel/frame.h>
 
 namespace puff::cel {
@@ -108,7 +109,12 @@ Result<Ramp> Ramp::create(const core::Image& image, const std::string& what, boo
   glTextureStorage1D(t, 1, GL_RGBA16F, image.width);
   std::vector<float> rgba(static_cast<std::size_t>(image.width) * 4, 1.0f);
   for (int x = 0; x < image.width; ++x) {
-    for (int c = 0; c < 3; ++c) rgba[static_cast<std::size_t>(x) * 4 + c] = row[static_cast<std::size_t>(x) * 3 + c];
+    // The image holds display values; the texture holds them decoded, so a smooth ramp
+    // interpolates light (frame.glsl's quantize encodes after the lookup).
+    for (int c = 0; c < 3; ++c) {
+      rgba[static_cast<std::size_t>(x) * 4 + c] =
+          static_cast<float>(core::srgbToLinear(double{row[static_cast<std::size_t>(x) * 3 + c]}));
+    }
   }
   glTextureSubImage1D(t, 0, 0, image.width, GL_RGBA, GL_FLOAT, rgba.data());
   // Clamp-to-edge is what makes q(N.L) equal q(max(0, N.L)) (§4.1).
@@ -147,7 +153,9 @@ Result<Gradient> Gradient::create(const core::Image& image, const std::string& w
       for (int c = 0; c < 3; ++c) {
         const float v = image.at(x, y, image.channels >= 3 ? c : 0);
         if (!std::isfinite(v)) return Error::at(what, "gradient holds a non-finite value");
-        rgba[(static_cast<std::size_t>(image.height - 1 - y) * image.width + x) * 4 + c] = v;
+        // Display value in, scene-linear texel: bilinear filtering mixes light (ambientAt encodes).
+        rgba[(static_cast<std::size_t>(image.height - 1 - y) * image.width + x) * 4 + c] =
+            static_cast<float>(core::srgbToLinear(double{v}));
       }
     }
   }

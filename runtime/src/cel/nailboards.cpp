@@ -4,6 +4,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <puff/core/colour.h>
 #include <puff/cel/nailboards.h>
 #include <puff/cel/pass_state.h>
 #include <puff/core/shader.h>
@@ -133,8 +134,10 @@ const std::vector<core::Image>* findMap(const core::Atlas& atlas, const std::str
   return it == atlas.maps.end() || it->second.empty() ? nullptr : &it->second;
 }
 
+// `decode`: the levels hold display values (the atlas colour map) and `internal` is a float format:
+// decode RGB to scene-linear here (8-bit maps use GL_SRGB8_ALPHA8, which decodes on read instead).
 Result<core::Texture> uploadLevels(const core::AtlasDesc& d, const std::vector<core::Image>& levels,
-                                   const std::string& key, int channels, GLenum internal) {
+                                   const std::string& key, int channels, GLenum internal, bool decode = false) {
   core::Texture t = core::makeTexture(GL_TEXTURE_2D);
   const GLsizei nLevels = static_cast<GLsizei>(levels.size());
   glTextureStorage2D(t.get(), nLevels, internal, d.width, d.height);
@@ -148,7 +151,8 @@ Result<core::Texture> uploadLevels(const core::AtlasDesc& d, const std::vector<c
     std::vector<float> px(static_cast<std::size_t>(w) * h * channels);
     for (std::size_t i = 0; i < static_cast<std::size_t>(w) * h; ++i) {
       for (int c = 0; c < channels; ++c) {
-        px[i * channels + c] = im.pixels[i * im.channels + std::min(c, im.channels - 1)];
+        const float v = im.pixels[i * im.channels + std::min(c, im.channels - 1)];
+        px[i * channels + c] = decode && c < 3 ? static_cast<float>(core::srgbToLinear(double{v})) : v;
       }
     }
     // Rows go up as stored (top first): texture t = 0 is the atlas's top row, as in cellUv.
@@ -264,7 +268,10 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   }
   auto nd = uploadLevels(d, packed, "normalDepth", 4, GL_RGBA8);
   if (!nd) return nd.error();
-  auto co = uploadLevels(d, *colorMap, "color", 4, d.fileFormat == "exr" ? GL_RGBA16F : GL_RGBA8);
+  // The colour map holds display values (docs/colour.md); the shader reads scene-linear ones, so
+  // filtering and mips mix light: an sRGB texture decodes 8-bit maps, EXR maps are decoded here.
+  const bool floatMap = d.fileFormat == "exr";
+  auto co = uploadLevels(d, *colorMap, "color", 4, floatMap ? GL_RGBA16F : GL_SRGB8_ALPHA8, floatMap);
   if (!co) return co.error();
   std::vector<glm::vec4> cellData;
   cellData.reserve(d.cells.size() * 4);
@@ -338,6 +345,10 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
     glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   }
   applyShadePass(pass);
+  // The shader's alpha is the edge's coverage, spent on the sample mask: it must not reach the
+  // frame, whose alpha stays 1 (an opaque frame, docs/colour.md). GL_SAMPLE_ALPHA_TO_ONE would say
+  // the same, but not every driver honours it (Mesa llvmpipe does not); a write mask does.
+  if (pass != ShadePass::kDepthOnly) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
   glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   restoreWriteMasks();

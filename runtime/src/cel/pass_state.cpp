@@ -10,7 +10,7 @@ void resetPassState() {
   glDisable(GL_POLYGON_OFFSET_FILL);
   glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   glDisable(GL_RASTERIZER_DISCARD);
-  glDisable(GL_FRAMEBUFFER_SRGB);  // colours are display values
+  glDisable(GL_FRAMEBUFFER_SRGB);  // the shaders write scene-linear values as they are (docs/colour.md)
   glDisable(GL_PRIMITIVE_RESTART);
   glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);

@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 
+#include <puff/core/colour.h>
 #include <puff/core/atlas.h>
 #include <puff/core/detail_video.h>
 #include <puff/core/statistics.h>
@@ -98,8 +99,8 @@ Result<Detail> loadDetail(const MediaSpec& spec) {
   return d;
 }
 
-// The reference of one frame: what the GPU drew it from, and the exact image, clamped to the 8-bit
-// target's [0, 1].
+// The reference of one frame: what the GPU drew it from, and the exact image in scene-linear, not
+// clamped (the frames it is compared with are the renderer's scene-linear float read-back).
 struct FrameReference {
   std::vector<glm::vec3> opaqueColor;
   std::vector<float> opaqueDepth;
@@ -113,16 +114,16 @@ Result<FrameReference> makeReference(const Scene& scene, const SceneRenderer::Me
   reference::MediaReferenceInput ri;
   ri.frame = in.frame;
   ri.particles = in.particles;
-  ri.materials = spec.materials;
+  const std::vector<media::Material> materials = scene::linearMediaMaterials(scene);
+  ri.materials = materials;
   ri.settings = spec.settings;
   ri.temperatureDetail = temperature;
   ri.opacityDetail = opacity;
   ri.opaqueColor = in.opaqueColor;
   ri.opaqueDepth = in.opaqueDepth;
-  ri.background = scene.background;
+  ri.background = core::srgbToLinear(scene.background);
   auto image = reference::renderMediaReference(ri);
   if (!image) return Error::at(scene.file, "the media reference: " + image.error().message);
-  for (float& v : image->pixels) v = std::clamp(v, 0.0f, 1.0f);
   FrameReference r;
   r.opaqueColor = in.opaqueColor;
   r.opaqueDepth = in.opaqueDepth;

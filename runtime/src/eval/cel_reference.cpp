@@ -10,6 +10,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <puff/cel/pass_state.h>
+#include <puff/core/colour.h>
 #include <puff/core/files.h>
 #include <puff/core/shader.h>
 
@@ -127,7 +128,7 @@ struct CelReference::Impl {
     height = h;
     fbo = core::makeFramebuffer();
     idsCopy = nearestTexture(GL_R32UI, w, h);
-    color = nearestTexture(GL_RGBA8, w, h);
+    color = nearestTexture(GL_RGBA16F, w, h);  // scene-linear: the box filter averages light
     ids = nearestTexture(GL_R32UI, w, h);
     depthStencil = nearestTexture(GL_DEPTH24_STENCIL8, w, h);
     depthCopy = nearestTexture(GL_DEPTH24_STENCIL8, w, h);
@@ -281,7 +282,8 @@ struct CelReference::Impl {
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
     glStencilMask(0xFF);
-    const float bg[4] = {background.r, background.g, background.b, 1.0f};
+    const glm::vec3 bgLinear = core::srgbToLinear(background);  // the background is a display value
+    const float bg[4] = {bgLinear.r, bgLinear.g, bgLinear.b, 1.0f};
     const GLuint zero[4] = {0, 0, 0, 0};
     glClearNamedFramebufferfv(target, GL_COLOR, 0, bg);
     // The ids by their texture: attachment 1 is not a draw buffer at this point.

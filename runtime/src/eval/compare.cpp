@@ -1,5 +1,6 @@
 #include <puff/eval/compare.h>
 
+#include <puff/core/colour.h>
 #include <puff/render/render.h>
 
 #include <algorithm>
@@ -35,8 +36,13 @@ Scene restrictToFixedLimits(const Scene& scene, std::vector<std::string>* change
   return s;
 }
 
-Parity compareFrames(const core::Image& a, const core::Image& aBare, const core::Image& b, const core::Image& bBare,
-                     float tolerance, core::Image* sideBySide) {
+Parity compareFrames(const core::Image& aLinear, const core::Image& aBareLinear, const core::Image& bLinear,
+                     const core::Image& bBareLinear, float tolerance, core::Image* sideBySide) {
+  // What a viewer sees: the masks and tones compare display values (the standard view transform).
+  const core::Image a = core::viewTransform(aLinear, core::ViewTransform::kStandard);
+  const core::Image aBare = core::viewTransform(aBareLinear, core::ViewTransform::kStandard);
+  const core::Image b = core::viewTransform(bLinear, core::ViewTransform::kStandard);
+  const core::Image bBare = core::viewTransform(bBareLinear, core::ViewTransform::kStandard);
   PUFF_CHECK(a.width == b.width && a.height == b.height && a.channels == 4 && b.channels == 4);
   PUFF_CHECK(aBare.width == a.width && bBare.width == a.width && aBare.height == a.height && bBare.height == a.height);
   PUFF_CHECK(aBare.channels == 4 && bBare.channels == 4);

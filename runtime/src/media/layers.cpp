@@ -101,13 +101,14 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
   m.opaqueFbo = core::makeFramebuffer();
   m.msColor = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
   m.msDepth = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
-  glTextureStorage2DMultisample(m.msColor.get(), samples, GL_RGBA8, width, height, GL_TRUE);
+  // Scene-linear colour (docs/colour.md): half floats, as the output target.
+  glTextureStorage2DMultisample(m.msColor.get(), samples, GL_RGBA16F, width, height, GL_TRUE);
   glTextureStorage2DMultisample(m.msDepth.get(), samples, GL_DEPTH24_STENCIL8, width, height, GL_TRUE);
   glTextureParameteri(m.msDepth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
   glNamedFramebufferTexture(m.opaqueFbo.get(), GL_COLOR_ATTACHMENT0, m.msColor.get(), 0);
   glNamedFramebufferTexture(m.opaqueFbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, m.msDepth.get(), 0);
 
-  m.color = makeTexture2D(GL_RGBA8, width, height, GL_NEAREST);
+  m.color = makeTexture2D(GL_RGBA16F, width, height, GL_NEAREST);
   m.resolveFbo = core::makeFramebuffer();
   glNamedFramebufferTexture(m.resolveFbo.get(), GL_COLOR_ATTACHMENT0, m.color.get(), 0);
   m.depth = makeTexture2D(GL_R32F, width, height, GL_NEAREST);

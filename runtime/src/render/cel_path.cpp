@@ -4,6 +4,7 @@
 
 #include <puff/cel/nailboards.h>
 #include <puff/core/atlas.h>
+#include <puff/core/colour.h>
 #include <puff/render/cel_scene.h>
 #include <puff/scene/evaluate.h>
 
@@ -70,7 +71,8 @@ class CelPath final : public Path {
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     glDepthMask(GL_TRUE);
     glStencilMask(0xFF);
-    glClearColor(s.background.r, s.background.g, s.background.b, 1.0f);
+    const glm::vec3 background = core::srgbToLinear(s.background);  // a display value; the target is linear
+    glClearColor(background.r, background.g, background.b, 1.0f);
     glClearDepth(1.0);
     glClearStencil(0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);

@@ -92,7 +92,7 @@ class FixedPath final : public Path {
   }
 
   RenderPath kind() const override { return RenderPath::kFixed; }
-  TargetNeeds targetNeeds() const override { return {1, contextFramebuffer_, true}; }
+  TargetNeeds targetNeeds() const override { return {1, contextFramebuffer_, true, true}; }
   int variations() const override { return variations_; }
 
   // The puff texture's cells are sized from the frame, so the frame's size is part of what it made.

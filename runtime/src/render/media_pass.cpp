@@ -2,7 +2,9 @@
 
 #include <tuple>
 
+#include <puff/core/colour.h>
 #include <puff/core/detail_video.h>
+#include <puff/scene/evaluate.h>
 
 namespace puff::render::detail {
 
@@ -11,7 +13,7 @@ Result<std::unique_ptr<MediaPass>> MediaPass::create(const scene::Scene& scene) 
   std::unique_ptr<MediaPass> pass(new MediaPass());
   auto renderer = media::Renderer::create(spec.settings);
   if (!renderer) return Error::at(scene.file, "/media: " + renderer.error().message);
-  if (auto ok = (*renderer)->setMaterials(spec.materials); !ok)
+  if (auto ok = (*renderer)->setMaterials(scene::linearMediaMaterials(scene)); !ok)
     return Error::at(scene.file, "/media/materials: " + ok.error().message);
   std::optional<core::DetailVideo> temperature, opacity;
   if (!spec.temperatureDetail.empty()) {
@@ -62,8 +64,9 @@ void MediaPass::draw(const scene::Scene& s, const scene::FrameInputs& inputs, co
   mf.farPlane = cam.farPlane;
   mf.orthographic = cam.fovYDegrees == 0.0f;
   mf.lightDirection = s.light.direction;
-  mf.lightColor = s.light.color;
-  mf.ambient = s.ambientColor;
+  // The scene's colours are display values; the media light in scene-linear (docs/colour.md).
+  mf.lightColor = core::srgbToLinear(s.light.color);
+  mf.ambient = core::srgbToLinear(s.ambientColor);
   mf.time = inputs.time;
   mf.width = viewport.width;
   mf.height = viewport.height;
@@ -73,7 +76,8 @@ void MediaPass::draw(const scene::Scene& s, const scene::FrameInputs& inputs, co
   std::vector<media::ExplosionLight> lights;
   for (const scene::MediaLightSpec& l : spec.lights) {
     lights.push_back(
-        media::ExplosionLight{l.center, l.radius, l.color, l.intensityAt(mf.time), l.modulate, l.fullAtBack});
+        media::ExplosionLight{l.center, l.radius, core::srgbToLinear(l.color), l.intensityAt(mf.time), l.modulate,
+                              l.fullAtBack});
   }
   const int vp[4] = {viewport.x, viewport.y, viewport.width, viewport.height};
   layers_->compose(target, vp, mf, lights, spec.compose);

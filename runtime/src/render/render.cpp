@@ -4,6 +4,7 @@
 
 #include <puff/cel/nailboards.h>
 #include <puff/cel/opaque.h>
+#include <puff/core/colour.h>
 #include <puff/core/gl.h>
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
@@ -135,7 +136,7 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const scene::Scene&
   if (needs.contextFramebuffer) {
     m.target = detail::Target::contextOwn(scene.width, scene.height);
   } else {
-    auto target = detail::Target::create(scene.width, scene.height, needs.samples);
+    auto target = detail::Target::create(scene.width, scene.height, needs.samples, needs.displayValues);
     if (!target) return target.error();
     m.target = std::move(*target);
   }
@@ -255,13 +256,26 @@ Result<SceneRenderer::MediaFrameInputs> SceneRenderer::lastMediaFrame() const { 
 Result<core::Image> SceneRenderer::renderFrame(int frame, FrameStats* stats) {
   Impl& m = *impl_;
   detail::Target& t = m.target;
-  std::vector<unsigned char> bytes(static_cast<std::size_t>(t.width) * t.height * 4);
+  const std::size_t values = static_cast<std::size_t>(t.width) * t.height * 4;
+  std::vector<unsigned char> bytes;
+  std::vector<float> floats;
+  // Display values come back as the 8 bits they are; scene-linear ones as floats (half floats
+  // widen exactly).
+  auto readBack = [&] {
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    if (t.displayValues) {
+      bytes.resize(values);
+      glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+    } else {
+      floats.resize(values);
+      glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_FLOAT, floats.data());
+    }
+  };
   Result<void> drawn;
   if (t.contextFramebuffer) {
     // GL 1.x-era context: draw and read the context's own framebuffer (only 1.x calls here).
     drawn = drawFrame(frame, cel::Viewport{0, 0, t.width, t.height}, stats);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+    readBack();
   } else {
     glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
     drawn = drawFrame(frame, cel::Viewport{0, 0, t.width, t.height}, stats);
@@ -273,8 +287,7 @@ Result<core::Image> SceneRenderer::renderFrame(int frame, FrameStats* stats) {
     }
     glBindFramebuffer(GL_READ_FRAMEBUFFER, readFbo);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadPixels(0, 0, t.width, t.height, GL_RGBA, GL_UNSIGNED_BYTE, bytes.data());
+    readBack();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
   }
   if (!drawn) return Error::at(m.scene.file, "frame " + std::to_string(frame) + ": " + drawn.error().message);
@@ -282,9 +295,18 @@ Result<core::Image> SceneRenderer::renderFrame(int frame, FrameStats* stats) {
   if (!glErrors.empty())
     return Error::at(m.scene.file, "GL error while rendering frame " + std::to_string(frame) + ": " + glErrors);
   core::Image image(t.width, t.height, 4);
+  const std::size_t row = static_cast<std::size_t>(t.width) * 4;
   for (int y = 0; y < t.height; ++y) {
-    const unsigned char* row = &bytes[static_cast<std::size_t>(t.height - 1 - y) * t.width * 4];
-    for (int i = 0; i < t.width * 4; ++i) image.pixels[static_cast<std::size_t>(y) * t.width * 4 + i] = row[i] / 255.0f;
+    const std::size_t src = static_cast<std::size_t>(t.height - 1 - y) * row;
+    float* dst = &image.pixels[static_cast<std::size_t>(y) * row];
+    for (std::size_t i = 0; i < row; ++i) {
+      if (t.displayValues) {
+        const float v = static_cast<float>(bytes[src + i]) / 255.0f;
+        dst[i] = i % 4 == 3 ? v : static_cast<float>(core::srgbToLinear(double{v}));
+      } else {
+        dst[i] = floats[src + i];
+      }
+    }
   }
   return image;
 }

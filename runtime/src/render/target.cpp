@@ -5,8 +5,10 @@
 
 namespace puff::render::detail {
 
-Result<Target> Target::create(int w, int h, int samples) {
+Result<Target> Target::create(int w, int h, int samples, bool displayValues) {
   Target t;
+  t.displayValues = displayValues;
+  const GLenum format = displayValues ? GL_RGBA8 : GL_RGBA16F;
   t.width = w;
   t.height = h;
   GLint maxSamples = 1;
@@ -20,7 +22,7 @@ Result<Target> Target::create(int w, int h, int samples) {
   t.color = core::makeRenderbuffer();
   t.depthStencil = core::makeRenderbuffer();
   const int s = t.samples > 1 ? t.samples : 0;
-  glNamedRenderbufferStorageMultisample(t.color.get(), s, GL_RGBA8, w, h);
+  glNamedRenderbufferStorageMultisample(t.color.get(), s, format, w, h);
   glNamedRenderbufferStorageMultisample(t.depthStencil.get(), s, GL_DEPTH24_STENCIL8, w, h);
   glNamedFramebufferRenderbuffer(t.fbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.color.get());
   glNamedFramebufferRenderbuffer(t.fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, GL_RENDERBUFFER, t.depthStencil.get());
@@ -31,7 +33,7 @@ Result<Target> Target::create(int w, int h, int samples) {
   if (t.samples > 1) {
     t.resolveFbo = core::makeFramebuffer();
     t.resolveColor = core::makeRenderbuffer();
-    glNamedRenderbufferStorage(t.resolveColor.get(), GL_RGBA8, w, h);
+    glNamedRenderbufferStorage(t.resolveColor.get(), format, w, h);
     glNamedFramebufferRenderbuffer(t.resolveFbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.resolveColor.get());
   }
   return t;
@@ -42,6 +44,7 @@ Target Target::contextOwn(int width, int height) {
   t.width = width;
   t.height = height;
   t.contextFramebuffer = true;
+  t.displayValues = true;  // GL 1.x: 8-bit, display values
   return t;
 }
 

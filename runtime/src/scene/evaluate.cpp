@@ -11,6 +11,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include <puff/core/colour.h>
 #include <puff/core/random.h>
 #include <puff/scene/geometry.h>
 
@@ -267,6 +268,35 @@ cel::Camera cameraAt(const Scene& scene, int frame) {
   c.position = c.target + turn * (c.position - c.target);
   c.up = turn * c.up;
   return c;
+}
+
+std::vector<media::Material> linearMediaMaterials(const Scene& scene) {
+  std::vector<media::Material> out = scene.media->materials;
+  for (media::Material& m : out) m.color = core::srgbToLinear(m.color);
+  return out;
+}
+
+bool hasFire(const Scene& scene) {
+  if (!scene.media) return false;
+  const std::vector<media::Material>& mats = scene.media->materials;
+  auto fiery = [&](int index) {
+    if (index < 0 || index >= static_cast<int>(mats.size())) return false;
+    const media::Material& m = mats[static_cast<std::size_t>(index)];
+    const int next = m.becomes;
+    return m.emissive || (next >= 0 && next < static_cast<int>(mats.size()) && mats[static_cast<std::size_t>(next)].emissive);
+  };
+  for (const MediaParticleSpec& p : scene.media->particles) {
+    if (fiery(p.materialIndex)) return true;
+  }
+  for (const MediaEmitterSpec& e : scene.media->emitters) {
+    if (fiery(e.materialIndex)) return true;
+  }
+  return false;
+}
+
+core::ViewTransform viewTransformFor(const Scene& scene) {
+  if (scene.view) return *scene.view;
+  return hasFire(scene) ? core::ViewTransform::kFilmic : core::ViewTransform::kStandard;
 }
 
 }  // namespace puff::scene

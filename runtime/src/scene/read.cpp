@@ -21,7 +21,7 @@ using nlohmann::json;
 namespace detail {
 
 void readOutput(const json& j, const std::string& ptr, Scene& s) {
-  requireObject(j, ptr, {"width", "height", "samples", "background"});
+  requireObject(j, ptr, {"width", "height", "samples", "background", "view"});
   if (auto* v = find(j, "width")) s.width = readInt(*v, child(ptr, "width"), 1, kMaxImageSize);
   if (auto* v = find(j, "height")) s.height = readInt(*v, child(ptr, "height"), 1, kMaxImageSize);
   if (auto* v = find(j, "samples")) {
@@ -30,6 +30,11 @@ void readOutput(const json& j, const std::string& ptr, Scene& s) {
     s.samples = n;
   }
   if (auto* v = find(j, "background")) s.background = readColor(*v, child(ptr, "background"));
+  if (auto* v = find(j, "view")) {
+    s.view = readEnum<core::ViewTransform>(*v, child(ptr, "view"),
+                                           {{"standard", core::ViewTransform::kStandard},
+                                            {"filmic", core::ViewTransform::kFilmic}});
+  }
 }
 
 void readCamera(const json& j, const std::string& ptr, cel::Camera& c) {

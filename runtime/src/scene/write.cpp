@@ -267,6 +267,7 @@ json toJson(const Scene& s) {
   const fs::path dir = s.file.parent_path();
   json j;
   j["output"] = {{"width", s.width}, {"height", s.height}, {"samples", s.samples}, {"background", vec3(s.background)}};
+  if (s.view) j["output"]["view"] = std::string(core::toString(*s.view));
   const cel::Camera& c = s.camera;
   j["camera"] = {{"position", vec3(c.position)},
                  {"target", vec3(c.target)},

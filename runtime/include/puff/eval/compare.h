@@ -29,7 +29,9 @@ struct Parity {
 };
 
 /// `a` and `b`: one frame by each path; `aBare` and `bBare`: the same frame without particles.
-/// All four the same size, RGBA. A pixel is smoke when some channel differs from the bare image by
+/// All four the same size, RGBA, scene-linear (SceneRenderer::renderFrame's); they are compared as
+/// display values, through the standard view transform, as is `sideBySide`. A pixel is smoke when
+/// some channel differs from the bare image by
 /// more than 1/64 (above 8-bit rounding, below any ink or tone step). `tolerance` is per channel.
 /// `sideBySide` (optional) receives [a | b | difference], the difference as |a - b| scaled by 4
 /// over a grey background where the masks disagree: red = only A has smoke, blue = only B.

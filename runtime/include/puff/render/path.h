@@ -81,6 +81,10 @@ struct TargetNeeds {
   /// What the path made depends on the frame's size (the fixed path's puff texture): drawn into a
   /// viewport of another size, it is made again for that size first.
   bool sizedToFrame = false;
+  /// The path writes DISPLAY values (the fixed path: GL 1.x has no float targets and blends what it
+  /// is given): the target is 8-bit and its read-back is decoded to scene-linear. Otherwise the path
+  /// writes scene-linear values into a half-float target (docs/colour.md).
+  bool displayValues = false;
 };
 
 class Path {

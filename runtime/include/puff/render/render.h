@@ -46,12 +46,15 @@ class SceneRenderer {
   TargetNeeds targetNeeds() const;
   ~SceneRenderer();
 
-  /// Renders frame `frame` (>= 0) and reads it back: RGBA floats in [0,1], top row first,
-  /// `scene.width` x `scene.height`. The same frame always gives the same pixels.
+  /// Renders frame `frame` (>= 0) and reads it back: RGBA floats, top row first, `scene.width` x
+  /// `scene.height`, RGB SCENE-LINEAR (not limited to [0, 1]; core::viewTransform with
+  /// scene::viewTransformFor makes display values of it), alpha 1 for an opaque frame. The same
+  /// frame always gives the same pixels.
   Result<core::Image> renderFrame(int frame, FrameStats* stats = nullptr);
 
   /// Renders frame `frame` into the current draw framebuffer instead (for a window), which must have
-  /// depth + stencil for the cel path. A scene with media draws its opaque pass into the renderer's
+  /// depth + stencil for the cel path. The path writes SCENE-LINEAR colour (a float framebuffer keeps
+  /// it; view.h's ViewPass then shows it) unless targetNeeds().displayValues (the fixed path). A scene with media draws its opaque pass into the renderer's
   /// own layers and composes colour only into the framebuffer (its depth and stencil are left as
   /// they were); the draw and read framebuffer bindings are as they were on return.
   /// `camera` (optional) replaces the scene's camera for this frame (a viewer's orbit camera). A path

@@ -42,6 +42,16 @@ Result<std::optional<sim::Settings>> mediaSimulationSettings(const Scene& scene,
 /// moved, spun and shrunk. Pure. Simulated particles are not included (see SceneRenderer).
 /// `variations` is the atlas's variation count (>= 1), for emitters that pick any variation.
 std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variations);
+/// The scene's media materials with their colours in scene-linear: the scene file's colours are
+/// display values (docs/colour.md), the media renderer and its references light in linear. Requires
+/// scene.media.
+std::vector<media::Material> linearMediaMaterials(const Scene& scene);
+/// Whether the scene draws fire: a media particle or emitter whose material (or the material it
+/// becomes) is emissive.
+bool hasFire(const Scene& scene);
+/// The scene's view transform: scene.view, or when it is empty `filmic` for scenes with fire
+/// (hasFire) and `standard` for the rest (docs/colour.md).
+core::ViewTransform viewTransformFor(const Scene& scene);
 /// The camera at `frame` (orbit applied).
 cel::Camera cameraAt(const Scene& scene, int frame);
 

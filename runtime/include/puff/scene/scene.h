@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include <puff/core/colour.h>
+
 #include <glm/gtc/quaternion.hpp>
 #include <glm/vec3.hpp>
 
@@ -173,10 +175,13 @@ struct Scene {
   std::filesystem::path file;     ///< the file it was loaded from (for messages)
   int width = 640, height = 480;  ///< output size, [1, 16384]
   int samples = 4;                ///< MSAA samples for antialiased edges: 1, 2, 4 or 8
-  glm::vec3 background{1.0f};     ///< clear colour
+  glm::vec3 background{1.0f};     ///< clear colour, a display value (sRGB-encoded)
+  /// How the scene-linear frame becomes display values for PNG and the screen (docs/colour.md);
+  /// EXR output is the scene-linear frame before it. Empty: automatic, viewTransformFor().
+  std::optional<core::ViewTransform> view;
   cel::Camera camera;
   cel::Light light;
-  glm::vec3 ambientColor{0.25f};          ///< uniform K_a
+  glm::vec3 ambientColor{0.25f};          ///< uniform K_a, a display value
   std::filesystem::path ambientGradient;  ///< image-space K_a(x, y); empty = uniform
   std::filesystem::path ramp;             ///< q ramp image; empty = the built-in two-tone ramp
   bool rampSmooth = false;                ///< linear filtering of the ramp

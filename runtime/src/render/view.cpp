@@ -1,0 +1,35 @@
+#include <puff/core/shader.h>
+#include <puff/render/view.h>
+
+namespace puff::render {
+
+Result<ViewPass> ViewPass::create() {
+  auto program = core::buildProgram({"media/fullscreen.vert", "output/view.frag"});
+  if (!program) return program.error();
+  ViewPass v;
+  v.program_ = std::move(*program);
+  v.vao_ = core::makeVertexArray();
+  return v;
+}
+
+void ViewPass::draw(GLuint linear, const cel::Viewport& viewport, core::ViewTransform view) const {
+  const GLuint p = program_.get();
+  glProgramUniform1i(p, 0, view == core::ViewTransform::kFilmic ? 1 : 0);
+  glProgramUniform2f(p, 1, static_cast<float>(viewport.x), static_cast<float>(viewport.y));
+  glProgramUniform1f(p, 2, static_cast<float>(core::kFilmicKnee));
+  glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_FRAMEBUFFER_SRGB);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glUseProgram(p);
+  glBindTextureUnit(0, linear);
+  glBindVertexArray(vao_.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glUseProgram(0);
+}
+
+}  // namespace puff::render
