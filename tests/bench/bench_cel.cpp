@@ -1,6 +1,7 @@
 // Cel rendering benchmark (issue 3): the same particles at the same overdraw drawn three ways, timed
 // in one run so the ratios compare methods on one machine:
-//   floor       bare alpha-tested textured quads (NailboardRenderer::drawBaseline)
+//   floor       bare alpha-tested textured quads (NailboardRenderer::drawBaseline) writing the
+//               nailboards' linear depth (gl_FragDepth, shaders/cel/sprite.frag), no offset
 //   nailboards  cel shading, per-pixel linear depth (gl_FragDepth) and outlines (ShadePass::kLit)
 //   full        the frame with shadows: kLit, billboard shadow volumes into the stencil, kShadowed
 // Every frame clears the target, uploads the frame block and the particles (16 bytes each), draws,
@@ -430,14 +431,22 @@ int main(int argc, char** argv) {
     }
   }
 
+  // valid: for the methods measured against the floor (nailboards, full), 0 when one is faster
+  // than the floor of its count and size (then no ratio: the floor did not bound it); empty for
+  // the floor itself and for the passes inside the full frame (parts, not methods).
   std::string csv =
-      "particles,size,method,reps,median_ms,min_ms,ratio_to_floor,bytes_per_particle,overdraw,quad_px,note\n";
+      "particles,size,method,reps,median_ms,min_ms,ratio_to_floor,bytes_per_particle,overdraw,quad_px,note,valid\n";
   for (const Row& r : rows) {
+    const bool method = r.method == "nailboards" || r.method == "full";
     if (r.reps > 0) {
-      bench::appendf(csv, "%zu,%d,%s,%d,%.2f,%.2f,%.3f,%.1f,%.2f,%.1f,%s\n", r.particles, r.size, r.method.c_str(),
-                     r.reps, r.medianMs, r.minMs, r.ratio, r.bytesPerParticle, r.overdraw, r.quadPx, r.note.c_str());
+      const bool valid = !method || r.ratio >= 1.0;
+      std::string ratio;
+      if (valid) bench::appendf(ratio, "%.3f", r.ratio);
+      bench::appendf(csv, "%zu,%d,%s,%d,%.2f,%.2f,%s,%.1f,%.2f,%.1f,%s,%s\n", r.particles, r.size, r.method.c_str(),
+                     r.reps, r.medianMs, r.minMs, ratio.c_str(), r.bytesPerParticle, r.overdraw, r.quadPx,
+                     r.note.c_str(), method ? (valid ? "1" : "0") : "");
     } else {
-      bench::appendf(csv, "%zu,%d,%s,0,,,,%.1f,%.2f,%.1f,%s\n", r.particles, r.size, r.method.c_str(),
+      bench::appendf(csv, "%zu,%d,%s,0,,,,%.1f,%.2f,%.1f,%s,\n", r.particles, r.size, r.method.c_str(),
                      r.bytesPerParticle, r.overdraw, r.quadPx, r.note.c_str());
     }
   }
@@ -450,6 +459,8 @@ int main(int argc, char** argv) {
     char b[64];
     if (!r || r->reps == 0)
       std::snprintf(b, sizeof b, "%20s", "-");
+    else if (r->ratio < 1.0)
+      std::snprintf(b, sizeof b, "%10.1f (%7s)", r->medianMs, "INVALID");  // below the floor
     else
       std::snprintf(b, sizeof b, "%10.1f (%7.2f)", r->medianMs, r->ratio);
     return std::string(b);

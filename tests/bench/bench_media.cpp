@@ -1,11 +1,17 @@
 // Spherical billboards benchmark (issue 6): Umenhoffer et al. 2006's two measurements redone on
 // media::Renderer + media::Layers, in one process and one GL 4.5 context.
 //
-//  table1  (the paper's Table 1) spherical against planar billboards at 0, 263, 526, 1052 and 1578
-//          particles, media layer at half resolution, 512 x 512 output. As in the paper, the
-//          billboards shrink as the count grows (radius r ~ 1 / sqrt(N), chosen so that the summed
-//          projected disc area is kOverdraw screens at every count), so the fragment work stays
-//          about constant. The two methods alternate frame by frame. 0 particles: compose only.
+//  table1  (the paper's Table 1) spherical billboards against the paper's classic textured
+//          billboards (planar-textured: a baked falloff texture, hardware-style depth test) and
+//          against Puff's planar method (the spherical shader with the chord unclipped and a depth
+//          test) at 0, 263, 526, 1052 and 1578 particles, media layer at half resolution, 512 x 512
+//          output. As in the paper, the billboards shrink as the count grows (radius r ~ 1 /
+//          sqrt(N), chosen so that the summed projected disc area is kOverdraw screens at every
+//          count), so the fragment work stays about constant. 0 particles: compose only.
+//          Each method also runs as its own fill-rate floor (media::Renderer::setFillRateFloor:
+//          its quads, depth test, depth clamp and blending, the fragment stage writing a
+//          constant), with the same heat-shimmer setting; the six cases alternate frame by frame.
+//          A method whose pass is faster than its floor's is marked invalid (valid 0, no ratio).
 //  fig12   (the paper's Fig. 12) the spherical method with 1052 particles at layer scales 1, 1/2,
 //          1/4 and 1/8 of a 1024 x 1024 output; the four scales alternate frame by frame.
 //
@@ -128,6 +134,7 @@ float setRadius(std::vector<media::Particle>& ps) {
 
 struct Overdraw {
   double disc = 0, quad = 0;
+  double texturedQuad = 0;  ///< planar-textured's quads (half side f r / d), clipped to the screen
   int discsCrossingEdge = 0;
 };
 
@@ -140,11 +147,15 @@ Overdraw measureOverdraw(const std::vector<media::Particle>& ps) {
     const double cx = p.position.x * f / d, cy = p.position.y * f / d, rd = r * f / d;  // NDC
     o.disc += 3.14159265358979 * rd * rd / 4.0;
     if (std::abs(cx) + rd > 1.0 || std::abs(cy) + rd > 1.0) ++o.discsCrossingEdge;
-    // billboard.vert (either method: the same projected size): half side f r / (d - r) (1 + |c.xy| / d).
+    // billboard.vert (planar or spherical: the same projected size): half side f r / (d - r) (1 + |c.xy| / d).
     const double h = f * r / (d - r) * (1.0 + std::hypot(p.position.x, p.position.y) / d);
     const double w = std::max(0.0, std::min(1.0, cx + h) - std::max(-1.0, cx - h));
     const double hgt = std::max(0.0, std::min(1.0, cy + h) - std::max(-1.0, cy - h));
     o.quad += w * hgt / 4.0;
+    // billboard_textured.vert: half side r in the centre's plane, f r / d in NDC.
+    const double wt = std::max(0.0, std::min(1.0, cx + rd) - std::max(-1.0, cx - rd));
+    const double ht = std::max(0.0, std::min(1.0, cy + rd) - std::max(-1.0, cy - rd));
+    o.texturedQuad += wt * ht / 4.0;
   }
   return o;
 }
@@ -238,6 +249,7 @@ struct Case {
   const std::vector<media::Particle>* particles = nullptr;
   media::Method method = media::Method::kSpherical;
   std::vector<FrameTime> times;
+  bool floor = false;  ///< draw as the method's fill-rate floor
 };
 
 FrameTime drawFrame(media::Renderer& renderer, Case& c, bool shimmer = true) {
@@ -250,7 +262,9 @@ FrameTime drawFrame(media::Renderer& renderer, Case& c, bool shimmer = true) {
   const auto t1 = Clock::now();
   layers.beginMedia();
   media::DrawStats stats;
+  renderer.setFillRateFloor(c.floor);
   renderer.draw(f, *c.particles, c.method, layers.mediaDepth(), shimmer, &stats);
+  renderer.setFillRateFloor(false);
   glFinish();
   const auto t2 = Clock::now();
   const int vp[4] = {0, 0, layers.width(), layers.height()};
@@ -288,9 +302,13 @@ struct Row {
   Overdraw overdraw;
   int reps = 0;
   double downsample = 0, sort = 0, pass = 0, compose = 0, frame = 0, total = 0;
-  // table1: this / planar of the same count; fig12: scale 1 / this. 0: not applicable.
+  // table1: this / planar (or planar-textured) of the same count; fig12: scale 1 / this. 0: not
+  // applicable.
   double frameRatioToPlanar = 0, passRatioToPlanar = 0, passSpeedup = 0, totalSpeedup = 0;
-  double rmse = 0;  ///< against the exact reference; 0: not measured
+  double frameRatioToTextured = 0, passRatioToTextured = 0;
+  double floorPass = 0;  ///< table1: the pass of this method's fill-rate floor; 0: not measured
+  double rmse = 0;       ///< against the exact reference; 0: not measured
+  bool valid() const { return bench::validAgainstFloor(pass, floorPass); }
 };
 
 // What the reference needs besides the case: the renderer's materials, settings and detail video.
@@ -451,31 +469,48 @@ int main(int argc, char** argv) {
       const Overdraw o = measureOverdraw(ps);
       if (o.discsCrossingEdge > 0)
         std::fprintf(stderr, "puff_bench_media: note: %d discs cross the screen edge\n", o.discsCrossingEdge);
-      Case spherical{
-          makeLayers(kTableSize, 0.5f), std::make_unique<Output>(kTableSize), &ps, media::Method::kSpherical, {}};
+      auto makeCase = [&](media::Method m, bool floor) {
+        return Case{makeLayers(kTableSize, 0.5f), std::make_unique<Output>(kTableSize), &ps, m, {}, floor};
+      };
+      Case spherical = makeCase(media::Method::kSpherical, false);
       if (count == 0) {  // compose only: draw returns at once without particles
         runRounds(*renderer, {&spherical}, reps);
         checkGl("table1, 0 particles");
         rows.push_back(summarize("table1", spherical, "none", 0.0f, o));
         dump(spherical, "table1_0");
       } else {
-        Case planar{
-            makeLayers(kTableSize, 0.5f), std::make_unique<Output>(kTableSize), &ps, media::Method::kPlanar, {}};
-        runRounds(*renderer, {&spherical, &planar}, reps);
+        Case planar = makeCase(media::Method::kPlanar, false);
+        Case textured = makeCase(media::Method::kPlanarTextured, false);
+        Case sphericalFloor = makeCase(media::Method::kSpherical, true);
+        Case planarFloor = makeCase(media::Method::kPlanar, true);
+        Case texturedFloor = makeCase(media::Method::kPlanarTextured, true);
+        runRounds(*renderer, {&spherical, &planar, &textured, &sphericalFloor, &planarFloor, &texturedFloor}, reps);
         checkGl("table1");
+        Overdraw ot = o;
+        ot.quad = o.texturedQuad;
         Row s = summarize("table1", spherical, "spherical", radius, o);
         Row p = summarize("table1", planar, "planar", radius, o);
-        if (withError) {  // one reference for both: the same particles over the same opaque layer
+        Row t = summarize("table1", textured, "planar-textured", radius, ot);
+        s.floorPass = summarize("table1", sphericalFloor, "", radius, o).pass;
+        p.floorPass = summarize("table1", planarFloor, "", radius, o).pass;
+        t.floorPass = summarize("table1", texturedFloor, "", radius, ot).pass;
+        if (withError) {  // one reference for all: the same particles over the same opaque layer
           const core::Image ref = referenceImage(spherical, setup);
           s.rmse = errorAgainst(*renderer, spherical, ref);
           p.rmse = errorAgainst(*renderer, planar, ref);
+          t.rmse = errorAgainst(*renderer, textured, ref);
         }
-        s.frameRatioToPlanar = s.frame / p.frame;
-        s.passRatioToPlanar = s.pass / p.pass;
-        p.frameRatioToPlanar = p.passRatioToPlanar = 1.0;
+        for (Row* r : {&p, &t, &s}) {
+          r->frameRatioToPlanar = r->frame / p.frame;
+          r->passRatioToPlanar = r->pass / p.pass;
+          r->frameRatioToTextured = r->frame / t.frame;
+          r->passRatioToTextured = r->pass / t.pass;
+        }
         rows.push_back(p);
+        rows.push_back(t);
         rows.push_back(s);
         dump(planar, "table1_" + std::to_string(count) + "_planar");
+        dump(textured, "table1_" + std::to_string(count) + "_planar_textured");
         dump(spherical, "table1_" + std::to_string(count) + "_spherical");
       }
       const Row& last = rows.back();
@@ -483,7 +518,10 @@ int main(int argc, char** argv) {
                    "puff_bench_media: table1 %4d particles r %.3f overdraw %.2f (quads %.2f): frame %.2f ms%s (%.0f s "
                    "so far)\n",
                    count, radius, o.disc, o.quad, last.frame,
-                   count ? (", spherical/planar " + fmt(last.frameRatioToPlanar)).c_str() : "",
+                   count ? (", spherical/planar " + fmt(last.frameRatioToPlanar) + ", spherical/planar-textured " +
+                            fmt(last.frameRatioToTextured))
+                               .c_str()
+                         : "",
                    msBetween(runStart, Clock::now()) / 1000.0);
     }
   }
@@ -541,33 +579,37 @@ int main(int argc, char** argv) {
   std::string csv =
       "experiment,method,particles,output_px,layer_scale,layer_px,radius,overdraw_disc,overdraw_quad,reps,"
       "downsample_ms,sort_ms,pass_ms,compose_ms,frame_ms,total_ms,frame_ratio_to_planar,pass_ratio_to_planar,"
-      "pass_speedup_over_scale1,total_speedup_over_scale1,rmse_vs_reference\n";
+      "pass_speedup_over_scale1,total_speedup_over_scale1,rmse_vs_reference,frame_ratio_to_planar_textured,"
+      "pass_ratio_to_planar_textured,floor_pass_ms,pass_ratio_to_floor,valid\n";
   for (const Row& r : rows) {
-    bench::appendf(csv, "%s,%s,%d,%d,%g,%d,%.4f,%.2f,%.2f,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%s,%s,%s,%s,%s\n",
+    const bool floored = r.floorPass > 0.0;
+    bench::appendf(csv,
+                   "%s,%s,%d,%d,%g,%d,%.4f,%.2f,%.2f,%d,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s\n",
                    r.experiment.c_str(), r.method.c_str(), r.particles, r.outputPx, r.scale, r.layerPx, r.radius,
                    r.overdraw.disc, r.overdraw.quad, r.reps, r.downsample, r.sort, r.pass, r.compose, r.frame, r.total,
                    fmt(r.frameRatioToPlanar).c_str(), fmt(r.passRatioToPlanar).c_str(), fmt(r.passSpeedup).c_str(),
-                   fmt(r.totalSpeedup).c_str(), fmt(r.rmse, "%.5f").c_str());
+                   fmt(r.totalSpeedup).c_str(), fmt(r.rmse, "%.5f").c_str(), fmt(r.frameRatioToTextured).c_str(),
+                   fmt(r.passRatioToTextured).c_str(), fmt(r.floorPass).c_str(),
+                   bench::ratioToFloor(r.pass, r.floorPass).c_str(), floored ? (r.valid() ? "1" : "0") : "");
   }
   if (!bench::writeCsv("puff_bench_media", csvPath, csv)) return 1;
 
-  std::fprintf(stderr, "\nTable 1 (%d^2 output, layer at 1/2; median ms of %d frames)\n", kTableSize, reps);
-  std::fprintf(stderr, "%9s %7s %8s %10s %10s %10s %14s %10s %10s %14s %12s %12s\n", "particles", "radius", "overdraw",
-               "planar", "spherical", "ratio", "planar pass", "sph. pass", "ratio", "compose", "planar RMSE",
-               "sph. RMSE");
+  std::fprintf(stderr, "\nTable 1 (%d^2 output, layer at 1/2; median ms of %d frames; x: spherical / the method)\n",
+               kTableSize, reps);
+  std::fprintf(stderr, "%9s %7s %8s %-16s %9s %9s %8s %9s %10s %9s %9s\n", "particles", "radius", "overdraw", "method",
+               "frame", "pass", "sph. x", "floor", "x floor", "compose", "RMSE");
   for (const Row& r : rows) {
-    if (r.experiment != "table1" || r.method == "planar") continue;
-    const Row* p = nullptr;
+    if (r.experiment != "table1") continue;
+    const Row* sph = nullptr;
     for (const Row& q : rows)
-      if (q.experiment == "table1" && q.method == "planar" && q.particles == r.particles) p = &q;
-    if (!p) {
-      std::fprintf(stderr, "%9d %7s %8s %10s %10.2f %10s %14s %10.2f %10s %14.2f %12s %12s\n", r.particles, "-", "-",
-                   "-", r.frame, "-", "-", r.pass, "-", r.compose, "-", "-");
-      continue;
-    }
-    std::fprintf(stderr, "%9d %7.3f %8.2f %10.2f %10.2f %10.3f %14.2f %10.2f %10.3f %14.2f %12s %12s\n", r.particles,
-                 r.radius, r.overdraw.disc, p->frame, r.frame, r.frameRatioToPlanar, p->pass, r.pass,
-                 r.passRatioToPlanar, r.compose, fmt(p->rmse, "%.5f").c_str(), fmt(r.rmse, "%.5f").c_str());
+      if (q.experiment == "table1" && q.method == "spherical" && q.particles == r.particles) sph = &q;
+    std::string xFloor = r.floorPass > 0.0 ? bench::ratioToFloor(r.pass, r.floorPass) : "-";
+    if (!r.valid()) xFloor = "INVALID";
+    std::fprintf(stderr, "%9d %7.3f %8.2f %-16s %9.2f %9.2f %8s %9s %10s %9.2f %9s\n", r.particles, r.radius,
+                 r.overdraw.disc, r.method.c_str(), r.frame, r.pass,
+                 sph && &r != sph ? fmt(sph->pass / r.pass).c_str() : "-",
+                 r.floorPass > 0.0 ? fmt(r.floorPass, "%.2f").c_str() : "-", xFloor.c_str(), r.compose,
+                 fmt(r.rmse, "%.5f").c_str());
   }
   std::fprintf(stderr, "\nFig. 12 (%d^2 output, spherical, %d particles; median ms of %d frames)\n", kFigSize,
                kFigParticles, reps);

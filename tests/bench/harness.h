@@ -42,6 +42,19 @@ std::vector<double> timeRuns(int warmUp, int reps, Run&& run) {
   return times;
 }
 
+/// Whether a time can stand against its fill-rate floor (the same work with the fragment stage
+/// doing the minimum): true without a floor (floorMs <= 0) or when it is not faster than the floor.
+/// A run faster than its floor measured noise or a floor that is not one; its row is marked
+/// invalid (CSV `valid` 0) and gets no ratio.
+inline bool validAgainstFloor(double ms, double floorMs) { return !(floorMs > 0.0) || ms >= floorMs; }
+/// ms / floorMs as CSV text ("%.3f"), empty without a floor or when the run is below it.
+inline std::string ratioToFloor(double ms, double floorMs) {
+  if (!(floorMs > 0.0) || !validAgainstFloor(ms, floorMs)) return {};
+  char b[32];
+  std::snprintf(b, sizeof b, "%.3f", ms / floorMs);
+  return b;
+}
+
 /// splitmix64 (Steele, Lea and Flood 2014): the next value of the sequence that starts at `state`.
 inline std::uint64_t splitmix64(std::uint64_t& state) {
   state += core::kGoldenGamma;

@@ -394,13 +394,14 @@ void markParetoFronts(std::vector<CelRow>& rows) {
 std::string celCsv(const std::vector<CelRow>& rows) {
   std::string csv =
       "scene,path,parameter,value,label,particles,width,height,median_ms,floor_ms,ratio_to_floor,rmse,psnr_db,"
-      "coverage_iou,outline_iou,pareto,rmse_puffs,bare_ms\n";
+      "coverage_iou,outline_iou,pareto,rmse_puffs,bare_ms,valid\n";
   for (const CelRow& r : rows) {
     const double psnr = !std::isfinite(r.rmse) ? std::nan("") : r.rmse > 0.0 ? -20.0 * std::log10(r.rmse) : 999.0;
-    bench::appendf(csv, "%s,%s,%s,%g,%s,%zu,%d,%d,%.3f,%.3f,%.3f,%.6f,%.2f,%.4f,%.4f,%d,%.6f,%.3f\n", r.scene.c_str(),
+    // A row faster than its floor: invalid (valid 0), ratio left empty.
+    bench::appendf(csv, "%s,%s,%s,%g,%s,%zu,%d,%d,%.3f,%.3f,%s,%.6f,%.2f,%.4f,%.4f,%d,%.6f,%.3f,%d\n", r.scene.c_str(),
                    r.path.c_str(), r.parameter.c_str(), r.value, r.label.c_str(), r.particles, r.width, r.height, r.ms,
-                   r.floorMs, r.floorMs > 0.0 ? r.ms / r.floorMs : 0.0, r.rmse, psnr, r.coverageIoU, r.outlineIoU,
-                   r.pareto ? 1 : 0, r.rmsePuffs, r.bareMs);
+                   r.floorMs, bench::ratioToFloor(r.ms, r.floorMs).c_str(), r.rmse, psnr, r.coverageIoU, r.outlineIoU,
+                   r.pareto ? 1 : 0, r.rmsePuffs, r.bareMs, bench::validAgainstFloor(r.ms, r.floorMs) ? 1 : 0);
   }
   return csv;
 }

@@ -125,7 +125,8 @@ TEST_F(MediaTest, WallInFrontGivesZeroNotNegative) {
   MediaTarget t(kSize);
   const Camera cam;
   t.setDepth(cam.linear(3.5f));  // in front of the sphere's front at 4
-  for (Method m : {Method::kSpherical, Method::kPlanar, Method::kSoftLinear, Method::kSoftSCurve}) {
+  for (Method m :
+       {Method::kSpherical, Method::kPlanar, Method::kSoftLinear, Method::kSoftSCurve, Method::kPlanarTextured}) {
     SCOPED_TRACE(std::string(media::toString(m)));
     const auto px = drawOne(t, cam, sphereAt({0, 0, -5}, 1.0f), m, {0.25f, 0.5f, 0.75f, 1.0f});
     for (const glm::vec4& p : px) ASSERT_EQ(p, glm::vec4(0.25f, 0.5f, 0.75f, 1.0f));  // untouched, not darkened
@@ -194,6 +195,142 @@ TEST_F(MediaTest, PlanarCutsIntoAWallSoftAndSphericalDoNot) {
   EXPECT_LT(spherical, 0.12f);
   EXPECT_LT(soft, 0.12f);
   EXPECT_LT(scurve, 0.12f);
+}
+
+// planar-textured: the quad of half side r in the centre's plane, the opacity from the baked
+// falloff texture. Its closed form at a pixel: the pixel's ray meets the quad's plane at rho radii
+// from the centre, alpha = 1 - exp(-tau r falloffWeight(rho)). The texture samples falloffWeight
+// at texel centres and filters linearly, so it may differ by up to the weight's largest change
+// across one texel diagonal; at the centre a texel centre lies on the quad's (odd size): exact.
+double falloffResolutionError() {
+  const double step = std::sqrt(2.0) * 2.0 / media::kFalloffTexels;  // one texel diagonal, in radii
+  double worst = 0.0;
+  for (double rho = 0.0; rho < 1.0 + step; rho += 1e-4)
+    worst = std::max(worst, std::abs(media::falloffWeight(rho) - media::falloffWeight(rho + step)));
+  return worst;
+}
+
+TEST_F(MediaTest, PlanarTexturedCentreOpacityIsOneMinusExpTwoTauR) {
+  EXPECT_EQ(media::falloffWeight(0.0), 2.0);  // the full chord 2 r at full falloff
+  EXPECT_EQ(media::falloffWeight(1.0), 0.0);
+  ASSERT_TRUE(renderer_->setMaterials({plainMaterial(0.4f)}).ok());
+  MediaTarget t(kSize);
+  t.setDepth(1.0f);
+  const Camera cam;
+  const double tau = 0.4, r = 1.0, dz = 5.0;
+  const auto px = drawOne(t, cam, sphereAt({0, 0, -5}, 1.0f), Method::kPlanarTextured);
+  const double bound = tau * r * falloffResolutionError();
+  EXPECT_LT(bound, 0.05);  // the texture is fine enough to matter
+  EXPECT_NEAR(1.0f - px[(kSize / 2) * kSize + kSize / 2].a, 1.0 - std::exp(-2.0 * tau * r), 1e-5);
+  double worst = 0.0;
+  int inside = 0;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      const glm::dvec3 d = cam.ray(x, y, kSize);
+      const glm::dvec2 onPlane = glm::dvec2(d) * (dz / -d.z);
+      const double rho = glm::length(onPlane) / r;
+      const double got = 1.0 - px[static_cast<std::size_t>(y) * kSize + x].a;
+      if (std::max(std::abs(onPlane.x), std::abs(onPlane.y)) > r) {
+        EXPECT_EQ(got, 0.0) << "outside the quad at " << x << "," << y;
+        continue;
+      }
+      worst = std::max(worst, std::abs(got - (1.0 - std::exp(-tau * r * media::falloffWeight(rho)))));
+      inside += rho < 1.0 ? 1 : 0;
+    }
+  }
+  EXPECT_LT(worst, bound);
+  EXPECT_GT(inside, 400);
+  std::printf("planar-textured: worst |alpha - closed form| %.5f (resolution bound %.5f)\n", worst, bound);
+}
+
+TEST_F(MediaTest, PlanarTexturedMatchesTheMaterialTermsOfTheSphereProfile) {
+  // The same material terms: in-scattered colour and burn blending per pixel as billboard.frag, so
+  // colour / opacity is the material's scattered radiance at every covered pixel.
+  media::Material m = plainMaterial(0.7f);
+  m.color = {0.2f, 0.5f, 0.9f};
+  m.burn = 0.5f;
+  ASSERT_TRUE(renderer_->setMaterials({m}).ok());
+  MediaTarget t(kSize);
+  t.setDepth(1.0f);
+  const Camera cam;
+  const glm::vec3 bg(0.3f, 0.6f, 0.1f);
+  const auto px = drawOne(t, cam, sphereAt({0, 0, -5}, 1.0f), Method::kPlanarTextured, glm::vec4(bg, 1.0f));
+  int checked = 0;
+  for (const glm::vec4& p : px) {
+    const float a = (1.0f - p.a) / (1.0f - m.burn);  // the layer keeps 1 - alpha (1 - burn)
+    if (a < 0.05f) continue;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(p[c], m.color[c] * a + bg[c] * (1.0f - a * (1.0f - m.burn)), 2e-5);
+    ++checked;
+  }
+  EXPECT_GT(checked, 200);
+}
+
+TEST_F(MediaTest, PlanarTexturedIsHardClippedByAWall) {
+  // A wall at distance 4.5 over the left half of the image, in front of the quad's plane at 5: the
+  // depth test hides the quad there entirely and leaves the right half whole, so the opacity jumps
+  // from 0 to the full profile across one pixel. The spherical billboard sees the path from the
+  // sphere's front at 4 to the wall on the left: no jump of that size.
+  ASSERT_TRUE(renderer_->setMaterials({plainMaterial(0.4f)}).ok());
+  MediaTarget t(kSize);
+  const Camera cam;
+  std::vector<float> depth(static_cast<std::size_t>(kSize) * kSize, 1.0f);
+  const int edge = kSize / 2;  // columns below it: the wall
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < edge; ++x) depth[static_cast<std::size_t>(y) * kSize + x] = cam.linear(4.5f);
+  t.setDepth(depth);
+  const auto textured = drawOne(t, cam, sphereAt({0, 0, -5}, 1.0f), Method::kPlanarTextured);
+  const auto spherical = drawOne(t, cam, sphereAt({0, 0, -5}, 1.0f), Method::kSpherical);
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < edge; ++x) ASSERT_EQ(textured[static_cast<std::size_t>(y) * kSize + x].a, 1.0f);
+  const int y = kSize / 2;
+  const float jump = textured[y * kSize + edge - 1].a - textured[y * kSize + edge].a;
+  const float sphericalJump = std::abs(spherical[y * kSize + edge - 1].a - spherical[y * kSize + edge].a);
+  EXPECT_GT(jump, 0.5f);  // the full centre opacity 1 - e^-0.8 = 0.55, less a pixel's falloff
+  EXPECT_LT(sphericalJump, 0.45f);
+  std::printf("wall edge: planar-textured jumps %.3f, spherical %.3f\n", jump, sphericalJump);
+}
+
+TEST_F(MediaTest, PlanarTexturedPopsAtTheNearPlane) {
+  ASSERT_TRUE(renderer_->setMaterials({plainMaterial(0.4f)}).ok());
+  MediaTarget t(kSize);
+  t.setDepth(1.0f);
+  auto centreAlpha = [&](float nearPlane) {
+    Camera cam;
+    cam.nearPlane = nearPlane;
+    return 1.0f -
+           drawOne(t, cam, sphereAt({0, 0, -5}, 1.0f), Method::kPlanarTextured)[(kSize / 2) * kSize + kSize / 2].a;
+  };
+  EXPECT_NEAR(centreAlpha(4.99f), 1.0 - std::exp(-0.8), 1e-5);
+  EXPECT_EQ(centreAlpha(5.01f), 0.0f);
+}
+
+// Each method's fill-rate floor keeps its depth test: behind a wall in front of the sphere the
+// depth-tested methods' floors draw nothing (as the methods do), the others' floors the quad.
+TEST_F(MediaTest, TheFillRateFloorKeepsEachMethodsDepthTest) {
+  ASSERT_TRUE(renderer_->setMaterials({plainMaterial(0.4f)}).ok());
+  MediaTarget t(kSize);
+  const Camera cam;
+  t.setDepth(cam.linear(3.5f));
+  const std::size_t centre = (kSize / 2) * kSize + kSize / 2;
+  renderer_->setFillRateFloor(true);
+  for (Method m : {Method::kPlanar, Method::kPlanarTextured, Method::kSoftLinear, Method::kSpherical}) {
+    SCOPED_TRACE(std::string(media::toString(m)));
+    const auto floor = drawOne(t, cam, sphereAt({0, 0, -5}, 1.0f), m);
+    const bool tested = m == Method::kPlanar || m == Method::kPlanarTextured;
+    EXPECT_NEAR(floor[centre].a, tested ? 1.0f : 0.99f, 1e-6f);
+  }
+  t.setDepth(1.0f);
+  const auto texturedFloor = drawOne(t, cam, sphereAt({0, 0, -5}, 1.0f), Method::kPlanarTextured);
+  renderer_->setFillRateFloor(false);
+  const auto textured = drawOne(t, cam, sphereAt({0, 0, -5}, 1.0f), Method::kPlanarTextured);
+  int covered = 0;
+  for (std::size_t i = 0; i < textured.size(); ++i) {
+    if (textured[i].a < 1.0f) {
+      EXPECT_NEAR(texturedFloor[i].a, 0.99f, 1e-6f) << "the floor covers what the particle covers";
+      ++covered;
+    }
+  }
+  EXPECT_GT(covered, 100);
 }
 
 TEST_F(MediaTest, BurnBlendingIsIlmonenEquationThree) {

@@ -86,7 +86,8 @@ MediaBlockData blockData(const Frame& frame, const Settings& settings, Method me
 }
 
 // State: blending per Ilmonen (premultiplied colour, alpha = transmittance multiplier), no depth
-// test (surfaces clip in the shader), depth clamp for the spherical method only (its far-point
+// test (surfaces clip in the shader; planar and planar-textured test the opaque depth texture
+// there, as the depth unit would), depth clamp for the spherical method only (its far-point
 // quads must not be clipped; planar billboards keep the near-plane clipping that makes them pop).
 void applyBlendState(Method method, bool shimmer) {
   glDisable(GL_DEPTH_TEST);
@@ -220,10 +221,47 @@ std::vector<std::uint32_t> backToFront(const glm::mat4& view, std::span<const Pa
   return idx;
 }
 
+double falloffWeight(double rho) {
+  if (!(rho >= 0.0 && rho < 1.0)) return 0.0;
+  return 2.0 * (1.0 - rho) * std::sqrt(1.0 - rho * rho);
+}
+
+namespace {
+
+// planar-textured's falloff texture, made once: falloffWeight at each texel centre's distance
+// from the quad's centre (in radii; the quad spans [-1, 1]^2), linear filtering, clamped at the
+// edges. The size is odd, so the centre texel lies on the quad's centre and the centre is exact.
+core::Texture makeFalloffTexture() {
+  constexpr int n = kFalloffTexels;
+  std::vector<float> w(static_cast<std::size_t>(n) * n);
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      const double u = (x + 0.5) / n * 2.0 - 1.0, v = (y + 0.5) / n * 2.0 - 1.0;
+      w[static_cast<std::size_t>(y) * n + x] = static_cast<float>(falloffWeight(std::sqrt(u * u + v * v)));
+    }
+  }
+  core::Texture t = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(t.get(), 1, GL_R32F, n, n);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTextureSubImage2D(t.get(), 0, 0, 0, n, n, GL_RED, GL_FLOAT, w.data());
+  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  return t;
+}
+
+}  // namespace
+
 struct Renderer::Impl {
   Settings settings;
-  core::Program program, floorProgram;
+  // The sphere-profile program (planar, soft and spherical: billboard.vert/.frag), the classic
+  // textured billboard (billboard_textured.vert/.frag), and each one's fill-rate floor: its own
+  // vertex stage and depth test with a fragment stage that computes nothing else.
+  core::Program program, textured;
+  core::Program floorProgram, planarFloor, texturedFloor;
   bool fillRateFloor = false;
+  core::Texture falloff;
   core::VertexArray vao;
   core::Buffer block, materialBlock, particleBuffer;
   std::size_t particleCapacity = 0;
@@ -243,14 +281,24 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings) {
   if (!ramp) return ramp.error();
   auto program = core::buildProgram({"media/billboard.vert", "media/billboard.frag"});
   if (!program) return program.error();
+  auto textured = core::buildProgram({"media/billboard_textured.vert", "media/billboard_textured.frag"});
+  if (!textured) return textured.error();
   auto floorProgram = core::buildProgram({"media/billboard.vert", "media/floor.frag"});
   if (!floorProgram) return floorProgram.error();
+  auto planarFloor = core::buildProgram({"media/billboard.vert", "media/floor_depth_tested.frag"});
+  if (!planarFloor) return planarFloor.error();
+  auto texturedFloor = core::buildProgram({"media/billboard_textured.vert", "media/floor_depth_tested.frag"});
+  if (!texturedFloor) return texturedFloor.error();
 
   std::unique_ptr<Renderer> r(new Renderer());
   Impl& m = *r->impl_;
   m.settings = settings;
   m.program = std::move(*program);
+  m.textured = std::move(*textured);
   m.floorProgram = std::move(*floorProgram);
+  m.planarFloor = std::move(*planarFloor);
+  m.texturedFloor = std::move(*texturedFloor);
+  m.falloff = makeFalloffTexture();
   m.vao = core::makeVertexArray();
   m.block = core::makeBuffer();
   glNamedBufferStorage(m.block.get(), sizeof(MediaBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -353,7 +401,14 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
 
   applyBlendState(method, shimmer);
 
-  glUseProgram(m.fillRateFloor ? m.floorProgram.get() : m.program.get());
+  // The floor of a method keeps its quads and its depth test (planar and planar-textured test
+  // the opaque depth; the soft and spherical methods read it only to compute their opacity).
+  const bool textured = method == Method::kPlanarTextured;
+  GLuint program = textured ? m.textured.get() : m.program.get();
+  if (m.fillRateFloor) {
+    program = textured ? m.texturedFloor.get() : method == Method::kPlanar ? m.planarFloor.get() : m.floorProgram.get();
+  }
+  glUseProgram(program);
   glBindVertexArray(m.vao.get());
   glBindBufferBase(GL_UNIFORM_BUFFER, 3, m.block.get());
   glBindBufferBase(GL_UNIFORM_BUFFER, 4, m.materialBlock.get());
@@ -363,6 +418,7 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
   glBindTextureUnit(2, m.phase.get());
   glBindTextureUnit(3, m.temperatureDetail.get());
   glBindTextureUnit(4, m.opacityDetail.get());
+  glBindTextureUnit(5, m.falloff.get());
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.sorted.size() * 6));
 
   glBindVertexArray(0);

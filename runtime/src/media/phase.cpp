@@ -16,12 +16,15 @@ std::string_view toString(Method m) {
       return "soft-scurve";
     case Method::kSpherical:
       return "spherical";
+    case Method::kPlanarTextured:
+      return "planar-textured";
   }
   return "?";
 }
 
 std::optional<Method> parseMethod(std::string_view name) {
-  for (Method m : {Method::kPlanar, Method::kSoftLinear, Method::kSoftSCurve, Method::kSpherical})
+  for (Method m :
+       {Method::kPlanar, Method::kSoftLinear, Method::kSoftSCurve, Method::kSpherical, Method::kPlanarTextured})
     if (name == toString(m)) return m;
   return std::nullopt;
 }

@@ -124,7 +124,8 @@ void readLook(const json& j, const std::string& ptr, const Reader& r, MediaSpec&
                                        {{"planar", media::Method::kPlanar},
                                         {"soft-linear", media::Method::kSoftLinear},
                                         {"soft-scurve", media::Method::kSoftSCurve},
-                                        {"spherical", media::Method::kSpherical}});
+                                        {"spherical", media::Method::kSpherical},
+                                        {"planar-textured", media::Method::kPlanarTextured}});
   }
   if (auto* v = find(j, "resolution")) {
     const float f = readFloat(*v, child(ptr, "resolution"), kAny, "1, 0.5, 0.25 or 0.125");

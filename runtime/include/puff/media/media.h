@@ -28,6 +28,13 @@
 //    opacity from the clipped path length (Umenhoffer §2).
 // Planar methods use the same per-pixel profile as the spherical one for an unoccluded sphere
 // (Δs = the full chord), so the four differ only where the medium meets surfaces or the camera.
+//  - kPlanarTextured: the classic textured billboard the paper timed as "planar" (its own
+//    program, billboard_textured.vert/.frag): a camera-facing quad of half side r through the
+//    centre, its opacity 1 - exp(-tau * r * w) with w read from a baked falloff texture (the lone
+//    sphere's profile, falloffWeight), no ray/sphere intersection and no path clipping; depth-tested
+//    against the opaque depth all or nothing, clipped whole by the near plane. Same material terms,
+//    so its image differs from the others only in the opacity's shape (the texture's resolution,
+//    the quad in the centre's plane) and in its clipping.
 #pragma once
 
 #include <cstdint>
@@ -79,8 +86,10 @@ class Renderer {
 
   const std::vector<Material>& materials() const;
 
-  /// Benchmarks: draw the same quads with the same blending but a fragment program that
-  /// computes nothing (shaders/media/floor.frag): the fill-rate floor any billboard method pays.
+  /// Benchmarks: draw each method's own quads with its blending and depth state but a fragment
+  /// program that computes nothing (shaders/media/floor.frag; floor_depth_tested.frag for planar
+  /// and planar-textured, which keep their depth test against the opaque depth): the fill-rate
+  /// floor that method pays.
   void setFillRateFloor(bool on);
 
  private:
@@ -88,6 +97,13 @@ class Renderer {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// planar-textured's falloff texture is kFalloffTexels x kFalloffTexels texels over the quad.
+inline constexpr int kFalloffTexels = 65;
+/// The lone sphere's optical path per radius at `rho` radii from its centre seen head-on,
+/// 2 (1 - rho) sqrt(1 - rho^2) (the falloff (1 - d/r) times the chord / r); 0 outside. What the
+/// falloff texture holds at each texel centre: the opacity is 1 - exp(-tau * r * weight).
+double falloffWeight(double rho);
 
 /// Indices of `particles` from farthest to nearest along the view axis (stable: equal depths keep
 /// their order). A radix sort: O(n), about a millisecond for 50k on one core.

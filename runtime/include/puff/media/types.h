@@ -15,9 +15,12 @@
 
 namespace puff::media {
 
-enum class Method { kPlanar, kSoftLinear, kSoftSCurve, kSpherical };
+/// How a particle sphere becomes pixels (media.h says what each draws). kPlanarTextured is the
+/// classic textured billboard the paper timed (a baked falloff texture, no per-pixel path).
+enum class Method { kPlanar, kSoftLinear, kSoftSCurve, kSpherical, kPlanarTextured };
 std::string_view toString(Method m);
-std::optional<Method> parseMethod(std::string_view name);  ///< planar, soft-linear, soft-scurve, spherical
+/// planar, soft-linear, soft-scurve, spherical, planar-textured
+std::optional<Method> parseMethod(std::string_view name);
 
 enum class PhaseModel {
   kCornetteShanks,    ///< the form Umenhoffer §3.1 prints (and calls Henyey–Greenstein); not isotropic at g = 0
