@@ -17,65 +17,16 @@
 #include <puff/core/random.h>
 #include <puff/reference/media_reference.h>
 
+#include "media_shared.h"
+
 namespace puff::reference {
 
 namespace {
 
-constexpr int kMaxMaterials = 32;  // media::Renderer's table size
-
-// A material after `becomes`, as the shader mixes it (MaterialGpu's fields), in double precision.
-struct Mixed {
-  glm::dvec3 color{1.0};
-  double albedo = 0, density = 0, g = 0, emissive = 0, emission = 0, t0 = 0, t1 = 0, burn = 0, detail = 0, window = 0,
-         speed = 0;
-};
-
-Mixed fromMaterial(const media::Material& m) {
-  Mixed r;
-  r.color = glm::dvec3(m.color);
-  r.emissive = m.emissive ? 1.0 : 0.0;
-  r.albedo = m.emissive ? 0.0 : m.albedo;  // as media::Renderer uploads it: fire scatters nothing
-  // An emitter's opacity detail is 0 (as media::Renderer uploads it): tau stays continuous while
-  // fire turns into smoke.
-  r.detail = m.emissive ? 0.0 : m.detail;
-  r.density = m.density;
-  r.g = m.g;
-  r.emission = m.emission;
-  r.t0 = m.temperature;
-  r.t1 = m.temperatureRange;
-  r.burn = m.burn;
-  r.window = m.detailWindow;
-  r.speed = m.detailSpeed;
-  return r;
-}
-
-Mixed mix(const Mixed& a, const Mixed& b, double f) {
-  auto l = [f](double x, double y) { return x + (y - x) * f; };
-  Mixed r;
-  r.color = a.color + (b.color - a.color) * f;
-  r.albedo = l(a.albedo, b.albedo);
-  r.density = l(a.density, b.density);
-  r.g = l(a.g, b.g);
-  r.emissive = l(a.emissive, b.emissive);
-  r.emission = l(a.emission, b.emission);
-  r.t0 = l(a.t0, b.t0);
-  r.t1 = l(a.t1, b.t1);
-  r.burn = l(a.burn, b.burn);
-  r.detail = l(a.detail, b.detail);
-  r.window = l(a.window, b.window);
-  r.speed = l(a.speed, b.speed);
-  return r;
-}
-
-// One particle, prepared once per frame.
-struct Prepared {
-  glm::dvec3 centre{0.0};  // camera space
-  double radius = 0.0;
-  Mixed mat;
-  double tau = 0.0;                            // material density * particle density, before detail
-  double windowX = 0, windowY = 0, time0 = 0;  // the seed's place and time in the detail videos
-  std::uint32_t index = 0;
-};
+using detail::haveVideo;
+using detail::Mixed;
+using detail::Prepared;
+using detail::rayThrough;
 
 // One particle's contribution to one ray.
 struct Hit {
@@ -88,8 +39,6 @@ struct Hit {
 // The shader's detail-window hash (shaders/media/billboard.frag).
 using core::lowbias32;
 
-bool haveVideo(const core::DetailVideo* v) { return v != nullptr && v->width > 0 && v->height > 0 && v->frames > 0; }
-
 // GL_LINEAR with GL_REPEAT along one axis of n texels: the two texels and the weight of the second.
 void repeatAxis(double coord, int n, int& i0, int& i1, double& w) {
   const double u = coord * n - 0.5;
@@ -98,26 +47,6 @@ void repeatAxis(double coord, int n, int& i0, int& i1, double& w) {
   const double k = lo - std::floor(lo / n) * n;  // lo mod n, in [0, n)
   i0 = std::clamp(static_cast<int>(k), 0, n - 1);
   i1 = i0 + 1 == n ? 0 : i0 + 1;
-}
-
-Ray rayThrough(const glm::dmat4& invProj, bool orthographic, int width, int height, int i, int j) {
-  const double nx = (i + 0.5) / width * 2.0 - 1.0, ny = (j + 0.5) / height * 2.0 - 1.0;
-  Ray r;
-  if (orthographic) {
-    const glm::dvec4 pn = invProj * glm::dvec4(nx, ny, -1.0, 1.0);
-    r.origin = glm::dvec3(pn.x / pn.w, pn.y / pn.w, 0.0);
-    r.direction = glm::dvec3(0.0, 0.0, -1.0);
-  } else {
-    const glm::dvec4 pf = invProj * glm::dvec4(nx, ny, 1.0, 1.0);
-    r.direction = glm::normalize(glm::dvec3(pf) / pf.w);
-  }
-  return r;
-}
-
-std::string number(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
 }
 
 }  // namespace
@@ -148,34 +77,6 @@ Ray pixelRay(const media::Frame& frame, int i, int j) {
 
 namespace {
 
-// The input's checks (sizes, materials, settings), in the renderer's words.
-Result<void> checkInput(const MediaReferenceInput& in) {
-  const media::Frame& f = in.frame;
-  const int w = f.width, h = f.height;
-  const std::string at = "media reference: ";
-  if (w < 1 || h < 1 || w > 16384 || h > 16384)
-    return Error{at + "frame size " + std::to_string(w) + "x" + std::to_string(h) + " outside 1..16384"};
-  const std::size_t pixels = static_cast<std::size_t>(w) * h;
-  if (!in.opaqueColor.empty() && in.opaqueColor.size() != pixels)
-    return Error{at + "opaque colour: expected " + std::to_string(pixels) + " pixels, got " +
-                 std::to_string(in.opaqueColor.size())};
-  if (!in.opaqueDepth.empty() && in.opaqueDepth.size() != pixels)
-    return Error{at + "opaque depth: expected " + std::to_string(pixels) + " pixels, got " +
-                 std::to_string(in.opaqueDepth.size())};
-  const int count = static_cast<int>(in.materials.size());
-  if (count < 1 || count > kMaxMaterials)
-    return Error{at + "materials: expected 1 to " + std::to_string(kMaxMaterials) + ", got " + std::to_string(count)};
-  for (const media::Material& m : in.materials)
-    if (auto ok = media::validate(m, count); !ok) return Error{at + ok.error().message};
-  const media::Settings& s = in.settings;
-  if (!(s.exposure >= 0.0f && s.exposure <= 1e4f))
-    return Error{at + "exposure: expected a number in [0, 10000], got " + number(s.exposure)};
-  // The same range checks (and error text) the renderer's ramp makes.
-  if (auto ramp = core::makeBlackbodyRamp(s.minKelvin, s.maxKelvin, 2, s.normalizeKelvin); !ramp)
-    return Error{at + ramp.error().message};
-  return {};
-}
-
 // One frame of the reference: the frame's constants and its particles prepared once, then each
 // pixel's ray through them.
 struct Tracer {
@@ -199,9 +100,7 @@ struct Tracer {
     invProj = glm::inverse(glm::dmat4(f.projection));
     nearPlane = f.nearPlane;
     farPlane = f.farPlane;
-    glm::dvec3 l(f.lightDirection);
-    l = glm::length(l) > 0.0 ? glm::normalize(l) : glm::dvec3(0, 1, 0);
-    toLight = glm::normalize(glm::dvec3(view * glm::dvec4(l, 0.0)));
+    toLight = detail::toLightCamera(f, view);
     ambient = glm::dvec3(f.ambient);
     lightColor = glm::dvec3(f.lightColor);
     time = f.time;
@@ -220,35 +119,9 @@ struct Tracer {
 
   // The particles a ray may meet: in camera space, their material mixed, culled as the billboards are.
   Result<void> prepare() {
-    const std::string at = "media reference: ";
-    const int count = static_cast<int>(in.materials.size());
-    prepared.reserve(in.particles.size());
-    for (std::size_t k = 0; k < in.particles.size(); ++k) {
-      const media::Particle& p = in.particles[k];
-      if (p.material >= static_cast<std::uint32_t>(count))
-        return Error{at + "particles/" + std::to_string(k) + "/material: expected an index below " +
-                     std::to_string(count) + ", got " + std::to_string(p.material)};
-      Prepared q;
-      q.centre = glm::dvec3(view * glm::dvec4(glm::dvec3(p.position), 1.0));
-      q.radius = p.radius;
-      const double dz = -q.centre.z;
-      // billboard.vert's cull: nothing to draw, wholly in front of the near plane or beyond the far.
-      if (!(q.radius > 0.0) || dz + q.radius < nearPlane || dz - q.radius > farPlane) continue;
-      const media::Material& m = in.materials[p.material];
-      q.mat = fromMaterial(m);
-      if (m.becomes >= 0) {
-        const double start = m.transitionStart, end = m.transitionEnd, life = p.life;
-        const double t =
-            end > start ? std::clamp((life - start) / (end - start), 0.0, 1.0) : (life < start ? 0.0 : 1.0);
-        q.mat = mix(q.mat, fromMaterial(in.materials[static_cast<std::size_t>(m.becomes)]), t);
-      }
-      q.tau = q.mat.density * static_cast<double>(p.density);
-      q.windowX = unitHash(p.seed);
-      q.windowY = unitHash(p.seed ^ 0x68bc21ebu);
-      q.time0 = unitHash(p.seed ^ 0x02e5be93u);
-      q.index = static_cast<std::uint32_t>(k);
-      prepared.push_back(q);
-    }
+    auto particles = detail::prepareParticles(in, view);
+    if (!particles) return particles.error();
+    prepared = std::move(*particles);
     // Le(T) per pixel is 95 Planck evaluations; without a temperature video T is one value per
     // particle, so it is computed once.
     constantLe.assign(prepared.size(), glm::dvec3(0.0));
@@ -258,10 +131,7 @@ struct Tracer {
     return {};
   }
 
-  glm::dvec3 emitted(double kelvin) const {
-    kelvin = std::clamp(kelvin, static_cast<double>(s.minKelvin), static_cast<double>(s.maxKelvin));
-    return glm::max(core::xyzToLinearSrgb(core::blackbodyXYZ(kelvin) / yNorm), glm::dvec3(0.0));
-  }
+  glm::dvec3 emitted(double kelvin) const { return detail::emitted(s, yNorm, kelvin); }
 
   // Every particle the ray from o along dir meets in front of the opaque depth zs.
   void gatherHits(const glm::dvec3& o, const glm::dvec3& dir, double zs, double cosTheta,
@@ -342,7 +212,7 @@ struct Tracer {
 }  // namespace
 
 Result<core::Image> renderMediaReference(const MediaReferenceInput& in, core::Image* layer) {
-  PUFF_TRY(checkInput(in));
+  PUFF_TRY(detail::checkInput(in));
   Tracer tracer(in);
   PUFF_TRY(tracer.prepare());
   const int w = in.frame.width, h = in.frame.height;
