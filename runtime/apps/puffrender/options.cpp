@@ -116,7 +116,8 @@ void addRenderOptions(CLI::App& app, Options& o) {
          "saying so, when the context cannot run it) or fixed (GL 1.x fixed function, McGuire & Fein 4.4: one "
          "light, uniform ambient, no shadows) or reference (the image the nailboards approximate: every "
          "particle's actual puff mesh, Eq. 2 per pixel, outlines around the true silhouettes, exact shadows; "
-         "supersampled 3x3 and slow; no media). Default: cel")
+         "supersampled 3x3 and slow; media by the physical reference: the particles' summed density fields "
+         "integrated along every ray on the CPU, seconds per frame). Default: cel")
       ->check(CLI::IsMember({"cel", "fixed", "reference"}));
 }
 

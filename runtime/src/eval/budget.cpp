@@ -11,6 +11,7 @@
 #include <puff/core/statistics.h>
 #include <puff/eval/budget.h>
 #include <puff/eval/cel_reference.h>
+#include <puff/reference/media_physical.h>
 #include <puff/reference/media_reference.h>
 #include <puff/reference/metrics.h>
 #include <puff/render/render.h>
@@ -106,10 +107,12 @@ struct FrameReference {
   std::vector<float> opaqueDepth;
   std::size_t particles = 0;
   core::Image image;
+  core::Image physical;  // empty unless asked for
 };
 
 Result<FrameReference> makeReference(const Scene& scene, const SceneRenderer::MediaFrameInputs& in,
-                                     const core::DetailVideo* temperature, const core::DetailVideo* opacity) {
+                                     const core::DetailVideo* temperature, const core::DetailVideo* opacity,
+                                     bool physical = false, double* physicalMs = nullptr) {
   const MediaSpec& spec = *scene.media;
   reference::MediaReferenceInput ri;
   ri.frame = in.frame;
@@ -125,6 +128,13 @@ Result<FrameReference> makeReference(const Scene& scene, const SceneRenderer::Me
   auto image = reference::renderMediaReference(ri);
   if (!image) return Error::at(scene.file, "the media reference: " + image.error().message);
   FrameReference r;
+  if (physical) {
+    const auto t0 = Clock::now();
+    auto p = reference::renderMediaPhysical(ri, reference::PhysicalOptions{});
+    if (physicalMs) *physicalMs += msSince(t0);
+    if (!p) return Error::at(scene.file, "the physical media reference: " + p.error().message);
+    r.physical = std::move(*p);
+  }
   r.opaqueColor = in.opaqueColor;
   r.opaqueDepth = in.opaqueDepth;
   r.particles = in.particles.size();
@@ -158,7 +168,7 @@ Result<void> checkMediaBudget(const Scene& scene, std::span<const int> frames, c
 // while they draw the same opaque pass.
 Result<void> measureMediaErrors(const Scene& scene, const Scene& measured, int f,
                                 const std::vector<std::unique_ptr<SceneRenderer>>& renderers, const Detail& detail,
-                                MediaBudget& budget) {
+                                bool physical, MediaBudget& budget) {
   std::optional<FrameReference> shared;
   for (std::size_t i = 0; i < renderers.size(); ++i) {
     auto image = renderers[i]->renderFrame(f);
@@ -169,7 +179,7 @@ Result<void> measureMediaErrors(const Scene& scene, const Scene& measured, int f
     std::optional<FrameReference> own;
     if (!shared || !sameInputs(*shared, *inputs)) {
       const auto t0 = Clock::now();
-      auto ref = makeReference(measured, *inputs, detail.temperature(), detail.opacity());
+      auto ref = makeReference(measured, *inputs, detail.temperature(), detail.opacity(), physical, &budget.physicalMs);
       budget.referenceMs += msSince(t0);
       if (!ref) return ref.error();
       if (!shared) {
@@ -178,8 +188,9 @@ Result<void> measureMediaErrors(const Scene& scene, const Scene& measured, int f
         own = std::move(*ref);
       }
     }
-    const core::Image& ref = own ? own->image : shared->image;
-    budget.candidates[i].rmse.push_back(reference::imageError(*image, ref).rmse);
+    const FrameReference& ref = own ? *own : *shared;
+    budget.candidates[i].rmse.push_back(reference::imageError(*image, ref.image).rmse);
+    if (physical) budget.candidates[i].rmsePhysical.push_back(reference::imageError(*image, ref.physical).rmse);
   }
   return {};
 }
@@ -237,7 +248,7 @@ Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> 
   std::vector<std::vector<double>> times(renderers.size());
 
   for (int f : budget.frames) {
-    PUFF_TRY(measureMediaErrors(scene, measured, f, renderers, *detail, budget));
+    PUFF_TRY(measureMediaErrors(scene, measured, f, renderers, *detail, options.physical, budget));
     for (int k = 0; k < options.timedRenders; ++k) {
       for (std::size_t i = 0; i < renderers.size(); ++i) {
         const auto t0 = Clock::now();
@@ -250,6 +261,7 @@ Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> 
   for (std::size_t i = 0; i < budget.candidates.size(); ++i) {
     MediaCandidate& c = budget.candidates[i];
     c.worstRmse = *std::max_element(c.rmse.begin(), c.rmse.end());
+    if (!c.rmsePhysical.empty()) c.worstRmsePhysical = *std::max_element(c.rmsePhysical.begin(), c.rmsePhysical.end());
     c.medianMs = median(times[i]);
   }
   return budget;

@@ -369,6 +369,29 @@ struct CelReference::Impl {
   }
 };
 
+std::vector<float> CelReference::outputDepth() const {
+  const Impl& m = *impl_;
+  if (!m.depthStencil) return {};
+  const int ss = m.options.supersample;
+  std::vector<float> super(static_cast<std::size_t>(m.width) * m.height);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(m.depthStencil.get(), 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                    static_cast<GLsizei>(super.size() * sizeof(float)), super.data());
+  const int w = m.width / ss, h = m.height / ss;
+  std::vector<float> out(static_cast<std::size_t>(w) * h, 1.0f);
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      float& nearest = out[static_cast<std::size_t>(y) * w + x];
+      for (int j = 0; j < ss; ++j) {
+        for (int i = 0; i < ss; ++i) {
+          nearest = std::min(nearest, super[static_cast<std::size_t>(y * ss + j) * m.width + x * ss + i]);
+        }
+      }
+    }
+  }
+  return out;
+}
+
 CelReference::CelReference() : impl_(std::make_unique<Impl>()) {}
 CelReference::~CelReference() = default;
 int CelReference::supersample() const { return impl_->options.supersample; }

@@ -51,6 +51,11 @@ class CelReference {
             std::span<const cel::Particle> particles, const cel::Style& style, const glm::vec3& background,
             GLuint outputFbo, const cel::Viewport& viewport);
 
+  /// The last frame's linear depth at OUTPUT resolution: per output pixel the nearest of its
+  /// supersamples (as the media layers resolve MSAA depth), rows bottom-up (GL order), >= 1 where
+  /// nothing was drawn. Empty before the first draw.
+  std::vector<float> outputDepth() const;
+
   /// The supersampled viewport for an output of width x height.
   cel::Viewport supersampledViewport(int width, int height) const;
 

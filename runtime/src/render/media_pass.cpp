@@ -56,20 +56,8 @@ void MediaPass::draw(const scene::Scene& s, const scene::FrameInputs& inputs, co
   particles_ = inputs.media;
   layers_->resolveOpaque();
   layers_->beginMedia();
-  const cel::Camera& cam = inputs.camera;
-  media::Frame mf;
-  mf.view = cam.view();
-  mf.projection = cam.projection(static_cast<float>(viewport.width) / static_cast<float>(viewport.height));
-  mf.nearPlane = cam.nearPlane;
-  mf.farPlane = cam.farPlane;
-  mf.orthographic = cam.fovYDegrees == 0.0f;
-  mf.lightDirection = s.light.direction;
   // The scene's colours are display values; the media light in scene-linear (docs/colour.md).
-  mf.lightColor = core::srgbToLinear(s.light.color);
-  mf.ambient = core::srgbToLinear(s.ambientColor);
-  mf.time = inputs.time;
-  mf.width = viewport.width;
-  mf.height = viewport.height;
+  const media::Frame mf = scene::mediaFrameFor(s, inputs.camera, inputs.time, viewport.width, viewport.height);
   media::DrawStats ds;
   renderer_->draw(layers_->layerFrame(mf), particles_, spec.method, layers_->mediaDepth(),
                   spec.compose.shimmerPixels > 0.0f, &ds);

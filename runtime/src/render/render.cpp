@@ -174,7 +174,9 @@ Result<void> SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, 
                                       const cel::Camera* camera) {
   fitPathTo(viewport);
   const scene::Scene& s = impl_->scene;
-  if (s.media && s.media->motionBlurFrames > 0 && impl_->path->drawsMedia()) {
+  // The references model no motion blur (docs/media.md): only a path with media layers blurs.
+  if (s.media && s.media->motionBlurFrames > 0 && impl_->path->drawsMedia() &&
+      impl_->path->kind() != RenderPath::kReference) {
     return drawBlurred(frame, viewport, stats, camera);
   }
   return drawSingle(frame, viewport, stats, camera);

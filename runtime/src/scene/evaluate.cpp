@@ -276,6 +276,22 @@ std::vector<media::Material> linearMediaMaterials(const Scene& scene) {
   return out;
 }
 
+media::Frame mediaFrameFor(const Scene& s, const cel::Camera& cam, float time, int width, int height) {
+  media::Frame mf;
+  mf.view = cam.view();
+  mf.projection = cam.projection(static_cast<float>(width) / static_cast<float>(height));
+  mf.nearPlane = cam.nearPlane;
+  mf.farPlane = cam.farPlane;
+  mf.orthographic = cam.fovYDegrees == 0.0f;
+  mf.lightDirection = s.light.direction;
+  mf.lightColor = core::srgbToLinear(s.light.color);
+  mf.ambient = core::srgbToLinear(s.ambientColor);
+  mf.time = time;
+  mf.width = width;
+  mf.height = height;
+  return mf;
+}
+
 bool hasFire(const Scene& scene) {
   if (!scene.media) return false;
   const std::vector<media::Material>& mats = scene.media->materials;

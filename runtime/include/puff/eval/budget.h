@@ -26,13 +26,21 @@ struct MediaBudgetOptions {
   /// Timed renders per frame and resolution, [1, 100]. The first render of a frame (which also steps
   /// the simulators there and gives the measured image) is never timed.
   int timedRenders = 3;
+  /// Also measure every candidate against the PHYSICAL reference (reference/media_physical.h: the
+  /// particles' summed density fields integrated along each ray), the method's own error, beside the
+  /// model reference's discretisation error (layer resolution, tables, sort). Seconds per frame; the
+  /// choice never uses it.
+  bool physical = false;
 };
 
 /// One resolution, measured.
 struct MediaCandidate {
   float resolution = 1.0f;   ///< MediaSpec::resolution
-  std::vector<double> rmse;  ///< per measured frame (MediaBudget::frames order), linear colour
+  std::vector<double> rmse;  ///< per measured frame (MediaBudget::frames order), scene-linear, against the model reference
   double worstRmse = 0.0;    ///< the largest of `rmse`
+  /// With MediaBudgetOptions::physical: per measured frame against the physical reference (else empty).
+  std::vector<double> rmsePhysical;
+  double worstRmsePhysical = 0.0;  ///< the largest of rmsePhysical
   double medianMs = 0.0;     ///< median wall time of one render::SceneRenderer::renderFrame, milliseconds
 };
 
@@ -40,6 +48,7 @@ struct MediaBudget {
   std::vector<int> frames;                 ///< the frames measured, ascending
   std::vector<MediaCandidate> candidates;  ///< in kMediaResolutions order: cheapest first
   double referenceMs = 0.0;                ///< wall time spent computing the references, milliseconds
+  double physicalMs = 0.0;                 ///< of that, the physical references' (0 without them)
 };
 
 /// The frames to measure for a render of frames first..last (0 <= first <= last): first, middle
@@ -69,8 +78,8 @@ struct MediaChoice {
 };
 
 /// The exact media image of the frame `renderer` drew last (render::SceneRenderer::lastMediaFrame: the same
-/// particles over the same opaque layer), as measureMediaBudget computes it: clamped to [0, 1], RGBA,
-/// row 0 at the top. `scene` is the renderer's scene (its materials, settings and detail videos).
+/// particles over the same opaque layer), as measureMediaBudget computes it: scene-linear, not clamped,
+/// RGBA, row 0 at the top. `scene` is the renderer's scene (its materials, settings and detail videos).
 /// Needs the renderer's context current.
 Result<core::Image> mediaReference(const scene::Scene& scene, const render::SceneRenderer& renderer);
 

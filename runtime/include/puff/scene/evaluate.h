@@ -46,6 +46,10 @@ std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variat
 /// display values (docs/colour.md), the media renderer and its references light in linear. Requires
 /// scene.media.
 std::vector<media::Material> linearMediaMaterials(const Scene& scene);
+/// The media renderer's frame for `camera` at scene time `time` over a width x height viewport
+/// (x, y = 0): view, projection, planes, and the scene's light and ambient colours DECODED to
+/// scene-linear (the scene file holds display values).
+media::Frame mediaFrameFor(const Scene& scene, const cel::Camera& camera, float time, int width, int height);
 /// Whether the scene draws fire: a media particle or emitter whose material (or the material it
 /// becomes) is emissive.
 bool hasFire(const Scene& scene);
