@@ -5,7 +5,7 @@ layout(binding = 0) uniform sampler2D uOpaqueColor;
 layout(binding = 1) uniform sampler2D uOpaqueDepth;  // linear depth, full resolution
 layout(binding = 2) uniform sampler2D uMedia;        // premultiplied radiance, transmittance
 layout(binding = 3) uniform sampler2D uMediaDepth;   // nearest linear depth per layer texel
-layout(binding = 4) uniform sampler2D uShimmerTex;     // rg offsets
+layout(binding = 4) uniform sampler2D uShimmerTex;   // rg offsets
 
 struct LightGpu {
   vec4 centreRadius;    // camera space, radius
@@ -14,11 +14,11 @@ struct LightGpu {
 };
 layout(std140, binding = 5) uniform ComposeBlock {
   mat4 uInvProj;
-  vec4 uViewport;   // x, y, width, height of the output viewport
-  vec4 uDepth;      // near, far, far - near, 1 if orthographic
-  vec4 uLayer;      // layer width, height, factor (full pixels per layer texel), depth tolerance
-  vec4 uShimmer;    // x: pixels per unit offset
-  ivec4 uCounts;    // x: lights, y: depth-aware upsampling
+  vec4 uViewport;  // x, y, width, height of the output viewport
+  vec4 uDepth;     // near, far, far - near, 1 if orthographic
+  vec4 uLayer;     // layer width, height, factor (full pixels per layer texel), depth tolerance
+  vec4 uShimmer;   // x: pixels per unit offset
+  ivec4 uCounts;   // x: lights, y: upsampling rule (0 bilinear, 1 bilateral in depth, 2 all-or-nearest)
   LightGpu uLights[8];
 };
 
@@ -63,6 +63,27 @@ vec3 lit(ivec2 p) {
   return c;
 }
 
+// The opaque scene lit, at a continuous pixel position (pixel centres at whole numbers): the
+// bilinear mix of the four pixels around it, clamped to the image's edge. Heat shimmer moves the
+// scene by fractions of a pixel; snapping them to whole pixels made the image jump in 1 px steps.
+vec3 litAt(vec2 pos, ivec2 full) {
+  pos = clamp(pos, vec2(0.0), vec2(full - 1));
+  const ivec2 i0 = ivec2(floor(pos));
+  const ivec2 i1 = min(i0 + 1, full - 1);
+  const vec2 f = pos - vec2(i0);
+  if (f == vec2(0.0)) return lit(i0);  // no offset: the pixel itself, exactly
+  return mix(mix(lit(i0), lit(ivec2(i1.x, i0.y)), f.x), mix(lit(ivec2(i0.x, i1.y)), lit(i1), f.x), f.y);
+}
+
+// How much a layer texel drawn against depth zi counts for a pixel at depth z (view distances):
+// 1 within the tolerance (the same surface), falling linearly to 0 at kDepthFalloff tolerances
+// (another surface). Relative to z, so it means the same near and far.
+const float kDepthFalloff = 5.0;
+float depthWeight(float diff, float tolerance) {
+  const float x = diff / max(tolerance, 1e-20);
+  return clamp((kDepthFalloff - x) / (kDepthFalloff - 1.0), 0.0, 1.0);
+}
+
 void main() {
   const ivec2 p = ivec2(gl_FragCoord.xy - uViewport.xy);
   const ivec2 full = ivec2(uViewport.zw);
@@ -77,9 +98,10 @@ void main() {
   const float w[4] = float[]((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
 
   const float z = viewDistance(texelFetch(uOpaqueDepth, p, 0).r);
-  vec4 media = vec4(0.0);
+  const float tolerance = uLayer.w * z;
+  vec4 media = vec4(0.0), bilateral = vec4(0.0);
   vec2 shimmer = vec2(0.0);
-  float worst = 0.0, best = 3.0e38;
+  float worst = 0.0, best = 3.0e38, weightSum = 0.0;
   int nearest = 0;
   for (int i = 0; i < 4; ++i) {
     const ivec2 ti = clamp(t[i], ivec2(0), layerSize - 1);
@@ -90,10 +112,19 @@ void main() {
       best = diff;
       nearest = i;
     }
-    media += w[i] * texelFetch(uMedia, ti, 0);
+    const vec4 m = texelFetch(uMedia, ti, 0);
+    media += w[i] * m;
+    const float wi = w[i] * depthWeight(diff, tolerance);
+    bilateral += wi * m;
+    weightSum += wi;
     shimmer += w[i] * texelFetch(uShimmerTex, ti, 0).rg;
   }
-  if (uCounts.y != 0 && worst > uLayer.w * z) {
+  // uCounts.y: 0 plain bilinear; 1 bilateral in depth; 2 the earlier all-or-nearest switch (kept
+  // to measure against).
+  const int rule = uCounts.y;
+  if (rule == 1 && weightSum > 0.0) {
+    media = bilateral / weightSum;
+  } else if ((rule == 1) || (rule == 2 && worst > tolerance)) {
     // Not one surface: take the layer texel drawn against the depth nearest this pixel's, looking
     // one texel further out too (a surface thinner than a texel owns the texels around it).
     ivec2 pick = t[nearest];
@@ -110,6 +141,5 @@ void main() {
     }
     media = texelFetch(uMedia, clamp(pick, ivec2(0), layerSize - 1), 0);
   }
-  const ivec2 shifted = clamp(p + ivec2(round(shimmer * uShimmer.x)), ivec2(0), full - 1);
-  outColor = vec4(lit(shifted) * media.a + media.rgb, 1.0);
+  outColor = vec4(litAt(vec2(p) + shimmer * uShimmer.x, full) * media.a + media.rgb, 1.0);
 }

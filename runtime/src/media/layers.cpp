@@ -40,6 +40,7 @@ core::Texture makeTexture2D(GLenum format, int w, int h, GLenum filter) {
 struct Layers::Impl {
   int width = 0, height = 0, samples = 1, factor = 1, mediaWidth = 0, mediaHeight = 0;
   float scale = 1.0f;
+  Upsampling upsampling = Upsampling::kBilateral;
   core::Framebuffer opaqueFbo, resolveFbo, linearFbo, depthFbo, mediaFbo;
   core::Texture msColor, msDepth;                          // multisample textures (1 sample when MSAA is off)
   core::Texture color, depth, mediaDepth, media, shimmer;  // depth: R32F linear, the samples' nearest
@@ -62,6 +63,8 @@ GLuint Layers::mediaDepth() const { return impl_->mediaDepth.get(); }
 GLuint Layers::opaqueColor() const { return impl_->color.get(); }
 GLuint Layers::opaqueDepth() const { return impl_->depth.get(); }
 GLuint Layers::mediaColor() const { return impl_->media.get(); }
+void Layers::setUpsampling(Upsampling rule) { impl_->upsampling = rule; }
+Layers::Upsampling Layers::upsampling() const { return impl_->upsampling; }
 
 Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int samples, float scale) {
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
@@ -260,7 +263,9 @@ void Layers::compose(GLuint target, const int viewport[4], const Frame& frame, s
     d.lights[n].flags = glm::ivec4(l.modulate ? 1 : 0, l.fullAtBack ? 1 : 0, 0, 0);
     ++n;
   }
-  d.counts = glm::ivec4(n, settings.depthAware ? 1 : 0, 0, 0);
+  // compose.frag's rules: 0 plain bilinear, 1 bilateral in depth, 2 all-or-nearest.
+  const int rule = !settings.depthAware ? 0 : m.upsampling == Upsampling::kBilateral ? 1 : 2;
+  d.counts = glm::ivec4(n, rule, 0, 0);
   glNamedBufferSubData(m.block.get(), 0, sizeof(d), &d);
 
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);

@@ -1,9 +1,15 @@
-// Image metrics (metrics.h): error, coverage, second differences in time, jumps in space.
+// Image metrics (metrics.h): error, SSIM, coverage, second differences in time, jumps in space,
+// and the media and clip-band masks.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
+#include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
+
 #include <puff/core/error.h>
+#include <puff/reference/media_reference.h>
 #include <puff/reference/metrics.h>
 
 namespace puff::reference {
@@ -116,6 +122,154 @@ double largestJump(const core::Image& image, const std::vector<bool>& region) {
     }
   }
   return worst;
+}
+
+namespace {
+
+// The paper's window: 11 taps of a Gaussian of sigma 1.5 (not normalized: the cut windows at the
+// edges are normalized by the taps they keep).
+constexpr int kSsimRadius = 5;
+std::array<double, 2 * kSsimRadius + 1> ssimTaps() {
+  std::array<double, 2 * kSsimRadius + 1> g{};
+  for (int i = -kSsimRadius; i <= kSsimRadius; ++i) g[i + kSsimRadius] = std::exp(-(i * i) / (2.0 * 1.5 * 1.5));
+  return g;
+}
+
+// The window's weighted mean of `v` (w x h, row-major) at every pixel: the Gaussian is separable
+// and a cut window is a rectangle, so rows then columns, each normalized by the taps inside.
+std::vector<double> windowMean(const std::vector<double>& v, int w, int h) {
+  const auto g = ssimTaps();
+  std::vector<double> rows(v.size()), out(v.size());
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      double s = 0.0, n = 0.0;
+      for (int k = std::max(-kSsimRadius, -x); k <= std::min(kSsimRadius, w - 1 - x); ++k) {
+        s += g[k + kSsimRadius] * v[static_cast<std::size_t>(y) * w + x + k];
+        n += g[k + kSsimRadius];
+      }
+      rows[static_cast<std::size_t>(y) * w + x] = s / n;
+    }
+  }
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      double s = 0.0, n = 0.0;
+      for (int k = std::max(-kSsimRadius, -y); k <= std::min(kSsimRadius, h - 1 - y); ++k) {
+        s += g[k + kSsimRadius] * rows[static_cast<std::size_t>(y + k) * w + x];
+        n += g[k + kSsimRadius];
+      }
+      out[static_cast<std::size_t>(y) * w + x] = s / n;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> ssimMap(const core::Image& a, const core::Image& b) {
+  checkSameSize(a, b);
+  const int w = a.width, h = a.height;
+  const std::size_t n = pixelCount(a);
+  constexpr double kC1 = 0.01 * 0.01, kC2 = 0.03 * 0.03;
+  std::vector<double> map(n, 0.0);
+  std::vector<double> va(n), vb(n), aa(n), bb(n), ab(n);
+  for (std::size_t c = 0; c < 3; ++c) {
+    for (std::size_t p = 0; p < n; ++p) {
+      va[p] = a.pixels[p * a.channels + c];
+      vb[p] = b.pixels[p * b.channels + c];
+      aa[p] = va[p] * va[p], bb[p] = vb[p] * vb[p], ab[p] = va[p] * vb[p];
+    }
+    const auto ma = windowMean(va, w, h), mb = windowMean(vb, w, h);
+    const auto maa = windowMean(aa, w, h), mbb = windowMean(bb, w, h), mab = windowMean(ab, w, h);
+    for (std::size_t p = 0; p < n; ++p) {
+      const double sa = maa[p] - ma[p] * ma[p], sb = mbb[p] - mb[p] * mb[p], sab = mab[p] - ma[p] * mb[p];
+      map[p] += (2.0 * ma[p] * mb[p] + kC1) * (2.0 * sab + kC2) /
+                ((ma[p] * ma[p] + mb[p] * mb[p] + kC1) * (sa + sb + kC2)) / 3.0;
+    }
+  }
+  return map;
+}
+
+double ssim(const core::Image& a, const core::Image& b, const std::vector<bool>& mask) {
+  const std::vector<double> map = ssimMap(a, b);
+  PUFF_CHECK(mask.empty() || mask.size() == map.size());
+  double sum = 0.0;
+  std::size_t counted = 0;
+  for (std::size_t p = 0; p < map.size(); ++p) {
+    if (!mask.empty() && !mask[p]) continue;
+    sum += map[p];
+    ++counted;
+  }
+  return counted ? sum / static_cast<double>(counted) : 1.0;
+}
+
+std::vector<bool> mediaMask(const core::Image& layer, double epsilon) {
+  PUFF_CHECK(layer.channels >= 4);
+  PUFF_CHECK(layer.pixels.size() == pixelCount(layer) * layer.channels);
+  const std::size_t n = pixelCount(layer);
+  std::vector<bool> mask(n, false);
+  for (std::size_t p = 0; p < n; ++p) {
+    const float* v = &layer.pixels[p * layer.channels];
+    mask[p] = v[3] < 1.0 - epsilon || v[0] > epsilon || v[1] > epsilon || v[2] > epsilon;
+  }
+  return mask;
+}
+
+ClipBand clipBand(std::span<const float> depth, std::span<const media::Particle> particles, const media::Frame& frame,
+                  int width) {
+  const int w = frame.width, h = frame.height;
+  PUFF_CHECK(w >= 1 && h >= 1 && width >= 0);
+  const std::size_t n = static_cast<std::size_t>(w) * h;
+  PUFF_CHECK(depth.empty() || depth.size() == n);
+  struct Sphere {
+    glm::dvec3 centre;
+    double r;
+  };
+  std::vector<Sphere> spheres;
+  const glm::dmat4 view(frame.view);
+  for (const media::Particle& p : particles)
+    if (p.radius > 0.0f) spheres.push_back({glm::dvec3(view * glm::dvec4(glm::dvec3(p.position), 1.0)), p.radius});
+  const double near = frame.nearPlane, range = static_cast<double>(frame.farPlane) - frame.nearPlane;
+  ClipBand out;
+  out.surface.assign(n, false);
+  out.nearPlane.assign(n, false);
+  for (int j = 0; j < h; ++j) {
+    for (int i = 0; i < w; ++i) {
+      const std::size_t at = static_cast<std::size_t>(j) * w + i;           // row 0 at the bottom
+      const std::size_t top = static_cast<std::size_t>(h - 1 - j) * w + i;  // row 0 at the top
+      const Ray ray = pixelRay(frame, i, j);
+      const double cosA = -ray.direction.z, oz = -ray.origin.z;
+      const double lin = depth.empty() ? 1.0 : depth[at];
+      const double tScene = lin >= 1.0 ? std::numeric_limits<double>::infinity() : (near + lin * range - oz) / cosA;
+      const double tNear = (near - oz) / cosA;
+      for (const Sphere& s : spheres) {
+        const glm::dvec3 m = ray.origin - s.centre;
+        const double b = glm::dot(m, ray.direction);
+        const glm::dvec3 across = glm::cross(m, ray.direction);
+        const double d2 = glm::dot(across, across);
+        if (d2 >= s.r * s.r) continue;
+        const double half = std::sqrt(s.r * s.r - d2), tF = -b - half, tB = -b + half;
+        if (tF < tScene && tScene < tB) out.surface[top] = true;
+        if (tF < tNear && tNear < tB) out.nearPlane[top] = true;
+      }
+    }
+  }
+  // The band: every pixel within `width` of a clipped one (rows, then columns: a square).
+  std::vector<bool> rows(n, false);
+  out.band.assign(n, false);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t at = static_cast<std::size_t>(y) * w + x;
+      if (!out.surface[at] && !out.nearPlane[at]) continue;
+      for (int k = std::max(0, x - width); k <= std::min(w - 1, x + width); ++k)
+        rows[static_cast<std::size_t>(y) * w + k] = true;
+    }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (!rows[static_cast<std::size_t>(y) * w + x]) continue;
+      for (int k = std::max(0, y - width); k <= std::min(h - 1, y + width); ++k)
+        out.band[static_cast<std::size_t>(k) * w + x] = true;
+    }
+  return out;
 }
 
 }  // namespace puff::reference

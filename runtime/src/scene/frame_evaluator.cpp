@@ -84,6 +84,11 @@ Result<void> FrameEvaluator::update(const Scene& next) {
   return {};
 }
 
+float mediaBirthFade(float life) {
+  const float x = std::clamp(life / kMediaBirthFade, 0.0f, 1.0f);
+  return x * x * (3.0f - 2.0f * x);
+}
+
 FrameInputs FrameEvaluator::evaluate(int frame, const cel::Camera* camera) {
   const Scene& s = scene_;
   FrameInputs in;
@@ -120,9 +125,11 @@ FrameInputs FrameEvaluator::evaluate(int frame, const cel::Camera* camera) {
         const MediaEmitterSpec& e = spec.emitters[static_cast<std::size_t>(p.emitter)];
         const float life = std::clamp(p.age / p.lifetime, 0.0f, 1.0f);
         // The radius grows by `growth` over the particle's life; the emitter's density multiplies
-        // the material's tau and falls linearly to 0 with age.
+        // the material's tau, fades in over the first kMediaBirthFade of the life and falls
+        // linearly to 0 with age.
         in.media.push_back(media::Particle{p.position, 0.5f * p.birthSize * (1.0f + e.growth * life),
-                                           static_cast<std::uint32_t>(e.materialIndex), life, p.density, p.id});
+                                           static_cast<std::uint32_t>(e.materialIndex), life,
+                                           p.density * mediaBirthFade(life), p.id});
       }
     }
   }

@@ -2,11 +2,19 @@
 // media into a float layer at 1, 1/2, 1/4 or 1/8 of the screen, and a last pass composes them:
 //     out = opaque(x + shimmer offset) * T + M
 // where M (premultiplied radiance) and T (transmittance) come from the media layer, upsampled
-// depth-aware so a low-resolution layer does not halo around opaque edges: of the four layer
-// texels around a pixel, bilinear weights are used when all four were drawn against about the
-// same depth as the pixel, else the texel whose depth is nearest the pixel's ("nearest-depth
-// upsampling"). The layer's depth is the NEAREST opaque depth in its footprint, so thin near
-// objects keep their own texels.
+// depth-aware so a low-resolution layer does not halo around opaque edges: each of the four layer
+// texels around a pixel gets its bilinear weight times a depth weight, 1 when the depth it was
+// drawn against is within depthTolerance * z of the pixel's view distance z, falling linearly to 0
+// at 5 * depthTolerance * z (a joint bilateral upsampling in depth); the weights are normalized.
+// When all four vanish (a surface no texel around the pixel was drawn against) the pixel takes the
+// texel of the 4 x 4 around it whose depth is nearest its own. The layer's depth is the NEAREST
+// opaque depth in its footprint, so thin near objects keep their own texels. On a slanted surface
+// the texels' depths drift from the pixel's gradually, so their weights do too (the earlier rule,
+// bilinear only when all four were within the tolerance and otherwise the nearest texel, switched
+// there in blocks; Upsampling::kAllOrNearest keeps it for comparison).
+//
+// Heat shimmer moves the opaque scene by the layer's offset times ComposeSettings::shimmerPixels,
+// in fractions of a pixel: the opaque colour (lit) is fetched bilinearly at the displaced position.
 //
 // The explosion's light on the scene (volumetric-explosion-effects.txt) is applied in the same
 // pass from the depth texture, per pixel: surfaces seen through the explosion's projected circle
@@ -63,6 +71,13 @@ class Layers {
   /// target's depth and stencil are not written.
   void compose(GLuint target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
                const ComposeSettings& settings);
+
+  /// How compose() upsamples when ComposeSettings::depthAware is on: bilateral weights in depth
+  /// (the default), or the earlier rule (all four texels within the tolerance: bilinear, else the
+  /// nearest-depth texel), kept so tests and benchmarks can measure one against the other.
+  enum class Upsampling { kBilateral, kAllOrNearest };
+  void setUpsampling(Upsampling rule);
+  Upsampling upsampling() const;
 
   /// Motion blur: `slots` full-size RGBA16F frames kept between calls (1..8; reallocated when the
   /// count changes). A frame is composed into historyFramebuffer(slot), then blendHistory sums

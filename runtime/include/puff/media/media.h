@@ -3,11 +3,17 @@
 // composited over the opaque scene (Layers, layers.h).
 //
 // Each particle j is a sphere of radius r with extinction density tau, albedo a and a phase
-// function P; a ray that travels Δs inside it sees (Umenhoffer Eq. 1, 2)
+// function P; a ray that travels Δs inside it sees (Umenhoffer Eq. 2, and Eq. 1 with its emission
+// weight replaced, below)
 //     alpha = 1 - exp(-tau * (1 - d / r) * Δs)          (d: distance from the centre to the ray)
-//     L     = I * (1 - alpha) + alpha * a * C + alpha * (1 - a) * Le
-// where C is the in-scattered light (ambient + the light through the phase function) and Le the
-// emission (fire: a black body at T = T0 + T1 * detail). Δs is the ray's EXACT path through the
+//     L     = I * (1 - alpha) + alpha * (a * color * C + e * emission * exposure * Le)
+// where C is the in-scattered light (ambient + the light through the phase function), Le the
+// black-body emission at T = T0 + T1 * detail (linear sRGB, clipped at 0 per channel), and e the
+// emissive weight: 1 for an emissive material (whose albedo a counts as 0: fire scatters nothing)
+// and 0 for the others. The paper weights Le by (1 - a) instead; the two agree for every material
+// alone (fire: a = 0, e = 1; smoke and dust have no Le) and differ only inside a `becomes`
+// transition, where a and e are both mixed linearly (fire into smoke: a = f * a_smoke,
+// e = 1 - f, not 1 - f * a_smoke). Δs is the ray's EXACT path through the
 // sphere, clipped by the opaque depth and the near plane, never negative (the paper's snippet goes
 // negative when a surface lies in front of the sphere, and measures d in the billboard plane; we
 // intersect the pixel's ray with the sphere). The falloff (1 - d/r) is the paper's.

@@ -111,10 +111,10 @@ struct ExplosionLight {
 };
 
 struct ComposeSettings {
-  bool depthAware = true;      ///< nearest-depth upsampling (false: plain bilinear, halos)
-  float shimmerPixels = 0.0f;  ///< heat-shimmer displacement, full-resolution pixels per unit offset
-  /// Nearest-depth threshold: layer texels within this share of the pixel's view distance count
-  /// as the same surface.
+  bool depthAware = true;      ///< depth-aware upsampling (layers.h; false: plain bilinear, halos)
+  float shimmerPixels = 0.0f;  ///< heat-shimmer displacement, full-resolution pixels per unit offset (fractional)
+  /// Depth-aware upsampling: layer texels within this share of the pixel's view distance count
+  /// fully as the same surface; their weight falls to 0 at five times it.
   float depthTolerance = 0.02f;
   bool operator==(const ComposeSettings&) const = default;
 };

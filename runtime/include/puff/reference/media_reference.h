@@ -7,7 +7,8 @@
 // inverse projection, from the eye along normalize(far point) (perspective) or from the camera
 // plane along -z (orthographic), in camera space. Along it, for every particle j:
 //     alpha_j = 1 - exp(-tau_j * (1 - d_j / r_j) * Δs_j)                        (Umenhoffer Eq. 2)
-//     L_j     = (1 - e) * a * color * C + e * emission * exposure * max(0, Le(T))
+//     L_j     = a * color * C + e * emission * exposure * max(0, Le(T))
+//               (a: the albedo, 0 for an emissive material; e: 1 emissive, 0 not; see below)
 //     C       = ambient + lightColor * 4π P(cos θ, g)                             (Umenhoffer Eq. 1)
 // and the colour, starting from the opaque pixel (or `background`), is composited back to front
 //     c = alpha_j * L_j + c * (1 - alpha_j * (1 - burn_j))                        (Ilmonen Eq. 3)

@@ -59,6 +59,16 @@ core::ViewTransform viewTransformFor(const Scene& scene);
 /// The camera at `frame` (orbit applied).
 cel::Camera cameraAt(const Scene& scene, int frame);
 
+/// Media particles from emitters fade in: their density is multiplied by mediaBirthFade(life), a
+/// smoothstep from 0 at birth to 1 at kMediaBirthFade of their life, so none appears at full
+/// density in one frame (a pop). Smooth (C1) at both ends: no kink in the density where the fade
+/// meets the linear fade-out, so a particle's second difference from frame to frame shrinks with
+/// the square of the frames the fade spans. 10% of the life: at 24 fps it spans 4 frames of the
+/// explosion's shortest-lived fire (1.8 s) and 10 of its smoke (4 s), and keeps 90% of the
+/// particle's peak density (the density falls linearly from birth).
+inline constexpr float kMediaBirthFade = 0.1f;
+float mediaBirthFade(float life);
+
 /// What one frame draws, evaluated from the scene and the frame number alone.
 struct FrameInputs {
   int frame = 0;
