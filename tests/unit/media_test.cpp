@@ -10,6 +10,7 @@
 #include <numbers>
 #include <vector>
 
+#include <glm/gtc/packing.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <puff/core/blackbody.h>
@@ -744,13 +745,23 @@ TEST_F(MediaLayersTest, HeatShimmerDisplacesBySubPixelAmountsBilinearly) {
     for (int x = 0; x < w; ++x) {
       const double sx = std::clamp(x + 0.375, 0.0, w - 1.0), sy = std::clamp(y - 0.25, 0.0, h - 1.0);
       const glm::vec4 got = px[static_cast<std::size_t>(y) * w + x];
-      ASSERT_NEAR(got.r, 4.0 * sx / 255.0, 1e-6) << x << "," << y;
-      ASSERT_NEAR(got.g, 8.0 * sy / 255.0, 1e-6) << x << "," << y;
+      // The opaque layer holds half floats: the bilinear mix of the two texels as stored, within one
+      // half-float step (llvmpipe filters half textures at that precision). A snapped offset would
+      // miss by 0.006 or more.
+      auto stored = [](double v) { return double{glm::unpackHalf1x16(glm::packHalf1x16(static_cast<float>(v)))}; };
+      auto lerp = [&](double s, double scale) {
+        const double i0 = std::floor(s), f = s - i0;
+        return (1 - f) * stored(scale * i0 / 255.0) + f * stored(scale * std::min(i0 + 1, s + 1) / 255.0);
+      };
+      const double er = lerp(sx, 4.0), eg = lerp(sy, 8.0);
+      ASSERT_NEAR(got.r, er, std::max(1e-6, er / 1024.0)) << x << "," << y;
+      ASSERT_NEAR(got.g, eg, std::max(1e-6, eg / 1024.0)) << x << "," << y;
     }
   }
   // Interior: a quarter of the way between two 8-bit levels, which no whole-pixel shift gives.
-  EXPECT_NEAR(px[5 * w + 10].r, 4.0 * 10.375 / 255.0, 1e-6);
-  EXPECT_NEAR(px[5 * w + 10].g, 8.0 * 4.75 / 255.0, 1e-6);
+  // (Half floats: within a half-float step, 1.2e-4 here, against 8-bit levels 0.016 and 0.031 apart.)
+  EXPECT_NEAR(px[5 * w + 10].r, 4.0 * 10.375 / 255.0, 2e-4);
+  EXPECT_NEAR(px[5 * w + 10].g, 8.0 * 4.75 / 255.0, 2e-4);
 }
 
 // A floor seen at a grazing angle, the case where upsampling by depth must degrade gracefully: the

@@ -287,12 +287,42 @@ TEST_F(PuffrenderPaths, ReferencePathDrawsThePuffMeshes) {
   EXPECT_GT(smokeAndObjects(*a), 160 * 120 / 10);
   EXPECT_NE(a->pixels, b->pixels);
   EXPECT_NE(run("--help").out.find("reference"), std::string::npos);
-  // A media scene: the reference draws no fire, smoke or dust, and says so.
+  // A media scene: the physical reference draws the media, and says what it is.
   const std::string media = std::string(PUFF_SOURCE_DIR) + "/art/scenes/fire-to-smoke.json --art-dir " +
                             std::string(PUFF_ART_DIR) + " --width 48 --height 64";
   CliRun m = run(media + " --path reference -o " + (dir_ / "media.png").string());
   ASSERT_EQ(m.exitCode, 0) << m.err;
-  EXPECT_NE(m.err.find("the cel reference draws no fire, smoke or dust"), std::string::npos) << m.err;
+  EXPECT_NE(m.err.find("the media are drawn by the physical reference"), std::string::npos) << m.err;
+}
+
+// --path reference draws the media by the physical reference: a pure absorber (albedo 0, no
+// emission) of tau 0.5 and radius 1 over a white background, seen orthographically, lets exp(-2 tau r)
+// of the background through at its centre (the field's optical depth through the centre is the
+// model's), and exp(-tau_line(d)) off centre, tau_line(d) = 2 tau [h - (d^2 / r) ln((r + h) / d)].
+TEST_F(PuffrenderPaths, ReferencePathDrawsTheMediaByThePhysicalReference) {
+  const nlohmann::json scene = {
+      {"output", {{"width", 64}, {"height", 64}, {"samples", 1}, {"background", {1, 1, 1}}}},
+      {"camera", {{"position", {0, 0, 5}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fovY", 0}, {"orthoHeight", 4}}},
+      {"media",
+       {{"materials", {{{"name", "absorber"}, {"albedo", 0}, {"density", 0.5}}}},
+        {"particles", {{{"position", {0, 0, 0}}, {"radius", 1}, {"material", "absorber"}, {"life", 0.5}}}}}}};
+  const fs::path file = dir_ / "absorber.json", out = dir_ / "absorber.exr";
+  std::ofstream(file) << scene.dump();
+  CliRun r = run(file.string() + " --path reference -o " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto im = puff::core::readImage(out);
+  ASSERT_TRUE(im.ok());
+  // Pixel centres at (i + 0.5) / 16 - 2 world units; the sphere's centre sits between pixels 31 and 32.
+  auto expected = [](double d) {
+    const double tau = 0.5, r = 1.0, h = std::sqrt(r * r - d * d);
+    return std::exp(-(d < 1e-12 ? 2 * tau * r : 2 * tau * (h - d * d / r * std::log((r + h) / d))));
+  };
+  for (int i : {32, 36, 40, 44, 46}) {
+    const double x = (i + 0.5) / 16.0 - 2.0, y = (32 + 0.5) / 16.0 - 2.0, d = std::hypot(x, y);
+    SCOPED_TRACE(i);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(im->at(i, 31, c), expected(d), 2e-3);  // half floats, row 31 = y 0.03
+  }
+  EXPECT_NEAR(im->at(2, 2, 0), 1.0, 1e-3);  // the background, untouched
 }
 
 TEST_F(PuffrenderPaths, CompareReportsParityAndWritesSideBySide) {
