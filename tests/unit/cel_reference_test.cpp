@@ -17,8 +17,8 @@
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 
-#include "support/display.h"
 #include "support/assert_ok.h"
+#include "support/display.h"
 #include "support/gl_fixture.h"
 #include "support/sphere_atlas.h"
 

@@ -12,8 +12,8 @@
 #include <puff/scene/write.h>
 
 #include "golden/golden.h"
-#include "support/display.h"
 #include "support/assert_ok.h"
+#include "support/display.h"
 #include "support/gl_fixture.h"
 
 namespace puff {

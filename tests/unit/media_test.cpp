@@ -10,8 +10,8 @@
 #include <numbers>
 #include <vector>
 
-#include <glm/gtc/packing.hpp>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/packing.hpp>
 
 #include <puff/core/blackbody.h>
 #include <puff/media/layers.h>

@@ -12,9 +12,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/matrix.hpp>
 
-#include <puff/core/colour.h>
 #include <puff/cel/frame.h>
 #include <puff/cel/opaque.h>
+#include <puff/core/colour.h>
 #include <puff/mesh/mesh.h>
 #include <puff/render/cel_scene.h>
 

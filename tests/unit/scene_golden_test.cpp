@@ -14,8 +14,8 @@
 #include <puff/scene/read.h>
 
 #include "golden/golden.h"
-#include "support/display.h"
 #include "support/assert_ok.h"
+#include "support/display.h"
 #include "support/gl_fixture.h"
 
 namespace puff {

@@ -598,8 +598,7 @@ void Viewer::drawFrame() {
   if (displayValues) {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDrawBuffer(GL_BACK);
-    glBlitNamedFramebuffer(m.fbo.get(), 0, 0, 0, size.x, size.y, 0, 0, size.x, size.y, GL_COLOR_BUFFER_BIT,
-                           GL_NEAREST);
+    glBlitNamedFramebuffer(m.fbo.get(), 0, 0, 0, size.x, size.y, 0, 0, size.x, size.y, GL_COLOR_BUFFER_BIT, GL_NEAREST);
   } else {
     glBlitNamedFramebuffer(m.fbo.get(), m.resolveFbo.get(), 0, 0, size.x, size.y, 0, 0, size.x, size.y,
                            GL_COLOR_BUFFER_BIT, GL_NEAREST);

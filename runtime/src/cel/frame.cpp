@@ -7,8 +7,8 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/matrix.hpp>
 
-#include <puff/core/colour.h>
 #include <puff/cel/frame.h>
+#include <puff/core/colour.h>
 
 namespace puff::cel {
 

@@ -4,9 +4,9 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include <puff/core/colour.h>
 #include <puff/cel/nailboards.h>
 #include <puff/cel/pass_state.h>
+#include <puff/core/colour.h>
 #include <puff/core/shader.h>
 
 namespace puff::cel {

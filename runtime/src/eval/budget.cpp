@@ -5,8 +5,8 @@
 #include <memory>
 #include <optional>
 
-#include <puff/core/colour.h>
 #include <puff/core/atlas.h>
+#include <puff/core/colour.h>
 #include <puff/core/detail_video.h>
 #include <puff/core/statistics.h>
 #include <puff/eval/budget.h>

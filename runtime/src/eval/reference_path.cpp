@@ -7,11 +7,11 @@
 #include <puff/core/atlas.h>
 #include <puff/core/colour.h>
 #include <puff/core/detail_video.h>
-#include <puff/reference/media_physical.h>
-#include <puff/scene/evaluate.h>
 #include <puff/eval/cel_reference.h>
+#include <puff/reference/media_physical.h>
 #include <puff/render/cel_scene.h>
 #include <puff/render/path.h>
+#include <puff/scene/evaluate.h>
 
 #include "cel_reference_gl.h"
 

@@ -63,9 +63,8 @@ void MediaPass::draw(const scene::Scene& s, const scene::FrameInputs& inputs, co
                   spec.compose.shimmerPixels > 0.0f, &ds);
   std::vector<media::ExplosionLight> lights;
   for (const scene::MediaLightSpec& l : spec.lights) {
-    lights.push_back(
-        media::ExplosionLight{l.center, l.radius, core::srgbToLinear(l.color), l.intensityAt(mf.time), l.modulate,
-                              l.fullAtBack});
+    lights.push_back(media::ExplosionLight{l.center, l.radius, core::srgbToLinear(l.color), l.intensityAt(mf.time),
+                                           l.modulate, l.fullAtBack});
   }
   const int vp[4] = {viewport.x, viewport.y, viewport.width, viewport.height};
   layers_->compose(target, vp, mf, lights, spec.compose);

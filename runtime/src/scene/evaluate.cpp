@@ -299,7 +299,8 @@ bool hasFire(const Scene& scene) {
     if (index < 0 || index >= static_cast<int>(mats.size())) return false;
     const media::Material& m = mats[static_cast<std::size_t>(index)];
     const int next = m.becomes;
-    return m.emissive || (next >= 0 && next < static_cast<int>(mats.size()) && mats[static_cast<std::size_t>(next)].emissive);
+    return m.emissive ||
+           (next >= 0 && next < static_cast<int>(mats.size()) && mats[static_cast<std::size_t>(next)].emissive);
   };
   for (const MediaParticleSpec& p : scene.media->particles) {
     if (fiery(p.materialIndex)) return true;

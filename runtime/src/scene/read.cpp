@@ -31,9 +31,9 @@ void readOutput(const json& j, const std::string& ptr, Scene& s) {
   }
   if (auto* v = find(j, "background")) s.background = readColor(*v, child(ptr, "background"));
   if (auto* v = find(j, "view")) {
-    s.view = readEnum<core::ViewTransform>(*v, child(ptr, "view"),
-                                           {{"standard", core::ViewTransform::kStandard},
-                                            {"filmic", core::ViewTransform::kFilmic}});
+    s.view = readEnum<core::ViewTransform>(
+        *v, child(ptr, "view"),
+        {{"standard", core::ViewTransform::kStandard}, {"filmic", core::ViewTransform::kFilmic}});
   }
 }
 

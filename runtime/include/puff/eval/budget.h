@@ -35,13 +35,14 @@ struct MediaBudgetOptions {
 
 /// One resolution, measured.
 struct MediaCandidate {
-  float resolution = 1.0f;   ///< MediaSpec::resolution
-  std::vector<double> rmse;  ///< per measured frame (MediaBudget::frames order), scene-linear, against the model reference
-  double worstRmse = 0.0;    ///< the largest of `rmse`
+  float resolution = 1.0f;  ///< MediaSpec::resolution
+  std::vector<double>
+      rmse;  ///< per measured frame (MediaBudget::frames order), scene-linear, against the model reference
+  double worstRmse = 0.0;  ///< the largest of `rmse`
   /// With MediaBudgetOptions::physical: per measured frame against the physical reference (else empty).
   std::vector<double> rmsePhysical;
   double worstRmsePhysical = 0.0;  ///< the largest of rmsePhysical
-  double medianMs = 0.0;     ///< median wall time of one render::SceneRenderer::renderFrame, milliseconds
+  double medianMs = 0.0;           ///< median wall time of one render::SceneRenderer::renderFrame, milliseconds
 };
 
 struct MediaBudget {

@@ -54,12 +54,12 @@ class SceneRenderer {
 
   /// Renders frame `frame` into the current draw framebuffer instead (for a window), which must have
   /// depth + stencil for the cel path. The path writes SCENE-LINEAR colour (a float framebuffer keeps
-  /// it; view.h's ViewPass then shows it) unless targetNeeds().displayValues (the fixed path). A scene with media draws its opaque pass into the renderer's
-  /// own layers and composes colour only into the framebuffer (its depth and stencil are left as
-  /// they were); the draw and read framebuffer bindings are as they were on return.
-  /// `camera` (optional) replaces the scene's camera for this frame (a viewer's orbit camera). A path
-  /// whose resources depend on the frame's size (TargetNeeds::sizedToFrame) is made again for a
-  /// viewport of another size. Errors: what the path found wrong while drawing.
+  /// it; view.h's ViewPass then shows it) unless targetNeeds().displayValues (the fixed path). A scene with media draws
+  /// its opaque pass into the renderer's own layers and composes colour only into the framebuffer (its depth and
+  /// stencil are left as they were); the draw and read framebuffer bindings are as they were on return. `camera`
+  /// (optional) replaces the scene's camera for this frame (a viewer's orbit camera). A path whose resources depend on
+  /// the frame's size (TargetNeeds::sizedToFrame) is made again for a viewport of another size. Errors: what the path
+  /// found wrong while drawing.
   Result<void> drawFrame(int frame, const cel::Viewport& viewport, FrameStats* stats = nullptr,
                          const cel::Camera* camera = nullptr);
 
