@@ -481,6 +481,9 @@ void FixedRenderer::Impl::billboardPass(const FixedFrame& frame, const std::vect
   FF_GL(glBindTexture, GL_TEXTURE_2D, puffTexture);
   FF_GL(glEnable, GL_ALPHA_TEST);
   FF_GL(glAlphaFunc, GL_GREATER, 0.5f);
+  // The texel's alpha decides coverage (the alpha test) and must not reach the frame: an opaque
+  // frame has alpha 1 everywhere (docs/colour.md).
+  FF_GL(glColorMask, GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
   FF_GL(glClientActiveTexture, GL_TEXTURE0);
   FF_GL(glEnableClientState, GL_TEXTURE_COORD_ARRAY);
   if (style.outlines) {
@@ -493,6 +496,7 @@ void FixedRenderer::Impl::billboardPass(const FixedFrame& frame, const std::vect
   build(false);
   FF_GL(glDisableClientState, GL_TEXTURE_COORD_ARRAY);
   FF_GL(glDisable, GL_ALPHA_TEST);
+  FF_GL(glColorMask, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
 FixedRenderer::FixedRenderer(std::unique_ptr<Impl> impl, int cellSize, std::string contextVersion)

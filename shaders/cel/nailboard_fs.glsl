@@ -77,8 +77,10 @@ void main() {
     vec3 q = uShading == 1 ? quantize(dot(normalize(n), uLightDirView.xyz)) : vec3(1.0);
     rgb = ka + color * uLightColor.rgb * q;
   }
-  // Eq. 2's result to scene-linear, then the outline's antialiased edge blends in linear light.
-  rgb = srgbToLinear(rgb);
-  if (uOutlines == 1) rgb = mix(srgbToLinear(uOutlineColor), rgb, body);
+  // Eq. 2's result is a display value, limited to the display's range as the paper's 8-bit frame
+  // buffer limited it (K_a + C K_L q may exceed 1), then to scene-linear; the outline's antialiased
+  // edge blends in linear light.
+  rgb = srgbToLinear(clamp(rgb, 0.0, 1.0));
+  if (uOutlines == 1) rgb = mix(srgbToLinear(clamp(uOutlineColor, 0.0, 1.0)), rgb, body);
   fragColor = vec4(rgb, uMultisample == 1 ? coverage : 1.0);
 }

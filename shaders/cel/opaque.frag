@@ -24,7 +24,7 @@ void main() {
   }
   vec3 ambient = ambientAt(gl_FragCoord.xy);
   if (uPass == 1) {
-    oColor = vec4(srgbToLinear(uAlbedo * ambient), 1.0);
+    oColor = vec4(srgbToLinear(clamp(uAlbedo * ambient, 0.0, 1.0)), 1.0);
     return;
   }
   // Culling is off so a plane shows both sides: turn the normal toward the viewer on back faces.
@@ -33,5 +33,6 @@ void main() {
   if (!gl_FrontFacing) n = -n;
   float nDotL = dot(n, uLightDirView.xyz);
   vec3 diffuse = uCel != 0 ? quantize(nDotL) : vec3(max(0.0, nDotL));
-  oColor = vec4(srgbToLinear(uAlbedo * (ambient + uLightColor.rgb * diffuse)), 1.0);  // Eq. 2 in display, out linear
+  // Eq. 2 in display values, limited to the display's range (as an 8-bit frame buffer limits it), out linear.
+  oColor = vec4(srgbToLinear(clamp(uAlbedo * (ambient + uLightColor.rgb * diffuse), 0.0, 1.0)), 1.0);
 }

@@ -47,6 +47,6 @@ void main() {
     vec3 q = uShading == 1 ? quantize(dot(n, uLightDirView.xyz)) : vec3(1.0);
     rgb = ka + vColor * uLightColor.rgb * q;
   }
-  oColor = vec4(srgbToLinear(rgb), 1.0);  // Eq. 2 in display values, out in scene-linear
+  oColor = vec4(srgbToLinear(clamp(rgb, 0.0, 1.0)), 1.0);  // Eq. 2 in display values (limited to 1), out linear
   oId = vId;
 }

@@ -12,5 +12,5 @@ layout(location = 0) out vec4 oColor;
 void main() {
   if (texelFetch(uIds, ivec2(gl_FragCoord.xy), 0).r == gId) discard;  // over the puff itself
   gl_FragDepth = linearDepth(gDist) + 1e-5;
-  oColor = vec4(srgbToLinear(uInk), 1.0);  // the target holds scene-linear colour
+  oColor = vec4(srgbToLinear(clamp(uInk, 0.0, 1.0)), 1.0);  // the target holds scene-linear colour
 }

@@ -14,6 +14,7 @@
 #include <puff/bake/baker.h>
 #include <puff/bake/raster.h>
 #include <puff/core/atlas.h>
+#include <puff/core/colour.h>
 #include <puff/core/files.h>
 
 #include "support/assert_ok.h"
@@ -533,6 +534,27 @@ TEST(BakeMips, SoftCoverageSurvivesWhereABoxFilterWouldErodeIt) {
       EXPECT_EQ(mip.color.at(cell - 1, i, 3), 0.0f);
     }
   }
+}
+
+// A mip averages light, not display values (docs/colour.md): a black and white checker of opaque
+// texels becomes the display value of linear 0.5, 0.7354, not 0.5; a flat colour stays itself.
+TEST(BakeMips, ColourIsAveragedInLinearLight) {
+  constexpr int kCell = 16;
+  AtlasLevel level0{core::Image(kCell, kCell, 4), core::Image(kCell, kCell, 4), core::Image(kCell, kCell, 1, 8.0f)};
+  for (int y = 0; y < kCell; ++y) {
+    for (int x = 0; x < kCell; ++x) {
+      const float v = (x + y) % 2 == 0 ? 1.0f : 0.0f;
+      for (int c = 0; c < 3; ++c) level0.color.at(x, y, c) = c == 2 ? 0.6f : v;  // blue flat at 0.6
+      level0.color.at(x, y, 3) = 1.0f;
+      level0.normalDepth.at(x, y, 2) = 1.0f;
+    }
+  }
+  const AtlasLevel mip = buildMipLevel(level0, kCell, 1, 0.5f);
+  const float half = static_cast<float>(core::linearToSrgb(0.5));
+  EXPECT_NEAR(half, 0.7354f, 1e-4f);
+  EXPECT_NEAR(mip.color.at(3, 3, 0), half, 1e-5f);  // an interior texel (the outer ring is emptied)
+  EXPECT_NEAR(mip.color.at(3, 3, 1), half, 1e-5f);
+  EXPECT_NEAR(mip.color.at(3, 3, 2), 0.6f, 1e-5f);
 }
 
 class BakeFlange : public test::GlTest {};

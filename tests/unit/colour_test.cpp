@@ -93,9 +93,9 @@ TEST(ColourView, FilmicShoulderIsIdentityBelowTheKneeAndC1AboveIt) {
   for (double m = k + 0.01; m <= 100.0; m *= 1.1) {
     const double s = core::filmicShoulder(m);
     EXPECT_EQ(s, k + (1.0 - k) * (1.0 - std::exp(-(m - k) / (1.0 - k)))) << m;
-    // Strictly below 1 and rising while exp(-(m - k) / (1 - k)) is above double's epsilon (m < 15);
-    // beyond that the shoulder rounds to exactly 1 (never above it).
-    if (m < 15.0) {
+    // Strictly below 1 and rising while exp(-(m - k) / (1 - k)) is well above double's epsilon
+    // (exp(-30) = 9e-14); beyond that the shoulder rounds to exactly 1 (never above it).
+    if (m < k + 30.0 * (1.0 - k)) {
       EXPECT_LT(s, 1.0) << m;
       EXPECT_GT(s, previous) << m;
     } else {

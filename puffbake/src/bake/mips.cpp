@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include <puff/bake/maps.h>
+#include <puff/core/colour.h>
 #include <puff/core/parallel.h>
 
 namespace puff::bake {
@@ -81,8 +82,9 @@ AtlasLevel buildMipLevel(const AtlasLevel& level0, int cellSize, int level, floa
               normal += a * glm::vec3(level0.normalDepth.at(bx, by, 0), level0.normalDepth.at(bx, by, 1),
                                       level0.normalDepth.at(bx, by, 2));
               depth += a * level0.normalDepth.at(bx, by, 3);
-              color +=
-                  a * glm::vec3(level0.color.at(bx, by, 0), level0.color.at(bx, by, 1), level0.color.at(bx, by, 2));
+              // The map holds display values; a mip averages light (docs/colour.md).
+              color += a * core::srgbToLinear(glm::vec3(level0.color.at(bx, by, 0), level0.color.at(bx, by, 1),
+                                                        level0.color.at(bx, by, 2)));
               dist += level0.distance.at(bx, by);
             }
           }
@@ -92,9 +94,10 @@ AtlasLevel buildMipLevel(const AtlasLevel& level0, int cellSize, int level, floa
             continue;
           }
           normal = glm::length(normal) > 1e-6f ? glm::normalize(normal) : glm::vec3(0, 0, 1);
+          const glm::vec3 display = core::linearToSrgb(color / alpha);
           for (int c = 0; c < 3; ++c) {
             out.normalDepth.at(x, y, c) = normal[c];
-            out.color.at(x, y, c) = color[c] / alpha;
+            out.color.at(x, y, c) = display[c];
           }
           out.normalDepth.at(x, y, 3) = depth / alpha;
           out.color.at(x, y, 3) = alpha * perBlock;

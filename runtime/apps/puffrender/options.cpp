@@ -84,7 +84,9 @@ void addOutputOptions(CLI::App& app, Options& o) {
                  "png (8-bit sRGB RGBA, after the view transform) or exr (the scene-linear frame before the view "
                  "transform, half-float RGBA; values above 1 kept). Default: from OUT's extension (.png or .exr)")
       ->check(CLI::IsMember({"png", "exr"}));
-  app.add_flag("--float32", o.float32, "EXR output: 32-bit float channels instead of half float");
+  app.add_flag("--float32", o.float32,
+               "EXR output: 32-bit float channels instead of half float (the frame is rendered in half floats: "
+               "the same values, for tools that want float32 files)");
   app.add_option("--view", o.view,
                  "View transform from scene-linear to the PNG's display values, replacing the scene's /output/view: "
                  "standard (clip, then sRGB) or filmic (highlights rolled off keeping hue). Default: the scene's, "
@@ -182,6 +184,9 @@ Result<void> checkOptions(const Options& o) {
 // (exit 2).
 Result<void> checkAgainstScene(const Options& o, const scene::Scene& scene, const Plan& plan) {
   if (o.float32 && !plan.exr) return Error{"--float32 applies only to EXR output (-o NAME.exr or --format exr)"};
+  if (!o.view.empty() && plan.exr) {
+    return Error{"--view applies only to PNG output: EXR holds the scene-linear frame before the view transform"};
+  }
   if (!o.compare.empty() && plan.exr) return Error{"--compare writes 8-bit PNG comparison images: give -o a .png name"};
   if (o.compare.empty() && o.toleranceGiven) return Error{"--tolerance applies only with --compare"};
   if (!o.compare.empty() && o.path != "cel") {

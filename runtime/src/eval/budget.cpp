@@ -433,7 +433,11 @@ Result<CelCandidate> measureCelCandidate(const Scene& c, const core::AtlasDesc& 
     auto image = (*r)->renderFrame(budget.frames[i], &stats);
     if (!image) return image.error();
     cand.particles = std::max(cand.particles, stats.particles);
-    cand.rmse.push_back(reference::imageError(*image, budget.references[i]).rmse);
+    // Cel shading is a display palette operation (docs/colour.md): its error is measured on what the
+    // screen shows, both frames through the standard view transform.
+    cand.rmse.push_back(reference::imageError(core::viewTransform(*image, core::ViewTransform::kStandard),
+                                              core::viewTransform(budget.references[i], core::ViewTransform::kStandard))
+                            .rmse);
     for (int k = 0; k < options.timedRenders; ++k) {
       const auto t0 = Clock::now();
       if (auto again = (*r)->renderFrame(budget.frames[i]); !again) return again.error();

@@ -45,13 +45,14 @@ enum class ViewTransform {
   /// of clipping per channel. The default for scenes with fire.
   kFilmic,
 };
-inline constexpr double kFilmicKnee = 0.6;
+inline constexpr double kFilmicKnee = 0.8;  ///< scene-linear (display 0.906)
 
 std::string_view toString(ViewTransform v);
 std::optional<ViewTransform> parseViewTransform(std::string_view name);  ///< "standard", "filmic"
 
 /// The filmic shoulder on the largest channel: m for m <= kFilmicKnee, else
-/// k + (1 - k)(1 - exp(-(m - k) / (1 - k))): continuous with slope 1 at the knee, < 1 for all m.
+/// k + (1 - k)(1 - exp(-(m - k) / (1 - k))): continuous with slope 1 at the knee, rising, below 1
+/// for every m (in doubles it rounds to 1 once exp(-(m - k) / (1 - k)) drops below epsilon: m > 8).
 double filmicShoulder(double m);
 
 /// One scene-linear colour through the view transform: display values in [0, 1] (negative

@@ -109,7 +109,7 @@ struct CelCandidate {
   int atlasLevel = 0;             ///< scene::Scene::atlasLevel
   int cellSize = 0;               ///< texels per cell at that level
   std::size_t atlasBytes = 0;     ///< core::atlasTextureBytes at that level
-  std::vector<double> rmse;       ///< per measured frame
+  std::vector<double> rmse;       ///< per measured frame, display values (both frames through the standard view)
   double worstRmse = 0.0;
   double medianMs = 0.0;  ///< median wall time of one render::SceneRenderer::renderFrame, milliseconds
 };
