@@ -480,6 +480,34 @@ TEST_F(ColourAlpha, CelSceneWithOutlinesAndMsaaIsOpaqueEverywhere) {
   EXPECT_GT(ink, 500) << "the black outlines are drawn";
   const core::Image display = core::viewTransform(*frame, scene::viewTransformFor(*scene));
   for (std::size_t i = 3; i < display.pixels.size(); i += 4) ASSERT_EQ(display.pixels[i], 1.0f);
+  // Eq. 2 is limited to the display's range before it is decoded: a cel frame holds no light above
+  // display white (K_a + C K_L q exceeds 1 on this scene's lit puffs).
+  float brightest = 0.0f;
+  for (std::size_t i = 0; i < frame->pixels.size(); ++i) {
+    if (i % 4 != 3) brightest = std::max(brightest, frame->pixels[i]);
+  }
+  EXPECT_LE(brightest, 1.0f);
+  EXPECT_GT(brightest, 0.99f) << "white highlights are drawn";
+}
+
+// The fixed path (GL 1.x, a compatibility context) alpha-tests its puff texture: the texel's alpha
+// decides coverage and never reaches the frame.
+class ColourAlphaFixed : public test::GlSuite<true> {};
+
+TEST_F(ColourAlphaFixed, FixedPathFrameIsOpaqueEverywhere) {
+  auto scene = scene::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "magic-lamp.json", PUFF_ART_DIR);
+  ASSERT_OK(scene);
+  scene->width = 240;
+  scene->height = 180;
+  auto renderer = render::SceneRenderer::create(*scene, render::RenderPath::kFixed);
+  ASSERT_OK(renderer);
+  render::FrameStats stats;
+  auto frame = (*renderer)->renderFrame(0, &stats);
+  ASSERT_OK(frame);
+  EXPECT_GT(stats.particles, 20u);
+  int notOpaque = 0;
+  for (std::size_t i = 3; i < frame->pixels.size(); i += 4) notOpaque += frame->pixels[i] != 1.0f;
+  EXPECT_EQ(notOpaque, 0) << "of " << frame->pixels.size() / 4 << " pixels";
 }
 
 }  // namespace
