@@ -190,17 +190,30 @@ double sphereOpacity(const glm::dvec3& o, const glm::dvec3& dir, const glm::dvec
   return 1.0 - std::exp(-tau * (1.0 - d / r) * ds);
 }
 
-std::vector<std::uint32_t> backToFront(const glm::mat4& view, std::span<const Particle> particles) {
+std::vector<std::uint32_t> backToFront(const glm::mat4& view, std::span<const Particle> particles, SortKey key,
+                                       bool orthographic) {
   const std::size_t n = particles.size();
   std::vector<std::uint32_t> keys(n), idx(n), tmpKeys(n), tmpIdx(n);
   const glm::vec4 row(view[0][2], view[1][2], view[2][2], view[3][2]);  // camera-space z
+  const glm::dmat4 dview(view);
+  // The power order from an eye at infinity (orthographic) is the view-axis order (types.h).
+  const bool power = key == SortKey::kPowerDistance && !orthographic;
   for (std::size_t i = 0; i < n; ++i) {
     const glm::vec3& p = particles[i].position;
-    float z = row.x * p.x + row.y * p.y + row.z * p.z + row.w;  // more negative = farther
-    if (!std::isfinite(z)) z = 0.0f;
+    // Ascending k = farthest first.
+    float k;
+    if (power) {
+      // -(|c|^2 - r^2): the eye's power with respect to the sphere, largest (farthest) first.
+      const glm::dvec3 c(dview * glm::dvec4(glm::dvec3(p), 1.0));
+      const double r = particles[i].radius;
+      k = static_cast<float>(-(glm::dot(c, c) - r * r));
+    } else {
+      k = row.x * p.x + row.y * p.y + row.z * p.z + row.w;  // camera-space z: more negative = farther
+    }
+    if (!std::isfinite(k)) k = 0.0f;
     std::uint32_t bits;
-    std::memcpy(&bits, &z, 4);
-    // Order-preserving map of floats to unsigned: ascending key = ascending z = farthest first.
+    std::memcpy(&bits, &k, 4);
+    // Order-preserving map of floats to unsigned: ascending key = ascending k = farthest first.
     bits = (bits & 0x80000000u) ? ~bits : bits | 0x80000000u;
     keys[i] = bits;
     idx[i] = static_cast<std::uint32_t>(i);
@@ -277,6 +290,8 @@ void Renderer::setFillRateFloor(bool on) { impl_->fillRateFloor = on; }
 
 Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings) {
   if (auto ok = inRange("exposure", settings.exposure, 0, 1e4); !ok) return ok.error();
+  if (settings.sort != SortKey::kViewDepth && settings.sort != SortKey::kPowerDistance)
+    return Error{"sort: expected view-depth or power-distance, got " + std::to_string(static_cast<int>(settings.sort))};
   auto ramp = core::makeBlackbodyRamp(settings.minKelvin, settings.maxKelvin, 1024, settings.normalizeKelvin);
   if (!ramp) return ramp.error();
   auto program = core::buildProgram({"media/billboard.vert", "media/billboard.frag"});
@@ -376,7 +391,7 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
                     DrawStats* stats) {
   Impl& m = *impl_;
   const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<std::uint32_t> order = backToFront(frame.view, particles);
+  const std::vector<std::uint32_t> order = backToFront(frame.view, particles, m.settings.sort, frame.orthographic);
   m.sorted.clear();
   m.sorted.reserve(particles.size());
   for (std::uint32_t i : order)

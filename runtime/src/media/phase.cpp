@@ -39,6 +39,14 @@ std::optional<PhaseModel> parsePhaseModel(std::string_view name) {
   return std::nullopt;
 }
 
+std::string_view toString(SortKey k) { return k == SortKey::kPowerDistance ? "power-distance" : "view-depth"; }
+
+std::optional<SortKey> parseSortKey(std::string_view name) {
+  if (name == "view-depth") return SortKey::kViewDepth;
+  if (name == "power-distance") return SortKey::kPowerDistance;
+  return std::nullopt;
+}
+
 double phase(PhaseModel model, double c, double g) {
   const double g2 = g * g;
   const double denom = std::pow(1.0 + g2 - 2.0 * g * c, 1.5);

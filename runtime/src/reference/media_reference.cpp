@@ -109,10 +109,11 @@ struct Tracer {
     haveOpacity = haveVideo(in.opacityDetail);
     temperatureFrames = haveTemperature ? in.temperatureDetail->frames : 1;
     opacityFrames = haveOpacity ? in.opacityDetail->frames : 1;
-    // Each particle's place in the renderer's back-to-front order (used with viewAxisOrder).
+    // Each particle's place in the renderer's back-to-front order (used with viewAxisOrder): its
+    // sort key (settings.sort) and the frame's projection, as media::Renderer::draw sorts.
     rank.assign(in.particles.size(), 0);
     if (in.viewAxisOrder) {
-      const std::vector<std::uint32_t> order = media::backToFront(f.view, in.particles);
+      const std::vector<std::uint32_t> order = media::backToFront(f.view, in.particles, s.sort, f.orthographic);
       for (std::size_t k = 0; k < order.size(); ++k) rank[order[k]] = static_cast<std::uint32_t>(k);
     }
   }

@@ -116,7 +116,7 @@ void readBlackbody(const json& v, const std::string& p, media::Settings& setting
   }
 }
 
-// How the media are drawn: method, layer resolution, phase, black body, exposure, detail videos,
+// How the media are drawn: method, layer resolution, phase, sort key, black body, exposure, detail videos,
 // composition and motion blur.
 void readLook(const json& j, const std::string& ptr, const Reader& r, MediaSpec& m) {
   if (auto* v = find(j, "method")) {
@@ -137,6 +137,11 @@ void readLook(const json& j, const std::string& ptr, const Reader& r, MediaSpec&
     m.settings.phase = readEnum<media::PhaseModel>(*v, child(ptr, "phase"),
                                                    {{"cornette-shanks", media::PhaseModel::kCornetteShanks},
                                                     {"henyey-greenstein", media::PhaseModel::kHenyeyGreenstein}});
+  }
+  if (auto* v = find(j, "sort")) {
+    m.settings.sort = readEnum<media::SortKey>(
+        *v, child(ptr, "sort"),
+        {{"view-depth", media::SortKey::kViewDepth}, {"power-distance", media::SortKey::kPowerDistance}});
   }
   if (auto* v = find(j, "blackbody")) readBlackbody(*v, child(ptr, "blackbody"), m.settings);
   if (auto* v = find(j, "exposure")) m.settings.exposure = readFloat(*v, child(ptr, "exposure"), Range{0.0, 1e4});
@@ -227,9 +232,9 @@ void readMediaEmitters(const json& v, const std::string& p, MediaSpec& m) {
 
 MediaSpec readMedia(const json& j, const std::string& ptr, const Reader& r) {
   requireObject(j, ptr,
-                {"method", "resolution", "phase", "blackbody", "exposure", "detail", "shimmer", "depthAware",
-                 "depthTolerance", "motionBlur", "materials", "particles", "emitters", "forces", "substeps", "preroll",
-                 "maxParticles", "collisionRadius", "lights"});
+                {"method",  "resolution", "phase",          "sort",         "blackbody",       "exposure",  "detail",
+                 "shimmer", "depthAware", "depthTolerance", "motionBlur",   "materials",       "particles", "emitters",
+                 "forces",  "substeps",   "preroll",        "maxParticles", "collisionRadius", "lights"});
   MediaSpec m;
   readLook(j, ptr, r, m);
   if (auto* v = find(j, "materials")) readMaterials(*v, child(ptr, "materials"), m);

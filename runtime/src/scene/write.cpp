@@ -148,6 +148,7 @@ json mediaJson(const MediaSpec& m, const fs::path& dir) {
   j["method"] = std::string(media::toString(m.method));
   j["resolution"] = number(m.resolution);
   j["phase"] = std::string(media::toString(m.settings.phase));
+  j["sort"] = std::string(media::toString(m.settings.sort));
   j["blackbody"] = {{"minKelvin", number(m.settings.minKelvin)},
                     {"maxKelvin", number(m.settings.maxKelvin)},
                     {"normalizeKelvin", number(m.settings.normalizeKelvin)}};

@@ -111,9 +111,14 @@ inline constexpr int kFalloffTexels = 65;
 /// falloff texture holds at each texel centre: the opacity is 1 - exp(-tau * r * weight).
 double falloffWeight(double rho);
 
-/// Indices of `particles` from farthest to nearest along the view axis (stable: equal depths keep
-/// their order). A radix sort: O(n), about a millisecond for 50k on one core.
-std::vector<std::uint32_t> backToFront(const glm::mat4& view, std::span<const Particle> particles);
+/// Indices of `particles` from farthest to nearest by `key` (types.h): the centres' view-axis depth
+/// or the power distance |c|^2 - r^2 of the eye (c = view * position, camera space; computed in
+/// double, sorted as a 32-bit float). With `orthographic`, kPowerDistance is the view-axis depth
+/// (the power order from an eye at infinity along the view axis). Stable: equal keys keep their
+/// input order. An LSD radix sort: O(n), about a millisecond for 50k on one core. media::Renderer
+/// sorts with its Settings::sort and the frame's `orthographic`.
+std::vector<std::uint32_t> backToFront(const glm::mat4& view, std::span<const Particle> particles,
+                                       SortKey key = SortKey::kViewDepth, bool orthographic = false);
 
 /// Opacity of one particle for a ray (CPU, double precision; the shader's formula): origin and
 /// unit direction in camera space (looking down -z), `sceneDepth` and `nearPlane` as distances

@@ -29,6 +29,23 @@ enum class PhaseModel {
 std::string_view toString(PhaseModel m);
 std::optional<PhaseModel> parsePhaseModel(std::string_view name);  ///< cornette-shanks, henyey-greenstein
 
+/// The key the particles are sorted back to front by, once per frame (media::backToFront), for the
+/// GPU's compositing order and the model reference's "renderer's order". c is the sphere's centre
+/// in camera space, r its radius.
+enum class SortKey {
+  kViewDepth,  ///< the centre's depth along the view axis, -c.z
+  /// The power distance of the eye from the sphere, |c|^2 - r^2 (the squared tangent length when
+  /// the eye is outside; negative inside). It orders the cells of the spheres' power diagram along
+  /// every ray from the eye, so of two overlapping spheres of different radii the larger one, whose
+  /// radical plane lies nearer the smaller one's centre, can come nearer than its centre's depth
+  /// says. Orthographic cameras: the eye is at infinity along +z, where the power order is the
+  /// centres' view-axis depth (the radical plane's normal is c_i - c_j, and which side of it the
+  /// eye lies on is the sign of (c_i - c_j).z), so this key equals kViewDepth there.
+  kPowerDistance,
+};
+std::string_view toString(SortKey k);
+std::optional<SortKey> parseSortKey(std::string_view name);  ///< view-depth, power-distance
+
 /// The phase function in 1/sr: integrates to 1 over the sphere for g in (-1, 1). cosTheta is the
 /// cosine between the light's direction of travel and the scattered direction (1 = forward).
 double phase(PhaseModel model, double cosTheta, double g);
@@ -97,6 +114,7 @@ struct Settings {
   float minKelvin = 1000.0f, maxKelvin = 10000.0f;  ///< the black-body texture's range
   float normalizeKelvin = 3200.0f;                  ///< luminance 1 at this temperature
   float exposure = 1.0f;                            ///< scales every emission, [0, 1e4]
+  SortKey sort = SortKey::kViewDepth;               ///< back-to-front order (docs/media.md, "Sorting")
   bool operator==(const Settings&) const = default;
 };
 
