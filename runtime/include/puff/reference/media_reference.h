@@ -28,10 +28,11 @@
 //    sampled trilinearly with repeat wrap in all three axes at the shader's coordinates, the rows
 //    flipped as makeDetailTexture flips them (texture t = 0 is the video's bottom row).
 //  - Order: per ray, by the distance along THIS ray to each chord's midpoint (the point of the ray
-//    nearest the sphere's centre), farthest first; the GPU sorts once per frame by the centres'
-//    view-axis depth, which differs where overlapping spheres lie off the view axis.
-//  - Arithmetic: doubles throughout (the GPU: 32-bit floats, a 32-bit float layer, an 8-bit
-//    opaque colour target); no clamping of the result.
+//    nearest the sphere's centre), farthest first; the GPU sorts once per frame by settings.sort
+//    (the centres' view-axis depth by default, or their power distance |c|^2 - r^2), which differs
+//    where overlapping spheres lie off the view axis.
+//  - Arithmetic: doubles throughout (the GPU: 32-bit floats, a 32-bit float layer, a half-float
+//    scene-linear opaque colour target); no clamping of the result.
 //
 // DELIBERATELY THE RENDERER'S MODEL (the choices, not approximations, that the two share):
 //  - the paper's falloff (1 - d / r), d the distance from the centre to the ray;
@@ -85,8 +86,8 @@ struct MediaReferenceInput {
   std::span<const glm::vec3> opaqueColor;
   std::span<const float> opaqueDepth;
   glm::vec3 background{0.0f};
-  /// Composite in the renderer's order instead (media::backToFront: the centres' view-axis depth,
-  /// one order for the whole frame), to tell how much of a difference the order makes.
+  /// Composite in the renderer's order instead (media::backToFront with settings.sort: one order for
+  /// the whole frame), to tell how much of a difference the order makes.
   bool viewAxisOrder = false;
 };
 
