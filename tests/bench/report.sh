@@ -2,8 +2,9 @@
 # Regenerates docs/report/ (issue 7: speed against accuracy) and the figure tables the docs quote
 # (issue 21: one source for every figure): runs the benchmarks, keeps their CSVs, draws the charts with
 # gnuplot (SVG), writes the markdown tables from the CSVs and the page docs/report/README.md.
-#   tests/bench/report.sh [BUILD_DIR (build)] [--only all|media|paper|tables (all)] [puffbench options]
+#   tests/bench/report.sh [BUILD_DIR (build)] [--only all|cel|media|paper|tables (all)] [puffbench options]
 #     all     puffbench (cel, then media) and puff_bench_media: every CSV in docs/report/
+#     cel     puffbench --part cel only: cel.csv; the other CSVs are kept
 #     media   puffbench --part media only: media.csv and stability.csv; the other CSVs are kept
 #     paper   puff_bench_media only: paper.csv; the other CSVs are kept
 #     tables  runs nothing: the charts and tables again from the CSVs there are
@@ -22,7 +23,7 @@ if [ "${1:-}" = "--only" ]; then
   only=${2:-}
   shift 2 || true
 fi
-case $only in all | media | paper | tables) ;; *) echo "report.sh: error: --only takes all, media, paper or tables, got '$only'" >&2; exit 2 ;; esac
+case $only in all | cel | media | paper | tables) ;; *) echo "report.sh: error: --only takes all, cel, media, paper or tables, got '$only'" >&2; exit 2 ;; esac
 out=docs/report
 runs=$out/runs.tsv
 command -v gnuplot >/dev/null || { echo "report.sh: error: gnuplot not found (apt-get install gnuplot-nox)" >&2; exit 1; }
@@ -45,28 +46,38 @@ provenance() {
                         END {if (!found) printf "`%s`: how it was produced is not recorded.\n", f}' "$runs"
 }
 
-if [ "$only" = all ] || [ "$only" = media ]; then
+if [ "$only" = all ] || [ "$only" = cel ] || [ "$only" = media ]; then
   [ -x "$build/tests/puffbench" ] || { echo "report.sh: error: $build/tests/puffbench not built (cmake --build $build --target puffbench)" >&2; exit 1; }
   start=$(date +%s)
   if [ "$only" = all ]; then
     PUFF_GL=${PUFF_GL:-osmesa} "$build/tests/puffbench" --csv "$tmp/media.csv" --cel-csv "$tmp/cel.csv" --stability-csv "$tmp/stability.csv" "$@" 2> "$tmp/log.txt" || { cat "$tmp/log.txt" >&2; exit 1; }
+  elif [ "$only" = cel ]; then
+    PUFF_GL=${PUFF_GL:-osmesa} "$build/tests/puffbench" --part cel --cel-csv "$tmp/cel.csv" "$@" 2> "$tmp/log.txt" || { cat "$tmp/log.txt" >&2; exit 1; }
   else
     PUFF_GL=${PUFF_GL:-osmesa} "$build/tests/puffbench" --part media --csv "$tmp/media.csv" --stability-csv "$tmp/stability.csv" "$@" 2> "$tmp/log.txt" || { cat "$tmp/log.txt" >&2; exit 1; }
   fi
   seconds=$(( $(date +%s) - start ))
   gl=$(sed -n '1s/^puffbench: //p' "$tmp/log.txt")
-  cp "$tmp/log.txt" "$out/puffbench-log.txt"
   if [ "$only" = all ]; then
     cmd="PUFF_GL=osmesa $build/tests/puffbench --csv $out/media.csv --cel-csv $out/cel.csv --stability-csv $out/stability.csv${*:+ $*}"
-    cp "$tmp/cel.csv" "$out/cel.csv"
-    record cel.csv "$seconds" "$cmd"
+  elif [ "$only" = cel ]; then
+    cmd="PUFF_GL=osmesa $build/tests/puffbench --part cel --cel-csv $out/cel.csv${*:+ $*}"
   else
     cmd="PUFF_GL=osmesa $build/tests/puffbench --part media --csv $out/media.csv --stability-csv $out/stability.csv${*:+ $*}"
   fi
-  cp "$tmp/media.csv" "$out/media.csv"
-  cp "$tmp/stability.csv" "$out/stability.csv"
-  record media.csv "$seconds" "$cmd"
-  record stability.csv "$seconds" "$cmd"
+  # Keep what puffbench printed (every row, and how long each scene took) beside the CSVs.
+  if [ "$only" != media ]; then
+    cp "$tmp/cel.csv" "$out/cel.csv"
+    record cel.csv "$seconds" "$cmd"
+    cp "$tmp/log.txt" "$out/puffbench-cel-log.txt"
+  fi
+  if [ "$only" != cel ]; then
+    cp "$tmp/media.csv" "$out/media.csv"
+    cp "$tmp/stability.csv" "$out/stability.csv"
+    record media.csv "$seconds" "$cmd"
+    record stability.csv "$seconds" "$cmd"
+    cp "$tmp/log.txt" "$out/puffbench-media-log.txt"
+  fi
 fi
 if [ "$only" = all ] || [ "$only" = paper ]; then
   # Umenhoffer et al.'s Table 1 and Fig. 12, with the error against the exact reference added.
@@ -117,7 +128,7 @@ for scene in $(tail -n +2 "$out/cel.csv" | awk -F, '$3 != "count"' | cut -d, -f1
   chart "cel-$scene" <<GP
 set title "$scene (cel): error against the cel reference vs frame time (labels: atlas cell texels / mesh faces)"
 set xlabel "median frame time, ms (this machine)"
-set ylabel "worst RMSE over 3 frames, 8-bit output values"
+set ylabel "worst RMSE over 3 frames, scene-linear colour"
 set grid
 set key top right
 plot "$tmp/cel-$scene.dat" using (stringcolumn(2) eq "cel" && stringcolumn(3) eq "atlas" ? \$9 : 1/0):12 with linespoints pt 7 ps 1.3 title "nailboards, atlas cell size", \
@@ -168,7 +179,7 @@ if grep -q ",fraction," "$out/cel.csv"; then
   chart "cel-fraction" <<GP
 set title "cloud-50k: fewer, bigger particles against the reference of all of them (labels: share)"
 set xlabel "median frame time, ms (this machine)"
-set ylabel "RMSE against the full model's reference, 8-bit output values"
+set ylabel "RMSE against the full model's reference, scene-linear colour"
 set grid
 set key top right
 plot "$tmp/fraction.dat" using (stringcolumn(2) eq "cel" ? \$9 : 1/0):12 with points pt 7 ps 1.3 title "nailboards", \
@@ -309,8 +320,8 @@ fi
 {
   echo "# Speed against accuracy"
   echo
-  echo "Generated by \`tests/bench/report.sh\` (\`--only all\` reruns every benchmark, \`--only media\`"
-  echo "puffbench's media part, \`--only paper\` puff_bench_media, \`--only tables\` only rewrites this"
+  echo "Generated by \`tests/bench/report.sh\` (\`--only all\` reruns every benchmark, \`--only cel\` and"
+  echo "\`--only media\` puffbench's parts, \`--only paper\` puff_bench_media, \`--only tables\` only rewrites this"
   echo "page, the charts and the tables from the CSVs). Each CSV here came from one command; \`runs.tsv\`"
   echo "keeps which, when and where:"
   echo
@@ -336,7 +347,7 @@ fi
   echo "in the same run: the same frames with every particle a bare alpha-tested quad of its nailboard's"
   echo "size (\`SceneRenderer::setFillRateFloor\`); \`ratio_to_floor\` divides by it (the fixed path's rows"
   echo "too); \`bare_ms\` is the frame without particles (that path's own). y: the worst RMSE"
-  echo "over those frames of the 8-bit output values against the reference of the same particles, over"
+  echo "over those frames of the scene-linear frame values (\`renderFrame\`, not clamped) against the reference of the same particles, over"
   echo "the whole frame (as \`puffrender --max-error\` measures it); \`cel.csv\` adds the RMSE over the"
   echo "pixels where either image shows puffs (\`rmse_puffs\`), the coverage IoU (pixels off each"
   echo "path's own bare frame by 1/64) and the outline IoU (ink pixels). Atlas points: the scene's puffs re-baked at 64 to 1024 texels a cell. Mesh-detail"
@@ -361,7 +372,7 @@ fi
     echo
     echo "| path | parameter | value | frame ms | x floor | worst RMSE | RMSE on puffs | coverage IoU | outline IoU | Pareto |"
     echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
-    grep "^$scene," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %s | %.1f | %.2f | %.4f | %.4f | %.3f | %.3f | %s |\n", $2, $3, $5, $9, $11, $12, $17, $14, $15, ($16 == 1 ? "yes" : "")}'
+    grep "^$scene," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %s | %.1f | %s | %.4f | %.4f | %.3f | %.3f | %s |\n", $2, $3, $5, $9, ($11 == "" ? "below floor" : sprintf("%.2f", $11)), $12, $17, $14, $15, ($16 == 1 ? "yes" : "")}'
     echo
   done
   if grep -q ",count," "$out/cel.csv"; then
@@ -375,7 +386,7 @@ fi
     echo
     echo "| path | particles | frame ms | fill-rate floor ms | x floor | RMSE | RMSE on puffs | coverage IoU | outline IoU |"
     echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
-    grep ",count," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %.1f | %.2f | %.1f | %s | %s | %s | %s |\n", $2, $4, $9, $10, $11, $12, $17, $14, $15}'
+    grep ",count," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %.1f | %.2f | %s | %s | %s | %s | %s |\n", $2, $4, $9, $10, ($11 == "" ? "below floor" : sprintf("%.1f", $11)), $12, $17, $14, $15}'
     echo
   fi
   if grep -q ",fraction," "$out/cel.csv"; then
@@ -390,7 +401,7 @@ fi
     echo
     echo "| path | share | particles | frame ms | x floor | RMSE vs all | coverage IoU | outline IoU |"
     echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
-    grep ",fraction," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %s | %.1f | %.1f | %s | %s | %s |\n", $2, $5, $6, $9, $11, $12, $14, $15}'
+    grep ",fraction," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %s | %.1f | %s | %s | %s | %s |\n", $2, $5, $6, $9, ($11 == "" ? "below floor" : sprintf("%.1f", $11)), $12, $14, $15}'
     echo
   fi
   echo "# The media path: fire, smoke and dust"
@@ -426,7 +437,7 @@ fi
   echo "![walls through the media](walls.svg)"
   echo
   echo "The spatial metric: the largest step between neighbouring pixels of the ERROR image (the frame"
-  echo "minus its exact reference, \`render::mediaReference\`), where either shows media and the bare frame"
+  echo "minus its exact reference, \`eval::mediaReference\`), where either shows media and the bare frame"
   echo "is flat, layer at full resolution, no lights or shimmer. The medium's own gradients are in both"
   echo "and cancel; a billboard cut by a wall is a step the reference does not have. On one dense smoke"
   echo "ball with a slanted wall through its centre (no detail video, 160 x 120) planar billboards show"

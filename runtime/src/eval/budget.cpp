@@ -174,8 +174,6 @@ Result<void> checkMediaBudget(const Scene& scene, std::span<const int> frames, c
   return {};
 }
 
-// Every resolution's error at frame f against the exact media reference, made once for all of them
-// while they draw the same opaque pass.
 // A frame's errors in the regions that matter, against one reference.
 void addRegionErrors(const core::Image& image, const core::Image& ref, const std::vector<bool>& media,
                      const std::vector<bool>& band, RegionErrors& e) {
@@ -195,6 +193,8 @@ std::size_t countSet(const std::vector<bool>& mask) {
   return static_cast<std::size_t>(std::count(mask.begin(), mask.end(), true));
 }
 
+// Every resolution's error at frame f against the exact media reference, made once for all of them
+// while they draw the same opaque pass.
 Result<void> measureMediaErrors(const Scene& scene, const Scene& measured, int f,
                                 const std::vector<std::unique_ptr<SceneRenderer>>& renderers, const Detail& detail,
                                 bool physical, MediaBudget& budget) {
