@@ -4,7 +4,9 @@
 // planar-textured, soft-linear, soft-scurve, spherical) and media layer resolution (1/8 ..
 // 1), the median frame time and the worst error against the exact reference over three frames of
 // the scene's camera path (eval::measureMediaBudget: reference::renderMediaReference over the
-// same opaque layer, RMSE in linear colour), and the scene's frame without media particles (the
+// same opaque layer, RMSE in scene-linear colour; also over the media pixels, in the clip band, and
+// SSIM; with --physical the same against reference::renderMediaPhysical, the particles as one
+// continuous medium), and the scene's frame without media particles (the
 // baseline: opaque pass, resolve and compose) measured in the same run. Marks the Pareto front per
 // scene: the configurations no other one beats on both time and error. Writes CSV (--csv FILE,
 // atomically; else stdout) for tests/bench/report.sh, which draws the charts. Not a test: nothing
@@ -50,7 +52,20 @@ struct Row {
   double ms = 0.0, baselineMs = 0.0, rmse = 0.0;
   double floorMs = 0.0;  ///< the fill-rate floor: the same particles' quads computing nothing
   bool pareto = false;
+  bool sceneMethod = false;            ///< the scene's own method (what puffrender --max-error measures)
+  eval::RegionErrors regions;          ///< against the model reference (worst fields used)
+  bool physical = false;               ///< measured against the physical reference too
+  double rmsePhysical = 0.0;           ///< worst whole-frame RMSE against it
+  eval::RegionErrors regionsPhysical;  ///< against it (worst fields used)
 };
+
+// A CSV field: the figure, or empty where it was not measured.
+std::string field(bool measured, double v, const char* format = "%.6f") {
+  if (!measured) return {};
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
 
 // The scene as eval::measureMediaBudget renders the frames it times: without what the reference
 // does not model (explosion lights, heat shimmer, motion blur; budget.cpp does the same). The
@@ -251,6 +266,7 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
 
 int main(int argc, char** argv) {
   int reps = 3, width = 320, height = 240;
+  bool physical = false;
   std::string csvPath, celCsvPath, stabilityCsvPath, part = "all";
   puffbench::CelBenchOptions cel;
   fs::path artDir = PUFF_ART_DIR, sceneDir = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes";
@@ -275,6 +291,8 @@ int main(int argc, char** argv) {
       part = argv[++i];
     } else if (!std::strcmp(argv[i], "--reference-limit") && i + 1 < argc) {
       cel.referenceLimit = static_cast<std::size_t>(std::max(0, std::atoi(argv[++i])));
+    } else if (!std::strcmp(argv[i], "--physical")) {
+      physical = true;
     } else if (!std::strcmp(argv[i], "--no-counts")) {
       cel.counts.clear();
     } else if (!std::strcmp(argv[i], "--scene") && i + 1 < argc) {
@@ -285,6 +303,7 @@ int main(int argc, char** argv) {
                    "usage: puffbench [--part media|cel|all (all)] [--reps N (3)] [--size W H (320 240)]\n"
                    "                 [--scene NAME ... (media scenes)] [--csv FILE (media)] [--cel-csv FILE]\n"
                    "                 [--stability-csv FILE (media methods where they break)]\n"
+                   "                 [--physical: media errors against the physical reference too]\n"
                    "                 [--reference-limit N (12500): no cel reference above N particles]\n"
                    "                 [--no-counts: skip the particle-count sweep] [--art-dir DIR]\n");
       return 2;
@@ -360,6 +379,7 @@ int main(int argc, char** argv) {
       }
       eval::MediaBudgetOptions o;
       o.timedRenders = reps;
+      o.physical = physical;
       const auto t0 = Clock::now();
       auto budget = eval::measureMediaBudget(s, frames, o);
       if (!budget) {
@@ -379,6 +399,11 @@ int main(int argc, char** argv) {
         r.baselineMs = *base;
         r.floorMs = floors[c.resolution];
         r.rmse = c.worstRmse;
+        r.sceneMethod = m == scene.media->method;
+        r.regions = c.regions;
+        r.physical = physical;
+        r.rmsePhysical = c.worstRmsePhysical;
+        r.regionsPhysical = c.regionsPhysical;
         rows.push_back(r);
       }
     }
@@ -395,19 +420,28 @@ int main(int argc, char** argv) {
 
   std::string csv =
       "scene,method,resolution,width,height,median_ms,baseline_ms,ratio_to_baseline,worst_rmse,psnr_db,"
-      "pareto,floor_ms,ratio_to_floor,valid\n";
+      "pareto,floor_ms,ratio_to_floor,valid,scene_method,worst_rmse_media,worst_rmse_band,worst_ssim,"
+      "worst_rmse_physical,worst_rmse_media_physical,worst_rmse_band_physical,worst_ssim_physical\n";
   for (const Row& r : rows) {
     const double psnr = r.rmse > 0.0 ? -20.0 * std::log10(r.rmse) : 999.0;
     // A row faster than its own floor measured noise or a floor that is not one: invalid, no ratio.
     const bool valid = bench::validAgainstFloor(r.ms, r.floorMs);
-    bench::appendf(csv, "%s,%s,%g,%d,%d,%.3f,%.3f,%.3f,%.6f,%.2f,%d,%.3f,%s,%d\n", r.scene.c_str(), r.method.c_str(),
+    bench::appendf(csv, "%s,%s,%g,%d,%d,%.3f,%.3f,%.3f,%.6f,%.2f,%d,%.3f,%s,%d,", r.scene.c_str(), r.method.c_str(),
                    static_cast<double>(r.resolution), r.width, r.height, r.ms, r.baselineMs,
                    r.baselineMs > 0.0 ? r.ms / r.baselineMs : 0.0, r.rmse, psnr, r.pareto ? 1 : 0, r.floorMs,
                    bench::ratioToFloor(r.ms, r.floorMs).c_str(), valid ? 1 : 0);
-    std::fprintf(stderr, "%-17s %-15s %5g  %8.2f ms (%5.2fx)  floor %8.2f ms%s  rmse %.5f%s\n", r.scene.c_str(),
-                 r.method.c_str(), static_cast<double>(r.resolution), r.ms,
-                 r.baselineMs > 0.0 ? r.ms / r.baselineMs : 0.0, r.floorMs, valid ? "" : " (INVALID: below its floor)",
-                 r.rmse, r.pareto ? "  pareto" : "");
+    bench::appendf(csv, "%d,%.6f,%.6f,%.6f,%s,%s,%s,%s\n", r.sceneMethod ? 1 : 0, r.regions.worstRmseMedia,
+                   r.regions.worstRmseBand, r.regions.worstSsim, field(r.physical, r.rmsePhysical).c_str(),
+                   field(r.physical, r.regionsPhysical.worstRmseMedia).c_str(),
+                   field(r.physical, r.regionsPhysical.worstRmseBand).c_str(),
+                   field(r.physical, r.regionsPhysical.worstSsim).c_str());
+    std::fprintf(
+        stderr,
+        "%-17s %-15s %5g  %8.2f ms (%5.2fx)  floor %8.2f ms%s  rmse %.5f (media %.5f, band %.5f, ssim %.4f)%s%s\n",
+        r.scene.c_str(), r.method.c_str(), static_cast<double>(r.resolution), r.ms,
+        r.baselineMs > 0.0 ? r.ms / r.baselineMs : 0.0, r.floorMs, valid ? "" : " (INVALID: below its floor)", r.rmse,
+        r.regions.worstRmseMedia, r.regions.worstRmseBand, r.regions.worstSsim,
+        r.physical ? ("  physical " + field(true, r.rmsePhysical, "%.5f")).c_str() : "", r.pareto ? "  pareto" : "");
   }
   {
     // Where the media methods break, at a small size (every frame of the flight is drawn).

@@ -1,29 +1,96 @@
 #!/usr/bin/env bash
-# Regenerates docs/report/ (issue 7: speed against accuracy): runs puffbench on the art scenes (the
-# cel part, then the media part), keeps its CSVs, draws the charts with gnuplot (SVG) and writes the page
-# docs/report/README.md with what was run on what machine.
-#   tests/bench/report.sh [BUILD_DIR (build)] [puffbench options, e.g. --reps 5 --size 640 480]
+# Regenerates docs/report/ (issue 7: speed against accuracy) and the figure tables the docs quote
+# (issue 21: one source for every figure): runs the benchmarks, keeps their CSVs, draws the charts with
+# gnuplot (SVG), writes the markdown tables from the CSVs and the page docs/report/README.md.
+#   tests/bench/report.sh [BUILD_DIR (build)] [--only all|cel|media|paper|tables (all)] [puffbench options]
+#     all     puffbench (cel, then media) and puff_bench_media: every CSV in docs/report/
+#     cel     puffbench --part cel only: cel.csv; the other CSVs are kept
+#     media   puffbench --part media only: media.csv and stability.csv; the other CSVs are kept
+#     paper   puff_bench_media only: paper.csv; the other CSVs are kept
+#     tables  runs nothing: the charts and tables again from the CSVs there are
+#   puffbench options, e.g. --reps 5 --size 640 480 --physical (docs/bench/README.md lists them).
+# Every table is generated from one CSV and says which, with the command, date and machine that
+# produced it (docs/report/runs.tsv keeps them): docs/report/media-budget.md (what --max-error
+# measures: the scenes' own methods), docs/report/paper-tables.md (Table 1 and Fig. 12 from paper.csv),
+# docs/bench/media-tables.md (the same from docs/bench/media-llvmpipe-2core.csv).
 # Needs a build with PUFF_BUILD_BENCH=ON (the default) and gnuplot (Debian: gnuplot-nox).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-build=${1:-build}
-shift || true
+build=build
+if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then build=$1; shift; fi
+only=all
+if [ "${1:-}" = "--only" ]; then
+  only=${2:-}
+  shift 2 || true
+fi
+case $only in all | cel | media | paper | tables) ;; *) echo "report.sh: error: --only takes all, cel, media, paper or tables, got '$only'" >&2; exit 2 ;; esac
 out=docs/report
+runs=$out/runs.tsv
 command -v gnuplot >/dev/null || { echo "report.sh: error: gnuplot not found (apt-get install gnuplot-nox)" >&2; exit 1; }
-[ -x "$build/tests/puffbench" ] || { echo "report.sh: error: $build/tests/puffbench not built (cmake --build $build --target puffbench)" >&2; exit 1; }
 mkdir -p "$out"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
+touch "$runs"
 
-start=$(date +%s)
-PUFF_GL=${PUFF_GL:-osmesa} "$build/tests/puffbench" --csv "$tmp/media.csv" --cel-csv "$tmp/cel.csv" --stability-csv "$tmp/stability.csv" "$@" 2> "$tmp/log.txt" || { cat "$tmp/log.txt" >&2; exit 1; }
-# Umenhoffer et al.'s Table 1 and Fig. 12, with the error against the exact reference added.
-[ -x "$build/tests/puff_bench_media" ] || { echo "report.sh: error: $build/tests/puff_bench_media not built" >&2; exit 1; }
-PUFF_GL=${PUFF_GL:-osmesa} "$build/tests/puff_bench_media" --reps 5 --csv "$tmp/paper.csv" 2> "$tmp/log-paper.txt" || { cat "$tmp/log-paper.txt" >&2; exit 1; }
-seconds=$(( $(date +%s) - start ))
-gl=$(sed -n '1s/^puffbench: //p' "$tmp/log.txt")
+# record FILE SECONDS COMMAND: FILE was produced by COMMAND now, on this machine (replaces FILE's line).
 cpu=$(sed -n 's/^model name[[:space:]]*: //p' /proc/cpuinfo | head -1)
 cores=$(nproc)
+record() {
+  { grep -v "^$1	" "$runs" || true; printf '%s\t%s\t%s\t%s\t%s cores of %s\t%s\n' "$1" "$(date -u +%Y-%m-%d)" "$2" "$3" "$cores" "$cpu" "$gl"; } | sort > "$tmp/runs"
+  cp "$tmp/runs" "$runs"
+}
+# provenance FILE: one markdown line saying how FILE was produced (from runs.tsv; a seventh field is
+# a note, e.g. that the figures predate a change and are stale).
+provenance() {
+  awk -F'\t' -v f="$1" '$1 == f {printf "`%s`: `%s`, %s, %s s, on %s; GL: %s.%s\n", $1, $4, $2, $3, $5, $6, (NF >= 7 && $7 != "" ? " **Note:** " $7 "." : ""); found = 1}
+                        END {if (!found) printf "`%s`: how it was produced is not recorded.\n", f}' "$runs"
+}
+
+if [ "$only" = all ] || [ "$only" = cel ] || [ "$only" = media ]; then
+  [ -x "$build/tests/puffbench" ] || { echo "report.sh: error: $build/tests/puffbench not built (cmake --build $build --target puffbench)" >&2; exit 1; }
+  start=$(date +%s)
+  if [ "$only" = all ]; then
+    PUFF_GL=${PUFF_GL:-osmesa} "$build/tests/puffbench" --csv "$tmp/media.csv" --cel-csv "$tmp/cel.csv" --stability-csv "$tmp/stability.csv" "$@" 2> "$tmp/log.txt" || { cat "$tmp/log.txt" >&2; exit 1; }
+  elif [ "$only" = cel ]; then
+    PUFF_GL=${PUFF_GL:-osmesa} "$build/tests/puffbench" --part cel --cel-csv "$tmp/cel.csv" "$@" 2> "$tmp/log.txt" || { cat "$tmp/log.txt" >&2; exit 1; }
+  else
+    PUFF_GL=${PUFF_GL:-osmesa} "$build/tests/puffbench" --part media --csv "$tmp/media.csv" --stability-csv "$tmp/stability.csv" "$@" 2> "$tmp/log.txt" || { cat "$tmp/log.txt" >&2; exit 1; }
+  fi
+  seconds=$(( $(date +%s) - start ))
+  gl=$(sed -n '1s/^puffbench: //p' "$tmp/log.txt")
+  if [ "$only" = all ]; then
+    cmd="PUFF_GL=osmesa $build/tests/puffbench --csv $out/media.csv --cel-csv $out/cel.csv --stability-csv $out/stability.csv${*:+ $*}"
+  elif [ "$only" = cel ]; then
+    cmd="PUFF_GL=osmesa $build/tests/puffbench --part cel --cel-csv $out/cel.csv${*:+ $*}"
+  else
+    cmd="PUFF_GL=osmesa $build/tests/puffbench --part media --csv $out/media.csv --stability-csv $out/stability.csv${*:+ $*}"
+  fi
+  # Keep what puffbench printed (every row, and how long each scene took) beside the CSVs.
+  if [ "$only" != media ]; then
+    cp "$tmp/cel.csv" "$out/cel.csv"
+    record cel.csv "$seconds" "$cmd"
+    cp "$tmp/log.txt" "$out/puffbench-cel-log.txt"
+  fi
+  if [ "$only" != cel ]; then
+    cp "$tmp/media.csv" "$out/media.csv"
+    cp "$tmp/stability.csv" "$out/stability.csv"
+    record media.csv "$seconds" "$cmd"
+    record stability.csv "$seconds" "$cmd"
+    cp "$tmp/log.txt" "$out/puffbench-media-log.txt"
+  fi
+fi
+if [ "$only" = all ] || [ "$only" = paper ]; then
+  # Umenhoffer et al.'s Table 1 and Fig. 12, with the error against the exact reference added.
+  [ -x "$build/tests/puff_bench_media" ] || { echo "report.sh: error: $build/tests/puff_bench_media not built" >&2; exit 1; }
+  start=$(date +%s)
+  PUFF_GL=${PUFF_GL:-osmesa} "$build/tests/puff_bench_media" --reps 5 --csv "$tmp/paper.csv" 2> "$tmp/log-paper.txt" || { cat "$tmp/log-paper.txt" >&2; exit 1; }
+  gl=$(sed -n '1s/^puff_bench_media: //p' "$tmp/log-paper.txt")
+  cp "$tmp/paper.csv" "$out/paper.csv"
+  record paper.csv "$(( $(date +%s) - start ))" "PUFF_GL=osmesa $build/tests/puff_bench_media --reps 5 --csv $out/paper.csv"
+fi
+for f in media.csv cel.csv stability.csv paper.csv; do
+  [ -s "$out/$f" ] || { echo "report.sh: error: $out/$f is missing: run with --only all first" >&2; exit 1; }
+done
 
 # chart NAME [SIZE (900,600)]: draws $tmp/NAME.svg with the gnuplot commands on stdin, which come after
 # the terminal, the output file and the CSV separator.
@@ -38,8 +105,8 @@ chart() {
 
 # One chart per scene: worst RMSE (log) against median frame time, one series per method, each point
 # labelled with its layer resolution; the Pareto front drawn through.
-for scene in $(tail -n +2 "$tmp/media.csv" | cut -d, -f1 | sort -u); do
-  grep "^$scene," "$tmp/media.csv" > "$tmp/$scene.dat"
+for scene in $(tail -n +2 "$out/media.csv" | cut -d, -f1 | sort -u); do
+  grep "^$scene," "$out/media.csv" > "$tmp/$scene.dat"
   awk -F, '$11 == 1' "$tmp/$scene.dat" | sort -t, -k6,6g > "$tmp/$scene.front"
   chart "$scene" <<GP
 set title "$scene: error against the exact reference vs frame time (labels: media layer resolution)"
@@ -48,7 +115,7 @@ set ylabel "worst RMSE over 3 frames, linear colour"
 set logscale y
 set grid
 set key top right
-plot for [m in "planar soft-linear soft-scurve spherical"] "$tmp/$scene.dat" using (stringcolumn(2) eq m ? \$6 : 1/0):9 with points pt 7 ps 1.3 title m, \
+plot for [m in "planar planar-textured soft-linear soft-scurve spherical"] "$tmp/$scene.dat" using (stringcolumn(2) eq m ? \$6 : 1/0):9 with points pt 7 ps 1.3 title m, \
      "$tmp/$scene.dat" using 6:9:(sprintf("%g", \$3)) with labels offset 1.2,0.6 font ",8" notitle, \
      "$tmp/$scene.front" using 6:9 with lines lw 1.5 dt 2 lc rgb "#555555" title "Pareto front"
 GP
@@ -56,12 +123,12 @@ done
 
 # The cel charts. Per scene: RMSE against frame time for the nailboards over atlas cell size and mesh
 # detail, the fixed-function path over mesh detail and the nailboards within the fixed path's limits.
-for scene in $(tail -n +2 "$tmp/cel.csv" | awk -F, '$3 != "count"' | cut -d, -f1 | sort -u); do
-  grep "^$scene," "$tmp/cel.csv" > "$tmp/cel-$scene.dat"
+for scene in $(tail -n +2 "$out/cel.csv" | awk -F, '$3 != "count"' | cut -d, -f1 | sort -u); do
+  grep "^$scene," "$out/cel.csv" > "$tmp/cel-$scene.dat"
   chart "cel-$scene" <<GP
 set title "$scene (cel): error against the cel reference vs frame time (labels: atlas cell texels / mesh faces)"
 set xlabel "median frame time, ms (this machine)"
-set ylabel "worst RMSE over 3 frames, 8-bit output values"
+set ylabel "worst RMSE over 3 frames, scene-linear colour"
 set grid
 set key top right
 plot "$tmp/cel-$scene.dat" using (stringcolumn(2) eq "cel" && stringcolumn(3) eq "atlas" ? \$9 : 1/0):12 with linespoints pt 7 ps 1.3 title "nailboards, atlas cell size", \
@@ -72,8 +139,8 @@ plot "$tmp/cel-$scene.dat" using (stringcolumn(2) eq "cel" && stringcolumn(3) eq
 GP
 done
 # Particle count (cloud-50k): frame time against particles, both paths, and the floor.
-if grep -q ",count," "$tmp/cel.csv"; then
-  grep ",count," "$tmp/cel.csv" > "$tmp/counts.dat"
+if grep -q ",count," "$out/cel.csv"; then
+  grep ",count," "$out/cel.csv" > "$tmp/counts.dat"
   chart "cel-counts" <<GP
 set title "cloud-50k: frame time against particle count (labels: RMSE against the reference, where measured)"
 set xlabel "particles"
@@ -89,7 +156,7 @@ GP
 fi
 
 # Where the media methods break: the camera flying into smoke, largest and mean second difference.
-grep "^smoke-flythrough," "$tmp/stability.csv" > "$tmp/flight.dat" || true
+grep "^smoke-flythrough," "$out/stability.csv" > "$tmp/flight.dat" || true
 if [ -s "$tmp/flight.dat" ]; then
   awk -F, '$3 == "largest_second_difference" {l[$2] = $4} $3 == "mean_second_difference" {m[$2] = $4}
            END {for (k in l) print k "," l[k] "," m[k]}' "$tmp/flight.dat" | sort > "$tmp/flight2.dat"
@@ -107,12 +174,12 @@ GP
 fi
 
 # Fewer, bigger particles against the full model (cloud-50k): error against frame time.
-if grep -q ",fraction," "$tmp/cel.csv"; then
-  grep ",fraction," "$tmp/cel.csv" > "$tmp/fraction.dat"
+if grep -q ",fraction," "$out/cel.csv"; then
+  grep ",fraction," "$out/cel.csv" > "$tmp/fraction.dat"
   chart "cel-fraction" <<GP
 set title "cloud-50k: fewer, bigger particles against the reference of all of them (labels: share)"
 set xlabel "median frame time, ms (this machine)"
-set ylabel "RMSE against the full model's reference, 8-bit output values"
+set ylabel "RMSE against the full model's reference, scene-linear colour"
 set grid
 set key top right
 plot "$tmp/fraction.dat" using (stringcolumn(2) eq "cel" ? \$9 : 1/0):12 with points pt 7 ps 1.3 title "nailboards", \
@@ -122,8 +189,8 @@ GP
 fi
 
 # Table 1 and Fig. 12 as error against time.
-grep "^table1,\(planar\|spherical\)," "$tmp/paper.csv" > "$tmp/table1.dat"
-grep "^fig12," "$tmp/paper.csv" > "$tmp/fig12.dat"
+grep "^table1,\(planar\|spherical\)," "$out/paper.csv" > "$tmp/table1.dat"
+grep "^fig12," "$out/paper.csv" > "$tmp/fig12.dat"
 chart "paper-table1" <<GP
 set title "Table 1 redone (512^2, layer 1/2, 4 screens of overdraw): error against frame time (labels: particles)"
 set xlabel "median frame ms, pass + compose (this machine)"
@@ -147,7 +214,7 @@ plot "$tmp/fig12.dat" using 16:21 with linespoints pt 7 ps 1.3 title "whole fram
 GP
 
 # Opaque surfaces through the media: the largest step of the error image at the wall, per method.
-awk -F, '$3 == "largest_error_jump" {print $1 "," $2 "," $4}' "$tmp/stability.csv" > "$tmp/jump.dat"
+awk -F, '$3 == "largest_error_jump" {print $1 "," $2 "," $4}' "$out/stability.csv" > "$tmp/jump.dat"
 if [ -s "$tmp/jump.dat" ]; then
   awk -F, '$1 == "wall-through-smoke" {w[$2] = $3} $1 == "explosion-walls" {e[$2] = $3}
            END {for (k in w) print k "," w[k] "," e[k]}' "$tmp/jump.dat" | sort > "$tmp/jump2.dat"
@@ -166,19 +233,102 @@ plot "$tmp/jump2.dat" using 2:xtic(1) title "wall through a smoke ball", "" usin
 GP
 fi
 
-cp "$tmp/media.csv" "$out/media.csv"
-cp "$tmp/paper.csv" "$out/paper.csv"
-cp "$tmp/cel.csv" "$out/cel.csv"
-cp "$tmp/stability.csv" "$out/stability.csv"
 cp "$tmp"/*.svg "$out/"
+
+# ---- the tables the docs quote, each from one CSV ---------------------------------------------------
+
+# paper_tables CSV: Table 1 and Fig. 12 from a puff_bench_media CSV (columns by name: older CSVs lack
+# the planar-textured and floor columns, which are then left empty).
+paper_tables() {
+  echo "**Table 1** (one row per particle count and method; median ms; ratios within the run; RMSE in"
+  echo "linear colour against \`reference::renderMediaReference\` over the same opaque layer, clamped to"
+  echo "[0, 1] as the bench's 8-bit target is):"
+  echo
+  echo "| particles | method | radius | frame ms | pass ms | compose ms | frame / planar | pass / planar | frame / planar-textured | pass / planar-textured | pass / floor | RMSE |"
+  echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+  awk -F, 'NR == 1 {for (i = 1; i <= NF; ++i) col[$i] = i; next}
+           function v(name) {return (name in col) ? $col[name] : ""}
+           $1 == "table1" {printf "| %s | %s | %s | %.1f | %.1f | %.1f | %s | %s | %s | %s | %s | %s |\n", v("particles"), v("method"),
+             (v("radius") + 0 > 0 ? v("radius") : "-"), v("frame_ms"), v("pass_ms"), v("compose_ms"),
+             v("frame_ratio_to_planar"), v("pass_ratio_to_planar"), v("frame_ratio_to_planar_textured"),
+             v("pass_ratio_to_planar_textured"), v("pass_ratio_to_floor"), v("rmse_vs_reference")}' "$1"
+  echo
+  echo "**Fig. 12** (spherical; median ms; speedups over layer scale 1 of the same run):"
+  echo
+  echo "| layer scale | layer px | pass ms | downsample ms | compose ms | whole frame ms | pass speedup | frame speedup | RMSE |"
+  echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+  awk -F, 'NR == 1 {for (i = 1; i <= NF; ++i) col[$i] = i; next}
+           function v(name) {return (name in col) ? $col[name] : ""}
+           $1 == "fig12" {printf "| %s | %s | %.1f | %.1f | %.1f | %.1f | %s | %s | %s |\n", v("layer_scale"), v("layer_px"),
+             v("pass_ms"), v("downsample_ms"), v("compose_ms"), v("total_ms"), v("pass_speedup_over_scale1"),
+             v("total_speedup_over_scale1"), v("rmse_vs_reference")}' "$1"
+}
+
+# media_budget CSV: per scene, the scene's own method at each layer resolution (what puffrender
+# --max-error measures), with where the error lies and, when measured, against the physical reference.
+media_budget() {
+  if ! head -1 "$1" | grep -q scene_method; then
+    echo "Pending: \`$1\` predates the region and physical columns (scene_method, worst_rmse_media, ...)."
+    return
+  fi
+  echo "Per scene, its own method (the one \`puffrender --max-error\` keeps) at each media layer resolution;"
+  echo "the worst over the first, middle and last frame of its camera path. RMSE in scene-linear colour,"
+  echo "not clamped. *media*: over the pixels where the reference shows a medium; *band*: within 2 pixels"
+  echo "of where a particle meets a surface or the near plane; SSIM over the whole frame (1: the same)."
+  echo "*model*: against \`reference::renderMediaReference\` (the model, exactly: what \`--max-error\`"
+  echo "chooses by, first column); *physical*: against \`reference::renderMediaPhysical\` (the particles as"
+  echo "one continuous medium; empty where not measured, i.e. without \`puffbench --physical\`)."
+  echo
+  echo "| scene | method | size | resolution | frame ms | RMSE | media | band | SSIM | physical RMSE | media | band | SSIM |"
+  echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+  awk -F, 'NR == 1 {for (i = 1; i <= NF; ++i) col[$i] = i; next}
+           function v(name) {return (name in col) ? $col[name] : ""}
+           function e(x) {return x == "" ? "" : sprintf(x + 0 >= 0.001 || x + 0 == 0 ? "%.4f" : "%.2g", x)}
+           v("scene_method") == 1 {printf "| %s | %s | %sx%s | %s | %.1f | %s | %s | %s | %.4f | %s | %s | %s | %s |\n",
+             v("scene"), v("method"), v("width"), v("height"), v("resolution"), v("median_ms"), e(v("worst_rmse")),
+             e(v("worst_rmse_media")), e(v("worst_rmse_band")), v("worst_ssim"), e(v("worst_rmse_physical")),
+             e(v("worst_rmse_media_physical")), e(v("worst_rmse_band_physical")),
+             (v("worst_ssim_physical") == "" ? "" : sprintf("%.4f", v("worst_ssim_physical")))}' "$1"
+}
+
+generated() { echo "<!-- Generated by tests/bench/report.sh from $1: do not edit; run \`tests/bench/report.sh --only tables\` -->"; }
+
+{
+  generated "$out/media.csv"
+  echo
+  provenance media.csv
+  echo
+  media_budget "$out/media.csv"
+} > "$out/media-budget.md"
+{
+  generated "$out/paper.csv"
+  echo
+  provenance paper.csv
+  echo
+  paper_tables "$out/paper.csv"
+} > "$out/paper-tables.md"
+if [ -s docs/bench/media-llvmpipe-2core.csv ]; then
+  {
+    generated docs/bench/media-llvmpipe-2core.csv
+    echo
+    echo "From \`docs/bench/media-llvmpipe-2core.csv\`: the command, machine and date are in docs/bench/README.md's table of files."
+    echo
+    paper_tables docs/bench/media-llvmpipe-2core.csv
+  } > docs/bench/media-tables.md
+fi
 
 {
   echo "# Speed against accuracy"
   echo
-  echo "Regenerate with \`tests/bench/report.sh${*:+ $build $*}\` (it rewrites this page, the charts,"
-  echo "\`cel.csv\`, \`media.csv\`, \`stability.csv\` and \`paper.csv\`). Last run: $(date -u +%Y-%m-%d), $seconds s, on $cores cores of $cpu;"
-  echo "GL: $gl. Times are this machine's (a software rasterizer, not a GPU): compare them within one"
-  echo "run. No test fails on these numbers; they are measurements."
+  echo "Generated by \`tests/bench/report.sh\` (\`--only all\` reruns every benchmark, \`--only cel\` and"
+  echo "\`--only media\` puffbench's parts, \`--only paper\` puff_bench_media, \`--only tables\` only rewrites this"
+  echo "page, the charts and the tables from the CSVs). Each CSV here came from one command; \`runs.tsv\`"
+  echo "keeps which, when and where:"
+  echo
+  for f in cel.csv media.csv stability.csv paper.csv; do echo "- $(provenance $f)"; done
+  echo
+  echo "Times are that machine's (a software rasterizer, not a GPU): compare them within one CSV. No"
+  echo "test fails on these numbers; they are measurements."
   echo
   echo "# The cel path: nailboards and the fixed-function path"
   echo
@@ -197,7 +347,7 @@ cp "$tmp"/*.svg "$out/"
   echo "in the same run: the same frames with every particle a bare alpha-tested quad of its nailboard's"
   echo "size (\`SceneRenderer::setFillRateFloor\`); \`ratio_to_floor\` divides by it (the fixed path's rows"
   echo "too); \`bare_ms\` is the frame without particles (that path's own). y: the worst RMSE"
-  echo "over those frames of the 8-bit output values against the reference of the same particles, over"
+  echo "over those frames of the scene-linear frame values (\`renderFrame\`, not clamped) against the reference of the same particles, over"
   echo "the whole frame (as \`puffrender --max-error\` measures it); \`cel.csv\` adds the RMSE over the"
   echo "pixels where either image shows puffs (\`rmse_puffs\`), the coverage IoU (pixels off each"
   echo "path's own bare frame by 1/64) and the outline IoU (ink pixels). Atlas points: the scene's puffs re-baked at 64 to 1024 texels a cell. Mesh-detail"
@@ -222,7 +372,7 @@ cp "$tmp"/*.svg "$out/"
     echo
     echo "| path | parameter | value | frame ms | x floor | worst RMSE | RMSE on puffs | coverage IoU | outline IoU | Pareto |"
     echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
-    grep "^$scene," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %s | %.1f | %.2f | %.4f | %.4f | %.3f | %.3f | %s |\n", $2, $3, $5, $9, $11, $12, $17, $14, $15, ($16 == 1 ? "yes" : "")}'
+    grep "^$scene," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %s | %.1f | %s | %.4f | %.4f | %.3f | %.3f | %s |\n", $2, $3, $5, $9, ($11 == "" ? "below floor" : sprintf("%.2f", $11)), $12, $17, $14, $15, ($16 == 1 ? "yes" : "")}'
     echo
   done
   if grep -q ",count," "$out/cel.csv"; then
@@ -236,7 +386,7 @@ cp "$tmp"/*.svg "$out/"
     echo
     echo "| path | particles | frame ms | fill-rate floor ms | x floor | RMSE | RMSE on puffs | coverage IoU | outline IoU |"
     echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
-    grep ",count," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %.1f | %.2f | %.1f | %s | %s | %s | %s |\n", $2, $4, $9, $10, $11, $12, $17, $14, $15}'
+    grep ",count," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %.1f | %.2f | %s | %s | %s | %s | %s |\n", $2, $4, $9, $10, ($11 == "" ? "below floor" : sprintf("%.1f", $11)), $12, $17, $14, $15}'
     echo
   fi
   if grep -q ",fraction," "$out/cel.csv"; then
@@ -251,7 +401,7 @@ cp "$tmp"/*.svg "$out/"
     echo
     echo "| path | share | particles | frame ms | x floor | RMSE vs all | coverage IoU | outline IoU |"
     echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
-    grep ",fraction," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %s | %.1f | %.1f | %s | %s | %s |\n", $2, $5, $6, $9, $11, $12, $14, $15}'
+    grep ",fraction," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %s | %.1f | %s | %s | %s | %s |\n", $2, $5, $6, $9, ($11 == "" ? "below floor" : sprintf("%.1f", $11)), $12, $14, $15}'
     echo
   fi
   echo "# The media path: fire, smoke and dust"
@@ -264,16 +414,9 @@ cp "$tmp"/*.svg "$out/"
   echo
   echo "![Table 1](paper-table1.svg)"
   echo
-  echo "| particles | planar frame ms | spherical frame ms | planar RMSE | spherical RMSE |"
-  echo "| --- | --- | --- | --- | --- |"
-  awk -F, '$1 == "table1" && $2 == "planar" {p[$3] = $15; pe[$3] = $21} $1 == "table1" && $2 == "spherical" {s[$3] = $15; se[$3] = $21}
-           END {for (k in p) printf "%d | %.1f | %.1f | %s | %s\n", k, p[k], s[k], pe[k], se[k]}' "$out/paper.csv" | sort -n | sed 's/^/| /; s/$/ |/'
+  tail -n +3 "$out/paper-tables.md"
   echo
   echo "![Fig. 12](paper-fig12.svg)"
-  echo
-  echo "| layer scale | pass ms | whole frame ms | RMSE |"
-  echo "| --- | --- | --- | --- |"
-  awk -F, '$1 == "fig12" {printf "| %s | %.1f | %.1f | %s |\n", $5, $13, $16, $21}' "$out/paper.csv"
   echo
   echo "## Where the methods break (\`stability.csv\`)"
   echo
@@ -294,7 +437,7 @@ cp "$tmp"/*.svg "$out/"
   echo "![walls through the media](walls.svg)"
   echo
   echo "The spatial metric: the largest step between neighbouring pixels of the ERROR image (the frame"
-  echo "minus its exact reference, \`render::mediaReference\`), where either shows media and the bare frame"
+  echo "minus its exact reference, \`eval::mediaReference\`), where either shows media and the bare frame"
   echo "is flat, layer at full resolution, no lights or shimmer. The medium's own gradients are in both"
   echo "and cancel; a billboard cut by a wall is a step the reference does not have. On one dense smoke"
   echo "ball with a slanted wall through its centre (no detail video, 160 x 120) planar billboards show"
@@ -305,14 +448,19 @@ cp "$tmp"/*.svg "$out/"
   echo
   echo "## Speed against accuracy"
   echo
+  echo "### What \`--max-error\` measures (\`media-budget.md\`, quoted by docs/media.md)"
+  echo
+  tail -n +3 "$out/media-budget.md"
+  echo
   echo "**What each point is.** One art scene drawn by one method with the media layer at one"
   echo "resolution (1/8, 1/4, 1/2 or 1 of the output; the label). x: the median wall time of a whole"
   echo "frame (\`SceneRenderer::renderFrame\`: opaque pass, resolve, media, compose, read-back) over"
   echo "three frames of the scene's camera path (first, middle, last). y: the worst over those frames"
-  echo "of the RMSE, in linear colour, against the exact reference (\`puff::reference\`: every"
-  echo "particle's exact path through each pixel's ray, double precision, composited along the ray,"
-  echo "over the same opaque layer; \`runtime/include/puff/render/budget.h\` says what both sides"
-  echo "leave out). The dashed line is the Pareto front: the configurations nothing else beats on"
+  echo "of the RMSE, in scene-linear colour (not clamped), against the exact model reference"
+  echo "(\`puff::reference\`: every particle's exact path through each pixel's ray, double precision,"
+  echo "composited along the ray, over the same opaque layer; docs/measurement.md says what both sides"
+  echo "leave out). The tables add, worst over the same frames, the RMSE over the media pixels and in"
+  echo "the clip band, SSIM, and (with \`puffbench --physical\`) the RMSE against the physical reference. The dashed line is the Pareto front: the configurations nothing else beats on"
   echo "both. \`baseline_ms\` in the CSV is the same frame without media particles; \`floor_ms\` the"
   echo "fill-rate floor, measured in the same run at each layer resolution: the same frame with every"
   echo "media particle's quad drawn by a fragment program that computes nothing"
@@ -321,8 +469,7 @@ cp "$tmp"/*.svg "$out/"
   echo "How to read it: along one method's points the layer resolution trades time for error. Where a"
   echo "method's error stops falling as the layer gets finer, what is left is the method's own error"
   echo "(planar billboards cut by walls or popping at the near plane; soft ones fading where nothing"
-  echo "fades) plus the floor every method shares: the 8-bit output's rounding (about 0.0011) and the"
-  echo "view-axis sort. Where the methods' points coincide, that scene's sampled frames do not show"
+  echo "fades) plus the floor every method shares: the float layers' rounding and the view-axis sort. Where the methods' points coincide, that scene's sampled frames do not show"
   echo "their differences."
   echo
   for scene in $(tail -n +2 "$out/media.csv" | cut -d, -f1 | sort -u); do
@@ -330,10 +477,16 @@ cp "$tmp"/*.svg "$out/"
     echo
     echo "![$scene]($scene.svg)"
     echo
-    echo "| method | resolution | frame ms | x no media | x fill-rate floor | worst RMSE | PSNR dB | Pareto |"
-    echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
-    grep "^$scene," "$out/media.csv" | awk -F, '{printf "| %s | %s | %.1f | %.2f | %.2f | %.5f | %.1f | %s |\n", $2, $3, $6, $8, $13, $9, $10, ($11 == 1 ? "yes" : "")}'
+    echo "| method | resolution | frame ms | x no media | x fill-rate floor | worst RMSE | PSNR dB | media RMSE | band RMSE | SSIM | physical RMSE | Pareto |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    awk -F, -v scene="$scene" 'NR == 1 {for (i = 1; i <= NF; ++i) col[$i] = i; next}
+        function v(name) {return (name in col) ? $col[name] : ""}
+        function e(x) {return x == "" ? "" : sprintf(x + 0 >= 0.001 || x + 0 == 0 ? "%.4f" : "%.2g", x)}
+        $1 == scene {printf "| %s | %s | %.1f | %.2f | %s | %.5f | %.1f | %s | %s | %s | %s | %s |\n", v("method"), v("resolution"),
+          v("median_ms"), v("ratio_to_baseline"), v("ratio_to_floor"), v("worst_rmse"), v("psnr_db"), e(v("worst_rmse_media")),
+          e(v("worst_rmse_band")), (v("worst_ssim") == "" ? "" : sprintf("%.4f", v("worst_ssim"))), e(v("worst_rmse_physical")),
+          (v("pareto") == 1 ? "yes" : "")}' "$out/media.csv"
     echo
   done
 } > "$out/README.md"
-echo "report.sh: wrote $out/README.md, $out/cel.csv, $out/media.csv and the charts ($seconds s)"
+echo "report.sh: wrote $out/README.md, $out/media-budget.md, $out/paper-tables.md, docs/bench/media-tables.md and the charts${seconds:+ (benchmarks: $seconds s)}"

@@ -45,6 +45,10 @@ eval::MediaBudget syntheticBudget(std::vector<double> worst) {
     c.resolution = eval::kMediaResolutions[i];
     c.rmse = {worst[i] / 2, worst[i]};
     c.worstRmse = worst[i];
+    // Region figures that tell the columns apart in the table.
+    c.regions.worstRmseMedia = 2.0 * worst[i];
+    c.regions.worstRmseBand = 3.0 * worst[i];
+    c.regions.worstSsim = 1.0 - worst[i];
     c.medianMs = 10.0 * static_cast<double>(1 << i);  // 10, 20, 40, 80
     b.candidates.push_back(c);
   }
@@ -88,7 +92,19 @@ TEST(BudgetChoice, TheCheapestWithinTheBudgetWithoutAssumingMonotony) {
             "rendering at 1");
   const std::string table = eval::budgetTable(bumpy, *c);
   EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 5) << table;
-  EXPECT_NE(table.find("1      0.0120       80.0  <- chosen\n"), std::string::npos) << table;
+  EXPECT_EQ(table.rfind("  resolution  worst RMSE  media RMSE   band RMSE    SSIM  median ms\n", 0), 0u) << table;
+  EXPECT_NE(table.find("           1      0.0120      0.0240      0.0360  0.9880       80.0  <- chosen\n"),
+            std::string::npos)
+      << table;
+  // Measured against the physical reference too: its whole-frame RMSE beside the model's.
+  eval::MediaBudget physical = bumpy;
+  for (eval::MediaCandidate& k : physical.candidates) {
+    k.rmsePhysical = {0.05, 0.04};
+    k.worstRmsePhysical = 0.05;
+  }
+  const std::string both = eval::budgetTable(physical, *c);
+  EXPECT_EQ(both.rfind("  resolution  worst RMSE  vs physical  media RMSE", 0), 0u) << both;
+  EXPECT_NE(both.find("           1      0.0120       0.0500      0.0240"), std::string::npos) << both;
 }
 
 TEST(BudgetChoice, BudgetsOutsideZeroToOneAreErrors) {
@@ -114,13 +130,16 @@ Result<scene::Scene> smallExplosion() {
 
 class BudgetExplosion : public test::GlTest {
  protected:
-  // Measured once for the suite: about 2 s on llvmpipe, most of it the two references.
+  // Measured once for the suite: about 7 s on llvmpipe, most of it the references (model and physical).
   void SetUp() override {
     test::GlTest::SetUp();
     if (budget_ || !error_.empty()) return;
     auto scene = smallExplosion();
     ASSERT_OK(scene);
-    auto b = eval::measureMediaBudget(*scene, kFireFrames, eval::MediaBudgetOptions{1});
+    eval::MediaBudgetOptions options;
+    options.timedRenders = 1;
+    options.physical = true;  // 96 x 72: about a second more
+    auto b = eval::measureMediaBudget(*scene, kFireFrames, options);
     if (!b) {
       error_ = b.error().message;
       return;
@@ -129,6 +148,14 @@ class BudgetExplosion : public test::GlTest {
     for (const eval::MediaCandidate& c : budget_->candidates) {
       std::printf("resolution %5.3f: rmse %.5f (frame 5) %.5f (frame 20), median %.1f ms\n", c.resolution, c.rmse[0],
                   c.rmse[1], c.medianMs);
+      std::printf("  worst: physical %.5f, media %.5f / %.5f, band %.5f / %.5f, ssim %.4f / %.4f (model / physical)\n",
+                  c.worstRmsePhysical, c.regions.worstRmseMedia, c.regionsPhysical.worstRmseMedia,
+                  c.regions.worstRmseBand, c.regionsPhysical.worstRmseBand, c.regions.worstSsim,
+                  c.regionsPhysical.worstSsim);
+    }
+    for (std::size_t k = 0; k < budget_->frames.size() && k < budget_->mediaPixels.size(); ++k) {
+      std::printf("frame %d: %zu media pixels (%zu physical), %zu in the clip band\n", budget_->frames[k],
+                  budget_->mediaPixels[k], budget_->mediaPixelsPhysical[k], budget_->bandPixels[k]);
     }
   }
   const eval::MediaBudget& budget() {
@@ -170,6 +197,105 @@ TEST_F(BudgetExplosion, FullResolutionIsClosestToTheReference) {
   // output separate the GPU from the reference (ReferenceGpu measures 6e-4 on its cloud); a wrong
   // opaque layer, row order or frame would show as tenths.
   EXPECT_LT(c.back().worstRmse, 0.01);
+}
+
+// The region figures (issue 21) against each reference: filled per frame, finite, in range, the worst
+// over the frames, and consistent with the whole-frame RMSE they are part of.
+void expectRegions(const eval::RegionErrors& e, double rmseWhole, const std::vector<double>& whole,
+                   const std::vector<std::size_t>& mediaPixels, const std::vector<std::size_t>& bandPixels) {
+  const std::size_t frames = whole.size();
+  ASSERT_EQ(e.rmseMedia.size(), frames);
+  ASSERT_EQ(e.rmseBand.size(), frames);
+  ASSERT_EQ(e.ssim.size(), frames);
+  for (std::size_t k = 0; k < frames; ++k) {
+    EXPECT_TRUE(std::isfinite(e.rmseMedia[k]) && std::isfinite(e.rmseBand[k]) && std::isfinite(e.ssim[k]));
+    EXPECT_GE(e.rmseMedia[k], 0.0);
+    EXPECT_GE(e.rmseBand[k], 0.0);
+    EXPECT_GE(e.ssim[k], -1.0);
+    EXPECT_LE(e.ssim[k], 1.0);
+    // A mask's squared errors are part of the whole frame's: rmse_mask^2 n_mask <= rmse^2 n (RMSE is
+    // over the R, G, B values of the counted pixels).
+    const double n = 96.0 * 72.0;
+    EXPECT_LE(e.rmseMedia[k] * e.rmseMedia[k] * static_cast<double>(mediaPixels[k]),
+              whole[k] * whole[k] * n * (1.0 + 1e-9));
+    EXPECT_LE(e.rmseBand[k] * e.rmseBand[k] * static_cast<double>(bandPixels[k]),
+              whole[k] * whole[k] * n * (1.0 + 1e-9));
+  }
+  EXPECT_EQ(e.worstRmseMedia, *std::max_element(e.rmseMedia.begin(), e.rmseMedia.end()));
+  EXPECT_EQ(e.worstRmseBand, *std::max_element(e.rmseBand.begin(), e.rmseBand.end()));
+  EXPECT_EQ(e.worstSsim, *std::min_element(e.ssim.begin(), e.ssim.end()));
+  // The fire is where the error is: over its pixels the RMSE is larger than over the whole frame.
+  EXPECT_GT(e.worstRmseMedia, rmseWhole);
+}
+
+TEST_F(BudgetExplosion, ErrorsWhereTheMethodsDifferAreMeasuredAgainstBothReferences) {
+  ASSERT_TRUE(error_.empty()) << error_;
+  const eval::MediaBudget& b = budget();
+  ASSERT_EQ(b.mediaPixels.size(), 2u);
+  ASSERT_EQ(b.mediaPixelsPhysical.size(), 2u);
+  ASSERT_EQ(b.bandPixels.size(), 2u);
+  for (std::size_t k = 0; k < 2; ++k) {
+    // The fireball covers part of the frame, and it meets the ground and walls.
+    EXPECT_GT(b.mediaPixels[k], 96u * 72u / 20) << "frame " << b.frames[k];
+    EXPECT_LT(b.mediaPixels[k], 96u * 72u) << "frame " << b.frames[k];
+    EXPECT_GT(b.mediaPixelsPhysical[k], 0u) << "frame " << b.frames[k];
+    EXPECT_GT(b.bandPixels[k], 0u) << "frame " << b.frames[k];
+    EXPECT_LT(b.bandPixels[k], 96u * 72u) << "frame " << b.frames[k];
+  }
+  EXPECT_GT(b.physicalMs, 0.0);
+  for (const eval::MediaCandidate& c : b.candidates) {
+    SCOPED_TRACE(c.resolution);
+    expectRegions(c.regions, c.worstRmse, c.rmse, b.mediaPixels, b.bandPixels);
+    ASSERT_EQ(c.rmsePhysical.size(), 2u);
+    EXPECT_EQ(c.worstRmsePhysical, std::max(c.rmsePhysical[0], c.rmsePhysical[1]));
+    expectRegions(c.regionsPhysical, c.worstRmsePhysical, c.rmsePhysical, b.mediaPixelsPhysical, b.bandPixels);
+  }
+  // At full resolution what is left against the model reference is the GPU's evaluation of the model;
+  // against the physical one the model's own error (its per-sphere falloff) adds to it.
+  const eval::MediaCandidate& full = b.candidates.back();
+  EXPECT_GT(full.worstRmsePhysical, full.worstRmse);
+  EXPECT_GT(full.regions.worstSsim, full.regionsPhysical.worstSsim);
+  // The eighth-size layer blurs the fire: less similar in structure than the full-size one.
+  EXPECT_LT(b.candidates.front().regions.worstSsim, full.regions.worstSsim);
+  // The choice reads the whole-frame RMSE against the model reference only.
+  eval::MediaBudget swapped = b;
+  for (eval::MediaCandidate& c : swapped.candidates) {
+    c.regions.worstRmseMedia = c.regions.worstRmseBand = 1.0;
+    c.regions.worstSsim = -1.0;
+    c.worstRmsePhysical = 1.0;
+  }
+  for (double e : {1.0, b.candidates[2].worstRmse, 1e-6}) {
+    EXPECT_EQ(eval::chooseMediaResolution(swapped, e)->chosen, eval::chooseMediaResolution(b, e)->chosen) << e;
+  }
+}
+
+TEST_F(BudgetExplosion, WithoutMediaParticlesTheRegionsAreEmptyAndTheImagesAgree) {
+  // Closed form: no particle, so no media pixel and no clip band (their RMSE is 0 by definition), and
+  // the frame is its opaque layer, which is what the reference composes over: RMSE 0 and SSIM 1 up to
+  // the float layer's rounding.
+  auto scene = smallExplosion();
+  ASSERT_TRUE(scene.ok());
+  scene->media->particles.clear();
+  scene->media->emitters.clear();
+  const int frame[] = {5};
+  eval::MediaBudgetOptions options;
+  options.timedRenders = 1;
+  options.physical = true;
+  auto b = eval::measureMediaBudget(*scene, frame, options);
+  ASSERT_OK(b);
+  EXPECT_EQ(b->mediaPixels, (std::vector<std::size_t>{0}));
+  EXPECT_EQ(b->mediaPixelsPhysical, (std::vector<std::size_t>{0}));
+  EXPECT_EQ(b->bandPixels, (std::vector<std::size_t>{0}));
+  for (const eval::MediaCandidate& c : b->candidates) {
+    SCOPED_TRACE(c.resolution);
+    for (const eval::RegionErrors* e : {&c.regions, &c.regionsPhysical}) {
+      EXPECT_EQ(e->worstRmseMedia, 0.0);
+      EXPECT_EQ(e->worstRmseBand, 0.0);
+      EXPECT_NEAR(e->worstSsim, 1.0, 1e-9);
+    }
+    EXPECT_LT(c.worstRmse, 1e-6);
+    EXPECT_LT(c.worstRmsePhysical, 1e-6);
+  }
 }
 
 TEST_F(BudgetExplosion, AHugeBudgetTakesTheCheapest) {
@@ -278,7 +404,8 @@ TEST_F(BudgetCli, SaysWhatItChoseAndWhyAndRendersWithIt) {
   const fs::path out = dir_ / "ex_##.png";
   test::CliRun r = run(explosion() + " --frames 4-6 --max-error 0.05 -o " + out.string());
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_NE(r.err.find("  resolution  worst RMSE  median ms\n"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("  resolution  worst RMSE  media RMSE   band RMSE    SSIM  median ms\n"), std::string::npos)
+      << r.err;
   EXPECT_NE(r.err.find("<- chosen"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("puffrender: --max-error 0.05: media resolution "), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(" over frames 4, 5, 6"), std::string::npos) << r.err;

@@ -108,11 +108,14 @@ struct FrameReference {
   std::size_t particles = 0;
   core::Image image;
   core::Image physical;  // empty unless asked for
+  // Where the error is counted (RegionErrors): each reference's media pixels, and the clip band of
+  // the frame (the same for both: it depends on the particles, the camera and the opaque depth).
+  std::vector<bool> media, mediaPhysical, band;
 };
 
 Result<FrameReference> makeReference(const Scene& scene, const SceneRenderer::MediaFrameInputs& in,
                                      const core::DetailVideo* temperature, const core::DetailVideo* opacity,
-                                     bool physical = false, double* physicalMs = nullptr) {
+                                     bool physical = false, double* physicalMs = nullptr, bool regions = false) {
   const MediaSpec& spec = *scene.media;
   reference::MediaReferenceInput ri;
   ri.frame = in.frame;
@@ -125,15 +128,22 @@ Result<FrameReference> makeReference(const Scene& scene, const SceneRenderer::Me
   ri.opaqueColor = in.opaqueColor;
   ri.opaqueDepth = in.opaqueDepth;
   ri.background = core::srgbToLinear(scene.background);
-  auto image = reference::renderMediaReference(ri);
+  core::Image layer;
+  auto image = reference::renderMediaReference(ri, &layer);
   if (!image) return Error::at(scene.file, "the media reference: " + image.error().message);
   FrameReference r;
+  if (regions) {
+    r.media = reference::mediaMask(layer);
+    r.band = reference::clipBand(in.opaqueDepth, in.particles, in.frame).band;
+  }
   if (physical) {
     const auto t0 = Clock::now();
-    auto p = reference::renderMediaPhysical(ri, reference::PhysicalOptions{});
+    core::Image physicalLayer;
+    auto p = reference::renderMediaPhysical(ri, reference::PhysicalOptions{}, &physicalLayer);
     if (physicalMs) *physicalMs += msSince(t0);
     if (!p) return Error::at(scene.file, "the physical media reference: " + p.error().message);
     r.physical = std::move(*p);
+    if (regions) r.mediaPhysical = reference::mediaMask(physicalLayer);
   }
   r.opaqueColor = in.opaqueColor;
   r.opaqueDepth = in.opaqueDepth;
@@ -164,6 +174,25 @@ Result<void> checkMediaBudget(const Scene& scene, std::span<const int> frames, c
   return {};
 }
 
+// A frame's errors in the regions that matter, against one reference.
+void addRegionErrors(const core::Image& image, const core::Image& ref, const std::vector<bool>& media,
+                     const std::vector<bool>& band, RegionErrors& e) {
+  e.rmseMedia.push_back(reference::imageError(image, ref, media).rmse);
+  e.rmseBand.push_back(reference::imageError(image, ref, band).rmse);
+  e.ssim.push_back(reference::ssim(image, ref));
+}
+
+void finishRegionErrors(RegionErrors& e) {
+  if (e.ssim.empty()) return;
+  e.worstRmseMedia = *std::max_element(e.rmseMedia.begin(), e.rmseMedia.end());
+  e.worstRmseBand = *std::max_element(e.rmseBand.begin(), e.rmseBand.end());
+  e.worstSsim = *std::min_element(e.ssim.begin(), e.ssim.end());
+}
+
+std::size_t countSet(const std::vector<bool>& mask) {
+  return static_cast<std::size_t>(std::count(mask.begin(), mask.end(), true));
+}
+
 // Every resolution's error at frame f against the exact media reference, made once for all of them
 // while they draw the same opaque pass.
 Result<void> measureMediaErrors(const Scene& scene, const Scene& measured, int f,
@@ -179,18 +208,27 @@ Result<void> measureMediaErrors(const Scene& scene, const Scene& measured, int f
     std::optional<FrameReference> own;
     if (!shared || !sameInputs(*shared, *inputs)) {
       const auto t0 = Clock::now();
-      auto ref = makeReference(measured, *inputs, detail.temperature(), detail.opacity(), physical, &budget.physicalMs);
+      auto ref = makeReference(measured, *inputs, detail.temperature(), detail.opacity(), physical, &budget.physicalMs,
+                               /*regions=*/true);
       budget.referenceMs += msSince(t0);
       if (!ref) return ref.error();
       if (!shared) {
         shared = std::move(*ref);
+        budget.mediaPixels.push_back(countSet(shared->media));
+        budget.bandPixels.push_back(countSet(shared->band));
+        if (physical) budget.mediaPixelsPhysical.push_back(countSet(shared->mediaPhysical));
       } else {
         own = std::move(*ref);
       }
     }
     const FrameReference& ref = own ? *own : *shared;
-    budget.candidates[i].rmse.push_back(reference::imageError(*image, ref.image).rmse);
-    if (physical) budget.candidates[i].rmsePhysical.push_back(reference::imageError(*image, ref.physical).rmse);
+    MediaCandidate& c = budget.candidates[i];
+    c.rmse.push_back(reference::imageError(*image, ref.image).rmse);
+    addRegionErrors(*image, ref.image, ref.media, ref.band, c.regions);
+    if (physical) {
+      c.rmsePhysical.push_back(reference::imageError(*image, ref.physical).rmse);
+      addRegionErrors(*image, ref.physical, ref.mediaPhysical, ref.band, c.regionsPhysical);
+    }
   }
   return {};
 }
@@ -262,6 +300,8 @@ Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> 
     MediaCandidate& c = budget.candidates[i];
     c.worstRmse = *std::max_element(c.rmse.begin(), c.rmse.end());
     if (!c.rmsePhysical.empty()) c.worstRmsePhysical = *std::max_element(c.rmsePhysical.begin(), c.rmsePhysical.end());
+    finishRegionErrors(c.regions);
+    finishRegionErrors(c.regionsPhysical);
     c.medianMs = median(times[i]);
   }
   return budget;
@@ -272,12 +312,24 @@ Result<MediaChoice> chooseMediaResolution(const MediaBudget& budget, double maxE
 }
 
 std::string budgetTable(const MediaBudget& budget, const MediaChoice& choice) {
-  std::string s = "  resolution  worst RMSE  median ms\n";
+  // The worst over the measured frames of each figure; the choice reads the first column only.
+  const bool physical = !budget.candidates.empty() && !budget.candidates.front().rmsePhysical.empty();
+  std::string s = "  resolution  worst RMSE";
+  if (physical) s += "  vs physical";
+  s += "  media RMSE   band RMSE    SSIM  median ms\n";
   for (std::size_t i = 0; i < budget.candidates.size(); ++i) {
     const MediaCandidate& c = budget.candidates[i];
-    char line[128];
-    std::snprintf(line, sizeof line, "  %10s  %10s  %9.1f%s\n", resolutionText(c.resolution).c_str(),
-                  errorText(c.worstRmse).c_str(), c.medianMs, i == choice.chosen ? "  <- chosen" : "");
+    char line[192];
+    std::snprintf(line, sizeof line, "  %10s  %10s", resolutionText(c.resolution).c_str(),
+                  errorText(c.worstRmse).c_str());
+    s += line;
+    if (physical) {
+      std::snprintf(line, sizeof line, "  %11s", errorText(c.worstRmsePhysical).c_str());
+      s += line;
+    }
+    std::snprintf(line, sizeof line, "  %10s  %10s  %6.4f  %9.1f%s\n", errorText(c.regions.worstRmseMedia).c_str(),
+                  errorText(c.regions.worstRmseBand).c_str(), c.regions.worstSsim, c.medianMs,
+                  i == choice.chosen ? "  <- chosen" : "");
     s += line;
   }
   return s;

@@ -33,15 +33,35 @@ struct MediaBudgetOptions {
   bool physical = false;
 };
 
+/// Where the error lies, per measured frame (MediaBudget::frames order) against one reference: the
+/// whole-frame RMSE says how far an image is, these say where (issue 21). Scene-linear, not clamped.
+struct RegionErrors {
+  /// RMSE over the pixels where that reference shows a medium (reference::mediaMask of its own
+  /// layer, epsilon half an 8-bit step). A frame without such pixels gives 0.
+  std::vector<double> rmseMedia;
+  /// RMSE over the clip band: within 2 pixels of where a particle sphere meets an opaque surface or
+  /// the near plane (reference::clipBand of the frame's opaque depth, particles and camera; the same
+  /// band for both references). A frame without such pixels gives 0.
+  std::vector<double> rmseBand;
+  /// SSIM over the whole frame (reference::ssim: per R, G, B, 11 x 11 Gaussian window), in [-1, 1];
+  /// 1 where the images agree.
+  std::vector<double> ssim;
+  double worstRmseMedia = 0.0;  ///< the largest of rmseMedia
+  double worstRmseBand = 0.0;   ///< the largest of rmseBand
+  double worstSsim = 1.0;       ///< the SMALLEST of ssim (the worst frame)
+};
+
 /// One resolution, measured.
 struct MediaCandidate {
   float resolution = 1.0f;  ///< MediaSpec::resolution
   std::vector<double>
       rmse;  ///< per measured frame (MediaBudget::frames order), scene-linear, against the model reference
-  double worstRmse = 0.0;  ///< the largest of `rmse`
+  double worstRmse = 0.0;  ///< the largest of `rmse`; the only figure chooseMediaResolution uses
   /// With MediaBudgetOptions::physical: per measured frame against the physical reference (else empty).
   std::vector<double> rmsePhysical;
   double worstRmsePhysical = 0.0;  ///< the largest of rmsePhysical
+  RegionErrors regions;            ///< against the model reference
+  RegionErrors regionsPhysical;    ///< against the physical reference (empty vectors without options.physical)
   double medianMs = 0.0;           ///< median wall time of one render::SceneRenderer::renderFrame, milliseconds
 };
 
@@ -50,6 +70,10 @@ struct MediaBudget {
   std::vector<MediaCandidate> candidates;  ///< in kMediaResolutions order: cheapest first
   double referenceMs = 0.0;                ///< wall time spent computing the references, milliseconds
   double physicalMs = 0.0;                 ///< of that, the physical references' (0 without them)
+  /// Per measured frame, the pixels RegionErrors counted (of the reference the first resolution was
+  /// measured against: every resolution draws the same opaque pass). mediaPixelsPhysical is empty
+  /// without options.physical.
+  std::vector<std::size_t> mediaPixels, mediaPixelsPhysical, bandPixels;
 };
 
 /// The frames to measure for a render of frames first..last (0 <= first <= last): first, middle
@@ -59,10 +83,12 @@ std::vector<int> budgetFrames(int first, int last);
 /// Renders `frames` (each in [0, scene.animation.frames), 1 .. 16 of them) at every resolution of
 /// kMediaResolutions on the programmable path in the CURRENT context (GL 4.5), computes the
 /// reference of each frame (once: the opaque layer does not depend on the media's resolution; again
-/// if a render's opaque layer differs) and returns the errors and times. The scene's method, size,
+/// if a render's opaque layer differs) and returns the errors (whole frame, media pixels, clip band,
+/// SSIM: RegionErrors) and times. The scene's method, size,
 /// samples and everything else are kept; lights, shimmer and motion blur are left out (see above).
 /// Deterministic except for the times. Cost: 4 x (1 + timedRenders) renders per frame, plus one
-/// reference per frame (explosion-walls, 640 x 480, 241 particles and a temperature video: about
+/// reference per frame, its clip band (every pixel against every particle, one thread) and per
+/// resolution an SSIM map (two with physical) (explosion-walls, 640 x 480, 241 particles and a temperature video: about
 /// 1.5 s on 2 cores; measuring frames 0, 36 and 71 of it: about 6 s).
 /// Errors: a scene without media, no frames or a frame outside the scene, timedRenders outside
 /// [1, 100], and what render::SceneRenderer::create, renderFrame, core::loadDetailVideo and
@@ -88,8 +114,10 @@ Result<core::Image> mediaReference(const scene::Scene& scene, const render::Scen
 /// Errors: maxError not in (0, 1] (NaN included), a budget without candidates.
 Result<MediaChoice> chooseMediaResolution(const MediaBudget& budget, double maxError);
 
-/// For people. The table: a header and one line per candidate (resolution, worst RMSE, median ms;
-/// the chosen one marked "<- chosen"), each line ending in '\n'. The summary, one line without
+/// For people. The table: a header and one line per candidate (resolution, worst RMSE, then the worst
+/// media-pixel RMSE, clip-band RMSE and SSIM against the model reference, with physical measured the
+/// worst whole-frame RMSE against the physical reference too, median ms; the chosen one marked
+/// "<- chosen"), each line ending in '\n'. The summary, one line without
 /// '\n', e.g. "--max-error 0.01: media resolution 0.25 (worst RMSE 0.0063 over frames 0, 36, 71;
 /// 0.125 misses with 0.0132; 0.5 would cost 1.8x as much)". The warning, when !choice.met (else
 /// empty), one line without '\n': the budget cannot be met, and the best error measured.
