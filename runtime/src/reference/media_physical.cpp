@@ -46,36 +46,12 @@ struct Hit {
 double logKeep(double b, double tau) { return b == 0.0 ? -tau : std::log(b + (1.0 - b) * std::exp(-tau)); }
 
 // One frame: its constants, its particles prepared once, then each pixel's ray.
-struct Tracer {
-  const MediaReferenceInput& in;
-  const media::Frame& f;
-  const media::Settings& s;
-  double yNorm = 0.0;
-  glm::dmat4 view{1.0}, invProj{1.0};
-  double nearPlane = 0.0, farPlane = 0.0;
-  glm::dvec3 toLight{0.0}, ambient{0.0}, lightColor{0.0};
-  double time = 0.0, exposure = 0.0;
-  bool haveTemperature = false;
-  double temperatureFrames = 1.0, opacityFrames = 1.0;
+struct Tracer : detail::FrameConstants {
   std::vector<Prepared> prepared;
   std::vector<glm::dvec3> constantLe;  // without a temperature video: Le(T0 + T1 / 2) per particle
   std::vector<glm::dvec3> leTable;     // with one: unclipped Le every kLeTableKelvin from minKelvin
 
-  explicit Tracer(const MediaReferenceInput& input) : in(input), f(input.frame), s(input.settings) {
-    yNorm = core::blackbodyXYZ(s.normalizeKelvin).y;
-    view = glm::dmat4(f.view);
-    invProj = glm::inverse(glm::dmat4(f.projection));
-    nearPlane = f.nearPlane;
-    farPlane = f.farPlane;
-    toLight = detail::toLightCamera(f, view);
-    ambient = glm::dvec3(f.ambient);
-    lightColor = glm::dvec3(f.lightColor);
-    time = f.time;
-    exposure = s.exposure;
-    haveTemperature = detail::haveVideo(in.temperatureDetail);
-    temperatureFrames = haveTemperature ? in.temperatureDetail->frames : 1;
-    opacityFrames = detail::haveVideo(in.opacityDetail) ? in.opacityDetail->frames : 1;
-  }
+  explicit Tracer(const MediaReferenceInput& input) : FrameConstants(input) {}
 
   Result<void> prepare() {
     auto particles = detail::prepareParticles(in, view);

@@ -79,36 +79,12 @@ namespace {
 
 // One frame of the reference: the frame's constants and its particles prepared once, then each
 // pixel's ray through them.
-struct Tracer {
-  const MediaReferenceInput& in;
-  const media::Frame& f;
-  const media::Settings& s;
-  double yNorm = 0.0;
-  glm::dmat4 view{1.0}, invProj{1.0};
-  double nearPlane = 0.0, farPlane = 0.0;
-  glm::dvec3 toLight{0.0}, ambient{0.0}, lightColor{0.0};
-  double time = 0.0, exposure = 0.0;
-  bool haveTemperature = false, haveOpacity = false;
-  double temperatureFrames = 1.0, opacityFrames = 1.0;
+struct Tracer : detail::FrameConstants {
   std::vector<std::uint32_t> rank;  // each particle's place in the renderer's back-to-front order
   std::vector<Prepared> prepared;
   std::vector<glm::dvec3> constantLe;
 
-  explicit Tracer(const MediaReferenceInput& input) : in(input), f(input.frame), s(input.settings) {
-    yNorm = core::blackbodyXYZ(s.normalizeKelvin).y;
-    view = glm::dmat4(f.view);
-    invProj = glm::inverse(glm::dmat4(f.projection));
-    nearPlane = f.nearPlane;
-    farPlane = f.farPlane;
-    toLight = detail::toLightCamera(f, view);
-    ambient = glm::dvec3(f.ambient);
-    lightColor = glm::dvec3(f.lightColor);
-    time = f.time;
-    exposure = s.exposure;
-    haveTemperature = haveVideo(in.temperatureDetail);
-    haveOpacity = haveVideo(in.opacityDetail);
-    temperatureFrames = haveTemperature ? in.temperatureDetail->frames : 1;
-    opacityFrames = haveOpacity ? in.opacityDetail->frames : 1;
+  explicit Tracer(const MediaReferenceInput& input) : FrameConstants(input) {
     // Each particle's place in the renderer's back-to-front order (used with viewAxisOrder): its
     // sort key (settings.sort) and the frame's projection, as media::Renderer::draw sorts.
     rank.assign(in.particles.size(), 0);

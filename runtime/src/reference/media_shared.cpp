@@ -6,6 +6,7 @@
 #include <string>
 
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 #include <glm/vec4.hpp>
 
 #include <puff/core/blackbody.h>
@@ -147,6 +148,23 @@ glm::dvec3 toLightCamera(const media::Frame& f, const glm::dmat4& view) {
   glm::dvec3 l(f.lightDirection);
   l = glm::length(l) > 0.0 ? glm::normalize(l) : glm::dvec3(0, 1, 0);
   return glm::normalize(glm::dvec3(view * glm::dvec4(l, 0.0)));
+}
+
+FrameConstants::FrameConstants(const MediaReferenceInput& input) : in(input), f(input.frame), s(input.settings) {
+  yNorm = core::blackbodyXYZ(s.normalizeKelvin).y;
+  view = glm::dmat4(f.view);
+  invProj = glm::inverse(glm::dmat4(f.projection));
+  nearPlane = f.nearPlane;
+  farPlane = f.farPlane;
+  toLight = toLightCamera(f, view);
+  ambient = glm::dvec3(f.ambient);
+  lightColor = glm::dvec3(f.lightColor);
+  time = f.time;
+  exposure = s.exposure;
+  haveTemperature = haveVideo(in.temperatureDetail);
+  haveOpacity = haveVideo(in.opacityDetail);
+  temperatureFrames = haveTemperature ? in.temperatureDetail->frames : 1;
+  opacityFrames = haveOpacity ? in.opacityDetail->frames : 1;
 }
 
 }  // namespace puff::reference::detail

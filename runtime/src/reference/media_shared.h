@@ -62,4 +62,22 @@ glm::dvec3 emitted(const media::Settings& s, double yNorm, double kelvin);
 /// `view`; straight up when it is zero).
 glm::dvec3 toLightCamera(const media::Frame& f, const glm::dmat4& view);
 
+/// What both references take from the input before tracing a frame: its matrices, planes, light and
+/// time in double precision, the black body's normalization, and which detail videos there are.
+/// Their tracers derive from it.
+struct FrameConstants {
+  const MediaReferenceInput& in;
+  const media::Frame& f;
+  const media::Settings& s;
+  double yNorm = 0.0;  ///< Y of core::blackbodyXYZ at settings.normalizeKelvin
+  glm::dmat4 view{1.0}, invProj{1.0};
+  double nearPlane = 0.0, farPlane = 0.0;
+  glm::dvec3 toLight{0.0}, ambient{0.0}, lightColor{0.0};
+  double time = 0.0, exposure = 0.0;
+  bool haveTemperature = false, haveOpacity = false;
+  double temperatureFrames = 1.0, opacityFrames = 1.0;  ///< each video's frame count (1 without one)
+
+  explicit FrameConstants(const MediaReferenceInput& input);
+};
+
 }  // namespace puff::reference::detail
