@@ -465,13 +465,17 @@ TEST(Scene, ListedParticlesMoveSpinShrinkAndDieOnTime) {
   // Before its birth only the immortal one is drawn.
   ASSERT_EQ(at(5).size(), 1u);
   EXPECT_EQ(at(5)[0].position, glm::vec3(0.0f));
-  // Born at t = 1: full size, where it was put.
+  // Born at t = 1, where it was put, at size 0: it grows in over the first tenth of its life
+  // (scene::celBirthGrowth, a smoothstep), so at t = 1.1 (5% of the life) it is half of its
+  // shrinking size, 0.5 * 2 * 0.95, and at t = 1.2 all of it, 2 * 0.9.
   auto born = at(10);
   ASSERT_EQ(born.size(), 2u);
   EXPECT_EQ(born[0].position, glm::vec3(1, 2, 3));
-  EXPECT_FLOAT_EQ(born[0].size, 2.0f);
+  EXPECT_FLOAT_EQ(born[0].size, 0.0f);
   EXPECT_EQ(born[0].variation, 7);
   EXPECT_TRUE(born[0].oriented);
+  EXPECT_NEAR(at(11)[0].size, 0.5f * 2.0f * 0.95f, 1e-5f);
+  EXPECT_NEAR(at(12)[0].size, 2.0f * 0.9f, 1e-5f);
   // Halfway through its life (t = 2): moved by one second of velocity, half its size, turned 180
   // degrees about y.
   auto half = at(20);

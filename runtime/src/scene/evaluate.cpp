@@ -41,7 +41,7 @@ bool evolve(const ParticleSpec& p, float t, cel::Particle& out) {
   float size = p.size;
   if (p.lifetime > 0.0f) {
     if (age >= p.lifetime) return false;
-    size *= std::max(0.0f, 1.0f - age / p.lifetime);
+    size *= std::max(0.0f, 1.0f - age / p.lifetime) * celBirthGrowth(age / p.lifetime);
   }
   out.position = p.position + p.velocity * age;
   out.size = size;

@@ -89,6 +89,11 @@ float mediaBirthFade(float life) {
   return x * x * (3.0f - 2.0f * x);
 }
 
+float celBirthGrowth(float life) {
+  const float x = std::clamp(life / kCelBirthGrowth, 0.0f, 1.0f);
+  return x * x * (3.0f - 2.0f * x);
+}
+
 FrameInputs FrameEvaluator::evaluate(int frame, const cel::Camera* camera) {
   const Scene& s = scene_;
   FrameInputs in;
@@ -104,8 +109,9 @@ FrameInputs FrameEvaluator::evaluate(int frame, const cel::Camera* camera) {
       in.particles.reserve(in.particles.size() + sim_->size());
       for (std::size_t i = 0; i < sim_->size(); ++i) {
         const sim::ParticleState p = sim_->particle(i);
-        if (!(p.size > 0.0f)) continue;
-        in.particles.push_back(cel::Particle{p.position, p.size, p.variation, p.oriented, p.orientation});
+        const float size = p.size * (p.lifetime > 0.0f ? celBirthGrowth(p.age / p.lifetime) : 1.0f);
+        if (!(size > 0.0f)) continue;
+        in.particles.push_back(cel::Particle{p.position, size, p.variation, p.oriented, p.orientation});
         ++in.simulated;
       }
     }

@@ -2,7 +2,8 @@
 // particles move by their velocities and spin by their angular velocities from their birth time,
 // shrink linearly to nothing over their lifetime (size follows density, so nothing pops), and
 // emitters place particles from their seed; a "simulation" is stepped from its start to the frame
-// (puff::sim). Any frame evaluated alone equals the same frame of a full run.
+// (puff::sim). Any frame evaluated alone equals the same frame of a full run. Particles with a
+// lifetime also grow in over its first tenth (celBirthGrowth), so nothing pops at birth either.
 #pragma once
 
 #include <cstddef>
@@ -68,6 +69,13 @@ cel::Camera cameraAt(const Scene& scene, int frame);
 /// particle's peak density (the density falls linearly from birth).
 inline constexpr float kMediaBirthFade = 0.1f;
 float mediaBirthFade(float life);
+
+/// Cel particles with a lifetime (listed, placed or simulated) grow in: their size is multiplied by
+/// celBirthGrowth(age / lifetime), the same smoothstep over the first kCelBirthGrowth of the life,
+/// so a puff does not appear at full size in one frame (a pop); after it they shrink linearly to
+/// nothing as before. The simulator's collision radius is not changed.
+inline constexpr float kCelBirthGrowth = 0.1f;
+float celBirthGrowth(float life);
 
 /// What one frame draws, evaluated from the scene and the frame number alone.
 struct FrameInputs {
