@@ -369,5 +369,31 @@ TEST_F(ColourPipeline, MediaColourAmbientAndLightAreDecodedBeforeTheyLight) {
               l.b);
 }
 
+// The fixed path's target holds display values in 8 bits; renderFrame decodes its read-back, so the
+// frame is scene-linear on every path: a background at display (0.5, 0.2, 1) comes back as
+// (0.214, 0.0331, 1) within half an 8-bit step decoded (the slope is 0.93 at 0.5: under 0.002).
+class ColourFixedPath : public test::GlSuite<true> {};
+
+TEST_F(ColourFixedPath, TheFixedPathsFrameIsSceneLinear) {
+  const nlohmann::json j = {
+      {"output", {{"width", 16}, {"height", 16}, {"samples", 1}, {"background", {0.5, 0.2, 1.0}}}},
+      {"camera",
+       {{"position", {0, 0, 10}}, {"target", {0, 0, 0}}, {"fovY", 0}, {"orthoHeight", 8}, {"near", 1}, {"far", 20}}}};
+  auto scene = scene::parseScene(j, "fixed_background.json");
+  ASSERT_OK(scene);
+  auto renderer = render::SceneRenderer::create(*scene, render::RenderPath::kFixed);
+  ASSERT_OK(renderer);
+  ASSERT_TRUE((*renderer)->targetNeeds().displayValues) << "the fixed path draws display values";
+  auto frame = (*renderer)->renderFrame(0);
+  ASSERT_OK(frame);
+  const glm::vec3 want = core::srgbToLinear(glm::vec3(0.5f, 0.2f, 1.0f));
+  for (int y = 0; y < frame->height; ++y) {
+    for (int x = 0; x < frame->width; ++x) {
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(frame->at(x, y, c), want[c], 0.003f) << x << "," << y << " channel " << c;
+      EXPECT_EQ(frame->at(x, y, 3), 1.0f);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace puff
