@@ -253,11 +253,9 @@ TEST_F(ColourPipeline, GreyInkIsItsDisplayValueOnTheNailboardsAndTheReference) {
 }
 
 // An opaque frame has alpha 1 everywhere (docs/colour.md), the fill-rate floor's bare quads too:
-// their colour map's alpha decides coverage (the alpha test) and must not reach the frame.
-// DISABLED: fails at a43a3d4 (alpha 0.63, 0.72, ... on the quads' edges): cel/sprite.frag writes the
-// texel's alpha and NailboardRenderer::drawBaseline sets no alpha write mask, unlike drawNailboards.
-// Enable with that fix.
-TEST_F(ColourPipeline, DISABLED_TheFillRateFloorsFrameIsOpaqueEverywhere) {
+// their colour map's alpha decides coverage (the alpha test) and must not reach the frame. (It failed
+// before NailboardRenderer::drawBaseline masked alpha writes: 0.63, 0.72, ... on the quads' edges.)
+TEST_F(ColourPipeline, TheFillRateFloorsFrameIsOpaqueEverywhere) {
   const nlohmann::json j = {
       {"output", {{"width", kPx}, {"height", kPx}, {"samples", 1}, {"background", {0.9, 0.9, 0.9}}}},
       {"camera",

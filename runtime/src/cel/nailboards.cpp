@@ -365,7 +365,10 @@ DrawStats NailboardRenderer::drawBaseline(const Style& style) {
   glUseProgram(m.sprite.get());
   resetPassState();
   applyShadePass(ShadePass::kLit);
+  // The same write masks as the nailboards' lit pass: the texel's alpha is coverage, not the frame's.
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
+  restoreWriteMasks();
   s.drawCalls = 1;
   return s;
 }
