@@ -302,15 +302,11 @@ Result<core::Image> SceneRenderer::renderFrame(int frame, FrameStats* stats) {
     const std::size_t src = static_cast<std::size_t>(t.height - 1 - y) * row;
     float* dst = &image.pixels[static_cast<std::size_t>(y) * row];
     for (std::size_t i = 0; i < row; ++i) {
-      if (t.displayValues) {
-        const float v = static_cast<float>(bytes[src + i]) / 255.0f;
-        dst[i] = i % 4 == 3 ? v : static_cast<float>(core::srgbToLinear(double{v}));
-      } else {
-        dst[i] = floats[src + i];
-      }
+      dst[i] = t.displayValues ? static_cast<float>(bytes[src + i]) / 255.0f : floats[src + i];
     }
   }
-  return image;
+  // Display values (the fixed path's 8 bits) to scene-linear, alpha as it is.
+  return t.displayValues ? core::decodeSrgb(image) : image;
 }
 
 }  // namespace puff::render
