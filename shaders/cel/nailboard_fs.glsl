@@ -1,11 +1,15 @@
 // Nailboard shading (McGuire & Fein Eq. 2) with a per-pixel depth offset (§4.2) and outlines drawn
 // from the baked signed distance to the silhouette, so their width is a run-time choice and both
 // edges are antialiased (alpha-to-coverage when the target is multisampled).
+// Compiled with PUFF_CASTER for the shadow map's caster pass (drawn from the light: depth and id only).
 #include "common/frame.glsl"
 #include "cel/particle.glsl"
+#include "cel/shadow_map.glsl"
 
 in vec2 vPuff;
 in float vDist;
+in vec3 vWorld;
+flat in uint vId;
 flat in float vSize;
 flat in float vTexelsPerPixel;
 flat in ivec4 vCell;
@@ -25,7 +29,12 @@ uniform float uOutlineWidth;   // pixels
 uniform vec3 uOutlineColor;   // display value
 uniform int uMultisample;   // 1: alpha-to-coverage resolves the edge; 0: hard edge at half coverage
 
+#ifdef PUFF_CASTER
+uniform float uShadowBias;  // diameters past the puff's far side where its shadow starts
+layout(location = 0) out uint oId;
+#else
 out vec4 fragColor;
+#endif
 
 void main() {
   // First what every pass needs: depth offset and distance to the silhouette (one read per view).
@@ -59,6 +68,14 @@ void main() {
   // Outline and flange texels hold d = 0: they sit on the billboard plane, behind the bodies of
   // nearer particles, which is what hides outlines inside a cloud (Fig. 5).
   float d = dist > 0.0 ? 0.0 : depth;
+#ifdef PUFF_CASTER
+  // Drawn from the light, the map keeps where this puff's shadow starts: behind its far side, taken
+  // as its near side's depth-map offset mirrored through the billboard plane (as the shadow volumes
+  // take it), plus the bias. Its own near side lies before that, so it does not shadow itself even
+  // where the map saw only it.
+  gl_FragDepth = linearDepth(vDist + (max(d, 0.0) + uShadowBias) * vSize);
+  oId = vId;
+#else
   gl_FragDepth = linearDepth(vDist - d * vSize);
   if (uPass == 2) {
     fragColor = vec4(0.0);
@@ -76,6 +93,17 @@ void main() {
     color = linearToSrgb(color);  // Eq. 2 combines display values
     vec3 q = uShading == 1 ? quantize(dot(normalize(n), uLightDirView.xyz)) : vec3(1.0);
     rgb = ka + color * uLightColor.rgb * q;
+    // A shadow-map receiver in another caster's shadow keeps the ambient term only, as the volumes'
+    // shadowed pass draws it. The point is on this pixel's eye ray at the offset depth.
+    if (shadowMapEnabled()) {
+      vec3 p;
+      if (isOrthographic()) {
+        p = vWorld + normalize(uInvView[2].xyz) * (d * vSize);
+      } else {
+        p = uCameraWorld.xyz + (vWorld - uCameraWorld.xyz) * ((vDist - d * vSize) / vDist);
+      }
+      if (inShadowMap(p, vId)) rgb = ka;
+    }
   }
   // Eq. 2's result is a display value, limited to the display's range as the paper's 8-bit frame
   // buffer limited it (K_a + C K_L q may exceed 1), then to scene-linear; the outline's antialiased
@@ -83,4 +111,5 @@ void main() {
   rgb = srgbToLinear(clamp(rgb, 0.0, 1.0));
   if (uOutlines == 1) rgb = mix(srgbToLinear(clamp(uOutlineColor, 0.0, 1.0)), rgb, body);
   fragColor = vec4(rgb, uMultisample == 1 ? coverage : 1.0);
+#endif
 }

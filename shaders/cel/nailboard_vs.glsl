@@ -7,6 +7,8 @@
 
 out vec2 vPuff;     // position on the billboard, puff diameters from the centre (x right, y up)
 out float vDist;    // camera-space distance along the view axis of the billboard plane here
+out vec3 vWorld;    // world-space point of the billboard plane here (shadow-map receivers)
+flat out uint vId;  // particle index + 1: the caster id of the shadow map (cel/shadow_map.glsl)
 flat out float vSize;
 flat out float vTexelsPerPixel;  // level-0 atlas texels per screen pixel at the particle
 flat out ivec4 vCell;
@@ -54,6 +56,8 @@ void main() {
   vec3 world = p.position + p.size * (vPuff.x * bb[0] + vPuff.y * bb[1]);
   vec4 viewPos = uView * vec4(world, 1.0);
   vDist = -viewPos.z;
+  vWorld = world;
+  vId = index + 1u;
   // Pixels per world unit at the particle's distance (orthographic: everywhere the same).
   float centreDist = max(-(uView * vec4(p.position, 1.0)).z, uDepthRange.x);
   float pxPerUnit = 0.5 * uViewport.w * uProj[1][1] / (isOrthographic() ? 1.0 : centreDist);

@@ -4,15 +4,18 @@
 // computed by exactly the same code as the depth the kLit or kDepthOnly pass wrote.
 //   lit, cel:    albedo * (K_a + K_L * q(max(0, N.L)))
 //   lit, smooth: albedo * (K_a + K_L * max(0, N.L))
-//   shadowed:    albedo * K_a
+//   shadowed:    albedo * K_a       (the kShadowed pass, or a lit pass whose shadow map says so)
 #include "common/frame.glsl"
+#include "cel/shadow_map.glsl"
 
 in vec3 vNormalView;
 in float vDist;
+in vec3 vWorld;
 
 layout(location = 2) uniform vec3 uAlbedo;
 layout(location = 3) uniform int uCel;   // 1: through the ramp q, 0: smooth Lambert
 layout(location = 4) uniform int uPass;  // 0: lit, 1: shadowed (ambient only), 2: depth only
+layout(location = 5) uniform uint uId;   // the object's caster id in the shadow map
 
 layout(location = 0) out vec4 oColor;
 
@@ -23,7 +26,7 @@ void main() {
     return;
   }
   vec3 ambient = ambientAt(gl_FragCoord.xy);
-  if (uPass == 1) {
+  if (uPass == 1 || (shadowMapEnabled() && inShadowMap(vWorld, uId))) {
     oColor = vec4(srgbToLinear(clamp(uAlbedo * ambient, 0.0, 1.0)), 1.0);
     return;
   }

@@ -11,6 +11,7 @@ layout(location = 1) uniform mat3 uNormalMatrix;  // inverse transpose of mat3(u
 
 out vec3 vNormalView;  // camera space, not normalized
 out float vDist;       // -z_view: view-axis distance, affine in camera space so interpolation is exact
+out vec3 vWorld;       // world space (shadow-map receivers)
 
 void main() {
   vec4 world = uModel * vec4(aPosition, 1.0);
@@ -19,5 +20,6 @@ void main() {
   // exact for any invertible view matrix, not only rigid ones.
   vNormalView = transpose(mat3(uInvView)) * (uNormalMatrix * aNormal);
   vDist = -view.z;
+  vWorld = world.xyz;
   gl_Position = uProj * view;
 }

@@ -27,6 +27,8 @@ layout(std140, binding = 0) uniform FrameBlock {
   vec4 uAmbientColor;    // rgb: uniform K_a (used when uAmbientMode.x == 0)
   vec4 uCameraWorld;     // xyz: camera position in world space
   ivec4 uAmbientMode;    // x: 1 = K_a from the gradient texture, 0 = uniform colour
+  mat4 uShadowMatrix;    // world -> the shadow map's clip space (cel/shadow_map.glsl)
+  vec4 uShadowParams;    // x: 1 = receivers look up the shadow map; y: tolerance, z: length (map depth units)
 };
 
 layout(binding = 0) uniform sampler1D uRamp;      // q: the artist's ramp, clamp-to-edge; scene-linear texels

@@ -121,6 +121,13 @@ void stylePanel(scene::Scene& s, Edits& edit) {
   edit(ImGui::SliderFloat("Shadow bias", &st.shadowBias, 0.0f, 1.0f, "%.3f", ImGuiSliderFlags_AlwaysClamp));
   edit(ImGui::DragFloat("Shadow length", &st.shadowLength, 0.1f, 0.01f, 1000.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
   st.shadowLength = std::max(st.shadowLength, 0.01f);
+  const char* methods[] = {"volumes", "map"};
+  int m = static_cast<int>(st.shadowMethod);
+  if (edit(ImGui::Combo("Shadow method", &m, methods, 2))) st.shadowMethod = static_cast<cel::ShadowMethod>(m);
+  if (st.shadowMethod == cel::ShadowMethod::kMap) {
+    edit(ImGui::SliderFloat("Shadow map scale", &st.shadowMapScale, 0.125f, 4.0f, "%.3f",
+                            ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic));
+  }
 }
 
 void lightPanel(scene::Scene& s, Edits& edit) {

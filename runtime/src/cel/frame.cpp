@@ -44,8 +44,10 @@ struct FrameBlockData {
   glm::mat4 view, proj, viewProj, invView, invViewProj;
   glm::vec4 viewport, depthRange, lightDirView, lightDirWorld, lightColor, ambientColor, cameraWorld;
   glm::ivec4 ambientMode;
+  glm::mat4 shadowMatrix;
+  glm::vec4 shadowParams;
 };
-static_assert(sizeof(FrameBlockData) == 5 * 64 + 8 * 16);
+static_assert(sizeof(FrameBlockData) == 6 * 64 + 9 * 16);
 
 }  // namespace
 
@@ -71,6 +73,9 @@ void FrameBlock::upload(const Frame& frame) {
   d.ambientColor = glm::vec4(frame.ambientColor, 1.0f);
   d.cameraWorld = d.invView[3];
   d.ambientMode = glm::ivec4(frame.ambientGradient ? 1 : 0, 0, 0, 0);
+  d.shadowMatrix = frame.shadow.worldToMap;
+  d.shadowParams =
+      glm::vec4(frame.shadow.enabled ? 1.0f : 0.0f, frame.shadow.tolerance, frame.shadow.length, 0.0f);
   glNamedBufferSubData(buffer_.get(), 0, sizeof d, &d);
   bind();
 }

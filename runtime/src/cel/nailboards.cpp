@@ -45,8 +45,8 @@ struct NailboardProgram {
   AtlasUniforms atlas;
   GLint pass = -1, shading = -1, outlines = -1, outlineWidth = -1, outlineColor = -1, multisample = -1;
 
-  static Result<NailboardProgram> build(const std::string& name) {
-    auto p = core::buildProgram({"cel/" + name + ".vert", "cel/" + name + ".frag"});
+  static Result<NailboardProgram> build(const std::string& name, const std::string& fragment = "") {
+    auto p = core::buildProgram({"cel/" + name + ".vert", "cel/" + (fragment.empty() ? name : fragment) + ".frag"});
     if (!p) return p.error();
     NailboardProgram n;
     n.program = std::move(*p);
@@ -63,7 +63,8 @@ struct NailboardProgram {
 };
 
 struct NailboardRenderer::Impl {
-  NailboardProgram singleView, multiView;
+  NailboardProgram singleView, multiView, singleCaster, multiCaster;
+  GLint singleCasterBias = -1, multiCasterBias = -1;
   core::Program shadow, sprite;
   AtlasUniforms svAtlas, spAtlas;
   GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1;
@@ -106,12 +107,20 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create() {
   if (!single) return single.error();
   auto multi = NailboardProgram::build("nailboard_views");
   if (!multi) return multi.error();
+  auto singleCaster = NailboardProgram::build("nailboard", "nailboard_caster");
+  if (!singleCaster) return singleCaster.error();
+  auto multiCaster = NailboardProgram::build("nailboard_views", "nailboard_views_caster");
+  if (!multiCaster) return multiCaster.error();
   auto sv = core::buildProgram({"cel/shadow.vert", "cel/shadow.frag"});
   if (!sv) return sv.error();
   auto sp = core::buildProgram({"cel/sprite.vert", "cel/sprite.frag"});
   if (!sp) return sp.error();
   m.singleView = std::move(*single);
   m.multiView = std::move(*multi);
+  m.singleCaster = std::move(*singleCaster);
+  m.multiCaster = std::move(*multiCaster);
+  m.singleCasterBias = glGetUniformLocation(m.singleCaster.program.get(), "uShadowBias");
+  m.multiCasterBias = glGetUniformLocation(m.multiCaster.program.get(), "uShadowBias");
   m.shadow = std::move(*sv);
   m.sprite = std::move(*sp);
   m.svAtlas.find(m.shadow.get());
@@ -351,6 +360,30 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   if (pass != ShadePass::kDepthOnly) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
   glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  restoreWriteMasks();
+  s.drawCalls = 1;
+  return s;
+}
+
+DrawStats NailboardRenderer::drawShadowCasters(const Style& style) {
+  Impl& m = *impl_;
+  DrawStats s;
+  s.particles = m.count;
+  if (m.count == 0 || !m.hasAtlas) return s;
+  const bool multi = m.desc.views > 1;
+  const NailboardProgram& nb = multi ? m.multiCaster : m.singleCaster;
+  const GLuint p = nb.program.get();
+  m.setCommon(p, nb.atlas, style);
+  glProgramUniform1i(p, nb.pass, 0);
+  glProgramUniform1i(p, nb.shading, 0);
+  glProgramUniform1i(p, nb.outlines, 0);  // the silhouette casts, not the ink
+  glProgramUniform1f(p, nb.outlineWidth, 0.0f);
+  glProgramUniform1i(p, nb.multisample, 0);  // hard edge at half coverage: the map is not multisampled
+  glProgramUniform1f(p, multi ? m.multiCasterBias : m.singleCasterBias, std::clamp(style.shadowBias, 0.0f, 1.0f));
+  glUseProgram(p);
+  resetPassState();
+  applyShadePass(ShadePass::kLit);  // depth LESS + write: the nearest start wins; ids written
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
   restoreWriteMasks();
   s.drawCalls = 1;
   return s;

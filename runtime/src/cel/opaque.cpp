@@ -42,7 +42,7 @@ struct DrawItem {
 };
 
 // Uniform locations, fixed in shaders/cel/opaque.{vert,frag}.
-constexpr GLint kModelLoc = 0, kNormalMatrixLoc = 1, kAlbedoLoc = 2, kCelLoc = 3, kPassLoc = 4;
+constexpr GLint kModelLoc = 0, kNormalMatrixLoc = 1, kAlbedoLoc = 2, kCelLoc = 3, kPassLoc = 4, kIdLoc = 5;
 
 std::string describe(const OpaqueObject& o, std::size_t i) {
   std::string s = "opaque object ";
@@ -113,7 +113,8 @@ Result<DrawItem> validateObject(const OpaqueObject& o) {
 }  // namespace
 
 struct OpaqueRenderer::Impl {
-  core::Program program;
+  core::Program program, caster;
+  std::vector<std::pair<glm::vec3, glm::vec3>> meshBounds;  // object space, per entry of `ranges`
   core::VertexArray vao;
   core::Buffer vbo, ibo;
   std::vector<MeshRange> ranges;
@@ -126,9 +127,12 @@ OpaqueRenderer::~OpaqueRenderer() = default;
 Result<std::unique_ptr<OpaqueRenderer>> OpaqueRenderer::create() {
   auto program = core::buildProgram({"cel/opaque.vert", "cel/opaque.frag"});
   if (!program) return program.error();
+  auto caster = core::buildProgram({"cel/opaque.vert", "cel/opaque_caster.frag"});
+  if (!caster) return caster.error();
   std::unique_ptr<OpaqueRenderer> r(new OpaqueRenderer);
   Impl& im = *r->impl_;
   im.program = std::move(*program);
+  im.caster = std::move(*caster);
   im.vao = core::makeVertexArray();
   const GLuint vao = im.vao.get();
   const GLuint offsets[] = {offsetof(Vertex, position), offsetof(Vertex, normal)};
@@ -193,7 +197,14 @@ Result<void> OpaqueRenderer::setObjects(std::vector<OpaqueObject> objects) {
   indices.reserve(indexCount);
   std::vector<MeshRange> ranges;
   ranges.reserve(meshes.size());
+  std::vector<std::pair<glm::vec3, glm::vec3>> meshBounds;
   for (const TriangleMesh* m : meshes) {
+    glm::vec3 lo = m->positions.front(), hi = lo;
+    for (const glm::vec3& p : m->positions) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    meshBounds.emplace_back(lo, hi);
     ranges.push_back({static_cast<GLsizei>(m->indices.size()), indices.size(), static_cast<GLint>(vertices.size())});
     for (std::size_t v = 0; v < m->positions.size(); ++v) vertices.push_back({m->positions[v], m->normals[v]});
     indices.insert(indices.end(), m->indices.begin(), m->indices.end());
@@ -210,6 +221,7 @@ Result<void> OpaqueRenderer::setObjects(std::vector<OpaqueObject> objects) {
   glVertexArrayVertexBuffer(im.vao.get(), 0, im.vbo.get(), 0, sizeof(Vertex));
   glVertexArrayElementBuffer(im.vao.get(), im.ibo.get());
   im.ranges = std::move(ranges);
+  im.meshBounds = std::move(meshBounds);
   im.items = std::move(items);
   if (auto err = core::drainGlErrors(); !err.empty()) return Error{"opaque objects: GL error while uploading: " + err};
   return {};
@@ -236,6 +248,7 @@ void OpaqueRenderer::draw(ShadePass pass) {
     glProgramUniformMatrix3fv(program, kNormalMatrixLoc, 1, GL_FALSE, glm::value_ptr(d.normalMatrix));
     glProgramUniform3fv(program, kAlbedoLoc, 1, glm::value_ptr(d.albedo));
     glProgramUniform1i(program, kCelLoc, d.cel ? 1 : 0);
+    glProgramUniform1ui(program, kIdLoc, kObjectIdBase + static_cast<GLuint>(&d - im.items.data()));
     glDrawElementsBaseVertex(GL_TRIANGLES, r.indexCount, GL_UNSIGNED_INT,
                              reinterpret_cast<const void*>(r.firstIndex * sizeof(std::uint32_t)), r.baseVertex);
   }
@@ -243,6 +256,42 @@ void OpaqueRenderer::draw(ShadePass pass) {
   glUseProgram(0);
   glFrontFace(GL_CCW);
   restoreWriteMasks();
+}
+
+void OpaqueRenderer::drawCasters() {
+  Impl& im = *impl_;
+  if (im.items.empty()) return;
+  resetPassState();
+  applyShadePass(ShadePass::kLit);  // depth LESS + write; the id is the colour
+  const GLuint program = im.caster.get();
+  glUseProgram(program);
+  glBindVertexArray(im.vao.get());
+  for (std::size_t i = 0; i < im.items.size(); ++i) {
+    const DrawItem& d = im.items[i];
+    const MeshRange& r = im.ranges[d.mesh];
+    glProgramUniformMatrix4fv(program, kModelLoc, 1, GL_FALSE, glm::value_ptr(d.model));
+    glProgramUniform1ui(program, kIdLoc, kObjectIdBase + static_cast<GLuint>(i));
+    glDrawElementsBaseVertex(GL_TRIANGLES, r.indexCount, GL_UNSIGNED_INT,
+                             reinterpret_cast<const void*>(r.firstIndex * sizeof(std::uint32_t)), r.baseVertex);
+  }
+  glBindVertexArray(0);
+  glUseProgram(0);
+  restoreWriteMasks();
+}
+
+std::size_t OpaqueRenderer::count() const { return impl_->items.size(); }
+
+Bounds OpaqueRenderer::worldBounds(std::size_t index) const {
+  const Impl& im = *impl_;
+  Bounds b;
+  if (index >= im.items.size()) return b;
+  const DrawItem& d = im.items[index];
+  const auto& [lo, hi] = im.meshBounds[d.mesh];
+  for (int i = 0; i < 8; ++i) {
+    const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+    b.add(glm::vec3(d.model * glm::vec4(c, 1.0f)));
+  }
+  return b;
 }
 
 }  // namespace puff::cel

@@ -118,4 +118,13 @@ Result<Alignment> parseAlignment(std::string_view name) {
   return Error{"unknown alignment \"" + std::string(name) + "\" (expected view-plane, viewpoint or axial)"};
 }
 
+std::string_view toString(ShadowMethod m) { return m == ShadowMethod::kMap ? "map" : "volumes"; }
+
+Result<ShadowMethod> parseShadowMethod(std::string_view name) {
+  for (ShadowMethod m : {ShadowMethod::kVolumes, ShadowMethod::kMap}) {
+    if (name == toString(m)) return m;
+  }
+  return Error{"unknown shadow method \"" + std::string(name) + "\" (expected volumes or map)"};
+}
+
 }  // namespace puff::cel

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include <puff/cel/nailboards.h>
+#include <puff/cel/shadow_map.h>
 #include <puff/core/atlas.h>
 #include <puff/core/colour.h>
 #include <puff/render/cel_scene.h>
@@ -77,18 +78,37 @@ class CelPath final : public Path {
     glClearStencil(0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
 
-    const cel::Frame f = scene_->prepare(s, frame.inputs, frame.viewport, celViewport);
-    scene_->block().upload(f);
-    scene_->opaque().draw(cel::ShadePass::kLit);
+    cel::Frame f = scene_->prepare(s, frame.inputs, frame.viewport, celViewport);
     if (variations_ > 0) {
       const cel::DrawStats up = nailboards_->upload(frame.inputs.particles);
       frame.stats.bytesUploaded = up.bytesUploaded;
+    }
+    const bool shadows = s.style.shadows && !fillRateFloor_;
+    if (shadows && s.style.shadowMethod == cel::ShadowMethod::kMap) {
+      // The casters from the light into the map; the lit passes below look it up.
+      if (!shadowMap_) shadowMap_ = std::make_unique<cel::ShadowMap>();
+      cel::Bounds casters = scene_->casterBounds();
+      if (variations_ > 0) casters.add(cel::particleBounds(frame.inputs.particles));
+      shadowMap_->prepare(f, casters, s.style);
+      GLint target = 0;
+      glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
+      shadowMap_->beginCasters();
+      if (variations_ > 0) nailboards_->drawShadowCasters(s.style);
+      scene_->opaque().drawCasters();
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(target));
+      glViewport(celViewport.x, celViewport.y, celViewport.width, celViewport.height);
+      f.shadow = shadowMap_->lookup();
+      shadowMap_->bind();
+    }
+    scene_->block().upload(f);
+    scene_->opaque().draw(cel::ShadePass::kLit);
+    if (variations_ > 0) {
       if (fillRateFloor_) {
         nailboards_->drawBaseline(s.style);
       } else {
         nailboards_->drawNailboards(s.style, cel::ShadePass::kLit);
       }
-      if (s.style.shadows && !fillRateFloor_) {
+      if (shadows && s.style.shadowMethod == cel::ShadowMethod::kVolumes) {
         nailboards_->drawShadowVolumes(s.style, scene_->floorPlane());
         scene_->opaque().draw(cel::ShadePass::kShadowed);
         nailboards_->drawNailboards(s.style, cel::ShadePass::kShadowed);
@@ -121,6 +141,7 @@ class CelPath final : public Path {
   std::unique_ptr<cel::NailboardRenderer> nailboards_;
   std::unique_ptr<CelScene> scene_;
   std::unique_ptr<MediaPass> media_;
+  std::unique_ptr<cel::ShadowMap> shadowMap_;  // made on the first frame with map shadows
   int variations_ = 0;  // 0: no atlas, no cel particles
   int samples_ = 1;
   bool fillRateFloor_ = false;

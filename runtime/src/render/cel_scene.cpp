@@ -56,6 +56,7 @@ Result<std::unique_ptr<CelScene>> CelScene::create(const scene::Scene& scene, co
     auto& mesh = uploaded[geometry.shapes[i].get()];
     if (!mesh) mesh = toTriangleMesh(*geometry.shapes[i]);
     obj.mesh = mesh;
+    c->fitsShadowMap_.push_back(o.type != scene::ObjectSpec::Type::kPlane);
     // Shadow volumes may stop at the lowest horizontal plane: nothing below it is seen.
     if (o.type == scene::ObjectSpec::Type::kPlane && o.rotateDegrees == glm::vec3(0.0f) && o.path.empty() &&
         (!haveFloor || o.translate.y < floorHeight)) {
@@ -96,5 +97,13 @@ cel::Frame CelScene::prepare(const scene::Scene& s, const scene::FrameInputs& in
 cel::OpaqueRenderer& CelScene::opaque() { return *opaque_; }
 cel::FrameBlock& CelScene::block() { return block_; }
 glm::vec4 CelScene::floorPlane() const { return floorPlane_; }
+
+cel::Bounds CelScene::casterBounds() const {
+  cel::Bounds b;
+  for (std::size_t i = 0; i < fitsShadowMap_.size(); ++i) {
+    if (fitsShadowMap_[i]) b.add(opaque_->worldBounds(i));
+  }
+  return b;
+}
 
 }  // namespace puff::render

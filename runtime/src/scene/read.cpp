@@ -100,7 +100,7 @@ void readRamp(const json& j, const std::string& ptr, const Reader& r, Scene& s) 
 void readStyle(const json& j, const std::string& ptr, Scene& s) {
   requireObject(j, ptr,
                 {"preset", "outlines", "outlineWidth", "outlineColor", "shading", "shadows", "alignment", "shadowBias",
-                 "shadowLength"});
+                 "shadowLength", "shadowMethod", "shadowMapScale"});
   // The preset first, whatever the key order: explicit fields then change what it set.
   if (auto* v = find(j, "preset")) {
     const std::string name = readString(*v, child(ptr, "preset"));
@@ -128,6 +128,16 @@ void readStyle(const json& j, const std::string& ptr, Scene& s) {
   }
   if (auto* v = find(j, "shadowBias")) st.shadowBias = readFloat(*v, child(ptr, "shadowBias"), kUnit);
   if (auto* v = find(j, "shadowLength")) st.shadowLength = readFloat(*v, child(ptr, "shadowLength"), kPositive);
+  if (auto* v = find(j, "shadowMethod")) {
+    const std::string what = "one of volumes, map";
+    const std::string name = readString(*v, child(ptr, "shadowMethod"), what);
+    auto m = cel::parseShadowMethod(name);
+    if (!m) fail(child(ptr, "shadowMethod"), what, *v);
+    st.shadowMethod = *m;
+  }
+  if (auto* v = find(j, "shadowMapScale")) {
+    st.shadowMapScale = readFloat(*v, child(ptr, "shadowMapScale"), Range{0.125, 4.0});
+  }
 }
 
 // {"axis": [x, y, z], "degrees": a}

@@ -291,7 +291,9 @@ json toJson(const Scene& s) {
                 {"shadows", st.shadows},
                 {"alignment", std::string(cel::toString(st.alignment))},
                 {"shadowBias", number(st.shadowBias)},
-                {"shadowLength", number(st.shadowLength)}};
+                {"shadowLength", number(st.shadowLength)},
+                {"shadowMethod", std::string(cel::toString(st.shadowMethod))},
+                {"shadowMapScale", number(st.shadowMapScale)}};
   if (!s.stylePreset.empty()) j["style"]["preset"] = s.stylePreset;
   j["particles"] = json::array();
   for (const ParticleSpec& p : s.particles) j["particles"].push_back(particleJson(p));

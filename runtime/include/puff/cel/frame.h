@@ -22,6 +22,17 @@
 
 namespace puff::cel {
 
+/// How receivers look up a shadow map (ShadowMap::lookup fills it; off by default). A receiver at
+/// world point P with caster id `own` is in shadow when the map's texel at worldToMap * P holds a
+/// caster other than `own` whose shadow starts at least `tolerance` before P along the light and
+/// no more than `length` before it.
+struct ShadowLookup {
+  bool enabled = false;
+  glm::mat4 worldToMap{1.0f};  ///< world -> the map's clip space (orthographic): xy over the map, z its depth
+  float tolerance = 0.0f;      ///< map depth units (the map's z in [0, 1])
+  float length = 0.0f;         ///< map depth units: Style::shadowLength
+};
+
 /// Everything a pass needs to know about the frame. No GL objects: textures are set separately.
 struct Frame {
   glm::mat4 view{1.0f};                       ///< world -> camera
@@ -31,6 +42,10 @@ struct Frame {
   Light light;
   glm::vec3 ambientColor{0.25f};  ///< uniform K_a, used when no gradient texture is bound
   bool ambientGradient = false;   ///< K_a from the gradient texture (Gradient::bind) instead
+  /// Shadows from a ShadowMap (Style::shadowMethod kMap): the lit passes of nailboards and opaque
+  /// objects draw a shadowed receiver with the ambient term only. Its textures go on units 6 and 7
+  /// (ShadowMap::bind).
+  ShadowLookup shadow;
 
   /// A frame looking through `camera` at a viewport of width x height pixels.
   static Frame fromCamera(const Camera& camera, int width, int height);

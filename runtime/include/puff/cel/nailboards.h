@@ -90,6 +90,12 @@ class NailboardRenderer {
   /// diameter past it, which saves fill rate when everything below it is out of sight.
   DrawStats drawShadowVolumes(const Style& style, const glm::vec4& floorPlane = glm::vec4(0.0f));
 
+  /// Draws the particles of the last upload into a shadow map (after ShadowMap::beginCasters, whose
+  /// light frame is bound): nailboards facing the light (an unoriented puff shows the light its front
+  /// view; an oriented one the view toward the light), each texel keeping where the puff's shadow
+  /// starts (its far side plus style.shadowBias diameters) and the particle's id. No outlines.
+  DrawStats drawShadowCasters(const Style& style);
+
  private:
   NailboardRenderer();
   struct Impl;

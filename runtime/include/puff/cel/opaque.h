@@ -17,6 +17,7 @@
 
 #include <puff/cel/frame.h>
 #include <puff/cel/nailboards.h>
+#include <puff/cel/shadow_map.h>
 
 namespace puff::cel {
 
@@ -62,6 +63,14 @@ class OpaqueRenderer {
   /// state it relies on (culling off: back faces are lit with the normal turned to the viewer);
   /// returns with depth and colour writes on and the program, vertex array and front face reset.
   void draw(ShadePass pass);
+
+  /// Draws every object into a shadow map (after ShadowMap::beginCasters): its near surface's depth
+  /// in the light's frame and its id, kObjectIdBase + its index. Depth LESS + write.
+  void drawCasters();
+
+  /// How many objects there are, and object `index`'s world-space box (its mesh through its transform).
+  std::size_t count() const;
+  Bounds worldBounds(std::size_t index) const;
 
  private:
   OpaqueRenderer();

@@ -57,6 +57,19 @@ enum class Alignment {
 std::string_view toString(Alignment a);
 Result<Alignment> parseAlignment(std::string_view name);  ///< "view-plane", "viewpoint", "axial"
 
+/// How a cel frame draws shadows (docs/cel-rendering.md, "Shadows").
+enum class ShadowMethod {
+  /// McGuire & Fein's billboard shadow volumes counted in the stencil buffer (§4.3): exact to the
+  /// puff's silhouette at any distance, but each volume fills its whole prism on screen, twice.
+  kVolumes,
+  /// The puffs (and opaque objects) drawn from the light as nailboards into a light-space depth map
+  /// with per-caster ids (cel::ShadowMap); receivers look it up in their lit pass. One extra pass
+  /// over the casters at the map's resolution; shadows are as sharp as the map's texels.
+  kMap,
+};
+std::string_view toString(ShadowMethod m);
+Result<ShadowMethod> parseShadowMethod(std::string_view name);  ///< "volumes", "map"
+
 /// The Fig. 8 progression and its knobs. Every effect toggles on its own.
 struct Style {
   bool outlines = true;          ///< black flange (§4.2); off = the body's silhouette only
@@ -68,8 +81,14 @@ struct Style {
   /// Shadow volumes start this far (in puff diameters) past the puff's own far side (as its depth
   /// map gives it), so a puff does not shadow itself. [0, 1].
   float shadowBias = 0.05f;
-  /// World-space length of each shadow volume along the light; > 0. Longer costs fill rate.
+  /// World-space length of each shadow along the light; > 0. Volumes measure it from the puff's
+  /// centre, the map from where the shadow starts (the puff's far side plus the bias). Longer
+  /// volumes cost fill rate; the map's cost does not depend on it.
   float shadowLength = 20.0f;
+  ShadowMethod shadowMethod = ShadowMethod::kVolumes;
+  /// kMap: the map's texels per screen pixel of the casters' footprint (ShadowMap::chooseSize);
+  /// [0.125, 4]. Smaller is cheaper and blockier.
+  float shadowMapScale = 1.0f;
   bool operator==(const Style&) const = default;
 };
 

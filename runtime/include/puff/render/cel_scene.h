@@ -47,6 +47,10 @@ class CelScene {
   /// The lowest horizontal plane object that does not move (shadow volumes may stop there; nothing
   /// below it is seen) as a plane equation, or all zeros when there is none.
   glm::vec4 floorPlane() const;
+  /// The world box of the objects that fit the shadow map (all but planes, which would spread it
+  /// over the whole ground), where they are at the last prepare. Planes still cast and receive
+  /// inside it.
+  cel::Bounds casterBounds() const;
 
  private:
   CelScene() = default;
@@ -55,6 +59,7 @@ class CelScene {
   std::optional<cel::Ramp> ramp_;
   std::optional<cel::Gradient> gradient_;
   glm::vec4 floorPlane_{0.0f};
+  std::vector<bool> fitsShadowMap_;  // per object: not a plane
 };
 
 }  // namespace puff::render

@@ -1,0 +1,144 @@
+#include <puff/cel/shadow_map.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace puff::cel {
+
+void Bounds::add(const glm::vec3& p) {
+  lo = glm::min(lo, p);
+  hi = glm::max(hi, p);
+}
+
+void Bounds::add(const Bounds& b) {
+  if (b.empty()) return;
+  add(b.lo);
+  add(b.hi);
+}
+
+Bounds particleBounds(std::span<const Particle> particles) {
+  Bounds b;
+  for (const Particle& p : particles) {
+    if (!(p.size > 0.0f) || !std::isfinite(p.size)) continue;
+    const glm::vec3 r(0.5f * p.size);
+    b.add(p.position - r);
+    b.add(p.position + r);
+  }
+  return b;
+}
+
+ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Style& style, int maxSize) {
+  maxSize = std::max(16, maxSize);
+  ShadowMapPlan plan;
+  const float len = glm::length(eye.light.direction);
+  const glm::vec3 l = len > 0.0f && std::isfinite(len) ? eye.light.direction / len : glm::vec3(0.0f, 1.0f, 0.0f);
+  const glm::vec3 up = std::abs(l.y) < 0.99f ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 0.0f);
+  const bool none = casters.empty();
+  const glm::vec3 lo = none ? glm::vec3(-0.5f) : casters.lo, hi = none ? glm::vec3(0.5f) : casters.hi;
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  const float radius = std::max(1e-3f, 0.5f * glm::length(hi - lo));
+  const glm::mat4 view = glm::lookAt(centre + (radius + 1.0f) * l, centre, up);
+
+  // The casters' box in the light's frame: x, y across the light, dist along it.
+  glm::vec2 xyLo(std::numeric_limits<float>::max()), xyHi(std::numeric_limits<float>::lowest());
+  float dLo = std::numeric_limits<float>::max(), dHi = std::numeric_limits<float>::lowest();
+  for (int i = 0; i < 8; ++i) {
+    const glm::vec3 corner((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+    const glm::vec3 v = glm::vec3(view * glm::vec4(corner, 1.0f));
+    xyLo = glm::min(xyLo, glm::vec2(v));
+    xyHi = glm::max(xyHi, glm::vec2(v));
+    dLo = std::min(dLo, -v.z);
+    dHi = std::max(dHi, -v.z);
+  }
+
+  // Texels per world unit: the eye's pixels per world unit at the casters' centre, times the scale.
+  const bool ortho = eye.projection[3][3] == 1.0f;
+  const float pixelsHigh = static_cast<float>(std::max(1, eye.viewport.height));
+  float pxPerUnit = 0.5f * pixelsHigh * std::abs(eye.projection[1][1]);
+  if (!ortho) {
+    const float dist = -(eye.view * glm::vec4(centre, 1.0f)).z;
+    pxPerUnit /= std::max(eye.nearPlane, dist);
+  }
+  const float scale = std::clamp(style.shadowMapScale, 0.125f, 4.0f);
+  float t = std::max(1e-6f, scale * pxPerUnit);
+  const glm::vec2 extent = glm::max(xyHi - xyLo, glm::vec2(1e-4f));
+  const float largest = std::max(extent.x, extent.y);
+  if (largest * t > static_cast<float>(maxSize)) t = static_cast<float>(maxSize) / largest;
+  const int w = std::clamp(static_cast<int>(std::ceil(extent.x * t)), 16, maxSize);
+  const int h = std::clamp(static_cast<int>(std::ceil(extent.y * t)), 16, maxSize);
+  // The region grows to whole texels around the box's middle, so texels are square.
+  const glm::vec2 mid = 0.5f * (xyLo + xyHi), half = 0.5f * glm::vec2(w, h) / t;
+  // Depth: from just before the nearest caster to well past the farthest one, whose shadow may
+  // start up to a diameter and a half behind its centre (depth offset plus bias); receivers farther
+  // still compare unclamped in the shader.
+  const float nearDist = dLo - 0.01f * radius - 1e-3f, farDist = dHi + 2.0f * radius + 1e-3f;
+  const glm::mat4 proj = glm::ortho(mid.x - half.x, mid.x + half.x, mid.y - half.y, mid.y + half.y, nearDist, farDist);
+
+  plan.light.view = view;
+  plan.light.projection = proj;
+  plan.light.nearPlane = nearDist;
+  plan.light.farPlane = farDist;
+  plan.light.viewport = {0, 0, w, h};
+  plan.light.light = eye.light;
+  plan.width = w;
+  plan.height = h;
+  plan.texelsPerUnit = t;
+  plan.lookup.enabled = !none;
+  plan.lookup.worldToMap = proj * view;
+  const float depthRange = farDist - nearDist;
+  plan.lookup.tolerance = (1.0f / t) / depthRange;  // a texel's width, along the light
+  plan.lookup.length = std::max(0.0f, style.shadowLength) / depthRange;
+  return plan;
+}
+
+ShadowMap::ShadowMap() : fbo_(core::makeFramebuffer()) {}
+
+void ShadowMap::prepare(const Frame& eye, const Bounds& casters, const Style& style) {
+  GLint maxTexture = 4096;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
+  plan_ = chooseShadowMap(eye, casters, style, std::min(4096, static_cast<int>(maxTexture)));
+  if (plan_.width == allocatedW_ && plan_.height == allocatedH_) return;
+  allocatedW_ = plan_.width;
+  allocatedH_ = plan_.height;
+  // Nearest sampling, no comparison: the receivers compare depths and ids themselves.
+  depth_ = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(depth_.get(), 1, GL_DEPTH_COMPONENT32F, allocatedW_, allocatedH_);
+  ids_ = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(ids_.get(), 1, GL_R32UI, allocatedW_, allocatedH_);
+  for (GLuint t : {depth_.get(), ids_.get()}) {
+    glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  }
+  glTextureParameteri(depth_.get(), GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  glNamedFramebufferTexture(fbo_.get(), GL_COLOR_ATTACHMENT0, ids_.get(), 0);
+  glNamedFramebufferTexture(fbo_.get(), GL_DEPTH_ATTACHMENT, depth_.get(), 0);
+  glNamedFramebufferDrawBuffer(fbo_.get(), GL_COLOR_ATTACHMENT0);
+}
+
+void ShadowMap::beginCasters() {
+  // The map must not be read while it is drawn into: take it off the receivers' units.
+  glBindTextureUnit(kUnitDepth, 0);
+  glBindTextureUnit(kUnitIds, 0);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_.get());
+  glViewport(0, 0, plan_.width, plan_.height);
+  glDisable(GL_SCISSOR_TEST);
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  const float far = 1.0f;
+  const GLuint none[4] = {0, 0, 0, 0};
+  glClearNamedFramebufferfv(fbo_.get(), GL_DEPTH, 0, &far);
+  glClearNamedFramebufferuiv(fbo_.get(), GL_COLOR, 0, none);
+  lightBlock_.upload(plan_.light);
+}
+
+void ShadowMap::bind() const {
+  glBindTextureUnit(kUnitDepth, depth_.get());
+  glBindTextureUnit(kUnitIds, ids_.get());
+}
+
+}  // namespace puff::cel

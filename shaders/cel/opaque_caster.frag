@@ -1,0 +1,16 @@
+#version 450 core
+// Opaque objects drawn from the light into the shadow map (puff::cel::OpaqueRenderer::drawCasters):
+// their near surface's depth in the light's frame and their caster id, so they shadow puffs and
+// each other (an object never shadows itself: cel/shadow_map.glsl).
+#include "common/frame.glsl"
+
+in float vDist;
+
+layout(location = 5) uniform uint uId;
+
+layout(location = 0) out uint oId;
+
+void main() {
+  gl_FragDepth = linearDepth(vDist);
+  oId = uId;
+}
