@@ -263,8 +263,15 @@ void OpaqueRenderer::drawCasters() {
   if (im.items.empty()) return;
   resetPassState();
   applyShadePass(ShadePass::kLit);  // depth LESS + write; the id is the colour
-  const GLuint program = im.caster.get();
-  glUseProgram(program);
+  glUseProgram(im.caster.get());
+  drawGeometry(im.caster.get());
+  glUseProgram(0);
+  restoreWriteMasks();
+}
+
+void OpaqueRenderer::drawGeometry(GLuint program) const {
+  const Impl& im = *impl_;
+  if (im.items.empty()) return;
   glBindVertexArray(im.vao.get());
   for (std::size_t i = 0; i < im.items.size(); ++i) {
     const DrawItem& d = im.items[i];
@@ -275,8 +282,6 @@ void OpaqueRenderer::drawCasters() {
                              reinterpret_cast<const void*>(r.firstIndex * sizeof(std::uint32_t)), r.baseVertex);
   }
   glBindVertexArray(0);
-  glUseProgram(0);
-  restoreWriteMasks();
 }
 
 std::size_t OpaqueRenderer::count() const { return impl_->items.size(); }

@@ -68,6 +68,13 @@ class OpaqueRenderer {
   /// in the light's frame and its id, kObjectIdBase + its index. Depth LESS + write.
   void drawCasters();
 
+  /// Draws every object's triangles with the caller's `program` and nothing else: binds the vertex
+  /// array (attribute 0 position, 1 normal, object space) and per object sets uniform location 0 (mat4
+  /// model: object -> world) and location 5 (uint caster id, kObjectIdBase + index) if the program
+  /// has them. The caller sets the state and the program's other uniforms (the cel reference's own
+  /// shadow passes use it).
+  void drawGeometry(GLuint program) const;
+
   /// How many objects there are, and object `index`'s world-space box (its mesh through its transform).
   std::size_t count() const;
   Bounds worldBounds(std::size_t index) const;
