@@ -70,8 +70,8 @@ class OpaqueRenderer {
 
   /// Draws every object's triangles with the caller's `program` and nothing else: binds the vertex
   /// array (attribute 0 position, 1 normal, object space) and per object sets uniform location 0 (mat4
-  /// model: object -> world) and location 5 (uint caster id, kObjectIdBase + index) if the program
-  /// has them. The caller sets the state and the program's other uniforms (the cel reference's own
+  /// model: object -> world) and location 5 (uint caster id, kObjectIdBase + index): the program must
+  /// declare and use both (`layout(location = 0) uniform mat4`, `layout(location = 5) uniform uint`). The caller sets the state and the program's other uniforms (the cel reference's own
   /// shadow passes use it).
   void drawGeometry(GLuint program) const;
 
