@@ -110,6 +110,7 @@ struct CelReference::Impl {
   };
   std::vector<PuffMesh> meshes;
   core::Program meshProgram, stencilProgram, silhouetteProgram, downsampleProgram;
+  core::Program objectLightProgram, objectIdProgram;  // opaque objects into the shadow maps and the id buffer
   core::VertexArray emptyVao;
   core::Buffer instances;
   std::size_t instanceCapacity = 0;
@@ -230,44 +231,60 @@ struct CelReference::Impl {
 
   // The shadow map over the puffs' bounding sphere, seen along the light: pass 1 the nearest
   // distance and its puff, pass 2 the nearest of any other puff; then bound for the frame.
-  void drawShadowMaps(const cel::Frame& frame, const Instances& inst) {
-    const GLuint meshProg = meshProgram.get();
+  void drawShadowMaps(const cel::Frame& frame, const Instances& inst, const cel::OpaqueRenderer& opaque,
+                      const cel::Style& style, const cel::Bounds& objectBounds) {
+    const GLuint meshProg = meshProgram.get(), objProg = objectLightProgram.get();
     ensureShadowMaps();
-    const glm::vec3 centre = 0.5f * (inst.lo + inst.hi);
-    const float radius = std::max(1e-3f, 0.5f * glm::length(inst.hi - inst.lo));
+    cel::Bounds fit = objectBounds;
+    if (inst.count > 0) {
+      fit.add(inst.lo);
+      fit.add(inst.hi);
+    }
+    if (fit.empty()) fit.add(glm::vec3(0.0f));
+    const glm::vec3 centre = 0.5f * (fit.lo + fit.hi);
+    const float radius = std::max(1e-3f, 0.5f * glm::length(fit.hi - fit.lo));
     const float len = glm::length(frame.light.direction);
     const glm::vec3 l = len > 0.0f && std::isfinite(len) ? frame.light.direction / len : glm::vec3(0, 1, 0);
     const glm::vec3 up = std::abs(l.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
     const glm::mat4 lightView = glm::lookAt(centre + 2.0f * radius * l, centre, up);
     const glm::mat4 lightProj = glm::ortho(-radius, radius, -radius, radius, 0.0f, 4.0f * radius);
     const float bias = 2.0f * radius / static_cast<float>(shadowSize);  // one texel
-    setMat4(meshProg, "uLightView", lightView);
-    setMat4(meshProg, "uLightProj", lightProj);
+    for (GLuint prog : {meshProg, objProg}) {
+      setMat4(prog, "uLightView", lightView);
+      setMat4(prog, "uLightProj", lightProj);
+    }
     glViewport(0, 0, shadowSize, shadowSize);
     cel::applyShadePass(cel::ShadePass::kLit);  // depth LESS + write, colour on, no stencil
-    glUseProgram(meshProg);
     // None of the shadow maps may sit on a texture unit while it is being drawn into.
     for (GLuint unit : {4u, 5u, 6u}) glBindTextureUnit(unit, 0);
     const float far[4] = {1e30f, 0, 0, 0};
     const GLuint none[4] = {0, 0, 0, 0};
+    // Both passes draw the puffs and then the opaque objects (which cast too: issue 15).
+    auto drawCasters = [&](int mode) {
+      glUseProgram(meshProg);
+      setInt(meshProg, "uMode", mode);
+      drawInstances(inst.firstOfVariation);
+      glUseProgram(objProg);
+      setInt(objProg, "uMode", mode);
+      opaque.drawGeometry(objProg);
+    };
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, shadowFbo1.get());
     glClearNamedFramebufferfv(shadowFbo1.get(), GL_COLOR, 0, far);
     glClearNamedFramebufferuiv(shadowFbo1.get(), GL_COLOR, 1, none);
     glClearNamedFramebufferfi(shadowFbo1.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
-    setInt(meshProg, "uMode", 1);
-    drawInstances(inst.firstOfVariation);
+    drawCasters(1);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, shadowFbo2.get());
     glClearNamedFramebufferfv(shadowFbo2.get(), GL_COLOR, 0, far);
     glClearNamedFramebufferfi(shadowFbo2.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
     glBindTextureUnit(5, shadowId.get());
-    setInt(meshProg, "uMode", 2);
-    drawInstances(inst.firstOfVariation);
+    drawCasters(2);
     glBindTextureUnit(4, shadowNear.get());
     glBindTextureUnit(6, shadowOther.get());
     for (GLuint prog : {meshProg, stencilProgram.get()}) {
       setMat4(prog, "uShadowView", lightView);
       setMat4(prog, "uShadowProj", lightProj);
       setFloat(prog, "uShadowBias", bias);
+      setFloat(prog, "uShadowLength", std::max(0.0f, style.shadowLength));
     }
   }
 
@@ -292,6 +309,18 @@ struct CelReference::Impl {
     glNamedFramebufferDrawBuffer(target, GL_COLOR_ATTACHMENT0);
     block.upload(frame);
     opaque.draw(cel::ShadePass::kLit);
+    if (shadows && opaque.count() > 0) {
+      // Each object's caster id over the pixels it showed, for the shadow pass (shadow_stencil.frag).
+      const GLenum idOnly[2] = {GL_NONE, GL_COLOR_ATTACHMENT1};
+      glNamedFramebufferDrawBuffers(target, 2, idOnly);
+      cel::resetPassState();
+      glDepthFunc(GL_LEQUAL);
+      glDepthMask(GL_FALSE);
+      glUseProgram(objectIdProgram.get());
+      opaque.drawGeometry(objectIdProgram.get());
+      glDepthMask(GL_TRUE);
+      glNamedFramebufferDrawBuffer(target, GL_COLOR_ATTACHMENT0);
+    }
     if (inst.count > 0) {
       const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
       glNamedFramebufferDrawBuffers(target, 2, both);
@@ -424,6 +453,12 @@ Result<std::unique_ptr<CelReference>> CelReference::create(std::vector<mesh::Tri
   if (!silhouette) return silhouette.error();
   auto down = core::buildProgram({"reference/fullscreen.vert", "reference/downsample.frag"});
   if (!down) return down.error();
+  auto objectLight = core::buildProgram({"reference/object_light.vert", "reference/object_light.frag"});
+  if (!objectLight) return objectLight.error();
+  auto objectId = core::buildProgram({"cel/opaque.vert", "reference/object_id.frag"});
+  if (!objectId) return objectId.error();
+  m.objectLightProgram = std::move(*objectLight);
+  m.objectIdProgram = std::move(*objectId);
   m.meshProgram = std::move(*mesh);
   m.stencilProgram = std::move(*stencil);
   m.silhouetteProgram = std::move(*silhouette);
@@ -490,7 +525,7 @@ Result<std::unique_ptr<CelReference>> CelReference::create(std::vector<mesh::Tri
 
 void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::OpaqueRenderer& opaque,
                         std::span<const cel::Particle> particles, const cel::Style& style, const glm::vec3& background,
-                        GLuint outputFbo, const cel::Viewport& viewport) {
+                        GLuint outputFbo, const cel::Viewport& viewport, const cel::Bounds& objectBounds) {
   Impl& m = *impl_;
   const int ss = m.options.supersample;
   const int w = viewport.width * ss, h = viewport.height * ss;
@@ -498,9 +533,10 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
   cel::resetPassState();  // no scissor, blending, culling, clamp, ... whatever the host left
 
   const Impl::Instances instances = m.uploadInstances(frame, particles, style);
-  // The shadow map over the puffs' bounding sphere, seen along the light.
-  const bool shadows = style.shadows && instances.count > 0;
-  if (shadows) m.drawShadowMaps(frame, instances);
+  // The shadow map over the casters' bounding sphere (the puffs and the objects that fit the map),
+  // seen along the light.
+  const bool shadows = style.shadows && (instances.count > 0 || opaque.count() > 0);
+  if (shadows) m.drawShadowMaps(frame, instances, opaque, style, objectBounds);
   m.drawFrame(frame, block, opaque, style, background, instances, shadows, w, h);
   const bool outlines = style.outlines && style.outlineWidth > 0.0f && instances.count > 0;
   m.drawShadowsAndOutlines(opaque, style, instances, shadows, outlines, w, h);

@@ -46,10 +46,11 @@ class CelReference {
   /// pixels on first use): clear to `background`, the opaque objects lit (`opaque`, with the frame
   /// block, ramp and gradient the caller bound for a viewport of the SUPERSAMPLED size), the puffs,
   /// shadows and outlines per `style`; then box-filters it into `outputFbo` at `viewport`.
-  /// `frame` must be the frame the caller uploaded (its viewport the supersampled one).
+  /// `frame` must be the frame the caller uploaded (its viewport the supersampled one). The shadow map
+  /// covers the puffs and `objectBounds` (the objects that fit it: CelScene::casterBounds).
   void draw(const cel::Frame& frame, cel::FrameBlock& block, cel::OpaqueRenderer& opaque,
             std::span<const cel::Particle> particles, const cel::Style& style, const glm::vec3& background,
-            GLuint outputFbo, const cel::Viewport& viewport);
+            GLuint outputFbo, const cel::Viewport& viewport, const cel::Bounds& objectBounds = {});
 
   /// The last frame's linear depth at OUTPUT resolution: per output pixel the nearest of its
   /// supersamples (as the media layers resolve MSAA depth), rows bottom-up (GL order), >= 1 where
