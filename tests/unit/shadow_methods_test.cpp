@@ -1,0 +1,344 @@
+// Shadows by every method (issue 15): the billboard shadow volumes, the shadow map and the cel
+// reference, each checked against what geometry says, over light directions, map scales, shadow
+// lengths and caster kinds, not at one point:
+//  - a sphere puff's shadow on the ground is the light's projection of it: an ellipse of semi-axes
+//    R across the light and R / l_y along it, centred H l_xz / l_y from below the puff;
+//  - a puff never shadows itself, from any side the light comes;
+//  - a shadow ends shadowLength along the light;
+//  - opaque objects shadow the ground and the puffs (the map and the reference; docs/cel-rendering.md).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+#include <nlohmann/json.hpp>
+
+#include <puff/cel/shadow_map.h>
+#include <puff/eval/cel_reference.h>
+#include <puff/render/render.h>
+#include <puff/scene/read.h>
+
+#include "support/assert_ok.h"
+#include "support/display.h"
+#include "support/sphere_atlas.h"
+
+namespace puff {
+namespace {
+
+constexpr int kPx = 128;
+constexpr float kPxPerUnit = 16.0f;  // orthoHeight 8 over 128 pixels
+constexpr float kAmbient = 0.2f, kLitGround = 0.7f;
+
+enum class Method { kVolumes, kMap, kReference };
+std::string name(Method m) { return m == Method::kVolumes ? "volumes" : m == Method::kMap ? "map" : "reference"; }
+
+class ShadowMethods : public test::SphereAtlasTest {
+ protected:
+  // Camera straight down at the ground (orthographic, 16 px per unit, image top = -z), white ground,
+  // light K_L 0.5 toward `light`, ambient 0.2: lit ground 0.7, shadowed 0.2 (display values).
+  static nlohmann::json groundScene(const glm::vec3& light, const nlohmann::json& style,
+                                    const nlohmann::json& particles, nlohmann::json objects = nlohmann::json::array()) {
+    objects.push_back({{"type", "plane"}, {"name", "ground"}, {"scale", {12, 1, 12}}, {"albedo", {1, 1, 1}}});
+    return {{"output", {{"width", kPx}, {"height", kPx}, {"samples", 1}}},
+            {"camera",
+             {{"position", {0, 10, 0}},
+              {"target", {0, 0, 0}},
+              {"up", {0, 0, -1}},
+              {"fovY", 0},
+              {"orthoHeight", 8},
+              {"near", 1},
+              {"far", 20}}},
+            {"light", {{"direction", {light.x, light.y, light.z}}, {"color", {0.5, 0.5, 0.5}}}},
+            {"ambient", {{"color", {kAmbient, kAmbient, kAmbient}}}},
+            {"atlas", sidecar_.string()},
+            {"style", style},
+            {"objects", objects},
+            {"particles", particles}};
+  }
+
+  static nlohmann::json style(Method m, nlohmann::json extra = nlohmann::json::object()) {
+    nlohmann::json s = {{"preset", "cel-shadows"},
+                        {"shadowMethod", m == Method::kMap ? "map" : "volumes"}};
+    for (auto& [k, v] : extra.items()) s[k] = v;
+    return s;
+  }
+
+  static core::Image render(const nlohmann::json& j, Method m) {
+    auto scene = scene::parseScene(j, dir_ / "scene.json");
+    EXPECT_OK(scene);
+    if (!scene) return {};
+    auto renderer =
+        eval::createRenderer(*scene, m == Method::kReference ? render::RenderPath::kReference : render::RenderPath::kCel);
+    EXPECT_OK(renderer);
+    if (!renderer) return {};
+    auto image = (*renderer)->renderFrame(0);
+    EXPECT_OK(image);
+    return image ? test::display(*image) : core::Image{};
+  }
+
+  // World x, z of pixel (x, y) on the ground.
+  static glm::vec2 ground(int x, int y) {
+    return {(x + 0.5f - kPx / 2.0f) / kPxPerUnit, (y + 0.5f - kPx / 2.0f) / kPxPerUnit};
+  }
+  static bool shadowed(const core::Image& im, int x, int y) {
+    return std::abs(im.at(x, y, 0) - kAmbient) < 0.1f;
+  }
+};
+
+// IoU of the shadowed ground pixels with `inside` over the pixels `counted` keeps.
+template <class Inside, class Counted>
+double shadowIoU(const core::Image& im, Inside inside, Counted counted, int* predicted = nullptr) {
+  int both = 0, either = 0, pred = 0;
+  for (int y = 0; y < kPx; ++y) {
+    for (int x = 0; x < kPx; ++x) {
+      if (!counted(x, y)) continue;
+      const bool a = inside(x, y);
+      const bool b = std::abs(im.at(x, y, 0) - kAmbient) < 0.1f;
+      both += a && b;
+      either += a || b;
+      pred += a;
+    }
+  }
+  if (predicted) *predicted = pred;
+  return either == 0 ? 1.0 : static_cast<double>(both) / either;
+}
+
+class ShadowOfASphere : public ShadowMethods, public ::testing::WithParamInterface<Method> {};
+
+// A sphere puff of radius R at height H; lights at 30, 45 and 60 degrees of elevation from four
+// azimuths. The shadow is the ellipse the light projects, within the pixels its edge and the puff
+// (with its outline) do not cover.
+TEST_P(ShadowOfASphere, OnTheGroundIsTheLightsProjection) {
+  const Method m = GetParam();
+  const float R = 0.6f, H = 1.6f;
+  // The reference takes seconds a frame: fewer angles for it.
+  const bool few = m == Method::kReference;
+  for (float elevation : {30.0f, 45.0f, 60.0f}) {
+    for (float azimuth : {0.0f, 90.0f, 200.0f, 315.0f}) {
+      if (few && (elevation == 45.0f || azimuth == 90.0f || azimuth == 315.0f)) continue;
+      const float el = glm::radians(elevation), az = glm::radians(azimuth);
+      const glm::vec3 l(std::cos(el) * std::cos(az), std::sin(el), std::cos(el) * std::sin(az));
+      const core::Image im = render(groundScene(l, style(m), {{{"position", {0, H, 0}}, {"size", 2 * R}}}), m);
+      ASSERT_EQ(im.width, kPx);
+      const glm::vec2 centre = -H * glm::vec2(l.x, l.z) / l.y;
+      const glm::vec2 along = glm::normalize(glm::vec2(l.x, l.z)), across(-along.y, along.x);
+      auto ellipse = [&](int x, int y) {
+        const glm::vec2 d = ground(x, y) - centre;
+        const float a = glm::dot(d, along) * l.y / R, b = glm::dot(d, across) / R;
+        return a * a + b * b;
+      };
+      auto inside = [&](int x, int y) { return ellipse(x, y) < 1.0f; };
+      // Away from the puff seen from above (its disc and outline) and from the ellipse's edge (a pixel).
+      auto counted = [&](int x, int y) {
+        if (glm::length(ground(x, y)) < R + 3.0f / kPxPerUnit) return false;
+        return std::abs(std::sqrt(ellipse(x, y)) - 1.0f) > 1.5f / (kPxPerUnit * R);
+      };
+      int predicted = 0;
+      const double iou = shadowIoU(im, inside, counted, &predicted);
+      EXPECT_GT(predicted, 100) << elevation << "/" << azimuth;
+      EXPECT_GE(iou, 0.9) << name(m) << " elevation " << elevation << " azimuth " << azimuth;
+    }
+  }
+}
+
+// A lone puff lit from 14 directions (the axes, above and below, the diagonals, from behind): with
+// shadows on, every pixel is what it is with shadows off. Shading off, so a shadowed pixel would
+// show as the ambient term against the flat lit colour.
+TEST_P(ShadowOfASphere, APuffNeverShadowsItself) {
+  const Method m = GetParam();
+  const nlohmann::json particles = {{{"position", {0.3, 1.2, -0.2}}, {"size", 2.4}}};
+  int lightIndex = 0;
+  for (const glm::vec3& l : {glm::vec3(1, 0, 0), glm::vec3(-1, 0, 0), glm::vec3(0, 1, 0), glm::vec3(0, 0, 1),
+                             glm::vec3(0, 0, -1), glm::vec3(0.2f, -1, 0.1f), glm::vec3(1, 1, 1), glm::vec3(-1, 1, -1),
+                             glm::vec3(1, -0.3f, 1), glm::vec3(-1, 0.5f, 1), glm::vec3(0.3f, 0.2f, -1),
+                             glm::vec3(-0.7f, 1, 0.1f), glm::vec3(0.05f, 1, 0.02f), glm::vec3(1, 0.05f, -0.4f)}) {
+    // The reference has no bias to vary and takes seconds a frame: every other direction, once.
+    if (m == Method::kReference && (++lightIndex % 2 == 0)) continue;
+    for (float bias : {0.0f, 0.05f}) {
+      if (m == Method::kReference && bias > 0.0f) continue;
+      nlohmann::json j = groundScene(l, style(m, {{"shading", false}, {"shadowBias", bias}}), particles);
+      j["objects"] = nlohmann::json::array();  // the puff alone
+      const core::Image with = render(j, m);
+      j["style"]["shadows"] = false;
+      const core::Image without = render(j, m);
+      ASSERT_EQ(with.width, kPx);
+      ASSERT_EQ(without.width, kPx);
+      int differ = 0, puff = 0;
+      for (int y = 0; y < kPx; ++y) {
+        for (int x = 0; x < kPx; ++x) {
+          puff += std::abs(without.at(x, y, 0) - without.at(0, 0, 0)) > 0.05f;
+          differ += std::abs(with.at(x, y, 0) - without.at(x, y, 0)) > 2.0f / 255.0f;
+        }
+      }
+      EXPECT_GT(puff, 1000);
+      EXPECT_EQ(differ, 0) << name(m) << " light " << l.x << "," << l.y << "," << l.z << " bias " << bias;
+    }
+  }
+}
+
+// Light at 45 degrees: the ground is H / sin 45 along the light from the puff's centre. A shadow
+// shorter than that leaves the ground lit; one well past it shades the ellipse.
+TEST_P(ShadowOfASphere, EndsShadowLengthAlongTheLight) {
+  const Method m = GetParam();
+  const float R = 0.5f, H = 2.0f;
+  const glm::vec3 l = glm::normalize(glm::vec3(1, 1, 0));
+  const float toGround = H / l.y;
+  for (float length : {0.5f * toGround, 1.5f * toGround}) {
+    const core::Image im =
+        render(groundScene(l, style(m, {{"shadowLength", length}}), {{{"position", {0, H, 0}}, {"size", 2 * R}}}), m);
+    ASSERT_EQ(im.width, kPx);
+    int shadowedPixels = 0;
+    for (int y = 0; y < kPx; ++y) {
+      for (int x = 0; x < kPx; ++x) {
+        if (glm::length(ground(x, y)) > R + 0.4f && shadowed(im, x, y)) ++shadowedPixels;
+      }
+    }
+    // The ellipse R x R sqrt2 covers pi R^2 sqrt2 = 1.11 square units, 284 pixels.
+    if (length < toGround) {
+      EXPECT_EQ(shadowedPixels, 0) << name(m) << " length " << length;
+    } else {
+      EXPECT_GT(shadowedPixels, 200) << name(m) << " length " << length;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllMethods, ShadowOfASphere,
+                         ::testing::Values(Method::kVolumes, Method::kMap, Method::kReference),
+                         [](const auto& info) { return name(info.param); });
+
+// The map's resolution follows the screen: at shadowMapScale 0.25 a texel spans 4 pixels and the
+// ellipse's edge is blockier, but its area stays; at 4 it matches the volumes' sharpness.
+TEST_F(ShadowMethods, MapScaleTradesSharpnessNotPlace) {
+  const float R = 0.6f, H = 1.6f;
+  const glm::vec3 l = glm::normalize(glm::vec3(-0.6f, 1, 0.4f));
+  const glm::vec2 centre = -H * glm::vec2(l.x, l.z) / l.y;
+  const glm::vec2 along = glm::normalize(glm::vec2(l.x, l.z)), across(-along.y, along.x);
+  auto ellipse = [&](int x, int y) {
+    const glm::vec2 d = ground(x, y) - centre;
+    const float a = glm::dot(d, along) * l.y / R, b = glm::dot(d, across) / R;
+    return a * a + b * b;
+  };
+  double previous = 0.0;
+  for (float scale : {0.25f, 1.0f, 4.0f}) {
+    const core::Image im = render(
+        groundScene(l, style(Method::kMap, {{"shadowMapScale", scale}}), {{{"position", {0, H, 0}}, {"size", 2 * R}}}),
+        Method::kMap);
+    ASSERT_EQ(im.width, kPx);
+    auto counted = [&](int x, int y) { return glm::length(ground(x, y)) > R + 3.0f / kPxPerUnit; };
+    const double iou = shadowIoU(im, [&](int x, int y) { return ellipse(x, y) < 1.0f; }, counted);
+    EXPECT_GE(iou, scale < 1.0f ? 0.8 : 0.9) << "scale " << scale;
+    EXPECT_GE(iou, previous - 0.01) << "finer maps are no worse: scale " << scale;
+    previous = iou;
+  }
+}
+
+// chooseShadowMap: texels per world unit = scale x the eye's pixels per world unit at the casters'
+// centre; capped by maxSize (evenly), at least 16 a side; nothing to cast: a map that shadows nothing.
+TEST(ShadowMapPlan, ResolutionFollowsTheScreenAndIsCapped) {
+  cel::Camera cam;
+  cam.position = {0, 0, 10};
+  cam.target = {0, 0, 0};
+  cam.fovYDegrees = 0.0f;
+  cam.orthoHeight = 8.0f;
+  cel::Frame eye = cel::Frame::fromCamera(cam, 256, 128);
+  eye.light.direction = {0, 0, 1};  // along the view: the map's plane is the screen's
+  cel::Style st;
+  cel::Bounds box;
+  box.add(glm::vec3(-1, -1, -1));
+  box.add(glm::vec3(1, 1, 1));
+  const cel::ShadowMapPlan p = cel::chooseShadowMap(eye, box, st);
+  EXPECT_NEAR(p.texelsPerUnit, 128.0f / 8.0f, 1e-3f);  // 16 pixels per unit
+  EXPECT_EQ(p.width, 32);
+  EXPECT_EQ(p.height, 32);
+  EXPECT_TRUE(p.lookup.enabled);
+  st.shadowMapScale = 4.0f;
+  const cel::ShadowMapPlan fine = cel::chooseShadowMap(eye, box, st, 100);
+  EXPECT_EQ(fine.width, 100);  // 128 wanted, capped
+  EXPECT_NEAR(fine.texelsPerUnit, 50.0f, 1e-3f);
+  // The corners of the box land inside the map, and its middle in the middle.
+  const glm::vec4 c = p.lookup.worldToMap * glm::vec4(0, 0, 0, 1);
+  EXPECT_NEAR(c.x, 0.0f, 1e-5f);
+  EXPECT_NEAR(c.y, 0.0f, 1e-5f);
+  for (int i = 0; i < 8; ++i) {
+    const glm::vec4 k = p.lookup.worldToMap * glm::vec4((i & 1) ? 1 : -1, (i & 2) ? 1 : -1, (i & 4) ? 1 : -1, 1);
+    EXPECT_LE(std::abs(k.x), 1.0f + 1e-5f);
+    EXPECT_LE(std::abs(k.y), 1.0f + 1e-5f);
+    EXPECT_GT(k.z, -1.0f);
+    EXPECT_LT(k.z, 1.0f);
+  }
+  // A tolerance of one texel; the length in map depth units.
+  const float depthRange = p.light.farPlane - p.light.nearPlane;
+  EXPECT_NEAR(p.lookup.tolerance * depthRange, 1.0f / 16.0f, 1e-4f);
+  EXPECT_NEAR(p.lookup.length * depthRange, st.shadowLength, 1e-3f);
+  // Perspective: pixels per unit at the centre's distance.
+  cam.fovYDegrees = 90.0f;
+  const cel::Frame persp = cel::Frame::fromCamera(cam, 128, 128);
+  st.shadowMapScale = 1.0f;
+  EXPECT_NEAR(cel::chooseShadowMap(persp, box, st).texelsPerUnit, 0.5f * 128.0f / 10.0f, 1e-3f);
+  EXPECT_FALSE(cel::chooseShadowMap(eye, cel::Bounds{}, st).lookup.enabled);
+}
+
+class ObjectShadows : public ShadowMethods, public ::testing::WithParamInterface<Method> {};
+
+// A thin square slab (side S, 0.02 thick: a box's scale is its half extents; at height H) between the light and the ground: its shadow is the
+// square moved H l_xz / l_y across the ground (its thickness adds under a pixel at these angles).
+TEST_P(ObjectShadows, AnObjectShadowsTheGround) {
+  const Method m = GetParam();
+  const float S = 1.5f, H = 1.5f;
+  for (const glm::vec3& dir : {glm::vec3(0.5f, 1, 0.2f), glm::vec3(-0.3f, 1, -0.6f)}) {
+    const glm::vec3 l = glm::normalize(dir);
+    const nlohmann::json slab = {{{"type", "box"}, {"translate", {0, H, 0}}, {"scale", {0.5 * S, 0.01, 0.5 * S}}, {"albedo", {1, 1, 1}}}};
+    const core::Image im = render(groundScene(l, style(m), nlohmann::json::array(), slab), m);
+    ASSERT_EQ(im.width, kPx);
+    const glm::vec2 shift = -H * glm::vec2(l.x, l.z) / l.y;
+    auto inside = [&](int x, int y) {
+      const glm::vec2 d = ground(x, y) - shift;
+      return std::abs(d.x) < 0.5f * S && std::abs(d.y) < 0.5f * S;
+    };
+    auto counted = [&](int x, int y) {
+      const glm::vec2 g = ground(x, y), d = g - shift;
+      if (std::abs(g.x) < 0.5f * S + 0.1f && std::abs(g.y) < 0.5f * S + 0.1f) return false;  // the slab itself
+      const float edge = std::min(std::abs(std::abs(d.x) - 0.5f * S), std::abs(std::abs(d.y) - 0.5f * S));
+      return edge > 1.5f / kPxPerUnit;
+    };
+    int predicted = 0;
+    const double iou = shadowIoU(im, inside, counted, &predicted);
+    EXPECT_GT(predicted, 100);
+    EXPECT_GE(iou, 0.9) << name(m) << " light " << l.x << "," << l.y << "," << l.z;
+  }
+}
+
+// The slab straight above a puff, light from above: the puff's visible top is in its shadow (ambient
+// only); without the slab it is lit.
+TEST_P(ObjectShadows, AnObjectShadowsAPuff) {
+  const Method m = GetParam();
+  const nlohmann::json slab = {{{"type", "box"}, {"translate", {0, 3, 0}}, {"scale", {3, 0.05, 3}}, {"albedo", {1, 1, 1}}}};
+  const nlohmann::json puff = {{{"position", {0, 1, 0}}, {"size", 1.6}}};
+  nlohmann::json j = groundScene(glm::vec3(0.05f, 1, 0.1f), style(m, {{"shading", false}}), puff, slab);
+  // Seen from the side, below the slab.
+  j["camera"] = {{"position", {0, 1, 10}}, {"target", {0, 1, 0}}, {"fovY", 0}, {"orthoHeight", 8}, {"near", 1},
+                 {"far", 20}};
+  const core::Image with = render(j, m);
+  j["objects"] = nlohmann::json::array({j["objects"][1]});  // the ground alone
+  const core::Image without = render(j, m);
+  ASSERT_EQ(with.width, kPx);
+  int puffPixels = 0, darkened = 0;
+  for (int y = 0; y < kPx; ++y) {
+    for (int x = 0; x < kPx; ++x) {
+      const glm::vec2 w((x + 0.5f - 64.0f) / kPxPerUnit, 1.0f - (y + 0.5f - 64.0f) / kPxPerUnit);
+      if (glm::length(w - glm::vec2(0, 1)) > 0.7f) continue;  // inside the puff's disc, off its ink
+      ++puffPixels;
+      darkened += with.at(x, y, 0) < without.at(x, y, 0) - 0.1f;
+    }
+  }
+  EXPECT_GT(puffPixels, 300);
+  EXPECT_GT(darkened, 0.95 * puffPixels) << name(m);
+}
+
+INSTANTIATE_TEST_SUITE_P(MapAndReference, ObjectShadows, ::testing::Values(Method::kMap, Method::kReference),
+                         [](const auto& info) { return name(info.param); });
+
+}  // namespace
+}  // namespace puff
