@@ -3,11 +3,15 @@
 //   floor       bare alpha-tested textured quads (NailboardRenderer::drawBaseline) writing the
 //               nailboards' linear depth (gl_FragDepth, shaders/cel/sprite.frag), no offset
 //   nailboards  cel shading, per-pixel linear depth (gl_FragDepth) and outlines (ShadePass::kLit)
-//   full        the frame with shadows: kLit, billboard shadow volumes into the stencil, kShadowed
+//   full-volumes  the frame with shadows by volumes: kLit, billboard shadow volumes into the
+//               stencil, kShadowed (Style::shadowMethod kVolumes)
+//   full-map    the frame with shadows by a map: the particles drawn from the light into a
+//               cel::ShadowMap (casters), then kLit looking it up (Style::shadowMethod kMap)
 // Every frame clears the target, uploads the frame block and the particles (16 bytes each), draws,
-// and ends with glFinish(). Per case: the floor and the nailboards alternate frame by frame (so a
-// load change on a shared machine hits both), 2 warm-up rounds, then the median of --reps rounds.
-// The full frame follows, timed pass by pass (glFinish between its passes; --no-split drops them)
+// and ends with glFinish(). Per case: the floor, the nailboards and full-map alternate frame by
+// frame (so a load change on a shared machine hits all), 2 warm-up rounds, then the median of
+// --reps rounds. full-map is also timed pass by pass (full-map.casters: clear, uploads and the
+// light's pass; full-map.lit: the lit pass). The volumes' full frame follows, timed pass by pass (glFinish between its passes; --no-split drops them)
 // to show which pass dominates. It is slow on llvmpipe, so: a first frame over 2 s gets 1 warm-up
 // and at most 3 timed frames; over 15 s that first frame is the only one; and a case whose frame
 // is predicted (from the last measured full frame, scaled by particles x pixels) to exceed
@@ -43,6 +47,7 @@
 #include <puff/bake/baker.h>
 #include <puff/cel/frame.h>
 #include <puff/cel/nailboards.h>
+#include <puff/cel/shadow_map.h>
 #include <puff/core/atlas.h>
 #include <puff/core/gl.h>
 
@@ -120,8 +125,8 @@ struct Target : test::OffscreenTarget {
   }
 };
 
-enum class Method { kFloor, kNailboards, kFull };
-constexpr const char* kMethodNames[] = {"floor", "nailboards", "full"};
+enum class Method { kFloor, kNailboards, kFull, kFullMap };
+constexpr const char* kMethodNames[] = {"floor", "nailboards", "full-volumes", "full-map"};
 
 // One frame's time; for kFull with split timing also each pass: clear + uploads + lit nailboards,
 // shadow volumes, shadowed nailboards.
@@ -134,10 +139,17 @@ struct Bench {
   cel::NailboardRenderer& renderer;
   cel::FrameBlock& block;
   const cel::Ramp& ramp;
+  cel::ShadowMap& map;
   cel::Style style;
   glm::vec4 floorPlane{0.0f};
   bool split = true;
   std::size_t bytesUploaded = 0;
+
+  cel::Style mapStyle() const {
+    cel::Style s = style;
+    s.shadowMethod = cel::ShadowMethod::kMap;
+    return s;
+  }
 
   FrameTime frame(const Target& target, const cel::Frame& f, const std::vector<cel::Particle>& ps, Method m) {
     FrameTime t;
@@ -153,6 +165,25 @@ struct Bench {
       case Method::kNailboards:
         renderer.drawNailboards(style, cel::ShadePass::kLit);
         break;
+      case Method::kFullMap: {
+        map.prepare(f, cel::particleBounds(ps), mapStyle());
+        map.beginCasters();
+        renderer.drawShadowCasters(style);
+        if (split) glFinish();
+        const auto t1 = Clock::now();
+        target.bind();
+        cel::Frame lit = f;
+        lit.shadow = map.lookup();
+        block.upload(lit);
+        map.bind();
+        renderer.drawNailboards(style, cel::ShadePass::kLit);
+        if (split) {
+          glFinish();
+          t.pass[0] = msBetween(t0, t1);
+          t.pass[1] = msSince(t1);
+        }
+        break;
+      }
       case Method::kFull: {
         renderer.drawNailboards(style, cel::ShadePass::kLit);
         if (split) glFinish();
@@ -212,7 +243,7 @@ int main(int argc, char** argv) {
   double maxFrameS = 100.0;
   std::string csvPath, dumpDir;
   std::vector<int> counts{1000, 10000, 50000}, sizes{512, 1024};
-  bool runNailboards = true, runFull = true, split = true;
+  bool runNailboards = true, runFull = true, runMap = true, split = true;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
       reps = std::max(1, std::atoi(argv[++i]));
@@ -228,6 +259,8 @@ int main(int argc, char** argv) {
       runFull = false;
     else if (!std::strcmp(argv[i], "--no-nailboards"))
       runNailboards = false;
+    else if (!std::strcmp(argv[i], "--no-map"))
+      runMap = false;
     else if (!std::strcmp(argv[i], "--no-split"))
       split = false;
     else if (!std::strcmp(argv[i], "--dump") && i + 1 < argc)
@@ -236,7 +269,9 @@ int main(int argc, char** argv) {
       std::fprintf(
           stderr,
           "usage: puff_bench_cel [--reps N] [--csv FILE] [--counts 1000,10000,50000] [--sizes 512,1024]\n"
-          "                      [--max-frame-s S (100)] [--no-full] [--no-nailboards] [--no-split] [--dump DIR]\n");
+          "                      [--max-frame-s S (100)] [--no-full] [--no-nailboards] [--no-map] [--no-split]\n"
+          "                      [--dump DIR]\n"
+          "  --no-full: without full-volumes (the slow one); --no-map: without full-map\n");
       return 2;
     }
   }
@@ -298,7 +333,8 @@ int main(int argc, char** argv) {
   }
   cel::FrameBlock block;
   const cel::Ramp ramp = cel::Ramp::twoTone();
-  Bench bench{*renderer, block, ramp, {}, {}, split};
+  cel::ShadowMap shadowMap;
+  Bench bench{*renderer, block, ramp, shadowMap, {}, {}, split};
   bench.style.shadows = true;  // outlines, shading and the rest at their defaults
   // The plane y = yBottom, kFloorGap below the box: floorPlane = (0, 1, 0, -yBottom).
   const float yBottom = -kHalfWidth - kFloorGap;
@@ -370,6 +406,7 @@ int main(int argc, char** argv) {
       // Floor and nailboards, alternating frame by frame.
       std::vector<Method> fast{Method::kFloor};
       if (runNailboards) fast.push_back(Method::kNailboards);
+      if (runMap) fast.push_back(Method::kFullMap);
       int warmUp = kWarmUp, timed = reps;
       for (int w = 0; w < warmUp; ++w) {
         double slowest = 0;
@@ -377,13 +414,27 @@ int main(int argc, char** argv) {
         if (w == 0) framesFor(slowest, reps, warmUp, timed);
       }
       std::vector<std::vector<double>> fastTimes(fast.size());
+      std::vector<double> mapPasses[2];
       for (int r = 0; r < timed; ++r) {
-        for (std::size_t k = 0; k < fast.size(); ++k)
-          fastTimes[k].push_back(bench.frame(target, frame, ps, fast[k]).total);
+        for (std::size_t k = 0; k < fast.size(); ++k) {
+          const FrameTime t = bench.frame(target, frame, ps, fast[k]);
+          fastTimes[k].push_back(t.total);
+          if (fast[k] == Method::kFullMap) {
+            mapPasses[0].push_back(t.pass[0]);
+            mapPasses[1].push_back(t.pass[1]);
+          }
+        }
       }
-      checkGl("floor or nailboards");
+      checkGl("floor, nailboards or full-map");
       for (std::size_t k = 0; k < fast.size(); ++k) {
-        addRow(kMethodNames[static_cast<int>(fast[k])], fastTimes[k]);
+        addRow(kMethodNames[static_cast<int>(fast[k])], fastTimes[k],
+               fast[k] == Method::kFullMap ? "map " + std::to_string(shadowMap.plan().width) + "x" +
+                                                 std::to_string(shadowMap.plan().height)
+                                           : std::string());
+        if (fast[k] == Method::kFullMap && split) {
+          addRow("full-map.casters", mapPasses[0], "clear + uploads + the casters into the map inside full-map");
+          addRow("full-map.lit", mapPasses[1], "lit nailboards looking up the map inside full-map");
+        }
         if (!dumpDir.empty()) {
           bench.frame(target, frame, ps, fast[k]);
           dump(fast[k]);
@@ -398,7 +449,7 @@ int main(int argc, char** argv) {
         char note[128];
         std::snprintf(note, sizeof note, "skipped: predicted %.0f s per frame (over --max-frame-s %.0f)",
                       predictedMs / 1000.0, maxFrameS);
-        addRow("full", {}, note);
+        addRow("full-volumes", {}, note);
         continue;
       }
       // A first frame over kVerySlowFrameMs is itself the one timed frame: shaders are compiled
@@ -422,11 +473,11 @@ int main(int argc, char** argv) {
       checkGl("full");
       lastFullMs = bench::median(totals);
       lastFullWork = work;
-      addRow("full", totals, fullNote);
+      addRow("full-volumes", totals, fullNote);
       if (split) {
-        addRow("full.lit", passes[0], "clear + uploads + lit nailboards inside the full frame");
-        addRow("full.volumes", passes[1], "shadow-volume pass alone inside the full frame");
-        addRow("full.shadowed", passes[2], "shadowed nailboards pass inside the full frame");
+        addRow("full-volumes.lit", passes[0], "clear + uploads + lit nailboards inside full-volumes");
+        addRow("full-volumes.volumes", passes[1], "shadow-volume pass alone inside full-volumes");
+        addRow("full-volumes.shadowed", passes[2], "shadowed nailboards pass inside full-volumes");
       }
     }
   }
@@ -437,7 +488,7 @@ int main(int argc, char** argv) {
   std::string csv =
       "particles,size,method,reps,median_ms,min_ms,ratio_to_floor,bytes_per_particle,overdraw,quad_px,note,valid\n";
   for (const Row& r : rows) {
-    const bool method = r.method == "nailboards" || r.method == "full";
+    const bool method = r.method == "nailboards" || r.method == "full-volumes" || r.method == "full-map";
     if (r.reps > 0) {
       const bool valid = !method || r.ratio >= 1.0;
       std::string ratio;
@@ -453,8 +504,8 @@ int main(int argc, char** argv) {
   if (!bench::writeCsv("puff_bench_cel", csvPath, csv)) return 1;
 
   // The table: per count and size, each method's median and its ratio to the floor.
-  std::fprintf(stderr, "\n%9s %5s %9s %20s %20s %20s %5s\n", "particles", "size", "floor ms", "nailboards ms (x)",
-               "full ms (x)", "volume pass ms (x)", "B/p");
+  std::fprintf(stderr, "\n%9s %5s %9s %20s %20s %20s %20s %5s\n", "particles", "size", "floor ms",
+               "nailboards ms (x)", "full-map ms (x)", "full-volumes ms (x)", "volume pass ms (x)", "B/p");
   auto cell = [](const Row* r) {
     char b[64];
     if (!r || r->reps == 0)
@@ -473,9 +524,9 @@ int main(int argc, char** argv) {
       }
       return nullptr;
     };
-    std::fprintf(stderr, "%9zu %5d %9.2f %s %s %s %5.1f\n", f.particles, f.size, f.medianMs,
-                 cell(find("nailboards")).c_str(), cell(find("full")).c_str(), cell(find("full.volumes")).c_str(),
-                 f.bytesPerParticle);
+    std::fprintf(stderr, "%9zu %5d %9.2f %s %s %s %s %5.1f\n", f.particles, f.size, f.medianMs,
+                 cell(find("nailboards")).c_str(), cell(find("full-map")).c_str(), cell(find("full-volumes")).c_str(),
+                 cell(find("full-volumes.volumes")).c_str(), f.bytesPerParticle);
   }
   return 0;
 }
