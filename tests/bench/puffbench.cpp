@@ -32,6 +32,7 @@
 
 #include "harness.h"
 #include "puffbench_cel.h"
+#include "puffbench_shadows.h"
 
 namespace {
 
@@ -267,7 +268,8 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
 int main(int argc, char** argv) {
   int reps = 3, width = 320, height = 240;
   bool physical = false;
-  std::string csvPath, celCsvPath, stabilityCsvPath, part = "all";
+  std::string csvPath, celCsvPath, stabilityCsvPath, shadowCsvPath, part = "all";
+  std::vector<std::string> shadowScenes = {"cloud-fig8c", "explosion", "magic-lamp", "cloud-10k"};
   puffbench::CelBenchOptions cel;
   fs::path artDir = PUFF_ART_DIR, sceneDir = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes";
   std::vector<std::string> scenes = {"explosion-walls", "smoke-flythrough", "fire-to-smoke"};
@@ -285,9 +287,19 @@ int main(int argc, char** argv) {
       stabilityCsvPath = argv[++i];
     } else if (!std::strcmp(argv[i], "--cel-csv") && i + 1 < argc) {
       celCsvPath = argv[++i];
+    } else if (!std::strcmp(argv[i], "--shadow-csv") && i + 1 < argc) {
+      shadowCsvPath = argv[++i];
+    } else if (!std::strcmp(argv[i], "--shadow-scenes") && i + 1 < argc) {
+      shadowScenes.clear();
+      std::string list = argv[++i];
+      for (std::size_t at = 0; at <= list.size();) {
+        const std::size_t comma = std::min(list.find(',', at), list.size());
+        if (comma > at) shadowScenes.push_back(list.substr(at, comma - at));
+        at = comma + 1;
+      }
     } else if (!std::strcmp(argv[i], "--part") && i + 1 < argc &&
                (!std::strcmp(argv[i + 1], "media") || !std::strcmp(argv[i + 1], "cel") ||
-                !std::strcmp(argv[i + 1], "all"))) {
+                !std::strcmp(argv[i + 1], "shadows") || !std::strcmp(argv[i + 1], "all"))) {
       part = argv[++i];
     } else if (!std::strcmp(argv[i], "--reference-limit") && i + 1 < argc) {
       cel.referenceLimit = static_cast<std::size_t>(std::max(0, std::atoi(argv[++i])));
@@ -300,7 +312,9 @@ int main(int argc, char** argv) {
       scenes.push_back(argv[++i]);
     } else {
       std::fprintf(stderr,
-                   "usage: puffbench [--part media|cel|all (all)] [--reps N (3)] [--size W H (320 240)]\n"
+                   "usage: puffbench [--part media|cel|shadows|all (all: media and cel)] [--reps N (3)]\n"
+                   "                 [--size W H (320 240)] [--shadow-csv FILE] [--shadow-scenes A,B (cloud-fig8c,\n"
+                   "                 explosion,magic-lamp,cloud-10k)]\n"
                    "                 [--scene NAME ... (media scenes)] [--csv FILE (media)] [--cel-csv FILE]\n"
                    "                 [--stability-csv FILE (media methods where they break)]\n"
                    "                 [--physical: media errors against the physical reference too]\n"
@@ -319,6 +333,24 @@ int main(int argc, char** argv) {
   }
   std::fprintf(stderr, "puffbench: %s\n", (*context)->describe().c_str());
 
+  if (part == "shadows") {
+    cel.sceneDir = sceneDir;
+    cel.artDir = artDir;
+    cel.width = width;
+    cel.height = height;
+    cel.reps = reps;
+    auto shadowRows = puffbench::runShadowBench(cel, shadowScenes);
+    if (!shadowRows) {
+      std::fprintf(stderr, "puffbench: error: %s\n", shadowRows.error().message.c_str());
+      return 1;
+    }
+    for (const puffbench::ShadowRow& r : *shadowRows) {
+      std::fprintf(stderr, "%-12s %-8s x%-5g %8.2f ms (%s floor)  shadow IoU %.3f  rmse %.5f\n", r.scene.c_str(),
+                   r.method.c_str(), r.mapScale, r.ms, bench::ratioToFloor(r.ms, r.floorMs).c_str(), r.shadowIoU,
+                   r.rmse);
+    }
+    return bench::writeCsv("puffbench", shadowCsvPath, puffbench::shadowCsv(*shadowRows)) ? 0 : 1;
+  }
   if (part != "media") {
     cel.sceneDir = sceneDir;
     cel.artDir = artDir;
