@@ -1,6 +1,8 @@
 #version 450 core
-// Where this pixel's eye ray enters (front face) or leaves (back face) the particle's shadow
-// volume, written as the face's depth. In the light frame (x along e1, y along e2, in puff
+// Where this pixel's eye ray enters (uBackFace 0) or leaves (uBackFace 1) the particle's shadow
+// volume, written as the face's depth. Which face this is comes from the draw, not from
+// gl_FrontFacing: both faces are the same triangles in the same order (shadow.vert).
+// In the light frame (x along e1, y along e2, in puff
 // diameters; lambda along D, world units) the volume is
 //   (x, y) inside the puff's silhouette,   s * (d(x, y) + bias) <= lambda <= lambda1
 // where d is the puff's depth-map offset: the volume starts behind the puff's own far side, and
@@ -11,6 +13,7 @@
 #include "cel/particle.glsl"
 
 uniform float uShadowBias;
+uniform int uBackFace;  // 0: the entry face (depth where the ray enters), 1: the exit face
 
 noperspective in vec3 vC0;
 noperspective in vec3 vC1;
@@ -97,5 +100,5 @@ void main() {
   clipSlab(c0.z, c1.z, s * (offset + uShadowBias), vExtent.y, tIn, tOut);
   if (tOut <= tIn) discard;
   // The ray runs from the near plane (t = 0) to the far plane (t = 1): t is the linear depth.
-  gl_FragDepth = clamp(gl_FrontFacing ? tIn : tOut, 0.0, 1.0);
+  gl_FragDepth = clamp(uBackFace != 0 ? tOut : tIn, 0.0, 1.0);
 }

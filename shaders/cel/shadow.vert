@@ -12,8 +12,11 @@
 // the whole screen when the prism reaches the eye); the fragment shader finds where the eye ray
 // enters and leaves the volume and writes that depth, so both faces always cover the same pixels
 // and the depth-fail count is exact with the camera inside a volume or a volume through the near
-// plane. 24 vertices per particle: the front face as a counter-clockwise fan of four triangles,
-// then the same fan clockwise as the back face.
+// plane. 12 vertices per particle: the footprint as a counter-clockwise fan of four triangles. The
+// renderer draws it twice, with the SAME vertices in the same order: once as the entry face
+// (uBackFace 0: depth where the eye ray enters, stencil decremented on depth fail) and once as the
+// exit face (uBackFace 1: where it leaves, incremented). Both draws rasterize and interpolate
+// identically, so the two faces cover the same samples with the same ray, whatever the winding.
 #include "common/frame.glsl"
 #include "cel/particle.glsl"
 
@@ -33,9 +36,8 @@ flat out float vFarSide;     // depth-map offset of the puff's far side at its c
 layout(std430, binding = 2) readonly buffer FarSides { float farSides[]; };
 
 void main() {
-  uint index = uint(gl_VertexID) / 24u;
-  int local = gl_VertexID % 24;
-  bool backFace = local >= 12;
+  uint index = uint(gl_VertexID) / 12u;
+  int local = gl_VertexID % 12;
   Particle p = unpackParticle(index);
   float s = p.size;
   if (s <= 0.0) {
@@ -104,10 +106,8 @@ void main() {
       if (cur == start) break;
     }
   }
-  int tri = (local % 12) / 3, vtx = local % 3;
+  int tri = local / 3, vtx = local % 3;
   int k = vtx == 0 ? 0 : min(tri + vtx, n - 1);
-  // Front face counter-clockwise; the back face is the same fan, clockwise.
-  if (backFace && vtx != 0) k = min(tri + 3 - vtx, n - 1);
   vec2 ndc = pts[hull[k]];
   vec4 pn = uInvViewProj * vec4(ndc, -1.0, 1.0), pf = uInvViewProj * vec4(ndc, 1.0, 1.0);
   vec3 origin = pn.xyz / pn.w, dir = pf.xyz / pf.w - origin;

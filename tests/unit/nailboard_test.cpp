@@ -375,6 +375,39 @@ TEST_F(Nailboards, ShadowStaysRightWithAVolumeThroughTheNearPlane) {
   EXPECT_EQ(wrong, 0);
 }
 
+// The entry and exit faces of a volume cover the same samples with the same eye ray, so a lone
+// puff's count is 0 or 1 at every pixel: never a stray -1 (255) or 2 where one face was drawn and
+// the other was not. Swept over lights from straight at the camera to 75 degrees off, with the camera's
+// winding flipped by the host (glFrontFace CW), which must change nothing.
+TEST_F(Nailboards, ShadowCountIsZeroOrOneForEveryLightAndWinding) {
+  cel::Style style;
+  int shadowedTotal = 0;
+  for (GLenum frontFace : {GL_CCW, GL_CW}) {
+    for (int i = 0; i < 24; ++i) {
+      cel::Frame f = orthoFrame();
+      const float polar = glm::radians(3.0f + 72.0f * static_cast<float>(i % 8) / 7.0f);
+      const float azimuth = glm::radians(37.0f + 120.0f * static_cast<float>(i / 8));
+      f.light.direction =
+          glm::vec3(std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar));
+      target_->clear(depthOfZ(0.6f));
+      block_->upload(f);
+      renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0.3f, -0.2f, 1.5f), 2.3f}});
+      glFrontFace(frontFace);
+      renderer_->drawShadowVolumes(style);
+      glFrontFace(GL_CCW);
+      int shadowed = 0, bad = 0;
+      for (unsigned char v : target_->readStencil()) {
+        shadowed += v == 1 ? 1 : 0;
+        bad += v > 1 ? 1 : 0;
+      }
+      EXPECT_EQ(bad, 0) << "light " << i << (frontFace == GL_CW ? " (CW)" : "");
+      EXPECT_GT(shadowed, 0) << "light " << i;
+      shadowedTotal += shadowed;
+    }
+  }
+  EXPECT_GT(shadowedTotal, 48 * 100);
+}
+
 }  // namespace
 }  // namespace puff
 

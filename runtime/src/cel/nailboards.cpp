@@ -67,7 +67,7 @@ struct NailboardRenderer::Impl {
   GLint singleCasterBias = -1, multiCasterBias = -1;
   core::Program shadow, sprite;
   AtlasUniforms svAtlas, spAtlas;
-  GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1;
+  GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1, shadowBackFace = -1;
   core::VertexArray vao;
   core::Buffer particles, cells, farSides;
   core::Texture shadowProfile;
@@ -128,6 +128,7 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create() {
   m.shadowBias = glGetUniformLocation(m.shadow.get(), "uShadowBias");
   m.shadowLength = glGetUniformLocation(m.shadow.get(), "uShadowLength");
   m.shadowFloor = glGetUniformLocation(m.shadow.get(), "uShadowFloor");
+  m.shadowBackFace = glGetUniformLocation(m.shadow.get(), "uBackFace");
   m.vao = core::makeVertexArray();
   m.particles = core::makeBuffer();
   m.cells = core::makeBuffer();
@@ -427,17 +428,23 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   glEnable(GL_STENCIL_TEST);
   glStencilMask(0xFF);
   glStencilFunc(GL_ALWAYS, 0, 0xFF);
-  // Depth-fail counting: a face behind the receiver counts, back faces up and front faces down,
-  // so a receiver inside the volume ends non-zero wherever the eye is.
-  glStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
-  glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFarSides, m.farSides.get());
   glBindTextureUnit(kUnitShadowProfile, m.shadowProfile.get());
-  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 24));
+  // Depth-fail counting: a face behind the receiver counts, exit faces up and entry faces down, so
+  // a receiver inside the volume ends non-zero wherever the eye is. The two faces are the same
+  // triangles in the same order, drawn twice; the draw (not the winding) says which face it is, so
+  // both rasterize and interpolate alike and the count never depends on facing.
+  const auto vertices = static_cast<GLsizei>(m.count * 12);
+  glProgramUniform1i(p, m.shadowBackFace, 0);
+  glStencilOp(GL_KEEP, GL_DECR_WRAP, GL_KEEP);
+  glDrawArrays(GL_TRIANGLES, 0, vertices);
+  glProgramUniform1i(p, m.shadowBackFace, 1);
+  glStencilOp(GL_KEEP, GL_INCR_WRAP, GL_KEEP);
+  glDrawArrays(GL_TRIANGLES, 0, vertices);
   glDisable(GL_DEPTH_CLAMP);
   glDisable(GL_STENCIL_TEST);
   restoreWriteMasks();
-  s.drawCalls = 1;
+  s.drawCalls = 2;
   return s;
 }
 

@@ -15,8 +15,9 @@
 // textures) stays as the pass left it, so a host sets what its own passes need.
 //
 // Particles reach the GPU as 16 bytes each (PackedParticle) and become quads in the vertex shader
-// (vertex pulling from a shader storage buffer): 6 vertices per nailboard, 24 per shadow volume
-// (two faces, each a fan of four triangles over the volume's convex hull on screen).
+// (vertex pulling from a shader storage buffer): 6 vertices per nailboard, 12 per shadow-volume
+// face (a fan of four triangles over the volume's convex hull on screen), drawn twice: the entry
+// and the exit face are the same triangles, told apart by the draw rather than their winding.
 #pragma once
 
 #include <cstdint>
