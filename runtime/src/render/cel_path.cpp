@@ -108,11 +108,14 @@ class CelPath final : public Path {
       } else {
         nailboards_->drawNailboards(s.style, cel::ShadePass::kLit);
       }
-      if (shadows && s.style.shadowMethod == cel::ShadowMethod::kVolumes) {
-        nailboards_->drawShadowVolumes(s.style, scene_->floorPlane());
-        scene_->opaque().draw(cel::ShadePass::kShadowed);
-        nailboards_->drawNailboards(s.style, cel::ShadePass::kShadowed);
-      }
+    }
+    if (shadows && s.style.shadowMethod == cel::ShadowMethod::kVolumes) {
+      // The puffs' and the objects' volumes count into one stencil; the receivers are drawn again
+      // where it is non-zero.
+      if (variations_ > 0) nailboards_->drawShadowVolumes(s.style, scene_->floorPlane());
+      scene_->opaque().drawShadowVolumes(s.style, scene_->floorPlane());
+      scene_->opaque().draw(cel::ShadePass::kShadowed);
+      if (variations_ > 0) nailboards_->drawNailboards(s.style, cel::ShadePass::kShadowed);
     }
     if (media_) {
       media_->draw(s, frame.inputs, frame.viewport, static_cast<GLuint>(callerFbo), frame.stats);
@@ -142,7 +145,7 @@ class CelPath final : public Path {
   std::unique_ptr<CelScene> scene_;
   std::unique_ptr<MediaPass> media_;
   std::unique_ptr<cel::ShadowMap> shadowMap_;  // made on the first frame with map shadows
-  int variations_ = 0;  // 0: no atlas, no cel particles
+  int variations_ = 0;                         // 0: no atlas, no cel particles
   int samples_ = 1;
   bool fillRateFloor_ = false;
 };
