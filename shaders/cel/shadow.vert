@@ -45,9 +45,11 @@ void main() {
     return;
   }
   vec3 D = -uLightDirWorld.xyz;
-  vec3 ref = abs(D.y) > 0.99 ? vec3(0.0, 0.0, 1.0) : vec3(0.0, 1.0, 0.0);
-  vec3 e1 = normalize(cross(ref, D));
-  vec3 e2 = cross(D, e1);
+  // The light's camera frame, as the shadow map's (glm::lookAt along D with up = world y, or world x
+  // when the light is near vertical): x right, y up as the light sees them.
+  vec3 ref = abs(D.y) >= 0.99 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+  vec3 lightRight = normalize(cross(D, ref));
+  vec3 lightUp = cross(lightRight, D);
   float lambda1 = uShadowLength;
   float dn = dot(uShadowFloor.xyz, D);
   if (dot(uShadowFloor.xyz, uShadowFloor.xyz) > 0.0 && dn < -1e-4) {
@@ -55,15 +57,26 @@ void main() {
     lambda1 = clamp(toFloor + s, 0.0, lambda1);
   }
   vExtent = vec4(s, lambda1, 0.0, 0.0);
-  // The cell whose view is nearest the light's: the silhouette the light sees.
-  mat3 bb = billboardFrame(p.position);
+  // The cell whose view is nearest the light's: the silhouette the light sees. An oriented puff
+  // turns with its own frame; an unoriented one shows the light its front view, upright in the
+  // light's frame (as the shadow map draws it).
+  mat3 puff = p.oriented ? quatToMat3(p.orientation) : mat3(lightRight, lightUp, -D);
   ivec4 cell;
   vec4 weight;
-  selectViews(p, transpose(puffFrame(p, bb)) * uLightDirWorld.xyz, cell, weight);
+  selectViews(p, transpose(puff) * uLightDirWorld.xyz, cell, weight);
   int best = 0;
   for (int k = 1; k < 4; ++k) {
     if (weight[k] > weight[best]) best = k;
   }
+  // The light frame (e1, e2) is that cell's right and up in world space, projected across the light
+  // and made orthonormal: the silhouette table (in the cell's right / up) turns with the puff.
+  vec3 cr = puff * cells[cell[best]].right.xyz, cu = puff * cells[cell[best]].up.xyz;
+  vec3 e1 = cr - dot(cr, D) * D;
+  vec3 e2 = cu - dot(cu, D) * D;
+  if (dot(e1, e1) < 1e-6) e1 = cross(D, e2);  // the cell's right along the light: up alone decides
+  e1 = normalize(e1);
+  e2 -= dot(e2, e1) * e1;
+  e2 = dot(e2, e2) < 1e-12 ? cross(e1, D) : normalize(e2);
   vProfileRow = (float(cell[best]) + 0.5) / float(max(1, uAtlasLayout.x * uAtlasLayout.y));
   vFarSide = farSides[cell[best]];
 

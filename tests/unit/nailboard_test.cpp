@@ -408,6 +408,72 @@ TEST_F(Nailboards, ShadowCountIsZeroOrOneForEveryLightAndWinding) {
   EXPECT_GT(shadowedTotal, 48 * 100);
 }
 
+// A one-view atlas baked from `m` (128-texel cells) into dir / name, loaded.
+core::Atlas bakeOneView(const mesh::TriMesh& m, const fs::path& dir) {
+  bake::BakeOptions o;
+  o.cellSize = 128;
+  o.flange = {4.0f, false};
+  o.outDir = dir;
+  o.contactSheet = false;
+  bake::PuffSource src;
+  src.mesh = m;
+  src.provenance.generator = "sphere";
+  auto r = bake::bakeAtlas({src}, o);
+  EXPECT_TRUE(r.ok());
+  auto atlas = core::loadAtlas(r->sidecar);
+  EXPECT_TRUE(atlas.ok());
+  return std::move(*atlas);
+}
+
+// The angle (degrees, [0, 180)) of the principal axis of the set pixels of `mask`, and their count.
+std::pair<double, int> principalAxis(const std::vector<bool>& mask, int n) {
+  double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+  int count = 0;
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      if (!mask[static_cast<std::size_t>(y) * n + x]) continue;
+      sx += x, sy += y, sxx += double(x) * x, syy += double(y) * y, sxy += double(x) * y;
+      ++count;
+    }
+  }
+  if (count == 0) return {0.0, 0};
+  const double mx = sx / count, my = sy / count;
+  const double cxx = sxx / count - mx * mx, cyy = syy / count - my * my, cxy = sxy / count - mx * my;
+  double a = 0.5 * std::atan2(2.0 * cxy, cxx - cyy) * 180.0 / std::numbers::pi;
+  if (a < 0) a += 180.0;
+  return {a, count};
+}
+
+double angleBetweenAxes(double a, double b) {
+  const double d = std::fmod(std::abs(a - b), 180.0);
+  return std::min(d, 180.0 - d);
+}
+
+// An elongated puff (an ellipsoid three times longer than wide, one baked view) turned about the
+// light's axis: its shadow on the plane behind turns with it (the silhouette table lives in the
+// frame of the cell the light sees, carried by the puff's orientation).
+TEST_F(Nailboards, OrientedPuffsShadowTurnsWithIt) {
+  mesh::TriMesh m = mesh::generateSphere({5});
+  for (glm::vec3& p : m.positions) p *= glm::vec3(1.0f, 0.33f, 0.5f);
+  mesh::computeNormals(m);
+  mesh::normalizeToUnitSphere(m);
+  ASSERT_TRUE(renderer_->setAtlas(bakeOneView(m, dir_ / "elongated")).ok());
+  cel::Frame f = orthoFrame();  // light along +z, toward the camera: the shadow falls straight back
+  cel::Style style;
+  for (double degrees : {0.0, 25.0, 50.0, 90.0, 115.0, 150.0}) {
+    Particle p{glm::vec3(0, 0, 3), 5.0f};
+    p.oriented = true;
+    p.orientation = glm::angleAxis(static_cast<float>(glm::radians(degrees)), glm::vec3(0, 0, 1));
+    target_->clear(depthOfZ(0.0f));
+    block_->upload(f);
+    renderer_->upload(std::vector<Particle>{p});
+    renderer_->drawShadowVolumes(style);
+    const auto [angle, count] = principalAxis(shadowMask(*target_), kPx);
+    EXPECT_GT(count, 300) << degrees;
+    EXPECT_LT(angleBetweenAxes(angle, degrees), 3.0) << "turned " << degrees << ", shadow axis at " << angle;
+  }
+}
+
 }  // namespace
 }  // namespace puff
 
