@@ -31,9 +31,7 @@ noperspective out vec3 vC0;
 noperspective out vec3 vC1;
 flat out vec4 vExtent;  // size, lambda end (world), 0, 0
 flat out float vProfileRow;  // texture coordinate of the cell's row in the shadow-profile texture
-flat out float vFarSide;     // depth-map offset of the puff's far side at its centre, diameters
-
-layout(std430, binding = 2) readonly buffer FarSides { float farSides[]; };
+flat out int vCell;          // the atlas cell the light sees: its depth map gives the start cap
 
 void main() {
   uint index = uint(gl_VertexID) / 12u;
@@ -78,7 +76,7 @@ void main() {
   e2 -= dot(e2, e1) * e1;
   e2 = dot(e2, e2) < 1e-12 ? cross(e1, D) : normalize(e2);
   vProfileRow = (float(cell[best]) + 0.5) / float(max(1, uAtlasLayout.x * uAtlasLayout.y));
-  vFarSide = farSides[cell[best]];
+  vCell = cell[best];
 
   // Footprint: the convex hull of the prism's eight corners on screen (Jarvis march), as a fan
   // of four triangles; or the whole screen when the prism reaches the eye.

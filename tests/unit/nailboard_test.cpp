@@ -474,6 +474,43 @@ TEST_F(Nailboards, OrientedPuffsShadowTurnsWithIt) {
   }
 }
 
+// The start cap follows the depth map at each point, not the centre's depth with a sphere's
+// falloff. A ball of radius Rb with two spikes along the light (toward it and away: the depth map
+// mirrored through the billboard plane is exact for it) and a receiver plane just behind the
+// ball's far side: around the spikes, where the far side is the ball's, the plane is in shadow.
+// (The centre's depth, the spike's, would start the shadow far behind the plane everywhere.)
+TEST_F(Nailboards, ShadowStartsAtTheFarSideTheDepthMapGivesAtEachPoint) {
+  mesh::TriMesh m = mesh::generateSphere({5});
+  for (glm::vec3& p : m.positions) {
+    const glm::vec3 u = glm::normalize(p);
+    p = u * (1.0f + 0.7f * std::exp(-(u.x * u.x + u.y * u.y) / 0.03f));
+  }
+  mesh::computeNormals(m);
+  mesh::normalizeToUnitSphere(m);
+  ASSERT_TRUE(renderer_->setAtlas(bakeOneView(m, dir_ / "spiked")).ok());
+  const float size = 5.0f, ball = 0.5f * size / 1.7f;  // the ball's radius, world units
+  const float centreZ = 3.0f, planeZ = centreZ - 1.04f * ball;
+  cel::Frame f = orthoFrame();  // light along +z
+  cel::Style style;
+  style.shadowBias = 0.0f;
+  target_->clear(depthOfZ(planeZ));
+  block_->upload(f);
+  renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0, 0, centreZ), size}});
+  renderer_->drawShadowVolumes(style);
+  const auto mask = shadowMask(*target_);
+  int ring = 0, shadowed = 0;
+  for (int y = 0; y < kPx; ++y) {
+    for (int x = 0; x < kPx; ++x) {
+      const float r = glm::length(pixelToWorld(x, y));
+      if (r < 0.5f * ball || r > 0.85f * ball) continue;
+      ++ring;
+      shadowed += mask[static_cast<std::size_t>(y) * kPx + x] ? 1 : 0;
+    }
+  }
+  EXPECT_GT(ring, 200);
+  EXPECT_EQ(shadowed, ring);
+}
+
 }  // namespace
 }  // namespace puff
 

@@ -15,7 +15,7 @@ namespace {
 
 // Texture units and storage-buffer bindings shared with shaders/cel/*.
 constexpr GLuint kUnitPacked = 2, kUnitColor = 3;
-constexpr GLuint kBindingParticles = 0, kBindingCells = 1, kBindingFarSides = 2;
+constexpr GLuint kBindingParticles = 0, kBindingCells = 1;
 constexpr GLuint kUnitShadowProfile = 5;
 constexpr int kPolar = 32;  // directions of the silhouette radius table (shaders/cel/shadow.frag)
 
@@ -69,7 +69,7 @@ struct NailboardRenderer::Impl {
   AtlasUniforms svAtlas, spAtlas;
   GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1, shadowBackFace = -1;
   core::VertexArray vao;
-  core::Buffer particles, cells, farSides;
+  core::Buffer particles, cells;
   core::Texture shadowProfile;
   std::size_t particleCapacity = 0;
   std::size_t count = 0;
@@ -194,26 +194,23 @@ float bilinear(const core::Image& im, float x, float y, int c) {
   return top * (1 - fy) + bottom * fy;
 }
 
-// Per cell, for the shadow volumes: the far-side depth offset at the puff's centre (farSides),
-// and the silhouette's radius (puff diameters) in kPolar directions, counter-clockwise from the
-// cell's +x (y up), evenly spaced in diamond angle. Marching outward from the centre, the radius is
-// the last crossing of the silhouette, so a puff with bays casts the shadow of its star-shaped hull.
+// Per cell, for the shadow volumes (whose start cap reads the depth map itself): the silhouette's radius (puff
+// diameters) in kPolar directions, counter-clockwise from the cell's +x (y up), evenly spaced in diamond angle.
+// Marching outward from the centre, the radius is the last crossing of the silhouette, so a puff with bays casts the
+// shadow of its star-shaped hull.
 struct ShadowProfiles {
-  std::vector<float> farSides;  ///< one per cell
-  std::vector<float> radii;     ///< kPolar per cell, cell-major
+  std::vector<float> radii;  ///< kPolar per cell, cell-major
 };
 
 ShadowProfiles shadowProfiles(const core::Atlas& atlas) {
   const core::AtlasDesc& d = atlas.desc;
   const core::Image& dist = atlas.maps.at("distance").front();
-  const core::Image& nd = atlas.maps.at("normalDepth").front();
   const float content = static_cast<float>(d.contentSize);
   const float reach = 0.5f * content + static_cast<float>(d.margin) - 1.0f;
   ShadowProfiles out;
   for (const core::AtlasCell& c : d.cells) {
     const float cx = static_cast<float>(c.rect[0] + d.margin) + 0.5f * content;
     const float cy = static_cast<float>(c.rect[1] + d.margin) + 0.5f * content;
-    out.farSides.push_back(std::max(0.0f, (bilinear(nd, cx, cy, 3) - 0.5f) * d.depthScale));
     for (int i = 0; i < kPolar; ++i) {
       // Evenly spaced in diamond angle q in [0, 4) (shaders/cel/shadow.frag, radiusToward).
       const float q = 4.0f * static_cast<float>(i) / kPolar;
@@ -296,9 +293,6 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   m.cells = core::makeBuffer();
   glNamedBufferStorage(m.cells.get(), static_cast<GLsizeiptr>(cellData.size() * sizeof(glm::vec4)), cellData.data(), 0);
   const ShadowProfiles profiles = shadowProfiles(atlas);
-  m.farSides = core::makeBuffer();
-  glNamedBufferStorage(m.farSides.get(), static_cast<GLsizeiptr>(profiles.farSides.size() * sizeof(float)),
-                       profiles.farSides.data(), 0);
   m.shadowProfile = core::makeTexture(GL_TEXTURE_2D);
   const GLuint sp = m.shadowProfile.get();
   const auto rows = static_cast<GLsizei>(d.cells.size());
@@ -428,7 +422,6 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   glEnable(GL_STENCIL_TEST);
   glStencilMask(0xFF);
   glStencilFunc(GL_ALWAYS, 0, 0xFF);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFarSides, m.farSides.get());
   glBindTextureUnit(kUnitShadowProfile, m.shadowProfile.get());
   // Depth-fail counting: a face behind the receiver counts, exit faces up and entry faces down, so
   // a receiver inside the volume ends non-zero wherever the eye is. The two faces are the same
