@@ -14,6 +14,7 @@
 
 #include <puff/cel/frame.h>
 #include <puff/cel/opaque.h>
+#include <puff/cel/volume_clip.h>
 #include <puff/mesh/mesh.h>
 #include <puff/render/cel_scene.h>
 
@@ -213,6 +214,43 @@ TEST_F(OpaqueVolumes, OpenPlaneShadowsASphereWhicheverWayItFaces) {
       EXPECT_GE(static_cast<double>(both) / either, 0.95) << both << " of " << either;
     }
   }
+}
+
+// The volume passes' clip: an orthographic camera on +z (8 units tall over 128 pixels, near 1,
+// far 21 from z = 10) sees the box [-1, 2] x [0, 1] x [-3, 4] as pixels [48, 96) x [64, 80) and
+// linear depths (10 - 4 - 1) / 20 to (10 + 3 - 1) / 20; a box reaching behind the eye clips
+// nothing; a box off screen draws nothing.
+TEST(VolumeClip, IsTheReceiversBoxOnScreenAndInDepth) {
+  Camera cam;
+  cam.position = glm::vec3(0, 0, 10);
+  cam.target = glm::vec3(0);
+  cam.fovYDegrees = 0.0f;
+  cam.orthoHeight = 8.0f;
+  cam.nearPlane = 1.0f;
+  cam.farPlane = 21.0f;
+  const Frame f = Frame::fromCamera(cam, 128, 128);
+  Bounds b;
+  b.add(glm::vec3(-1, 0, -3));
+  b.add(glm::vec3(2, 1, 4));
+  const VolumeClip c = volumeClip(f, b);
+  EXPECT_FALSE(c.everything);
+  EXPECT_FALSE(c.nothing);
+  EXPECT_EQ(c.scissor.x, 48);
+  EXPECT_EQ(c.scissor.y, 64);
+  EXPECT_EQ(c.scissor.width, 48);
+  EXPECT_EQ(c.scissor.height, 16);
+  EXPECT_NEAR(c.depthMin, 5.0f / 20.0f, 1e-6f);
+  EXPECT_NEAR(c.depthMax, 12.0f / 20.0f, 1e-6f);
+  EXPECT_TRUE(volumeClip(f, Bounds{}).everything);
+  Bounds off;
+  off.add(glm::vec3(10, 10, 0));
+  off.add(glm::vec3(11, 11, 1));
+  EXPECT_TRUE(volumeClip(f, off).nothing);
+  Camera persp = cam;
+  persp.fovYDegrees = 60.0f;
+  Bounds behind = b;
+  behind.add(glm::vec3(0, 0, 12));  // behind the eye at z = 10
+  EXPECT_TRUE(volumeClip(Frame::fromCamera(persp, 128, 128), behind).everything);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include <puff/cel/nailboards.h>
 #include <puff/cel/pass_state.h>
+#include <puff/cel/volume_clip.h>
 #include <puff/core/colour.h>
 #include <puff/core/shader.h>
 
@@ -401,11 +402,12 @@ DrawStats NailboardRenderer::drawBaseline(const Style& style) {
   return s;
 }
 
-DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::vec4& floorPlane) {
+DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::vec4& floorPlane,
+                                               const VolumeClip& clip) {
   Impl& m = *impl_;
   DrawStats s;
   s.particles = m.count;
-  if (m.count == 0 || !m.hasAtlas) return s;
+  if (m.count == 0 || !m.hasAtlas || clip.nothing) return s;
   const GLuint p = m.shadow.get();
   m.setCommon(p, m.svAtlas, style);
   glProgramUniform1f(p, m.shadowBias, std::clamp(style.shadowBias, 0.0f, 1.0f));
@@ -428,12 +430,14 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   // triangles in the same order, drawn twice; the draw (not the winding) says which face it is, so
   // both rasterize and interpolate alike and the count never depends on facing.
   const auto vertices = static_cast<GLsizei>(m.count * 12);
+  beginVolumeClip(clip);
   glProgramUniform1i(p, m.shadowBackFace, 0);
   glStencilOp(GL_KEEP, GL_DECR_WRAP, GL_KEEP);
   glDrawArrays(GL_TRIANGLES, 0, vertices);
   glProgramUniform1i(p, m.shadowBackFace, 1);
   glStencilOp(GL_KEEP, GL_INCR_WRAP, GL_KEEP);
   glDrawArrays(GL_TRIANGLES, 0, vertices);
+  endVolumeClip();
   glDisable(GL_DEPTH_CLAMP);
   glDisable(GL_STENCIL_TEST);
   restoreWriteMasks();

@@ -1,6 +1,7 @@
 // Opaque scene objects: primitives, validation, one packed upload, and the three shade passes.
 #include <puff/cel/opaque.h>
 #include <puff/cel/pass_state.h>
+#include <puff/cel/volume_clip.h>
 
 #include <algorithm>
 #include <cmath>
@@ -345,10 +346,10 @@ void OpaqueRenderer::drawGeometry(GLuint program) const {
   glBindVertexArray(0);
 }
 
-DrawStats OpaqueRenderer::drawShadowVolumes(const Style& style, const glm::vec4& floorPlane) {
+DrawStats OpaqueRenderer::drawShadowVolumes(const Style& style, const glm::vec4& floorPlane, const VolumeClip& clip) {
   Impl& im = *impl_;
   DrawStats s;
-  if (im.items.empty() || style.shadowLength <= 0.0f) return s;
+  if (im.items.empty() || style.shadowLength <= 0.0f || clip.nothing) return s;
   const GLuint program = im.volume.get();
   glProgramUniform1f(program, kVolumeLengthLoc, style.shadowLength);
   glProgramUniform4fv(program, kVolumeFloorLoc, 1, glm::value_ptr(floorPlane));
@@ -371,6 +372,7 @@ DrawStats OpaqueRenderer::drawShadowVolumes(const Style& style, const glm::vec4&
   glStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
   glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
   glBindVertexArray(im.adjacencyVao.get());
+  beginVolumeClip(clip);
   const bool haveFloor = glm::dot(glm::vec3(floorPlane), glm::vec3(floorPlane)) > 0.0f;
   for (std::size_t i = 0; i < im.items.size(); ++i) {
     const DrawItem& d = im.items[i];
@@ -390,6 +392,7 @@ DrawStats OpaqueRenderer::drawShadowVolumes(const Style& style, const glm::vec4&
                              reinterpret_cast<const void*>(r.firstIndex * 2 * sizeof(std::uint32_t)), r.baseVertex);
     ++s.drawCalls;
   }
+  endVolumeClip();
   glBindVertexArray(0);
   glUseProgram(0);
   glDisable(GL_DEPTH_CLAMP);

@@ -112,8 +112,13 @@ class CelPath final : public Path {
     if (shadows && s.style.shadowMethod == cel::ShadowMethod::kVolumes) {
       // The puffs' and the objects' volumes count into one stencil; the receivers are drawn again
       // where it is non-zero.
-      if (variations_ > 0) nailboards_->drawShadowVolumes(s.style, scene_->floorPlane());
-      scene_->opaque().drawShadowVolumes(s.style, scene_->floorPlane());
+      // Only where a receiver can be: the puffs' and objects' box on screen and in depth.
+      cel::Bounds receivers;
+      if (variations_ > 0) receivers.add(cel::particleBounds(frame.inputs.particles));
+      for (std::size_t i = 0; i < scene_->opaque().count(); ++i) receivers.add(scene_->opaque().worldBounds(i));
+      const cel::VolumeClip clip = cel::volumeClip(f, receivers);
+      if (variations_ > 0) nailboards_->drawShadowVolumes(s.style, scene_->floorPlane(), clip);
+      scene_->opaque().drawShadowVolumes(s.style, scene_->floorPlane(), clip);
       scene_->opaque().draw(cel::ShadePass::kShadowed);
       if (variations_ > 0) nailboards_->drawNailboards(s.style, cel::ShadePass::kShadowed);
     }

@@ -18,6 +18,7 @@
 #include <puff/cel/frame.h>
 #include <puff/cel/nailboards.h>
 #include <puff/cel/shadow_map.h>
+#include <puff/cel/volume_clip.h>
 
 namespace puff::cel {
 
@@ -74,7 +75,9 @@ class OpaqueRenderer {
   /// hair, see opaque_volume.frag). `floorPlane` as NailboardRenderer::drawShadowVolumes: volumes end
   /// just past it and objects wholly on or below it are skipped. Leaves colour and depth untouched;
   /// returns with the write masks on and the program and vertex array reset. drawCalls: objects drawn.
-  DrawStats drawShadowVolumes(const Style& style, const glm::vec4& floorPlane = glm::vec4(0.0f));
+  /// `clip`: as NailboardRenderer::drawShadowVolumes's.
+  DrawStats drawShadowVolumes(const Style& style, const glm::vec4& floorPlane = glm::vec4(0.0f),
+                              const VolumeClip& clip = VolumeClip{});
 
   /// Draws every object into a shadow map (after ShadowMap::beginCasters): its near surface's depth
   /// in the light's frame and its id, kObjectIdBase + its index. Depth LESS + write.
