@@ -1,7 +1,9 @@
 #version 450 core
-// Where this pixel's eye ray enters (front face) or leaves (back face) the particle's shadow
-// volume, written as the face's depth. In the light frame (x along e1, y along e2, in puff
-// diameters; lambda along D, world units) the volume is
+// Where this pixel's eye ray enters (uBackFace 0) or leaves (uBackFace 1) the particle's shadow
+// volume, written as the face's depth. Which face this is comes from the draw, not from
+// gl_FrontFacing: both faces are the same triangles in the same order (shadow.vert).
+// In the light frame (x along e1, y along e2: the right and up of the atlas cell the light sees, in
+// puff diameters; lambda along D, world units) the volume is
 //   (x, y) inside the puff's silhouette,   s * (d(x, y) + bias) <= lambda <= lambda1
 // where d is the puff's depth-map offset: the volume starts behind the puff's own far side, and
 // its edge follows the silhouette (a polar table of its radius, 32 directions, made from the
@@ -11,6 +13,7 @@
 #include "cel/particle.glsl"
 
 uniform float uShadowBias;
+uniform int uBackFace;  // 0: the entry face (depth where the ray enters), 1: the exit face
 
 noperspective in vec3 vC0;
 noperspective in vec3 vC1;
@@ -20,10 +23,21 @@ flat in float vProfileRow;  // texture row of the particle's cell
 // Per atlas cell, from the CPU (NailboardRenderer::setAtlas): row `cell` of this texture holds the
 // silhouette's radius (diameters) in kPolar directions from the puff's centre, counter-clockwise
 // from +x of the cell, evenly spaced in diamond angle; linear filtering with wrap-around
-// interpolates between directions. The shadow reads no atlas map.
+// interpolates between directions.
 const int kPolar = 32;
 layout(binding = 5) uniform sampler2D uShadowProfile;
-flat in float vFarSide;  // the depth-map offset of the puff's far side at its centre, diameters
+flat in int vCell;  // the atlas cell the light sees
+
+// The atlas's packed maps (NailboardRenderer::setAtlas; nailboard_fs.glsl): .z is the depth offset
+// toward the cell's viewer, (z - 0.5) * uAtlasScale.y puff diameters.
+layout(binding = 2) uniform sampler2D uPacked;
+
+// Where the shadow starts at cell point `xy` (puff diameters, x right, y up in the cell): the puff's
+// far side as its depth map gives it (the near side seen by the light, mirrored through the
+// billboard plane; never in front of the plane).
+float farSideAt(vec2 xy) {
+  return max(0.0, (textureLod(uPacked, cellUv(vCell, xy), 0.0).z - 0.5) * uAtlasScale.y);
+}
 
 // Intersects [t0, t1] with the ray parameters where lo <= c0 + t * c1 <= hi.
 void clipSlab(float c0, float c1, float lo, float hi, inout float t0, inout float t1) {
@@ -65,12 +79,11 @@ void main() {
   // first the disc whose radius is the silhouette's toward the line's closest approach, then the
   // entry and exit moved to the radius toward themselves (one fixed-point step).
   float speed2 = dot(c1.xy, c1.xy);
-  float tIn, tOut, radius;
+  float tIn, tOut;
   vec2 pc;
   if (speed2 < 1e-14) {  // looking along the light: the line is a point
     pc = c0.xy + t0 * c1.xy;
-    radius = radiusToward(pc);
-    if (length(pc) > radius) discard;
+    if (length(pc) > radiusToward(pc)) discard;
     tIn = t0;
     tOut = t1;
   } else {
@@ -79,7 +92,6 @@ void main() {
     float h = length(pc);
     vec2 across = h > 1e-6 ? pc : vec2(-c1.y, c1.x);
     float r = radiusToward(across);
-    radius = r;
     if (h >= r) discard;
     float invSpeed = inversesqrt(speed2);
     float half0 = chord(r, h, invSpeed);
@@ -89,13 +101,21 @@ void main() {
     tOut = min(tOut, t1);
     if (tOut <= tIn) discard;
   }
-  // The start cap follows the puff's far side: its centre offset, falling off like a sphere's
-  // toward the silhouette.
-  vec2 mid = c0.xy + 0.5 * (tIn + tOut) * c1.xy;
-  float rel = length(mid) / max(1e-4, radius);
-  float offset = vFarSide * sqrt(max(0.0, 1.0 - rel * rel));
-  clipSlab(c0.z, c1.z, s * (offset + uShadowBias), vExtent.y, tIn, tOut);
+  // The start cap follows the puff's far side, read from the depth map where the ray meets it: the
+  // cap bounds the entry when the ray runs along D and the exit when it runs against it, so the
+  // map is read at that end and the crossing found again (a fixed point; three steps).
+  vec2 probe = c0.xy + 0.5 * (tIn + tOut) * c1.xy;
+  float tA = tIn, tB = tOut;
+  for (int i = 0; i < 3; ++i) {
+    tA = tIn;
+    tB = tOut;
+    clipSlab(c0.z, c1.z, s * (farSideAt(probe) + uShadowBias), vExtent.y, tA, tB);
+    if (tB <= tA) break;
+    probe = c0.xy + (c1.z >= 0.0 ? tA : tB) * c1.xy;
+  }
+  tIn = tA;
+  tOut = tB;
   if (tOut <= tIn) discard;
   // The ray runs from the near plane (t = 0) to the far plane (t = 1): t is the linear depth.
-  gl_FragDepth = clamp(gl_FrontFacing ? tIn : tOut, 0.0, 1.0);
+  gl_FragDepth = clamp(uBackFace != 0 ? tOut : tIn, 0.0, 1.0);
 }

@@ -12,8 +12,11 @@
 // the whole screen when the prism reaches the eye); the fragment shader finds where the eye ray
 // enters and leaves the volume and writes that depth, so both faces always cover the same pixels
 // and the depth-fail count is exact with the camera inside a volume or a volume through the near
-// plane. 24 vertices per particle: the front face as a counter-clockwise fan of four triangles,
-// then the same fan clockwise as the back face.
+// plane. 12 vertices per particle: the footprint as a counter-clockwise fan of four triangles. The
+// renderer draws it twice, with the SAME vertices in the same order: once as the entry face
+// (uBackFace 0: depth where the eye ray enters, stencil decremented on depth fail) and once as the
+// exit face (uBackFace 1: where it leaves, incremented). Both draws rasterize and interpolate
+// identically, so the two faces cover the same samples with the same ray, whatever the winding.
 #include "common/frame.glsl"
 #include "cel/particle.glsl"
 
@@ -28,14 +31,11 @@ noperspective out vec3 vC0;
 noperspective out vec3 vC1;
 flat out vec4 vExtent;  // size, lambda end (world), 0, 0
 flat out float vProfileRow;  // texture coordinate of the cell's row in the shadow-profile texture
-flat out float vFarSide;     // depth-map offset of the puff's far side at its centre, diameters
-
-layout(std430, binding = 2) readonly buffer FarSides { float farSides[]; };
+flat out int vCell;          // the atlas cell the light sees: its depth map gives the start cap
 
 void main() {
-  uint index = uint(gl_VertexID) / 24u;
-  int local = gl_VertexID % 24;
-  bool backFace = local >= 12;
+  uint index = uint(gl_VertexID) / 12u;
+  int local = gl_VertexID % 12;
   Particle p = unpackParticle(index);
   float s = p.size;
   if (s <= 0.0) {
@@ -43,9 +43,11 @@ void main() {
     return;
   }
   vec3 D = -uLightDirWorld.xyz;
-  vec3 ref = abs(D.y) > 0.99 ? vec3(0.0, 0.0, 1.0) : vec3(0.0, 1.0, 0.0);
-  vec3 e1 = normalize(cross(ref, D));
-  vec3 e2 = cross(D, e1);
+  // The light's camera frame, as the shadow map's (glm::lookAt along D with up = world y, or world x
+  // when the light is near vertical): x right, y up as the light sees them.
+  vec3 ref = abs(D.y) >= 0.99 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+  vec3 lightRight = normalize(cross(D, ref));
+  vec3 lightUp = cross(lightRight, D);
   float lambda1 = uShadowLength;
   float dn = dot(uShadowFloor.xyz, D);
   if (dot(uShadowFloor.xyz, uShadowFloor.xyz) > 0.0 && dn < -1e-4) {
@@ -53,17 +55,28 @@ void main() {
     lambda1 = clamp(toFloor + s, 0.0, lambda1);
   }
   vExtent = vec4(s, lambda1, 0.0, 0.0);
-  // The cell whose view is nearest the light's: the silhouette the light sees.
-  mat3 bb = billboardFrame(p.position);
+  // The cell whose view is nearest the light's: the silhouette the light sees. An oriented puff
+  // turns with its own frame; an unoriented one shows the light its front view, upright in the
+  // light's frame (as the shadow map draws it).
+  mat3 puff = p.oriented ? quatToMat3(p.orientation) : mat3(lightRight, lightUp, -D);
   ivec4 cell;
   vec4 weight;
-  selectViews(p, transpose(puffFrame(p, bb)) * uLightDirWorld.xyz, cell, weight);
+  selectViews(p, transpose(puff) * uLightDirWorld.xyz, cell, weight);
   int best = 0;
   for (int k = 1; k < 4; ++k) {
     if (weight[k] > weight[best]) best = k;
   }
+  // The light frame (e1, e2) is that cell's right and up in world space, projected across the light
+  // and made orthonormal: the silhouette table (in the cell's right / up) turns with the puff.
+  vec3 cr = puff * cells[cell[best]].right.xyz, cu = puff * cells[cell[best]].up.xyz;
+  vec3 e1 = cr - dot(cr, D) * D;
+  vec3 e2 = cu - dot(cu, D) * D;
+  if (dot(e1, e1) < 1e-6) e1 = cross(D, e2);  // the cell's right along the light: up alone decides
+  e1 = normalize(e1);
+  e2 -= dot(e2, e1) * e1;
+  e2 = dot(e2, e2) < 1e-12 ? cross(e1, D) : normalize(e2);
   vProfileRow = (float(cell[best]) + 0.5) / float(max(1, uAtlasLayout.x * uAtlasLayout.y));
-  vFarSide = farSides[cell[best]];
+  vCell = cell[best];
 
   // Footprint: the convex hull of the prism's eight corners on screen (Jarvis march), as a fan
   // of four triangles; or the whole screen when the prism reaches the eye.
@@ -104,10 +117,8 @@ void main() {
       if (cur == start) break;
     }
   }
-  int tri = (local % 12) / 3, vtx = local % 3;
+  int tri = local / 3, vtx = local % 3;
   int k = vtx == 0 ? 0 : min(tri + vtx, n - 1);
-  // Front face counter-clockwise; the back face is the same fan, clockwise.
-  if (backFace && vtx != 0) k = min(tri + 3 - vtx, n - 1);
   vec2 ndc = pts[hull[k]];
   vec4 pn = uInvViewProj * vec4(ndc, -1.0, 1.0), pf = uInvViewProj * vec4(ndc, 1.0, 1.0);
   vec3 origin = pn.xyz / pn.w, dir = pf.xyz / pf.w - origin;

@@ -6,6 +6,7 @@
 
 #include <puff/cel/nailboards.h>
 #include <puff/cel/pass_state.h>
+#include <puff/cel/volume_clip.h>
 #include <puff/core/colour.h>
 #include <puff/core/shader.h>
 
@@ -15,7 +16,7 @@ namespace {
 
 // Texture units and storage-buffer bindings shared with shaders/cel/*.
 constexpr GLuint kUnitPacked = 2, kUnitColor = 3;
-constexpr GLuint kBindingParticles = 0, kBindingCells = 1, kBindingFarSides = 2;
+constexpr GLuint kBindingParticles = 0, kBindingCells = 1;
 constexpr GLuint kUnitShadowProfile = 5;
 constexpr int kPolar = 32;  // directions of the silhouette radius table (shaders/cel/shadow.frag)
 
@@ -67,9 +68,9 @@ struct NailboardRenderer::Impl {
   GLint singleCasterBias = -1, multiCasterBias = -1;
   core::Program shadow, sprite;
   AtlasUniforms svAtlas, spAtlas;
-  GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1;
+  GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1, shadowBackFace = -1;
   core::VertexArray vao;
-  core::Buffer particles, cells, farSides;
+  core::Buffer particles, cells;
   core::Texture shadowProfile;
   std::size_t particleCapacity = 0;
   std::size_t count = 0;
@@ -128,6 +129,7 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create() {
   m.shadowBias = glGetUniformLocation(m.shadow.get(), "uShadowBias");
   m.shadowLength = glGetUniformLocation(m.shadow.get(), "uShadowLength");
   m.shadowFloor = glGetUniformLocation(m.shadow.get(), "uShadowFloor");
+  m.shadowBackFace = glGetUniformLocation(m.shadow.get(), "uBackFace");
   m.vao = core::makeVertexArray();
   m.particles = core::makeBuffer();
   m.cells = core::makeBuffer();
@@ -193,26 +195,23 @@ float bilinear(const core::Image& im, float x, float y, int c) {
   return top * (1 - fy) + bottom * fy;
 }
 
-// Per cell, for the shadow volumes: the far-side depth offset at the puff's centre (farSides),
-// and the silhouette's radius (puff diameters) in kPolar directions, counter-clockwise from the
-// cell's +x (y up), evenly spaced in diamond angle. Marching outward from the centre, the radius is
-// the last crossing of the silhouette, so a puff with bays casts the shadow of its star-shaped hull.
+// Per cell, for the shadow volumes (whose start cap reads the depth map itself): the silhouette's radius (puff
+// diameters) in kPolar directions, counter-clockwise from the cell's +x (y up), evenly spaced in diamond angle.
+// Marching outward from the centre, the radius is the last crossing of the silhouette, so a puff with bays casts the
+// shadow of its star-shaped hull.
 struct ShadowProfiles {
-  std::vector<float> farSides;  ///< one per cell
-  std::vector<float> radii;     ///< kPolar per cell, cell-major
+  std::vector<float> radii;  ///< kPolar per cell, cell-major
 };
 
 ShadowProfiles shadowProfiles(const core::Atlas& atlas) {
   const core::AtlasDesc& d = atlas.desc;
   const core::Image& dist = atlas.maps.at("distance").front();
-  const core::Image& nd = atlas.maps.at("normalDepth").front();
   const float content = static_cast<float>(d.contentSize);
   const float reach = 0.5f * content + static_cast<float>(d.margin) - 1.0f;
   ShadowProfiles out;
   for (const core::AtlasCell& c : d.cells) {
     const float cx = static_cast<float>(c.rect[0] + d.margin) + 0.5f * content;
     const float cy = static_cast<float>(c.rect[1] + d.margin) + 0.5f * content;
-    out.farSides.push_back(std::max(0.0f, (bilinear(nd, cx, cy, 3) - 0.5f) * d.depthScale));
     for (int i = 0; i < kPolar; ++i) {
       // Evenly spaced in diamond angle q in [0, 4) (shaders/cel/shadow.frag, radiusToward).
       const float q = 4.0f * static_cast<float>(i) / kPolar;
@@ -295,9 +294,6 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   m.cells = core::makeBuffer();
   glNamedBufferStorage(m.cells.get(), static_cast<GLsizeiptr>(cellData.size() * sizeof(glm::vec4)), cellData.data(), 0);
   const ShadowProfiles profiles = shadowProfiles(atlas);
-  m.farSides = core::makeBuffer();
-  glNamedBufferStorage(m.farSides.get(), static_cast<GLsizeiptr>(profiles.farSides.size() * sizeof(float)),
-                       profiles.farSides.data(), 0);
   m.shadowProfile = core::makeTexture(GL_TEXTURE_2D);
   const GLuint sp = m.shadowProfile.get();
   const auto rows = static_cast<GLsizei>(d.cells.size());
@@ -406,11 +402,12 @@ DrawStats NailboardRenderer::drawBaseline(const Style& style) {
   return s;
 }
 
-DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::vec4& floorPlane) {
+DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::vec4& floorPlane,
+                                               const VolumeClip& clip) {
   Impl& m = *impl_;
   DrawStats s;
   s.particles = m.count;
-  if (m.count == 0 || !m.hasAtlas) return s;
+  if (m.count == 0 || !m.hasAtlas || clip.nothing) return s;
   const GLuint p = m.shadow.get();
   m.setCommon(p, m.svAtlas, style);
   glProgramUniform1f(p, m.shadowBias, std::clamp(style.shadowBias, 0.0f, 1.0f));
@@ -427,17 +424,24 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   glEnable(GL_STENCIL_TEST);
   glStencilMask(0xFF);
   glStencilFunc(GL_ALWAYS, 0, 0xFF);
-  // Depth-fail counting: a face behind the receiver counts, back faces up and front faces down,
-  // so a receiver inside the volume ends non-zero wherever the eye is.
-  glStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
-  glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingFarSides, m.farSides.get());
   glBindTextureUnit(kUnitShadowProfile, m.shadowProfile.get());
-  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 24));
+  // Depth-fail counting: a face behind the receiver counts, exit faces up and entry faces down, so
+  // a receiver inside the volume ends non-zero wherever the eye is. The two faces are the same
+  // triangles in the same order, drawn twice; the draw (not the winding) says which face it is, so
+  // both rasterize and interpolate alike and the count never depends on facing.
+  const auto vertices = static_cast<GLsizei>(m.count * 12);
+  beginVolumeClip(clip);
+  glProgramUniform1i(p, m.shadowBackFace, 0);
+  glStencilOp(GL_KEEP, GL_DECR_WRAP, GL_KEEP);
+  glDrawArrays(GL_TRIANGLES, 0, vertices);
+  glProgramUniform1i(p, m.shadowBackFace, 1);
+  glStencilOp(GL_KEEP, GL_INCR_WRAP, GL_KEEP);
+  glDrawArrays(GL_TRIANGLES, 0, vertices);
+  endVolumeClip();
   glDisable(GL_DEPTH_CLAMP);
   glDisable(GL_STENCIL_TEST);
   restoreWriteMasks();
-  s.drawCalls = 1;
+  s.drawCalls = 2;
   return s;
 }
 

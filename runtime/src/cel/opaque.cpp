@@ -1,11 +1,15 @@
 // Opaque scene objects: primitives, validation, one packed upload, and the three shade passes.
 #include <puff/cel/opaque.h>
 #include <puff/cel/pass_state.h>
+#include <puff/cel/volume_clip.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
+#include <map>
 #include <numbers>
+#include <tuple>
 #include <unordered_map>
 
 #include <glm/geometric.hpp>
@@ -25,12 +29,55 @@ struct Vertex {
   glm::vec3 position, normal;
 };
 
-// Where one distinct mesh lies in the packed buffers.
+// Where one distinct mesh lies in the packed buffers. Its triangles with adjacency (6 indices per
+// triangle) start at firstIndex * 2 in the adjacency buffer.
 struct MeshRange {
   GLsizei indexCount = 0;
   std::size_t firstIndex = 0;
   GLint baseVertex = 0;
 };
+
+// Each triangle with the vertex across each of its edges, in GL_TRIANGLES_ADJACENCY order (vertex 0,
+// across edge 0-1, vertex 1, across 1-2, vertex 2, across 2-0). Vertices are welded by position
+// first: a box's faces have their own vertices (split normals) but share edges. The neighbour across
+// edge a -> b is the one triangle holding b -> a; an edge with none (an open mesh's border), with
+// more than one, or used twice the same way (a non-manifold or inconsistently wound mesh) gets the
+// triangle's own third vertex, which opaque_volume.geom takes for "no neighbour".
+std::vector<std::uint32_t> adjacencyIndices(const TriangleMesh& m) {
+  std::map<std::tuple<float, float, float>, std::uint32_t> weldIndex;
+  std::vector<std::uint32_t> weld(m.positions.size());
+  for (std::size_t v = 0; v < m.positions.size(); ++v) {
+    const glm::vec3& p = m.positions[v];
+    weld[v] = weldIndex.try_emplace({p.x, p.y, p.z}, static_cast<std::uint32_t>(weldIndex.size())).first->second;
+  }
+  struct Across {
+    std::uint32_t vertex = 0;  // original index of the third vertex of the triangle holding the edge
+    int uses = 0;
+  };
+  std::map<std::pair<std::uint32_t, std::uint32_t>, Across> edges;  // welded directed edge
+  const std::size_t triangles = m.indices.size() / 3;
+  for (std::size_t t = 0; t < triangles; ++t) {
+    const std::uint32_t* tri = &m.indices[3 * t];
+    for (int e = 0; e < 3; ++e) {
+      Across& a = edges[{weld[tri[e]], weld[tri[(e + 1) % 3]]}];
+      a.vertex = tri[(e + 2) % 3];
+      ++a.uses;
+    }
+  }
+  std::vector<std::uint32_t> out;
+  out.reserve(triangles * 6);
+  for (std::size_t t = 0; t < triangles; ++t) {
+    const std::uint32_t* tri = &m.indices[3 * t];
+    for (int e = 0; e < 3; ++e) {
+      const std::uint32_t a = weld[tri[e]], b = weld[tri[(e + 1) % 3]];
+      const auto back = edges.find({b, a});
+      const bool paired = back != edges.end() && back->second.uses == 1 && edges.at({a, b}).uses == 1;
+      out.push_back(tri[e]);
+      out.push_back(paired ? back->second.vertex : tri[(e + 2) % 3]);
+    }
+  }
+  return out;
+}
 
 struct DrawItem {
   std::size_t mesh = 0;  // index into Impl::ranges
@@ -43,6 +90,8 @@ struct DrawItem {
 
 // Uniform locations, fixed in shaders/cel/opaque.{vert,frag}.
 constexpr GLint kModelLoc = 0, kNormalMatrixLoc = 1, kAlbedoLoc = 2, kCelLoc = 3, kPassLoc = 4, kIdLoc = 5;
+// Uniform locations of shaders/cel/opaque_volume.{vert,geom,frag}.
+constexpr GLint kVolumeLengthLoc = 1, kVolumeFloorLoc = 2, kVolumeBiasLoc = 3;
 
 std::string describe(const OpaqueObject& o, std::size_t i) {
   std::string s = "opaque object ";
@@ -113,10 +162,10 @@ Result<DrawItem> validateObject(const OpaqueObject& o) {
 }  // namespace
 
 struct OpaqueRenderer::Impl {
-  core::Program program, caster;
+  core::Program program, caster, volume;
   std::vector<std::pair<glm::vec3, glm::vec3>> meshBounds;  // object space, per entry of `ranges`
-  core::VertexArray vao;
-  core::Buffer vbo, ibo;
+  core::VertexArray vao, adjacencyVao;                      // the same vertices; triangles, or triangles with adjacency
+  core::Buffer vbo, ibo, adjacency;
   std::vector<MeshRange> ranges;
   std::vector<DrawItem> items;
 };
@@ -129,17 +178,22 @@ Result<std::unique_ptr<OpaqueRenderer>> OpaqueRenderer::create() {
   if (!program) return program.error();
   auto caster = core::buildProgram({"cel/opaque.vert", "cel/opaque_caster.frag"});
   if (!caster) return caster.error();
+  auto volume = core::buildProgram({"cel/opaque_volume.vert", "cel/opaque_volume.geom", "cel/opaque_volume.frag"});
+  if (!volume) return volume.error();
   std::unique_ptr<OpaqueRenderer> r(new OpaqueRenderer);
   Impl& im = *r->impl_;
   im.program = std::move(*program);
   im.caster = std::move(*caster);
+  im.volume = std::move(*volume);
   im.vao = core::makeVertexArray();
-  const GLuint vao = im.vao.get();
+  im.adjacencyVao = core::makeVertexArray();
   const GLuint offsets[] = {offsetof(Vertex, position), offsetof(Vertex, normal)};
-  for (GLuint a = 0; a < 2; ++a) {
-    glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, offsets[a]);
-    glVertexArrayAttribBinding(vao, a, 0);
-    glEnableVertexArrayAttrib(vao, a);
+  for (const GLuint vao : {im.vao.get(), im.adjacencyVao.get()}) {
+    for (GLuint a = 0; a < 2; ++a) {
+      glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, offsets[a]);
+      glVertexArrayAttribBinding(vao, a, 0);
+      glEnableVertexArrayAttrib(vao, a);
+    }
   }
   if (auto err = core::drainGlErrors(); !err.empty())
     return Error{"GL error while creating the opaque renderer: " + err};
@@ -192,9 +246,10 @@ Result<void> OpaqueRenderer::setObjects(std::vector<OpaqueObject> objects) {
   // Every distinct mesh goes into one vertex and one index buffer; draws pick theirs with a first
   // index and a base vertex, so a shared mesh costs its memory once.
   std::vector<Vertex> vertices;
-  std::vector<std::uint32_t> indices;
+  std::vector<std::uint32_t> indices, adjacency;
   vertices.reserve(vertexCount);
   indices.reserve(indexCount);
+  adjacency.reserve(indexCount * 2);
   std::vector<MeshRange> ranges;
   ranges.reserve(meshes.size());
   std::vector<std::pair<glm::vec3, glm::vec3>> meshBounds;
@@ -208,18 +263,25 @@ Result<void> OpaqueRenderer::setObjects(std::vector<OpaqueObject> objects) {
     ranges.push_back({static_cast<GLsizei>(m->indices.size()), indices.size(), static_cast<GLint>(vertices.size())});
     for (std::size_t v = 0; v < m->positions.size(); ++v) vertices.push_back({m->positions[v], m->normals[v]});
     indices.insert(indices.end(), m->indices.begin(), m->indices.end());
+    const std::vector<std::uint32_t> adj = adjacencyIndices(*m);
+    adjacency.insert(adjacency.end(), adj.begin(), adj.end());
   }
   Impl& im = *impl_;
   // Fresh buffers each time: immutable storage sized to this set.
   im.vbo = core::makeBuffer();
   im.ibo = core::makeBuffer();
+  im.adjacency = core::makeBuffer();
   if (!vertices.empty()) {
     glNamedBufferStorage(im.vbo.get(), static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(), 0);
     glNamedBufferStorage(im.ibo.get(), static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
                          0);
+    glNamedBufferStorage(im.adjacency.get(), static_cast<GLsizeiptr>(adjacency.size() * sizeof(std::uint32_t)),
+                         adjacency.data(), 0);
   }
   glVertexArrayVertexBuffer(im.vao.get(), 0, im.vbo.get(), 0, sizeof(Vertex));
   glVertexArrayElementBuffer(im.vao.get(), im.ibo.get());
+  glVertexArrayVertexBuffer(im.adjacencyVao.get(), 0, im.vbo.get(), 0, sizeof(Vertex));
+  glVertexArrayElementBuffer(im.adjacencyVao.get(), im.adjacency.get());
   im.ranges = std::move(ranges);
   im.meshBounds = std::move(meshBounds);
   im.items = std::move(items);
@@ -282,6 +344,61 @@ void OpaqueRenderer::drawGeometry(GLuint program) const {
                              reinterpret_cast<const void*>(r.firstIndex * sizeof(std::uint32_t)), r.baseVertex);
   }
   glBindVertexArray(0);
+}
+
+DrawStats OpaqueRenderer::drawShadowVolumes(const Style& style, const glm::vec4& floorPlane, const VolumeClip& clip) {
+  Impl& im = *impl_;
+  DrawStats s;
+  if (im.items.empty() || style.shadowLength <= 0.0f || clip.nothing) return s;
+  const GLuint program = im.volume.get();
+  glProgramUniform1f(program, kVolumeLengthLoc, style.shadowLength);
+  glProgramUniform4fv(program, kVolumeFloorLoc, 1, glm::value_ptr(floorPlane));
+  // Half a thousandth of a percent of the depth range: far above the rounding between this program's
+  // depth and opaque.frag's for the same surface, far below any gap between surfaces that matters.
+  glProgramUniform1f(program, kVolumeBiasLoc, 1e-5f);
+  resetPassState();
+  glUseProgram(program);
+  // No far clipping of the far caps: depth clamp (the fragment shader clamps its depth too).
+  glEnable(GL_DEPTH_CLAMP);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_FALSE);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glEnable(GL_STENCIL_TEST);
+  glStencilMask(0xFF);
+  glStencilFunc(GL_ALWAYS, 0, 0xFF);
+  // Depth-fail (z-fail) counting over closed volumes: faces behind the receiver count, back faces
+  // up and front faces down. The geometry shader emits every face outward, counter-clockwise.
+  glFrontFace(GL_CCW);
+  glStencilOpSeparate(GL_BACK, GL_KEEP, GL_INCR_WRAP, GL_KEEP);
+  glStencilOpSeparate(GL_FRONT, GL_KEEP, GL_DECR_WRAP, GL_KEEP);
+  glBindVertexArray(im.adjacencyVao.get());
+  beginVolumeClip(clip);
+  const bool haveFloor = glm::dot(glm::vec3(floorPlane), glm::vec3(floorPlane)) > 0.0f;
+  for (std::size_t i = 0; i < im.items.size(); ++i) {
+    const DrawItem& d = im.items[i];
+    // Nothing below the floor is seen: an object wholly on or under it casts nothing visible.
+    if (haveFloor) {
+      const Bounds b = worldBounds(i);
+      float highest = std::numeric_limits<float>::lowest();
+      for (int c = 0; c < 8; ++c) {
+        const glm::vec3 corner((c & 1) ? b.hi.x : b.lo.x, (c & 2) ? b.hi.y : b.lo.y, (c & 4) ? b.hi.z : b.lo.z);
+        highest = std::max(highest, glm::dot(glm::vec3(floorPlane), corner) + floorPlane.w);
+      }
+      if (highest <= 0.0f) continue;
+    }
+    const MeshRange& r = im.ranges[d.mesh];
+    glProgramUniformMatrix4fv(program, kModelLoc, 1, GL_FALSE, glm::value_ptr(d.model));
+    glDrawElementsBaseVertex(GL_TRIANGLES_ADJACENCY, r.indexCount * 2, GL_UNSIGNED_INT,
+                             reinterpret_cast<const void*>(r.firstIndex * 2 * sizeof(std::uint32_t)), r.baseVertex);
+    ++s.drawCalls;
+  }
+  endVolumeClip();
+  glBindVertexArray(0);
+  glUseProgram(0);
+  glDisable(GL_DEPTH_CLAMP);
+  glDisable(GL_STENCIL_TEST);
+  restoreWriteMasks();
+  return s;
 }
 
 std::size_t OpaqueRenderer::count() const { return impl_->items.size(); }

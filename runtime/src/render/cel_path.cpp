@@ -108,11 +108,19 @@ class CelPath final : public Path {
       } else {
         nailboards_->drawNailboards(s.style, cel::ShadePass::kLit);
       }
-      if (shadows && s.style.shadowMethod == cel::ShadowMethod::kVolumes) {
-        nailboards_->drawShadowVolumes(s.style, scene_->floorPlane());
-        scene_->opaque().draw(cel::ShadePass::kShadowed);
-        nailboards_->drawNailboards(s.style, cel::ShadePass::kShadowed);
-      }
+    }
+    if (shadows && s.style.shadowMethod == cel::ShadowMethod::kVolumes) {
+      // The puffs' and the objects' volumes count into one stencil; the receivers are drawn again
+      // where it is non-zero.
+      // Only where a receiver can be: the puffs' and objects' box on screen and in depth.
+      cel::Bounds receivers;
+      if (variations_ > 0) receivers.add(cel::particleBounds(frame.inputs.particles));
+      for (std::size_t i = 0; i < scene_->opaque().count(); ++i) receivers.add(scene_->opaque().worldBounds(i));
+      const cel::VolumeClip clip = cel::volumeClip(f, receivers);
+      if (variations_ > 0) nailboards_->drawShadowVolumes(s.style, scene_->floorPlane(), clip);
+      scene_->opaque().drawShadowVolumes(s.style, scene_->floorPlane(), clip);
+      scene_->opaque().draw(cel::ShadePass::kShadowed);
+      if (variations_ > 0) nailboards_->drawNailboards(s.style, cel::ShadePass::kShadowed);
     }
     if (media_) {
       media_->draw(s, frame.inputs, frame.viewport, static_cast<GLuint>(callerFbo), frame.stats);
@@ -142,7 +150,7 @@ class CelPath final : public Path {
   std::unique_ptr<CelScene> scene_;
   std::unique_ptr<MediaPass> media_;
   std::unique_ptr<cel::ShadowMap> shadowMap_;  // made on the first frame with map shadows
-  int variations_ = 0;  // 0: no atlas, no cel particles
+  int variations_ = 0;                         // 0: no atlas, no cel particles
   int samples_ = 1;
   bool fillRateFloor_ = false;
 };

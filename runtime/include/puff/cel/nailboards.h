@@ -15,8 +15,9 @@
 // textures) stays as the pass left it, so a host sets what its own passes need.
 //
 // Particles reach the GPU as 16 bytes each (PackedParticle) and become quads in the vertex shader
-// (vertex pulling from a shader storage buffer): 6 vertices per nailboard, 24 per shadow volume
-// (two faces, each a fan of four triangles over the volume's convex hull on screen).
+// (vertex pulling from a shader storage buffer): 6 vertices per nailboard, 12 per shadow-volume
+// face (a fan of four triangles over the volume's convex hull on screen), drawn twice: the entry
+// and the exit face are the same triangles, told apart by the draw rather than their winding.
 #pragma once
 
 #include <cstdint>
@@ -30,6 +31,7 @@
 #include <glm/vec4.hpp>
 
 #include <puff/cel/frame.h>
+#include <puff/cel/volume_clip.h>
 #include <puff/core/atlas.h>
 
 namespace puff::cel {
@@ -87,8 +89,11 @@ class NailboardRenderer {
   /// Counts the particles' shadow volumes into the stencil buffer (depth-fail, depth clamp; the
   /// target needs a stencil attachment). Leaves colour and depth untouched. Stencil is not cleared.
   /// `floorPlane` (world plane n.x + w = 0, n pointing up; n = 0 for none): volumes stop one puff
-  /// diameter past it, which saves fill rate when everything below it is out of sight.
-  DrawStats drawShadowVolumes(const Style& style, const glm::vec4& floorPlane = glm::vec4(0.0f));
+  /// diameter past it, which saves fill rate when everything below it is out of sight. `clip`
+  /// (volumeClip of the receivers' box: puffs and opaque objects) limits the pass to the receivers'
+  /// screen rectangle and depth range; the default clips nothing.
+  DrawStats drawShadowVolumes(const Style& style, const glm::vec4& floorPlane = glm::vec4(0.0f),
+                              const VolumeClip& clip = VolumeClip{});
 
   /// Draws the particles of the last upload into a shadow map (after ShadowMap::beginCasters, whose
   /// light frame is bound): nailboards facing the light (an unoriented puff shows the light its front

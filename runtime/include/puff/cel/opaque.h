@@ -18,6 +18,7 @@
 #include <puff/cel/frame.h>
 #include <puff/cel/nailboards.h>
 #include <puff/cel/shadow_map.h>
+#include <puff/cel/volume_clip.h>
 
 namespace puff::cel {
 
@@ -64,6 +65,20 @@ class OpaqueRenderer {
   /// returns with depth and colour writes on and the program, vertex array and front face reset.
   void draw(ShadePass pass);
 
+  /// Counts every object's shadow volume into the stencil buffer (Style::shadowMethod kVolumes, next
+  /// to NailboardRenderer::drawShadowVolumes, after the lit passes and before the kShadowed ones):
+  /// depth-fail with caps and depth clamp, each triangle swept style.shadowLength world units along
+  /// the light (shaders/cel/opaque_volume.geom). Open meshes cast too: a triangle facing away from the
+  /// light casts as if it faced it. Objects shadow each other, the puffs, and themselves where the
+  /// light truly cannot reach (a face turned away from the light, or behind another part of the same
+  /// object); a face toward the light is never in its own volume (the volume's depth is pushed back a
+  /// hair, see opaque_volume.frag). `floorPlane` as NailboardRenderer::drawShadowVolumes: volumes end
+  /// just past it and objects wholly on or below it are skipped. Leaves colour and depth untouched;
+  /// returns with the write masks on and the program and vertex array reset. drawCalls: objects drawn.
+  /// `clip`: as NailboardRenderer::drawShadowVolumes's.
+  DrawStats drawShadowVolumes(const Style& style, const glm::vec4& floorPlane = glm::vec4(0.0f),
+                              const VolumeClip& clip = VolumeClip{});
+
   /// Draws every object into a shadow map (after ShadowMap::beginCasters): its near surface's depth
   /// in the light's frame and its id, kObjectIdBase + its index. Depth LESS + write.
   void drawCasters();
@@ -71,8 +86,8 @@ class OpaqueRenderer {
   /// Draws every object's triangles with the caller's `program` and nothing else: binds the vertex
   /// array (attribute 0 position, 1 normal, object space) and per object sets uniform location 0 (mat4
   /// model: object -> world) and location 5 (uint caster id, kObjectIdBase + index): the program must
-  /// declare and use both (`layout(location = 0) uniform mat4`, `layout(location = 5) uniform uint`). The caller sets the state and the program's other uniforms (the cel reference's own
-  /// shadow passes use it).
+  /// declare and use both (`layout(location = 0) uniform mat4`, `layout(location = 5) uniform uint`). The caller sets
+  /// the state and the program's other uniforms (the cel reference's own shadow passes use it).
   void drawGeometry(GLuint program) const;
 
   /// How many objects there are, and object `index`'s world-space box (its mesh through its transform).
