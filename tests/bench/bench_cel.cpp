@@ -48,6 +48,7 @@
 #include <puff/cel/frame.h>
 #include <puff/cel/nailboards.h>
 #include <puff/cel/shadow_map.h>
+#include <puff/cel/volume_clip.h>
 #include <puff/core/atlas.h>
 #include <puff/core/gl.h>
 
@@ -188,7 +189,8 @@ struct Bench {
         renderer.drawNailboards(style, cel::ShadePass::kLit);
         if (split) glFinish();
         const auto t1 = Clock::now();
-        renderer.drawShadowVolumes(style, floorPlane);
+        // Clipped to the receivers (the particles: the bench draws no floor), as the cel path clips.
+        renderer.drawShadowVolumes(style, floorPlane, cel::volumeClip(f, cel::particleBounds(ps)));
         if (split) glFinish();
         const auto t2 = Clock::now();
         renderer.drawNailboards(style, cel::ShadePass::kShadowed);
