@@ -85,7 +85,9 @@ struct Style {
   /// centre, the map from where the shadow starts (the puff's far side plus the bias). Longer
   /// volumes cost fill rate; the map's cost does not depend on it.
   float shadowLength = 20.0f;
-  ShadowMethod shadowMethod = ShadowMethod::kVolumes;
+  /// The map by default: as close to the cel reference's exact shadows as the volumes on the art
+  /// scenes, at a fraction of their cost (docs/cel-rendering.md, "Shadows: two methods").
+  ShadowMethod shadowMethod = ShadowMethod::kMap;
   /// kMap: the map's texels per screen pixel of the casters' footprint (ShadowMap::chooseSize);
   /// [0.125, 4]. Smaller is cheaper and blockier.
   float shadowMapScale = 1.0f;
