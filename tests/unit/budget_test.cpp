@@ -571,6 +571,58 @@ TEST_F(CelBudget, EveryLevelIsMeasuredAndTheBudgetPicksTheSmallestWithinIt) {
   EXPECT_FALSE(eval::measureCelBudget(scene(), outside).ok());
 }
 
+// The shadows knob: the map at every scale and the volumes, each measured against the reference at
+// both frames and ordered by their measured time; a huge budget takes the fastest, a tiny one the
+// closest (not the slowest); a scene without shadows is refused, naming /style/shadows.
+TEST_F(CelBudget, ShadowsAreMeasuredAndTheFastestWithinTheBudgetIsChosen) {
+  const int frames[] = {0, 1};
+  scene::Scene s = scene();
+  s.style.shadows = true;
+  s.light.direction = {0.6f, 0.3f, -0.2f};  // from the side and behind: the puffs shadow each other
+  auto b = eval::measureCelBudget(s, frames, {.timedRenders = 1}, eval::CelKnob::kShadows);
+  ASSERT_OK(b);
+  ASSERT_EQ(b->candidates.size(), eval::kShadowMapScales.size() + 1);
+  int volumes = 0;
+  std::vector<float> scales;
+  for (std::size_t i = 0; i < b->candidates.size(); ++i) {
+    const eval::CelCandidate& c = b->candidates[i];
+    ASSERT_EQ(c.rmse.size(), 2u);
+    EXPECT_GT(c.worstRmse, 0.0);
+    if (i > 0) EXPECT_LE(b->candidates[i - 1].medianMs, c.medianMs) << "ordered by measured time";
+    if (c.shadowMethod == cel::ShadowMethod::kVolumes) {
+      ++volumes;
+    } else {
+      scales.push_back(c.shadowMapScale);
+    }
+  }
+  EXPECT_EQ(volumes, 1);
+  std::sort(scales.begin(), scales.end());
+  EXPECT_EQ(scales, std::vector<float>(eval::kShadowMapScales.begin(), eval::kShadowMapScales.end()));
+  // The shadows change the image: the candidates do not all measure the same error.
+  double lo = 1.0, hi = 0.0;
+  for (const eval::CelCandidate& c : b->candidates) {
+    lo = std::min(lo, c.worstRmse);
+    hi = std::max(hi, c.worstRmse);
+  }
+  EXPECT_GT(hi, lo);
+  auto all = eval::chooseCelBudget(*b, 1.0);
+  ASSERT_TRUE(all.ok());
+  EXPECT_TRUE(all->met);
+  EXPECT_EQ(all->chosen, 0u);
+  EXPECT_NE(eval::celBudgetSummary(*b, *all).find("the fastest measured"), std::string::npos)
+      << eval::celBudgetSummary(*b, *all);
+  auto tiny = eval::chooseCelBudget(*b, 1e-6);
+  ASSERT_TRUE(tiny.ok());
+  EXPECT_FALSE(tiny->met);
+  EXPECT_EQ(b->candidates[tiny->chosen].worstRmse, lo) << "the closest, whatever its time";
+  EXPECT_NE(eval::celBudgetTable(*b, *tiny).find("shadow volumes"), std::string::npos);
+  EXPECT_NE(eval::celBudgetTable(*b, *tiny).find("shadow map at scale 0.25"), std::string::npos);
+
+  auto none = eval::measureCelBudget(scene(), frames, {.timedRenders = 1}, eval::CelKnob::kShadows);
+  ASSERT_FALSE(none.ok());
+  EXPECT_NE(none.error().message.find("/style/shadows"), std::string::npos) << none.error().message;
+}
+
 // Fewer, bigger particles: a placed emitter's first round(count * f) particles, each (1/f)^(1/3)
 // times larger, so N d^3 (the volume they fill) stays; listed particles are kept as they are.
 TEST_F(CelBudget, AParticleFractionKeepsTheFirstParticlesAndTheirVolume) {

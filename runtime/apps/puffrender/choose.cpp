@@ -49,18 +49,20 @@ int chooseMediaResolution(const Options& o, scene::Scene& scene, const Plan& pla
 }
 
 // On a scene with cel particles: measures one of the nailboards' run-time parameters (the share of
-// the emitters' particles, or the atlas level) against the cel reference of the full model and sets
+// the emitters' particles, the atlas level, or the shadow method and map scale) against the cel reference of the full model and sets
 // the cheapest within the budget on `scene`.
 int chooseCelModel(const Options& o, scene::Scene& scene, const Plan& plan, eval::CelKnob knob,
                    std::vector<core::Image>* references) {
   const std::vector<int> frames = eval::budgetFrames(plan.first, plan.last);
-  const bool atlas = knob == eval::CelKnob::kAtlasLevel;
+  const bool atlas = knob == eval::CelKnob::kAtlasLevel, shadows = knob == eval::CelKnob::kShadows;
   if (!o.quiet) {
     std::string list;
     for (int f : frames) list += (list.empty() ? "" : ", ") + std::to_string(f);
     std::fprintf(stderr, "%s: --max-error %g: measuring %s against the cel reference at %s %s\n", cli::name(),
                  *o.maxError,
-                 atlas ? "the atlas at each mip level" : "1/8, 1/4, 1/2 and all of the emitters' particles",
+                 shadows ? "the shadow map at scales 0.25, 0.5, 1 and 2 and the shadow volumes"
+                 : atlas ? "the atlas at each mip level"
+                         : "1/8, 1/4, 1/2 and all of the emitters' particles",
                  frames.size() == 1 ? "frame" : "frames", list.c_str());
     std::fflush(stderr);
   }
@@ -84,7 +86,10 @@ int chooseCelModel(const Options& o, scene::Scene& scene, const Plan& plan, eval
   std::fflush(stderr);
   *references = std::move(budget->references);  // the next parameter measures against the same
   const eval::CelCandidate& c = budget->candidates[choice->chosen];
-  if (atlas) {
+  if (shadows) {
+    scene.style.shadowMethod = c.shadowMethod;
+    scene.style.shadowMapScale = c.shadowMapScale;
+  } else if (atlas) {
     scene.atlasLevel = c.atlasLevel;
   } else {
     scene.particleFraction = c.particleFraction;
@@ -111,6 +116,11 @@ int chooseModel(const Options& o, scene::Scene& scene, const Plan& plan) {
     }
     if (const int code = chooseCelModel(o, scene, plan, eval::CelKnob::kAtlasLevel, &references); code != 0)
       return code;
+    // Then the shadows those particles cast: the method and the map's resolution.
+    if (scene.style.shadows) {
+      if (const int code = chooseCelModel(o, scene, plan, eval::CelKnob::kShadows, &references); code != 0)
+        return code;
+    }
   }
   if (scene.media) {
     if (const int code = chooseMediaResolution(o, scene, plan); code != 0) return code;

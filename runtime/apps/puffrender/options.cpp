@@ -114,7 +114,7 @@ void addRenderOptions(CLI::App& app, Options& o) {
       ->check(CLI::IsMember(presets));
   app.add_option(
          "--path", o.path,
-         "Render path: cel (programmable GL 4.5: nailboards, flange outlines, shadow volumes; falls back to fixed, "
+         "Render path: cel (programmable GL 4.5: nailboards, flange outlines, shadow maps or volumes; falls back to fixed, "
          "saying so, when the context cannot run it) or fixed (GL 1.x fixed function, McGuire & Fein 4.4: one "
          "light, uniform ambient, no shadows) or reference (the image the nailboards approximate: every "
          "particle's actual puff mesh, Eq. 2 per pixel, outlines around the true silhouettes, exact shadows; "
@@ -147,7 +147,9 @@ CLI::Option* addMaxErrorOption(CLI::App& app, std::string& text) {
                   "whose frames stay within E of the cel reference of the full model (--path "
                   "reference; 8-bit values; e.g. 0.12: the nailboards' own error is about 0.09 on "
                   "the art scenes); if none does, all the particles and the full atlas, with a "
-                  "warning. Scenes with media: "
+                  "warning. With shadows on, then the fastest shadows within E (/style/shadowMethod and "
+                  "/style/shadowMapScale: the map at 0.25, 0.5, 1 or 2 texels a pixel, or the volumes, "
+                  "ordered by their measured time); if none is, the closest. Scenes with media: "
                   "the cheapest media layer resolution (/media/resolution: 0.125, 0.25, 0.5 or 1) "
                   "within E (linear colour, e.g. 0.01) of the exact media reference; if none does, 1. "
                   "Prints the measurements and one line per choice saying what it chose and why on "
@@ -278,7 +280,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
   Options o;
   CLI::App app{
       "puffrender: renders a scene file (JSON: camera, light, style, particles, emitters, objects; see "
-      "docs/scene-format.md) with cel-shaded nailboards, outlines and billboard shadow volumes (McGuire & Fein "
+      "docs/scene-format.md) with cel-shaded nailboards, outlines and shadows (a shadow map, or billboard shadow volumes: McGuire & Fein "
       "2006) into a PNG or EXR image, or a numbered image sequence.",
       cli::name()};
   app.set_version_flag("--version", "puffrender 0.1.0");

@@ -391,6 +391,12 @@ std::string fractionText(float f) {
 
 // What a candidate is, for people: "atlas level 2 (64-texel cells)" or "particles 1/4 (1052)".
 std::string candidateText(const CelBudget& b, const CelCandidate& c) {
+  if (b.knob == CelKnob::kShadows) {
+    if (c.shadowMethod == cel::ShadowMethod::kVolumes) return "shadow volumes";
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "shadow map at scale %g", static_cast<double>(c.shadowMapScale));
+    return buf;
+  }
   if (b.knob == CelKnob::kAtlasLevel) {
     return "atlas level " + std::to_string(c.atlasLevel) + " (" + std::to_string(c.cellSize) + "-texel cells)";
   }
@@ -410,6 +416,8 @@ Result<void> checkCelBudget(const Scene& scene, std::span<const int> frames, con
     return Error::at(scene.file, "the scene has no cel particles, so no cel model to choose");
   if (knob == CelKnob::kParticleFraction && scene.emitters.empty())
     return Error::at(scene.file, "/emitters: the scene places no particles, so no particle count to choose");
+  if (knob == CelKnob::kShadows && !scene.style.shadows)
+    return Error::at(scene.file, "/style/shadows: the scene has no shadows, so no shadow method to choose");
   if (frames.empty() || frames.size() > 16)
     return Error{"measure 1 to 16 frames, got " + std::to_string(frames.size())};
   for (int f : frames) {
@@ -456,6 +464,14 @@ std::vector<Scene> celCandidates(const Scene& s, const core::AtlasDesc& desc, Ce
       candidates.push_back(s);
       candidates.back().atlasLevel = level;
     }
+  } else if (knob == CelKnob::kShadows) {
+    for (float scale : kShadowMapScales) {
+      candidates.push_back(s);
+      candidates.back().style.shadowMethod = cel::ShadowMethod::kMap;
+      candidates.back().style.shadowMapScale = scale;
+    }
+    candidates.push_back(s);
+    candidates.back().style.shadowMethod = cel::ShadowMethod::kVolumes;
   } else {
     for (float f : kParticleFractions) {
       candidates.push_back(s);
@@ -473,6 +489,8 @@ Result<CelCandidate> measureCelCandidate(const Scene& c, const core::AtlasDesc& 
   CelCandidate cand;
   cand.atlasLevel = c.atlasLevel;
   cand.particleFraction = c.particleFraction;
+  cand.shadowMethod = c.style.shadowMethod;
+  cand.shadowMapScale = c.style.shadowMapScale;
   cand.cellSize = desc.cellSize >> c.atlasLevel;
   core::AtlasDesc reduced = desc;
   reduced.width = std::max(1, desc.width >> c.atlasLevel);
@@ -521,21 +539,35 @@ Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> fram
     if (!cand) return cand.error();
     budget.candidates.push_back(std::move(*cand));
   }
+  if (knob == CelKnob::kShadows) {
+    // No order of cost is known beforehand (the volumes' fill against the map's passes): the measured one.
+    std::stable_sort(budget.candidates.begin(), budget.candidates.end(),
+                     [](const CelCandidate& a, const CelCandidate& b) { return a.medianMs < b.medianMs; });
+  }
   return budget;
 }
 
 Result<MediaChoice> chooseCelBudget(const CelBudget& budget, double maxError) {
-  return chooseWithin(budget.candidates, maxError, budget.knob == CelKnob::kAtlasLevel ? "atlas" : "particle");
+  auto choice = chooseWithin(budget.candidates, maxError,
+                             budget.knob == CelKnob::kAtlasLevel ? "atlas"
+                             : budget.knob == CelKnob::kShadows  ? "shadow"
+                                                                 : "particle");
+  if (choice && !choice->met && budget.knob == CelKnob::kShadows) choice->chosen = choice->best;
+  return choice;
 }
 
 std::string celBudgetTable(const CelBudget& budget, const MediaChoice& choice) {
-  const bool atlas = budget.knob == CelKnob::kAtlasLevel;
-  std::string s = atlas ? "  atlas level  cell texels  atlas MB  worst RMSE  median ms\n"
-                        : "   particles       count  worst RMSE  median ms\n";
+  const bool atlas = budget.knob == CelKnob::kAtlasLevel, shadows = budget.knob == CelKnob::kShadows;
+  std::string s = shadows ? "  shadows                     worst RMSE  median ms\n"
+                  : atlas ? "  atlas level  cell texels  atlas MB  worst RMSE  median ms\n"
+                          : "   particles       count  worst RMSE  median ms\n";
   for (std::size_t i = 0; i < budget.candidates.size(); ++i) {
     const CelCandidate& c = budget.candidates[i];
     char line[160];
-    if (atlas) {
+    if (shadows) {
+      std::snprintf(line, sizeof line, "  %-26s  %10s  %9.1f%s\n", candidateText(budget, c).c_str(),
+                    errorText(c.worstRmse).c_str(), c.medianMs, i == choice.chosen ? "  <- chosen" : "");
+    } else if (atlas) {
       std::snprintf(line, sizeof line, "  %11d  %11d  %8.2f  %10s  %9.1f%s\n", c.atlasLevel, c.cellSize,
                     static_cast<double>(c.atlasBytes) / (1024.0 * 1024.0), errorText(c.worstRmse).c_str(), c.medianMs,
                     i == choice.chosen ? "  <- chosen" : "");
@@ -556,6 +588,23 @@ std::string celBudgetSummary(const CelBudget& budget, const MediaChoice& choice)
   const CelCandidate& c = budget.candidates[choice.chosen];
   std::string s = std::string("--max-error ") + maxError + ": " + candidateText(budget, c);
   const std::string frames = (budget.frames.size() == 1 ? "frame " : "frames ") + framesText(budget.frames);
+  if (budget.knob == CelKnob::kShadows) {
+    // Candidates are in the order of their measured time: the chosen one is the fastest within it.
+    if (!choice.met) {
+      return s + " (none meets it: the closest to the cel reference, RMSE " + errorText(c.worstRmse) + " over " +
+             frames + ")";
+    }
+    char ms[64];
+    std::snprintf(ms, sizeof ms, ", %.1f ms a frame", c.medianMs);
+    s += ": worst RMSE " + errorText(c.worstRmse) + " against the cel reference over " + frames + ms;
+    s += choice.chosen == 0 ? "; the fastest measured" : "; every faster one misses";
+    const CelCandidate& closest = budget.candidates[choice.best];
+    if (choice.best != choice.chosen) {
+      std::snprintf(ms, sizeof ms, " (%.1f ms)", closest.medianMs);
+      s += "; the closest is " + candidateText(budget, closest) + " with " + errorText(closest.worstRmse) + ms;
+    }
+    return s;
+  }
   if (!choice.met) {
     const CelCandidate& b = budget.candidates[choice.best];
     return s + (atlas ? ", the largest" : ", all of them") + " (none meets it: the smallest worst RMSE against the " +

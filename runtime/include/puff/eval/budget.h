@@ -125,10 +125,17 @@ std::string budgetTable(const MediaBudget& budget, const MediaChoice& choice);
 std::string budgetSummary(const MediaBudget& budget, const MediaChoice& choice);
 std::string budgetWarning(const MediaBudget& budget, const MediaChoice& choice);
 
-// ---- the cel path: particle count and atlas resolution ----------------------------------------------
+// ---- the cel path: particle count, atlas resolution, shadows ---------------------------------------
 
 /// Which parameter a CelBudget varies.
-enum class CelKnob { kParticleFraction, kAtlasLevel };
+enum class CelKnob {
+  kParticleFraction,
+  kAtlasLevel,
+  kShadows,  ///< the shadow method and the map's scale (Style::shadowMethod, shadowMapScale)
+};
+
+/// The shadow maps' scales measured (Style::shadowMapScale), beside the volumes.
+inline constexpr std::array<float, 4> kShadowMapScales{0.25f, 0.5f, 1.0f, 2.0f};
 
 /// One candidate, measured.
 struct CelCandidate {
@@ -137,6 +144,8 @@ struct CelCandidate {
   int atlasLevel = 0;             ///< scene::Scene::atlasLevel
   int cellSize = 0;               ///< texels per cell at that level
   std::size_t atlasBytes = 0;     ///< core::atlasTextureBytes at that level
+  cel::ShadowMethod shadowMethod = cel::ShadowMethod::kMap;  ///< the scene's Style::shadowMethod
+  float shadowMapScale = 1.0f;                               ///< the scene's Style::shadowMapScale
   std::vector<double> rmse;       ///< per measured frame, display values (both frames through the standard view)
   double worstRmse = 0.0;
   double medianMs = 0.0;  ///< median wall time of one render::SceneRenderer::renderFrame, milliseconds
@@ -145,7 +154,7 @@ struct CelCandidate {
 struct CelBudget {
   CelKnob knob = CelKnob::kAtlasLevel;
   std::vector<int> frames;               ///< the frames measured, ascending
-  std::vector<CelCandidate> candidates;  ///< cheapest first: fewest particles / smallest atlas
+  std::vector<CelCandidate> candidates;  ///< cheapest first: fewest particles / smallest atlas / fastest measured (shadows)
   double referenceMs = 0.0;              ///< wall time spent rendering the references (0: reused)
   std::vector<core::Image> references;   ///< the full model's reference of each frame (for reuse)
 };
@@ -157,8 +166,10 @@ inline constexpr std::array<float, 4> kParticleFractions{0.125f, 0.25f, 0.5f, 1.
 /// the CURRENT context (GL 4.5, where the reference path runs too), the other parameter as the scene
 /// has it, and the cel reference of the full model at each frame once. kAtlasLevel: every level from
 /// core::deepestAtlasLevel (but no smaller than 16-texel cells) to 0. kParticleFraction:
-/// kParticleFractions (the scene needs placed emitters). Media are left out. Errors: a scene without
-/// an atlas or particles (or, for kParticleFraction, without placed emitters), bad frames,
+/// kParticleFractions (the scene needs placed emitters). kShadows: the map at each of kShadowMapScales
+/// and the volumes, ordered by their measured median time (the scene needs Style::shadows on). Media
+/// are left out. Errors: a scene without an atlas or particles (or, for kParticleFraction, without
+/// placed emitters; for kShadows, without shadows), bad frames,
 /// timedRenders outside [1, 100], and what render::SceneRenderer::create / createReference / renderFrame return.
 /// `references` (optional): the full model's references of these frames from an earlier budget of the
 /// same scene and frames (CelBudget::references), reused instead of rendered again.
@@ -167,7 +178,8 @@ Result<CelBudget> measureCelBudget(const scene::Scene& scene, std::span<const in
                                    std::span<const core::Image> references = {});
 
 /// The cheapest candidate whose worstRmse <= maxError; none: the dearest (the last: level 0, or all
-/// the particles), met = false. Errors: maxError not in (0, 1], no candidates.
+/// the particles), met = false; for kShadows the closest instead (the dearest is not the closest
+/// there). Errors: maxError not in (0, 1], no candidates.
 Result<MediaChoice> chooseCelBudget(const CelBudget& budget, double maxError);
 
 /// For people, as budgetTable / budgetSummary / budgetWarning above.
