@@ -147,14 +147,20 @@ int renderFrames(const Options& o, scene::Scene scene, const Plan& plan) {
   if (o.maxError) {
     if (path == render::RenderPath::kFixed) {
       cli::printError(
-          "--max-error chooses the media layer's resolution and the nailboards' atlas level, and the "
-          "programmable path that draws them cannot run here");
+          "--max-error chooses the media layer's resolution and the nailboards' particles, atlas level "
+          "and shadows, and the programmable path that draws them cannot run here");
       return 1;
     }
     if (const int code = chooseModel(o, scene, plan); code != 0) return code;
   }
   if (path == render::RenderPath::kFixed && scene.media && !o.quiet) {
     std::fprintf(stderr, "%s: the fixed-function path draws no fire, smoke or dust: /media is left out\n", cli::name());
+  }
+  if (path == render::RenderPath::kFixed && scene.style.shadows && !o.quiet) {
+    std::fprintf(stderr,
+                 "%s: the fixed-function path draws no shadows (neither the puffs' nor the objects'): "
+                 "/style/shadows is left out\n",
+                 cli::name());
   }
   if (path == render::RenderPath::kReference && scene.media && !o.quiet) {
     std::fprintf(stderr,
