@@ -2,11 +2,13 @@
 # Regenerates docs/report/ (issue 7: speed against accuracy) and the figure tables the docs quote
 # (issue 21: one source for every figure): runs the benchmarks, keeps their CSVs, draws the charts with
 # gnuplot (SVG), writes the markdown tables from the CSVs and the page docs/report/README.md.
-#   tests/bench/report.sh [BUILD_DIR (build)] [--only all|cel|media|paper|tables (all)] [puffbench options]
+#   tests/bench/report.sh [BUILD_DIR (build)] [--only all|cel|media|paper|shadows|tables (all)] [puffbench options]
 #     all     puffbench (cel, then media) and puff_bench_media: every CSV in docs/report/
 #     cel     puffbench --part cel only: cel.csv; the other CSVs are kept
 #     media   puffbench --part media only: media.csv and stability.csv; the other CSVs are kept
 #     paper   puff_bench_media only: paper.csv; the other CSVs are kept
+#     shadows puffbench --part shadows only: shadows.csv (both shadow methods against the exact ones);
+#             the other CSVs are kept (--only all does not run it: about 20 minutes on llvmpipe)
 #     tables  runs nothing: the charts and tables again from the CSVs there are
 #   puffbench options, e.g. --reps 5 --size 640 480 --physical (docs/bench/README.md lists them).
 # Every table is generated from one CSV and says which, with the command, date and machine that
@@ -23,7 +25,7 @@ if [ "${1:-}" = "--only" ]; then
   only=${2:-}
   shift 2 || true
 fi
-case $only in all | cel | media | paper | tables) ;; *) echo "report.sh: error: --only takes all, cel, media, paper or tables, got '$only'" >&2; exit 2 ;; esac
+case $only in all | cel | media | paper | shadows | tables) ;; *) echo "report.sh: error: --only takes all, cel, media, paper, shadows or tables, got '$only'" >&2; exit 2 ;; esac
 out=docs/report
 runs=$out/runs.tsv
 command -v gnuplot >/dev/null || { echo "report.sh: error: gnuplot not found (apt-get install gnuplot-nox)" >&2; exit 1; }
@@ -87,6 +89,15 @@ if [ "$only" = all ] || [ "$only" = paper ]; then
   gl=$(sed -n '1s/^puff_bench_media: //p' "$tmp/log-paper.txt")
   cp "$tmp/paper.csv" "$out/paper.csv"
   record paper.csv "$(( $(date +%s) - start ))" "PUFF_GL=osmesa $build/tests/puff_bench_media --reps 5 --csv $out/paper.csv"
+fi
+if [ "$only" = shadows ]; then
+  [ -x "$build/tests/puffbench" ] || { echo "report.sh: error: $build/tests/puffbench not built" >&2; exit 1; }
+  start=$(date +%s)
+  PUFF_GL=${PUFF_GL:-osmesa} "$build/tests/puffbench" --part shadows --shadow-csv "$tmp/shadows.csv" "$@" 2> "$tmp/log-shadows.txt" || { cat "$tmp/log-shadows.txt" >&2; exit 1; }
+  gl=$(sed -n '1s/^puffbench: //p' "$tmp/log-shadows.txt")
+  cp "$tmp/shadows.csv" "$out/shadows.csv"
+  cp "$tmp/log-shadows.txt" "$out/puffbench-shadows-log.txt"
+  record shadows.csv "$(( $(date +%s) - start ))" "PUFF_GL=osmesa $build/tests/puffbench --part shadows --shadow-csv $out/shadows.csv${*:+ $*}"
 fi
 for f in media.csv cel.csv stability.csv paper.csv; do
   [ -s "$out/$f" ] || { echo "report.sh: error: $out/$f is missing: run with --only all first" >&2; exit 1; }
@@ -152,6 +163,21 @@ plot "$tmp/counts.dat" using (stringcolumn(2) eq "cel" ? \$4 : 1/0):9 with point
      "$tmp/counts.dat" using (stringcolumn(2) eq "fixed" ? \$4 : 1/0):9 with points pt 9 ps 1.5 title "fixed function", \
      "$tmp/counts.dat" using (stringcolumn(2) eq "cel" ? \$4 : 1/0):10 with points pt 1 ps 1.5 lc rgb "#555555" title "fill-rate floor (bare quads)", \
      "$tmp/counts.dat" using 4:9:(stringcolumn(12) eq "nan" ? "" : sprintf("%.3f", \$12)) with labels offset 0,1 font ",8" notitle
+GP
+fi
+
+# Shadows (issue 15): shadow-mask IoU against the exact shadows, and frame time, per scene and method.
+if [ -s "$out/shadows.csv" ]; then
+  tail -n +2 "$out/shadows.csv" > "$tmp/shadows.dat"
+  chart "shadows" 1000,600 <<GP
+set title "Shadows against the cel reference's exact ones (labels: method, map scale)"
+set xlabel "median frame time, ms (this machine)"
+set ylabel "shadow-mask IoU (worst of 3 frames)"
+set logscale x
+set grid
+set key bottom right
+plot for [s in "cloud-fig8c explosion magic-lamp cloud-10k"] "$tmp/shadows.dat" using (stringcolumn(1) eq s ? \$7 : 1/0):11 with points pt 7 ps 1.3 title s, \
+     "$tmp/shadows.dat" using 7:11:(stringcolumn(2) eq "volumes" ? "volumes" : sprintf("map x%g", \$3)) with labels offset 1.5,0.6 font ",8" notitle
 GP
 fi
 
@@ -326,6 +352,7 @@ fi
   echo "keeps which, when and where:"
   echo
   for f in cel.csv media.csv stability.csv paper.csv; do echo "- $(provenance $f)"; done
+  [ -s "$out/shadows.csv" ] && echo "- $(provenance shadows.csv)"
   echo
   echo "Times are that machine's (a software rasterizer, not a GPU): compare them within one CSV. No"
   echo "test fails on these numbers; they are measurements."
@@ -387,6 +414,22 @@ fi
     echo "| path | particles | frame ms | fill-rate floor ms | x floor | RMSE | RMSE on puffs | coverage IoU | outline IoU |"
     echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
     grep ",count," "$out/cel.csv" | awk -F, '{printf "| %s | %s | %.1f | %.2f | %s | %s | %s | %s | %s |\n", $2, $4, $9, $10, ($11 == "" ? "below floor" : sprintf("%.1f", $11)), $12, $17, $14, $15}'
+    echo
+  fi
+  if [ -s "$out/shadows.csv" ]; then
+    echo "## Shadows: the map and the volumes against the exact shadows"
+    echo
+    echo "![shadows](shadows.svg)"
+    echo
+    echo "\`puffbench --part shadows\`: each method on each scene (shadows on; cloud-10k is cloud-50k's"
+    echo "emitters scaled to 10,000 puffs). Shadow-mask IoU: the pixels a frame's shadows darken (a channel"
+    echo "0.02 darker than the same path's frame without shadows) against those the cel reference's exact"
+    echo "shadows darken; RMSE against the reference's frame (display values). Worst of the first, middle"
+    echo "and last frame; times are medians, the fill-rate floor the same particles as bare quads."
+    echo
+    echo "| scene | method | map scale | frame ms | x floor | no shadows ms | shadow IoU | RMSE |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- |"
+    tail -n +2 "$out/shadows.csv" | awk -F, '{printf "| %s | %s | %s | %.1f | %s | %.1f | %.3f | %.4f |\n", $1, $2, ($2 == "map" ? $3 : ""), $7, ($9 == "" ? "below floor" : sprintf("%.1f", $9)), $10, $11, $12}'
     echo
   fi
   if grep -q ",fraction," "$out/cel.csv"; then
