@@ -4,6 +4,7 @@
 #pragma once
 
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -53,6 +54,10 @@ class CurlField {
   CurlField(std::uint32_t seed, int n = 32, int noiseCells = 4);
   /// The field at `p` (tile space, any real value: the field repeats every 1), trilinear.
   glm::vec3 sample(const glm::vec3& p) const;
+  /// For i in [0, n): U[i] += strength * sample((X, Y, Z)[i] * scale + offset), the same arithmetic
+  /// as sample and so the same bits, with the lattice addressing done four points at a time.
+  void addSamples(const float* X, const float* Y, const float* Z, std::size_t n, float scale,
+                  const glm::vec3& offset, float strength, float* UX, float* UY, float* UZ) const;
   /// The analytic curl at `p` (no lattice): the exact divergence-free field, for tests.
   glm::vec3 exact(const glm::vec3& p) const;
   int resolution() const { return n_; }

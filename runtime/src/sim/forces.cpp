@@ -66,6 +66,23 @@ void integrateExponential(float* __restrict X, float* __restrict Y, float* __res
   }
 }
 
+// The paper's forward Euler step for every particle: v' = v + h (g + b density + k (u - v)),
+// x' = x + h v. Free, so it vectorizes.
+void integrateForwardEuler(float* __restrict X, float* __restrict Y, float* __restrict Z, float* __restrict VX,
+                           float* __restrict VY, float* __restrict VZ, const float* __restrict UX,
+                           const float* __restrict UY, const float* __restrict UZ, const float* __restrict A,
+                           const float* __restrict L, const float* __restrict D0, std::size_t n, float gx, float gy,
+                           float gz, float bx, float by, float bz, float k, float hf) {
+  for (std::size_t i = 0; i < n; ++i) {
+    const float density = D0[i] * (1.0f - A[i] / L[i]);
+    const float ax = gx + bx * density + k * (UX[i] - VX[i]);
+    const float ay = gy + by * density + k * (UY[i] - VY[i]);
+    const float az = gz + bz * density + k * (UZ[i] - VZ[i]);
+    X[i] += hf * VX[i], Y[i] += hf * VY[i], Z[i] += hf * VZ[i];
+    VX[i] += hf * ax, VY[i] += hf * ay, VZ[i] += hf * az;
+  }
+}
+
 // The air a wind volume adds (windWeight over the arrays), branch-free.
 void addWindVolume(const WindVolume& w, const float* __restrict X, const float* __restrict Y, const float* __restrict Z,
                    float* __restrict UX, float* __restrict UY, float* __restrict UZ, std::size_t n) {
@@ -73,6 +90,7 @@ void addWindVolume(const WindVolume& w, const float* __restrict X, const float* 
   const float hx = w.halfExtent.x, hy = w.halfExtent.y, hz = w.halfExtent.z;
   const float invFeather = w.feather > 0.0f ? 1.0f / w.feather : 0.0f;
   const bool hard = !(w.feather > 0.0f);
+  const float wx = w.velocity.x, wy = w.velocity.y, wz = w.velocity.z;
   for (std::size_t i = 0; i < n; ++i) {
     const float ox = std::max(std::abs(X[i] - cx) - hx, 0.0f), oy = std::max(std::abs(Y[i] - cy) - hy, 0.0f),
                 oz = std::max(std::abs(Z[i] - cz) - hz, 0.0f);
@@ -80,7 +98,7 @@ void addWindVolume(const WindVolume& w, const float* __restrict X, const float* 
     const float x = std::max(0.0f, 1.0f - d * invFeather);
     float k = x * x * (3.0f - 2.0f * x);
     k = (d == 0.0f) ? 1.0f : (hard ? 0.0f : k);
-    UX[i] += k * w.velocity.x, UY[i] += k * w.velocity.y, UZ[i] += k * w.velocity.z;
+    UX[i] += k * wx, UY[i] += k * wy, UZ[i] += k * wz;
   }
 }
 
@@ -159,63 +177,49 @@ glm::vec3 Simulator::Impl::air(const glm::vec3& p, double t, const std::vector<L
   return u;
 }
 
-// Air velocity for every particle into ux/uy/uz, one field at a time over the arrays (the vortex
-// and wind-volume loops vectorize; the turbulence lookup is a gather).
-void Simulator::Impl::airAll(double t) {
-  const std::size_t n = size();
-  ux.resize(n), uy.resize(n), uz.resize(n);
+// Air velocity for particles [begin, end) into ux/uy/uz, one field at a time over the arrays (the
+// vortex and wind-volume loops vectorize; the turbulence lookup gathers lattice corners).
+void Simulator::Impl::airRange(std::size_t begin, std::size_t end) {
+  const std::size_t n = end - begin;
   const Forces& f = s.forces;
-  std::fill(ux.begin(), ux.end(), f.wind.x);
-  std::fill(uy.begin(), uy.end(), f.wind.y);
-  std::fill(uz.begin(), uz.end(), f.wind.z);
-  const float* __restrict X = px.data();
-  const float* __restrict Y = py.data();
-  const float* __restrict Z = pz.data();
-  float* __restrict UX = ux.data();
-  float* __restrict UY = uy.data();
-  float* __restrict UZ = uz.data();
+  const float* X = px.data() + begin;
+  const float* Y = py.data() + begin;
+  const float* Z = pz.data() + begin;
+  float* UX = ux.data() + begin;
+  float* UY = uy.data() + begin;
+  float* UZ = uz.data() + begin;
+  std::fill(UX, UX + n, f.wind.x);
+  std::fill(UY, UY + n, f.wind.y);
+  std::fill(UZ, UZ + n, f.wind.z);
   for (const WindVolume& w : f.windVolumes) addWindVolume(w, X, Y, Z, UX, UY, UZ, n);
-  for (const LiveVortex& v : liveVortices(t)) addVortex(v, X, Y, Z, UX, UY, UZ, n);
+  for (const LiveVortex& v : stepVortices) addVortex(v, X, Y, Z, UX, UY, UZ, n);
   const Turbulence& tb = f.turbulence;
-  if (tb.strength > 0.0f && curl) {
-    const float inv = turbulenceInvTile();
-    const glm::vec3 offset = turbulenceOffset(t);
-    for (std::size_t i = 0; i < n; ++i) {
-      const glm::vec3 u = tb.strength * curl->sample(glm::vec3(X[i], Y[i], Z[i]) * inv + offset);
-      UX[i] += u.x, UY[i] += u.y, UZ[i] += u.z;
-    }
-  }
+  if (tb.strength > 0.0f && curl)
+    curl->addSamples(X, Y, Z, n, turbulenceInvTile(), stepTurbulenceOffset, tb.strength, UX, UY, UZ);
 }
 
-void Simulator::Impl::integrate() {
-  const std::size_t n = size();
+void Simulator::Impl::integrateRange(std::size_t begin, std::size_t end) {
+  const std::size_t n = end - begin;
   const Forces& f = s.forces;
   const float hf = static_cast<float>(h);
   const glm::vec3 up = glm::normalize(f.up);
   const float bx = f.buoyancy * up.x, by = f.buoyancy * up.y, bz = f.buoyancy * up.z;
   const float gx = f.gravity.x, gy = f.gravity.y, gz = f.gravity.z;
   const float k = f.drag;
-  float* __restrict X = px.data();
-  float* __restrict Y = py.data();
-  float* __restrict Z = pz.data();
-  float* __restrict VX = vx.data();
-  float* __restrict VY = vy.data();
-  float* __restrict VZ = vz.data();
-  const float* __restrict UX = ux.data();
-  const float* __restrict UY = uy.data();
-  const float* __restrict UZ = uz.data();
-  const float* __restrict A = age.data();
-  const float* __restrict L = life.data();
-  const float* __restrict D0 = density0.data();
+  float* X = px.data() + begin;
+  float* Y = py.data() + begin;
+  float* Z = pz.data() + begin;
+  float* VX = vx.data() + begin;
+  float* VY = vy.data() + begin;
+  float* VZ = vz.data() + begin;
+  const float* UX = ux.data() + begin;
+  const float* UY = uy.data() + begin;
+  const float* UZ = uz.data() + begin;
+  const float* A = age.data() + begin;
+  const float* L = life.data() + begin;
+  const float* D0 = density0.data() + begin;
   if (s.integrator == Integrator::kForwardEuler) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const float density = D0[i] * (1.0f - A[i] / L[i]);
-      const float ax = gx + bx * density + k * (UX[i] - VX[i]);
-      const float ay = gy + by * density + k * (UY[i] - VY[i]);
-      const float az = gz + bz * density + k * (UZ[i] - VZ[i]);
-      X[i] += hf * VX[i], Y[i] += hf * VY[i], Z[i] += hf * VZ[i];
-      VX[i] += hf * ax, VY[i] += hf * ay, VZ[i] += hf * az;
-    }
+    integrateForwardEuler(X, Y, Z, VX, VY, VZ, UX, UY, UZ, A, L, D0, n, gx, gy, gz, bx, by, bz, k, hf);
     return;
   }
   const double kh = static_cast<double>(k) * h;

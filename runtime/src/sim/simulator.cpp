@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <thread>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -43,40 +44,97 @@ glm::vec3 Path::velocityAt(double t) const {
 
 // ---- the simulator -------------------------------------------------------------------------------
 
+namespace {
+
+// Particles moved together through air, integration and collisions while their arrays stay in
+// the first-level cache (13 arrays of 1024 floats: 52 KB).
+constexpr std::size_t kBlock = 1024;
+// Fewer particles than this per thread are not worth waking a thread for.
+constexpr std::size_t kMinPerThread = 4096;
+
+}  // namespace
+
 void Simulator::Impl::advance(StepStats& st) {
   // Scene time: frame 0 is at 0, the preroll before it.
   const double t0 = static_cast<double>(step - prerollSteps) * h, t1 = static_cast<double>(step + 1 - prerollSteps) * h;
   const std::size_t n = size();
-  airAll(t0);
-  const bool haveMesh = !meshes.empty();
-  if (haveMesh) ox = px, oy = py, oz = pz;
-  integrate();
-  const float* prev[3] = {ox.data(), oy.data(), oz.data()};
-  if (!s.colliders.empty()) st.collisions += collide(0, n, prev, t0, t1);
-  // Age, and remove the dead and the non-finite, keeping the order.
-  const float hf = static_cast<float>(h);
-  std::size_t out = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const float a = age[i] + hf;
-    const bool finite = std::isfinite(px[i]) && std::isfinite(py[i]) && std::isfinite(pz[i]) && std::isfinite(vx[i]) &&
-                        std::isfinite(vy[i]) && std::isfinite(vz[i]);
-    if (!finite) ++st.nonFinite;
-    if (a >= life[i] || !finite) {
-      if (finite) ++st.died;
-      continue;
-    }
-    if (out != i) move(i, out);
-    age[out] = a;
-    ++out;
+  // What every particle reads, resolved once.
+  stepVortices = liveVortices(t0);
+  stepTurbulenceOffset = turbulenceOffset(t0);
+  prepareColliders(t0, t1);
+  ux.resize(n), uy.resize(n), uz.resize(n), radii.resize(n), keep.resize(n);
+  if (!meshes.empty()) ox.resize(n), oy.resize(n), oz.resize(n);
+  // Contiguous ranges, one per thread, on 16-float (cache line) boundaries; each particle is
+  // computed the same whatever range holds it.
+  const std::size_t want = std::max<std::size_t>(1, n / kMinPerThread);
+  const int parts = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(threads), want));
+  const std::size_t chunk = (n / static_cast<std::size_t>(parts) + 15) / 16 * 16;
+  std::vector<detail::BlockStats> counts(static_cast<std::size_t>(parts));
+  auto part = [&](int t) {
+    const std::size_t b = std::min(n, static_cast<std::size_t>(t) * chunk);
+    const std::size_t e = t + 1 == parts ? n : std::min(n, b + chunk);
+    counts[static_cast<std::size_t>(t)] = moveRange(b, e);
+  };
+  if (workers && parts > 1)
+    workers->run(parts, part);
+  else
+    part(0);
+  std::size_t removed = 0;
+  for (const detail::BlockStats& c : counts) {
+    st.collisions += c.collisions, st.died += c.died, st.nonFinite += c.nonFinite;
+    removed += c.died + c.nonFinite;
   }
-  resize(out);
+  if (removed > 0) compact();
   const std::size_t before = size();
   ox.clear(), oy.clear(), oz.clear();
   spawn(t0, t1, st);
   const float* born[3] = {ox.data(), oy.data(), oz.data()};
-  if (!s.colliders.empty()) st.collisions += collide(before, size(), born, t0, t1);
+  if (!s.colliders.empty() && size() > before) {
+    radii.resize(size());
+    st.collisions += collide(before, size(), born);
+  }
   shedVortices(t0, t1);
   ++step;
+}
+
+detail::BlockStats Simulator::Impl::moveRange(std::size_t begin, std::size_t end) {
+  detail::BlockStats out;
+  const float hf = static_cast<float>(h);
+  const bool haveMesh = !meshes.empty();
+  for (std::size_t b = begin; b < end; b += kBlock) {
+    const std::size_t e = std::min(end, b + kBlock);
+    airRange(b, e);
+    if (haveMesh) {  // where the particles start, for the mesh colliders' segment test
+      std::copy(px.begin() + b, px.begin() + e, ox.begin() + b);
+      std::copy(py.begin() + b, py.begin() + e, oy.begin() + b);
+      std::copy(pz.begin() + b, pz.begin() + e, oz.begin() + b);
+    }
+    integrateRange(b, e);
+    if (!s.colliders.empty()) {
+      const float* prev[3] = {ox.data() + b, oy.data() + b, oz.data() + b};
+      out.collisions += collide(b, e, prev);
+    }
+    // Age; mark the dead and the non-finite for removal.
+    for (std::size_t i = b; i < e; ++i) {
+      const float a = age[i] + hf;
+      const bool finite = std::isfinite(px[i]) && std::isfinite(py[i]) && std::isfinite(pz[i]) &&
+                          std::isfinite(vx[i]) && std::isfinite(vy[i]) && std::isfinite(vz[i]);
+      const bool lives = finite && a < life[i];
+      out.nonFinite += finite ? 0 : 1;
+      out.died += finite && !lives ? 1 : 0;
+      age[i] = a;
+      keep[i] = lives ? 1 : 0;
+    }
+  }
+  return out;
+}
+
+void Simulator::Impl::setThreads(int count) {
+  const int resolved = count > 0 ? count : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  s.threads = count;
+  if (resolved == threads && (resolved == 1 || workers)) return;
+  threads = resolved;
+  workers = resolved > 1 ? std::make_unique<detail::Workers>(resolved) : nullptr;
 }
 
 void Simulator::Impl::clear() {
@@ -86,11 +144,27 @@ void Simulator::Impl::clear() {
   shed.clear();
 }
 
-void Simulator::Impl::move(std::size_t from, std::size_t to) {
+namespace {
+
+// Keeps the entries whose flag is set, in order; returns how many.
+template <class T>
+std::size_t keepFlagged(std::vector<T>& v, const std::vector<std::uint8_t>& keep) {
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < keep.size(); ++i) {
+    v[out] = v[i];
+    out += keep[i];
+  }
+  v.resize(out);
+  return out;
+}
+
+}  // namespace
+
+void Simulator::Impl::compact() {
   for (auto* v : {&px, &py, &pz, &vx, &vy, &vz, &age, &life, &size0, &density0, &qx, &qy, &qz, &qw, &wx, &wy, &wz})
-    (*v)[to] = (*v)[from];
-  variation[to] = variation[from], oriented[to] = oriented[from];
-  emitterOf[to] = emitterOf[from], id[to] = id[from];
+    keepFlagged(*v, keep);
+  keepFlagged(variation, keep), keepFlagged(oriented, keep);
+  keepFlagged(emitterOf, keep), keepFlagged(id, keep);
 }
 
 void Simulator::Impl::resize(std::size_t n) {
@@ -116,6 +190,7 @@ Result<std::unique_ptr<Simulator>> Simulator::create(Settings settings, int vari
     if (c.type == Collider::Type::kMesh) m.meshes.emplace_back(c);
   }
   m.prepareTurbulence();
+  m.setThreads(m.s.threads);
   sim->reset();
   return sim;
 }
@@ -146,6 +221,16 @@ Result<void> Simulator::setForces(const Forces& forces) {
   impl_->prepareTurbulence();
   return {};
 }
+
+Result<void> Simulator::setThreads(int threads) {
+  if (threads < 0 || threads > kMaxThreads)
+    return Error{"threads: expected an integer in [0, " + std::to_string(kMaxThreads) + "], got " +
+                 std::to_string(threads)};
+  impl_->setThreads(threads);
+  return {};
+}
+
+int Simulator::threads() const { return impl_->threads; }
 
 const Settings& Simulator::settings() const { return impl_->s; }
 double Simulator::time() const { return static_cast<double>(impl_->step - impl_->prerollSteps) * impl_->h; }
