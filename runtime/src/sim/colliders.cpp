@@ -90,9 +90,10 @@ namespace {
 // must assume the stores to the arrays may change it, and it then runs the loop unvectorized.
 
 // Plane contacts over the arrays, branch-free; returns the number of contacts.
-std::size_t collidePlane(const glm::mat3& toLocal, const glm::vec3& center, const glm::vec3& halfExtent, float keep,
-                         float* __restrict X, float* __restrict Y, float* __restrict Z, float* __restrict VX,
-                         float* __restrict VY, float* __restrict VZ, const float* __restrict R, std::size_t n) {
+PUFF_SIM_KERNEL std::size_t collidePlane(const glm::mat3& toLocal, const glm::vec3& center, const glm::vec3& halfExtent,
+                                         float keep, float* __restrict X, float* __restrict Y, float* __restrict Z,
+                                         float* __restrict VX, float* __restrict VY, float* __restrict VZ,
+                                         const float* __restrict R, std::size_t n) {
   // toLocal rows: the plane's x, normal, z axes in world space.
   const glm::vec3 ex = glm::row(toLocal, 0), nrm = glm::row(toLocal, 1), ez = glm::row(toLocal, 2);
   const float exx = ex.x, exy = ex.y, exz = ex.z, nx = nrm.x, ny = nrm.y, nz = nrm.z, ezx = ez.x, ezy = ez.y,
@@ -116,9 +117,10 @@ std::size_t collidePlane(const glm::mat3& toLocal, const glm::vec3& center, cons
   return contacts;
 }
 
-std::size_t collideSphere(const glm::vec3& center, float radius, const glm::vec3& up, float keep, float* __restrict X,
-                          float* __restrict Y, float* __restrict Z, float* __restrict VX, float* __restrict VY,
-                          float* __restrict VZ, const float* __restrict R, std::size_t n) {
+PUFF_SIM_KERNEL std::size_t collideSphere(const glm::vec3& center, float radius, const glm::vec3& up, float keep,
+                                          float* __restrict X, float* __restrict Y, float* __restrict Z,
+                                          float* __restrict VX, float* __restrict VY, float* __restrict VZ,
+                                          const float* __restrict R, std::size_t n) {
   const float cx = center.x, cy = center.y, cz = center.z, upx = up.x, upy = up.y, upz = up.z;
   std::size_t contacts = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -148,9 +150,10 @@ std::size_t collideSphere(const glm::vec3& center, float radius, const glm::vec3
 
 // Oriented-box contacts over the arrays, branch-free: a particle inside the box grown by its
 // radius leaves through the nearest face.
-std::size_t collideBox(const glm::mat3& toWorld, const glm::vec3& center, const glm::vec3& halfExtent, float keep,
-                       float* __restrict X, float* __restrict Y, float* __restrict Z, float* __restrict VX,
-                       float* __restrict VY, float* __restrict VZ, const float* __restrict R, std::size_t n) {
+PUFF_SIM_KERNEL std::size_t collideBox(const glm::mat3& toWorld, const glm::vec3& center, const glm::vec3& halfExtent,
+                                       float keep, float* __restrict X, float* __restrict Y, float* __restrict Z,
+                                       float* __restrict VX, float* __restrict VY, float* __restrict VZ,
+                                       const float* __restrict R, std::size_t n) {
   const glm::vec3 ax = toWorld[0], ay = toWorld[1], az = toWorld[2];  // the box's axes in world space
   const float axx = ax.x, axy = ax.y, axz = ax.z, ayx = ay.x, ayy = ay.y, ayz = ay.z, azx = az.x, azy = az.y,
               azz = az.z;
@@ -182,8 +185,8 @@ std::size_t collideBox(const glm::mat3& toWorld, const glm::vec3& center, const 
 }
 
 // Each particle's collision radius: collisionRadius of its current radius.
-void collisionRadii(float collisionRadius, const float* __restrict S0, const float* __restrict A,
-                    const float* __restrict L, float* __restrict R, std::size_t n) {
+PUFF_SIM_KERNEL void collisionRadii(float collisionRadius, const float* __restrict S0, const float* __restrict A,
+                                    const float* __restrict L, float* __restrict R, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) R[i] = collisionRadius * 0.5f * S0[i] * std::max(0.0f, 1.0f - A[i] / L[i]);
 }
 

@@ -137,8 +137,9 @@ glm::vec3 CurlField::sample(const glm::vec3& p) const {
 #endif
 }
 
-void CurlField::addSamples(const float* X, const float* Y, const float* Z, std::size_t n, float scale,
-                           const glm::vec3& offset, float strength, float* UX, float* UY, float* UZ) const {
+PUFF_SIM_KERNEL void CurlField::addSamples(const float* X, const float* Y, const float* Z, std::size_t n, float scale,
+                                           const glm::vec3& offset, float strength, float* UX, float* UY,
+                                           float* UZ) const {
   std::size_t i = 0;
 #if defined(__SSE2__)
   const int m = n_ + 1;

@@ -24,6 +24,7 @@ constexpr float kCellsPerTile = 4.0f;
 
 // The air one vortex adds to every particle: vortexVelocity written out in scalars over the arrays,
 // in a free function so the compiler sees no aliasing and vectorizes it.
+// Not compiled for AVX2 (PUFF_SIM_KERNEL): GCC 12 does not vectorize fastExp's selects there.
 void addVortex(const LiveVortex& v, const float* __restrict X, const float* __restrict Y, const float* __restrict Z,
                float* __restrict UX, float* __restrict UY, float* __restrict UZ, std::size_t n) {
   const float cx = v.center.x, cy = v.center.y, cz = v.center.z;
@@ -49,11 +50,13 @@ void addVortex(const LiveVortex& v, const float* __restrict X, const float* __re
 // k h, so nothing divides by a small drag):
 //   v' = v e + u (1 - e) + a c1,   x' = x + v c1 + u (h - c1) + a c2
 // the exact solution of dv/dt = a + k (u - v) with u and a held; k = 0 gives x + v h + a h^2 / 2.
-void integrateExponential(float* __restrict X, float* __restrict Y, float* __restrict Z, float* __restrict VX,
-                          float* __restrict VY, float* __restrict VZ, const float* __restrict UX,
-                          const float* __restrict UY, const float* __restrict UZ, const float* __restrict A,
-                          const float* __restrict L, const float* __restrict D0, std::size_t n, glm::vec3 g,
-                          glm::vec3 b, float e, float oneMinusE, float c1, float hMinusC1, float c2) {
+PUFF_SIM_KERNEL void integrateExponential(float* __restrict X, float* __restrict Y, float* __restrict Z,
+                                          float* __restrict VX, float* __restrict VY, float* __restrict VZ,
+                                          const float* __restrict UX, const float* __restrict UY,
+                                          const float* __restrict UZ, const float* __restrict A,
+                                          const float* __restrict L, const float* __restrict D0, std::size_t n,
+                                          glm::vec3 g, glm::vec3 b, float e, float oneMinusE, float c1, float hMinusC1,
+                                          float c2) {
   for (std::size_t i = 0; i < n; ++i) {
     const float density = D0[i] * (1.0f - A[i] / L[i]);
     const float ax = g.x + b.x * density, ay = g.y + b.y * density, az = g.z + b.z * density;
@@ -68,11 +71,13 @@ void integrateExponential(float* __restrict X, float* __restrict Y, float* __res
 
 // The paper's forward Euler step for every particle: v' = v + h (g + b density + k (u - v)),
 // x' = x + h v. Free, so it vectorizes.
-void integrateForwardEuler(float* __restrict X, float* __restrict Y, float* __restrict Z, float* __restrict VX,
-                           float* __restrict VY, float* __restrict VZ, const float* __restrict UX,
-                           const float* __restrict UY, const float* __restrict UZ, const float* __restrict A,
-                           const float* __restrict L, const float* __restrict D0, std::size_t n, float gx, float gy,
-                           float gz, float bx, float by, float bz, float k, float hf) {
+PUFF_SIM_KERNEL void integrateForwardEuler(float* __restrict X, float* __restrict Y, float* __restrict Z,
+                                           float* __restrict VX, float* __restrict VY, float* __restrict VZ,
+                                           const float* __restrict UX, const float* __restrict UY,
+                                           const float* __restrict UZ, const float* __restrict A,
+                                           const float* __restrict L, const float* __restrict D0, std::size_t n,
+                                           float gx, float gy, float gz, float bx, float by, float bz, float k,
+                                           float hf) {
   for (std::size_t i = 0; i < n; ++i) {
     const float density = D0[i] * (1.0f - A[i] / L[i]);
     const float ax = gx + bx * density + k * (UX[i] - VX[i]);
@@ -84,8 +89,9 @@ void integrateForwardEuler(float* __restrict X, float* __restrict Y, float* __re
 }
 
 // The air a wind volume adds (windWeight over the arrays), branch-free.
-void addWindVolume(const WindVolume& w, const float* __restrict X, const float* __restrict Y, const float* __restrict Z,
-                   float* __restrict UX, float* __restrict UY, float* __restrict UZ, std::size_t n) {
+PUFF_SIM_KERNEL void addWindVolume(const WindVolume& w, const float* __restrict X, const float* __restrict Y,
+                                   const float* __restrict Z, float* __restrict UX, float* __restrict UY,
+                                   float* __restrict UZ, std::size_t n) {
   const float cx = w.center.x, cy = w.center.y, cz = w.center.z;
   const float hx = w.halfExtent.x, hy = w.halfExtent.y, hz = w.halfExtent.z;
   const float invFeather = w.feather > 0.0f ? 1.0f / w.feather : 0.0f;
