@@ -1,5 +1,6 @@
 #include "curl_noise.h"
 
+#include <algorithm>
 #include <cmath>
 
 #if defined(__SSE2__)
@@ -161,35 +162,55 @@ PUFF_SIM_KERNEL void CurlField::addSamples(const float* X, const float* Y, const
   // Into the tile, scaled to lattice cells and clamped below n, as sample does.
   auto cells = [&](__m128 p) { return _mm_min_ps(_mm_max_ps(_mm_mul_ps(_mm_sub_ps(p, floor4(p)), nf), zero), top); };
   auto lerp = [](__m128 a, __m128 b, __m128 t) { return _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), t)); };
-  for (; i + 4 <= n; i += 4) {
-    const __m128 qx = cells(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(X + i), vscale), ox));
-    const __m128 qy = cells(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(Y + i), vscale), oy));
-    const __m128 qz = cells(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(Z + i), vscale), oz));
-    const __m128i ix = _mm_cvttps_epi32(qx), iy = _mm_cvttps_epi32(qy), iz = _mm_cvttps_epi32(qz);
-    const __m128 x0 = _mm_cvtepi32_ps(ix), y0 = _mm_cvtepi32_ps(iy), z0 = _mm_cvtepi32_ps(iz);
-    alignas(16) float fx[4], fy[4], fz[4];
-    _mm_store_ps(fx, _mm_sub_ps(qx, x0));
-    _mm_store_ps(fy, _mm_sub_ps(qy, y0));
-    _mm_store_ps(fz, _mm_sub_ps(qz, z0));
-    // The corner's sample index, exact in float (at most 33^3).
-    alignas(16) std::int32_t at[4];
-    _mm_store_si128(reinterpret_cast<__m128i*>(at),
-                    _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(_mm_add_ps(_mm_mul_ps(z0, mf), y0), mf), x0)));
-    __m128 r[4];
-    for (int k = 0; k < 4; ++k) {
-      const float* c = &v_[static_cast<std::size_t>(at[k]) * 4];
-      const __m128 tx = _mm_set1_ps(fx[k]), ty = _mm_set1_ps(fy[k]), tz = _mm_set1_ps(fz[k]);
-      const __m128 c00 = lerp(_mm_loadu_ps(c), _mm_loadu_ps(c + 4), tx);
-      const __m128 c10 = lerp(_mm_loadu_ps(c + dy), _mm_loadu_ps(c + dy + 4), tx);
-      const __m128 c01 = lerp(_mm_loadu_ps(c + dz), _mm_loadu_ps(c + dz + 4), tx);
-      const __m128 c11 = lerp(_mm_loadu_ps(c + dz + dy), _mm_loadu_ps(c + dz + dy + 4), tx);
-      r[k] = _mm_mul_ps(vstrength, lerp(lerp(c00, c10, ty), lerp(c01, c11, ty), tz));
+  // In chunks: first every point's corner index and fractions (vectorized), then the corner loads,
+  // prefetched a few points ahead (the lattice does not fit the first-level cache and the points
+  // jump about in it).
+  constexpr std::size_t kChunk = 256, kAhead = 8;
+  alignas(16) float fx[kChunk], fy[kChunk], fz[kChunk];
+  alignas(16) std::int32_t at[kChunk];
+  while (i + 4 <= n) {
+    const std::size_t count = std::min(kChunk, (n - i) / 4 * 4);
+    for (std::size_t j = 0; j < count; j += 4) {
+      const __m128 qx = cells(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(X + i + j), vscale), ox));
+      const __m128 qy = cells(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(Y + i + j), vscale), oy));
+      const __m128 qz = cells(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(Z + i + j), vscale), oz));
+      const __m128 x0 = _mm_cvtepi32_ps(_mm_cvttps_epi32(qx)), y0 = _mm_cvtepi32_ps(_mm_cvttps_epi32(qy)),
+                   z0 = _mm_cvtepi32_ps(_mm_cvttps_epi32(qz));
+      _mm_store_ps(fx + j, _mm_sub_ps(qx, x0));
+      _mm_store_ps(fy + j, _mm_sub_ps(qy, y0));
+      _mm_store_ps(fz + j, _mm_sub_ps(qz, z0));
+      // The corner's sample index, exact in float (at most 33^3).
+      _mm_store_si128(reinterpret_cast<__m128i*>(at + j),
+                      _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(_mm_add_ps(_mm_mul_ps(z0, mf), y0), mf), x0)));
     }
-    // Four (x, y, z, 0) rows into x, y and z columns.
-    _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
-    _mm_storeu_ps(UX + i, _mm_add_ps(_mm_loadu_ps(UX + i), r[0]));
-    _mm_storeu_ps(UY + i, _mm_add_ps(_mm_loadu_ps(UY + i), r[1]));
-    _mm_storeu_ps(UZ + i, _mm_add_ps(_mm_loadu_ps(UZ + i), r[2]));
+    for (std::size_t j = 0; j < count; j += 4) {
+      for (std::size_t k = j + kAhead; k < std::min(count, j + kAhead + 4); ++k) {
+        const char* c = reinterpret_cast<const char*>(&v_[static_cast<std::size_t>(at[k]) * 4]);
+        _mm_prefetch(c, _MM_HINT_T0);
+        _mm_prefetch(c + dy * sizeof(float), _MM_HINT_T0);
+        _mm_prefetch(c + dz * sizeof(float), _MM_HINT_T0);
+        _mm_prefetch(c + (dz + dy) * sizeof(float), _MM_HINT_T0);
+      }
+      __m128 r[4];
+      for (std::size_t k = 0; k < 4; ++k) {
+        const float* c = &v_[static_cast<std::size_t>(at[j + k]) * 4];
+        const __m128 tx = _mm_set1_ps(fx[j + k]), ty = _mm_set1_ps(fy[j + k]), tz = _mm_set1_ps(fz[j + k]);
+        const __m128 c00 = lerp(_mm_loadu_ps(c), _mm_loadu_ps(c + 4), tx);
+        const __m128 c10 = lerp(_mm_loadu_ps(c + dy), _mm_loadu_ps(c + dy + 4), tx);
+        const __m128 c01 = lerp(_mm_loadu_ps(c + dz), _mm_loadu_ps(c + dz + 4), tx);
+        const __m128 c11 = lerp(_mm_loadu_ps(c + dz + dy), _mm_loadu_ps(c + dz + dy + 4), tx);
+        r[k] = _mm_mul_ps(vstrength, lerp(lerp(c00, c10, ty), lerp(c01, c11, ty), tz));
+      }
+      // Four (x, y, z, 0) rows into x, y and z columns.
+      _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
+      float* ux = UX + i + j;
+      float* uy = UY + i + j;
+      float* uz = UZ + i + j;
+      _mm_storeu_ps(ux, _mm_add_ps(_mm_loadu_ps(ux), r[0]));
+      _mm_storeu_ps(uy, _mm_add_ps(_mm_loadu_ps(uy), r[1]));
+      _mm_storeu_ps(uz, _mm_add_ps(_mm_loadu_ps(uz), r[2]));
+    }
+    i += count;
   }
 #endif
   for (; i < n; ++i) {
