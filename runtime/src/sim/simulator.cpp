@@ -2,6 +2,7 @@
 #include <puff/sim/simulator.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <thread>
@@ -89,16 +90,22 @@ void Simulator::Impl::advance(StepStats& st) {
   prepareColliders(t0, t1);
   ux.resize(n), uy.resize(n), uz.resize(n), radii.resize(n), keep.resize(n);
   if (!meshes.empty()) ox.resize(n), oy.resize(n), oz.resize(n);
-  // Contiguous ranges, one per thread, on 16-float (cache line) boundaries; each particle is
-  // computed the same whatever range holds it.
-  const std::size_t want = std::max<std::size_t>(1, n / kMinPerThread);
-  const int parts = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(threads), want));
-  const std::size_t chunk = (n / static_cast<std::size_t>(parts) + 15) / 16 * 16;
+  // The threads take blocks of kBlock particles in turn until none is left, so a thread the
+  // scheduler starts late (the machine is shared) takes fewer. Each particle is computed the same
+  // whichever thread takes its block; the counts are integers, summed in any order.
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  const int parts = static_cast<int>(
+      std::min<std::size_t>(static_cast<std::size_t>(threads), std::max<std::size_t>(1, n / kMinPerThread)));
   std::vector<detail::BlockStats> counts(static_cast<std::size_t>(parts));
+  std::atomic<std::size_t> next{0};
   auto part = [&](int t) {
-    const std::size_t b = std::min(n, static_cast<std::size_t>(t) * chunk);
-    const std::size_t e = t + 1 == parts ? n : std::min(n, b + chunk);
-    counts[static_cast<std::size_t>(t)] = moveRange(b, e);
+    detail::BlockStats mine;
+    for (std::size_t b = next.fetch_add(1, std::memory_order_relaxed); b < blocks;
+         b = next.fetch_add(1, std::memory_order_relaxed)) {
+      const detail::BlockStats c = moveRange(b * kBlock, std::min(n, (b + 1) * kBlock));
+      mine.collisions += c.collisions, mine.died += c.died, mine.nonFinite += c.nonFinite;
+    }
+    counts[static_cast<std::size_t>(t)] = mine;
   };
   if (workers && parts > 1)
     workers->run(parts, part);

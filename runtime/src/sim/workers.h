@@ -1,8 +1,8 @@
 // Private to puff::sim: a small persistent thread pool for the simulator's step. Starting threads
 // every step would cost more than it saves: on the project's 2-core VM one std::thread start and
 // join took a median 25 us and a 90th percentile of 4 ms (the scheduler was busy), against a step
-// of about 1 ms. The pool starts its threads once; a step wakes them with one notify and waits for
-// them with another.
+// of about 1 ms. The pool starts its threads once; a step wakes them with one notify, and waits
+// only for those that woke while the caller was working.
 #pragma once
 
 #include <condition_variable>
@@ -35,11 +35,13 @@ class Workers {
 
   int threads() const { return static_cast<int>(pool_.size()) + 1; }
 
-  /// Calls fn(t) for every t in [0, count) (count <= threads()), t = 0 on the calling thread, the
-  /// others on the pool; returns when every call has. `fn` must not throw.
+  /// Calls fn(t) for t = 0 on the calling thread and for t in [1, count) (count <= threads()) on
+  /// the pool threads that wake before fn(0) returns; returns when every call made has returned.
+  /// So `fn` must share its work out dynamically (a thread the scheduler wakes late does none of
+  /// it) and must not throw.
   template <class Fn>
   void run(int count, Fn&& fn) {
-    if (count <= 1) {
+    if (count <= 1 || pool_.empty()) {
       fn(0);
       return;
     }
@@ -49,13 +51,15 @@ class Workers {
       call_ = [](void* ctx, int t) { (*static_cast<F*>(ctx))(t); };
       ctx_ = const_cast<void*>(static_cast<const void*>(&fn));
       count_ = count;
-      pending_ = count - 1;
+      open_ = true;
+      taken_ = finished_ = 0;
       ++generation_;
     }
     wake_.notify_all();
     fn(0);
     std::unique_lock<std::mutex> lock(m_);
-    done_.wait(lock, [this] { return pending_ == 0; });
+    open_ = false;  // threads not awake yet skip this round
+    done_.wait(lock, [this] { return finished_ == taken_; });
   }
 
  private:
@@ -69,14 +73,15 @@ class Workers {
         wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
         if (stop_) return;
         seen = generation_;
-        if (t >= count_) continue;  // this round needs fewer threads
+        if (!open_ || t >= count_) continue;  // too late, or this round needs fewer threads
+        ++taken_;
         call = call_, ctx = ctx_;
       }
       call(ctx, t);
       bool last = false;
       {
         std::lock_guard<std::mutex> lock(m_);
-        last = --pending_ == 0;
+        last = ++finished_ == taken_ && !open_;
       }
       if (last) done_.notify_one();
     }
@@ -85,8 +90,8 @@ class Workers {
   std::mutex m_;
   std::condition_variable wake_, done_;
   std::uint64_t generation_ = 0;
-  int count_ = 0, pending_ = 0;
-  bool stop_ = false;
+  int count_ = 0, taken_ = 0, finished_ = 0;
+  bool open_ = false, stop_ = false;
   void (*call_)(void*, int) = nullptr;
   void* ctx_ = nullptr;
   std::vector<std::thread> pool_;
