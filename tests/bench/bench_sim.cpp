@@ -4,8 +4,8 @@
 // median of --reps steps; the ratio is against the single-threaded streaming floor measured in
 // the same run (one pass of x += v * h over the same structure-of-arrays: what no step can beat on
 // one thread), and speedup_vs_1_thread against the same case on 1 thread when the list holds 1.
-// The states the thread counts reach are compared particle by particle (they must be equal). Writes CSV
-// (stdout, or --csv FILE). Not a test: nothing here fails on a time.
+// The states the thread counts reach are compared particle by particle: they must be equal (the
+// run fails otherwise). Writes CSV (stdout, or --csv FILE). Not a test: nothing fails on a time.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
