@@ -1,7 +1,8 @@
 // Simulator benchmark: one step of N particles (default 50,000) under force sets from light to
 // everything at once, on each thread count of --threads (default 1; 0 = hardware concurrency;
-// a list such as 1,2 runs every case on each). Each case and count: 10 warm-up steps, then the
-// median of --reps steps; the ratio is against the single-threaded streaming floor measured in
+// a list such as 1,2 runs every case on each, the counts' simulators stepped in turn so the
+// machine's load falls on all alike). Each case and count: 10 warm-up steps, then the median of
+// --reps steps; the ratio is against the single-threaded streaming floor measured in
 // the same run (one pass of x += v * h over the same structure-of-arrays: what no step can beat on
 // one thread), and speedup_vs_1_thread against the same case on 1 thread when the list holds 1.
 // The states the thread counts reach are compared particle by particle: they must be equal (the
@@ -179,8 +180,9 @@ int main(int argc, char** argv) {
   }
 
   for (const Case& c : cases) {
-    std::unique_ptr<sim::Simulator> first;  // the first thread count's final state
-    double oneThreadMs = 0.0;
+    // One simulator per thread count, stepped in turn (one step each, round after round), so a
+    // change in what else the shared machine runs falls on every count alike.
+    std::vector<std::unique_ptr<sim::Simulator>> sims;
     for (int threads : threadCounts) {
       sim::Settings settings = c.settings;
       settings.threads = threads;
@@ -189,22 +191,31 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "puff_bench_sim: error: %s\n", created.error().message.c_str());
         return 1;
       }
-      std::unique_ptr<sim::Simulator> simulator = std::move(*created);
-      // 10 warm-up steps: the first steps include the births.
-      const std::vector<double> times = bench::timeRuns(10, reps, [&] { simulator->step(); });
+      sims.push_back(std::move(*created));
+    }
+    std::vector<std::vector<double>> times(sims.size());
+    for (int r = 0; r < 10 + reps; ++r) {  // 10 warm-up rounds: the first steps include the births
+      for (std::size_t k = 0; k < sims.size(); ++k) {
+        const auto t0 = bench::Clock::now();
+        sims[k]->step();
+        const double ms = bench::msSince(t0);
+        if (r >= 10) times[k].push_back(ms);
+      }
+    }
+    double oneThreadMs = 0.0;
+    for (std::size_t k = 0; k < sims.size(); ++k) {
+      const int threads = threadCounts[k];
       Row row{c.name,
               c.forces,
               threads,
-              simulator->size(),
-              bench::median(times),
-              *std::min_element(times.begin(), times.end())};
-      if (threads == 1) oneThreadMs = row.medianMs;
+              sims[k]->size(),
+              bench::median(times[k]),
+              *std::min_element(times[k].begin(), times[k].end())};
+      if (threads == 1 && !(oneThreadMs > 0.0)) oneThreadMs = row.medianMs;
       std::fprintf(stderr, "puff_bench_sim: %-20s %d thread%s %zu particles: %.3f ms per step\n", c.name, threads,
-                   threads == 1 ? ": " : "s:", simulator->size(), row.medianMs);
+                   threads == 1 ? ": " : "s:", sims[k]->size(), row.medianMs);
       rows.push_back(row);
-      if (!first) {
-        first = std::move(simulator);
-      } else if (!sameState(*first, *simulator)) {
+      if (k > 0 && !sameState(*sims.front(), *sims[k])) {
         std::fprintf(stderr, "puff_bench_sim: error: %s: %d threads reached a different state than %d\n", c.name,
                      threads, threadCounts.front());
         return 1;
