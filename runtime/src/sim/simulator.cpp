@@ -195,12 +195,6 @@ void Simulator::Impl::compact() {
   keepFlagged(emitterOf, keep), keepFlagged(id, keep);
 }
 
-void Simulator::Impl::resize(std::size_t n) {
-  for (auto* v : {&px, &py, &pz, &vx, &vy, &vz, &age, &life, &size0, &density0, &qx, &qy, &qz, &qw, &wx, &wy, &wz})
-    v->resize(n);
-  variation.resize(n), oriented.resize(n), emitterOf.resize(n), id.resize(n);
-}
-
 Simulator::Simulator() : impl_(std::make_unique<Impl>()) {}
 Simulator::~Simulator() = default;
 

@@ -120,7 +120,6 @@ struct Simulator::Impl {
   detail::BlockStats moveRange(std::size_t begin, std::size_t end);
   void clear();
   void compact();  // drops the particles whose `keep` is 0, keeping the order
-  void resize(std::size_t n);
 
   // forces.cpp: the air and the integrator.
   void prepareTurbulence();
