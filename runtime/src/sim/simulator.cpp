@@ -92,20 +92,33 @@ void Simulator::Impl::advance(StepStats& st) {
   prepareColliders(t0, t1);
   ux.resize(n), uy.resize(n), uz.resize(n), radii.resize(n), keep.resize(n);
   if (!meshes.empty()) ox.resize(n), oy.resize(n), oz.resize(n);
-  // The threads take blocks of kBlock particles in turn until none is left, so a thread the
-  // scheduler starts late (the machine is shared) takes fewer. Each particle is computed the same
-  // whichever thread takes its block; the counts are integers, summed in any order.
+  // Each thread takes blocks of kBlock particles in order from its own contiguous share (so the
+  // hardware prefetcher streams within it, not into another thread's blocks), then from the
+  // others' shares until none is left, so a thread the scheduler runs late takes fewer. Each
+  // particle is computed the same whichever thread takes its block; the counts are integers,
+  // summed in any order.
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   const int parts = static_cast<int>(
       std::min<std::size_t>(static_cast<std::size_t>(threads), std::max<std::size_t>(1, n / kMinPerThread)));
+  struct alignas(64) Share {
+    std::atomic<std::size_t> next{0};
+    std::size_t end = 0;
+  };
+  std::vector<Share> shares(static_cast<std::size_t>(parts));
+  for (std::size_t t = 0; t < shares.size(); ++t) {
+    shares[t].next.store(blocks * t / shares.size(), std::memory_order_relaxed);
+    shares[t].end = blocks * (t + 1) / shares.size();
+  }
   std::vector<detail::BlockStats> counts(static_cast<std::size_t>(parts));
-  std::atomic<std::size_t> next{0};
   auto part = [&](int t) {
     detail::BlockStats mine;
-    for (std::size_t b = next.fetch_add(1, std::memory_order_relaxed); b < blocks;
-         b = next.fetch_add(1, std::memory_order_relaxed)) {
-      const detail::BlockStats c = moveRange(b * kBlock, std::min(n, (b + 1) * kBlock));
-      mine.collisions += c.collisions, mine.died += c.died, mine.nonFinite += c.nonFinite;
+    for (std::size_t k = 0; k < shares.size(); ++k) {
+      Share& share = shares[(static_cast<std::size_t>(t) + k) % shares.size()];
+      for (std::size_t b = share.next.fetch_add(1, std::memory_order_relaxed); b < share.end;
+           b = share.next.fetch_add(1, std::memory_order_relaxed)) {
+        const detail::BlockStats c = moveRange(b * kBlock, std::min(n, (b + 1) * kBlock));
+        mine.collisions += c.collisions, mine.died += c.died, mine.nonFinite += c.nonFinite;
+      }
     }
     counts[static_cast<std::size_t>(t)] = mine;
   };
