@@ -86,48 +86,58 @@ bool MeshGrid::firstHit(const glm::vec3& p, const glm::vec3& q, float& tHit, std
 
 namespace {
 
-// Plane and sphere contacts over the arrays, branch-free; returns the number of contacts.
-std::size_t collidePlane(const glm::mat3& toLocal, const glm::vec3& center, const glm::vec3& halfExtent, float keep,
-                         float* __restrict X, float* __restrict Y, float* __restrict Z, float* __restrict VX,
-                         float* __restrict VY, float* __restrict VZ, const float* __restrict R, std::size_t n) {
+// The kernels below take every loop invariant as a scalar: read through a reference, the compiler
+// must assume the stores to the arrays may change it, and it then runs the loop unvectorized.
+
+// Plane contacts over the arrays, branch-free; returns the number of contacts.
+PUFF_SIM_KERNEL std::size_t collidePlane(const glm::mat3& toLocal, const glm::vec3& center, const glm::vec3& halfExtent,
+                                         float keep, float* __restrict X, float* __restrict Y, float* __restrict Z,
+                                         float* __restrict VX, float* __restrict VY, float* __restrict VZ,
+                                         const float* __restrict R, std::size_t n) {
   // toLocal rows: the plane's x, normal, z axes in world space.
   const glm::vec3 ex = glm::row(toLocal, 0), nrm = glm::row(toLocal, 1), ez = glm::row(toLocal, 2);
+  const float exx = ex.x, exy = ex.y, exz = ex.z, nx = nrm.x, ny = nrm.y, nz = nrm.z, ezx = ez.x, ezy = ez.y,
+              ezz = ez.z;
+  const float cx = center.x, cy = center.y, cz = center.z, hx = halfExtent.x, hz = halfExtent.z;
   std::size_t contacts = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const float dx = X[i] - center.x, dy = Y[i] - center.y, dz = Z[i] - center.z;
-    const float lx = ex.x * dx + ex.y * dy + ex.z * dz, ly = nrm.x * dx + nrm.y * dy + nrm.z * dz,
-                lz = ez.x * dx + ez.y * dy + ez.z * dz;
-    const bool hit = (ly < R[i]) & (std::abs(lx) <= halfExtent.x) & (std::abs(lz) <= halfExtent.z);
+    const float dx = X[i] - cx, dy = Y[i] - cy, dz = Z[i] - cz;
+    const float lx = exx * dx + exy * dy + exz * dz, ly = nx * dx + ny * dy + nz * dz,
+                lz = ezx * dx + ezy * dy + ezz * dz;
+    const bool hit = (ly < R[i]) & (std::abs(lx) <= hx) & (std::abs(lz) <= hz);
     const float push = hit ? R[i] - ly : 0.0f;
-    X[i] += push * nrm.x, Y[i] += push * nrm.y, Z[i] += push * nrm.z;
-    const float vn = VX[i] * nrm.x + VY[i] * nrm.y + VZ[i] * nrm.z;
+    X[i] += push * nx, Y[i] += push * ny, Z[i] += push * nz;
+    const float vn = VX[i] * nx + VY[i] * ny + VZ[i] * nz;
     const bool slide = hit & (vn < 0.0f);  // & not &&: no branch, so the loop vectorizes
     const float into = slide ? vn : 0.0f;
     const float scale = slide ? keep : 1.0f;
-    VX[i] = (VX[i] - into * nrm.x) * scale, VY[i] = (VY[i] - into * nrm.y) * scale,
-    VZ[i] = (VZ[i] - into * nrm.z) * scale;
+    VX[i] = (VX[i] - into * nx) * scale, VY[i] = (VY[i] - into * ny) * scale, VZ[i] = (VZ[i] - into * nz) * scale;
     contacts += hit ? 1 : 0;
   }
   return contacts;
 }
 
-std::size_t collideSphere(const glm::vec3 center, float radius, const glm::vec3 up, float keep, float* __restrict X,
-                          float* __restrict Y, float* __restrict Z, float* __restrict VX, float* __restrict VY,
-                          float* __restrict VZ, const float* __restrict R, std::size_t n) {
+PUFF_SIM_KERNEL std::size_t collideSphere(const glm::vec3& center, float radius, const glm::vec3& up, float keep,
+                                          float* __restrict X, float* __restrict Y, float* __restrict Z,
+                                          float* __restrict VX, float* __restrict VY, float* __restrict VZ,
+                                          const float* __restrict R, std::size_t n) {
+  const float cx = center.x, cy = center.y, cz = center.z, upx = up.x, upy = up.y, upz = up.z;
   std::size_t contacts = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const float dx = X[i] - center.x, dy = Y[i] - center.y, dz = Z[i] - center.z;
+    const float dx = X[i] - cx, dy = Y[i] - cy, dz = Z[i] - cz;
     const float reach = radius + R[i];
     const float l2 = dx * dx + dy * dy + dz * dz;
     const bool hit = l2 < reach * reach;
     const float l = std::sqrt(l2);
-    const float centred = static_cast<float>(!(l > 1e-12f));  // at the very centre: out along `up`
+    // At the very centre: out along `up`. (Ternaries, not bool-to-float casts, which keep GCC 12
+    // from vectorizing the loop.)
+    const float centred = l > 1e-12f ? 0.0f : 1.0f;
     const float inv = (1.0f - centred) / std::max(l, 1e-12f);
-    const float nx = dx * inv + centred * up.x, ny = dy * inv + centred * up.y, nz = dz * inv + centred * up.z;
-    const float move = static_cast<float>(hit);
-    X[i] += move * (center.x + nx * reach - X[i]);
-    Y[i] += move * (center.y + ny * reach - Y[i]);
-    Z[i] += move * (center.z + nz * reach - Z[i]);
+    const float nx = dx * inv + centred * upx, ny = dy * inv + centred * upy, nz = dz * inv + centred * upz;
+    const float move = hit ? 1.0f : 0.0f;
+    X[i] += move * (cx + nx * reach - X[i]);
+    Y[i] += move * (cy + ny * reach - Y[i]);
+    Z[i] += move * (cz + nz * reach - Z[i]);
     const float vn = VX[i] * nx + VY[i] * ny + VZ[i] * nz;
     const bool slide = hit & (vn < 0.0f);  // & not &&: no branch, so the loop vectorizes
     const float into = slide ? vn : 0.0f;
@@ -140,16 +150,20 @@ std::size_t collideSphere(const glm::vec3 center, float radius, const glm::vec3 
 
 // Oriented-box contacts over the arrays, branch-free: a particle inside the box grown by its
 // radius leaves through the nearest face.
-std::size_t collideBox(const glm::mat3& toWorld, const glm::vec3& center, const glm::vec3& halfExtent, float keep,
-                       float* __restrict X, float* __restrict Y, float* __restrict Z, float* __restrict VX,
-                       float* __restrict VY, float* __restrict VZ, const float* __restrict R, std::size_t n) {
+PUFF_SIM_KERNEL std::size_t collideBox(const glm::mat3& toWorld, const glm::vec3& center, const glm::vec3& halfExtent,
+                                       float keep, float* __restrict X, float* __restrict Y, float* __restrict Z,
+                                       float* __restrict VX, float* __restrict VY, float* __restrict VZ,
+                                       const float* __restrict R, std::size_t n) {
   const glm::vec3 ax = toWorld[0], ay = toWorld[1], az = toWorld[2];  // the box's axes in world space
+  const float axx = ax.x, axy = ax.y, axz = ax.z, ayx = ay.x, ayy = ay.y, ayz = ay.z, azx = az.x, azy = az.y,
+              azz = az.z;
+  const float cx = center.x, cy = center.y, cz = center.z, hx = halfExtent.x, hy = halfExtent.y, hz = halfExtent.z;
   std::size_t contacts = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    const float dx = X[i] - center.x, dy = Y[i] - center.y, dz = Z[i] - center.z;
-    const float lx = ax.x * dx + ax.y * dy + ax.z * dz, ly = ay.x * dx + ay.y * dy + ay.z * dz,
-                lz = az.x * dx + az.y * dy + az.z * dz;
-    const float rx = halfExtent.x + R[i], ry = halfExtent.y + R[i], rz = halfExtent.z + R[i];
+    const float dx = X[i] - cx, dy = Y[i] - cy, dz = Z[i] - cz;
+    const float lx = axx * dx + axy * dy + axz * dz, ly = ayx * dx + ayy * dy + ayz * dz,
+                lz = azx * dx + azy * dy + azz * dz;
+    const float rx = hx + R[i], ry = hy + R[i], rz = hz + R[i];
     const float px = rx - std::abs(lx), py = ry - std::abs(ly), pz = rz - std::abs(lz);
     const bool hit = (px > 0.0f) & (py > 0.0f) & (pz > 0.0f);
     const bool outX = (px < py) & (px < pz), outY = !outX & (py < pz), outZ = !outX & !outY;
@@ -157,8 +171,8 @@ std::size_t collideBox(const glm::mat3& toWorld, const glm::vec3& center, const 
     // How far to move along the chosen face's normal (local), and that normal in world space.
     const float push = hit ? (outX ? px : (outY ? py : pz)) : 0.0f;
     const float nlx = outX ? sx : 0.0f, nly = outY ? sy : 0.0f, nlz = outZ ? sz : 0.0f;
-    const float nx = ax.x * nlx + ay.x * nly + az.x * nlz, ny = ax.y * nlx + ay.y * nly + az.y * nlz,
-                nz = ax.z * nlx + ay.z * nly + az.z * nlz;
+    const float nx = axx * nlx + ayx * nly + azx * nlz, ny = axy * nlx + ayy * nly + azy * nlz,
+                nz = axz * nlx + ayz * nly + azz * nlz;
     X[i] += push * nx, Y[i] += push * ny, Z[i] += push * nz;
     const float vn = VX[i] * nx + VY[i] * ny + VZ[i] * nz;
     const bool slide = hit & (vn < 0.0f);
@@ -170,71 +184,96 @@ std::size_t collideBox(const glm::mat3& toWorld, const glm::vec3& center, const 
   return contacts;
 }
 
+// Each particle's collision radius: collisionRadius of its current radius.
+PUFF_SIM_KERNEL void collisionRadii(float collisionRadius, const float* __restrict S0, const float* __restrict A,
+                                    const float* __restrict L, float* __restrict R, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) R[i] = collisionRadius * 0.5f * S0[i] * std::max(0.0f, 1.0f - A[i] / L[i]);
+}
+
 }  // namespace
+
+// Where every collider is during the step t0 -> t1 (contacts are resolved against where it is at t1).
+void Simulator::Impl::prepareColliders(double t0, double t1) {
+  stepColliders.clear();
+  std::size_t meshIndex = 0;
+  for (const Collider& c : s.colliders) {
+    detail::StepCollider sc;
+    sc.type = c.type;
+    const bool onPath = !c.path.empty();
+    sc.center = onPath ? c.center + c.path.at(t1) : c.center;
+    sc.halfExtent = c.halfExtent;
+    sc.keep = 1.0f - c.friction;
+    switch (c.type) {
+      case Collider::Type::kPlane:
+        sc.frame = glm::transpose(glm::mat3_cast(c.rotation));
+        break;
+      case Collider::Type::kSphere:
+        sc.up = c.rotation * glm::vec3(0, 1, 0);
+        break;
+      case Collider::Type::kBox:
+        sc.frame = glm::mat3_cast(c.rotation);
+        break;
+      case Collider::Type::kMesh:
+        // A moving mesh: the particle's step is tested in the mesh's frame (start against where the
+        // mesh was, end against where it is), so a sweeping mesh pushes smoke it passes through.
+        sc.mesh = meshIndex++;
+        sc.offset0 = onPath ? c.path.at(t0) : glm::vec3(0.0f);
+        sc.offset1 = onPath ? c.path.at(t1) : glm::vec3(0.0f);
+        sc.velocity = (sc.offset1 - sc.offset0) / static_cast<float>(t1 - t0);
+        break;
+    }
+    stepColliders.push_back(sc);
+  }
+}
 
 // Puts particles [begin, end) back outside every collider; returns the number of contacts.
 // `prev` (x, y, z arrays indexed from `begin`) is where the particles were before they moved: mesh
 // colliders test the segment, so a fast particle cannot tunnel through a thin wall.
-std::size_t Simulator::Impl::collide(std::size_t begin, std::size_t end, const float* const* prev, double t0,
-                                     double t) {
+std::size_t Simulator::Impl::collide(std::size_t begin, std::size_t end, const float* const* prev) {
   std::size_t contacts = 0;
-  std::size_t meshIndex = 0;
+  const std::size_t n = end - begin;
+  float* X = px.data() + begin;
+  float* Y = py.data() + begin;
+  float* Z = pz.data() + begin;
+  float* VX = vx.data() + begin;
+  float* VY = vy.data() + begin;
+  float* VZ = vz.data() + begin;
+  float* R = radii.data() + begin;
   // Each particle's collision radius, once for all colliders.
-  radii.resize(end - begin);
-  for (std::size_t i = begin; i < end; ++i)
-    radii[i - begin] = s.collisionRadius * 0.5f * size0[i] * std::max(0.0f, 1.0f - age[i] / life[i]);
-  for (const Collider& collider : s.colliders) {
-    Collider moved;  // a collider on a path, where it is now (meshes move by the same offset)
-    const bool onPath = !collider.path.empty();
-    if (onPath) {
-      moved.type = collider.type, moved.rotation = collider.rotation, moved.halfExtent = collider.halfExtent;
-      moved.friction = collider.friction, moved.center = collider.center + collider.path.at(t);
-    }
-    const Collider& c = onPath ? moved : collider;
-    // A moving mesh: the particle's step is tested in the mesh's frame (start against where the
-    // mesh was, end against where it is), so a sweeping mesh pushes smoke it passes through.
-    const glm::vec3 meshOffset0 = onPath ? collider.path.at(t0) : glm::vec3(0.0f);
-    const glm::vec3 meshOffset = onPath ? collider.path.at(t) : glm::vec3(0.0f);
-    const glm::vec3 bodyVelocity = (meshOffset - meshOffset0) / static_cast<float>(t - t0);
-    const float keep = 1.0f - c.friction;
+  collisionRadii(s.collisionRadius, size0.data() + begin, age.data() + begin, life.data() + begin, R, n);
+  for (const detail::StepCollider& c : stepColliders) {
     switch (c.type) {
       case Collider::Type::kPlane:
-        contacts += collidePlane(glm::transpose(glm::mat3_cast(c.rotation)), c.center, c.halfExtent, keep,
-                                 px.data() + begin, py.data() + begin, pz.data() + begin, vx.data() + begin,
-                                 vy.data() + begin, vz.data() + begin, radii.data(), end - begin);
+        contacts += collidePlane(c.frame, c.center, c.halfExtent, c.keep, X, Y, Z, VX, VY, VZ, R, n);
         break;
       case Collider::Type::kSphere:
-        contacts += collideSphere(c.center, c.halfExtent.x, c.rotation * glm::vec3(0, 1, 0), keep, px.data() + begin,
-                                  py.data() + begin, pz.data() + begin, vx.data() + begin, vy.data() + begin,
-                                  vz.data() + begin, radii.data(), end - begin);
+        contacts += collideSphere(c.center, c.halfExtent.x, c.up, c.keep, X, Y, Z, VX, VY, VZ, R, n);
         break;
       case Collider::Type::kBox:
-        contacts += collideBox(glm::mat3_cast(c.rotation), c.center, c.halfExtent, keep, px.data() + begin,
-                               py.data() + begin, pz.data() + begin, vx.data() + begin, vy.data() + begin,
-                               vz.data() + begin, radii.data(), end - begin);
+        contacts += collideBox(c.frame, c.center, c.halfExtent, c.keep, X, Y, Z, VX, VY, VZ, R, n);
         break;
       case Collider::Type::kMesh: {
-        const detail::MeshGrid& m = meshes[meshIndex++];
+        const detail::MeshGrid& m = meshes[c.mesh];
         const float* OX = prev[0];
         const float* OY = prev[1];
         const float* OZ = prev[2];
-        for (std::size_t i = begin; i < end; ++i) {
-          const glm::vec3 p = glm::vec3(OX[i - begin], OY[i - begin], OZ[i - begin]) - meshOffset0,
-                          q = glm::vec3(px[i], py[i], pz[i]) - meshOffset;
+        const float extent = std::max(1.0f, glm::length(m.hi - m.lo));
+        for (std::size_t i = 0; i < n; ++i) {
+          const glm::vec3 p = glm::vec3(OX[i], OY[i], OZ[i]) - c.offset0, q = glm::vec3(X[i], Y[i], Z[i]) - c.offset1;
           float along;
           std::uint32_t tri;
           if (!m.firstHit(p, q, along, tri)) continue;
-          glm::vec3 n = m.n[tri];
-          if (glm::dot(p - m.a[tri], n) < 0.0f) n = -n;  // the side it came from
+          glm::vec3 nrm = m.n[tri];
+          if (glm::dot(p - m.a[tri], nrm) < 0.0f) nrm = -nrm;  // the side it came from
           const glm::vec3 hit = p + (q - p) * along;
-          const glm::vec3 at = hit + n * 1e-4f * std::max(1.0f, glm::length(m.hi - m.lo)) + meshOffset;
-          px[i] = at.x, py[i] = at.y, pz[i] = at.z;
+          const glm::vec3 at = hit + nrm * 1e-4f * extent + c.offset1;
+          X[i] = at.x, Y[i] = at.y, Z[i] = at.z;
           // Lose the velocity into the surface relative to the moving body.
-          glm::vec3 v = glm::vec3(vx[i], vy[i], vz[i]) - bodyVelocity;
-          const float vn = glm::dot(v, n);
-          if (vn < 0.0f) v = (v - vn * n) * keep;
-          v += bodyVelocity;
-          vx[i] = v.x, vy[i] = v.y, vz[i] = v.z;
+          glm::vec3 v = glm::vec3(VX[i], VY[i], VZ[i]) - c.velocity;
+          const float vn = glm::dot(v, nrm);
+          if (vn < 0.0f) v = (v - vn * nrm) * c.keep;
+          v += c.velocity;
+          VX[i] = v.x, VY[i] = v.y, VZ[i] = v.z;
           ++contacts;
         }
         break;

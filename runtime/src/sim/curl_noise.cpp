@@ -1,5 +1,6 @@
 #include "curl_noise.h"
 
+#include <algorithm>
 #include <cmath>
 
 #if defined(__SSE2__)
@@ -135,6 +136,87 @@ glm::vec3 CurlField::sample(const glm::vec3& p) const {
   }
   return out;
 #endif
+}
+
+PUFF_SIM_KERNEL void CurlField::addSamples(const float* X, const float* Y, const float* Z, std::size_t n, float scale,
+                                           const glm::vec3& offset, float strength, float* UX, float* UY,
+                                           float* UZ) const {
+  std::size_t i = 0;
+#if defined(__SSE2__)
+  const int m = n_ + 1;
+  const std::size_t dy = static_cast<std::size_t>(m) * 4, dz = static_cast<std::size_t>(m) * m * 4;
+  const __m128 vscale = _mm_set1_ps(scale), vstrength = _mm_set1_ps(strength);
+  const __m128 ox = _mm_set1_ps(offset.x), oy = _mm_set1_ps(offset.y), oz = _mm_set1_ps(offset.z);
+  const __m128 nf = _mm_set1_ps(static_cast<float>(n_)), top = _mm_set1_ps(top_), zero = _mm_setzero_ps();
+  const __m128 one = _mm_set1_ps(1.0f), mf = _mm_set1_ps(static_cast<float>(m));
+  const __m128 sign = _mm_set1_ps(-0.0f), two23 = _mm_set1_ps(8388608.0f);
+  // floor(x) as std::floor gives it: truncate, step down where that rounded up, keep x where it is
+  // already an integer (|x| >= 2^23, beyond the int range too), and keep x's sign (floor(-0) = -0).
+  auto floor4 = [&](__m128 x) {
+    const __m128 t = _mm_cvtepi32_ps(_mm_cvttps_epi32(x));
+    const __m128 down = _mm_sub_ps(t, _mm_and_ps(_mm_cmpgt_ps(t, x), one));
+    const __m128 big = _mm_cmpge_ps(_mm_andnot_ps(sign, x), two23);
+    const __m128 r = _mm_or_ps(_mm_and_ps(big, x), _mm_andnot_ps(big, down));
+    return _mm_or_ps(_mm_andnot_ps(sign, r), _mm_and_ps(sign, x));
+  };
+  // Into the tile, scaled to lattice cells and clamped below n, as sample does.
+  auto cells = [&](__m128 p) { return _mm_min_ps(_mm_max_ps(_mm_mul_ps(_mm_sub_ps(p, floor4(p)), nf), zero), top); };
+  auto lerp = [](__m128 a, __m128 b, __m128 t) { return _mm_add_ps(a, _mm_mul_ps(_mm_sub_ps(b, a), t)); };
+  // In chunks: first every point's corner index and fractions (vectorized), then the corner loads,
+  // prefetched a few points ahead (the lattice does not fit the first-level cache and the points
+  // jump about in it).
+  constexpr std::size_t kChunk = 256, kAhead = 8;
+  alignas(16) float fx[kChunk], fy[kChunk], fz[kChunk];
+  alignas(16) std::int32_t at[kChunk];
+  while (i + 4 <= n) {
+    const std::size_t count = std::min(kChunk, (n - i) / 4 * 4);
+    for (std::size_t j = 0; j < count; j += 4) {
+      const __m128 qx = cells(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(X + i + j), vscale), ox));
+      const __m128 qy = cells(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(Y + i + j), vscale), oy));
+      const __m128 qz = cells(_mm_add_ps(_mm_mul_ps(_mm_loadu_ps(Z + i + j), vscale), oz));
+      const __m128 x0 = _mm_cvtepi32_ps(_mm_cvttps_epi32(qx)), y0 = _mm_cvtepi32_ps(_mm_cvttps_epi32(qy)),
+                   z0 = _mm_cvtepi32_ps(_mm_cvttps_epi32(qz));
+      _mm_store_ps(fx + j, _mm_sub_ps(qx, x0));
+      _mm_store_ps(fy + j, _mm_sub_ps(qy, y0));
+      _mm_store_ps(fz + j, _mm_sub_ps(qz, z0));
+      // The corner's sample index, exact in float (at most 33^3).
+      _mm_store_si128(reinterpret_cast<__m128i*>(at + j),
+                      _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(_mm_add_ps(_mm_mul_ps(z0, mf), y0), mf), x0)));
+    }
+    for (std::size_t j = 0; j < count; j += 4) {
+      for (std::size_t k = j + kAhead; k < std::min(count, j + kAhead + 4); ++k) {
+        const char* c = reinterpret_cast<const char*>(&v_[static_cast<std::size_t>(at[k]) * 4]);
+        _mm_prefetch(c, _MM_HINT_T0);
+        _mm_prefetch(c + dy * sizeof(float), _MM_HINT_T0);
+        _mm_prefetch(c + dz * sizeof(float), _MM_HINT_T0);
+        _mm_prefetch(c + (dz + dy) * sizeof(float), _MM_HINT_T0);
+      }
+      __m128 r[4];
+      for (std::size_t k = 0; k < 4; ++k) {
+        const float* c = &v_[static_cast<std::size_t>(at[j + k]) * 4];
+        const __m128 tx = _mm_set1_ps(fx[j + k]), ty = _mm_set1_ps(fy[j + k]), tz = _mm_set1_ps(fz[j + k]);
+        const __m128 c00 = lerp(_mm_loadu_ps(c), _mm_loadu_ps(c + 4), tx);
+        const __m128 c10 = lerp(_mm_loadu_ps(c + dy), _mm_loadu_ps(c + dy + 4), tx);
+        const __m128 c01 = lerp(_mm_loadu_ps(c + dz), _mm_loadu_ps(c + dz + 4), tx);
+        const __m128 c11 = lerp(_mm_loadu_ps(c + dz + dy), _mm_loadu_ps(c + dz + dy + 4), tx);
+        r[k] = _mm_mul_ps(vstrength, lerp(lerp(c00, c10, ty), lerp(c01, c11, ty), tz));
+      }
+      // Four (x, y, z, 0) rows into x, y and z columns.
+      _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
+      float* ux = UX + i + j;
+      float* uy = UY + i + j;
+      float* uz = UZ + i + j;
+      _mm_storeu_ps(ux, _mm_add_ps(_mm_loadu_ps(ux), r[0]));
+      _mm_storeu_ps(uy, _mm_add_ps(_mm_loadu_ps(uy), r[1]));
+      _mm_storeu_ps(uz, _mm_add_ps(_mm_loadu_ps(uz), r[2]));
+    }
+    i += count;
+  }
+#endif
+  for (; i < n; ++i) {
+    const glm::vec3 u = strength * sample(glm::vec3(X[i], Y[i], Z[i]) * scale + offset);
+    UX[i] += u.x, UY[i] += u.y, UZ[i] += u.z;
+  }
 }
 
 }  // namespace puff::sim::detail

@@ -4,10 +4,20 @@
 #pragma once
 
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include <glm/vec3.hpp>
+
+// The per-particle loops are compiled twice on x86-64: for the baseline (SSE2) and for AVX2, picked
+// when the program loads where the CPU has it. Neither contracts a multiply and an add into an FMA
+// (AVX2 does not include FMA), and every operation is IEEE-exact per lane, so both give the same bits.
+#if defined(__x86_64__) && defined(__ELF__) && (defined(__GNUC__) || defined(__clang__))
+#define PUFF_SIM_KERNEL [[gnu::target_clones("avx2", "default")]]
+#else
+#define PUFF_SIM_KERNEL
+#endif
 
 namespace puff::sim::detail {
 
@@ -53,6 +63,10 @@ class CurlField {
   CurlField(std::uint32_t seed, int n = 32, int noiseCells = 4);
   /// The field at `p` (tile space, any real value: the field repeats every 1), trilinear.
   glm::vec3 sample(const glm::vec3& p) const;
+  /// For i in [0, n): U[i] += strength * sample((X, Y, Z)[i] * scale + offset), the same arithmetic
+  /// as sample and so the same bits, with the lattice addressing done four points at a time.
+  void addSamples(const float* X, const float* Y, const float* Z, std::size_t n, float scale, const glm::vec3& offset,
+                  float strength, float* UX, float* UY, float* UZ) const;
   /// The analytic curl at `p` (no lattice): the exact divergence-free field, for tests.
   glm::vec3 exact(const glm::vec3& p) const;
   int resolution() const { return n_; }

@@ -2,7 +2,10 @@
 #include <puff/sim/simulator.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <limits>
+#include <thread>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -43,40 +46,137 @@ glm::vec3 Path::velocityAt(double t) const {
 
 // ---- the simulator -------------------------------------------------------------------------------
 
+namespace {
+
+// Particles moved together through air, integration, collisions and ageing while their arrays
+// stay in cache (14 arrays of 2048 floats: 112 KB, in the second-level cache), and the unit the
+// threads share the work out in. Measured on 50,000 particles (the bench's full case): 256 to
+// 8192 run alike on one thread; on two, 256 and 512 were 10-25% slower than 1024 to 4096.
+constexpr std::size_t kBlock = 2048;
+// Fewer particles than this per thread are not worth waking a thread for.
+constexpr std::size_t kMinPerThread = 4096;
+
+// Ages particles by h and marks in `keep` those that live on: finite and younger than their
+// lifetime. Returns how many do not, and how many of those are not finite in `nonFinite`.
+// Branch-free, so it vectorizes.
+PUFF_SIM_KERNEL std::size_t ageRange(const float* __restrict X, const float* __restrict Y, const float* __restrict Z,
+                                     const float* __restrict VX, const float* __restrict VY, const float* __restrict VZ,
+                                     const float* __restrict L, float h, float* __restrict A,
+                                     std::uint8_t* __restrict keep, std::size_t n, std::size_t& nonFinite) {
+  std::uint32_t gone = 0, bad = 0;  // 32-bit: with size_t counters GCC 12 does not vectorize the loop
+  for (std::size_t i = 0; i < n; ++i) {
+    const float a = A[i] + h;
+    // Finite: |x| <= max (false for infinities and NaN).
+    constexpr float kMax = std::numeric_limits<float>::max();
+    const bool finite = (std::abs(X[i]) <= kMax) & (std::abs(Y[i]) <= kMax) & (std::abs(Z[i]) <= kMax) &
+                        (std::abs(VX[i]) <= kMax) & (std::abs(VY[i]) <= kMax) & (std::abs(VZ[i]) <= kMax);
+    const bool lives = finite & (a < L[i]);
+    A[i] = a;
+    keep[i] = lives ? 1 : 0;
+    gone += lives ? 0 : 1;
+    bad += finite ? 0 : 1;
+  }
+  nonFinite = bad;
+  return gone;
+}
+
+}  // namespace
+
 void Simulator::Impl::advance(StepStats& st) {
   // Scene time: frame 0 is at 0, the preroll before it.
   const double t0 = static_cast<double>(step - prerollSteps) * h, t1 = static_cast<double>(step + 1 - prerollSteps) * h;
   const std::size_t n = size();
-  airAll(t0);
-  const bool haveMesh = !meshes.empty();
-  if (haveMesh) ox = px, oy = py, oz = pz;
-  integrate();
-  const float* prev[3] = {ox.data(), oy.data(), oz.data()};
-  if (!s.colliders.empty()) st.collisions += collide(0, n, prev, t0, t1);
-  // Age, and remove the dead and the non-finite, keeping the order.
-  const float hf = static_cast<float>(h);
-  std::size_t out = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const float a = age[i] + hf;
-    const bool finite = std::isfinite(px[i]) && std::isfinite(py[i]) && std::isfinite(pz[i]) && std::isfinite(vx[i]) &&
-                        std::isfinite(vy[i]) && std::isfinite(vz[i]);
-    if (!finite) ++st.nonFinite;
-    if (a >= life[i] || !finite) {
-      if (finite) ++st.died;
-      continue;
-    }
-    if (out != i) move(i, out);
-    age[out] = a;
-    ++out;
+  // What every particle reads, resolved once.
+  stepVortices = liveVortices(t0);
+  stepTurbulenceOffset = turbulenceOffset(t0);
+  prepareColliders(t0, t1);
+  ux.resize(n), uy.resize(n), uz.resize(n), radii.resize(n), keep.resize(n);
+  if (!meshes.empty()) ox.resize(n), oy.resize(n), oz.resize(n);
+  // Each thread takes blocks of kBlock particles in order from its own contiguous share (so the
+  // hardware prefetcher streams within it, not into another thread's blocks), then from the
+  // others' shares until none is left, so a thread the scheduler runs late takes fewer. Each
+  // particle is computed the same whichever thread takes its block; the counts are integers,
+  // summed in any order.
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  const int parts = static_cast<int>(
+      std::min<std::size_t>(static_cast<std::size_t>(threads), std::max<std::size_t>(1, n / kMinPerThread)));
+  struct alignas(64) Share {
+    std::atomic<std::size_t> next{0};
+    std::size_t end = 0;
+  };
+  std::vector<Share> shares(static_cast<std::size_t>(parts));
+  for (std::size_t t = 0; t < shares.size(); ++t) {
+    shares[t].next.store(blocks * t / shares.size(), std::memory_order_relaxed);
+    shares[t].end = blocks * (t + 1) / shares.size();
   }
-  resize(out);
+  std::vector<detail::BlockStats> counts(static_cast<std::size_t>(parts));
+  auto part = [&](int t) {
+    detail::BlockStats mine;
+    for (std::size_t k = 0; k < shares.size(); ++k) {
+      Share& share = shares[(static_cast<std::size_t>(t) + k) % shares.size()];
+      for (std::size_t b = share.next.fetch_add(1, std::memory_order_relaxed); b < share.end;
+           b = share.next.fetch_add(1, std::memory_order_relaxed)) {
+        const detail::BlockStats c = moveRange(b * kBlock, std::min(n, (b + 1) * kBlock));
+        mine.collisions += c.collisions, mine.died += c.died, mine.nonFinite += c.nonFinite;
+      }
+    }
+    counts[static_cast<std::size_t>(t)] = mine;
+  };
+  if (workers && parts > 1)
+    workers->run(parts, part);
+  else
+    part(0);
+  std::size_t removed = 0;
+  for (const detail::BlockStats& c : counts) {
+    st.collisions += c.collisions, st.died += c.died, st.nonFinite += c.nonFinite;
+    removed += c.died + c.nonFinite;
+  }
+  if (removed > 0) compact();
   const std::size_t before = size();
   ox.clear(), oy.clear(), oz.clear();
   spawn(t0, t1, st);
   const float* born[3] = {ox.data(), oy.data(), oz.data()};
-  if (!s.colliders.empty()) st.collisions += collide(before, size(), born, t0, t1);
+  if (!s.colliders.empty() && size() > before) {
+    radii.resize(size());
+    st.collisions += collide(before, size(), born);
+  }
   shedVortices(t0, t1);
   ++step;
+}
+
+detail::BlockStats Simulator::Impl::moveRange(std::size_t begin, std::size_t end) {
+  detail::BlockStats out;
+  const float hf = static_cast<float>(h);
+  const bool haveMesh = !meshes.empty();
+  for (std::size_t b = begin; b < end; b += kBlock) {
+    const std::size_t e = std::min(end, b + kBlock);
+    airRange(b, e);
+    if (haveMesh) {  // where the particles start, for the mesh colliders' segment test
+      std::copy(px.begin() + b, px.begin() + e, ox.begin() + b);
+      std::copy(py.begin() + b, py.begin() + e, oy.begin() + b);
+      std::copy(pz.begin() + b, pz.begin() + e, oz.begin() + b);
+    }
+    integrateRange(b, e);
+    if (!s.colliders.empty()) {
+      const float* prev[3] = {ox.data() + b, oy.data() + b, oz.data() + b};
+      out.collisions += collide(b, e, prev);
+    }
+    std::size_t nonFinite = 0;
+    const std::size_t dead =
+        ageRange(px.data() + b, py.data() + b, pz.data() + b, vx.data() + b, vy.data() + b, vz.data() + b,
+                 life.data() + b, hf, age.data() + b, keep.data() + b, e - b, nonFinite);
+    out.nonFinite += nonFinite;
+    out.died += dead - nonFinite;
+  }
+  return out;
+}
+
+void Simulator::Impl::setThreads(int count) {
+  const int resolved = count > 0 ? count : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  s.threads = count;
+  if (resolved == threads && (resolved == 1 || workers)) return;
+  threads = resolved;
+  workers = resolved > 1 ? std::make_unique<detail::Workers>(resolved) : nullptr;
 }
 
 void Simulator::Impl::clear() {
@@ -86,17 +186,27 @@ void Simulator::Impl::clear() {
   shed.clear();
 }
 
-void Simulator::Impl::move(std::size_t from, std::size_t to) {
-  for (auto* v : {&px, &py, &pz, &vx, &vy, &vz, &age, &life, &size0, &density0, &qx, &qy, &qz, &qw, &wx, &wy, &wz})
-    (*v)[to] = (*v)[from];
-  variation[to] = variation[from], oriented[to] = oriented[from];
-  emitterOf[to] = emitterOf[from], id[to] = id[from];
+namespace {
+
+// Keeps the entries whose flag is set, in order; returns how many.
+template <class T>
+std::size_t keepFlagged(std::vector<T>& v, const std::vector<std::uint8_t>& keep) {
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < keep.size(); ++i) {
+    v[out] = v[i];
+    out += keep[i];
+  }
+  v.resize(out);
+  return out;
 }
 
-void Simulator::Impl::resize(std::size_t n) {
+}  // namespace
+
+void Simulator::Impl::compact() {
   for (auto* v : {&px, &py, &pz, &vx, &vy, &vz, &age, &life, &size0, &density0, &qx, &qy, &qz, &qw, &wx, &wy, &wz})
-    v->resize(n);
-  variation.resize(n), oriented.resize(n), emitterOf.resize(n), id.resize(n);
+    keepFlagged(*v, keep);
+  keepFlagged(variation, keep), keepFlagged(oriented, keep);
+  keepFlagged(emitterOf, keep), keepFlagged(id, keep);
 }
 
 Simulator::Simulator() : impl_(std::make_unique<Impl>()) {}
@@ -116,6 +226,7 @@ Result<std::unique_ptr<Simulator>> Simulator::create(Settings settings, int vari
     if (c.type == Collider::Type::kMesh) m.meshes.emplace_back(c);
   }
   m.prepareTurbulence();
+  m.setThreads(m.s.threads);
   sim->reset();
   return sim;
 }
@@ -146,6 +257,16 @@ Result<void> Simulator::setForces(const Forces& forces) {
   impl_->prepareTurbulence();
   return {};
 }
+
+Result<void> Simulator::setThreads(int threads) {
+  if (threads < 0 || threads > kMaxThreads)
+    return Error{"threads: expected an integer in [0, " + std::to_string(kMaxThreads) + "], got " +
+                 std::to_string(threads)};
+  impl_->setThreads(threads);
+  return {};
+}
+
+int Simulator::threads() const { return impl_->threads; }
 
 const Settings& Simulator::settings() const { return impl_->s; }
 double Simulator::time() const { return static_cast<double>(impl_->step - impl_->prerollSteps) * impl_->h; }

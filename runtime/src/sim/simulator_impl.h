@@ -1,7 +1,13 @@
 // Private to puff::sim: the simulator's state (Simulator::Impl) and the pieces its files share.
 // simulator.cpp steps it and keeps the arrays; forces.cpp works out the air and integrates;
 // colliders.cpp puts particles back outside the colliders; emit.cpp gives birth to particles and
-// sheds the moving vortices' wakes.
+// sheds the moving vortices' wakes; workers.h is the thread pool.
+//
+// A step resolves what is shared (live vortices, turbulence offset, colliders where they are) once,
+// then moves the particles in blocks: air, integration, collisions and ageing run on one block
+// while it is in cache, and the blocks are split between threads. Every per-particle operation
+// reads and writes only that particle, so the result does not depend on the split; counts are
+// integers summed after. Births, removal and shedding stay serial.
 #pragma once
 
 #include <cstdint>
@@ -10,9 +16,11 @@
 
 #include <puff/sim/simulator.h>
 #include <glm/common.hpp>
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 #include "curl_noise.h"
+#include "workers.h"
 
 namespace puff::sim {
 
@@ -54,6 +62,23 @@ struct LiveVortex {
   float cutoff2;  // beyond this squared distance it adds nothing worth computing
 };
 
+// A collider resolved for one step: where it is and its frame.
+struct StepCollider {
+  Collider::Type type = Collider::Type::kPlane;
+  glm::mat3 frame{1.0f};  // plane: world to local (rows: x, normal, z); box: local to world
+  glm::vec3 center{0.0f}, halfExtent{0.0f};
+  glm::vec3 up{0.0f};  // sphere: the way out from its very centre
+  float keep = 1.0f;   // 1 - friction
+  // Meshes: which one, its offset at the step's start and end, and its velocity.
+  std::size_t mesh = 0;
+  glm::vec3 offset0{0.0f}, offset1{0.0f}, velocity{0.0f};
+};
+
+// What one block of particles counted.
+struct BlockStats {
+  std::size_t collisions = 0, died = 0, nonFinite = 0;
+};
+
 }  // namespace detail
 
 struct Simulator::Impl {
@@ -72,16 +97,29 @@ struct Simulator::Impl {
   std::vector<float> qx, qy, qz, qw, wx, wy, wz;  // birth orientation, angular velocity
   std::vector<std::uint8_t> variation, oriented;
   std::vector<std::uint32_t> emitterOf, id;  // which emitter; a hash of (seed, emitter, birth index)
-  // Scratch: air velocity, previous position.
+  // Scratch, one entry per particle: air velocity, previous position, collision radius, and
+  // whether the particle lives on after this step.
   std::vector<float> ux, uy, uz, ox, oy, oz, radii;
+  std::vector<std::uint8_t> keep;
+
+  // Threads (Settings::threads resolved, >= 1) and the pool of the threads past the first.
+  int threads = 1;
+  std::unique_ptr<detail::Workers> workers;
+
+  // Resolved once per step, read by every block.
+  std::vector<detail::LiveVortex> stepVortices;
+  glm::vec3 stepTurbulenceOffset{0.0f};
+  std::vector<detail::StepCollider> stepColliders;
 
   std::size_t size() const { return px.size(); }
 
-  // simulator.cpp: one step, and the arrays.
+  // simulator.cpp: one step, the threads, and the arrays.
   void advance(StepStats& st);
+  void setThreads(int count);
+  // Particles [begin, end) through the step: air, integration, collisions, ageing (in blocks).
+  detail::BlockStats moveRange(std::size_t begin, std::size_t end);
   void clear();
-  void move(std::size_t from, std::size_t to);
-  void resize(std::size_t n);
+  void compact();  // drops the particles whose `keep` is 0, keeping the order
 
   // forces.cpp: the air and the integrator.
   void prepareTurbulence();
@@ -89,11 +127,15 @@ struct Simulator::Impl {
   float turbulenceInvTile() const;
   glm::vec3 turbulenceOffset(double t) const;
   glm::vec3 air(const glm::vec3& p, double t, const std::vector<detail::LiveVortex>& vortices) const;
-  void airAll(double t);
-  void integrate();
+  // The air at particles [begin, end) into ux/uy/uz, from stepVortices and stepTurbulenceOffset.
+  void airRange(std::size_t begin, std::size_t end);
+  void integrateRange(std::size_t begin, std::size_t end);
 
-  // colliders.cpp
-  std::size_t collide(std::size_t begin, std::size_t end, const float* const* prev, double t0, double t);
+  // colliders.cpp: stepColliders for the step t0 -> t1, then the contacts of particles
+  // [begin, end) (their radii into `radii`). `prev` (x, y, z arrays indexed from `begin`) is
+  // where the particles were before they moved, for the mesh colliders.
+  void prepareColliders(double t0, double t1);
+  std::size_t collide(std::size_t begin, std::size_t end, const float* const* prev);
 
   // emit.cpp
   void spawn(double t0, double t1, StepStats& st);

@@ -166,6 +166,8 @@ Result<void> validate(const Settings& s) {
            static_cast<double>(s.maxParticles));
   }
   c.range("/collisionRadius", s.collisionRadius, 0.0f, 1.0f);
+  if (c.ok() && (s.threads < 0 || s.threads > kMaxThreads))
+    c.fail("/threads", "an integer in [0, " + std::to_string(kMaxThreads) + "]", s.threads);
   checkForces(c, s.forces, "/forces");
   for (std::size_t i = 0; i < s.emitters.size(); ++i) checkEmitter(c, s.emitters[i], "/emitters/" + std::to_string(i));
   for (std::size_t i = 0; i < s.colliders.size(); ++i) {

@@ -23,6 +23,11 @@
 // counted in whole steps, so a frame depends only on the settings and its number: frame k is
 // reached by simulating from the start (reset + advanceToFrame), bit-identical on one machine.
 //
+// Threads. Settings::threads (or setThreads) splits each step's particles between threads. Every
+// particle's air, integration, collisions and ageing read and write only that particle, counts
+// are integers, and births, removal and vortex shedding stay on the calling thread, so the state
+// after any number of steps is bit-identical for every thread count.
+//
 // Storage is structure-of-arrays; stepping touches only the arrays it needs.
 #pragma once
 
@@ -172,6 +177,10 @@ struct Settings {
   std::size_t maxParticles = 200'000;  ///< budget; births beyond it are dropped (counted)
   float collisionRadius = 0.5f;        ///< share of a particle's radius that collides, [0, 1]
   Integrator integrator = Integrator::kExponential;
+  /// Threads a step runs on, [0, kMaxThreads]; 0 = std::thread::hardware_concurrency(). Changes
+  /// the speed only: the results are bit-identical for every count (see "Threads" above). Scene
+  /// files do not store it.
+  int threads = 1;
   Forces forces;
   std::vector<Emitter> emitters;
   std::vector<Collider> colliders;
@@ -180,6 +189,9 @@ struct Settings {
 
 /// The most particles a budget may ask for (about 64 bytes each: 1.3 GB).
 constexpr std::size_t kMaxParticleBudget = 20'000'000;
+
+/// The most threads a simulator may be given.
+constexpr int kMaxThreads = 256;
 
 /// The largest magnitude any position, velocity, strength or acceleration may have (world units,
 /// seconds): beyond it float arithmetic would lose the particles.
@@ -229,6 +241,11 @@ class Simulator {
   /// Replaces the forces (live editing); the particles keep going under the new ones. Invalid
   /// forces are refused (as validate words it) and the old ones kept.
   Result<void> setForces(const Forces& forces);
+  /// Changes Settings::threads (0 = hardware concurrency) from the next step on; the particles are
+  /// kept, and the results are the same as with any other count. Refuses a count outside
+  /// [0, kMaxThreads].
+  Result<void> setThreads(int threads);
+  int threads() const;  ///< the threads a step runs on now (0 resolved), >= 1
   const Settings& settings() const;
 
   /// Scene time in seconds: frame f is at f / fps; negative during the preroll.
