@@ -30,7 +30,7 @@ auto mediaKey(const Scene& s) {
 }  // namespace
 
 Result<std::unique_ptr<FrameEvaluator>> FrameEvaluator::create(const Scene& scene, const SceneGeometry& geometry,
-                                                               int variations, bool media) {
+                                                               int variations, bool media, int threads) {
   std::unique_ptr<FrameEvaluator> e(new FrameEvaluator());
   e->scene_ = scene;
   e->variations_ = variations;
@@ -38,6 +38,7 @@ Result<std::unique_ptr<FrameEvaluator>> FrameEvaluator::create(const Scene& scen
   auto settings = simulationSettings(scene, geometry);
   if (!settings) return settings.error();
   if (*settings) {
+    (*settings)->threads = threads;
     // Particles carry an 8-bit variation (cel::Particle): emitters pick among the first 256.
     auto sim = sim::Simulator::create(std::move(**settings), std::clamp(variations, 1, 256));
     if (!sim) return Error::at(scene.file, "/simulation" + sim.error().message);
@@ -47,6 +48,7 @@ Result<std::unique_ptr<FrameEvaluator>> FrameEvaluator::create(const Scene& scen
     auto mediaSettings = mediaSimulationSettings(scene, geometry);
     if (!mediaSettings) return mediaSettings.error();
     if (*mediaSettings) {
+      (*mediaSettings)->threads = threads;
       auto sim = sim::Simulator::create(std::move(**mediaSettings), 1);
       if (!sim) return Error::at(scene.file, "/media" + sim.error().message);
       e->mediaSim_ = std::move(*sim);

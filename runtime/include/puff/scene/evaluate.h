@@ -97,9 +97,11 @@ class FrameEvaluator {
  public:
   /// `variations`: the atlas's variation count (cel particles pick among the first min(n, 256)), or
   /// 0 when the scene draws no cel particles. `media`: evaluate the fire, smoke and dust too (a path
-  /// that does not draw them skips their simulation). Errors name the scene field or the collider mesh.
+  /// that does not draw them skips their simulation). `threads`: what the simulators step on
+  /// (sim::Settings::threads; 0, the default, the hardware's threads): the frames are bit-identical
+  /// for every count. Errors name the scene field or the collider mesh.
   static Result<std::unique_ptr<FrameEvaluator>> create(const Scene& scene, const SceneGeometry& geometry,
-                                                        int variations, bool media = true);
+                                                        int variations, bool media = true, int threads = 0);
   ~FrameEvaluator();
 
   /// The reload rule: whether `next` needs a new evaluator. It does when anything that places or
