@@ -11,10 +11,10 @@
 // and ends with glFinish(). Per case: the floor, the nailboards and full-map alternate frame by
 // frame (so a load change on a shared machine hits all), 2 warm-up rounds, then the median of
 // --reps rounds. full-map is also timed pass by pass (full-map.casters: clear, uploads and the
-// light's pass; full-map.lit: the lit pass). The volumes' full frame follows, timed pass by pass (glFinish between its passes; --no-split drops them)
-// to show which pass dominates. It is slow on llvmpipe, so: a first frame over 2 s gets 1 warm-up
-// and at most 3 timed frames; over 15 s that first frame is the only one; and a case whose frame
-// is predicted (from the last measured full frame, scaled by particles x pixels) to exceed
+// light's pass; full-map.lit: the lit pass). The volumes' full frame follows, timed pass by pass (glFinish between its
+// passes; --no-split drops them) to show which pass dominates. It is slow on llvmpipe, so: a first frame over 2 s gets
+// 1 warm-up and at most 3 timed frames; over 15 s that first frame is the only one; and a case whose frame is predicted
+// (from the last measured full frame, scaled by particles x pixels) to exceed
 // --max-frame-s is skipped and written with its prediction instead of a time.
 //
 // Overdraw is the same at every count: particles fill a box seen at view-axis distances
@@ -430,9 +430,9 @@ int main(int argc, char** argv) {
       checkGl("floor, nailboards or full-map");
       for (std::size_t k = 0; k < fast.size(); ++k) {
         addRow(kMethodNames[static_cast<int>(fast[k])], fastTimes[k],
-               fast[k] == Method::kFullMap ? "map " + std::to_string(shadowMap.plan().width) + "x" +
-                                                 std::to_string(shadowMap.plan().height)
-                                           : std::string());
+               fast[k] == Method::kFullMap
+                   ? "map " + std::to_string(shadowMap.plan().width) + "x" + std::to_string(shadowMap.plan().height)
+                   : std::string());
         if (fast[k] == Method::kFullMap && split) {
           addRow("full-map.casters", mapPasses[0], "clear + uploads + the casters into the map inside full-map");
           addRow("full-map.lit", mapPasses[1], "lit nailboards looking up the map inside full-map");
@@ -506,8 +506,8 @@ int main(int argc, char** argv) {
   if (!bench::writeCsv("puff_bench_cel", csvPath, csv)) return 1;
 
   // The table: per count and size, each method's median and its ratio to the floor.
-  std::fprintf(stderr, "\n%9s %5s %9s %20s %20s %20s %20s %5s\n", "particles", "size", "floor ms",
-               "nailboards ms (x)", "full-map ms (x)", "full-volumes ms (x)", "volume pass ms (x)", "B/p");
+  std::fprintf(stderr, "\n%9s %5s %9s %20s %20s %20s %20s %5s\n", "particles", "size", "floor ms", "nailboards ms (x)",
+               "full-map ms (x)", "full-volumes ms (x)", "volume pass ms (x)", "B/p");
   auto cell = [](const Row* r) {
     char b[64];
     if (!r || r->reps == 0)

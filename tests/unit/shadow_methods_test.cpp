@@ -59,8 +59,7 @@ class ShadowMethods : public test::SphereAtlasTest {
   }
 
   static nlohmann::json style(Method m, nlohmann::json extra = nlohmann::json::object()) {
-    nlohmann::json s = {{"preset", "cel-shadows"},
-                        {"shadowMethod", m == Method::kMap ? "map" : "volumes"}};
+    nlohmann::json s = {{"preset", "cel-shadows"}, {"shadowMethod", m == Method::kMap ? "map" : "volumes"}};
     for (auto& [k, v] : extra.items()) s[k] = v;
     return s;
   }
@@ -69,8 +68,8 @@ class ShadowMethods : public test::SphereAtlasTest {
     auto scene = scene::parseScene(j, dir_ / "scene.json");
     EXPECT_OK(scene);
     if (!scene) return {};
-    auto renderer =
-        eval::createRenderer(*scene, m == Method::kReference ? render::RenderPath::kReference : render::RenderPath::kCel);
+    auto renderer = eval::createRenderer(
+        *scene, m == Method::kReference ? render::RenderPath::kReference : render::RenderPath::kCel);
     EXPECT_OK(renderer);
     if (!renderer) return {};
     auto image = (*renderer)->renderFrame(0);
@@ -82,9 +81,7 @@ class ShadowMethods : public test::SphereAtlasTest {
   static glm::vec2 ground(int x, int y) {
     return {(x + 0.5f - kPx / 2.0f) / kPxPerUnit, (y + 0.5f - kPx / 2.0f) / kPxPerUnit};
   }
-  static bool shadowed(const core::Image& im, int x, int y) {
-    return std::abs(im.at(x, y, 0) - kAmbient) < 0.1f;
-  }
+  static bool shadowed(const core::Image& im, int x, int y) { return std::abs(im.at(x, y, 0) - kAmbient) < 0.1f; }
 };
 
 // IoU of the shadowed ground pixels with `inside` over the pixels `counted` keeps.
@@ -235,7 +232,8 @@ TEST_F(ShadowMethods, MapScaleTradesSharpnessNotPlace) {
         Method::kMap);
     ASSERT_EQ(im.width, kPx);
     auto counted = [&](int x, int y) { return glm::length(ground(x, y)) > R + 3.0f / kPxPerUnit; };
-    const double iou = shadowIoU(im, [&](int x, int y) { return ellipse(x, y) < 1.0f; }, counted);
+    const double iou = shadowIoU(
+        im, [&](int x, int y) { return ellipse(x, y) < 1.0f; }, counted);
     EXPECT_GE(iou, scale < 1.0f ? 0.8 : 0.9) << "scale " << scale;
     EXPECT_GE(iou, previous - 0.01) << "finer maps are no worse: scale " << scale;
     previous = iou;
@@ -290,14 +288,16 @@ TEST(ShadowMapPlan, ResolutionFollowsTheScreenAndIsCapped) {
 
 class ObjectShadows : public ShadowMethods, public ::testing::WithParamInterface<Method> {};
 
-// A thin square slab (side S, 0.02 thick: a box's scale is its half extents; at height H) between the light and the ground: its shadow is the
-// square moved H l_xz / l_y across the ground (its thickness adds under a pixel at these angles).
+// A thin square slab (side S, 0.02 thick: a box's scale is its half extents; at height H) between the light and the
+// ground: its shadow is the square moved H l_xz / l_y across the ground (its thickness adds under a pixel at these
+// angles).
 TEST_P(ObjectShadows, AnObjectShadowsTheGround) {
   const Method m = GetParam();
   const float S = 1.5f, H = 1.5f;
   for (const glm::vec3& dir : {glm::vec3(0.5f, 1, 0.2f), glm::vec3(-0.3f, 1, -0.6f)}) {
     const glm::vec3 l = glm::normalize(dir);
-    const nlohmann::json slab = {{{"type", "box"}, {"translate", {0, H, 0}}, {"scale", {0.5 * S, 0.01, 0.5 * S}}, {"albedo", {1, 1, 1}}}};
+    const nlohmann::json slab = {
+        {{"type", "box"}, {"translate", {0, H, 0}}, {"scale", {0.5 * S, 0.01, 0.5 * S}}, {"albedo", {1, 1, 1}}}};
     const core::Image im = render(groundScene(l, style(m), nlohmann::json::array(), slab), m);
     ASSERT_EQ(im.width, kPx);
     const glm::vec2 shift = -H * glm::vec2(l.x, l.z) / l.y;
@@ -322,12 +322,13 @@ TEST_P(ObjectShadows, AnObjectShadowsTheGround) {
 // only); without the slab it is lit.
 TEST_P(ObjectShadows, AnObjectShadowsAPuff) {
   const Method m = GetParam();
-  const nlohmann::json slab = {{{"type", "box"}, {"translate", {0, 3, 0}}, {"scale", {3, 0.05, 3}}, {"albedo", {1, 1, 1}}}};
+  const nlohmann::json slab = {
+      {{"type", "box"}, {"translate", {0, 3, 0}}, {"scale", {3, 0.05, 3}}, {"albedo", {1, 1, 1}}}};
   const nlohmann::json puff = {{{"position", {0, 1, 0}}, {"size", 1.6}}};
   nlohmann::json j = groundScene(glm::vec3(0.05f, 1, 0.1f), style(m, {{"shading", false}}), puff, slab);
   // Seen from the side, below the slab.
-  j["camera"] = {{"position", {0, 1, 10}}, {"target", {0, 1, 0}}, {"fovY", 0}, {"orthoHeight", 8}, {"near", 1},
-                 {"far", 20}};
+  j["camera"] = {{"position", {0, 1, 10}}, {"target", {0, 1, 0}}, {"fovY", 0},
+                 {"orthoHeight", 8},       {"near", 1},           {"far", 20}};
   const core::Image with = render(j, m);
   j["objects"] = nlohmann::json::array({j["objects"][1]});  // the ground alone
   const core::Image without = render(j, m);

@@ -49,8 +49,8 @@ int chooseMediaResolution(const Options& o, scene::Scene& scene, const Plan& pla
 }
 
 // On a scene with cel particles: measures one of the nailboards' run-time parameters (the share of
-// the emitters' particles, the atlas level, or the shadow method and map scale) against the cel reference of the full model and sets
-// the cheapest within the budget on `scene`.
+// the emitters' particles, the atlas level, or the shadow method and map scale) against the cel reference of the full
+// model and sets the cheapest within the budget on `scene`.
 int chooseCelModel(const Options& o, scene::Scene& scene, const Plan& plan, eval::CelKnob knob,
                    std::vector<core::Image>* references) {
   const std::vector<int> frames = eval::budgetFrames(plan.first, plan.last);
@@ -118,8 +118,7 @@ int chooseModel(const Options& o, scene::Scene& scene, const Plan& plan) {
       return code;
     // Then the shadows those particles cast: the method and the map's resolution.
     if (scene.style.shadows) {
-      if (const int code = chooseCelModel(o, scene, plan, eval::CelKnob::kShadows, &references); code != 0)
-        return code;
+      if (const int code = chooseCelModel(o, scene, plan, eval::CelKnob::kShadows, &references); code != 0) return code;
     }
   }
   if (scene.media) {

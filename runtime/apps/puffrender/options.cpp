@@ -112,14 +112,14 @@ void addRenderOptions(CLI::App& app, Options& o) {
   app.add_option("--shader-dir", o.shaderDir, "Read shaders from this directory instead of the built-in copies");
   app.add_option("--style", o.style, "Render with this style preset instead of the scene's style: " + presetList)
       ->check(CLI::IsMember(presets));
-  app.add_option(
-         "--path", o.path,
-         "Render path: cel (programmable GL 4.5: nailboards, flange outlines, shadow maps or volumes; falls back to fixed, "
-         "saying so, when the context cannot run it) or fixed (GL 1.x fixed function, McGuire & Fein 4.4: one "
-         "light, uniform ambient, no shadows) or reference (the image the nailboards approximate: every "
-         "particle's actual puff mesh, Eq. 2 per pixel, outlines around the true silhouettes, exact shadows; "
-         "supersampled 3x3 and slow; media by the physical reference: the particles' summed density fields "
-         "integrated along every ray on the CPU, seconds per frame). Default: cel")
+  app.add_option("--path", o.path,
+                 "Render path: cel (programmable GL 4.5: nailboards, flange outlines, shadow maps or volumes; falls "
+                 "back to fixed, "
+                 "saying so, when the context cannot run it) or fixed (GL 1.x fixed function, McGuire & Fein 4.4: one "
+                 "light, uniform ambient, no shadows) or reference (the image the nailboards approximate: every "
+                 "particle's actual puff mesh, Eq. 2 per pixel, outlines around the true silhouettes, exact shadows; "
+                 "supersampled 3x3 and slow; media by the physical reference: the particles' summed density fields "
+                 "integrated along every ray on the CPU, seconds per frame). Default: cel")
       ->check(CLI::IsMember({"cel", "fixed", "reference"}));
 }
 
@@ -280,7 +280,8 @@ std::variant<Options, int> parse(int argc, char** argv) {
   Options o;
   CLI::App app{
       "puffrender: renders a scene file (JSON: camera, light, style, particles, emitters, objects; see "
-      "docs/scene-format.md) with cel-shaded nailboards, outlines and shadows (a shadow map, or billboard shadow volumes: McGuire & Fein "
+      "docs/scene-format.md) with cel-shaded nailboards, outlines and shadows (a shadow map, or billboard shadow "
+      "volumes: McGuire & Fein "
       "2006) into a PNG or EXR image, or a numbered image sequence.",
       cli::name()};
   app.set_version_flag("--version", "puffrender 0.1.0");

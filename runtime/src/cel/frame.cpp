@@ -74,8 +74,7 @@ void FrameBlock::upload(const Frame& frame) {
   d.cameraWorld = d.invView[3];
   d.ambientMode = glm::ivec4(frame.ambientGradient ? 1 : 0, 0, 0, 0);
   d.shadowMatrix = frame.shadow.worldToMap;
-  d.shadowParams =
-      glm::vec4(frame.shadow.enabled ? 1.0f : 0.0f, frame.shadow.tolerance, frame.shadow.length, 0.0f);
+  d.shadowParams = glm::vec4(frame.shadow.enabled ? 1.0f : 0.0f, frame.shadow.tolerance, frame.shadow.length, 0.0f);
   glNamedBufferSubData(buffer_.get(), 0, sizeof d, &d);
   bind();
 }

@@ -52,9 +52,9 @@ constexpr std::uint32_t kObjectIdBase = 0x80000000u;
 /// The map for one frame: the light's frame the casters are drawn with, its size, and the lookup the
 /// receivers' frame carries. A pure function of its inputs (no GL): chooseShadowMap.
 struct ShadowMapPlan {
-  Frame light;          ///< orthographic along the light; viewport = the map
+  Frame light;  ///< orthographic along the light; viewport = the map
   int width = 0, height = 0;
-  ShadowLookup lookup;  ///< for the eye's Frame::shadow
+  ShadowLookup lookup;         ///< for the eye's Frame::shadow
   float texelsPerUnit = 0.0f;  ///< world resolution of the map
 };
 

@@ -146,17 +146,18 @@ struct CelCandidate {
   std::size_t atlasBytes = 0;     ///< core::atlasTextureBytes at that level
   cel::ShadowMethod shadowMethod = cel::ShadowMethod::kMap;  ///< the scene's Style::shadowMethod
   float shadowMapScale = 1.0f;                               ///< the scene's Style::shadowMapScale
-  std::vector<double> rmse;       ///< per measured frame, display values (both frames through the standard view)
+  std::vector<double> rmse;  ///< per measured frame, display values (both frames through the standard view)
   double worstRmse = 0.0;
   double medianMs = 0.0;  ///< median wall time of one render::SceneRenderer::renderFrame, milliseconds
 };
 
 struct CelBudget {
   CelKnob knob = CelKnob::kAtlasLevel;
-  std::vector<int> frames;               ///< the frames measured, ascending
-  std::vector<CelCandidate> candidates;  ///< cheapest first: fewest particles / smallest atlas / fastest measured (shadows)
-  double referenceMs = 0.0;              ///< wall time spent rendering the references (0: reused)
-  std::vector<core::Image> references;   ///< the full model's reference of each frame (for reuse)
+  std::vector<int> frames;  ///< the frames measured, ascending
+  std::vector<CelCandidate>
+      candidates;            ///< cheapest first: fewest particles / smallest atlas / fastest measured (shadows)
+  double referenceMs = 0.0;  ///< wall time spent rendering the references (0: reused)
+  std::vector<core::Image> references;  ///< the full model's reference of each frame (for reuse)
 };
 
 /// The particle fractions measured, cheapest first.
