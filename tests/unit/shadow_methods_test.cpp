@@ -261,8 +261,8 @@ TEST(ShadowMapPlan, ResolutionFollowsTheScreenAndIsCapped) {
   EXPECT_TRUE(p.lookup.enabled);
   st.shadowMapScale = 4.0f;
   const cel::ShadowMapPlan fine = cel::chooseShadowMap(eye, box, st, 100);
-  EXPECT_EQ(fine.width, 100);  // 128 wanted, capped
-  EXPECT_NEAR(fine.texelsPerUnit, 50.0f, 1e-3f);
+  EXPECT_EQ(fine.width, 100);                      // 128 wanted, capped (a texel spare for the lattice)
+  EXPECT_NEAR(fine.texelsPerUnit, 49.5f, 1e-3f);  // 99 texels over the box's 2 units
   // The corners of the box land inside the map, and its middle in the middle.
   const glm::vec4 c = p.lookup.worldToMap * glm::vec4(0, 0, 0, 1);
   EXPECT_NEAR(c.x, 0.0f, 1e-5f);
@@ -282,7 +282,25 @@ TEST(ShadowMapPlan, ResolutionFollowsTheScreenAndIsCapped) {
   cam.fovYDegrees = 90.0f;
   const cel::Frame persp = cel::Frame::fromCamera(cam, 128, 128);
   st.shadowMapScale = 1.0f;
-  EXPECT_NEAR(cel::chooseShadowMap(persp, box, st).texelsPerUnit, 0.5f * 128.0f / 10.0f, 1e-3f);
+  // 6.4 pixels per unit, rounded to a quarter octave: 2^(11/4) = 6.73.
+  EXPECT_NEAR(cel::chooseShadowMap(persp, box, st).texelsPerUnit, std::exp2(11.0f / 4.0f), 1e-3f);
+  // The lattice is fixed to the world: casters moved by 10.3 texels along x move the region by whole
+  // texels, and the resolution does not change.
+  cel::Bounds moved;
+  moved.add(glm::vec3(-1 + 10.3f / 16.0f, -1, -1));
+  moved.add(glm::vec3(1 + 10.3f / 16.0f, 1, 1));
+  const cel::ShadowMapPlan q = cel::chooseShadowMap(eye, moved, st);
+  EXPECT_EQ(q.texelsPerUnit, p.texelsPerUnit);
+  const glm::vec4 a = p.lookup.worldToMap * glm::vec4(0.5f, 0.25f, 0, 1);
+  const glm::vec4 b = q.lookup.worldToMap * glm::vec4(0.5f, 0.25f, 0, 1);
+  // The same world point's texel coordinates in both maps differ by whole texels.
+  auto texel = [](const glm::vec4& ndc, const cel::ShadowMapPlan& plan) {
+    return glm::vec2((ndc.x * 0.5f + 0.5f) * plan.width, (ndc.y * 0.5f + 0.5f) * plan.height);
+  };
+  const glm::vec2 shift = texel(a, p) - texel(b, q);
+  EXPECT_NEAR(shift.x, std::round(shift.x), 2e-3f) << "whole texels";
+  EXPECT_NEAR(std::abs(shift.x), 10.0f, 1.0f);
+  EXPECT_NEAR(shift.y, 0.0f, 2e-3f);
   EXPECT_FALSE(cel::chooseShadowMap(eye, cel::Bounds{}, st).lookup.enabled);
 }
 

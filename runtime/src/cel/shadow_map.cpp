@@ -40,7 +40,11 @@ ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Sty
   const glm::vec3 lo = none ? glm::vec3(-0.5f) : casters.lo, hi = none ? glm::vec3(0.5f) : casters.hi;
   const glm::vec3 centre = 0.5f * (lo + hi);
   const float radius = std::max(1e-3f, 0.5f * glm::length(hi - lo));
-  const glm::mat4 view = glm::lookAt(centre + (radius + 1.0f) * l, centre, up);
+  // The light's eye on the line through the world's origin along the light: x and y in its frame
+  // are then fixed to the world (only its distance moves with the casters), so the texel lattice
+  // below does not slide when the casters do.
+  const float along = glm::dot(centre, l) + radius + 1.0f;
+  const glm::mat4 view = glm::lookAt(along * l, (along - 1.0f) * l, up);
 
   // The casters' box in the light's frame: x, y across the light, dist along it.
   glm::vec2 xyLo(std::numeric_limits<float>::max()), xyHi(std::numeric_limits<float>::lowest());
@@ -63,19 +67,25 @@ ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Sty
     pxPerUnit /= std::max(eye.nearPlane, dist);
   }
   const float scale = std::clamp(style.shadowMapScale, 0.125f, 4.0f);
-  float t = std::max(1e-6f, scale * pxPerUnit);
+  // Quantized to quarter octaves, so a camera moving smoothly changes the map's resolution in steps
+  // of 19%, not every frame (a changing resolution makes shadow edges swim).
+  float t = std::exp2(std::round(std::log2(std::max(1e-6f, scale * pxPerUnit)) * 4.0f) / 4.0f);
   const glm::vec2 extent = glm::max(xyHi - xyLo, glm::vec2(1e-4f));
   const float largest = std::max(extent.x, extent.y);
-  if (largest * t > static_cast<float>(maxSize)) t = static_cast<float>(maxSize) / largest;
-  const int w = std::clamp(static_cast<int>(std::ceil(extent.x * t)), 16, maxSize);
-  const int h = std::clamp(static_cast<int>(std::ceil(extent.y * t)), 16, maxSize);
-  // The region grows to whole texels around the box's middle, so texels are square.
-  const glm::vec2 mid = 0.5f * (xyLo + xyHi), half = 0.5f * glm::vec2(w, h) / t;
+  // (One texel spare for the snapping below.)
+  if ((largest * t) + 1.0f > static_cast<float>(maxSize)) t = static_cast<float>(maxSize - 1) / largest;
+  // The region starts on the world-fixed lattice of texels (whole texels from the light frame's
+  // origin), so moving casters move the region by whole texels and the texels under a still
+  // shadow stay where they were. Texels are square.
+  const glm::vec2 regionLo = glm::floor(xyLo * t) / t;
+  const int w = std::clamp(static_cast<int>(std::ceil((xyHi.x - regionLo.x) * t)), 16, maxSize);
+  const int h = std::clamp(static_cast<int>(std::ceil((xyHi.y - regionLo.y) * t)), 16, maxSize);
+  const glm::vec2 regionHi = regionLo + glm::vec2(w, h) / t;
   // Depth: from just before the nearest caster to well past the farthest one, whose shadow may
   // start up to a diameter and a half behind its centre (depth offset plus bias); receivers farther
   // still compare unclamped in the shader.
   const float nearDist = dLo - 0.01f * radius - 1e-3f, farDist = dHi + 2.0f * radius + 1e-3f;
-  const glm::mat4 proj = glm::ortho(mid.x - half.x, mid.x + half.x, mid.y - half.y, mid.y + half.y, nearDist, farDist);
+  const glm::mat4 proj = glm::ortho(regionLo.x, regionHi.x, regionLo.y, regionHi.y, nearDist, farDist);
 
   plan.light.view = view;
   plan.light.projection = proj;

@@ -59,8 +59,10 @@ struct ShadowMapPlan {
 };
 
 /// Plans the map over `casters` for `eye`: texels per world unit = style.shadowMapScale x the eye's
-/// pixels per world unit at the casters' centre (at least its near plane away), each side at most
-/// `maxSize` (the resolution drops evenly when the casters would need more) and at least 16.
+/// pixels per world unit at the casters' centre (at least its near plane away), rounded to a quarter
+/// octave (2^(k/4)), each side at most `maxSize` (the resolution drops evenly when the casters would
+/// need more) and at least 16. The region starts on a texel lattice fixed to the world, so shadows
+/// of still casters keep their texels while other casters or the camera move.
 /// Empty casters give a 16 x 16 map that shadows nothing.
 ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Style& style, int maxSize = 4096);
 
