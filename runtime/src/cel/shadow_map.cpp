@@ -30,7 +30,8 @@ Bounds particleBounds(std::span<const Particle> particles) {
   return b;
 }
 
-ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Style& style, int maxSize) {
+ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Style& style, int maxSize,
+                              const Bounds& reach) {
   maxSize = std::max(16, maxSize);
   ShadowMapPlan plan;
   const float len = glm::length(eye.light.direction);
@@ -56,6 +57,17 @@ ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Sty
     xyHi = glm::max(xyHi, glm::vec2(v));
     dLo = std::min(dLo, -v.z);
     dHi = std::max(dHi, -v.z);
+  }
+  // The depth range reaches every caster, planes included (a plane above the puffs is in front of
+  // them all, and must still be drawn: it is not clipped away).
+  if (!reach.empty()) {
+    for (int i = 0; i < 8; ++i) {
+      const glm::vec3 corner((i & 1) ? reach.hi.x : reach.lo.x, (i & 2) ? reach.hi.y : reach.lo.y,
+                             (i & 4) ? reach.hi.z : reach.lo.z);
+      const float d = -(view * glm::vec4(corner, 1.0f)).z;
+      dLo = std::min(dLo, d);
+      dHi = std::max(dHi, d);
+    }
   }
 
   // Texels per world unit: the eye's pixels per world unit at the casters' centre, times the scale.
@@ -106,10 +118,10 @@ ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Sty
 
 ShadowMap::ShadowMap() : fbo_(core::makeFramebuffer()) {}
 
-void ShadowMap::prepare(const Frame& eye, const Bounds& casters, const Style& style) {
+void ShadowMap::prepare(const Frame& eye, const Bounds& casters, const Style& style, const Bounds& reach) {
   GLint maxTexture = 4096;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
-  plan_ = chooseShadowMap(eye, casters, style, std::min(4096, static_cast<int>(maxTexture)));
+  plan_ = chooseShadowMap(eye, casters, style, std::min(4096, static_cast<int>(maxTexture)), reach);
   if (plan_.width == allocatedW_ && plan_.height == allocatedH_) return;
   allocatedW_ = plan_.width;
   allocatedH_ = plan_.height;

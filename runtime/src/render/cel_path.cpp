@@ -89,7 +89,9 @@ class CelPath final : public Path {
       if (!shadowMap_) shadowMap_ = std::make_unique<cel::ShadowMap>();
       cel::Bounds casters = scene_->casterBounds();
       if (variations_ > 0) casters.add(cel::particleBounds(frame.inputs.particles));
-      shadowMap_->prepare(f, casters, s.style);
+      cel::Bounds reach = scene_->objectBounds();
+      reach.add(casters);
+      shadowMap_->prepare(f, casters, s.style, reach);
       GLint target = 0;
       glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
       shadowMap_->beginCasters();

@@ -98,6 +98,12 @@ cel::OpaqueRenderer& CelScene::opaque() { return *opaque_; }
 cel::FrameBlock& CelScene::block() { return block_; }
 glm::vec4 CelScene::floorPlane() const { return floorPlane_; }
 
+cel::Bounds CelScene::objectBounds() const {
+  cel::Bounds b;
+  for (std::size_t i = 0; i < opaque_->count(); ++i) b.add(opaque_->worldBounds(i));
+  return b;
+}
+
 cel::Bounds CelScene::casterBounds() const {
   cel::Bounds b;
   for (std::size_t i = 0; i < fitsShadowMap_.size(); ++i) {

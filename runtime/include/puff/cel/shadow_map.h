@@ -64,7 +64,10 @@ struct ShadowMapPlan {
 /// need more) and at least 16. The region starts on a texel lattice fixed to the world, so shadows
 /// of still casters keep their texels while other casters or the camera move.
 /// Empty casters give a 16 x 16 map that shadows nothing.
-ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Style& style, int maxSize = 4096);
+/// `reach` (optional): every caster's box, the ones left out of the fit included (planes): the
+/// map's depth range covers them too, so they cast wherever the map reaches (depth costs nothing).
+ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Style& style, int maxSize = 4096,
+                              const Bounds& reach = {});
 
 class ShadowMap {
  public:
@@ -75,7 +78,7 @@ class ShadowMap {
   ShadowMap();
   /// Plans this frame's map (chooseShadowMap, at most GL_MAX_TEXTURE_SIZE and 4096 a side) and makes
   /// its textures that size (reallocated only when the size changes).
-  void prepare(const Frame& eye, const Bounds& casters, const Style& style);
+  void prepare(const Frame& eye, const Bounds& casters, const Style& style, const Bounds& reach = {});
   /// Binds the map's framebuffer and viewport, clears it (depth 1, id 0) and uploads the light's frame
   /// to uniform binding 0: the caster passes draw next. The caller rebinds its own framebuffer,
   /// viewport and frame block afterwards.

@@ -82,7 +82,8 @@ struct Style {
   /// map gives it), so a puff does not shadow itself. [0, 1].
   float shadowBias = 0.05f;
   /// World-space length of each shadow along the light; > 0. Volumes measure it from the puff's
-  /// centre, the map from where the shadow starts (the puff's far side plus the bias). Longer
+  /// centre (an object's from its surface facing the light), the map from where the shadow starts (a
+  /// puff's far side plus the bias, an object's near surface). Longer
   /// volumes cost fill rate; the map's cost does not depend on it.
   float shadowLength = 20.0f;
   /// The map by default: as close to the cel reference's exact shadows as the volumes on the art

@@ -51,6 +51,8 @@ class CelScene {
   /// over the whole ground), where they are at the last prepare. Planes still cast and receive
   /// inside it.
   cel::Bounds casterBounds() const;
+  /// The world box of every object, planes included (the shadow map's depth range reaches them).
+  cel::Bounds objectBounds() const;
 
  private:
   CelScene() = default;
