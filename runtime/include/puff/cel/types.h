@@ -82,7 +82,7 @@ struct Style {
   /// map gives it), so a puff does not shadow itself. [0, 1].
   float shadowBias = 0.05f;
   /// World-space length of each shadow along the light; > 0. Volumes measure it from the puff's
-  /// centre (an object's from its surface facing the light), the map from where the shadow starts (a
+  /// centre (a closed object's from its far side), the map from where the shadow starts (a
   /// puff's far side plus the bias, an object's near surface). Longer
   /// volumes cost fill rate; the map's cost does not depend on it.
   float shadowLength = 20.0f;
