@@ -23,13 +23,20 @@ vec4 cellMap(int c, vec3 rP, vec3 uP) {
 }
 mat3 cellAxes(int c) { return mat3(cells[c].right.xyz, cells[c].up.xyz, cells[c].dir.xyz); }
 
+// The shadow map's caster pass (NailboardRenderer::drawShadowCasters, the light's frame bound):
+// 1, with the eye's camera right and up (world), so an unoriented puff faces the light in
+// lightFacingFrame. 0 in every other pass.
+uniform int uCaster;
+uniform vec3 uEyeRight;
+uniform vec3 uEyeUp;
+
 const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
 
 void main() {
   uint index = uint(gl_VertexID) / 6u;
   vec2 corner = kCorners[gl_VertexID % 6];
   Particle p = unpackParticle(index);
-  mat3 bb = billboardFrame(p.position);
+  mat3 bb = uCaster == 1 ? lightFacingFrame(uInvView[2].xyz, uEyeRight, uEyeUp) : billboardFrame(p.position);
   mat3 puff = puffFrame(p, bb);
   mat3 puffT = transpose(puff);
   ivec4 cell;

@@ -94,6 +94,21 @@ mat3 billboardFrame(vec3 p) {
   return mat3(camRight, camUp, camBack);
 }
 
+// The frame an UNORIENTED puff shows the light (the shadow map's casters and the shadow volumes
+// both use it): facing the light, its right the eye's right carried across the light (or, with the
+// eye's right along the light, its up), so a long puff's shadow lies along the puff the eye sees, as
+// the cel reference's mesh (which wears the eye's billboard frame) casts it. Columns right, up, normal.
+mat3 lightFacingFrame(vec3 towardLight, vec3 eyeRight, vec3 eyeUp) {
+  vec3 l = normalize(towardLight);
+  vec3 r = eyeRight - dot(eyeRight, l) * l;
+  if (dot(r, r) < 1e-6) {
+    vec3 u = eyeUp - dot(eyeUp, l) * l;
+    r = cross(u, l);
+  }
+  r = normalize(r);
+  return mat3(r, cross(l, r), l);
+}
+
 // The puff's frame: puff space -> world. An unoriented puff wears the billboard's frame, so it
 // always shows its front view upright.
 mat3 puffFrame(Particle p, mat3 billboard) { return p.oriented ? quatToMat3(p.orientation) : billboard; }

