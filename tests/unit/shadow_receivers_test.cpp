@@ -5,9 +5,10 @@
 // method rebuilds the receiving point from the depth offset (cel/nailboard_fs.glsl) are covered.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
+#include <filesystem>
 #include <optional>
 #include <string>
 
@@ -39,10 +40,13 @@ struct Case {
   Lens lens;
 };
 
-std::string caseName(const Case& c) {
-  const std::string m = c.method == Method::kVolumes ? "volumes" : c.method == Method::kMap ? "map" : "reference";
-  return m + (c.lens == Lens::kOrthographic ? "_ortho" : "_persp");
-}
+std::string name(Method m) { return m == Method::kVolumes ? "volumes" : m == Method::kMap ? "map" : "reference"; }
+
+std::string caseName(const Case& c) { return name(c.method) + (c.lens == Lens::kOrthographic ? "_ortho" : "_persp"); }
+
+struct MethodName {
+  std::string operator()(const ::testing::TestParamInfo<Method>& info) const { return name(info.param); }
+};
 
 struct CaseName {
   std::string operator()(const ::testing::TestParamInfo<Case>& info) const { return caseName(info.param); }
@@ -51,6 +55,21 @@ struct CaseName {
 // The camera: on +z looking at (0, 1, 0), up +y. Orthographic: 6 units tall; perspective: 40 degrees.
 constexpr glm::vec3 kEye(0.0f, 1.0f, 8.0f), kTarget(0.0f, 1.0f, 0.0f);
 constexpr float kOrthoHeight = 6.0f, kFovY = 40.0f;
+
+// One frame of scene `j` (its atlas path relative to the suite's scratch directory) by method `m`,
+// in display values.
+core::Image render(const std::filesystem::path& dir, const nlohmann::json& j, Method m) {
+  auto parsed = scene::parseScene(j, dir / "scene.json");
+  EXPECT_OK(parsed);
+  if (!parsed) return {};
+  auto renderer = eval::createRenderer(
+      *parsed, m == Method::kReference ? render::RenderPath::kReference : render::RenderPath::kCel);
+  EXPECT_OK(renderer);
+  if (!renderer) return {};
+  auto image = (*renderer)->renderFrame(0);
+  EXPECT_OK(image);
+  return image ? test::display(*image) : core::Image{};
+}
 
 class ShadowReceivers : public test::SphereAtlasTest, public ::testing::WithParamInterface<Case> {
  protected:
@@ -83,19 +102,6 @@ class ShadowReceivers : public test::SphereAtlasTest, public ::testing::WithPara
               {"shadowLength", 30}}},
             {"objects", nlohmann::json::array()},
             {"particles", particles}};
-  }
-
-  static core::Image render(const nlohmann::json& j, Method m) {
-    auto parsed = scene::parseScene(j, dir_ / "scene.json");
-    EXPECT_OK(parsed);
-    if (!parsed) return {};
-    auto renderer = eval::createRenderer(
-        *parsed, m == Method::kReference ? render::RenderPath::kReference : render::RenderPath::kCel);
-    EXPECT_OK(renderer);
-    if (!renderer) return {};
-    auto image = (*renderer)->renderFrame(0);
-    EXPECT_OK(image);
-    return image ? test::display(*image) : core::Image{};
   }
 
   // The eye ray through image point (px, py) (pixels, row 0 at the top): origin and unit direction.
@@ -148,15 +154,8 @@ TEST_P(ShadowReceivers, APuffsShadowFallsOnAnotherPuffsSurface) {
   const float R = 1.5f, r = 0.5f;
   const glm::vec3 lower(0.0f, 0.0f, 0.0f), upper(0.0f, 2.7f, 0.9f);
   const glm::vec3 l = glm::normalize(glm::vec3(0.05f, 1.0f, 0.03f));
-  const nlohmann::json particles = {{{"position", {upper.x, upper.y, upper.z}}, {"size", 2 * r}},
-                                    {{"position", {lower.x, lower.y, lower.z}}, {"size", 2 * R}}};
-  nlohmann::json j = scene(c, l, particles);
-  const core::Image with = render(j, c.method);
-  j["style"]["shadows"] = false;
-  const core::Image without = render(j, c.method);
-  ASSERT_EQ(with.width, kPx);
-  ASSERT_EQ(without.width, kPx);
-
+  const nlohmann::json small = {{"position", {upper.x, upper.y, upper.z}}, {"size", 2 * r}};
+  const nlohmann::json large = {{"position", {lower.x, lower.y, lower.z}}, {"size", 2 * R}};
   // 1: the large puff's visible surface at image point (px, py) lies in the small puff's shadow;
   // 0: it does not; -1: the ray misses the large puff (or grazes its rim).
   auto predicted = [&](float px, float py) {
@@ -170,44 +169,42 @@ TEST_P(ShadowReceivers, APuffsShadowFallsOnAnotherPuffsSurface) {
     const float along = glm::dot(v, l);  // < 0: below the caster, toward where the light goes
     return along < 0.0f && glm::length(v - along * l) < r ? 1 : 0;
   };
-  int both = 0, either = 0, expected = 0, counted = 0;
-  for (int y = 0; y < kPx; ++y) {
-    for (int x = 0; x < kPx; ++x) {
-      const float px = x + 0.5f, py = y + 0.5f;
-      const int centre = predicted(px, py);
-      if (centre < 0) continue;
-      bool sure = true;
-      for (const glm::vec2 o : {glm::vec2(1.5f, 0), glm::vec2(-1.5f, 0), glm::vec2(0, 1.5f), glm::vec2(0, -1.5f)}) {
-        sure = sure && predicted(px + o.x, py + o.y) == centre;
-      }
-      if (!sure) continue;
-      ++counted;
-      const bool a = centre == 1;
-      const bool b = with.at(x, y, 0) < without.at(x, y, 0) - 0.1f;
-      both += a && b;
-      either += a || b;
-      expected += a;
-    }
-  }
-  if (const char* dbg = std::getenv("PUFF_DEBUG_DIR")) {
-    core::Image m = with;
-    for (int y = 0; y < kPx; ++y)
+  // Both orders: the caster ids follow the particles' indices (the first is id 1), so a caster or a
+  // receiver that is particle 0 is checked too. (The reference, seconds a frame, takes one.)
+  for (const bool smallFirst : {true, false}) {
+    if (c.method == Method::kReference && !smallFirst) continue;
+    const std::string what = caseName(c) + (smallFirst ? ", caster first" : ", receiver first");
+    nlohmann::json j = scene(c, l, smallFirst ? nlohmann::json{small, large} : nlohmann::json{large, small});
+    const core::Image with = render(dir_, j, c.method);
+    j["style"]["shadows"] = false;
+    const core::Image without = render(dir_, j, c.method);
+    ASSERT_EQ(with.width, kPx);
+    ASSERT_EQ(without.width, kPx);
+    int both = 0, either = 0, expected = 0, counted = 0;
+    for (int y = 0; y < kPx; ++y) {
       for (int x = 0; x < kPx; ++x) {
-        const int e = predicted(x + 0.5f, y + 0.5f);
+        const float px = x + 0.5f, py = y + 0.5f;
+        const int centre = predicted(px, py);
+        if (centre < 0) continue;
+        bool sure = true;
+        for (const glm::vec2 o : {glm::vec2(1.5f, 0), glm::vec2(-1.5f, 0), glm::vec2(0, 1.5f), glm::vec2(0, -1.5f)}) {
+          sure = sure && predicted(px + o.x, py + o.y) == centre;
+        }
+        if (!sure) continue;
+        ++counted;
+        const bool a = centre == 1;
         const bool b = with.at(x, y, 0) < without.at(x, y, 0) - 0.1f;
-        m.at(x, y, 0) = e == 1 ? 1.0f : 0.0f;
-        m.at(x, y, 1) = b ? 1.0f : 0.0f;
-        m.at(x, y, 2) = e < 0 ? 0.3f : 0.0f;
+        both += a && b;
+        either += a || b;
+        expected += a;
       }
-    (void)core::writeImage(std::string(dbg) + "/" + caseName(c) + ".png", m, core::PixelType::kUInt8);
-    (void)core::writeImage(std::string(dbg) + "/" + caseName(c) + "_with.png", with, core::PixelType::kUInt8);
+    }
+    const double iou = either == 0 ? 1.0 : static_cast<double>(both) / either;
+    std::printf("%s: shadow IoU %.3f (%d predicted, %d counted)\n", what.c_str(), iou, expected, counted);
+    EXPECT_GT(counted, 1500) << what;
+    EXPECT_GT(expected, 200) << what;
+    EXPECT_GE(iou, 0.9) << what << ": " << both << " of " << either << " pixels agree, " << expected << " predicted";
   }
-  const double iou = either == 0 ? 1.0 : static_cast<double>(both) / either;
-  std::printf("%s: shadow IoU %.3f (%d predicted, %d counted)\n", caseName(c).c_str(), iou, expected, counted);
-  EXPECT_GT(counted, 1500) << caseName(c);
-  EXPECT_GT(expected, 200) << caseName(c);
-  EXPECT_GE(iou, 0.9) << caseName(c) << ": " << both << " of " << either << " pixels agree, " << expected
-                      << " predicted";
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -216,6 +213,155 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{Method::kMap, Lens::kOrthographic}, Case{Method::kMap, Lens::kPerspective},
                       Case{Method::kReference, Lens::kOrthographic}, Case{Method::kReference, Lens::kPerspective}),
     CaseName{});
+
+// Opaque objects as receivers and casters (the map, the volumes and the reference), seen from above
+// with an orthographic camera (16 pixels per unit, image top = -z) over a white ground plane; light
+// K_L 0.5, ambient 0.2: lit ground 0.7, shadowed 0.2 (display values).
+class ObjectReceivers : public test::SphereAtlasTest, public ::testing::WithParamInterface<Method> {
+ protected:
+  static constexpr float kPxPerUnit = 16.0f;
+
+  static nlohmann::json groundScene(Method m, const glm::vec3& light, nlohmann::json objects) {
+    objects.push_back({{"type", "plane"}, {"name", "ground"}, {"scale", {12, 1, 12}}, {"albedo", {1, 1, 1}}});
+    return {
+        {"output", {{"width", kPx}, {"height", kPx}, {"samples", 1}}},
+        {"camera",
+         {{"position", {0, 10, 0}},
+          {"target", {0, 0, 0}},
+          {"up", {0, 0, -1}},
+          {"fovY", 0},
+          {"orthoHeight", 8},
+          {"near", 1},
+          {"far", 20}}},
+        {"light", {{"direction", {light.x, light.y, light.z}}, {"color", {0.5, 0.5, 0.5}}}},
+        {"ambient", {{"color", {0.2, 0.2, 0.2}}}},
+        {"atlas", sidecar_.string()},
+        {"style",
+         {{"preset", "cel-shadows"}, {"shadowMethod", m == Method::kMap ? "map" : "volumes"}, {"shadowLength", 30}}},
+        {"objects", objects},
+        {"particles", nlohmann::json::array()}};
+  }
+
+  // World x, z of pixel (x, y) on the ground.
+  static glm::vec2 ground(int x, int y) {
+    return {(x + 0.5f - kPx / 2.0f) / kPxPerUnit, (y + 0.5f - kPx / 2.0f) / kPxPerUnit};
+  }
+};
+
+// A box standing on the ground (1 x 1.5 x 1, its base on y = 0) casts the shadow the light projects:
+// the ground points whose ray toward the light meets the box. The shadow starts at the box's base
+// (no lit gap between the box and its shadow on the far side from the light) and the ground next to
+// its lit sides stays lit (no dark rim): both checked on the ring of ground 1.5 to 4 pixels from the
+// box, which the box's own top face does not cover.
+TEST_P(ObjectReceivers, ABoxOnTheGroundCastsItsShadowFromItsBase) {
+  const Method m = GetParam();
+  const glm::vec3 half(0.5f, 0.75f, 0.5f);
+  for (const glm::vec3& dir : {glm::vec3(0.8f, 1.0f, 0.45f), glm::vec3(-0.5f, 0.7f, -0.9f)}) {
+    const glm::vec3 l = glm::normalize(dir);
+    const nlohmann::json box = {
+        {{"type", "box"}, {"translate", {0, half.y, 0}}, {"scale", {half.x, half.y, half.z}}, {"albedo", {1, 1, 1}}}};
+    const core::Image im = render(dir_, groundScene(m, l, box), m);
+    ASSERT_EQ(im.width, kPx);
+    // Whether the ray from ground point g toward the light meets the box (slab test).
+    auto shadowedAt = [&](const glm::vec2& g) {
+      const glm::vec3 o(g.x, 0.0f, g.y), lo(-half.x, 0.0f, -half.z), hi(half.x, 2.0f * half.y, half.z);
+      float t0 = 0.0f, t1 = 1e30f;
+      for (int k = 0; k < 3; ++k) {
+        if (std::abs(l[k]) < 1e-9f) {
+          if (o[k] < lo[k] || o[k] > hi[k]) return false;
+          continue;
+        }
+        const float ta = (lo[k] - o[k]) / l[k], tb = (hi[k] - o[k]) / l[k];
+        t0 = std::max(t0, std::min(ta, tb));
+        t1 = std::min(t1, std::max(ta, tb));
+      }
+      return t1 > t0;
+    };
+    // Distance on the ground from the box's footprint, in pixels.
+    auto fromBox = [&](const glm::vec2& g) {
+      const glm::vec2 d = glm::max(glm::abs(g) - glm::vec2(half.x, half.z), glm::vec2(0.0f));
+      return glm::length(d) * kPxPerUnit;
+    };
+    int both = 0, either = 0, expected = 0, ringDark = 0, ringDarkOk = 0, ringLit = 0, ringLitOk = 0;
+    for (int y = 0; y < kPx; ++y) {
+      for (int x = 0; x < kPx; ++x) {
+        const glm::vec2 g = ground(x, y);
+        const float away = fromBox(g);
+        if (away <= 1.5f) continue;  // the box's top face and its edge
+        const bool a = shadowedAt(g);
+        bool sure = true;
+        for (const glm::vec2 o : {glm::vec2(1.5f, 0), glm::vec2(-1.5f, 0), glm::vec2(0, 1.5f), glm::vec2(0, -1.5f)}) {
+          sure = sure && shadowedAt(g + o / kPxPerUnit) == a;
+        }
+        if (!sure) continue;
+        const bool b = std::abs(im.at(x, y, 0) - 0.2f) < 0.1f;
+        both += a && b;
+        either += a || b;
+        expected += a;
+        if (away <= 4.0f) {
+          (a ? ringDark : ringLit)++;
+          (a ? ringDarkOk : ringLitOk) += a == b;
+        }
+      }
+    }
+    const double iou = either == 0 ? 1.0 : static_cast<double>(both) / either;
+    const std::string what =
+        name(m) + " light " + std::to_string(l.x) + "," + std::to_string(l.y) + "," + std::to_string(l.z);
+    std::printf("%s: box shadow IoU %.3f; ring by the box: %d of %d dark, %d of %d lit\n", what.c_str(), iou,
+                ringDarkOk, ringDark, ringLitOk, ringLit);
+    EXPECT_GT(expected, 200) << what;
+    EXPECT_GE(iou, 0.9) << what;
+    EXPECT_GT(ringDark, 40) << what;
+    EXPECT_GT(ringLit, 40) << what;
+    EXPECT_GE(ringDarkOk, 0.95 * ringDark) << what << ": a gap between the box and its shadow";
+    EXPECT_GE(ringLitOk, 0.95 * ringLit) << what << ": a dark rim by the box's lit sides";
+  }
+}
+
+// An object never shadows itself: a sphere and a turned box, lit from several sides of the camera's, show every
+// pixel the light reaches (brighter than the ambient term alone) the same with shadows on as off.
+// (A shadowed pixel would show the ambient term alone; the pixels facing away from the light show
+// it anyway.) The objects stand apart, so neither shadows the other's visible side from these lights.
+TEST_P(ObjectReceivers, AnObjectNeverShadowsItself) {
+  const Method m = GetParam();
+  const nlohmann::json objects = {
+      {{"type", "sphere"}, {"translate", {-1.6, 1.2, 0}}, {"scale", {1, 1, 1}}, {"albedo", {1, 1, 1}}},
+      {{"type", "box"},
+       {"translate", {1.6, 0.8, 0}},
+       {"rotate", {20, 35, 10}},
+       {"scale", {0.7, 0.7, 0.7}},
+       {"albedo", {1, 1, 1}}}};
+  int lightIndex = 0;
+  for (const glm::vec3& dir : {glm::vec3(0.3f, 1.0f, 0.5f), glm::vec3(0.1f, 0.5f, 1.0f), glm::vec3(-0.6f, 0.8f, 0.7f),
+                               glm::vec3(0.9f, 0.6f, 0.6f)}) {
+    ++lightIndex;
+    if (m == Method::kReference && lightIndex % 2 == 0) continue;  // seconds a frame: every other light
+    nlohmann::json j = groundScene(m, glm::normalize(dir), objects);
+    j["objects"] = objects;  // no ground: nothing but the objects themselves to shadow them
+    j["camera"] = {{"position", {0, 4, 9}}, {"target", {0, 1, 0}}, {"fovY", 35}, {"near", 1}, {"far", 30}};
+    const core::Image with = render(dir_, j, m);
+    j["style"]["shadows"] = false;
+    const core::Image without = render(dir_, j, m);
+    ASSERT_EQ(with.width, kPx);
+    ASSERT_EQ(without.width, kPx);
+    int lit = 0, differ = 0;
+    for (int y = 0; y < kPx; ++y) {
+      for (int x = 0; x < kPx; ++x) {
+        if (without.at(x, y, 0) < 0.2f + 0.05f || std::abs(without.at(x, y, 0) - without.at(0, 0, 0)) < 1e-3f)
+          continue;  // the ambient term alone, or the background
+        ++lit;
+        differ += std::abs(with.at(x, y, 0) - without.at(x, y, 0)) > 2.0f / 255.0f;
+      }
+    }
+    std::printf("%s light %d: %d of %d lit object pixels differ with shadows on\n", name(m).c_str(), lightIndex, differ,
+                lit);
+    EXPECT_GT(lit, 1000) << name(m);
+    EXPECT_EQ(differ, 0) << name(m) << " light " << dir.x << "," << dir.y << "," << dir.z;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(AllMethods, ObjectReceivers,
+                         ::testing::Values(Method::kVolumes, Method::kMap, Method::kReference), MethodName{});
 
 }  // namespace
 }  // namespace puff
