@@ -1,10 +1,8 @@
-// Where a shadow falls on a puff (issue 15), by every method: the receiving
-// point is the puff's surface as its depth map gives it, not its billboard
-// plane, so a puff's shadow on another puff is where the light's cylinder
-// through the caster meets the receiver's visible surface. Checked against
-// ray-sphere geometry with an orthographic and a perspective camera, so both
-// ways the map method rebuilds the receiving point from the depth offset
-// (cel/nailboard_fs.glsl) are covered.
+// Where a shadow falls on a puff (issue 15), by every method: the receiving point is the puff's surface as
+// its depth map gives it, not its billboard plane, so a puff's shadow on another puff is where the light's
+// cylinder through the caster meets the receiver's visible surface. Checked against ray-sphere geometry with
+// an orthographic and a perspective camera, so both ways the map method rebuilds the receiving point from the
+// depth offset (cel/nailboard_fs.glsl) are covered.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -54,13 +52,12 @@ struct CaseName {
   std::string operator()(const ::testing::TestParamInfo<Case>& info) const { return caseName(info.param); }
 };
 
-// The camera: on +z looking at (0, 1, 0), up +y. Orthographic: 6 units tall;
-// perspective: 40 degrees.
+// The camera: on +z looking at (0, 1, 0), up +y. Orthographic: 6 units tall; perspective: 40 degrees.
 constexpr glm::vec3 kEye(0.0f, 1.0f, 8.0f), kTarget(0.0f, 1.0f, 0.0f);
 constexpr float kOrthoHeight = 6.0f, kFovY = 40.0f;
 
-// One frame of scene `j` (its atlas path relative to the suite's scratch
-// directory) by method `m`, in display values.
+// One frame of scene `j` (its atlas path relative to the suite's scratch directory) by method `m`, in display
+// values.
 core::Image render(const std::filesystem::path& dir, const nlohmann::json& j, Method m) {
   auto parsed = scene::parseScene(j, dir / "scene.json");
   EXPECT_OK(parsed);
@@ -91,8 +88,7 @@ class ShadowReceivers : public test::SphereAtlasTest, public ::testing::WithPara
                                                        {"fovY", kFovY},
                                                        {"near", 1},
                                                        {"far", 20}};
-    // Flat shading and no ink: a lit puff pixel is K_a + C K_L = 0.7, a
-    // shadowed one K_a = 0.2.
+    // Flat shading and no ink: a lit puff pixel is K_a + C K_L = 0.7, a shadowed one K_a = 0.2.
     return {{"output", {{"width", kPx}, {"height", kPx}, {"samples", 1}, {"background", {0.9, 0.9, 0.9}}}},
             {"camera", camera},
             {"light", {{"direction", {light.x, light.y, light.z}}, {"color", {0.5, 0.5, 0.5}}}},
@@ -108,8 +104,7 @@ class ShadowReceivers : public test::SphereAtlasTest, public ::testing::WithPara
             {"particles", particles}};
   }
 
-  // The eye ray through image point (px, py) (pixels, row 0 at the top): origin
-  // and unit direction.
+  // The eye ray through image point (px, py) (pixels, row 0 at the top): origin and unit direction.
   static void ray(Lens lens, float px, float py, glm::vec3& origin, glm::vec3& dir) {
     const glm::vec2 ndc(2.0f * px / kPx - 1.0f, 1.0f - 2.0f * py / kPx);
     const glm::vec3 forward = glm::normalize(kTarget - kEye), right(1, 0, 0), up(0, 1, 0);
@@ -123,9 +118,8 @@ class ShadowReceivers : public test::SphereAtlasTest, public ::testing::WithPara
     }
   }
 
-  // Where the eye ray (origin o, unit direction d) meets the sphere (centre c,
-  // radius r), if it does `inset` inside its rim (the ray's closest approach to
-  // the centre is at most r - inset).
+  // Where the eye ray (origin o, unit direction d) meets the sphere (centre c, radius r), if it does `inset`
+  // inside its rim (the ray's closest approach to the centre is at most r - inset).
   static std::optional<glm::vec3> sphereHit(const glm::vec3& o, const glm::vec3& d, const glm::vec3& c, float r,
                                             float inset) {
     const float b = glm::dot(c - o, d);
@@ -135,12 +129,10 @@ class ShadowReceivers : public test::SphereAtlasTest, public ::testing::WithPara
     return closest - std::sqrt(r * r - h2) * d;
   }
 
-  // The nailboard's surface point on the same ray (McGuire & Fein 4.2): the ray
-  // meets the billboard plane (view-plane aligned: z = c.z here) at B, and the
-  // pixel lies on the ray at B's view-axis distance less the baked depth offset
-  // there, sqrt(r^2 - |B - c|^2). With an orthographic camera this is the
-  // sphere's own surface; in perspective it is not (here up to about 0.2 units
-  // off).
+  // The nailboard's surface point on the same ray (McGuire & Fein 4.2): the ray meets the billboard plane
+  // (view-plane aligned: z = c.z here) at B, and the pixel lies on the ray at B's view-axis distance less the
+  // baked depth offset there, sqrt(r^2 - |B - c|^2). With an orthographic camera this is the sphere's own
+  // surface; in perspective it is not (here up to about 0.2 units off).
   static std::optional<glm::vec3> nailboardHit(const glm::vec3& o, const glm::vec3& d, const glm::vec3& c, float r,
                                                float inset) {
     const glm::vec3 b = o + ((c.z - o.z) / d.z) * d;
@@ -152,14 +144,12 @@ class ShadowReceivers : public test::SphereAtlasTest, public ::testing::WithPara
   }
 };
 
-// A small puff (radius r) above and in front of a large one (radius R), the
-// light from above (a little tilted): the small puff's shadow is the cylinder
-// of radius r along the light through its centre, and it darkens the large
-// puff's visible surface exactly where the cylinder meets it: two bands across
-// the face, above and below its middle, and nowhere on its billboard plane (z =
-// 0 lies outside the cylinder, which runs at z = 0.9 +- 0.5). The pixels
-// within 1.5 pixels of the band's edge and of the large puff's rim are not
-// counted.
+// A small puff (radius r) above and in front of a large one (radius R), the light from above (a little
+// tilted): the small puff's shadow is the cylinder of radius r along the light through its centre, and it
+// darkens the large puff's visible surface exactly where the cylinder meets it: two bands across the face,
+// above and below its middle, and nowhere on its billboard plane (z = 0 lies outside the cylinder, which runs
+// at z = 0.9 +- 0.5). The pixels within 1.5 pixels of the band's edge and of the large puff's rim are not
+// counted; of the rest at least 98% agree (measured: 99.3% to 100%).
 TEST_P(ShadowReceivers, APuffsShadowFallsOnAnotherPuffsSurface) {
   const Case c = GetParam();
   const float R = 1.5f, r = 0.5f;
@@ -167,9 +157,8 @@ TEST_P(ShadowReceivers, APuffsShadowFallsOnAnotherPuffsSurface) {
   const glm::vec3 l = glm::normalize(glm::vec3(0.05f, 1.0f, 0.03f));
   const nlohmann::json small = {{"position", {upper.x, upper.y, upper.z}}, {"size", 2 * r}};
   const nlohmann::json large = {{"position", {lower.x, lower.y, lower.z}}, {"size", 2 * R}};
-  // 1: the large puff's visible surface at image point (px, py) lies in the
-  // small puff's shadow; 0: it does not; -1: the ray misses the large puff (or
-  // grazes its rim).
+  // 1: the large puff's visible surface at image point (px, py) lies in the small puff's shadow; 0: it does
+  // not; -1: the ray misses the large puff (or grazes its rim).
   auto predicted = [&](float px, float py) {
     glm::vec3 o, d;
     ray(c.lens, px, py, o, d);
@@ -181,9 +170,8 @@ TEST_P(ShadowReceivers, APuffsShadowFallsOnAnotherPuffsSurface) {
     const float along = glm::dot(v, l);  // < 0: below the caster, toward where the light goes
     return along < 0.0f && glm::length(v - along * l) < r ? 1 : 0;
   };
-  // Both orders: the caster ids follow the particles' indices (the first is id
-  // 1), so a caster or a receiver that is particle 0 is checked too. (The
-  // reference, seconds a frame, takes one.)
+  // Both orders: the caster ids follow the particles' indices (the first is id 1), so a caster or a receiver
+  // that is particle 0 is checked too. (The reference, seconds a frame, takes one.)
   for (const bool smallFirst : {true, false}) {
     if (c.method == Method::kReference && !smallFirst) continue;
     const std::string what = caseName(c) + (smallFirst ? ", caster first" : ", receiver first");
@@ -216,7 +204,7 @@ TEST_P(ShadowReceivers, APuffsShadowFallsOnAnotherPuffsSurface) {
     std::printf("%s: shadow IoU %.3f (%d predicted, %d counted)\n", what.c_str(), iou, expected, counted);
     EXPECT_GT(counted, 1500) << what;
     EXPECT_GT(expected, 200) << what;
-    EXPECT_GE(iou, 0.9) << what << ": " << both << " of " << either << " pixels agree, " << expected << " predicted";
+    EXPECT_GE(iou, 0.98) << what << ": " << both << " of " << either << " pixels agree, " << expected << " predicted";
   }
 }
 
@@ -227,10 +215,9 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{Method::kReference, Lens::kOrthographic}, Case{Method::kReference, Lens::kPerspective}),
     CaseName{});
 
-// Opaque objects as receivers and casters (the map, the volumes and the
-// reference), seen from above with an orthographic camera (16 pixels per unit,
-// image top = -z) over a white ground plane; light K_L 0.5, ambient 0.2: lit
-// ground 0.7, shadowed 0.2 (display values).
+// Opaque objects as receivers and casters (the map, the volumes and the reference), seen from above with an
+// orthographic camera (16 pixels per unit, image top = -z) over a white ground plane; light K_L 0.5, ambient
+// 0.2: lit ground 0.7, shadowed 0.2 (display values).
 class ObjectReceivers : public test::SphereAtlasTest, public ::testing::WithParamInterface<Method> {
  protected:
   static constexpr float kPxPerUnit = 16.0f;
@@ -262,12 +249,11 @@ class ObjectReceivers : public test::SphereAtlasTest, public ::testing::WithPara
   }
 };
 
-// A box standing on the ground (1 x 1.5 x 1, its base on y = 0) casts the
-// shadow the light projects: the ground points whose ray toward the light meets
-// the box. The shadow starts at the box's base (no lit gap between the box and
-// its shadow on the far side from the light) and the ground next to its lit
-// sides stays lit (no dark rim): both checked on the ring of ground 1.5 to 4
-// pixels from the box, which the box's own top face does not cover.
+// A box standing on the ground (1 x 1.5 x 1, its base on y = 0) casts the shadow the light projects: the
+// ground points whose ray toward the light meets the box. The shadow starts at the box's base (no lit gap
+// between the box and its shadow on the far side from the light) and the ground next to its lit sides stays
+// lit (no dark rim): both checked on the ring of ground 1.5 to 4 pixels from the box, which the box's own top
+// face does not cover.
 TEST_P(ObjectReceivers, ABoxOnTheGroundCastsItsShadowFromItsBase) {
   const Method m = GetParam();
   const glm::vec3 half(0.5f, 0.75f, 0.5f);
@@ -277,8 +263,7 @@ TEST_P(ObjectReceivers, ABoxOnTheGroundCastsItsShadowFromItsBase) {
         {{"type", "box"}, {"translate", {0, half.y, 0}}, {"scale", {half.x, half.y, half.z}}, {"albedo", {1, 1, 1}}}};
     const core::Image im = render(dir_, groundScene(m, l, box), m);
     ASSERT_EQ(im.width, kPx);
-    // Whether the ray from ground point g toward the light meets the box (slab
-    // test).
+    // Whether the ray from ground point g toward the light meets the box (slab test).
     auto shadowedAt = [&](const glm::vec2& g) {
       const glm::vec3 o(g.x, 0.0f, g.y), lo(-half.x, 0.0f, -half.z), hi(half.x, 2.0f * half.y, half.z);
       float t0 = 0.0f, t1 = 1e30f;
@@ -336,10 +321,10 @@ TEST_P(ObjectReceivers, ABoxOnTheGroundCastsItsShadowFromItsBase) {
   }
 }
 
-// An object never shadows itself: a sphere and a turned box (smooth Lambert shading, so light falling
-// at a slant shows, where the cel ramp's darkest band would hide it), lit from several sides of the
-// camera's, show every pixel the light reaches at N.L >= 0.25 the same with shadows on as off. The
-// objects stand apart, so neither shadows the other's visible side from these lights.
+// An object never shadows itself: a sphere and a turned box (smooth Lambert shading, so light falling at a
+// slant shows, where the cel ramp's darkest band would hide it), lit from several sides of the camera's, show
+// every pixel the light reaches at N.L >= 0.25 the same with shadows on as off. The objects stand apart, so
+// neither shadows the other's visible side from these lights.
 TEST_P(ObjectReceivers, AnObjectNeverShadowsItself) {
   const Method m = GetParam();
   const nlohmann::json objects = {{{"type", "sphere"},
@@ -382,9 +367,9 @@ TEST_P(ObjectReceivers, AnObjectNeverShadowsItself) {
   }
 }
 
-// A slab (2 x 0.02 x 1.5) 1.5 units above the ground casts the light's projection of it, whatever else
-// casts in the scene: a cube far off to the side (its shadow off screen too) makes the map's depth
-// range some 44 units deep, and the slab's shadow, 1.7 units behind it along the light, stays.
+// A slab (2 x 0.02 x 1.5) 1.5 units above the ground casts the light's projection of it, whatever else casts
+// in the scene: a cube far off to the side (its shadow off screen too) makes the map's depth range some 44
+// units deep, and the slab's shadow, 1.7 units behind it along the light, stays.
 TEST_P(ObjectReceivers, AShadowDoesNotDependOnWhatElseCasts) {
   const Method m = GetParam();
   const glm::vec3 l = glm::normalize(glm::vec3(0.5f, 1.0f, 0.2f));
