@@ -18,6 +18,8 @@
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
+#include <puff/cel/frame.h>
+#include <puff/cel/volume_clip.h>
 #include <puff/core/image.h>
 #include <puff/eval/cel_reference.h>
 #include <puff/render/render.h>
@@ -410,6 +412,31 @@ TEST_P(ObjectReceivers, AShadowDoesNotDependOnWhatElseCasts) {
 
 INSTANTIATE_TEST_SUITE_P(AllMethods, ObjectReceivers,
                          ::testing::Values(Method::kVolumes, Method::kMap, Method::kReference), MethodName{});
+
+// The volume passes' clip covers every pixel the receivers' box touches, partly covered ones too: an
+// orthographic camera on +z (8 units tall over 128 pixels: 16 per unit, x = 0 at pixel 64) sees
+// x from -1.03 to 2.03 as pixels 47.52 to 96.48, so the scissor runs from pixel 47 to 97 (exclusive).
+// (opaque_volume_test's box lands on whole pixels, where rounding either way gives the same.)
+TEST(VolumeClip, TakesInThePixelsTheBoxPartlyCovers) {
+  cel::Camera cam;
+  cam.position = glm::vec3(0, 0, 10);
+  cam.target = glm::vec3(0);
+  cam.fovYDegrees = 0.0f;
+  cam.orthoHeight = 8.0f;
+  cam.nearPlane = 1.0f;
+  cam.farPlane = 21.0f;
+  const cel::Frame f = cel::Frame::fromCamera(cam, 128, 128);
+  cel::Bounds b;
+  b.add(glm::vec3(-1.03f, 0.0f, -3.0f));
+  b.add(glm::vec3(2.03f, 1.0f, 4.0f));
+  const cel::VolumeClip c = cel::volumeClip(f, b);
+  ASSERT_FALSE(c.everything);
+  ASSERT_FALSE(c.nothing);
+  EXPECT_EQ(c.scissor.x, 47);
+  EXPECT_EQ(c.scissor.width, 97 - 47);
+  EXPECT_EQ(c.scissor.y, 64);
+  EXPECT_EQ(c.scissor.height, 16);
+}
 
 }  // namespace
 }  // namespace puff
