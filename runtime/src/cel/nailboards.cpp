@@ -46,6 +46,7 @@ struct NailboardProgram {
   core::Program program;
   AtlasUniforms atlas;
   GLint pass = -1, shading = -1, outlines = -1, outlineWidth = -1, outlineColor = -1, multisample = -1;
+  GLint casterBias = -1, eyeRight = -1, eyeUp = -1;  // the caster variants only (-1 elsewhere)
 
   static Result<NailboardProgram> build(const std::string& name, const std::string& fragment = "") {
     auto p = core::buildProgram({"cel/" + name + ".vert", "cel/" + (fragment.empty() ? name : fragment) + ".frag"});
@@ -60,13 +61,17 @@ struct NailboardProgram {
     n.outlineWidth = glGetUniformLocation(id, "uOutlineWidth");
     n.outlineColor = glGetUniformLocation(id, "uOutlineColor");
     n.multisample = glGetUniformLocation(id, "uMultisample");
+    n.casterBias = glGetUniformLocation(id, "uShadowBias");
+    n.eyeRight = glGetUniformLocation(id, "uEyeRight");
+    n.eyeUp = glGetUniformLocation(id, "uEyeUp");
+    // The caster variants draw from the light in every call: their vertex stage's mode is fixed.
+    if (!fragment.empty()) glProgramUniform1i(id, glGetUniformLocation(id, "uCaster"), 1);
     return n;
   }
 };
 
 struct NailboardRenderer::Impl {
   NailboardProgram singleView, multiView, singleCaster, multiCaster;
-  GLint singleCasterBias = -1, multiCasterBias = -1;
   core::Program shadow, sprite;
   AtlasUniforms svAtlas, spAtlas;
   GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1, shadowBackFace = -1;
@@ -121,8 +126,6 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create() {
   m.multiView = std::move(*multi);
   m.singleCaster = std::move(*singleCaster);
   m.multiCaster = std::move(*multiCaster);
-  m.singleCasterBias = glGetUniformLocation(m.singleCaster.program.get(), "uShadowBias");
-  m.multiCasterBias = glGetUniformLocation(m.multiCaster.program.get(), "uShadowBias");
   m.shadow = std::move(*sv);
   m.sprite = std::move(*sp);
   m.svAtlas.find(m.shadow.get());
@@ -367,8 +370,7 @@ DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& 
   DrawStats s;
   s.particles = m.count;
   if (m.count == 0 || !m.hasAtlas) return s;
-  const bool multi = m.desc.views > 1;
-  const NailboardProgram& nb = multi ? m.multiCaster : m.singleCaster;
+  const NailboardProgram& nb = m.desc.views > 1 ? m.multiCaster : m.singleCaster;
   const GLuint p = nb.program.get();
   m.setCommon(p, nb.atlas, style);
   glProgramUniform1i(p, nb.pass, 0);
@@ -376,13 +378,10 @@ DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& 
   glProgramUniform1i(p, nb.outlines, 0);  // the silhouette casts, not the ink
   glProgramUniform1f(p, nb.outlineWidth, 0.0f);
   glProgramUniform1i(p, nb.multisample, 0);  // hard edge at half coverage: the map is not multisampled
-  glProgramUniform1f(p, multi ? m.multiCasterBias : m.singleCasterBias, std::clamp(style.shadowBias, 0.0f, 1.0f));
+  glProgramUniform1f(p, nb.casterBias, std::clamp(style.shadowBias, 0.0f, 1.0f));
   const glm::mat4 eyeToWorld = glm::inverse(eye.view);
-  glProgramUniform1i(p, glGetUniformLocation(p, "uCaster"), 1);
-  glProgramUniform3fv(p, glGetUniformLocation(p, "uEyeRight"), 1,
-                      glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[0]))));
-  glProgramUniform3fv(p, glGetUniformLocation(p, "uEyeUp"), 1,
-                      glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[1]))));
+  glProgramUniform3fv(p, nb.eyeRight, 1, glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[0]))));
+  glProgramUniform3fv(p, nb.eyeUp, 1, glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[1]))));
   glUseProgram(p);
   resetPassState();
   applyShadePass(ShadePass::kLit);  // depth LESS + write: the nearest start wins; ids written
