@@ -34,33 +34,6 @@ using bench::Clock;
 
 namespace {
 
-struct Frames {
-  double ms = 0.0;                  // median over frames x reps (0 when reps == 0)
-  std::vector<core::Image> images;  // one per frame
-  std::size_t particles = 0;
-};
-
-// Renders `frames` with `path` (the reference with its default sampling), each once untimed (the
-// image) and then `reps` times timed.
-Result<Frames> renderFrames(const scene::Scene& scene, render::RenderPath path, std::span<const int> frames, int reps,
-                            bool fillRateFloor = false) {
-  auto r = eval::createRenderer(scene, path);
-  if (!r) return r.error();
-  (*r)->setFillRateFloor(fillRateFloor);
-  Frames out;
-  std::vector<double> times;
-  for (int f : frames) {
-    render::FrameStats stats;
-    auto image = (*r)->renderFrame(f, &stats);
-    if (!image) return image.error();
-    out.images.push_back(std::move(*image));
-    out.particles = std::max(out.particles, stats.particles);
-    PUFF_TRY(timeFrame(**r, f, reps, times));
-  }
-  out.ms = bench::median(times);
-  return out;
-}
-
 // Ink: every channel within 0.1 of the outline colour where the bare frame is not.
 std::vector<bool> inkMask(const core::Image& image, const core::Image& bare, const glm::vec3& ink) {
   std::vector<bool> m(static_cast<std::size_t>(image.width) * image.height);
@@ -135,6 +108,27 @@ Result<void> timeFrame(render::SceneRenderer& renderer, int frame, int reps, std
     times.push_back(bench::msSince(t0));
   }
   return {};
+}
+
+// Renders `frames` with `path` (the reference with its default sampling), each once untimed (the
+// image) and then `reps` times timed.
+Result<Frames> renderFrames(const scene::Scene& scene, render::RenderPath path, std::span<const int> frames, int reps,
+                            bool fillRateFloor) {
+  auto r = eval::createRenderer(scene, path);
+  if (!r) return r.error();
+  (*r)->setFillRateFloor(fillRateFloor);
+  Frames out;
+  std::vector<double> times;
+  for (int f : frames) {
+    render::FrameStats stats;
+    auto image = (*r)->renderFrame(f, &stats);
+    if (!image) return image.error();
+    out.images.push_back(std::move(*image));
+    out.particles = std::max(out.particles, stats.particles);
+    PUFF_TRY(timeFrame(**r, f, reps, times));
+  }
+  out.ms = bench::median(times);
+  return out;
 }
 
 Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {

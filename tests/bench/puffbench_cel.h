@@ -3,11 +3,14 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <span>
 #include <string>
 #include <vector>
 
 #include <puff/core/error.h>
+#include <puff/core/image.h>
 #include <puff/render/render.h>
+#include <puff/scene/scene.h>
 
 namespace puffbench {
 
@@ -37,6 +40,20 @@ struct CelRow {
 puff::Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& options);
 void markParetoFronts(std::vector<CelRow>& rows);
 std::string celCsv(const std::vector<CelRow>& rows);
+
+/// One configuration's frames: the median time of a render over frames x reps (0 when reps == 0), the
+/// images (scene-linear, one per frame, each from a first render that is not timed) and the most
+/// particles drawn.
+struct Frames {
+  double ms = 0.0;
+  std::vector<puff::core::Image> images;
+  std::size_t particles = 0;
+};
+
+/// Renders `frames` with `path` (the reference with its default sampling; the particles as bare quads
+/// with `fillRateFloor`), each once untimed (the image) and then `reps` times timed.
+puff::Result<Frames> renderFrames(const puff::scene::Scene& scene, puff::render::RenderPath path,
+                                  std::span<const int> frames, int reps, bool fillRateFloor = false);
 
 /// Renders `frame` `reps` times, appending each render's wall time (ms) to `times`: how both parts of
 /// puffbench time a frame, after a first render of it that is not timed (the caller's).

@@ -32,29 +32,13 @@ using bench::Clock;
 
 namespace {
 
-struct Frames {
-  double ms = 0.0;
-  std::vector<core::Image> images;  // display values (standard view), one per frame
-  std::size_t particles = 0;
-};
-
+// A configuration's frames in display values (standard view), as the cel budget compares them.
 Result<Frames> render(const scene::Scene& scene, render::RenderPath path, std::span<const int> frames, int reps,
                       bool fillRateFloor = false) {
-  auto r = eval::createRenderer(scene, path);
-  if (!r) return r.error();
-  (*r)->setFillRateFloor(fillRateFloor);
-  Frames out;
-  std::vector<double> times;
-  for (int f : frames) {
-    render::FrameStats stats;
-    auto image = (*r)->renderFrame(f, &stats);
-    if (!image) return image.error();
-    out.images.push_back(core::viewTransform(*image, core::ViewTransform::kStandard));
-    out.particles = std::max(out.particles, stats.particles);
-    PUFF_TRY(timeFrame(**r, f, reps, times));
-  }
-  out.ms = reps > 0 ? bench::median(times) : 0.0;
-  return out;
+  auto f = renderFrames(scene, path, frames, reps, fillRateFloor);
+  if (!f) return f.error();
+  for (core::Image& im : f->images) im = core::viewTransform(im, core::ViewTransform::kStandard);
+  return f;
 }
 
 // The pixels `shadowed` shows darker than `unshadowed` (the same path without shadows) by 0.02 in a channel.
