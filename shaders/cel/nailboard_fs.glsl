@@ -41,26 +41,45 @@ void main() {
   // The mip level comes from the particle's projected size, like the texel-to-pixel scale below:
   // no derivatives, so the colour can be read after the discards.
   float lod = max(0.0, log2(max(1e-4, vTexelsPerPixel)));
-  vec2 uv[PUFF_VIEWS];
-  vec2 nxy[PUFF_VIEWS];
-  float depth = 0.0, dist = 0.0;
-  for (int k = 0; k < PUFF_VIEWS; ++k) {  // a constant bound: unrolled
-    uv[k] = cellUv(vCell[k], mat2(vMap[k].xy, vMap[k].zw) * vPuff);
-    vec4 pk = textureLod(uPacked, uv[k], lod);
-    nxy[k] = pk.xy * 2.0 - 1.0;
-    float w = vWeight[k];
-    depth += w * (pk.z - 0.5) * uAtlasScale.y * vNormalXf[k][2].z;
-    dist += w * ((pk.w - 0.5) * 2.0 * uAtlasScale.z);
-  }
   // From the particle's projected size, not from derivatives: those break down along the quad's
   // diagonal on some rasterizers, and the size is known anyway.
   float tpp = max(1e-4, vTexelsPerPixel);
-  // The outline band: 0 < dist <= width (texels). The distance map saturates at its range, so
-  // the band and its antialiased edge (half a pixel) must end inside it; beyond is empty.
+  // The distance map holds the distance to the silhouette (texels) up to its range, and a coarse
+  // mip blurs it over 2^lod texels: it is trusted below `trusted`. A puff so small that its band
+  // and antialiased edge reach past that (puffs a few dozen pixels wide and less) takes its
+  // silhouette and band from the radius table instead (particle.glsl, silhouetteRadius), which
+  // reaches any distance: outlines never thin away, and silhouettes are not eroded.
   float range = uAtlasScale.z;
-  if (dist >= range - 0.5) discard;
-  float widthTexels = uOutlines == 1 ? min(uOutlineWidth * tpp, range - 1.0 - 0.5 * tpp) : 0.0;
-  widthTexels = max(widthTexels, 0.0);
+  float trusted = range - 1.0 - 0.5 * tpp;
+  float wantTexels = uOutlines == 1 ? max(0.0, uOutlineWidth) * tpp : 0.0;
+  bool fromTable = wantTexels > trusted;  // the same for the whole puff
+  vec2 uv[PUFF_VIEWS];
+  vec2 nxy[PUFF_VIEWS];
+  bool inside[PUFF_VIEWS];
+  float depth = 0.0, dist = 0.0, tableDist = 0.0;
+  for (int k = 0; k < PUFF_VIEWS; ++k) {  // a constant bound: unrolled
+    vec2 local = mat2(vMap[k].xy, vMap[k].zw) * vPuff;  // the cell's view, puff diameters
+    uv[k] = cellUv(vCell[k], local);
+    // Lookups stay inside their cell: a rolled or foreshortened quad reaches past the cell's
+    // corners, into other variations and views. Outside is empty.
+    inside[k] = insideCell(local, lod);
+    vec4 pk = inside[k] ? textureLod(uPacked, uv[k], lod) : vec4(0.5, 0.5, 0.5, 1.0);
+    nxy[k] = pk.xy * 2.0 - 1.0;
+    float w = vWeight[k];
+    depth += w * (pk.z - 0.5) * uAtlasScale.y * vNormalXf[k][2].z;
+    dist += w * ((pk.w - 0.5) * 2.0 * range);
+    if (fromTable) tableDist += w * (length(local) - silhouetteRadius(vCell[k], local)) * uAtlasScale.x;
+  }
+  // The outline band: 0 < dist <= width (texels). From the map, the band and its antialiased edge
+  // (half a pixel) must end inside its range; beyond is empty.
+  float widthTexels;
+  if (fromTable) {
+    dist = dist < trusted ? dist : max(tableDist, trusted);
+    widthTexels = wantTexels;
+  } else {
+    if (dist >= range - 0.5) discard;
+    widthTexels = max(0.0, min(wantTexels, range - 1.0 - 0.5 * tpp));
+  }
   float coverage = clamp(0.5 - (dist - widthTexels) / tpp, 0.0, 1.0);
   float body = clamp(0.5 - dist / tpp, 0.0, 1.0);
   if (uMultisample == 1 ? coverage <= 0.0 : coverage < 0.5) discard;
@@ -88,7 +107,7 @@ void main() {
     for (int k = 0; k < PUFF_VIEWS; ++k) {
       float w = vWeight[k];
       n += w * (vNormalXf[k] * vec3(nxy[k], sqrt(max(0.0, 1.0 - dot(nxy[k], nxy[k])))));
-      color += w * textureLod(uColor, uv[k], lod).rgb;  // views blended in linear light
+      if (inside[k]) color += w * textureLod(uColor, uv[k], lod).rgb;  // views blended in linear light
     }
     color = linearToSrgb(color);  // Eq. 2 combines display values
     vec3 q = uShading == 1 ? quantize(dot(normalize(n), uLightDirView.xyz)) : vec3(1.0);

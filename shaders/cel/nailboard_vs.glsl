@@ -16,12 +16,27 @@ flat out vec4 vWeight;
 flat out vec4 vMap[PUFF_VIEWS];        // billboard (x, y) -> cell (x, y): columns (m00, m10), (m01, m11)
 flat out mat3 vNormalXf[PUFF_VIEWS];   // cell camera space -> camera (view) space
 
-// Billboard (x, y) -> cell (x, y) as the columns (m00, m10), (m01, m11).
+// Billboard (x, y) -> cell (x, y), as the columns (m00, m10), (m01, m11): the billboard's axes
+// projected on the cell's, made the nearest rotation (or, for a cell seen from behind, reflection).
+// A puff is a round lump, not a card: seen from a direction between the baked views, it shows
+// about the silhouette of the nearest view, turned, at its own size, not foreshortened as a flat
+// card would be. A view from behind mirrors the cell: the silhouette seen from -d is the one seen
+// from d.
 vec4 cellMap(int c, vec3 rP, vec3 uP) {
   vec3 right = cells[c].right.xyz, up = cells[c].up.xyz;
-  return vec4(dot(rP, right), dot(rP, up), dot(uP, right), dot(uP, up));
+  vec4 m = vec4(dot(rP, right), dot(rP, up), dot(uP, right), dot(uP, up));
+  // The nearest orthogonal 2 x 2 matrix: M plus (det > 0) or minus (det < 0) its cofactor matrix,
+  // normalized; the larger of the two is the one of det's sign.
+  vec4 turn = vec4(m.x + m.w, m.y - m.z, m.z - m.y, m.x + m.w);
+  vec4 mirror = vec4(m.x - m.w, m.y + m.z, m.z + m.y, m.w - m.x);
+  float t = dot(turn.xy, turn.xy), r = dot(mirror.xy, mirror.xy);
+  return t >= r ? turn * inversesqrt(max(t, 1e-20)) : mirror * inversesqrt(max(r, 1e-20));
 }
-mat3 cellAxes(int c) { return mat3(cells[c].right.xyz, cells[c].up.xyz, cells[c].dir.xyz); }
+
+// A cell's camera-space normal (x, y in the cell, z toward its viewer) -> the billboard's frame,
+// through the same turn as cellMap (its transpose: the inverse): the puff shows the shading the
+// view baked, turned with its silhouette, its bulge toward the camera.
+mat3 cellToBillboard(vec4 m) { return mat3(vec3(m.x, m.z, 0.0), vec3(m.y, m.w, 0.0), vec3(0.0, 0.0, 1.0)); }
 
 // The shadow map's caster pass (NailboardRenderer::drawShadowCasters, the light's frame bound):
 // 1, with the eye's camera right and up (world), so an unoriented puff faces the light in
@@ -29,6 +44,9 @@ mat3 cellAxes(int c) { return mat3(cells[c].right.xyz, cells[c].up.xyz, cells[c]
 uniform int uCaster;
 uniform vec3 uEyeRight;
 uniform vec3 uEyeUp;
+// The fragment stage's outline switch and width (pixels): a small puff's quad grows to hold its band.
+uniform int uOutlines;
+uniform float uOutlineWidth;
 
 const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
 
@@ -41,33 +59,38 @@ void main() {
   mat3 puffT = transpose(puff);
   ivec4 cell;
   vec4 weight;
-  selectViews(p, puffT * bb[2], cell, weight);
+  vec3 toward = puffT * bb[2];  // toward the camera (the light, drawing casters), puff space
+  selectViews(p, toward, cell, weight);
   vec3 rP = puffT * bb[0], uP = puffT * bb[1];
-  mat3 toView = mat3(uView) * puff;
+  mat3 toView = mat3(uView) * bb;
   vMap[0] = cellMap(cell.x, rP, uP);
-  vNormalXf[0] = toView * cellAxes(cell.x);
+  vNormalXf[0] = toView * cellToBillboard(vMap[0]);
 #if PUFF_VIEWS == 4
   vMap[1] = cellMap(cell.y, rP, uP);
   vMap[2] = cellMap(cell.z, rP, uP);
   vMap[3] = cellMap(cell.w, rP, uP);
-  vNormalXf[1] = toView * cellAxes(cell.y);
-  vNormalXf[2] = toView * cellAxes(cell.z);
-  vNormalXf[3] = toView * cellAxes(cell.w);
+  vNormalXf[1] = toView * cellToBillboard(vMap[1]);
+  vNormalXf[2] = toView * cellToBillboard(vMap[2]);
+  vNormalXf[3] = toView * cellToBillboard(vMap[3]);
 #endif
   vCell = cell;
   vWeight = weight;
   vSize = p.size;
-  // The quad covers the whole cell (margin included) so the outline can reach past the silhouette.
+  // Pixels per world unit at the particle's distance (orthographic: everywhere the same).
+  float centreDist = max(-(uView * vec4(p.position, 1.0)).z, uDepthRange.x);
+  float pxPerUnit = 0.5 * uViewport.w * uProj[1][1] / (isOrthographic() ? 1.0 : centreDist);
+  float pxPerDiameter = max(1e-6, p.size * pxPerUnit);
+  vTexelsPerPixel = uAtlasScale.x / pxPerDiameter;
+  // The quad covers the whole cell (margin included) so the outline can reach past the silhouette;
+  // a puff so small that its band and antialiased edge (outline width + 1.5 pixels) reach past the
+  // cell gets a quad that holds them: the silhouette lies within half a diameter of the centre.
   float halfCell = 0.5 * uAtlasGeom.z / uAtlasScale.x;  // cell half-width in puff diameters
-  vPuff = corner * halfCell;
+  float band = (uOutlines == 1 ? max(0.0, uOutlineWidth) : 0.0) + 1.5;
+  vPuff = corner * max(halfCell, 0.5 + band / pxPerDiameter);
   vec3 world = p.position + p.size * (vPuff.x * bb[0] + vPuff.y * bb[1]);
   vec4 viewPos = uView * vec4(world, 1.0);
   vDist = -viewPos.z;
   vWorld = world;
   vId = index + 1u;
-  // Pixels per world unit at the particle's distance (orthographic: everywhere the same).
-  float centreDist = max(-(uView * vec4(p.position, 1.0)).z, uDepthRange.x);
-  float pxPerUnit = 0.5 * uViewport.w * uProj[1][1] / (isOrthographic() ? 1.0 : centreDist);
-  vTexelsPerPixel = uAtlasScale.x / max(1e-6, p.size * pxPerUnit);
   gl_Position = p.size > 0.0 ? uProj * viewPos : vec4(2.0, 2.0, 2.0, 1.0);
 }

@@ -113,6 +113,24 @@ mat3 lightFacingFrame(vec3 towardLight, vec3 eyeRight, vec3 eyeUp) {
 // always shows its front view upright.
 mat3 puffFrame(Particle p, mat3 billboard) { return p.oriented ? quatToMat3(p.orientation) : billboard; }
 
+// The view grid's cell (column, row) one step past an edge, as the sphere continues there: the
+// octahedral square folds along its edges ((1 + e, v) is (1 - e, -v)); past the hemi-oct square's
+// edge (the equator) lies the back, whose cells are the front ones opposite ((1 + e, v) is
+// (-1 + e, -v), seen from behind). Bilinear blending then runs on around the sphere instead of
+// clamping to the edge views.
+int wrapView(ivec2 c, int grid) {
+  bool oct = uAtlasLayout.w == 1;
+  if (c.x < 0 || c.x >= grid) {
+    c.y = grid - 1 - c.y;
+    c.x = oct ? clamp(c.x, 0, grid - 1) : (c.x < 0 ? grid - 1 : 0);
+  }
+  if (c.y < 0 || c.y >= grid) {
+    c.x = grid - 1 - c.x;
+    c.y = oct ? clamp(c.y, 0, grid - 1) : (c.y < 0 ? grid - 1 : 0);
+  }
+  return clamp(c.y, 0, grid - 1) * grid + clamp(c.x, 0, grid - 1);
+}
+
 // Up to four atlas cells for a puff-space direction toward the camera, with bilinear weights over
 // the (hemi-)octahedral view grid. A one-view atlas gives its only view with weight 1.
 void selectViews(Particle p, vec3 dirPuff, out ivec4 cellIndex, out vec4 weight) {
@@ -129,15 +147,17 @@ void selectViews(Particle p, vec3 dirPuff, out ivec4 cellIndex, out vec4 weight)
     uv = d.xy;
     if (d.z < 0.0) uv = (1.0 - abs(d.yx)) * vec2(d.x >= 0.0 ? 1.0 : -1.0, d.y >= 0.0 ? 1.0 : -1.0);
   } else {
-    // Hemi-octahedral covers the front half only: a view from behind uses its mirror in front.
+    // Hemi-octahedral covers the front half only. A view from behind takes the cells around the
+    // OPPOSITE direction: an orthographic silhouette seen from -d is the one seen from d, so the
+    // outline stays exact; the surface is that cell's front reflected through its plane (cellAxes).
+    if (d.z < 0.0) d = -d;
     uv = vec2(d.x + d.y, d.x - d.y);
   }
   vec2 g = (uv * 0.5 + 0.5) * float(grid) - 0.5;
   vec2 g0 = floor(g), f = g - g0;
-  ivec2 c0 = clamp(ivec2(g0), ivec2(0), ivec2(grid - 1));
-  ivec2 c1 = clamp(ivec2(g0) + 1, ivec2(0), ivec2(grid - 1));
-  cellIndex = ivec4(base + c0.y * grid + c0.x, base + c0.y * grid + c1.x, base + c1.y * grid + c0.x,
-                    base + c1.y * grid + c1.x);
+  ivec2 c0 = ivec2(g0), c1 = c0 + 1;
+  cellIndex = ivec4(base + wrapView(ivec2(c0.x, c0.y), grid), base + wrapView(ivec2(c1.x, c0.y), grid),
+                    base + wrapView(ivec2(c0.x, c1.y), grid), base + wrapView(ivec2(c1.x, c1.y), grid));
   weight = vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
 }
 
@@ -148,4 +168,35 @@ vec2 cellUv(int c, vec2 puff) {
   float margin = uAtlasGeom.w, content = uAtlasScale.x;
   vec2 texel = rect.xy + vec2(margin + (puff.x + 0.5) * content, margin + (0.5 - puff.y) * content);
   return texel / uAtlasGeom.xy;
+}
+
+// Whether a point of a cell (puff diameters from the centre, as cellUv takes it) is read from inside
+// the cell at mip level `lod`: its bilinear taps at the coarser level used stay off the neighbour
+// cells (a rolled or foreshortened quad reaches past its cell's corners; outside is empty).
+bool insideCell(vec2 puff, float lod) {
+  float halfTexels = 0.5 * uAtlasGeom.z - 0.5 * exp2(ceil(lod));
+  return all(lessThanEqual(abs(puff) * uAtlasScale.x, vec2(halfTexels)));
+}
+
+// Per atlas cell, from the CPU (NailboardRenderer::setAtlas): row `cell` of this texture holds the
+// silhouette's radius (diameters) in kPolar directions from the puff's centre, counter-clockwise
+// from +x of the cell, evenly spaced in diamond angle; linear filtering with wrap-around
+// interpolates between directions. Marched outward from the centre, the radius is the last crossing
+// of the silhouette: the star-shaped hull. The shadow volumes cut their sides along it; small
+// nailboards draw their silhouette and ink band from it where the distance map runs out.
+const int kPolar = 32;
+layout(binding = 5) uniform sampler2D uShadowProfile;
+
+// The silhouette's radius of cell `c` in the direction of `p` (diameters), interpolated between
+// directions. Directions are indexed by the "diamond angle" (0..4 around the square |x| + |y| = 1),
+// which needs one division where an angle needs atan; the CPU builds the table the same way.
+float silhouetteRadius(int c, vec2 p) {
+  float q;
+  if (p.y >= 0.0) {
+    q = p.x >= 0.0 ? p.y / (p.x + p.y + 1e-20) : 1.0 - p.x / (p.y - p.x);
+  } else {
+    q = p.x < 0.0 ? 2.0 - p.y / (-p.x - p.y) : 3.0 + p.x / (p.x - p.y);
+  }
+  float row = (float(c) + 0.5) / float(max(1, uAtlasLayout.x * uAtlasLayout.y));
+  return texture(uShadowProfile, vec2(q * 0.25 + 0.5 / float(kPolar), row)).r;
 }

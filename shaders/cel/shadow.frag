@@ -18,17 +18,11 @@ uniform int uBackFace;  // 0: the entry face (depth where the ray enters), 1: th
 noperspective in vec3 vC0;
 noperspective in vec3 vC1;
 flat in vec4 vExtent;
-flat in float vProfileRow;  // texture row of the particle's cell
 
-// Per atlas cell, from the CPU (NailboardRenderer::setAtlas): row `cell` of this texture holds the
-// silhouette's radius (diameters) in kPolar directions from the puff's centre, counter-clockwise
-// from +x of the cell, evenly spaced in diamond angle; linear filtering with wrap-around
-// interpolates between directions.
-const int kPolar = 32;
-// The farthest a silhouette reaches from the puff's centre, diameters: the radius table marches no
-// farther than the cell's content plus its margin (NailboardRenderer::setAtlas).
+// The farthest a silhouette reaches from the puff's centre, diameters: the radius table
+// (particle.glsl, silhouetteRadius) marches no farther than the cell's content plus its margin
+// (NailboardRenderer::setAtlas).
 #define kReach (0.5 + uAtlasGeom.w / uAtlasScale.x)
-layout(binding = 5) uniform sampler2D uShadowProfile;
 flat in int vCell;  // the atlas cell the light sees
 
 // The atlas's packed maps (NailboardRenderer::setAtlas; nailboard_fs.glsl): .z is the depth offset
@@ -53,19 +47,8 @@ void clipSlab(float c0, float c1, float lo, float hi, inout float t0, inout floa
   t1 = min(t1, max(ta, tb));
 }
 
-// The silhouette's radius in the direction of `p` (diameters), interpolated between directions.
-// Directions are indexed by the "diamond angle" (0..4 around the square |x| + |y| = 1), which
-// needs one division where an angle needs atan; the CPU builds the table the same way.
-float radiusToward(vec2 p) {
-  float q;
-  if (p.y >= 0.0) {
-    q = p.x >= 0.0 ? p.y / (p.x + p.y + 1e-20) : 1.0 - p.x / (p.y - p.x);
-  } else {
-    q = p.x < 0.0 ? 2.0 - p.y / (-p.x - p.y) : 3.0 + p.x / (p.x - p.y);
-  }
-  return texture(uShadowProfile, vec2(q * 0.25 + 0.5 / float(kPolar), vProfileRow)).r;
-}
-
+// The silhouette's radius of the light's cell in the direction of `p` (diameters).
+float radiusToward(vec2 p) { return silhouetteRadius(vCell, p); }
 
 // How far (diameters, along the unit direction `along`) from the closest approach `pc` (inside the
 // silhouette) the line leaves it: first the one step that is exact for a round silhouette (the

@@ -30,7 +30,6 @@ uniform vec4 uShadowFloor;    // world plane (n, w): volumes end a diameter past
 noperspective out vec3 vC0;
 noperspective out vec3 vC1;
 flat out vec4 vExtent;  // size, lambda end (world), 0, 0
-flat out float vProfileRow;  // texture coordinate of the cell's row in the shadow-profile texture
 flat out int vCell;          // the atlas cell the light sees: its depth map gives the start cap
 
 void main() {
@@ -71,7 +70,6 @@ void main() {
   e1 = normalize(e1);
   e2 -= dot(e2, e1) * e1;
   e2 = dot(e2, e2) < 1e-12 ? cross(e1, D) : normalize(e2);
-  vProfileRow = (float(cell[best]) + 0.5) / float(max(1, uAtlasLayout.x * uAtlasLayout.y));
   vCell = cell[best];
 
   // Footprint: the convex hull of the prism's eight corners on screen (Jarvis march), as a fan

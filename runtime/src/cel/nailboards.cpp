@@ -19,7 +19,7 @@ namespace {
 constexpr GLuint kUnitPacked = 2, kUnitColor = 3;
 constexpr GLuint kBindingParticles = 0, kBindingCells = 1;
 constexpr GLuint kUnitShadowProfile = 5;
-constexpr int kPolar = 32;  // directions of the silhouette radius table (shaders/cel/shadow.frag)
+constexpr int kPolar = 32;  // directions of the silhouette radius table (shaders/cel/particle.glsl)
 
 struct AtlasUniforms {
   GLint boundsMin = -1, boundsExtent = -1, alignment = -1, layout = -1, geom = -1, scale = -1;
@@ -101,6 +101,8 @@ struct NailboardRenderer::Impl {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingCells, cells.get());
     glBindTextureUnit(kUnitPacked, maps.get());
     glBindTextureUnit(kUnitColor, color.get());
+    // The silhouette's radius table: the shadow volumes' sides, small nailboards' silhouettes and bands.
+    glBindTextureUnit(kUnitShadowProfile, shadowProfile.get());
   }
 };
 
@@ -430,7 +432,6 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   glEnable(GL_STENCIL_TEST);
   glStencilMask(0xFF);
   glStencilFunc(GL_ALWAYS, 0, 0xFF);
-  glBindTextureUnit(kUnitShadowProfile, m.shadowProfile.get());
   // Depth-fail counting: a face behind the receiver counts, exit faces up and entry faces down, so
   // a receiver inside the volume ends non-zero wherever the eye is. The two faces are the same
   // triangles in the same order, drawn twice; the draw (not the winding) says which face it is, so

@@ -26,6 +26,7 @@ class CelPath final : public Path {
     if (!scene.atlas.empty()) {
       auto atlas = loadSceneAtlas(scene);
       if (!atlas) return atlas.error();
+      if (auto oriented = checkOrientedPuffs(scene, atlas->desc); !oriented) return oriented.error();
       if (auto set = p->nailboards_->setAtlas(*atlas); !set) return Error::at(scene.atlas, set.error().message);
       p->variations_ = std::max(1, atlas->desc.variations);
     } else if (scene::hasParticles(scene)) {

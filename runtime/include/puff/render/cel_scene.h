@@ -23,6 +23,11 @@ namespace puff::render {
 /// has no such level.
 Result<core::Atlas> loadSceneAtlas(const scene::Scene& scene);
 
+/// Oriented puffs (particles, emitters or simulator emitters with `oriented`) turn in 3D, which a
+/// one-view atlas cannot show (it holds the front only: a turned puff would be a flat slab). The
+/// error names the scene, the JSON pointer of the first oriented source, and the atlas.
+Result<void> checkOrientedPuffs(const scene::Scene& scene, const core::AtlasDesc& atlas);
+
 /// A puff::mesh mesh as the cel path's opaque renderer takes it.
 std::shared_ptr<const cel::TriangleMesh> toTriangleMesh(const mesh::TriMesh& mesh);
 

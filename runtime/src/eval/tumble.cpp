@@ -1,0 +1,222 @@
+// Tumbling puffs against the cel reference (tumble.h). Each pose is one oriented puff in its own
+// square of a grid (yaw across, pitch down, one frame per roll), orthographic, so every square shows
+// the same puff at the same size: the nailboards and the reference are judged square by square.
+#include <puff/eval/tumble.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
+
+#include <puff/core/atlas.h>
+#include <puff/eval/cel_reference.h>
+#include <puff/reference/metrics.h>
+#include <puff/render/render.h>
+#include <puff/scene/read.h>
+
+namespace puff::eval {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr float kSpacing = 1.5f;  // a square is 1.5 puff diameters: neighbours' ink never meets
+const glm::vec3 kBackground(0.9f);
+
+struct Grid {
+  int columns = 0, rows = 0, square = 0;  // square: pixels per side
+};
+
+std::vector<int> sweep(int from, int to, int step) {
+  std::vector<int> v;
+  for (int a = from; a < to || (to == 90 && a == 90); a += step) v.push_back(a);
+  return v;
+}
+
+Grid gridFor(const TumbleOptions& o) {
+  Grid g;
+  g.columns = static_cast<int>(sweep(0, 360, o.stepDegrees).size());
+  g.rows = static_cast<int>(sweep(-90, 90, o.stepDegrees).size());
+  g.square = static_cast<int>(std::lround(kSpacing * static_cast<float>(o.puffPixels)));
+  return g;
+}
+
+glm::quat poseRotation(const TumblePose& p) {
+  auto about = [](int degrees, glm::vec3 axis) { return glm::angleAxis(glm::radians(float(degrees)), axis); };
+  return about(p.yaw, {0, 1, 0}) * about(p.pitch, {1, 0, 0}) * about(p.roll, {0, 0, 1});
+}
+
+Result<void> checkOptions(const TumbleOptions& o) {
+  if (o.stepDegrees < 1 || 90 % o.stepDegrees != 0) {
+    return Error{"tumble sweep: the step (" + std::to_string(o.stepDegrees) + " degrees) must divide 90"};
+  }
+  if (o.puffPixels < 8 || o.puffPixels > 512) return Error{"tumble sweep: puffs of 8 to 512 pixels"};
+  return {};
+}
+
+// The scene of one roll's grid: an orthographic camera on +z, a light from the upper left front,
+// outlines and Eq. 2 shading, no shadows (each pose alone is judged).
+Result<scene::Scene> gridScene(const fs::path& atlas, const TumbleOptions& o, int roll, int variations) {
+  const Grid g = gridFor(o);
+  const float unit = 1.0f;  // a puff's diameter, world units
+  const float pxPerUnit = static_cast<float>(o.puffPixels) / unit;
+  const int width = g.columns * g.square, height = g.rows * g.square;
+  const nlohmann::json j = {
+      {"output", {{"width", width}, {"height", height}, {"samples", 1},
+                  {"background", {kBackground.x, kBackground.y, kBackground.z}}}},
+      {"camera",
+       {{"position", {0, 0, 50}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fovY", 0},
+        {"orthoHeight", static_cast<float>(height) / pxPerUnit}, {"near", 1}, {"far", 100}}},
+      {"light", {{"direction", {-0.4, 0.5, 0.77}}, {"color", {0.7, 0.7, 0.7}}}},
+      {"ambient", {{"color", {0.25, 0.25, 0.25}}}},
+      {"atlas", atlas.string()},
+      {"style", {{"outlines", true}, {"outlineWidth", o.outlineWidth}, {"shading", true}, {"shadows", false}}}};
+  auto s = scene::parseScene(j, atlas.parent_path() / "tumble-sweep.json");
+  if (!s) return s.error();
+  const std::vector<int> yaws = sweep(0, 360, o.stepDegrees), pitches = sweep(-90, 90, o.stepDegrees);
+  int index = 0;
+  for (std::size_t r = 0; r < pitches.size(); ++r) {
+    for (std::size_t c = 0; c < yaws.size(); ++c, ++index) {
+      scene::ParticleSpec p;
+      const float x = (static_cast<float>(c) + 0.5f) * kSpacing * unit - 0.5f * width / pxPerUnit;
+      const float y = 0.5f * height / pxPerUnit - (static_cast<float>(r) + 0.5f) * kSpacing * unit;
+      p.position = glm::vec3(x, y, 0.0f);
+      p.size = unit;
+      p.variation = index % std::max(1, variations);
+      p.oriented = true;
+      p.orientation = poseRotation(TumblePose{yaws[c], pitches[r], roll});
+      s->particles.push_back(p);
+    }
+  }
+  return s;
+}
+
+Result<core::Image> renderOnce(const scene::Scene& s, render::RenderPath path, std::vector<double>* times) {
+  // Both point-sampled at pixel centres (one sample a pixel, the reference not supersampled): the
+  // masks compare where the silhouettes and bands lie, not how two antialiasing filters spread
+  // their edges (a 3 x 3 box against 4 MSAA samples alone moves the masks by a fraction of a pixel
+  // all around).
+  auto r = path == render::RenderPath::kReference ? createCelReference(s, CelReferenceOptions{.supersample = 1})
+                                                  : createRenderer(s, path);
+  if (!r) return r.error();
+  auto image = (*r)->renderFrame(0);
+  if (!image || !times) return image;
+  for (int i = 0; i < 3; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (auto again = (*r)->renderFrame(0); !again) return again.error();
+    times->push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  return image;
+}
+
+// One square of an image as its own image.
+core::Image square(const core::Image& im, int col, int row, int side) {
+  core::Image out(side, side, im.channels);
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x)
+      for (int c = 0; c < im.channels; ++c) out.at(x, y, c) = im.at(col * side + x, row * side + y, c);
+  return out;
+}
+
+// Ink: every channel within 0.1 of black (the outline colour), scene-linear.
+std::vector<bool> inkMask(const core::Image& im) {
+  std::vector<bool> m(static_cast<std::size_t>(im.width) * im.height);
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x)
+      m[static_cast<std::size_t>(y) * im.width + x] = im.at(x, y, 0) < 0.1f && im.at(x, y, 1) < 0.1f &&
+                                                       im.at(x, y, 2) < 0.1f;
+  return m;
+}
+
+int variationsOf(const fs::path& atlas) {
+  auto d = core::loadAtlasDesc(atlas);
+  return d ? std::max(1, d->variations) : 1;
+}
+
+}  // namespace
+
+std::vector<TumblePose> tumblePoses(int stepDegrees) {
+  std::vector<TumblePose> out;
+  if (stepDegrees < 1 || 90 % stepDegrees != 0) return out;
+  for (int roll : sweep(0, 360, stepDegrees))
+    for (int pitch : sweep(-90, 90, stepDegrees))
+      for (int yaw : sweep(0, 360, stepDegrees)) {
+        if (std::abs(pitch) == 90 && yaw != 0) continue;
+        out.push_back(TumblePose{yaw, pitch, roll});
+      }
+  return out;
+}
+
+Result<TumbleReference> renderTumbleReference(const fs::path& atlas, const TumbleOptions& options,
+                                              std::vector<int> rolls) {
+  PUFF_TRY(checkOptions(options));
+  if (rolls.empty()) rolls = sweep(0, 360, options.stepDegrees);
+  TumbleReference ref;
+  ref.options = options;
+  ref.rolls = rolls;
+  const int variations = variationsOf(atlas);
+  for (int roll : rolls) {
+    auto s = gridScene(atlas, options, roll, variations);
+    if (!s) return s.error();
+    auto image = renderOnce(*s, render::RenderPath::kReference, nullptr);
+    if (!image) return image.error();
+    ref.frames.push_back(std::move(*image));
+  }
+  return ref;
+}
+
+Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference& reference, double* msPerFrame) {
+  const TumbleOptions& o = reference.options;
+  PUFF_TRY(checkOptions(o));
+  const Grid g = gridFor(o);
+  const std::vector<int> yaws = sweep(0, 360, o.stepDegrees), pitches = sweep(-90, 90, o.stepDegrees);
+  const int variations = variationsOf(atlas);
+  TumbleResult out;
+  std::vector<double> times;
+  double sumCoverage = 0.0, sumOutline = 0.0;
+  core::Image background(g.square, g.square, 4);
+  for (int y = 0; y < g.square; ++y)
+    for (int x = 0; x < g.square; ++x)
+      for (int c = 0; c < 4; ++c) background.at(x, y, c) = c < 3 ? kBackground[c] : 1.0f;
+  for (std::size_t f = 0; f < reference.rolls.size(); ++f) {
+    auto s = gridScene(atlas, o, reference.rolls[f], variations);
+    if (!s) return s.error();
+    auto image = renderOnce(*s, render::RenderPath::kCel, msPerFrame ? &times : nullptr);
+    if (!image) return image.error();
+    const core::Image& ref = reference.frames[f];
+    if (ref.width != image->width || ref.height != image->height) {
+      return Error{"tumble sweep: the reference frames are " + std::to_string(ref.width) + "x" +
+                   std::to_string(ref.height) + ", the nailboards' " + std::to_string(image->width) + "x" +
+                   std::to_string(image->height)};
+    }
+    int index = 0;
+    for (std::size_t r = 0; r < pitches.size(); ++r) {
+      for (std::size_t c = 0; c < yaws.size(); ++c, ++index) {
+        if (std::abs(pitches[r]) == 90 && yaws[c] != 0) continue;  // the same poses as yaw 0
+        const core::Image a = square(*image, static_cast<int>(c), static_cast<int>(r), g.square);
+        const core::Image b = square(ref, static_cast<int>(c), static_cast<int>(r), g.square);
+        TumblePose p{yaws[c], pitches[r], reference.rolls[f], index % variations};
+        p.coverageIoU = reference::coverageIoU(a, b, background);
+        p.outlineIoU = reference::maskIoU(inkMask(a), inkMask(b));
+        out.minCoverageIoU = std::min(out.minCoverageIoU, p.coverageIoU);
+        out.minOutlineIoU = std::min(out.minOutlineIoU, p.outlineIoU);
+        sumCoverage += p.coverageIoU;
+        sumOutline += p.outlineIoU;
+        out.poses.push_back(p);
+      }
+    }
+  }
+  if (!out.poses.empty()) {
+    out.meanCoverageIoU = sumCoverage / static_cast<double>(out.poses.size());
+    out.meanOutlineIoU = sumOutline / static_cast<double>(out.poses.size());
+  }
+  if (msPerFrame && !times.empty()) {
+    std::sort(times.begin(), times.end());
+    *msPerFrame = times[times.size() / 2];
+  }
+  return out;
+}
+
+}  // namespace puff::eval
