@@ -18,7 +18,8 @@ constexpr float kQuatRange = 0.70710678f;  // the three smallest components lie 
 // smallest with the batch's extent <= kGridSpan steps, and the origin a multiple of the step. A
 // still particle rounds to the same grid point whatever the rest of the batch does, as long as the
 // batch's extent on that axis stays between the same two thresholds (kGridSpan * 2^k, roughly powers
-// of two). The alternative, camera-relative positions, would move the grid with every camera move.
+// of two). Not camera-relative: that grid would move with every camera move (a still scene would
+// shimmer under a panning camera), and packing happens at upload, before any camera is known.
 //   kGridSpan: 65535 steps fit 16 bits; snapping the origin down to the grid costs up to one.
 //   kMinStepExponent: the finest step, 2^-24 world units, for a batch of one point (extent 0).
 //   kMaxCoordinate: 2^125; beyond it the grid's corner and q * step could overflow a float.
