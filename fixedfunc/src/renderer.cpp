@@ -86,17 +86,23 @@ Result<DrawMesh> toDrawMesh(const mesh::TriMesh& m, const std::string& what) {
   return d;
 }
 
-/// Texel values of the ramp's row 0, resampled (nearest) to a power-of-two width, RGBA8 with alpha 255.
+/// Texels of the ramp's middle row (the row puff::cel::Ramp uses), RGBA8 with alpha 255, resampled
+/// (nearest: texel i takes source texel floor((i + 1/2) W / w)) to w = 256 texels, or the next power
+/// of two >= W for a wider ramp. Why 256: the cel path samples the W-texel ramp itself, nearest, so
+/// its tone changes at N.L = k / W; here they land at the texel edge nearest each, i / w, at most
+/// 1/2w = 1/512 away (the next power of two >= W alone gave 1/12 for a 3-texel ramp: 1/4 instead of
+/// 1/3). A wider ramp keeps w >= W, so no source texel (no band) is skipped. GL 1.x needs powers of two.
 std::vector<unsigned char> rampTexels(const core::Image& ramp, int* width) {
-  int w = 1;
+  int w = 256;
   while (w < ramp.width) w *= 2;
   *width = w;
+  const int row = ramp.height / 2;
   std::vector<unsigned char> out(static_cast<std::size_t>(w) * 4);
   auto byte = [](float v) { return static_cast<unsigned char>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
   for (int i = 0; i < w; ++i) {
     const int src = std::min(ramp.width - 1, static_cast<int>((static_cast<double>(i) + 0.5) * ramp.width / w));
     for (int c = 0; c < 3; ++c) {
-      out[static_cast<std::size_t>(i) * 4 + c] = byte(ramp.at(src, 0, ramp.channels == 1 ? 0 : c));
+      out[static_cast<std::size_t>(i) * 4 + c] = byte(ramp.at(src, row, ramp.channels == 1 ? 0 : c));
     }
     out[static_cast<std::size_t>(i) * 4 + 3] = 255;
   }

@@ -14,8 +14,8 @@ struct AtlasCell {
 };
 layout(std430, binding = 1) readonly buffer AtlasCells { AtlasCell cells[]; };
 
-uniform vec3 uBoundsMin;     // PackBounds
-uniform vec3 uBoundsExtent;  // max - min
+uniform vec3 uGridOrigin;    // PackBounds::min: world position of grid point 0, a multiple of uGridStep
+uniform vec3 uGridStep;      // PackBounds::step: a power of two per axis (world units)
 uniform int uAlignment;      // 0 view-plane, 1 viewpoint, 2 axial
 uniform ivec4 uAtlasLayout;  // variations, views, view grid, 1 if the layout is octahedral (else hemi-oct)
 uniform vec4 uAtlasGeom;     // atlas width, height (texels), cell size, margin
@@ -48,8 +48,10 @@ vec4 unpackQuat(uint bits) {
 Particle unpackParticle(uint index) {
   uvec4 d = particles[index];
   Particle p;
-  vec3 q = vec3(float(d.x & 0xFFFFu), float(d.x >> 16u), float(d.y & 0xFFFFu)) / 65535.0;
-  p.position = uBoundsMin + q * uBoundsExtent;
+  // Exact in floats (fused or not): q * step is 16 bits times a power of two, and the sum a grid
+  // point a float holds. So the position is bit for bit puff::cel::unpackParticle's.
+  vec3 q = vec3(float(d.x & 0xFFFFu), float(d.x >> 16u), float(d.y & 0xFFFFu));
+  p.position = uGridOrigin + q * uGridStep;
   p.size = unpackHalf2x16(d.y >> 16u).x;
   p.orientation = unpackQuat(d.z);
   p.variation = int(d.w & 0xFFu) % max(1, uAtlasLayout.x);

@@ -22,10 +22,10 @@ constexpr GLuint kUnitShadowProfile = 5;
 constexpr int kPolar = 32;  // directions of the silhouette radius table (shaders/cel/particle.glsl)
 
 struct AtlasUniforms {
-  GLint boundsMin = -1, boundsExtent = -1, alignment = -1, layout = -1, geom = -1, scale = -1;
+  GLint gridOrigin = -1, gridStep = -1, alignment = -1, layout = -1, geom = -1, scale = -1;
   void find(GLuint program) {
-    boundsMin = glGetUniformLocation(program, "uBoundsMin");
-    boundsExtent = glGetUniformLocation(program, "uBoundsExtent");
+    gridOrigin = glGetUniformLocation(program, "uGridOrigin");
+    gridStep = glGetUniformLocation(program, "uGridStep");
     alignment = glGetUniformLocation(program, "uAlignment");
     layout = glGetUniformLocation(program, "uAtlasLayout");
     geom = glGetUniformLocation(program, "uAtlasGeom");
@@ -87,9 +87,8 @@ struct NailboardRenderer::Impl {
   bool hasAtlas = false;
 
   void setCommon(GLuint program, const AtlasUniforms& u, const Style& style) const {
-    glProgramUniform3fv(program, u.boundsMin, 1, glm::value_ptr(bounds.min));
-    const glm::vec3 extent = bounds.max - bounds.min;
-    glProgramUniform3fv(program, u.boundsExtent, 1, glm::value_ptr(extent));
+    glProgramUniform3fv(program, u.gridOrigin, 1, glm::value_ptr(bounds.min));
+    glProgramUniform3fv(program, u.gridStep, 1, glm::value_ptr(bounds.step));
     glProgramUniform1i(program, u.alignment, static_cast<int>(style.alignment));
     glProgramUniform4i(program, u.layout, desc.variations, desc.views, desc.viewGrid, desc.viewLayout == "oct" ? 1 : 0);
     glProgramUniform4f(program, u.geom, static_cast<float>(desc.width), static_cast<float>(desc.height),

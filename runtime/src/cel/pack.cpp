@@ -14,10 +14,33 @@ namespace {
 
 constexpr float kQuatRange = 0.70710678f;  // the three smallest components lie in [-1/sqrt2, 1/sqrt2]
 
-std::uint32_t quantize16(float v, float lo, float hi) {
-  float t = (v - lo) / (hi - lo);
-  t = t >= 0.0f ? std::min(t, 1.0f) : 0.0f;  // NaN (a position not drawn) goes to 0 too
-  return static_cast<std::uint32_t>(std::lround(t * 65535.0f));
+// Positions lie on a fixed world-space grid per axis (PackBounds): the step is a power of two, the
+// smallest with the batch's extent <= kGridSpan steps, and the origin a multiple of the step. A
+// still particle rounds to the same grid point whatever the rest of the batch does, as long as the
+// batch's extent on that axis stays between the same two thresholds (kGridSpan * 2^k, roughly powers
+// of two). Not camera-relative: that grid would move with every camera move (a still scene would
+// shimmer under a panning camera), and packing happens at upload, before any camera is known.
+//   kGridSpan: 65535 steps fit 16 bits; snapping the origin down to the grid costs up to one.
+//   kMinStepExponent: the finest step, 2^-24 world units, for a batch of one point (extent 0).
+//   kMaxCoordinate: 2^125; beyond it the grid's corner and q * step could overflow a float.
+constexpr double kGridSpan = 65534.0;
+constexpr int kMinStepExponent = -24;
+constexpr float kMaxCoordinate = 0x1.0p125f;
+
+// The exponent k of the grid step 2^k for an extent (world units): the smallest k >=
+// kMinStepExponent with extent <= kGridSpan * 2^k.
+int stepExponent(double extent) {
+  if (!(extent > std::ldexp(kGridSpan, kMinStepExponent))) return kMinStepExponent;
+  int k = std::ilogb(extent / kGridSpan);  // 2^k <= extent / kGridSpan (rounded) < 2^(k + 1)
+  if (std::ldexp(kGridSpan, k) < extent) ++k;
+  return k;
+}
+
+bool drawable(const glm::vec3& v) {
+  for (int a = 0; a < 3; ++a) {
+    if (!(std::abs(v[a]) <= kMaxCoordinate)) return false;  // NaN fails too
+  }
+  return true;
 }
 
 std::uint32_t packQuat(glm::quat q) {
@@ -59,27 +82,41 @@ glm::quat unpackQuat(std::uint32_t bits) {
 }  // namespace
 
 PackBounds packParticles(std::span<const Particle> particles, std::vector<PackedParticle>& out) {
-  // A particle whose position is not finite is not drawn (size 0) and does not widen the bounds:
-  // one bad position must not take the batch with it.
-  auto finite = [](const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
-  PackBounds b;
+  // A particle whose position is not finite (or beyond kMaxCoordinate) is not drawn (size 0) and
+  // does not widen the grid: one bad position must not take the batch with it.
+  glm::vec3 lo(0.0f), hi(0.0f);
   bool any = false;
   for (const Particle& p : particles) {
-    if (!finite(p.position)) continue;
-    b.min = any ? glm::min(b.min, p.position) : p.position;
-    b.max = any ? glm::max(b.max, p.position) : p.position;
+    if (!drawable(p.position)) continue;
+    lo = any ? glm::min(lo, p.position) : p.position;
+    hi = any ? glm::max(hi, p.position) : p.position;
     any = true;
   }
+  // Per axis, in doubles (exact here: a float over a power of two, integers below 2^53 or of one
+  // binade): the step, and the grid index of the origin.
+  PackBounds b;
+  double step[3], first[3];
   for (int a = 0; a < 3; ++a) {
-    if (!(b.max[a] > b.min[a])) b.max[a] = b.min[a] + 1.0f;
+    step[a] = std::ldexp(1.0, stepExponent(static_cast<double>(hi[a]) - static_cast<double>(lo[a])));
+    first[a] = std::floor(static_cast<double>(lo[a]) / step[a]);
+    b.min[a] = static_cast<float>(first[a] * step[a]);  // exact: a multiple of the step near lo
+    b.step[a] = static_cast<float>(step[a]);
+    b.max[a] = static_cast<float>((first[a] + 65535.0) * step[a]);
   }
+  // The index of the grid point nearest v: round(v / step) - first, the same integer for a still
+  // point whichever origin the batch gives (the origin moves by whole steps).
+  auto index = [&](float v, int a) {
+    const double i = std::round(static_cast<double>(v) / step[a]) - first[a];
+    return static_cast<std::uint32_t>(std::clamp(i, 0.0, 65535.0));
+  };
   out.resize(particles.size());
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const Particle& p = particles[i];
-    const float size = std::isfinite(p.size) && finite(p.position) ? std::clamp(p.size, 0.0f, 65504.0f) : 0.0f;
+    const bool draw = drawable(p.position);
+    const float size = std::isfinite(p.size) && draw ? std::clamp(p.size, 0.0f, 65504.0f) : 0.0f;
     PackedParticle& o = out[i];
-    o.x = quantize16(p.position.x, b.min.x, b.max.x) | (quantize16(p.position.y, b.min.y, b.max.y) << 16);
-    o.y = quantize16(p.position.z, b.min.z, b.max.z) | (static_cast<std::uint32_t>(glm::packHalf1x16(size)) << 16);
+    o.x = draw ? index(p.position.x, 0) | (index(p.position.y, 1) << 16) : 0u;
+    o.y = (draw ? index(p.position.z, 2) : 0u) | (static_cast<std::uint32_t>(glm::packHalf1x16(size)) << 16);
     o.z = p.oriented ? packQuat(p.orientation) : packQuat(glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
     o.w = (static_cast<std::uint32_t>(p.variation) & 0xFFu) | (p.oriented ? 0x100u : 0u);
   }
@@ -87,9 +124,9 @@ PackBounds packParticles(std::span<const Particle> particles, std::vector<Packed
 }
 
 Particle unpackParticle(const PackedParticle& packed, const PackBounds& b) {
-  auto axis = [&](std::uint32_t q, int a) {
-    return b.min[a] + (b.max[a] - b.min[a]) * (static_cast<float>(q & 0xFFFFu) / 65535.0f);
-  };
+  // min + q * step: q * step is exact (16 bits times a power of two) and so is the sum (a multiple
+  // of the step that a float holds), so the GPU's float arithmetic, fused or not, gives these bits.
+  auto axis = [&](std::uint32_t q, int a) { return b.min[a] + static_cast<float>(q & 0xFFFFu) * b.step[a]; };
   Particle p;
   p.position = glm::vec3(axis(packed.x, 0), axis(packed.x >> 16, 1), axis(packed.y, 2));
   p.size = glm::unpackHalf1x16(static_cast<glm::uint16>(packed.y >> 16));

@@ -116,10 +116,11 @@ class FixedRenderer {
   FixedRenderer(const FixedRenderer&) = delete;
   FixedRenderer& operator=(const FixedRenderer&) = delete;
 
-  /// Sets the quantization ramp q from row 0 of `ramp` (1 channel: grey, 3 or 4: RGB, alpha
-  /// ignored; width >= 1, values clamped to [0, 1]). Nearest filtering, clamp to edge. A width that
-  /// is not a power of two is resampled (nearest) to the next power of two, so band edges move by
-  /// at most half a texel. Errors on an empty image or a bad channel count, keeping the old ramp.
+  /// Sets the quantization ramp q from the middle row of `ramp` (the row puff::cel uses; 1 channel:
+  /// grey, 3 or 4: RGB, alpha ignored; width >= 1, values clamped to [0, 1]). Nearest filtering,
+  /// clamp to edge. The ramp is resampled (nearest) to 256 texels, or the next power of two above a
+  /// wider one, so its bands change within 1/512 in N.L of where puff::cel's (which samples the ramp
+  /// as it is) change. Errors on an empty image or a bad channel count, keeping the old ramp.
   Result<void> setRamp(const core::Image& ramp);
 
   /// Replaces the opaque objects. Errors (keeping the previous set) on an empty mesh, normals not

@@ -37,7 +37,7 @@
 namespace puff::cel {
 
 /// The 16 bytes one particle costs per frame on the bus.
-///   x: position x | y << 16   (16-bit unorm inside PackBounds)
+///   x: position x | y << 16   (16-bit grid indices, PackBounds)
 ///   y: position z | half(size) << 16
 ///   z: orientation, "smallest three" quaternion: 2-bit index of the dropped component, 3 x 10 bits
 ///   w: variation (8 bits) | oriented flag (bit 8); the rest is 0
@@ -46,15 +46,27 @@ struct PackedParticle {
 };
 static_assert(sizeof(PackedParticle) == 16);
 
-/// The box positions are quantized in: 65535 steps per axis. A degenerate axis gets a width of 1.
+/// The grid positions are quantized on, per axis: point q (0..65535) is min + q * step (world units).
+/// The grid is fixed in the world, not fitted to the batch's box, so that a still particle keeps its
+/// exact position while the rest of a large batch moves (no shimmer):
+///   step: the smallest power of two, at least 2^-24, with the batch's extent (max - min of its
+///         drawn positions) <= 65534 steps. It changes only when the extent crosses 65534 * 2^k.
+///   min:  the origin, a multiple of step (the batch's least coordinate rounded down to the grid).
+///   max:  min + 65535 * step, the grid's far corner (rounded to a float; not used to unpack).
+/// Worst-case position error: step / 2 < max(extent / 65534, 2^-24) per axis, i.e. under 1.53e-5
+/// of the batch's extent (the box-fitted grid this replaced: 0.77e-5), at any distance from the
+/// world's origin. Far out, a position is exactly its float when the step is finer than the float.
 struct PackBounds {
-  glm::vec3 min{0.0f}, max{1.0f};
+  glm::vec3 min{0.0f}, max{65535.0f * 0x1.0p-24f}, step{0x1.0p-24f};
 };
 
-/// Packs `particles` into `out` (resized) and returns the bounds used. Sizes above 65504 (half
-/// float) are clamped; orientations are normalized. Positions round to the nearest of 65536 steps.
+/// Packs `particles` into `out` (resized) and returns the grid used. Sizes above 65504 (half
+/// float) are clamped; orientations are normalized. Positions round to the nearest grid point. A
+/// position that is not finite or has a coordinate beyond 2^125 draws nothing (size 0) and does
+/// not widen the grid.
 PackBounds packParticles(std::span<const Particle> particles, std::vector<PackedParticle>& out);
-/// The particle the GPU sees after packing (for tests and the CPU reference).
+/// The particle the GPU sees after packing (for tests and the CPU reference): bit for bit what
+/// shaders/cel/particle.glsl's unpackParticle computes.
 Particle unpackParticle(const PackedParticle& packed, const PackBounds& bounds);
 
 /// Counts for the benchmark and tests.
