@@ -207,6 +207,30 @@ TEST_F(LodKept, AuthoredNormalsAreKeptThroughDecimation) {
     ASSERT_LT(glm::length(kept.normals[i] - glm::normalize(kept.positions[i] + bend)), 1e-6f);
 }
 
+// saveMesh writes normals when asked (PLY, OBJ), and loading gives exactly them back, authored.
+TEST(LodMeshFile, NormalsRoundTripThroughPlyAndObj) {
+  const test::ScopedTempDir out("puff_lod_normals_io");
+  mesh::TriMesh m = mesh::generateSphere({2});
+  for (std::size_t i = 0; i < m.positions.size(); ++i)
+    m.normals[i] = glm::normalize(m.positions[i] + glm::vec3(0, 0.7f, 0));
+  for (const char* name : {"n.ply", "n.obj"}) {
+    SCOPED_TRACE(name);
+    ASSERT_OK(mesh::saveMesh(m, out.path() / name, mesh::SaveNormals::kYes));
+    mesh::LoadInfo info;
+    auto back = mesh::loadMesh(out.path() / name, &info, mesh::Normalize::kNo);
+    ASSERT_OK(back);
+    EXPECT_TRUE(info.hadNormals);
+    ASSERT_EQ(back->normals.size(), m.normals.size());
+    for (std::size_t i = 0; i < m.normals.size(); ++i) ASSERT_LT(glm::length(back->normals[i] - m.normals[i]), 1e-6f);
+  }
+  for (const char* name : {"n.off", "n.stl"}) {
+    auto r = mesh::saveMesh(m, out.path() / name, mesh::SaveNormals::kYes);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message,
+              (out.path() / name).string() + ": cannot write normals: only PLY and OBJ files carry them here");
+  }
+}
+
 // What the level of detail compares, in each of its views: the cell maps at 2 samples per texel.
 class LodTolerance : public test::GlTest {
  protected:
