@@ -95,10 +95,13 @@ void printBakeResult(const bake::BakeReport& result) {
   for (std::size_t i = 0; i < result.lod.size(); ++i) {
     if (const auto& lod = result.lod[i]) {
       std::printf(
-          "%s: lod: variation %zu: %zu -> %zu faces (mean normal error %.4f = %.2f/255, silhouette %.2f texels, %d "
-          "trials)\n",
+          "%s: lod: variation %zu: %zu -> %zu faces (mean normal error %.4f = %.2f/255, silhouette %.2f texels, "
+          "mean depth error %.5f diameters = %.2f/255, mean colour error %.5f = %.2f/255, %d trials)%s%s\n",
           cli::name(), i, lod->facesBefore, lod->facesAfter, static_cast<double>(lod->normalError),
-          static_cast<double>(lod->normalError * 255.0f), static_cast<double>(lod->silhouetteError), lod->evaluations);
+          static_cast<double>(lod->normalError * 255.0f), static_cast<double>(lod->silhouetteError),
+          static_cast<double>(lod->depthError), static_cast<double>(lod->depthError * 255.0f),
+          static_cast<double>(lod->colorError), static_cast<double>(lod->colorError * 255.0f), lod->evaluations,
+          i < result.lodMeshes.size() ? ": " : "", i < result.lodMeshes.size() ? result.lodMeshes[i].c_str() : "");
     }
   }
   std::printf("%s: wrote %s: %d variation(s) x %d view(s), %dx%d atlas of %d-texel cells, %d mip level(s), %zu files\n",
@@ -146,7 +149,8 @@ CLI::App* addBakeCommand(CLI::App& app, Options& o, BakeFlags& flags) {
   cmd->add_flag("--no-mips", flags.noMips, "Write level 0 only");
   cmd->add_flag("--no-contact-sheet", flags.noSheet, "Skip NAME_contact.png");
   cmd->add_option("--lod", flags.lod,
-                  "full: bake meshes as given; auto: decimate each to the fewest faces within the tolerances")
+                  "full: bake meshes as given; auto: decimate each to the fewest faces within the tolerances and "
+                  "write the chosen mesh beside the atlas (NAME_lodI.ply, named in the sidecar)")
       ->check(CLI::IsMember({"full", "auto"}))
       ->capture_default_str();
   cmd->add_option("--lod-normal-tolerance", o.bake.lodNormalTolerance,
@@ -154,6 +158,14 @@ CLI::App* addBakeCommand(CLI::App& app, Options& o, BakeFlags& flags) {
       ->capture_default_str();
   cmd->add_option("--lod-silhouette-tolerance", o.bake.lodSilhouetteTolerance,
                   "--lod auto: silhouette displacement allowed, texels")
+      ->capture_default_str();
+  cmd->add_option("--lod-depth-tolerance", o.bake.lodDepthTolerance,
+                  "--lod auto: mean depth-offset error allowed, puff diameters (1/255 = 0.00392, one step of the "
+                  "8-bit map the renderer keeps depth in)")
+      ->capture_default_str();
+  cmd->add_option("--lod-color-tolerance", o.bake.lodColorTolerance,
+                  "--lod auto: mean colour error allowed per channel, sRGB-encoded [0, 1] (1/255 = 0.00392); "
+                  "matters for meshes with vertex colours")
       ->capture_default_str();
   cmd->add_option("--gl", o.glBackend, "GL backend: osmesa, egl or glfw (default: $PUFF_GL, else osmesa)")
       ->check(CLI::IsMember({"osmesa", "egl", "glfw"}));
@@ -185,9 +197,11 @@ int printBakeDefaults() {
   std::printf(
       "size = %d\nsupersample = 0 (auto)\nflange = %s\nviews = %d\nview-layout = hemioct\nformat = png\n"
       "color = #ffffff\nmips = on\ncontact-sheet = on\nlod = full\nlod-normal-tolerance = %g\n"
-      "lod-silhouette-tolerance = %g\nname = %s\nout = %s\nvariations = %d (with --generate)\n",
+      "lod-silhouette-tolerance = %g\nlod-depth-tolerance = %g\nlod-color-tolerance = %g\nname = %s\nout = %s\n"
+      "variations = %d (with --generate)\n",
       d.cellSize, flangeText(d.flange).c_str(), d.viewGrid, static_cast<double>(d.lodNormalTolerance),
-      static_cast<double>(d.lodSilhouetteTolerance), d.name.c_str(), d.outDir.c_str(), bake::GeneratorSpec{}.count);
+      static_cast<double>(d.lodSilhouetteTolerance), static_cast<double>(d.lodDepthTolerance),
+      static_cast<double>(d.lodColorTolerance), d.name.c_str(), d.outDir.c_str(), bake::GeneratorSpec{}.count);
   return 0;
 }
 

@@ -162,6 +162,10 @@ void readSources(const json& j, AtlasDesc& d) {
       }
       src.defaultColor = c;
     }
+    if (s.contains("lodMesh")) {
+      src.lodMesh = stringField(s, "lodMesh", where);
+      check(!src.lodMesh.empty(), where + "/lodMesh", "must name a mesh file");
+    }
     d.sources.push_back(src);
   }
 }
@@ -231,6 +235,7 @@ json toJson(const AtlasDesc& d) {
     o["faces"] = s.faces;
     o["facesBaked"] = s.facesBaked;
     o["defaultColor"] = vec3Json(s.defaultColor);
+    if (!s.lodMesh.empty()) o["lodMesh"] = s.lodMesh;
     sources.push_back(o);
   }
   j["sources"] = sources;
@@ -254,7 +259,25 @@ Result<AtlasDesc> loadAtlasDesc(const fs::path& sidecar) {
   if (!bytes) return bytes.error();
   json j = json::parse(*bytes, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded()) return Error::at(sidecar, "not valid JSON");
-  return atlasFromJson(j, sidecar);
+  auto desc = atlasFromJson(j, sidecar);
+  if (!desc) return desc.error();
+  for (std::size_t i = 0; i < desc->sources.size(); ++i) {
+    const AtlasSource& s = desc->sources[i];
+    if (s.lodMesh.empty()) continue;
+    const fs::path file = lodMeshPath(s, sidecar);
+    std::error_code ec;
+    if (!fs::is_regular_file(file, ec)) {
+      return Error::at(sidecar, "/sources/" + std::to_string(i) + "/lodMesh: " + file.string() +
+                                    " does not exist (the level of detail the atlas was baked from; re-bake it)");
+    }
+  }
+  return desc;
+}
+
+fs::path lodMeshPath(const AtlasSource& source, const fs::path& sidecar) {
+  if (source.lodMesh.empty()) return {};
+  const fs::path file = source.lodMesh;
+  return file.is_relative() ? sidecar.parent_path() / file : file;
 }
 
 Result<Atlas> loadAtlas(const fs::path& sidecar) {
@@ -321,11 +344,14 @@ Result<Atlas> atlasFromLevel(const Atlas& atlas, int level) {
 }
 
 std::size_t atlasTextureBytes(const AtlasDesc& d) {
+  // The packed normal/depth/distance texture (RGBA8) and the colour texture (SRGB8_ALPHA8, or
+  // RGBA16F for an exr atlas, whose colours are decoded to linear half floats on upload).
+  const std::size_t texelBytes = 4 + (d.fileFormat == "exr" ? 8 : 4);
   std::size_t bytes = 0;
   for (int level = 0; level < d.mipLevels; ++level) {
     const std::size_t texels = static_cast<std::size_t>(std::max(1, d.width >> level)) *
                                static_cast<std::size_t>(std::max(1, d.height >> level));
-    bytes += texels * (4 + 4 + 2);
+    bytes += texels * texelBytes;
   }
   return bytes;
 }

@@ -461,15 +461,19 @@ TEST_F(BakeLod, AutoLodFindsFewerFacesWithinTheTolerances) {
   EXPECT_LE(chosen.meanNormalError, o.lodNormalTolerance);
   EXPECT_LE(chosen.silhouetteTexels, o.lodSilhouetteTolerance);
   const MapDifference half = compareCells(reference, maps(mesh::decimate(src[0].mesh, lod.facesAfter / 2)));
-  EXPECT_TRUE(half.meanNormalError > o.lodNormalTolerance || half.silhouetteTexels > o.lodSilhouetteTolerance)
+  EXPECT_LE(chosen.meanDepthError, o.lodDepthTolerance);
+  EXPECT_LE(chosen.meanColorError, o.lodColorTolerance);
+  EXPECT_TRUE(half.meanNormalError > o.lodNormalTolerance || half.silhouetteTexels > o.lodSilhouetteTolerance ||
+              half.meanDepthError > o.lodDepthTolerance || half.meanColorError > o.lodColorTolerance)
       << "half the faces still passes: the search did not find the fewest";
   RecordProperty("faces_after", std::to_string(lod.facesAfter));
 }
 
 TEST(BakeCompare, IdenticalCellsDifferByNothingAndAShiftedDiscByItsShift) {
-  auto disc = [](float cx, float radius) {
+  auto disc = [](float cx, float radius, float depth = 0.0f, float red = 0.0f) {
     CellMaps m;
     m.normalDepth = core::Image(32, 32, 4);
+    m.color = core::Image(32, 32, 4);
     m.distance = core::Image(32, 32, 1);
     m.body = core::Image(32, 32, 1);
     for (int y = 0; y < 32; ++y) {
@@ -478,6 +482,8 @@ TEST(BakeCompare, IdenticalCellsDifferByNothingAndAShiftedDiscByItsShift) {
         m.distance.at(x, y) = d;
         m.body.at(x, y) = d < 0 ? 1.0f : 0.0f;
         m.normalDepth.at(x, y, 2) = 1.0f;
+        m.normalDepth.at(x, y, 3) = depth;
+        m.color.at(x, y, 0) = red;
       }
     }
     return m;
@@ -486,8 +492,17 @@ TEST(BakeCompare, IdenticalCellsDifferByNothingAndAShiftedDiscByItsShift) {
   MapDifference same = compareCells(a, a);
   EXPECT_EQ(same.meanNormalError, 0.0f);
   EXPECT_EQ(same.silhouetteTexels, 0.0f);
+  EXPECT_EQ(same.meanDepthError, 0.0f);
+  EXPECT_EQ(same.meanColorError, 0.0f);
   MapDifference grown = compareCells(a, disc(16.0f, 8.75f));
   EXPECT_NEAR(grown.silhouetteTexels, 0.75f, 1e-4f);
+  // The same disc moved 0.1 diameters toward the viewer, its red raised by 0.3: mean depth error 0.1,
+  // mean colour error 0.3 / 3 per channel; the normals and silhouette unchanged.
+  MapDifference moved = compareCells(a, disc(16.0f, 8.0f, 0.1f, 0.3f));
+  EXPECT_NEAR(moved.meanDepthError, 0.1f, 1e-6f);
+  EXPECT_NEAR(moved.meanColorError, 0.1f, 1e-6f);
+  EXPECT_EQ(moved.meanNormalError, 0.0f);
+  EXPECT_EQ(moved.silhouetteTexels, 0.0f);
 }
 
 }  // namespace

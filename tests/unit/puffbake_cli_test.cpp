@@ -15,10 +15,12 @@
 #include <thread>
 #include <vector>
 
+#include <puff/core/atlas.h>
 #include <puff/core/blackbody.h>
 #include <puff/core/detail_video.h>
 #include <puff/core/files.h>
 #include <puff/core/image.h>
+#include <puff/mesh/mesh.h>
 
 #include "support/assert_ok.h"
 #include "support/cli_test.h"
@@ -36,9 +38,9 @@ class PuffbakeCli : public puff::test::CliTest {
 TEST_F(PuffbakeCli, HelpListsTheOptionsThatExist) {
   CliRun r = run("bake --help");
   EXPECT_EQ(r.exitCode, 0);
-  for (const char* flag :
-       {"--size", "--flange", "--views", "--view-layout", "--format", "--lod", "--generate", "--seed", "--supersample",
-        "--color", "--no-mips", "--print-defaults", "--gl", "--shader-dir"}) {
+  for (const char* flag : {"--size", "--flange", "--views", "--view-layout", "--format", "--lod", "--generate",
+                           "--seed", "--supersample", "--color", "--no-mips", "--print-defaults", "--gl",
+                           "--shader-dir", "--lod-depth-tolerance", "--lod-color-tolerance"}) {
     EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
   }
   CliRun top = run("--help");
@@ -148,6 +150,33 @@ TEST_F(PuffbakeCli, SeparateRunsWithLodAndExrAreByteIdentical) {
   }
   ASSERT_GE(runs[0].size(), 8u);
   EXPECT_TRUE(runs[0] == runs[1]);
+}
+
+// --lod auto keeps what it chose: the mesh beside the atlas, named in the sidecar, with the face
+// count the report prints.
+TEST_F(PuffbakeCli, LodAutoWritesTheMeshItReports) {
+  const fs::path out = dir_ / "lod";
+  CliRun r = run("bake -g lumpy -n 1 --subdivisions 4 -s 32 --lod auto --no-contact-sheet -o " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const fs::path lod = out / "puff_lod0.ply";
+  const std::string reported = "puffbake: lod: variation 0: 5120 -> ";
+  const std::size_t at = r.out.find(reported);
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const std::size_t faces = std::stoul(r.out.substr(at + reported.size()));
+  EXPECT_NE(r.out.find("trials): " + lod.string() + "\n"), std::string::npos) << r.out;
+  auto m = puff::mesh::loadMesh(lod, nullptr, puff::mesh::Normalize::kNo);
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_EQ(m->faceCount(), faces);
+  EXPECT_LT(faces, 5120u);
+  auto desc = puff::core::loadAtlasDesc(out / "puff.json");
+  ASSERT_TRUE(desc.ok()) << desc.error().message;
+  EXPECT_EQ(desc->sources[0].lodMesh, "puff_lod0.ply");
+  EXPECT_EQ(desc->sources[0].facesBaked, faces);
+  // Without --lod auto: no mesh, no field.
+  CliRun full = run("bake -g lumpy -n 1 --subdivisions 4 -s 32 --no-contact-sheet -o " + (dir_ / "full").string());
+  ASSERT_EQ(full.exitCode, 0) << full.err;
+  EXPECT_FALSE(fs::exists(dir_ / "full" / "puff_lod0.ply"));
+  EXPECT_EQ(puff::core::readFileBytes(dir_ / "full" / "puff.json")->find("lodMesh"), std::string::npos);
 }
 
 TEST_F(PuffbakeCli, MeshCommandWritesAGeneratedPuffThatBakes) {

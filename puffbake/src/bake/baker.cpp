@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <new>
 
 #include <puff/bake/raster.h>
@@ -90,6 +91,11 @@ Result<Geometry> planGeometry(const BakeOptions& o, int variations) {
   return g;
 }
 
+// --lod auto's chosen mesh of one variation. PLY: binary-exact enough (9 digits), carries colours and normals.
+std::string lodFileName(const std::string& name, int variation) {
+  return name + "_lod" + std::to_string(variation) + ".ply";
+}
+
 std::string mapFileName(const std::string& name, const char* map, int level, const std::string& ext) {
   return name + "_" + map + (level == 0 ? "" : ".mip" + std::to_string(level)) + "." + ext;
 }
@@ -167,6 +173,7 @@ struct AtlasBake {
   const ProgressFn& progress;
   core::AtlasDesc desc;
   BakeReport result;
+  std::deque<mesh::TriMesh> lodMeshes;  // --lod auto: each variation's chosen mesh, written beside the atlas
 
   void report(std::string_view stage, int done, int total) const {
     if (progress) progress(stage, done, total);
@@ -181,13 +188,16 @@ struct AtlasBake {
     mesh::TriMesh reduced;
     if (o.lodAuto) {
       const std::string stage = "choosing level of detail, variation " + std::to_string(var + 1);
+      const LodTolerances tolerances{o.lodNormalTolerance, o.lodSilhouetteTolerance, o.lodDepthTolerance,
+                                     o.lodColorTolerance};
       LodResult lod = chooseLod(
           src.mesh,
           [&](const mesh::TriMesh& m) { return views.render(views.lodRaster(), views.lodSupersample, m, 0.0f); },
-          o.lodNormalTolerance, o.lodSilhouetteTolerance, &reduced,
-          [&](int step, int maxSteps) { report(stage, step, maxSteps); });
-      bakeMesh = &reduced;
+          tolerances, src.normalsAuthored ? mesh::DecimatedNormals::kFromSource : mesh::DecimatedNormals::kRecompute,
+          &reduced, [&](int step, int maxSteps) { report(stage, step, maxSteps); });
       result.lod.push_back(lod);
+      lodMeshes.push_back(std::move(reduced));
+      bakeMesh = &lodMeshes.back();
     } else {
       result.lod.emplace_back();
     }
@@ -195,6 +205,7 @@ struct AtlasBake {
     prov.faces = src.mesh.faceCount();
     prov.facesBaked = bakeMesh->faceCount();
     prov.defaultColor = o.defaultColor;
+    if (o.lodAuto) prov.lodMesh = lodFileName(o.name, var);
     desc.sources.push_back(prov);
     const std::vector<CellMaps> cells = views.render(*views.rasterizer, g.supersample, *bakeMesh, g.flange);
     for (int v = 0; v < g.views; ++v) {
@@ -220,7 +231,7 @@ struct AtlasBake {
     const std::string ext = desc.fileFormat;
     const core::PixelType mapType = o.format == MapFormat::kExr ? core::PixelType::kHalf : core::PixelType::kUInt8;
     const core::PixelType distType = o.format == MapFormat::kExr ? core::PixelType::kHalf : core::PixelType::kUInt16;
-    const int totalFiles = desc.mipLevels * 3 + 2;
+    const int totalFiles = desc.mipLevels * 3 + 2 + static_cast<int>(lodMeshes.size());
     int written = 0;
     auto put = [&](const char* map, int level, const core::Image& img, core::PixelType type) -> Result<void> {
       const std::string file = mapFileName(o.name, map, level, ext);
@@ -239,6 +250,15 @@ struct AtlasBake {
       desc.maps["normalDepth"].levels.push_back(mapFileName(o.name, "normal_depth", l, ext));
       desc.maps["color"].levels.push_back(mapFileName(o.name, "color", l, ext));
       desc.maps["distance"].levels.push_back(mapFileName(o.name, "distance", l, ext));
+    }
+    // The meshes the atlas was baked from, with the normals the bake used, so a consumer that draws
+    // the mesh itself (the fixed path) draws the same level of detail.
+    for (std::size_t var = 0; var < lodMeshes.size(); ++var) {
+      const fs::path target = o.outDir / lodFileName(o.name, static_cast<int>(var));
+      PUFF_TRY(mesh::saveMesh(lodMeshes[var], tx.stage(target), mesh::SaveNormals::kYes));
+      result.files.push_back(target);
+      result.lodMeshes.push_back(target);
+      report("writing", ++written, totalFiles);
     }
     PUFF_TRY(writeContactSheet(tx, levels[0]));
     result.sidecar = o.outDir / (o.name + ".json");
@@ -281,8 +301,11 @@ Result<void> validate(const BakeOptions& o, int variations) {
   for (int c = 0; c < 3; ++c) {
     if (!(o.defaultColor[c] >= 0.0f && o.defaultColor[c] <= 1.0f)) return Error{"--color components must be in [0, 1]"};
   }
-  if (!(o.lodNormalTolerance > 0.0f) || !(o.lodSilhouetteTolerance > 0.0f)) {
-    return Error{"--lod-normal-tolerance and --lod-silhouette-tolerance must be positive"};
+  if (!(o.lodNormalTolerance > 0.0f) || !(o.lodSilhouetteTolerance > 0.0f) || !(o.lodDepthTolerance > 0.0f) ||
+      !(o.lodColorTolerance > 0.0f)) {
+    return Error{
+        "--lod-normal-tolerance, --lod-silhouette-tolerance, --lod-depth-tolerance and --lod-color-tolerance must be "
+        "positive"};
   }
   if (o.name.empty() || o.name.find('/') != std::string::npos)
     return Error{"--name must be a plain file prefix, got \"" + o.name + "\""};
@@ -312,6 +335,7 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
     s.provenance.path = file.string();
     s.provenance.hash = "fnv1a64:" + core::fnv1a64Hex(*bytes);
     s.provenance.faces = m->faceCount();
+    s.normalsAuthored = info.hadNormals;
     s.mesh = std::move(*m);
     sources.push_back(std::move(s));
   }
@@ -343,7 +367,7 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
   const int variations = static_cast<int>(sources.size());
   PUFF_TRY(validate(o, variations));
   const Geometry g = *planGeometry(o, variations);
-  AtlasBake bake{o, g, progress, describeAtlas(o, g, variations), {}};
+  AtlasBake bake{o, g, progress, describeAtlas(o, g, variations), {}, {}};
 
   ViewRenderer views{o, g};
   PUFF_TRY(views.create());

@@ -7,17 +7,24 @@ namespace puff::bake {
 
 MapDifference compareCells(const CellMaps& ref, const CellMaps& cand) {
   PUFF_CHECK(ref.body.width == cand.body.width && ref.body.height == cand.body.height);
+  for (const CellMaps* m : {&ref, &cand}) {
+    PUFF_CHECK(m->normalDepth.width == m->body.width && m->normalDepth.height == m->body.height &&
+               m->color.width == m->body.width && m->color.height == m->body.height);
+  }
   MapDifference diff;
-  double normalSum = 0.0;
-  std::size_t normalCount = 0;
+  double normalSum = 0.0, depthSum = 0.0, colorSum = 0.0;
+  std::size_t both = 0;  // texels both cover
   for (int y = 0; y < ref.body.height; ++y) {
     for (int x = 0; x < ref.body.width; ++x) {
       if (ref.body.at(x, y) >= 0.5f && cand.body.at(x, y) >= 0.5f) {
         for (int c = 0; c < 3; ++c) {
           // Encoded units: (N+1)/2, so half the difference of the decoded normals.
           normalSum += 0.5 * std::abs(ref.normalDepth.at(x, y, c) - cand.normalDepth.at(x, y, c));
+          colorSum += std::abs(ref.color.at(x, y, c) - cand.color.at(x, y, c));
         }
-        normalCount += 3;
+        // d, puff diameters toward the viewer: how far the surface moved in depth.
+        depthSum += std::abs(ref.normalDepth.at(x, y, 3) - cand.normalDepth.at(x, y, 3));
+        ++both;
       }
       const float dr = ref.distance.at(x, y), dc = cand.distance.at(x, y);
       if (std::min(std::abs(dr), std::abs(dc)) <= 1.0f) {
@@ -25,13 +32,18 @@ MapDifference compareCells(const CellMaps& ref, const CellMaps& cand) {
       }
     }
   }
-  diff.meanNormalError = normalCount ? static_cast<float>(normalSum / static_cast<double>(normalCount)) : 0.0f;
+  if (both > 0) {
+    const double n = static_cast<double>(both);
+    diff.meanNormalError = static_cast<float>(normalSum / (3.0 * n));
+    diff.meanColorError = static_cast<float>(colorSum / (3.0 * n));
+    diff.meanDepthError = static_cast<float>(depthSum / n);
+  }
   return diff;
 }
 
 LodResult chooseLod(const mesh::TriMesh& full,
-                    const std::function<std::vector<CellMaps>(const mesh::TriMesh&)>& rasterize, float normalTolerance,
-                    float silhouetteTolerance, mesh::TriMesh* chosen,
+                    const std::function<std::vector<CellMaps>(const mesh::TriMesh&)>& rasterize,
+                    const LodTolerances& tolerances, mesh::DecimatedNormals normals, mesh::TriMesh* chosen,
                     const std::function<void(int step, int maxSteps)>& onStep) {
   const std::vector<CellMaps> reference = rasterize(full);
   LodResult result;
@@ -45,8 +57,11 @@ LodResult chooseLod(const mesh::TriMesh& full,
       const MapDifference d = compareCells(reference[v], maps[v]);
       worst.meanNormalError = std::max(worst.meanNormalError, d.meanNormalError);
       worst.silhouetteTexels = std::max(worst.silhouetteTexels, d.silhouetteTexels);
+      worst.meanDepthError = std::max(worst.meanDepthError, d.meanDepthError);
+      worst.meanColorError = std::max(worst.meanColorError, d.meanColorError);
     }
-    return worst.meanNormalError <= normalTolerance && worst.silhouetteTexels <= silhouetteTolerance;
+    return worst.meanNormalError <= tolerances.normal && worst.silhouetteTexels <= tolerances.silhouette &&
+           worst.meanDepthError <= tolerances.depth && worst.meanColorError <= tolerances.color;
   };
 
   // Invariant: `hi` faces is known to pass (the full mesh does, with zero error).
@@ -55,7 +70,7 @@ LodResult chooseLod(const mesh::TriMesh& full,
   while (lo < hi) {
     if (onStep) onStep(result.evaluations, maxSteps);
     const std::size_t mid = lo + (hi - lo) / 2;
-    mesh::TriMesh candidate = mesh::decimate(full, mid);
+    mesh::TriMesh candidate = mesh::decimate(full, mid, normals);
     MapDifference d;
     ++result.evaluations;
     if (evaluate(candidate, d)) {
@@ -64,6 +79,8 @@ LodResult chooseLod(const mesh::TriMesh& full,
         result.facesAfter = candidate.faceCount();
         result.normalError = d.meanNormalError;
         result.silhouetteError = d.silhouetteTexels;
+        result.depthError = d.meanDepthError;
+        result.colorError = d.meanColorError;
         if (chosen) *chosen = std::move(candidate);
       }
     } else {

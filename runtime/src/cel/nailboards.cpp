@@ -451,4 +451,34 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   return s;
 }
 
+std::size_t NailboardRenderer::textureBytes() const {
+  const Impl& m = *impl_;
+  if (!m.hasAtlas) return 0;
+  std::size_t bytes = 0;
+  for (const core::Texture* t : {&m.maps, &m.color}) {
+    GLint levels = 0;
+    glGetTextureParameteriv(t->get(), GL_TEXTURE_IMMUTABLE_LEVELS, &levels);
+    for (GLint l = 0; l < levels; ++l) {
+      GLint w = 0, h = 0, format = 0;
+      glGetTextureLevelParameteriv(t->get(), l, GL_TEXTURE_WIDTH, &w);
+      glGetTextureLevelParameteriv(t->get(), l, GL_TEXTURE_HEIGHT, &h);
+      glGetTextureLevelParameteriv(t->get(), l, GL_TEXTURE_INTERNAL_FORMAT, &format);
+      std::size_t texelBytes = 0;
+      switch (format) {
+        case GL_RGBA8:
+        case GL_SRGB8_ALPHA8:
+          texelBytes = 4;
+          break;
+        case GL_RGBA16F:
+          texelBytes = 8;
+          break;
+        default:
+          PUFF_CHECK(!"an atlas texture in a format setAtlas never makes");
+      }
+      bytes += static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * texelBytes;
+    }
+  }
+  return bytes;
+}
+
 }  // namespace puff::cel

@@ -21,12 +21,12 @@ using OmTriMesh = OpenMesh::TriMesh_ArrayKernelT<>;
 
 }  // namespace
 
-TriMesh decimate(const TriMesh& mesh, std::size_t targetFaces) {
+TriMesh decimate(const TriMesh& mesh, std::size_t targetFaces, DecimatedNormals normals) {
   if (mesh.triangles.size() <= targetFaces || mesh.triangles.empty()) return mesh;
 
   OmTriMesh om;
   // Halfedge collapses keep the surviving vertex where it was, so each kept vertex only needs to
-  // remember where it came from: its color (and nothing else) is carried over by that index.
+  // remember where it came from: its color (and, kept, its normal) is carried over by that index.
   OpenMesh::VPropHandleT<std::uint32_t> source;
   om.add_property(source);
   std::vector<OmTriMesh::VertexHandle> vh;
@@ -64,13 +64,18 @@ TriMesh decimate(const TriMesh& mesh, std::size_t targetFaces) {
     om.garbage_collection();
   }
 
+  const bool keepNormals = normals == DecimatedNormals::kFromSource;
+  PUFF_CHECK(!keepNormals || mesh.normals.size() == mesh.positions.size());
   TriMesh out;
   out.positions.reserve(om.n_vertices());
   if (mesh.hasColors()) out.colors.reserve(om.n_vertices());
+  if (keepNormals) out.normals.reserve(om.n_vertices());
   for (const auto v : om.vertices()) {
     const OmTriMesh::Point& p = om.point(v);
     out.positions.emplace_back(p[0], p[1], p[2]);
-    if (mesh.hasColors()) out.colors.push_back(mesh.colors[om.property(source, v)]);
+    const std::uint32_t from = om.property(source, v);
+    if (mesh.hasColors()) out.colors.push_back(mesh.colors[from]);
+    if (keepNormals) out.normals.push_back(mesh.normals[from]);
   }
   out.triangles.reserve(om.n_faces());
   for (const auto f : om.faces()) {
@@ -80,7 +85,7 @@ TriMesh decimate(const TriMesh& mesh, std::size_t targetFaces) {
     out.triangles.push_back(t);
   }
   // Not re-normalized: a LOD must keep the scale of the mesh it stands in for.
-  computeNormals(out);
+  if (!keepNormals) computeNormals(out);
   return out;
 }
 

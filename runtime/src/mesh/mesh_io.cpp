@@ -390,7 +390,7 @@ glm::vec3 clampColor(glm::vec3 c) {
 
 /// OpenMesh's OBJ writer refuses vertex colors, so OBJ is written here ("v x y z r g b", the
 /// extension OpenMesh, MeshLab and Blender read).
-bool writeObj(const TriMesh& m, const fs::path& file) {
+bool writeObj(const TriMesh& m, const fs::path& file, bool normals) {
   std::FILE* f = std::fopen(file.c_str(), "wb");
   if (!f) return false;
   std::fprintf(f, "# puff mesh: %zu vertices, %zu triangles\n", m.positions.size(), m.triangles.size());
@@ -403,14 +403,22 @@ bool writeObj(const TriMesh& m, const fs::path& file) {
       std::fprintf(f, "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
     }
   }
-  for (const glm::uvec3& t : m.triangles) std::fprintf(f, "f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
+  if (normals) {
+    // One normal per vertex, same index: "f a//a b//b c//c" gives every corner its vertex's normal.
+    for (const glm::vec3& n : m.normals) std::fprintf(f, "vn %.9g %.9g %.9g\n", n.x, n.y, n.z);
+    for (const glm::uvec3& t : m.triangles)
+      std::fprintf(f, "f %u//%u %u//%u %u//%u\n", t[0] + 1, t[0] + 1, t[1] + 1, t[1] + 1, t[2] + 1, t[2] + 1);
+  } else {
+    for (const glm::uvec3& t : m.triangles) std::fprintf(f, "f %u %u %u\n", t[0] + 1, t[1] + 1, t[2] + 1);
+  }
   const bool ok = !std::ferror(f);
   return std::fclose(f) == 0 && ok;
 }
 
-bool writeWithOpenMesh(const TriMesh& m, const fs::path& file, Format format) {
+bool writeWithOpenMesh(const TriMesh& m, const fs::path& file, Format format, bool normals) {
   OmMesh om;
   om.request_vertex_colors();
+  if (normals) om.request_vertex_normals();
   std::vector<OmMesh::VertexHandle> vh;
   vh.reserve(m.positions.size());
   for (std::size_t i = 0; i < m.positions.size(); ++i) {
@@ -418,6 +426,7 @@ bool writeWithOpenMesh(const TriMesh& m, const fs::path& file, Format format) {
     vh.push_back(om.add_vertex(OmMesh::Point(p.x, p.y, p.z)));
     const glm::vec3 c = m.hasColors() ? clampColor(m.colors[i]) : glm::vec3(1.0f);
     om.set_color(vh.back(), OmMesh::Color(c.r, c.g, c.b, 1.0f));
+    if (normals) om.set_normal(vh.back(), OmMesh::Normal(m.normals[i].x, m.normals[i].y, m.normals[i].z));
   }
   for (const glm::uvec3& t : m.triangles) {
     std::vector<OmMesh::VertexHandle> face = {vh[t[0]], vh[t[1]], vh[t[2]]};
@@ -427,6 +436,7 @@ bool writeWithOpenMesh(const TriMesh& m, const fs::path& file, Format format) {
     for (auto& v : face) {
       const OmMesh::VertexHandle copy = om.add_vertex(om.point(v));
       om.set_color(copy, om.color(v));
+      if (normals) om.set_normal(copy, om.normal(v));
       v = copy;
     }
     om.add_face(face);
@@ -438,6 +448,7 @@ bool writeWithOpenMesh(const TriMesh& m, const fs::path& file, Format format) {
       break;
     case Format::Ply:  // bytes, the form every PLY tool reads (OpenMesh quantizes floats anyway)
       if (m.hasColors()) opt += OmOptions::VertexColor;
+      if (normals) opt += OmOptions::VertexNormal;
       break;
     case Format::Stl:
       om.request_face_normals();
@@ -567,7 +578,7 @@ std::vector<std::uint32_t> triangulate(const OmMesh& om, TriMesh& mesh) {
 
 }  // namespace
 
-Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info) {
+Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info, Normalize normalize) {
   const Result<Format> format = formatOf(path);
   if (!format) return format.error();
   PUFF_TRY(checkReadable(path));
@@ -602,7 +613,7 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info) {
     for (glm::vec3& n : mesh.normals) n = -n;
     li.flippedInward = true;
   }
-  normalizeToUnitSphere(mesh);
+  if (normalize == Normalize::kYes) normalizeToUnitSphere(mesh);
   if (fileNormals && usableNormals(mesh.normals)) {
     for (glm::vec3& n : mesh.normals) n = glm::normalize(n);
     li.hadNormals = true;
@@ -613,9 +624,15 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info) {
   return mesh;
 }
 
-Result<void> saveMesh(const TriMesh& mesh, const fs::path& path) {
+Result<void> saveMesh(const TriMesh& mesh, const fs::path& path, SaveNormals normals) {
   const Result<Format> format = formatOf(path);
   if (!format) return format.error();
+  const bool writeNormals = normals == SaveNormals::kYes;
+  if (writeNormals && *format != Format::Ply && *format != Format::Obj)
+    return Error::at(path, "cannot write normals: only PLY and OBJ files carry them here");
+  if (writeNormals && mesh.normals.size() != mesh.positions.size())
+    return Error::at(path, "cannot write: " + std::to_string(mesh.normals.size()) + " normals for " +
+                               std::to_string(mesh.positions.size()) + " vertices");
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k)
       if (mesh.triangles[t][k] >= mesh.positions.size())
@@ -638,10 +655,10 @@ Result<void> saveMesh(const TriMesh& mesh, const fs::path& path) {
   }
   bool written = false;
   if (*format == Format::Obj) {
-    written = writeObj(mesh, tmp);
+    written = writeObj(mesh, tmp, writeNormals);
   } else {
     OmSilence silence;
-    written = writeWithOpenMesh(mesh, tmp, *format);
+    written = writeWithOpenMesh(mesh, tmp, *format, writeNormals);
   }
   std::error_code ec;
   if (!written) {

@@ -15,9 +15,9 @@ namespace puff::render::detail {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// The fixed path's puff: the scene's, or the mesh the atlas's first variation was baked from.
+// The fixed path's puff: the scene's, else the mesh the atlas's first variation was baked from: its
+// level of detail when puffbake --lod auto chose one (in the source's normalized space, so it is
+// loaded as it is), else the source mesh file.
 Result<mesh::TriMesh> fixedPuffMesh(const scene::Scene& scene, const core::Atlas* atlas) {
   fs::path file = scene.fixed.puff;
   if (file.empty()) {
@@ -25,6 +25,9 @@ Result<mesh::TriMesh> fixedPuffMesh(const scene::Scene& scene, const core::Atlas
     // A scene of objects (and media, which this path does not draw) needs no puff: any will do.
     if (!atlas && !particles) return mesh::generateSphere(mesh::SphereParams{});
     if (!atlas) return Error::at(scene.file, "/fixed/puff: no puff mesh and no atlas to take one from");
+    if (!atlas->desc.sources.empty() && !atlas->desc.sources[0].lodMesh.empty()) {
+      return mesh::loadMesh(core::lodMeshPath(atlas->desc.sources[0], scene.atlas), nullptr, mesh::Normalize::kNo);
+    }
     if (atlas->desc.sources.empty() || atlas->desc.sources[0].path.empty()) {
       return Error::at(scene.file,
                        "/fixed/puff: the atlas's first variation was generated, not loaded from a mesh "
@@ -35,6 +38,8 @@ Result<mesh::TriMesh> fixedPuffMesh(const scene::Scene& scene, const core::Atlas
   }
   return mesh::loadMesh(file);
 }
+
+namespace {
 
 class FixedPath final : public Path {
  public:

@@ -32,6 +32,11 @@ struct FlangeWidth {
 
 enum class MapFormat { kPng, kExr };
 
+/// --lod auto's depth and colour tolerances (see BakeOptions). Depth: one step of the 8-bit packed
+/// texture the renderer keeps d in (1/255 of a diameter); colour: one step of an 8-bit colour map.
+inline constexpr float kDefaultLodDepthTolerance = 1.0f / 255.0f;
+inline constexpr float kDefaultLodColorTolerance = 1.0f / 255.0f;
+
 struct BakeOptions {
   int cellSize = 256;   ///< texels per cell side, 8..16384
   int supersample = 0;  ///< samples per texel side; 0 = auto (4, fewer above 1024^2 cells)
@@ -44,8 +49,10 @@ struct BakeOptions {
   bool contactSheet = true;
   // Automatic level of detail: the fewest faces whose maps stay within these of the full mesh's.
   bool lodAuto = false;
-  float lodNormalTolerance = 1.0f / 255.0f;  ///< mean |encoded normal| difference, per channel
-  float lodSilhouetteTolerance = 1.0f;       ///< texels between the two silhouettes
+  float lodNormalTolerance = 1.0f / 255.0f;             ///< mean |encoded normal| difference, per channel
+  float lodSilhouetteTolerance = 1.0f;                  ///< texels between the two silhouettes
+  float lodDepthTolerance = kDefaultLodDepthTolerance;  ///< mean |depth offset d| difference, puff diameters
+  float lodColorTolerance = kDefaultLodColorTolerance;  ///< mean |colour| difference per channel (sRGB-encoded)
   std::filesystem::path outDir = "puff-out";
   std::string name = "puff";  ///< file prefix: NAME.json, NAME_color.png, ...
 };
@@ -57,6 +64,9 @@ Result<void> validate(const BakeOptions& options, int variations);
 struct PuffSource {
   mesh::TriMesh mesh;
   core::AtlasSource provenance;
+  /// The mesh file gave its own vertex normals (mesh::LoadInfo::hadNormals): a level of detail keeps
+  /// them (the source's normal at each kept vertex) rather than recomputing them from fewer faces.
+  bool normalsAuthored = false;
 };
 
 /// A generator and its parameters, producing `count` variations with seeds seed, seed+1, ...
@@ -77,6 +87,8 @@ struct LodResult {
   std::size_t facesBefore = 0, facesAfter = 0;
   float normalError = 0.0f;      ///< mean |encoded normal difference| reached
   float silhouetteError = 0.0f;  ///< texels
+  float depthError = 0.0f;       ///< mean |depth offset difference|, puff diameters
+  float colorError = 0.0f;       ///< mean |colour difference| per channel, sRGB-encoded
   int evaluations = 0;           ///< decimate-and-compare steps the search took
 };
 
@@ -86,6 +98,8 @@ struct BakeReport {
   int contactSheetCells = 0;                  ///< cells the contact sheet shows (it caps its height)
   std::vector<std::filesystem::path> files;   ///< every file written
   std::vector<std::optional<LodResult>> lod;  ///< per variation when the level of detail was automatic
+  /// Per variation with --lod auto: the chosen mesh's file (the sidecar's sources[i].lodMesh).
+  std::vector<std::filesystem::path> lodMeshes;
 };
 
 /// Progress: a stage name, steps done and total. Called from the baking thread.
@@ -97,22 +111,34 @@ using ProgressFn = std::function<void(std::string_view stage, int done, int tota
 Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeOptions& options,
                              const ProgressFn& progress = {});
 
-/// Compares two cells' maps for the automatic level of detail: the mean encoded-normal error per channel over texels
-/// both cover, and the largest difference of the two distance maps near either silhouette
-/// (texels within 1 of it): how far the silhouette moved.
+/// Compares two cells' maps for the automatic level of detail. Over texels both cover: the mean
+/// encoded-normal error per channel, the mean depth-offset error (puff diameters) and the mean
+/// colour error per channel (the maps' sRGB-encoded values); and the largest difference of the two
+/// distance maps near either silhouette (texels within 1 of it): how far the silhouette moved.
 struct MapDifference {
   float meanNormalError = 0.0f;
   float silhouetteTexels = 0.0f;
+  float meanDepthError = 0.0f;
+  float meanColorError = 0.0f;
 };
 MapDifference compareCells(const CellMaps& reference, const CellMaps& candidate);
+
+/// What a level of detail may change, each the largest MapDifference term allowed in any view.
+struct LodTolerances {
+  float normal = 1.0f / 255.0f;             ///< meanNormalError
+  float silhouette = 1.0f;                  ///< silhouetteTexels
+  float depth = kDefaultLodDepthTolerance;  ///< meanDepthError
+  float color = kDefaultLodColorTolerance;  ///< meanColorError
+};
 
 /// Finds the fewest faces whose maps stay within the tolerances in every view (binary search over
 /// the face count with OpenMesh's quadric decimater; assumes error grows as faces fall, which
 /// holds for quadric decimation in practice but is not guaranteed). `rasterize` turns a mesh
-/// into the cell maps of each view, without flange. `chosen` receives the mesh picked.
+/// into the cell maps of each view, without flange. `normals` says whether the candidates keep the
+/// source's normals (authored ones) or recompute them. `chosen` receives the mesh picked.
 LodResult chooseLod(const mesh::TriMesh& full,
-                    const std::function<std::vector<CellMaps>(const mesh::TriMesh&)>& rasterize, float normalTolerance,
-                    float silhouetteTolerance, mesh::TriMesh* chosen,
+                    const std::function<std::vector<CellMaps>(const mesh::TriMesh&)>& rasterize,
+                    const LodTolerances& tolerances, mesh::DecimatedNormals normals, mesh::TriMesh* chosen,
                     const std::function<void(int step, int maxSteps)>& onStep = {});
 
 /// The contact sheet: one row per cell (the first `maxCells`), columns shaded preview, normal,

@@ -85,6 +85,11 @@ class NailboardRenderer {
   /// Uploads the atlas's maps (every mip level). Fails if a map is missing or sizes disagree.
   Result<void> setAtlas(const core::Atlas& atlas);
   const core::AtlasDesc& atlas() const;
+  /// Bytes the atlas's two textures hold on the GL (the packed normal/depth/distance map and the
+  /// colour map, every level), measured from the textures: each level's width x height (queried)
+  /// times the bytes per texel of its queried internal format. 0 before setAtlas. Equals
+  /// core::atlasTextureBytes(atlas()). Not counted: the per-cell shadow profile (32 floats a cell).
+  std::size_t textureBytes() const;
 
   /// Uploads this frame's particles (16 bytes each). Call once per frame before drawing; the
   /// passes below all draw the particles of the last upload.

@@ -49,6 +49,10 @@ struct AtlasSource {
   /// Diffuse colour baked where the mesh has no vertex colours (the bake's default colour; sRGB-encoded as
   /// authored). Sidecars written before it was recorded read as white, puffbake's default.
   glm::vec3 defaultColor{1.0f};
+  /// The mesh the atlas was baked from when puffbake --lod auto decimated it (fewer faces than the
+  /// source): a mesh file relative to the sidecar, in the source's normalized space (unit sphere),
+  /// with the normals the bake used. Empty when the bake kept the source mesh (no --lod auto).
+  std::string lodMesh;
 };
 
 struct AtlasMap {
@@ -86,7 +90,7 @@ nlohmann::json toJson(const AtlasDesc& desc);
 /// Validates every field (sizes positive and consistent, cells inside the atlas, maps present);
 /// errors name `file` and the JSON pointer of the offending field.
 Result<AtlasDesc> atlasFromJson(const nlohmann::json& j, const std::filesystem::path& file = {});
-/// Reads and validates a sidecar file.
+/// Reads and validates a sidecar file; a source's lodMesh must exist beside it.
 Result<AtlasDesc> loadAtlasDesc(const std::filesystem::path& sidecar);
 
 /// An atlas in memory: its description and every map level as float images.
@@ -108,8 +112,14 @@ int deepestAtlasLevel(const AtlasDesc& desc);
 /// the atlas itself. Errors: level outside [0, deepestAtlasLevel(desc)].
 Result<Atlas> atlasFromLevel(const Atlas& atlas, int level);
 
-/// Bytes the atlas's maps take as RGBA8 / RGBA8 / R16 textures with their mip levels (what the
-/// nailboard renderer uploads for an 8-bit atlas).
+/// Bytes of GL texture memory the atlas's maps take once the nailboard renderer uploads them, every
+/// mip level: the packed normal, depth and distance map (RGBA8, 4 bytes a texel; the distance map has
+/// no texture of its own) and the colour map (SRGB8_ALPHA8, 4 bytes, for a png atlas; RGBA16F, 8
+/// bytes, for an exr one). cel::NailboardRenderer::textureBytes() measures the same from the GL.
 std::size_t atlasTextureBytes(const AtlasDesc& desc);
+
+/// The absolute (or working-directory-relative) path of a source's lodMesh: beside `sidecar`.
+/// Empty when the source has none.
+std::filesystem::path lodMeshPath(const AtlasSource& source, const std::filesystem::path& sidecar);
 
 }  // namespace puff::core

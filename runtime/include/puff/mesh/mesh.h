@@ -37,11 +37,17 @@ struct LoadInfo {
   bool hadColors = false;
 };
 
+/// Whether loading moves the mesh into the unit sphere (every file a user names) or keeps the file's
+/// coordinates (a level of detail puffbake wrote in its source's normalized space, which must keep
+/// that scale and centre, not take its own).
+enum class Normalize { kYes, kNo };
+
 /// Reads OBJ, OFF, PLY or STL (by extension, case-insensitive), validates and normalizes it.
 /// Errors ("FILE: problem", one line): cannot open; not a mesh of that format; no faces;
 /// non-finite vertex (names the vertex); degenerate face (zero area, names the face);
 /// non-manifold faces (the file declares N faces, only M form a manifold); unsupported extension.
-Result<TriMesh> loadMesh(const std::filesystem::path& path, LoadInfo* info = nullptr);
+Result<TriMesh> loadMesh(const std::filesystem::path& path, LoadInfo* info = nullptr,
+                         Normalize normalize = Normalize::kYes);
 
 /// Checks a mesh: non-empty, finite, no degenerate triangles, indices in range. `what` names the
 /// source in the message.
@@ -57,9 +63,14 @@ void normalizeToUnitSphere(TriMesh& mesh);
 /// Recomputes unit area-weighted vertex normals from the faces.
 void computeNormals(TriMesh& mesh);
 
+/// Whether saveMesh writes the vertex normals: kNo leaves them to be recomputed from the faces on
+/// loading; kYes writes them (PLY and OBJ only), so loading gives back exactly these.
+enum class SaveNormals { kNo, kYes };
+
 /// Writes OBJ, OFF, PLY or STL (by extension) to a temporary file, then renames it over `path`.
-/// Colors are written where the format carries them (PLY, OFF, OBJ).
-Result<void> saveMesh(const TriMesh& mesh, const std::filesystem::path& path);
+/// Colors are written where the format carries them (PLY, OFF, OBJ); normals with SaveNormals::kYes
+/// (an error for OFF and STL).
+Result<void> saveMesh(const TriMesh& mesh, const std::filesystem::path& path, SaveNormals normals = SaveNormals::kNo);
 
 // ---- primitives ------------------------------------------------------------------------------
 // Scene objects' shapes, counter-clockwise from outside, in object space (not normalized).
@@ -128,9 +139,14 @@ Result<TriMesh> generate(const Generator& generator);
 
 // ---- level of detail ------------------------------------------------------------------------
 
+/// Where a decimated mesh's normals come from: recomputed from its (coarser) faces, or the source's
+/// own normal at each kept vertex (authored normals: a halfedge collapse keeps the surviving vertex
+/// where it was, so its source normal is exact there).
+enum class DecimatedNormals { kRecompute, kFromSource };
+
 /// Decimates with OpenMesh's quadric decimater (collapses that would flip a normal are refused)
 /// to at most `targetFaces` faces, or as close as it can get. Colors follow the kept vertices;
-/// normals are recomputed. The input is not modified.
-TriMesh decimate(const TriMesh& mesh, std::size_t targetFaces);
+/// normals are recomputed or kept as `normals` says. The input is not modified.
+TriMesh decimate(const TriMesh& mesh, std::size_t targetFaces, DecimatedNormals normals = DecimatedNormals::kRecompute);
 
 }  // namespace puff::mesh
