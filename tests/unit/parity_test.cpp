@@ -74,7 +74,7 @@ TEST_P(FixedParity, WithinTheMethodsKnownDifferences) {
 
 INSTANTIATE_TEST_SUITE_P(ArtScenes, FixedParity,
                          ::testing::Values("cloud-fig8a", "cloud-fig8b", "cloud-fig8c", "magic-lamp", "missile-trail",
-                                           "cloud-50k", "explosion", "explosion-solid", "lamp-plume"),
+                                           "cloud-50k", "explosion", "explosion-solid", "lamp-plume", "dust-roll"),
                          [](const ::testing::TestParamInfo<const char*>& i) {
                            std::string n = i.param;
                            for (char& c : n) c = (c == '-') ? '_' : c;

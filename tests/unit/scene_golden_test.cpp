@@ -85,7 +85,7 @@ TEST_P(AnimatedSceneGolden, MatchesReference) {
 
 INSTANTIATE_TEST_SUITE_P(ArtScenes, AnimatedSceneGolden,
                          ::testing::Values(AnimatedCase{"missile-flight", 30}, AnimatedCase{"propeller-cloud", 60},
-                                           AnimatedCase{"lamp-plume", 24}),
+                                           AnimatedCase{"lamp-plume", 24}, AnimatedCase{"dust-roll", 36}),
                          [](const ::testing::TestParamInfo<AnimatedCase>& i) {
                            std::string n = i.param.scene;
                            for (char& ch : n) ch = (ch == '-') ? '_' : ch;
