@@ -96,7 +96,9 @@ class NailboardRenderer {
   DrawStats upload(std::span<const Particle> particles);
 
   /// Draws the nailboards of the last upload into the current framebuffer with `frame`'s block
-  /// already bound (FrameBlock::upload), ramp on unit 0 and gradient on unit 1.
+  /// already bound (FrameBlock::upload), ramp on unit 0 and gradient on unit 1. Binds the atlas on
+  /// units 2 (packed normal, depth, distance) and 3 (colour) and the silhouette's radius table on
+  /// unit 5 (small puffs' silhouettes and ink bands: shaders/cel/particle.glsl, silhouetteRadius).
   DrawStats drawNailboards(const Style& style, ShadePass pass);
 
   /// The benchmark's fill-rate floor: the same quads with the colour map alpha-tested, nothing
