@@ -124,11 +124,12 @@ TEST_P(Tumble, EveryPoseKeepsItsSilhouetteAndItsInk) {
     if (p.coverageIoU < worstCoverage->coverageIoU) worstCoverage = &p;
     if (p.outlineIoU < worstOutline->outlineIoU) worstOutline = &p;
   }
-  std::printf("%s: %zu poses, coverage IoU min %.4f (yaw %d pitch %d roll %d) mean %.4f; outline IoU min %.4f "
-              "(yaw %d pitch %d roll %d) mean %.4f\n",
-              name(c).c_str(), result->poses.size(), result->minCoverageIoU, worstCoverage->yaw, worstCoverage->pitch,
-              worstCoverage->roll, result->meanCoverageIoU, result->minOutlineIoU, worstOutline->yaw,
-              worstOutline->pitch, worstOutline->roll, result->meanOutlineIoU);
+  std::printf(
+      "%s: %zu poses, coverage IoU min %.4f (yaw %d pitch %d roll %d) mean %.4f; outline IoU min %.4f "
+      "(yaw %d pitch %d roll %d) mean %.4f\n",
+      name(c).c_str(), result->poses.size(), result->minCoverageIoU, worstCoverage->yaw, worstCoverage->pitch,
+      worstCoverage->roll, result->meanCoverageIoU, result->minOutlineIoU, worstOutline->yaw, worstOutline->pitch,
+      worstOutline->roll, result->meanOutlineIoU);
   EXPECT_GE(result->minCoverageIoU, c.minCoverage);
   EXPECT_GE(result->meanCoverageIoU, c.meanCoverage);
   EXPECT_GE(result->minOutlineIoU, c.minOutline);
@@ -151,8 +152,13 @@ class TumbleCases : public TumbleBase {
                                   const nlohmann::json& objects = nlohmann::json::array()) {
     return {{"output", {{"width", 240}, {"height", 240}, {"samples", 1}, {"background", {0.9, 0.9, 0.9}}}},
             {"camera",
-             {{"position", {0, 0, 20}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fovY", 0}, {"orthoHeight", 1.5},
-              {"near", 1}, {"far", 40}}},
+             {{"position", {0, 0, 20}},
+              {"target", {0, 0, 0}},
+              {"up", {0, 1, 0}},
+              {"fovY", 0},
+              {"orthoHeight", 1.5},
+              {"near", 1},
+              {"far", 40}}},
             {"light", {{"direction", {0, 0, 1}}, {"color", {0.5, 0.5, 0.5}}}},
             {"ambient", {{"color", {0.3, 0.3, 0.3}}}},
             {"atlas", atlas.string()},
@@ -170,7 +176,10 @@ class TumbleCases : public TumbleBase {
   }
 
   static nlohmann::json puff(int variation, glm::vec3 axis, float degrees) {
-    return {{"position", {0, 0, 0}}, {"size", 1.0}, {"variation", variation}, {"oriented", true},
+    return {{"position", {0, 0, 0}},
+            {"size", 1.0},
+            {"variation", variation},
+            {"oriented", true},
             {"orientation", {{"axis", {axis.x, axis.y, axis.z}}, {"degrees", degrees}}}};
   }
 

@@ -29,16 +29,17 @@ struct Grid {
   int columns = 0, rows = 0, square = 0;  // square: pixels per side
 };
 
-std::vector<int> sweep(int from, int to, int step) {
+// Angles from `from` every `step`: below `to`, or up to it with `inclusive`.
+std::vector<int> sweep(int from, int to, int step, bool inclusive = false) {
   std::vector<int> v;
-  for (int a = from; a < to || (to == 90 && a == 90); a += step) v.push_back(a);
+  for (int a = from; a < to || (inclusive && a == to); a += step) v.push_back(a);
   return v;
 }
 
 Grid gridFor(const TumbleOptions& o) {
   Grid g;
   g.columns = static_cast<int>(sweep(0, 360, o.stepDegrees).size());
-  g.rows = static_cast<int>(sweep(-90, 90, o.stepDegrees).size());
+  g.rows = static_cast<int>(sweep(-90, 90, o.stepDegrees, true).size());
   g.square = static_cast<int>(std::lround(kSpacing * static_cast<float>(o.puffPixels)));
   return g;
 }
@@ -64,18 +65,26 @@ Result<scene::Scene> gridScene(const fs::path& atlas, const TumbleOptions& o, in
   const float pxPerUnit = static_cast<float>(o.puffPixels) / unit;
   const int width = g.columns * g.square, height = g.rows * g.square;
   const nlohmann::json j = {
-      {"output", {{"width", width}, {"height", height}, {"samples", 1},
-                  {"background", {kBackground.x, kBackground.y, kBackground.z}}}},
+      {"output",
+       {{"width", width},
+        {"height", height},
+        {"samples", 1},
+        {"background", {kBackground.x, kBackground.y, kBackground.z}}}},
       {"camera",
-       {{"position", {0, 0, 50}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fovY", 0},
-        {"orthoHeight", static_cast<float>(height) / pxPerUnit}, {"near", 1}, {"far", 100}}},
+       {{"position", {0, 0, 50}},
+        {"target", {0, 0, 0}},
+        {"up", {0, 1, 0}},
+        {"fovY", 0},
+        {"orthoHeight", static_cast<float>(height) / pxPerUnit},
+        {"near", 1},
+        {"far", 100}}},
       {"light", {{"direction", {-0.4, 0.5, 0.77}}, {"color", {0.7, 0.7, 0.7}}}},
       {"ambient", {{"color", {0.25, 0.25, 0.25}}}},
       {"atlas", atlas.string()},
       {"style", {{"outlines", true}, {"outlineWidth", o.outlineWidth}, {"shading", true}, {"shadows", false}}}};
   auto s = scene::parseScene(j, atlas.parent_path() / "tumble-sweep.json");
   if (!s) return s.error();
-  const std::vector<int> yaws = sweep(0, 360, o.stepDegrees), pitches = sweep(-90, 90, o.stepDegrees);
+  const std::vector<int> yaws = sweep(0, 360, o.stepDegrees), pitches = sweep(-90, 90, o.stepDegrees, true);
   int index = 0;
   for (std::size_t r = 0; r < pitches.size(); ++r) {
     for (std::size_t c = 0; c < yaws.size(); ++c, ++index) {
@@ -125,8 +134,8 @@ std::vector<bool> inkMask(const core::Image& im) {
   std::vector<bool> m(static_cast<std::size_t>(im.width) * im.height);
   for (int y = 0; y < im.height; ++y)
     for (int x = 0; x < im.width; ++x)
-      m[static_cast<std::size_t>(y) * im.width + x] = im.at(x, y, 0) < 0.1f && im.at(x, y, 1) < 0.1f &&
-                                                       im.at(x, y, 2) < 0.1f;
+      m[static_cast<std::size_t>(y) * im.width + x] =
+          im.at(x, y, 0) < 0.1f && im.at(x, y, 1) < 0.1f && im.at(x, y, 2) < 0.1f;
   return m;
 }
 
@@ -141,7 +150,7 @@ std::vector<TumblePose> tumblePoses(int stepDegrees) {
   std::vector<TumblePose> out;
   if (stepDegrees < 1 || 90 % stepDegrees != 0) return out;
   for (int roll : sweep(0, 360, stepDegrees))
-    for (int pitch : sweep(-90, 90, stepDegrees))
+    for (int pitch : sweep(-90, 90, stepDegrees, true))
       for (int yaw : sweep(0, 360, stepDegrees)) {
         if (std::abs(pitch) == 90 && yaw != 0) continue;
         out.push_back(TumblePose{yaw, pitch, roll});
@@ -171,7 +180,7 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
   const TumbleOptions& o = reference.options;
   PUFF_TRY(checkOptions(o));
   const Grid g = gridFor(o);
-  const std::vector<int> yaws = sweep(0, 360, o.stepDegrees), pitches = sweep(-90, 90, o.stepDegrees);
+  const std::vector<int> yaws = sweep(0, 360, o.stepDegrees), pitches = sweep(-90, 90, o.stepDegrees, true);
   const int variations = variationsOf(atlas);
   TumbleResult out;
   std::vector<double> times;

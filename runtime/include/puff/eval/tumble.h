@@ -14,9 +14,9 @@
 namespace puff::eval {
 
 struct TumbleOptions {
-  int stepDegrees = 15;      ///< yaw and roll in [0, 360), pitch in [-90, 90], this far apart; divides 90
-  int puffPixels = 48;       ///< a puff's diameter on screen (it is drawn this many pixels across)
-  float outlineWidth = 2.0f; ///< pixels
+  int stepDegrees = 15;       ///< yaw and roll in [0, 360), pitch in [-90, 90], this far apart; divides 90
+  int puffPixels = 48;        ///< a puff's diameter on screen (it is drawn this many pixels across)
+  float outlineWidth = 2.0f;  ///< pixels
 };
 
 /// One pose: the puff's frame is Ry(yaw) Rx(pitch) Rz(roll) (degrees) with the camera on +z; roll
