@@ -259,19 +259,18 @@ Result<AtlasDesc> loadAtlasDesc(const fs::path& sidecar) {
   if (!bytes) return bytes.error();
   json j = json::parse(*bytes, nullptr, /*allow_exceptions=*/false);
   if (j.is_discarded()) return Error::at(sidecar, "not valid JSON");
-  auto desc = atlasFromJson(j, sidecar);
-  if (!desc) return desc.error();
-  for (std::size_t i = 0; i < desc->sources.size(); ++i) {
-    const AtlasSource& s = desc->sources[i];
-    if (s.lodMesh.empty()) continue;
-    const fs::path file = lodMeshPath(s, sidecar);
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec)) {
-      return Error::at(sidecar, "/sources/" + std::to_string(i) + "/lodMesh: " + file.string() +
-                                    " does not exist (the level of detail the atlas was baked from; re-bake it)");
-    }
+  return atlasFromJson(j, sidecar);
+}
+
+Result<fs::path> lodMeshFile(const AtlasDesc& desc, std::size_t i, const fs::path& sidecar) {
+  PUFF_CHECK(i < desc.sources.size() && !desc.sources[i].lodMesh.empty());
+  const fs::path file = lodMeshPath(desc.sources[i], sidecar);
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) {
+    return Error::at(sidecar, "/sources/" + std::to_string(i) + "/lodMesh: " + file.string() +
+                                  " does not exist (the level of detail the atlas was baked from; re-bake it)");
   }
-  return desc;
+  return file;
 }
 
 fs::path lodMeshPath(const AtlasSource& source, const fs::path& sidecar) {

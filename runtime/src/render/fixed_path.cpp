@@ -26,7 +26,10 @@ Result<mesh::TriMesh> fixedPuffMesh(const scene::Scene& scene, const core::Atlas
     if (!atlas && !particles) return mesh::generateSphere(mesh::SphereParams{});
     if (!atlas) return Error::at(scene.file, "/fixed/puff: no puff mesh and no atlas to take one from");
     if (!atlas->desc.sources.empty() && !atlas->desc.sources[0].lodMesh.empty()) {
-      return mesh::loadMesh(core::lodMeshPath(atlas->desc.sources[0], scene.atlas), nullptr, mesh::Normalize::kNo);
+      // Only this path draws it: the nailboards and the reference load the atlas without it.
+      auto lod = core::lodMeshFile(atlas->desc, 0, scene.atlas);
+      if (!lod) return lod.error();
+      return mesh::loadMesh(*lod, nullptr, mesh::Normalize::kNo);
     }
     if (atlas->desc.sources.empty() || atlas->desc.sources[0].path.empty()) {
       return Error::at(scene.file,
@@ -55,6 +58,11 @@ class FixedPath final : public Path {
     }
     auto puff = fixedPuffMesh(scene, atlas ? &*atlas : nullptr);
     if (!puff) return puff.error();
+    // A mesh without vertex colours is drawn in the colour the atlas was baked with (puffbake
+    // --color, a display value like Eq. 2's C), as the nailboards draw it.
+    if (atlas && !atlas->desc.sources.empty() && !puff->hasColors()) {
+      p->puffColor_ = atlas->desc.sources[0].defaultColor;
+    }
     // The puff texture is drawn through the frame's own pixels (2 x 2 cells): a small frame gets
     // smaller cells.
     int cellSize = scene.fixed.cellSize;
@@ -133,6 +141,7 @@ class FixedPath final : public Path {
     style.shading = s.style.shading;
     style.outlineScale = s.fixed.outlineScale;
     style.outlineOffset = s.fixed.outlineOffset;
+    style.puffColor = puffColor_;
     // A cel renderer in the same context (puffrender --compare) may have left its program and
     // vertex array bound; the fixed path draws only with neither. Never in a context-framebuffer
     // frame, which makes OpenGL 1.x calls only.
@@ -149,7 +158,8 @@ class FixedPath final : public Path {
   std::vector<fixedfunc::FixedObject> objects_;
   bool objectsMove_ = false;
   bool contextFramebuffer_ = false;
-  int variations_ = 0;  // 0: no atlas, no particles
+  int variations_ = 0;         // 0: no atlas, no particles
+  glm::vec3 puffColor_{1.0f};  // C (display value): the atlas's bake colour for a mesh without colours
 };
 
 }  // namespace

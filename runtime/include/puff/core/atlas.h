@@ -90,7 +90,7 @@ nlohmann::json toJson(const AtlasDesc& desc);
 /// Validates every field (sizes positive and consistent, cells inside the atlas, maps present);
 /// errors name `file` and the JSON pointer of the offending field.
 Result<AtlasDesc> atlasFromJson(const nlohmann::json& j, const std::filesystem::path& file = {});
-/// Reads and validates a sidecar file; a source's lodMesh must exist beside it.
+/// Reads and validates a sidecar file (a source's lodMesh is checked where it is drawn: lodMeshFile).
 Result<AtlasDesc> loadAtlasDesc(const std::filesystem::path& sidecar);
 
 /// An atlas in memory: its description and every map level as float images.
@@ -121,5 +121,9 @@ std::size_t atlasTextureBytes(const AtlasDesc& desc);
 /// The absolute (or working-directory-relative) path of a source's lodMesh: beside `sidecar`.
 /// Empty when the source has none.
 std::filesystem::path lodMeshPath(const AtlasSource& source, const std::filesystem::path& sidecar);
+
+/// Source `i`'s LOD mesh file (it must have one), checked to exist: the error names the sidecar and
+/// /sources/i/lodMesh. Only the fixed path draws it, so loading an atlas does not ask for it.
+Result<std::filesystem::path> lodMeshFile(const AtlasDesc& desc, std::size_t i, const std::filesystem::path& sidecar);
 
 }  // namespace puff::core
