@@ -1,6 +1,8 @@
 // puffbench (issue 7): speed against accuracy on the art scenes. The cel part (nailboards and the
 // fixed-function path against the cel reference over atlas size, mesh detail and particle count) is
-// in puffbench_cel.cpp and writes --cel-csv. The media part: for every scene, method (planar,
+// in puffbench_cel.cpp and writes --cel-csv; the shadow part is puffbench_shadows.cpp (--shadow-csv);
+// the tumble part (multi-view atlases' memory against their error over a sweep of orientations) is
+// puffbench_tumble.cpp (--tumble-csv). The media part: for every scene, method (planar,
 // planar-textured, soft-linear, soft-scurve, spherical) and media layer resolution (1/8 ..
 // 1), the median frame time and the worst error against the exact reference over three frames of
 // the scene's camera path (eval::measureMediaBudget: reference::renderMediaReference over the
@@ -33,6 +35,7 @@
 #include "harness.h"
 #include "puffbench_cel.h"
 #include "puffbench_shadows.h"
+#include "puffbench_tumble.h"
 
 namespace {
 
@@ -268,9 +271,11 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
 int main(int argc, char** argv) {
   int reps = 3, width = 320, height = 240;
   bool physical = false;
-  std::string csvPath, celCsvPath, stabilityCsvPath, shadowCsvPath, part = "all";
+  std::string csvPath, celCsvPath, stabilityCsvPath, shadowCsvPath, tumbleCsvPath, part = "all";
   std::vector<std::string> shadowScenes = {"cloud-fig8c", "explosion", "magic-lamp", "cloud-10k"};
   puffbench::CelBenchOptions cel;
+  puffbench::TumbleBenchOptions tumble;
+  tumble.puffDir = fs::path(PUFF_SOURCE_DIR) / "art" / "puffs";
   fs::path artDir = PUFF_ART_DIR, sceneDir = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes";
   std::vector<std::string> scenes = {"explosion-walls", "smoke-flythrough", "fire-to-smoke"};
   for (int i = 1; i < argc; ++i) {
@@ -297,9 +302,30 @@ int main(int argc, char** argv) {
         if (comma > at) shadowScenes.push_back(list.substr(at, comma - at));
         at = comma + 1;
       }
+    } else if (!std::strcmp(argv[i], "--tumble-csv") && i + 1 < argc) {
+      tumbleCsvPath = argv[++i];
+    } else if (!std::strcmp(argv[i], "--tumble-atlases") && i + 1 < argc) {
+      auto atlases = puffbench::parseTumbleAtlases(argv[++i]);
+      if (!atlases) {
+        std::fprintf(stderr, "puffbench: error: %s\n", atlases.error().message.c_str());
+        return 2;
+      }
+      tumble.atlases = *atlases;
+    } else if (!std::strcmp(argv[i], "--tumble-cells") && i + 1 < argc) {
+      tumble.cellSizes.clear();
+      const std::string list = argv[++i];
+      for (std::size_t at = 0; at <= list.size();) {
+        const std::size_t comma = std::min(list.find(',', at), list.size());
+        if (comma > at)
+          tumble.cellSizes.push_back(std::atoi(list.substr(at, comma - at).c_str()));  // bake::validate checks it
+        at = comma + 1;
+      }
+    } else if (!std::strcmp(argv[i], "--tumble-step") && i + 1 < argc) {
+      tumble.stepDegrees = std::atoi(argv[++i]);  // eval::measureTumble refuses a step that does not divide 90
     } else if (!std::strcmp(argv[i], "--part") && i + 1 < argc &&
                (!std::strcmp(argv[i + 1], "media") || !std::strcmp(argv[i + 1], "cel") ||
-                !std::strcmp(argv[i + 1], "shadows") || !std::strcmp(argv[i + 1], "all"))) {
+                !std::strcmp(argv[i + 1], "shadows") || !std::strcmp(argv[i + 1], "tumble") ||
+                !std::strcmp(argv[i + 1], "all"))) {
       part = argv[++i];
     } else if (!std::strcmp(argv[i], "--reference-limit") && i + 1 < argc) {
       cel.referenceLimit = static_cast<std::size_t>(std::max(0, std::atoi(argv[++i])));
@@ -311,15 +337,19 @@ int main(int argc, char** argv) {
       if (scenes.size() == 3 && scenes[0] == "explosion-walls") scenes.clear();
       scenes.push_back(argv[++i]);
     } else {
-      std::fprintf(stderr,
-                   "usage: puffbench [--part media|cel|shadows|all (all: media and cel)] [--reps N (3)]\n"
-                   "                 [--size W H (320 240)] [--shadow-csv FILE] [--shadow-scenes A,B (cloud-fig8c,\n"
-                   "                 explosion,magic-lamp,cloud-10k)]\n"
-                   "                 [--scene NAME ... (media scenes)] [--csv FILE (media)] [--cel-csv FILE]\n"
-                   "                 [--stability-csv FILE (media methods where they break)]\n"
-                   "                 [--physical: media errors against the physical reference too]\n"
-                   "                 [--reference-limit N (12500): no cel reference above N particles]\n"
-                   "                 [--no-counts: skip the particle-count sweep] [--art-dir DIR]\n");
+      std::fprintf(
+          stderr,
+          "usage: puffbench [--part media|cel|shadows|tumble|all (all: media and cel)] [--reps N (3)]\n"
+          "                 [--size W H (320 240)] [--shadow-csv FILE] [--shadow-scenes A,B (cloud-fig8c,\n"
+          "                 explosion,magic-lamp,cloud-10k)]\n"
+          "                 [--scene NAME ... (media scenes)] [--csv FILE (media)] [--cel-csv FILE]\n"
+          "                 [--stability-csv FILE (media methods where they break)]\n"
+          "                 [--physical: media errors against the physical reference too]\n"
+          "                 [--reference-limit N (12500): no cel reference above N particles]\n"
+          "                 [--no-counts: skip the particle-count sweep] [--art-dir DIR]\n"
+          "                 [--tumble-csv FILE] [--tumble-atlases LIST (oct3,oct5,oct7,oct9,hemioct3,\n"
+          "                 hemioct5,hemioct7)] [--tumble-cells LIST (64,128,256)] [--tumble-step DEG (15)]\n"
+          "                 (tumble: frame times are eval::measureTumble's, 3 renders a roll; --reps is not used)\n");
       return 2;
     }
   }
@@ -333,6 +363,22 @@ int main(int argc, char** argv) {
   }
   std::fprintf(stderr, "puffbench: %s\n", (*context)->describe().c_str());
 
+  if (part == "tumble") {
+    auto rows = puffbench::runTumbleBench(tumble);
+    if (!rows) {
+      std::fprintf(stderr, "puffbench: error: %s\n", rows.error().message.c_str());
+      return 1;
+    }
+    for (const puffbench::TumbleRow& r : *rows) {
+      std::fprintf(stderr,
+                   "%-8s %dx%d views, %4d texels: %9zu bytes, %zu poses: coverage IoU min %.4f mean %.4f (%.1f%% >= "
+                   "0.95), outline IoU min %.4f mean %.4f (%.1f%% >= 0.5), %.1f ms\n",
+                   r.layout.c_str(), r.grid, r.grid, r.cellSize, r.atlasBytes, r.poses, r.minCoverageIoU,
+                   r.meanCoverageIoU, 100.0 * r.coverageShare, r.minOutlineIoU, r.meanOutlineIoU,
+                   100.0 * r.outlineShare, r.ms);
+    }
+    return bench::writeCsv("puffbench", tumbleCsvPath, puffbench::tumbleCsv(*rows)) ? 0 : 1;
+  }
   if (part == "shadows") {
     cel.sceneDir = sceneDir;
     cel.artDir = artDir;

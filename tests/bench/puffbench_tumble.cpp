@@ -1,0 +1,153 @@
+// puffbench's tumble part (issue 22): the multi-view atlas's size against its accuracy. The art's four
+// puffs are baked with each view layout (oct: the whole sphere; hemioct: the front hemisphere, back
+// views mirrored), grid (grid x grid views a variation) and cell size; each atlas's oriented
+// nailboards are turned through the sweep of eval::tumblePoses (yaw, pitch and roll every 15 degrees)
+// and compared pose by pose with ONE cel reference of the same poses (eval::renderTumbleReference:
+// it turns the actual meshes, so it depends on the meshes and the sweep only, not on the atlas).
+// Per atlas: its GL texture memory (core::atlasTextureBytes), coverage IoU and outline IoU over the
+// poses (smallest, mean, and the share of poses at the issue's bars: coverage >= 0.95, outline >= 0.5),
+// and the median time of a frame of the pose grid (nailboards only). Not a test: nothing fails here.
+#include "puffbench_tumble.h"
+
+#include <unistd.h>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <optional>
+
+#include <puff/bake/baker.h>
+#include <puff/core/atlas.h>
+#include <puff/eval/tumble.h>
+
+#include "harness.h"
+
+namespace puffbench {
+
+namespace fs = std::filesystem;
+using namespace puff;
+using bench::Clock;
+
+namespace {
+
+Result<bake::ViewLayout> layoutOf(const std::string& name) {
+  if (name == "oct") return bake::ViewLayout::kOct;
+  if (name == "hemioct") return bake::ViewLayout::kHemiOct;
+  return Error{"tumble: view layout '" + name + "': oct or hemioct"};
+}
+
+}  // namespace
+
+Result<std::vector<TumbleAtlas>> parseTumbleAtlases(const std::string& list) {
+  std::vector<TumbleAtlas> out;
+  for (std::size_t at = 0; at <= list.size();) {
+    const std::size_t comma = std::min(list.find(',', at), list.size());
+    const std::string item = list.substr(at, comma - at);
+    at = comma + 1;
+    if (item.empty()) continue;
+    const std::size_t digit = item.find_first_of("0123456789");
+    if (digit == std::string::npos || digit == 0 || item.find_first_not_of("0123456789", digit) != std::string::npos) {
+      return Error{"tumble: atlas '" + item + "': a layout and its grid, e.g. oct5 or hemioct3"};
+    }
+    TumbleAtlas a{item.substr(0, digit), std::stoi(item.substr(digit))};
+    if (auto l = layoutOf(a.layout); !l) return l.error();
+    if (a.grid < 2 || a.grid > 16) return Error{"tumble: atlas '" + item + "': a grid of 2 to 16 views a side"};
+    out.push_back(a);
+  }
+  if (out.empty()) return Error{"tumble: no atlases given"};
+  return out;
+}
+
+Result<std::vector<TumbleRow>> runTumbleBench(const TumbleBenchOptions& opt) {
+  const auto start = Clock::now();
+  auto log = [&](const std::string& what) {
+    std::fprintf(stderr, "puffbench: tumble: %s (%.1f s)\n", what.c_str(),
+                 std::chrono::duration<double>(Clock::now() - start).count());
+  };
+  const fs::path work = fs::temp_directory_path() / ("puffbench-tumble-" + std::to_string(::getpid()));
+  fs::remove_all(work);
+  struct Cleanup {
+    fs::path dir;
+    ~Cleanup() {
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+    }
+  } cleanup{work};
+
+  std::vector<fs::path> meshes;
+  for (const char* m : {"variation-1.obj", "variation-2.ply", "variation-3.off", "variation-4.stl"})
+    meshes.push_back(opt.puffDir / m);
+  auto sources = bake::loadSources(meshes, std::nullopt);
+  if (!sources) return sources.error();
+
+  eval::TumbleOptions tumble;
+  tumble.stepDegrees = opt.stepDegrees;
+  std::optional<eval::TumbleReference> reference;
+  std::vector<TumbleRow> rows;
+  for (const TumbleAtlas& a : opt.atlases) {
+    auto layout = layoutOf(a.layout);
+    if (!layout) return layout.error();
+    for (int cell : opt.cellSizes) {
+      const std::string name = a.layout + std::to_string(a.grid) + "-" + std::to_string(cell);
+      bake::BakeOptions o;
+      o.cellSize = cell;
+      o.viewGrid = a.grid;
+      o.viewLayout = *layout;
+      o.outDir = work / name;
+      o.contactSheet = false;
+      auto baked = bake::bakeAtlas(*sources, o);
+      if (!baked) return baked.error();
+      log(name + ": baked");
+      if (!reference) {
+        // The reference turns the source meshes the sidecar names: the same for every atlas here.
+        auto r = eval::renderTumbleReference(baked->sidecar, tumble);
+        if (!r) return r.error();
+        reference = std::move(*r);
+        log("the reference of " + std::to_string(eval::tumblePoses(tumble.stepDegrees).size()) + " poses, " +
+            std::to_string(reference->rolls.size()) + " frames");
+      }
+      double ms = 0.0;
+      auto result = eval::measureTumble(baked->sidecar, *reference, &ms);
+      if (!result) return result.error();
+      TumbleRow r;
+      r.layout = a.layout;
+      r.grid = a.grid;
+      r.views = a.grid * a.grid;
+      r.cellSize = cell;
+      r.atlasBytes = core::atlasTextureBytes(baked->desc);
+      r.poses = result->poses.size();
+      r.minCoverageIoU = result->minCoverageIoU;
+      r.meanCoverageIoU = result->meanCoverageIoU;
+      r.minOutlineIoU = result->minOutlineIoU;
+      r.meanOutlineIoU = result->meanOutlineIoU;
+      std::size_t coverageOk = 0, outlineOk = 0;
+      for (const eval::TumblePose& p : result->poses) {
+        coverageOk += p.coverageIoU >= 0.95;
+        outlineOk += p.outlineIoU >= 0.5;
+      }
+      if (r.poses > 0) {
+        r.coverageShare = static_cast<double>(coverageOk) / static_cast<double>(r.poses);
+        r.outlineShare = static_cast<double>(outlineOk) / static_cast<double>(r.poses);
+      }
+      r.ms = ms;
+      rows.push_back(r);
+      log(name + ": measured");
+      std::error_code ec;
+      fs::remove_all(o.outDir, ec);  // the next atlas needs its own; this one is done
+    }
+  }
+  return rows;
+}
+
+std::string tumbleCsv(const std::vector<TumbleRow>& rows) {
+  std::string csv =
+      "layout,grid,views,cell_size,atlas_bytes,poses,coverage_iou_min,coverage_iou_mean,coverage_share_095,"
+      "outline_iou_min,outline_iou_mean,outline_share_05,median_ms\n";
+  for (const TumbleRow& r : rows) {
+    bench::appendf(csv, "%s,%d,%d,%d,%zu,%zu,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f\n", r.layout.c_str(), r.grid, r.views,
+                   r.cellSize, r.atlasBytes, r.poses, r.minCoverageIoU, r.meanCoverageIoU, r.coverageShare,
+                   r.minOutlineIoU, r.meanOutlineIoU, r.outlineShare, r.ms);
+  }
+  return csv;
+}
+
+}  // namespace puffbench
