@@ -8,6 +8,7 @@
 #include <cstdarg>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,15 @@ std::vector<double> timeRuns(int warmUp, int reps, Run&& run) {
 /// doing the minimum): true without a floor (floorMs <= 0) or when it is not faster than the floor.
 /// A run faster than its floor measured noise or a floor that is not one; its row is marked
 /// invalid (CSV `valid` 0) and gets no ratio.
+/// A work directory removed (with what is in it) when the scope ends, errors ignored.
+struct ScopedDir {
+  std::filesystem::path dir;
+  ~ScopedDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+  }
+};
+
 inline bool validAgainstFloor(double ms, double floorMs) { return !(floorMs > 0.0) || ms >= floorMs; }
 /// ms / floorMs as CSV text ("%.3f"), empty without a floor or when the run is below it.
 inline std::string ratioToFloor(double ms, double floorMs) {

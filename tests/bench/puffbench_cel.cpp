@@ -34,20 +34,6 @@ using bench::Clock;
 
 namespace {
 
-// Ink: every channel within 0.1 of the outline colour where the bare frame is not.
-std::vector<bool> inkMask(const core::Image& image, const core::Image& bare, const glm::vec3& ink) {
-  std::vector<bool> m(static_cast<std::size_t>(image.width) * image.height);
-  auto isInk = [&](const core::Image& im, int x, int y) {
-    for (int c = 0; c < 3; ++c)
-      if (std::abs(im.at(x, y, c) - ink[c]) > 0.1f) return false;
-    return true;
-  };
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x)
-      m[static_cast<std::size_t>(y) * image.width + x] = isInk(image, x, y) && !isInk(bare, x, y);
-  return m;
-}
-
 struct Errors {
   double rmse = 0.0, rmsePuffs = 0.0, coverageIoU = 1.0, outlineIoU = 1.0;
 };
@@ -66,8 +52,9 @@ Errors compare(const Frames& a, const Frames& aBare, const Frames& ref, const Fr
     e.rmse = std::max(e.rmse, reference::imageError(a.images[i], ref.images[i]).rmse);
     e.rmsePuffs = std::max(e.rmsePuffs, reference::imageError(a.images[i], ref.images[i], either).rmse);
     e.coverageIoU = std::min(e.coverageIoU, reference::maskIoU(ma, mr));
-    e.outlineIoU = std::min(e.outlineIoU, reference::maskIoU(inkMask(a.images[i], aBare.images[i], ink),
-                                                             inkMask(ref.images[i], refBare.images[i], ink)));
+    e.outlineIoU =
+        std::min(e.outlineIoU, reference::maskIoU(reference::inkMask(a.images[i], aBare.images[i], ink),
+                                                  reference::inkMask(ref.images[i], refBare.images[i], ink)));
   }
   return e;
 }
@@ -135,13 +122,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
   std::vector<CelRow> rows;
   const fs::path work = fs::temp_directory_path() / ("puffbench-cel-" + std::to_string(::getpid()));
   fs::remove_all(work);
-  struct Cleanup {
-    fs::path dir;
-    ~Cleanup() {
-      std::error_code ec;
-      fs::remove_all(dir, ec);
-    }
-  } cleanup{work};
+  const bench::ScopedDir cleanup{work};
 
   auto log = [&](const std::string& what, Clock::time_point t0) {
     std::fprintf(stderr, "puffbench: %s (%.1f s)\n", what.c_str(),

@@ -65,13 +65,7 @@ Result<std::vector<TumbleRow>> runTumbleBench(const TumbleBenchOptions& opt) {
   };
   const fs::path work = fs::temp_directory_path() / ("puffbench-tumble-" + std::to_string(::getpid()));
   fs::remove_all(work);
-  struct Cleanup {
-    fs::path dir;
-    ~Cleanup() {
-      std::error_code ec;
-      fs::remove_all(dir, ec);
-    }
-  } cleanup{work};
+  const bench::ScopedDir cleanup{work};
 
   std::vector<fs::path> meshes;
   for (const char* m : {"variation-1.obj", "variation-2.ply", "variation-3.off", "variation-4.stl"})

@@ -91,6 +91,23 @@ TEST(SsimMetric, AMaskAveragesOnlyItsPixels) {
   EXPECT_EQ(reference::ssim(a, b, std::vector<bool>(left.size(), false)), 1.0);  // no pixel counted
 }
 
+// Ink is the ink colour (every channel within the tolerance) where the bare frame is not ink: a pixel
+// a hair off black is ink, one 0.2 off is not, and one already black in the bare frame is not.
+TEST(InkMask, IsTheInkColourWhereTheBareFrameIsNot) {
+  core::Image image(4, 1, 4), bare(4, 1, 4);
+  const float shown[4][3] = {{0.05f, 0.0f, 0.08f}, {0.2f, 0.0f, 0.0f}, {0.0f, 0.0f, 0.0f}, {0.9f, 0.9f, 0.9f}};
+  for (int x = 0; x < 4; ++x)
+    for (int c = 0; c < 3; ++c) {
+      image.at(x, 0, c) = shown[x][c];
+      bare.at(x, 0, c) = x == 2 ? 0.0f : 0.9f;
+    }
+  EXPECT_EQ(reference::inkMask(image, bare, glm::vec3(0.0f)), (std::vector<bool>{true, false, false, false}));
+  // Another ink colour over a black bare frame: the grey 0.9 pixel is within 0.1 of 0.85, not within 0.04.
+  const core::Image black(4, 1, 4);
+  EXPECT_EQ(reference::inkMask(image, black, glm::vec3(0.85f)), (std::vector<bool>{false, false, false, true}));
+  EXPECT_EQ(reference::inkMask(image, black, glm::vec3(0.85f), 0.04), (std::vector<bool>(4, false)));
+}
+
 TEST(MediaMask, MarksTransmittanceBelowOneOrRadianceAboveEpsilon) {
   core::Image layer(5, 1, 4);
   const float px[5][4] = {{0, 0, 0, 1}, {0, 0, 0, 0.99f}, {0, 0, 0, 0.999f}, {0, 0.01f, 0, 1}, {0.001f, 0, 0, 1}};

@@ -162,18 +162,11 @@ int renderFrames(const Options& o, scene::Scene scene, const Plan& plan) {
                  "/style/shadows is left out\n",
                  cli::name());
   }
-  if (path == render::RenderPath::kFixed && !o.quiet) {
-    bool oriented = false;
-    for (const auto& p : scene.particles) oriented |= p.oriented;
-    for (const auto& e : scene.emitters) oriented |= e.oriented;
-    if (scene.simulation)
-      for (const auto& e : scene.simulation->emitters) oriented |= e.oriented;
-    if (oriented) {
-      std::fprintf(stderr,
-                   "%s: the fixed-function path draws every puff as a view-plane billboard: oriented puffs "
-                   "do not turn there\n",
-                   cli::name());
-    }
+  if (path == render::RenderPath::kFixed && !o.quiet && !scene::orientedPuffs(scene).empty()) {
+    std::fprintf(stderr,
+                 "%s: the fixed-function path draws every puff as a view-plane billboard: oriented puffs "
+                 "do not turn there\n",
+                 cli::name());
   }
   if (path == render::RenderPath::kReference && scene.media && !o.quiet) {
     std::fprintf(stderr,

@@ -129,16 +129,6 @@ core::Image square(const core::Image& im, int col, int row, int side) {
   return out;
 }
 
-// Ink: every channel within 0.1 of black (the outline colour), scene-linear.
-std::vector<bool> inkMask(const core::Image& im) {
-  std::vector<bool> m(static_cast<std::size_t>(im.width) * im.height);
-  for (int y = 0; y < im.height; ++y)
-    for (int x = 0; x < im.width; ++x)
-      m[static_cast<std::size_t>(y) * im.width + x] =
-          im.at(x, y, 0) < 0.1f && im.at(x, y, 1) < 0.1f && im.at(x, y, 2) < 0.1f;
-  return m;
-}
-
 int variationsOf(const fs::path& atlas) {
   auto d = core::loadAtlasDesc(atlas);
   return d ? std::max(1, d->variations) : 1;
@@ -208,7 +198,9 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
         const core::Image b = square(ref, static_cast<int>(c), static_cast<int>(r), g.square);
         TumblePose p{yaws[c], pitches[r], reference.rolls[f], index % variations};
         p.coverageIoU = reference::coverageIoU(a, b, background);
-        p.outlineIoU = reference::maskIoU(inkMask(a), inkMask(b));
+        // Ink: the outline colour, black, where the background is not.
+        p.outlineIoU = reference::maskIoU(reference::inkMask(a, background, glm::vec3(0.0f)),
+                                          reference::inkMask(b, background, glm::vec3(0.0f)));
         out.minCoverageIoU = std::min(out.minCoverageIoU, p.coverageIoU);
         out.minOutlineIoU = std::min(out.minOutlineIoU, p.outlineIoU);
         sumCoverage += p.coverageIoU;

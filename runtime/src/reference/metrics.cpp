@@ -62,6 +62,20 @@ std::vector<bool> coverageMask(const core::Image& image, const core::Image& back
   return mask;
 }
 
+std::vector<bool> inkMask(const core::Image& image, const core::Image& bare, const glm::vec3& ink, double tolerance) {
+  checkSameSize(image, bare);
+  auto isInk = [&](const core::Image& im, std::size_t p) {
+    for (std::size_t c = 0; c < 3; ++c)
+      if (std::abs(static_cast<double>(im.pixels[p * im.channels + c]) - ink[static_cast<int>(c)]) > tolerance)
+        return false;
+    return true;
+  };
+  const std::size_t n = pixelCount(image);
+  std::vector<bool> mask(n, false);
+  for (std::size_t p = 0; p < n; ++p) mask[p] = isInk(image, p) && !isInk(bare, p);
+  return mask;
+}
+
 double maskIoU(const std::vector<bool>& a, const std::vector<bool>& b) {
   PUFF_CHECK(a.size() == b.size());
   std::size_t both = 0, either = 0;

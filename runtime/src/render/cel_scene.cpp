@@ -15,18 +15,7 @@ Result<core::Atlas> loadSceneAtlas(const scene::Scene& scene) {
 
 Result<void> checkOrientedPuffs(const scene::Scene& scene, const core::AtlasDesc& atlas) {
   if (atlas.views > 1) return {};
-  std::string where;
-  for (std::size_t i = 0; i < scene.particles.size() && where.empty(); ++i) {
-    if (scene.particles[i].oriented) where = "/particles/" + std::to_string(i) + "/oriented";
-  }
-  for (std::size_t i = 0; i < scene.emitters.size() && where.empty(); ++i) {
-    if (scene.emitters[i].oriented) where = "/emitters/" + std::to_string(i) + "/oriented";
-  }
-  if (scene.simulation) {
-    for (std::size_t i = 0; i < scene.simulation->emitters.size() && where.empty(); ++i) {
-      if (scene.simulation->emitters[i].oriented) where = "/simulation/emitters/" + std::to_string(i) + "/oriented";
-    }
-  }
+  const std::string where = scene::orientedPuffs(scene);
   if (where.empty()) return {};
   return Error::at(scene.file, where + ": oriented puffs turn in 3D, but the atlas " + scene.atlas.string() +
                                    " holds one view per variation; bake it with views from every side "

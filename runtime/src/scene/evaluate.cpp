@@ -117,6 +117,18 @@ ParticleSpec emit(const EmitterSpec& e, int index, int variations) {
 
 }  // namespace
 
+std::string orientedPuffs(const Scene& s) {
+  for (std::size_t i = 0; i < s.particles.size(); ++i)
+    if (s.particles[i].oriented) return "/particles/" + std::to_string(i) + "/oriented";
+  for (std::size_t i = 0; i < s.emitters.size(); ++i)
+    if (s.emitters[i].oriented) return "/emitters/" + std::to_string(i) + "/oriented";
+  if (s.simulation) {
+    for (std::size_t i = 0; i < s.simulation->emitters.size(); ++i)
+      if (s.simulation->emitters[i].oriented) return "/simulation/emitters/" + std::to_string(i) + "/oriented";
+  }
+  return {};
+}
+
 bool hasParticles(const Scene& s) {
   return !s.particles.empty() || !s.emitters.empty() || (s.simulation && !s.simulation->emitters.empty());
 }

@@ -9,6 +9,8 @@
 #include <span>
 #include <vector>
 
+#include <glm/vec3.hpp>
+
 #include <puff/core/image.h>
 #include <puff/media/types.h>
 
@@ -31,6 +33,12 @@ ImageError imageError(const core::Image& a, const core::Image& b, const std::vec
 /// definition (compare.h), whose threshold is 1/64 (above 8-bit rounding, below any visible tone).
 /// Returns width * height flags, row 0 at the top.
 std::vector<bool> coverageMask(const core::Image& image, const core::Image& background, double threshold = 1.0 / 64.0);
+
+/// Where an image shows ink: every RGB channel within `tolerance` of `ink` where `bare` (the same
+/// frame without the inked things, or their background) is not ink. Colours in the images' own
+/// space. Returns width * height flags, row 0 at the top.
+std::vector<bool> inkMask(const core::Image& image, const core::Image& bare, const glm::vec3& ink,
+                          double tolerance = 0.1);
 
 /// |A ∩ B| / |A ∪ B| of two masks of the same size, in [0, 1]; 1 when both are empty.
 double maskIoU(const std::vector<bool>& a, const std::vector<bool>& b);

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
@@ -24,6 +25,10 @@ namespace puff::scene {
 
 /// Whether the scene has cel particles: listed, placed by emitters, or simulated.
 bool hasParticles(const Scene& scene);
+
+/// The JSON pointer of the first thing in the scene that asks for oriented puffs (a particle, an
+/// emitter or a simulator emitter with `oriented`), e.g. "/emitters/1/oriented"; empty when none does.
+std::string orientedPuffs(const Scene& scene);
 
 /// Seconds at frame `frame` (frame / fps).
 float frameTime(const Scene& scene, int frame);
