@@ -20,7 +20,7 @@ void recordCall(const char* name) {
   if (gCallLog != nullptr) gCallLog->emplace_back(name);
 }
 
-bool loaderReady() { return glad_glGetString != nullptr; }
+bool loaderReady() { return puff_glad_glGetString != nullptr; }
 
 }  // namespace detail
 }  // namespace puff::fixedfunc

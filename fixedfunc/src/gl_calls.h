@@ -4,7 +4,7 @@
 // the sources for any gl* call that does not come through here.
 #pragma once
 
-#include <glad/gl.h>
+#include <puff/gl_api.h>
 
 namespace puff::fixedfunc::detail {
 
@@ -15,5 +15,5 @@ bool loaderReady();
 
 }  // namespace puff::fixedfunc::detail
 
-// `#fn` is taken before glad's `#define glX glad_glX` expands, so the log holds the GL name.
+// `#fn` is taken before glad's `#define glX puff_glad_glX` expands, so the log holds the GL name.
 #define FF_GL(fn, ...) (::puff::fixedfunc::detail::recordCall(#fn), fn(__VA_ARGS__))

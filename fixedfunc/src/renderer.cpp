@@ -1,6 +1,7 @@
 // The fixed-function cartoon smoke path. Every GL call goes through FF_GL (gl_calls.h); only
 // OpenGL 1.0-1.5 entry points are used, and 1.4/1.5 ones only where the context has them.
 #include <puff/fixedfunc/renderer.h>
+#include <puff/gl_api.h>
 
 #include <algorithm>
 #include <array>

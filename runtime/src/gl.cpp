@@ -1,47 +1,96 @@
-// The RAII owners' deleters and creators. Creation uses direct state access (glCreate*), so a new
-// name is a complete object at once and nothing needs to be bound to create it.
-#include <puff/core/gl.h>
+// Loading Puff's GL entry points (initGl for a host's context; detail::loadGl for Puff's own
+// backends, puff::platform), and the RAII owners' deleters and creators. Creation uses direct state
+// access (glCreate*), so a new name is a complete object at once and nothing needs to be bound.
+#include <puff/gl_api.h>
+
+#include "gl_backends.h"
 
 #include <cstdio>
+#include <optional>
+#include <string>
 
 namespace puff::core {
 
 namespace detail {
-void deleteTexture(GLuint id) { glDeleteTextures(1, &id); }
-void deleteBuffer(GLuint id) { glDeleteBuffers(1, &id); }
-void deleteFramebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
-void deleteRenderbuffer(GLuint id) { glDeleteRenderbuffers(1, &id); }
-void deleteVertexArray(GLuint id) { glDeleteVertexArrays(1, &id); }
-void deleteProgram(GLuint id) { glDeleteProgram(id); }
-void deleteShader(GLuint id) { glDeleteShader(id); }
+// glad keeps one global set of function pointers, and each backend hands out its own: OSMesa gives
+// Mesa's glapi stubs, EGL and GLX give glvnd's dispatch stubs, which call the vendor that owns the
+// current EGL/GLX context. On an all-Mesa system both routes end in Mesa's one dispatch table and
+// are interchangeable (measured with Mesa 22.3), but with another vendor's EGL (NVIDIA) OSMesa's
+// stubs would not reach its contexts, nor glvnd's reach OSMesa's. So glad is reloaded whenever a
+// context of a different backend becomes current. Within one backend the pointers do not depend on
+// the context. Like glad itself, this is process-wide, not per thread.
+namespace {
+std::optional<GlBackend> gLoadedFor;
+}  // namespace
+
+int loadGl(GlBackend backend, GLADloadfunc load) {
+  if (gLoadedFor == backend) return 1;
+  const int version = puffGladLoadGL(load);
+  if (version == 0) {
+    gLoadedFor.reset();
+    return 0;
+  }
+  gLoadedFor = backend;
+  return version;
+}
+
+void forgetGlLoader(GlBackend backend) {
+  if (gLoadedFor == backend) gLoadedFor.reset();
+}
 }  // namespace detail
 
-Texture makeTexture(GLenum target) {
-  GLuint id = 0;
+Result<int> initGl(GlProcLoader getProcAddress, int minimum) {
+  if (getProcAddress == nullptr) return Error{"initGl: no getProcAddress given"};
+  // The host's pointers come from no Puff backend: a Puff context made later reloads its own.
+  detail::gLoadedFor.reset();
+  const int version = puffGladLoadGL(getProcAddress);
+  if (version == 0) {
+    return Error{"initGl: no GL context is current, or getProcAddress gave no glGetString"};
+  }
+  if (version < minimum) {
+    return Error{"initGl: the current context is GL " + std::to_string(version / 10000) + "." +
+                 std::to_string(version % 10000) + "; Puff needs " + std::to_string(minimum / 10000) + "." +
+                 std::to_string(minimum % 10000) + " (the cel and media paths use GL 4.5)"};
+  }
+  return version;
+}
+
+namespace detail {
+void deleteTexture(GlId id) { glDeleteTextures(1, &id); }
+void deleteBuffer(GlId id) { glDeleteBuffers(1, &id); }
+void deleteFramebuffer(GlId id) { glDeleteFramebuffers(1, &id); }
+void deleteRenderbuffer(GlId id) { glDeleteRenderbuffers(1, &id); }
+void deleteVertexArray(GlId id) { glDeleteVertexArrays(1, &id); }
+void deleteProgram(GlId id) { glDeleteProgram(id); }
+void deleteShader(GlId id) { glDeleteShader(id); }
+}  // namespace detail
+
+Texture makeTexture(GlEnum target) {
+  GlId id = 0;
   glCreateTextures(target, 1, &id);
   return Texture(id);
 }
 
 Buffer makeBuffer() {
-  GLuint id = 0;
+  GlId id = 0;
   glCreateBuffers(1, &id);
   return Buffer(id);
 }
 
 Framebuffer makeFramebuffer() {
-  GLuint id = 0;
+  GlId id = 0;
   glCreateFramebuffers(1, &id);
   return Framebuffer(id);
 }
 
 Renderbuffer makeRenderbuffer() {
-  GLuint id = 0;
+  GlId id = 0;
   glCreateRenderbuffers(1, &id);
   return Renderbuffer(id);
 }
 
 VertexArray makeVertexArray() {
-  GLuint id = 0;
+  GlId id = 0;
   glCreateVertexArrays(1, &id);
   return VertexArray(id);
 }

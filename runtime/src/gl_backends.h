@@ -4,7 +4,7 @@
 #include <memory>
 #include <string>
 
-#include <glad/gl.h>
+#include <puff/gl_api.h>
 
 #include <puff/core/gl_context.h>
 

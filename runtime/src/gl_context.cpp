@@ -5,7 +5,7 @@
 
 #include "gl_backends.h"
 
-#include <glad/gl.h>
+#include <puff/gl_api.h>
 
 #include <cctype>
 #include <cstdlib>
@@ -14,32 +14,6 @@
 namespace puff::core {
 
 namespace detail {
-
-// glad keeps one global set of function pointers, and each backend hands out its own: OSMesa gives
-// Mesa's glapi stubs, EGL and GLX give glvnd's dispatch stubs, which call the vendor that owns the
-// current EGL/GLX context. On an all-Mesa system both routes end in Mesa's one dispatch table and
-// are interchangeable (measured with Mesa 22.3), but with another vendor's EGL (NVIDIA) OSMesa's
-// stubs would not reach its contexts, nor glvnd's reach OSMesa's. So glad is reloaded whenever a
-// context of a different backend becomes current. Within one backend the pointers do not depend on
-// the context. Like glad itself, this is process-wide, not per thread.
-namespace {
-std::optional<GlBackend> gLoadedFor;
-}  // namespace
-
-int loadGl(GlBackend backend, GLADloadfunc load) {
-  if (gLoadedFor == backend) return 1;
-  const int version = gladLoadGL(load);
-  if (version == 0) {
-    gLoadedFor.reset();
-    return 0;
-  }
-  gLoadedFor = backend;
-  return version;
-}
-
-void forgetGlLoader(GlBackend backend) {
-  if (gLoadedFor == backend) gLoadedFor.reset();
-}
 
 // The backends need the error name; kept here so all three say the same.
 std::string versionName(const GlContextOptions& options) {
@@ -59,7 +33,7 @@ using core::lower;
 }
 
 std::string glString(GLenum name) {
-  if (glad_glGetString == nullptr) return "?";
+  if (puff_glad_glGetString == nullptr) return "?";
   const GLubyte* s = glGetString(name);
   return s ? reinterpret_cast<const char*>(s) : "?";
 }

@@ -2,7 +2,7 @@
 // NVIDIA driver), the device platform, which is how a headless GPU is reached. The context has no
 // config and no surface (EGL_KHR_no_config_context, EGL_KHR_surfaceless_context): it renders
 // into FBOs only. Only libEGL is linked; GL comes through eglGetProcAddress.
-#include <glad/gl.h>
+#include <puff/gl_api.h>
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>

@@ -1,7 +1,7 @@
 // GLFW: a real window with its default framebuffer. GLFW is initialized with the first window and
 // terminated with the last, so a process that only opens a window now and then holds no X
 // connection in between. GLFW must be used from the main thread.
-#include <glad/gl.h>  // before GLFW, which would otherwise include the system <GL/gl.h>
+#include <puff/gl_api.h>  // before GLFW, which would otherwise include the system <GL/gl.h>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>

@@ -1,7 +1,7 @@
 // OSMesa: Mesa's software rasterizer (llvmpipe) drawing into a buffer in our memory. No display,
 // no X, no EGL. GL is loaded through OSMesaGetProcAddress only: linking libGL into the same
 // binary would shadow OSMesa's gl* symbols and turn every call into a silent no-op.
-#include <glad/gl.h>  // before <GL/osmesa.h>, which would otherwise pull in the system <GL/gl.h>
+#include <puff/gl_api.h>  // before <GL/osmesa.h>, which would otherwise pull in the system <GL/gl.h>
 
 #include <GL/osmesa.h>
 

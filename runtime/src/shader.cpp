@@ -15,6 +15,7 @@
 #include <string_view>
 
 #include <puff/core/embedded.h>
+#include <puff/gl_api.h>
 
 namespace fs = std::filesystem;
 
@@ -368,7 +369,7 @@ std::vector<std::pair<std::string, std::vector<std::string>>> listShaderPrograms
 
 Result<Program> buildProgram(const std::vector<std::string>& stageFiles) {
   if (stageFiles.empty()) return Error{"buildProgram: no stage files given"};
-  if (glad_glCreateShader == nullptr) return Error{"buildProgram: no GL context (glad not loaded)"};
+  if (puff_glad_glCreateShader == nullptr) return Error{"buildProgram: no GL context (glad not loaded)"};
 
   std::vector<ShaderObject> shaders;
   std::vector<std::string> problems;

@@ -54,6 +54,7 @@
 
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
+#include <puff/gl_api.h>
 #include <puff/mesh/mesh.h>
 
 #include "harness.h"

@@ -65,6 +65,7 @@
 #include <puff/core/gl.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
+#include <puff/gl_api.h>
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
 #include <puff/reference/media_reference.h>

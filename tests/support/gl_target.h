@@ -13,6 +13,7 @@
 #include <puff/core/colour.h>
 #include <puff/core/gl.h>
 #include <puff/core/image.h>
+#include <puff/gl_api.h>
 
 namespace puff::test {
 

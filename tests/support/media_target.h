@@ -13,6 +13,7 @@
 #include <glm/vec4.hpp>
 
 #include <puff/core/gl.h>
+#include <puff/gl_api.h>
 #include <puff/media/media.h>
 
 #include "support/assert_ok.h"

@@ -16,6 +16,7 @@
 #include <puff/cel/nailboards.h>
 #include <puff/core/colour.h>
 #include <puff/eval/cel_reference.h>
+#include <puff/gl_api.h>
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 

@@ -25,6 +25,7 @@
 #include <puff/core/colour.h>
 #include <puff/core/gl.h>
 #include <puff/core/image.h>
+#include <puff/gl_api.h>
 #include <puff/mesh/mesh.h>
 #include <puff/render/cel_scene.h>
 #include <puff/render/render.h>

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-#include <glad/gl.h>
+#include <puff/gl_api.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>

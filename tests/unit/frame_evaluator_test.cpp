@@ -8,7 +8,7 @@
 #include <puff/scene/scene.h>
 #include <puff/scene/write.h>
 
-#if defined(GLAD_GL_H_) || defined(__gl_h_) || defined(__glad_h_)
+#if defined(PUFF_GLAD_GL_H_) || defined(GLAD_GL_H_) || defined(__gl_h_) || defined(__glad_h_)
 #error "a puff::scene header includes GL: the scene must be usable without a context"
 #endif
 

@@ -4,6 +4,9 @@
 
 #include <puff/core/gl.h>
 #include <puff/core/gl_context.h>
+#include <puff/gl_api.h>
+
+#include <dlfcn.h>
 
 #include <array>
 #include <cstdlib>
@@ -139,7 +142,7 @@ void expectVersionAtLeast45Core() {
   glGetIntegerv(GL_CONTEXT_PROFILE_MASK, &profile);
   EXPECT_GE(major * 10 + minor, 45) << reinterpret_cast<const char*>(glGetString(GL_VERSION));
   EXPECT_TRUE(profile & GL_CONTEXT_CORE_PROFILE_BIT);
-  EXPECT_TRUE(GLAD_GL_VERSION_4_5) << "glad loaded fewer than 4.5 entry points";
+  EXPECT_TRUE(PUFF_GLAD_GL_VERSION_4_5) << "glad loaded fewer than 4.5 entry points";
 }
 
 Result<std::unique_ptr<GlContext>> create(const char* backend, GlProfile profile = GlProfile::kCore) {
@@ -202,6 +205,34 @@ TEST(GlContextOSMesa, Core45DrawsIntoAnFbo) {
   EXPECT_EQ(description.rfind("osmesa: 4.", 0), 0u) << description;
   EXPECT_NE(description.find("Core Profile"), std::string::npos) << description;
   expectVersionAtLeast45Core();
+  expectFboTriangle();
+}
+
+// A host that makes its own context hands Puff its getProcAddress (here OSMesa's, found the way a
+// host's loader finds it): Puff's pointers come from it and draw; a failed load is an error, and
+// Puff's next own context reloads its pointers.
+TEST(GlLoader, InitGlLoadsPuffsPointersFromTheHostsGetProcAddress) {
+  Result<std::unique_ptr<GlContext>> context = create("osmesa");
+  ASSERT_OK(context);
+  auto hostGetProc = reinterpret_cast<GlProcLoader>(dlsym(RTLD_DEFAULT, "OSMesaGetProcAddress"));
+  ASSERT_NE(hostGetProc, nullptr);
+  Result<int> version = initGl(hostGetProc);
+  ASSERT_OK(version);
+  EXPECT_GE(*version, 40005);
+  expectFboTriangle();
+
+  Result<int> tooOld = initGl(hostGetProc, 990000);
+  ASSERT_FALSE(tooOld);
+  EXPECT_EQ(tooOld.error().message, "initGl: the current context is GL 4." + std::to_string(*version % 10000) +
+                                        "; Puff needs 99.0 (the cel and media paths use GL 4.5)");
+  Result<int> none = initGl(nullptr);
+  ASSERT_FALSE(none);
+  EXPECT_EQ(none.error().message, "initGl: no getProcAddress given");
+  Result<int> empty = initGl([](const char*) -> GlProc { return nullptr; });
+  ASSERT_FALSE(empty);
+  EXPECT_EQ(empty.error().message, "initGl: no GL context is current, or getProcAddress gave no glGetString");
+
+  (*context)->makeCurrent();  // Puff's own context reloads the pointers the failed load cleared
   expectFboTriangle();
 }
 

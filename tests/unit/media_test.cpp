@@ -14,6 +14,7 @@
 #include <glm/gtc/packing.hpp>
 
 #include <puff/core/blackbody.h>
+#include <puff/gl_api.h>
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
 

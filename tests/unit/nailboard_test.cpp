@@ -15,6 +15,7 @@
 #include <puff/cel/frame.h>
 #include <puff/cel/nailboards.h>
 #include <puff/core/atlas.h>
+#include <puff/gl_api.h>
 #include <puff/mesh/mesh.h>
 
 #include "support/assert_ok.h"

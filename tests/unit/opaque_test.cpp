@@ -15,6 +15,7 @@
 #include <puff/cel/frame.h>
 #include <puff/cel/opaque.h>
 #include <puff/core/colour.h>
+#include <puff/gl_api.h>
 #include <puff/mesh/mesh.h>
 #include <puff/render/cel_scene.h>
 

@@ -14,6 +14,7 @@
 
 #include <puff/bake/detail.h>
 #include <puff/core/blackbody.h>
+#include <puff/gl_api.h>
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
 #include <puff/reference/media_reference.h>

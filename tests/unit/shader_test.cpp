@@ -5,6 +5,7 @@
 #include <puff/core/embedded.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/shader.h>
+#include <puff/gl_api.h>
 
 #include <algorithm>
 #include <filesystem>

@@ -87,6 +87,7 @@
 #include <puff/cel/frame.h>
 #include <puff/cel/nailboards.h>
 #include <puff/core/atlas.h>
+#include <puff/gl_api.h>
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
 #include <puff/render/render.h>

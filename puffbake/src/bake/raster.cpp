@@ -5,6 +5,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <puff/core/shader.h>
+#include <puff/gl_api.h>
 
 namespace puff::bake {
 

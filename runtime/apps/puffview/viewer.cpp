@@ -1,4 +1,4 @@
-#include <glad/gl.h>  // before GLFW, which would otherwise include the system <GL/gl.h>
+#include <puff/gl_api.h>  // before GLFW, which would otherwise include the system <GL/gl.h>
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -208,7 +208,7 @@ Result<std::unique_ptr<core::GlContext>> createContext(const core::GlContextOpti
     old.major = 2, old.minor = 1;
     auto older = core::createGlContext(old);
     if (!older) return context.error();
-    if (!GLAD_GL_VERSION_4_5) {
+    if (!PUFF_GLAD_GL_VERSION_4_5) {
       // puff::render::SceneRenderer builds its targets with GL 4.5 calls on either path: an older
       // context would crash it, so this is an error, not a fallback (yet).
       return Error{context.error().message +

@@ -9,6 +9,7 @@
 
 #include <puff/cel/frame.h>
 #include <puff/core/colour.h>
+#include <puff/gl_api.h>
 
 namespace puff::cel {
 

@@ -10,6 +10,7 @@
 #include <puff/cel/volume_clip.h>
 #include <puff/core/colour.h>
 #include <puff/core/shader.h>
+#include <puff/gl_api.h>
 
 namespace puff::cel {
 

@@ -18,6 +18,7 @@
 #include <glm/matrix.hpp>
 
 #include <puff/core/shader.h>
+#include <puff/gl_api.h>
 
 namespace puff::cel {
 

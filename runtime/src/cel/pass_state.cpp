@@ -1,5 +1,6 @@
 
 #include <puff/cel/pass_state.h>
+#include <puff/gl_api.h>
 namespace puff::cel {
 
 void resetPassState() {

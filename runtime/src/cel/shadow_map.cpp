@@ -1,4 +1,5 @@
 #include <puff/cel/shadow_map.h>
+#include <puff/gl_api.h>
 
 #include <algorithm>
 #include <cmath>

@@ -3,6 +3,7 @@
 
 #include <puff/cel/volume_clip.h>
 #include <puff/core/gl.h>
+#include <puff/gl_api.h>
 
 namespace puff::cel {
 
@@ -41,7 +42,7 @@ VolumeClip volumeClip(const Frame& frame, const Bounds& receivers) {
   return c;
 }
 
-bool hasDepthBoundsTest() { return GLAD_GL_EXT_depth_bounds_test != 0 && glDepthBoundsEXT != nullptr; }
+bool hasDepthBoundsTest() { return PUFF_GLAD_GL_EXT_depth_bounds_test != 0 && glDepthBoundsEXT != nullptr; }
 
 void beginVolumeClip(const VolumeClip& clip) {
   if (clip.everything) return;

@@ -13,6 +13,7 @@
 #include <puff/core/colour.h>
 #include <puff/core/files.h>
 #include <puff/core/shader.h>
+#include <puff/gl_api.h>
 
 namespace puff::eval::detail {
 

@@ -15,6 +15,7 @@
 #include <puff/core/error.h>
 #include <puff/core/gl.h>
 #include <puff/eval/cel_reference.h>
+#include <puff/gl_api.h>
 #include <puff/mesh/mesh.h>
 
 namespace puff::eval::detail {

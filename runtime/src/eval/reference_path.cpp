@@ -8,6 +8,7 @@
 #include <puff/core/colour.h>
 #include <puff/core/detail_video.h>
 #include <puff/eval/cel_reference.h>
+#include <puff/gl_api.h>
 #include <puff/reference/media_physical.h>
 #include <puff/render/cel_scene.h>
 #include <puff/render/path.h>

@@ -6,6 +6,7 @@
 #include <glm/matrix.hpp>
 
 #include <puff/core/shader.h>
+#include <puff/gl_api.h>
 #include <puff/media/layers.h>
 
 namespace puff::media {

@@ -10,6 +10,7 @@
 #include <glm/matrix.hpp>
 
 #include <puff/core/shader.h>
+#include <puff/gl_api.h>
 #include <puff/media/media.h>
 
 namespace puff::media {

@@ -6,6 +6,7 @@
 #include <puff/cel/shadow_map.h>
 #include <puff/core/atlas.h>
 #include <puff/core/colour.h>
+#include <puff/gl_api.h>
 #include <puff/render/cel_scene.h>
 #include <puff/scene/evaluate.h>
 

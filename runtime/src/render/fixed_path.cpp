@@ -6,6 +6,7 @@
 #include <puff/core/gl.h>
 #include <puff/core/image.h>
 #include <puff/fixedfunc/renderer.h>
+#include <puff/gl_api.h>
 #include <puff/mesh/mesh.h>
 #include <puff/scene/evaluate.h>
 

@@ -4,6 +4,7 @@
 
 #include <puff/core/colour.h>
 #include <puff/core/detail_video.h>
+#include <puff/gl_api.h>
 #include <puff/scene/evaluate.h>
 
 namespace puff::render::detail {

@@ -8,6 +8,7 @@
 
 #include <puff/core/error.h>
 #include <puff/core/gl.h>
+#include <puff/gl_api.h>
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
 #include <puff/render/path.h>

@@ -6,6 +6,7 @@
 #include <puff/cel/opaque.h>
 #include <puff/core/colour.h>
 #include <puff/core/gl.h>
+#include <puff/gl_api.h>
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
 #include <puff/render/render.h>

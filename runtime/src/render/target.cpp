@@ -1,4 +1,5 @@
 #include "target.h"
+#include <puff/gl_api.h>
 
 #include <algorithm>
 #include <string>

@@ -1,4 +1,5 @@
 #include <puff/core/shader.h>
+#include <puff/gl_api.h>
 #include <puff/render/view.h>
 
 namespace puff::render {

@@ -33,7 +33,7 @@ class PuffRasterizer {
  private:
   PuffRasterizer() = default;
   int size_ = 0;
-  GLsizei indexCount_ = 0;
+  int indexCount_ = 0;
   bool hasColors_ = false;
   glm::vec3 defaultColor_{1.0f};
   core::Program program_;
@@ -42,7 +42,7 @@ class PuffRasterizer {
   core::Renderbuffer depthRb_;
   core::VertexArray vao_;
   core::Buffer vbo_, ibo_;
-  GLint viewRotationLoc_ = -1;
+  int viewRotationLoc_ = -1;
 };
 
 }  // namespace puff::bake

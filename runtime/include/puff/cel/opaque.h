@@ -88,7 +88,7 @@ class OpaqueRenderer {
   /// model: object -> world) and location 5 (uint caster id, kObjectIdBase + index): the program must
   /// declare and use both (`layout(location = 0) uniform mat4`, `layout(location = 5) uniform uint`). The caller sets
   /// the state and the program's other uniforms (the cel reference's own shadow passes use it).
-  void drawGeometry(GLuint program) const;
+  void drawGeometry(core::GlId program) const;
 
   /// How many objects there are, and object `index`'s world-space box (its mesh through its transform).
   std::size_t count() const;

@@ -72,7 +72,7 @@ ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Sty
 class ShadowMap {
  public:
   /// Texture units the receivers read (shaders/cel/shadow_map.glsl).
-  static constexpr GLuint kUnitDepth = 6, kUnitIds = 7;
+  static constexpr core::GlId kUnitDepth = 6, kUnitIds = 7;
 
   /// Needs a current GL 4.5 context.
   ShadowMap();

@@ -1,8 +1,11 @@
-// GL through glad, and thin RAII owners for GL objects. Every owner deletes its object in the
-// context that is current when it is destroyed: destroy GL objects before their context.
+// Thin RAII owners for GL objects, and the door through which Puff gets its GL entry points.
+// Every owner deletes its object in the context that is current when it is destroyed: destroy GL
+// objects before their context.
+//
+// No GL header here, nor in any public Puff header: a game includes its own loader's header (glad,
+// GLEW, epoxy, GLFW's) beside Puff's. GL object names and enums appear as GlId and GlEnum, the same
+// types as GLuint and GLenum.
 #pragma once
-
-#include <glad/gl.h>
 
 #include <string>
 #include <utility>
@@ -11,12 +14,30 @@
 
 namespace puff::core {
 
+using GlId = unsigned int;    ///< a GL object name (GlId)
+using GlEnum = unsigned int;  ///< a GL enum (GLenum)
+
+/// A GL entry point and a loader that returns one by name: glfwGetProcAddress, eglGetProcAddress,
+/// SDL_GL_GetProcAddress (cast), or a loader library's own.
+using GlProc = void (*)();
+using GlProcLoader = GlProc (*)(const char* name);
+
+/// Loads Puff's own GL entry points through the host's `getProcAddress`, with the host's context
+/// current. A game that makes its own context calls this once before creating any Puff renderer,
+/// e.g. `puff::core::initGl(glfwGetProcAddress)`; Puff's own contexts (createGlContext) call it
+/// themselves. Puff's loader is private (its symbols are prefixed puff_glad_), so the game's
+/// loader, whatever it is, keeps its own pointers. Returns the GL version loaded as
+/// major * 10000 + minor (40005 for 4.5), or an error when the loader gives no glGetString or the
+/// context is older than 4.5 (the cel and media paths need 4.5; the fixed path alone needs 1.5:
+/// pass minimum 10005 to accept it).
+Result<int> initGl(GlProcLoader getProcAddress, int minimum = 40005);
+
 /// A move-only owner of one GL name. Deleter is a function taking the name.
-template <void (*Delete)(GLuint)>
+template <void (*Delete)(GlId)>
 class GlName {
  public:
   GlName() = default;
-  explicit GlName(GLuint id) : id_(id) {}
+  explicit GlName(GlId id) : id_(id) {}
   GlName(GlName&& o) noexcept : id_(std::exchange(o.id_, 0)) {}
   GlName& operator=(GlName&& o) noexcept {
     if (this != &o) {
@@ -29,7 +50,7 @@ class GlName {
   GlName& operator=(const GlName&) = delete;
   ~GlName() { reset(); }
 
-  GLuint get() const { return id_; }
+  GlId get() const { return id_; }
   explicit operator bool() const { return id_ != 0; }
   void reset() {
     if (id_ != 0) Delete(id_);
@@ -37,17 +58,17 @@ class GlName {
   }
 
  private:
-  GLuint id_ = 0;
+  GlId id_ = 0;
 };
 
 namespace detail {
-void deleteTexture(GLuint id);
-void deleteBuffer(GLuint id);
-void deleteFramebuffer(GLuint id);
-void deleteRenderbuffer(GLuint id);
-void deleteVertexArray(GLuint id);
-void deleteProgram(GLuint id);
-void deleteShader(GLuint id);
+void deleteTexture(GlId id);
+void deleteBuffer(GlId id);
+void deleteFramebuffer(GlId id);
+void deleteRenderbuffer(GlId id);
+void deleteVertexArray(GlId id);
+void deleteProgram(GlId id);
+void deleteShader(GlId id);
 }  // namespace detail
 
 using Texture = GlName<detail::deleteTexture>;
@@ -58,7 +79,7 @@ using VertexArray = GlName<detail::deleteVertexArray>;
 using Program = GlName<detail::deleteProgram>;
 using ShaderObject = GlName<detail::deleteShader>;
 
-Texture makeTexture(GLenum target);  ///< glCreateTextures
+Texture makeTexture(GlEnum target);  ///< glCreateTextures
 Buffer makeBuffer();                 ///< glCreateBuffers
 Framebuffer makeFramebuffer();       ///< glCreateFramebuffers
 Renderbuffer makeRenderbuffer();     ///< glCreateRenderbuffers

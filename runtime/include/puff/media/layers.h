@@ -52,12 +52,12 @@ class Layers {
 
   /// The framebuffer the opaque pass draws into: colour (RGBA8) + depth/stencil (the cel programs'
   /// linear depth), multisampled as asked. The caller binds it, sets the viewport and clears.
-  GLuint opaqueFramebuffer() const;
+  core::GlId opaqueFramebuffer() const;
   /// Resolves the opaque pass into single-sample colour + depth textures and builds the media
   /// layer's depth (nearest depth per layer texel, R32F linear). Sets its own state.
   void resolveOpaque();
   /// The opaque depth at the layer's resolution (for Renderer::draw).
-  GLuint mediaDepth() const;
+  core::GlId mediaDepth() const;
   /// The frame to draw the media layer with, from the full-size frame: the layer's size, and a
   /// projection whose viewport is the layer's (mediaWidth * factor may exceed width(): layer texel
   /// i covers full pixels [i * factor, (i + 1) * factor), the last ones partly outside the image).
@@ -69,7 +69,7 @@ class Layers {
   /// the read binding is left alone) over `viewport` (x, y, w, h; w x h must be width() x height()).
   /// `frame`: the full-size frame (camera, planes) for the explosion lights. Colour only: the
   /// target's depth and stencil are not written.
-  void compose(GLuint target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
+  void compose(core::GlId target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
                const ComposeSettings& settings);
 
   /// How compose() upsamples when ComposeSettings::depthAware is on: bilateral weights in depth
@@ -83,14 +83,15 @@ class Layers {
   /// count changes). A frame is composed into historyFramebuffer(slot), then blendHistory sums
   /// the chosen slots with their weights into `target` (colour only, over `viewport`).
   void setHistorySlots(int slots);
-  GLuint historyFramebuffer(int slot) const;
-  void blendHistory(GLuint target, const int viewport[4], std::span<const int> slots, std::span<const float> weights);
+  core::GlId historyFramebuffer(int slot) const;
+  void blendHistory(core::GlId target, const int viewport[4], std::span<const int> slots,
+                    std::span<const float> weights);
 
   /// The resolved opaque colour (RGBA8) and linear depth (R32F: the nearest of each pixel's
   /// samples) textures (for tests and tools).
-  GLuint opaqueColor() const;
-  GLuint opaqueDepth() const;
-  GLuint mediaColor() const;
+  core::GlId opaqueColor() const;
+  core::GlId opaqueDepth() const;
+  core::GlId mediaColor() const;
 
  private:
   Layers();

@@ -87,8 +87,8 @@ class Renderer {
   /// depth texture), read at each pixel's offset from the viewport's origin. The viewport must be
   /// (frame.x, frame.y, frame.width, frame.height). Sets the GL state it needs; leaves blending,
   /// depth test and depth clamp off, every colour write mask on and its program unbound.
-  void draw(const Frame& frame, std::span<const Particle> particles, Method method, GLuint depth, bool shimmer = false,
-            DrawStats* stats = nullptr);
+  void draw(const Frame& frame, std::span<const Particle> particles, Method method, core::GlId depth,
+            bool shimmer = false, DrawStats* stats = nullptr);
 
   const std::vector<Material>& materials() const;
 

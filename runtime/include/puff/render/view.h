@@ -18,7 +18,7 @@ class ViewPass {
   /// Writes viewTransform(texel) of `linear` (a single-sample texture of viewport's size, scene-linear)
   /// over `viewport` of the current draw framebuffer. Sets and leaves: program 0, no depth or stencil
   /// test, no blend, no scissor, colour writes on.
-  void draw(GLuint linear, const cel::Viewport& viewport, core::ViewTransform view) const;
+  void draw(core::GlId linear, const cel::Viewport& viewport, core::ViewTransform view) const;
 
  private:
   core::Program program_;
