@@ -688,8 +688,12 @@ TEST_F(FixedFuncTest, DrawsIntoTheHostsFrameWithoutClearing) {
   // partly inside the corner (its disc spans rows ~110..146); the right one behind the wall.
   const std::vector<Billboard> puffs = {{{-1.2f, 0.0f, -5.0f}, 0.8f, 0}, {{1.2f, 0.0f, -5.0f}, 0.8f, 1}};
   FixedFrame frame = makeFrame();
-  frame.background = {0.25f, 0.5f, 0.75f, 1.0f};  // 8-bit exact, neither host colour
-  auto at = [](const std::vector<glm::vec4>& px, int x, int y) { return px[static_cast<std::size_t>(y) * kSize + x]; };
+  frame.background = {51 / 255.0f, 102 / 255.0f, 153 / 255.0f, 1.0f};  // 8-bit exact, neither host colour
+  // Colours compared as the 8-bit values the framebuffer holds.
+  auto bits = [](const glm::vec4& c) { return glm::ivec4(glm::round(c * 255.0f)); };
+  auto at = [&](const std::vector<glm::vec4>& px, int x, int y) {
+    return bits(px[static_cast<std::size_t>(y) * kSize + x]);
+  };
 
   // Without the option: the frame is cleared as before; the host's colours are gone.
   fillHostFrame();
@@ -698,9 +702,9 @@ TEST_F(FixedFuncTest, DrawsIntoTheHostsFrameWithoutClearing) {
   int puffPixels = 0, hostLeft = 0;
   std::vector<bool> puff(cleared.size());
   for (std::size_t i = 0; i < cleared.size(); ++i) {
-    puff[i] = cleared[i] != frame.background;
+    puff[i] = bits(cleared[i]) != bits(frame.background);
     puffPixels += puff[i];
-    hostLeft += cleared[i] == kHostLeft || cleared[i] == kHostRight;
+    hostLeft += bits(cleared[i]) == bits(kHostLeft) || bits(cleared[i]) == bits(kHostRight);
   }
   EXPECT_GT(puffPixels, 2 * 800);  // two discs of radius ~18 px with outlines
   EXPECT_EQ(hostLeft, 0);
@@ -721,7 +725,7 @@ TEST_F(FixedFuncTest, DrawsIntoTheHostsFrameWithoutClearing) {
   for (int y = 0; y < kSize; ++y) {
     for (int x = 0; x < kSize; ++x) {
       const std::size_t i = static_cast<std::size_t>(y) * kSize + x;
-      const glm::vec4 host = x < kSize / 2 ? kHostLeft : kHostRight;
+      const glm::ivec4 host = bits(x < kSize / 2 ? kHostLeft : kHostRight);
       if (!puff[i] || x >= kSize / 2) {
         (at(kept, x, y) == host ? keptHost : changedHost) += 1;
         cornerChecked += x < 128 && y < 128;

@@ -108,17 +108,17 @@ TEST_F(PuffrenderCli, TransparentOutputAndPlateErrors) {
   const fs::path png = dir_ / "clear.png";
   CliRun r = run(scene.string() + " -o " + png.string() + " -q");
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  auto image = core::readImage(png);
+  auto image = puff::core::readImage(png);
   ASSERT_TRUE(image.ok());
   ASSERT_EQ(image->channels, 4);
   for (int c = 0; c < 4; ++c) EXPECT_EQ(image->at(0, 0, c), 0.0f);  // nothing there: alpha and colour 0
-  auto attribute = core::readImageAttribute(png, "puff:alpha");
+  auto attribute = puff::core::readImageAttribute(png, "puff:alpha");
   ASSERT_TRUE(attribute.ok());
   EXPECT_EQ(*attribute, "straight");
   const fs::path exr = dir_ / "clear.exr";
   r = run(scene.string() + " -o " + exr.string() + " -q");
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  auto exrAttribute = core::readImageAttribute(exr, "puff:alpha");
+  auto exrAttribute = puff::core::readImageAttribute(exr, "puff:alpha");
   ASSERT_TRUE(exrAttribute.ok());
   EXPECT_EQ(*exrAttribute, "premultiplied");
 
