@@ -22,3 +22,6 @@ oiiotool --create 256x1 3 --fill:color=0.28,0.16,0.42 90x1+0+0 --fill:color=0.92
 oiiotool --pattern fill:top=0.08,0.1,0.32:bottom=0.72,0.62,0.86 256x256 3 -d uint8 -o "$here/gradients/purple-to-blue.png"
 # Dark-to-light ambient gradient (Fig. 13c): dark smoke-brown at the bottom, pale flame at the top.
 oiiotool --pattern fill:top=0.98,0.86,0.55:bottom=0.22,0.07,0.05 256x256 3 -d uint8 -o "$here/gradients/dark-to-light.png"
+
+# The plate of plate-cloud.json (Fig. 8d): a hand-drawn-looking landscape, Python standard library only.
+python3 "$here/make-plate.py" "$here/plates/hills.png"

@@ -134,7 +134,10 @@ class StateGuard {
       unbind(GL_ARRAY_BUFFER, GL_ARRAY_BUFFER_BINDING, &arrayBuffer_);
       unbind(GL_ELEMENT_ARRAY_BUFFER, GL_ELEMENT_ARRAY_BUFFER_BINDING, &elementBuffer_);
     }
-    if (version_.atLeast(2, 1)) unbind(GL_PIXEL_UNPACK_BUFFER, GL_PIXEL_UNPACK_BUFFER_BINDING, &unpackBuffer_);
+    if (version_.atLeast(2, 1)) {
+      unbind(GL_PIXEL_UNPACK_BUFFER, GL_PIXEL_UNPACK_BUFFER_BINDING, &unpackBuffer_);
+      unbind(GL_PIXEL_PACK_BUFFER, GL_PIXEL_PACK_BUFFER_BINDING, &packBuffer_);
+    }
   }
 
   ~StateGuard() {
@@ -153,6 +156,7 @@ class StateGuard {
     if (arrayBuffer_ != 0) FF_GL(glBindBuffer, GL_ARRAY_BUFFER, static_cast<GLuint>(arrayBuffer_));
     if (elementBuffer_ != 0) FF_GL(glBindBuffer, GL_ELEMENT_ARRAY_BUFFER, static_cast<GLuint>(elementBuffer_));
     if (unpackBuffer_ != 0) FF_GL(glBindBuffer, GL_PIXEL_UNPACK_BUFFER, static_cast<GLuint>(unpackBuffer_));
+    if (packBuffer_ != 0) FF_GL(glBindBuffer, GL_PIXEL_PACK_BUFFER, static_cast<GLuint>(packBuffer_));
     FF_GL(glActiveTexture, static_cast<GLenum>(activeTexture_));
     FF_GL(glClientActiveTexture, static_cast<GLenum>(clientActiveTexture_));
   }
@@ -169,7 +173,7 @@ class StateGuard {
   GlVersion version_;
   GLint activeTexture_ = GL_TEXTURE0, clientActiveTexture_ = GL_TEXTURE0;
   glm::mat4 projection_{1.0f}, modelview_{1.0f}, texture_[2] = {glm::mat4(1.0f), glm::mat4(1.0f)};
-  GLint arrayBuffer_ = 0, elementBuffer_ = 0, unpackBuffer_ = 0;
+  GLint arrayBuffer_ = 0, elementBuffer_ = 0, unpackBuffer_ = 0, packBuffer_ = 0;
 };
 
 void loadMatrix(GLenum mode, const glm::mat4& m) {
@@ -200,6 +204,8 @@ struct FixedRenderer::Impl {
   std::vector<glm::vec4> puffColors;
   std::vector<glm::vec3> quadPositions;
   std::vector<glm::vec2> quadTexCoords;
+  // The host's colour and depth under the puff texture's corner (FixedFrame::clear false).
+  std::vector<float> cornerColor, cornerDepth;
 
   void uploadRamp(const std::vector<unsigned char>& texels, int width);
   void setUnitTarget(int unit, GLenum target);
@@ -207,6 +213,8 @@ struct FixedRenderer::Impl {
   void setCelUnits(const glm::vec3& lightCamera, const glm::vec3& ambient, bool shading);
   void drawMesh(const DrawMesh& mesh, const glm::vec4* colors);
   void puffPass(const FixedFrame& frame, const FixedStyle& style, const glm::vec3& lightCamera, int cellSize);
+  void saveCorner(const FixedViewport& vp, int size);
+  void restoreCorner(const FixedViewport& vp, int size);
   void objectPass(const FixedFrame& frame, const glm::vec3& lightCamera, const glm::vec3& lightWorld);
   void billboardPass(const FixedFrame& frame, const std::vector<Billboard>& billboards, const FixedStyle& style,
                      float extent);
@@ -387,6 +395,53 @@ void FixedRenderer::Impl::puffPass(const FixedFrame& frame, const FixedStyle& st
   FF_GL(glActiveTexture, GL_TEXTURE0);
   FF_GL(glBindTexture, GL_TEXTURE_2D, puffTexture);
   FF_GL(glCopyTexSubImage2D, GL_TEXTURE_2D, 0, 0, 0, vp.x, vp.y, 2 * cellSize, 2 * cellSize);
+}
+
+// The puff pass draws through the host's pixels: without a clear they are read back first (colour
+// and depth, as floats: exact for 8-bit and 24-bit buffers) and written back after the copy.
+void FixedRenderer::Impl::saveCorner(const FixedViewport& vp, int size) {
+  for (GLenum p : {GL_PACK_ROW_LENGTH, GL_PACK_SKIP_PIXELS, GL_PACK_SKIP_ROWS}) FF_GL(glPixelStorei, p, 0);
+  FF_GL(glPixelStorei, GL_PACK_ALIGNMENT, 4);
+  FF_GL(glPixelStorei, GL_PACK_SWAP_BYTES, GL_FALSE);
+  FF_GL(glPixelStorei, GL_PACK_LSB_FIRST, GL_FALSE);
+  const auto n = static_cast<std::size_t>(size) * size;
+  cornerColor.resize(n * 4);
+  FF_GL(glReadPixels, vp.x, vp.y, size, size, GL_RGBA, GL_FLOAT, cornerColor.data());
+  GLint depthBits = 0;
+  FF_GL(glGetIntegerv, GL_DEPTH_BITS, &depthBits);
+  cornerDepth.clear();
+  if (depthBits > 0) {
+    cornerDepth.resize(n);
+    FF_GL(glReadPixels, vp.x, vp.y, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, cornerDepth.data());
+  }
+}
+
+void FixedRenderer::Impl::restoreCorner(const FixedViewport& vp, int size) {
+  resetFixedState();  // no texturing, lighting, fog, blend or alpha test on the written pixels
+  for (GLenum p : {GL_UNPACK_ROW_LENGTH, GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_ROWS}) FF_GL(glPixelStorei, p, 0);
+  FF_GL(glPixelStorei, GL_UNPACK_ALIGNMENT, 4);
+  FF_GL(glPixelStorei, GL_UNPACK_SWAP_BYTES, GL_FALSE);
+  FF_GL(glPixelStorei, GL_UNPACK_LSB_FIRST, GL_FALSE);
+  FF_GL(glPixelTransferf, GL_DEPTH_SCALE, 1.0f);
+  FF_GL(glPixelTransferf, GL_DEPTH_BIAS, 0.0f);
+  FF_GL(glPixelZoom, 1.0f, 1.0f);
+  if (version.atLeast(3, 0)) FF_GL(glDisable, GL_FRAMEBUFFER_SRGB);  // the values read are the values stored
+  // The raster position at the corner: NDC (-1, -1) of a viewport on it.
+  FF_GL(glViewport, vp.x, vp.y, size, size);
+  FF_GL(glScissor, vp.x, vp.y, size, size);
+  loadMatrix(GL_PROJECTION, glm::mat4(1.0f));
+  loadMatrix(GL_MODELVIEW, glm::mat4(1.0f));
+  FF_GL(glRasterPos2f, -1.0f, -1.0f);
+  FF_GL(glDisable, GL_DEPTH_TEST);
+  FF_GL(glDrawPixels, size, size, GL_RGBA, GL_FLOAT, cornerColor.data());
+  if (!cornerDepth.empty()) {
+    // Depth is written only through the depth test: ALWAYS passes, colour writes off.
+    FF_GL(glEnable, GL_DEPTH_TEST);
+    FF_GL(glDepthFunc, GL_ALWAYS);
+    FF_GL(glColorMask, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    FF_GL(glDrawPixels, size, size, GL_DEPTH_COMPONENT, GL_FLOAT, cornerDepth.data());
+  }
+  resetFixedState();
 }
 
 void FixedRenderer::Impl::objectPass(const FixedFrame& frame, const glm::vec3& lightCamera,
@@ -660,13 +715,17 @@ Result<void> FixedRenderer::drawFrame(const FixedFrame& frame, const std::vector
 
   StateGuard guard(version);
   impl_->resetFixedState();
+  if (!frame.clear) impl_->saveCorner(vp, 2 * cellSize_);
   impl_->puffPass(frame, style, lightCamera, cellSize_);
+  if (!frame.clear) impl_->restoreCorner(vp, 2 * cellSize_);
 
   FF_GL(glViewport, vp.x, vp.y, vp.width, vp.height);
   FF_GL(glScissor, vp.x, vp.y, vp.width, vp.height);
-  FF_GL(glClearColor, frame.background.r, frame.background.g, frame.background.b, frame.background.a);
-  FF_GL(glClearDepth, 1.0);
-  FF_GL(glClear, static_cast<GLbitfield>(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT));
+  if (frame.clear) {
+    FF_GL(glClearColor, frame.background.r, frame.background.g, frame.background.b, frame.background.a);
+    FF_GL(glClearDepth, 1.0);
+    FF_GL(glClear, static_cast<GLbitfield>(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT));
+  }
   impl_->objectPass(frame, lightCamera, lightWorld);
   impl_->billboardPass(frame, billboards, style, cellExtent());
   return {};

@@ -4,6 +4,7 @@
 #include <glm/common.hpp>
 
 #include <puff/core/colour.h>
+#include <puff/core/error.h>
 
 namespace puff::core {
 
@@ -71,6 +72,41 @@ Image viewTransform(const Image& linear, ViewTransform view) {
     q[1] = static_cast<float>(d.g);
     q[2] = static_cast<float>(d.b);
     if (ch >= 4) q[3] = std::clamp(q[3], 0.0f, 1.0f);
+  }
+  return out;
+}
+
+std::string_view toString(AlphaMode a) { return a == AlphaMode::kPremultiplied ? "premultiplied" : "straight"; }
+
+std::optional<AlphaMode> parseAlphaMode(std::string_view name) {
+  if (name == "straight") return AlphaMode::kStraight;
+  if (name == "premultiplied") return AlphaMode::kPremultiplied;
+  return std::nullopt;
+}
+
+Image unpremultiply(const Image& premultiplied) {
+  PUFF_CHECK(premultiplied.channels == 4);
+  Image out = premultiplied;
+  const std::size_t n = static_cast<std::size_t>(premultiplied.width) * premultiplied.height;
+  for (std::size_t i = 0; i < n; ++i) {
+    float* q = &out.pixels[i * 4];
+    const float a = std::clamp(q[3], 0.0f, 1.0f);
+    // Below 2^-16 a pixel holds no colour worth dividing out (a half float's alpha step near 0).
+    const float inverse = a < 1.0f / 65536.0f ? 0.0f : 1.0f / a;
+    for (int c = 0; c < 3; ++c) q[c] *= inverse;
+    q[3] = a;
+  }
+  return out;
+}
+
+Image viewTransform(const Image& premultipliedLinear, ViewTransform view, AlphaMode alpha) {
+  Image out = viewTransform(unpremultiply(premultipliedLinear), view);
+  if (alpha == AlphaMode::kPremultiplied) {
+    const std::size_t n = static_cast<std::size_t>(out.width) * out.height;
+    for (std::size_t i = 0; i < n; ++i) {
+      float* q = &out.pixels[i * 4];
+      for (int c = 0; c < 3; ++c) q[c] *= q[3];
+    }
   }
   return out;
 }

@@ -658,6 +658,101 @@ TEST_F(FixedFuncTest, OffsetDDecidesWhetherAnInnerContourShows) {
   EXPECT_EQ(farBlack, 0) << "d = 1 > the gap: B's body hides A's contour (of " << farChecked << " pixels)";
 }
 
+// ---- 4b. into the host's frame (FixedFrame::clear = false) -------------------------------------
+
+// A host frame: colour A and depth 1 on the left half, colour B and depth 0.5 on the right (a wall
+// in front of everything the puffs could be). 8-bit values, so they read back exactly.
+const glm::vec4 kHostLeft{64 / 255.0f, 128 / 255.0f, 32 / 255.0f, 1.0f};
+const glm::vec4 kHostRight{200 / 255.0f, 40 / 255.0f, 90 / 255.0f, 1.0f};
+
+void fillHostFrame() {
+  glEnable(GL_SCISSOR_TEST);
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glScissor(0, 0, kSize / 2, kSize);
+  glClearColor(kHostLeft.r, kHostLeft.g, kHostLeft.b, kHostLeft.a);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glScissor(kSize / 2, 0, kSize / 2, kSize);
+  glClearColor(kHostRight.r, kHostRight.g, kHostRight.b, kHostRight.a);
+  glClearDepth(0.5);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glDisable(GL_SCISSOR_TEST);
+  glClearDepth(1.0);
+}
+
+TEST_F(FixedFuncTest, DrawsIntoTheHostsFrameWithoutClearing) {
+  auto r = FixedRenderer::create(unitSphere(), 64);  // the puff pass draws through the 128 x 128 corner
+  ASSERT_OK(r);
+  // Puffs on both halves at depth 5 (window depth ~0.98): the left one over the host's far depth,
+  // partly inside the corner (its disc spans rows ~110..146); the right one behind the wall.
+  const std::vector<Billboard> puffs = {{{-1.2f, 0.0f, -5.0f}, 0.8f, 0}, {{1.2f, 0.0f, -5.0f}, 0.8f, 1}};
+  FixedFrame frame = makeFrame();
+  frame.background = {51 / 255.0f, 102 / 255.0f, 153 / 255.0f, 1.0f};  // 8-bit exact, neither host colour
+  // Colours compared as the 8-bit values the framebuffer holds.
+  auto bits = [](const glm::vec4& c) { return glm::ivec4(glm::round(c * 255.0f)); };
+  auto at = [&](const std::vector<glm::vec4>& px, int x, int y) {
+    return bits(px[static_cast<std::size_t>(y) * kSize + x]);
+  };
+
+  // Without the option: the frame is cleared as before; the host's colours are gone.
+  fillHostFrame();
+  ASSERT_OK((*r)->drawFrame(frame, puffs));
+  const std::vector<glm::vec4> cleared = readFramebuffer();
+  int puffPixels = 0, hostLeft = 0;
+  std::vector<bool> puff(cleared.size());
+  for (std::size_t i = 0; i < cleared.size(); ++i) {
+    puff[i] = bits(cleared[i]) != bits(frame.background);
+    puffPixels += puff[i];
+    hostLeft += bits(cleared[i]) == bits(kHostLeft) || bits(cleared[i]) == bits(kHostRight);
+  }
+  EXPECT_GT(puffPixels, 2 * 800);  // two discs of radius ~18 px with outlines
+  EXPECT_EQ(hostLeft, 0);
+
+  // With it: every pixel outside the puffs keeps the host's colour exactly (the corner the puff
+  // texture is drawn through included); the left puff is drawn as before; the right one is hidden
+  // by the host's depth.
+  std::vector<std::string> log;
+  setCallLog(&log);
+  fillHostFrame();
+  frame.clear = false;
+  ASSERT_OK((*r)->drawFrame(frame, puffs));
+  setCallLog(nullptr);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  dumpIfAsked("fixedfunc-host-frame");
+  const std::vector<glm::vec4> kept = readFramebuffer();
+  int keptHost = 0, changedHost = 0, drawnLeft = 0, wrongLeft = 0, cornerChecked = 0;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * kSize + x;
+      const glm::ivec4 host = bits(x < kSize / 2 ? kHostLeft : kHostRight);
+      if (!puff[i] || x >= kSize / 2) {
+        (at(kept, x, y) == host ? keptHost : changedHost) += 1;
+        cornerChecked += x < 128 && y < 128;
+      } else {
+        (at(kept, x, y) == at(cleared, x, y) ? drawnLeft : wrongLeft) += 1;
+      }
+    }
+  }
+  EXPECT_EQ(changedHost, 0) << "host pixels outside the puffs changed (of " << keptHost + changedHost << ")";
+  EXPECT_GT(cornerChecked, 128 * 128 - 1200);
+  EXPECT_GT(drawnLeft, 800);
+  EXPECT_EQ(wrongLeft, 0) << "the left puff differs from the cleared frame's";
+  // The host's depth is kept too: read outside the puffs, left 1.0 and right 0.5.
+  float depth[2] = {0.0f, 0.0f};
+  glReadPixels(10, 10, 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, &depth[0]);
+  glReadPixels(kSize - 10, 10, 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, &depth[1]);
+  EXPECT_EQ(depth[0], 1.0f);
+  EXPECT_NEAR(depth[1], 0.5f, 1e-6f);
+  // Still OpenGL 1.x only: the read-back and rewrite are GL 1.0 calls.
+  const std::set<std::string> allowed = gl15EntryPoints();
+  for (const std::string& name : std::set<std::string>(log.begin(), log.end()))
+    EXPECT_EQ(allowed.count(name), 1u) << name << " is not an OpenGL <= 1.5 function";
+  for (const char* name : {"glReadPixels", "glDrawPixels", "glRasterPos2f"})
+    EXPECT_EQ(std::count(log.begin(), log.end(), name) > 0, true) << name;
+  EXPECT_EQ(std::count(log.begin(), log.end(), "glClear"), 1) << "only the puff pass's own clear";
+}
+
 TEST_F(FixedFuncTest, RejectsWhatItCannotDraw) {
   EXPECT_FALSE(FixedRenderer::create(unitSphere(), 48).ok());  // not a power of two
   EXPECT_FALSE(FixedRenderer::create(mesh::TriMesh{}, 64).ok());

@@ -98,6 +98,42 @@ TEST_F(PuffrenderCli, BadScenesFailWithTheFileAndThePointer) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// Output for compositing: a transparent frame's alpha reaches the PNG (straight by default, said in
+// puff:alpha) and the EXR (premultiplied); straight EXR is refused before anything is drawn; a
+// missing plate is one line naming the scene, the field and the file.
+TEST_F(PuffrenderCli, TransparentOutputAndPlateErrors) {
+  const fs::path scene = write("scenes/clear.json",
+                               R"({"output": {"width": 24, "height": 16, "background": "transparent"},
+                                   "objects": [{"type": "box", "translate": [4, 0, 0]}]})");
+  const fs::path png = dir_ / "clear.png";
+  CliRun r = run(scene.string() + " -o " + png.string() + " -q");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto image = puff::core::readImage(png);
+  ASSERT_TRUE(image.ok());
+  ASSERT_EQ(image->channels, 4);
+  for (int c = 0; c < 4; ++c) EXPECT_EQ(image->at(0, 0, c), 0.0f);  // nothing there: alpha and colour 0
+  auto attribute = puff::core::readImageAttribute(png, "puff:alpha");
+  ASSERT_TRUE(attribute.ok());
+  EXPECT_EQ(*attribute, "straight");
+  const fs::path exr = dir_ / "clear.exr";
+  r = run(scene.string() + " -o " + exr.string() + " -q");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto exrAttribute = puff::core::readImageAttribute(exr, "puff:alpha");
+  ASSERT_TRUE(exrAttribute.ok());
+  EXPECT_EQ(*exrAttribute, "premultiplied");
+
+  const fs::path straight =
+      write("scenes/straight.json", R"({"output": {"background": "transparent", "alpha": "straight"}})");
+  expectOneLineError(run(straight.string() + " -o " + (dir_ / "s.exr").string()),
+                     straight.string() + ": /output/alpha: \"straight\" cannot be written to EXR", 2);
+  EXPECT_FALSE(fs::exists(dir_ / "s.exr"));
+
+  const fs::path plate = write("scenes/plate.json", R"({"output": {"width": 16, "height": 16, "plate": "gone.png"}})");
+  expectOneLineError(run(plate.string() + " -o " + (dir_ / "p.png").string()),
+                     plate.string() + ": /output/plate: " + (dir_ / "scenes" / "gone.png").string());
+  EXPECT_FALSE(fs::exists(dir_ / "p.png"));
+}
+
 TEST_F(PuffrenderCli, ParticlesWithoutAnAtlasAndAMissingAtlasAreErrors) {
   const fs::path out = dir_ / "out.png";
   const fs::path none = write("none.json", R"({"particles": [{"position": [0, 0, 0]}]})");

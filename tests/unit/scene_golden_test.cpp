@@ -43,8 +43,8 @@ TEST_P(SceneGolden, MatchesReference) {
 }
 
 INSTANTIATE_TEST_SUITE_P(ArtScenes, SceneGolden,
-                         ::testing::Values("cloud-fig8a", "cloud-fig8b", "cloud-fig8c", "magic-lamp", "missile-trail",
-                                           "cloud-50k", "explosion", "explosion-solid", "dust-roll"),
+                         ::testing::Values("cloud-fig8a", "cloud-fig8b", "cloud-fig8c", "plate-cloud", "magic-lamp",
+                                           "missile-trail", "cloud-50k", "explosion", "explosion-solid", "dust-roll"),
                          [](const ::testing::TestParamInfo<const char*>& i) {
                            std::string n = i.param;
                            for (char& c : n) c = (c == '-') ? '_' : c;

@@ -338,7 +338,7 @@ TEST(Scene, PresetsSetTheStyleAndExplicitFieldsWin) {
 // A scene with every field away from its default.
 json everything() {
   return json::parse(R"({
-    "output": {"width": 321, "height": 123, "samples": 2, "background": [0.1, 0.2, 0.3]},
+    "output": {"width": 321, "height": 123, "samples": 2, "background": [0.1, 0.2, 0.3], "plate": "plate.png"},
     "camera": {"position": [3, 4, 5], "target": [0, 0.5, 0], "up": [0, 1, 0.1], "fovY": 33.3, "orthoHeight": 7,
                "near": 0.25, "far": 70},
     "light": {"direction": [1, 2, 3], "color": [0.9, 0.8, 0.7]},
@@ -378,6 +378,8 @@ TEST(Scene, ToJsonRoundTripsEveryField) {
   EXPECT_EQ(t.width, s.width);
   EXPECT_EQ(t.height, s.height);
   EXPECT_EQ(t.samples, s.samples);
+  EXPECT_FALSE(s.plate.empty());
+  EXPECT_EQ(t.plate, s.plate);
   EXPECT_EQ(t.background, s.background);
   EXPECT_EQ(t.camera.position, s.camera.position);
   EXPECT_EQ(t.camera.target, s.camera.target);

@@ -82,7 +82,10 @@ void addOutputOptions(CLI::App& app, Options& o) {
                  "scene (/animation/frames) for a numbered OUT");
   app.add_option("--format", o.format,
                  "png (8-bit sRGB RGBA, after the view transform) or exr (the scene-linear frame before the view "
-                 "transform, half-float RGBA; values above 1 kept). Default: from OUT's extension (.png or .exr)")
+                 "transform, half-float RGBA; values above 1 kept). A transparent scene (/output/background "
+                 "\"transparent\") writes its coverage as alpha: straight in PNG unless /output/alpha is "
+                 "\"premultiplied\", premultiplied in EXR (straight EXR is refused). Default: from OUT's extension "
+                 "(.png or .exr)")
       ->check(CLI::IsMember({"png", "exr"}));
   app.add_flag("--float32", o.float32,
                "EXR output: 32-bit float channels instead of half float (the frame is rendered in half floats: "
@@ -190,6 +193,15 @@ Result<void> checkAgainstScene(const Options& o, const scene::Scene& scene, cons
     return Error{"--view applies only to PNG output: EXR holds the scene-linear frame before the view transform"};
   }
   if (!o.compare.empty() && plan.exr) return Error{"--compare writes 8-bit PNG comparison images: give -o a .png name"};
+  if (scene.transparent && plan.exr && scene.alpha == core::AlphaMode::kStraight) {
+    return Error::at(scene.file,
+                     "/output/alpha: \"straight\" cannot be written to EXR, which stores premultiplied colour (its "
+                     "convention): write a PNG, or ask for \"premultiplied\"");
+  }
+  if (scene.transparent && !o.compare.empty()) {
+    return Error::at(scene.file,
+                     "/output/background: --compare draws opaque comparison images, not a transparent frame");
+  }
   if (o.compare.empty() && o.toleranceGiven) return Error{"--tolerance applies only with --compare"};
   if (!o.compare.empty() && o.path != "cel") {
     return Error{"--path and --compare do not go together: --compare draws with both paths"};

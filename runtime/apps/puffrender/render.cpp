@@ -89,6 +89,9 @@ int writeFrames(const Options& o, const scene::Scene& scene, const Plan& plan, r
       plan.exr ? (o.float32 ? core::PixelType::kFloat : core::PixelType::kHalf) : core::PixelType::kUInt8;
   const core::ViewTransform view = scene::viewTransformFor(scene);
   const fs::path formatHint = plan.exr ? "frame.exr" : "frame.png";
+  // Each file's own convention unless the scene says (checkAgainstScene refused straight EXR).
+  const core::AlphaMode alpha =
+      scene.alpha.value_or(plan.exr ? core::AlphaMode::kPremultiplied : core::AlphaMode::kStraight);
   const int count = plan.last - plan.first + 1;
   for (int f = plan.first; f <= plan.last; ++f) {
     const fs::path target = plan.pattern.name(f);
@@ -103,10 +106,15 @@ int writeFrames(const Options& o, const scene::Scene& scene, const Plan& plan, r
     }
     core::OutputTransaction frame;
     const fs::path temp = frame.stage(target);
-    const core::Image out = plan.exr ? std::move(*image) : core::viewTransform(*image, view);
-    const core::ImageAttributes attributes =
-        plan.exr ? core::ImageAttributes{{"puff:colorspace", "scene-linear Rec.709"}}
-                 : core::ImageAttributes{{"puff:view", std::string(core::toString(view))}};
+    // A transparent frame comes premultiplied (EXR's convention); a PNG gets display values, its
+    // alpha straight unless the scene asks for premultiplied.
+    const core::Image out = plan.exr            ? std::move(*image)
+                            : scene.transparent ? core::viewTransform(*image, view, alpha)
+                                                : core::viewTransform(*image, view);
+    core::ImageAttributes attributes = plan.exr
+                                           ? core::ImageAttributes{{"puff:colorspace", "scene-linear Rec.709"}}
+                                           : core::ImageAttributes{{"puff:view", std::string(core::toString(view))}};
+    if (scene.transparent) attributes.emplace_back("puff:alpha", std::string(core::toString(alpha)));
     if (auto r = core::writeImage(temp, out, type, attributes, formatHint); !r) {
       cli::printError(Error::at(target, r.error().message));
       return 1;

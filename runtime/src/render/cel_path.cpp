@@ -12,6 +12,7 @@
 
 #include "media_pass.h"
 #include "paths.h"
+#include "plate_pass.h"
 
 namespace puff::render::detail {
 
@@ -37,6 +38,11 @@ class CelPath final : public Path {
     if (!celScene) return celScene.error();
     p->scene_ = std::move(*celScene);
     p->samples_ = scene.samples;
+    if (!scene.plate.empty()) {
+      auto plate = PlatePass::create(scene);
+      if (!plate) return plate.error();
+      p->plate_ = std::make_unique<PlatePass>(std::move(*plate));
+    }
     if (scene.media) {
       auto media = MediaPass::create(scene);
       if (!media) return media.error();
@@ -51,7 +57,7 @@ class CelPath final : public Path {
   bool drawsMedia() const override { return media_ != nullptr; }
 
   bool needsRebuild(const scene::Scene& a, const scene::Scene& b) const override {
-    return a.atlas != b.atlas || a.atlasLevel != b.atlasLevel || CelScene::needsRebuild(a, b) ||
+    return a.atlas != b.atlas || a.atlasLevel != b.atlasLevel || a.plate != b.plate || CelScene::needsRebuild(a, b) ||
            MediaPass::needsRebuild(a, b);
   }
 
@@ -75,10 +81,13 @@ class CelPath final : public Path {
     glDepthMask(GL_TRUE);
     glStencilMask(0xFF);
     const glm::vec3 background = core::srgbToLinear(s.background);  // a display value; the target is linear
-    glClearColor(background.r, background.g, background.b, 1.0f);
+    // Transparent: nothing, premultiplied (renderFrame takes the alpha from two backgrounds).
+    const glm::vec4 clear = s.transparent ? glm::vec4(0.0f) : glm::vec4(background, 1.0f);
+    glClearColor(clear.r, clear.g, clear.b, clear.a);
     glClearDepth(1.0);
     glClearStencil(0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+    if (plate_) plate_->draw(celViewport);
 
     cel::Frame f = scene_->prepare(s, frame.inputs, frame.viewport, celViewport);
     if (variations_ > 0) {
@@ -153,6 +162,7 @@ class CelPath final : public Path {
   std::unique_ptr<cel::NailboardRenderer> nailboards_;
   std::unique_ptr<CelScene> scene_;
   std::unique_ptr<MediaPass> media_;
+  std::unique_ptr<PlatePass> plate_;           // output.plate, drawn after the clear
   std::unique_ptr<cel::ShadowMap> shadowMap_;  // made on the first frame with map shadows
   int variations_ = 0;                         // 0: no atlas, no cel particles
   int samples_ = 1;

@@ -1,13 +1,17 @@
 // The fixed-function path (puff::fixedfunc, McGuire & Fein §4.4) drawing a scene within its limits.
 #include <algorithm>
+#include <cmath>
 #include <optional>
+#include <vector>
 
 #include <puff/core/atlas.h>
+#include <puff/core/colour.h>
 #include <puff/core/gl.h>
 #include <puff/core/image.h>
 #include <puff/fixedfunc/renderer.h>
 #include <puff/gl_api.h>
 #include <puff/mesh/mesh.h>
+#include <puff/render/plate.h>
 #include <puff/scene/evaluate.h>
 
 #include "paths.h"
@@ -90,6 +94,11 @@ class FixedPath final : public Path {
       p->objectsMove_ |= !o.path.empty();
     }
     if (auto ok = p->fixed_->setObjects(p->objects_); !ok) return Error::at(scene.file, ok.error().message);
+    if (!scene.plate.empty()) {
+      auto plate = loadPlate(scene);
+      if (!plate) return plate.error();
+      p->plate_ = std::move(*plate);
+    }
     // One sample: the fixed path copies the framebuffer into its puff texture (no multisampled copy).
     const bool haveFbo = glCreateFramebuffers && glNamedRenderbufferStorageMultisample && glBlitNamedFramebuffer;
     GLint alphaBits = 0;
@@ -113,7 +122,7 @@ class FixedPath final : public Path {
   bool needsRebuild(const scene::Scene& a, const scene::Scene& b) const override {
     return a.fixed.puff != b.fixed.puff || a.fixed.cellSize != b.fixed.cellSize || a.width != b.width ||
            a.height != b.height || a.ramp != b.ramp || a.atlas != b.atlas || a.objects != b.objects ||
-           scene::hasParticles(a) != scene::hasParticles(b);
+           a.plate != b.plate || scene::hasParticles(a) != scene::hasParticles(b);
   }
 
   Result<void> draw(const PathFrame& frame) override {
@@ -127,7 +136,8 @@ class FixedPath final : public Path {
     f.lightDirection = s.light.direction;
     f.lightColor = s.light.color;
     f.ambientColor = s.ambientColor;  // the fixed path has no ambient gradient
-    f.background = glm::vec4(s.background, 1.0f);
+    // Transparent: nothing (renderFrame takes the alpha from two backgrounds).
+    f.background = s.transparent ? glm::vec4(0.0f) : glm::vec4(s.background, 1.0f);
     if (objectsMove_) {
       for (std::size_t i = 0; i < s.objects.size(); ++i)
         objects_[i].transform = scene::objectTransform(s.objects[i], frame.inputs.time);
@@ -150,6 +160,12 @@ class FixedPath final : public Path {
       if (glUseProgram) glUseProgram(0);
       if (glBindVertexArray) glBindVertexArray(0);
     }
+    if (!plate_.empty()) {
+      // The plate is this path's host frame: drawn first, then the fixed path draws over it
+      // without a clear (FixedFrame::clear), as it would into a game's frame.
+      drawPlate(viewport);
+      f.clear = false;
+    }
     return fixed_->drawFrame(f, billboards, style);
   }
 
@@ -159,8 +175,62 @@ class FixedPath final : public Path {
   std::vector<fixedfunc::FixedObject> objects_;
   bool objectsMove_ = false;
   bool contextFramebuffer_ = false;
-  int variations_ = 0;         // 0: no atlas, no particles
-  glm::vec3 puffColor_{1.0f};  // C (display value): the atlas's bake colour for a mesh without colours
+  int variations_ = 0;                     // 0: no atlas, no particles
+  glm::vec3 puffColor_{1.0f};              // C (display value): the atlas's bake colour for a mesh without colours
+  core::Image plate_;                      // output.plate, scene-linear RGBA; empty: none
+  std::vector<unsigned char> plateBytes_;  // plate_ stretched to the last viewport, display values, bottom row first
+  int plateWidth_ = 0, plateHeight_ = 0;
+
+  // The plate's display values written over the viewport (glDrawPixels: this path writes display
+  // values), depth cleared to 1. OpenGL 1.0 calls only; all state it sets is pushed and popped.
+  void drawPlate(const cel::Viewport& vp) {
+    if (vp.width != plateWidth_ || vp.height != plateHeight_) {
+      const core::Image sized = resizePlate(plate_, vp.width, vp.height);
+      plateBytes_.assign(static_cast<std::size_t>(vp.width) * vp.height * 4, 255);
+      for (int y = 0; y < vp.height; ++y) {
+        for (int x = 0; x < vp.width; ++x) {
+          const std::size_t o = (static_cast<std::size_t>(vp.height - 1 - y) * vp.width + x) * 4;
+          for (int c = 0; c < 3; ++c) {
+            const double d = core::linearToSrgb(std::clamp(double{sized.at(x, y, c)}, 0.0, 1.0));
+            plateBytes_[o + c] = static_cast<unsigned char>(std::lround(d * 255.0));
+          }
+        }
+      }
+      plateWidth_ = vp.width;
+      plateHeight_ = vp.height;
+    }
+    glPushAttrib(GL_ALL_ATTRIB_BITS);
+    glPushClientAttrib(GL_CLIENT_ALL_ATTRIB_BITS);
+    glMatrixMode(GL_PROJECTION);
+    glPushMatrix();
+    glLoadIdentity();
+    glMatrixMode(GL_MODELVIEW);
+    glPushMatrix();
+    glLoadIdentity();
+    glViewport(vp.x, vp.y, vp.width, vp.height);
+    glScissor(vp.x, vp.y, vp.width, vp.height);
+    glEnable(GL_SCISSOR_TEST);
+    glDepthMask(GL_TRUE);
+    glClearDepth(1.0);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    for (GLenum cap : {GL_DEPTH_TEST, GL_STENCIL_TEST, GL_BLEND, GL_ALPHA_TEST, GL_LIGHTING, GL_FOG, GL_TEXTURE_1D,
+                       GL_TEXTURE_2D, GL_COLOR_LOGIC_OP, GL_DITHER})
+      glDisable(cap);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    glPixelStorei(GL_UNPACK_SKIP_PIXELS, 0);
+    glPixelStorei(GL_UNPACK_SKIP_ROWS, 0);
+    glPixelZoom(1.0f, 1.0f);
+    glRasterPos2f(-1.0f, -1.0f);  // the viewport's lower-left corner
+    glDrawPixels(vp.width, vp.height, GL_RGBA, GL_UNSIGNED_BYTE, plateBytes_.data());
+    glMatrixMode(GL_MODELVIEW);
+    glPopMatrix();
+    glMatrixMode(GL_PROJECTION);
+    glPopMatrix();
+    glPopClientAttrib();
+    glPopAttrib();
+  }
 };
 
 }  // namespace

@@ -257,6 +257,38 @@ Result<void> SceneRenderer::drawBlurred(int frame, const cel::Viewport& viewport
 Result<SceneRenderer::MediaFrameInputs> SceneRenderer::lastMediaFrame() const { return impl_->path->lastMediaFrame(); }
 
 Result<core::Image> SceneRenderer::renderFrame(int frame, FrameStats* stats) {
+  if (!impl_->scene.transparent) return renderOpaque(frame, stats);
+  // A transparent frame: drawn over black and over white. Every pass is affine in the background
+  // (a sample is covered, kept, or attenuated by media transmittance T with light added; MSAA
+  // resolve, motion blur and shimmer mix linearly), so per pixel F(B) = P + (1 - a) B: the black
+  // frame is the premultiplied colour P and 1 - a is the white frame minus the black one.
+  Impl& m = *impl_;
+  const scene::Scene kept = m.scene;
+  auto over = [&](float background, FrameStats* st) {
+    m.scene.transparent = false;
+    m.scene.background = glm::vec3(background);  // display 0 and 1 are linear 0 and 1
+    m.history.clear();                           // motion blur's kept frames had the other background
+    auto image = renderOpaque(frame, st);
+    m.scene = kept;
+    m.history.clear();
+    return image;
+  };
+  auto black = over(0.0f, stats);
+  if (!black) return black.error();
+  auto white = over(1.0f, nullptr);
+  if (!white) return white.error();
+  core::Image& out = *black;
+  const std::size_t n = static_cast<std::size_t>(out.width) * out.height;
+  for (std::size_t i = 0; i < n; ++i) {
+    float* p = &out.pixels[i * 4];
+    const float* w = &white->pixels[i * 4];
+    const float behind = ((w[0] - p[0]) + (w[1] - p[1]) + (w[2] - p[2])) / 3.0f;  // 1 - a
+    p[3] = std::clamp(1.0f - behind, 0.0f, 1.0f);
+  }
+  return std::move(*black);
+}
+
+Result<core::Image> SceneRenderer::renderOpaque(int frame, FrameStats* stats) {
   Impl& m = *impl_;
   detail::Target& t = m.target;
   const std::size_t values = static_cast<std::size_t>(t.width) * t.height * 4;

@@ -20,8 +20,8 @@ using nlohmann::json;
 
 namespace detail {
 
-void readOutput(const json& j, const std::string& ptr, Scene& s) {
-  requireObject(j, ptr, {"width", "height", "samples", "background", "view"});
+void readOutput(const json& j, const std::string& ptr, const Reader& r, Scene& s) {
+  requireObject(j, ptr, {"width", "height", "samples", "background", "view", "alpha", "plate"});
   if (auto* v = find(j, "width")) s.width = readInt(*v, child(ptr, "width"), 1, kMaxImageSize);
   if (auto* v = find(j, "height")) s.height = readInt(*v, child(ptr, "height"), 1, kMaxImageSize);
   if (auto* v = find(j, "samples")) {
@@ -29,7 +29,29 @@ void readOutput(const json& j, const std::string& ptr, Scene& s) {
     if (n != 1 && n != 2 && n != 4 && n != 8) fail(child(ptr, "samples"), "1, 2, 4 or 8", *v);
     s.samples = n;
   }
-  if (auto* v = find(j, "background")) s.background = readColor(*v, child(ptr, "background"));
+  if (auto* v = find(j, "background")) {
+    if (v->is_string() && v->get<std::string>() == "transparent") {
+      s.transparent = true;
+    } else if (v->is_string() && v->get<std::string>().rfind('#', 0) != 0) {
+      fail(child(ptr, "background"), "a colour ([r, g, b] or \"#rrggbb\") or \"transparent\"", *v);
+    } else {
+      s.background = readColor(*v, child(ptr, "background"));
+    }
+  }
+  if (auto* v = find(j, "alpha")) {
+    s.alpha = readEnum<core::AlphaMode>(
+        *v, child(ptr, "alpha"),
+        {{"straight", core::AlphaMode::kStraight}, {"premultiplied", core::AlphaMode::kPremultiplied}});
+    // An opaque frame has alpha 1 everywhere: the choice would be silently meaningless.
+    if (!s.transparent) failText(child(ptr, "alpha"), "only with \"background\": \"transparent\"");
+  }
+  if (auto* v = find(j, "plate")) {
+    s.plate = r.readPath(*v, child(ptr, "plate"));
+    if (!s.plate.empty() && s.transparent) {
+      failText(child(ptr, "plate"),
+               "a plate is drawn behind the frame, a transparent background leaves nothing there: use one of them");
+    }
+  }
   if (auto* v = find(j, "view")) {
     s.view = readEnum<core::ViewTransform>(
         *v, child(ptr, "view"),
@@ -385,7 +407,7 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
   const Reader r(file, artDir);
   Scene s;
   s.file = file;
-  if (auto* v = find(j, "output")) readOutput(*v, "/output", s);
+  if (auto* v = find(j, "output")) readOutput(*v, "/output", r, s);
   if (auto* v = find(j, "camera")) readCamera(*v, "/camera", s.camera);
   if (auto* v = find(j, "light")) readLight(*v, "/light", s.light);
   if (auto* v = find(j, "ambient")) readAmbient(*v, "/ambient", r, s);

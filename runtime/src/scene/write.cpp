@@ -267,8 +267,13 @@ json objectJson(const ObjectSpec& o, const fs::path& dir) {
 json toJson(const Scene& s) {
   const fs::path dir = s.file.parent_path();
   json j;
-  j["output"] = {{"width", s.width}, {"height", s.height}, {"samples", s.samples}, {"background", vec3(s.background)}};
+  j["output"] = {{"width", s.width},
+                 {"height", s.height},
+                 {"samples", s.samples},
+                 {"background", s.transparent ? json("transparent") : vec3(s.background)},
+                 {"plate", pathJson(s.plate, dir)}};
   if (s.view) j["output"]["view"] = std::string(core::toString(*s.view));
+  if (s.alpha) j["output"]["alpha"] = std::string(core::toString(*s.alpha));
   const cel::Camera& c = s.camera;
   j["camera"] = {{"position", vec3(c.position)},
                  {"target", vec3(c.target)},

@@ -9,8 +9,8 @@
 //      (GL_COMBINE/GL_ADD): texel = K_a + C.K_L.q(N.L) (Eq. 2). Coverage is the alpha (cleared to
 //      0, mesh 1). glCopyTexSubImage2D copies the grid into one texture: render-to-texture the GL 1.x
 //      way, through the framebuffer being drawn (that region is overwritten).
-//   2. Clear the viewport (background colour, depth 1), draw opaque objects (cel: the same trick;
-//      smooth: fixed-function Lambert lighting).
+//   2. Clear the viewport (background colour, depth 1) unless FixedFrame::clear is false, draw
+//      opaque objects (cel: the same trick; smooth: fixed-function Lambert lighting).
 //   3. Outlines: per particle a larger black billboard with the same cell, pushed back along the
 //      view ray by d, alpha tested, so it shows only as a ring around the puff's silhouette and
 //      where a particle's outline lies behind no nearer particle body (Fig. 7).
@@ -34,6 +34,15 @@
 // matrices, the active and client-active texture unit), so it runs inside a host's frame. What it
 // does change: the pixels of the viewport (step 1 overwrites the bottom-left 2*cellSize square
 // first) and the depth buffer inside the viewport.
+//
+// Drawing into the host's frame (FixedFrame::clear = false): the host draws first (its background,
+// its opaque scene with depth in the same buffer), then calls drawFrame, which clears nothing. The
+// corner step 1 draws through is read back before it (colour and depth, glReadPixels as floats)
+// and written back after it (glDrawPixels), so every pixel the puffs and objects do not cover keeps
+// the host's colour and depth exactly (8-bit colour and 16/24-bit depth round-trip through floats
+// exactly); the puffs are depth-tested against the host's depth (GL_LESS, the standard [0, 1]
+// hyperbolic depth of a GL 1.x projection). Stencil is never touched. The particles write colour,
+// not alpha (the alpha write mask is off in step 4): the host's alpha stays under them.
 //
 // Colours are display values in [0, 1] with no sRGB conversion, as in puff::cel.
 #pragma once
@@ -91,6 +100,10 @@ struct FixedFrame {
   glm::vec3 lightColor{1.0f};                      ///< K_L, >= 0
   glm::vec3 ambientColor{0.25f};                   ///< uniform K_a, >= 0
   glm::vec4 background{0.6f, 0.75f, 0.95f, 1.0f};  ///< clear colour of the viewport
+  /// true: clear the viewport to `background` and depth 1 (the standalone renderer's frame). false:
+  /// draw into the host's frame as it is, clearing nothing (`background` unused); see "Drawing into
+  /// the host's frame" above.
+  bool clear = true;
 };
 
 struct FixedStyle {

@@ -62,6 +62,25 @@ glm::dvec3 viewTransform(glm::dvec3 linear, ViewTransform view);
 /// A whole scene-linear image (RGB or RGBA; alpha passes through, clamped to [0, 1]) to display.
 Image viewTransform(const Image& linear, ViewTransform view);
 
+/// How colour relates to alpha in a file with transparency.
+enum class AlphaMode {
+  kStraight,       ///< colour as it is where covered, alpha beside it (PNG's convention)
+  kPremultiplied,  ///< colour already multiplied by alpha (EXR's convention, "over" is C + (1 - a) B)
+};
+std::string_view toString(AlphaMode a);
+std::optional<AlphaMode> parseAlphaMode(std::string_view name);  ///< "straight", "premultiplied"
+
+/// A PREMULTIPLIED scene-linear RGBA frame (SceneRenderer::renderFrame of a transparent scene) to
+/// straight scene-linear RGBA: colour / alpha, and colour 0 where alpha is 0 (nothing to divide;
+/// alpha below 1/65536 counts as 0). Alpha clamped to [0, 1].
+Image unpremultiply(const Image& premultiplied);
+
+/// A PREMULTIPLIED scene-linear RGBA frame to display RGBA for an 8-bit file: the colour is
+/// un-premultiplied, put through the view transform (as an opaque frame's is), and for kPremultiplied
+/// multiplied by alpha again as a display value: out = display(C / a) * a. Display values composite
+/// in display space, so a straight and a premultiplied file differ exactly by that product.
+Image viewTransform(const Image& premultipliedLinear, ViewTransform view, AlphaMode alpha);
+
 /// Display-encoded image (an 8-bit read-back, a PNG) to scene-linear: RGB decoded, alpha kept.
 Image decodeSrgb(const Image& display);
 

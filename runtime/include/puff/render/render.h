@@ -49,7 +49,12 @@ class SceneRenderer {
   /// Renders frame `frame` (>= 0) and reads it back: RGBA floats, top row first, `scene.width` x
   /// `scene.height`, RGB SCENE-LINEAR (not limited to [0, 1]; core::viewTransform with
   /// scene::viewTransformFor makes display values of it), alpha 1 for an opaque frame. The same
-  /// frame always gives the same pixels.
+  /// frame always gives the same pixels. A transparent scene (scene.transparent) gives PREMULTIPLIED
+  /// colour and alpha = the frame's coverage (puffs, outlines, objects, the media's opacity 1 - T,
+  /// edges antialiased): it is drawn twice, over black and over white (every pass is affine in the
+  /// background), and a = 1 - mean(white - black), colour = the black frame (core::unpremultiply and
+  /// core::viewTransform(image, view, alpha) turn it into a file's values). It costs two frames.
+  /// A scene with a plate (scene.plate) has it under the frame and alpha 1.
   Result<core::Image> renderFrame(int frame, FrameStats* stats = nullptr);
 
   /// Renders frame `frame` into the current draw framebuffer instead (for a window), which must have
@@ -57,9 +62,10 @@ class SceneRenderer {
   /// it; view.h's ViewPass then shows it) unless targetNeeds().displayValues (the fixed path). A scene with media draws
   /// its opaque pass into the renderer's own layers and composes colour only into the framebuffer (its depth and
   /// stencil are left as they were); the draw and read framebuffer bindings are as they were on return. `camera`
-  /// (optional) replaces the scene's camera for this frame (a viewer's orbit camera). A path whose resources depend on
-  /// the frame's size (TargetNeeds::sizedToFrame) is made again for a viewport of another size. Errors: what the path
-  /// found wrong while drawing.
+  /// (optional) replaces the scene's camera for this frame (a viewer's orbit camera). A transparent
+  /// scene's frame is drawn over nothing: colour and alpha 0 where nothing is (black on a screen). A path whose
+  /// resources depend on the frame's size (TargetNeeds::sizedToFrame) is made again for a viewport of another size.
+  /// Errors: what the path found wrong while drawing.
   Result<void> drawFrame(int frame, const cel::Viewport& viewport, FrameStats* stats = nullptr,
                          const cel::Camera* camera = nullptr);
 
@@ -88,6 +94,7 @@ class SceneRenderer {
  private:
   SceneRenderer();
   void fitPathTo(const cel::Viewport& viewport);
+  Result<core::Image> renderOpaque(int frame, FrameStats* stats);  // one frame, the target read back
   Result<void> drawSingle(int frame, const cel::Viewport& viewport, FrameStats* stats, const cel::Camera* camera);
   Result<void> drawBlurred(int frame, const cel::Viewport& viewport, FrameStats* stats, const cel::Camera* camera);
   struct Impl;

@@ -176,6 +176,16 @@ struct Scene {
   int width = 640, height = 480;  ///< output size, [1, 16384]
   int samples = 4;                ///< MSAA samples for antialiased edges: 1, 2, 4 or 8
   glm::vec3 background{1.0f};     ///< clear colour, a display value (sRGB-encoded)
+  /// output.background "transparent": nothing is drawn behind the frame; its alpha is the frame's
+  /// coverage (SceneRenderer::renderFrame, docs/scene-format.md). `background` is then unused.
+  bool transparent = false;
+  /// How a transparent frame's alpha is written (only with `transparent`). Empty: each file's own
+  /// convention, straight in PNG, premultiplied in EXR (which refuses straight).
+  std::optional<core::AlphaMode> alpha;
+  /// output.plate: an image drawn under the frame instead of the background colour (display values,
+  /// decoded to scene-linear; stretched to the frame, render::resizePlate). Empty: none. Not with
+  /// `transparent`.
+  std::filesystem::path plate;
   /// How the scene-linear frame becomes display values for PNG and the screen (docs/colour.md);
   /// EXR output is the scene-linear frame before it. Empty: automatic, viewTransformFor().
   std::optional<core::ViewTransform> view;
