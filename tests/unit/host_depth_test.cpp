@@ -5,8 +5,10 @@
 //    gives a host's own gl_Position at the same distance, for every convention;
 //  - a host scene where a wall cuts a puff (nailboards lit, with outlines, shadow volumes and the
 //    shadowed pass), drawn in every convention with the wall drawn by the HOST's own shader writing
-//    ordinary gl_Position depth, matches the linear path (Puff's own opaque wall) to IoU >= 0.99
-//    over a sweep of camera distances and wall positions, and the wall really hides part of the puff.
+//    ordinary gl_Position depth (and again with Puff's own opaque wall in that convention), matches
+//    the linear path (Puff's own opaque wall) to IoU >= 0.99 over a sweep of camera distances and
+//    wall positions, and the wall really hides part of the puff;
+//  - Puff told linear in a host's standard buffer (the issue's bug) draws the puff over the wall.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -221,6 +223,7 @@ class HostDepth : public test::SphereAtlasTest {
     // The next suite finds the GL as GL starts: linear passes, depth LESS, nothing bound here.
     block_->upload(cel::Frame{});
     glDepthFunc(GL_LESS);
+    glDisable(GL_STENCIL_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glBindVertexArray(0);
     glUseProgram(0);
@@ -360,7 +363,7 @@ struct Placement {
   float s, c, k;
 };
 
-class HostScene : public HostDepth {
+class HostDepthScene : public HostDepth {
  protected:
   void SetUp() override {
     HostDepth::SetUp();
@@ -409,8 +412,12 @@ void main() { oColor = vec4(uColor, 1.0); }
 
   // Draws the frame in convention `c` and returns what each pixel shows. `wall`: draw the wall at all.
   // `puffDepth`: the convention Puff is told (c's own, but for the check that telling it wrong shows).
-  std::vector<Class> render(const Convention& c, const Placement& p, bool wall) { return render(c, p, wall, c.depth); }
-  std::vector<Class> render(const Convention& c, const Placement& p, bool wall, DepthConvention puffDepth) {
+  // `puffWall`: the wall drawn by Puff's OpaqueRenderer (always so for linear) instead of the host.
+  std::vector<Class> render(const Convention& c, const Placement& p, bool wall, bool puffWall = false) {
+    return render(c, p, wall, c.depth, puffWall);
+  }
+  std::vector<Class> render(const Convention& c, const Placement& p, bool wall, DepthConvention puffDepth,
+                            bool puffWall = false) {
     const float s = p.s;
     const glm::mat4 view = glm::lookAt(glm::vec3(0, 0, 6 * s), glm::vec3(0), glm::vec3(0, 1, 0));
     cel::Frame f = frameFor(c, view, kPx);
@@ -431,9 +438,10 @@ void main() { oColor = vec4(uColor, 1.0); }
     puffs[1].size = 0.8f * s;
 
     const std::vector<glm::vec3> corners = wallCorners(p);
-    const bool linear = c.depth == DepthConvention::kLinear;
+    const bool linear = c.depth == DepthConvention::kLinear || puffWall;
     if (linear && wall) {
-      // The linear path: Puff's own opaque wall, writing linear depth.
+      // The linear path: Puff's own opaque wall, writing linear depth (or, with puffWall, the
+      // frame's convention).
       cel::TriangleMesh mesh;
       mesh.positions = corners;
       const glm::vec3 n = glm::normalize(glm::cross(corners[1] - corners[0], corners[2] - corners[0]));
@@ -535,7 +543,7 @@ std::size_t puffAPixels(const std::vector<Class>& a) {
   return n;
 }
 
-TEST_F(HostScene, EveryConventionMatchesTheLinearPath) {
+TEST_F(HostDepthScene, EveryConventionMatchesTheLinearPath) {
   // Camera distances 6, 15 and 40 (the scene scaled with them, so the puffs keep their size on screen
   // while standard depth's resolution falls with the square of the distance), and walls through puff
   // A at two heights and two slopes.
@@ -560,6 +568,14 @@ TEST_F(HostScene, EveryConventionMatchesTheLinearPath) {
     EXPECT_GT(count(reference, isWall), 10000u) << where;
     EXPECT_GT(count(reference, isShadowed), 200u) << where;
     for (const Convention& c : {kStandardNO, kStandardZO, kReversed, kReversedInfinite}) {
+      // Puff's own opaque wall in the host's convention too (opaque.frag's storeDepth and the
+      // shadowed pass's EQUAL on it), against the same reference.
+      const std::vector<Class> own = render(c, p, true, true);
+      EXPECT_GE(iou(reference, own, isPuff), 0.99) << c.name << ", Puff's wall, " << where;
+      EXPECT_GE(iou(reference, own, isWall), 0.99) << c.name << ", Puff's wall, " << where;
+      EXPECT_GE(iou(reference, own, isShadowed), 0.99) << c.name << ", Puff's wall, " << where;
+      worst =
+          std::min({worst, iou(reference, own, isPuff), iou(reference, own, isWall), iou(reference, own, isShadowed)});
       const std::vector<Class> got = render(c, p, true);
       const double puff = iou(reference, got, isPuff), wall = iou(reference, got, isWall),
                    shadow = iou(reference, got, isShadowed);
@@ -576,7 +592,7 @@ TEST_F(HostScene, EveryConventionMatchesTheLinearPath) {
 
 // What the issue reports, and what the conventions fix: Puff writing its linear depth into a host's
 // standard depth buffer (told kLinear) draws the puff over the host's wall wherever they overlap.
-TEST_F(HostScene, LinearDepthInAStandardBufferDrawsPuffsOverTheWall) {
+TEST_F(HostDepthScene, LinearDepthInAStandardBufferDrawsPuffsOverTheWall) {
   const Placement p{1.0f, 0.3f, -0.8f};
   const std::vector<Class> reference = render(kLinear, p, true);
   const std::vector<Class> wrong = render(kStandardNO, p, true, DepthConvention::kLinear);
