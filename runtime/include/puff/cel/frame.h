@@ -35,7 +35,7 @@
 // Why the standalone renderer (puff::render, puffrender) keeps kLinear: it draws into a 24-bit
 // depth buffer, where linear depth resolves (far - near) / 2^24 world units at every distance,
 // and standard depth d^2 (far - near) / (far * near * 2^24) ~ d^2 / (near * 2^24) at distance d
-// (the derivative of f (d - n) / ((f - n) d)). For the default near 0.1 and far 100:
+// (2^-24 over the slope of the window depth f (d - n) / ((f - n) d)). For the default near 0.1, far 100:
 //      distance d      0.5       1         3.16      10        50        100
 //      linear        5.95e-6   5.95e-6   5.95e-6   5.95e-6   5.95e-6   5.95e-6
 //      standard      1.49e-7   5.95e-7   5.95e-6   5.95e-5   1.49e-3   5.95e-3
