@@ -29,6 +29,7 @@
 #include <puff/core/colour.h>
 #include <puff/core/gl.h>
 #include <puff/core/shader.h>
+#include <puff/gl_api.h>
 
 #include "support/assert_ok.h"
 #include "support/sphere_atlas.h"

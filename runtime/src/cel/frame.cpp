@@ -48,7 +48,7 @@ float storedDepth(const Frame& frame, float linear) {
   return std::clamp(frame.clipDepth == ClipDepth::kZeroToOne ? ndc : 0.5f * ndc + 0.5f, 0.0f, 1.0f);
 }
 
-GLenum nearerDepthFunc(DepthConvention convention) {
+core::GlEnum nearerDepthFunc(DepthConvention convention) {
   return convention == DepthConvention::kReversedZ ? GL_GREATER : GL_LESS;
 }
 

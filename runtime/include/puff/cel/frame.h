@@ -114,7 +114,7 @@ float storedDepth(const Frame& frame, float linear);
 
 /// The depth function that lets the nearer fragment through in `convention`: GL_LESS for kLinear
 /// and kStandard, GL_GREATER for kReversedZ. The depth buffer clears to clearDepth(convention).
-GLenum nearerDepthFunc(DepthConvention convention);
+core::GlEnum nearerDepthFunc(DepthConvention convention);
 float clearDepth(DepthConvention convention);
 
 /// The convention of the FrameBlock last uploaded or bound on this thread (kLinear before any):
