@@ -92,10 +92,10 @@ void main() {
   // as its near side's depth-map offset mirrored through the billboard plane (as the shadow volumes
   // take it), plus the bias. Its own near side lies before that, so it does not shadow itself even
   // where the map saw only it.
-  gl_FragDepth = linearDepth(vDist + (max(d, 0.0) + uShadowBias) * vSize);
+  gl_FragDepth = storeDepth(linearDepth(vDist + (max(d, 0.0) + uShadowBias) * vSize));
   oId = vId;
 #else
-  gl_FragDepth = linearDepth(vDist - d * vSize);
+  gl_FragDepth = storeDepth(linearDepth(vDist - d * vSize));
   if (uPass == 2) {
     fragColor = vec4(0.0);
     return;

@@ -1,7 +1,8 @@
 #version 450 core
 // Opaque scene objects, lit like the puffs (McGuire & Fein Eq. 2) and writing the frame's LINEAR
-// depth. One program serves every ShadePass, so the depth a kShadowed pass compares with GL_EQUAL is
-// computed by exactly the same code as the depth the kLit or kDepthOnly pass wrote.
+// depth, stored in the frame's convention (storeDepth). One program serves every ShadePass, so the
+// depth a kShadowed pass compares with GL_EQUAL is computed by exactly the same code as the depth the
+// kLit or kDepthOnly pass wrote.
 //   lit, cel:    albedo * (K_a + K_L * q(max(0, N.L)))
 //   lit, smooth: albedo * (K_a + K_L * max(0, N.L))
 //   shadowed:    albedo * K_a       (the kShadowed pass, or a lit pass whose shadow map says so)
@@ -20,7 +21,7 @@ layout(location = 5) uniform uint uId;   // the object's caster id in the shadow
 layout(location = 0) out vec4 oColor;
 
 void main() {
-  gl_FragDepth = linearDepth(vDist);
+  gl_FragDepth = storeDepth(linearDepth(vDist));
   if (uPass == 2) {
     oColor = vec4(0.0);  // colour writes are masked off; keep the ramp lookups out of the depth pass
     return;

@@ -11,6 +11,6 @@ layout(location = 5) uniform uint uId;
 layout(location = 0) out uint oId;
 
 void main() {
-  gl_FragDepth = linearDepth(vDist);
+  gl_FragDepth = storeDepth(linearDepth(vDist));
   oId = uId;
 }

@@ -125,6 +125,7 @@ void main() {
   tIn = tA;
   tOut = tB;
   if (tOut <= tIn) discard;
-  // The ray runs from the near plane (t = 0) to the far plane (t = 1): t is the linear depth.
-  gl_FragDepth = clamp(uBackFace != 0 ? tOut : tIn, 0.0, 1.0);
+  // The ray runs from the near plane (t = 0) to the far plane (t = 1): t is the linear depth, stored
+  // in the frame's convention.
+  gl_FragDepth = storeDepth(clamp(uBackFace != 0 ? tOut : tIn, 0.0, 1.0));
 }

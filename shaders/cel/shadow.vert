@@ -26,11 +26,26 @@ uniform vec4 uShadowFloor;    // world plane (n, w): volumes end a diameter past
 
 // The eye ray through this pixel in the volume's light frame: P(t) = vC0 + t vC1 (x, y in puff
 // diameters, z = lambda in world units), t from the near plane (0) to the far plane (1). Both are
-// affine in screen position, so they interpolate without perspective; t is then the linear depth.
+// affine in screen position, so they interpolate without perspective; t is then the linear depth
+// (whatever the depth convention: rayPoint finds the planes from the projection's x, y and w rows).
 noperspective out vec3 vC0;
 noperspective out vec3 vC1;
 flat out vec4 vExtent;  // size, lambda end (world), 0, 0
 flat out int vCell;          // the atlas cell the light sees: its depth map gives the start cap
+
+// The world point at view-axis distance `dist` on the eye ray through `ndc` (x, y): uProj's x, y and
+// w rows put a camera point (x, y, -dist, 1) there when (row0 - ndc.x row3) . p = 0 and (row1 -
+// ndc.y row3) . p = 0, two linear equations in x and y. Its z row is not used, so this holds for
+// any depth convention and clip z range, an infinite far plane included (the near and far planes
+// of linear depth are uDepthRange's, finite).
+vec3 rayPoint(vec2 ndc, float dist) {
+  mat4 rows = transpose(uProj);
+  vec4 a = rows[0] - ndc.x * rows[3], b = rows[1] - ndc.y * rows[3];
+  vec2 rhs = vec2(a.z * dist - a.w, b.z * dist - b.w);
+  float det = a.x * b.y - a.y * b.x;
+  vec2 xy = vec2(rhs.x * b.y - a.y * rhs.y, a.x * rhs.y - rhs.x * b.x) / det;
+  return (uInvView * vec4(xy, -dist, 1.0)).xyz;
+}
 
 void main() {
   uint index = uint(gl_VertexID) / 12u;
@@ -114,8 +129,7 @@ void main() {
   int tri = local / 3, vtx = local % 3;
   int k = vtx == 0 ? 0 : min(tri + vtx, n - 1);
   vec2 ndc = pts[hull[k]];
-  vec4 pn = uInvViewProj * vec4(ndc, -1.0, 1.0), pf = uInvViewProj * vec4(ndc, 1.0, 1.0);
-  vec3 origin = pn.xyz / pn.w, dir = pf.xyz / pf.w - origin;
+  vec3 origin = rayPoint(ndc, uDepthRange.x), dir = rayPoint(ndc, uDepthRange.y) - origin;
   mat3 toLight = transpose(mat3(e1, e2, D));
   vec3 scale = vec3(1.0 / s, 1.0 / s, 1.0);
   vC0 = scale * (toLight * (origin - p.position));

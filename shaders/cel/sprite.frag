@@ -1,6 +1,6 @@
 #version 450 core
 // The nailboards' fill-rate floor (sprite.vert): the colour map alpha-tested, and the quad plane's
-// linear depth written as the nailboards write theirs (gl_FragDepth = linearDepth(distance)).
+// depth written as the nailboards write theirs (gl_FragDepth = storeDepth(linearDepth(distance))).
 #include "common/frame.glsl"
 
 in vec2 vUv;
@@ -12,5 +12,5 @@ void main() {
   vec4 c = texture(uColor, vUv);
   if (c.a < 0.5) discard;
   fragColor = c;
-  gl_FragDepth = linearDepth(vDist);
+  gl_FragDepth = storeDepth(linearDepth(vDist));
 }

@@ -2,10 +2,17 @@
 // uploaded once per frame by puff::cel::FrameBlock into uniform buffer binding 0. The layout
 // mirrors puff::cel::FrameBlockData (std140) field for field.
 //
-// Depth convention (McGuire & Fein §4.2): the depth buffer holds LINEAR depth, the camera-space
-// distance along the view axis mapped so that the near plane is 0 and the far plane 1:
-//   depth = (-z_view - near) / (far - near)
-// Every cel program writes gl_FragDepth this way, so a nailboard's per-pixel offset is an addition.
+// Depth (McGuire & Fein §4.2): every cel program computes LINEAR depth, the camera-space distance
+// along the view axis mapped so that the near plane is 0 and the far plane 1:
+//   linear = (-z_view - near) / (far - near)
+// so a nailboard's per-pixel offset, the shadow bias and a shadow volume's entry and exit are
+// additions. What the depth attachment stores is the host's convention (puff::cel::DepthConvention,
+// uDepthMode.x), and each program converts at the very end: gl_FragDepth = storeDepth(linear).
+//   linear (0):     the linear depth itself (the paper's; puffrender's);
+//   standard (1):   the window depth the host's projection gives at that distance, as the host's
+//                   own shaders write it through gl_Position (glDepthRange(0, 1));
+//   reversed-z (2): the same with a reversed projection (near -> 1, far -> 0, infinite far too).
+// The conversion is monotonic, so comparisons keep their order in every convention.
 //
 // Colour (docs/colour.md): Eq. 2 combines DISPLAY values (sRGB-encoded, as the paper and the
 // artist's palette do): uLightColor and uAmbientColor are display values, and ambientAt and quantize
@@ -29,6 +36,8 @@ layout(std140, binding = 0) uniform FrameBlock {
   ivec4 uAmbientMode;    // x: 1 = K_a from the gradient texture, 0 = uniform colour
   mat4 uShadowMatrix;    // world -> the shadow map's clip space (cel/shadow_map.glsl)
   vec4 uShadowParams;    // x: 1 = receivers look up the shadow map; y: tolerance, z: length (map depth units)
+  vec4 uDepthProj;       // uProj[2][2], uProj[3][2], uProj[2][3], uProj[3][3]: the clip z and w rows at (0, 0, -d, 1)
+  ivec4 uDepthMode;      // x: 0 linear, 1 standard, 2 reversed-z; y: 1 = clip z in [0, 1], 0 = [-1, 1]
 };
 
 layout(binding = 0) uniform sampler1D uRamp;      // q: the artist's ramp, clamp-to-edge; scene-linear texels
@@ -36,6 +45,21 @@ layout(binding = 1) uniform sampler2D uGradient;  // K_a(x, y): image-space grad
 
 // Linear depth of a camera-space point at view-axis distance `dist` (= -z_view).
 float linearDepth(float dist) { return (dist - uDepthRange.x) * uDepthRange.z; }
+
+// What the depth attachment stores for linear depth `linear` (the value every cel program writes to
+// gl_FragDepth). Linear: as it is (the depth buffer clamps). Standard and reversed-z: the distance
+// d = near + linear (far - near), never nearer than the near plane (the linear buffer would clamp
+// there too, and w must stay positive), through the projection: clip = uProj * (0, 0, -d, 1),
+// ndc = clip.z / clip.w, window = ndc ([0, 1] clip z) or 0.5 ndc + 0.5 ([-1, 1]), in [0, 1]. Linear
+// depth above 1 (past uDepthRange's far, with an infinite-far projection) converts as well.
+// puff::cel::storedDepth is the same arithmetic on the CPU.
+float storeDepth(float linear) {
+  if (uDepthMode.x == 0) return linear;
+  float dist = uDepthRange.x + max(linear, 0.0) * (uDepthRange.y - uDepthRange.x);
+  float z = uDepthProj.y - uDepthProj.x * dist, w = uDepthProj.w - uDepthProj.z * dist;
+  float ndc = z / w;
+  return clamp(uDepthMode.y != 0 ? ndc : 0.5 * ndc + 0.5, 0.0, 1.0);
+}
 
 // K_a at the current fragment (Eq. 2), a display value: the gradient image stretched over the viewport.
 vec3 ambientAt(vec2 fragCoord) {

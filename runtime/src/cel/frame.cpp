@@ -38,6 +38,32 @@ float linearDepth(const Frame& frame, const glm::vec3& worldPoint) {
   return (dist - frame.nearPlane) / (frame.farPlane - frame.nearPlane);
 }
 
+float storedDepth(const Frame& frame, float linear) {
+  if (frame.depth == DepthConvention::kLinear) return linear;
+  // The same arithmetic as frame.glsl's storeDepth, in float, so the two agree to rounding.
+  const float dist = frame.nearPlane + std::max(linear, 0.0f) * (frame.farPlane - frame.nearPlane);
+  const glm::mat4& p = frame.projection;
+  const float z = p[3][2] - p[2][2] * dist, w = p[3][3] - p[2][3] * dist;
+  const float ndc = z / w;
+  return std::clamp(frame.clipDepth == ClipDepth::kZeroToOne ? ndc : 0.5f * ndc + 0.5f, 0.0f, 1.0f);
+}
+
+core::GlEnum nearerDepthFunc(DepthConvention convention) {
+  return convention == DepthConvention::kReversedZ ? GL_GREATER : GL_LESS;
+}
+
+float clearDepth(DepthConvention convention) { return convention == DepthConvention::kReversedZ ? 0.0f : 1.0f; }
+
+namespace {
+
+// The convention the cel passes test with: the last FrameBlock uploaded or bound on this thread (a
+// GL context is current on one thread).
+thread_local DepthConvention boundConvention = DepthConvention::kLinear;
+
+}  // namespace
+
+DepthConvention boundDepthConvention() { return boundConvention; }
+
 namespace {
 
 // std140 mirror of shaders/common/frame.glsl's FrameBlock.
@@ -47,8 +73,10 @@ struct FrameBlockData {
   glm::ivec4 ambientMode;
   glm::mat4 shadowMatrix;
   glm::vec4 shadowParams;
+  glm::vec4 depthProjection;
+  glm::ivec4 depthMode;
 };
-static_assert(sizeof(FrameBlockData) == 6 * 64 + 9 * 16);
+static_assert(sizeof(FrameBlockData) == 6 * 64 + 11 * 16);
 
 }  // namespace
 
@@ -57,6 +85,9 @@ FrameBlock::FrameBlock() : buffer_(core::makeBuffer()) {
 }
 
 void FrameBlock::upload(const Frame& frame) {
+  // Linear depth divides by far - near: both finite, far beyond near (an infinite far plane lives in
+  // the projection only).
+  PUFF_CHECK(std::isfinite(frame.nearPlane) && std::isfinite(frame.farPlane) && frame.nearPlane < frame.farPlane);
   FrameBlockData d{};
   d.view = frame.view;
   d.proj = frame.projection;
@@ -76,11 +107,19 @@ void FrameBlock::upload(const Frame& frame) {
   d.ambientMode = glm::ivec4(frame.ambientGradient ? 1 : 0, 0, 0, 0);
   d.shadowMatrix = frame.shadow.worldToMap;
   d.shadowParams = glm::vec4(frame.shadow.enabled ? 1.0f : 0.0f, frame.shadow.tolerance, frame.shadow.length, 0.0f);
+  // The projection's z and w rows at a view point (0, 0, -dist, 1): clip z = y - x dist, w = w - z dist.
+  d.depthProjection =
+      glm::vec4(frame.projection[2][2], frame.projection[3][2], frame.projection[2][3], frame.projection[3][3]);
+  d.depthMode = glm::ivec4(static_cast<int>(frame.depth), frame.clipDepth == ClipDepth::kZeroToOne ? 1 : 0, 0, 0);
   glNamedBufferSubData(buffer_.get(), 0, sizeof d, &d);
+  depth_ = frame.depth;
   bind();
 }
 
-void FrameBlock::bind() const { glBindBufferBase(GL_UNIFORM_BUFFER, 0, buffer_.get()); }
+void FrameBlock::bind() const {
+  glBindBufferBase(GL_UNIFORM_BUFFER, 0, buffer_.get());
+  boundConvention = depth_;
+}
 
 namespace {
 

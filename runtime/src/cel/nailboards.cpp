@@ -426,7 +426,7 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   resetPassState();
   // No near or far clipping of the faces: the fragment shader clamps their depth instead.
   glEnable(GL_DEPTH_CLAMP);
-  glDepthFunc(GL_LESS);
+  glDepthFunc(nearerDepthFunc(boundDepthConvention()));  // depth-fail counting: a face behind fails
   glDepthMask(GL_FALSE);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glEnable(GL_STENCIL_TEST);

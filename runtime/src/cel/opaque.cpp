@@ -361,7 +361,7 @@ DrawStats OpaqueRenderer::drawShadowVolumes(const Style& style, const glm::vec4&
   glUseProgram(program);
   // No far clipping of the far caps: depth clamp (the fragment shader clamps its depth too).
   glEnable(GL_DEPTH_CLAMP);
-  glDepthFunc(GL_LESS);
+  glDepthFunc(nearerDepthFunc(boundDepthConvention()));  // depth-fail counting: a face behind fails
   glDepthMask(GL_FALSE);
   glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glEnable(GL_STENCIL_TEST);

@@ -22,7 +22,7 @@ void resetPassState() {
 int applyShadePass(ShadePass pass) {
   switch (pass) {
     case ShadePass::kLit:
-      glDepthFunc(GL_LESS);
+      glDepthFunc(nearerDepthFunc(boundDepthConvention()));
       glDepthMask(GL_TRUE);
       glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
       glDisable(GL_STENCIL_TEST);
@@ -37,7 +37,7 @@ int applyShadePass(ShadePass pass) {
       glStencilMask(0x00);
       return 1;
     case ShadePass::kDepthOnly:
-      glDepthFunc(GL_LESS);
+      glDepthFunc(nearerDepthFunc(boundDepthConvention()));
       glDepthMask(GL_TRUE);
       glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
       glDisable(GL_STENCIL_TEST);

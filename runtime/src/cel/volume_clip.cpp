@@ -36,8 +36,12 @@ VolumeClip volumeClip(const Frame& frame, const Bounds& receivers) {
   const int x1 = std::min(v.x + v.width, static_cast<int>(std::ceil(toPixel(hi.x, v.x, v.width))));
   const int y1 = std::min(v.y + v.height, static_cast<int>(std::ceil(toPixel(hi.y, v.y, v.height))));
   c.scissor = Viewport{x0, y0, std::max(0, x1 - x0), std::max(0, y1 - y0)};
-  c.depthMin = std::clamp(dmin, 0.0f, 1.0f);
-  c.depthMax = std::clamp(dmax, 0.0f, 1.0f);
+  // The bounds test compares STORED depth: the frame's convention, whose conversion is monotonic
+  // (decreasing for reversed-z, hence the min and max).
+  const float s0 = storedDepth(frame, std::clamp(dmin, 0.0f, 1.0f)),
+              s1 = storedDepth(frame, std::clamp(dmax, 0.0f, 1.0f));
+  c.depthMin = std::min(s0, s1);
+  c.depthMax = std::max(s0, s1);
   c.nothing = c.scissor.width == 0 || c.scissor.height == 0 || dmax < 0.0f || dmin > 1.0f;
   return c;
 }

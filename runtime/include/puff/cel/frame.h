@@ -1,14 +1,50 @@
 // What every cel pass shares in one frame: the camera, the light, the ambient term K_a and the ramp
-// q of McGuire & Fein Eq. 2, and the linear depth convention. A host fills a Frame, uploads it once
-// with FrameBlock::upload, then calls the passes it wants (opaque objects, nailboards, shadows)
-// in its own GL frame.
+// q of McGuire & Fein Eq. 2, and the depth convention. A host fills a Frame, uploads it once with
+// FrameBlock::upload, then calls the passes it wants (opaque objects, nailboards, shadows) in its
+// own GL frame.
 //
 // Units and conventions:
 //  - World space is right-handed, y up, in the scene's units (metres by convention).
-//  - Depth is LINEAR (§4.2): the depth attachment of the target holds (-z_view - near)/(far - near),
-//    0 at the near plane and 1 at the far plane. Every cel program writes gl_FragDepth that way, so
-//    geometry the host draws itself must too (include shaders/common/frame.glsl, use linearDepth).
+//  - Depth: Puff computes every depth in LINEAR space (§4.2), (-z_view - near)/(far - near): 0 at
+//    Frame::nearPlane, 1 at Frame::farPlane. A nailboard's per-pixel offset, the shadow bias and a
+//    shadow volume's entry and exit are additions there. What the depth attachment STORES is the
+//    host's choice, Frame::depth (docs/cel-rendering.md, "Depth conventions"):
+//      kLinear    the linear depth itself, the paper's; test LESS, clear to 1. Geometry the host
+//                 draws itself must write it too (include shaders/common/frame.glsl, write
+//                 gl_FragDepth = linearDepth(dist)).
+//      kStandard  the window depth the host's projection gives (hyperbolic in perspective), as its
+//                 own shaders write it through gl_Position; test LESS, clear to 1.
+//      kReversedZ the same, with a projection that maps near -> 1 and far -> 0 (far may be
+//                 infinite); test GREATER, clear to 0. Usually with glClipControl(GL_LOWER_LEFT,
+//                 GL_ZERO_TO_ONE) and a GL_DEPTH32F_STENCIL8 attachment.
+//    For kStandard and kReversedZ the window depth of a view distance d comes from Frame::projection
+//    itself: clip = P * (0, 0, -d, 1), ndc = clip.z / clip.w, window = ndc (ClipDepth::kZeroToOne)
+//    or 0.5 * ndc + 0.5 (kNegativeOneToOne), with glDepthRange(0, 1) (resetPassState sets it). Any
+//    perspective or orthographic projection works, an infinite far plane included, as long as its
+//    z row depends on z and w only (no oblique near plane). Each cel program converts its linear
+//    depth per pixel at the very end (storeDepth in frame.glsl), so host shaders do not change;
+//    the conversion is monotonic, so depth-fail counting and the shadowed pass's EQUAL test work
+//    in every convention. The passes test with nearerDepthFunc(): LESS, or GREATER for kReversedZ.
+//  - Frame::farPlane must be finite even when the projection's far plane is infinite: it is the
+//    end of Puff's linear scale. Shadow volumes end there (their depth is clamped to it), and
+//    volumeClip treats receivers beyond it as unseen; puffs beyond it still draw and test right
+//    (linear depth > 1 converts through the projection). Choose it past everything that casts or
+//    receives a shadow.
 //  - Colours are display values in [0, 1] (no sRGB conversion), as in the paper.
+//
+// Why the standalone renderer (puff::render, puffrender) keeps kLinear: it draws into a 24-bit
+// depth buffer, where linear depth resolves (far - near) / 2^24 world units at every distance,
+// and standard depth d^2 (far - near) / (far * near * 2^24) ~ d^2 / (near * 2^24) at distance d
+// (2^-24 over the slope of the window depth f (d - n) / ((f - n) d)). For the default near 0.1, far 100:
+//      distance d      0.5       1         3.16      10        50        100
+//      linear        5.95e-6   5.95e-6   5.95e-6   5.95e-6   5.95e-6   5.95e-6
+//      standard      1.49e-7   5.95e-7   5.95e-6   5.95e-5   1.49e-3   5.95e-3
+// Standard is finer only nearer than sqrt(near * far) = 3.16 units, where both are far below
+// anything a puff's depth offset or bias resolves; beyond it standard is 10x coarser at 10 units
+// and 1000x at the far plane. The opaque shadow volumes' bias (1e-5 of the linear range, 1e-3
+// world units by default) is below one standard 24-bit step beyond about 41 units. (Reversed-z
+// in a 32-bit float buffer resolves at most d * 2^-23: 1.2e-5 at 100 units, finer than linear
+// nearer than 50 units, but it needs a float depth buffer and glClipControl.)
 #pragma once
 
 #include <glm/mat4x4.hpp>
@@ -33,11 +69,26 @@ struct ShadowLookup {
   float length = 0.0f;         ///< map depth units: Style::shadowLength
 };
 
+/// What the depth attachment stores (the header comment above has the formulas).
+enum class DepthConvention {
+  kLinear,    ///< Puff's own, the paper's: linear depth; test LESS, clear to 1 (the default)
+  kStandard,  ///< the projection's window depth (hyperbolic in perspective); test LESS, clear to 1
+  kReversedZ  ///< the projection's window depth, near -> 1, far -> 0 (far may be infinite); GREATER, clear to 0
+};
+
+/// The clip-space z range of the host's projection and glClipControl depth mode: [-1, 1] (the GL
+/// default) or [0, 1] (glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)). Not used by kLinear.
+enum class ClipDepth { kNegativeOneToOne, kZeroToOne };
+
 /// Everything a pass needs to know about the frame. No GL objects: textures are set separately.
 struct Frame {
-  glm::mat4 view{1.0f};                       ///< world -> camera
-  glm::mat4 projection{1.0f};                 ///< camera -> clip (perspective or orthographic)
-  float nearPlane = 0.1f, farPlane = 100.0f;  ///< the planes `projection` uses; define linear depth
+  glm::mat4 view{1.0f};        ///< world -> camera
+  glm::mat4 projection{1.0f};  ///< camera -> clip (perspective or orthographic; infinite far allowed)
+  /// Linear depth's 0 and 1: the projection's near plane and, finite, its far plane (with an
+  /// infinite-far projection, any finite distance past every shadow caster and receiver).
+  float nearPlane = 0.1f, farPlane = 100.0f;
+  DepthConvention depth = DepthConvention::kLinear;    ///< what the depth attachment stores
+  ClipDepth clipDepth = ClipDepth::kNegativeOneToOne;  ///< `projection`'s clip z range (kStandard, kReversedZ)
   Viewport viewport;
   Light light;
   glm::vec3 ambientColor{0.25f};  ///< uniform K_a, used when no gradient texture is bound
@@ -55,18 +106,36 @@ struct Frame {
 /// [0, 1] for points outside the near/far range; the depth buffer clamps).
 float linearDepth(const Frame& frame, const glm::vec3& worldPoint);
 
+/// What the depth attachment stores for linear depth `linear` in `frame`'s convention, as the cel
+/// programs write it (shaders/common/frame.glsl, storeDepth): `linear` itself for kLinear; for
+/// kStandard and kReversedZ the projection's window depth at distance near + max(linear, 0) *
+/// (far - near), clamped to [0, 1].
+float storedDepth(const Frame& frame, float linear);
+
+/// The depth function that lets the nearer fragment through in `convention`: GL_LESS for kLinear
+/// and kStandard, GL_GREATER for kReversedZ. The depth buffer clears to clearDepth(convention).
+core::GlEnum nearerDepthFunc(DepthConvention convention);
+float clearDepth(DepthConvention convention);
+
+/// The convention of the FrameBlock last uploaded or bound on this thread (kLinear before any):
+/// the cel passes take their depth test from it (nearerDepthFunc(boundDepthConvention())).
+DepthConvention boundDepthConvention();
+
 /// The frame's uniform buffer (binding 0, see shaders/common/frame.glsl). Owns one GL buffer.
 class FrameBlock {
  public:
   /// Needs a current GL 4.5 context.
   FrameBlock();
-  /// Fills the buffer from `frame` and binds it to uniform binding 0.
+  /// Fills the buffer from `frame` and binds it to uniform binding 0. The frame's depth convention
+  /// becomes the one the cel passes test with (boundDepthConvention). Needs nearPlane <
+  /// farPlane, both finite.
   void upload(const Frame& frame);
-  /// Rebinds it (after the host used binding 0 for something else).
+  /// Rebinds it (after the host used binding 0 for something else), its depth convention with it.
   void bind() const;
 
  private:
   core::Buffer buffer_;
+  DepthConvention depth_ = DepthConvention::kLinear;
 };
 
 /// The quantization ramp q (§4.1): a 1D texture, clamp-to-edge, which enforces max(0, N.L).

@@ -2,8 +2,10 @@
 // drawn with programmable GL (4.5) into whatever framebuffer is current.
 //
 // A frame, as a host draws it (see puff::cel::renderScene for the whole sequence):
-//   1. clear colour, depth (to 1) and stencil (to 0); upload a FrameBlock; bind Ramp and Gradient;
-//   2. draw opaque geometry lit, writing linear depth (OpaqueRenderer, or the host's own shaders);
+//   1. clear colour, depth (to clearDepth(frame.depth): 1, or 0 for reversed-z) and stencil (to 0);
+//      upload a FrameBlock; bind Ramp and Gradient;
+//   2. draw opaque geometry lit, writing depth in the frame's convention (OpaqueRenderer, or the
+//      host's own shaders: linear depth for kLinear, plain gl_Position depth for the others);
 //   3. NailboardRenderer::drawNailboards(..., ShadePass::kLit);
 //   with shadows:
 //   4. NailboardRenderer::drawShadowVolumes(...) counts into the stencil buffer (depth-fail);
@@ -102,7 +104,7 @@ class NailboardRenderer {
   DrawStats drawNailboards(const Style& style, ShadePass pass);
 
   /// The benchmark's fill-rate floor: the same quads with the colour map alpha-tested, nothing
-  /// else (no shading, depth offset or outlines); depth test LESS with the quad's own depth.
+  /// else (no shading, depth offset or outlines); the nearer depth test with the quad's own depth.
   DrawStats drawBaseline(const Style& style);
 
   /// Counts the particles' shadow volumes into the stencil buffer (depth-fail, depth clamp; the

@@ -58,8 +58,9 @@ class OpaqueRenderer {
 
   /// Draws every object into the current framebuffer and viewport (the host's glViewport must match
   /// the frame's Viewport) with the bound FrameBlock, ramp (unit 0) and gradient (unit 1), writing
-  /// linear depth. kLit: depth LESS + write. kShadowed: depth EQUAL, stencil != 0 (not written), no
-  /// depth write, ambient colour only. kDepthOnly: depth LESS + write, no colour. All three passes
+  /// depth in the frame's convention. kLit: depth nearer (LESS; GREATER for reversed-z) + write.
+  /// kShadowed: depth EQUAL, stencil != 0 (not written), no depth write, ambient colour only.
+  /// kDepthOnly: depth nearer + write, no colour. All three passes
   /// compute depth identically, so kShadowed matches what kLit or kDepthOnly wrote. Sets every GL
   /// state it relies on (culling off: back faces are lit with the normal turned to the viewer);
   /// returns with depth and colour writes on and the program, vertex array and front face reset.

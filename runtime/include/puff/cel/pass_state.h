@@ -10,11 +10,12 @@ namespace puff::cel {
 
 /// The state every cel pass starts from: no blending, culling, scissor, depth clamp, polygon
 /// offset, alpha-to-coverage, rasterizer discard, sRGB conversion or primitive restart; filled
-/// polygons; depth range [0, 1] (linear depth is written as is); depth test on.
+/// polygons; depth range [0, 1] (the window depth every depth convention assumes); depth test on.
 void resetPassState();
 
-/// Depth, stencil and colour state of `pass`: kLit depth LESS + write; kShadowed depth EQUAL, no
-/// depth write, stencil != 0, stencil writes off; kDepthOnly depth LESS + write, no colour.
+/// Depth, stencil and colour state of `pass`: kLit depth nearer + write; kShadowed depth EQUAL, no
+/// depth write, stencil != 0, stencil writes off; kDepthOnly depth nearer + write, no colour.
+/// "Nearer" is nearerDepthFunc(boundDepthConvention()): LESS, or GREATER for reversed-z.
 /// Returns the pass number the shaders' uPass uniform takes (0, 1, 2).
 int applyShadePass(ShadePass pass);
 

@@ -97,7 +97,7 @@ struct Style {
 
 /// Which colour a nailboard pass writes.
 enum class ShadePass {
-  kLit,        ///< Eq. 2 in full; depth test LESS, depth written
+  kLit,        ///< Eq. 2 in full; depth test LESS (GREATER for reversed-z), depth written
   kShadowed,   ///< ambient only, depth test EQUAL, stencil != 0, no depth write (step 5 above)
   kDepthOnly,  ///< depth only (no colour), e.g. for a host's own shadow or depth pre-pass
 };
