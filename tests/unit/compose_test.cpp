@@ -12,6 +12,7 @@
 #include <puff/core/colour.h>
 #include <puff/core/gl.h>
 #include <puff/core/image.h>
+#include <puff/gl_api.h>
 #include <puff/render/plate.h>
 #include <puff/render/render.h>
 #include <puff/scene/read.h>

@@ -3,6 +3,7 @@
 #include <vector>
 
 #include <puff/core/shader.h>
+#include <puff/gl_api.h>
 #include <puff/render/plate.h>
 
 #include "plate_pass.h"
