@@ -466,6 +466,17 @@ GLuint framebufferOf(const test::OffscreenTarget& target) {
 class HostState : public test::SphereAtlasTest {
  protected:
   static void SetUpTestSuite() { setUpSphereAtlas(true); }
+  // The context is shared with the suites that run next: the hostile state must not outlive the
+  // test. The guard itself puts it back (on every draw buffer and every unit the tests touch).
+  void SetUp() override {
+    SphereAtlasTest::SetUp();
+    suiteGuard_ = std::make_unique<core::HostStateGuard>(core::GuardExtent{28, kIndexed, kIndexed, 8});
+  }
+  void TearDown() override {
+    suiteGuard_.reset();
+    SphereAtlasTest::TearDown();
+  }
+  std::unique_ptr<core::HostStateGuard> suiteGuard_;
 
   struct Case {
     std::string name;

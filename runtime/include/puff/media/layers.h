@@ -75,8 +75,10 @@ class Layers {
   /// shimmer), sets the viewport and clears it to no medium (0, 0, 0, 1).
   /// Leaves (a begin call: Renderer::draw draws into it next): the draw framebuffer = the media
   /// layer's; the viewport = (0, 0, mediaWidth(), mediaHeight()); scissor test and rasterizer
-  /// discard off; colour write
-  /// masks on for every draw buffer.
+  /// discard off; colour write masks on for every draw buffer. (GL_STENCIL_REF then reads back 0:
+  /// the query clamps the stored reference to the bound framebuffer's stencil bits, none here; the
+  /// stored value is untouched. The same for compose and blendHistory with a `target` without
+  /// stencil.)
   void beginMedia();
   /// Composes into framebuffer `target` (0 = the default framebuffer; bound as the DRAW framebuffer,
   /// the read binding is left alone) over `viewport` (x, y, w, h; w x h must be width() x height()).
