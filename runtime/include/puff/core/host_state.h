@@ -15,7 +15,7 @@
 // restore per call would undo each pass's state only for the next pass to set it again, and would
 // need a query per item per call. The guard queries once and restores once. Its cost: the queries
 // (glGet*) are answered from the driver's client-side copy of the state on desktop drivers (no GPU
-// round trip), about 250 of them for the default extent; but a driver that runs GL on its own thread
+// round trip), about 200 of them for the default extent; but a driver that runs GL on its own thread
 // (Mesa's glthread, NVIDIA's threaded optimization) must finish the queued calls before it answers
 // one, which is why the guard is opt-in. On destruction it queries again and sets only the items that
 // differ: a binding restore costs one GL call each, so it pays for what Puff changed, not for all.
