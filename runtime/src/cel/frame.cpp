@@ -8,6 +8,7 @@
 #include <glm/matrix.hpp>
 
 #include <puff/cel/frame.h>
+#include <puff/core/bind_points.h>
 #include <puff/core/colour.h>
 #include <puff/gl_api.h>
 
@@ -80,7 +81,7 @@ static_assert(sizeof(FrameBlockData) == 6 * 64 + 11 * 16);
 
 }  // namespace
 
-FrameBlock::FrameBlock() : buffer_(core::makeBuffer()) {
+FrameBlock::FrameBlock(const Bindings& bindings) : buffer_(core::makeBuffer()), binding_(bindings.frameBlock) {
   glNamedBufferStorage(buffer_.get(), sizeof(FrameBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
@@ -117,7 +118,9 @@ void FrameBlock::upload(const Frame& frame) {
 }
 
 void FrameBlock::bind() const {
-  glBindBufferBase(GL_UNIFORM_BUFFER, 0, buffer_.get());
+  // The multi-bind call leaves the generic GL_UNIFORM_BUFFER binding alone (glBindBufferBase would not).
+  const GLuint b = buffer_.get();
+  glBindBuffersBase(GL_UNIFORM_BUFFER, binding_, 1, &b);
   boundConvention = depth_;
 }
 
@@ -184,7 +187,7 @@ Ramp Ramp::twoTone() {
   return std::move(*r);
 }
 
-void Ramp::bind() const { glBindTextureUnit(0, texture_.get()); }
+void Ramp::bind(const Bindings& bindings) const { core::bindTextureAndNoSampler(bindings.ramp, texture_.get()); }
 
 Result<Gradient> Gradient::create(const core::Image& image, const std::string& what) {
   if (image.width < 1 || image.height < 1 || image.width > 16384 || image.height > 16384 || image.channels < 1) {
@@ -221,6 +224,8 @@ Result<Gradient> Gradient::load(const std::filesystem::path& path) {
   return create(*image, path.string());
 }
 
-void Gradient::bind() const { glBindTextureUnit(1, texture_.get()); }
+void Gradient::bind(const Bindings& bindings) const {
+  core::bindTextureAndNoSampler(bindings.gradient, texture_.get());
+}
 
 }  // namespace puff::cel

@@ -8,18 +8,19 @@
 #include <puff/cel/nailboards.h>
 #include <puff/cel/pass_state.h>
 #include <puff/cel/volume_clip.h>
+#include <puff/core/bind_points.h>
 #include <puff/core/colour.h>
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
+
+#include "bindings_gl.h"
 
 namespace puff::cel {
 
 namespace {
 
-// Texture units and storage-buffer bindings shared with shaders/cel/*.
-constexpr GLuint kUnitPacked = 2, kUnitColor = 3;
-constexpr GLuint kBindingParticles = 0, kBindingCells = 1;
-constexpr GLuint kUnitShadowProfile = 5;
+// Texture units and storage-buffer bindings: the host's Bindings (bindings.h), assigned to every
+// program in create().
 constexpr int kPolar = 32;  // directions of the silhouette radius table (shaders/cel/particle.glsl)
 
 struct AtlasUniforms {
@@ -72,6 +73,7 @@ struct NailboardProgram {
 };
 
 struct NailboardRenderer::Impl {
+  Bindings bindings;
   NailboardProgram singleView, multiView, singleCaster, multiCaster;
   core::Program shadow, sprite;
   AtlasUniforms svAtlas, spAtlas;
@@ -97,21 +99,31 @@ struct NailboardRenderer::Impl {
     glProgramUniform4f(program, u.scale, static_cast<float>(desc.contentSize), desc.depthScale, desc.distanceRange,
                        0.0f);
     glBindVertexArray(vao.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingParticles, particles.get());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBindingCells, cells.get());
-    glBindTextureUnit(kUnitPacked, maps.get());
-    glBindTextureUnit(kUnitColor, color.get());
+    // Multi-bind: the generic GL_SHADER_STORAGE_BUFFER binding stays the host's.
+    const GLuint particleBuffer = particles.get(), cellBuffer = cells.get();
+    glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, bindings.particles, 1, &particleBuffer);
+    glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, bindings.cells, 1, &cellBuffer);
+    core::bindTextureAndNoSampler(bindings.atlasPacked, maps.get());
+    core::bindTextureAndNoSampler(bindings.atlasColor, color.get());
     // The silhouette's radius table: the shadow volumes' sides, small nailboards' silhouettes and bands.
-    glBindTextureUnit(kUnitShadowProfile, shadowProfile.get());
+    core::bindTextureAndNoSampler(bindings.shadowProfile, shadowProfile.get());
+  }
+  // Every draw ends here: no program or vertex array of Puff's stays bound (a host binding an
+  // element buffer next would otherwise change Puff's vertex array).
+  static void unbind() {
+    glBindVertexArray(0);
+    glUseProgram(0);
   }
 };
 
 NailboardRenderer::NailboardRenderer() : impl_(std::make_unique<Impl>()) {}
 NailboardRenderer::~NailboardRenderer() = default;
 
-Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create() {
+Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindings& bindings) {
+  if (auto ok = validate(bindings); !ok) return ok.error();
   std::unique_ptr<NailboardRenderer> r(new NailboardRenderer());
   Impl& m = *r->impl_;
+  m.bindings = bindings;
   auto single = NailboardProgram::build("nailboard");
   if (!single) return single.error();
   auto multi = NailboardProgram::build("nailboard_views");
@@ -136,6 +148,10 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create() {
   m.shadowLength = glGetUniformLocation(m.shadow.get(), "uShadowLength");
   m.shadowFloor = glGetUniformLocation(m.shadow.get(), "uShadowFloor");
   m.shadowBackFace = glGetUniformLocation(m.shadow.get(), "uBackFace");
+  for (const GLuint p : {m.singleView.program.get(), m.multiView.program.get(), m.singleCaster.program.get(),
+                         m.multiCaster.program.get(), m.shadow.get(), m.sprite.get()}) {
+    detail::assignBindPoints(p, bindings);
+  }
   m.vao = core::makeVertexArray();
   m.particles = core::makeBuffer();
   m.cells = core::makeBuffer();
@@ -363,6 +379,7 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
   glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   restoreWriteMasks();
+  Impl::unbind();
   s.drawCalls = 1;
   return s;
 }
@@ -389,6 +406,7 @@ DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& 
   applyShadePass(ShadePass::kLit);  // depth LESS + write: the nearest start wins; ids written
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
   restoreWriteMasks();
+  Impl::unbind();
   s.drawCalls = 1;
   return s;
 }
@@ -406,6 +424,7 @@ DrawStats NailboardRenderer::drawBaseline(const Style& style) {
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
   restoreWriteMasks();
+  Impl::unbind();
   s.drawCalls = 1;
   return s;
 }
@@ -448,6 +467,7 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   glDisable(GL_DEPTH_CLAMP);
   glDisable(GL_STENCIL_TEST);
   restoreWriteMasks();
+  Impl::unbind();
   s.drawCalls = 2;
   return s;
 }

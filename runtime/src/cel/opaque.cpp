@@ -20,6 +20,8 @@
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
 
+#include "bindings_gl.h"
+
 namespace puff::cel {
 
 // ---- renderer ------------------------------------------------------------------------------------
@@ -174,7 +176,8 @@ struct OpaqueRenderer::Impl {
 OpaqueRenderer::OpaqueRenderer() : impl_(std::make_unique<Impl>()) {}
 OpaqueRenderer::~OpaqueRenderer() = default;
 
-Result<std::unique_ptr<OpaqueRenderer>> OpaqueRenderer::create() {
+Result<std::unique_ptr<OpaqueRenderer>> OpaqueRenderer::create(const Bindings& bindings) {
+  if (auto ok = validate(bindings); !ok) return ok.error();
   auto program = core::buildProgram({"cel/opaque.vert", "cel/opaque.frag"});
   if (!program) return program.error();
   auto caster = core::buildProgram({"cel/opaque.vert", "cel/opaque_caster.frag"});
@@ -186,6 +189,7 @@ Result<std::unique_ptr<OpaqueRenderer>> OpaqueRenderer::create() {
   im.program = std::move(*program);
   im.caster = std::move(*caster);
   im.volume = std::move(*volume);
+  for (const GLuint p : {im.program.get(), im.caster.get(), im.volume.get()}) detail::assignBindPoints(p, bindings);
   im.vao = core::makeVertexArray();
   im.adjacencyVao = core::makeVertexArray();
   const GLuint offsets[] = {offsetof(Vertex, position), offsetof(Vertex, normal)};

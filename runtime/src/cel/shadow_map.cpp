@@ -7,6 +7,8 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <puff/core/bind_points.h>
+
 namespace puff::cel {
 
 void Bounds::add(const glm::vec3& p) {
@@ -117,7 +119,8 @@ ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Sty
   return plan;
 }
 
-ShadowMap::ShadowMap() : fbo_(core::makeFramebuffer()) {}
+ShadowMap::ShadowMap(const Bindings& bindings)
+    : bindings_(bindings), lightBlock_(bindings), fbo_(core::makeFramebuffer()) {}
 
 void ShadowMap::prepare(const Frame& eye, const Bounds& casters, const Style& style, const Bounds& reach) {
   GLint maxTexture = 4096;
@@ -145,11 +148,12 @@ void ShadowMap::prepare(const Frame& eye, const Bounds& casters, const Style& st
 
 void ShadowMap::beginCasters() {
   // The map must not be read while it is drawn into: take it off the receivers' units.
-  glBindTextureUnit(kUnitDepth, 0);
-  glBindTextureUnit(kUnitIds, 0);
+  glBindTextureUnit(bindings_.shadowMapDepth, 0);
+  glBindTextureUnit(bindings_.shadowMapIds, 0);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_.get());
   glViewport(0, 0, plan_.width, plan_.height);
   glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_RASTERIZER_DISCARD);  // it would discard the clears too
   glDepthMask(GL_TRUE);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   const float far = 1.0f;
@@ -160,8 +164,8 @@ void ShadowMap::beginCasters() {
 }
 
 void ShadowMap::bind() const {
-  glBindTextureUnit(kUnitDepth, depth_.get());
-  glBindTextureUnit(kUnitIds, ids_.get());
+  core::bindTextureAndNoSampler(bindings_.shadowMapDepth, depth_.get());
+  core::bindTextureAndNoSampler(bindings_.shadowMapIds, ids_.get());
 }
 
 }  // namespace puff::cel

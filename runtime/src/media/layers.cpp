@@ -5,6 +5,7 @@
 
 #include <glm/matrix.hpp>
 
+#include <puff/core/bind_points.h>
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
 #include <puff/media/layers.h>
@@ -26,6 +27,20 @@ struct ComposeBlockData {
   LightGpu lights[kMaxLights];
 };
 
+// The state Layers' full-screen passes rely on (and leave): no depth or stencil test, blending,
+// culling, scissor, sRGB conversion or rasterizer discard; filled polygons; colour writes on.
+void fullscreenState() {
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_FRAMEBUFFER_SRGB);
+  glDisable(GL_RASTERIZER_DISCARD);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
 core::Texture makeTexture2D(GLenum format, int w, int h, GLenum filter) {
   core::Texture t = core::makeTexture(GL_TEXTURE_2D);
   glTextureStorage2D(t.get(), 1, format, w, h);
@@ -39,6 +54,7 @@ core::Texture makeTexture2D(GLenum format, int w, int h, GLenum filter) {
 }  // namespace
 
 struct Layers::Impl {
+  Bindings bindings;
   int width = 0, height = 0, samples = 1, factor = 1, mediaWidth = 0, mediaHeight = 0;
   float scale = 1.0f;
   Upsampling upsampling = Upsampling::kBilateral;
@@ -67,7 +83,9 @@ GLuint Layers::mediaColor() const { return impl_->media.get(); }
 void Layers::setUpsampling(Upsampling rule) { impl_->upsampling = rule; }
 Layers::Upsampling Layers::upsampling() const { return impl_->upsampling; }
 
-Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int samples, float scale) {
+Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int samples, float scale,
+                                               const Bindings& bindings) {
+  if (auto ok = validate(bindings); !ok) return ok.error();
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     return Error{"media layers: size " + std::to_string(width) + "x" + std::to_string(height) + " outside 1..16384"};
   int factor = 0;
@@ -97,6 +115,19 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
   m.downsample = std::move(*downsample);
   m.compose = std::move(*compose);
   m.blur = std::move(*blur);
+  m.bindings = bindings;
+  {
+    using K = core::BindPoint::Kind;
+    core::assignBindPoints(m.resolveDepth.get(), {{K::kSampler, "uDepthMS", bindings.resolveSource}});
+    core::assignBindPoints(m.downsample.get(), {{K::kSampler, "uDepthFull", bindings.resolveSource}});
+    core::assignBindPoints(m.blur.get(), {{K::kSampler, "uHistory[0]", bindings.historyFirst, 8}});
+    core::assignBindPoints(m.compose.get(), {{K::kUniformBlock, "ComposeBlock", bindings.composeBlock},
+                                             {K::kSampler, "uOpaqueColor", bindings.opaqueColor},
+                                             {K::kSampler, "uOpaqueDepth", bindings.opaqueDepth},
+                                             {K::kSampler, "uMedia", bindings.mediaLayer},
+                                             {K::kSampler, "uMediaDepth", bindings.mediaDepth},
+                                             {K::kSampler, "uShimmerTex", bindings.shimmer}});
+  }
   m.vao = core::makeVertexArray();
   m.block = core::makeBuffer();
   glNamedBufferStorage(m.block.get(), sizeof(ComposeBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
@@ -165,12 +196,7 @@ void Layers::blendHistory(GLuint target, const int viewport[4], std::span<const 
   PUFF_CHECK(slots.size() == weights.size() && !slots.empty() && slots.size() <= 8);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_SCISSOR_TEST);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  fullscreenState();
   glUseProgram(m.blur.get());
   glUniform1i(0, static_cast<GLint>(slots.size()));
   glUniform1fv(1, static_cast<GLsizei>(weights.size()), weights.data());
@@ -178,7 +204,8 @@ void Layers::blendHistory(GLuint target, const int viewport[4], std::span<const 
   for (std::size_t i = 0; i < slots.size(); ++i) {
     const int slot = slots[i];
     PUFF_CHECK(slot >= 0 && slot < static_cast<int>(m.history.size()));
-    glBindTextureUnit(static_cast<GLuint>(i), m.history[static_cast<std::size_t>(slot)].get());
+    core::bindTextureAndNoSampler(m.bindings.historyFirst + static_cast<GLuint>(i),
+                                  m.history[static_cast<std::size_t>(slot)].get());
   }
   glBindVertexArray(m.vao.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -205,33 +232,33 @@ Frame Layers::layerFrame(const Frame& full) const {
 
 void Layers::resolveOpaque() {
   Impl& m = *impl_;
-  glDisable(GL_SCISSOR_TEST);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_FRAMEBUFFER_SRGB);
+  // Its own framebuffers must not stay bound to catch the host's next draws: the draw framebuffer
+  // and viewport it found are put back (two queries, answered client-side on desktop drivers).
+  GLint hostDraw = 0, hostViewport[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &hostDraw);
+  glGetIntegerv(GL_VIEWPORT, hostViewport);
+  fullscreenState();  // (the blit honours the scissor test and sRGB conversion)
   glBlitNamedFramebuffer(m.opaqueFbo.get(), m.resolveFbo.get(), 0, 0, m.width, m.height, 0, 0, m.width, m.height,
                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
   glBindVertexArray(m.vao.get());
   // Depth cannot be averaged: each pixel keeps the nearest of its samples.
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.linearFbo.get());
   glViewport(0, 0, m.width, m.height);
   glUseProgram(m.resolveDepth.get());
   glUniform1i(0, m.samples);
-  glBindTextureUnit(0, m.msDepth.get());
+  core::bindTextureAndNoSampler(m.bindings.resolveSource, m.msDepth.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
 
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.depthFbo.get());
   glViewport(0, 0, m.mediaWidth, m.mediaHeight);
   glUseProgram(m.downsample.get());
   glUniform1i(0, m.factor);
-  glBindTextureUnit(0, m.depth.get());
+  glBindTextureUnit(m.bindings.resolveSource, m.depth.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   glUseProgram(0);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(hostDraw));
+  glViewport(hostViewport[0], hostViewport[1], hostViewport[2], hostViewport[3]);
 }
 
 void Layers::beginMedia() {
@@ -239,6 +266,7 @@ void Layers::beginMedia() {
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.mediaFbo.get());
   glViewport(0, 0, m.mediaWidth, m.mediaHeight);
   glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_RASTERIZER_DISCARD);  // it would discard the clears too
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   const float none[4] = {0.0f, 0.0f, 0.0f, 1.0f}, zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   glClearNamedFramebufferfv(m.mediaFbo.get(), GL_COLOR, 0, none);
@@ -271,20 +299,16 @@ void Layers::compose(GLuint target, const int viewport[4], const Frame& frame, s
 
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_STENCIL_TEST);
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_FRAMEBUFFER_SRGB);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  fullscreenState();
   glUseProgram(m.compose.get());
-  glBindBufferBase(GL_UNIFORM_BUFFER, 5, m.block.get());
-  glBindTextureUnit(0, m.color.get());
-  glBindTextureUnit(1, m.depth.get());
-  glBindTextureUnit(2, m.media.get());
-  glBindTextureUnit(3, m.mediaDepth.get());
-  glBindTextureUnit(4, m.shimmer.get());
+  const Bindings& b = m.bindings;
+  const GLuint block = m.block.get();
+  glBindBuffersBase(GL_UNIFORM_BUFFER, b.composeBlock, 1, &block);  // multi-bind: the generic binding stays
+  core::bindTextureAndNoSampler(b.opaqueColor, m.color.get());
+  core::bindTextureAndNoSampler(b.opaqueDepth, m.depth.get());
+  core::bindTextureAndNoSampler(b.mediaLayer, m.media.get());
+  core::bindTextureAndNoSampler(b.mediaDepth, m.mediaDepth.get());
+  core::bindTextureAndNoSampler(b.shimmer, m.shimmer.get());
   glBindVertexArray(m.vao.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);

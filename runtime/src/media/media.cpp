@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include <puff/core/bind_points.h>
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
 #include <puff/media/media.h>
@@ -98,6 +99,7 @@ void applyBlendState(Method method, bool shimmer) {
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   glDisable(GL_FRAMEBUFFER_SRGB);
+  glDisable(GL_RASTERIZER_DISCARD);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   if (method == Method::kSpherical)
     glEnable(GL_DEPTH_CLAMP);
@@ -269,6 +271,7 @@ core::Texture makeFalloffTexture() {
 
 struct Renderer::Impl {
   Settings settings;
+  Bindings bindings;
   // The sphere-profile program (planar, soft and spherical: billboard.vert/.frag), the classic
   // textured billboard (billboard_textured.vert/.frag), and each one's fill-rate floor: its own
   // vertex stage and depth test with a fragment stage that computes nothing else.
@@ -289,7 +292,8 @@ Renderer::~Renderer() = default;
 const std::vector<Material>& Renderer::materials() const { return impl_->materials; }
 void Renderer::setFillRateFloor(bool on) { impl_->fillRateFloor = on; }
 
-Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings) {
+Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings, const Bindings& bindings) {
+  if (auto ok = validate(bindings); !ok) return ok.error();
   if (auto ok = inRange("exposure", settings.exposure, 0, 1e4); !ok) return ok.error();
   if (settings.sort != SortKey::kViewDepth && settings.sort != SortKey::kPowerDistance)
     return Error{"sort: expected view-depth or power-distance, got " + std::to_string(static_cast<int>(settings.sort))};
@@ -309,11 +313,25 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings) {
   std::unique_ptr<Renderer> r(new Renderer());
   Impl& m = *r->impl_;
   m.settings = settings;
+  m.bindings = bindings;
   m.program = std::move(*program);
   m.textured = std::move(*textured);
   m.floorProgram = std::move(*floorProgram);
   m.planarFloor = std::move(*planarFloor);
   m.texturedFloor = std::move(*texturedFloor);
+  for (const GLuint p :
+       {m.program.get(), m.textured.get(), m.floorProgram.get(), m.planarFloor.get(), m.texturedFloor.get()}) {
+    using K = core::BindPoint::Kind;
+    core::assignBindPoints(p, {{K::kUniformBlock, "MediaBlock", bindings.mediaBlock},
+                               {K::kUniformBlock, "MaterialBlock", bindings.materialBlock},
+                               {K::kStorageBlock, "MediaParticles", bindings.particles},
+                               {K::kSampler, "uDepthTex", bindings.depth},
+                               {K::kSampler, "uBlackbody", bindings.blackbody},
+                               {K::kSampler, "uPhase", bindings.phase},
+                               {K::kSampler, "uTemperatureDetail", bindings.temperatureDetail},
+                               {K::kSampler, "uOpacityDetail", bindings.opacityDetail},
+                               {K::kSampler, "uFalloff", bindings.falloff}});
+  }
   m.falloff = makeFalloffTexture();
   m.vao = core::makeVertexArray();
   m.block = core::makeBuffer();
@@ -426,15 +444,21 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
   }
   glUseProgram(program);
   glBindVertexArray(m.vao.get());
-  glBindBufferBase(GL_UNIFORM_BUFFER, 3, m.block.get());
-  glBindBufferBase(GL_UNIFORM_BUFFER, 4, m.materialBlock.get());
-  glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 0, m.particleBuffer.get(), 0, static_cast<GLsizeiptr>(bytes));
-  glBindTextureUnit(0, depth);
-  glBindTextureUnit(1, m.blackbody.get());
-  glBindTextureUnit(2, m.phase.get());
-  glBindTextureUnit(3, m.temperatureDetail.get());
-  glBindTextureUnit(4, m.opacityDetail.get());
-  glBindTextureUnit(5, m.falloff.get());
+  // Multi-bind: the generic GL_UNIFORM_BUFFER and GL_SHADER_STORAGE_BUFFER bindings stay the host's.
+  const Bindings& b = m.bindings;
+  const GLuint blockBuffer = m.block.get(), materialBuffer = m.materialBlock.get(),
+               particleBuffer = m.particleBuffer.get();
+  const GLintptr offset = 0;
+  const auto size = static_cast<GLsizeiptr>(bytes);
+  glBindBuffersBase(GL_UNIFORM_BUFFER, b.mediaBlock, 1, &blockBuffer);
+  glBindBuffersBase(GL_UNIFORM_BUFFER, b.materialBlock, 1, &materialBuffer);
+  glBindBuffersRange(GL_SHADER_STORAGE_BUFFER, b.particles, 1, &particleBuffer, &offset, &size);
+  core::bindTextureAndNoSampler(b.depth, depth);
+  core::bindTextureAndNoSampler(b.blackbody, m.blackbody.get());
+  core::bindTextureAndNoSampler(b.phase, m.phase.get());
+  core::bindTextureAndNoSampler(b.temperatureDetail, m.temperatureDetail.get());
+  core::bindTextureAndNoSampler(b.opacityDetail, m.opacityDetail.get());
+  core::bindTextureAndNoSampler(b.falloff, m.falloff.get());
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.sorted.size() * 6));
 
   glBindVertexArray(0);

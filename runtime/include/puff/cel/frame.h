@@ -51,6 +51,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <puff/cel/bindings.h>
 #include <puff/cel/types.h>
 #include <puff/core/error.h>
 #include <puff/core/gl.h>
@@ -121,21 +122,28 @@ float clearDepth(DepthConvention convention);
 /// the cel passes take their depth test from it (nearerDepthFunc(boundDepthConvention())).
 DepthConvention boundDepthConvention();
 
-/// The frame's uniform buffer (binding 0, see shaders/common/frame.glsl). Owns one GL buffer.
+/// The frame's uniform buffer (shaders/common/frame.glsl) on uniform binding `bindings.frameBlock`
+/// (0 by default). Owns one GL buffer.
 class FrameBlock {
  public:
-  /// Needs a current GL 4.5 context.
-  FrameBlock();
-  /// Fills the buffer from `frame` and binds it to uniform binding 0. The frame's depth convention
-  /// becomes the one the cel passes test with (boundDepthConvention). Needs nearPlane <
-  /// farPlane, both finite.
+  /// Needs a current GL 4.5 context. `bindings`: the renderers' (only frameBlock is used).
+  explicit FrameBlock(const Bindings& bindings = {});
+  /// Fills the buffer from `frame` (glNamedBufferSubData: no binding used) and binds it (bind()).
+  /// The frame's depth convention becomes the one the cel passes test with (boundDepthConvention).
+  /// Needs nearPlane < farPlane, both finite.
+  /// Leaves: uniform buffer binding `frameBlock` = this block (whole buffer). Nothing else; the
+  /// generic GL_UNIFORM_BUFFER binding is untouched (glBindBuffersBase).
   void upload(const Frame& frame);
-  /// Rebinds it (after the host used binding 0 for something else), its depth convention with it.
+  /// Binds it to uniform binding `frameBlock` again (after the host used it for something else),
+  /// its depth convention with it.
+  /// Leaves what upload leaves.
   void bind() const;
+  core::GlId buffer() const { return buffer_.get(); }
 
  private:
   core::Buffer buffer_;
   DepthConvention depth_ = DepthConvention::kLinear;
+  core::GlId binding_ = 0;
 };
 
 /// The quantization ramp q (§4.1): a 1D texture, clamp-to-edge, which enforces max(0, N.L).
@@ -149,8 +157,10 @@ class Ramp {
   static Result<Ramp> load(const std::filesystem::path& path, bool smooth = false);
   /// A two-tone ramp: black below 0.5, white from 0.5 (the paper's typical map).
   static Ramp twoTone();
-  /// Binds to texture unit 0.
-  void bind() const;
+  /// Binds to texture unit `bindings.ramp` (0 by default) with no sampler object there. Leaves:
+  /// that unit's 1D texture = the ramp and its sampler binding = 0. The active texture unit and
+  /// the unit's other targets are untouched (glBindTextureUnit).
+  void bind(const Bindings& bindings = {}) const;
   int width() const { return width_; }
 
  private:
@@ -164,8 +174,9 @@ class Gradient {
  public:
   static Result<Gradient> create(const core::Image& image, const std::string& what);
   static Result<Gradient> load(const std::filesystem::path& path);
-  /// Binds to texture unit 1.
-  void bind() const;
+  /// Binds to texture unit `bindings.gradient` (1 by default) with no sampler object there.
+  /// Leaves: that unit's 2D texture = the gradient and its sampler binding = 0.
+  void bind(const Bindings& bindings = {}) const;
 
  private:
   core::Texture texture_;

@@ -12,9 +12,29 @@
 //   5. every receiver is drawn again with ShadePass::kShadowed: depth test EQUAL, only where the
 //      stencil is non-zero, colour = the ambient term only (Eq. 2 without its diffuse term).
 //
-// Each draw call sets every piece of GL state it relies on and afterwards turns the depth, colour
-// and stencil write masks back on; other state (depth function, stencil test, bound program and
-// textures) stays as the pass left it, so a host sets what its own passes need.
+// Host state (docs/cel-rendering.md, "Host state"). Each draw call sets every piece of GL state it
+// relies on, never trusting what the host or an earlier pass left, and queries no host state (a
+// glGet may stall a threaded driver) but whether the framebuffer is multisampled. What each call LEAVES changed is
+// listed with it below, exactly; everything else is as the host had it. A host that wants its state back wraps its Puff
+// calls in one core::HostStateGuard (core/host_state.h): one capture and one restore per frame
+// instead of a restore in every pass, since consecutive passes set the same state. The binding
+// points are the host's (Bindings, bindings.h); the defaults are the shaders'. Lists below use:
+//  - "the pass state" (pass_state.h, resetPassState): blending off on every draw buffer, culling,
+//    scissor test, depth clamp, polygon offset fill, alpha to coverage, rasterizer discard,
+//    GL_FRAMEBUFFER_SRGB, primitive restart and fixed-index primitive restart all off; polygon mode
+//    GL_FILL; depth range [0, 1]; depth test on;
+//  - "write masks on" (restoreWriteMasks): depth write mask on, colour write masks on for every
+//    draw buffer, stencil write mask 0xFF front and back;
+//  - "no program, no vertex array": glUseProgram(0), glBindVertexArray(0) (a host binding an
+//    element buffer next would otherwise change Puff's vertex array);
+//  - "its atlas": units `atlasPacked` and `atlasColor` (2D: the atlas's maps) and `shadowProfile`
+//    (2D: the silhouettes' radius table), each with sampler binding 0; storage buffer bindings
+//    `particles` and `cells` (whole buffers; the generic GL_SHADER_STORAGE_BUFFER binding is
+//    untouched: multi-bind).
+// Never changed by any cel call: the framebuffers (but ShadowMap::beginCasters), the viewport (the
+// same), the active texture unit, the generic buffer bindings, the blend functions, equations and
+// colour, the stencil test's state but where listed, the cull face mode, the polygon offset factor
+// and units, and texture units, uniform and storage bindings other than those listed.
 //
 // Particles reach the GPU as 16 bytes each (PackedParticle) and become quads in the vertex shader
 // (vertex pulling from a shader storage buffer): 6 vertices per nailboard, 12 per shadow-volume
@@ -80,11 +100,13 @@ struct DrawStats {
 
 class NailboardRenderer {
  public:
-  /// Builds the programs. Needs a current GL 4.5 context; fails with the shader log otherwise.
-  static Result<std::unique_ptr<NailboardRenderer>> create();
+  /// Builds the programs and points them at `bindings` (validated: cel::validate). Needs a current
+  /// GL 4.5 context; fails with the shader log otherwise. Leaves no bound state changed.
+  static Result<std::unique_ptr<NailboardRenderer>> create(const Bindings& bindings = {});
   ~NailboardRenderer();
 
   /// Uploads the atlas's maps (every mip level). Fails if a map is missing or sizes disagree.
+  /// Leaves GL_UNPACK_ALIGNMENT = 4 (and no bound object changed: direct state access).
   Result<void> setAtlas(const core::Atlas& atlas);
   const core::AtlasDesc& atlas() const;
   /// Bytes the atlas's two textures hold on the GL (the packed normal/depth/distance map and the
@@ -94,17 +116,26 @@ class NailboardRenderer {
   std::size_t textureBytes() const;
 
   /// Uploads this frame's particles (16 bytes each). Call once per frame before drawing; the
-  /// passes below all draw the particles of the last upload.
+  /// passes below all draw the particles of the last upload. Leaves no state changed (direct state
+  /// access: no buffer is bound).
   DrawStats upload(std::span<const Particle> particles);
 
   /// Draws the nailboards of the last upload into the current framebuffer with `frame`'s block
-  /// already bound (FrameBlock::upload), ramp on unit 0 and gradient on unit 1. Binds the atlas on
-  /// units 2 (packed normal, depth, distance) and 3 (colour) and the silhouette's radius table on
-  /// unit 5 (small puffs' silhouettes and ink bands: shaders/cel/particle.glsl, silhouetteRadius).
+  /// already bound (FrameBlock::upload), the ramp and the gradient on their units (Ramp::bind,
+  /// Gradient::bind). Binds the atlas on units `atlasPacked` (packed normal, depth, distance) and
+  /// `atlasColor` and the silhouette's radius table on `shadowProfile` (small puffs' silhouettes and
+  /// ink bands: shaders/cel/particle.glsl, silhouetteRadius).
+  /// Leaves: the pass state; its atlas; no program, no vertex array; write masks on; and per pass
+  ///   kLit, kDepthOnly: depth function GL_LESS, stencil test off;
+  ///   kShadowed: depth function GL_EQUAL, stencil test ON, stencil function GL_NOTEQUAL, reference
+  ///              0, value mask 0xFF and operations GL_KEEP x 3, front and back.
+  /// On a multisampled framebuffer also GL_MULTISAMPLE on. Nothing at all with no particles or no
+  /// atlas (it returns before any GL call).
   DrawStats drawNailboards(const Style& style, ShadePass pass);
 
   /// The benchmark's fill-rate floor: the same quads with the colour map alpha-tested, nothing
-  /// else (no shading, depth offset or outlines); the nearer depth test with the quad's own depth.
+  /// else (no shading, depth offset or outlines); the nearer depth test (nearerDepthFunc) with the quad's own depth.
+  /// Leaves what drawNailboards(kLit) leaves (never GL_MULTISAMPLE).
   DrawStats drawBaseline(const Style& style);
 
   /// Counts the particles' shadow volumes into the stencil buffer (depth-fail, depth clamp; the
@@ -113,6 +144,11 @@ class NailboardRenderer {
   /// diameter past it, which saves fill rate when everything below it is out of sight. `clip`
   /// (volumeClip of the receivers' box: puffs and opaque objects) limits the pass to the receivers'
   /// screen rectangle and depth range; the default clips nothing.
+  /// Leaves: the pass state; its atlas; no program, no vertex array; write masks on; depth function
+  /// GL_LESS; stencil test off with function GL_ALWAYS, reference 0, value mask 0xFF and operations
+  /// (GL_KEEP, GL_INCR_WRAP, GL_KEEP), front and back; with a clip that is not `everything`, the
+  /// scissor box = clip.scissor (and, where GL_EXT_depth_bounds_test is there, the depth bounds =
+  /// its range, the bounds test off). Nothing with no particles, no atlas or clip.nothing.
   DrawStats drawShadowVolumes(const Style& style, const glm::vec4& floorPlane = glm::vec4(0.0f),
                               const VolumeClip& clip = VolumeClip{});
 
@@ -122,6 +158,7 @@ class NailboardRenderer {
   /// as the eye sees it; an oriented one the view toward the light), each texel keeping where the
   /// puff's shadow starts (its far side plus style.shadowBias diameters) and the particle's id. No
   /// outlines. `eye`: the frame the puffs are seen in.
+  /// Leaves what drawNailboards(kLit) leaves (never GL_MULTISAMPLE).
   DrawStats drawShadowCasters(const Style& style, const Frame& eye);
 
  private:

@@ -41,8 +41,9 @@ struct OpaqueObject {
 
 class OpaqueRenderer {
  public:
-  /// Builds the program. Needs a current GL 4.5 context.
-  static Result<std::unique_ptr<OpaqueRenderer>> create();
+  /// Builds the programs and points them at `bindings` (validated: cel::validate). Needs a current
+  /// GL 4.5 context. Leaves no bound state changed.
+  static Result<std::unique_ptr<OpaqueRenderer>> create(const Bindings& bindings = {});
   ~OpaqueRenderer();
 
   /// Uploads the objects' meshes (shared meshes once). Replaces the previous set. Fails, keeping
@@ -62,8 +63,11 @@ class OpaqueRenderer {
   /// kShadowed: depth EQUAL, stencil != 0 (not written), no depth write, ambient colour only.
   /// kDepthOnly: depth nearer + write, no colour. All three passes
   /// compute depth identically, so kShadowed matches what kLit or kDepthOnly wrote. Sets every GL
-  /// state it relies on (culling off: back faces are lit with the normal turned to the viewer);
-  /// returns with depth and colour writes on and the program, vertex array and front face reset.
+  /// state it relies on (culling off: back faces are lit with the normal turned to the viewer).
+  /// Leaves (nailboards.h's terms): the pass state; no program, no vertex array; write masks on;
+  /// front face GL_CCW; and per pass what NailboardRenderer::drawNailboards leaves (depth function,
+  /// stencil). Binds no texture or buffer (it reads the frame block, the ramp, the gradient and the
+  /// shadow map where the host bound them). Nothing with no objects.
   void draw(ShadePass pass);
 
   /// Counts every object's shadow volume into the stencil buffer (Style::shadowMethod kVolumes, next
@@ -75,13 +79,19 @@ class OpaqueRenderer {
   /// object); a face toward the light is never in its own volume (the volume's depth is pushed back a
   /// hair, see opaque_volume.frag). `floorPlane` as NailboardRenderer::drawShadowVolumes: volumes end
   /// just past it and objects wholly on or below it are skipped. Leaves colour and depth untouched;
-  /// returns with the write masks on and the program and vertex array reset. drawCalls: objects drawn.
-  /// `clip`: as NailboardRenderer::drawShadowVolumes's.
+  /// drawCalls: objects drawn. `clip`: as NailboardRenderer::drawShadowVolumes's.
+  /// Leaves: the pass state; no program, no vertex array; write masks on; front face GL_CCW; depth
+  /// function GL_LESS; stencil test off with function GL_ALWAYS, reference 0, value mask 0xFF, front
+  /// operations (GL_KEEP, GL_DECR_WRAP, GL_KEEP) and back (GL_KEEP, GL_INCR_WRAP, GL_KEEP); the
+  /// scissor box and depth bounds as NailboardRenderer::drawShadowVolumes. Nothing with no objects,
+  /// a shadow length <= 0 or clip.nothing.
   DrawStats drawShadowVolumes(const Style& style, const glm::vec4& floorPlane = glm::vec4(0.0f),
                               const VolumeClip& clip = VolumeClip{});
 
   /// Draws every object into a shadow map (after ShadowMap::beginCasters): its near surface's depth
   /// in the light's frame and its id, kObjectIdBase + its index. Depth LESS + write.
+  /// Leaves: the pass state; no program, no vertex array; write masks on; depth function GL_LESS;
+  /// stencil test off. Nothing with no objects.
   void drawCasters();
 
   /// Draws every object's triangles with the caller's `program` and nothing else: binds the vertex
@@ -89,6 +99,7 @@ class OpaqueRenderer {
   /// model: object -> world) and location 5 (uint caster id, kObjectIdBase + index): the program must
   /// declare and use both (`layout(location = 0) uniform mat4`, `layout(location = 5) uniform uint`). The caller sets
   /// the state and the program's other uniforms (the cel reference's own shadow passes use it).
+  /// Leaves: no vertex array bound (and `program`'s two uniforms set).
   void drawGeometry(core::GlId program) const;
 
   /// How many objects there are, and object `index`'s world-space box (its mesh through its transform).

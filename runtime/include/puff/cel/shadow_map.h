@@ -71,25 +71,33 @@ ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Sty
 
 class ShadowMap {
  public:
-  /// Texture units the receivers read (shaders/cel/shadow_map.glsl).
-  static constexpr core::GlId kUnitDepth = 6, kUnitIds = 7;
-
-  /// Needs a current GL 4.5 context.
-  ShadowMap();
+  /// Needs a current GL 4.5 context. `bindings`: the renderers' (frameBlock, shadowMapDepth and
+  /// shadowMapIds are used).
+  explicit ShadowMap(const Bindings& bindings = {});
   /// Plans this frame's map (chooseShadowMap, at most GL_MAX_TEXTURE_SIZE and 4096 a side) and makes
-  /// its textures that size (reallocated only when the size changes).
+  /// its textures that size (reallocated only when the size changes). Changes no bound GL state.
   void prepare(const Frame& eye, const Bounds& casters, const Style& style, const Bounds& reach = {});
   /// Binds the map's framebuffer and viewport, clears it (depth 1, id 0) and uploads the light's frame
-  /// to uniform binding 0: the caster passes draw next. The caller rebinds its own framebuffer,
-  /// viewport and frame block afterwards.
+  /// to uniform binding `frameBlock`: the caster passes draw next. The caller rebinds its own
+  /// framebuffer, viewport and frame block afterwards.
+  /// Leaves (a begin call: the caster passes need it so): the draw framebuffer = the map's; the
+  /// viewport = (0, 0, plan().width, plan().height); scissor test and rasterizer discard off; depth write mask on;
+  /// colour write masks on (every draw buffer); uniform binding `frameBlock` = the light's block; units
+  /// `shadowMapDepth` and `shadowMapIds` with no texture on any target (the map must not be read
+  /// while it is drawn). The read framebuffer is untouched. (GL_STENCIL_REF then reads back 0, front
+  /// and back: the query clamps the stored reference to the bound framebuffer's stencil bits, and
+  /// the map has none; the stored value is the host's and reads so again on its framebuffer.)
   void beginCasters();
   /// The receivers' lookup: put it in the eye's Frame::shadow before FrameBlock::upload.
   const ShadowLookup& lookup() const { return plan_.lookup; }
   const ShadowMapPlan& plan() const { return plan_; }
-  /// Binds the map's depth and ids to kUnitDepth and kUnitIds for the receivers.
+  /// Binds the map's depth and ids to units `shadowMapDepth` and `shadowMapIds` (6 and 7 by default)
+  /// for the receivers, with no sampler object there. Leaves: those units' 2D textures = the map's
+  /// and their sampler bindings = 0.
   void bind() const;
 
  private:
+  Bindings bindings_;
   ShadowMapPlan plan_;
   FrameBlock lightBlock_;
   core::Framebuffer fbo_;

@@ -40,8 +40,11 @@ namespace puff::media {
 class Layers {
  public:
   /// Full size width x height (the output), `samples` MSAA samples for the opaque pass (1, 2, 4, 8),
-  /// media layer at `scale` of it (1, 0.5, 0.25 or 0.125; at least 1 x 1). Needs GL 4.5.
-  static Result<std::unique_ptr<Layers>> create(int width, int height, int samples, float scale);
+  /// media layer at `scale` of it (1, 0.5, 0.25 or 0.125; at least 1 x 1). Needs GL 4.5. The
+  /// programs read the units and buffer `bindings` names (validated: media::validate). Leaves no
+  /// bound state changed.
+  static Result<std::unique_ptr<Layers>> create(int width, int height, int samples, float scale,
+                                                const Bindings& bindings = {});
   ~Layers();
 
   int width() const;
@@ -55,6 +58,12 @@ class Layers {
   core::GlId opaqueFramebuffer() const;
   /// Resolves the opaque pass into single-sample colour + depth textures and builds the media
   /// layer's depth (nearest depth per layer texel, R32F linear). Sets its own state.
+  /// Restores the draw framebuffer and viewport it found (two queries: a framebuffer of its own
+  /// left bound would take the host's next draws unseen). Leaves: "the full-screen state" (depth
+  /// test, stencil test, blending on every draw buffer, culling, scissor test, GL_FRAMEBUFFER_SRGB
+  /// and rasterizer discard off; polygon mode GL_FILL; colour write masks on for every draw
+  /// buffer); no program, no vertex array; unit `resolveSource` with its 2D multisample texture =
+  /// the opaque depth, its 2D texture = the resolved depth and sampler binding 0.
   void resolveOpaque();
   /// The opaque depth at the layer's resolution (for Renderer::draw).
   core::GlId mediaDepth() const;
@@ -64,11 +73,21 @@ class Layers {
   Frame layerFrame(const Frame& full) const;
   /// Binds the media layer framebuffer (attachment 0: RGBA32F radiance + transmittance; 1: RG16F
   /// shimmer), sets the viewport and clears it to no medium (0, 0, 0, 1).
+  /// Leaves (a begin call: Renderer::draw draws into it next): the draw framebuffer = the media
+  /// layer's; the viewport = (0, 0, mediaWidth(), mediaHeight()); scissor test and rasterizer
+  /// discard off; colour write masks on for every draw buffer. (GL_STENCIL_REF then reads back 0:
+  /// the query clamps the stored reference to the bound framebuffer's stencil bits, none here; the
+  /// stored value is untouched. The same for compose and blendHistory with a `target` without
+  /// stencil.)
   void beginMedia();
   /// Composes into framebuffer `target` (0 = the default framebuffer; bound as the DRAW framebuffer,
   /// the read binding is left alone) over `viewport` (x, y, w, h; w x h must be width() x height()).
   /// `frame`: the full-size frame (camera, planes) for the explosion lights. Colour only: the
   /// target's depth and stencil are not written.
+  /// Leaves: the draw framebuffer = `target`; the viewport = `viewport`; the full-screen state
+  /// (resolveOpaque); no program, no vertex array; uniform buffer binding `composeBlock` = its
+  /// block (whole buffer; the generic binding untouched); units `opaqueColor`, `opaqueDepth`,
+  /// `mediaLayer`, `mediaDepth` and `shimmer` with their 2D textures = its and sampler binding 0.
   void compose(core::GlId target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
                const ComposeSettings& settings);
 
@@ -82,6 +101,9 @@ class Layers {
   /// Motion blur: `slots` full-size RGBA16F frames kept between calls (1..8; reallocated when the
   /// count changes). A frame is composed into historyFramebuffer(slot), then blendHistory sums
   /// the chosen slots with their weights into `target` (colour only, over `viewport`).
+  /// blendHistory leaves: the draw framebuffer = `target`; the viewport = `viewport`; the
+  /// full-screen state; no program, no vertex array; units historyFirst + i (i < slots.size())
+  /// with their 2D textures = the slots' and sampler binding 0; the uniforms of its own program.
   void setHistorySlots(int slots);
   core::GlId historyFramebuffer(int slot) const;
   void blendHistory(core::GlId target, const int viewport[4], std::span<const int> slots,

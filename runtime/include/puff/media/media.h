@@ -58,6 +58,7 @@
 #include <puff/core/detail_video.h>
 #include <puff/core/error.h>
 #include <puff/core/gl.h>
+#include <puff/media/bindings.h>
 #include <puff/media/types.h>
 
 namespace puff::media {
@@ -70,8 +71,9 @@ struct DrawStats {
 class Renderer {
  public:
   /// Builds the programs, the black-body texture (1024 texels over the settings' range) and the
-  /// phase texture. Needs a current GL 4.5 context.
-  static Result<std::unique_ptr<Renderer>> create(const Settings& settings = {});
+  /// phase texture, and points the programs at `bindings` (validated: media::validate). Needs a
+  /// current GL 4.5 context. Leaves GL_UNPACK_ALIGNMENT = 4; no bound object changed.
+  static Result<std::unique_ptr<Renderer>> create(const Settings& settings = {}, const Bindings& bindings = {});
   ~Renderer();
 
   /// Replaces the material table (1..32 materials, each validated).
@@ -85,8 +87,18 @@ class Renderer {
   /// and attachment 1 (if `shimmer`) the heat-shimmer offsets (RG). `depth` is a texture of the
   /// opaque scene's LINEAR depth ((-z - near) / (far - near)) at the target's resolution (R32F, or a
   /// depth texture), read at each pixel's offset from the viewport's origin. The viewport must be
-  /// (frame.x, frame.y, frame.width, frame.height). Sets the GL state it needs; leaves blending,
-  /// depth test and depth clamp off, every colour write mask on and its program unbound.
+  /// (frame.x, frame.y, frame.width, frame.height). Sets every GL state it needs and queries none.
+  /// Leaves (docs/media.md, "Host state"; a core::HostStateGuard restores it all):
+  ///   no program, no vertex array; blending off on every draw buffer, with draw buffer 0's
+  ///   functions (GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA) and draw buffer
+  ///   1's (GL_ONE, GL_ONE) and both equations GL_FUNC_ADD; depth test, stencil test, culling,
+  ///   scissor test, alpha to coverage, GL_FRAMEBUFFER_SRGB, rasterizer discard and depth clamp off;
+  ///   polygon mode GL_FILL; depth write mask on; colour write masks on for every draw buffer;
+  ///   uniform buffer bindings `mediaBlock` and `materialBlock` (whole buffers) and storage buffer
+  ///   binding `particles` (a range) = its buffers; units `depth` (2D: `depth`), `blackbody` (1D),
+  ///   `phase` (2D), `temperatureDetail` and `opacityDetail` (3D) and `falloff` (2D) = its
+  ///   textures, each with sampler binding 0. The generic buffer bindings, framebuffers, viewport
+  ///   and active texture unit are untouched. Nothing at all when no particle has a radius > 0.
   void draw(const Frame& frame, std::span<const Particle> particles, Method method, core::GlId depth,
             bool shimmer = false, DrawStats* stats = nullptr);
 
