@@ -6,6 +6,7 @@
 #include "gl_backends.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <optional>
 #include <string>
 
@@ -65,31 +66,51 @@ void deleteProgram(GlId id) { glDeleteProgram(id); }
 void deleteShader(GlId id) { glDeleteShader(id); }
 }  // namespace detail
 
+namespace {
+// A GL object made before any context loaded Puff's pointers would call a null pointer: say why
+// and stop, once, instead of crashing without a word (a host that forgot initGl).
+void requireLoaded(const char* what) {
+  if (puff_glad_glCreateBuffers != nullptr) return;
+  std::fprintf(stderr,
+               "puff: %s before Puff's GL functions were loaded: make a GL 4.5 context current and call "
+               "puff::core::initGl(getProcAddress)\n",
+               what);
+  std::abort();
+}
+}  // namespace
+
+bool glLoaded() { return puff_glad_glCreateBuffers != nullptr && puff_glad_glGetString != nullptr; }
+
 Texture makeTexture(GlEnum target) {
+  requireLoaded("a GL texture was made");
   GlId id = 0;
   glCreateTextures(target, 1, &id);
   return Texture(id);
 }
 
 Buffer makeBuffer() {
+  requireLoaded("a GL buffer was made");
   GlId id = 0;
   glCreateBuffers(1, &id);
   return Buffer(id);
 }
 
 Framebuffer makeFramebuffer() {
+  requireLoaded("a GL framebuffer was made");
   GlId id = 0;
   glCreateFramebuffers(1, &id);
   return Framebuffer(id);
 }
 
 Renderbuffer makeRenderbuffer() {
+  requireLoaded("a GL renderbuffer was made");
   GlId id = 0;
   glCreateRenderbuffers(1, &id);
   return Renderbuffer(id);
 }
 
 VertexArray makeVertexArray() {
+  requireLoaded("a GL vertex array was made");
   GlId id = 0;
   glCreateVertexArrays(1, &id);
   return VertexArray(id);

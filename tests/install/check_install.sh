@@ -44,6 +44,12 @@ if grep -E '^(OSMESA|EGL)_' "$work/components/build/CMakeCache.txt"; then
   echo "check_install: COMPONENTS cel media sim core looked for OSMesa or EGL" >&2
   exit 1
 fi
+# The same game without CMake, through pkg-config from the installed prefix (relocatable .pc).
+pcdir=$(dirname "$(find "$work/prefix" -name puff.pc | head -1)")
+printf 'int gameUsesPuff();\nint main() { return gameUsesPuff() < 0; }\n' > "$work/components/main.cpp"
+# shellcheck disable=SC2046
+c++ -std=c++20 "$work/components/game.cpp" "$work/components/main.cpp" -o "$work/components/pkgconfig_game" \
+  $(PKG_CONFIG_PATH="$pcdir" pkg-config --cflags --libs puff)
 # No installed header reaches for a GL loader or GL header: the game brings its own.
 if grep -rlE '#include <(glad/|GL/|puff/glad)' "$work/prefix/include/puff"; then
   echo "check_install: an installed header includes a GL header" >&2

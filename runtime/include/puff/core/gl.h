@@ -31,6 +31,10 @@ using GlProcLoader = GlProc (*)(const char* name);
 /// context is older than 4.5 (the cel and media paths need 4.5; the fixed path alone needs 1.5:
 /// pass minimum 10005 to accept it).
 Result<int> initGl(GlProcLoader getProcAddress, int minimum = 40005);
+/// Whether Puff's GL entry points are loaded (initGl or a Puff context). Making a GL object (the
+/// make* functions below, and so every renderer, FrameBlock, Ramp...) before they are prints one
+/// line saying to call initGl, and aborts.
+bool glLoaded();
 
 /// A move-only owner of one GL name. Deleter is a function taking the name.
 template <void (*Delete)(GlId)>
