@@ -370,8 +370,9 @@ std::vector<std::pair<std::string, std::vector<std::string>>> listShaderPrograms
 Result<Program> buildProgram(const std::vector<std::string>& stageFiles) {
   if (stageFiles.empty()) return Error{"buildProgram: no stage files given"};
   if (puff_glad_glCreateShader == nullptr)
-    return Error{"buildProgram: Puff's GL functions are not loaded: make a GL 4.5 context current and call "
-                 "puff::core::initGl(getProcAddress)"};
+    return Error{
+        "buildProgram: Puff's GL functions are not loaded: make a GL 4.5 context current and call "
+        "puff::core::initGl(getProcAddress)"};
 
   std::vector<ShaderObject> shaders;
   std::vector<std::string> problems;
