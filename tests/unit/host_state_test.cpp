@@ -475,6 +475,13 @@ class HostState : public test::SphereAtlasTest {
   }
   void TearDown() override {
     suiteGuard_.reset();
+    // The host's objects are gone: nothing of theirs may stay bound in the shared context (llvmpipe
+    // crashed in OSMesaMakeCurrent at exit when a deleted framebuffer stayed the draw target).
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glUseProgram(0);
+    glBindVertexArray(0);
+    for (GLuint unit = 0; unit < 28; ++unit) glBindSampler(unit, 0);
+    glFinish();
     SphereAtlasTest::TearDown();
   }
   std::unique_ptr<core::HostStateGuard> suiteGuard_;
