@@ -21,6 +21,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <puff/core/colour.h>
 #include <puff/core/depth.h>
 #include <puff/gl_api.h>
 #include <puff/media/layers.h>
@@ -161,8 +162,9 @@ class HostMedia : public MediaRendererTest {
   // The host's frame: its scene in its convention, then Puff's media layer and lights over it.
   std::vector<glm::vec4> hostPath(const Convention& c, float scale, std::span<const media::Particle> particles,
                                   std::span<const media::ExplosionLight> lights,
-                                  std::vector<float>* linearDepth = nullptr) {
-    HostTarget target(kSize, c.depth == DepthConvention::kReversedZ ? GL_DEPTH32F_STENCIL8 : GL_DEPTH24_STENCIL8);
+                                  std::vector<float>* linearDepth = nullptr, GLenum colorFormat = GL_RGBA16F) {
+    HostTarget target(kSize, c.depth == DepthConvention::kReversedZ ? GL_DEPTH32F_STENCIL8 : GL_DEPTH24_STENCIL8,
+                      colorFormat);
     EXPECT_TRUE(target.complete());
     target.bindAndClear(kSky, cel::clearDepth(c.depth));
     drawScene(c, c.depth == DepthConvention::kLinear);
@@ -432,6 +434,42 @@ TEST_F(HostMedia, ComposeOverMatchesPuffsOwnLinearPath) {
       EXPECT_GT(changed, static_cast<int>(host.size() / 5)) << what;  // media and lights really drew
     }
   }
+}
+
+// A game whose colour target is sRGB-encoded (GL_SRGB8_ALPHA8) with GL_FRAMEBUFFER_SRGB on: its
+// scene, the media and the lights are written and blended in linear and stored encoded, because
+// no Puff call turns the flag off. Decoded, the frame is the float target's within 8-bit steps.
+TEST_F(HostMedia, AnSrgbTargetWithTheFlagOnBlendsInLinear) {
+  media::Material m = plainMaterial(0.6f);
+  m.color = glm::vec3(1.0f, 0.5f, 0.25f);
+  ASSERT_TRUE(renderer_->setMaterials({m}).ok());
+  const media::Particle smoke = sphereAt({0, 0, -6}, 2.0f);
+  media::ExplosionLight light;
+  light.center = {-1.5f, -0.8f, -4.5f};
+  light.radius = 2.5f;
+  const ClipControlScope scope(kStandardNO.clip);
+  const auto linear = hostPath(kStandardNO, 0.5f, std::span(&smoke, 1), std::span(&light, 1));
+  glEnable(GL_FRAMEBUFFER_SRGB);
+  const auto encoded =
+      hostPath(kStandardNO, 0.5f, std::span(&smoke, 1), std::span(&light, 1), nullptr, GL_SRGB8_ALPHA8);
+  glDisable(GL_FRAMEBUFFER_SRGB);
+  ASSERT_EQ(linear.size(), encoded.size());
+  // Decoded, each channel is the float frame's (clamped at display 1, the 8-bit target's top)
+  // within 8-bit rounding of the stored scene and of the blend's result (~0.005 in linear at the
+  // top of the range). Were the flag off, linear values would be stored raw and decode ~0.25 darker.
+  double worst = 0.0, sum = 0.0;
+  for (std::size_t i = 0; i < linear.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const double diff = std::abs(core::srgbToLinear(static_cast<double>(encoded[i][k])) -
+                                   std::min(static_cast<double>(linear[i][k]), 1.0));
+      worst = std::max(worst, diff);
+      sum += diff;
+    }
+  }
+  std::printf("sRGB target, decoded against the float target: worst %.4f, mean %.5f (linear)\n", worst,
+              sum / (3.0 * static_cast<double>(linear.size())));
+  EXPECT_LT(worst, 0.012);
+  EXPECT_LT(sum / (3.0 * static_cast<double>(linear.size())), 0.004);
 }
 
 TEST_F(HostMedia, ComposeOverRefusesWhatItCannotDo) {

@@ -361,7 +361,6 @@ const Keys kPassState = {"blend[0]",
                          "polygon_offset.fill",
                          "alpha_to_coverage",
                          "rasterizer_discard",
-                         "srgb",
                          "primitive_restart",
                          "primitive_restart_fixed",
                          "polygon_mode",
@@ -378,9 +377,9 @@ Keys atlas(const cel::Bindings& b) {
 // A draw framebuffer without a stencil buffer bound: the stored stencil reference is untouched, but
 // GL_STENCIL_REF reads back clamped to its 0 stencil bits (the host's 3 and 5 read as 0).
 const Keys kStencilRefReads = {"stencil.front.ref", "stencil.back.ref"};
-// Layers' "full-screen state"
-const Keys kFullscreen = {"depth.test", "stencil.test",       "blend[0]",     "blend[1]",     "cull",        "scissor",
-                          "srgb",       "rasterizer_discard", "polygon_mode", "colormask[0]", "colormask[1]"};
+// Layers' "full-screen state" (GL_FRAMEBUFFER_SRGB, on in the hostile host, is left alone everywhere)
+const Keys kFullscreen = {"depth.test", "stencil.test",       "blend[0]",     "blend[1]",     "cull",
+                          "scissor",    "rasterizer_discard", "polygon_mode", "colormask[0]", "colormask[1]"};
 
 // ---- the fixture ---------------------------------------------------------------------------------
 
@@ -640,27 +639,11 @@ TEST_F(HostState, MediaCallsLeaveWhatTheirHeadersList) {
   const std::vector<float> weights = {0.5f, 0.5f};
 
   // The media draw leaves the depth and stencil tests off: the host's are on (the default hostile state).
-  const Keys draw = kNoProgram + Keys{"blend[0]",
-                                      "blend[1]",
-                                      "blend_func[0]",
-                                      "blend_func[1]",
-                                      "blend_eq[0]",
-                                      "blend_eq[1]",
-                                      "depth.test",
-                                      "stencil.test",
-                                      "cull",
-                                      "scissor",
-                                      "alpha_to_coverage",
-                                      "srgb",
-                                      "rasterizer_discard",
-                                      "depth.clamp",
-                                      "polygon_mode",
-                                      "depth.mask",
-                                      "colormask[0]",
-                                      "colormask[1]",
-                                      ubo(b.mediaBlock),
-                                      ubo(b.materialBlock),
-                                      ssbo(b.particles)} +
+  const Keys draw = kNoProgram + Keys{"blend[0]",     "blend[1]",        "blend_func[0]",      "blend_func[1]",
+                                      "blend_eq[0]",  "blend_eq[1]",     "depth.test",         "stencil.test",
+                                      "cull",         "scissor",         "alpha_to_coverage",  "rasterizer_discard",
+                                      "depth.clamp",  "polygon_mode",    "depth.mask",         "colormask[0]",
+                                      "colormask[1]", ubo(b.mediaBlock), ubo(b.materialBlock), ssbo(b.particles)} +
                     texture(b.depth, "2D") + texture(b.blackbody, "1D") + texture(b.phase, "2D") +
                     texture(b.temperatureDetail, "3D") + texture(b.opacityDetail, "3D") + texture(b.falloff, "2D");
   const auto drawCase = [&](media::Method m) {
@@ -688,7 +671,7 @@ TEST_F(HostState, MediaCallsLeaveWhatTheirHeadersList) {
   for (const Case& c : cases) check(c, target, host);
 
   // Media in the host's frame (createForHost): its depth texture read, the layer blended onto its
-  // colour; the host's GL_FRAMEBUFFER_SRGB is left as it is (the hostile host turns it on).
+  // colour.
   auto hostLayers = media::Layers::createForHost(kPx, kPx, 0.5f);
   ASSERT_OK(hostLayers);
   media::Layers& hl = **hostLayers;
@@ -703,17 +686,15 @@ TEST_F(HostState, MediaCallsLeaveWhatTheirHeadersList) {
   multi = single;
   multi.texture = hostDepthMs.get();
   multi.samples = 4;
-  const Keys fullscreenButSrgb = {"depth.test", "stencil.test",       "blend[0]",     "blend[1]",     "cull",
-                                  "scissor",    "rasterizer_discard", "polygon_mode", "colormask[0]", "colormask[1]"};
   const std::vector<Case> hostCases = {
       {"Layers::resolveHostDepth(2D)", [&] { hl.resolveHostDepth(single); },
-       fullscreenButSrgb + kNoProgram + Keys{unit(b.resolveSource, "2D"), sampler(b.resolveSource)}},
+       kFullscreen + kNoProgram + Keys{unit(b.resolveSource, "2D"), sampler(b.resolveSource)}},
       {"Layers::resolveHostDepth(2D multisample)", [&] { hl.resolveHostDepth(multi); },
-       fullscreenButSrgb + kNoProgram +
+       kFullscreen + kNoProgram +
            Keys{unit(b.resolveSource, "2DMS"), unit(b.resolveSource, "2D"), sampler(b.resolveSource)}},
       {"Layers::composeOver", [&] { EXPECT_OK(hl.composeOver(out.get(), vp, f, lights, media::ComposeSettings{})); },
        Keys{"fbo.draw", "viewport", ubo(b.composeBlock), "blend_func[0]", "blend_eq[0]"} + kStencilRefReads +
-           fullscreenButSrgb + kNoProgram + texture(b.opaqueDepth, "2D") + texture(b.mediaLayer, "2D") +
+           kFullscreen + kNoProgram + texture(b.opaqueDepth, "2D") + texture(b.mediaLayer, "2D") +
            texture(b.mediaDepth, "2D") + texture(b.shimmer, "2D")},
   };
   for (const Case& c : hostCases) check(c, target, host);

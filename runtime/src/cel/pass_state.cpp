@@ -11,7 +11,8 @@ void resetPassState() {
   glDisable(GL_POLYGON_OFFSET_FILL);
   glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   glDisable(GL_RASTERIZER_DISCARD);
-  glDisable(GL_FRAMEBUFFER_SRGB);  // the shaders write scene-linear values as they are (docs/colour.md)
+  // GL_FRAMEBUFFER_SRGB stays the host's: the shaders write scene-linear values, which a float
+  // target stores as they are and an sRGB target with the flag on encodes (docs/colour.md).
   glDisable(GL_PRIMITIVE_RESTART);
   glDisable(GL_PRIMITIVE_RESTART_FIXED_INDEX);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);

@@ -28,14 +28,15 @@ struct ComposeBlockData {
 };
 
 // The state Layers' full-screen passes rely on (and leave): no depth or stencil test, blending,
-// culling, scissor, sRGB conversion or rasterizer discard; filled polygons; colour writes on.
+// culling, scissor or rasterizer discard; filled polygons; colour writes on. GL_FRAMEBUFFER_SRGB
+// stays the host's: Puff's own targets are float, and a host's sRGB target with the flag on
+// encodes the scene-linear colour compose writes (docs/colour.md).
 void fullscreenState() {
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_STENCIL_TEST);
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
   glDisable(GL_SCISSOR_TEST);
-  glDisable(GL_FRAMEBUFFER_SRGB);
   glDisable(GL_RASTERIZER_DISCARD);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
@@ -313,7 +314,7 @@ void Layers::resolveOpaque() {
   GLint hostDraw = 0, hostViewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &hostDraw);
   glGetIntegerv(GL_VIEWPORT, hostViewport);
-  fullscreenState();  // (the blit honours the scissor test and sRGB conversion)
+  fullscreenState();  // (the blit honours the scissor test; both colour buffers are float: no sRGB conversion)
   glBlitNamedFramebuffer(m.opaqueFbo.get(), m.resolveFbo.get(), 0, 0, m.width, m.height, 0, 0, m.width, m.height,
                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
   glBindVertexArray(m.vao.get());
@@ -339,10 +340,7 @@ void Layers::resolveHostDepth(const HostDepth& host) {
   GLint hostDraw = 0, hostViewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &hostDraw);
   glGetIntegerv(GL_VIEWPORT, hostViewport);
-  // The full-screen state, but the host's GL_FRAMEBUFFER_SRGB stays (these passes write R32F).
-  const bool srgb = glIsEnabled(GL_FRAMEBUFFER_SRGB) == GL_TRUE;
   fullscreenState();
-  if (srgb) glEnable(GL_FRAMEBUFFER_SRGB);
   glBindVertexArray(m.vao.get());
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.linearFbo.get());
   glViewport(0, 0, m.width, m.height);
@@ -378,9 +376,7 @@ Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Fra
   m.uploadComposeBlock(viewport, frame, lights, settings);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
-  const bool srgb = glIsEnabled(GL_FRAMEBUFFER_SRGB) == GL_TRUE;
-  fullscreenState();
-  if (srgb) glEnable(GL_FRAMEBUFFER_SRGB);  // the host's: blending in linear on an sRGB target
+  fullscreenState();  // GL_FRAMEBUFFER_SRGB the host's: on an sRGB target with it on, the blend is in linear
   // dst * src1 + src0 on RGB (compose_over.frag); the host's alpha kept.
   glEnablei(GL_BLEND, 0);
   glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);

@@ -98,8 +98,7 @@ void applyBlendState(Method method, bool shimmer) {
   glDisable(GL_CULL_FACE);
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-  glDisable(GL_FRAMEBUFFER_SRGB);
-  glDisable(GL_RASTERIZER_DISCARD);
+  glDisable(GL_RASTERIZER_DISCARD);  // GL_FRAMEBUFFER_SRGB stays the host's (the layer is float)
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   if (method == Method::kSpherical)
     glEnable(GL_DEPTH_CLAMP);

@@ -21,8 +21,9 @@
 // points are the host's (Bindings, bindings.h); the defaults are the shaders'. Lists below use:
 //  - "the pass state" (pass_state.h, resetPassState): blending off on every draw buffer, culling,
 //    scissor test, depth clamp, polygon offset fill, alpha to coverage, rasterizer discard,
-//    GL_FRAMEBUFFER_SRGB, primitive restart and fixed-index primitive restart all off; polygon mode
-//    GL_FILL; depth range [0, 1]; depth test on;
+//    primitive restart and fixed-index primitive restart all off; polygon mode GL_FILL; depth range
+//    [0, 1]; depth test on (GL_FRAMEBUFFER_SRGB is the host's: Puff writes scene-linear colour,
+//    which an sRGB target with the flag on encodes);
 //  - "write masks on" (restoreWriteMasks): depth write mask on, colour write masks on for every
 //    draw buffer, stencil write mask 0xFF front and back;
 //  - "no program, no vertex array": glUseProgram(0), glBindVertexArray(0) (a host binding an

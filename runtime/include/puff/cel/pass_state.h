@@ -9,8 +9,9 @@
 namespace puff::cel {
 
 /// The state every cel pass starts from: no blending, culling, scissor, depth clamp, polygon
-/// offset, alpha-to-coverage, rasterizer discard, sRGB conversion or primitive restart; filled
-/// polygons; depth range [0, 1] (the window depth every depth convention assumes); depth test on.
+/// offset, alpha-to-coverage, rasterizer discard or primitive restart; filled polygons; depth range
+/// [0, 1] (the window depth every depth convention assumes); depth test on. GL_FRAMEBUFFER_SRGB is
+/// left as the host has it (the shaders write scene-linear colour; docs/colour.md).
 void resetPassState();
 
 /// Depth, stencil and colour state of `pass`: kLit depth nearer + write; kShadowed depth EQUAL, no

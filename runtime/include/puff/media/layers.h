@@ -93,19 +93,18 @@ class Layers {
   /// layer's depth (nearest depth per layer texel, R32F linear). Sets its own state.
   /// Restores the draw framebuffer and viewport it found (two queries: a framebuffer of its own
   /// left bound would take the host's next draws unseen). Leaves: "the full-screen state" (depth
-  /// test, stencil test, blending on every draw buffer, culling, scissor test, GL_FRAMEBUFFER_SRGB
-  /// and rasterizer discard off; polygon mode GL_FILL; colour write masks on for every draw
-  /// buffer); no program, no vertex array; unit `resolveSource` with its 2D multisample texture =
-  /// the opaque depth, its 2D texture = the resolved depth and sampler binding 0.
+  /// test, stencil test, blending on every draw buffer, culling, scissor test and rasterizer discard
+  /// off (GL_FRAMEBUFFER_SRGB is the host's, untouched by every Layers call); polygon mode GL_FILL; colour write masks
+  /// on for every draw buffer); no program, no vertex array; unit `resolveSource` with its 2D multisample texture = the
+  /// opaque depth, its 2D texture = the resolved depth and sampler binding 0.
   void resolveOpaque();
   /// resolveOpaque for a host's scene: reads `depth` (its convention, converted per sample to
   /// linear depth and clamped to [0, 1]; the far plane and an infinite one read 1, "no surface")
   /// into the full-size linear depth and the layer's nearest depth. Restores the draw framebuffer
-  /// and viewport it found. Leaves: the full-screen state (resolveOpaque) except
-  /// GL_FRAMEBUFFER_SRGB, untouched; no program, no vertex array; unit `resolveSource` with sampler binding 0, its 2D
-  /// texture = Puff's linear depth and, after a multisample `depth`, its 2D multisample texture =
-  /// `depth.texture`. Reading a texture attached to the bound read framebuffer is fine; it must not be
-  /// attached to a draw buffer Puff renders into (it is not: Puff draws into its own).
+  /// and viewport it found. Leaves: the full-screen state (resolveOpaque); no program, no vertex array; unit
+  /// `resolveSource` with sampler binding 0, its 2D texture = Puff's linear depth and, after a multisample `depth`, its
+  /// 2D multisample texture = `depth.texture`. Reading a texture attached to the bound read framebuffer is fine; it
+  /// must not be attached to a draw buffer Puff renders into (it is not: Puff draws into its own).
   void resolveHostDepth(const HostDepth& depth);
   /// The opaque depth at the layer's resolution (for Renderer::draw).
   core::GlId mediaDepth() const;
@@ -142,10 +141,9 @@ class Layers {
   /// Leaves: the draw framebuffer = `target`; the viewport = `viewport`; depth test, stencil test,
   /// culling, scissor test and rasterizer discard off; polygon mode GL_FILL; colour write masks on
   /// for every draw buffer; blending off on every draw buffer, with draw buffer 0's functions
-  /// (GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE) and equation GL_FUNC_ADD; GL_FRAMEBUFFER_SRGB
-  /// untouched; no program, no vertex array; uniform buffer binding `composeBlock` = its block;
-  /// units `opaqueDepth`, `mediaLayer`, `mediaDepth` and `shimmer` with their 2D textures = its
-  /// and sampler binding 0.
+  /// (GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE) and equation GL_FUNC_ADD; no program, no vertex array; uniform buffer
+  /// binding `composeBlock` = its block; units `opaqueDepth`, `mediaLayer`, `mediaDepth` and `shimmer` with their 2D
+  /// textures = its and sampler binding 0.
   Result<void> composeOver(core::GlId target, const int viewport[4], const Frame& frame,
                            std::span<const ExplosionLight> lights, const ComposeSettings& settings);
 

@@ -92,7 +92,7 @@ class Renderer {
   ///   no program, no vertex array; blending off on every draw buffer, with draw buffer 0's
   ///   functions (GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA) and draw buffer
   ///   1's (GL_ONE, GL_ONE) and both equations GL_FUNC_ADD; depth test, stencil test, culling,
-  ///   scissor test, alpha to coverage, GL_FRAMEBUFFER_SRGB, rasterizer discard and depth clamp off;
+  ///   scissor test, alpha to coverage, rasterizer discard and depth clamp off;
   ///   polygon mode GL_FILL; depth write mask on; colour write masks on for every draw buffer;
   ///   uniform buffer bindings `mediaBlock` and `materialBlock` (whole buffers) and storage buffer
   ///   binding `particles` (a range) = its buffers; units `depth` (2D: `depth`), `blackbody` (1D),
