@@ -40,7 +40,10 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 #include <stb_image_write.h>
+#pragma GCC diagnostic pop
 
 #include <puff/cel/frame.h>
 #include <puff/cel/nailboards.h>
@@ -341,15 +344,17 @@ puff::sim::Settings smokeSettings() {
   e.lifetimeSpread = 0.2f;
   s.emitters = {e};
   // The smoke slides over the ground, the back wall and the pillar.
-  s.colliders.push_back({.type = puff::sim::Collider::Type::kPlane, .name = "ground", .halfExtent = {20, 0, 20}});
-  s.colliders.push_back({.type = puff::sim::Collider::Type::kBox,
-                         .name = "pillar",
-                         .center = kBoxes[3].centre,
-                         .halfExtent = kBoxes[3].half});
-  s.colliders.push_back({.type = puff::sim::Collider::Type::kBox,
-                         .name = "back wall",
-                         .center = kBoxes[1].centre,
-                         .halfExtent = kBoxes[1].half});
+  auto collider = [](puff::sim::Collider::Type type, const char* name, const Box& box) {
+    puff::sim::Collider c;
+    c.type = type;
+    c.name = name;
+    c.center = box.centre + (type == puff::sim::Collider::Type::kPlane ? glm::vec3(0, box.half.y, 0) : glm::vec3(0));
+    c.halfExtent = box.half;
+    return c;
+  };
+  s.colliders = {collider(puff::sim::Collider::Type::kPlane, "ground", kBoxes[0]),
+                 collider(puff::sim::Collider::Type::kBox, "back wall", kBoxes[1]),
+                 collider(puff::sim::Collider::Type::kBox, "pillar", kBoxes[3])};
   return s;
 }
 
