@@ -466,7 +466,7 @@ int run(const Options& opt, GLFWwindow* window) {
   celFrame.viewport = {0, 0, W, H};
   celFrame.light = {kSun, glm::vec3(0.75f)};
   celFrame.ambientColor = glm::vec3(0.32f, 0.33f, 0.36f);
-  puff::cel::Style style;  // outlines on, 2 px of black ink, Eq. 2 shading
+  puff::cel::Style style;  // outlines on (black ink), Eq. 2 shading
   style.outlineWidth = 2.5f;
   std::vector<puff::cel::Particle> puffs;
 
