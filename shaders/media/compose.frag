@@ -2,65 +2,14 @@
 // Composition (Umenhoffer §4): out = opaque(x + shimmer) * T + M, the media layer upsampled
 // depth-aware, with the explosions' light on the opaque surfaces (volumetric-explosion-effects).
 layout(binding = 0) uniform sampler2D uOpaqueColor;
-layout(binding = 1) uniform sampler2D uOpaqueDepth;  // linear depth, full resolution
-layout(binding = 2) uniform sampler2D uMedia;        // premultiplied radiance, transmittance
-layout(binding = 3) uniform sampler2D uMediaDepth;   // nearest linear depth per layer texel
-layout(binding = 4) uniform sampler2D uShimmerTex;   // rg offsets
-
-struct LightGpu {
-  vec4 centreRadius;    // camera space, radius
-  vec4 colorIntensity;  // rgb, intensity
-  ivec4 flags;          // x: modulate, y: full at the back
-};
-layout(std140, binding = 5) uniform ComposeBlock {
-  mat4 uInvProj;
-  vec4 uViewport;  // x, y, width, height of the output viewport
-  vec4 uDepth;     // near, far, far - near, 1 if orthographic
-  vec4 uLayer;     // layer width, height, factor (full pixels per layer texel), depth tolerance
-  vec4 uShimmer;   // x: pixels per unit offset
-  ivec4 uCounts;   // x: lights, y: upsampling rule (0 bilinear, 1 bilateral in depth, 2 all-or-nearest)
-  LightGpu uLights[8];
-};
+#include "media/compose.glsl"
 
 layout(location = 0) out vec4 outColor;
 
-float viewDistance(float lin) { return uDepth.x + lin * uDepth.z; }
-
 vec3 lit(ivec2 p) {
-  vec3 c = texelFetch(uOpaqueColor, p, 0).rgb;
-  const float lin = texelFetch(uOpaqueDepth, p, 0).r;
-  if (uCounts.x == 0 || lin >= 1.0) return c;  // background: no surface to light
-  const vec2 ndc = (vec2(p) + 0.5) / uViewport.zw * 2.0 - 1.0;
-  const vec4 pn = uInvProj * vec4(ndc, -1.0, 1.0), pf = uInvProj * vec4(ndc, 1.0, 1.0);
-  const bool ortho = uDepth.w > 0.5;
-  const vec3 o = ortho ? vec3(pn.xy / pn.w, 0.0) : vec3(0.0);
-  const vec3 dir = ortho ? vec3(0.0, 0.0, -1.0) : normalize(pf.xyz / pf.w);
-  const float zs = viewDistance(lin);
-  for (int i = 0; i < uCounts.x; ++i) {
-    const vec3 centre = uLights[i].centreRadius.xyz;
-    const float r = uLights[i].centreRadius.w;
-    // Screen-space projected texture: a radial falloff over the explosion's projected disc (the
-    // cone from the eye tangent to its sphere; a cylinder for an orthographic camera).
-    float rho;
-    if (ortho) {
-      rho = length(o.xy - centre.xy) / r;
-    } else {
-      const float dist = length(centre);
-      const float halfAngle = dist > r ? asin(r / dist) : 3.14159265;
-      rho = acos(clamp(dot(dir, centre / max(dist, 1e-20)), -1.0, 1.0)) / halfAngle;
-    }
-    const float wxy = pow(clamp(1.0 - rho * rho, 0.0, 1.0), 2.0);
-    // Depth: nothing in front of the sphere, full from its centre (or back) on.
-    const float dz = -centre.z;
-    const float zFront = dz - r, zFull = uLights[i].flags.y != 0 ? dz + r : dz;
-    const float wz = clamp((zs - zFront) / max(zFull - zFront, 1e-6), 0.0, 1.0);
-    const float k = uLights[i].colorIntensity.a * wxy * wz;
-    if (uLights[i].flags.x != 0)
-      c *= mix(vec3(1.0), uLights[i].colorIntensity.rgb, clamp(k, 0.0, 1.0));
-    else
-      c += uLights[i].colorIntensity.rgb * k;
-  }
-  return c;
+  vec3 mul, add;
+  lightTerms(p, mul, add);
+  return texelFetch(uOpaqueColor, p, 0).rgb * mul + add;
 }
 
 // The opaque scene lit, at a continuous pixel position (pixel centres at whole numbers): the
@@ -75,71 +24,9 @@ vec3 litAt(vec2 pos, ivec2 full) {
   return mix(mix(lit(i0), lit(ivec2(i1.x, i0.y)), f.x), mix(lit(ivec2(i0.x, i1.y)), lit(i1), f.x), f.y);
 }
 
-// How much a layer texel drawn against depth zi counts for a pixel at depth z (view distances):
-// 1 within the tolerance (the same surface), falling linearly to 0 at kDepthFalloff tolerances
-// (another surface). Relative to z, so it means the same near and far.
-const float kDepthFalloff = 5.0;
-float depthWeight(float diff, float tolerance) {
-  const float x = diff / max(tolerance, 1e-20);
-  return clamp((kDepthFalloff - x) / (kDepthFalloff - 1.0), 0.0, 1.0);
-}
-
 void main() {
   const ivec2 p = ivec2(gl_FragCoord.xy - uViewport.xy);
-  const ivec2 full = ivec2(uViewport.zw);
-  const float factor = uLayer.z;
-  const ivec2 layerSize = ivec2(uLayer.xy);
-
-  // The four layer texels around this pixel and the bilinear weights.
-  const vec2 q = (vec2(p) + 0.5) / factor - 0.5;
-  const ivec2 b = ivec2(floor(q));
-  const vec2 f = q - vec2(b);
-  const ivec2 t[4] = ivec2[](b, b + ivec2(1, 0), b + ivec2(0, 1), b + ivec2(1, 1));
-  const float w[4] = float[]((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
-
-  const float z = viewDistance(texelFetch(uOpaqueDepth, p, 0).r);
-  const float tolerance = uLayer.w * z;
-  vec4 media = vec4(0.0), bilateral = vec4(0.0);
-  vec2 shimmer = vec2(0.0);
-  float worst = 0.0, best = 3.0e38, weightSum = 0.0;
-  int nearest = 0;
-  for (int i = 0; i < 4; ++i) {
-    const ivec2 ti = clamp(t[i], ivec2(0), layerSize - 1);
-    const float zi = viewDistance(texelFetch(uMediaDepth, ti, 0).r);
-    const float diff = abs(zi - z);
-    worst = max(worst, diff);
-    if (diff < best) {
-      best = diff;
-      nearest = i;
-    }
-    const vec4 m = texelFetch(uMedia, ti, 0);
-    media += w[i] * m;
-    const float wi = w[i] * depthWeight(diff, tolerance);
-    bilateral += wi * m;
-    weightSum += wi;
-    shimmer += w[i] * texelFetch(uShimmerTex, ti, 0).rg;
-  }
-  // uCounts.y: 0 plain bilinear; 1 bilateral in depth; 2 the earlier all-or-nearest switch (kept
-  // to measure against).
-  const int rule = uCounts.y;
-  if (rule == 1 && weightSum > 0.0) {
-    media = bilateral / weightSum;
-  } else if ((rule == 1) || (rule == 2 && worst > tolerance)) {
-    // Not one surface: take the layer texel drawn against the depth nearest this pixel's, looking
-    // one texel further out too (a surface thinner than a texel owns the texels around it).
-    ivec2 pick = t[nearest];
-    for (int y = -1; y <= 2; ++y) {
-      for (int x = -1; x <= 2; ++x) {
-        if (x >= 0 && x <= 1 && y >= 0 && y <= 1) continue;
-        const ivec2 ti = clamp(b + ivec2(x, y), ivec2(0), layerSize - 1);
-        const float diff = abs(viewDistance(texelFetch(uMediaDepth, ti, 0).r) - z);
-        if (diff < best) {
-          best = diff;
-          pick = ti;
-        }
-      }
-    }
-    media = texelFetch(uMedia, clamp(pick, ivec2(0), layerSize - 1), 0);
-  }
-  outColor = vec4(litAt(vec2(p) + shimmer * uShimmer.x, full) * media.a + media.rgb, 1.0);
+  vec2 shimmer;
+  const vec4 media = upsampledMedia(p, shimmer);
+  outColor = vec4(litAt(vec2(p) + shimmer * uShimmer.x, ivec2(uViewport.zw)) * media.a + media.rgb, 1.0);
 }

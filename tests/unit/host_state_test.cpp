@@ -686,6 +686,37 @@ TEST_F(HostState, MediaCallsLeaveWhatTheirHeadersList) {
            texture(b.historyFirst + 1, "2D")},
   };
   for (const Case& c : cases) check(c, target, host);
+
+  // Media in the host's frame (createForHost): its depth texture read, the layer blended onto its
+  // colour; the host's GL_FRAMEBUFFER_SRGB is left as it is (the hostile host turns it on).
+  auto hostLayers = media::Layers::createForHost(kPx, kPx, 0.5f);
+  ASSERT_OK(hostLayers);
+  media::Layers& hl = **hostLayers;
+  core::Texture hostDepth = core::makeTexture(GL_TEXTURE_2D),
+                hostDepthMs = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
+  glTextureStorage2D(hostDepth.get(), 1, GL_DEPTH24_STENCIL8, kPx, kPx);
+  glTextureStorage2DMultisample(hostDepthMs.get(), 4, GL_DEPTH24_STENCIL8, kPx, kPx, GL_TRUE);
+  media::HostDepth single, multi;
+  single.texture = hostDepth.get();
+  single.space = {core::DepthConvention::kStandard, core::ClipDepth::kNegativeOneToOne, f.projection, f.nearPlane,
+                  f.farPlane};
+  multi = single;
+  multi.texture = hostDepthMs.get();
+  multi.samples = 4;
+  const Keys fullscreenButSrgb = {"depth.test", "stencil.test",       "blend[0]",     "blend[1]",     "cull",
+                                  "scissor",    "rasterizer_discard", "polygon_mode", "colormask[0]", "colormask[1]"};
+  const std::vector<Case> hostCases = {
+      {"Layers::resolveHostDepth(2D)", [&] { hl.resolveHostDepth(single); },
+       fullscreenButSrgb + kNoProgram + Keys{unit(b.resolveSource, "2D"), sampler(b.resolveSource)}},
+      {"Layers::resolveHostDepth(2D multisample)", [&] { hl.resolveHostDepth(multi); },
+       fullscreenButSrgb + kNoProgram +
+           Keys{unit(b.resolveSource, "2DMS"), unit(b.resolveSource, "2D"), sampler(b.resolveSource)}},
+      {"Layers::composeOver", [&] { EXPECT_OK(hl.composeOver(out.get(), vp, f, lights, media::ComposeSettings{})); },
+       Keys{"fbo.draw", "viewport", ubo(b.composeBlock), "blend_func[0]", "blend_eq[0]"} + kStencilRefReads +
+           fullscreenButSrgb + kNoProgram + texture(b.opaqueDepth, "2D") + texture(b.mediaLayer, "2D") +
+           texture(b.mediaDepth, "2D") + texture(b.shimmer, "2D")},
+  };
+  for (const Case& c : hostCases) check(c, target, host);
 }
 
 // ---- chosen binding points -----------------------------------------------------------------------

@@ -40,13 +40,7 @@ float linearDepth(const Frame& frame, const glm::vec3& worldPoint) {
 }
 
 float storedDepth(const Frame& frame, float linear) {
-  if (frame.depth == DepthConvention::kLinear) return linear;
-  // The same arithmetic as frame.glsl's storeDepth, in float, so the two agree to rounding.
-  const float dist = frame.nearPlane + std::max(linear, 0.0f) * (frame.farPlane - frame.nearPlane);
-  const glm::mat4& p = frame.projection;
-  const float z = p[3][2] - p[2][2] * dist, w = p[3][3] - p[2][3] * dist;
-  const float ndc = z / w;
-  return std::clamp(frame.clipDepth == ClipDepth::kZeroToOne ? ndc : 0.5f * ndc + 0.5f, 0.0f, 1.0f);
+  return core::storedDepth({frame.depth, frame.clipDepth, frame.projection, frame.nearPlane, frame.farPlane}, linear);
 }
 
 core::GlEnum nearerDepthFunc(DepthConvention convention) {

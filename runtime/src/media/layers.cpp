@@ -62,11 +62,51 @@ struct Layers::Impl {
   core::Texture msColor, msDepth;                          // multisample textures (1 sample when MSAA is off)
   core::Texture color, depth, mediaDepth, media, shimmer;  // depth: R32F linear, the samples' nearest
   core::Program resolveDepth, downsample, compose, blur;
+  bool host = false;                                      // createForHost: no opaque pass of its own
+  core::Program resolveHost, resolveHostMs, composeOver;  // host programs (createForHost only)
   std::vector<core::Texture> history;
   std::vector<core::Framebuffer> historyFbo;
   core::VertexArray vao;
   core::Buffer block;
+
+  // Fills the compose passes' uniform block (compose.glsl's ComposeBlock).
+  void uploadComposeBlock(const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
+                          const ComposeSettings& settings);
+  // The full-size linear depth's layer-resolution nearest (downsample.frag), into depthFbo.
+  void downsampleDepth();
 };
+
+void Layers::Impl::uploadComposeBlock(const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
+                                      const ComposeSettings& settings) {
+  ComposeBlockData d{};
+  d.invProj = glm::inverse(frame.projection);
+  d.viewport = glm::vec4(viewport[0], viewport[1], viewport[2], viewport[3]);
+  d.depth = glm::vec4(frame.nearPlane, frame.farPlane, frame.farPlane - frame.nearPlane, frame.orthographic ? 1 : 0);
+  d.layer = glm::vec4(mediaWidth, mediaHeight, factor, settings.depthTolerance);
+  d.shimmer = glm::vec4(settings.shimmerPixels, 0.0f, 0.0f, 0.0f);
+  int n = 0;
+  for (const ExplosionLight& l : lights) {
+    if (n == kMaxLights) break;
+    if (!(l.intensity > 0.0f) || !(l.radius > 0.0f)) continue;
+    d.lights[n].centreRadius = glm::vec4(glm::vec3(frame.view * glm::vec4(l.center, 1.0f)), l.radius);
+    d.lights[n].colorIntensity = glm::vec4(l.color, l.intensity);
+    d.lights[n].flags = glm::ivec4(l.modulate ? 1 : 0, l.fullAtBack ? 1 : 0, 0, 0);
+    ++n;
+  }
+  // compose.frag's rules: 0 plain bilinear, 1 bilateral in depth, 2 all-or-nearest.
+  const int rule = !settings.depthAware ? 0 : upsampling == Upsampling::kBilateral ? 1 : 2;
+  d.counts = glm::ivec4(n, rule, 0, 0);
+  glNamedBufferSubData(block.get(), 0, sizeof(d), &d);
+}
+
+void Layers::Impl::downsampleDepth() {
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, depthFbo.get());
+  glViewport(0, 0, mediaWidth, mediaHeight);
+  glUseProgram(downsample.get());
+  glUniform1i(0, factor);
+  core::bindTextureAndNoSampler(bindings.resolveSource, depth.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+}
 
 Layers::Layers() : impl_(std::make_unique<Impl>()) {}
 Layers::~Layers() = default;
@@ -82,9 +122,19 @@ GLuint Layers::opaqueDepth() const { return impl_->depth.get(); }
 GLuint Layers::mediaColor() const { return impl_->media.get(); }
 void Layers::setUpsampling(Upsampling rule) { impl_->upsampling = rule; }
 Layers::Upsampling Layers::upsampling() const { return impl_->upsampling; }
+bool Layers::forHost() const { return impl_->host; }
 
 Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int samples, float scale,
                                                const Bindings& bindings) {
+  return make(width, height, samples, scale, bindings, false);
+}
+
+Result<std::unique_ptr<Layers>> Layers::createForHost(int width, int height, float scale, const Bindings& bindings) {
+  return make(width, height, 1, scale, bindings, true);
+}
+
+Result<std::unique_ptr<Layers>> Layers::make(int width, int height, int samples, float scale, const Bindings& bindings,
+                                             bool host) {
   if (auto ok = validate(bindings); !ok) return ok.error();
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     return Error{"media layers: size " + std::to_string(width) + "x" + std::to_string(height) + " outside 1..16384"};
@@ -105,6 +155,16 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
   if (!compose) return compose.error();
   auto blur = core::buildProgram({"media/fullscreen.vert", "media/blur.frag"});
   if (!blur) return blur.error();
+  core::Program resolveHost, resolveHostMs, composeOver;
+  if (host) {
+    auto single = core::buildProgram({"media/fullscreen.vert", "media/resolve_host_depth.frag"});
+    if (!single) return single.error();
+    auto multi = core::buildProgram({"media/fullscreen.vert", "media/resolve_host_depth_ms.frag"});
+    if (!multi) return multi.error();
+    auto over = core::buildProgram({"media/fullscreen.vert", "media/compose_over.frag"});
+    if (!over) return over.error();
+    resolveHost = std::move(*single), resolveHostMs = std::move(*multi), composeOver = std::move(*over);
+  }
 
   std::unique_ptr<Layers> l(new Layers());
   Impl& m = *l->impl_;
@@ -115,6 +175,9 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
   m.downsample = std::move(*downsample);
   m.compose = std::move(*compose);
   m.blur = std::move(*blur);
+  m.host = host;
+  m.resolveHost = std::move(resolveHost), m.resolveHostMs = std::move(resolveHostMs);
+  m.composeOver = std::move(composeOver);
   m.bindings = bindings;
   {
     using K = core::BindPoint::Kind;
@@ -127,25 +190,37 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
                                              {K::kSampler, "uMedia", bindings.mediaLayer},
                                              {K::kSampler, "uMediaDepth", bindings.mediaDepth},
                                              {K::kSampler, "uShimmerTex", bindings.shimmer}});
+    if (host) {
+      core::assignBindPoints(m.resolveHost.get(), {{K::kSampler, "uHostDepth", bindings.resolveSource}});
+      core::assignBindPoints(m.resolveHostMs.get(), {{K::kSampler, "uHostDepth", bindings.resolveSource}});
+      core::assignBindPoints(m.composeOver.get(), {{K::kUniformBlock, "ComposeBlock", bindings.composeBlock},
+                                                   {K::kSampler, "uOpaqueDepth", bindings.opaqueDepth},
+                                                   {K::kSampler, "uMedia", bindings.mediaLayer},
+                                                   {K::kSampler, "uMediaDepth", bindings.mediaDepth},
+                                                   {K::kSampler, "uShimmerTex", bindings.shimmer}});
+    }
   }
   m.vao = core::makeVertexArray();
   m.block = core::makeBuffer();
   glNamedBufferStorage(m.block.get(), sizeof(ComposeBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
 
-  // Opaque pass: multisample textures (the depth is read per sample), resolved into textures.
-  m.opaqueFbo = core::makeFramebuffer();
-  m.msColor = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
-  m.msDepth = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
-  // Scene-linear colour (docs/colour.md): half floats, as the output target.
-  glTextureStorage2DMultisample(m.msColor.get(), samples, GL_RGBA16F, width, height, GL_TRUE);
-  glTextureStorage2DMultisample(m.msDepth.get(), samples, GL_DEPTH24_STENCIL8, width, height, GL_TRUE);
-  glTextureParameteri(m.msDepth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
-  glNamedFramebufferTexture(m.opaqueFbo.get(), GL_COLOR_ATTACHMENT0, m.msColor.get(), 0);
-  glNamedFramebufferTexture(m.opaqueFbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, m.msDepth.get(), 0);
+  // Opaque pass: multisample textures (the depth is read per sample), resolved into textures. A
+  // host's Layers keep only the linear depth (below): the host owns its scene's colour and depth.
+  if (!host) {
+    m.opaqueFbo = core::makeFramebuffer();
+    m.msColor = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
+    m.msDepth = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
+    // Scene-linear colour (docs/colour.md): half floats, as the output target.
+    glTextureStorage2DMultisample(m.msColor.get(), samples, GL_RGBA16F, width, height, GL_TRUE);
+    glTextureStorage2DMultisample(m.msDepth.get(), samples, GL_DEPTH24_STENCIL8, width, height, GL_TRUE);
+    glTextureParameteri(m.msDepth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
+    glNamedFramebufferTexture(m.opaqueFbo.get(), GL_COLOR_ATTACHMENT0, m.msColor.get(), 0);
+    glNamedFramebufferTexture(m.opaqueFbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, m.msDepth.get(), 0);
 
-  m.color = makeTexture2D(GL_RGBA16F, width, height, GL_NEAREST);
-  m.resolveFbo = core::makeFramebuffer();
-  glNamedFramebufferTexture(m.resolveFbo.get(), GL_COLOR_ATTACHMENT0, m.color.get(), 0);
+    m.color = makeTexture2D(GL_RGBA16F, width, height, GL_NEAREST);
+    m.resolveFbo = core::makeFramebuffer();
+    glNamedFramebufferTexture(m.resolveFbo.get(), GL_COLOR_ATTACHMENT0, m.color.get(), 0);
+  }
   m.depth = makeTexture2D(GL_R32F, width, height, GL_NEAREST);
   m.linearFbo = core::makeFramebuffer();
   glNamedFramebufferTexture(m.linearFbo.get(), GL_COLOR_ATTACHMENT0, m.depth.get(), 0);
@@ -165,7 +240,7 @@ Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int sample
   glNamedFramebufferDrawBuffers(m.mediaFbo.get(), 2, both);
 
   for (GLuint fbo : {m.opaqueFbo.get(), m.resolveFbo.get(), m.linearFbo.get(), m.depthFbo.get(), m.mediaFbo.get()}) {
-    if (glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    if (fbo != 0 && glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
       return Error{"media layers of " + std::to_string(width) + "x" + std::to_string(height) + " with " +
                    std::to_string(samples) + " samples are not supported by this GL"};
   }
@@ -232,6 +307,7 @@ Frame Layers::layerFrame(const Frame& full) const {
 
 void Layers::resolveOpaque() {
   Impl& m = *impl_;
+  PUFF_CHECK(!m.host && "Layers made by createForHost have no opaque pass: call resolveHostDepth");
   // Its own framebuffers must not stay bound to catch the host's next draws: the draw framebuffer
   // and viewport it found are put back (two queries, answered client-side on desktop drivers).
   GLint hostDraw = 0, hostViewport[4] = {0, 0, 0, 0};
@@ -249,16 +325,80 @@ void Layers::resolveOpaque() {
   core::bindTextureAndNoSampler(m.bindings.resolveSource, m.msDepth.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
 
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.depthFbo.get());
-  glViewport(0, 0, m.mediaWidth, m.mediaHeight);
-  glUseProgram(m.downsample.get());
-  glUniform1i(0, m.factor);
-  glBindTextureUnit(m.bindings.resolveSource, m.depth.get());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  m.downsampleDepth();
   glBindVertexArray(0);
   glUseProgram(0);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(hostDraw));
   glViewport(hostViewport[0], hostViewport[1], hostViewport[2], hostViewport[3]);
+}
+
+void Layers::resolveHostDepth(const HostDepth& host) {
+  Impl& m = *impl_;
+  PUFF_CHECK(m.host && "resolveHostDepth needs Layers made by createForHost");
+  PUFF_CHECK(host.samples >= 1);
+  GLint hostDraw = 0, hostViewport[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &hostDraw);
+  glGetIntegerv(GL_VIEWPORT, hostViewport);
+  // The full-screen state, but the host's GL_FRAMEBUFFER_SRGB stays (these passes write R32F).
+  const bool srgb = glIsEnabled(GL_FRAMEBUFFER_SRGB) == GL_TRUE;
+  fullscreenState();
+  if (srgb) glEnable(GL_FRAMEBUFFER_SRGB);
+  glBindVertexArray(m.vao.get());
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.linearFbo.get());
+  glViewport(0, 0, m.width, m.height);
+  const bool multi = host.samples > 1;
+  glUseProgram(multi ? m.resolveHostMs.get() : m.resolveHost.get());
+  const core::DepthSpace& sp = host.space;
+  const glm::mat4& p = sp.projection;
+  if (multi) glUniform1i(0, host.samples);
+  glUniform4f(1, p[2][2], p[3][2], p[2][3], p[3][3]);
+  glUniform4f(2, sp.nearPlane, sp.farPlane - sp.nearPlane,
+              sp.convention == core::DepthConvention::kLinear ? 0.0f : 1.0f,
+              sp.clipDepth == core::ClipDepth::kZeroToOne ? 1.0f : 0.0f);
+  glUniform2i(3, host.x, host.y);
+  core::bindTextureAndNoSampler(m.bindings.resolveSource, host.texture);  // on its own target (2D or 2D MS)
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  m.downsampleDepth();
+  glBindVertexArray(0);
+  glUseProgram(0);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(hostDraw));
+  glViewport(hostViewport[0], hostViewport[1], hostViewport[2], hostViewport[3]);
+}
+
+Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Frame& frame,
+                                 std::span<const ExplosionLight> lights, const ComposeSettings& settings) {
+  Impl& m = *impl_;
+  if (!m.host) return Error{"composeOver: these media layers have their own opaque pass (Layers::create): use compose"};
+  if (settings.shimmerPixels != 0.0f)
+    return Error{"composeOver: heat shimmer (shimmerPixels " + std::to_string(settings.shimmerPixels) +
+                 ") displaces the host's scene, which composeOver blends onto and cannot read; set it to 0"};
+  if (viewport[2] != m.width || viewport[3] != m.height)
+    return Error{"composeOver: viewport " + std::to_string(viewport[2]) + "x" + std::to_string(viewport[3]) +
+                 " is not the layers' " + std::to_string(m.width) + "x" + std::to_string(m.height)};
+  m.uploadComposeBlock(viewport, frame, lights, settings);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+  glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+  const bool srgb = glIsEnabled(GL_FRAMEBUFFER_SRGB) == GL_TRUE;
+  fullscreenState();
+  if (srgb) glEnable(GL_FRAMEBUFFER_SRGB);  // the host's: blending in linear on an sRGB target
+  // dst * src1 + src0 on RGB (compose_over.frag); the host's alpha kept.
+  glEnablei(GL_BLEND, 0);
+  glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
+  glBlendFuncSeparatei(0, GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
+  glUseProgram(m.composeOver.get());
+  const Bindings& b = m.bindings;
+  const GLuint block = m.block.get();
+  glBindBuffersBase(GL_UNIFORM_BUFFER, b.composeBlock, 1, &block);  // multi-bind: the generic binding stays
+  core::bindTextureAndNoSampler(b.opaqueDepth, m.depth.get());
+  core::bindTextureAndNoSampler(b.mediaLayer, m.media.get());
+  core::bindTextureAndNoSampler(b.mediaDepth, m.mediaDepth.get());
+  core::bindTextureAndNoSampler(b.shimmer, m.shimmer.get());
+  glBindVertexArray(m.vao.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glUseProgram(0);
+  glDisablei(GL_BLEND, 0);
+  return {};
 }
 
 void Layers::beginMedia() {
@@ -276,27 +416,9 @@ void Layers::beginMedia() {
 void Layers::compose(GLuint target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
                      const ComposeSettings& settings) {
   Impl& m = *impl_;
+  PUFF_CHECK(!m.host && "Layers made by createForHost have no opaque colour: call composeOver");
   PUFF_CHECK(viewport[2] == m.width && viewport[3] == m.height);
-  ComposeBlockData d{};
-  d.invProj = glm::inverse(frame.projection);
-  d.viewport = glm::vec4(viewport[0], viewport[1], viewport[2], viewport[3]);
-  d.depth = glm::vec4(frame.nearPlane, frame.farPlane, frame.farPlane - frame.nearPlane, frame.orthographic ? 1 : 0);
-  d.layer = glm::vec4(m.mediaWidth, m.mediaHeight, m.factor, settings.depthTolerance);
-  d.shimmer = glm::vec4(settings.shimmerPixels, 0.0f, 0.0f, 0.0f);
-  int n = 0;
-  for (const ExplosionLight& l : lights) {
-    if (n == kMaxLights) break;
-    if (!(l.intensity > 0.0f) || !(l.radius > 0.0f)) continue;
-    d.lights[n].centreRadius = glm::vec4(glm::vec3(frame.view * glm::vec4(l.center, 1.0f)), l.radius);
-    d.lights[n].colorIntensity = glm::vec4(l.color, l.intensity);
-    d.lights[n].flags = glm::ivec4(l.modulate ? 1 : 0, l.fullAtBack ? 1 : 0, 0, 0);
-    ++n;
-  }
-  // compose.frag's rules: 0 plain bilinear, 1 bilateral in depth, 2 all-or-nearest.
-  const int rule = !settings.depthAware ? 0 : m.upsampling == Upsampling::kBilateral ? 1 : 2;
-  d.counts = glm::ivec4(n, rule, 0, 0);
-  glNamedBufferSubData(m.block.get(), 0, sizeof(d), &d);
-
+  m.uploadComposeBlock(viewport, frame, lights, settings);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
   fullscreenState();

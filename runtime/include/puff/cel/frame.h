@@ -53,6 +53,7 @@
 
 #include <puff/cel/bindings.h>
 #include <puff/cel/types.h>
+#include <puff/core/depth.h>
 #include <puff/core/error.h>
 #include <puff/core/gl.h>
 #include <puff/core/image.h>
@@ -70,16 +71,10 @@ struct ShadowLookup {
   float length = 0.0f;         ///< map depth units: Style::shadowLength
 };
 
-/// What the depth attachment stores (the header comment above has the formulas).
-enum class DepthConvention {
-  kLinear,    ///< Puff's own, the paper's: linear depth; test LESS, clear to 1 (the default)
-  kStandard,  ///< the projection's window depth (hyperbolic in perspective); test LESS, clear to 1
-  kReversedZ  ///< the projection's window depth, near -> 1, far -> 0 (far may be infinite); GREATER, clear to 0
-};
-
-/// The clip-space z range of the host's projection and glClipControl depth mode: [-1, 1] (the GL
-/// default) or [0, 1] (glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)). Not used by kLinear.
-enum class ClipDepth { kNegativeOneToOne, kZeroToOne };
+/// What the depth attachment stores and the projection's clip z range (core/depth.h; the header
+/// comment above has the formulas).
+using DepthConvention = core::DepthConvention;
+using ClipDepth = core::ClipDepth;
 
 /// Everything a pass needs to know about the frame. No GL objects: textures are set separately.
 struct Frame {

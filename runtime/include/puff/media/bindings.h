@@ -13,13 +13,14 @@
 //   temperatureDetail  texture unit     3        Renderer::draw, 3D
 //   opacityDetail      texture unit     4        Renderer::draw, 3D
 //   falloff            texture unit     5        Renderer::draw (planar-textured), 2D
-//   composeBlock       uniform buffer   5        Layers::compose
+//   composeBlock       uniform buffer   5        Layers::compose, composeOver
 //   opaqueColor        texture unit     0        Layers::compose, 2D
-//   opaqueDepth        texture unit     1        Layers::compose, 2D
-//   mediaLayer         texture unit     2        Layers::compose, 2D
-//   mediaDepth         texture unit     3        Layers::compose, 2D
-//   shimmer            texture unit     4        Layers::compose, 2D
-//   resolveSource      texture unit     0        Layers::resolveOpaque (2D multisample, then 2D)
+//   opaqueDepth        texture unit     1        Layers::compose, composeOver, 2D
+//   mediaLayer         texture unit     2        Layers::compose, composeOver, 2D
+//   mediaDepth         texture unit     3        Layers::compose, composeOver, 2D
+//   shimmer            texture unit     4        Layers::compose, composeOver, 2D
+//   resolveSource      texture unit     0        Layers::resolveOpaque, resolveHostDepth (2D or 2D
+//                                                multisample, then 2D)
 //   historyFirst       texture units    0-7      Layers::blendHistory: units historyFirst + slot, 2D
 //
 // The programs' blocks and samplers are pointed at these after linking. Points read by one call
@@ -37,9 +38,9 @@ struct Bindings {
   unsigned mediaBlock = 3, materialBlock = 4;  ///< uniform buffer bindings (Renderer::draw)
   unsigned particles = 0;                      ///< storage buffer binding (Renderer::draw)
   unsigned depth = 0, blackbody = 1, phase = 2, temperatureDetail = 3, opacityDetail = 4, falloff = 5;  ///< units
-  unsigned composeBlock = 5;  ///< uniform buffer binding (Layers::compose)
+  unsigned composeBlock = 5;  ///< uniform buffer binding (Layers::compose, composeOver)
   unsigned opaqueColor = 0, opaqueDepth = 1, mediaLayer = 2, mediaDepth = 3, shimmer = 4;  ///< units (compose)
-  unsigned resolveSource = 0;  ///< unit (Layers::resolveOpaque)
+  unsigned resolveSource = 0;  ///< unit (Layers::resolveOpaque, resolveHostDepth)
   unsigned historyFirst = 0;   ///< first of 8 consecutive units (Layers::blendHistory)
   bool operator==(const Bindings&) const = default;
 };

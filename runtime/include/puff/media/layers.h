@@ -21,6 +21,16 @@
 // get its projected texture, 0 in front of the explosion sphere, rising linearly to full at its
 // centre (or its back), full behind; added (additive) or multiplied in (modulating). No z-bias,
 // no polygon clipping. Background pixels (no surface) are left alone, as in the paper.
+//
+// In a host's frame (createForHost; docs/embedding.md, "Media in the game's frame") there is no
+// opaque pass of Puff's: the host draws its scene into its own framebuffer with its own depth
+// convention. resolveHostDepth turns the host's depth texture into the linear depth above (full
+// size and the layer's), and composeOver blends the layer onto the host's colour target:
+//     out = dst * (mul * T) + (add * T + M)
+// with dual-source blending, where dst * mul + add is the surface with the explosions' light
+// (mul = the modulating lights' product, add = the additive lights' sum). The same image as
+// compose() gives over the same opaque colour, without reading or copying the host's colour;
+// heat shimmer, which must read the scene displaced, is the one thing it cannot do.
 #pragma once
 
 #include <memory>
@@ -30,12 +40,26 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
+#include <puff/core/depth.h>
 #include <puff/core/error.h>
 #include <puff/core/gl.h>
 #include <puff/media/media.h>
 #include <puff/media/types.h>
 
 namespace puff::media {
+
+/// The host's depth buffer, read by Layers::resolveHostDepth.
+struct HostDepth {
+  /// A depth or depth-stencil texture (GL_TEXTURE_2D, or GL_TEXTURE_2D_MULTISAMPLE when samples >
+  /// 1) holding the host's opaque scene. A depth-stencil texture must keep its default
+  /// GL_DEPTH_STENCIL_TEXTURE_MODE (GL_DEPTH_COMPONENT), and GL_TEXTURE_COMPARE_MODE must be
+  /// GL_NONE (the default). Read with texelFetch: filters and mipmaps do not matter.
+  core::GlId texture = 0;
+  int samples = 1;  ///< 1, or the multisample texture's sample count (each pixel keeps the nearest)
+  /// The host's convention, projection and linear depth's 0 and 1 (the media Frame's planes).
+  core::DepthSpace space;
+  int x = 0, y = 0;  ///< where the layers' width() x height() region starts in the texture
+};
 
 class Layers {
  public:
@@ -45,7 +69,16 @@ class Layers {
   /// bound state changed.
   static Result<std::unique_ptr<Layers>> create(int width, int height, int samples, float scale,
                                                 const Bindings& bindings = {});
+  /// Layers for a host that draws its own opaque scene (docs/embedding.md): the media layer and
+  /// its depth, no opaque framebuffer of their own (opaqueFramebuffer() is 0; resolveOpaque and
+  /// compose must not be called: they stop the program with a message). Use resolveHostDepth and
+  /// composeOver. The other arguments as create.
+  static Result<std::unique_ptr<Layers>> createForHost(int width, int height, float scale,
+                                                       const Bindings& bindings = {});
   ~Layers();
+
+  /// True for Layers made by createForHost.
+  bool forHost() const;
 
   int width() const;
   int height() const;
@@ -65,6 +98,15 @@ class Layers {
   /// buffer); no program, no vertex array; unit `resolveSource` with its 2D multisample texture =
   /// the opaque depth, its 2D texture = the resolved depth and sampler binding 0.
   void resolveOpaque();
+  /// resolveOpaque for a host's scene: reads `depth` (its convention, converted per sample to
+  /// linear depth and clamped to [0, 1]; the far plane and an infinite one read 1, "no surface")
+  /// into the full-size linear depth and the layer's nearest depth. Restores the draw framebuffer
+  /// and viewport it found. Leaves: the full-screen state (resolveOpaque) except
+  /// GL_FRAMEBUFFER_SRGB, untouched; no program, no vertex array; unit `resolveSource` with sampler binding 0, its 2D
+  /// texture = Puff's linear depth and, after a multisample `depth`, its 2D multisample texture =
+  /// `depth.texture`. Reading a texture attached to the bound read framebuffer is fine; it must not be
+  /// attached to a draw buffer Puff renders into (it is not: Puff draws into its own).
+  void resolveHostDepth(const HostDepth& depth);
   /// The opaque depth at the layer's resolution (for Renderer::draw).
   core::GlId mediaDepth() const;
   /// The frame to draw the media layer with, from the full-size frame: the layer's size, and a
@@ -90,6 +132,22 @@ class Layers {
   /// `mediaLayer`, `mediaDepth` and `shimmer` with their 2D textures = its and sampler binding 0.
   void compose(core::GlId target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
                const ComposeSettings& settings);
+
+  /// compose() for a host's frame (createForHost, after resolveHostDepth): blends the media layer
+  /// and the explosion lights over what framebuffer `target` already holds (header comment), over
+  /// `viewport` (its w x h must be width() x height()). Colour only (RGB; the target's alpha, depth
+  /// and stencil are kept). The blend happens in the target's space: give it scene-linear colour,
+  /// a float target or an sRGB one with GL_FRAMEBUFFER_SRGB on (left as the host set it).
+  /// Errors (nothing drawn): layers not made by createForHost; settings.shimmerPixels != 0.
+  /// Leaves: the draw framebuffer = `target`; the viewport = `viewport`; depth test, stencil test,
+  /// culling, scissor test and rasterizer discard off; polygon mode GL_FILL; colour write masks on
+  /// for every draw buffer; blending off on every draw buffer, with draw buffer 0's functions
+  /// (GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE) and equation GL_FUNC_ADD; GL_FRAMEBUFFER_SRGB
+  /// untouched; no program, no vertex array; uniform buffer binding `composeBlock` = its block;
+  /// units `opaqueDepth`, `mediaLayer`, `mediaDepth` and `shimmer` with their 2D textures = its
+  /// and sampler binding 0.
+  Result<void> composeOver(core::GlId target, const int viewport[4], const Frame& frame,
+                           std::span<const ExplosionLight> lights, const ComposeSettings& settings);
 
   /// How compose() upsamples when ComposeSettings::depthAware is on: bilateral weights in depth
   /// (the default), or the earlier rule (all four texels within the tolerance: bilinear, else the
@@ -117,6 +175,8 @@ class Layers {
 
  private:
   Layers();
+  static Result<std::unique_ptr<Layers>> make(int width, int height, int samples, float scale, const Bindings& bindings,
+                                              bool host);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -1,0 +1,462 @@
+// Media in the host's frame (issue 16, part 4; media::Layers::createForHost). The host keeps its
+// framebuffer, its colour and its depth in its own convention; Puff reads the depth texture and
+// blends the media layer and the explosion light onto the host's colour:
+//  - core::linearFromStored against closed forms, and as storedDepth's inverse, in every convention;
+//  - resolveHostDepth on the GPU: a slanted floor and a wall drawn by the host's own shader with
+//    ordinary gl_Position depth read back as linear depth matching ray-plane closed forms, for
+//    every convention (standard in both clip ranges, reversed-z finite and infinite, orthographic),
+//    and the nearest sample of a multisampled depth texture;
+//  - composeOver against closed forms (a wall clipping a smoke sphere's chord, sky behind it) and
+//    against Puff's own linear path (Layers::create, compose) over the same scene, with explosion
+//    lights, at full and half resolution, in every convention;
+//  - its errors: shimmer, Puff's own layers.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include <glm/gtc/type_ptr.hpp>
+
+#include <puff/core/depth.h>
+#include <puff/gl_api.h>
+#include <puff/media/layers.h>
+#include <puff/media/media.h>
+
+#include "support/assert_ok.h"
+#include "support/host_gl.h"
+#include "support/media_target.h"
+
+namespace puff {
+namespace {
+
+using namespace test;  // support/host_gl.h: the conventions, projections, HostTarget, program
+
+constexpr int kSize = 64;
+constexpr float kOrthoHeight = 8.0f;
+const std::vector<Convention> kAll = {kLinear,           kStandardNO,    kStandardZO,   kReversed,
+                                      kReversedInfinite, kOrthoStandard, kOrthoReversed};
+
+core::DepthSpace spaceFor(const Convention& c) { return {c.depth, c.clip, projection(c, kOrthoHeight), kNear, kFar}; }
+
+double linearOf(double distance) { return (distance - kNear) / (kFar - kNear); }
+
+// ---- the inverse conversion on the CPU ----------------------------------------------------------
+
+TEST(HostMediaDepth, LinearFromStoredInvertsEveryConvention) {
+  for (const Convention& c : kAll) {
+    const core::DepthSpace s = spaceFor(c);
+    for (const double d : {0.1, 0.15, 0.5, 1.0, 3.0, 10.0, 40.0, 90.0, 100.0}) {
+      // The closed-form window depth reads back as the distance's linear depth: float arithmetic
+      // on hyperbolic depth loses ~d / near ulps, so the tolerance is relative to d^2 / near.
+      const double tol = 4e-7 * std::max(1.0, d * d / kNear / 100.0);
+      EXPECT_NEAR(core::linearFromStored(s, static_cast<float>(closedForm(c, d))), linearOf(d), tol)
+          << c.name << " at distance " << d;
+      const float lin = static_cast<float>(linearOf(d));
+      EXPECT_NEAR(core::linearFromStored(s, core::storedDepth(s, lin)), lin, tol) << c.name << " at " << d;
+    }
+    // The cleared buffer (nothing drawn) reads as linear 1, "no surface", in every convention; an
+    // infinite far plane's 0 too. Nearer than near clamps to 0.
+    const float clear = cel::clearDepth(c.depth);
+    EXPECT_EQ(core::linearFromStored(s, clear), 1.0f) << c.name;
+    EXPECT_EQ(core::linearFromStored(s, c.depth == DepthConvention::kReversedZ ? 1.0f : 0.0f), 0.0f) << c.name;
+  }
+  // Past the finite linear scale of an infinite-far projection: clamped to 1.
+  EXPECT_EQ(core::linearFromStored(spaceFor(kReversedInfinite), static_cast<float>(kNear / 500.0)), 1.0f);
+}
+
+// ---- the host's scene ---------------------------------------------------------------------------
+
+// The host's own program: camera-space vertices through its projection (its depth as the hardware
+// gives it), a flat scene-linear colour; with uLinear it writes Puff's linear depth instead (the
+// linear convention, and Puff's own opaque pass).
+const char* kHostVs = R"(#version 450 core
+layout(location = 0) uniform mat4 uP;
+layout(location = 3) uniform vec3 uCorners[4];
+out float vDist;
+void main() {
+  const int order[6] = int[](0, 1, 2, 0, 2, 3);
+  vec3 p = uCorners[order[gl_VertexID]];
+  vDist = -p.z;
+  gl_Position = uP * vec4(p, 1.0);
+}
+)";
+const char* kHostFs = R"(#version 450 core
+layout(location = 1) uniform vec3 uColor;
+layout(location = 2) uniform vec3 uLinear;  // x: write linear depth, y: near, z: far
+in float vDist;
+layout(location = 0) out vec4 outColor;
+void main() {
+  outColor = vec4(uColor, 1.0);
+  gl_FragDepth = uLinear.x > 0.5 ? (vDist - uLinear.y) / (uLinear.z - uLinear.y) : gl_FragCoord.z;
+}
+)";
+
+const glm::vec3 kSky(0.4f, 0.6f, 0.9f), kWallColor(0.8f, 0.3f, 0.2f), kFloorColor(0.3f, 0.5f, 0.2f);
+constexpr float kWallDistance = 5.5f, kWallRight = -0.8f, kFloorY = -1.2f;
+
+struct Quad {
+  glm::vec3 corners[4];
+  glm::vec3 color;
+};
+// A wall facing the camera at distance 5.5 over x < -0.8, and a floor at y = -1.2 running from 1 to
+// 40 units away (its depth changes across the image).
+const Quad kWall{{{-30, -30, -kWallDistance},
+                  {kWallRight, -30, -kWallDistance},
+                  {kWallRight, 30, -kWallDistance},
+                  {-30, 30, -kWallDistance}},
+                 kWallColor};
+const Quad kFloor{{{-30, kFloorY, -1}, {30, kFloorY, -1}, {30, kFloorY, -40}, {-30, kFloorY, -40}}, kFloorColor};
+
+class HostMedia : public MediaRendererTest {
+ protected:
+  void SetUp() override {
+    MediaRendererTest::SetUp();
+    if (HasFatalFailure()) return;
+    host_ = program(kHostVs, kHostFs);
+    vao_ = core::makeVertexArray();
+  }
+  void TearDown() override {
+    EXPECT_EQ(core::drainGlErrors(), "");
+    glDepthFunc(GL_LESS);
+    glDisable(GL_DEPTH_TEST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    host_ = {};
+    vao_ = {};
+  }
+
+  // The host draws the floor and the wall (depth test in its convention) into the bound framebuffer.
+  void drawScene(const Convention& c, bool writeLinear) {
+    glUseProgram(host_.get());
+    glBindVertexArray(vao_.get());
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(writeLinear ? GL_LESS : cel::nearerDepthFunc(c.depth));
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    const glm::mat4 p = projection(c, kOrthoHeight);
+    glUniformMatrix4fv(0, 1, GL_FALSE, glm::value_ptr(p));
+    glUniform3f(2, writeLinear ? 1.0f : 0.0f, kNear, kFar);
+    for (const Quad& q : {kFloor, kWall}) {
+      glUniform3fv(1, 1, &q.color.x);
+      glUniform3fv(3, 4, &q.corners[0].x);
+      glDrawArrays(GL_TRIANGLES, 0, 6);
+    }
+    glBindVertexArray(0);
+    glUseProgram(0);
+  }
+
+  static media::Frame mediaFrame(const Convention& c) {
+    media::Frame f = MediaCamera{kNear, kFar, kFovY}.frame(kSize);
+    f.projection = projection(c, kOrthoHeight);
+    f.orthographic = c.orthographic;
+    return f;
+  }
+
+  // The host's frame: its scene in its convention, then Puff's media layer and lights over it.
+  std::vector<glm::vec4> hostPath(const Convention& c, float scale, std::span<const media::Particle> particles,
+                                  std::span<const media::ExplosionLight> lights,
+                                  std::vector<float>* linearDepth = nullptr) {
+    HostTarget target(kSize, c.depth == DepthConvention::kReversedZ ? GL_DEPTH32F_STENCIL8 : GL_DEPTH24_STENCIL8);
+    EXPECT_TRUE(target.complete());
+    target.bindAndClear(kSky, cel::clearDepth(c.depth));
+    drawScene(c, c.depth == DepthConvention::kLinear);
+    auto layers = media::Layers::createForHost(kSize, kSize, scale);
+    EXPECT_OK(layers);
+    if (!layers) return {};
+    EXPECT_EQ((*layers)->opaqueFramebuffer(), 0u);
+    media::HostDepth depth;
+    depth.texture = target.depthTexture();
+    depth.space = spaceFor(c);
+    (*layers)->resolveHostDepth(depth);
+    if (linearDepth) {
+      linearDepth->resize(static_cast<std::size_t>(kSize) * kSize);
+      glGetTextureImage((*layers)->opaqueDepth(), 0, GL_RED, GL_FLOAT,
+                        static_cast<GLsizei>(linearDepth->size() * sizeof(float)), linearDepth->data());
+    }
+    const media::Frame f = mediaFrame(c);
+    (*layers)->beginMedia();
+    renderer_->draw((*layers)->layerFrame(f), particles, media::Method::kSpherical, (*layers)->mediaDepth());
+    const int vp[4] = {0, 0, kSize, kSize};
+    EXPECT_OK((*layers)->composeOver(target.framebuffer(), vp, f, lights, {}));
+    EXPECT_EQ(core::drainGlErrors(), "");
+    return target.readLinear();
+  }
+
+  // Puff's own linear path over the same scene: the opaque pass into Layers' framebuffer with
+  // linear depth, resolveOpaque, compose into an RGBA16F target (the host's colour format).
+  std::vector<glm::vec4> ownPath(const Convention& c, float scale, std::span<const media::Particle> particles,
+                                 std::span<const media::ExplosionLight> lights, std::vector<glm::vec4>& opaque) {
+    auto layers = media::Layers::create(kSize, kSize, 1, scale);
+    EXPECT_OK(layers);
+    if (!layers) return {};
+    const GLuint fbo = (*layers)->opaqueFramebuffer();
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, kSize, kSize);
+    glDisable(GL_SCISSOR_TEST);
+    glDepthMask(GL_TRUE);
+    const glm::vec4 sky(kSky, 1.0f);
+    glClearNamedFramebufferfv(fbo, GL_COLOR, 0, &sky.x);
+    glClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
+    drawScene(c, true);
+    (*layers)->resolveOpaque();
+    opaque.resize(static_cast<std::size_t>(kSize) * kSize);
+    glGetTextureImage((*layers)->opaqueColor(), 0, GL_RGBA, GL_FLOAT,
+                      static_cast<GLsizei>(opaque.size() * sizeof(glm::vec4)), opaque.data());
+    const media::Frame f = mediaFrame(c);
+    (*layers)->beginMedia();
+    renderer_->draw((*layers)->layerFrame(f), particles, media::Method::kSpherical, (*layers)->mediaDepth());
+    HostTarget out(kSize, GL_DEPTH24_STENCIL8);
+    const int vp[4] = {0, 0, kSize, kSize};
+    (*layers)->compose(out.framebuffer(), vp, f, lights, {});
+    EXPECT_EQ(core::drainGlErrors(), "");
+    return out.readLinear();
+  }
+
+  core::Program host_;
+  core::VertexArray vao_;
+};
+
+// The camera-space ray through pixel (x, y)'s centre: origin and unit direction.
+void pixelRay(const Convention& c, int x, int y, glm::dvec3& origin, glm::dvec3& dir) {
+  const double nx = (x + 0.5) / kSize * 2.0 - 1.0, ny = (y + 0.5) / kSize * 2.0 - 1.0;
+  if (c.orthographic) {
+    origin = glm::dvec3(nx * kOrthoHeight / 2, ny * kOrthoHeight / 2, 0.0);
+    dir = glm::dvec3(0, 0, -1);
+    return;
+  }
+  const double t = std::tan(glm::radians(static_cast<double>(kFovY)) / 2.0);
+  origin = glm::dvec3(0.0);
+  dir = glm::normalize(glm::dvec3(nx * t, ny * t, -1.0));
+}
+
+// The distance along the view axis of the host's surface at pixel (x, y), or 0 for sky.
+double surfaceDistance(const Convention& c, int x, int y) {
+  glm::dvec3 o, d;
+  pixelRay(c, x, y, o, d);
+  double best = 0.0;
+  const double tWall = (-kWallDistance - o.z) / d.z;  // the wall's plane z = -5.5
+  const glm::dvec3 w = o + tWall * d;
+  if (w.x < kWallRight && w.x > -30 && std::abs(w.y) < 30) best = kWallDistance;
+  if (d.y < 0.0) {
+    const double tFloor = (kFloorY - o.y) / d.y;
+    const glm::dvec3 f = o + tFloor * d;
+    if (-f.z >= 1.0 && -f.z <= 40.0 && std::abs(f.x) < 30 && (best == 0.0 || -f.z < best)) best = -f.z;
+  }
+  return best;
+}
+
+TEST_F(HostMedia, ResolveHostDepthGivesTheLinearDepthOfTheHostsSurfaces) {
+  for (const Convention& c : kAll) {
+    const ClipControlScope scope(c.clip);
+    std::vector<float> lin;
+    hostPath(c, 1.0f, {}, {}, &lin);
+    ASSERT_EQ(lin.size(), static_cast<std::size_t>(kSize) * kSize);
+    double worst = 0.0;
+    int surfaces = 0, skipped = 0;
+    for (int y = 0; y < kSize; ++y) {
+      for (int x = 0; x < kSize; ++x) {
+        const double d = surfaceDistance(c, x, y);
+        // Pixels where the wall's edge or the floor's far edge crosses the pixel: rasterized by
+        // coverage at the centre, as computed; skip the one column at the wall's edge.
+        if (surfaceDistance(c, std::max(x - 1, 0), y) != d && d == kWallDistance) {
+          ++skipped;
+          continue;
+        }
+        const double want = d == 0.0 ? 1.0 : linearOf(d);
+        if (d != 0.0) ++surfaces;
+        worst = std::max(worst, std::abs(lin[static_cast<std::size_t>(y) * kSize + x] - want));
+      }
+    }
+    EXPECT_GT(surfaces, kSize * kSize / 4) << c.name;
+    EXPECT_LT(skipped, kSize) << c.name;
+    // 24-bit standard depth at 40 units resolves 40^2 / (0.1 * 2^24) ~ 1e-3 world units = 1e-5 linear.
+    EXPECT_LT(worst, 3e-5) << c.name;
+  }
+}
+
+TEST_F(HostMedia, AMultisampledHostDepthKeepsTheNearestSample) {
+  const Convention& c = kStandardNO;
+  const int samples = 4;
+  core::Framebuffer fbo = core::makeFramebuffer();
+  core::Texture color = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
+  core::Texture depthTex = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
+  glTextureStorage2DMultisample(color.get(), samples, GL_RGBA16F, kSize, kSize, GL_TRUE);
+  glTextureStorage2DMultisample(depthTex.get(), samples, GL_DEPTH24_STENCIL8, kSize, kSize, GL_TRUE);
+  glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
+  glNamedFramebufferTexture(fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, depthTex.get(), 0);
+  ASSERT_EQ(glCheckNamedFramebufferStatus(fbo.get(), GL_FRAMEBUFFER), static_cast<GLenum>(GL_FRAMEBUFFER_COMPLETE));
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+  glViewport(0, 0, kSize, kSize);
+  glClearNamedFramebufferfi(fbo.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+  drawScene(c, false);
+  auto layers = media::Layers::createForHost(kSize, kSize, 0.25f);
+  ASSERT_OK(layers);
+  media::HostDepth depth;
+  depth.texture = depthTex.get();
+  depth.samples = samples;
+  depth.space = spaceFor(c);
+  (*layers)->resolveHostDepth(depth);
+  std::vector<float> lin(static_cast<std::size_t>(kSize) * kSize);
+  glGetTextureImage((*layers)->opaqueDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(lin.size() * 4), lin.data());
+  // The wall's edge: the first column whose centre misses the wall still has samples on it, and
+  // its nearest is the wall's depth (the floor and sky behind lie farther).
+  int wallColumns = 0, edgeColumns = 0;
+  const int y = kSize / 2 + 8;  // above the floor's horizon: wall or sky
+  for (int x = 0; x < kSize; ++x) {
+    const float v = lin[static_cast<std::size_t>(y) * kSize + x];
+    if (std::abs(v - linearOf(kWallDistance)) < 3e-5) {
+      ++wallColumns;
+      if (surfaceDistance(c, x, y) != kWallDistance) ++edgeColumns;
+    } else {
+      EXPECT_EQ(v, 1.0f) << "column " << x;  // sky
+    }
+  }
+  EXPECT_GT(wallColumns, 10);
+  EXPECT_EQ(edgeColumns, 1);  // the pixel the edge crosses keeps its nearer (wall) samples
+  // The layer's depth at 1/4: each texel is the nearest of its 4 x 4 pixels.
+  std::vector<float> layer(static_cast<std::size_t>((*layers)->mediaWidth()) * (*layers)->mediaHeight());
+  glGetTextureImage((*layers)->mediaDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(layer.size() * 4), layer.data());
+  for (int ty = 0; ty < (*layers)->mediaHeight(); ++ty) {
+    for (int tx = 0; tx < (*layers)->mediaWidth(); ++tx) {
+      float nearest = 1.0f;
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i)
+          nearest = std::min(nearest, lin[static_cast<std::size_t>(ty * 4 + j) * kSize + tx * 4 + i]);
+      EXPECT_EQ(layer[static_cast<std::size_t>(ty) * (*layers)->mediaWidth() + tx], nearest);
+    }
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+// composeOver in closed form: where the wall stands inside the smoke sphere, the pixel is the wall
+// seen through the sphere's chord clipped at the wall, out = wall * (1 - a) + colour * a (albedo 1,
+// ambient 1, no light); over the sky, the full chord. Only right if the host's depth converted right.
+TEST_F(HostMedia, ComposeOverClipsTheMediumAtTheHostsWall) {
+  media::Material m = plainMaterial(0.6f);
+  m.color = glm::vec3(1.0f, 0.5f, 0.25f);
+  ASSERT_TRUE(renderer_->setMaterials({m}).ok());
+  const media::Particle smoke = sphereAt({0, 0, -6}, 2.0f);
+  for (const Convention& c : kAll) {
+    const ClipControlScope scope(c.clip);
+    const auto px = hostPath(c, 1.0f, std::span(&smoke, 1), {});
+    ASSERT_EQ(px.size(), static_cast<std::size_t>(kSize) * kSize);
+    int wallPixels = 0, skyPixels = 0;
+    double worst = 0.0;
+    for (int y = 0; y < kSize; ++y) {
+      for (int x = 0; x < kSize; ++x) {
+        const double d = surfaceDistance(c, x, y);
+        if (d != 0.0 && d != kWallDistance) continue;                           // the floor: below the sphere mostly
+        if (d == kWallDistance && surfaceDistance(c, x + 1, y) != d) continue;  // the edge column
+        glm::dvec3 o, dir;
+        pixelRay(c, x, y, o, dir);
+        const double a = media::sphereOpacity(o, dir, {0, 0, -6}, 2.0, 0.6, d == 0.0 ? 1e30 : d, kNear);
+        if (a < 0.05) continue;
+        const glm::dvec3 bg = d == 0.0 ? glm::dvec3(kSky) : glm::dvec3(kWallColor);
+        (d == 0.0 ? skyPixels : wallPixels)++;
+        const glm::vec4 got = px[static_cast<std::size_t>(y) * kSize + x];
+        for (int i = 0; i < 3; ++i)
+          worst = std::max(worst, std::abs(got[i] - (bg[i] * (1 - a) + glm::dvec3(m.color)[i] * a)));
+      }
+    }
+    EXPECT_GT(wallPixels, 100) << c.name;
+    EXPECT_GT(skyPixels, 100) << c.name;
+    EXPECT_LT(worst, 3e-3) << c.name;  // the host's RGBA16F colour: half-float rounding
+  }
+}
+
+// The same frame through the host's path and through Puff's own linear path (its opaque pass,
+// resolveOpaque, compose): smoke and fire, an additive and a modulating explosion light on the
+// wall and floor, at full and half resolution, in every convention.
+TEST_F(HostMedia, ComposeOverMatchesPuffsOwnLinearPath) {
+  media::Material smokeMat = plainMaterial(0.6f);
+  smokeMat.color = glm::vec3(0.7f);
+  media::Material fire = plainMaterial(1.5f);
+  fire.name = "fire";
+  fire.emissive = true;
+  ASSERT_TRUE(renderer_->setMaterials({smokeMat, fire}).ok());
+  std::vector<media::Particle> ps = {sphereAt({0, 0, -6}, 2.0f), sphereAt({-1.5f, -0.8f, -4.5f}, 0.8f)};
+  ps[1].material = 1;
+  media::ExplosionLight add, mul;
+  add.center = {-1.5f, -0.8f, -4.5f};
+  add.radius = 2.5f;
+  add.intensity = 0.8f;
+  mul.center = {1.0f, -1.0f, -8.0f};
+  mul.radius = 3.0f;
+  mul.intensity = 0.6f;
+  mul.modulate = true;
+  mul.color = {0.2f, 0.4f, 1.0f};
+  const media::ExplosionLight lights[2] = {add, mul};
+  for (const float scale : {1.0f, 0.5f}) {
+    for (const Convention& c : kAll) {
+      const ClipControlScope scope(c.clip);
+      const auto host = hostPath(c, scale, ps, lights);
+      std::vector<glm::vec4> ownOpaque;
+      const auto own = ownPath(c, scale, ps, lights, ownOpaque);
+      const auto plain = hostPath(c, scale, {}, {});
+      ASSERT_EQ(host.size(), own.size());
+      int close = 0, changed = 0, edges = 0;
+      double worst = 0.0;
+      for (std::size_t i = 0; i < host.size(); ++i) {
+        // Puff's opaque pass is a 1-sample multisample target, which llvmpipe rasterizes at the
+        // geometry's edges differently from the host's single-sample one: pixels whose opaque
+        // colour differs between the two are not the composition's doing.
+        if (glm::any(glm::greaterThan(glm::abs(glm::vec3(ownOpaque[i]) - glm::vec3(plain[i])), glm::vec3(1e-3f)))) {
+          ++edges;
+          continue;
+        }
+        double diff = 0.0, effect = 0.0;
+        for (int k = 0; k < 3; ++k) {
+          diff = std::max(diff, static_cast<double>(std::abs(host[i][k] - own[i][k])));
+          effect = std::max(effect, static_cast<double>(std::abs(host[i][k] - plain[i][k])));
+        }
+        worst = std::max(worst, diff);
+        if (diff > 0.1 && std::getenv("PUFF_DEBUG_HOST"))
+          std::printf("%s px %d,%d host %g %g %g own %g %g %g plain %g %g %g\n", c.name, int(i % kSize), int(i / kSize),
+                      host[i].r, host[i].g, host[i].b, own[i].r, own[i].g, own[i].b, plain[i].r, plain[i].g,
+                      plain[i].b);
+        if (diff <= 2.0 / 255.0) ++close;
+        if (effect > 0.05) ++changed;
+      }
+      const std::string what = std::string(c.name) + " at scale " + std::to_string(scale);
+      std::printf("%s: %d edge pixels left out, %d of %d within 2/255, worst %.4f\n", what.c_str(), edges, close,
+                  static_cast<int>(host.size()) - edges, worst);
+      EXPECT_LT(edges, 3 * kSize) << what;  // the wall's edge column and the floor's far edge row
+      EXPECT_GE(close, static_cast<int>((host.size() - edges) * 0.999)) << what << ", worst " << worst;
+      EXPECT_LT(worst, 0.05) << what;
+      EXPECT_GT(changed, static_cast<int>(host.size() / 5)) << what;  // media and lights really drew
+    }
+  }
+}
+
+TEST_F(HostMedia, ComposeOverRefusesWhatItCannotDo) {
+  auto host = media::Layers::createForHost(16, 16, 1.0f);
+  ASSERT_OK(host);
+  EXPECT_TRUE((*host)->forHost());
+  const media::Frame f = MediaCamera{}.frame(16);
+  const int vp[4] = {0, 0, 16, 16};
+  media::ComposeSettings shimmer;
+  shimmer.shimmerPixels = 2.0f;
+  auto r = (*host)->composeOver(0, vp, f, {}, shimmer);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("heat shimmer"), std::string::npos) << r.error().message;
+  const int wrong[4] = {0, 0, 15, 16};
+  r = (*host)->composeOver(0, wrong, f, {}, {});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("15x16"), std::string::npos) << r.error().message;
+  auto own = media::Layers::create(16, 16, 1, 1.0f);
+  ASSERT_OK(own);
+  EXPECT_FALSE((*own)->forHost());
+  r = (*own)->composeOver(0, vp, f, {}, {});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("use compose"), std::string::npos) << r.error().message;
+  EXPECT_EQ(core::drainGlErrors(), "");
+}
+
+}  // namespace
+}  // namespace puff
