@@ -2,7 +2,7 @@
 """Checks a screenshot of the example game at its default view (puff_game --width 960 --height 540):
 the game's HUD and marker drawn after Puff, Puff's smoke (lit, with its ink outline) on both sides
 of the game's pillar and nothing drawn over the pillar (the game's standard depth cut the smoke),
-and with --fire bright orange fire over the fire pit. Pixel positions are the scene's (main.cpp),
+and with --fire bright orange fire over the fire pit and its light on the back wall. Pixel positions are the scene's (main.cpp),
 x from the left, y from the top. Reads the PNG with the standard library only (zlib).
 Usage: check_screenshot.py FILE.png [--fire]"""
 import struct
@@ -96,7 +96,12 @@ def main():
     if fire:
         orange = count(range(540, 721), range(120, 346), lambda p: p[0] > 200 and 60 < p[1] < 215 and p[2] < 130
                        and p[0] - p[2] > 120)
-        expect('bright orange fire pixels over the fire pit >= 150', orange >= 150, orange)
+        expect('bright orange fire pixels over the fire pit >= 100', orange >= 100, orange)
+        # The explosion light on the game's back wall beside the fire: warmer and brighter than the
+        # same wall far from it (unlit: (104, 100, 101)).
+        lit, unlit = px(700, 240), px(200, 240)
+        expect('back wall beside the fire lit: red +30 over the far wall, red > blue + 25',
+               lit[0] >= unlit[0] + 30 and lit[0] > lit[2] + 25, (lit, unlit))
     if failures:
         print(f'check_screenshot: {path}: {len(failures)} check(s) failed', file=sys.stderr)
         return 1

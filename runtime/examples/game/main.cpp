@@ -387,10 +387,10 @@ puff::sim::Settings fireSettings() {
   e.rate = 90.0f;
   e.start = -s.preroll;
   e.seed = 5;
-  e.velocity = {0.0f, 0.8f, 0.0f};
+  e.velocity = {0.0f, 1.8f, 0.0f};
   e.spreadDegrees = 10.0f;
-  e.sizeMin = 0.35f;
-  e.sizeMax = 0.55f;
+  e.sizeMin = 0.5f;
+  e.sizeMax = 0.8f;
   e.lifetime = 1.1f;
   e.lifetimeSpread = 0.25f;
   s.emitters = {e};
@@ -475,6 +475,8 @@ int run(const Options& opt, GLFWwindow* window) {
   auto media = puff::media::Renderer::create();
   if (!media) return fail(media.error().message);
   puff::media::Material fire = puff::media::fireMaterial();
+  fire.density = 4.0f;  // denser and brighter than the preset: small flames
+  fire.emission = 0.8f;
   fire.becomes = 1;  // fire turns to smoke over its life
   fire.transitionStart = 0.45f;
   fire.transitionEnd = 0.9f;
