@@ -1,11 +1,62 @@
 #!/usr/bin/env bash
 # Installs the build into a temporary prefix, builds tests/install/consumer against it with
-# find_package(puff), and runs it. Usage: check_install.sh BUILD_DIR SOURCE_DIR
+# find_package(puff), and runs it; then builds and runs the example game (runtime/examples/game).
+# Usage: check_install.sh BUILD_DIR SOURCE_DIR
+#        check_install.sh --game PREFIX SOURCE_DIR [CMAKE_ARGS...]   the game's part alone, against
+#                         an installed PREFIX (e.g. -DGAME_MEDIA_FIRE=OFF for a Puff without media
+#                         in the host's frame)
 set -euo pipefail
-build=$1
-src=$2
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+
+# The example game against installed PREFIX: baked atlas from the installed puffbake, configure,
+# build; bad input must fail with one line; under xvfb-run (GLFW needs a display) a 60-frame
+# screenshot checked pixel by pixel (runtime/examples/game/check_screenshot.py).
+check_game() {
+  local prefix=$1 src=$2
+  shift 2
+  local game=$work/game
+  mkdir -p "$game"
+  "$prefix/bin/puffbake" bake -g lumpy -n 4 -s 128 -o "$game/atlas" -q
+  cmake -S "$src/runtime/examples/game" -B "$game/build" -DCMAKE_PREFIX_PATH="$prefix" "$@" >"$game/configure.log" 2>&1 ||
+    { cat "$game/configure.log" >&2; exit 1; }
+  cmake --build "$game/build" -j2 >"$game/build.log" 2>&1 || { cat "$game/build.log" >&2; exit 1; }
+  local exe=$game/build/puff_game fire=()
+  grep -q '^GAME_MEDIA_FIRE:BOOL=ON$' "$game/build/CMakeCache.txt" && fire=(--fire)
+  "$exe" --help | grep -q -- '--screenshot' || { echo "check_install: puff_game --help says nothing of --screenshot" >&2; exit 1; }
+  # Bad input: one line naming the problem, a non-zero exit, before any window opens.
+  local line
+  for bad in "--atlas $game/none" "--atlas $game/atlas --screenshot $game/no/such/dir/shot.png" "--atlas $game/atlas --frames 0"; do
+    # shellcheck disable=SC2086
+    if line=$("$exe" $bad 2>&1); then
+      echo "check_install: puff_game $bad succeeded" >&2
+      exit 1
+    fi
+    [ "$(printf '%s\n' "$line" | wc -l)" -eq 1 ] || { echo "check_install: puff_game $bad: not one line: $line" >&2; exit 1; }
+    echo "check_install: puff_game $bad -> $line"
+  done
+  if ! command -v xvfb-run >/dev/null; then
+    echo "check_install: xvfb-run not found: the example game was built but not run"
+    return 0
+  fi
+  xvfb-run -a -s "-screen 0 1280x1024x24" "$exe" --atlas "$game/atlas" --screenshot "$game/shot.png" --frames 60 \
+    --width 960 --height 540
+  test -s "$game/shot.png"
+  python3 "$src/runtime/examples/game/check_screenshot.py" "$game/shot.png" "${fire[@]}"
+}
+
+if [ "${1:-}" = "--game" ]; then
+  [ $# -ge 3 ] || { echo "usage: check_install.sh --game PREFIX SOURCE_DIR [CMAKE_ARGS...]" >&2; exit 2; }
+  prefix=$(cd "$2" && pwd)
+  src=$3
+  shift 3
+  check_game "$prefix" "$src" "$@"
+  echo "check_install: game ok"
+  exit 0
+fi
+
+build=$1
+src=$2
 cmake --install "$build" --prefix "$work/prefix" >/dev/null
 cmake -S "$src/tests/install/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
 cmake --build "$work/consumer" -j2 >/dev/null
@@ -62,4 +113,5 @@ test -n "$pc"
 test -f "$work/prefix/include/puff/core/atlas.h"
 test -f "$work/prefix/lib/cmake/puff/puffConfig.cmake" || test -f "$work/prefix/lib/"*/cmake/puff/puffConfig.cmake
 test -x "$work/prefix/bin/puffbake"
+check_game "$work/prefix" "$src"
 echo "check_install: ok"
