@@ -23,6 +23,7 @@
 
 #include <puff/core/colour.h>
 #include <puff/core/depth.h>
+#include <puff/core/shader.h>
 #include <puff/gl_api.h>
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
@@ -162,11 +163,14 @@ class HostMedia : public MediaRendererTest {
   // The host's frame: its scene in its convention, then Puff's media layer and lights over it.
   std::vector<glm::vec4> hostPath(const Convention& c, float scale, std::span<const media::Particle> particles,
                                   std::span<const media::ExplosionLight> lights,
-                                  std::vector<float>* linearDepth = nullptr, GLenum colorFormat = GL_RGBA16F) {
-    HostTarget target(kSize, c.depth == DepthConvention::kReversedZ ? GL_DEPTH32F_STENCIL8 : GL_DEPTH24_STENCIL8,
+                                  std::vector<float>* linearDepth = nullptr, GLenum colorFormat = GL_RGBA16F,
+                                  int targetSize = kSize, int ox = 0, int oy = 0) {
+    // The game's frame is targetSize^2; the view Puff sees is the kSize^2 viewport at (ox, oy).
+    HostTarget target(targetSize, c.depth == DepthConvention::kReversedZ ? GL_DEPTH32F_STENCIL8 : GL_DEPTH24_STENCIL8,
                       colorFormat);
     EXPECT_TRUE(target.complete());
     target.bindAndClear(kSky, cel::clearDepth(c.depth));
+    glViewport(ox, oy, kSize, kSize);
     drawScene(c, c.depth == DepthConvention::kLinear);
     auto layers = media::Layers::createForHost(kSize, kSize, scale);
     EXPECT_OK(layers);
@@ -175,6 +179,8 @@ class HostMedia : public MediaRendererTest {
     media::HostDepth depth;
     depth.texture = target.depthTexture();
     depth.space = spaceFor(c);
+    depth.x = ox;
+    depth.y = oy;
     (*layers)->resolveHostDepth(depth);
     if (linearDepth) {
       linearDepth->resize(static_cast<std::size_t>(kSize) * kSize);
@@ -184,7 +190,7 @@ class HostMedia : public MediaRendererTest {
     const media::Frame f = mediaFrame(c);
     (*layers)->beginMedia();
     renderer_->draw((*layers)->layerFrame(f), particles, media::Method::kSpherical, (*layers)->mediaDepth());
-    const int vp[4] = {0, 0, kSize, kSize};
+    const int vp[4] = {ox, oy, kSize, kSize};
     EXPECT_OK((*layers)->composeOver(target.framebuffer(), vp, f, lights, {}));
     EXPECT_EQ(core::drainGlErrors(), "");
     return target.readLinear();
@@ -362,6 +368,7 @@ TEST_F(HostMedia, ComposeOverClipsTheMediumAtTheHostsWall) {
         const glm::dvec3 bg = d == 0.0 ? glm::dvec3(kSky) : glm::dvec3(kWallColor);
         (d == 0.0 ? skyPixels : wallPixels)++;
         const glm::vec4 got = px[static_cast<std::size_t>(y) * kSize + x];
+        EXPECT_EQ(got.a, 1.0f) << "the host's alpha is kept";
         for (int i = 0; i < 3; ++i)
           worst = std::max(worst, std::abs(got[i] - (bg[i] * (1 - a) + glm::dvec3(m.color)[i] * a)));
       }
@@ -472,6 +479,150 @@ TEST_F(HostMedia, AnSrgbTargetWithTheFlagOnBlendsInLinear) {
   EXPECT_LT(sum / (3.0 * static_cast<double>(linear.size())), 0.004);
 }
 
+// A game that draws its view into part of a bigger framebuffer (split screen, an editor panel,
+// dynamic resolution): HostDepth x/y and composeOver's viewport origin place Puff's reads and
+// writes there. The region is the origin-0 frame to the last bit; outside it nothing changes.
+TEST_F(HostMedia, AViewportAwayFromTheOriginReadsAndWritesItsOwnRegion) {
+  media::Material m = plainMaterial(0.6f);
+  m.color = glm::vec3(1.0f, 0.5f, 0.25f);
+  ASSERT_TRUE(renderer_->setMaterials({m}).ok());
+  const media::Particle smoke = sphereAt({0, 0, -6}, 2.0f);
+  media::ExplosionLight light;
+  light.center = {-1.5f, -0.8f, -4.5f};
+  light.radius = 2.5f;
+  constexpr int kBig = 96, kX = 13, kY = 7;
+  for (const Convention& c : {kStandardNO, kReversedInfinite}) {
+    const ClipControlScope scope(c.clip);
+    for (const float scale : {1.0f, 0.5f}) {
+      const auto atOrigin = hostPath(c, scale, std::span(&smoke, 1), std::span(&light, 1));
+      const auto moved =
+          hostPath(c, scale, std::span(&smoke, 1), std::span(&light, 1), nullptr, GL_RGBA16F, kBig, kX, kY);
+      ASSERT_EQ(moved.size(), static_cast<std::size_t>(kBig) * kBig);
+      const glm::vec4 sky = moved[0];  // outside the view: the host's clear, in half floats
+      EXPECT_NEAR(sky.b, kSky.b, 1e-3f);
+      int same = 0, outsideTouched = 0;
+      float worst = 0.0f;
+      for (int y = 0; y < kBig; ++y) {
+        for (int x = 0; x < kBig; ++x) {
+          const glm::vec4 got = moved[static_cast<std::size_t>(y) * kBig + x];
+          const bool inside = x >= kX && x < kX + kSize && y >= kY && y < kY + kSize;
+          if (inside) {
+            // The same frame, up to how the host's own triangles rasterize a whole number of pixels
+            // away (a few pixels' depth rounds differently).
+            const glm::vec4 want = atOrigin[static_cast<std::size_t>(y - kY) * kSize + (x - kX)];
+            const glm::vec3 d = glm::abs(glm::vec3(got) - glm::vec3(want));
+            const float diff = std::max({d.x, d.y, d.z});
+            worst = std::max(worst, diff);
+            same += diff <= 1e-3f;
+          } else if (got != sky) {
+            ++outsideTouched;
+          }
+        }
+      }
+      std::printf("%s at scale %.2f: %d of %d pixels within 1e-3 of the origin's frame, worst %.4f\n", c.name, scale,
+                  same, kSize * kSize, worst);
+      EXPECT_GE(same, kSize * kSize * 99 / 100) << c.name << " at scale " << scale;
+      EXPECT_LT(worst, 0.05f) << c.name << " at scale " << scale;
+      EXPECT_EQ(outsideTouched, 0) << c.name << " at scale " << scale;
+    }
+  }
+}
+
+// Each sample of a multisampled depth counts: the wall drawn into one sample only (glSampleMaski)
+// is what every pixel it covers resolves to, for each sample of 2, 4 and 8.
+TEST_F(HostMedia, EverySampleOfAMultisampledDepthIsRead) {
+  const Convention& c = kStandardNO;
+  GLint maxDepth = 1, maxColor = 1;
+  glGetIntegerv(GL_MAX_DEPTH_TEXTURE_SAMPLES, &maxDepth);
+  glGetIntegerv(GL_MAX_COLOR_TEXTURE_SAMPLES, &maxColor);
+  ASSERT_GE(std::min(maxDepth, maxColor), 4);
+  for (const int samples : {2, 4, 8}) {
+    if (samples > std::min(maxDepth, maxColor)) {
+      std::printf("%d samples: this GL gives multisample depth textures of up to %d\n", samples,
+                  std::min(maxDepth, maxColor));
+      continue;
+    }
+    core::Framebuffer fbo = core::makeFramebuffer();
+    core::Texture color = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
+    core::Texture depthTex = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
+    glTextureStorage2DMultisample(color.get(), samples, GL_RGBA16F, kSize, kSize, GL_TRUE);
+    glTextureStorage2DMultisample(depthTex.get(), samples, GL_DEPTH24_STENCIL8, kSize, kSize, GL_TRUE);
+    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
+    glNamedFramebufferTexture(fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, depthTex.get(), 0);
+    ASSERT_EQ(glCheckNamedFramebufferStatus(fbo.get(), GL_FRAMEBUFFER), static_cast<GLenum>(GL_FRAMEBUFFER_COMPLETE));
+    auto layers = media::Layers::createForHost(kSize, kSize, 1.0f);
+    ASSERT_OK(layers);
+    for (int k = 0; k < samples; ++k) {
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+      glViewport(0, 0, kSize, kSize);
+      glClearNamedFramebufferfi(fbo.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+      glEnable(GL_SAMPLE_MASK);
+      glSampleMaski(0, 1u << k);
+      drawScene(c, false);
+      glSampleMaski(0, ~0u);
+      glDisable(GL_SAMPLE_MASK);
+      media::HostDepth depth;
+      depth.texture = depthTex.get();
+      depth.samples = samples;
+      depth.space = spaceFor(c);
+      (*layers)->resolveHostDepth(depth);
+      std::vector<float> lin(static_cast<std::size_t>(kSize) * kSize);
+      glGetTextureImage((*layers)->opaqueDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(lin.size() * 4),
+                        lin.data());
+      int wall = 0, wrong = 0;
+      for (int y = 0; y < kSize; ++y) {
+        for (int x = 0; x < kSize; ++x) {
+          // Wall pixels away from its edge (a sample's position may fall either side there).
+          if (surfaceDistance(c, x, y) != kWallDistance || surfaceDistance(c, x + 1, y) != kWallDistance) continue;
+          ++wall;
+          wrong += std::abs(lin[static_cast<std::size_t>(y) * kSize + x] - linearOf(kWallDistance)) > 3e-5;
+        }
+      }
+      EXPECT_GT(wall, 500) << samples << " samples, sample " << k;
+      EXPECT_EQ(wrong, 0) << samples << " samples, the wall in sample " << k << " only";
+    }
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+// The explosion lights apply in order: an additive light then a modulating one is
+// (surface + add) * mul. Orthographic, at the pixel whose ray passes through both lights' centre
+// (radial weight 1) with the wall behind their centre (depth weight 1): k = intensity exactly.
+TEST_F(HostMedia, ExplosionLightsApplyInTheirOrder) {
+  const Convention& c = kOrthoStandard;
+  const ClipControlScope scope(c.clip);
+  const int px = 10, py = 40;
+  glm::dvec3 o, dir;
+  pixelRay(c, px, py, o, dir);
+  ASSERT_EQ(surfaceDistance(c, px, py), kWallDistance);
+  media::ExplosionLight add, mul;
+  add.center = glm::vec3(static_cast<float>(o.x), static_cast<float>(o.y), -4.0f);  // front 3, centre 4, wall 5.5
+  add.radius = 1.0f;
+  add.color = glm::vec3(0.5f);
+  add.intensity = 1.0f;
+  mul = add;
+  mul.modulate = true;
+  const media::ExplosionLight addThenMul[2] = {add, mul}, mulThenAdd[2] = {mul, add};
+  const auto a = hostPath(c, 1.0f, {}, addThenMul);
+  const auto b = hostPath(c, 1.0f, {}, mulThenAdd);
+  const std::size_t i = static_cast<std::size_t>(py) * kSize + px;
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(a[i][k], (kWallColor[k] + 0.5f) * 0.5f, 2e-3) << "channel " << k;
+    EXPECT_NEAR(b[i][k], kWallColor[k] * 0.5f + 0.5f, 2e-3) << "channel " << k;
+  }
+}
+
+// compose_over.frag's two outputs are the blend's two sources: index 0 and index 1 of location 0
+// (a second location instead is what some drivers take and the spec leaves undefined).
+TEST_F(HostMedia, TheBlendFactorIsTheSecondSourceOfLocationZero) {
+  auto p = core::buildProgram({"media/fullscreen.vert", "media/compose_over.frag"});
+  ASSERT_OK(p);
+  for (const auto& [name, index] : {std::pair{"outColor", 0}, std::pair{"outFactor", 1}}) {
+    EXPECT_EQ(glGetProgramResourceLocation(p->get(), GL_PROGRAM_OUTPUT, name), 0) << name;
+    EXPECT_EQ(glGetProgramResourceLocationIndex(p->get(), GL_PROGRAM_OUTPUT, name), index) << name;
+  }
+}
+
 TEST_F(HostMedia, ComposeOverRefusesWhatItCannotDo) {
   auto host = media::Layers::createForHost(16, 16, 1.0f);
   ASSERT_OK(host);
@@ -487,6 +638,25 @@ TEST_F(HostMedia, ComposeOverRefusesWhatItCannotDo) {
   r = (*host)->composeOver(0, wrong, f, {}, {});
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("15x16"), std::string::npos) << r.error().message;
+  const int wrongHeight[4] = {0, 0, 16, 17};
+  r = (*host)->composeOver(0, wrongHeight, f, {}, {});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("16x17"), std::string::npos) << r.error().message;
+  // A target with two draw buffers: dual-source blending writes one.
+  core::Framebuffer two = core::makeFramebuffer();
+  core::Texture c0 = core::makeTexture(GL_TEXTURE_2D), c1 = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(c0.get(), 1, GL_RGBA16F, 16, 16);
+  glTextureStorage2D(c1.get(), 1, GL_RGBA16F, 16, 16);
+  glNamedFramebufferTexture(two.get(), GL_COLOR_ATTACHMENT0, c0.get(), 0);
+  glNamedFramebufferTexture(two.get(), GL_COLOR_ATTACHMENT1, c1.get(), 0);
+  const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glNamedFramebufferDrawBuffers(two.get(), 2, both);
+  r = (*host)->composeOver(two.get(), vp, f, {}, {});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("dual-source blending allows"), std::string::npos) << r.error().message;
+  glNamedFramebufferDrawBuffer(two.get(), GL_COLOR_ATTACHMENT0);
+  EXPECT_OK((*host)->composeOver(two.get(), vp, f, {}, {}));
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
   auto own = media::Layers::create(16, 16, 1, 1.0f);
   ASSERT_OK(own);
   EXPECT_FALSE((*own)->forHost());

@@ -373,8 +373,21 @@ Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Fra
   if (viewport[2] != m.width || viewport[3] != m.height)
     return Error{"composeOver: viewport " + std::to_string(viewport[2]) + "x" + std::to_string(viewport[3]) +
                  " is not the layers' " + std::to_string(m.width) + "x" + std::to_string(m.height)};
-  m.uploadComposeBlock(viewport, frame, lights, settings);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+  // Dual-source blending writes GL_MAX_DUAL_SOURCE_DRAW_BUFFERS draw buffers at most (1 on
+  // common GPUs): a target with more enabled would make the draw an error.
+  GLint maxDual = 1, maxDraw = 1;
+  glGetIntegerv(GL_MAX_DUAL_SOURCE_DRAW_BUFFERS, &maxDual);
+  glGetIntegerv(GL_MAX_DRAW_BUFFERS, &maxDraw);
+  for (GLint i = std::max(maxDual, 1); i < maxDraw; ++i) {
+    GLint buffer = GL_NONE;
+    glGetIntegerv(GL_DRAW_BUFFER0 + i, &buffer);
+    if (buffer != GL_NONE)
+      return Error{"composeOver: framebuffer " + std::to_string(target) + " draws to " + std::to_string(i + 1) +
+                   " or more colour buffers, and dual-source blending allows " + std::to_string(maxDual) +
+                   "; give it one draw buffer (glNamedFramebufferDrawBuffer) for this call"};
+  }
+  m.uploadComposeBlock(viewport, frame, lights, settings);
   glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
   fullscreenState();  // GL_FRAMEBUFFER_SRGB the host's: on an sRGB target with it on, the blend is in linear
   // dst * src1 + src0 on RGB (compose_over.frag); the host's alpha kept.

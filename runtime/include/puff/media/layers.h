@@ -137,7 +137,9 @@ class Layers {
   /// `viewport` (its w x h must be width() x height()). Colour only (RGB; the target's alpha, depth
   /// and stencil are kept). The blend happens in the target's space: give it scene-linear colour,
   /// a float target or an sRGB one with GL_FRAMEBUFFER_SRGB on (left as the host set it).
-  /// Errors (nothing drawn): layers not made by createForHost; settings.shimmerPixels != 0.
+  /// Errors (nothing drawn): layers not made by createForHost; settings.shimmerPixels != 0; a
+  /// viewport of another size; a target drawing to more colour buffers than dual-source blending
+  /// allows (GL_MAX_DUAL_SOURCE_DRAW_BUFFERS, 1 on common GPUs; the target is then left bound).
   /// Leaves: the draw framebuffer = `target`; the viewport = `viewport`; depth test, stencil test,
   /// culling, scissor test and rasterizer discard off; polygon mode GL_FILL; colour write masks on
   /// for every draw buffer; blending off on every draw buffer, with draw buffer 0's functions
