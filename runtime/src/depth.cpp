@@ -20,6 +20,10 @@ float linearFromStored(const DepthSpace& space, float stored) {
   if (space.convention == DepthConvention::kLinear) return std::clamp(stored, 0.0f, 1.0f);
   // The same arithmetic as media/host_depth.glsl's linearFromStored. ndc = (A z + B) / (C z + D)
   // for the projection's z row (A, B) and w row (C, D) at camera z; solved for z = -distance.
+  // The far plane's stored value (what the buffer clears to) is "no surface" exactly: through the
+  // projection in float it reads ~1 - 1e-6 for standard depth, and a light would take the sky
+  // for a surface just in front of the far plane.
+  if (space.convention == DepthConvention::kStandard ? stored >= 1.0f : stored <= 0.0f) return 1.0f;
   const glm::mat4& p = space.projection;
   const float ndc = space.clipDepth == ClipDepth::kZeroToOne ? stored : 2.0f * stored - 1.0f;
   const float a = p[2][2], b = p[3][2], c = p[2][3], d = p[3][3];

@@ -66,6 +66,21 @@ TEST(HostMediaDepth, LinearFromStoredInvertsEveryConvention) {
     EXPECT_EQ(core::linearFromStored(s, clear), 1.0f) << c.name;
     EXPECT_EQ(core::linearFromStored(s, c.depth == DepthConvention::kReversedZ ? 1.0f : 0.0f), 0.0f) << c.name;
   }
+  // The far plane's stored value is "no surface" exactly, for any planes: in float through the
+  // projection it came out 1 - 9e-7 for standard depth with near 0.5, far 40 (lights lit the sky).
+  for (const auto& [n, f] : {std::pair{0.5f, 40.0f}, std::pair{0.1f, 1000.0f}, std::pair{1.0f, 10.0f}}) {
+    const float fov = glm::radians(60.0f);
+    const core::DepthSpace spaces[] = {
+        {DepthConvention::kStandard, ClipDepth::kNegativeOneToOne, glm::perspectiveRH_NO(fov, 1.5f, n, f), n, f},
+        {DepthConvention::kStandard, ClipDepth::kZeroToOne, glm::perspectiveRH_ZO(fov, 1.5f, n, f), n, f},
+        {DepthConvention::kReversedZ, ClipDepth::kZeroToOne, glm::perspectiveRH_ZO(fov, 1.5f, f, n), n, f},
+        {DepthConvention::kReversedZ, ClipDepth::kNegativeOneToOne, glm::perspectiveRH_NO(fov, 1.5f, f, n), n, f}};
+    for (const core::DepthSpace& sp : spaces) {
+      const float clear = cel::clearDepth(sp.convention);
+      EXPECT_EQ(core::linearFromStored(sp, clear), 1.0f) << n << " " << f;
+      EXPECT_LT(core::linearFromStored(sp, core::storedDepth(sp, 0.999f)), 1.0f) << n << " " << f;
+    }
+  }
   // Past the finite linear scale of an infinite-far projection: clamped to 1.
   EXPECT_EQ(core::linearFromStored(spaceFor(kReversedInfinite), static_cast<float>(kNear / 500.0)), 1.0f);
 }
@@ -181,7 +196,7 @@ class HostMedia : public MediaRendererTest {
     depth.space = spaceFor(c);
     depth.x = ox;
     depth.y = oy;
-    (*layers)->resolveHostDepth(depth);
+    EXPECT_OK((*layers)->resolveHostDepth(depth));
     if (linearDepth) {
       linearDepth->resize(static_cast<std::size_t>(kSize) * kSize);
       glGetTextureImage((*layers)->opaqueDepth(), 0, GL_RED, GL_FLOAT,
@@ -307,9 +322,8 @@ TEST_F(HostMedia, AMultisampledHostDepthKeepsTheNearestSample) {
   ASSERT_OK(layers);
   media::HostDepth depth;
   depth.texture = depthTex.get();
-  depth.samples = samples;
   depth.space = spaceFor(c);
-  (*layers)->resolveHostDepth(depth);
+  ASSERT_OK((*layers)->resolveHostDepth(depth));
   std::vector<float> lin(static_cast<std::size_t>(kSize) * kSize);
   glGetTextureImage((*layers)->opaqueDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(lin.size() * 4), lin.data());
   // The wall's edge: the first column whose centre misses the wall still has samples on it, and
@@ -563,9 +577,8 @@ TEST_F(HostMedia, EverySampleOfAMultisampledDepthIsRead) {
       glDisable(GL_SAMPLE_MASK);
       media::HostDepth depth;
       depth.texture = depthTex.get();
-      depth.samples = samples;
       depth.space = spaceFor(c);
-      (*layers)->resolveHostDepth(depth);
+      EXPECT_OK((*layers)->resolveHostDepth(depth));
       std::vector<float> lin(static_cast<std::size_t>(kSize) * kSize);
       glGetTextureImage((*layers)->opaqueDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(lin.size() * 4),
                         lin.data());
@@ -623,6 +636,94 @@ TEST_F(HostMedia, TheBlendFactorIsTheSecondSourceOfLocationZero) {
   }
 }
 
+// The same on the GPU: a cleared depth texture (nothing drawn) resolves to exactly 1 at every
+// pixel, for standard and reversed-z with near 0.5, far 40, and then no light touches it.
+TEST_F(HostMedia, TheClearedFarPlaneIsNoSurfaceAndNoLightTouchesIt) {
+  const float n = 0.5f, f = 40.0f, fov = glm::radians(60.0f);
+  struct Case {
+    core::DepthSpace space;
+    GLenum format;
+  };
+  const Case cases[] = {
+      {{DepthConvention::kStandard, ClipDepth::kNegativeOneToOne, glm::perspectiveRH_NO(fov, 1.0f, n, f), n, f},
+       GL_DEPTH24_STENCIL8},
+      {{DepthConvention::kStandard, ClipDepth::kZeroToOne, glm::perspectiveRH_ZO(fov, 1.0f, n, f), n, f},
+       GL_DEPTH32F_STENCIL8},
+      {{DepthConvention::kReversedZ, ClipDepth::kZeroToOne, glm::perspectiveRH_ZO(fov, 1.0f, f, n), n, f},
+       GL_DEPTH32F_STENCIL8},
+      {{DepthConvention::kReversedZ, ClipDepth::kNegativeOneToOne, glm::perspectiveRH_NO(fov, 1.0f, f, n), n, f},
+       GL_DEPTH24_STENCIL8}};
+  for (const Case& c : cases) {
+    HostTarget target(kSize, c.format);
+    target.bindAndClear(kSky, cel::clearDepth(c.space.convention));
+    auto layers = media::Layers::createForHost(kSize, kSize, 0.5f);
+    ASSERT_OK(layers);
+    media::HostDepth depth;
+    depth.texture = target.depthTexture();
+    depth.space = c.space;
+    ASSERT_OK((*layers)->resolveHostDepth(depth));
+    std::vector<float> lin(static_cast<std::size_t>(kSize) * kSize);
+    glGetTextureImage((*layers)->opaqueDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(lin.size() * 4), lin.data());
+    EXPECT_EQ(std::count(lin.begin(), lin.end(), 1.0f), kSize * kSize)
+        << "case " << (&c - cases) << ": " << lin[0] << ", stored " << target.readDepth()[0];
+    media::Frame fr = MediaCamera{n, f, 60.0f}.frame(kSize);
+    fr.projection = c.space.projection;
+    media::ExplosionLight light;  // in front of the camera, its disc over the whole view
+    light.center = {0, 0, -5};
+    light.radius = 4.0f;
+    (*layers)->beginMedia();
+    const int vp[4] = {0, 0, kSize, kSize};
+    ASSERT_OK((*layers)->composeOver(target.framebuffer(), vp, fr, std::span(&light, 1), {}));
+    const auto px = target.readLinear();
+    int lit = 0;
+    for (const glm::vec4& p : px) lit += std::abs(p.r - px[0].r) > 1e-4f || std::abs(p.r - kSky.r) > 1e-3f;
+    EXPECT_EQ(lit, 0);
+  }
+}
+
+TEST_F(HostMedia, ResolveHostDepthRefusesWhatItCannotRead) {
+  auto layers = media::Layers::createForHost(32, 32, 1.0f);
+  ASSERT_OK(layers);
+  const auto refuse = [&](const media::HostDepth& d, const std::string& words) {
+    auto r = (*layers)->resolveHostDepth(d);
+    ASSERT_FALSE(r.ok()) << words;
+    EXPECT_NE(r.error().message.find(words), std::string::npos) << r.error().message;
+  };
+  media::HostDepth d;
+  d.space = spaceFor(kStandardNO);
+  refuse(d, "is not a texture");
+  core::Texture color = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(color.get(), 1, GL_RGBA32F, 32, 32);
+  d.texture = color.get();
+  refuse(d, "does not hold depth");
+  core::Texture cube = core::makeTexture(GL_TEXTURE_CUBE_MAP);
+  glTextureStorage2D(cube.get(), 1, GL_DEPTH_COMPONENT24, 32, 32);
+  d.texture = cube.get();
+  refuse(d, "not a 2D or 2D multisample texture");
+  core::Texture depth = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(depth.get(), 1, GL_DEPTH24_STENCIL8, 40, 32);
+  d.texture = depth.get();
+  d.x = 9;  // 9 + 32 > 40
+  refuse(d, "does not fit in it");
+  d.x = 8;
+  EXPECT_OK((*layers)->resolveHostDepth(d));
+  glTextureParameteri(depth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_STENCIL_INDEX);
+  refuse(d, "GL_DEPTH_STENCIL_TEXTURE_MODE");
+  glTextureParameteri(depth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
+  glTextureParameteri(depth.get(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  refuse(d, "GL_TEXTURE_COMPARE_MODE");
+  glTextureParameteri(depth.get(), GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  d.space.farPlane = d.space.nearPlane;
+  refuse(d, "need 0 < near < far");
+  d.space = spaceFor(kStandardNO);
+  auto own = media::Layers::create(32, 32, 1, 1.0f);
+  ASSERT_OK(own);
+  auto r = (*own)->resolveHostDepth(d);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("use resolveOpaque"), std::string::npos) << r.error().message;
+  EXPECT_EQ(core::drainGlErrors(), "");
+}
+
 TEST_F(HostMedia, ComposeOverRefusesWhatItCannotDo) {
   auto host = media::Layers::createForHost(16, 16, 1.0f);
   ASSERT_OK(host);
@@ -642,6 +743,13 @@ TEST_F(HostMedia, ComposeOverRefusesWhatItCannotDo) {
   r = (*host)->composeOver(0, wrongHeight, f, {}, {});
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("16x17"), std::string::npos) << r.error().message;
+  // Nine lights that shine: at most 8 (intensity 0 does not count).
+  std::vector<media::ExplosionLight> nine(9);
+  r = (*host)->composeOver(0, vp, f, nine, {});
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("9 explosion lights, at most 8"), std::string::npos) << r.error().message;
+  nine[8].intensity = 0.0f;
+  EXPECT_OK((*host)->composeOver(0, vp, f, nine, {}));
   // A target with two draw buffers: dual-source blending writes one.
   core::Framebuffer two = core::makeFramebuffer();
   core::Texture c0 = core::makeTexture(GL_TEXTURE_2D), c1 = core::makeTexture(GL_TEXTURE_2D);

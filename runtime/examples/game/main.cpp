@@ -497,7 +497,6 @@ int run(const Options& opt, GLFWwindow* window) {
   mediaFrame.height = H;
   // The game's depth texture as Puff reads it: standard depth from the same projection.
   const puff::media::HostDepth hostDepth{.texture = scene.depth,
-                                         .samples = 1,
                                          .space = {puff::core::DepthConvention::kStandard,
                                                    puff::core::ClipDepth::kNegativeOneToOne, projection, kNear, kFar}};
   std::vector<puff::media::Particle> fireParticles;
@@ -542,7 +541,7 @@ int run(const Options& opt, GLFWwindow* window) {
     const float flicker = 1.0f + 0.25f * std::sin(time * 11.0f) * std::sin(time * 3.7f);
     const puff::media::ExplosionLight glow{
         kFirePit + glm::vec3(0, 0.6f, 0), 2.2f, {1.0f, 0.45f, 0.12f}, 0.9f * flicker};
-    (*layers)->resolveHostDepth(hostDepth);
+    if (auto ok = (*layers)->resolveHostDepth(hostDepth); !ok) return fail(ok.error().message);
     (*layers)->beginMedia();
     (*media)->draw((*layers)->layerFrame(mediaFrame), fireParticles, puff::media::Method::kSpherical,
                    (*layers)->mediaDepth());

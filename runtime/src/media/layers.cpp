@@ -1,6 +1,8 @@
 // Layer composition: the opaque target, the low-resolution media layer and the compose pass.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include <glm/matrix.hpp>
@@ -28,7 +30,8 @@ struct ComposeBlockData {
 };
 
 // The state Layers' full-screen passes rely on (and leave): no depth or stencil test, blending,
-// culling, scissor or rasterizer discard; filled polygons; colour writes on. GL_FRAMEBUFFER_SRGB
+// culling, scissor, rasterizer discard, alpha to coverage or sample mask; filled polygons; colour
+// writes on. GL_FRAMEBUFFER_SRGB
 // stays the host's: Puff's own targets are float, and a host's sRGB target with the flag on
 // encodes the scene-linear colour compose writes (docs/colour.md).
 void fullscreenState() {
@@ -38,8 +41,19 @@ void fullscreenState() {
   glDisable(GL_CULL_FACE);
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_RASTERIZER_DISCARD);
+  // A multisampled target: every sample written (composeOver's colour output has alpha 0, which
+  // alpha to coverage would turn into no sample at all).
+  glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  glDisable(GL_SAMPLE_MASK);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+// A call the caller may not make (the header says so): one line naming it, then abort, as a
+// broken promise of the caller's, not Puff's ("internal check failed" would blame Puff).
+[[noreturn]] void misuse(const char* message) {
+  std::fprintf(stderr, "puff: %s\n", message);
+  std::abort();
 }
 
 core::Texture makeTexture2D(GLenum format, int w, int h, GLenum filter) {
@@ -308,7 +322,8 @@ Frame Layers::layerFrame(const Frame& full) const {
 
 void Layers::resolveOpaque() {
   Impl& m = *impl_;
-  PUFF_CHECK(!m.host && "Layers made by createForHost have no opaque pass: call resolveHostDepth");
+  if (m.host)
+    misuse("Layers::resolveOpaque on layers made by createForHost, which have no opaque pass: call resolveHostDepth");
   // Its own framebuffers must not stay bound to catch the host's next draws: the draw framebuffer
   // and viewport it found are put back (two queries, answered client-side on desktop drivers).
   GLint hostDraw = 0, hostViewport[4] = {0, 0, 0, 0};
@@ -333,10 +348,55 @@ void Layers::resolveOpaque() {
   glViewport(hostViewport[0], hostViewport[1], hostViewport[2], hostViewport[3]);
 }
 
-void Layers::resolveHostDepth(const HostDepth& host) {
+namespace {
+
+bool isDepthFormat(GLint format) {
+  switch (format) {
+    case GL_DEPTH_COMPONENT16:
+    case GL_DEPTH_COMPONENT24:
+    case GL_DEPTH_COMPONENT32:
+    case GL_DEPTH_COMPONENT32F:
+    case GL_DEPTH24_STENCIL8:
+    case GL_DEPTH32F_STENCIL8:
+      return true;
+    default:
+      return false;
+  }
+}
+
+}  // namespace
+
+Result<void> Layers::resolveHostDepth(const HostDepth& host) {
   Impl& m = *impl_;
-  PUFF_CHECK(m.host && "resolveHostDepth needs Layers made by createForHost");
-  PUFF_CHECK(host.samples >= 1);
+  const std::string what = "resolveHostDepth: HostDepth.texture " + std::to_string(host.texture);
+  if (!m.host)
+    return Error{
+        "resolveHostDepth: these media layers have their own opaque pass (Layers::create): use "
+        "resolveOpaque"};
+  if (host.texture == 0 || glIsTexture(host.texture) != GL_TRUE) return Error{what + " is not a texture"};
+  // The texture says what it is: target, format, size and samples (a few object queries, no sync).
+  GLint target = 0, format = 0, w = 0, h = 0, samples = 0, mode = GL_DEPTH_COMPONENT, compare = GL_NONE;
+  glGetTextureParameteriv(host.texture, GL_TEXTURE_TARGET, &target);
+  if (target != GL_TEXTURE_2D && target != GL_TEXTURE_2D_MULTISAMPLE)
+    return Error{what + " is not a 2D or 2D multisample texture"};
+  glGetTextureLevelParameteriv(host.texture, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
+  glGetTextureLevelParameteriv(host.texture, 0, GL_TEXTURE_WIDTH, &w);
+  glGetTextureLevelParameteriv(host.texture, 0, GL_TEXTURE_HEIGHT, &h);
+  glGetTextureLevelParameteriv(host.texture, 0, GL_TEXTURE_SAMPLES, &samples);
+  glGetTextureParameteriv(host.texture, GL_DEPTH_STENCIL_TEXTURE_MODE, &mode);
+  glGetTextureParameteriv(host.texture, GL_TEXTURE_COMPARE_MODE, &compare);
+  if (!isDepthFormat(format)) return Error{what + " does not hold depth (not a depth or depth-stencil format)"};
+  if (mode != GL_DEPTH_COMPONENT)
+    return Error{what + " reads its stencil (GL_DEPTH_STENCIL_TEXTURE_MODE); set it to GL_DEPTH_COMPONENT"};
+  if (compare != GL_NONE) return Error{what + " has GL_TEXTURE_COMPARE_MODE on; it must be GL_NONE"};
+  if (host.x < 0 || host.y < 0 || host.x + m.width > w || host.y + m.height > h)
+    return Error{what + " is " + std::to_string(w) + "x" + std::to_string(h) + ": the layers' " +
+                 std::to_string(m.width) + "x" + std::to_string(m.height) + " at (" + std::to_string(host.x) + ", " +
+                 std::to_string(host.y) + ") does not fit in it"};
+  const core::DepthSpace& space = host.space;
+  if (!(space.nearPlane > 0.0f) || !(space.farPlane > space.nearPlane) || !std::isfinite(space.farPlane))
+    return Error{"resolveHostDepth: HostDepth.space planes " + std::to_string(space.nearPlane) + ", " +
+                 std::to_string(space.farPlane) + ": need 0 < near < far, far finite (linear depth's 1)"};
   GLint hostDraw = 0, hostViewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &hostDraw);
   glGetIntegerv(GL_VIEWPORT, hostViewport);
@@ -344,14 +404,17 @@ void Layers::resolveHostDepth(const HostDepth& host) {
   glBindVertexArray(m.vao.get());
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.linearFbo.get());
   glViewport(0, 0, m.width, m.height);
-  const bool multi = host.samples > 1;
+  const bool multi = target == GL_TEXTURE_2D_MULTISAMPLE;
   glUseProgram(multi ? m.resolveHostMs.get() : m.resolveHost.get());
   const core::DepthSpace& sp = host.space;
   const glm::mat4& p = sp.projection;
-  if (multi) glUniform1i(0, host.samples);
+  if (multi) glUniform1i(0, samples);
   glUniform4f(1, p[2][2], p[3][2], p[2][3], p[3][3]);
-  glUniform4f(2, sp.nearPlane, sp.farPlane - sp.nearPlane,
-              sp.convention == core::DepthConvention::kLinear ? 0.0f : 1.0f,
+  // host_depth.glsl's uPlanes.z: 0 linear, 1 standard, 2 reversed-z.
+  const float convention = sp.convention == core::DepthConvention::kLinear     ? 0.0f
+                           : sp.convention == core::DepthConvention::kStandard ? 1.0f
+                                                                               : 2.0f;
+  glUniform4f(2, sp.nearPlane, sp.farPlane - sp.nearPlane, convention,
               sp.clipDepth == core::ClipDepth::kZeroToOne ? 1.0f : 0.0f);
   glUniform2i(3, host.x, host.y);
   core::bindTextureAndNoSampler(m.bindings.resolveSource, host.texture);  // on its own target (2D or 2D MS)
@@ -361,6 +424,7 @@ void Layers::resolveHostDepth(const HostDepth& host) {
   glUseProgram(0);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(hostDraw));
   glViewport(hostViewport[0], hostViewport[1], hostViewport[2], hostViewport[3]);
+  return {};
 }
 
 Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Frame& frame,
@@ -370,6 +434,10 @@ Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Fra
   if (settings.shimmerPixels != 0.0f)
     return Error{"composeOver: heat shimmer (shimmerPixels " + std::to_string(settings.shimmerPixels) +
                  ") displaces the host's scene, which composeOver blends onto and cannot read; set it to 0"};
+  if (const auto lit = std::count_if(lights.begin(), lights.end(),
+                                     [](const ExplosionLight& l) { return l.intensity > 0.0f && l.radius > 0.0f; });
+      lit > kMaxLights)
+    return Error{"composeOver: " + std::to_string(lit) + " explosion lights, at most " + std::to_string(kMaxLights)};
   if (viewport[2] != m.width || viewport[3] != m.height)
     return Error{"composeOver: viewport " + std::to_string(viewport[2]) + "x" + std::to_string(viewport[3]) +
                  " is not the layers' " + std::to_string(m.width) + "x" + std::to_string(m.height)};
@@ -425,7 +493,7 @@ void Layers::beginMedia() {
 void Layers::compose(GLuint target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
                      const ComposeSettings& settings) {
   Impl& m = *impl_;
-  PUFF_CHECK(!m.host && "Layers made by createForHost have no opaque colour: call composeOver");
+  if (m.host) misuse("Layers::compose on layers made by createForHost, which have no opaque colour: call composeOver");
   PUFF_CHECK(viewport[2] == m.width && viewport[3] == m.height);
   m.uploadComposeBlock(viewport, frame, lights, settings);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);

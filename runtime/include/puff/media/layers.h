@@ -50,12 +50,12 @@ namespace puff::media {
 
 /// The host's depth buffer, read by Layers::resolveHostDepth.
 struct HostDepth {
-  /// A depth or depth-stencil texture (GL_TEXTURE_2D, or GL_TEXTURE_2D_MULTISAMPLE when samples >
-  /// 1) holding the host's opaque scene. A depth-stencil texture must keep its default
+  /// A depth or depth-stencil texture, GL_TEXTURE_2D or GL_TEXTURE_2D_MULTISAMPLE (each pixel
+  /// keeps its nearest sample), holding the host's opaque scene. Its target, format, size and
+  /// sample count are read from the texture itself. A depth-stencil texture must keep its default
   /// GL_DEPTH_STENCIL_TEXTURE_MODE (GL_DEPTH_COMPONENT), and GL_TEXTURE_COMPARE_MODE must be
   /// GL_NONE (the default). Read with texelFetch: filters and mipmaps do not matter.
   core::GlId texture = 0;
-  int samples = 1;  ///< 1, or the multisample texture's sample count (each pixel keeps the nearest)
   /// The host's convention, projection and linear depth's 0 and 1 (the media Frame's planes).
   core::DepthSpace space;
   int x = 0, y = 0;  ///< where the layers' width() x height() region starts in the texture
@@ -93,8 +93,9 @@ class Layers {
   /// layer's depth (nearest depth per layer texel, R32F linear). Sets its own state.
   /// Restores the draw framebuffer and viewport it found (two queries: a framebuffer of its own
   /// left bound would take the host's next draws unseen). Leaves: "the full-screen state" (depth
-  /// test, stencil test, blending on every draw buffer, culling, scissor test and rasterizer discard
-  /// off (GL_FRAMEBUFFER_SRGB is the host's, untouched by every Layers call); polygon mode GL_FILL; colour write masks
+  /// test, stencil test, blending on every draw buffer, culling, scissor test, rasterizer discard,
+  /// alpha to coverage and the sample mask off (GL_FRAMEBUFFER_SRGB is the host's, untouched by
+  /// every Layers call); polygon mode GL_FILL; colour write masks
   /// on for every draw buffer); no program, no vertex array; unit `resolveSource` with its 2D multisample texture = the
   /// opaque depth, its 2D texture = the resolved depth and sampler binding 0.
   void resolveOpaque();
@@ -105,7 +106,11 @@ class Layers {
   /// `resolveSource` with sampler binding 0, its 2D texture = Puff's linear depth and, after a multisample `depth`, its
   /// 2D multisample texture = `depth.texture`. Reading a texture attached to the bound read framebuffer is fine; it
   /// must not be attached to a draw buffer Puff renders into (it is not: Puff draws into its own).
-  void resolveHostDepth(const HostDepth& depth);
+  /// Errors (nothing drawn, no state changed): layers made by create; `depth.texture` not a 2D or
+  /// 2D multisample texture of a depth format, reading its stencil or comparing; the layers'
+  /// region not inside it; planes not 0 < near < far < infinity. Checking takes eight queries of
+  /// the texture object's parameters.
+  Result<void> resolveHostDepth(const HostDepth& depth);
   /// The opaque depth at the layer's resolution (for Renderer::draw).
   core::GlId mediaDepth() const;
   /// The frame to draw the media layer with, from the full-size frame: the layer's size, and a
@@ -137,15 +142,16 @@ class Layers {
   /// `viewport` (its w x h must be width() x height()). Colour only (RGB; the target's alpha, depth
   /// and stencil are kept). The blend happens in the target's space: give it scene-linear colour,
   /// a float target or an sRGB one with GL_FRAMEBUFFER_SRGB on (left as the host set it).
-  /// Errors (nothing drawn): layers not made by createForHost; settings.shimmerPixels != 0; a
+  /// Errors (nothing drawn): layers not made by createForHost; settings.shimmerPixels != 0; more
+  /// than 8 lights that shine (intensity and radius > 0: compose() uses the first 8); a
   /// viewport of another size; a target drawing to more colour buffers than dual-source blending
   /// allows (GL_MAX_DUAL_SOURCE_DRAW_BUFFERS, 1 on common GPUs; the target is then left bound).
   /// Leaves: the draw framebuffer = `target`; the viewport = `viewport`; depth test, stencil test,
-  /// culling, scissor test and rasterizer discard off; polygon mode GL_FILL; colour write masks on
-  /// for every draw buffer; blending off on every draw buffer, with draw buffer 0's functions
-  /// (GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE) and equation GL_FUNC_ADD; no program, no vertex array; uniform buffer
-  /// binding `composeBlock` = its block; units `opaqueDepth`, `mediaLayer`, `mediaDepth` and `shimmer` with their 2D
-  /// textures = its and sampler binding 0.
+  /// culling, scissor test, rasterizer discard, alpha to coverage and the sample mask off; polygon mode GL_FILL; colour
+  /// write masks on for every draw buffer; blending off on every draw buffer, with draw buffer 0's functions (GL_ONE,
+  /// GL_SRC1_COLOR, GL_ZERO, GL_ONE) and equation GL_FUNC_ADD; no program, no vertex array; uniform buffer binding
+  /// `composeBlock` = its block; units `opaqueDepth`, `mediaLayer`, `mediaDepth` and `shimmer` with their 2D textures =
+  /// its and sampler binding 0.
   Result<void> composeOver(core::GlId target, const int viewport[4], const Frame& frame,
                            std::span<const ExplosionLight> lights, const ComposeSettings& settings);
 

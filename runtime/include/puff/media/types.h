@@ -118,7 +118,8 @@ struct Settings {
   bool operator==(const Settings&) const = default;
 };
 
-/// One explosion's light on the scene.
+/// One explosion's light on the scene. A frame composes at most 8 that shine (intensity and radius
+/// > 0): Layers::compose uses the first 8, Layers::composeOver refuses more.
 struct ExplosionLight {
   glm::vec3 center{0.0f};  ///< world space
   float radius = 1.0f;     ///< world units, > 0
