@@ -303,25 +303,35 @@ TEST_F(HostMedia, ResolveHostDepthGivesTheLinearDepthOfTheHostsSurfaces) {
   }
 }
 
+// A game's multisampled frame: RGBA16F colour and D24S8 depth textures of `samples` samples.
+struct MultisampleTarget {
+  explicit MultisampleTarget(int samples)
+      : fbo(core::makeFramebuffer()),
+        color(core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE)),
+        depth(core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE)) {
+    glTextureStorage2DMultisample(color.get(), samples, GL_RGBA16F, kSize, kSize, GL_TRUE);
+    glTextureStorage2DMultisample(depth.get(), samples, GL_DEPTH24_STENCIL8, kSize, kSize, GL_TRUE);
+    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
+    glNamedFramebufferTexture(fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, depth.get(), 0);
+  }
+  bool complete() const { return glCheckNamedFramebufferStatus(fbo.get(), GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE; }
+  core::Framebuffer fbo;
+  core::Texture color, depth;
+};
+
 TEST_F(HostMedia, AMultisampledHostDepthKeepsTheNearestSample) {
   const Convention& c = kStandardNO;
-  const int samples = 4;
-  core::Framebuffer fbo = core::makeFramebuffer();
-  core::Texture color = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
-  core::Texture depthTex = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
-  glTextureStorage2DMultisample(color.get(), samples, GL_RGBA16F, kSize, kSize, GL_TRUE);
-  glTextureStorage2DMultisample(depthTex.get(), samples, GL_DEPTH24_STENCIL8, kSize, kSize, GL_TRUE);
-  glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
-  glNamedFramebufferTexture(fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, depthTex.get(), 0);
-  ASSERT_EQ(glCheckNamedFramebufferStatus(fbo.get(), GL_FRAMEBUFFER), static_cast<GLenum>(GL_FRAMEBUFFER_COMPLETE));
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+  const MultisampleTarget ms(4);
+  ASSERT_TRUE(ms.complete());
+  const GLuint fbo = ms.fbo.get();
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glViewport(0, 0, kSize, kSize);
-  glClearNamedFramebufferfi(fbo.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+  glClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
   drawScene(c, false);
   auto layers = media::Layers::createForHost(kSize, kSize, 0.25f);
   ASSERT_OK(layers);
   media::HostDepth depth;
-  depth.texture = depthTex.get();
+  depth.texture = ms.depth.get();
   depth.space = spaceFor(c);
   ASSERT_OK((*layers)->resolveHostDepth(depth));
   std::vector<float> lin(static_cast<std::size_t>(kSize) * kSize);
@@ -556,27 +566,22 @@ TEST_F(HostMedia, EverySampleOfAMultisampledDepthIsRead) {
                   std::min(maxDepth, maxColor));
       continue;
     }
-    core::Framebuffer fbo = core::makeFramebuffer();
-    core::Texture color = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
-    core::Texture depthTex = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
-    glTextureStorage2DMultisample(color.get(), samples, GL_RGBA16F, kSize, kSize, GL_TRUE);
-    glTextureStorage2DMultisample(depthTex.get(), samples, GL_DEPTH24_STENCIL8, kSize, kSize, GL_TRUE);
-    glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
-    glNamedFramebufferTexture(fbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, depthTex.get(), 0);
-    ASSERT_EQ(glCheckNamedFramebufferStatus(fbo.get(), GL_FRAMEBUFFER), static_cast<GLenum>(GL_FRAMEBUFFER_COMPLETE));
+    const MultisampleTarget ms(samples);
+    ASSERT_TRUE(ms.complete());
+    const GLuint fbo = ms.fbo.get();
     auto layers = media::Layers::createForHost(kSize, kSize, 1.0f);
     ASSERT_OK(layers);
     for (int k = 0; k < samples; ++k) {
-      glBindFramebuffer(GL_FRAMEBUFFER, fbo.get());
+      glBindFramebuffer(GL_FRAMEBUFFER, fbo);
       glViewport(0, 0, kSize, kSize);
-      glClearNamedFramebufferfi(fbo.get(), GL_DEPTH_STENCIL, 0, 1.0f, 0);
+      glClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
       glEnable(GL_SAMPLE_MASK);
       glSampleMaski(0, 1u << k);
       drawScene(c, false);
       glSampleMaski(0, ~0u);
       glDisable(GL_SAMPLE_MASK);
       media::HostDepth depth;
-      depth.texture = depthTex.get();
+      depth.texture = ms.depth.get();
       depth.space = spaceFor(c);
       EXPECT_OK((*layers)->resolveHostDepth(depth));
       std::vector<float> lin(static_cast<std::size_t>(kSize) * kSize);

@@ -87,6 +87,9 @@ struct Layers::Impl {
   // Fills the compose passes' uniform block (compose.glsl's ComposeBlock).
   void uploadComposeBlock(const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
                           const ComposeSettings& settings);
+  // Binds the compose passes' block and layer textures and draws `program` over the viewport
+  // (compose binds the opaque colour too; composeOver has none).
+  void drawCompose(GLuint program);
   // The full-size linear depth's layer-resolution nearest (downsample.frag), into depthFbo.
   void downsampleDepth();
 };
@@ -112,6 +115,20 @@ void Layers::Impl::uploadComposeBlock(const int viewport[4], const Frame& frame,
   const int rule = !settings.depthAware ? 0 : upsampling == Upsampling::kBilateral ? 1 : 2;
   d.counts = glm::ivec4(n, rule, 0, 0);
   glNamedBufferSubData(block.get(), 0, sizeof(d), &d);
+}
+
+void Layers::Impl::drawCompose(GLuint program) {
+  glUseProgram(program);
+  const GLuint b = block.get();
+  glBindBuffersBase(GL_UNIFORM_BUFFER, bindings.composeBlock, 1, &b);  // multi-bind: the generic binding stays
+  core::bindTextureAndNoSampler(bindings.opaqueDepth, depth.get());
+  core::bindTextureAndNoSampler(bindings.mediaLayer, media.get());
+  core::bindTextureAndNoSampler(bindings.mediaDepth, mediaDepth.get());
+  core::bindTextureAndNoSampler(bindings.shimmer, shimmer.get());
+  glBindVertexArray(vao.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glUseProgram(0);
 }
 
 void Layers::Impl::downsampleDepth() {
@@ -368,29 +385,30 @@ bool isDepthFormat(GLint format) {
 
 Result<void> Layers::resolveHostDepth(const HostDepth& host) {
   Impl& m = *impl_;
-  const std::string what = "resolveHostDepth: HostDepth.texture " + std::to_string(host.texture);
+  // Built only on an error: this runs every frame.
+  const auto what = [&] { return "resolveHostDepth: HostDepth.texture " + std::to_string(host.texture); };
   if (!m.host)
     return Error{
         "resolveHostDepth: these media layers have their own opaque pass (Layers::create): use "
         "resolveOpaque"};
-  if (host.texture == 0 || glIsTexture(host.texture) != GL_TRUE) return Error{what + " is not a texture"};
+  if (host.texture == 0 || glIsTexture(host.texture) != GL_TRUE) return Error{what() + " is not a texture"};
   // The texture says what it is: target, format, size and samples (a few object queries, no sync).
   GLint target = 0, format = 0, w = 0, h = 0, samples = 0, mode = GL_DEPTH_COMPONENT, compare = GL_NONE;
   glGetTextureParameteriv(host.texture, GL_TEXTURE_TARGET, &target);
   if (target != GL_TEXTURE_2D && target != GL_TEXTURE_2D_MULTISAMPLE)
-    return Error{what + " is not a 2D or 2D multisample texture"};
+    return Error{what() + " is not a 2D or 2D multisample texture"};
   glGetTextureLevelParameteriv(host.texture, 0, GL_TEXTURE_INTERNAL_FORMAT, &format);
   glGetTextureLevelParameteriv(host.texture, 0, GL_TEXTURE_WIDTH, &w);
   glGetTextureLevelParameteriv(host.texture, 0, GL_TEXTURE_HEIGHT, &h);
   glGetTextureLevelParameteriv(host.texture, 0, GL_TEXTURE_SAMPLES, &samples);
   glGetTextureParameteriv(host.texture, GL_DEPTH_STENCIL_TEXTURE_MODE, &mode);
   glGetTextureParameteriv(host.texture, GL_TEXTURE_COMPARE_MODE, &compare);
-  if (!isDepthFormat(format)) return Error{what + " does not hold depth (not a depth or depth-stencil format)"};
+  if (!isDepthFormat(format)) return Error{what() + " does not hold depth (not a depth or depth-stencil format)"};
   if (mode != GL_DEPTH_COMPONENT)
-    return Error{what + " reads its stencil (GL_DEPTH_STENCIL_TEXTURE_MODE); set it to GL_DEPTH_COMPONENT"};
-  if (compare != GL_NONE) return Error{what + " has GL_TEXTURE_COMPARE_MODE on; it must be GL_NONE"};
+    return Error{what() + " reads its stencil (GL_DEPTH_STENCIL_TEXTURE_MODE); set it to GL_DEPTH_COMPONENT"};
+  if (compare != GL_NONE) return Error{what() + " has GL_TEXTURE_COMPARE_MODE on; it must be GL_NONE"};
   if (host.x < 0 || host.y < 0 || host.x + m.width > w || host.y + m.height > h)
-    return Error{what + " is " + std::to_string(w) + "x" + std::to_string(h) + ": the layers' " +
+    return Error{what() + " is " + std::to_string(w) + "x" + std::to_string(h) + ": the layers' " +
                  std::to_string(m.width) + "x" + std::to_string(m.height) + " at (" + std::to_string(host.x) + ", " +
                  std::to_string(host.y) + ") does not fit in it"};
   const core::DepthSpace& space = host.space;
@@ -462,18 +480,7 @@ Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Fra
   glEnablei(GL_BLEND, 0);
   glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
   glBlendFuncSeparatei(0, GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
-  glUseProgram(m.composeOver.get());
-  const Bindings& b = m.bindings;
-  const GLuint block = m.block.get();
-  glBindBuffersBase(GL_UNIFORM_BUFFER, b.composeBlock, 1, &block);  // multi-bind: the generic binding stays
-  core::bindTextureAndNoSampler(b.opaqueDepth, m.depth.get());
-  core::bindTextureAndNoSampler(b.mediaLayer, m.media.get());
-  core::bindTextureAndNoSampler(b.mediaDepth, m.mediaDepth.get());
-  core::bindTextureAndNoSampler(b.shimmer, m.shimmer.get());
-  glBindVertexArray(m.vao.get());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
-  glUseProgram(0);
+  m.drawCompose(m.composeOver.get());
   glDisablei(GL_BLEND, 0);
   return {};
 }
@@ -499,19 +506,8 @@ void Layers::compose(GLuint target, const int viewport[4], const Frame& frame, s
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
   fullscreenState();
-  glUseProgram(m.compose.get());
-  const Bindings& b = m.bindings;
-  const GLuint block = m.block.get();
-  glBindBuffersBase(GL_UNIFORM_BUFFER, b.composeBlock, 1, &block);  // multi-bind: the generic binding stays
-  core::bindTextureAndNoSampler(b.opaqueColor, m.color.get());
-  core::bindTextureAndNoSampler(b.opaqueDepth, m.depth.get());
-  core::bindTextureAndNoSampler(b.mediaLayer, m.media.get());
-  core::bindTextureAndNoSampler(b.mediaDepth, m.mediaDepth.get());
-  core::bindTextureAndNoSampler(b.shimmer, m.shimmer.get());
-  glBindVertexArray(m.vao.get());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
-  glUseProgram(0);
+  core::bindTextureAndNoSampler(m.bindings.opaqueColor, m.color.get());
+  m.drawCompose(m.compose.get());
 }
 
 }  // namespace puff::media
