@@ -1,4 +1,4 @@
-// puffbake's subcommands, one file each: bake.cpp, mesh.cpp, blackbody.cpp and detail.cpp. Each
+// puffbake's subcommands, one file each: bake.cpp, mesh.cpp, blackbody.cpp, detail.cpp and cook.cpp. Each
 // adds its options to the command line, checks them once parsed (errors are bad usage, exit 2) and
 // runs; options.cpp parses and hands the parsed subcommand its run.
 #pragma once
@@ -51,6 +51,11 @@ int runMesh(const Options& o);
 CLI::App* addBlackbodyCommand(CLI::App& app, Options& o);
 Result<void> checkBlackbody(const Options& o);
 int runBlackbody(const Options& o);
+
+/// `cook`.
+CLI::App* addCookCommand(CLI::App& app, Options& o);
+Result<void> checkCook(const Options& o);
+int runCook(const Options& o);
 
 /// `detail`.
 CLI::App* addDetailCommand(CLI::App& app, Options& o);

@@ -52,8 +52,8 @@ std::variant<Options, int> parse(int argc, char** argv) {
   CLI::App app{
       "puffbake: bakes 3D puff meshes into atlases of camera-space normal + depth, colour + dilated "
       "coverage and signed distance to the silhouette (McGuire & Fein 2006, Fig. 3 / Eq. 1), with a JSON "
-      "sidecar and a contact sheet; and writes the fire and smoke media's black-body ramp and detail videos "
-      "(Umenhoffer et al. 2006, §3).",
+      "sidecar and a contact sheet; writes the fire and smoke media's black-body ramp and detail videos "
+      "(Umenhoffer et al. 2006, §3); and cooks assets for games that load them without an image library.",
       cli::name()};
   app.require_subcommand(1);
   app.set_version_flag("--version", "puffbake 0.1.0");
@@ -62,7 +62,8 @@ std::variant<Options, int> parse(int argc, char** argv) {
   GeneratorFlags meshGenerator;
   CLI::App* meshCmd = addMeshCommand(app, o, meshGenerator);
   CLI::App* blackbodyCmd = addBlackbodyCommand(app, o);
-  addDetailCommand(app, o);
+  CLI::App* detailCmd = addDetailCommand(app, o);
+  CLI::App* cookCmd = addCookCommand(app, o);
 
   if (const auto exitCode = cli::parse(app, argc, argv)) return *exitCode;
   if (bakeFlags.printDefaults) return printBakeDefaults();
@@ -76,9 +77,12 @@ std::variant<Options, int> parse(int argc, char** argv) {
   } else if (blackbodyCmd->parsed()) {
     o.command = Command::kBlackbody;
     checked = checkBlackbody(o);
-  } else {
+  } else if (detailCmd->parsed()) {
     o.command = Command::kDetail;
     checked = checkDetail(o);
+  } else if (cookCmd->parsed()) {
+    o.command = Command::kCook;
+    checked = checkCook(o);
   }
   if (!checked) {
     cli::printError(checked.error());
@@ -97,6 +101,8 @@ int run(const Options& o) {
       return runBlackbody(o);
     case Command::kDetail:
       return runDetail(o);
+    case Command::kCook:
+      return runCook(o);
     case Command::kNone:
       break;
   }

@@ -12,7 +12,7 @@
 
 namespace puff::app {
 
-enum class Command { kNone, kBake, kMesh, kBlackbody, kDetail };
+enum class Command { kNone, kBake, kMesh, kBlackbody, kDetail, kCook };
 
 /// `puffbake blackbody`: the black-body colour ramp (core/blackbody.h).
 struct BlackbodyOptions {
@@ -33,8 +33,9 @@ struct Options {
   std::vector<std::filesystem::path> inputs;  ///< mesh files
   std::optional<bake::GeneratorSpec> generator;
   bake::BakeOptions bake;
-  std::filesystem::path meshOut;  ///< `puffbake mesh -o FILE`
-  std::filesystem::path out;      ///< `puffbake blackbody|detail -o FILE`
+  std::filesystem::path meshOut;    ///< `puffbake mesh -o FILE`
+  std::filesystem::path out;        ///< `puffbake blackbody|detail|cook -o FILE`
+  std::filesystem::path cookInput;  ///< `puffbake cook INPUT`
   BlackbodyOptions blackbody;
   DetailOptions detail;
   std::string glBackend;  ///< empty: PUFF_GL or osmesa

@@ -11,6 +11,7 @@
 
 #include <puff/bake/baker.h>
 #include <puff/core/gl_context.h>
+#include <puff/io/openimageio.h>
 
 #include "harness.h"
 
@@ -28,6 +29,7 @@ struct Case {
 }  // namespace
 
 int main(int argc, char** argv) {
+  puff::io::useOpenImageIO();
   int reps = 3;
   int subdivisions = 5;
   std::string csvPath;

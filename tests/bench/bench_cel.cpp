@@ -51,6 +51,7 @@
 #include <puff/cel/volume_clip.h>
 #include <puff/core/atlas.h>
 #include <puff/core/gl.h>
+#include <puff/io/openimageio.h>
 
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
@@ -242,6 +243,7 @@ void framesFor(double firstFrameMs, int reps, int& warmUp, int& timed) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  puff::io::useOpenImageIO();
   int reps = 5;
   double maxFrameS = 100.0;
   std::string csvPath, dumpDir;

@@ -66,6 +66,7 @@
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/gl_api.h>
+#include <puff/io/openimageio.h>
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
 #include <puff/reference/media_reference.h>
@@ -395,6 +396,7 @@ std::string fmt(double v, const char* f = "%.3f") {
 }  // namespace
 
 int main(int argc, char** argv) {
+  puff::io::useOpenImageIO();
   int reps = 5;
   std::string csvPath, dumpDir;
   bool runTable = true, runFig = true, withError = true;

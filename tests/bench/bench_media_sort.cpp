@@ -28,6 +28,7 @@
 #include <puff/core/detail_video.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
+#include <puff/io/openimageio.h>
 #include <puff/reference/media_physical.h>
 #include <puff/reference/media_reference.h>
 #include <puff/reference/metrics.h>
@@ -199,6 +200,7 @@ std::vector<int> parseFrames(const char* text) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  puff::io::useOpenImageIO();
   fs::path artDir = PUFF_ART_DIR, sceneDir = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes";
   std::string csvPath;
   double scale = 0.5;

@@ -14,6 +14,7 @@
 
 #include <puff/core/gl_context.h>
 #include <puff/eval/compare.h>
+#include <puff/io/openimageio.h>
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 
@@ -27,6 +28,7 @@ using namespace puff;
 }  // namespace
 
 int main(int argc, char** argv) {
+  puff::io::useOpenImageIO();
   int reps = 7;
   std::string csvPath;
   fs::path artDir = PUFF_ART_DIR, sceneDir = fs::path(PUFF_SOURCE_DIR) / "art" / "scenes";

@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include <puff/io/openimageio.h>
 #include <puff/sim/simulator.h>
 
 #include "harness.h"
@@ -89,6 +90,7 @@ sim::Settings base(std::size_t n) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  puff::io::useOpenImageIO();
   int reps = 50;
   std::size_t n = 50'000;
   std::string csvPath;

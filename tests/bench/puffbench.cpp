@@ -28,6 +28,7 @@
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/eval/budget.h>
+#include <puff/io/openimageio.h>
 #include <puff/reference/metrics.h>
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
@@ -269,6 +270,7 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
 }  // namespace
 
 int main(int argc, char** argv) {
+  puff::io::useOpenImageIO();
   int reps = 3, width = 320, height = 240;
   bool physical = false;
   std::string csvPath, celCsvPath, stabilityCsvPath, shadowCsvPath, tumbleCsvPath, part = "all";

@@ -9,15 +9,17 @@ set -euo pipefail
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# The example game against installed PREFIX: baked atlas from the installed puffbake, configure,
-# build; bad input must fail with one line; under xvfb-run (GLFW needs a display) a 60-frame
+# The example game against installed PREFIX: an atlas baked and cooked by the installed puffbake
+# (the game links no image library), configure, build; bad input (an uncooked atlas too) must fail
+# with one line; under xvfb-run (GLFW needs a display) a 60-frame
 # screenshot checked pixel by pixel (runtime/examples/game/check_screenshot.py).
 check_game() {
   local prefix=$1 src=$2
   shift 2
   local game=$work/game
   mkdir -p "$game"
-  "$prefix/bin/puffbake" bake -g lumpy -n 4 -s 128 -o "$game/atlas" -q
+  "$prefix/bin/puffbake" bake -g lumpy -n 4 -s 128 -o "$game/baked" -q
+  "$prefix/bin/puffbake" cook "$game/baked/puff.json" -o "$game/atlas/puff.json" -q
   cmake -S "$src/runtime/examples/game" -B "$game/build" -DCMAKE_PREFIX_PATH="$prefix" "$@" >"$game/configure.log" 2>&1 ||
     { cat "$game/configure.log" >&2; exit 1; }
   cmake --build "$game/build" -j2 >"$game/build.log" 2>&1 || { cat "$game/build.log" >&2; exit 1; }
@@ -26,7 +28,7 @@ check_game() {
   "$exe" --help | grep -q -- '--screenshot' || { echo "check_install: puff_game --help says nothing of --screenshot" >&2; exit 1; }
   # Bad input: one line naming the problem, a non-zero exit, before any window opens.
   local line
-  for bad in "--atlas $game/none" "--atlas $game/atlas --screenshot $game/no/such/dir/shot.png" "--atlas $game/atlas --frames 0"; do
+  for bad in "--atlas $game/none" "--atlas $game/baked" "--atlas $game/atlas --screenshot $game/no/such/dir/shot.png" "--atlas $game/atlas --frames 0"; do
     # shellcheck disable=SC2086
     if line=$("$exe" $bad 2>&1); then
       echo "check_install: puff_game $bad succeeded" >&2
@@ -35,6 +37,8 @@ check_game() {
     [ "$(printf '%s\n' "$line" | wc -l)" -eq 1 ] || { echo "check_install: puff_game $bad: not one line: $line" >&2; exit 1; }
     echo "check_install: puff_game $bad -> $line"
   done
+  "$exe" --atlas "$game/baked" 2>&1 | grep -q 'puffbake cook' ||
+    { echo "check_install: puff_game on an uncooked atlas does not say to cook it" >&2; exit 1; }
   if ! command -v xvfb-run >/dev/null; then
     echo "check_install: xvfb-run not found: the example game was built but not run"
     return 0
@@ -67,40 +71,61 @@ if nm -A --defined-only "$work/prefix/lib/"*puff* "$work/prefix/lib/"*/*puff* 2>
   echo "check_install: an installed library defines glad's own symbols" >&2
   exit 1
 fi
-# A game's components alone look for none of OpenMesh, GLFW, OSMesa or EGL (the first two are
-# disabled outright; pkg-config modules would leave their variables in the cache).
+# A game's components alone look for none of OpenMesh, GLFW, OSMesa, EGL or OpenImageIO (the first
+# two are disabled outright; pkg-config modules would leave their variables in the cache), and such
+# a game, linked without any image library, loads a cooked atlas.
+"$work/prefix/bin/puffbake" cook "$work/atlas/puff.json" -o "$work/cooked/puff.json" -q
 mkdir -p "$work/components"
 cat > "$work/components/CMakeLists.txt" <<'CMAKE'
 cmake_minimum_required(VERSION 3.25)
 project(components LANGUAGES C CXX)
 set(CMAKE_CXX_STANDARD 20)
 find_package(puff REQUIRED COMPONENTS cel media sim core)
-add_library(game STATIC game.cpp)
+add_executable(game game.cpp main.cpp)
 target_link_libraries(game PRIVATE puff::cel puff::media puff::sim puff::core)
 CMAKE
 cat > "$work/components/game.cpp" <<'CPP'
+#include <cstdio>
 #include <puff/cel/nailboards.h>
+#include <puff/core/atlas.h>
 #include <puff/media/media.h>
 #include <puff/sim/simulator.h>
 #ifdef __gl_h_
 #error a Puff header included a GL header
 #endif
-int gameUsesPuff() { return puff::cel::NailboardRenderer::create() ? 1 : 0; }
+int gameUsesPuff(const char* sidecar) {
+  if (sidecar == nullptr) return puff::cel::NailboardRenderer::create() ? 0 : 1;  // linked, not run: no GL here
+  auto atlas = puff::core::loadAtlas(sidecar);
+  if (!atlas) {
+    std::fprintf(stderr, "game: %s\n", atlas.error().message.c_str());
+    return 1;
+  }
+  std::printf("game: %s: %dx%d, %zu maps\n", sidecar, atlas->desc.width, atlas->desc.height, atlas->maps.size());
+  return atlas->maps.size() == 3 ? 0 : 1;
+}
 CPP
+printf 'int gameUsesPuff(const char*);\nint main(int, char** argv) { return gameUsesPuff(argv[1]); }\n' > "$work/components/main.cpp"
 cmake -S "$work/components" -B "$work/components/build" -DCMAKE_PREFIX_PATH="$work/prefix" \
   -DCMAKE_DISABLE_FIND_PACKAGE_OpenMesh=ON -DCMAKE_DISABLE_FIND_PACKAGE_glfw3=ON >"$work/components.log" 2>&1 ||
   { cat "$work/components.log" >&2; exit 1; }
 cmake --build "$work/components/build" >/dev/null
-if grep -E '^(OSMESA|EGL)_' "$work/components/build/CMakeCache.txt"; then
-  echo "check_install: COMPONENTS cel media sim core looked for OSMesa or EGL" >&2
+if grep -E '^(OSMESA|EGL|OIIO)_' "$work/components/build/CMakeCache.txt"; then
+  echo "check_install: COMPONENTS cel media sim core looked for OSMesa, EGL or OpenImageIO" >&2
   exit 1
 fi
+"$work/components/build/game" "$work/cooked/puff.json"
+# The uncooked atlas, in the same program: one error that says how to cook it.
+if "$work/components/build/game" "$work/atlas/puff.json" 2>"$work/uncooked.log"; then
+  echo "check_install: a game with no image library loaded PNG maps" >&2
+  exit 1
+fi
+grep -q 'puffbake cook' "$work/uncooked.log" || { cat "$work/uncooked.log" >&2; exit 1; }
 # The same game without CMake, through pkg-config from the installed prefix (relocatable .pc).
 pcdir=$(dirname "$(find "$work/prefix" -name puff.pc | head -1)")
-printf 'int gameUsesPuff();\nint main() { return gameUsesPuff() < 0; }\n' > "$work/components/main.cpp"
 # shellcheck disable=SC2046
 c++ -std=c++20 "$work/components/game.cpp" "$work/components/main.cpp" -o "$work/components/pkgconfig_game" \
   $(PKG_CONFIG_PATH="$pcdir" pkg-config --cflags --libs puff)
+"$work/components/pkgconfig_game" "$work/cooked/puff.json"
 # No installed header reaches for a GL loader or GL header: the game brings its own.
 if grep -rlE '#include <(glad/|GL/|puff/glad)' "$work/prefix/include/puff"; then
   echo "check_install: an installed header includes a GL header" >&2

@@ -45,8 +45,12 @@ TEST_F(PuffbakeCli, HelpListsTheOptionsThatExist) {
   }
   CliRun top = run("--help");
   EXPECT_EQ(top.exitCode, 0);
-  for (const char* cmd : {"bake", "mesh", "blackbody", "detail"})
+  for (const char* cmd : {"bake", "mesh", "blackbody", "detail", "cook"})
     EXPECT_NE(top.out.find(cmd), std::string::npos) << cmd;
+  CliRun cook = run("cook --help");
+  EXPECT_EQ(cook.exitCode, 0);
+  for (const char* text : {"--out", "--quiet", ".puffimg", "input"})
+    EXPECT_NE(cook.out.find(text), std::string::npos) << text;
   CliRun bb = run("blackbody --help");
   EXPECT_EQ(bb.exitCode, 0);
   for (const char* flag : {"--out", "--min", "--max", "--size", "--normalize", "--quiet"})
@@ -349,3 +353,46 @@ TEST_F(PuffbakeCli, DetailBadFramesFailNamingTheFileAndExistingOutputSurvives) {
 }
 
 }  // namespace
+
+// `puffbake cook` as a game team uses it: an atlas and a detail video cooked, their files named in
+// the sidecar and loaded back; bad usage exits 2, a bad input 1, and neither writes anything.
+TEST_F(PuffbakeCli, CookWritesWhatAGameLoadsAndRefusesWhatItCannot) {
+  ASSERT_EQ(run("bake -q -g sphere -n 1 -s 32 --no-contact-sheet -o " + (dir_ / "baked").string()).exitCode, 0);
+  const fs::path out = dir_ / "game" / "smoke.json";
+  CliRun r = run("cook " + (dir_ / "baked" / "puff.json").string() + " -o " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto desc = puff::core::loadAtlasDesc(out);
+  ASSERT_TRUE(desc.ok()) << desc.error().message;
+  ASSERT_GT(desc->mipLevels, 1);
+  const std::string files = std::to_string(3 * desc->mipLevels + 1) + " files";  // the maps' levels, the sidecar
+  EXPECT_NE(r.out.find("puffbake: wrote " + out.string() + ": atlas cooked into " + files), std::string::npos) << r.out;
+  EXPECT_EQ(desc->maps.at("color").levels.at(0), "puff_color.puffimg");
+  EXPECT_EQ(desc->maps.at("distance").levels.at(1), "puff_distance.mip1.puffimg");
+  for (const auto& [name, map] : desc->maps) {
+    for (const std::string& level : map.levels) EXPECT_TRUE(fs::exists(dir_ / "game" / level)) << level;
+  }
+  EXPECT_TRUE(puff::core::loadAtlas(out).ok());
+  ASSERT_EQ(run("detail -q --size 8 --frames 2 -o " + (dir_ / "fire.png").string()).exitCode, 0);
+  ASSERT_EQ(run("cook -q " + (dir_ / "fire.png").string() + " -o " + (dir_ / "fire.puffimg").string()).exitCode, 0);
+  auto video = puff::core::loadDetailVideo(dir_ / "fire.puffimg");
+  ASSERT_TRUE(video.ok()) << video.error().message;
+  EXPECT_EQ(video->frames, 2);
+
+  expectOneLineError(run("cook " + (dir_ / "baked" / "puff.json").string() + " -o " + (dir_ / "c.png").string()),
+                     "an atlas cooks into a sidecar, so FILE must end in .json", 2);
+  expectOneLineError(run("cook " + (dir_ / "fire.png").string() + " -o " + (dir_ / "c.png").string()),
+                     "an image cooks into a .puffimg file", 2);
+  EXPECT_EQ(run("cook " + (dir_ / "fire.png").string()).exitCode, 2);  // -o is required
+  expectOneLineError(run("cook " + (dir_ / "none.json").string() + " -o " + (dir_ / "c" / "c.json").string()),
+                     "none.json: cannot open");
+  expectOneLineError(run("cook " + write("junk.png", "junk").string() + " -o " + (dir_ / "c" / "c.puffimg").string()),
+                     "junk.png: not a readable image");
+  EXPECT_FALSE(fs::exists(dir_ / "c"));
+  EXPECT_FALSE(fs::exists(dir_ / "c.png"));
+  // The cooked sidecar is never replaced by a failed cook.
+  const std::string before = *puff::core::readFileBytes(out);
+  fs::remove(dir_ / "baked" / "puff_color.mip1.png");
+  expectOneLineError(run("cook " + (dir_ / "baked" / "puff.json").string() + " -o " + out.string()),
+                     "puff_color.mip1.png: cannot open: no such file");
+  EXPECT_EQ(*puff::core::readFileBytes(out), before);
+}

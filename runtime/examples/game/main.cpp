@@ -84,8 +84,10 @@ constexpr const char* kHelp =
 #endif
     " drawn into the game's own frame.\n"
     "Usage: puff_game --atlas DIR [--screenshot FILE.png [--frames N]] [--width W] [--height H]\n"
-    "  --atlas DIR          a baked atlas: DIR/puff.json (or the sidecar .json itself), e.g. from\n"
-    "                       `puffbake bake -g lumpy -o DIR`; required\n"
+    "  --atlas DIR          a cooked atlas: DIR/puff.json (or the sidecar .json itself), e.g. from\n"
+    "                       `puffbake bake -g lumpy -o baked`, then\n"
+    "                       `puffbake cook baked/puff.json -o DIR/puff.json`; required. The game\n"
+    "                       links no image library, so it reads cooked atlases (.puffimg maps) only\n"
     "  --screenshot FILE    render --frames frames at a fixed 1/60 s step, write the last one as an\n"
     "                       8-bit sRGB PNG and exit; without it the window runs until closed (Esc)\n"
     "  --frames N           frames before the screenshot, >= 1 (default 60)\n"
@@ -130,12 +132,12 @@ int parseOptions(int argc, char** argv, Options& o) {
       return fail(std::string(a) + ": unknown option (see --help)");
     }
   }
-  if (o.atlas.empty()) return fail("--atlas DIR is required (bake one: puffbake bake -g lumpy -o DIR)");
+  if (o.atlas.empty()) return fail("--atlas DIR is required (a cooked atlas: see --help)");
   if (framesGiven && o.screenshot.empty()) return fail("--frames needs --screenshot");
   std::error_code ec;
   if (std::filesystem::is_directory(o.atlas, ec)) o.atlas /= "puff.json";
   if (!std::filesystem::is_regular_file(o.atlas, ec))
-    return fail("no atlas at " + o.atlas.string() + " (bake one: puffbake bake -g lumpy -o DIR)");
+    return fail("no atlas at " + o.atlas.string() + " (a cooked atlas: see --help)");
   if (!o.screenshot.empty()) {
     // Checked before any frame is drawn, so a bad path costs nothing.
     const std::filesystem::path dir = o.screenshot.has_parent_path() ? o.screenshot.parent_path() : ".";
@@ -410,7 +412,7 @@ void mediaParticles(const puff::sim::Simulator& sim, std::vector<puff::media::Pa
 }
 #endif
 
-int run(const Options& opt, GLFWwindow* window) {
+int run(const Options& opt, const puff::core::Atlas& atlas, GLFWwindow* window) {
   const int W = opt.width, H = opt.height;
 
   // ---- the game's resources ------------------------------------------------------------------
@@ -443,12 +445,10 @@ int run(const Options& opt, GLFWwindow* window) {
   glBindBufferBase(GL_UNIFORM_BUFFER, kCameraBlock, cameraUbo);
 
   // ---- Puff: cel smoke from the simulator -----------------------------------------------------
-  auto atlas = puff::core::loadAtlas(opt.atlas);
-  if (!atlas) return fail(atlas.error().message);
   auto nailboards = puff::cel::NailboardRenderer::create(kCelBindings);
   if (!nailboards) return fail(nailboards.error().message);
-  if (auto set = (*nailboards)->setAtlas(*atlas); !set) return fail(set.error().message);
-  auto smoke = puff::sim::Simulator::create(smokeSettings(), std::max(1, atlas->desc.variations));
+  if (auto set = (*nailboards)->setAtlas(atlas); !set) return fail(set.error().message);
+  auto smoke = puff::sim::Simulator::create(smokeSettings(), std::max(1, atlas.desc.variations));
   if (!smoke) return fail(smoke.error().message);
   puff::cel::FrameBlock celBlock(kCelBindings);
   // A three-band ramp q (dark, mid, light) instead of the paper's two tones.
@@ -637,6 +637,10 @@ int main(int argc, char** argv) {
   Options opt;
   if (int parsed = parseOptions(argc, argv, opt); parsed != 0) return parsed < 0 ? 0 : 1;
   const int W = opt.width, H = opt.height;
+  // The atlas is read before any window opens: a cooked atlas, with no image library (an uncooked
+  // one is refused with the command that cooks it).
+  auto atlas = puff::core::loadAtlas(opt.atlas);
+  if (!atlas) return fail(atlas.error().message);
 
   // ---- the game's window, context and loader ------------------------------------------------
   if (!glfwInit()) return fail("GLFW could not start (no display? run under xvfb-run -a)");
@@ -654,7 +658,7 @@ int main(int argc, char** argv) {
   if (gladLoadGL(glfwGetProcAddress) == 0) return fail("the game's glad could not load GL");
   // Puff loads its own (private) function pointers through the same getProcAddress.
   if (auto gl = puff::core::initGl(glfwGetProcAddress); !gl) return fail(gl.error().message);
-  const int status = run(opt, window);  // every GL object, the game's and Puff's, goes in there
+  const int status = run(opt, *atlas, window);  // every GL object, the game's and Puff's, goes in there
   glfwDestroyWindow(window);
   glfwTerminate();
   return status;

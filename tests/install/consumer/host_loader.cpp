@@ -16,6 +16,7 @@
 #include <puff/cel/nailboards.h>
 #include <puff/core/atlas.h>
 #include <puff/core/gl.h>
+#include <puff/io/openimageio.h>
 
 namespace {
 int fail(const char* what) {
@@ -27,6 +28,7 @@ puff::core::GlProc puffLoad(const char* name) { return reinterpret_cast<puff::co
 }  // namespace
 
 int main(int argc, char** argv) {
+  puff::io::useOpenImageIO();  // the atlas is baked and read as PNG
   if (argc != 2) return 2;
   // ---- the game's context: EGL surfaceless, GL 4.5 core --------------------------------------
   auto getPlatformDisplay =

@@ -6,8 +6,10 @@
 #include <puff/bake/baker.h>
 #include <puff/core/atlas.h>
 #include <puff/core/gl_context.h>
+#include <puff/io/openimageio.h>
 
 int main(int argc, char** argv) {
+  puff::io::useOpenImageIO();  // the atlas is baked and read as PNG
   if (argc != 2) return 2;
   auto context = puff::core::createGlContext({});
   if (!context) {

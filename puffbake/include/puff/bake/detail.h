@@ -42,7 +42,7 @@ double detailNoise(const DetailSpec& spec, double x, double y, double t);
 /// Errors: validate()'s.
 Result<core::DetailVideo> generateDetailVideo(const DetailSpec& spec);
 
-/// Imports an image sequence (any format OpenImageIO reads; all frames the same size), in the
+/// Imports an image sequence (any format the installed codec reads; all frames the same size), in the
 /// order given:
 ///  - each frame becomes one channel: channel 0 of 1-2 channel images, else the Rec. 709 luma
 ///    0.2126 R + 0.7152 G + 0.0722 B of the stored values (no sRGB decoding), clipped to [0, 1];

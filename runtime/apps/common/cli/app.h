@@ -10,6 +10,7 @@
 #include <variant>
 
 #include <puff/core/error.h>
+#include <puff/io/openimageio.h>
 
 namespace CLI {
 class App;
@@ -33,7 +34,8 @@ namespace detail {
 void setName(const char* name);
 }
 
-/// A whole `main`: names the app, parses argv (`parse` gives the Options, or the exit code when
+/// A whole `main`: names the app, installs the OpenImageIO codec (the tools read and write artists'
+/// PNG and EXR files as well as cooked images), parses argv (`parse` gives the Options, or the exit code when
 /// parsing ended the run) and runs the Options (`run` gives the exit code). Errors travel as
 /// puff::Error values; the catch here is the last guard for what a library may throw (out of
 /// memory, a system error), so even then the user gets one line and exit code 1, not an abort, and
@@ -42,6 +44,7 @@ template <class Options>
 int main(const char* appName, int argc, char** argv, std::variant<Options, int> (*parse)(int, char**),
          int (*run)(const Options&)) {
   detail::setName(appName);
+  io::useOpenImageIO();
   try {
     auto parsed = parse(argc, argv);
     if (const int* exitCode = std::get_if<int>(&parsed)) return *exitCode;

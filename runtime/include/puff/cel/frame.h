@@ -148,7 +148,7 @@ class Ramp {
   /// `smooth` selects linear filtering; the default, nearest, keeps the bands hard as in the paper.
   /// Errors name `what` (usually the file).
   static Result<Ramp> create(const core::Image& image, const std::string& what, bool smooth = false);
-  /// Loads a ramp image (PNG or anything OpenImageIO reads).
+  /// Loads a ramp image: a cooked image, or PNG and the like through the installed codec (core/image.h).
   static Result<Ramp> load(const std::filesystem::path& path, bool smooth = false);
   /// A two-tone ramp: black below 0.5, white from 0.5 (the paper's typical map).
   static Ramp twoTone();

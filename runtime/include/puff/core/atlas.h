@@ -61,18 +61,20 @@ struct AtlasMap {
 
 struct AtlasDesc {
   int formatVersion = kAtlasFormatVersion;
-  std::string fileFormat = "png";  ///< "png" (8-bit maps, 16-bit distance) or "exr" (half float)
-  int width = 0, height = 0;       ///< level-0 atlas size in texels
-  int columns = 0, rows = 0;       ///< cells per row / column
-  int cellSize = 0;                ///< texels per cell side
-  int margin = 0;                  ///< texels between the cell edge and the content square
-  int contentSize = 0;             ///< cellSize - 2 * margin: texels across the puff's diameter
-  int supersample = 1;             ///< samples per texel side used when rasterizing
-  float depthScale = 1.0f;         ///< d in units of the puff diameter: d = (a - 0.5) * depthScale
-  float flangeTexels = 0.0f;       ///< outline flange width, level-0 texels
-  float distanceRange = 1.0f;      ///< distance map covers [-range, +range] level-0 texels
-  float alphaThreshold = 0.5f;     ///< coverage test the mip levels preserve
-  int mipLevels = 1;               ///< stored levels; cells stay apart at every one of them
+  /// "png" (8-bit maps, 16-bit distance) or "exr" (half float): the maps' precision. A cooked atlas
+  /// (`puffbake cook`) keeps its source's value; its level files are .puffimg of the same types.
+  std::string fileFormat = "png";
+  int width = 0, height = 0;    ///< level-0 atlas size in texels
+  int columns = 0, rows = 0;    ///< cells per row / column
+  int cellSize = 0;             ///< texels per cell side
+  int margin = 0;               ///< texels between the cell edge and the content square
+  int contentSize = 0;          ///< cellSize - 2 * margin: texels across the puff's diameter
+  int supersample = 1;          ///< samples per texel side used when rasterizing
+  float depthScale = 1.0f;      ///< d in units of the puff diameter: d = (a - 0.5) * depthScale
+  float flangeTexels = 0.0f;    ///< outline flange width, level-0 texels
+  float distanceRange = 1.0f;   ///< distance map covers [-range, +range] level-0 texels
+  float alphaThreshold = 0.5f;  ///< coverage test the mip levels preserve
+  int mipLevels = 1;            ///< stored levels; cells stay apart at every one of them
   int variations = 0;
   int views = 1;                         ///< views per variation (viewGrid^2)
   int viewGrid = 1;                      ///< views form a viewGrid x viewGrid (hemi-)octahedral grid

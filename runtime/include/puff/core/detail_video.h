@@ -32,7 +32,8 @@ struct DetailVideo {
   float at(int x, int y, int f) const;
 };
 
-/// Reads a detail video (any format OpenImageIO reads, usually the PNG/EXR described above).
+/// Reads a detail video: usually the PNG/EXR described above (through the installed codec, core/image.h)
+/// or its cooked copy (`puffbake cook`).
 /// Images with several channels are accepted: 2 channels (grey + alpha) use channel 0, 3 or more
 /// use the Rec. 709 luminance 0.2126 R + 0.7152 G + 0.0722 B of the first three. Values are
 /// clamped to [0, 1]. Errors name the file: unreadable, puff:frames missing or not an integer in

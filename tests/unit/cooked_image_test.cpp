@@ -1,0 +1,352 @@
+// Cooked images (core/image.h) and cooking (bake/cook.h): puff::core reads and writes them with no
+// image library, every value as the PNG or EXR it came from held it, and a game with no codec
+// loads a cooked atlas whole. Bad files give one error naming the file, never a crash or a huge
+// allocation.
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <limits>
+
+#include <puff/bake/baker.h>
+#include <puff/bake/cook.h>
+#include <puff/core/atlas.h>
+#include <puff/core/detail_video.h>
+#include <puff/core/files.h>
+#include <puff/core/image.h>
+#include <puff/io/openimageio.h>
+#include <puff/mesh/mesh.h>
+
+#include "support/assert_ok.h"
+#include "support/gl_fixture.h"
+#include "support/temp_dir.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using puff::core::Image;
+using puff::core::ImageFileInfo;
+using puff::core::PixelType;
+
+// Removes the codec for one scope, as in a game that links no puff::io.
+class NoCodec {
+ public:
+  NoCodec() : saved_(puff::core::imageCodec()) { puff::core::setImageCodec(nullptr); }
+  ~NoCodec() { puff::core::setImageCodec(saved_); }
+  NoCodec(const NoCodec&) = delete;
+  NoCodec& operator=(const NoCodec&) = delete;
+
+ private:
+  const puff::core::ImageCodec* saved_;
+};
+
+bool sameValue(float a, float b) {
+  return (std::isnan(a) && std::isnan(b)) || std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b);
+}
+
+// Every pixel equal, bit for bit (NaN equals NaN).
+::testing::AssertionResult samePixels(const Image& a, const Image& b) {
+  if (a.width != b.width || a.height != b.height || a.channels != b.channels) {
+    return ::testing::AssertionFailure() << a.width << "x" << a.height << "x" << a.channels << " against " << b.width
+                                         << "x" << b.height << "x" << b.channels;
+  }
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) {
+    if (!sameValue(a.pixels[i], b.pixels[i])) {
+      return ::testing::AssertionFailure() << "value " << i << ": " << a.pixels[i] << " against " << b.pixels[i];
+    }
+  }
+  return ::testing::AssertionSuccess();
+}
+
+// Values that probe each type: [0, 1] on a fine grid, out of range, and for the float types
+// subnormals (of half and of float), the largest finite halves, halfway cases, infinities, NaN.
+Image probeImage(int channels) {
+  std::vector<float> v;
+  for (int i = 0; i <= 4096; ++i) v.push_back(static_cast<float>(i) / 4096.0f);
+  for (float x : {-1.0f,
+                  -0.0f,
+                  1.5f,
+                  1e-30f,
+                  0x1p-24f,
+                  0x1p-25f,
+                  0x1.8p-25f,
+                  0x1p-14f,
+                  0x1.ffcp-15f,
+                  65504.0f,
+                  65519.0f,
+                  65520.0f,
+                  1e9f,
+                  1.0009765625f,
+                  1.00048828125f,
+                  1.00146484375f,
+                  3.14159265f,
+                  -2.71828f,
+                  std::numeric_limits<float>::denorm_min(),
+                  std::numeric_limits<float>::infinity(),
+                  -std::numeric_limits<float>::infinity(),
+                  std::numeric_limits<float>::quiet_NaN()}) {
+    v.push_back(x);
+  }
+  for (std::uint32_t bits = 0x3f800000u; bits < 0x3f800000u + 8192u; ++bits) v.push_back(std::bit_cast<float>(bits));
+  const int width = 97;
+  const int height = static_cast<int>((v.size() + width * channels - 1) / (width * channels));
+  Image img(width, height, channels, 0.25f);
+  std::copy(v.begin(), v.end(), img.pixels.begin());
+  return img;
+}
+
+class CookedImage : public ::testing::Test {
+ protected:
+  puff::test::ScopedTempDir dir_{"puff_cooked"};
+};
+
+// What the codec's PNG (8/16-bit) and EXR (half, float) writers and readers make of the values is
+// what a cooked image of the same type makes of them: OpenImageIO and Imath are the yardstick.
+TEST_F(CookedImage, EveryTypeHoldsWhatThePngOrExrOfThatTypeHolds) {
+  struct Case {
+    PixelType type;
+    const char* ext;
+  };
+  for (const Case c : {Case{PixelType::kUInt8, ".png"}, Case{PixelType::kUInt16, ".png"},
+                       Case{PixelType::kHalf, ".exr"}, Case{PixelType::kFloat, ".exr"}}) {
+    for (int channels : {1, 3, 4}) {
+      SCOPED_TRACE(std::to_string(static_cast<int>(c.type)) + " type, " + std::to_string(channels) + " channels");
+      const Image probe = probeImage(channels);
+      const fs::path file = dir_ / (std::string("probe") + c.ext), cooked = dir_ / "probe.puffimg";
+      ASSERT_OK(puff::core::writeImage(file, probe, c.type));
+      ASSERT_OK(puff::core::writeImage(cooked, probe, c.type));
+      ImageFileInfo fileInfo, cookedInfo;
+      auto fromFile = puff::core::readImage(file, &fileInfo);
+      auto fromCooked = puff::core::readImage(cooked, &cookedInfo);
+      ASSERT_OK(fromFile);
+      ASSERT_OK(fromCooked);
+      EXPECT_TRUE(samePixels(*fromCooked, *fromFile));
+      EXPECT_EQ(cookedInfo.type, c.type);
+      EXPECT_EQ(fileInfo.type, c.type);
+      if (c.type == PixelType::kFloat) {
+        EXPECT_TRUE(samePixels(*fromCooked, probe));  // float keeps every bit
+      }
+    }
+  }
+  // Closed forms, independent of OpenImageIO: 8-bit 0.5 is 128/255, half keeps 1 + 2^-10 and rounds
+  // 1 + 2^-11 (a tie) to even, 65520 overflows to infinity, 2^-25 (a tie) goes to zero.
+  Image img(6, 1, 1);
+  img.pixels = {0.5f, 1.0009765625f, 1.00048828125f, 65520.0f, 0x1p-25f, 0x1.8p-25f};
+  ASSERT_OK(puff::core::writeImage(dir_ / "c8.puffimg", img, PixelType::kUInt8));
+  ASSERT_OK(puff::core::writeImage(dir_ / "ch.puffimg", img, PixelType::kHalf));
+  auto u8 = puff::core::readImage(dir_ / "c8.puffimg");
+  auto half = puff::core::readImage(dir_ / "ch.puffimg");
+  ASSERT_OK(u8);
+  ASSERT_OK(half);
+  EXPECT_EQ(u8->pixels[0], 128.0f * (1.0f / 255.0f));
+  EXPECT_EQ(half->pixels[1], 1.0009765625f);
+  EXPECT_EQ(half->pixels[2], 1.0f);
+  EXPECT_EQ(half->pixels[3], std::numeric_limits<float>::infinity());
+  EXPECT_EQ(half->pixels[4], 0.0f);
+  EXPECT_EQ(half->pixels[5], 0x1p-24f);
+}
+
+TEST_F(CookedImage, KeepsAttributesAndIsTheSameBytesEachTime) {
+  const Image img(5, 3, 2, 0.75f);
+  const puff::core::ImageAttributes attributes = {{"puff:frames", "8"}, {"puff:source", "clip/*.png"}, {"empty", ""}};
+  ASSERT_OK(puff::core::writeImage(dir_ / "a.puffimg", img, PixelType::kUInt16, attributes));
+  ASSERT_OK(puff::core::writeImage(dir_ / "b.puffimg", img, PixelType::kUInt16, attributes));
+  EXPECT_EQ(*puff::core::readFileBytes(dir_ / "a.puffimg"), *puff::core::readFileBytes(dir_ / "b.puffimg"));
+  ImageFileInfo info;
+  ASSERT_OK(puff::core::readImage(dir_ / "a.puffimg", &info));
+  EXPECT_EQ(info.attributes, attributes);
+  EXPECT_EQ(*puff::core::readImageAttribute(dir_ / "a.puffimg", "puff:source"), "clip/*.png");
+  EXPECT_EQ(*puff::core::readImageAttribute(dir_ / "a.puffimg", "absent"), "");
+  // Header 32 bytes, attributes 3 x 8 + their text, 5 x 3 x 2 values of 2 bytes, 8 bytes of hash.
+  EXPECT_EQ(fs::file_size(dir_ / "a.puffimg"), 32u + 24u + 11u + 1u + 11u + 10u + 5u + 0u + 60u + 8u);
+}
+
+TEST_F(CookedImage, WithoutACodecOnlyCookedImagesAreReadAndTheErrorSaysWhatToDo) {
+  ASSERT_OK(puff::core::writeImage(dir_ / "ramp.png", Image(4, 1, 3, 0.5f), PixelType::kUInt8));
+  ASSERT_OK(puff::core::writeImage(dir_ / "ramp.puffimg", Image(4, 1, 3, 0.5f), PixelType::kUInt8));
+  NoCodec none;
+  auto png = puff::core::readImage(dir_ / "ramp.png");
+  ASSERT_FALSE(png.ok());
+  EXPECT_EQ(png.error().message, (dir_ / "ramp.png").string() +
+                                     ": cannot read .png files: this program reads and writes only cooked images "
+                                     "(.puffimg); cook the file with `puffbake cook`, or link puff::io and call "
+                                     "puff::io::useOpenImageIO() first");
+  auto write = puff::core::writeImage(dir_ / "out.exr", Image(1, 1, 1), PixelType::kHalf);
+  ASSERT_FALSE(write.ok());
+  EXPECT_NE(write.error().message.find("cannot write .exr files"), std::string::npos) << write.error().message;
+  EXPECT_FALSE(fs::exists(dir_ / "out.exr"));
+  EXPECT_FALSE(puff::core::readImageAttribute(dir_ / "ramp.png", "x").ok());
+  auto cooked = puff::core::readImage(dir_ / "ramp.puffimg");
+  ASSERT_OK(cooked);
+  EXPECT_EQ(cooked->pixels[0], 128.0f * (1.0f / 255.0f));
+  // A cooked image is known by its magic, whatever its name.
+  fs::copy_file(dir_ / "ramp.puffimg", dir_ / "ramp.bin");
+  EXPECT_OK(puff::core::readImage(dir_ / "ramp.bin"));
+}
+
+// Every damaged file is one error naming the file: each truncation, each flipped byte, headers that
+// lie, and files that are not images at all.
+TEST_F(CookedImage, DamagedFilesAreOneErrorNamingTheFile) {
+  const fs::path good = dir_ / "good.puffimg", bad = dir_ / "bad.puffimg";
+  ASSERT_OK(puff::core::writeImage(good, Image(3, 2, 4, 0.5f), PixelType::kHalf, {{"puff:k", "v"}}));
+  const std::string bytes = *puff::core::readFileBytes(good);
+  const auto expectError = [&](const std::string& content, const std::string& problem) {
+    ASSERT_OK(puff::core::writeFileBytes(bad, content));
+    auto r = puff::core::readImage(bad);
+    ASSERT_FALSE(r.ok()) << problem;
+    EXPECT_EQ(r.error().message.rfind(bad.string() + ": ", 0), 0u) << r.error().message;
+    EXPECT_NE(r.error().message.find(problem), std::string::npos) << r.error().message;
+    EXPECT_EQ(r.error().message.find('\n'), std::string::npos) << r.error().message;
+  };
+  for (std::size_t n = 0; n < bytes.size(); ++n) {
+    SCOPED_TRACE("truncated to " + std::to_string(n));
+    expectError(bytes.substr(0, n), n < 8 ? "not a cooked image" : "truncated");
+  }
+  for (std::size_t i = 8; i < bytes.size(); ++i) {
+    std::string flipped = bytes;
+    flipped[i] = static_cast<char>(flipped[i] ^ 0x10);
+    ASSERT_OK(puff::core::writeFileBytes(bad, flipped));
+    EXPECT_FALSE(puff::core::readImage(bad).ok()) << "byte " << i << " flipped was read";
+  }
+  const auto withU32 = [](std::string b, std::size_t at, std::uint32_t v) {
+    for (int k = 0; k < 4; ++k) b[at + k] = static_cast<char>((v >> (8 * k)) & 0xffu);
+    return b;
+  };
+  expectError(withU32(bytes, 8, 2), "cooked image version 2, this Puff reads version 1");
+  // A header that claims 2^32 pixels: refused before anything is allocated.
+  expectError(withU32(withU32(bytes, 12, 65536), 16, 65536), "image too large (65536x65536)");
+  expectError(withU32(bytes, 12, 0), "image has no pixels");
+  expectError(withU32(bytes, 20, 5), "5 channels");
+  expectError(withU32(bytes, 24, 4), "unknown pixel type 4");
+  expectError(withU32(bytes, 28, 1000), "1000 attributes");
+  expectError(bytes + "x", "1 bytes after the cooked image's end");
+  expectError("PNG, honest", "not a cooked image");
+  // Not regular files: a directory, a FIFO (would block a read), a missing file.
+  fs::create_directory(dir_ / "d.puffimg");
+  auto r = puff::core::readImage(dir_ / "d.puffimg");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("is a directory"), std::string::npos);
+  ASSERT_EQ(::mkfifo((dir_ / "fifo.puffimg").c_str(), 0600), 0);
+  r = puff::core::readImage(dir_ / "fifo.puffimg");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("not a regular file"), std::string::npos) << r.error().message;
+  r = puff::core::readImage(dir_ / "none.puffimg");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("no such file"), std::string::npos);
+}
+
+TEST_F(CookedImage, CookingAnImageKeepsTypeValuesAndAttributes) {
+  // A detail video as `puffbake detail` writes it (16-bit PNG with puff: attributes) cooks into one
+  // that loads to the same video.
+  Image frames(8, 24, 1);
+  for (std::size_t i = 0; i < frames.pixels.size(); ++i) frames.pixels[i] = static_cast<float>(i % 17) / 16.0f;
+  ASSERT_OK(puff::core::writeImage(dir_ / "detail.png", frames, PixelType::kUInt16,
+                                   {{"puff:frames", "3"}, {"puff:source", "test"}}));
+  auto cooked = puff::bake::cookImage(dir_ / "detail.png", dir_ / "detail.puffimg");
+  ASSERT_OK(cooked);
+  EXPECT_EQ(cooked->files, std::vector<fs::path>{dir_ / "detail.puffimg"});
+  ImageFileInfo info;
+  auto back = puff::core::readImage(dir_ / "detail.puffimg", &info);
+  ASSERT_OK(back);
+  EXPECT_EQ(info.type, PixelType::kUInt16);
+  EXPECT_TRUE(samePixels(*back, *puff::core::readImage(dir_ / "detail.png")));
+  NoCodec none;
+  auto video = puff::core::loadDetailVideo(dir_ / "detail.puffimg");
+  ASSERT_OK(video);
+  EXPECT_EQ(video->frames, 3);
+  // Refused: a name that is not .puffimg, the input itself; nothing is written.
+  EXPECT_FALSE(puff::bake::cookImage(dir_ / "detail.png", dir_ / "detail2.png").ok());
+  EXPECT_FALSE(puff::bake::cookImage(dir_ / "detail.puffimg", dir_ / "detail.puffimg").ok());
+  EXPECT_FALSE(fs::exists(dir_ / "detail2.png"));
+}
+
+// An atlas cooks into one a program with no codec loads with the same pixels at every level, and
+// a cook that fails leaves nothing.
+class CookedAtlas : public puff::test::GlTest {
+ protected:
+  puff::test::ScopedTempDir dir_{"puff_cooked_atlas"};
+
+  static void expectSameAtlas(const puff::core::Atlas& a, const puff::core::Atlas& b) {
+    nlohmann::json ja = puff::core::toJson(a.desc), jb = puff::core::toJson(b.desc);
+    ja.erase("maps");
+    jb.erase("maps");
+    EXPECT_EQ(ja, jb);
+    ASSERT_EQ(a.maps.size(), b.maps.size());
+    for (const auto& [name, levels] : a.maps) {
+      ASSERT_EQ(levels.size(), b.maps.at(name).size()) << name;
+      for (std::size_t l = 0; l < levels.size(); ++l)
+        EXPECT_TRUE(samePixels(levels[l], b.maps.at(name)[l])) << name << " " << l;
+    }
+  }
+};
+
+TEST_F(CookedAtlas, LoadsWithoutACodecToTheSamePixelsForPngAndExrAtlases) {
+  for (const auto format : {puff::bake::MapFormat::kPng, puff::bake::MapFormat::kExr}) {
+    const std::string name = format == puff::bake::MapFormat::kPng ? "png" : "exr";
+    SCOPED_TRACE(name);
+    puff::bake::BakeOptions o;
+    o.cellSize = 32;
+    o.format = format;
+    o.lodAuto = true;
+    o.contactSheet = false;
+    o.outDir = dir_ / name;
+    std::vector<puff::bake::PuffSource> sources(2);
+    for (int i = 0; i < 2; ++i) {
+      sources[i].mesh = puff::mesh::generateSphere({4});
+      sources[i].provenance.generator = "sphere";
+    }
+    auto baked = puff::bake::bakeAtlas(sources, o);
+    ASSERT_OK(baked);
+    auto source = puff::core::loadAtlas(baked->sidecar);
+    ASSERT_OK(source);
+    const fs::path out = dir_ / ("cooked-" + name) / "atlas.json";
+    auto cooked = puff::bake::cookAtlas(baked->sidecar, out);
+    ASSERT_OK(cooked);
+    EXPECT_EQ(cooked->files.back(), out);
+    std::size_t lodMeshes = 0;
+    for (const auto& s : source->desc.sources) lodMeshes += s.lodMesh.empty() ? 0 : 1;
+    EXPECT_GT(lodMeshes, 0u) << "no variation was decimated: the LOD mesh copy is not tested";
+    EXPECT_EQ(cooked->files.size(), 3u * source->desc.mipLevels + lodMeshes + 1u);  // maps, LOD meshes, sidecar
+    NoCodec none;
+    auto loaded = puff::core::loadAtlas(out);
+    ASSERT_OK(loaded);
+    expectSameAtlas(*source, *loaded);
+    EXPECT_EQ(loaded->desc.fileFormat, name);
+    for (std::size_t i = 0; i < loaded->desc.sources.size(); ++i) {
+      auto lod = puff::core::lodMeshFile(loaded->desc, i, out);
+      ASSERT_OK(lod);
+      EXPECT_EQ(*puff::core::readFileBytes(*lod),
+                *puff::core::readFileBytes(*puff::core::lodMeshFile(source->desc, i, baked->sidecar)));
+    }
+  }
+}
+
+TEST_F(CookedAtlas, AFailedCookWritesNothingAndTheSourceIsNeverReplaced) {
+  puff::bake::BakeOptions o;
+  o.cellSize = 32;
+  o.contactSheet = false;
+  o.outDir = dir_ / "atlas";
+  std::vector<puff::bake::PuffSource> sources(1);
+  sources[0].mesh = puff::mesh::generateSphere({3});
+  sources[0].provenance.generator = "sphere";
+  auto baked = puff::bake::bakeAtlas(sources, o);
+  ASSERT_OK(baked);
+  auto same = puff::bake::cookAtlas(baked->sidecar, baked->sidecar);
+  ASSERT_FALSE(same.ok());
+  EXPECT_NE(same.error().message.find("is the atlas being cooked"), std::string::npos);
+  // The last level's file is damaged: the cook fails on it, after the others were read.
+  const puff::core::AtlasDesc desc = *puff::core::loadAtlasDesc(baked->sidecar);
+  const fs::path last = o.outDir / desc.maps.rbegin()->second.levels.back();
+  ASSERT_OK(puff::core::writeFileBytes(last, "\x89PNG\r\n\x1a\n broken"));
+  const fs::path out = dir_ / "cooked" / "atlas.json";
+  auto failed = puff::bake::cookAtlas(baked->sidecar, out);
+  ASSERT_FALSE(failed.ok());
+  EXPECT_EQ(failed.error().message.rfind(last.string() + ": ", 0), 0u) << failed.error().message;
+  EXPECT_FALSE(fs::exists(dir_ / "cooked"));
+}
+
+}  // namespace
