@@ -12,9 +12,16 @@ namespace puff::app {
 
 namespace {
 
-std::string mebibytes(std::uintmax_t bytes) {
+// "812 bytes", "12.1 KiB", "3.34 MiB".
+std::string size(std::uintmax_t bytes) {
   char b[32];
-  std::snprintf(b, sizeof b, "%.2f MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
+  if (bytes < 1024) {
+    std::snprintf(b, sizeof b, "%ju bytes", bytes);
+  } else if (bytes < 1024 * 1024) {
+    std::snprintf(b, sizeof b, "%.1f KiB", static_cast<double>(bytes) / 1024.0);
+  } else {
+    std::snprintf(b, sizeof b, "%.2f MiB", static_cast<double>(bytes) / (1024.0 * 1024.0));
+  }
   return b;
 }
 
@@ -29,8 +36,9 @@ CLI::App* addCookCommand(CLI::App& app, Options& o) {
       "in the type its file held, with its puff: attributes");
   cmd->add_option("input", o.cookInput, "An atlas sidecar (.json) or an image file")->required();
   cmd->add_option("-o,--out", o.out,
-                  "For an atlas, the cooked sidecar (.json; the maps are written beside it as .puffimg, with a --lod "
-                  "auto mesh); for an image, the .puffimg file. Written whole or not at all")
+                  "For an atlas, the cooked sidecar STEM.json: its maps are written beside it as STEM_MAP.puffimg "
+                  "(and a --lod auto mesh as STEM_lodN), and an atlas already there is replaced whole; for an image, "
+                  "the .puffimg file. Written whole or not at all")
       ->required();
   cmd->add_flag("-q,--quiet", o.quiet, "Print errors only");
   return cmd;
@@ -39,7 +47,7 @@ CLI::App* addCookCommand(CLI::App& app, Options& o) {
 Result<void> checkCook(const Options& o) {
   const bool atlas = lowerExtension(o.cookInput) == ".json";
   if (atlas && lowerExtension(o.out) != ".json") {
-    return Error{"cook: -o: an atlas cooks into a sidecar, so FILE must end in .json, got \"" + o.out.string() + "\""};
+    return Error{"cook: -o: an atlas cooks into a sidecar, so -o must end in .json, got \"" + o.out.string() + "\""};
   }
   if (!atlas && !core::isCookedImagePath(o.out)) {
     return Error{"cook: -o: an image cooks into a .puffimg file, got \"" + o.out.string() + "\""};
@@ -57,7 +65,7 @@ int runCook(const Options& o) {
   if (!o.quiet) {
     std::printf("%s: wrote %s: %s cooked into %zu file%s, %s (the source: %s)\n", cli::name(), o.out.c_str(),
                 atlas ? "atlas" : "image", cooked->files.size(), cooked->files.size() == 1 ? "" : "s",
-                mebibytes(cooked->bytesWritten).c_str(), mebibytes(cooked->bytesRead).c_str());
+                size(cooked->bytesWritten).c_str(), size(cooked->bytesRead).c_str());
   }
   return 0;
 }

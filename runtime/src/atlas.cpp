@@ -255,11 +255,10 @@ Result<AtlasDesc> atlasFromJson(const json& j, const fs::path& file) {
 }
 
 Result<AtlasDesc> loadAtlasDesc(const fs::path& sidecar) {
-  auto bytes = readFileBytes(sidecar);
-  if (!bytes) return bytes.error();
-  json j = json::parse(*bytes, nullptr, /*allow_exceptions=*/false);
-  if (j.is_discarded()) return Error::at(sidecar, "not valid JSON");
-  return atlasFromJson(j, sidecar);
+  // Parsed as a scene is: one error with the line and column, the JSON limits checked first.
+  auto j = jsonread::loadJsonFile(sidecar);
+  if (!j) return j.error();
+  return atlasFromJson(*j, sidecar);
 }
 
 Result<fs::path> lodMeshFile(const AtlasDesc& desc, std::size_t i, const fs::path& sidecar) {
@@ -289,6 +288,15 @@ Result<Atlas> loadAtlas(const fs::path& sidecar) {
     for (std::size_t level = 0; level < m.levels.size(); ++level) {
       const fs::path file = sidecar.parent_path() / m.levels[level];
       auto img = readImage(file);
+      if (!img && imageCodec() == nullptr && !isCookedImagePath(file)) {
+        // Cooking the map alone would not help: the sidecar names the map's file.
+        return Error::at(sidecar, "its maps are not cooked images (" + m.levels[level] +
+                                      "), and this program reads no other format: cook the atlas with `puffbake "
+                                      "cook " +
+                                      sidecar.string() +
+                                      " -o OUT.json` and load OUT.json, or link "
+                                      "puff::io and call puff::io::useOpenImageIO() first");
+      }
       if (!img) return img.error();
       const int w = std::max(1, desc->width >> level), h = std::max(1, desc->height >> level);
       if (img->width != w || img->height != h) {

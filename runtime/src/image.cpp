@@ -90,10 +90,13 @@ std::uint64_t fnv1a(const char* data, std::size_t n) {
 
 float unitClamped(float v) { return v != v ? 0.0f : std::clamp(v, 0.0f, 1.0f); }
 
-Result<void> writeCooked(const fs::path& path, const Image& image, PixelType type, const ImageAttributes& attributes) {
-  if (image.channels > 4)
-    return Error::at(path, "cannot write " + std::to_string(image.channels) + " channels (cooked images hold 1-4)");
-  if (attributes.size() > kMaxAttributes) return Error::at(path, "too many attributes for a cooked image");
+// Writes exactly `path`; errors name `name`, the user's file (`path` may be a staged temporary).
+Result<void> writeCooked(const fs::path& path, const fs::path& name, const Image& image, PixelType type,
+                         const ImageAttributes& attributes) {
+  if (image.channels > 4) {
+    return Error::at(name, "cannot write " + std::to_string(image.channels) + " channels (cooked images hold 1-4)");
+  }
+  if (attributes.size() > kMaxAttributes) return Error::at(name, "too many attributes for a cooked image");
   std::string out(kMagic, sizeof kMagic);
   for (std::uint32_t v : {kVersion, static_cast<std::uint32_t>(image.width), static_cast<std::uint32_t>(image.height),
                           static_cast<std::uint32_t>(image.channels), static_cast<std::uint32_t>(type),
@@ -102,7 +105,7 @@ Result<void> writeCooked(const fs::path& path, const Image& image, PixelType typ
   }
   for (const auto& [key, value] : attributes) {
     if (key.size() > kMaxAttributeBytes || value.size() > kMaxAttributeBytes) {
-      return Error::at(path, "attribute " + key.substr(0, 64) + " is longer than a cooked image holds (64 KiB)");
+      return Error::at(name, "attribute " + key.substr(0, 64) + " is longer than a cooked image holds (64 KiB)");
     }
     putU32(out, static_cast<std::uint32_t>(key.size()));
     out += key;
@@ -138,10 +141,10 @@ Result<void> writeCooked(const fs::path& path, const Image& image, PixelType typ
   }
   putU64(out, fnv1a(out.data(), out.size()));
   std::ofstream f(path, std::ios::binary | std::ios::trunc);
-  if (!f) return Error::at(path, std::string("cannot write: ") + std::strerror(errno));
+  if (!f) return Error::at(name, std::string("cannot write: ") + std::strerror(errno));
   f.write(out.data(), static_cast<std::streamsize>(out.size()));
   f.close();
-  if (!f) return Error::at(path, "write failed (disk full?)");
+  if (!f) return Error::at(name, "write failed (disk full?)");
   return {};
 }
 
@@ -188,7 +191,7 @@ Result<Image> parseCooked(const fs::path& path, const std::string& bytes, ImageF
   }
   if (!r.u32(width) || !r.u32(height) || !r.u32(channels) || !r.u32(type) || !r.u32(count)) return truncated();
   if (width == 0 || height == 0) return Error::at(path, "image has no pixels");
-  if (static_cast<long long>(width) * height > kMaxPixels) {
+  if (width > kMaxPixels || height > kMaxPixels || static_cast<long long>(width) * height > kMaxPixels) {
     return Error::at(path, "image too large (" + std::to_string(width) + "x" + std::to_string(height) + ")");
   }
   if (channels < 1 || channels > 4)
@@ -213,7 +216,8 @@ Result<Image> parseCooked(const fs::path& path, const std::string& bytes, ImageF
   const std::size_t pixelBytes = values * bytesPerValue(pixelType);
   if (r.left() < pixelBytes + 8) return truncated();
   if (r.left() > pixelBytes + 8) {
-    return Error::at(path, std::to_string(r.left() - pixelBytes - 8) + " bytes after the cooked image's end");
+    const std::size_t extra = r.left() - pixelBytes - 8;
+    return Error::at(path, std::to_string(extra) + (extra == 1 ? " byte" : " bytes") + " after the cooked image's end");
   }
   const std::size_t end = r.pos() + pixelBytes;
   std::uint64_t stored = 0;
@@ -263,10 +267,7 @@ Result<std::string> readIfCooked(const fs::path& path) {
   std::string head(sizeof kMagic, '\0');
   f.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(f.gcount()));
-  if (!startsWithMagic(head)) {
-    if (isCookedImagePath(path)) return Error::at(path, "not a cooked image (no PUFFIMG magic)");
-    return std::string();
-  }
+  if (!startsWithMagic(head)) return std::string();  // another format: the codec's
   const auto size = fs::file_size(path, ec);
   if (ec) return Error::at(path, "cannot read its size: " + ec.message());
   // Header, attributes, the largest image readImage accepts and the hash: nothing larger is valid.
@@ -288,7 +289,9 @@ std::string extensionOf(const fs::path& path) {
   return ext;
 }
 
+// No codec for a file that is not cooked (one named .puffimg without the magic is damaged).
 Error noCodec(const fs::path& path, const char* verb) {
+  if (isCookedImagePath(path)) return Error::at(path, "not a cooked image (no PUFFIMG magic)");
   const std::string ext = path.extension().string();
   return Error::at(path, std::string("cannot ") + verb + " " + (ext.empty() ? "this file" : ext + " files") +
                              ": this program reads and writes only cooked images (" + kCookedImageExtension +
@@ -312,7 +315,7 @@ Result<void> writeImage(const fs::path& path, const Image& image, PixelType type
   PUFF_CHECK(image.width > 0 && image.height > 0 && image.channels > 0);
   PUFF_CHECK(image.pixels.size() == static_cast<std::size_t>(image.width) * image.height * image.channels);
   const fs::path& naming = formatHint.empty() ? path : formatHint;
-  if (isCookedImagePath(naming)) return writeCooked(path, image, type, attributes);
+  if (isCookedImagePath(naming)) return writeCooked(path, naming, image, type, attributes);
   const ImageCodec* codec = imageCodec();
   if (!codec) return noCodec(naming, "write");
   return codec->write(path, image, type, attributes, formatHint);

@@ -32,8 +32,29 @@ std::string pointerToken(std::string_view key) {
 std::string child(const std::string& ptr, std::string_view key) { return ptr + "/" + pointerToken(key); }
 std::string child(const std::string& ptr, std::size_t index) { return ptr + "/" + std::to_string(index); }
 
+namespace {
+
+// True when `v` holds at most `budget` values, nested at most 4 deep: printing it is short work
+// whatever the file holds (a value nested thousands deep is never walked, let alone dumped).
+bool smallEnoughToPrint(const json& v, int depth, int& budget) {
+  if (--budget < 0 || depth > 4) return false;
+  if (v.is_structured()) {
+    for (const json& e : v) {
+      if (!smallEnoughToPrint(e, depth + 1, budget)) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 std::string describe(const json& v) {
   if (v.is_number_float() && !std::isfinite(v.get<double>())) return "a non-finite number";
+  int budget = 16;
+  if (v.is_structured() && !smallEnoughToPrint(v, 0, budget)) {
+    if (v.is_array()) return "an array of " + std::to_string(v.size()) + " elements";
+    return "an object with " + std::to_string(v.size()) + " keys";
+  }
   std::string text = v.dump(-1, ' ', false, json::error_handler_t::replace);
   if (text.size() <= 48) return text;
   if (v.is_array()) return "an array of " + std::to_string(v.size()) + " elements";
@@ -203,6 +224,37 @@ std::string lineColumn(const std::string& text, std::size_t at) {
   return std::to_string(line) + ":" + std::to_string(at - lineStart + 1);
 }
 
+// Limits of every JSON file Puff reads (scenes, atlas sidecars, mesh generators), checked before
+// parsing: nothing a file holds makes a reader recurse deeper or allocate more than this.
+constexpr int kMaxJsonDepth = 128;
+constexpr std::uintmax_t kMaxJsonBytes = std::uintmax_t{64} << 20;
+
+// The byte offset of the bracket that nests deeper than kMaxJsonDepth, or npos. Brackets inside
+// strings do not count.
+std::size_t tooDeepAt(const std::string& text) {
+  int depth = 0;
+  bool inString = false, escaped = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (inString) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        inString = false;
+      }
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxJsonDepth) return i;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return std::string::npos;
+}
+
 // nlohmann's parse_error knows the byte offset; editors want line and column.
 std::string syntaxErrorMessage(const json::parse_error& e, const std::string& text) {
   // what(): "[json.exception.parse_error.101] parse error at line 3, column 5: syntax error ..."
@@ -233,13 +285,26 @@ std::string otherErrorMessage(const json::exception& e, const std::string& text)
 
 Result<json> loadJsonFile(const fs::path& file) {
   std::error_code ec;
-  if (fs::is_directory(file, ec)) return Error::at(file, "cannot read: is a directory");
+  const auto status = fs::status(file, ec);
+  if (fs::is_directory(status)) return Error::at(file, "cannot read: is a directory");
+  if (fs::exists(status) && !fs::is_regular_file(status)) return Error::at(file, "cannot read: not a regular file");
+  if (fs::exists(status)) {
+    const auto size = fs::file_size(file, ec);
+    if (!ec && size > kMaxJsonBytes) {
+      return Error::at(file, "cannot read: " + std::to_string(size) + " bytes, more than a JSON file may hold (" +
+                                 std::to_string(kMaxJsonBytes >> 20) + " MiB)");
+    }
+  }
   std::ifstream in(file, std::ios::binary);
   if (!in) return Error::at(file, std::string("cannot read: ") + std::strerror(errno));
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) return Error::at(file, "cannot read: read error");
   const std::string text = ss.str();
+  if (const std::size_t at = tooDeepAt(text); at != std::string::npos) {
+    return Error{file.string() + ":" + lineColumn(text, at) + ": nested more than " + std::to_string(kMaxJsonDepth) +
+                 " arrays and objects deep"};
+  }
   try {
     return json::parse(text);
   } catch (const json::parse_error& e) {

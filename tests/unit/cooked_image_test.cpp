@@ -6,6 +6,7 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -18,6 +19,7 @@
 #include <puff/core/detail_video.h>
 #include <puff/core/files.h>
 #include <puff/core/image.h>
+#include <puff/core/json_read.h>
 #include <puff/io/openimageio.h>
 #include <puff/mesh/mesh.h>
 
@@ -188,9 +190,20 @@ TEST_F(CookedImage, WithoutACodecOnlyCookedImagesAreReadAndTheErrorSaysWhatToDo)
   EXPECT_OK(puff::core::readImage(dir_ / "ramp.bin"));
 }
 
+TEST_F(CookedImage, APngNamedPuffimgIsTheCodecsAndDamagedWithout) {
+  ASSERT_OK(puff::core::writeImage(dir_ / "ramp.png", Image(4, 1, 3, 0.5f), PixelType::kUInt8));
+  fs::copy_file(dir_ / "ramp.png", dir_ / "ramp.puffimg");
+  EXPECT_OK(puff::core::readImage(dir_ / "ramp.puffimg"));
+  NoCodec none;
+  auto r = puff::core::readImage(dir_ / "ramp.puffimg");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, (dir_ / "ramp.puffimg").string() + ": not a cooked image (no PUFFIMG magic)");
+}
+
 // Every damaged file is one error naming the file: each truncation, each flipped byte, headers that
 // lie, and files that are not images at all.
 TEST_F(CookedImage, DamagedFilesAreOneErrorNamingTheFile) {
+  NoCodec none;  // as in a game: no other reader may take the file
   const fs::path good = dir_ / "good.puffimg", bad = dir_ / "bad.puffimg";
   ASSERT_OK(puff::core::writeImage(good, Image(3, 2, 4, 0.5f), PixelType::kHalf, {{"puff:k", "v"}}));
   const std::string bytes = *puff::core::readFileBytes(good);
@@ -223,7 +236,8 @@ TEST_F(CookedImage, DamagedFilesAreOneErrorNamingTheFile) {
   expectError(withU32(bytes, 20, 5), "5 channels");
   expectError(withU32(bytes, 24, 4), "unknown pixel type 4");
   expectError(withU32(bytes, 28, 1000), "1000 attributes");
-  expectError(bytes + "x", "1 bytes after the cooked image's end");
+  expectError(withU32(withU32(bytes, 12, 0xffffffffu), 16, 0xffffffffu), "image too large (4294967295x4294967295)");
+  expectError(bytes + "x", "1 byte after the cooked image's end");
   expectError("PNG, honest", "not a cooked image");
   // Not regular files: a directory, a FIFO (would block a read), a missing file.
   fs::create_directory(dir_ / "d.puffimg");
@@ -258,6 +272,17 @@ TEST_F(CookedImage, CookingAnImageKeepsTypeValuesAndAttributes) {
   auto video = puff::core::loadDetailVideo(dir_ / "detail.puffimg");
   ASSERT_OK(video);
   EXPECT_EQ(video->frames, 3);
+  // Input that no cooked image holds is the input's error, and an unwritable output is named as the
+  // user named it (not the temporary file written first).
+  puff::core::setImageCodec(&puff::io::openImageIOCodec());
+  ASSERT_OK(puff::core::writeImage(dir_ / "five.tif", Image(2, 2, 5, 0.5f), PixelType::kUInt8));
+  auto five = puff::bake::cookImage(dir_ / "five.tif", dir_ / "five.puffimg");
+  ASSERT_FALSE(five.ok());
+  EXPECT_EQ(five.error().message, (dir_ / "five.tif").string() + ": 5 channels: a cooked image holds 1 to 4");
+  auto proc = puff::bake::cookImage(dir_ / "detail.png", "/proc/puff_cook_test.puffimg");
+  ASSERT_FALSE(proc.ok());
+  EXPECT_EQ(proc.error().message.rfind("/proc/puff_cook_test.puffimg: cannot write: ", 0), 0u) << proc.error().message;
+  puff::core::setImageCodec(nullptr);
   // Refused: a name that is not .puffimg, the input itself; nothing is written.
   EXPECT_FALSE(puff::bake::cookImage(dir_ / "detail.png", dir_ / "detail2.png").ok());
   EXPECT_FALSE(puff::bake::cookImage(dir_ / "detail.puffimg", dir_ / "detail.puffimg").ok());
@@ -271,9 +296,12 @@ class CookedAtlas : public puff::test::GlTest {
   puff::test::ScopedTempDir dir_{"puff_cooked_atlas"};
 
   static void expectSameAtlas(const puff::core::Atlas& a, const puff::core::Atlas& b) {
+    // Equal but for the file names.
     nlohmann::json ja = puff::core::toJson(a.desc), jb = puff::core::toJson(b.desc);
-    ja.erase("maps");
-    jb.erase("maps");
+    for (nlohmann::json* j : {&ja, &jb}) {
+      j->erase("maps");
+      for (auto& source : (*j)["sources"]) source.erase("lodMesh");
+    }
     EXPECT_EQ(ja, jb);
     ASSERT_EQ(a.maps.size(), b.maps.size());
     for (const auto& [name, levels] : a.maps) {
@@ -323,6 +351,67 @@ TEST_F(CookedAtlas, LoadsWithoutACodecToTheSamePixelsForPngAndExrAtlases) {
                 *puff::core::readFileBytes(*puff::core::lodMeshFile(source->desc, i, baked->sidecar)));
     }
   }
+}
+
+// Cooked files are named after the output sidecar and lie beside it, whatever the source sidecar
+// names (a subdirectory, "../"); two cooked atlases share a directory; cooking over a cooked atlas
+// replaces it whole.
+TEST_F(CookedAtlas, FilesAreTheOutputsOwnAndAReplacedAtlasLeavesNothingBehind) {
+  puff::bake::BakeOptions o;
+  o.cellSize = 32;
+  o.contactSheet = false;
+  o.outDir = dir_ / "src";
+  std::vector<puff::bake::PuffSource> sources(1);
+  sources[0].mesh = puff::mesh::generateSphere({3});
+  sources[0].provenance.generator = "sphere";
+  auto baked = puff::bake::bakeAtlas(sources, o);
+  ASSERT_OK(baked);
+  // The source names one level in a subdirectory and one through "../".
+  nlohmann::json j = *puff::core::jsonread::loadJsonFile(baked->sidecar);
+  fs::create_directories(dir_ / "src" / "sub");
+  fs::create_directories(dir_ / "other");
+  fs::rename(dir_ / "src" / "puff_color.png", dir_ / "src" / "sub" / "puff_color.png");
+  fs::rename(dir_ / "src" / "puff_distance.png", dir_ / "other" / "puff_distance.png");
+  j["maps"]["color"]["levels"][0] = "sub/puff_color.png";
+  j["maps"]["distance"]["levels"][0] = "../other/puff_distance.png";
+  ASSERT_OK(puff::core::writeFileBytes(baked->sidecar, j.dump(2)));
+  const auto filesIn = [](const fs::path& d) {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(d)) names.push_back(e.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+  };
+  const fs::path out = dir_ / "game";
+  ASSERT_OK(puff::bake::cookAtlas(baked->sidecar, out / "smoke.json"));
+  const int levels = puff::core::loadAtlasDesc(baked->sidecar)->mipLevels;
+  EXPECT_EQ(filesIn(out).size(), 3u * levels + 1u);
+  EXPECT_EQ(filesIn(dir_ / "other"), std::vector<std::string>{"puff_distance.png"});
+  ASSERT_OK(puff::bake::cookAtlas(baked->sidecar, out / "dust.json"));  // a second atlas beside it
+  NoCodec none;
+  EXPECT_OK(puff::core::loadAtlas(out / "smoke.json"));
+  EXPECT_OK(puff::core::loadAtlas(out / "dust.json"));
+  EXPECT_EQ(filesIn(out).size(), 2u * (3u * levels + 1u));
+  // smoke.json replaced by a one-level atlas: its mip files go, dust.json's stay.
+  puff::core::setImageCodec(&puff::io::openImageIOCodec());
+  o.mips = false;
+  o.outDir = dir_ / "flat";
+  ASSERT_OK(puff::bake::bakeAtlas(sources, o));
+  ASSERT_OK(puff::bake::cookAtlas(dir_ / "flat" / "puff.json", out / "smoke.json"));
+  puff::core::setImageCodec(nullptr);
+  EXPECT_EQ(filesIn(out).size(), 3u + 1u + 3u * levels + 1u);
+  EXPECT_FALSE(fs::exists(out / "smoke_color.mip1.puffimg"));
+  EXPECT_TRUE(fs::exists(out / "dust_color.mip1.puffimg"));
+  EXPECT_OK(puff::core::loadAtlas(out / "smoke.json"));
+  EXPECT_OK(puff::core::loadAtlas(out / "dust.json"));
+  // Without a codec an uncooked atlas says what to cook: the sidecar, not the map.
+  auto uncooked = puff::core::loadAtlas(dir_ / "flat" / "puff.json");
+  ASSERT_FALSE(uncooked.ok());
+  const std::string flat = (dir_ / "flat" / "puff.json").string();
+  EXPECT_EQ(uncooked.error().message,
+            flat +
+                ": its maps are not cooked images (puff_color.png), and this program reads no other format: "
+                "cook the atlas with `puffbake cook " +
+                flat + " -o OUT.json` and load OUT.json, or link puff::io and call puff::io::useOpenImageIO() first");
 }
 
 TEST_F(CookedAtlas, AFailedCookWritesNothingAndTheSourceIsNeverReplaced) {

@@ -366,8 +366,8 @@ TEST_F(PuffbakeCli, CookWritesWhatAGameLoadsAndRefusesWhatItCannot) {
   ASSERT_GT(desc->mipLevels, 1);
   const std::string files = std::to_string(3 * desc->mipLevels + 1) + " files";  // the maps' levels, the sidecar
   EXPECT_NE(r.out.find("puffbake: wrote " + out.string() + ": atlas cooked into " + files), std::string::npos) << r.out;
-  EXPECT_EQ(desc->maps.at("color").levels.at(0), "puff_color.puffimg");
-  EXPECT_EQ(desc->maps.at("distance").levels.at(1), "puff_distance.mip1.puffimg");
+  EXPECT_EQ(desc->maps.at("color").levels.at(0), "smoke_color.puffimg");
+  EXPECT_EQ(desc->maps.at("normalDepth").levels.at(1), "smoke_normal_depth.mip1.puffimg");
   for (const auto& [name, map] : desc->maps) {
     for (const std::string& level : map.levels) EXPECT_TRUE(fs::exists(dir_ / "game" / level)) << level;
   }
@@ -379,12 +379,12 @@ TEST_F(PuffbakeCli, CookWritesWhatAGameLoadsAndRefusesWhatItCannot) {
   EXPECT_EQ(video->frames, 2);
 
   expectOneLineError(run("cook " + (dir_ / "baked" / "puff.json").string() + " -o " + (dir_ / "c.png").string()),
-                     "an atlas cooks into a sidecar, so FILE must end in .json", 2);
+                     "an atlas cooks into a sidecar, so -o must end in .json", 2);
   expectOneLineError(run("cook " + (dir_ / "fire.png").string() + " -o " + (dir_ / "c.png").string()),
                      "an image cooks into a .puffimg file", 2);
   EXPECT_EQ(run("cook " + (dir_ / "fire.png").string()).exitCode, 2);  // -o is required
   expectOneLineError(run("cook " + (dir_ / "none.json").string() + " -o " + (dir_ / "c" / "c.json").string()),
-                     "none.json: cannot open");
+                     "none.json: cannot read: No such file or directory");
   expectOneLineError(run("cook " + write("junk.png", "junk").string() + " -o " + (dir_ / "c" / "c.puffimg").string()),
                      "junk.png: not a readable image");
   EXPECT_FALSE(fs::exists(dir_ / "c"));

@@ -9,9 +9,12 @@
 #include <numbers>
 #include <string>
 
+#include <sys/stat.h>
+
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include <puff/core/json_read.h>
 #include <puff/scene/evaluate.h>
 #include <puff/scene/geometry.h>
 #include <puff/scene/read.h>
@@ -819,3 +822,40 @@ TEST(SceneFixed, ReadsTheFixedPathSettingsAndRejectsBadOnes) {
   EXPECT_EQ(parseError(std::string(R"({"fixed": {"outlineScale": 0.5}})")),
             kFile.string() + ": /fixed/outlineScale: expected a number in [1, 4], got 0.5");
 }
+
+namespace {
+
+// Issue 17: a scene nested 70,000 levels deep crashed the tools (the error message dumped the value
+// recursively). Nesting is limited before parsing, and messages never print a value whole.
+TEST(Scene, DeepNestingIsRefusedBeforeParsingAndMessagesStayShort) {
+  puff::test::ScopedTempDir dir("puff_deep_json");
+  const auto loadError = [&](const std::string& text) {
+    const fs::path file = dir / "deep.json";
+    std::ofstream(file, std::ios::binary) << text;
+    auto s = puff::scene::loadScene(file);
+    EXPECT_FALSE(s.ok());
+    return s.ok() ? std::string() : s.error().message;
+  };
+  const std::string deep = "{\"camera\": " + std::string(70000, '[') + std::string(70000, ']') + "}";
+  EXPECT_EQ(loadError(deep), (dir / "deep.json").string() + ":1:139: nested more than 128 arrays and objects deep");
+  // 128 levels (two objects, 126 arrays) parse, and the error is about the value, printed short.
+  const std::string ok = "{\"camera\": {\"position\": " + std::string(126, '[') + std::string(126, ']') + "}}";
+  EXPECT_EQ(loadError(ok), (dir / "deep.json").string() +
+                               ": /camera/position: expected an array of 3 numbers, got an array of 1 elements");
+  // Brackets inside strings do not count.
+  const std::string quoted = "{\"camra\": \"" + std::string(300, '[') + "\\\"\"}";
+  EXPECT_NE(loadError(quoted).find("/camra: unknown key"), std::string::npos);
+  // A value built deeper than any file may hold is still described in a few words.
+  json value = 1;
+  for (int i = 0; i < 100000; ++i) value = json::array({std::move(value)});
+  EXPECT_EQ(puff::core::jsonread::describe(value), "an array of 1 elements");
+  EXPECT_EQ(puff::core::jsonread::describe(json::array({1, json::array({2, 3})})), "[1,[2,3]]");
+  EXPECT_EQ(puff::core::jsonread::describe(std::string(1000, 'x')), std::string(1, '"') + std::string(44, 'x') + "...");
+  // Not regular files: a FIFO would block the read.
+  ASSERT_EQ(::mkfifo((dir / "fifo.json").c_str(), 0600), 0);
+  auto fifo = puff::scene::loadScene(dir / "fifo.json");
+  ASSERT_FALSE(fifo.ok());
+  EXPECT_EQ(fifo.error().message, (dir / "fifo.json").string() + ": cannot read: not a regular file");
+}
+
+}  // namespace

@@ -1,11 +1,14 @@
 // Cooking atlases and images into Puff's cooked images (bake/cook.h).
 #include <puff/bake/cook.h>
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 #include <puff/core/atlas.h>
 #include <puff/core/files.h>
 #include <puff/core/image.h>
+#include <puff/core/json_read.h>
 
 namespace puff::bake {
 
@@ -22,10 +25,47 @@ std::uintmax_t sizeOf(const fs::path& p) {
   return ec ? 0 : n;
 }
 
-fs::path cookedName(const fs::path& file) {
-  fs::path name = file;
-  name.replace_extension(core::kCookedImageExtension);
-  return name;
+// "normalDepth" -> "normal_depth", as the baker names its map files.
+std::string snakeCase(const std::string& name) {
+  std::string out;
+  for (char c : name) {
+    if (c >= 'A' && c <= 'Z') {
+      out += '_';
+      out += static_cast<char>(c - 'A' + 'a');
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+// A cooked atlas's files are named after its own sidecar (STEM_MAP.puffimg, STEM_MAP.mipN.puffimg,
+// STEM_lodI.EXT) and lie beside it: two cooked atlases share a directory without a clash, and no
+// name in the source sidecar (a subdirectory, "../", an absolute path) leads a file elsewhere.
+std::string levelName(const std::string& stem, const std::string& map, std::size_t level) {
+  return stem + "_" + snakeCase(map) + (level == 0 ? "" : ".mip" + std::to_string(level)) + core::kCookedImageExtension;
+}
+
+// The files the atlas at `sidecar` names in its own directory (its levels and LOD meshes); nothing
+// when it is not a readable atlas.
+std::vector<fs::path> filesBeside(const fs::path& sidecar) {
+  std::vector<fs::path> files;
+  auto j = core::jsonread::loadJsonFile(sidecar);
+  if (!j) return files;
+  auto desc = core::atlasFromJson(*j, sidecar);
+  if (!desc) return files;
+  const fs::path dir = sidecar.parent_path().lexically_normal();
+  const auto add = [&](const fs::path& p) {
+    const fs::path file = (sidecar.parent_path() / p).lexically_normal();
+    if (!p.is_absolute() && file.parent_path() == dir) files.push_back(file);
+  };
+  for (const auto& [name, map] : desc->maps) {
+    for (const std::string& level : map.levels) add(level);
+  }
+  for (const core::AtlasSource& source : desc->sources) {
+    if (!source.lodMesh.empty()) add(source.lodMesh);
+  }
+  return files;
 }
 
 // Reads `in` and stages its cooked copy at `target` in `tx`.
@@ -33,6 +73,9 @@ Result<void> stageImage(core::OutputTransaction& tx, const fs::path& in, const f
   core::ImageFileInfo info;
   auto image = core::readImage(in, &info);
   if (!image) return image.error();
+  if (image->channels > 4) {
+    return Error::at(in, std::to_string(image->channels) + " channels: a cooked image holds 1 to 4");
+  }
   const fs::path staged = tx.stage(target);
   PUFF_TRY(core::writeImage(staged, *image, info.type, info.attributes, target));
   cooked.files.push_back(target);
@@ -50,40 +93,43 @@ bool sameFile(const fs::path& a, const fs::path& b) {
 }  // namespace
 
 Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
-  auto bytes = core::readFileBytes(sidecar);
-  if (!bytes) return bytes.error();
-  json j = json::parse(*bytes, nullptr, /*allow_exceptions=*/false);
-  if (j.is_discarded()) return Error::at(sidecar, "not valid JSON");
+  auto parsed = core::jsonread::loadJsonFile(sidecar);
+  if (!parsed) return parsed.error();
+  json j = std::move(*parsed);
   auto desc = core::atlasFromJson(j, sidecar);
   if (!desc) return desc.error();
   if (sameFile(sidecar, outSidecar)) {
     return Error::at(outSidecar, "is the atlas being cooked; name another sidecar for the cooked atlas");
   }
   const fs::path inDir = sidecar.parent_path(), outDir = outSidecar.parent_path();
+  const std::string stem = outSidecar.stem().string();
+  // What the sidecar being replaced named beside it, less what the source and the new atlas use:
+  // removed once the new atlas is in place, so the directory holds the new atlas whole.
+  const std::vector<fs::path> stale = filesBeside(outSidecar);
+  const std::vector<fs::path> sourceFiles = filesBeside(sidecar);
   Cooked cooked;
   core::OutputTransaction tx;
   PUFF_TRY(tx.prepareDirectory(outDir));
   for (const auto& [name, map] : desc->maps) {
     for (std::size_t level = 0; level < map.levels.size(); ++level) {
-      const fs::path cookedLevel = cookedName(map.levels[level]);
+      const std::string cookedLevel = levelName(stem, name, level);
       const fs::path in = inDir / map.levels[level], out = outDir / cookedLevel;
-      if (sameFile(in, out)) return Error::at(in, "is already a cooked image (the atlas is cooked)");
-      PUFF_TRY(tx.prepareDirectory(out.parent_path()));
+      if (sameFile(in, out)) return Error::at(in, "would be replaced by its own cooked copy; name another sidecar");
       PUFF_TRY(stageImage(tx, in, out, cooked));
-      j["maps"][name]["levels"][level] = cookedLevel.generic_string();
+      j["maps"][name]["levels"][level] = cookedLevel;
     }
   }
   for (std::size_t i = 0; i < desc->sources.size(); ++i) {
-    const std::string& lod = desc->sources[i].lodMesh;
-    if (lod.empty() || fs::path(lod).is_absolute()) continue;
+    if (desc->sources[i].lodMesh.empty()) continue;
     auto from = core::lodMeshFile(*desc, i, sidecar);
     if (!from) return from.error();
+    const std::string lod = stem + "_lod" + std::to_string(i) + from->extension().string();
     const fs::path to = outDir / lod;
-    if (sameFile(*from, to)) continue;
+    if (sameFile(*from, to)) return Error::at(*from, "would be replaced by its own copy; name another sidecar");
     auto mesh = core::readFileBytes(*from);
     if (!mesh) return mesh.error();
-    PUFF_TRY(tx.prepareDirectory(to.parent_path()));
     PUFF_TRY(core::writeFileBytes(tx.stage(to), *mesh, to));
+    j["sources"][i]["lodMesh"] = lod;
     cooked.files.push_back(to);
     cooked.bytesRead += mesh->size();
     cooked.bytesWritten += mesh->size();
@@ -91,9 +137,18 @@ Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
   const std::string text = j.dump(2) + "\n";
   PUFF_TRY(core::writeFileBytes(tx.stage(outSidecar), text, outSidecar));
   cooked.files.push_back(outSidecar);
-  cooked.bytesRead += bytes->size();
+  cooked.bytesRead += sizeOf(sidecar);
   cooked.bytesWritten += text.size();
   PUFF_TRY(tx.commit());
+  for (const fs::path& old : stale) {
+    const auto kept = [&](const fs::path& f) { return sameFile(f, old); };
+    if (std::any_of(cooked.files.begin(), cooked.files.end(), kept) ||
+        std::any_of(sourceFiles.begin(), sourceFiles.end(), kept)) {
+      continue;
+    }
+    std::error_code ec;
+    fs::remove(old, ec);  // best effort: the new atlas is complete without it
+  }
   return cooked;
 }
 

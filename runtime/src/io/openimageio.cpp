@@ -68,13 +68,14 @@ Result<void> write(const fs::path& path, const Image& image, PixelType type, con
     }
     data = clamped.data();
   }
-  if (!out->open(path.string(), spec)) return Error::at(path, "cannot write: " + firstLine(out->geterror()));
+  // Errors name the user's file (`naming`): `path` may be a staged temporary.
+  if (!out->open(path.string(), spec)) return Error::at(naming, "cannot write: " + firstLine(out->geterror()));
   if (!out->write_image(OIIO::TypeDesc::FLOAT, data)) {
     std::string err = firstLine(out->geterror());
     out->close();
-    return Error::at(path, "write failed: " + err);
+    return Error::at(naming, "write failed: " + err);
   }
-  if (!out->close()) return Error::at(path, "write failed: " + firstLine(out->geterror()));
+  if (!out->close()) return Error::at(naming, "write failed: " + firstLine(out->geterror()));
   return {};
 }
 

@@ -18,11 +18,16 @@ struct Cooked {
   std::uintmax_t bytesWritten = 0;           ///< the cooked files' size
 };
 
-/// Cooks the atlas described by `sidecar` into `outSidecar` (a .json path): every map level
-/// becomes a .puffimg beside it, named as the level's file with the extension changed; the sidecar
-/// is the source's JSON with only the level file names changed; a `--lod auto` mesh is copied
-/// beside it. All or nothing: the files appear together, and nothing existing is touched on an
-/// error. Errors: what loading the atlas reports, an output that would replace the source sidecar.
+/// Cooks the atlas described by `sidecar` into `outSidecar` (a .json path, STEM.json): every map
+/// level becomes STEM_MAP.puffimg or STEM_MAP.mipN.puffimg beside it (MAP: normal_depth, color,
+/// distance), a `--lod auto` mesh STEM_lodI.EXT; the sidecar is the source's JSON with only those
+/// file names changed. Files are named after the output, never after the source's names, so they
+/// stay beside it and two cooked atlases share a directory.
+/// All or nothing: the files appear together, and nothing existing is touched on an error. An
+/// atlas already at `outSidecar` is replaced whole: once the new one is in place, the files its
+/// sidecar named beside it that the new one (and the source) does not use are removed.
+/// Errors: what loading the atlas reports, an image of more than 4 channels, an output that would
+/// replace the source sidecar or one of its files.
 Result<Cooked> cookAtlas(const std::filesystem::path& sidecar, const std::filesystem::path& outSidecar);
 
 /// Cooks one image file into `out` (a .puffimg path): same size, channels, pixel values, stored
