@@ -13,6 +13,7 @@
 #include <puff/core/gl_context.h>
 #include <puff/io/openimageio.h>
 
+#include "bench_usage.h"
 #include "harness.h"
 
 namespace {
@@ -41,8 +42,8 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc)
       csvPath = argv[++i];
     else {
-      std::fprintf(stderr, "usage: puff_bench [--reps N] [--subdivisions N] [--csv FILE]\n");
-      return 2;
+      std::fprintf(puff::bench::usageStream(argv[i]), "usage: puff_bench [--reps N] [--subdivisions N] [--csv FILE]\n");
+      return puff::bench::usageExit(argv[i]);
     }
   }
   auto context = core::createGlContext({});

@@ -58,6 +58,7 @@
 #include <puff/gl_api.h>
 #include <puff/mesh/mesh.h>
 
+#include "bench_usage.h"
 #include "harness.h"
 #include "support/gl_target.h"
 
@@ -272,12 +273,12 @@ int main(int argc, char** argv) {
       dumpDir = argv[++i];
     else {
       std::fprintf(
-          stderr,
+          puff::bench::usageStream(argv[i]),
           "usage: puff_bench_cel [--reps N] [--csv FILE] [--counts 1000,10000,50000] [--sizes 512,1024]\n"
           "                      [--max-frame-s S (100)] [--no-full] [--no-nailboards] [--no-map] [--no-split]\n"
           "                      [--dump DIR]\n"
           "  --no-full: without full-volumes (the slow one); --no-map: without full-map\n");
-      return 2;
+      return puff::bench::usageExit(argv[i]);
     }
   }
   for (int v : counts) {

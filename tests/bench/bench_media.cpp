@@ -72,6 +72,7 @@
 #include <puff/reference/media_reference.h>
 #include <puff/reference/metrics.h>
 
+#include "bench_usage.h"
 #include "harness.h"
 
 namespace {
@@ -414,10 +415,10 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--no-fig12"))
       runFig = false;
     else {
-      std::fprintf(stderr,
+      std::fprintf(puff::bench::usageStream(argv[i]),
                    "usage: puff_bench_media [--reps N (5)] [--csv FILE] [--dump DIR] [--no-table1] [--no-fig12] "
                    "[--no-error]\n");
-      return 2;
+      return puff::bench::usageExit(argv[i]);
     }
   }
 

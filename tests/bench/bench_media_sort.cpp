@@ -36,6 +36,7 @@
 #include <puff/scene/evaluate.h>
 #include <puff/scene/read.h>
 
+#include "bench_usage.h"
 #include "harness.h"
 
 namespace {
@@ -226,12 +227,12 @@ int main(int argc, char** argv) {
       const std::string name = argv[++i];
       cases.push_back({name, parseFrames(argv[++i])});
     } else {
-      std::fprintf(stderr,
+      std::fprintf(puff::bench::usageStream(argv[i]),
                    "usage: puff_bench_media_sort [--scale S (0.5: 320 x 240)] [--samples N (4)]\n"
                    "                             [--scene NAME FRAMES (e.g. explosion-walls 5,13) ...]\n"
                    "                             [--tolerance T (1e-4: the physical reference's)]\n"
                    "                             [--csv FILE] [--art-dir DIR]\n");
-      return 2;
+      return puff::bench::usageExit(argv[i]);
     }
   }
   auto context = core::createGlContext();

@@ -18,6 +18,7 @@
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 
+#include "bench_usage.h"
 #include "harness.h"
 
 namespace {
@@ -40,8 +41,9 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--art-dir") && i + 1 < argc)
       artDir = argv[++i];
     else {
-      std::fprintf(stderr, "usage: puff_bench_paths [--reps N] [--csv FILE] [--art-dir DIR]\n");
-      return 2;
+      std::fprintf(puff::bench::usageStream(argv[i]),
+                   "usage: puff_bench_paths [--reps N] [--csv FILE] [--art-dir DIR]\n");
+      return puff::bench::usageExit(argv[i]);
     }
   }
   core::GlContextOptions o;

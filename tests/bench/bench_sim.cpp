@@ -19,6 +19,7 @@
 #include <puff/io/openimageio.h>
 #include <puff/sim/simulator.h>
 
+#include "bench_usage.h"
 #include "harness.h"
 
 namespace {
@@ -105,11 +106,11 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc && !(threadCounts = parseThreads(argv[++i])).empty())
       continue;
     else {
-      std::fprintf(stderr,
+      std::fprintf(puff::bench::usageStream(argv[i]),
                    "usage: puff_bench_sim [--reps N] [--particles N] [--threads N[,N...]] [--csv FILE]\n"
                    "  --threads: thread counts to run every case on, each in [0, %d] (0 = hardware concurrency)\n",
                    sim::kMaxThreads);
-      return 2;
+      return puff::bench::usageExit(argv[i]);
     }
   }
 

@@ -33,6 +33,7 @@
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 
+#include "bench_usage.h"
 #include "harness.h"
 #include "puffbench_cel.h"
 #include "puffbench_shadows.h"
@@ -340,7 +341,7 @@ int main(int argc, char** argv) {
       scenes.push_back(argv[++i]);
     } else {
       std::fprintf(
-          stderr,
+          puff::bench::usageStream(argv[i]),
           "usage: puffbench [--part media|cel|shadows|tumble|all (all: media and cel)] [--reps N (3)]\n"
           "                 [--size W H (320 240)] [--shadow-csv FILE] [--shadow-scenes A,B (cloud-fig8c,\n"
           "                 explosion,magic-lamp,cloud-10k)]\n"
@@ -352,7 +353,7 @@ int main(int argc, char** argv) {
           "                 [--tumble-csv FILE] [--tumble-atlases LIST (oct3,oct5,oct7,oct9,hemioct3,\n"
           "                 hemioct5,hemioct7)] [--tumble-cells LIST (64,128,256)] [--tumble-step DEG (15)]\n"
           "                 (tumble: frame times are eval::measureTumble's, 3 renders a roll; --reps is not used)\n");
-      return 2;
+      return puff::bench::usageExit(argv[i]);
     }
   }
   // Compatibility profile: the fixed-function path (GL 1.x calls) runs beside the programmable ones.
