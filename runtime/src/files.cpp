@@ -98,7 +98,10 @@ Result<void> OutputTransaction::commit() {
 
 Result<std::string> readFileBytes(const fs::path& path) {
   std::error_code ec;
-  if (fs::is_directory(path, ec)) return Error::at(path, "cannot open: is a directory");
+  const auto status = fs::status(path, ec);
+  if (fs::is_directory(status)) return Error::at(path, "cannot open: is a directory");
+  // A FIFO would block the read and a device (/dev/zero) never ends.
+  if (fs::exists(status) && !fs::is_regular_file(status)) return Error::at(path, "cannot open: not a regular file");
   std::ifstream in(path, std::ios::binary);
   if (!in) return Error::at(path, std::string("cannot open: ") + std::strerror(errno));
   std::ostringstream ss;

@@ -1,4 +1,5 @@
 // puff::mesh: generators, validation, normalization, loading/saving through OpenMesh, decimation.
+#include <puff/core/files.h>
 #include <puff/mesh/mesh.h>
 
 #include <gtest/gtest.h>
@@ -633,3 +634,24 @@ TEST(MeshDecimate, ColorsFollowTheKeptVerticesAndScaleIsKept) {
   }
   EXPECT_EQ(decimate(src, 10000).faceCount(), src.faceCount());  // already below the target
 }
+
+namespace {
+
+// Issue 17: a FIFO named as a mesh (or any file Puff reads whole) hung the run; a device such as
+// /dev/zero never ends. Only regular files are read.
+TEST(MeshLoad, AFifoOrADeviceIsRefusedNotWaitedOn) {
+  puff::test::ScopedTempDir dir("puff_mesh_fifo");
+  const std::filesystem::path fifo = dir / "puff.obj";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  auto mesh = puff::mesh::loadMesh(fifo);
+  ASSERT_FALSE(mesh.ok());
+  EXPECT_EQ(mesh.error().message, fifo.string() + ": cannot open: not a regular file");
+  auto bytes = puff::core::readFileBytes(fifo);
+  ASSERT_FALSE(bytes.ok());
+  EXPECT_EQ(bytes.error().message, fifo.string() + ": cannot open: not a regular file");
+  auto zero = puff::core::readFileBytes("/dev/zero");
+  ASSERT_FALSE(zero.ok());
+  EXPECT_EQ(zero.error().message, "/dev/zero: cannot open: not a regular file");
+}
+
+}  // namespace

@@ -323,6 +323,8 @@ Result<void> checkReadable(const fs::path& path) {
     return Error::at(path, "cannot open: " + reason(ec.value()));
   if (!fs::exists(st)) return Error::at(path, "cannot open: " + reason(ENOENT));
   if (fs::is_directory(st)) return Error::at(path, "cannot open: " + reason(EISDIR));
+  // A FIFO would block the read and a device never ends: only regular files are meshes.
+  if (!fs::is_regular_file(st)) return Error::at(path, "cannot open: not a regular file");
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) return Error::at(path, "cannot open: " + reason(errno));
   std::fclose(f);
