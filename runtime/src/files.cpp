@@ -1,8 +1,11 @@
 #include <puff/core/files.h>
 
+#include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -41,8 +44,38 @@ Result<void> OutputTransaction::prepareDirectory(const fs::path& dir) {
     }
   }
   if (::access(dir.c_str(), W_OK) != 0) return Error::at(dir, std::string("cannot write: ") + std::strerror(errno));
+  // access() answers for the permission bits, which root passes even where no file can be made
+  // (/proc): a file is made and removed here, so that a run fails before its work, not after.
+  const fs::path probe = dir / (".puff-probe-" + std::to_string(::getpid()));
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
+  if (fd < 0 && errno != EEXIST) return Error::at(dir, std::string("cannot write: ") + std::strerror(errno));
+  if (fd >= 0) {
+    ::close(fd);
+    ::unlink(probe.c_str());
+  }
   return {};
 }
+
+namespace {
+
+// Removes DIR/.NAME.tmp-PID.EXT files that `stage` named for `target` in runs that are gone (killed
+// before they could clean up): a process PID that no longer exists.
+void removeStaleTemps(const fs::path& target) {
+  const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  const std::string prefix = "." + target.filename().string() + ".tmp-";
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    const long pid = std::strtol(name.c_str() + prefix.size(), nullptr, 10);
+    if (pid <= 0 || pid == ::getpid()) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to ask
+    std::error_code removed;
+    fs::remove(it->path(), removed);
+  }
+}
+
+}  // namespace
 
 fs::path OutputTransaction::stage(const fs::path& target) {
   // Appended piece by piece: GCC 12 warns falsely (-Wrestrict) on a chain of operator+.
@@ -52,6 +85,7 @@ fs::path OutputTransaction::stage(const fs::path& target) {
   name += std::to_string(::getpid());
   name += target.extension().string();
   const fs::path temp = target.parent_path() / name;
+  removeStaleTemps(target);
   staged_.emplace_back(temp, target);
   return temp;
 }
