@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -387,6 +388,24 @@ TEST_F(PuffbakeCli, CookWritesWhatAGameLoadsAndRefusesWhatItCannot) {
                      "none.json: cannot read: No such file or directory");
   expectOneLineError(run("cook " + write("junk.png", "junk").string() + " -o " + (dir_ / "c" / "c.puffimg").string()),
                      "junk.png: not a readable image");
+  // A truncated PNG: libpng's own "libpng error: ..." line is not printed, Puff's one line is.
+  puff::core::Image noise(96, 96, 4);
+  std::uint32_t state = 2463534242u;  // xorshift32: values that do not compress
+  for (float& v : noise.pixels) {
+    state ^= state << 13;
+    state ^= state >> 17;
+    state ^= state << 5;
+    v = static_cast<float>(state & 255u) / 255.0f;
+  }
+  ASSERT_TRUE(puff::core::writeImage(dir_ / "noise.png", noise, puff::core::PixelType::kUInt8).ok());
+  const std::string png = *puff::core::readFileBytes(dir_ / "noise.png");
+  ASSERT_GT(png.size(), 4000u);
+  const fs::path truncated = write("truncated.png", png.substr(0, png.size() / 2));
+  expectOneLineError(run("cook " + truncated.string() + " -o " + (dir_ / "c" / "t.puffimg").string()),
+                     "truncated.png: corrupt or truncated image");
+  expectOneLineError(
+      run("cook " + write("header.png", png.substr(0, 40)).string() + " -o " + (dir_ / "c" / "h.puffimg").string()),
+      "header.png: not a readable image");
   EXPECT_FALSE(fs::exists(dir_ / "c"));
   EXPECT_FALSE(fs::exists(dir_ / "c.png"));
   // The cooked sidecar is never replaced by a failed cook.

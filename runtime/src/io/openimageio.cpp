@@ -1,6 +1,12 @@
 // The OpenImageIO image codec (puff/io/openimageio.h).
 #include <puff/io/openimageio.h>
 
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <mutex>
+
 #include <OpenImageIO/imageio.h>
 
 namespace puff::io {
@@ -79,7 +85,51 @@ Result<void> write(const fs::path& path, const Image& image, PixelType type, con
   return {};
 }
 
+// libpng, under OpenImageIO's PNG reader, prints its own "libpng error: ..." and "libpng warning:
+// ..." lines on stderr before OpenImageIO returns the error Puff reports in one line. While an
+// image is read, stderr goes to a temporary file; afterwards every line but libpng's goes back
+// to stderr. Reads take turns (stderr is one per process); other threads' lines written meanwhile
+// come out after the read, in order.
+class LibpngLinesDropped {
+ public:
+  LibpngLinesDropped() : lock_(mutex()) {
+    std::fflush(stderr);
+    capture_ = std::tmpfile();
+    if (!capture_) return;  // no temporary file: libpng's lines stay, nothing else changes
+    saved_ = ::dup(STDERR_FILENO);
+    if (saved_ < 0 || ::dup2(::fileno(capture_), STDERR_FILENO) < 0) {
+      if (saved_ >= 0) ::close(saved_);
+      std::fclose(capture_);
+      capture_ = nullptr;
+    }
+  }
+  ~LibpngLinesDropped() {
+    if (!capture_) return;
+    std::fflush(stderr);
+    ::dup2(saved_, STDERR_FILENO);
+    ::close(saved_);
+    std::rewind(capture_);
+    char line[4096];
+    while (std::fgets(line, sizeof line, capture_)) {
+      if (std::strncmp(line, "libpng ", 7) != 0) std::fputs(line, stderr);
+    }
+    std::fclose(capture_);
+  }
+  LibpngLinesDropped(const LibpngLinesDropped&) = delete;
+  LibpngLinesDropped& operator=(const LibpngLinesDropped&) = delete;
+
+ private:
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  std::lock_guard<std::mutex> lock_;
+  std::FILE* capture_ = nullptr;
+  int saved_ = -1;
+};
+
 Result<Image> read(const fs::path& path, ImageFileInfo* info) {
+  const LibpngLinesDropped quiet;
   // Read values as stored: no multiplication by a fourth channel that may not be alpha.
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
@@ -109,6 +159,7 @@ Result<Image> read(const fs::path& path, ImageFileInfo* info) {
 }
 
 Result<std::string> readAttribute(const fs::path& path, const std::string& name) {
+  const LibpngLinesDropped quiet;
   auto in = OIIO::ImageInput::open(path.string());
   if (!in) return Error::at(path, "not a readable image: " + firstLine(OIIO::geterror()));
   return std::string(in->spec().get_string_attribute(name));
