@@ -588,7 +588,9 @@ TEST_F(CelBudget, ShadowsAreMeasuredAndTheFastestWithinTheBudgetIsChosen) {
     const eval::CelCandidate& c = b->candidates[i];
     ASSERT_EQ(c.rmse.size(), 2u);
     EXPECT_GT(c.worstRmse, 0.0);
-    if (i > 0) EXPECT_LE(b->candidates[i - 1].medianMs, c.medianMs) << "ordered by measured time";
+    if (i > 0) {
+      EXPECT_LE(b->candidates[i - 1].medianMs, c.medianMs) << "ordered by measured time";
+    }
     if (c.shadowMethod == cel::ShadowMethod::kVolumes) {
       ++volumes;
     } else {

@@ -751,8 +751,8 @@ TEST_F(MediaLayersTest, HeatShimmerDisplacesBySubPixelAmountsBilinearly) {
       // miss by 0.006 or more.
       auto stored = [](double v) { return double{glm::unpackHalf1x16(glm::packHalf1x16(static_cast<float>(v)))}; };
       auto lerp = [&](double s, double scale) {
-        const double i0 = std::floor(s), f = s - i0;
-        return (1 - f) * stored(scale * i0 / 255.0) + f * stored(scale * std::min(i0 + 1, s + 1) / 255.0);
+        const double i0 = std::floor(s), t = s - i0;
+        return (1 - t) * stored(scale * i0 / 255.0) + t * stored(scale * std::min(i0 + 1, s + 1) / 255.0);
       };
       const double er = lerp(sx, 4.0), eg = lerp(sy, 8.0);
       ASSERT_NEAR(got.r, er, std::max(1e-6, er / 1024.0)) << x << "," << y;

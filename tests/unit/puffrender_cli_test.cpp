@@ -98,6 +98,28 @@ TEST_F(PuffrenderCli, BadScenesFailWithTheFileAndThePointer) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+// Issue 17: a file a scene names that cannot be read is one line naming the scene, the JSON pointer
+// that named the file, and the file's own problem, on both paths.
+TEST_F(PuffrenderCli, AMissingFileNamesTheSceneAndThePointer) {
+  const fs::path out = dir_ / "out.png";
+  const fs::path atlas =
+      write("scenes/atlas.json", R"({"output": {"width": 32, "height": 32}, "atlas": "none/puff.json",
+                                                       "particles": [{"position": [0, 0, 0], "size": 1}]})");
+  for (const char* path : {"cel", "fixed"}) {
+    expectOneLineError(run(atlas.string() + " --path " + path + " -o " + out.string()),
+                       atlas.string() + ": /atlas: " + (dir_ / "scenes" / "none" / "puff.json").string() +
+                           ": cannot read: No such file or directory");
+  }
+  const fs::path ramp = write("scenes/ramp.json", R"({"output": {"width": 32, "height": 32}, "ramp": "none.png",
+                                                     "objects": [{"type": "box"}]})");
+  for (const char* path : {"cel", "fixed"}) {
+    expectOneLineError(
+        run(ramp.string() + " --path " + path + " -o " + out.string()),
+        ramp.string() + ": /ramp: " + (dir_ / "scenes" / "none.png").string() + ": cannot open: no such file");
+  }
+  EXPECT_FALSE(fs::exists(out));
+}
+
 // Output for compositing: a transparent frame's alpha reaches the PNG (straight by default, said in
 // puff:alpha) and the EXR (premultiplied); straight EXR is refused before anything is drawn; a
 // missing plate is one line naming the scene, the field and the file.
@@ -350,8 +372,8 @@ TEST_F(PuffrenderPaths, ReferencePathDrawsTheMediaByThePhysicalReference) {
   ASSERT_TRUE(im.ok());
   // Pixel centres at (i + 0.5) / 16 - 2 world units; the sphere's centre sits between pixels 31 and 32.
   auto expected = [](double d) {
-    const double tau = 0.5, r = 1.0, h = std::sqrt(r * r - d * d);
-    return std::exp(-(d < 1e-12 ? 2 * tau * r : 2 * tau * (h - d * d / r * std::log((r + h) / d))));
+    const double tau = 0.5, radius = 1.0, h = std::sqrt(radius * radius - d * d);
+    return std::exp(-(d < 1e-12 ? 2 * tau * radius : 2 * tau * (h - d * d / radius * std::log((radius + h) / d))));
   };
   for (int i : {32, 36, 40, 44, 46}) {
     const double x = (i + 0.5) / 16.0 - 2.0, y = (32 + 0.5) / 16.0 - 2.0, d = std::hypot(x, y);

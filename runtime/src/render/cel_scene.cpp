@@ -6,8 +6,10 @@
 namespace puff::render {
 
 Result<core::Atlas> loadSceneAtlas(const scene::Scene& scene) {
+  // A file's error names the scene and the JSON pointer that led to the file, then the file.
   auto atlas = core::loadAtlas(scene.atlas);
-  if (!atlas || scene.atlasLevel == 0) return atlas;
+  if (!atlas) return Error::at(scene.file, "/atlas: " + atlas.error().message);
+  if (scene.atlasLevel == 0) return atlas;
   auto level = core::atlasFromLevel(*atlas, scene.atlasLevel);
   if (!level) return Error::at(scene.file, "/atlasLevel: " + level.error().message);
   return level;
@@ -40,14 +42,14 @@ Result<std::unique_ptr<CelScene>> CelScene::create(const scene::Scene& scene, co
   c->opaque_ = std::move(*opaque);
   if (!scene.ramp.empty()) {
     auto ramp = cel::Ramp::load(scene.ramp, scene.rampSmooth);
-    if (!ramp) return ramp.error();
+    if (!ramp) return Error::at(scene.file, "/ramp: " + ramp.error().message);
     c->ramp_ = std::move(*ramp);
   } else {
     c->ramp_ = cel::Ramp::twoTone();
   }
   if (!scene.ambientGradient.empty()) {
     auto g = cel::Gradient::load(scene.ambientGradient);
-    if (!g) return g.error();
+    if (!g) return Error::at(scene.file, "/ambient/gradient: " + g.error().message);
     c->gradient_ = std::move(*g);
   }
 

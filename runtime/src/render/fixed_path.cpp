@@ -57,7 +57,7 @@ class FixedPath final : public Path {
     std::optional<core::Atlas> atlas;  // for the variation count and the default puff
     if (!scene.atlas.empty()) {
       auto loaded = core::loadAtlas(scene.atlas);
-      if (!loaded) return loaded.error();
+      if (!loaded) return Error::at(scene.file, "/atlas: " + loaded.error().message);
       atlas = std::move(*loaded);
       p->variations_ = std::max(1, atlas->desc.variations);
     }
@@ -80,8 +80,10 @@ class FixedPath final : public Path {
     p->fixed_ = std::move(*fixed);
     if (!scene.ramp.empty()) {
       auto ramp = core::readImage(scene.ramp);
-      if (!ramp) return ramp.error();
-      if (auto ok = p->fixed_->setRamp(*ramp); !ok) return Error::at(scene.ramp, ok.error().message);
+      if (!ramp) return Error::at(scene.file, "/ramp: " + ramp.error().message);
+      if (auto ok = p->fixed_->setRamp(*ramp); !ok) {
+        return Error::at(scene.file, "/ramp: " + Error::at(scene.ramp, ok.error().message).message);
+      }
     }
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {
       const scene::ObjectSpec& o = scene.objects[i];

@@ -19,12 +19,12 @@ Result<std::unique_ptr<MediaPass>> MediaPass::create(const scene::Scene& scene) 
   std::optional<core::DetailVideo> temperature, opacity;
   if (!spec.temperatureDetail.empty()) {
     auto v = core::loadDetailVideo(spec.temperatureDetail);
-    if (!v) return v.error();
+    if (!v) return Error::at(scene.file, "/media/detail/temperature: " + v.error().message);
     temperature = std::move(*v);
   }
   if (!spec.opacityDetail.empty()) {
     auto v = core::loadDetailVideo(spec.opacityDetail);
-    if (!v) return v.error();
+    if (!v) return Error::at(scene.file, "/media/detail/opacity: " + v.error().message);
     opacity = std::move(*v);
   }
   (*renderer)->setDetail(temperature ? &*temperature : nullptr, opacity ? &*opacity : nullptr);
