@@ -1,7 +1,10 @@
 #include <puff/core/atlas.h>
 
 #include <array>
+#include <cmath>
 #include <limits>
+
+#include <glm/geometric.hpp>
 
 #include <puff/core/files.h>
 #include <puff/core/json_read.h>
@@ -113,8 +116,21 @@ void checkLayout(const AtlasDesc& d) {
   // Cells stay apart at every level only if each level halves the cell exactly.
   check(d.mipLevels > 0 && d.mipLevels <= 15 && d.cellSize % (1 << (d.mipLevels - 1)) == 0, "/mipLevels",
         "must be in [1, 15] with cellSize divisible by 2^(mipLevels-1)");
-  check(d.distanceRange > 0, "/distanceRange", "must be positive");
+  // Ranges no baker writes outside, which would draw nothing or NaN (issue 17: depthScale 0,
+  // distanceRange 1e-38 or 1e38, alphaThreshold 7, flangeTexels -50 were all accepted).
+  check(d.distanceRange >= 1e-3f && d.distanceRange <= 65536.0f, "/distanceRange",
+        "must be in [0.001, 65536] texels, got " + std::to_string(d.distanceRange));
+  check(d.depthScale > 0.0f && d.depthScale <= 64.0f, "/depthScale",
+        "must be in (0, 64] puff diameters, got " + std::to_string(d.depthScale));
+  check(d.alphaThreshold > 0.0f && d.alphaThreshold < 1.0f, "/alphaThreshold",
+        "must be in (0, 1), got " + std::to_string(d.alphaThreshold));
+  check(d.flangeTexels >= 0.0f && d.flangeTexels <= static_cast<float>(d.cellSize), "/flangeTexels",
+        "must be in [0, cellSize] texels, got " + std::to_string(d.flangeTexels));
+  check(d.supersample >= 1 && d.supersample <= 64, "/supersample", "must be in [1, 64]");
 }
+
+// A unit vector within 1e-3 (the baker writes them normalized in float).
+bool unit(const glm::vec3& v) { return std::abs(glm::length(v) - 1.0f) <= 1e-3f; }
 
 void readCells(const json& j, AtlasDesc& d) {
   check(j.contains("cells") && j["cells"].is_array(), "/cells", "missing or not an array");
@@ -129,7 +145,12 @@ void readCells(const json& j, AtlasDesc& d) {
     c.rect = rectField(cells[i], "rect", where);
     c.viewDir = vec3Field(cells[i], "viewDir", where);
     c.viewUp = vec3Field(cells[i], "viewUp", where);
+    check(c.variation >= 0 && c.variation < d.variations, where + "/variation", "must be in [0, variations)");
+    check(c.view >= 0 && c.view < d.views, where + "/view", "must be in [0, views)");
     check(c.variation * d.views + c.view == static_cast<int>(i), where, "cells must be variation-major");
+    check(unit(c.viewDir), where + "/viewDir", "must be a unit vector");
+    check(unit(c.viewUp) && std::abs(glm::dot(c.viewDir, c.viewUp)) <= 1e-3f, where + "/viewUp",
+          "must be a unit vector perpendicular to viewDir");
     const auto& r = c.rect;
     check(r[0] >= 0 && r[1] >= 0 && r[2] == d.cellSize && r[3] == d.cellSize && r[0] + r[2] <= d.width &&
               r[1] + r[3] <= d.height,
@@ -302,6 +323,19 @@ Result<Atlas> loadAtlas(const fs::path& sidecar) {
       if (img->width != w || img->height != h) {
         return Error::at(file, "is " + std::to_string(img->width) + "x" + std::to_string(img->height) +
                                    ", the sidecar says " + std::to_string(w) + "x" + std::to_string(h));
+      }
+      // Each map's own channels: a level that names another map's file is refused here.
+      const int channels = name == "distance" ? 1 : 4;
+      if (img->channels != channels) {
+        return Error::at(file, "has " + std::to_string(img->channels) + " channel(s), but the " + name + " map has " +
+                                   std::to_string(channels) + " (does the sidecar name the right file?)");
+      }
+      for (std::size_t k = 0; k < img->pixels.size(); ++k) {
+        if (!std::isfinite(img->pixels[k])) {
+          const std::size_t texel = k / static_cast<std::size_t>(channels);
+          return Error::at(file, "texel (" + std::to_string(texel % static_cast<std::size_t>(w)) + ", " +
+                                     std::to_string(texel / static_cast<std::size_t>(w)) + ") is not finite");
+        }
       }
       levels.push_back(std::move(*img));
     }

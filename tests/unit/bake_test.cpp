@@ -237,6 +237,58 @@ TEST(BakeSidecar, WrongKindsOfValueSayWhatWasExpected) {
   }
 }
 
+// Issue 17: values of the right kind that no bake writes, each of which drew nothing, NaN or the
+// wrong map with exit 0, are refused with their pointer.
+TEST(BakeSidecar, ValuesNoBakeWritesAreRefused) {
+  core::AtlasDesc good;
+  good.fileFormat = "png";
+  good.width = good.height = 128;
+  good.cellSize = 64;
+  good.columns = good.rows = 2;
+  good.margin = 4;
+  good.contentSize = 56;
+  good.mipLevels = 1;
+  good.variations = 4;
+  good.views = good.viewGrid = 1;
+  good.viewLayout = "hemioct";
+  good.distanceRange = 8.0f;
+  good.flangeTexels = 3.0f;
+  for (int i = 0; i < 4; ++i) {
+    good.cells.push_back(core::AtlasCell{i, 0, {64 * (i % 2), 64 * (i / 2), 64, 64}, {0, 0, 1}, {0, 1, 0}});
+    good.sources.push_back(core::AtlasSource{});
+    good.sources.back().generator = "sphere";
+  }
+  for (const char* name : {"normalDepth", "color", "distance"}) good.maps[name].levels = {std::string(name) + ".png"};
+  ASSERT_OK(core::atlasFromJson(core::toJson(good), "x.json"));
+  const std::pair<const char*, nlohmann::json> cases[] = {
+      {"/cells/0/viewDir", {0, 0, 0}},
+      {"/cells/0/viewDir", {0, 0, 2}},
+      {"/cells/0/viewUp", {0, 0, 1}},
+      {"/cells/0/viewUp", {0, 2, 0}},
+      {"/cells/1/view", -5},
+      {"/cells/1/variation", 7},
+      {"/depthScale", 0},
+      {"/depthScale", -1e30},
+      {"/depthScale", 1e30},
+      {"/distanceRange", 1e-38},
+      {"/distanceRange", 1e38},
+      {"/alphaThreshold", 7},
+      {"/alphaThreshold", 0},
+      {"/flangeTexels", -50},
+      {"/flangeTexels", 65},
+      {"/supersample", 0},
+      {"/supersample", 65},
+  };
+  for (const auto& [pointer, value] : cases) {
+    SCOPED_TRACE(std::string(pointer) + " = " + value.dump());
+    nlohmann::json j = core::toJson(good);
+    j[nlohmann::json::json_pointer(pointer)] = value;
+    auto r = core::atlasFromJson(j, "x.json");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message.rfind(std::string("x.json: ") + pointer, 0), 0u) << r.error().message;
+  }
+}
+
 class BakeGl : public test::GlTest {};
 
 TEST_F(BakeGl, EllipsoidProjectedAreaInEveryView) {

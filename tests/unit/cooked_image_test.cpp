@@ -414,6 +414,41 @@ TEST_F(CookedAtlas, FilesAreTheOutputsOwnAndAReplacedAtlasLeavesNothingBehind) {
                 flat + " -o OUT.json` and load OUT.json, or link puff::io and call puff::io::useOpenImageIO() first");
 }
 
+// Issue 17: a level that names another map's file, or a map holding NaN, drew wrong pictures with
+// exit 0; both are refused naming the file.
+TEST_F(CookedAtlas, WrongMapsAndNonFiniteTexelsAreRefused) {
+  puff::bake::BakeOptions o;
+  o.cellSize = 32;
+  o.format = puff::bake::MapFormat::kExr;
+  o.mips = false;
+  o.contactSheet = false;
+  o.outDir = dir_ / "exr";
+  std::vector<puff::bake::PuffSource> sources(1);
+  sources[0].mesh = puff::mesh::generateSphere({3});
+  sources[0].provenance.generator = "sphere";
+  auto baked = puff::bake::bakeAtlas(sources, o);
+  ASSERT_OK(baked);
+  ASSERT_OK(puff::core::loadAtlas(baked->sidecar));
+  nlohmann::json j = *puff::core::jsonread::loadJsonFile(baked->sidecar);
+  const std::string color = j["maps"]["color"]["levels"][0];
+  j["maps"]["distance"]["levels"][0] = color;
+  const fs::path swapped = o.outDir / "swapped.json";
+  ASSERT_OK(puff::core::writeFileBytes(swapped, j.dump(2)));
+  auto wrong = puff::core::loadAtlas(swapped);
+  ASSERT_FALSE(wrong.ok());
+  EXPECT_EQ(wrong.error().message, (o.outDir / color).string() +
+                                       ": has 4 channel(s), but the distance map has 1 (does the sidecar name the "
+                                       "right file?)");
+  const fs::path normal = o.outDir / std::string(j["maps"]["normalDepth"]["levels"][0]);
+  auto image = puff::core::readImage(normal);
+  ASSERT_OK(image);
+  image->at(5, 3, 2) = std::numeric_limits<float>::quiet_NaN();
+  ASSERT_OK(puff::core::writeImage(normal, *image, PixelType::kHalf));
+  auto nan = puff::core::loadAtlas(baked->sidecar);
+  ASSERT_FALSE(nan.ok());
+  EXPECT_EQ(nan.error().message, normal.string() + ": texel (5, 3) is not finite");
+}
+
 TEST_F(CookedAtlas, AFailedCookWritesNothingAndTheSourceIsNeverReplaced) {
   puff::bake::BakeOptions o;
   o.cellSize = 32;
