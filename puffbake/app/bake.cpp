@@ -211,6 +211,12 @@ int runBake(const Options& o) {
     cli::printError(sources.error());
     return 1;
   }
+  for (const bake::PuffSource& s : *sources) {
+    if (s.separatedFaces > 0 && !o.quiet) {
+      std::printf("%s: %s: %zu non-manifold face%s split onto their own vertices\n", cli::name(),
+                  s.provenance.path.c_str(), s.separatedFaces, s.separatedFaces == 1 ? "" : "s");
+    }
+  }
   if (auto v = bake::validate(o.bake, static_cast<int>(sources->size())); !v) {
     cli::printError(v.error());
     return 2;

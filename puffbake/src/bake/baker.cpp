@@ -336,6 +336,7 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
     s.provenance.hash = "fnv1a64:" + core::fnv1a64Hex(*bytes);
     s.provenance.faces = m->faceCount();
     s.normalsAuthored = info.hadNormals;
+    s.separatedFaces = info.separatedFaces;
     s.mesh = std::move(*m);
     sources.push_back(std::move(s));
   }

@@ -249,6 +249,22 @@ Result<Declared> scanOff(const fs::path& path) {
   }
   if (counts.size() < 2 || counts[0] < 0 || counts[1] < 0) return notValid(path, Format::Off);
   d.faces = std::size_t(counts[1]);
+  // OpenMesh's reader, given fewer faces than the header counts, repeats the last one until the
+  // count is reached. Every vertex and face is a line of its own (as every OFF writer puts them):
+  // count what the file holds.
+  std::size_t lines = 0;
+  while (std::getline(in, line)) {
+    const std::size_t hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    if (!firstToken(line).empty()) ++lines;
+  }
+  const std::size_t vertices = std::size_t(counts[0]);
+  const std::size_t held = lines > vertices ? lines - vertices : 0;
+  if (held < d.faces) {
+    return Error::at(path, "the header declares " + std::to_string(d.faces) + (d.faces == 1 ? " face" : " faces") +
+                               " after " + std::to_string(vertices) + " vertices; the file holds " +
+                               std::to_string(held));
+  }
   return d;
 }
 
@@ -514,20 +530,23 @@ Result<void> readOpenMesh(const fs::path& path, Format format, const Declared& d
   return {};
 }
 
-// Every face the file declares made it in: the number added.
-Result<std::size_t> checkFaces(const fs::path& path, const Declared& declared, const OmMesh& om) {
+// "1 face", "5 faces".
+std::string facesText(std::size_t n) { return std::to_string(n) + (n == 1 ? " face" : " faces"); }
+
+// Every face the file declares made it in: the number added, and in `separated` how many of them
+// OpenMesh's importer put on their own vertices (non-manifold where they were: issue 17's cow and
+// beetle, which real meshes are).
+Result<std::size_t> checkFaces(const fs::path& path, const Declared& declared, const OmMesh& om,
+                               std::size_t& separated) {
   const std::size_t added = om.n_faces();
-  std::size_t separated = 0;
+  separated = 0;
   for (const auto fh : om.faces())
     if (om.status(fh).fixed_nonmanifold()) ++separated;
   if (declared.faces == 0 && added == 0) return Error::at(path, "no faces");
-  if (separated > 0)
-    return Error::at(path, "non-manifold mesh: the file declares " + std::to_string(declared.faces) + " faces, only " +
-                               std::to_string(added - separated) + " could be added");
   if (added < declared.faces)
-    return Error::at(path, "the file declares " + std::to_string(declared.faces) + " faces, only " +
-                               std::to_string(added) +
-                               " could be added (the others repeat a vertex or refer to a missing one)");
+    return Error::at(path, "the file declares " + facesText(declared.faces) + ", only " + std::to_string(added) +
+                               " could be added (the others repeat a vertex, refer to a missing one, or are not "
+                               "in the file)");
   return added;
 }
 
@@ -593,7 +612,8 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info, Normalize normali
   om.request_face_status();  // the importer marks faces it had to separate as non-manifold
   OmOptions opt = OmOptions::VertexColor | OmOptions::VertexNormal;
   PUFF_TRY(readOpenMesh(path, *format, *declared, om, opt));
-  const Result<std::size_t> added = checkFaces(path, *declared, om);
+  std::size_t separated = 0;
+  const Result<std::size_t> added = checkFaces(path, *declared, om, separated);
   if (!added) return added.error();
 
   TriMesh mesh;
@@ -609,6 +629,7 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info, Normalize normali
   LoadInfo li;
   li.sourceFaces = *added;
   li.sourceVertices = om.n_vertices();
+  li.separatedFaces = separated;
   li.hadColors = fileColors;
   if (signedVolume(mesh) < 0.0) {
     for (glm::uvec3& t : mesh.triangles) std::swap(t[1], t[2]);

@@ -67,6 +67,8 @@ struct PuffSource {
   /// The mesh file gave its own vertex normals (mesh::LoadInfo::hadNormals): a level of detail keeps
   /// them (the source's normal at each kept vertex) rather than recomputing them from fewer faces.
   bool normalsAuthored = false;
+  /// Non-manifold faces the mesh file's import put on their own vertices (mesh::LoadInfo).
+  std::size_t separatedFaces = 0;
 };
 
 /// A generator and its parameters, producing `count` variations with seeds seed, seed+1, ...

@@ -35,6 +35,10 @@ struct LoadInfo {
   bool flippedInward = false;  ///< the mesh was oriented inward; faces were reversed
   bool hadNormals = false;
   bool hadColors = false;
+  /// Faces a halfedge mesh cannot hold where they are (around a non-manifold vertex or edge), put
+  /// on their own copies of their vertices. The baker only rasterizes triangles, so they bake as
+  /// any face does; only smooth normals do not cross the split.
+  std::size_t separatedFaces = 0;
 };
 
 /// Whether loading moves the mesh into the unit sphere (every file a user names) or keeps the file's
@@ -45,7 +49,10 @@ enum class Normalize { kYes, kNo };
 /// Reads OBJ, OFF, PLY or STL (by extension, case-insensitive), validates and normalizes it.
 /// Errors ("FILE: problem", one line): cannot open; not a mesh of that format; no faces;
 /// non-finite vertex (names the vertex); degenerate face (zero area, names the face);
-/// non-manifold faces (the file declares N faces, only M form a manifold); unsupported extension.
+/// faces declared but not added (the file declares N faces, only M could be added: a face that
+/// repeats a vertex or refers to a missing one, or a header that counts more faces than the file
+/// holds); unsupported extension. Non-manifold faces are not refused: they are split onto their own
+/// vertices and counted (LoadInfo::separatedFaces).
 Result<TriMesh> loadMesh(const std::filesystem::path& path, LoadInfo* info = nullptr,
                          Normalize normalize = Normalize::kYes);
 
