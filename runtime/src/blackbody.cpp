@@ -138,7 +138,8 @@ Result<void> writeBlackbodyRamp(const fs::path& path, const BlackbodyRamp& ramp)
 }
 
 Result<BlackbodyRamp> readBlackbodyRamp(const fs::path& path) {
-  auto img = readImage(path);
+  ImageFileInfo info;  // one read: the pixels and the puff: attributes together
+  auto img = readImage(path, &info);
   if (!img) return img.error();
   if (img->height != 1 || img->channels != 3 || img->width < 2) {
     return Error::at(path, "not a black-body ramp: expected N x 1 RGB (N >= 2), got " + std::to_string(img->width) +
@@ -150,9 +151,12 @@ Result<BlackbodyRamp> readBlackbodyRamp(const fs::path& path) {
                                                     {"puff:maxKelvin", &ramp.maxKelvin},
                                                     {"puff:normalizeKelvin", &ramp.normalizeKelvin}};
   for (const auto& [name, out] : fields) {
-    auto text = readImageAttribute(path, name);
-    if (!text) return text.error();
-    if (text->empty()) return Error::at(path, std::string("missing attribute ") + name + " (not a black-body ramp?)");
+    const auto found = std::find_if(info.attributes.begin(), info.attributes.end(),
+                                    [&](const auto& attribute) { return attribute.first == name; });
+    const std::string* text = found == info.attributes.end() ? nullptr : &found->second;
+    if (!text || text->empty()) {
+      return Error::at(path, std::string("missing attribute ") + name + " (not a black-body ramp?)");
+    }
     char* end = nullptr;
     *out = std::strtod(text->c_str(), &end);
     if (end != text->c_str() + text->size() || !std::isfinite(*out)) {

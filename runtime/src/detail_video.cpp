@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
+#include <string>
 
 #include <puff/core/files.h>
 #include <puff/core/image.h>
@@ -51,11 +53,20 @@ float DetailVideo::at(int x, int y, int f) const {
 }
 
 Result<DetailVideo> loadDetailVideo(const fs::path& path) {
-  auto img = readImage(path);
+  // One read: the pixels and the puff: attributes together.
+  ImageFileInfo info;
+  auto img = readImage(path, &info);
   if (!img) return img.error();
-  auto framesText = readImageAttribute(path, "puff:frames");
-  if (!framesText) return framesText.error();
-  if (framesText->empty()) return Error::at(path, "missing attribute puff:frames (not a detail video?)");
+  const auto attribute = [&](const std::string& name) -> std::optional<std::string> {
+    for (const auto& [key, value] : info.attributes) {
+      if (key == name) return value;
+    }
+    return std::nullopt;
+  };
+  const std::optional<std::string> framesText = attribute("puff:frames");
+  if (!framesText || framesText->empty()) {
+    return Error::at(path, "missing attribute puff:frames (not a detail video?)");
+  }
   char* end = nullptr;
   const long frames = std::strtol(framesText->c_str(), &end, 10);
   if (end != framesText->c_str() + framesText->size() || frames < 1 || frames > kMaxDetailFrames) {
@@ -71,8 +82,7 @@ Result<DetailVideo> loadDetailVideo(const fs::path& path) {
   v.height = img->height / static_cast<int>(frames);
   v.frames = static_cast<int>(frames);
   if (std::string p = sizeProblem(v.width, v.height, v.frames); !p.empty()) return Error::at(path, p);
-  auto source = readImageAttribute(path, "puff:source");
-  if (source) v.source = *source;
+  v.source = attribute("puff:source").value_or("");
 
   const std::size_t n = static_cast<std::size_t>(img->width) * img->height;
   const int ch = img->channels;

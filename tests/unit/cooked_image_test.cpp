@@ -295,6 +295,24 @@ class CookedAtlas : public puff::test::GlTest {
  protected:
   puff::test::ScopedTempDir dir_{"puff_cooked_atlas"};
 
+  /// A small bake into `outDir`: 32-texel cells, no contact sheet.
+  static puff::bake::BakeOptions smallBake(const fs::path& outDir) {
+    puff::bake::BakeOptions o;
+    o.cellSize = 32;
+    o.contactSheet = false;
+    o.outDir = outDir;
+    return o;
+  }
+  /// `count` generated spheres of `subdivisions`.
+  static std::vector<puff::bake::PuffSource> spheres(int count, int subdivisions) {
+    std::vector<puff::bake::PuffSource> sources(static_cast<std::size_t>(count));
+    for (auto& s : sources) {
+      s.mesh = puff::mesh::generateSphere({subdivisions});
+      s.provenance.generator = "sphere";
+    }
+    return sources;
+  }
+
   static void expectSameAtlas(const puff::core::Atlas& a, const puff::core::Atlas& b) {
     // Equal but for the file names.
     nlohmann::json ja = puff::core::toJson(a.desc), jb = puff::core::toJson(b.desc);
@@ -316,18 +334,10 @@ TEST_F(CookedAtlas, LoadsWithoutACodecToTheSamePixelsForPngAndExrAtlases) {
   for (const auto format : {puff::bake::MapFormat::kPng, puff::bake::MapFormat::kExr}) {
     const std::string name = format == puff::bake::MapFormat::kPng ? "png" : "exr";
     SCOPED_TRACE(name);
-    puff::bake::BakeOptions o;
-    o.cellSize = 32;
+    puff::bake::BakeOptions o = smallBake(dir_ / name);
     o.format = format;
     o.lodAuto = true;
-    o.contactSheet = false;
-    o.outDir = dir_ / name;
-    std::vector<puff::bake::PuffSource> sources(2);
-    for (int i = 0; i < 2; ++i) {
-      sources[i].mesh = puff::mesh::generateSphere({4});
-      sources[i].provenance.generator = "sphere";
-    }
-    auto baked = puff::bake::bakeAtlas(sources, o);
+    auto baked = puff::bake::bakeAtlas(spheres(2, 4), o);
     ASSERT_OK(baked);
     auto source = puff::core::loadAtlas(baked->sidecar);
     ASSERT_OK(source);
@@ -357,13 +367,8 @@ TEST_F(CookedAtlas, LoadsWithoutACodecToTheSamePixelsForPngAndExrAtlases) {
 // names (a subdirectory, "../"); two cooked atlases share a directory; cooking over a cooked atlas
 // replaces it whole.
 TEST_F(CookedAtlas, FilesAreTheOutputsOwnAndAReplacedAtlasLeavesNothingBehind) {
-  puff::bake::BakeOptions o;
-  o.cellSize = 32;
-  o.contactSheet = false;
-  o.outDir = dir_ / "src";
-  std::vector<puff::bake::PuffSource> sources(1);
-  sources[0].mesh = puff::mesh::generateSphere({3});
-  sources[0].provenance.generator = "sphere";
+  puff::bake::BakeOptions o = smallBake(dir_ / "src");
+  const std::vector<puff::bake::PuffSource> sources = spheres(1, 3);
   auto baked = puff::bake::bakeAtlas(sources, o);
   ASSERT_OK(baked);
   // The source names one level in a subdirectory and one through "../".
@@ -417,16 +422,10 @@ TEST_F(CookedAtlas, FilesAreTheOutputsOwnAndAReplacedAtlasLeavesNothingBehind) {
 // Issue 17: a level that names another map's file, or a map holding NaN, drew wrong pictures with
 // exit 0; both are refused naming the file.
 TEST_F(CookedAtlas, WrongMapsAndNonFiniteTexelsAreRefused) {
-  puff::bake::BakeOptions o;
-  o.cellSize = 32;
+  puff::bake::BakeOptions o = smallBake(dir_ / "exr");
   o.format = puff::bake::MapFormat::kExr;
   o.mips = false;
-  o.contactSheet = false;
-  o.outDir = dir_ / "exr";
-  std::vector<puff::bake::PuffSource> sources(1);
-  sources[0].mesh = puff::mesh::generateSphere({3});
-  sources[0].provenance.generator = "sphere";
-  auto baked = puff::bake::bakeAtlas(sources, o);
+  auto baked = puff::bake::bakeAtlas(spheres(1, 3), o);
   ASSERT_OK(baked);
   ASSERT_OK(puff::core::loadAtlas(baked->sidecar));
   nlohmann::json j = *puff::core::jsonread::loadJsonFile(baked->sidecar);
@@ -450,14 +449,8 @@ TEST_F(CookedAtlas, WrongMapsAndNonFiniteTexelsAreRefused) {
 }
 
 TEST_F(CookedAtlas, AFailedCookWritesNothingAndTheSourceIsNeverReplaced) {
-  puff::bake::BakeOptions o;
-  o.cellSize = 32;
-  o.contactSheet = false;
-  o.outDir = dir_ / "atlas";
-  std::vector<puff::bake::PuffSource> sources(1);
-  sources[0].mesh = puff::mesh::generateSphere({3});
-  sources[0].provenance.generator = "sphere";
-  auto baked = puff::bake::bakeAtlas(sources, o);
+  const puff::bake::BakeOptions o = smallBake(dir_ / "atlas");
+  auto baked = puff::bake::bakeAtlas(spheres(1, 3), o);
   ASSERT_OK(baked);
   auto same = puff::bake::cookAtlas(baked->sidecar, baked->sidecar);
   ASSERT_FALSE(same.ok());
