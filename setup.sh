@@ -17,6 +17,8 @@ packages=(
   libgtest-dev xvfb xauth openimageio-tools
   # formatting
   clang-format
+  # the fuzz harnesses (tests/fuzz): clang with libFuzzer and its sanitizers
+  clang libclang-rt-14-dev
   # charts of the speed-against-accuracy report (tests/bench/report.sh)
   gnuplot-nox
 )

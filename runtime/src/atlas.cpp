@@ -104,6 +104,8 @@ void checkLayout(const AtlasDesc& d) {
   check(d.cellSize > 0 && d.cellSize <= 16384, "/cellSize", "must be in [1, 16384]");
   check(d.columns > 0 && d.rows > 0 && d.columns <= 16384 && d.rows <= 16384, "/columns",
         "columns and rows must be in [1, 16384]");
+  check(d.width <= kMaxAtlasSide && d.height <= kMaxAtlasSide, "/width",
+        "width and height must be at most " + std::to_string(kMaxAtlasSide) + " texels");
   check(static_cast<long long>(d.width) == static_cast<long long>(d.columns) * d.cellSize &&
             static_cast<long long>(d.height) == static_cast<long long>(d.rows) * d.cellSize,
         "/width", "width and height must be columns and rows times cellSize");
@@ -308,7 +310,10 @@ Result<Atlas> loadAtlas(const fs::path& sidecar) {
     auto& levels = atlas.maps[name];
     for (std::size_t level = 0; level < m.levels.size(); ++level) {
       const fs::path file = sidecar.parent_path() / m.levels[level];
-      auto img = readImage(file);
+      const int w = std::max(1, desc->width >> level), h = std::max(1, desc->height >> level);
+      // The level's own size is the limit: a file that claims more is refused before decoding.
+      const ImageLimits limits{"this atlas level (the sidecar's size)", w, h, 4, 1ll << 28, kMaxAtlasMapFileBytes};
+      auto img = readImage(file, nullptr, limits);
       if (!img && imageCodec() == nullptr && !isCookedImagePath(file)) {
         // Cooking the map alone would not help: the sidecar names the map's file.
         return Error::at(sidecar, "its maps are not cooked images (" + m.levels[level] +
@@ -319,7 +324,6 @@ Result<Atlas> loadAtlas(const fs::path& sidecar) {
                                       "puff::io and call puff::io::useOpenImageIO() first");
       }
       if (!img) return img.error();
-      const int w = std::max(1, desc->width >> level), h = std::max(1, desc->height >> level);
       if (img->width != w || img->height != h) {
         return Error::at(file, "is " + std::to_string(img->width) + "x" + std::to_string(img->height) +
                                    ", the sidecar says " + std::to_string(w) + "x" + std::to_string(h));

@@ -139,7 +139,7 @@ Result<void> writeBlackbodyRamp(const fs::path& path, const BlackbodyRamp& ramp)
 
 Result<BlackbodyRamp> readBlackbodyRamp(const fs::path& path) {
   ImageFileInfo info;  // one read: the pixels and the puff: attributes together
-  auto img = readImage(path, &info);
+  auto img = readImage(path, &info, kBlackbodyRampLimits);
   if (!img) return img.error();
   if (img->height != 1 || img->channels != 3 || img->width < 2) {
     return Error::at(path, "not a black-body ramp: expected N x 1 RGB (N >= 2), got " + std::to_string(img->width) +
@@ -150,7 +150,9 @@ Result<BlackbodyRamp> readBlackbodyRamp(const fs::path& path) {
   const std::pair<const char*, double*> fields[] = {{"puff:minKelvin", &ramp.minKelvin},
                                                     {"puff:maxKelvin", &ramp.maxKelvin},
                                                     {"puff:normalizeKelvin", &ramp.normalizeKelvin}};
-  for (const auto& [name, out] : fields) {
+  for (const auto& field : fields) {
+    const char* name = field.first;  // a plain variable: clang 14 cannot capture a structured binding
+    double* out = field.second;
     const auto found = std::find_if(info.attributes.begin(), info.attributes.end(),
                                     [&](const auto& attribute) { return attribute.first == name; });
     const std::string* text = found == info.attributes.end() ? nullptr : &found->second;

@@ -55,7 +55,7 @@ float DetailVideo::at(int x, int y, int f) const {
 Result<DetailVideo> loadDetailVideo(const fs::path& path) {
   // One read: the pixels and the puff: attributes together.
   ImageFileInfo info;
-  auto img = readImage(path, &info);
+  auto img = readImage(path, &info, kDetailClipLimits);
   if (!img) return img.error();
   const auto attribute = [&](const std::string& name) -> std::optional<std::string> {
     for (const auto& [key, value] : info.attributes) {

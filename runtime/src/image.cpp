@@ -23,7 +23,7 @@ constexpr char kMagic[8] = {'P', 'U', 'F', 'F', 'I', 'M', 'G', '\0'};
 constexpr std::uint32_t kVersion = 1;
 constexpr std::uint32_t kMaxAttributes = 64;
 constexpr std::uint32_t kMaxAttributeBytes = 64 * 1024;
-constexpr long long kMaxPixels = 1ll << 28;  // as readImage's limit for every format
+constexpr std::size_t kHeaderBytes = 32;  // magic and six u32
 constexpr std::uint64_t kFnvOffset = 0xcbf29ce484222325ull, kFnvPrime = 0x100000001b3ull;
 
 std::size_t bytesPerValue(PixelType t) {
@@ -166,6 +166,7 @@ class Reader {
     pos_ += n;
     return true;
   }
+  void skip(std::size_t n) { pos_ += std::min(n, left()); }
   std::size_t pos() const { return pos_; }
   std::size_t left() const { return bytes_.size() - pos_; }
 
@@ -178,28 +179,56 @@ bool startsWithMagic(const std::string& bytes) {
   return bytes.size() >= sizeof kMagic && std::memcmp(bytes.data(), kMagic, sizeof kMagic) == 0;
 }
 
-Result<Image> parseCooked(const fs::path& path, const std::string& bytes, ImageFileInfo* info) {
+// A cooked image's header fields (after the magic).
+struct CookedHeader {
+  std::uint32_t version = 0, width = 0, height = 0, channels = 0, type = 0, count = 0;
+};
+
+// Checks the header against the format and `limits`; `size` is the file's size.
+Result<CookedHeader> checkCookedHeader(const fs::path& path, const std::string& head, std::uintmax_t size,
+                                       const ImageLimits& limits) {
+  Reader r(head);
+  CookedHeader h;
+  const auto truncated = [&] { return Error::at(path, "truncated cooked image (" + std::to_string(size) + " bytes)"); };
+  if (!r.u32(h.version)) return truncated();
+  if (h.version != kVersion) {
+    return Error::at(path, "cooked image version " + std::to_string(h.version) + ", this Puff reads version " +
+                               std::to_string(kVersion) + " (cook it again with this Puff's puffbake)");
+  }
+  if (!r.u32(h.width) || !r.u32(h.height) || !r.u32(h.channels) || !r.u32(h.type) || !r.u32(h.count))
+    return truncated();
+  if (h.width == 0 || h.height == 0) return Error::at(path, "image has no pixels");
+  if (h.channels < 1 || h.channels > 4)
+    return Error::at(path, "cooked image with " + std::to_string(h.channels) + " channels (1-4)");
+  if (std::string p = imageLimitProblem(h.width, h.height, static_cast<int>(h.channels), limits); !p.empty()) {
+    return Error::at(path, p);
+  }
+  if (h.type > static_cast<std::uint32_t>(PixelType::kFloat))
+    return Error::at(path, "unknown pixel type " + std::to_string(h.type));
+  if (h.count > kMaxAttributes)
+    return Error::at(path, std::to_string(h.count) + " attributes (a cooked image holds at most 64)");
+  // Header, attributes, the pixels and the hash: nothing larger is valid.
+  const std::uintmax_t largest =
+      kHeaderBytes + h.count * 2 * (4 + std::uintmax_t{kMaxAttributeBytes}) +
+      std::uintmax_t{h.width} * h.height * h.channels * bytesPerValue(static_cast<PixelType>(h.type)) + 8;
+  if (size > largest) {
+    return Error::at(path, "cooked image of " + std::to_string(size) + " bytes is larger than its header allows (" +
+                               std::to_string(largest) + ")");
+  }
+  return h;
+}
+
+Result<Image> parseCooked(const fs::path& path, const std::string& bytes, ImageFileInfo* info,
+                          const ImageLimits& limits) {
+  auto header = checkCookedHeader(path, bytes.substr(0, kHeaderBytes), bytes.size(), limits);
+  if (!header) return header.error();
+  const auto [version, width, height, channels, type, count] = *header;
+  (void)version;
   Reader r(bytes);
+  r.skip(kHeaderBytes - sizeof kMagic);
   const auto truncated = [&] {
     return Error::at(path, "truncated cooked image (" + std::to_string(bytes.size()) + " bytes)");
   };
-  std::uint32_t version, width, height, channels, type, count;
-  if (!r.u32(version)) return truncated();
-  if (version != kVersion) {
-    return Error::at(path, "cooked image version " + std::to_string(version) + ", this Puff reads version " +
-                               std::to_string(kVersion) + " (cook it again with this Puff's puffbake)");
-  }
-  if (!r.u32(width) || !r.u32(height) || !r.u32(channels) || !r.u32(type) || !r.u32(count)) return truncated();
-  if (width == 0 || height == 0) return Error::at(path, "image has no pixels");
-  if (width > kMaxPixels || height > kMaxPixels || static_cast<long long>(width) * height > kMaxPixels) {
-    return Error::at(path, "image too large (" + std::to_string(width) + "x" + std::to_string(height) + ")");
-  }
-  if (channels < 1 || channels > 4)
-    return Error::at(path, "cooked image with " + std::to_string(channels) + " channels (1-4)");
-  if (type > static_cast<std::uint32_t>(PixelType::kFloat))
-    return Error::at(path, "unknown pixel type " + std::to_string(type));
-  if (count > kMaxAttributes)
-    return Error::at(path, std::to_string(count) + " attributes (a cooked image holds at most 64)");
   ImageAttributes attributes;
   for (std::uint32_t i = 0; i < count; ++i) {
     std::uint32_t n;
@@ -255,26 +284,27 @@ Result<Image> parseCooked(const fs::path& path, const std::string& bytes, ImageF
   return img;
 }
 
-// The file's bytes when it is a cooked image; an empty string (and no error) when it is not.
-Result<std::string> readIfCooked(const fs::path& path) {
+// The file's bytes when it is a cooked image within `limits` (checked from its header first); an
+// empty string (and no error) when it is another format within maxFileBytes.
+Result<std::string> readIfCooked(const fs::path& path, const ImageLimits& limits) {
   std::error_code ec;
   const auto status = fs::status(path, ec);
   if (!fs::exists(status)) return Error::at(path, "cannot open: no such file");
   if (fs::is_directory(status)) return Error::at(path, "cannot open: is a directory");
   if (!fs::is_regular_file(status)) return Error::at(path, "cannot open: not a regular file");
+  const auto size = fs::file_size(path, ec);
+  if (ec) return Error::at(path, "cannot read its size: " + ec.message());
+  if (size > limits.maxFileBytes) {
+    return Error::at(path, "a file of " + std::to_string(size) + " bytes is larger than " + limits.use + " may be (" +
+                               std::to_string(limits.maxFileBytes) + " bytes)");
+  }
   std::ifstream f(path, std::ios::binary);
   if (!f) return Error::at(path, std::string("cannot open: ") + std::strerror(errno));
-  std::string head(sizeof kMagic, '\0');
+  std::string head(kHeaderBytes, '\0');
   f.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(f.gcount()));
   if (!startsWithMagic(head)) return std::string();  // another format: the codec's
-  const auto size = fs::file_size(path, ec);
-  if (ec) return Error::at(path, "cannot read its size: " + ec.message());
-  // Header, attributes, the largest image readImage accepts and the hash: nothing larger is valid.
-  const std::uintmax_t largest = 1024 + kMaxAttributes * 2 * (4 + std::uintmax_t{kMaxAttributeBytes}) +
-                                 static_cast<std::uintmax_t>(kMaxPixels) * 4 * 4 + 8;
-  if (size > largest)
-    return Error::at(path, "cooked image of " + std::to_string(size) + " bytes is larger than any valid one");
+  if (auto header = checkCookedHeader(path, head, size, limits); !header) return header.error();
   std::string bytes(static_cast<std::size_t>(size), '\0');
   f.seekg(0);
   f.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
@@ -321,21 +351,40 @@ Result<void> writeImage(const fs::path& path, const Image& image, PixelType type
   return codec->write(path, image, type, attributes, formatHint);
 }
 
-Result<Image> readImage(const fs::path& path, ImageFileInfo* info) {
-  auto cooked = readIfCooked(path);
+std::string imageLimitProblem(long long width, long long height, int channels, const ImageLimits& limits) {
+  const auto size = [](long long w, long long h) { return std::to_string(w) + "x" + std::to_string(h); };
+  if (width < 1 || height < 1) return "image has no pixels";
+  if (width > limits.maxWidth || height > limits.maxHeight || width * height > limits.maxPixels) {
+    std::string p = "a " + size(width, height) + " image is larger than " + limits.use + " may be (at most " +
+                    size(limits.maxWidth, limits.maxHeight);
+    if (static_cast<long long>(limits.maxWidth) * limits.maxHeight > limits.maxPixels)
+      p += " and " + std::to_string(limits.maxPixels) + " pixels";
+    return p + ")";
+  }
+  if (channels < 1) return "image has no channels";
+  if (channels > limits.maxChannels) {
+    return "has " + std::to_string(channels) + " channels, more than " + limits.use + " may have (1 to " +
+           std::to_string(limits.maxChannels) + ")";
+  }
+  return {};
+}
+
+Result<Image> readImage(const fs::path& path, ImageFileInfo* info, const ImageLimits& limits) {
+  auto cooked = readIfCooked(path, limits);
   if (!cooked) return cooked.error();
-  if (!cooked->empty()) return parseCooked(path, *cooked, info);
+  if (!cooked->empty()) return parseCooked(path, *cooked, info, limits);
   const ImageCodec* codec = imageCodec();
   if (!codec) return noCodec(path, "read");
-  return codec->read(path, info);
+  return codec->read(path, info, limits);
 }
 
 Result<std::string> readImageAttribute(const fs::path& path, const std::string& name) {
-  auto cooked = readIfCooked(path);
+  const ImageLimits limits;
+  auto cooked = readIfCooked(path, limits);
   if (!cooked) return cooked.error();
   if (!cooked->empty()) {
     ImageFileInfo info;
-    auto img = parseCooked(path, *cooked, &info);
+    auto img = parseCooked(path, *cooked, &info, limits);
     if (!img) return img.error();
     for (const auto& [key, value] : info.attributes) {
       if (key == name) return value;

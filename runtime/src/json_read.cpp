@@ -19,12 +19,28 @@ namespace fs = std::filesystem;
 std::string pointerToken(std::string_view key) {
   std::string out;
   for (char c : key) {
-    if (c == '~')
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '~') {
       out += "~0";
-    else if (c == '/')
+    } else if (c == '/') {
       out += "~1";
-    else
+    } else if (u < 0x20 || u == 0x7f) {
+      // A message is one line: a control character in a key is shown as JSON writes it (\n, \u001f).
+      static const char* kHex = "0123456789abcdef";
+      if (c == '\n') {
+        out += "\\n";
+      } else if (c == '\t') {
+        out += "\\t";
+      } else if (c == '\r') {
+        out += "\\r";
+      } else {
+        out += "\\u00";
+        out += kHex[u >> 4];
+        out += kHex[u & 15];
+      }
+    } else {
       out += c;
+    }
   }
   return out;
 }

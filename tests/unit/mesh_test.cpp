@@ -569,6 +569,91 @@ TEST_F(MeshIo, NonManifoldFacesAreSplitOntoTheirOwnVerticesAndCounted) {
   EXPECT_EQ(info.separatedFaces, 40u);
 }
 
+// Issue 17: a PLY of triangle strips (as the Igea model stores itself) was "no faces". Strips alternate
+// their winding (OpenGL's rule), -1 restarts a strip, and the degenerate triangles that stitch strips
+// together are dropped.
+TEST_F(MeshIo, PlyTriangleStripsAreRead) {
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "element tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+      "1 1 1\n-1 -1 1\n-1 1 -1\n1 -1 -1\n";
+  // One strip around a tetrahedron: 0 1 2 3 0 1 is its four faces, consistently wound only if every
+  // second triangle's first two corners are swapped.
+  writeBytes(dir_ / "tetra.ply", header + "6 0 1 2 3 0 1\n");
+  LoadInfo info;
+  auto tetra = loadMesh(dir_ / "tetra.ply", &info);
+  ASSERT_OK(tetra);
+  EXPECT_EQ(tetra->faceCount(), 4u);
+  EXPECT_EQ(info.separatedFaces, 0u);  // a wrong winding would leave two faces non-manifold
+  EXPECT_TRUE(closedAndOriented(*tetra));
+  EXPECT_GT(signedVolume(*tetra), 0.0);
+  // The same faces as two strips with a restart and a stitching (degenerate) triangle.
+  writeBytes(dir_ / "tetra2.ply", header + "9 0 1 2 3 3 -1 0 3 1\n");
+  auto restarted = loadMesh(dir_ / "tetra2.ply", &info);
+  ASSERT_OK(restarted);
+  EXPECT_EQ(restarted->faceCount(), 3u);  // (0 1 2) (2 1 3), (2 3 3) dropped, then (0 3 1)
+  EXPECT_EQ(info.sourceFaces, 3u);
+  EXPECT_EQ(info.separatedFaces, 0u);
+
+  // A closed sphere of 1280 triangles stored as one strip per triangle pair, binary, as Igea's
+  // scanner wrote it: every face arrives, none split, the same solid.
+  const TriMesh sphere = generateSphere({3});
+  std::string bytes = "ply\nformat binary_little_endian 1.0\nelement vertex " +
+                      std::to_string(sphere.positions.size()) +
+                      "\nproperty float x\nproperty float y\nproperty float z\nelement tristrips 1\n"
+                      "property list int int vertex_indices\nend_header\n";
+  for (const glm::vec3& p : sphere.positions) bytes.append(reinterpret_cast<const char*>(&p), sizeof p);
+  std::vector<std::int32_t> strip;
+  for (const glm::uvec3& t : sphere.triangles) {
+    strip.insert(strip.end(), {std::int32_t(t[0]), std::int32_t(t[1]), std::int32_t(t[2]), -1});
+  }
+  const std::int32_t n = std::int32_t(strip.size());
+  bytes.append(reinterpret_cast<const char*>(&n), sizeof n);
+  bytes.append(reinterpret_cast<const char*>(strip.data()), strip.size() * sizeof strip[0]);
+  writeBytes(dir_ / "sphere_strips.ply", bytes);
+  auto strips = loadMesh(dir_ / "sphere_strips.ply", &info);
+  ASSERT_OK(strips);
+  EXPECT_EQ(strips->faceCount(), sphere.faceCount());
+  EXPECT_EQ(info.separatedFaces, 0u);
+  EXPECT_FALSE(info.flippedInward);
+  EXPECT_TRUE(closedAndOriented(*strips));
+  EXPECT_NEAR(signedVolume(*strips), signedVolume(sphere), 1e-4);
+}
+
+// Puff reads the files itself (OpenMesh's readers crashed on fuzzed input): every form of every
+// format, as the fuzz seeds hold them (tests/fuzz/seeds/mesh), gives the same solid.
+TEST_F(MeshIo, EveryFormOfEveryFormatReads) {
+  const fs::path seeds = fs::path(PUFF_SOURCE_DIR) / "tests" / "fuzz" / "seeds" / "mesh";
+  for (const char* name : {"tetra_binary_le.ply", "tetra_binary_be.ply", "tetra_strips.ply", "tetra_ascii.stl",
+                           "tetra_binary.stl", "tetra_comments.off", "tetra_binary.off"}) {
+    SCOPED_TRACE(name);
+    LoadInfo info;
+    auto m = loadMesh(seeds / name, &info);
+    ASSERT_OK(m);
+    EXPECT_EQ(m->faceCount(), std::string(name) == "tetra_strips.ply" ? 3u : 4u);  // strips 0 1 2 3 | 2 3 0
+    EXPECT_EQ(m->positions.size(), 4u);
+    EXPECT_EQ(info.separatedFaces, 0u);
+  }
+  // Binary PLY of both byte orders: colours (200, 100, 50) / 255 and the file's unit normals.
+  for (const char* name : {"tetra_binary_le.ply", "tetra_binary_be.ply"}) {
+    SCOPED_TRACE(name);
+    LoadInfo info;
+    auto m = loadMesh(seeds / name, &info);
+    ASSERT_OK(m);
+    ASSERT_TRUE(info.hadColors);
+    EXPECT_NEAR(glm::length(m->colors[0] - glm::vec3(200, 100, 50) / 255.0f), 0.0f, 1e-6f);
+    EXPECT_TRUE(info.hadNormals);
+    EXPECT_GT(glm::dot(m->normals[0], glm::normalize(m->positions[0])), 0.999f);
+  }
+  // Quads with relative (negative) indices: six faces, twelve triangles, a closed cube.
+  LoadInfo info;
+  auto cube = loadMesh(seeds / "cube_relative.obj", &info);
+  ASSERT_OK(cube);
+  EXPECT_EQ(info.sourceFaces, 6u);
+  EXPECT_EQ(cube->faceCount(), 12u);
+  EXPECT_TRUE(closedAndOriented(*cube));
+}
+
 // ---- saving -----------------------------------------------------------------------------------
 
 TEST_F(MeshIo, EachFormatRoundTrips) {

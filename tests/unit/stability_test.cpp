@@ -681,8 +681,8 @@ TEST_F(StabilityInputs, RampsAndGradientsRefuseEmptyAndNonFiniteImages) {
     auto g = cel::Gradient::create(im, "g.png");
     return g.ok() ? std::string("accepted") : g.error().message;
   };
-  EXPECT_EQ(gradientError(core::Image(0, 0, 3)), "g.png: a gradient must be 1 to 16384 pixels on each side");
-  EXPECT_EQ(gradientError(core::Image(3, 0, 3)), "g.png: a gradient must be 1 to 16384 pixels on each side");
+  EXPECT_EQ(gradientError(core::Image(0, 0, 3)), "g.png: a gradient must be 1 to 4096 pixels on each side (got 0x0)");
+  EXPECT_EQ(gradientError(core::Image(3, 0, 3)), "g.png: a gradient must be 1 to 4096 pixels on each side (got 3x0)");
   core::Image nanGradient(3, 3, 3, 0.5f);
   nanGradient.at(1, 2, 0) = kNaN;
   EXPECT_EQ(gradientError(nanGradient), "g.png: gradient holds a non-finite value");

@@ -71,11 +71,9 @@ std::vector<fs::path> filesBeside(const fs::path& sidecar) {
 // Reads `in` and stages its cooked copy at `target` in `tx`.
 Result<void> stageImage(core::OutputTransaction& tx, const fs::path& in, const fs::path& target, Cooked& cooked) {
   core::ImageFileInfo info;
-  auto image = core::readImage(in, &info);
+  // The limits of any image, and the channels a cooked image holds (1 to 4).
+  auto image = core::readImage(in, &info, core::ImageLimits{"a cooked image"});
   if (!image) return image.error();
-  if (image->channels > 4) {
-    return Error::at(in, std::to_string(image->channels) + " channels: a cooked image holds 1 to 4");
-  }
   const fs::path staged = tx.stage(target);
   PUFF_TRY(core::writeImage(staged, *image, info.type, info.attributes, target));
   cooked.files.push_back(target);

@@ -268,7 +268,7 @@ Result<core::DetailVideo> importDetailVideo(const std::vector<fs::path>& frames,
   AxisWeights wx, wy;
   for (int k = 0; k < count; ++k) {
     const fs::path& path = frames[static_cast<std::size_t>(k)];
-    auto img = core::readImage(path);
+    auto img = core::readImage(path, nullptr, kDetailSourceFrameLimits);
     if (!img) return img.error();
     if (k == 0) {
       srcW = img->width;

@@ -134,15 +134,27 @@ std::vector<float> rowRgb(const core::Image& image, int y) {
 
 }  // namespace
 
-Result<Ramp> Ramp::create(const core::Image& image, const std::string& what, bool smooth) {
-  if (image.width < 2 || image.width > 16384 || image.height < 1 || image.channels < 1) {
-    return Error::at(what, "a ramp must be 2 to 16384 pixels wide (got " + std::to_string(image.width) + "x" +
-                               std::to_string(image.height) + ")");
+Result<void> Ramp::check(const core::Image& image, const std::string& what) {
+  if (image.width < 2 || image.width > kRampLimits.maxWidth || image.height < 1 || image.channels < 1) {
+    return Error::at(what, "a ramp must be 2 to " + std::to_string(kRampLimits.maxWidth) + " pixels wide (got " +
+                               std::to_string(image.width) + "x" + std::to_string(image.height) + ")");
   }
-  const std::vector<float> row = rowRgb(image, image.height / 2);
-  for (float v : row) {
+  for (float v : rowRgb(image, image.height / 2)) {
     if (!std::isfinite(v)) return Error::at(what, "ramp holds a non-finite value");
   }
+  return {};
+}
+
+Result<core::Image> Ramp::read(const std::filesystem::path& path) {
+  auto image = core::readImage(path, nullptr, kRampLimits);
+  if (!image) return image.error();
+  PUFF_TRY(check(*image, path.string()));
+  return image;
+}
+
+Result<Ramp> Ramp::create(const core::Image& image, const std::string& what, bool smooth) {
+  PUFF_TRY(check(image, what));
+  const std::vector<float> row = rowRgb(image, image.height / 2);
   Ramp r;
   r.width_ = image.width;
   r.texture_ = core::makeTexture(GL_TEXTURE_1D);
@@ -167,7 +179,7 @@ Result<Ramp> Ramp::create(const core::Image& image, const std::string& what, boo
 }
 
 Result<Ramp> Ramp::load(const std::filesystem::path& path, bool smooth) {
-  auto image = core::readImage(path);
+  auto image = read(path);
   if (!image) return image.error();
   return create(*image, path.string(), smooth);
 }
@@ -183,17 +195,39 @@ Ramp Ramp::twoTone() {
 
 void Ramp::bind(const Bindings& bindings) const { core::bindTextureAndNoSampler(bindings.ramp, texture_.get()); }
 
-Result<Gradient> Gradient::create(const core::Image& image, const std::string& what) {
-  if (image.width < 1 || image.height < 1 || image.width > 16384 || image.height > 16384 || image.channels < 1) {
-    return Error::at(what, "a gradient must be 1 to 16384 pixels on each side");
+Result<void> Gradient::check(const core::Image& image, const std::string& what) {
+  if (image.width < 1 || image.height < 1 || image.width > kGradientLimits.maxWidth ||
+      image.height > kGradientLimits.maxHeight || image.channels < 1) {
+    return Error::at(what, "a gradient must be 1 to " + std::to_string(kGradientLimits.maxWidth) +
+                               " pixels on each side (got " + std::to_string(image.width) + "x" +
+                               std::to_string(image.height) + ")");
   }
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      for (int c = 0; c < 3; ++c) {
+        if (!std::isfinite(image.at(x, y, image.channels >= 3 ? c : 0)))
+          return Error::at(what, "gradient holds a non-finite value");
+      }
+    }
+  }
+  return {};
+}
+
+Result<core::Image> Gradient::read(const std::filesystem::path& path) {
+  auto image = core::readImage(path, nullptr, kGradientLimits);
+  if (!image) return image.error();
+  PUFF_TRY(check(*image, path.string()));
+  return image;
+}
+
+Result<Gradient> Gradient::create(const core::Image& image, const std::string& what) {
+  PUFF_TRY(check(image, what));
   std::vector<float> rgba(static_cast<std::size_t>(image.width) * image.height * 4, 1.0f);
   // GL rows go bottom-up: store image row 0 (the top) last, so texture t = 1 is the top.
   for (int y = 0; y < image.height; ++y) {
     for (int x = 0; x < image.width; ++x) {
       for (int c = 0; c < 3; ++c) {
         const float v = image.at(x, y, image.channels >= 3 ? c : 0);
-        if (!std::isfinite(v)) return Error::at(what, "gradient holds a non-finite value");
         // Display value in, scene-linear texel: bilinear filtering mixes light (ambientAt encodes).
         rgba[(static_cast<std::size_t>(image.height - 1 - y) * image.width + x) * 4 + c] =
             static_cast<float>(core::srgbToLinear(double{v}));
@@ -213,7 +247,7 @@ Result<Gradient> Gradient::create(const core::Image& image, const std::string& w
 }
 
 Result<Gradient> Gradient::load(const std::filesystem::path& path) {
-  auto image = core::readImage(path);
+  auto image = read(path);
   if (!image) return image.error();
   return create(*image, path.string());
 }

@@ -128,7 +128,7 @@ class LibpngLinesDropped {
   int saved_ = -1;
 };
 
-Result<Image> read(const fs::path& path, ImageFileInfo* info) {
+Result<Image> read(const fs::path& path, ImageFileInfo* info, const core::ImageLimits& limits) {
   const LibpngLinesDropped quiet;
   // Read values as stored: no multiplication by a fourth channel that may not be alpha.
   OIIO::ImageSpec config;
@@ -136,10 +136,9 @@ Result<Image> read(const fs::path& path, ImageFileInfo* info) {
   auto in = OIIO::ImageInput::open(path.string(), &config);
   if (!in) return Error::at(path, "not a readable image: " + firstLine(OIIO::geterror()));
   const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0) return Error::at(path, "image has no pixels");
-  if (static_cast<long long>(spec.width) * spec.height > (1ll << 28)) {
-    return Error::at(path, "image too large (" + std::to_string(spec.width) + "x" + std::to_string(spec.height) + ")");
-  }
+  // From the header alone, before a pixel is decoded.
+  if (std::string p = core::imageLimitProblem(spec.width, spec.height, spec.nchannels, limits); !p.empty())
+    return Error::at(path, p);
   Image img(spec.width, spec.height, spec.nchannels);
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data())) {
     return Error::at(path, "corrupt or truncated image: " + firstLine(in->geterror()));

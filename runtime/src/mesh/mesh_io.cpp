@@ -1,11 +1,12 @@
-// Reading and writing puff meshes through OpenMesh (OBJ, OFF, PLY, STL).
+// Reading and writing puff meshes (OBJ, OFF, PLY, STL).
 //
-// OpenMesh is forgiving in ways a baker must not be: it reads garbage as an empty mesh, drops
-// faces it cannot add, separates non-manifold faces onto duplicated vertices, and reports all of
-// that only on its own log streams. So each file is first scanned here for what it declares
-// (face counts, OBJ vertex lines), and what OpenMesh built is compared with that.
+// Files are parsed by Puff's own readers (mesh_read.h: OpenMesh's crash, hang and write out of
+// bounds on malformed files); OpenMesh builds the connectivity, which finds the non-manifold faces
+// to split, and writes OFF, PLY and STL. Every face the file declares must make it in.
 #include <puff/core/text.h>
 #include <puff/mesh/mesh.h>
+
+#include "mesh_read.h"
 
 #include <algorithm>
 #include <array>
@@ -51,23 +52,9 @@ struct OmTraits : OpenMesh::DefaultTraits {
 using OmMesh = OpenMesh::PolyMesh_ArrayKernelT<OmTraits>;
 using OmOptions = OpenMesh::IO::Options;
 
-enum class Format { Obj, Off, Ply, Stl };
-
-const char* formatName(Format f) {
-  switch (f) {
-    case Format::Obj:
-      return "OBJ";
-    case Format::Off:
-      return "OFF";
-    case Format::Ply:
-      return "PLY";
-    case Format::Stl:
-      return "STL";
-  }
-  return "?";
-}
-
 using core::lower;
+using detail::Format;
+using detail::formatName;
 
 Result<Format> formatOf(const fs::path& path) {
   const std::string ext = lower(path.extension().string());
@@ -117,221 +104,6 @@ class OmSilence {
   std::array<bool, kStreams> wasEnabled_{};
 };
 
-// ---- what the file declares ---------------------------------------------------------------------
-
-struct Declared {
-  std::size_t faces = 0;
-  bool colorsOnEveryVertex = true;   // OBJ: OpenMesh leaves the others' colors uninitialized
-  bool normalsOnEveryCorner = true;  // OBJ: likewise for vertices no `f a//n` reaches
-  bool offComments = false;          // ASCII OFF with '#': OpenMesh reads it as an empty mesh
-};
-
-Error notValid(const fs::path& path, Format f, const std::string& detail = {}) {
-  return Error::at(path,
-                   std::string("not a valid ") + formatName(f) + " file" + (detail.empty() ? "" : " (" + detail + ")"));
-}
-
-std::string_view trimLeft(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  return s;
-}
-
-std::string_view firstToken(std::string_view s) {
-  s = trimLeft(s);
-  std::size_t end = 0;
-  while (end < s.size() && !std::isspace(static_cast<unsigned char>(s[end]))) ++end;
-  return s.substr(0, end);
-}
-
-bool hasControlBytes(std::string_view line) {
-  for (char c : line) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 && c != '\t' && c != '\r' && c != '\v' && c != '\f') return true;
-    if (u == 0x7f) return true;
-  }
-  return false;
-}
-
-Result<Declared> scanObj(const fs::path& path) {
-  // Every statement of the OBJ spec (and the common extensions); anything else is not OBJ.
-  static const std::set<std::string_view> kKeywords = {
-      "v",        "vt",       "vn",     "vp",     "f",      "fo",     "l",    "p",          "o",
-      "g",        "s",        "mtllib", "usemtl", "maplib", "usemap", "lod",  "shadow_obj", "trace_obj",
-      "ctech",    "stech",    "cstype", "deg",    "bmat",   "step",   "curv", "curv2",      "surf",
-      "parm",     "trim",     "hole",   "scrv",   "sp",     "end",    "con",  "mg",         "bevel",
-      "c_interp", "d_interp", "call",   "csh",    "res"};
-  std::ifstream in(path, std::ios::binary);
-  Declared d;
-  std::size_t vertices = 0, coloredVertices = 0, corners = 0, cornersWithNormal = 0;
-  std::string line;
-  for (std::size_t lineNo = 1; std::getline(in, line); ++lineNo) {
-    std::string_view s = line;
-    if (lineNo == 1 && s.substr(0, 3) == "\xEF\xBB\xBF") s.remove_prefix(3);  // UTF-8 BOM
-    if (hasControlBytes(s)) return notValid(path, Format::Obj, "line " + std::to_string(lineNo));
-    s = trimLeft(s);
-    if (s.empty() || s.front() == '#' || s.front() == '\r') continue;
-    const std::string_view key = firstToken(s);
-    if (!kKeywords.count(key)) return notValid(path, Format::Obj, "line " + std::to_string(lineNo));
-    if (key == "v") {
-      // Parsed here because OpenMesh's reader silently skips a vertex it cannot parse ("nan").
-      std::string rest(s.substr(key.size()));
-      const char* p = rest.c_str();
-      double values[7];
-      int count = 0;
-      for (; count < 7; ++count) {
-        char* end = nullptr;
-        values[count] = std::strtod(p, &end);
-        if (end == p) break;
-        p = end;
-      }
-      if (count < 3) return notValid(path, Format::Obj, "line " + std::to_string(lineNo));
-      for (int i = 0; i < 3; ++i)
-        if (!std::isfinite(values[i]))
-          return Error::at(path, "vertex " + std::to_string(vertices) + " has a non-finite coordinate");
-      if (count >= 6) ++coloredVertices;
-      ++vertices;
-    } else if (key == "f") {
-      ++d.faces;
-      std::string_view rest = s.substr(key.size());
-      for (std::string_view tok = firstToken(rest); !tok.empty(); tok = firstToken(rest)) {
-        rest = trimLeft(rest).substr(tok.size());
-        ++corners;
-        const std::size_t slash = tok.rfind('/');
-        if (slash != std::string_view::npos && slash + 1 < tok.size() && tok.find('/') != slash) ++cornersWithNormal;
-      }
-    }
-  }
-  d.colorsOnEveryVertex = vertices > 0 && coloredVertices == vertices;
-  d.normalsOnEveryCorner = corners > 0 && cornersWithNormal == corners;
-  return d;
-}
-
-Result<Declared> scanOff(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string header;
-  if (!std::getline(in, header) || hasControlBytes(header)) return notValid(path, Format::Off);
-  std::string_view key = firstToken(header);
-  // [ST][C][N][4][n]OFF, optionally followed by BINARY.
-  if (key.size() < 3 || key.substr(key.size() - 3) != "OFF") return notValid(path, Format::Off);
-  for (char c : key.substr(0, key.size() - 3))
-    if (std::string_view("STCN4n").find(c) == std::string_view::npos) return notValid(path, Format::Off);
-  std::string_view rest = trimLeft(std::string_view(header).substr(header.find(key) + key.size()));
-  Declared d;
-  if (firstToken(rest) == "BINARY") {
-    // Counts follow the header line as 32-bit integers, little-endian as OpenMesh writes them.
-    unsigned char b[12];
-    if (!in.read(reinterpret_cast<char*>(b), sizeof b)) return notValid(path, Format::Off);
-    d.faces = std::size_t(b[4]) | std::size_t(b[5]) << 8 | std::size_t(b[6]) << 16 | std::size_t(b[7]) << 24;
-    return d;
-  }
-  // ASCII: "nv nf ne" is the next non-comment content (it may even share the header line).
-  {
-    std::ifstream all(path, std::ios::binary);
-    d.offComments = std::find(std::istreambuf_iterator<char>(all), std::istreambuf_iterator<char>(), '#') !=
-                    std::istreambuf_iterator<char>();
-  }
-  std::string text(rest);
-  std::string line;
-  std::vector<long long> counts;
-  for (int guard = 0; counts.size() < 2 && guard < 1000; ++guard) {
-    const std::size_t hash = text.find('#');
-    if (hash != std::string::npos) text.resize(hash);
-    const char* p = text.c_str();
-    for (;;) {
-      char* end = nullptr;
-      const long long v = std::strtoll(p, &end, 10);
-      if (end == p) break;
-      counts.push_back(v);
-      p = end;
-    }
-    if (counts.size() >= 2) break;
-    if (!firstToken(p).empty() || !std::getline(in, text)) return notValid(path, Format::Off);
-  }
-  if (counts.size() < 2 || counts[0] < 0 || counts[1] < 0) return notValid(path, Format::Off);
-  d.faces = std::size_t(counts[1]);
-  // OpenMesh's reader, given fewer faces than the header counts, repeats the last one until the
-  // count is reached. Every vertex and face is a line of its own (as every OFF writer puts them):
-  // count what the file holds.
-  std::size_t lines = 0;
-  while (std::getline(in, line)) {
-    const std::size_t hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    if (!firstToken(line).empty()) ++lines;
-  }
-  const std::size_t vertices = std::size_t(counts[0]);
-  const std::size_t held = lines > vertices ? lines - vertices : 0;
-  if (held < d.faces) {
-    return Error::at(path, "the header declares " + std::to_string(d.faces) + (d.faces == 1 ? " face" : " faces") +
-                               " after " + std::to_string(vertices) + " vertices; the file holds " +
-                               std::to_string(held));
-  }
-  return d;
-}
-
-Result<Declared> scanPly(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  auto clean = [](std::string& s) {
-    if (!s.empty() && s.back() == '\r') s.pop_back();
-  };
-  if (!std::getline(in, line)) return notValid(path, Format::Ply);
-  clean(line);
-  if (line != "ply") return notValid(path, Format::Ply);
-  Declared d;
-  for (int n = 0; n < 10000 && std::getline(in, line); ++n) {
-    clean(line);
-    if (hasControlBytes(line)) break;
-    if (line == "end_header") return d;
-    char element[64];
-    unsigned long long count = 0;
-    if (std::sscanf(line.c_str(), "element %63s %llu", element, &count) == 2 && std::string_view(element) == "face")
-      d.faces = std::size_t(count);
-  }
-  return notValid(path, Format::Ply, "no end_header");
-}
-
-Result<Declared> scanStl(const fs::path& path) {
-  std::error_code ec;
-  const std::uintmax_t size = fs::file_size(path, ec);
-  std::ifstream in(path, std::ios::binary);
-  if (!ec && size >= 84) {
-    unsigned char head[84];
-    if (in.read(reinterpret_cast<char*>(head), sizeof head)) {
-      const std::uint64_t n = std::uint64_t(head[80]) | std::uint64_t(head[81]) << 8 | std::uint64_t(head[82]) << 16 |
-                              std::uint64_t(head[83]) << 24;
-      // Binary STL is recognized by its exact size; many binary headers start with "solid" too.
-      if (84 + 50 * n == size) return Declared{std::size_t(n), false, false};
-    }
-  }
-  in.clear();
-  in.seekg(0);
-  std::string line;
-  if (!std::getline(in, line) || firstToken(line) != "solid" || hasControlBytes(line))
-    return notValid(path, Format::Stl);
-  Declared d{0, false, false};
-  std::size_t lineNo = 1;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    if (hasControlBytes(line)) return notValid(path, Format::Stl, "line " + std::to_string(lineNo));
-    if (firstToken(line) == "facet") ++d.faces;
-  }
-  return d;
-}
-
-Result<Declared> scan(const fs::path& path, Format f) {
-  switch (f) {
-    case Format::Obj:
-      return scanObj(path);
-    case Format::Off:
-      return scanOff(path);
-    case Format::Ply:
-      return scanPly(path);
-    case Format::Stl:
-      return scanStl(path);
-  }
-  return notValid(path, f);
-}
-
 Result<void> checkReadable(const fs::path& path) {
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
@@ -341,6 +113,11 @@ Result<void> checkReadable(const fs::path& path) {
   if (fs::is_directory(st)) return Error::at(path, "cannot open: " + reason(EISDIR));
   // A FIFO would block the read and a device never ends: only regular files are meshes.
   if (!fs::is_regular_file(st)) return Error::at(path, "cannot open: not a regular file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (!ec && size > kMaxMeshFileBytes) {
+    return Error::at(path, "a mesh file of " + std::to_string(size) + " bytes is larger than Puff reads (" +
+                               std::to_string(kMaxMeshFileBytes) + " bytes)");
+  }
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) return Error::at(path, "cannot open: " + reason(errno));
   std::fclose(f);
@@ -452,9 +229,13 @@ bool writeWithOpenMesh(const TriMesh& m, const fs::path& file, Format format, bo
     // A face the halfedge structure refuses (non-manifold) goes on its own copies of its vertices,
     // as OpenMesh's importer does, rather than being lost from the file.
     for (auto& v : face) {
-      const OmMesh::VertexHandle copy = om.add_vertex(om.point(v));
-      om.set_color(copy, om.color(v));
-      if (normals) om.set_normal(copy, om.normal(v));
+      // By value: adding a vertex may move the arrays a reference would point into.
+      const OmMesh::Point point = om.point(v);
+      const OmMesh::Color color = om.color(v);
+      const OmMesh::Normal normal = normals ? om.normal(v) : OmMesh::Normal(0.0f);
+      const OmMesh::VertexHandle copy = om.add_vertex(point);
+      om.set_color(copy, color);
+      if (normals) om.set_normal(copy, normal);
       v = copy;
     }
     om.add_face(face);
@@ -479,72 +260,64 @@ bool writeWithOpenMesh(const TriMesh& m, const fs::path& file, Format format, bo
   return OpenMesh::IO::write_mesh(om, file.string(), opt, 9);
 }
 
-/// A copy of an ASCII OFF file with comments blanked out (line structure kept), in the system
-/// temp directory, removed again when this goes out of scope.
-class CommentFreeOffCopy {
- public:
-  explicit CommentFreeOffCopy(const fs::path& source) {
-    static std::atomic<unsigned> counter{0};
-    std::error_code ec;
-    path_ = fs::temp_directory_path(ec) /
-            ("puff-off-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + ".off");
-    std::ifstream in(source, std::ios::binary);
-    std::ofstream out(path_, std::ios::binary | std::ios::trunc);
-    std::string line;
-    while (std::getline(in, line)) {
-      const std::size_t hash = line.find('#');
-      if (hash != std::string::npos) line.resize(hash);
-      out << line << '\n';
-    }
-    ok_ = bool(out.flush());
-  }
-  ~CommentFreeOffCopy() {
-    std::error_code ec;
-    fs::remove(path_, ec);
-  }
-  CommentFreeOffCopy(const CommentFreeOffCopy&) = delete;
-  CommentFreeOffCopy& operator=(const CommentFreeOffCopy&) = delete;
-  bool ok() const { return ok_; }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-  bool ok_ = false;
-};
-
-// Reads the file into `om` with OpenMesh; `opt` says what it found.
-Result<void> readOpenMesh(const fs::path& path, Format format, const Declared& declared, OmMesh& om, OmOptions& opt) {
-  bool readOk = false;
-  {
-    // OpenMesh's OFF reader does not skip comments, though the format allows them; its stream
-    // reader would lose the header's color flag, so it gets a cleaned copy as a file.
-    std::optional<CommentFreeOffCopy> clean;
-    if (declared.offComments) {
-      clean.emplace(path);
-      if (!clean->ok()) return Error::at(path, "cannot read: no room for a temporary copy");
-    }
-    OmSilence silence;
-    readOk = OpenMesh::IO::read_mesh(om, (clean ? clean->path() : path).string(), opt);
-  }
-  if (!readOk || (om.n_vertices() == 0 && declared.faces > 0)) return notValid(path, format);
-  return {};
-}
-
 // "1 face", "5 faces".
 std::string facesText(std::size_t n) { return std::to_string(n) + (n == 1 ? " face" : " faces"); }
 
+// The file's vertices and faces into `om`, as OpenMesh's importer would add them: a face with
+// fewer than 3 corners, a corner that names no vertex, or a vertex repeated in one face is left out
+// (checkFaces counts it); a face the halfedge structure refuses (non-manifold where it is: issue
+// 17's cow and beetle, which real meshes are) goes onto its own copies of its vertices, colour and
+// normal included, and is marked.
+void buildOpenMesh(const detail::RawMesh& raw, OmMesh& om) {
+  const OmSilence silence;  // add_face logs each face it refuses
+  const std::size_t n = raw.positions.size();
+  const bool colors = raw.colors.size() == n, normals = raw.normals.size() == n;
+  om.reserve(n, 3 * raw.faceCount(), raw.faceCount());
+  for (std::size_t i = 0; i < n; ++i) {
+    const glm::vec3& p = raw.positions[i];
+    const auto vh = om.add_vertex(OmMesh::Point(p.x, p.y, p.z));
+    if (colors) om.set_color(vh, OmMesh::Color(raw.colors[i].r, raw.colors[i].g, raw.colors[i].b, 1.0f));
+    if (normals) om.set_normal(vh, OmMesh::Normal(raw.normals[i].x, raw.normals[i].y, raw.normals[i].z));
+  }
+  std::vector<OmMesh::VertexHandle> face;
+  for (std::size_t f = 0; f < raw.faceCount(); ++f) {
+    face.clear();
+    bool valid = raw.faceStart[f + 1] - raw.faceStart[f] >= 3;
+    for (std::size_t k = raw.faceStart[f]; valid && k < raw.faceStart[f + 1]; ++k) {
+      const std::int64_t v = raw.corners[k];
+      valid = v >= 0 && static_cast<std::uint64_t>(v) < n;
+      if (valid) face.emplace_back(static_cast<int>(v));
+    }
+    if (!valid) continue;
+    std::vector<OmMesh::VertexHandle> sorted = face;
+    std::sort(sorted.begin(), sorted.end());
+    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;
+    if (om.add_face(face).is_valid()) continue;
+    for (auto& v : face) {
+      // By value: adding a vertex may move the arrays a reference would point into.
+      const OmMesh::Point point = om.point(v);
+      const OmMesh::Color color = om.color(v);
+      const OmMesh::Normal normal = om.normal(v);
+      const OmMesh::VertexHandle copy = om.add_vertex(point);
+      if (colors) om.set_color(copy, color);
+      if (normals) om.set_normal(copy, normal);
+      v = copy;
+    }
+    const auto fh = om.add_face(face);
+    if (fh.is_valid()) om.status(fh).set_fixed_nonmanifold(true);
+  }
+}
+
 // Every face the file declares made it in: the number added, and in `separated` how many of them
-// OpenMesh's importer put on their own vertices (non-manifold where they were: issue 17's cow and
-// beetle, which real meshes are).
-Result<std::size_t> checkFaces(const fs::path& path, const Declared& declared, const OmMesh& om,
-                               std::size_t& separated) {
+// were put on their own vertices.
+Result<std::size_t> checkFaces(const fs::path& path, std::size_t declared, const OmMesh& om, std::size_t& separated) {
   const std::size_t added = om.n_faces();
   separated = 0;
   for (const auto fh : om.faces())
     if (om.status(fh).fixed_nonmanifold()) ++separated;
-  if (declared.faces == 0 && added == 0) return Error::at(path, "no faces");
-  if (added < declared.faces)
-    return Error::at(path, "the file declares " + facesText(declared.faces) + ", only " + std::to_string(added) +
+  if (declared == 0 && added == 0) return Error::at(path, "no faces");
+  if (added < declared)
+    return Error::at(path, "the file declares " + facesText(declared) + ", only " + std::to_string(added) +
                                " could be added (the others repeat a vertex, refer to a missing one, or are not "
                                "in the file)");
   return added;
@@ -603,23 +376,22 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info, Normalize normali
   const Result<Format> format = formatOf(path);
   if (!format) return format.error();
   PUFF_TRY(checkReadable(path));
-  const Result<Declared> declared = scan(path, *format);
-  if (!declared) return declared.error();
+  const Result<detail::RawMesh> raw = detail::readRawMesh(path, *format);
+  if (!raw) return raw.error();
 
   OmMesh om;
   om.request_vertex_colors();
   om.request_vertex_normals();
-  om.request_face_status();  // the importer marks faces it had to separate as non-manifold
-  OmOptions opt = OmOptions::VertexColor | OmOptions::VertexNormal;
-  PUFF_TRY(readOpenMesh(path, *format, *declared, om, opt));
+  om.request_face_status();  // faces put on their own vertices are marked
+  buildOpenMesh(*raw, om);
   std::size_t separated = 0;
-  const Result<std::size_t> added = checkFaces(path, *declared, om, separated);
+  const Result<std::size_t> added = checkFaces(path, raw->declaredFaces, om, separated);
   if (!added) return added.error();
 
   TriMesh mesh;
-  // STL carries neither; OpenMesh's STL reader leaves the requested flags set regardless.
-  const bool fileColors = *format != Format::Stl && opt.vertex_has_color() && declared->colorsOnEveryVertex;
-  const bool fileNormals = *format != Format::Stl && opt.vertex_has_normal() && declared->normalsOnEveryCorner;
+  // The readers give colours and normals only where every vertex has them.
+  const bool fileColors = !raw->colors.empty();
+  const bool fileNormals = !raw->normals.empty();
   copyVertices(om, fileColors, fileNormals, mesh);
   const std::vector<std::uint32_t> sourceFace = triangulate(om, mesh);
 

@@ -4,6 +4,7 @@
 #include <optional>
 #include <vector>
 
+#include <puff/cel/frame.h>
 #include <puff/core/atlas.h>
 #include <puff/core/colour.h>
 #include <puff/core/gl.h>
@@ -79,7 +80,7 @@ class FixedPath final : public Path {
     if (!fixed) return fixed.error();
     p->fixed_ = std::move(*fixed);
     if (!scene.ramp.empty()) {
-      auto ramp = core::readImage(scene.ramp);
+      auto ramp = cel::Ramp::read(scene.ramp);
       if (!ramp) return Error::at(scene.file, "/ramp: " + ramp.error().message);
       if (auto ok = p->fixed_->setRamp(*ramp); !ok) {
         return Error::at(scene.file, "/ramp: " + Error::at(scene.ramp, ok.error().message).message);

@@ -14,7 +14,7 @@ Result<core::Image> loadPlate(const scene::Scene& scene) {
     // readImage's errors already start with the plate's path.
     return Error::at(scene.file, "/output/plate: " + message);
   };
-  auto image = core::readImage(scene.plate);
+  auto image = core::readImage(scene.plate, nullptr, kPlateLimits);
   if (!image) return wrap(image.error().message);
   const core::Image& in = *image;
   core::Image out(in.width, in.height, 4, 1.0f);

@@ -21,7 +21,7 @@
 namespace puff::bake {
 
 inline constexpr int kMaxCellSize = 16384;  ///< GL_MAX_TEXTURE_SIZE on llvmpipe and most GPUs
-inline constexpr int kMaxAtlasSize = 16384;
+inline constexpr int kMaxAtlasSize = core::kMaxAtlasSide;
 
 /// Flange (outline) width: texels, or a fraction of the cell size.
 struct FlangeWidth {

@@ -12,7 +12,11 @@
 
 namespace puff::bake {
 
-inline constexpr long long kMaxDetailTexels = 1ll << 26;  ///< size * size * frames, 64 Mi (256 MiB of floats)
+using core::kMaxDetailTexels;  ///< size * size * frames, 64 Mi (256 MiB of floats)
+/// What each frame of `puffbake detail --from` may be, checked from its header before decoding: at
+/// most 8192 x 8192 pixels, 1 to 4 channels, a file of at most 512 MiB.
+inline constexpr core::ImageLimits kDetailSourceFrameLimits{"a detail source frame",  8192, 8192, 4, 1ll << 26,
+                                                            std::uintmax_t{512} << 20};
 
 /// A procedural detail video. Every field is checked by validate().
 struct DetailSpec {

@@ -141,9 +141,21 @@ class FrameBlock {
   core::GlId binding_ = 0;
 };
 
+/// What a ramp file may be, checked from its header before decoding: at most 16384 pixels wide
+/// and 256 rows, 1 to 4 channels, a file of at most 64 MiB (create's own rule: at least 2 wide).
+inline constexpr core::ImageLimits kRampLimits{"a ramp", 16384, 256, 4, 1ll << 28, std::uintmax_t{64} << 20};
+/// What a gradient file may be: at most 4096 x 4096 pixels, 1 to 4 channels, a file of at most
+/// 256 MiB.
+inline constexpr core::ImageLimits kGradientLimits{"a gradient", 4096, 4096, 4, 1ll << 24, std::uintmax_t{256} << 20};
+
 /// The quantization ramp q (§4.1): a 1D texture, clamp-to-edge, which enforces max(0, N.L).
 class Ramp {
  public:
+  /// Reads a ramp file within kRampLimits and checks it as create does, without GL: the image
+  /// create takes. Errors name the file.
+  static Result<core::Image> read(const std::filesystem::path& path);
+  /// create's checks alone: a width in [2, 16384] and finite values in the middle row.
+  static Result<void> check(const core::Image& image, const std::string& what);
   /// Uses the middle row of `image` (RGB; a 1- or 2-channel image is grey). Width in [2, 16384].
   /// `smooth` selects linear filtering; the default, nearest, keeps the bands hard as in the paper.
   /// Errors name `what` (usually the file).
@@ -167,6 +179,10 @@ class Ramp {
 /// at the top of the image, linear filtering.
 class Gradient {
  public:
+  /// Reads a gradient file within kGradientLimits and checks it as create does, without GL.
+  static Result<core::Image> read(const std::filesystem::path& path);
+  /// create's checks alone: 1 to 4096 pixels on each side, finite values.
+  static Result<void> check(const core::Image& image, const std::string& what);
   static Result<Gradient> create(const core::Image& image, const std::string& what);
   static Result<Gradient> load(const std::filesystem::path& path);
   /// Binds to texture unit `bindings.gradient` (1 by default) with no sampler object there.

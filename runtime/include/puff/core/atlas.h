@@ -59,6 +59,13 @@ struct AtlasMap {
   std::vector<std::string> levels;  ///< file per mip level, level 0 first, relative to the sidecar
 };
 
+/// Limits on an atlas, checked before anything is decoded: each side of level 0 at most 16384
+/// texels (GL_MAX_TEXTURE_SIZE on most GPUs, and the most puffbake bakes); each map level's file
+/// exactly the size the sidecar gives that level (a file that claims more is refused from its
+/// header) and at most 1 GiB.
+inline constexpr int kMaxAtlasSide = 16384;
+inline constexpr std::uintmax_t kMaxAtlasMapFileBytes = std::uintmax_t{1} << 30;
+
 struct AtlasDesc {
   int formatVersion = kAtlasFormatVersion;
   /// "png" (8-bit maps, 16-bit distance) or "exr" (half float): the maps' precision. A cooked atlas

@@ -11,11 +11,16 @@
 #include <glm/vec3.hpp>
 
 #include <puff/core/error.h>
+#include <puff/core/image.h>
 
 namespace puff::core {
 
 inline constexpr double kMaxKelvin = 1e5;          ///< highest temperature a ramp may cover
 inline constexpr int kMaxBlackbodyTexels = 65536;  ///< most texels in a ramp
+/// What a black-body ramp file may be, checked from its header before decoding: at most 65536
+/// wide and 16 rows, 1 to 4 channels, a file of at most 16 MiB (readBlackbodyRamp then wants N x 1 RGB).
+inline constexpr ImageLimits kBlackbodyRampLimits{"a black-body ramp",        kMaxBlackbodyTexels,     16, 4,
+                                                  16ll * kMaxBlackbodyTexels, std::uintmax_t{16} << 20};
 
 /// Planck's law: spectral radiance 2hc^2 / lambda^5 / (exp(hc / (lambda k T)) - 1) in W sr^-1 m^-3,
 /// for a wavelength in metres and a temperature in kelvin (CODATA 2018 h, c, k). Both must be > 0

@@ -14,11 +14,17 @@
 #include <vector>
 
 #include <puff/core/error.h>
+#include <puff/core/image.h>
 
 namespace puff::core {
 
 inline constexpr int kMinDetailSize = 4, kMaxDetailSize = 4096;  ///< width and height, texels
 inline constexpr int kMaxDetailFrames = 1024;                    ///< frames in [1, 1024]
+inline constexpr long long kMaxDetailTexels = 1ll << 26;         ///< width * height * frames (256 MiB of floats)
+/// What a detail clip's file may be, checked from its header before decoding: at most 4096 wide,
+/// 4096 * 1024 tall, 2^26 pixels in all, 1 to 4 channels (luminance is used), at most 512 MiB.
+inline constexpr ImageLimits kDetailClipLimits{
+    "a detail clip", kMaxDetailSize, kMaxDetailSize* kMaxDetailFrames, 4, kMaxDetailTexels, std::uintmax_t{512} << 20};
 
 struct DetailVideo {
   int width = 0, height = 0, frames = 0;

@@ -19,6 +19,7 @@
 // half floats are IEEE 754 binary16, written rounded to nearest even.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <utility>
@@ -56,6 +57,23 @@ struct ImageFileInfo {
   ImageAttributes attributes;
 };
 
+/// What a caller accepts from an image file, checked against the file's size and its header before
+/// any pixel is decoded, so that a small file claiming a huge image costs nothing. Every use of an
+/// image has its own (ramps, gradients, atlas maps, detail clips, plates: each documents its
+/// limits beside its format); the defaults are the most any image may be.
+struct ImageLimits {
+  const char* use = "an image";  ///< for messages: "a ramp", "an atlas map", ...
+  int maxWidth = 16384, maxHeight = 16384;
+  int maxChannels = 4;  ///< files with more channels are refused
+  /// At most this many pixels (width * height) whatever the sides.
+  long long maxPixels = 1ll << 28;
+  /// The file itself, in bytes (a compressed 16384x16384 image fits in far less).
+  std::uintmax_t maxFileBytes = std::uintmax_t{1} << 30;
+};
+
+/// The problem with a width x height x channels image under `limits`, or "" when it is within them.
+std::string imageLimitProblem(long long width, long long height, int channels, const ImageLimits& limits);
+
 /// The extension of Puff's cooked images.
 inline constexpr const char* kCookedImageExtension = ".puffimg";
 
@@ -66,7 +84,9 @@ bool isCookedImagePath(const std::filesystem::path& path);
 /// that a codec is a constant with no constructor; all three are required.
 struct ImageCodec {
   const char* name;  ///< for messages, e.g. "OpenImageIO"
-  Result<Image> (*read)(const std::filesystem::path& path, ImageFileInfo* info);
+  /// Reads the file; refuses, from the header and before decoding, an image outside `limits`
+  /// (imageLimitProblem). core has already checked that it is a regular file within maxFileBytes.
+  Result<Image> (*read)(const std::filesystem::path& path, ImageFileInfo* info, const ImageLimits& limits);
   Result<std::string> (*readAttribute)(const std::filesystem::path& path, const std::string& name);
   Result<void> (*write)(const std::filesystem::path& path, const Image& image, PixelType type,
                         const ImageAttributes& attributes, const std::filesystem::path& formatHint);
@@ -88,8 +108,9 @@ Result<void> writeImage(const std::filesystem::path& path, const Image& image, P
 /// core itself (recognized by its magic, whatever its name), anything else through the installed
 /// codec. `info`, when given, receives the stored pixel type and the attributes.
 /// Errors: missing file, not a regular file, unknown format, no codec for it, a truncated or
-/// corrupt file, an image of 0 pixels or of more than 2^28 pixels.
-Result<Image> readImage(const std::filesystem::path& path, ImageFileInfo* info = nullptr);
+/// corrupt file, an image of 0 pixels, a file or an image beyond `limits` (found before decoding).
+Result<Image> readImage(const std::filesystem::path& path, ImageFileInfo* info = nullptr,
+                        const ImageLimits& limits = {});
 
 /// Reads one string attribute from an image file's metadata; empty if absent.
 Result<std::string> readImageAttribute(const std::filesystem::path& path, const std::string& name);

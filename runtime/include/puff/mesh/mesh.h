@@ -46,8 +46,12 @@ struct LoadInfo {
 /// that scale and centre, not take its own).
 enum class Normalize { kYes, kNo };
 
+/// The largest mesh file loadMesh reads: 1 GiB (a 10-million-triangle binary PLY is ~200 MB).
+inline constexpr std::uintmax_t kMaxMeshFileBytes = std::uintmax_t{1} << 30;
+
 /// Reads OBJ, OFF, PLY or STL (by extension, case-insensitive), validates and normalizes it.
-/// Errors ("FILE: problem", one line): cannot open; not a mesh of that format; no faces;
+/// Errors ("FILE: problem", one line): cannot open; not a regular file; larger than
+/// kMaxMeshFileBytes; not a mesh of that format; no faces;
 /// non-finite vertex (names the vertex); degenerate face (zero area, names the face);
 /// faces declared but not added (the file declares N faces, only M could be added: a face that
 /// repeats a vertex or refers to a missing one, or a header that counts more faces than the file

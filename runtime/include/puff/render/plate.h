@@ -8,6 +8,10 @@
 
 namespace puff::render {
 
+/// What a plate file may be, checked from its header before decoding: at most 8192 x 8192 pixels,
+/// 1 to 4 channels, a file of at most 512 MiB (it is resampled to the frame).
+inline constexpr core::ImageLimits kPlateLimits{"a plate", 8192, 8192, 4, 1ll << 26, std::uintmax_t{512} << 20};
+
 /// The scene's plate read and decoded: its colour is display values (sRGB-encoded, as a paint
 /// program saves them; 1 channel: grey, 2: grey + alpha, 3 or 4: RGB [+ alpha]); the result is
 /// scene-linear RGBA with alpha 1 (the plate is opaque: a plate's own alpha is ignored). Errors name

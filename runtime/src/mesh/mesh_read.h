@@ -1,0 +1,45 @@
+// Puff's own readers of OBJ, OFF, PLY and STL (private to puff::mesh). OpenMesh's readers crash,
+// hang or write out of bounds on malformed files (issue 17's fuzzers: a normal given to a missing
+// OBJ vertex, a PLY header that segfaults, an OFF file that never finishes), so the files are
+// parsed here, with every count checked against the bytes that are left before anything is
+// reserved; OpenMesh only builds the connectivity (mesh_io.cpp).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include <puff/core/error.h>
+
+namespace puff::mesh::detail {
+
+enum class Format { Obj, Off, Ply, Stl };
+
+const char* formatName(Format f);
+
+/// A file's vertices and polygons as it gives them, before any face is added to a mesh.
+struct RawMesh {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> colors;   ///< one per vertex, or none; [0, 1], or 0..255 in OBJ and OFF
+  std::vector<glm::vec3> normals;  ///< one per vertex, or none
+  /// Polygon i's corners are corners[faceStart[i] .. faceStart[i + 1]); a corner is a 0-based vertex
+  /// index as the file gives it, which may be out of range (the face is then not added).
+  std::vector<std::size_t> faceStart{0};
+  std::vector<std::int64_t> corners;
+  std::size_t declaredFaces = 0;  ///< what the file says it holds (PLY strips: their triangles)
+
+  std::size_t faceCount() const { return faceStart.size() - 1; }
+  void addCorner(std::int64_t v) { corners.push_back(v); }
+  void endFace() { faceStart.push_back(corners.size()); }
+};
+
+/// Reads `path` as `format` (the caller has checked that it is a regular file within
+/// kMaxMeshFileBytes). Errors are "PATH: problem", one line: "not a valid FORMAT file (detail)", or
+/// a header that counts more than the file holds.
+Result<RawMesh> readRawMesh(const std::filesystem::path& path, Format format);
+
+}  // namespace puff::mesh::detail

@@ -1,0 +1,118 @@
+#!/usr/bin/env bash
+# Runs Puff's libFuzzer harnesses (docs/fuzzing.md).
+#
+#   tests/fuzz/run.sh [--seconds N] [--seed S] [--build DIR] [--replay] [HARNESS...]
+#
+# Builds the harnesses in DIR (default build-fuzz, configured with clang and -DPUFF_FUZZ=ON when it
+# is not yet), assembles each harness's seed corpus from art/, tests/data/ and tests/fuzz/seeds/,
+# replays tests/fuzz/regressions/HARNESS/ (every input that once crashed), then fuzzes each harness
+# for N seconds (default 60) into DIR/corpus/HARNESS, which later runs start from. Crashes go to
+# DIR/crashes/HARNESS/. Prints one line per harness (executions, coverage, corpus, crashes) and
+# exits 1 if any harness crashed. --replay only replays the seeds and regressions (no fuzzing).
+# --seed S makes libFuzzer's mutations repeatable (CI uses 1); by default each run draws its own.
+# HARNESS: scene atlas_sidecar mesh_obj mesh_off mesh_ply mesh_stl image_ramp image_gradient
+# image_map image_detail (default: all).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+root=$PWD
+
+seconds=60
+seed=0
+build=build-fuzz
+replay_only=0
+harnesses=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --seconds) seconds=$2; shift 2 ;;
+    --seed) seed=$2; shift 2 ;;
+    --build) build=$2; shift 2 ;;
+    --replay) replay_only=1; shift ;;
+    -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -*) echo "run.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
+    *) harnesses+=("$1"); shift ;;
+  esac
+done
+all=(scene atlas_sidecar mesh_obj mesh_off mesh_ply mesh_stl image_ramp image_gradient image_map image_detail)
+[ ${#harnesses[@]} -gt 0 ] || harnesses=("${all[@]}")
+for h in "${harnesses[@]}"; do
+  [[ " ${all[*]} " == *" $h "* ]] || { echo "run.sh: no harness $h (have: ${all[*]})" >&2; exit 2; }
+done
+[[ "$seconds" =~ ^[0-9]+$ ]] && [ "$seconds" -ge 1 ] || { echo "run.sh: --seconds must be a whole number >= 1" >&2; exit 2; }
+[[ "$seed" =~ ^[0-9]+$ ]] || { echo "run.sh: --seed must be a whole number" >&2; exit 2; }
+
+command -v clang++ >/dev/null || { echo "run.sh: clang++ not found (bash setup.sh installs clang and libFuzzer)" >&2; exit 1; }
+if [ ! -f "$build/CMakeCache.txt" ]; then
+  CC=clang CXX=clang++ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DPUFF_FUZZ=ON >/dev/null
+fi
+cmake --build "$build" --target puff_fuzzers -j"$(nproc)" >/dev/null
+
+# Seeds: the first byte of an image input picks its extension (fuzz_common.h): 0 .png, 1 .exr, 2 .puffimg.
+image_seed() {  # image_seed FILE OUTDIR
+  local b=0
+  case "$1" in *.exr) b=1 ;; *.puffimg) b=2 ;; esac
+  { printf "\\x0$b"; cat "$1"; } >"$2/$(basename "$1")"
+}
+seeds_of() {  # seeds_of HARNESS OUTDIR
+  local h=$1 out=$2 f
+  shopt -s nullglob
+  case "$h" in
+    scene) cp art/scenes/*.json tests/fuzz/seeds/scene/* "$out"/ ;;
+    atlas_sidecar) cp tests/fuzz/seeds/atlas/*.json "$out"/ ;;
+    mesh_*)
+      local ext=${h#mesh_}
+      for f in tests/data/meshes/*."$ext" art/puffs/*."$ext" tests/fuzz/seeds/mesh/*."$ext"; do cp "$f" "$out"/; done ;;
+    image_ramp) for f in art/ramps/* tests/fuzz/seeds/ramp/*; do image_seed "$f" "$out"; done ;;
+    image_gradient) for f in art/gradients/* tests/fuzz/seeds/gradient/*; do image_seed "$f" "$out"; done ;;
+    image_detail) for f in tests/fuzz/seeds/detail/*; do image_seed "$f" "$out"; done ;;
+    image_map)
+      # The first byte picks one of the seed atlas's map files (in the harness's order): every
+      # file with every index, so each file is seeded in its own place.
+      local maps=(tests/fuzz/seeds/atlas/tiny_*.png) i
+      for f in tests/fuzz/seeds/atlas/tiny_*.png tests/fuzz/seeds/atlas/tinyc_*.puffimg; do
+        for i in "${!maps[@]}"; do { printf "\\x$(printf %02x "$i")"; cat "$f"; } >"$out/$i-$(basename "$f")"; done
+      done ;;
+  esac
+  shopt -u nullglob
+}
+
+failed=0
+printf '%-15s %8s %10s %8s %8s %7s %s\n' harness seconds executions cov features corpus crashes
+for h in "${harnesses[@]}"; do
+  bin=$build/tests/fuzz/puff_fuzz_$h
+  seeds=$build/seeds/$h corpus=$build/corpus/$h crashes=$build/crashes/$h log=$build/logs/$h.log
+  rm -rf "$seeds"; mkdir -p "$seeds" "$corpus" "$crashes" "$(dirname "$log")"
+  seeds_of "$h" "$seeds"
+  # Every input that ever crashed, then every seed, once each.
+  regressions=(tests/fuzz/regressions/$h/*)
+  inputs=("$seeds"/*)
+  [ -e "${regressions[0]}" ] && inputs+=("${regressions[@]}")
+  export UBSAN_OPTIONS=print_stacktrace=1
+  # Full stacks on malloc, so that tests/lsan.supp matches the third-party leaks it names.
+  export LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:fast_unwind_on_malloc=0"
+  if ! "$bin" -rss_limit_mb=2560 -timeout=30 "${inputs[@]}" >"$log" 2>&1; then
+    echo "$h: a seed or regression input fails; see $log" >&2
+    tail -30 "$log" >&2
+    failed=1
+    continue
+  fi
+  if [ "$replay_only" = 1 ]; then
+    printf '%-15s %8s %10s %8s %8s %7s %s\n' "$h" 0 "${#inputs[@]}" - - - "0 (replayed)"
+    continue
+  fi
+  status=0
+  "$bin" -seed="$seed" -max_total_time="$seconds" -rss_limit_mb=2560 -malloc_limit_mb=2560 -timeout=30 -print_final_stats=1 \
+    -artifact_prefix="$crashes/" "$corpus" "$seeds" >"$log" 2>&1 || status=$?
+  execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
+  last=$(grep -E '^#[0-9]+.*cov: ' "$log" | tail -1 || true)
+  cov=$(sed -n 's/.*cov: \([0-9]*\).*/\1/p' <<<"$last")
+  ft=$(sed -n 's/.*ft: \([0-9]*\).*/\1/p' <<<"$last")
+  ncrash=$(find "$crashes" -type f | wc -l)
+  printf '%-15s %8s %10s %8s %8s %7s %s\n' "$h" "$seconds" "${execs:-?}" "${cov:-?}" "${ft:-?}" \
+    "$(find "$corpus" -type f | wc -l)" "$ncrash"
+  if [ "$status" != 0 ] || [ "$ncrash" != 0 ]; then
+    echo "$h: crashed (exit $status); inputs in $crashes/, log $log" >&2
+    grep -E 'ERROR|SUMMARY|puff fuzz' "$log" | head -5 >&2 || true
+    failed=1
+  fi
+done
+exit $failed
