@@ -124,7 +124,9 @@ CLI::App* addBakeCommand(CLI::App& app, Options& o, BakeFlags& flags) {
   cmd->add_option("meshes", o.inputs, "Puff mesh files, one variation each");
   flags.generator.add(*cmd, true);
   cmd->add_option("-o,--out", o.bake.outDir, "Output directory (created if missing)")->capture_default_str();
-  cmd->add_option("--name", o.bake.name, "File prefix: NAME.json, NAME_color.png, ...")->capture_default_str();
+  cmd->add_option("--name", o.bake.name,
+                  "File prefix: NAME.json (the sidecar), NAME_color.HASH.png (maps named by their content), ...")
+      ->capture_default_str();
   cmd->add_option(
          "-s,--size", o.bake.cellSize,
          "Cell size in texels, per variation and view (8..16384; a bake that would need more than 12 GiB is refused)")
@@ -150,7 +152,7 @@ CLI::App* addBakeCommand(CLI::App& app, Options& o, BakeFlags& flags) {
   cmd->add_flag("--no-contact-sheet", flags.noSheet, "Skip NAME_contact.png");
   cmd->add_option("--lod", flags.lod,
                   "full: bake meshes as given; auto: decimate each to the fewest faces within the tolerances and "
-                  "write the chosen mesh beside the atlas (NAME_lodI.ply, named in the sidecar)")
+                  "write the chosen mesh beside the atlas (NAME_lodI.HASH.ply, named in the sidecar)")
       ->check(CLI::IsMember({"full", "auto"}))
       ->capture_default_str();
   cmd->add_option("--lod-normal-tolerance", o.bake.lodNormalTolerance,

@@ -36,8 +36,9 @@ CLI::App* addCookCommand(CLI::App& app, Options& o) {
       "in the type its file held, with its puff: attributes");
   cmd->add_option("input", o.cookInput, "An atlas sidecar (.json) or an image file")->required();
   cmd->add_option("-o,--out", o.out,
-                  "For an atlas, the cooked sidecar STEM.json: its maps are written beside it as STEM_MAP.puffimg "
-                  "(and a --lod auto mesh as STEM_lodN), and an atlas already there is replaced whole; for an image, "
+                  "For an atlas, the cooked sidecar STEM.json: its maps are written beside it as STEM_MAP.HASH.puffimg "
+                  "(HASH: the content's; a --lod auto mesh as STEM_lodN.HASH), and an atlas already there is replaced "
+                  "whole; for an image, "
                   "the .puffimg file. Written whole or not at all")
       ->required();
   cmd->add_flag("-q,--quiet", o.quiet, "Print errors only");

@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -58,16 +59,26 @@ Result<void> OutputTransaction::prepareDirectory(const fs::path& dir) {
 
 namespace {
 
-// Removes DIR/.NAME.tmp-PID.EXT files that `stage` named for `target` in runs that are gone (killed
-// before they could clean up): a process PID that no longer exists.
+// Removes the files runs that are gone (killed before they could clean up: a process PID that no
+// longer exists) left for `target`: DIR/.NAME.tmp-PID.EXT that `stage` named, and DIR/NAME.bak-PID
+// that `commit` linked.
 void removeStaleTemps(const fs::path& target) {
   const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
-  const std::string prefix = "." + target.filename().string() + ".tmp-";
+  const std::string temp = "." + target.filename().string() + ".tmp-", backup = target.filename().string() + ".bak-";
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
-    if (name.compare(0, prefix.size(), prefix) != 0) continue;
-    const long pid = std::strtol(name.c_str() + prefix.size(), nullptr, 10);
+    std::size_t at = 0;
+    if (name.compare(0, temp.size(), temp) == 0) {
+      at = temp.size();
+    } else if (name.compare(0, backup.size(), backup) == 0) {
+      at = backup.size();
+    } else {
+      continue;
+    }
+    char* after = nullptr;
+    const long pid = std::strtol(name.c_str() + at, &after, 10);
+    if (at == backup.size() && *after != '\0') continue;  // NAME.bak-PID and nothing after
     if (pid <= 0 || pid == ::getpid()) continue;
     if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to ask
     std::error_code removed;
@@ -90,12 +101,28 @@ fs::path OutputTransaction::stage(const fs::path& target) {
   return temp;
 }
 
+Result<fs::path> OutputTransaction::nameByContent(const fs::path& staged) {
+  const auto it = std::find_if(staged_.begin(), staged_.end(), [&](const auto& s) { return s.first == staged; });
+  PUFF_CHECK(it != staged_.end());
+  auto bytes = readFileBytes(staged);
+  if (!bytes) return Error::at(it->second, "cannot read back what was written: " + bytes.error().message);
+  const fs::path& target = it->second;
+  std::string name = target.stem().string();
+  name += ".";
+  name += fnv1a64Hex(*bytes).substr(0, 12);
+  name += target.extension().string();
+  it->second = target.parent_path() / name;
+  return it->second;
+}
+
 Result<void> OutputTransaction::commit() {
   // Refuse before touching anything if a target can never be replaced by a file.
   for (const auto& [temp, target] : staged_) {
     std::error_code ec;
     if (fs::is_directory(target, ec)) return Error::at(target, "cannot replace: is a directory");
   }
+  // What killed runs left for the final names (a content name is known only now).
+  for (const auto& [temp, target] : staged_) removeStaleTemps(target);
   // Keep a hard link to each existing target so a rename that still fails part-way can be undone
   // and the previous outputs come back whole.
   std::vector<std::pair<fs::path, fs::path>> backups;  // backup, target

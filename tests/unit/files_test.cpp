@@ -55,6 +55,40 @@ TEST(OutputTransaction, StagingClearsTheTemporaryFilesOfRunsThatAreGone) {
   EXPECT_EQ(*puff::core::readFileBytes(target), "frame");
 }
 
+// commit() hard-links each replaced target to NAME.bak-PID while it renames; a run killed then leaves
+// them. The next transaction for the name removes a dead run's, keeps a live one's, and names by
+// content (nameByContent) still find what killed runs left under the final name.
+TEST(OutputTransaction, CommitClearsTheBackupsOfRunsThatAreGone) {
+  puff::test::ScopedTempDir dir("puff_files");
+  const fs::path target = dir / "atlas.json";
+  ASSERT_OK(puff::core::writeFileBytes(target, "old"));
+  const auto backup = [&](const std::string& name, pid_t pid) { return dir / (name + ".bak-" + std::to_string(pid)); };
+  const fs::path dead = backup("atlas.json", deadPid()), alive = backup("atlas.json", ::getppid());
+  const fs::path notOurs = dir / ("atlas.json.bak-" + std::to_string(deadPid()) + ".keep");
+  // Named by content: "map.HASH.png" is only known at commit.
+  const std::string content = "map bytes";
+  const std::string named = "map." + puff::core::fnv1a64Hex(content).substr(0, 12) + ".png";
+  const fs::path deadNamed = backup(named, deadPid());
+  for (const fs::path& p : {dead, alive, notOurs, deadNamed}) ASSERT_OK(puff::core::writeFileBytes(p, "x"));
+  {
+    puff::core::OutputTransaction tx;
+    const fs::path staged = tx.stage(dir / "map.png");
+    ASSERT_OK(puff::core::writeFileBytes(staged, content));
+    auto t = tx.nameByContent(staged);
+    ASSERT_OK(t);
+    EXPECT_EQ(t->filename().string(), named);
+    ASSERT_OK(puff::core::writeFileBytes(tx.stage(target), "new"));
+    ASSERT_OK(tx.commit());
+  }
+  EXPECT_FALSE(fs::exists(dead));
+  EXPECT_FALSE(fs::exists(deadNamed));
+  EXPECT_TRUE(fs::exists(alive));
+  EXPECT_TRUE(fs::exists(notOurs));
+  EXPECT_EQ(*puff::core::readFileBytes(dir / named), content);
+  EXPECT_EQ(*puff::core::readFileBytes(target), "new");
+  EXPECT_FALSE(fs::exists(dir / "map.png"));
+}
+
 TEST(OutputTransaction, ADirectoryNoFileCanBeMadeInIsRefusedBeforeAnyWork) {
   // /proc passes access(W_OK) for root, yet takes no new file.
   puff::core::OutputTransaction tx;

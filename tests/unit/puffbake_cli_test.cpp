@@ -75,9 +75,15 @@ TEST_F(PuffbakeCli, BakesAGeneratedPuffAndReportsWhereItWent) {
   CliRun r = run("bake -g lumpy -n 2 --subdivisions 3 -s 32 -o " + (dir_ / "out").string());
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(r.out.find("contact sheet: " + (dir_ / "out" / "puff_contact.png").string()), std::string::npos) << r.out;
-  EXPECT_TRUE(fs::exists(dir_ / "out" / "puff.json"));
-  EXPECT_TRUE(fs::exists(dir_ / "out" / "puff_normal_depth.png"));
-  EXPECT_TRUE(fs::exists(dir_ / "out" / "puff_color.mip1.png"));
+  auto desc = puff::core::loadAtlasDesc(dir_ / "out" / "puff.json");
+  ASSERT_TRUE(desc.ok()) << desc.error().message;
+  // Maps are named by their content: NAME_MAP[.mipN].HASH.png, HASH 12 hex digits.
+  const std::string nd = desc->maps.at("normalDepth").levels.at(0), mip = desc->maps.at("color").levels.at(1);
+  EXPECT_EQ(nd.rfind("puff_normal_depth.", 0), 0u) << nd;
+  EXPECT_EQ(nd.size(), std::string("puff_normal_depth.").size() + 12 + 4) << nd;
+  EXPECT_EQ(mip.rfind("puff_color.mip1.", 0), 0u) << mip;
+  EXPECT_TRUE(fs::exists(dir_ / "out" / nd));
+  EXPECT_TRUE(fs::exists(dir_ / "out" / mip));
 }
 
 TEST_F(PuffbakeCli, BadUsageExitsTwo) {
@@ -183,7 +189,10 @@ TEST_F(PuffbakeCli, LodAutoWritesTheMeshItReports) {
   const fs::path out = dir_ / "lod";
   CliRun r = run("bake -g lumpy -n 1 --subdivisions 4 -s 32 --lod auto --no-contact-sheet -o " + out.string());
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  const fs::path lod = out / "puff_lod0.ply";
+  auto lodDesc = puff::core::loadAtlasDesc(out / "puff.json");
+  ASSERT_TRUE(lodDesc.ok()) << lodDesc.error().message;
+  const fs::path lod = out / lodDesc->sources[0].lodMesh;
+  EXPECT_EQ(lodDesc->sources[0].lodMesh.rfind("puff_lod0.", 0), 0u) << lodDesc->sources[0].lodMesh;
   const std::string reported = "puffbake: lod: variation 0: 5120 -> ";
   const std::size_t at = r.out.find(reported);
   ASSERT_NE(at, std::string::npos) << r.out;
@@ -195,12 +204,13 @@ TEST_F(PuffbakeCli, LodAutoWritesTheMeshItReports) {
   EXPECT_LT(faces, 5120u);
   auto desc = puff::core::loadAtlasDesc(out / "puff.json");
   ASSERT_TRUE(desc.ok()) << desc.error().message;
-  EXPECT_EQ(desc->sources[0].lodMesh, "puff_lod0.ply");
+  EXPECT_EQ(desc->sources[0].lodMesh, lod.filename().string());
   EXPECT_EQ(desc->sources[0].facesBaked, faces);
   // Without --lod auto: no mesh, no field.
   CliRun full = run("bake -g lumpy -n 1 --subdivisions 4 -s 32 --no-contact-sheet -o " + (dir_ / "full").string());
   ASSERT_EQ(full.exitCode, 0) << full.err;
-  EXPECT_FALSE(fs::exists(dir_ / "full" / "puff_lod0.ply"));
+  for (const auto& e : fs::directory_iterator(dir_ / "full"))
+    EXPECT_EQ(e.path().filename().string().find("_lod"), std::string::npos) << e.path();
   EXPECT_EQ(puff::core::readFileBytes(dir_ / "full" / "puff.json")->find("lodMesh"), std::string::npos);
 }
 
@@ -387,8 +397,9 @@ TEST_F(PuffbakeCli, CookWritesWhatAGameLoadsAndRefusesWhatItCannot) {
   ASSERT_GT(desc->mipLevels, 1);
   const std::string files = std::to_string(3 * desc->mipLevels + 1) + " files";  // the maps' levels, the sidecar
   EXPECT_NE(r.out.find("puffbake: wrote " + out.string() + ": atlas cooked into " + files), std::string::npos) << r.out;
-  EXPECT_EQ(desc->maps.at("color").levels.at(0), "smoke_color.puffimg");
-  EXPECT_EQ(desc->maps.at("normalDepth").levels.at(1), "smoke_normal_depth.mip1.puffimg");
+  EXPECT_EQ(desc->maps.at("color").levels.at(0).rfind("smoke_color.", 0), 0u);
+  EXPECT_EQ(desc->maps.at("normalDepth").levels.at(1).rfind("smoke_normal_depth.mip1.", 0), 0u);
+  EXPECT_EQ(fs::path(desc->maps.at("color").levels.at(0)).extension(), ".puffimg");
   for (const auto& [name, map] : desc->maps) {
     for (const std::string& level : map.levels) EXPECT_TRUE(fs::exists(dir_ / "game" / level)) << level;
   }
@@ -430,8 +441,9 @@ TEST_F(PuffbakeCli, CookWritesWhatAGameLoadsAndRefusesWhatItCannot) {
   EXPECT_FALSE(fs::exists(dir_ / "c.png"));
   // The cooked sidecar is never replaced by a failed cook.
   const std::string before = *puff::core::readFileBytes(out);
-  fs::remove(dir_ / "baked" / "puff_color.mip1.png");
+  const std::string mip1 = puff::core::loadAtlasDesc(dir_ / "baked" / "puff.json")->maps.at("color").levels.at(1);
+  fs::remove(dir_ / "baked" / mip1);
   expectOneLineError(run("cook " + (dir_ / "baked" / "puff.json").string() + " -o " + out.string()),
-                     "puff_color.mip1.png: cannot open: no such file");
+                     mip1 + ": cannot open: no such file");
   EXPECT_EQ(*puff::core::readFileBytes(out), before);
 }

@@ -1,5 +1,7 @@
 #include <puff/bake/baker.h>
 
+#include "atlas_files.h"
+
 #include <algorithm>
 #include <cmath>
 #include <deque>
@@ -223,51 +225,59 @@ struct AtlasBake {
     }
   }
 
-  // Writes every map level, the contact sheet and the sidecar to staged files; the rename at the
-  // end makes the bake appear all at once.
+  // Writes every map level (named by its content), the LOD meshes, the contact sheet and the
+  // sidecar to staged files; the renames at the end make the bake appear whole, the sidecar's last,
+  // and then the atlas it replaced is removed (atlas_files.h).
   Result<void> write(const std::vector<AtlasLevel>& levels) {
     core::OutputTransaction tx;
     PUFF_TRY(tx.prepareDirectory(o.outDir));
+    const fs::path sidecar = o.outDir / (o.name + ".json");
+    const std::vector<fs::path> replaced = detail::filesNamedBy(sidecar);
     const std::string ext = desc.fileFormat;
     const core::PixelType mapType = o.format == MapFormat::kExr ? core::PixelType::kHalf : core::PixelType::kUInt8;
     const core::PixelType distType = o.format == MapFormat::kExr ? core::PixelType::kHalf : core::PixelType::kUInt16;
     const int totalFiles = desc.mipLevels * 3 + 2 + static_cast<int>(lodMeshes.size());
     int written = 0;
-    auto put = [&](const char* map, int level, const core::Image& img, core::PixelType type) -> Result<void> {
-      const std::string file = mapFileName(o.name, map, level, ext);
-      const fs::path target = o.outDir / file;
-      PUFF_TRY(core::writeImage(tx.stage(target), img, type, {{"puff:map", map}, {"puff:level", std::to_string(level)}},
-                                target));
-      result.files.push_back(target);
+    // Each file is staged, written, then named by its content (NAME_color.mip1.HASH.png).
+    auto put = [&](const char* map, const char* key, int level, const core::Image& img,
+                   core::PixelType type) -> Result<void> {
+      const fs::path staged = tx.stage(o.outDir / mapFileName(o.name, map, level, ext));
+      PUFF_TRY(core::writeImage(staged, img, type, {{"puff:map", map}, {"puff:level", std::to_string(level)}},
+                                o.outDir / mapFileName(o.name, map, level, ext)));
+      auto target = tx.nameByContent(staged);
+      if (!target) return target.error();
+      desc.maps[key].levels.push_back(target->filename().string());
+      result.files.push_back(*target);
       report("writing", ++written, totalFiles);
       return {};
     };
     for (int l = 0; l < desc.mipLevels; ++l) {
       const AtlasLevel& lv = levels[static_cast<std::size_t>(l)];
-      PUFF_TRY(put("normal_depth", l, encodeNormalDepth(lv.normalDepth), mapType));
-      PUFF_TRY(put("color", l, lv.color, mapType));
-      PUFF_TRY(put("distance", l, encodeDistance(lv.distance, desc.distanceRange), distType));
-      desc.maps["normalDepth"].levels.push_back(mapFileName(o.name, "normal_depth", l, ext));
-      desc.maps["color"].levels.push_back(mapFileName(o.name, "color", l, ext));
-      desc.maps["distance"].levels.push_back(mapFileName(o.name, "distance", l, ext));
+      PUFF_TRY(put("normal_depth", "normalDepth", l, encodeNormalDepth(lv.normalDepth), mapType));
+      PUFF_TRY(put("color", "color", l, lv.color, mapType));
+      PUFF_TRY(put("distance", "distance", l, encodeDistance(lv.distance, desc.distanceRange), distType));
     }
     // The meshes the atlas was baked from, with the normals the bake used, so a consumer that draws
     // the mesh itself (the fixed path) draws the same level of detail.
     for (std::size_t var = 0; var < lodMeshes.size(); ++var) {
-      const fs::path target = o.outDir / lodFileName(o.name, static_cast<int>(var));
-      PUFF_TRY(mesh::saveMesh(lodMeshes[var], tx.stage(target), mesh::SaveNormals::kYes));
-      result.files.push_back(target);
-      result.lodMeshes.push_back(target);
+      const fs::path staged = tx.stage(o.outDir / lodFileName(o.name, static_cast<int>(var)));
+      PUFF_TRY(mesh::saveMesh(lodMeshes[var], staged, mesh::SaveNormals::kYes));
+      auto target = tx.nameByContent(staged);
+      if (!target) return target.error();
+      desc.sources[var].lodMesh = target->filename().string();
+      result.files.push_back(*target);
+      result.lodMeshes.push_back(*target);
       report("writing", ++written, totalFiles);
     }
     PUFF_TRY(writeContactSheet(tx, levels[0]));
-    result.sidecar = o.outDir / (o.name + ".json");
+    result.sidecar = sidecar;
     // Paths need not be UTF-8 on Linux: replace what JSON cannot hold rather than throw.
     const std::string text = core::toJson(desc).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
     PUFF_TRY(core::writeFileBytes(tx.stage(result.sidecar), text, result.sidecar));
     result.files.push_back(result.sidecar);
     report("writing", totalFiles, totalFiles);
     PUFF_TRY(tx.commit());
+    detail::removeSuperseded(o.outDir, o.name, replaced, result.files);
     result.desc = std::move(desc);
     return {};
   }

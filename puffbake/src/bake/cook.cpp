@@ -10,6 +10,8 @@
 #include <puff/core/image.h>
 #include <puff/core/json_read.h>
 
+#include "atlas_files.h"
+
 namespace puff::bake {
 
 namespace fs = std::filesystem;
@@ -46,40 +48,26 @@ std::string levelName(const std::string& stem, const std::string& map, std::size
   return stem + "_" + snakeCase(map) + (level == 0 ? "" : ".mip" + std::to_string(level)) + core::kCookedImageExtension;
 }
 
-// The files the atlas at `sidecar` names in its own directory (its levels and LOD meshes); nothing
-// when it is not a readable atlas.
-std::vector<fs::path> filesBeside(const fs::path& sidecar) {
-  std::vector<fs::path> files;
-  auto j = core::jsonread::loadJsonFile(sidecar);
-  if (!j) return files;
-  auto desc = core::atlasFromJson(*j, sidecar);
-  if (!desc) return files;
-  const fs::path dir = sidecar.parent_path().lexically_normal();
-  const auto add = [&](const fs::path& p) {
-    const fs::path file = (sidecar.parent_path() / p).lexically_normal();
-    if (!p.is_absolute() && file.parent_path() == dir) files.push_back(file);
-  };
-  for (const auto& [name, map] : desc->maps) {
-    for (const std::string& level : map.levels) add(level);
-  }
-  for (const core::AtlasSource& source : desc->sources) {
-    if (!source.lodMesh.empty()) add(source.lodMesh);
-  }
-  return files;
-}
-
-// Reads `in` and stages its cooked copy at `target` in `tx`.
-Result<void> stageImage(core::OutputTransaction& tx, const fs::path& in, const fs::path& target, Cooked& cooked) {
+// Reads `in` and stages its cooked copy at `target` in `tx`; with `byContent`, names it by its
+// content (STEM_MAP.HASH.puffimg, atlas_files.h). Returns the target.
+Result<fs::path> stageImage(core::OutputTransaction& tx, const fs::path& in, const fs::path& target, Cooked& cooked,
+                            bool byContent) {
   core::ImageFileInfo info;
   // The limits of any image, and the channels a cooked image holds (1 to 4).
   auto image = core::readImage(in, &info, core::ImageLimits{"a cooked image"});
   if (!image) return image.error();
   const fs::path staged = tx.stage(target);
   PUFF_TRY(core::writeImage(staged, *image, info.type, info.attributes, target));
-  cooked.files.push_back(target);
+  fs::path named = target;
+  if (byContent) {
+    auto t = tx.nameByContent(staged);
+    if (!t) return t.error();
+    named = *t;
+  }
+  cooked.files.push_back(named);
   cooked.bytesRead += sizeOf(in);
   cooked.bytesWritten += sizeOf(staged);
-  return {};
+  return named;
 }
 
 bool sameFile(const fs::path& a, const fs::path& b) {
@@ -103,8 +91,8 @@ Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
   const std::string stem = outSidecar.stem().string();
   // What the sidecar being replaced named beside it, less what the source and the new atlas use:
   // removed once the new atlas is in place, so the directory holds the new atlas whole.
-  const std::vector<fs::path> stale = filesBeside(outSidecar);
-  const std::vector<fs::path> sourceFiles = filesBeside(sidecar);
+  const std::vector<fs::path> stale = detail::filesNamedBy(outSidecar);
+  const std::vector<fs::path> sourceFiles = detail::filesNamedBy(sidecar);
   Cooked cooked;
   core::OutputTransaction tx;
   PUFF_TRY(tx.prepareDirectory(outDir));
@@ -113,8 +101,9 @@ Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
       const std::string cookedLevel = levelName(stem, name, level);
       const fs::path in = inDir / map.levels[level], out = outDir / cookedLevel;
       if (sameFile(in, out)) return Error::at(in, "would be replaced by its own cooked copy; name another sidecar");
-      PUFF_TRY(stageImage(tx, in, out, cooked));
-      j["maps"][name]["levels"][level] = cookedLevel;
+      auto named = stageImage(tx, in, out, cooked, true);
+      if (!named) return named.error();
+      j["maps"][name]["levels"][level] = named->filename().string();
     }
   }
   for (std::size_t i = 0; i < desc->sources.size(); ++i) {
@@ -126,9 +115,12 @@ Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
     if (sameFile(*from, to)) return Error::at(*from, "would be replaced by its own copy; name another sidecar");
     auto mesh = core::readFileBytes(*from);
     if (!mesh) return mesh.error();
-    PUFF_TRY(core::writeFileBytes(tx.stage(to), *mesh, to));
-    j["sources"][i]["lodMesh"] = lod;
-    cooked.files.push_back(to);
+    const fs::path staged = tx.stage(to);
+    PUFF_TRY(core::writeFileBytes(staged, *mesh, to));
+    auto named = tx.nameByContent(staged);
+    if (!named) return named.error();
+    j["sources"][i]["lodMesh"] = named->filename().string();
+    cooked.files.push_back(*named);
     cooked.bytesRead += mesh->size();
     cooked.bytesWritten += mesh->size();
   }
@@ -138,15 +130,9 @@ Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
   cooked.bytesRead += sizeOf(sidecar);
   cooked.bytesWritten += text.size();
   PUFF_TRY(tx.commit());
-  for (const fs::path& old : stale) {
-    const auto kept = [&](const fs::path& f) { return sameFile(f, old); };
-    if (std::any_of(cooked.files.begin(), cooked.files.end(), kept) ||
-        std::any_of(sourceFiles.begin(), sourceFiles.end(), kept)) {
-      continue;
-    }
-    std::error_code ec;
-    fs::remove(old, ec);  // best effort: the new atlas is complete without it
-  }
+  std::vector<fs::path> kept = cooked.files;
+  kept.insert(kept.end(), sourceFiles.begin(), sourceFiles.end());
+  detail::removeSuperseded(outDir, stem, stale, kept);
   return cooked;
 }
 
@@ -158,7 +144,8 @@ Result<Cooked> cookImage(const fs::path& in, const fs::path& out) {
   Cooked cooked;
   core::OutputTransaction tx;
   PUFF_TRY(tx.prepareDirectory(out.parent_path()));
-  PUFF_TRY(stageImage(tx, in, out, cooked));
+  auto named = stageImage(tx, in, out, cooked, false);  // one image: the name asked for
+  if (!named) return named.error();
   PUFF_TRY(tx.commit());
   return cooked;
 }

@@ -11,6 +11,7 @@
 #include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/core/shader.h>
+#include <puff/core/text.h>
 #include <puff/eval/cel_reference.h>
 #include <puff/render/render.h>
 #include <puff/scene/evaluate.h>
@@ -72,12 +73,14 @@ Result<std::unique_ptr<core::GlContext>> createContext(const Options& o, const s
   glOptions.width = scene.width, glOptions.height = scene.height;
   context = core::createGlContext(glOptions);
   if (!context) {
-    return Error{"the programmable (cel) path cannot run here (" + whyNotProgrammable +
+    // The same reason twice (no such backend, no display) is said once.
+    if (context.error().message == whyNotProgrammable) return context.error();
+    return Error{"the programmable (cel) path cannot run here (" + core::oneLine(whyNotProgrammable) +
                  "), and there is no context for the fixed-function path either: " + context.error().message};
   }
   std::fprintf(stderr,
                "%s: the programmable (cel) path cannot run here: %s\n%s: drawing with the fixed-function path\n",
-               cli::name(), whyNotProgrammable.c_str(), cli::name());
+               cli::name(), core::oneLine(whyNotProgrammable).c_str(), cli::name());
   path = render::RenderPath::kFixed;
   return context;
 }

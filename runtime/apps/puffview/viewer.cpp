@@ -18,6 +18,7 @@
 #include <puff/core/gl.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/shader.h>
+#include <puff/core/text.h>
 #include <puff/render/view.h>
 #include <puff/scene/evaluate.h>
 #include <puff/scene/read.h>
@@ -185,18 +186,7 @@ struct Viewer::Impl {
 
 namespace {
 
-// One line: a compile log's lines joined.
-std::string oneLine(const std::string& log) {
-  std::string why;
-  for (char c : log) {
-    if (c != '\n')
-      why += c;
-    else if (!why.empty() && why.back() != ' ')
-      why += "; ";
-  }
-  while (!why.empty() && (why.back() == ' ' || why.back() == ';')) why.pop_back();
-  return why;
-}
+using core::oneLine;
 
 // The window's context; where `mayFallBack` and GL 4.5 compatibility is not to be had, the oldest
 // compatibility context, with the reason in `whyNotCel`.

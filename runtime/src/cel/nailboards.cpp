@@ -171,6 +171,13 @@ const std::vector<core::Image>* findMap(const core::Atlas& atlas, const std::str
 // decode RGB to scene-linear here (8-bit maps use GL_SRGB8_ALPHA8, which decodes on read instead).
 Result<core::Texture> uploadLevels(const core::AtlasDesc& d, const std::vector<core::Image>& levels,
                                    const std::string& key, int channels, GLenum internal, bool decode = false) {
+  GLint maxSize = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+  if (d.width > maxSize || d.height > maxSize) {
+    return Error{"the atlas is " + std::to_string(d.width) + "x" + std::to_string(d.height) +
+                 " texels, more than this GL's largest texture (" + std::to_string(maxSize) +
+                 "): bake it with a smaller --size or fewer --views"};
+  }
   core::Texture t = core::makeTexture(GL_TEXTURE_2D);
   const GLsizei nLevels = static_cast<GLsizei>(levels.size());
   glTextureStorage2D(t.get(), nLevels, internal, d.width, d.height);
@@ -191,6 +198,11 @@ Result<core::Texture> uploadLevels(const core::AtlasDesc& d, const std::vector<c
     // Rows go up as stored (top first): texture t = 0 is the atlas's top row, as in cellUv.
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glTextureSubImage2D(t.get(), l, 0, 0, w, h, channels == 4 ? GL_RGBA : GL_RED, GL_FLOAT, px.data());
+  }
+  // GL_OUT_OF_MEMORY (or any error) from the storage or the uploads: a message, not a blank atlas.
+  if (const std::string e = core::drainGlErrors(); !e.empty()) {
+    return Error{"cannot make the atlas " + key + " texture (" + std::to_string(d.width) + "x" +
+                 std::to_string(d.height) + ", " + std::to_string(nLevels) + " levels): " + e};
   }
   glTextureParameteri(t.get(), GL_TEXTURE_BASE_LEVEL, 0);
   glTextureParameteri(t.get(), GL_TEXTURE_MAX_LEVEL, nLevels - 1);

@@ -54,7 +54,7 @@ struct BakeOptions {
   float lodDepthTolerance = kDefaultLodDepthTolerance;  ///< mean |depth offset d| difference, puff diameters
   float lodColorTolerance = kDefaultLodColorTolerance;  ///< mean |colour| difference per channel (sRGB-encoded)
   std::filesystem::path outDir = "puff-out";
-  std::string name = "puff";  ///< file prefix: NAME.json, NAME_color.png, ...
+  std::string name = "puff";  ///< file prefix: NAME.json, NAME_color.HASH.png, ... (HASH: the content's)
 };
 
 /// Checks option ranges; the error names the flag, e.g. "--size must be in [8, 16384], got 0".

@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include <puff/core/text.h>
+
 namespace puff::cli {
 
 namespace {
@@ -14,7 +16,9 @@ void detail::setName(const char* name) { appName = name; }
 
 const char* name() { return appName; }
 
-void printError(const std::string& message) { std::fprintf(stderr, "%s: error: %s\n", appName, message.c_str()); }
+void printError(const std::string& message) {
+  std::fprintf(stderr, "%s: error: %s\n", appName, core::oneLine(message).c_str());
+}
 
 void printError(const Error& error) { printError(error.message); }
 

@@ -21,7 +21,8 @@ namespace puff::cli {
 /// The app's name that starts every message ("puffbake: error: ..."), as main() below was given it.
 const char* name();
 
-/// Prints "NAME: error: MESSAGE" on stderr, one line.
+/// Prints "NAME: error: MESSAGE" on stderr, one line (a message of several lines is joined:
+/// core::oneLine).
 void printError(const std::string& message);
 void printError(const Error& error);
 

@@ -27,6 +27,12 @@ class OutputTransaction {
   Result<void> prepareDirectory(const std::filesystem::path& dir);
   /// A temporary path for `target`, e.g. "out/.puff_color.png.tmp-1234.png".
   std::filesystem::path stage(const std::filesystem::path& target);
+  /// Names the file written at `staged` (a path stage() returned) by its content: its target becomes
+  /// TARGET's stem, a dot, the first 12 hex digits of the bytes' FNV-1a hash, and TARGET's extension
+  /// ("puff_color.mip1.png" -> "puff_color.mip1.3fa2c1b4e5d6.png"). A name then never stands for
+  /// other content, so a reader that holds an older index file (an atlas sidecar) never opens a
+  /// newer file under a name it knows. Returns the new target.
+  Result<std::filesystem::path> nameByContent(const std::filesystem::path& staged);
   /// Renames all staged files over their targets, in the order they were staged.
   Result<void> commit();
 
