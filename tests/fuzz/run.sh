@@ -13,8 +13,10 @@
 # HARNESS: scene atlas_sidecar mesh_obj mesh_off mesh_ply mesh_stl image_ramp image_gradient
 # image_map image_detail (default: all).
 set -euo pipefail
-cd "$(dirname "$0")/../.."
+script="$(cd "$(dirname "$0")" && pwd)/$(basename "$0")"
+cd "$(dirname "$script")/../.."
 root=$PWD
+usage_error() { echo "run.sh: $1 (see --help)" >&2; exit 2; }
 
 seconds=60
 seed=0
@@ -23,22 +25,25 @@ replay_only=0
 harnesses=()
 while [ $# -gt 0 ]; do
   case "$1" in
-    --seconds) seconds=$2; shift 2 ;;
-    --seed) seed=$2; shift 2 ;;
-    --build) build=$2; shift 2 ;;
+    --seconds|--seed|--build)
+      [ $# -ge 2 ] && [ -n "$2" ] || usage_error "$1 needs a value"
+      case "$1" in --seconds) seconds=$2 ;; --seed) seed=$2 ;; --build) build=$2 ;; esac
+      shift 2 ;;
     --replay) replay_only=1; shift ;;
-    -h|--help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    -*) echo "run.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
-    *) harnesses+=("$1"); shift ;;
+    -h|--help) sed -n '2,14p' "$script" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -*) usage_error "unknown option $1" ;;
+    *) [[ " ${harnesses[*]-} " == *" $1 "* ]] && usage_error "harness $1 given twice"
+       harnesses+=("$1"); shift ;;
   esac
 done
 all=(scene atlas_sidecar mesh_obj mesh_off mesh_ply mesh_stl image_ramp image_gradient image_map image_detail)
 [ ${#harnesses[@]} -gt 0 ] || harnesses=("${all[@]}")
 for h in "${harnesses[@]}"; do
-  [[ " ${all[*]} " == *" $h "* ]] || { echo "run.sh: no harness $h (have: ${all[*]})" >&2; exit 2; }
+  [[ " ${all[*]} " == *" $h "* ]] || usage_error "no harness $h (have: ${all[*]})"
 done
-[[ "$seconds" =~ ^[0-9]+$ ]] && [ "$seconds" -ge 1 ] || { echo "run.sh: --seconds must be a whole number >= 1" >&2; exit 2; }
-[[ "$seed" =~ ^[0-9]+$ ]] || { echo "run.sh: --seed must be a whole number" >&2; exit 2; }
+# Digits only and at most 9 of them, so that the shell's arithmetic never overflows.
+[[ "$seconds" =~ ^[0-9]{1,9}$ ]] && [ "$seconds" -ge 1 ] || usage_error "--seconds must be a whole number in [1, 999999999]"
+[[ "$seed" =~ ^[0-9]{1,9}$ ]] || usage_error "--seed must be a whole number in [0, 999999999]"
 
 command -v clang++ >/dev/null || { echo "run.sh: clang++ not found (bash setup.sh installs clang and libFuzzer)" >&2; exit 1; }
 if [ ! -f "$build/CMakeCache.txt" ]; then

@@ -115,12 +115,19 @@ TEST_F(BakeReplace, AKillAtAnyRenameLeavesTheOldAtlasOrTheNewWhole) {
   // Content names: the same bake gives the same names, so the new atlas's files are those of `fresh`.
   EXPECT_EQ(filesIn(work), filesIn(fresh));
 
-  // A killed run's files (renamed into place, its sidecar never) are removed by the next whole run.
+  // A killed run's files (renamed into place, its sidecar never) are removed by the next whole run,
+  // which finds them in the killed run's pending list; a user's files are never removed, however
+  // much their names look like an atlas's.
   copyDir(old, work);
+  const std::vector<std::string> userFiles = {"puff_color.aaaaaaaaaaaa.png", "puff_color.mip9.0123456789ab.png",
+                                              "puff_lod0.aaaaaaaaaaaa.ply", "notes.txt"};
+  for (const std::string& f : userFiles) ASSERT_OK(puff::core::writeFileBytes(work / f, "mine"));
   ASSERT_EQ(runKilledAt(6, "bake -g lumpy -n 2" + common + work.string()), -SIGKILL);
-  EXPECT_GT(filesIn(work).size(), filesIn(old).size());
+  EXPECT_GT(filesIn(work).size(), filesIn(old).size() + userFiles.size());
   ASSERT_EQ(runKilledAt(0, "bake -g sphere -n 2" + common + work.string()), 0);
-  EXPECT_EQ(filesIn(work), filesIn(old));
+  std::set<std::string> expectedAfter = filesIn(old);
+  expectedAfter.insert(userFiles.begin(), userFiles.end());
+  EXPECT_EQ(filesIn(work), expectedAfter);
 }
 
 TEST_F(BakeReplace, CookingReplacesACookedAtlasWhole) {

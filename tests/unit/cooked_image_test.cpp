@@ -477,4 +477,41 @@ TEST_F(CookedAtlas, AFailedCookWritesNothingAndTheSourceIsNeverReplaced) {
   EXPECT_FALSE(fs::exists(dir_ / "cooked"));
 }
 
+// A review found cook writing atlases the runtime then refuses: a level of the wrong channels, the
+// wrong size or with NaN. Cook checks every level as loadAtlas does, and the cooked atlas already
+// in place stays.
+TEST_F(CookedAtlas, CookRefusesWhatTheRuntimeWouldRefuse) {
+  const puff::bake::BakeOptions o = smallBake(dir_ / "atlas");
+  auto baked = puff::bake::bakeAtlas(spheres(1, 3), o);
+  ASSERT_OK(baked);
+  const fs::path out = dir_ / "cooked" / "atlas.json";
+  ASSERT_OK(puff::bake::cookAtlas(baked->sidecar, out));
+  const std::string before = *puff::core::readFileBytes(out);
+  const puff::core::AtlasDesc desc = *puff::core::loadAtlasDesc(baked->sidecar);
+  const fs::path level1 = o.outDir / desc.maps.at("color").levels.at(1);
+  const Image good = *puff::core::readImage(level1);
+  const std::string saved = *puff::core::readFileBytes(level1);
+  Image threeChannels(good.width, good.height, 3, 0.5f), larger(good.width * 2, good.height * 2, 4, 0.5f);
+  Image nan = good;
+  nan.pixels[5] = NAN;
+  const std::pair<const Image*, std::string> cases[] = {
+      {&threeChannels, "has 3 channel(s), but the color map has 4"},
+      {&larger, "image is larger than this atlas level (the sidecar's size) may be"},
+      {&nan, "is not finite"}};
+  for (const auto& [image, problem] : cases) {
+    SCOPED_TRACE(problem);
+    const bool isNan = image == &nan;
+    // NaN survives only a float file: write the level as EXR bytes under its PNG name (read by content).
+    ASSERT_OK(puff::core::writeImage(level1, *image, isNan ? PixelType::kFloat : PixelType::kUInt8, {},
+                                     isNan ? fs::path("x.exr") : fs::path("x.png")));
+    auto r = puff::bake::cookAtlas(baked->sidecar, out);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error().message.rfind(level1.string() + ": ", 0), 0u) << r.error().message;
+    EXPECT_NE(r.error().message.find(problem), std::string::npos) << r.error().message;
+    EXPECT_EQ(*puff::core::readFileBytes(out), before);
+  }
+  ASSERT_OK(puff::core::writeFileBytes(level1, saved));
+  EXPECT_OK(puff::bake::cookAtlas(baked->sidecar, out));
+}
+
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -361,6 +362,22 @@ TEST_F(DetailVideoFile, ImportErrorsNameTheFile) {
   expectError(puff::bake::importDetailVideo({a, b}, 8, 2), "--loop-frames must be in [0, 1]");
   expectError(puff::bake::importDetailVideo({a, b}, 2, 0), "--size must be in [4, 4096], got 2");
   expectError(puff::bake::importDetailVideo({}, 8, 0), "no frames");
+}
+
+// A detail clip made by another tool may store puff:frames as a number, not a string (a review:
+// `oiiotool --attrib:type=int puff:frames 2` was "missing attribute puff:frames").
+TEST(DetailVideoAttributes, AFramesAttributeStoredAsANumberIsRead) {
+  puff::test::ScopedTempDir dir("puff_detail_int");
+  const fs::path clip = dir / "clip.exr";
+  const std::string cmd = "oiiotool --pattern constant:color=0.5 4x8 1 --attrib:type=int puff:frames 2 -d half -o " +
+                          clip.string() + " >/dev/null 2>&1";
+  if (std::system(cmd.c_str()) != 0) GTEST_SKIP() << "oiiotool (openimageio-tools, setup.sh) is not installed";
+  auto v = puff::core::loadDetailVideo(clip);
+  ASSERT_OK(v);
+  EXPECT_EQ(v->frames, 2);
+  EXPECT_EQ(v->width, 4);
+  EXPECT_EQ(v->height, 4);
+  EXPECT_NEAR(v->at(1, 1, 1), 0.5f, 1e-3f);
 }
 
 }  // namespace

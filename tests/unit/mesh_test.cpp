@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -652,6 +653,70 @@ TEST_F(MeshIo, EveryFormOfEveryFormatReads) {
   EXPECT_EQ(info.sourceFaces, 6u);
   EXPECT_EQ(cube->faceCount(), 12u);
   EXPECT_TRUE(closedAndOriented(*cube));
+}
+
+// A polygon with a corner on one of its edges: the fan from that corner holds a flat triangle, so the
+// fan starts from a corner that gives none (a review found the face refused in one order and baked
+// in another).
+TEST_F(MeshIo, APolygonWithACornerOnAnEdgeIsTriangulatedFromAnotherApex) {
+  for (const char* face : {"f 1 2 3 4 5\n", "f 2 3 4 5 1\n", "f 4 5 1 2 3\n"}) {
+    SCOPED_TRACE(face);
+    writeBytes(dir_ / "pent.obj", std::string("v 0 0 0\nv 0.5 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n") + face);
+    auto m = loadMesh(dir_ / "pent.obj");
+    ASSERT_OK(m);
+    EXPECT_EQ(m->faceCount(), 3u);
+    for (const glm::uvec3& t : m->triangles) {
+      const glm::vec3 n = glm::cross(m->positions[t[1]] - m->positions[t[0]], m->positions[t[2]] - m->positions[t[0]]);
+      EXPECT_GT(glm::length(n), 0.0f);
+    }
+  }
+}
+
+// What some writers do that the readers take (found by a review).
+TEST_F(MeshIo, WritersQuirksAreRead) {
+  const std::string tetraV = "1 1 1\n-1 -1 1\n-1 1 -1\n1 -1 -1\n";
+  const std::string tetraF = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  // "ply " with a trailing space.
+  writeBytes(dir_ / "space.ply",
+             "ply \nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+             "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n" +
+                 tetraV + tetraF);
+  // A comment before the OFF keyword.
+  writeBytes(dir_ / "comment.off", "# written by a tool\nOFF\n4 4 0\n" + tetraV + tetraF);
+  // An ASCII STL in upper case.
+  std::string stl = "SOLID T\n";
+  const float v[4][3] = {{1, 1, 1}, {-1, -1, 1}, {-1, 1, -1}, {1, -1, -1}};
+  for (const auto& f : {std::array<int, 3>{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}) {
+    stl += "FACET NORMAL 0 0 0\nOUTER LOOP\n";
+    for (int i : f)
+      stl += "VERTEX " + std::to_string(v[i][0]) + " " + std::to_string(v[i][1]) + " " + std::to_string(v[i][2]) + "\n";
+    stl += "ENDLOOP\nENDFACET\n";
+  }
+  writeBytes(dir_ / "upper.stl", stl + "ENDSOLID T\n");
+  // A binary STL with 4 bytes of padding after its facets.
+  std::string bin(80, ' ');
+  const std::uint32_t n = 4;
+  bin.append(reinterpret_cast<const char*>(&n), 4);
+  for (const auto& f : {std::array<int, 3>{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}) {
+    const float normal[3] = {0, 0, 0};
+    bin.append(reinterpret_cast<const char*>(normal), 12);
+    for (int i : f) bin.append(reinterpret_cast<const char*>(v[i]), 12);
+    bin.append(2, '\0');
+  }
+  writeBytes(dir_ / "padded.stl", bin + std::string(4, '\0'));
+  // An OBJ statement continued over lines.
+  writeBytes(dir_ / "continued.obj",
+             "v 1 1 1\nv -1 -1 \\\n 1\nv -1 1 -1\nv 1 -1 -1\nf 1 3 2\nf 1 2 \\\n4\nf 1 4 3\nf 2 3 4\n");
+  for (const char* name : {"space.ply", "comment.off", "upper.stl", "padded.stl", "continued.obj"}) {
+    SCOPED_TRACE(name);
+    LoadInfo info;
+    auto m = loadMesh(dir_ / name, &info);
+    ASSERT_OK(m);
+    EXPECT_EQ(m->faceCount(), 4u);
+    EXPECT_EQ(m->positions.size(), 4u);
+    EXPECT_FALSE(info.flippedInward);
+    EXPECT_TRUE(closedAndOriented(*m));
+  }
 }
 
 // ---- saving -----------------------------------------------------------------------------------

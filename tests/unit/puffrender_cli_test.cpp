@@ -397,21 +397,17 @@ TEST_F(PuffrenderPaths, CompareReportsParityAndWritesSideBySide) {
 }
 
 TEST_F(PuffrenderPaths, FallsBackToFixedWhenTheProgrammablePathCannotRun) {
-  // A shader that does not build: the cel path cannot run, so puffrender says so and draws fixed.
+  // A shader that does not build (issue 17): an error in one line naming it, exit 1, no image; not
+  // a reason to draw with another path.
   const fs::path shaders = dir_ / "shaders";
   fs::copy(fs::path(PUFF_SOURCE_DIR) / "shaders", shaders, fs::copy_options::recursive);
   std::ofstream(shaders / "cel" / "nailboard.frag", std::ios::app) << "\nnot glsl\n";
   const fs::path out = dir_ / "fallback.png";
   CliRun r = run(common() + " --shader-dir " + shaders.string() + " -o " + out.string());
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_NE(r.err.find("the programmable (cel) path cannot run here: "), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("nailboard.frag"), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("drawing with the fixed-function path"), std::string::npos) << r.err;
-  auto fallback = puff::core::readImage(out);
-  ASSERT_TRUE(fallback.ok());
+  expectOneLineError(r, "nailboard.frag", 1);
+  EXPECT_FALSE(fs::exists(out));
   const fs::path fixed = dir_ / "fixed.png";
   ASSERT_EQ(run(common() + " --path fixed -o " + fixed.string()).exitCode, 0);
-  EXPECT_EQ(fallback->pixels, puff::core::readImage(fixed)->pixels);
 
   // A context far too old for GL 4.5 (Mesa told to offer OpenGL 1.3 at most: no shaders, no
   // framebuffer objects): the same fallback, drawing into the context's own framebuffer, and the
@@ -423,7 +419,8 @@ TEST_F(PuffrenderPaths, FallsBackToFixedWhenTheProgrammablePathCannotRun) {
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   const std::string err = *puff::core::readFileBytes(dir_ / "err.txt");
   EXPECT_NE(err.find("cannot create a 4.5 core context"), std::string::npos) << err;
-  EXPECT_NE(err.find("drawing with the fixed-function path"), std::string::npos) << err;
+  EXPECT_NE(err.find("; drawing with the fixed-function path\n"), std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;  // one line says why and what instead
   auto oldImage = puff::core::readImage(old), modern = puff::core::readImage(fixed);
   ASSERT_TRUE(oldImage && modern);
   ASSERT_EQ(oldImage->pixels.size(), modern->pixels.size());
@@ -434,6 +431,17 @@ TEST_F(PuffrenderPaths, FallsBackToFixedWhenTheProgrammablePathCannotRun) {
     off += d > 0.0f ? 1 : 0;
   }
   EXPECT_LT(off, 100);
+
+  // Asked for by name, the cel path does not fall back: one line, exit 1, no image.
+  const fs::path asked = dir_ / "asked.png";
+  const std::string askedCmd = "MESA_GL_VERSION_OVERRIDE=1.3 " + std::string(PUFFRENDER_EXE) + " " + common() +
+                               " --path cel -o " + asked.string() + " 2>" + (dir_ / "err.txt").string();
+  const int status = std::system(askedCmd.c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << status;
+  const std::string askedErr = *puff::core::readFileBytes(dir_ / "err.txt");
+  EXPECT_EQ(askedErr.rfind("puffrender: error: --path cel cannot run here: ", 0), 0u) << askedErr;
+  EXPECT_EQ(std::count(askedErr.begin(), askedErr.end(), '\n'), 1) << askedErr;
+  EXPECT_FALSE(fs::exists(asked));
 }
 
 }  // namespace

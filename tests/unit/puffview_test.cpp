@@ -207,8 +207,9 @@ TEST_F(PuffviewCli, FixedPathScreenshotMatchesPuffrender) {
   EXPECT_LT(shareWithin(fixedView, puffrender(lamp, 0, "cel"), 2), 0.99) << "the fixed path is not the cel path";
 }
 
-// A cel program that does not build: puffview says so in one line and draws with the fixed path.
-TEST_F(PuffviewCli, BrokenCelShaderFallsBackToTheFixedPath) {
+// A cel program that does not build (issue 17): an error in one line naming the shader, exit 1 (a
+// broken shader is not a reason to draw something else).
+TEST_F(PuffviewCli, BrokenCelShaderIsOneLineAndExitOne) {
   PUFFVIEW_NEEDS_DISPLAY();
   const fs::path shaders = dir_ / "shaders";
   fs::copy(fs::path(PUFF_SOURCE_DIR) / "shaders", shaders, fs::copy_options::recursive);
@@ -217,15 +218,8 @@ TEST_F(PuffviewCli, BrokenCelShaderFallsBackToTheFixedPath) {
   const fs::path out = dir_ / "fallback.png";
   CliRun r = run(lamp + " --frames 1 --screenshot " + out.string() + " --hide-ui --width 320 --height 240 --art-dir " +
                  PUFF_ART_DIR + " --shader-dir " + shaders.string());
-  EXPECT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_EQ(r.err.rfind("puffview: the programmable (cel) path cannot run here: ", 0), 0u) << r.err;
-  EXPECT_NE(r.err.find("cel/nailboard.frag"), std::string::npos) << r.err;
-  const std::string tail = "; drawing with the fixed-function path\n";
-  EXPECT_TRUE(r.err.size() > tail.size() && r.err.compare(r.err.size() - tail.size(), tail.size(), tail) == 0) << r.err;
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
-  auto image = puff::core::readImage(out);
-  ASSERT_OK(image);
-  EXPECT_GE(shareWithin(*image, puffrender(lamp, 0, "fixed"), 0), 0.999) << "drawn with the fixed path";
+  expectOneLineError(r, "cel/nailboard.frag", 1);
+  EXPECT_FALSE(fs::exists(out));
 }
 
 // ---- the viewer, one displayed frame at a time ----------------------------------------------
@@ -439,26 +433,27 @@ TEST_F(PuffviewWindow, SwitchingPathsRedrawsAndSwitchingBackRestoresCel) {
   EXPECT_GE(shareWithin(draw(*v), cel, 0), 0.999) << "back to the cel path's pixels";
 }
 
-TEST_F(PuffviewWindow, BrokenCelShaderAtStartDrawsWithTheFixedPathAndSaysSo) {
+TEST_F(PuffviewWindow, BrokenCelShaderAtStartIsAnErrorNamingTheShader) {
   PUFFVIEW_NEEDS_DISPLAY();
   const fs::path file = dir_ / "cloud.json";
   rewrite(file, scene("#ff0000"));
-  auto fixedView = open(file, {}, "fixed");
-  ASSERT_TRUE(fixedView);
-  const Image fixed = draw(*fixedView);
-  fixedView.reset();
-
   const fs::path shaders = dir_ / "shaders";
   fs::copy(fs::path(PUFF_SOURCE_DIR) / "shaders", shaders, fs::copy_options::recursive);
   const fs::path frag = shaders / "cel" / "nailboard.frag";
   rewrite(frag, *puff::core::readFileBytes(frag) + "\nthis is not glsl;\n");
-  auto v = open(file, shaders);
-  ASSERT_TRUE(v);
-  EXPECT_EQ(v->pathName(), "fixed");
-  EXPECT_EQ(v->status().rfind("the programmable (cel) path cannot run here: ", 0), 0u) << v->status();
-  EXPECT_NE(v->status().find("cel/nailboard.frag"), std::string::npos) << v->status();
-  EXPECT_EQ(v->fileError(), "");
-  EXPECT_GE(shareWithin(draw(*v), fixed, 0), 0.999) << "drawn with the fixed path";
+  puff::view::ViewerOptions o;
+  o.scene = file;
+  o.artDir = PUFF_ART_DIR;
+  o.shaderDir = shaders;
+  o.width = 160;
+  o.height = 120;
+  o.ui = false;
+  o.quiet = true;
+  auto v = puff::view::Viewer::open(o);
+  ASSERT_FALSE(v.ok());
+  EXPECT_NE(v.error().message.find("cel/nailboard.frag"), std::string::npos) << v.error().message;
+  // The fixed path, asked for, still opens with the same shaders.
+  EXPECT_TRUE(open(file, shaders, "fixed"));
 }
 
 }  // namespace

@@ -1,8 +1,13 @@
 // Replacing an atlas whole (atlas_files.h).
 #include "atlas_files.h"
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <algorithm>
-#include <cctype>
+#include <cerrno>
+#include <cstdlib>
+#include <fstream>
 
 #include <puff/core/atlas.h>
 #include <puff/core/json_read.h>
@@ -35,66 +40,58 @@ std::vector<fs::path> filesNamedBy(const fs::path& sidecar) {
 
 namespace {
 
-bool startsWith(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
+std::string pendingPrefix(const std::string& stem) { return "." + stem + ".pending-"; }
 
-// Removes leading digits; false when there are none.
-bool digits(std::string_view& s) {
-  std::size_t n = 0;
-  while (n < s.size() && std::isdigit(static_cast<unsigned char>(s[n]))) ++n;
-  s.remove_prefix(n);
-  return n > 0;
+bool sameFile(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  return a.lexically_normal() == b.lexically_normal() || fs::equivalent(a, b, ec);
 }
 
-// ".HASH.EXT" with HASH 12 lowercase hex digits and EXT one of `extensions`.
-bool hashAndExtension(std::string_view s, std::initializer_list<std::string_view> extensions) {
-  if (s.size() < 14 || s[0] != '.') return false;
-  for (std::size_t i = 1; i <= 12; ++i) {
-    const char c = s[i];
-    if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
-  }
-  s.remove_prefix(13);
-  return std::find(extensions.begin(), extensions.end(), s) != extensions.end();
+bool contains(const std::vector<fs::path>& files, const fs::path& f) {
+  return std::any_of(files.begin(), files.end(), [&](const fs::path& k) { return sameFile(k, f); });
 }
 
 }  // namespace
 
-bool isContentFileOf(const std::string& fileName, const std::string& stem) {
-  std::string_view s = fileName;
-  if (!startsWith(s, stem + "_")) return false;
-  s.remove_prefix(stem.size() + 1);
-  for (std::string_view map : {"normal_depth", "color", "distance"}) {
-    if (!startsWith(s, map)) continue;
-    std::string_view rest = s.substr(map.size());
-    if (startsWith(rest, ".mip")) {
-      rest.remove_prefix(4);
-      if (!digits(rest)) return false;
+void writePending(const fs::path& dir, const std::string& stem, const std::vector<fs::path>& files) {
+  std::string list;
+  for (const fs::path& f : files) list += f.filename().string() + "\n";
+  std::ofstream(dir / (pendingPrefix(stem) + std::to_string(::getpid())), std::ios::binary | std::ios::trunc) << list;
+}
+
+void removeAbandoned(const fs::path& dir, const std::string& stem, const fs::path& sidecar) {
+  const std::string prefix = pendingPrefix(stem);
+  const std::vector<fs::path> current = filesNamedBy(sidecar);
+  std::error_code ec;
+  for (fs::directory_iterator it(dir.empty() ? fs::path(".") : dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    char* after = nullptr;
+    const long pid = std::strtol(name.c_str() + prefix.size(), &after, 10);
+    if (pid <= 0 || *after != '\0' || pid == ::getpid()) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to ask
+    std::ifstream in(it->path());
+    std::string line;
+    while (std::getline(in, line)) {
+      // One plain name per line, in this directory (the list is Puff's own; anything else is skipped).
+      if (line.empty() || line.find('/') != std::string::npos || line == "." || line == "..") continue;
+      const fs::path file = it->path().parent_path() / line;
+      std::error_code e;
+      if (!contains(current, file) && !sameFile(file, sidecar)) fs::remove(file, e);
     }
-    return hashAndExtension(rest, {".png", ".exr", ".puffimg"});
+    in.close();
+    std::error_code e;
+    fs::remove(it->path(), e);
   }
-  if (startsWith(s, "lod")) {
-    std::string_view rest = s.substr(3);
-    return digits(rest) && hashAndExtension(rest, {".ply", ".obj", ".off", ".stl"});
-  }
-  return false;
 }
 
 void removeSuperseded(const fs::path& dir, const std::string& stem, const std::vector<fs::path>& replaced,
                       const std::vector<fs::path>& kept) {
   std::error_code ec;
-  const auto isKept = [&](const fs::path& f) {
-    return std::any_of(kept.begin(), kept.end(), [&](const fs::path& k) {
-      std::error_code e;
-      return k.lexically_normal() == f.lexically_normal() || fs::equivalent(k, f, e);
-    });
-  };
   for (const fs::path& old : replaced) {
-    if (!isKept(old)) fs::remove(old, ec);
+    if (!contains(kept, old)) fs::remove(old, ec);
   }
-  for (const auto& entry : fs::directory_iterator(dir.empty() ? fs::path(".") : dir, ec)) {
-    std::error_code e;
-    if (!entry.is_regular_file(e) || !isContentFileOf(entry.path().filename().string(), stem)) continue;
-    if (!isKept(dir.empty() ? entry.path().filename() : entry.path())) fs::remove(entry.path(), e);
-  }
+  fs::remove(dir / (pendingPrefix(stem) + std::to_string(::getpid())), ec);
 }
 
 }  // namespace puff::bake::detail

@@ -238,6 +238,7 @@ struct AtlasBake {
     const core::PixelType distType = o.format == MapFormat::kExr ? core::PixelType::kHalf : core::PixelType::kUInt16;
     const int totalFiles = desc.mipLevels * 3 + 2 + static_cast<int>(lodMeshes.size());
     int written = 0;
+    std::vector<fs::path> contentNamed;  // the files a killed run would leave behind
     // Each file is staged, written, then named by its content (NAME_color.mip1.HASH.png).
     auto put = [&](const char* map, const char* key, int level, const core::Image& img,
                    core::PixelType type) -> Result<void> {
@@ -248,6 +249,7 @@ struct AtlasBake {
       if (!target) return target.error();
       desc.maps[key].levels.push_back(target->filename().string());
       result.files.push_back(*target);
+      contentNamed.push_back(*target);
       report("writing", ++written, totalFiles);
       return {};
     };
@@ -266,6 +268,7 @@ struct AtlasBake {
       if (!target) return target.error();
       desc.sources[var].lodMesh = target->filename().string();
       result.files.push_back(*target);
+      contentNamed.push_back(*target);
       result.lodMeshes.push_back(*target);
       report("writing", ++written, totalFiles);
     }
@@ -276,6 +279,9 @@ struct AtlasBake {
     PUFF_TRY(core::writeFileBytes(tx.stage(result.sidecar), text, result.sidecar));
     result.files.push_back(result.sidecar);
     report("writing", totalFiles, totalFiles);
+    // What killed runs left, then this run's own list, then the renames; the sidecar's is last.
+    detail::removeAbandoned(o.outDir, o.name, sidecar);
+    detail::writePending(o.outDir, o.name, contentNamed);
     PUFF_TRY(tx.commit());
     detail::removeSuperseded(o.outDir, o.name, replaced, result.files);
     result.desc = std::move(desc);

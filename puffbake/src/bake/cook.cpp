@@ -84,6 +84,9 @@ Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
   json j = std::move(*parsed);
   auto desc = core::atlasFromJson(j, sidecar);
   if (!desc) return desc.error();
+  // Every level checked as the runtime will check it (size, channels, finite texels): a cooked
+  // atlas is one a game can load, or none is written.
+  if (auto atlas = core::loadAtlas(sidecar); !atlas) return atlas.error();
   if (sameFile(sidecar, outSidecar)) {
     return Error::at(outSidecar, "is the atlas being cooked; name another sidecar for the cooked atlas");
   }
@@ -129,6 +132,10 @@ Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
   cooked.files.push_back(outSidecar);
   cooked.bytesRead += sizeOf(sidecar);
   cooked.bytesWritten += text.size();
+  detail::removeAbandoned(outDir, stem, outSidecar);
+  std::vector<fs::path> contentNamed = cooked.files;  // the levels and meshes, not the sidecar
+  contentNamed.erase(std::remove(contentNamed.begin(), contentNamed.end(), outSidecar), contentNamed.end());
+  detail::writePending(outDir, stem, contentNamed);
   PUFF_TRY(tx.commit());
   std::vector<fs::path> kept = cooked.files;
   kept.insert(kept.end(), sourceFiles.begin(), sourceFiles.end());

@@ -116,9 +116,9 @@ void addRenderOptions(CLI::App& app, Options& o) {
   app.add_option("--style", o.style, "Render with this style preset instead of the scene's style: " + presetList)
       ->check(CLI::IsMember(presets));
   app.add_option("--path", o.path,
-                 "Render path: cel (programmable GL 4.5: nailboards, flange outlines, shadow maps or volumes; falls "
-                 "back to fixed, "
-                 "saying so, when the context cannot run it) or fixed (GL 1.x fixed function, McGuire & Fein 4.4: one "
+                 "Render path: cel (programmable GL 4.5: nailboards, flange outlines, shadow maps or volumes; without "
+                 "--path it falls back to fixed, saying so, when the context is older than GL 4.5, and a shader that "
+                 "does not build is an error either way) or fixed (GL 1.x fixed function, McGuire & Fein 4.4: one "
                  "light, uniform ambient, no shadows) or reference (the image the nailboards approximate: every "
                  "particle's actual puff mesh, Eq. 2 per pixel, outlines around the true silhouettes, exact shadows; "
                  "supersampled 3x3 and slow; media by the physical reference: the particles' summed density fields "
@@ -309,6 +309,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
 
   if (const auto exitCode = cli::parse(app, argc, argv)) return *exitCode;
   o.toleranceGiven = tolerance->count() > 0;
+  o.pathGiven = app.count("--path") > 0;
   if (maxError->count() > 0) {
     auto e = parseMaxError(maxErrorText);
     if (!e) {

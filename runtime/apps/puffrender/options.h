@@ -24,6 +24,7 @@ struct Options {
   std::string shaderDir;
   std::string style;           ///< a style preset replacing the scene's style; empty: the scene's own
   std::string path = "cel";    ///< "cel" (falls back to "fixed" when the context cannot run it) or "fixed"
+  bool pathGiven = false;      ///< --path was given: no fallback, the path asked for or an error
   std::string compare;         ///< "A,B" (cel and fixed, either order): render both, report parity
   float toneTolerance = 0.1f;  ///< --compare: per-channel tolerance of "the same tone"
   bool toleranceGiven = false;

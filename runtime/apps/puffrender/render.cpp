@@ -39,8 +39,10 @@ Result<void> prepareDirectories(const Plan& plan, core::OutputTransaction& direc
   return {};
 }
 
-// The context `path` draws in. When the programmable (cel) path cannot run (an old context, or a
-// path that does not build), the automatic fallback: says so on stderr and sets `path` to fixed.
+// The context `path` draws in. When the programmable (cel) path cannot run (a context older than
+// GL 4.5) and --path was not given, the automatic fallback: says so on stderr in one line and sets
+// `path` to fixed. A shader that does not build is not a reason to fall back: making the cel path
+// fails with its error.
 Result<std::unique_ptr<core::GlContext>> createContext(const Options& o, const scene::Scene& scene,
                                                        render::RenderPath& path) {
   const bool comparing = !o.compare.empty();
@@ -67,6 +69,7 @@ Result<std::unique_ptr<core::GlContext>> createContext(const Options& o, const s
     if (auto ok = render::SceneRenderer::checkProgrammable(); !ok) whyNotProgrammable = ok.error().message;
   }
   if (whyNotProgrammable.empty()) return context;
+  if (o.pathGiven) return Error{"--path cel cannot run here: " + core::oneLine(whyNotProgrammable)};
   context = Error{""};  // the old context goes before the new one is made current
   glOptions.profile = core::GlProfile::kCompatibility;
   glOptions.major = 1, glOptions.minor = 3;
@@ -78,9 +81,8 @@ Result<std::unique_ptr<core::GlContext>> createContext(const Options& o, const s
     return Error{"the programmable (cel) path cannot run here (" + core::oneLine(whyNotProgrammable) +
                  "), and there is no context for the fixed-function path either: " + context.error().message};
   }
-  std::fprintf(stderr,
-               "%s: the programmable (cel) path cannot run here: %s\n%s: drawing with the fixed-function path\n",
-               cli::name(), core::oneLine(whyNotProgrammable).c_str(), cli::name());
+  std::fprintf(stderr, "%s: the programmable (cel) path cannot run here: %s; drawing with the fixed-function path\n",
+               cli::name(), core::oneLine(whyNotProgrammable).c_str());
   path = render::RenderPath::kFixed;
   return context;
 }

@@ -148,8 +148,12 @@ Result<Image> read(const fs::path& path, ImageFileInfo* info, const core::ImageL
     info->attributes.clear();
     for (const OIIO::ParamValue& p : spec.extra_attribs) {
       const std::string name = p.name().string();
-      if (name.rfind("puff:", 0) == 0 && p.type() == OIIO::TypeDesc::STRING) {
+      if (name.rfind("puff:", 0) != 0) continue;
+      // Puff writes strings; a tool (oiiotool --attrib puff:frames 4) may store a number instead.
+      if (p.type() == OIIO::TypeDesc::STRING) {
         info->attributes.emplace_back(name, std::string(p.get_string()));
+      } else if (p.type() == OIIO::TypeDesc::INT) {
+        info->attributes.emplace_back(name, std::to_string(p.get_int()));
       }
     }
   }

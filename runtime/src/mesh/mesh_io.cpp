@@ -358,12 +358,31 @@ std::vector<std::uint32_t> triangulate(const OmMesh& om, TriMesh& mesh) {
   mesh.triangles.reserve(om.n_faces());
   sourceFace.reserve(om.n_faces());
   std::vector<std::uint32_t> corners;
+  // A fan triangle of zero area (three collinear corners, as a polygon with a vertex on an edge has
+  // from some apexes).
+  const auto flat = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    const glm::vec3 &pa = mesh.positions[a], &pb = mesh.positions[b], &pc = mesh.positions[c];
+    return glm::length(glm::cross(pb - pa, pc - pa)) == 0.0f;
+  };
   for (const auto fh : om.faces()) {
     corners.clear();
     for (const auto vh : om.fv_range(fh)) corners.push_back(std::uint32_t(vh.idx()));
-    // Fan triangulation keeps the polygon's winding and lets messages name the file's face.
-    for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
-      mesh.triangles.emplace_back(corners[0], corners[k], corners[k + 1]);
+    // Fan triangulation keeps the polygon's winding and lets messages name the file's face; its
+    // apex is the first corner from which no triangle is flat (else the first corner, and the mesh
+    // check names the face).
+    const std::size_t n = corners.size();
+    std::size_t apex = 0;
+    for (std::size_t s = 0; n > 3 && s < n; ++s) {
+      bool ok = true;
+      for (std::size_t k = 1; ok && k + 1 < n; ++k)
+        ok = !flat(corners[s], corners[(s + k) % n], corners[(s + k + 1) % n]);
+      if (ok) {
+        apex = s;
+        break;
+      }
+    }
+    for (std::size_t k = 1; k + 1 < n; ++k) {
+      mesh.triangles.emplace_back(corners[apex], corners[(apex + k) % n], corners[(apex + k + 1) % n]);
       sourceFace.push_back(std::uint32_t(fh.idx()));
     }
   }

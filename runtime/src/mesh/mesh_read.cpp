@@ -153,10 +153,25 @@ Result<RawMesh> readObj(const fs::path& path, std::string_view text) {
   std::size_t colored = 0, corners = 0, cornersWithNormal = 0;
   Lines lines(text);
   std::string_view line;
+  std::string joined;  // a statement continued over lines ending in a backslash
   while (lines.next(line)) {
     const std::size_t lineNo = lines.number();
     if (lineNo == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);  // UTF-8 BOM
     if (hasControlBytes(line)) return notValid(path, Format::Obj, lineText(lineNo));
+    std::string_view body = line;
+    while (!body.empty() && isBlank(body.back())) body.remove_suffix(1);
+    if (!body.empty() && body.back() == '\\') {
+      if (joined.size() + body.size() > (std::size_t{1} << 20)) return notValid(path, Format::Obj, lineText(lineNo));
+      joined.append(body.substr(0, body.size() - 1)).push_back(' ');
+      continue;
+    }
+    std::string statement;  // lives through this iteration: `line` may view it
+    if (!joined.empty()) {
+      statement = std::move(joined);
+      joined.clear();
+      statement.append(line);
+      line = statement;
+    }
     line = trimLeft(line);
     if (line.empty() || line.front() == '#') continue;
     const std::vector<std::string_view> t = tokens(line);
@@ -254,7 +269,10 @@ class Bytes {
 Result<RawMesh> readOff(const fs::path& path, std::string_view text) {
   Lines lines(text);
   std::string_view header;
-  if (!lines.next(header) || hasControlBytes(header)) return notValid(path, Format::Off);
+  // The keyword is the first line with content (some writers put a comment first).
+  do {
+    if (!lines.next(header) || hasControlBytes(header)) return notValid(path, Format::Off);
+  } while (firstToken(header).empty() || firstToken(header).front() == '#');
   const std::string_view key = firstToken(header);
   // [ST][C][N]OFF, optionally followed by BINARY.
   if (key.size() < 3 || key.substr(key.size() - 3) != "OFF") return notValid(path, Format::Off);
@@ -507,7 +525,7 @@ Result<RawMesh> readPly(const fs::path& path, std::string_view text) {
   Lines lines(text);
   std::string_view line;
   const auto clean = [](std::string_view s) {
-    if (!s.empty() && s.back() == '\r') s.remove_suffix(1);
+    while (!s.empty() && isBlank(s.back())) s.remove_suffix(1);  // "\r", and "ply " as some writers end it
     return s;
   };
   if (!lines.next(line) || clean(line) != "ply") return notValid(path, Format::Ply);
@@ -693,8 +711,12 @@ Result<RawMesh> readStl(const fs::path& path, std::string_view text) {
     std::int32_t n32 = 0;
     b.i32(n32);
     const auto n = static_cast<std::uint32_t>(n32);
-    // Binary STL is recognized by its exact size; many binary headers start with "solid" too.
-    if (84 + 50 * std::uint64_t{n} == text.size()) {
+    // Binary STL is recognized by its exact size (many binary headers start with "solid" too), or,
+    // when the file does not start with "solid" and so cannot be ASCII, by holding the facets its
+    // count says, a few bytes more tolerated (some writers pad).
+    const std::uint64_t need = 84 + 50 * std::uint64_t{n};
+    const bool ascii = firstToken(text.substr(0, 80)).substr(0, 5) == "solid";
+    if (need == text.size() || (!ascii && need < text.size() && text.size() - need < 50)) {
       m.declaredFaces = n;
       for (std::uint32_t f = 0; f < n; ++f) {
         float v[12];
@@ -709,30 +731,39 @@ Result<RawMesh> readStl(const fs::path& path, std::string_view text) {
   }
   Lines lines(text);
   std::string_view line;
-  if (!lines.next(line) || firstToken(line) != "solid" || hasControlBytes(line)) return notValid(path, Format::Stl);
+  // Keywords in any case ("SOLID", "Facet"), as some exporters write them.
+  const auto keyword = [](std::string_view token) {
+    std::string k(token.substr(0, 16));
+    for (char& c : k) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return k;
+  };
+  if (!lines.next(line) || keyword(firstToken(line)) != "solid" || hasControlBytes(line))
+    return notValid(path, Format::Stl);
   bool inFacet = false;
   while (lines.next(line)) {
     if (hasControlBytes(line)) return notValid(path, Format::Stl, lineText(lines.number()));
-    const std::vector<std::string_view> t = tokens(line);
-    if (t.empty()) continue;
-    if (t[0] == "facet") {
+    const std::vector<std::string_view> words = tokens(line);
+    if (words.empty()) continue;
+    const std::string k = keyword(words[0]);
+    const std::vector<std::string_view>& t = words;
+    if (k == "facet") {
       if (inFacet) return notValid(path, Format::Stl, lineText(lines.number()));
       inFacet = true;
       ++m.declaredFaces;
-    } else if (t[0] == "vertex") {
+    } else if (k == "vertex") {
       if (!inFacet || t.size() != 4) return notValid(path, Format::Stl, lineText(lines.number()));
       float p[3];
-      for (int k = 0; k < 3; ++k) {
-        const auto d = number(t[1 + static_cast<std::size_t>(k)]);
+      for (int c = 0; c < 3; ++c) {
+        const auto d = number(t[1 + static_cast<std::size_t>(c)]);
         if (!d) return notValid(path, Format::Stl, lineText(lines.number()));
-        p[k] = toFloat(*d);
+        p[c] = toFloat(*d);
       }
       m.addCorner(merge.add({p[0], p[1], p[2]}));
-    } else if (t[0] == "endfacet") {
+    } else if (k == "endfacet") {
       if (!inFacet) return notValid(path, Format::Stl, lineText(lines.number()));
       inFacet = false;
       m.endFace();
-    } else if (t[0] != "outer" && t[0] != "endloop" && t[0] != "endsolid" && t[0] != "solid") {
+    } else if (k != "outer" && k != "endloop" && k != "endsolid" && k != "solid") {
       return notValid(path, Format::Stl, lineText(lines.number()));
     }
   }

@@ -97,10 +97,6 @@ Result<void> SceneRenderer::checkProgrammable() {
     const char* version = reinterpret_cast<const char*>(glGetString(GL_VERSION));
     return Error{std::string("the context is OpenGL ") + (version ? version : "(unknown)") + ", not 4.5"};
   }
-  if (auto nb = cel::NailboardRenderer::create(); !nb) return nb.error();
-  if (auto op = cel::OpaqueRenderer::create(); !op) return op.error();
-  if (auto md = media::Renderer::create(); !md) return md.error();
-  if (auto ly = media::Layers::create(16, 16, 1, 0.5f); !ly) return ly.error();
   return {};
 }
 

@@ -42,12 +42,13 @@ class Viewer {
  public:
   /// Loads the scene, opens the window (GL 4.5 compatibility profile, so both render paths run in
   /// it; depth 24, stencil 8) and builds the render path. With the cel path it falls back to the
-  /// fixed path when a cel program does not build or the context cannot run it
-  /// (SceneRenderer::checkProgrammable), printing one line "puffview: the programmable (cel) path
+  /// fixed path when the context cannot run it (older than GL 4.5:
+  /// SceneRenderer::checkProgrammable), printing one line "puffview: the programmable (cel) path
   /// cannot run here: WHY; drawing with the fixed-function path" to stderr and showing it as
   /// status(). Errors: the scene's ("FILE: /pointer: ..."), no display ("glfw: cannot open a
   /// window: ..."), no GL 4.5 context (the renderer needs GL 4.5 framebuffer objects on either
-  /// path), or the path's (a missing atlas, a mesh that does not load).
+  /// path), or the path's (a missing atlas, a mesh that does not load, a shader that does not
+  /// build: the compiler's errors on one line).
   static Result<std::unique_ptr<Viewer>> open(const ViewerOptions& options);
   ~Viewer();
   Viewer(const Viewer&) = delete;

@@ -36,8 +36,9 @@ class SceneRenderer {
   /// A renderer around a path made by `factory` (another library's path, such as the cel reference).
   static Result<std::unique_ptr<SceneRenderer>> create(const scene::Scene& scene, PathFactory factory);
 
-  /// Whether the current context can run the programmable path: GL >= 4.5 and every cel program
-  /// compiles and links. The error says why not (for an automatic fallback to kFixed).
+  /// Whether the current context can run the programmable path: GL >= 4.5. The error says why not
+  /// (for an automatic fallback to kFixed). A program that does not build is not a reason to fall
+  /// back: creating the kCel path fails with the compiler's error.
   static Result<void> checkProgrammable();
 
   RenderPath path() const;
