@@ -445,6 +445,19 @@ TEST(BakeViews, RotationIsOrthonormalAndLooksAlongTheView) {
   EXPECT_TRUE(back);
 }
 
+TEST(BakeOptions, NameIsAPlainVisiblePrefix) {
+  BakeOptions o;
+  for (const char* bad : {"", ".", "..", ".hidden", "a/b"}) {
+    o.name = bad;
+    auto r = validate(o, 1);
+    ASSERT_FALSE(r.ok()) << bad;
+    EXPECT_EQ(r.error().message,
+              std::string("--name must be a plain file prefix (no '/', not starting with '.'), got \"") + bad + "\"");
+  }
+  o.name = "smoke.v2";
+  EXPECT_OK(validate(o, 1));
+}
+
 TEST(BakeOptions, RejectsAbsurdSizes) {
   BakeOptions o;
   o.cellSize = 0;

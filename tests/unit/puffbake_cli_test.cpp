@@ -84,6 +84,10 @@ TEST_F(PuffbakeCli, BakesAGeneratedPuffAndReportsWhereItWent) {
   EXPECT_EQ(mip.rfind("puff_color.mip1.", 0), 0u) << mip;
   EXPECT_TRUE(fs::exists(dir_ / "out" / nd));
   EXPECT_TRUE(fs::exists(dir_ / "out" / mip));
+  // Baked again without a contact sheet: the old atlas's sheet goes with the old atlas.
+  ASSERT_EQ(run("bake -q -g sphere -n 1 -s 32 --no-contact-sheet -o " + (dir_ / "out").string()).exitCode, 0);
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "puff_contact.png"));
+  EXPECT_FALSE(fs::exists(dir_ / "out" / nd));
 }
 
 TEST_F(PuffbakeCli, BadUsageExitsTwo) {

@@ -284,6 +284,10 @@ struct AtlasBake {
     detail::writePending(o.outDir, o.name, contentNamed);
     PUFF_TRY(tx.commit());
     detail::removeSuperseded(o.outDir, o.name, replaced, result.files);
+    if (!o.contactSheet && !replaced.empty()) {
+      std::error_code ec;  // the replaced atlas's contact sheet would show what is no longer there
+      fs::remove(o.outDir / (o.name + "_contact.png"), ec);
+    }
     result.desc = std::move(desc);
     return {};
   }
@@ -323,8 +327,9 @@ Result<void> validate(const BakeOptions& o, int variations) {
         "--lod-normal-tolerance, --lod-silhouette-tolerance, --lod-depth-tolerance and --lod-color-tolerance must be "
         "positive"};
   }
-  if (o.name.empty() || o.name.find('/') != std::string::npos)
-    return Error{"--name must be a plain file prefix, got \"" + o.name + "\""};
+  // A leading dot would hide the atlas's files (and "." or ".." make "..json").
+  if (o.name.empty() || o.name.find('/') != std::string::npos || o.name.front() == '.')
+    return Error{"--name must be a plain file prefix (no '/', not starting with '.'), got \"" + o.name + "\""};
   if (variations < 1) return Error{"nothing to bake: give mesh files or --generate"};
   auto g = planGeometry(o, variations);
   if (!g) return g.error();
