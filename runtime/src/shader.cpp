@@ -33,7 +33,6 @@ constexpr Stage kStages[] = {
     {".geom", GL_GEOMETRY_SHADER}, {".frag", GL_FRAGMENT_SHADER},     {".comp", GL_COMPUTE_SHADER},
 };
 constexpr const char* kIncludeExtension = ".glsl";
-constexpr const char* kShown = "shaders/";  // how messages name the shaders root
 
 std::optional<std::size_t> stageIndex(const std::string& name) {
   const std::string ext = fs::path(name).extension().string();
@@ -47,6 +46,14 @@ bool isShaderFileName(const std::string& name) {
 }
 
 // ---- where the files come from -----------------------------------------------------------------
+
+// How messages name a shader file: under the directory the shaders are read from (setShaderDir,
+// --shader-dir, PUFF_SHADER_DIR), so the name is a path the user can open; "shaders/" (the source
+// tree's directory) for the built-in copies.
+std::string shown(const std::string& file) {
+  const fs::path dir = shaderDir();
+  return dir.empty() ? "shaders/" + file : (dir / file).string();
+}
 
 std::mutex gDirMutex;
 std::optional<fs::path> gDirOverride;  // set by setShaderDir with a non-empty path
@@ -137,7 +144,7 @@ class Preprocessor {
   std::string out_;
 
   static std::string where(const std::string& file, std::size_t line) {
-    return kShown + file + ":" + std::to_string(line) + ": ";
+    return shown(file) + ":" + std::to_string(line) + ": ";
   }
 
   /// Appends `name`'s text. `from` is "file:line: " of the #include, or null for the main file.
@@ -216,7 +223,7 @@ bool consume(std::string_view s, std::size_t* pos, std::string_view token) {
 /// "ERROR: S:L: msg" form of other drivers; other lines are prefixed with the stage file.
 std::string rewriteLogLine(std::string_view line, const std::vector<std::string>& files) {
   const auto fileName = [&](std::size_t s) {
-    return s < files.size() ? kShown + files[s] : kShown + files.front() + " (source string " + std::to_string(s) + ")";
+    return s < files.size() ? shown(files[s]) : shown(files.front()) + " (source string " + std::to_string(s) + ")";
   };
   std::size_t pos = 0, s = 0, l = 0, c = 0;
   std::string prefix;  // "ERROR: " style severity, moved after the location
@@ -242,7 +249,7 @@ std::string rewriteLogLine(std::string_view line, const std::vector<std::string>
     if (consume(line, &p, ":") && parseNumber(line, &p, &l) && consume(line, &p, ": "))
       return fileName(s) + ":" + std::to_string(l) + ": " + prefix + std::string(line.substr(p));
   }
-  return kShown + files.front() + ": " + prefix + std::string(line.substr(afterPrefix));
+  return shown(files.front()) + ": " + prefix + std::string(line.substr(afterPrefix));
 }
 
 /// One line per problem, errors ahead of warnings so the first line says what broke.
@@ -379,7 +386,7 @@ Result<Program> buildProgram(const std::vector<std::string>& stageFiles) {
   for (const std::string& file : stageFiles) {
     const std::optional<std::size_t> stage = stageIndex(file);
     if (!stage) {
-      problems.push_back(kShown + file + ": not a shader stage (use .vert .tesc .tese .geom .frag .comp)");
+      problems.push_back(shown(file) + ": not a shader stage (use .vert .tesc .tese .geom .frag .comp)");
       continue;
     }
     std::vector<std::string> files;
@@ -396,7 +403,7 @@ Result<Program> buildProgram(const std::vector<std::string>& stageFiles) {
     GLint ok = GL_FALSE;
     glGetShaderiv(shader.get(), GL_COMPILE_STATUS, &ok);
     if (ok != GL_TRUE) {
-      for (std::string& p : logProblems(shaderLog(shader.get()), files, kShown + file + ": compile failed (no log)"))
+      for (std::string& p : logProblems(shaderLog(shader.get()), files, shown(file) + ": compile failed (no log)"))
         problems.push_back(std::move(p));
       continue;
     }
@@ -412,7 +419,7 @@ Result<Program> buildProgram(const std::vector<std::string>& stageFiles) {
   glGetProgramiv(program.get(), GL_LINK_STATUS, &ok);
   if (ok != GL_TRUE) {
     std::string names;
-    for (const std::string& f : stageFiles) names += (names.empty() ? "" : " + ") + (kShown + f);
+    for (const std::string& f : stageFiles) names += (names.empty() ? "" : " + ") + shown(f);
     std::vector<std::string> lines;
     for (std::string line : splitLines(programLog(program.get()))) {
       while (!line.empty() && (line.back() == '\r' || line.back() == '\0' || line.back() == ' ')) line.pop_back();
