@@ -107,8 +107,9 @@ for h in "${harnesses[@]}"; do
   status=0
   "$bin" -seed="$seed" -max_total_time="$seconds" -rss_limit_mb=2560 -malloc_limit_mb=2560 -timeout=30 -print_final_stats=1 \
     -artifact_prefix="$crashes/" "$corpus" "$seeds" >"$log" 2>&1 || status=$?
+  # -a: an input that reaches the log (a detail clip's bytes) must not turn it into "binary".
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
-  last=$(grep -E '^#[0-9]+.*cov: ' "$log" | tail -1 || true)
+  last=$(grep -a -E '^#[0-9]+.*cov: ' "$log" | tail -1 || true)
   cov=$(sed -n 's/.*cov: \([0-9]*\).*/\1/p' <<<"$last")
   ft=$(sed -n 's/.*ft: \([0-9]*\).*/\1/p' <<<"$last")
   ncrash=$(find "$crashes" -type f | wc -l)
@@ -116,7 +117,7 @@ for h in "${harnesses[@]}"; do
     "$(find "$corpus" -type f | wc -l)" "$ncrash"
   if [ "$status" != 0 ] || [ "$ncrash" != 0 ]; then
     echo "$h: crashed (exit $status); inputs in $crashes/, log $log" >&2
-    grep -E 'ERROR|SUMMARY|puff fuzz' "$log" | head -5 >&2 || true
+    grep -a -E 'ERROR|SUMMARY|puff fuzz' "$log" | head -5 >&2 || true
     failed=1
   fi
 done
