@@ -13,9 +13,14 @@
 #include <fstream>
 #include <string>
 
+#include <puff/cel/nailboards.h>
+#include <puff/core/atlas.h>
 #include <puff/core/files.h>
+#include <puff/core/gl.h>
 #include <puff/core/text.h>
+#include <puff/gl_api.h>
 
+#include "support/gl_fixture.h"
 #include "support/temp_dir.h"
 
 namespace {
@@ -107,6 +112,36 @@ TEST_F(GlFailures, AShaderThatDoesNotCompileIsOneLine) {
   EXPECT_NE(b.err.find(".frag:"), std::string::npos) << b.err;
   EXPECT_EQ(lines(b.err), 1u) << b.err;
   EXPECT_FALSE(fs::exists(dir_ / "baked" / "puff.json"));
+}
+
+// An atlas larger than the GL's largest texture (one baked at 16384 texels drawn on a GPU that takes
+// 8192) is one error that says what to do, not a blank texture. The atlas here claims twice
+// llvmpipe's largest size over 1 x 1 maps: the check comes before anything is allocated.
+// (GL_OUT_OF_MEMORY from the same upload is reported the same way; no test here can provoke it.)
+class GlLimits : public puff::test::GlTest {};
+
+TEST_F(GlLimits, AnAtlasLargerThanTheLargestTextureIsOneError) {
+  GLint maxSize = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
+  ASSERT_GT(maxSize, 0);
+  puff::core::Atlas atlas;
+  puff::core::AtlasDesc& d = atlas.desc;
+  d.width = d.height = d.cellSize = 2 * maxSize;
+  d.columns = d.rows = 1;
+  d.variations = d.views = 1;
+  puff::core::AtlasCell cell;
+  cell.rect = {0, 0, d.cellSize, d.cellSize};
+  d.cells.push_back(cell);
+  for (const char* map : {"normalDepth", "color"}) atlas.maps[map].push_back(puff::core::Image(1, 1, 4, 0.5f));
+  atlas.maps["distance"].push_back(puff::core::Image(1, 1, 1, 0.5f));
+  auto renderer = puff::cel::NailboardRenderer::create();
+  ASSERT_TRUE(renderer.ok()) << renderer.error().message;
+  auto r = (*renderer)->setAtlas(atlas);
+  ASSERT_FALSE(r.ok());
+  const std::string size = std::to_string(2 * maxSize);
+  EXPECT_EQ(r.error().message, "the atlas is " + size + "x" + size + " texels, more than this GL's largest texture (" +
+                                   std::to_string(maxSize) + "): bake it with a smaller --size or fewer --views");
+  EXPECT_EQ(puff::core::drainGlErrors(), "");
 }
 
 TEST(OneLine, JoinsLinesAndCountsWhatItLeavesOut) {
