@@ -241,7 +241,8 @@ class PuffviewWindow : public ::testing::Test {
     std::ofstream(file, std::ios::binary | std::ios::trunc) << text;
     fs::last_write_time(file, before + std::chrono::seconds(1));
   }
-  std::unique_ptr<puff::view::Viewer> open(const fs::path& file, const fs::path& shaderDir = {},
+  // A small quiet window without panels.
+  static puff::view::ViewerOptions options(const fs::path& file, const fs::path& shaderDir = {},
                                            const std::string& path = "cel") {
     puff::view::ViewerOptions o;
     o.scene = file;
@@ -252,7 +253,11 @@ class PuffviewWindow : public ::testing::Test {
     o.height = 120;
     o.ui = false;
     o.quiet = true;
-    auto v = puff::view::Viewer::open(o);
+    return o;
+  }
+  std::unique_ptr<puff::view::Viewer> open(const fs::path& file, const fs::path& shaderDir = {},
+                                           const std::string& path = "cel") {
+    auto v = puff::view::Viewer::open(options(file, shaderDir, path));
     EXPECT_OK(v);
     return v ? std::move(*v) : nullptr;
   }
@@ -441,15 +446,7 @@ TEST_F(PuffviewWindow, BrokenCelShaderAtStartIsAnErrorNamingTheShader) {
   fs::copy(fs::path(PUFF_SOURCE_DIR) / "shaders", shaders, fs::copy_options::recursive);
   const fs::path frag = shaders / "cel" / "nailboard.frag";
   rewrite(frag, *puff::core::readFileBytes(frag) + "\nthis is not glsl;\n");
-  puff::view::ViewerOptions o;
-  o.scene = file;
-  o.artDir = PUFF_ART_DIR;
-  o.shaderDir = shaders;
-  o.width = 160;
-  o.height = 120;
-  o.ui = false;
-  o.quiet = true;
-  auto v = puff::view::Viewer::open(o);
+  auto v = puff::view::Viewer::open(options(file, shaders));
   ASSERT_FALSE(v.ok());
   EXPECT_NE(v.error().message.find("cel/nailboard.frag"), std::string::npos) << v.error().message;
   // (One line is the tool's business: PuffviewCli.BrokenCelShaderIsOneLineAndExitOne.)

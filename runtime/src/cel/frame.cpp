@@ -132,6 +132,15 @@ std::vector<float> rowRgb(const core::Image& image, int y) {
   return out;
 }
 
+// The image at `path` within `limits`, then through `check` (a use's own rules), errors naming the file.
+Result<core::Image> readChecked(const std::filesystem::path& path, const core::ImageLimits& limits,
+                                Result<void> (*check)(const core::Image&, const std::string&)) {
+  auto image = core::readImage(path, nullptr, limits);
+  if (!image) return image.error();
+  PUFF_TRY(check(*image, path.string()));
+  return image;
+}
+
 }  // namespace
 
 Result<void> Ramp::check(const core::Image& image, const std::string& what) {
@@ -145,12 +154,7 @@ Result<void> Ramp::check(const core::Image& image, const std::string& what) {
   return {};
 }
 
-Result<core::Image> Ramp::read(const std::filesystem::path& path) {
-  auto image = core::readImage(path, nullptr, kRampLimits);
-  if (!image) return image.error();
-  PUFF_TRY(check(*image, path.string()));
-  return image;
-}
+Result<core::Image> Ramp::read(const std::filesystem::path& path) { return readChecked(path, kRampLimits, check); }
 
 Result<Ramp> Ramp::create(const core::Image& image, const std::string& what, bool smooth) {
   PUFF_TRY(check(image, what));
@@ -214,10 +218,7 @@ Result<void> Gradient::check(const core::Image& image, const std::string& what) 
 }
 
 Result<core::Image> Gradient::read(const std::filesystem::path& path) {
-  auto image = core::readImage(path, nullptr, kGradientLimits);
-  if (!image) return image.error();
-  PUFF_TRY(check(*image, path.string()));
-  return image;
+  return readChecked(path, kGradientLimits, check);
 }
 
 Result<Gradient> Gradient::create(const core::Image& image, const std::string& what) {

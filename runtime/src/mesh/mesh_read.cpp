@@ -1,6 +1,8 @@
 // Puff's readers of OBJ, OFF, PLY and STL (mesh_read.h).
 #include "mesh_read.h"
 
+#include <puff/core/files.h>
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -447,38 +449,22 @@ class PlyValues {
       return true;
     }
     switch (t) {
-      case PlyType::kI8: {
-        std::int8_t x;
-        return bytes_.raw(&x, 1) && (v = x, true);
-      }
-      case PlyType::kU8: {
-        std::uint8_t x;
-        return bytes_.raw(&x, 1) && (v = x, true);
-      }
-      case PlyType::kI16: {
-        std::int16_t x;
-        return bytes_.raw(&x, 2) && (v = x, true);
-      }
-      case PlyType::kU16: {
-        std::uint16_t x;
-        return bytes_.raw(&x, 2) && (v = x, true);
-      }
-      case PlyType::kI32: {
-        std::int32_t x;
-        return bytes_.raw(&x, 4) && (v = x, true);
-      }
-      case PlyType::kU32: {
-        std::uint32_t x;
-        return bytes_.raw(&x, 4) && (v = x, true);
-      }
-      case PlyType::kF32: {
-        float x;
-        return bytes_.raw(&x, 4) && (v = x, true);
-      }
-      case PlyType::kF64: {
-        double x;
-        return bytes_.raw(&x, 8) && (v = x, true);
-      }
+      case PlyType::kI8:
+        return binary<std::int8_t>(v);
+      case PlyType::kU8:
+        return binary<std::uint8_t>(v);
+      case PlyType::kI16:
+        return binary<std::int16_t>(v);
+      case PlyType::kU16:
+        return binary<std::uint16_t>(v);
+      case PlyType::kI32:
+        return binary<std::int32_t>(v);
+      case PlyType::kU32:
+        return binary<std::uint32_t>(v);
+      case PlyType::kF32:
+        return binary<float>(v);
+      case PlyType::kF64:
+        return binary<double>(v);
     }
     return false;
   }
@@ -488,6 +474,14 @@ class PlyValues {
   }
 
  private:
+  // One binary value of type T, in the file's byte order.
+  template <class T>
+  bool binary(double& v) {
+    T x;
+    if (!bytes_.raw(&x, sizeof x)) return false;
+    v = static_cast<double>(x);
+    return true;
+  }
   std::string_view nextToken() {
     while (pos_ < body_.size() && std::isspace(static_cast<unsigned char>(body_[pos_]))) ++pos_;
     const std::size_t start = pos_;
@@ -774,10 +768,9 @@ Result<RawMesh> readStl(const fs::path& path, std::string_view text) {
 }  // namespace
 
 Result<RawMesh> readRawMesh(const fs::path& path, Format format) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Error::at(path, std::string("cannot open: ") + std::strerror(errno));
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) return Error::at(path, "cannot read: read error");
+  auto bytes = core::readFileBytes(path);
+  if (!bytes) return bytes.error();
+  const std::string& text = *bytes;
   switch (format) {
     case Format::Obj:
       return readObj(path, text);
