@@ -5,9 +5,12 @@
 // (without --path) still draws, and says why in one line.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -26,6 +29,17 @@
 namespace {
 
 namespace fs = std::filesystem;
+
+#if defined(__has_feature)  // Clang
+#if __has_feature(address_sanitizer)
+#define PUFF_TEST_ASAN 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(PUFF_TEST_ASAN)  // PUFF_SANITIZE=ON
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
 
 struct ToolRun {
   int exitCode = -1;
@@ -117,7 +131,7 @@ TEST_F(GlFailures, AShaderThatDoesNotCompileIsOneLine) {
 // An atlas larger than the GL's largest texture (one baked at 16384 texels drawn on a GPU that takes
 // 8192) is one error that says what to do, not a blank texture. The atlas here claims twice
 // llvmpipe's largest size over 1 x 1 maps: the check comes before anything is allocated.
-// (GL_OUT_OF_MEMORY from the same upload is reported the same way; no test here can provoke it.)
+// GL_OUT_OF_MEMORY from the same upload is reported the same way (OutOfMemoryInTheAtlasUploadIsOneError).
 class GlLimits : public puff::test::GlTest {};
 
 TEST_F(GlLimits, AnAtlasLargerThanTheLargestTextureIsOneError) {
@@ -142,6 +156,67 @@ TEST_F(GlLimits, AnAtlasLargerThanTheLargestTextureIsOneError) {
   EXPECT_EQ(r.error().message, "the atlas is " + size + "x" + size + " texels, more than this GL's largest texture (" +
                                    std::to_string(maxSize) + "): bake it with a smaller --size or fewer --views");
   EXPECT_EQ(puff::core::drainGlErrors(), "");
+}
+
+// A real GL_OUT_OF_MEMORY: llvmpipe allocates a texture's storage in the process's own memory, so an
+// address-space limit (RLIMIT_AS) set just before setAtlas makes glTextureStorage2D fail. The atlas
+// is 4096 x 4096 with one level: setAtlas first packs normalDepth and distance into a float copy
+// (4 floats a texel, 256 MiB), then allocates the RGBA8 texture (64 MiB). The limit leaves room for
+// the copy and half the texture. The colour map is never reached: 1 x 1 is enough. (Until the storage
+// was checked on its own, the failure went unseen until converting the level threw std::bad_alloc.)
+// The upload runs in a fresh process (EXPECT_EXIT, "threadsafe": this binary run again for this test
+// alone, with its own GL context), so the limit and whatever fails under it stay there. The child
+// writes setAtlas's message to stderr and exits 0 if setAtlas failed, 1 if it succeeded; an abort
+// (std::bad_alloc, a crash in the driver) fails the test too.
+TEST_F(GlLimits, OutOfMemoryInTheAtlasUploadIsOneError) {
+  if (kAddressSanitizer) GTEST_SKIP() << "AddressSanitizer's shadow memory alone exceeds any address-space limit";
+  const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  if (!renderer || std::string(renderer).find("llvmpipe") == std::string::npos) {
+    GTEST_SKIP() << "texture memory is the process's own only on llvmpipe, not on " << (renderer ? renderer : "?");
+  }
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  constexpr int kSize = 4096;
+  const auto uploadUnderALimit = [] {
+    puff::core::Atlas atlas;
+    puff::core::AtlasDesc& d = atlas.desc;
+    d.width = d.height = d.cellSize = d.contentSize = kSize;
+    d.columns = d.rows = 1;
+    d.variations = d.views = 1;
+    puff::core::AtlasCell cell;
+    cell.rect = {0, 0, kSize, kSize};
+    d.cells.push_back(cell);
+    atlas.maps["normalDepth"].push_back(puff::core::Image(kSize, kSize, 4, 0.5f));
+    atlas.maps["distance"].push_back(puff::core::Image(kSize, kSize, 1, 0.5f));
+    atlas.maps["color"].push_back(puff::core::Image(1, 1, 4, 0.5f));
+    auto r = puff::cel::NailboardRenderer::create();
+    if (!r.ok()) {
+      std::fprintf(stderr, "NailboardRenderer::create: %s\n", r.error().message.c_str());
+      std::_Exit(2);
+    }
+    glFinish();
+    // What this process maps now (pages), plus the packed copy and half the texture.
+    long pages = 0;
+    if (std::FILE* f = std::fopen("/proc/self/statm", "r")) {
+      if (std::fscanf(f, "%ld", &pages) != 1) pages = 0;
+      std::fclose(f);
+    }
+    constexpr rlim_t kTexels = rlim_t{kSize} * kSize;
+    rlimit limit{};
+    getrlimit(RLIMIT_AS, &limit);
+    limit.rlim_cur = static_cast<rlim_t>(pages) * static_cast<rlim_t>(sysconf(_SC_PAGESIZE)) +
+                     kTexels * 4 * sizeof(float) + kTexels * 4 / 2;
+    if (pages <= 0 || setrlimit(RLIMIT_AS, &limit) != 0) {
+      std::fprintf(stderr, "cannot limit the address space\n");
+      std::_Exit(2);
+    }
+    const auto result = (*r)->setAtlas(atlas);
+    std::fprintf(stderr, "%s\n", result.ok() ? "setAtlas succeeded" : result.error().message.c_str());
+    std::fflush(stderr);
+    std::_Exit(result.ok() ? 1 : 0);
+  };
+  // One line that names the map, its size and the GL error, nothing else on stderr.
+  EXPECT_EXIT(uploadUnderALimit(), ::testing::ExitedWithCode(0),
+              "^cannot make the atlas normalDepth texture \\(4096x4096, 1 level\\): GL_OUT_OF_MEMORY\n$");
 }
 
 TEST(OneLine, JoinsLinesAndCountsWhatItLeavesOut) {

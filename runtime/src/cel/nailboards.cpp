@@ -180,7 +180,16 @@ Result<core::Texture> uploadLevels(const core::AtlasDesc& d, const std::vector<c
   }
   core::Texture t = core::makeTexture(GL_TEXTURE_2D);
   const GLsizei nLevels = static_cast<GLsizei>(levels.size());
+  // GL_OUT_OF_MEMORY (or any error) from the storage or the uploads: a message, not a blank atlas.
+  const auto cannotMake = [&](const std::string& glErrors) {
+    return Error{"cannot make the atlas " + key + " texture (" + std::to_string(d.width) + "x" +
+                 std::to_string(d.height) + ", " + std::to_string(nLevels) + (nLevels == 1 ? " level" : " levels") +
+                 "): " + glErrors};
+  };
   glTextureStorage2D(t.get(), nLevels, internal, d.width, d.height);
+  // Checked before the levels are converted below, which takes as much memory again on the CPU: out
+  // of memory here would otherwise become std::bad_alloc there, naming nothing.
+  if (const std::string e = core::drainGlErrors(); !e.empty()) return cannotMake(e);
   for (GLsizei l = 0; l < nLevels; ++l) {
     const core::Image& im = levels[static_cast<std::size_t>(l)];
     const int w = std::max(1, d.width >> l), h = std::max(1, d.height >> l);
@@ -199,11 +208,7 @@ Result<core::Texture> uploadLevels(const core::AtlasDesc& d, const std::vector<c
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glTextureSubImage2D(t.get(), l, 0, 0, w, h, channels == 4 ? GL_RGBA : GL_RED, GL_FLOAT, px.data());
   }
-  // GL_OUT_OF_MEMORY (or any error) from the storage or the uploads: a message, not a blank atlas.
-  if (const std::string e = core::drainGlErrors(); !e.empty()) {
-    return Error{"cannot make the atlas " + key + " texture (" + std::to_string(d.width) + "x" +
-                 std::to_string(d.height) + ", " + std::to_string(nLevels) + " levels): " + e};
-  }
+  if (const std::string e = core::drainGlErrors(); !e.empty()) return cannotMake(e);
   glTextureParameteri(t.get(), GL_TEXTURE_BASE_LEVEL, 0);
   glTextureParameteri(t.get(), GL_TEXTURE_MAX_LEVEL, nLevels - 1);
   glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, nLevels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
