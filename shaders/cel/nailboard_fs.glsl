@@ -16,6 +16,11 @@ flat in ivec4 vCell;
 flat in vec4 vWeight;
 flat in vec4 vMap[PUFF_VIEWS];
 flat in mat3 vNormalXf[PUFF_VIEWS];
+#if PUFF_VIEWS == 4
+flat in int vHull;
+flat in mat3 vBillboardPuff;
+flat in mat3 vPuffToView;
+#endif
 
 // Two reads per pixel, as in the paper: normal x, y (z rebuilt), depth offset and distance to the
 // silhouette packed by NailboardRenderer::setAtlas; and the colour.
@@ -34,6 +39,170 @@ uniform float uShadowBias;  // diameters past the puff's far side where its shad
 layout(location = 0) out uint oId;
 #else
 out vec4 fragColor;
+#endif
+
+#if PUFF_VIEWS == 4
+// An oriented puff between its baked views (issue 22). Each view's maps bound the puff: it lies
+// inside the view's silhouette swept along the view's direction (the distance map), and behind the
+// view's front surface (the depth map). The puff lies inside the intersection of its four views'
+// bounds and its unit sphere (radius half a diameter): a depth hull, close to the puff itself where
+// the views are near each other. The eye ray is marched through that hull. Each bound gives a
+// distance (the silhouette's, or the height over the front surface times the surface normal's z:
+// the distance to its tangent plane), and the largest is about the distance to the hull: steps of
+// that size do not pass through it (sphere tracing). The ray hits where it reaches 0; a ray that
+// misses passes the hull at its least distance, the ink band's distance to the silhouette.
+//
+// A hemi-oct atlas seen from behind has no view of the side the eye sees: its cells give exact
+// bounds (silhouette, and their front surface on the far side), which decide coverage and ink;
+// the surface drawn is their front reflected through the cell plane (side -1), an assumption that
+// only places the depth and shading, after the exact hull is hit.
+struct HullView {
+  int cell;
+  float side;           // +1 seen from its own side, -1 from behind (a hemi-oct back)
+  vec3 right, up, dir;  // puff space; dir toward the baked view's viewer
+};
+HullView hullViews[4];
+
+struct HullBound {
+  float exact;    // > 0: outside what the view's maps bound (about the distance, diameters)
+  float assumed;  // with a view from behind, also outside its reflected front
+  vec4 texel;     // the packed texel read (filtered)
+  vec2 uv;
+};
+
+// The bound of view k at puff-space point `pt`.
+HullBound hullBound(int k, vec3 pt, float lod, bool fromTable, float trusted) {
+  HullView v = hullViews[k];
+  HullBound b;
+  vec2 local = vec2(dot(pt, v.right), dot(pt, v.up));
+  b.uv = cellUv(v.cell, local);
+  bool inside = insideCell(local, lod);
+  b.texel = inside ? textureLod(uPacked, b.uv, lod) : vec4(0.5, 0.5, 0.5, 1.0);
+  float range = uAtlasScale.z;
+  float dist = (b.texel.w - 0.5) * 2.0 * range;  // level-0 texels, > 0 outside the silhouette
+  if (fromTable && dist >= trusted)
+    dist = max((length(local) - silhouetteRadius(v.cell, local)) * uAtlasScale.x, trusted);
+  b.exact = dist / uAtlasScale.x;
+  b.assumed = b.exact;
+  if (dist <= 0.0) {
+    // The front surface's height is the largest of the four level-0 texels around the point that
+    // lie inside the silhouette (outside, no depth is baked): a filtered read across an occluding
+    // edge, or a coarse mip's, would cut away the nearer lump. Less what the map cannot tell: a step
+    // of its 8 bits, and a texel and a half (a texel astride an occluding edge holds the mean of the
+    // near and the far lump).
+    vec4 heights = textureGather(uPacked, b.uv, 2);
+    vec4 outside = step(0.5 + 0.5 / 255.0, textureGather(uPacked, b.uv, 3));
+    heights = mix(heights, vec4(-1.0), outside);
+    float top = max(max(heights.x, heights.y), max(heights.z, heights.w));
+    if (top >= 0.0) {
+      float front = (top - 0.5) * uAtlasScale.y + uAtlasScale.y / 255.0 + 1.5 / uAtlasScale.x;
+      vec2 n = b.texel.xy * 2.0 - 1.0;
+      float slope = max(sqrt(max(0.0, 1.0 - dot(n, n))), 0.1);
+      float h = dot(pt, v.dir);
+      float above = h - front;
+      b.exact = max(b.exact, above > 0.0 ? above * slope : above);
+      float reflected = -h - front;
+      b.assumed = v.side > 0.0 ? b.exact : max(b.exact, reflected > 0.0 ? reflected * slope : reflected);
+    }
+  }
+  return b;
+}
+
+struct HullHit {
+  bool hit;
+  float t;        // along the ray toward the eye, diameters from the billboard plane
+  float nearest;  // a miss: least distance to the hull (diameters)
+  vec3 normal;    // a hit: camera space
+  vec3 color;     // a hit: scene-linear
+};
+
+HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, bool wantShade) {
+  bool behind = false;
+  for (int k = 0; k < 4; ++k) {
+    HullView v;
+    v.cell = vCell[k];
+    v.right = cells[v.cell].right.xyz;
+    v.up = cells[v.cell].up.xyz;
+    v.dir = cells[v.cell].dir.xyz;
+    // A hemi-oct cell whose viewer is on the far side stands for the view from behind.
+    v.side = uAtlasLayout.w != 1 && dot(v.dir, vBillboardPuff[2]) < 0.0 ? -1.0 : 1.0;
+    hullViews[k] = v;
+    behind = behind || v.side < 0.0;
+  }
+  vec3 origin = vBillboardPuff * vec3(vPuff, 0.0);
+  vec3 ray = vBillboardPuff[2];
+  float pixel = tpp / uAtlasScale.x;  // a screen pixel in diameters
+  float eps = 0.25 * pixel;
+  // The unit sphere holds the puff: the ray's chord through it, or its point nearest the centre
+  // for a ray that misses (whose least distance is then measured there).
+  float tMax = sqrt(max(0.25 - dot(origin, origin), 0.0));
+  HullHit h;
+  h.hit = false;
+  h.t = 0.0;
+  h.nearest = 1e9;
+  HullBound b[4];
+  float t = tMax;
+  bool surface = false;  // the hit's surface found: the assumed bounds met as well
+  for (int i = 0; i < 64; ++i) {
+    vec3 pt = origin + t * ray;
+    float sphere = length(pt) - 0.5;
+    float exact = sphere, assumed = sphere;
+    for (int k = 0; k < 4; ++k) {
+      b[k] = hullBound(k, pt, lod, fromTable, trusted);
+      exact = max(exact, b[k].exact);
+      assumed = max(assumed, b[k].assumed);
+    }
+    if (!h.hit) {
+      if (exact < h.nearest) {
+        h.nearest = exact;
+        h.t = t;
+      }
+      if (exact <= 0.0) {
+        h.hit = true;
+        h.t = t;
+        if (!wantShade && !behind) break;
+      }
+    }
+    if (h.hit && assumed <= 0.0) {
+      surface = true;
+      h.t = t;
+      break;
+    }
+    t -= max(h.hit ? assumed : exact, eps);
+    if (t < -tMax) break;
+  }
+  if (h.hit && !surface) {  // no reflected surface along the ray: drawn where the exact hull is hit
+    vec3 pt = origin + h.t * ray;
+    for (int k = 0; k < 4; ++k) b[k] = hullBound(k, pt, lod, fromTable, trusted);
+  }
+  if (h.hit && wantShade) {
+    // The views that see the hit (it lies on their front surface, not behind it) see the same
+    // point: their normals and colours, blended as the views are.
+    vec3 pt = origin + h.t * ray;
+    vec3 n = vec3(0.0), color = vec3(0.0);
+    float total = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      HullView v = hullViews[k];
+      vec4 texel = b[k].texel;
+      vec2 nxy = texel.xy * 2.0 - 1.0;
+      float nz = sqrt(max(0.0, 1.0 - dot(nxy, nxy)));
+      if (texel.w > 0.5) continue;
+      // How far the hit lies off this view's surface along its direction: a view that sees another
+      // lump there (the hit lies behind it) or none at all (in front of it) fades out.
+      float off = abs((texel.z - 0.5) * uAtlasScale.y - v.side * dot(pt, v.dir)) * max(nz, 0.25) / pixel;
+      // Near a view's silhouette its filtered normal is mixed with the empty texels outside (no
+      // normal): that view's rim may cross the middle of the puff the eye sees. It fades out there.
+      float rim = (0.5 - texel.w) * 2.0 * uAtlasScale.z / exp2(ceil(lod));  // texels of the level read
+      float w = (vWeight[k] + 1e-3) * (smoothstep(0.5, 2.5, rim) + 1e-4) * (1.0 - smoothstep(2.0, 4.0, off) + 1e-4);
+      n += w * (nxy.x * v.right + nxy.y * v.up + v.side * nz * v.dir);
+      color += w * textureLod(uColor, b[k].uv, lod).rgb;
+      total += w;
+    }
+    h.normal = total > 0.0 ? vPuffToView * normalize(n) : vPuffToView * ray;
+    h.color = total > 0.0 ? color / total : vec3(0.0);
+  }
+  return h;
+}
 #endif
 
 void main() {
@@ -70,11 +239,30 @@ void main() {
     dist += w * ((pk.w - 0.5) * 2.0 * range);
     if (fromTable) tableDist += w * (length(local) - silhouetteRadius(vCell[k], local)) * uAtlasScale.x;
   }
+#if PUFF_VIEWS == 4
+  HullHit hull;
+  bool marched = vHull == 1;
+  if (marched) {
+#ifdef PUFF_CASTER
+    hull = hullMarch(lod, tpp, fromTable, trusted, false);
+#else
+    hull = hullMarch(lod, tpp, fromTable, trusted, uPass == 0);
+#endif
+    depth = hull.t * vNormalXf[0][2].z;
+    // Inside, the blended distance maps say how far the edge is (its antialiasing and the ink's
+    // inner edge); outside, the least distance to the hull.
+    if (fromTable) dist = dist < trusted ? dist : max(tableDist, trusted);
+    dist = hull.hit ? min(dist, -1e-3) : max(hull.nearest * uAtlasScale.x, 1e-3);
+  }
+#endif
   // The outline band: 0 < dist <= width (texels). From the map, the band and its antialiased edge
   // (half a pixel) must end inside its range; beyond is empty.
   float widthTexels;
   if (fromTable) {
-    dist = dist < trusted ? dist : max(tableDist, trusted);
+#if PUFF_VIEWS == 4
+    if (!marched)
+#endif
+      dist = dist < trusted ? dist : max(tableDist, trusted);
     widthTexels = wantTexels;
   } else {
     if (dist >= range - 0.5) discard;
@@ -109,6 +297,12 @@ void main() {
       n += w * (vNormalXf[k] * vec3(nxy[k], sqrt(max(0.0, 1.0 - dot(nxy[k], nxy[k])))));
       if (inside[k]) color += w * textureLod(uColor, uv[k], lod).rgb;  // views blended in linear light
     }
+#if PUFF_VIEWS == 4
+    if (marched && hull.hit) {
+      n = hull.normal;
+      color = hull.color;
+    }
+#endif
     color = linearToSrgb(color);  // Eq. 2 combines display values
     vec3 q = uShading == 1 ? quantize(dot(normalize(n), uLightDirView.xyz)) : vec3(1.0);
     rgb = ka + color * uLightColor.rgb * q;

@@ -15,6 +15,14 @@ flat out ivec4 vCell;
 flat out vec4 vWeight;
 flat out vec4 vMap[PUFF_VIEWS];        // billboard (x, y) -> cell (x, y): columns (m00, m10), (m01, m11)
 flat out mat3 vNormalXf[PUFF_VIEWS];   // cell camera space -> camera (view) space
+#if PUFF_VIEWS == 4
+// An oriented puff's surface is found by marching its eye ray through the hull of its four views
+// (nailboard_fs.glsl, hullMarch): the billboard's right, up and normal (toward the eye) in puff
+// space, and puff space -> camera space.
+flat out int vHull;
+flat out mat3 vBillboardPuff;
+flat out mat3 vPuffToView;
+#endif
 
 // Billboard (x, y) -> cell (x, y), as the columns (m00, m10), (m01, m11): the billboard's axes
 // projected on the cell's, made the nearest rotation (or, for a cell seen from behind, reflection).
@@ -72,6 +80,9 @@ void main() {
   vNormalXf[1] = toView * cellToBillboard(vMap[1]);
   vNormalXf[2] = toView * cellToBillboard(vMap[2]);
   vNormalXf[3] = toView * cellToBillboard(vMap[3]);
+  vHull = p.oriented && uAtlasLayout.y > 1 ? 1 : 0;
+  vBillboardPuff = mat3(rP, uP, toward);
+  vPuffToView = mat3(uView) * puff;
 #endif
   vCell = cell;
   vWeight = weight;

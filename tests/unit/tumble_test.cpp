@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <algorithm>
 #include <map>
 
 #include <puff/bake/baker.h>
@@ -130,6 +131,15 @@ TEST_P(Tumble, EveryPoseKeepsItsSilhouetteAndItsInk) {
       name(c).c_str(), result->poses.size(), result->minCoverageIoU, worstCoverage->yaw, worstCoverage->pitch,
       worstCoverage->roll, result->meanCoverageIoU, result->minOutlineIoU, worstOutline->yaw, worstOutline->pitch,
       worstOutline->roll, result->meanOutlineIoU);
+  // The worst few poses, to see where a change went wrong.
+  std::vector<eval::TumblePose> poses = result->poses;
+  std::sort(poses.begin(), poses.end(), [](const eval::TumblePose& a, const eval::TumblePose& b) {
+    return std::min(a.coverageIoU - 0.95, a.outlineIoU - 0.5) < std::min(b.coverageIoU - 0.95, b.outlineIoU - 0.5);
+  });
+  for (std::size_t i = 0; i < std::min<std::size_t>(poses.size(), 8); ++i) {
+    std::printf("  yaw %3d pitch %3d roll %3d variation %d: coverage IoU %.4f outline IoU %.4f\n", poses[i].yaw,
+                poses[i].pitch, poses[i].roll, poses[i].variation, poses[i].coverageIoU, poses[i].outlineIoU);
+  }
   EXPECT_GE(result->minCoverageIoU, c.minCoverage);
   EXPECT_GE(result->meanCoverageIoU, c.meanCoverage);
   EXPECT_GE(result->minOutlineIoU, c.minOutline);
