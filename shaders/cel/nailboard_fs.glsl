@@ -59,6 +59,7 @@ out vec4 fragColor;
 struct HullView {
   int cell;
   float side;           // +1 seen from its own side, -1 from behind (a hemi-oct back)
+  float across;         // sine of the angle between the eye ray and the view (at least 0.02)
   vec3 right, up, dir;  // puff space; dir toward the baked view's viewer
 };
 HullView hullViews[4];
@@ -66,6 +67,9 @@ HullView hullViews[4];
 struct HullBound {
   float exact;    // > 0: outside what the view's maps bound (about the distance, diameters)
   float assumed;  // with a view from behind, also outside its reflected front
+  // How far along the eye ray the point is from entering those bounds: a point's distance to the
+  // view's silhouette shrinks at most `across` times as fast as the point moves along the ray.
+  float reach, reachAssumed;
   vec4 texel;     // the packed texel read (filtered)
   vec2 uv;
 };
@@ -84,6 +88,8 @@ HullBound hullBound(int k, vec3 pt, float lod, bool fromTable, float trusted) {
     dist = max((length(local) - silhouetteRadius(v.cell, local)) * uAtlasScale.x, trusted);
   b.exact = dist / uAtlasScale.x;
   b.assumed = b.exact;
+  b.reach = b.exact > 0.0 ? b.exact / v.across : b.exact;
+  b.reachAssumed = b.reach;
   if (dist <= 0.0) {
     // The front surface's height is the largest of the four level-0 texels around the point that
     // lie inside the silhouette (outside, no depth is baked): a filtered read across an occluding
@@ -100,9 +106,13 @@ HullBound hullBound(int k, vec3 pt, float lod, bool fromTable, float trusted) {
       float slope = max(sqrt(max(0.0, 1.0 - dot(n, n))), 0.1);
       float h = dot(pt, v.dir);
       float above = h - front;
-      b.exact = max(b.exact, above > 0.0 ? above * slope : above);
+      float depthBound = above > 0.0 ? above * slope : above;
+      b.exact = max(b.exact, depthBound);
+      b.reach = max(b.reach, depthBound);
       float reflected = -h - front;
-      b.assumed = v.side > 0.0 ? b.exact : max(b.exact, reflected > 0.0 ? reflected * slope : reflected);
+      float reflectedBound = v.side > 0.0 ? depthBound : (reflected > 0.0 ? reflected * slope : reflected);
+      b.assumed = max(b.exact, reflectedBound);
+      b.reachAssumed = max(b.reach, reflectedBound);
     }
   }
   return b;
@@ -112,11 +122,26 @@ struct HullHit {
   bool hit;
   float t;        // along the ray toward the eye, diameters from the billboard plane
   float nearest;  // a miss: least distance to the hull (diameters)
+  float deepest;  // a hit: how far inside the hull the ray reaches (<= 0, diameters; probed to 2 px)
   vec3 normal;    // a hit: camera space
   vec3 color;     // a hit: scene-linear
 };
 
-HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, bool wantShade) {
+// Every view's bound at `pt`, and the hull's: x exact, y with the reflected fronts assumed; z and
+// w how far along the ray each is from being met (the step that cannot pass into the hull).
+vec4 hullAt(vec3 pt, float lod, bool fromTable, float trusted, out HullBound b[4]) {
+  float sphere = length(pt) - 0.5;
+  vec4 f = vec4(sphere);
+  for (int k = 0; k < 4; ++k) {
+    b[k] = hullBound(k, pt, lod, fromTable, trusted);
+    f = max(f, vec4(b[k].exact, b[k].assumed, b[k].reach, b[k].reachAssumed));
+  }
+  return f;
+}
+
+// wantEdge: how deep a hit reaches (the antialiased edge and the ink's inner edge); wantShade: the
+// normal and colour of a hit.
+HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, bool wantEdge, bool wantShade) {
   bool behind = false;
   for (int k = 0; k < 4; ++k) {
     HullView v;
@@ -126,6 +151,7 @@ HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, bool want
     v.dir = cells[v.cell].dir.xyz;
     // A hemi-oct cell whose viewer is on the far side stands for the view from behind.
     v.side = uAtlasLayout.w != 1 && dot(v.dir, vBillboardPuff[2]) < 0.0 ? -1.0 : 1.0;
+    v.across = max(length(cross(v.dir, vBillboardPuff[2])), 0.02);
     hullViews[k] = v;
     behind = behind || v.side < 0.0;
   }
@@ -140,40 +166,50 @@ HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, bool want
   h.hit = false;
   h.t = 0.0;
   h.nearest = 1e9;
+  h.deepest = 0.0;
   HullBound b[4];
+  // The exact hull: the first point inside it, or the least distance of a ray that misses.
   float t = tMax;
-  bool surface = false;  // the hit's surface found: the assumed bounds met as well
+  vec4 f;
   for (int i = 0; i < 64; ++i) {
-    vec3 pt = origin + t * ray;
-    float sphere = length(pt) - 0.5;
-    float exact = sphere, assumed = sphere;
-    for (int k = 0; k < 4; ++k) {
-      b[k] = hullBound(k, pt, lod, fromTable, trusted);
-      exact = max(exact, b[k].exact);
-      assumed = max(assumed, b[k].assumed);
-    }
-    if (!h.hit) {
-      if (exact < h.nearest) {
-        h.nearest = exact;
-        h.t = t;
-      }
-      if (exact <= 0.0) {
-        h.hit = true;
-        h.t = t;
-        if (!wantShade && !behind) break;
-      }
-    }
-    if (h.hit && assumed <= 0.0) {
-      surface = true;
-      h.t = t;
+    f = hullAt(origin + t * ray, lod, fromTable, trusted, b);
+    h.nearest = min(h.nearest, f.x);
+    if (f.x <= 0.0) {
+      h.hit = true;
       break;
     }
-    t -= max(h.hit ? assumed : exact, eps);
+    t -= max(f.x, eps);
     if (t < -tMax) break;
   }
-  if (h.hit && !surface) {  // no reflected surface along the ray: drawn where the exact hull is hit
-    vec3 pt = origin + h.t * ray;
-    for (int k = 0; k < 4; ++k) b[k] = hullBound(k, pt, lod, fromTable, trusted);
+  if (!h.hit) return h;
+  h.t = t;
+  if (wantEdge) {  // on into the hull until 2 px deep (or out of it)
+    h.deepest = f.x;
+    float s = t;
+    HullBound probe[4];
+    for (int i = 0; i < 8 && h.deepest > -2.0 * pixel; ++i) {
+      s -= max(-f.x, eps);
+      if (s < -tMax) break;
+      f = hullAt(origin + s * ray, lod, fromTable, trusted, probe);
+      if (f.x > 0.0) break;
+      h.deepest = min(h.deepest, f.x);
+    }
+  }
+  if (behind && wantShade) {
+    // The surface drawn: on from the hit to the first point behind every reflected front too (if
+    // the ray finds none, the hit itself).
+    float s = t;
+    HullBound at[4];
+    for (int i = 0; i < 32; ++i) {
+      f = hullAt(origin + s * ray, lod, fromTable, trusted, at);
+      if (f.y <= 0.0) {
+        h.t = s;
+        b = at;
+        break;
+      }
+      s -= max(f.y, eps);
+      if (s < -tMax) break;
+    }
   }
   if (h.hit && wantShade) {
     // The views that see the hit (it lies on their front surface, not behind it) see the same
@@ -244,15 +280,13 @@ void main() {
   bool marched = vHull == 1;
   if (marched) {
 #ifdef PUFF_CASTER
-    hull = hullMarch(lod, tpp, fromTable, trusted, false);
+    hull = hullMarch(lod, tpp, fromTable, trusted, false, false);
 #else
-    hull = hullMarch(lod, tpp, fromTable, trusted, uPass == 0);
+    hull = hullMarch(lod, tpp, fromTable, trusted, uPass != 2, uPass == 0);
 #endif
     depth = hull.t * vNormalXf[0][2].z;
-    // Inside, the blended distance maps say how far the edge is (its antialiasing and the ink's
-    // inner edge); outside, the least distance to the hull.
-    if (fromTable) dist = dist < trusted ? dist : max(tableDist, trusted);
-    dist = hull.hit ? min(dist, -1e-3) : max(hull.nearest * uAtlasScale.x, 1e-3);
+    // Outside, the least distance to the hull; inside, how deep the ray reaches into it.
+    dist = hull.hit ? min(hull.deepest * uAtlasScale.x, -1e-3) : max(hull.nearest * uAtlasScale.x, 1e-3);
   }
 #endif
   // The outline band: 0 < dist <= width (texels). From the map, the band and its antialiased edge

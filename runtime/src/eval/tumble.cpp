@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <puff/core/atlas.h>
+#include <puff/core/colour.h>
 #include <puff/eval/cel_reference.h>
 #include <puff/reference/metrics.h>
 #include <puff/render/render.h>
@@ -23,7 +24,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr float kSpacing = 1.5f;  // a square is 1.5 puff diameters: neighbours' ink never meets
-const glm::vec3 kBackground(0.9f);
+const glm::vec3 kBackground(0.9f);  // the scene's clear colour: a display (sRGB-encoded) value
 
 struct Grid {
   int columns = 0, rows = 0, square = 0;  // square: pixels per side
@@ -175,10 +176,12 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
   TumbleResult out;
   std::vector<double> times;
   double sumCoverage = 0.0, sumOutline = 0.0;
+  // Frames are scene-linear: the clear colour as the frames hold it.
+  const glm::vec3 linearBackground = core::srgbToLinear(kBackground);
   core::Image background(g.square, g.square, 4);
   for (int y = 0; y < g.square; ++y)
     for (int x = 0; x < g.square; ++x)
-      for (int c = 0; c < 4; ++c) background.at(x, y, c) = c < 3 ? kBackground[c] : 1.0f;
+      for (int c = 0; c < 4; ++c) background.at(x, y, c) = c < 3 ? linearBackground[c] : 1.0f;
   for (std::size_t f = 0; f < reference.rolls.size(); ++f) {
     auto s = gridScene(atlas, o, reference.rolls[f], variations);
     if (!s) return s.error();
@@ -196,6 +199,15 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
         if (std::abs(pitches[r]) == 90 && yaws[c] != 0) continue;  // the same poses as yaw 0
         const core::Image a = square(*image, static_cast<int>(c), static_cast<int>(r), g.square);
         const core::Image b = square(ref, static_cast<int>(c), static_cast<int>(r), g.square);
+        // The yardstick checks itself: a square's corner lies outside its puff (half a diameter
+        // from the centre of a square 1.5 diameters wide), so it must read as background.
+        for (const core::Image* im : {&a, &b}) {
+          if (reference::coverageMask(*im, background)[0]) {
+            return Error{"tumble sweep: a square's corner is not the background colour (" +
+                         std::to_string(im->at(0, 0, 0)) + " against " + std::to_string(linearBackground.x) +
+                         "): the coverage masks would be wrong"};
+          }
+        }
         TumblePose p{yaws[c], pitches[r], reference.rolls[f], index % variations};
         p.coverageIoU = reference::coverageIoU(a, b, background);
         // Ink: the outline colour, black, where the background is not.
