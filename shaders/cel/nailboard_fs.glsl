@@ -18,6 +18,7 @@ flat in vec4 vMap[PUFF_VIEWS];
 flat in mat3 vNormalXf[PUFF_VIEWS];
 #if PUFF_VIEWS == 4
 flat in int vHull;
+flat in ivec2 vCellAcross;
 flat in mat3 vBillboardPuff;
 flat in mat3 vPuffToView;
 #endif
@@ -59,17 +60,15 @@ out vec4 fragColor;
 struct HullView {
   int cell;
   float side;           // +1 seen from its own side, -1 from behind (a hemi-oct back)
-  float across;         // sine of the angle between the eye ray and the view (at least 0.02)
   vec3 right, up, dir;  // puff space; dir toward the baked view's viewer
 };
-HullView hullViews[4];
+const int kHullViews = 6;
+HullView hullViews[kHullViews];
 
 struct HullBound {
   float exact;    // > 0: outside what the view's maps bound (about the distance, diameters)
   float assumed;  // with a view from behind, also outside its reflected front
-  // How far along the eye ray the point is from entering those bounds: a point's distance to the
-  // view's silhouette shrinks at most `across` times as fast as the point moves along the ray.
-  float reach, reachAssumed;
+  bool wall;      // `exact` is the silhouette's (the swept silhouette's wall), not the front surface's
   vec4 texel;     // the packed texel read (filtered)
   vec2 uv;
 };
@@ -84,13 +83,14 @@ HullBound hullBound(int k, vec3 pt, float lod, bool fromTable, float trusted) {
   b.texel = inside ? textureLod(uPacked, b.uv, lod) : vec4(0.5, 0.5, 0.5, 1.0);
   float range = uAtlasScale.z;
   float dist = (b.texel.w - 0.5) * 2.0 * range;  // level-0 texels, > 0 outside the silhouette
-  if (fromTable && dist >= trusted)
-    dist = max((length(local) - silhouetteRadius(v.cell, local)) * uAtlasScale.x, trusted);
+  // Past the map's range (or where it is not trusted) the radius table's star-shaped hull holds the
+  // silhouette: the distance to it is at most the distance to the silhouette, and is not cut off at
+  // the range, so a ray far from the puff takes long steps.
+  if (dist >= trusted) dist = max((length(local) - silhouetteRadius(v.cell, local)) * uAtlasScale.x, fromTable ? trusted : dist);
   b.exact = dist / uAtlasScale.x;
   b.assumed = b.exact;
-  b.reach = b.exact > 0.0 ? b.exact / v.across : b.exact;
-  b.reachAssumed = b.reach;
-  if (dist <= 0.0) {
+  b.wall = true;
+  if (dist <= 0.0 && k < 4) {
     // The front surface's height is the largest of the four level-0 texels around the point that
     // lie inside the silhouette (outside, no depth is baked): a filtered read across an occluding
     // edge, or a coarse mip's, would cut away the nearer lump. Less what the map cannot tell: a step
@@ -107,12 +107,10 @@ HullBound hullBound(int k, vec3 pt, float lod, bool fromTable, float trusted) {
       float h = dot(pt, v.dir);
       float above = h - front;
       float depthBound = above > 0.0 ? above * slope : above;
+      b.wall = b.exact >= depthBound;
       b.exact = max(b.exact, depthBound);
-      b.reach = max(b.reach, depthBound);
       float reflected = -h - front;
-      float reflectedBound = v.side > 0.0 ? depthBound : (reflected > 0.0 ? reflected * slope : reflected);
-      b.assumed = max(b.exact, reflectedBound);
-      b.reachAssumed = max(b.reach, reflectedBound);
+      b.assumed = v.side > 0.0 ? b.exact : max(b.exact, reflected > 0.0 ? reflected * slope : reflected);
     }
   }
   return b;
@@ -127,31 +125,33 @@ struct HullHit {
   vec3 color;     // a hit: scene-linear
 };
 
-// Every view's bound at `pt`, and the hull's: x exact, y with the reflected fronts assumed; z and
-// w how far along the ray each is from being met (the step that cannot pass into the hull).
-vec4 hullAt(vec3 pt, float lod, bool fromTable, float trusted, out HullBound b[4]) {
-  float sphere = length(pt) - 0.5;
-  vec4 f = vec4(sphere);
-  for (int k = 0; k < 4; ++k) {
+// Every view's bound at `pt`, and the hull's: x exact, y with the reflected fronts assumed. `wall`:
+// the exact bound that decides is a silhouette's (or the sphere's), not a front surface's.
+vec2 hullAt(vec3 pt, float lod, bool fromTable, float trusted, out HullBound b[kHullViews], out bool wall) {
+  vec2 f = vec2(length(pt) - 0.5);
+  wall = true;
+  for (int k = 0; k < kHullViews; ++k) {
     b[k] = hullBound(k, pt, lod, fromTable, trusted);
-    f = max(f, vec4(b[k].exact, b[k].assumed, b[k].reach, b[k].reachAssumed));
+    if (b[k].exact > f.x) wall = b[k].wall;
+    f = max(f, vec2(b[k].exact, b[k].assumed));
   }
   return f;
 }
 
 // wantEdge: how deep a hit reaches (the antialiased edge and the ink's inner edge); wantShade: the
 // normal and colour of a hit.
-HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, bool wantEdge, bool wantShade) {
+// reach: diameters past the silhouette where anything is drawn (the ink and its antialiased edge).
+HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, float reach, bool wantEdge, bool wantShade) {
   bool behind = false;
-  for (int k = 0; k < 4; ++k) {
+  for (int k = 0; k < kHullViews; ++k) {
     HullView v;
-    v.cell = vCell[k];
+    v.cell = k < 4 ? vCell[k] : vCellAcross[k - 4];
     v.right = cells[v.cell].right.xyz;
     v.up = cells[v.cell].up.xyz;
     v.dir = cells[v.cell].dir.xyz;
     // A hemi-oct cell whose viewer is on the far side stands for the view from behind.
-    v.side = uAtlasLayout.w != 1 && dot(v.dir, vBillboardPuff[2]) < 0.0 ? -1.0 : 1.0;
-    v.across = max(length(cross(v.dir, vBillboardPuff[2])), 0.02);
+    // (The views across the ray bound only: their own sides.)
+    v.side = k < 4 && uAtlasLayout.w != 1 && dot(v.dir, vBillboardPuff[2]) < 0.0 ? -1.0 : 1.0;
     hullViews[k] = v;
     behind = behind || v.side < 0.0;
   }
@@ -165,32 +165,38 @@ HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, bool want
   HullHit h;
   h.hit = false;
   h.t = 0.0;
-  h.nearest = 1e9;
+  h.nearest = length(origin) - 0.5;
   h.deepest = 0.0;
-  HullBound b[4];
+  if (h.nearest > reach) return h;  // farther from the sphere than any ink reaches: nothing to read
+  HullBound b[kHullViews];
   // The exact hull: the first point inside it, or the least distance of a ray that misses.
   float t = tMax;
-  vec4 f;
+  vec2 f;
+  bool wall = true, throughWall = true;
   for (int i = 0; i < 64; ++i) {
-    f = hullAt(origin + t * ray, lod, fromTable, trusted, b);
-    h.nearest = min(h.nearest, f.x);
+    f = hullAt(origin + t * ray, lod, fromTable, trusted, b, wall);
+    h.nearest = i == 0 ? f.x : min(h.nearest, f.x);
     if (f.x <= 0.0) {
       h.hit = true;
       break;
     }
+    throughWall = wall;
     t -= max(f.x, eps);
     if (t < -tMax) break;
   }
   if (!h.hit) return h;
   h.t = t;
-  if (wantEdge) {  // on into the hull until 2 px deep (or out of it)
+  // A ray that enters through a front surface is inside the silhouette: its pixel is body. One that
+  // enters through a silhouette's wall may graze it: on into the hull until 2 px deep (or out).
+  h.deepest = -2.0 * pixel;
+  if (wantEdge && throughWall) {
     h.deepest = f.x;
     float s = t;
-    HullBound probe[4];
+    HullBound probe[kHullViews];
     for (int i = 0; i < 8 && h.deepest > -2.0 * pixel; ++i) {
       s -= max(-f.x, eps);
       if (s < -tMax) break;
-      f = hullAt(origin + s * ray, lod, fromTable, trusted, probe);
+      f = hullAt(origin + s * ray, lod, fromTable, trusted, probe, wall);
       if (f.x > 0.0) break;
       h.deepest = min(h.deepest, f.x);
     }
@@ -199,9 +205,9 @@ HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, bool want
     // The surface drawn: on from the hit to the first point behind every reflected front too (if
     // the ray finds none, the hit itself).
     float s = t;
-    HullBound at[4];
+    HullBound at[kHullViews];
     for (int i = 0; i < 32; ++i) {
-      f = hullAt(origin + s * ray, lod, fromTable, trusted, at);
+      f = hullAt(origin + s * ray, lod, fromTable, trusted, at, wall);
       if (f.y <= 0.0) {
         h.t = s;
         b = at;
@@ -222,20 +228,22 @@ HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, bool want
       vec4 texel = b[k].texel;
       vec2 nxy = texel.xy * 2.0 - 1.0;
       float nz = sqrt(max(0.0, 1.0 - dot(nxy, nxy)));
-      if (texel.w > 0.5) continue;
       // How far the hit lies off this view's surface along its direction: a view that sees another
       // lump there (the hit lies behind it) or none at all (in front of it) fades out.
       float off = abs((texel.z - 0.5) * uAtlasScale.y - v.side * dot(pt, v.dir)) * max(nz, 0.25) / pixel;
       // Near a view's silhouette its filtered normal is mixed with the empty texels outside (no
       // normal): that view's rim may cross the middle of the puff the eye sees. It fades out there.
       float rim = (0.5 - texel.w) * 2.0 * uAtlasScale.z / exp2(ceil(lod));  // texels of the level read
-      float w = (vWeight[k] + 1e-3) * (smoothstep(0.5, 2.5, rim) + 1e-4) * (1.0 - smoothstep(2.0, 4.0, off) + 1e-4);
+      // A view that faces the surface there sees it best (its normal's z: the cosine).
+      float w = (vWeight[k] + 0.05) * (nz * nz + 1e-3) * (smoothstep(0.5, 2.5, rim) + 1e-4) *
+                (1.0 - smoothstep(2.0, 4.0, off) + 1e-4);
       n += w * (nxy.x * v.right + nxy.y * v.up + v.side * nz * v.dir);
       color += w * textureLod(uColor, b[k].uv, lod).rgb;
       total += w;
     }
-    h.normal = total > 0.0 ? vPuffToView * normalize(n) : vPuffToView * ray;
-    h.color = total > 0.0 ? color / total : vec3(0.0);
+    // (Every view weighs something; where none sees the point well, the least bad decide.)
+    h.normal = vPuffToView * normalize(n);
+    h.color = color / total;
   }
   return h;
 }
@@ -262,7 +270,16 @@ void main() {
   vec2 nxy[PUFF_VIEWS];
   bool inside[PUFF_VIEWS];
   float depth = 0.0, dist = 0.0, tableDist = 0.0;
+#if PUFF_VIEWS == 4
+  bool marched = vHull == 1;  // an oriented puff: hullMarch below, not the blend of four views
+#else
+  const bool marched = false;
+#endif
   for (int k = 0; k < PUFF_VIEWS; ++k) {  // a constant bound: unrolled
+    uv[k] = vec2(0.0);
+    nxy[k] = vec2(0.0);
+    inside[k] = false;
+    if (marched) continue;
     vec2 local = mat2(vMap[k].xy, vMap[k].zw) * vPuff;  // the cell's view, puff diameters
     uv[k] = cellUv(vCell[k], local);
     // Lookups stay inside their cell: a rolled or foreshortened quad reaches past the cell's
@@ -277,12 +294,12 @@ void main() {
   }
 #if PUFF_VIEWS == 4
   HullHit hull;
-  bool marched = vHull == 1;
   if (marched) {
+    float reach = (wantTexels + tpp) / uAtlasScale.x;
 #ifdef PUFF_CASTER
-    hull = hullMarch(lod, tpp, fromTable, trusted, false, false);
+    hull = hullMarch(lod, tpp, fromTable, trusted, reach, false, false);
 #else
-    hull = hullMarch(lod, tpp, fromTable, trusted, uPass != 2, uPass == 0);
+    hull = hullMarch(lod, tpp, fromTable, trusted, reach, uPass != 2, uPass == 0);
 #endif
     depth = hull.t * vNormalXf[0][2].z;
     // Outside, the least distance to the hull; inside, how deep the ray reaches into it.

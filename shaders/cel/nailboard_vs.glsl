@@ -20,6 +20,7 @@ flat out mat3 vNormalXf[PUFF_VIEWS];   // cell camera space -> camera (view) spa
 // (nailboard_fs.glsl, hullMarch): the billboard's right, up and normal (toward the eye) in puff
 // space, and puff space -> camera space.
 flat out int vHull;
+flat out ivec2 vCellAcross;  // the views nearest the billboard's right and up: they bound the depth
 flat out mat3 vBillboardPuff;
 flat out mat3 vPuffToView;
 #endif
@@ -55,6 +56,23 @@ uniform vec3 uEyeUp;
 // The fragment stage's outline switch and width (pixels): a small puff's quad grows to hold its band.
 uniform int uOutlines;
 uniform float uOutlineWidth;
+// 1: oriented puffs are drawn by marching the hull of their views (Style::tumble "hull"); 0: blended.
+uniform int uTumbleHull;
+
+#if PUFF_VIEWS == 4
+// The atlas cell whose view is nearest puff-space direction `d` (or its opposite, on a hemi-oct
+// atlas): seen across the eye ray, its silhouette bounds the puff's depth.
+int nearestView(Particle p, vec3 d) {
+  ivec4 cell;
+  vec4 weight;
+  selectViews(p, d, cell, weight);
+  int best = 0;
+  for (int k = 1; k < 4; ++k) {
+    if (weight[k] > weight[best]) best = k;
+  }
+  return cell[best];
+}
+#endif
 
 const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
 
@@ -80,7 +98,8 @@ void main() {
   vNormalXf[1] = toView * cellToBillboard(vMap[1]);
   vNormalXf[2] = toView * cellToBillboard(vMap[2]);
   vNormalXf[3] = toView * cellToBillboard(vMap[3]);
-  vHull = p.oriented && uAtlasLayout.y > 1 ? 1 : 0;
+  vHull = p.oriented && uAtlasLayout.y > 1 && uTumbleHull == 1 ? 1 : 0;
+  vCellAcross = ivec2(nearestView(p, rP), nearestView(p, uP));
   vBillboardPuff = mat3(rP, uP, toward);
   vPuffToView = mat3(uView) * puff;
 #endif

@@ -352,7 +352,8 @@ int main(int argc, char** argv) {
           "                 [--no-counts: skip the particle-count sweep] [--art-dir DIR]\n"
           "                 [--tumble-csv FILE] [--tumble-atlases LIST (oct3,oct5,oct7,oct9,hemioct3,\n"
           "                 hemioct5,hemioct7)] [--tumble-cells LIST (64,128,256)] [--tumble-step DEG (15)]\n"
-          "                 (tumble: frame times are eval::measureTumble's, 3 renders a roll; --reps is not used)\n");
+          "                 (tumble: each atlas drawn by both tumble methods, hull and blend; frame times are\n"
+          "                 eval::measureTumble's, 3 renders a roll; --reps is not used)\n");
       return puff::bench::usageExit(argv[i]);
     }
   }
@@ -374,9 +375,9 @@ int main(int argc, char** argv) {
     }
     for (const puffbench::TumbleRow& r : *rows) {
       std::fprintf(stderr,
-                   "%-8s %dx%d views, %4d texels: %9zu bytes, %zu poses: coverage IoU min %.4f mean %.4f (%.1f%% >= "
-                   "0.95), outline IoU min %.4f mean %.4f (%.1f%% >= 0.5), %.1f ms\n",
-                   r.layout.c_str(), r.grid, r.grid, r.cellSize, r.atlasBytes, r.poses, r.minCoverageIoU,
+                   "%-8s %dx%d views, %4d texels, %-5s: %9zu bytes, %zu poses: coverage IoU min %.4f mean %.4f (%.1f%% "
+                   ">= 0.95), outline IoU min %.4f mean %.4f (%.1f%% >= 0.5), %.1f ms\n",
+                   r.layout.c_str(), r.grid, r.grid, r.cellSize, r.method.c_str(), r.atlasBytes, r.poses, r.minCoverageIoU,
                    r.meanCoverageIoU, 100.0 * r.coverageShare, r.minOutlineIoU, r.meanOutlineIoU,
                    100.0 * r.outlineShare, r.ms);
     }

@@ -4,7 +4,9 @@
 // nailboards are turned through the sweep of eval::tumblePoses (yaw, pitch and roll every 15 degrees)
 // and compared pose by pose with ONE cel reference of the same poses (eval::renderTumbleReference:
 // it turns the actual meshes, so it depends on the meshes and the sweep only, not on the atlas).
-// Per atlas: its GL texture memory (core::atlasTextureBytes), coverage IoU and outline IoU over the
+// Each atlas is measured twice: its puffs drawn by marching the hull of their views (cel::Style::tumble
+// "hull", the default) and by blending four views ("blend").
+// Per atlas and method: its GL texture memory (core::atlasTextureBytes), coverage IoU and outline IoU over the
 // poses (smallest, mean, and the share of poses at the bars: coverage >= 0.95, outline >= 0.5),
 // and the median time of a frame of the pose grid (nailboards only). Not a test: nothing fails here.
 #include "puffbench_tumble.h"
@@ -99,11 +101,13 @@ Result<std::vector<TumbleRow>> runTumbleBench(const TumbleBenchOptions& opt) {
         log("the reference of " + std::to_string(eval::tumblePoses(tumble.stepDegrees).size()) + " poses, " +
             std::to_string(reference->rolls.size()) + " frames");
       }
+      for (cel::TumbleMethod method : {cel::TumbleMethod::kHull, cel::TumbleMethod::kBlend}) {
       double ms = 0.0;
-      auto result = eval::measureTumble(baked->sidecar, *reference, &ms);
+      auto result = eval::measureTumble(baked->sidecar, *reference, method, &ms);
       if (!result) return result.error();
       TumbleRow r;
       r.layout = a.layout;
+      r.method = std::string(cel::toString(method));
       r.grid = a.grid;
       r.views = a.grid * a.grid;
       r.cellSize = cell;
@@ -124,7 +128,8 @@ Result<std::vector<TumbleRow>> runTumbleBench(const TumbleBenchOptions& opt) {
       }
       r.ms = ms;
       rows.push_back(r);
-      log(name + ": measured");
+      log(name + ": measured, " + r.method);
+      }
       std::error_code ec;
       fs::remove_all(o.outDir, ec);  // the next atlas needs its own; this one is done
     }
@@ -135,11 +140,11 @@ Result<std::vector<TumbleRow>> runTumbleBench(const TumbleBenchOptions& opt) {
 std::string tumbleCsv(const std::vector<TumbleRow>& rows) {
   std::string csv =
       "layout,grid,views,cell_size,atlas_bytes,poses,coverage_iou_min,coverage_iou_mean,coverage_share_095,"
-      "outline_iou_min,outline_iou_mean,outline_share_05,median_ms\n";
+      "outline_iou_min,outline_iou_mean,outline_share_05,median_ms,method\n";
   for (const TumbleRow& r : rows) {
-    bench::appendf(csv, "%s,%d,%d,%d,%zu,%zu,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f\n", r.layout.c_str(), r.grid, r.views,
-                   r.cellSize, r.atlasBytes, r.poses, r.minCoverageIoU, r.meanCoverageIoU, r.coverageShare,
-                   r.minOutlineIoU, r.meanOutlineIoU, r.outlineShare, r.ms);
+    bench::appendf(csv, "%s,%d,%d,%d,%zu,%zu,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.3f,%s\n", r.layout.c_str(), r.grid,
+                   r.views, r.cellSize, r.atlasBytes, r.poses, r.minCoverageIoU, r.meanCoverageIoU, r.coverageShare,
+                   r.minOutlineIoU, r.meanOutlineIoU, r.outlineShare, r.ms, r.method.c_str());
   }
   return csv;
 }

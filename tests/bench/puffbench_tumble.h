@@ -24,9 +24,10 @@ struct TumbleBenchOptions {
   int stepDegrees = 15;  ///< eval::TumbleOptions::stepDegrees: yaw, pitch and roll this far apart
 };
 
-/// One atlas measured over the whole sweep against the cel reference.
+/// One atlas measured over the whole sweep against the cel reference, drawn by one tumble method.
 struct TumbleRow {
   std::string layout;
+  std::string method;  ///< cel::Style::tumble: "hull" or "blend"
   int grid = 0, views = 0, cellSize = 0;  ///< views: per variation (grid^2)
   std::size_t atlasBytes = 0;             ///< core::atlasTextureBytes of the baked atlas: what the GL holds
   std::size_t poses = 0;
@@ -36,7 +37,8 @@ struct TumbleRow {
 };
 
 /// Bakes each atlas of options.atlases x options.cellSizes from the art's four puffs and measures it
-/// with eval::measureTumble against one eval::renderTumbleReference of the sweep (all rolls). Needs a
+/// with eval::measureTumble, once per tumble method (hull, blend), against one
+/// eval::renderTumbleReference of the sweep (all rolls). Needs a
 /// current GL 4.5 context. Logs progress to stderr.
 puff::Result<std::vector<TumbleRow>> runTumbleBench(const TumbleBenchOptions& options);
 std::string tumbleCsv(const std::vector<TumbleRow>& rows);

@@ -193,8 +193,9 @@ GP
 fi
 
 # Tumbling puffs (issue 22): each multi-view atlas's GL memory against its error over the sweep of
-# poses, one series per view layout (filled: 1 - mean coverage IoU; open: 1 - the worst pose's),
-# points labelled with views x cell size (once: both layouts of one grid and cell size take the same memory).
+# poses, one series per view layout and tumble method (filled: 1 - mean coverage IoU; open: 1 - the
+# worst pose's), points labelled with views x cell size (once: both layouts of one grid and cell size
+# take the same memory).
 if [ -s "$out/tumble.csv" ]; then
   tail -n +2 "$out/tumble.csv" > "$tmp/tumble.dat"
   chart "tumble" 1000,650 <<GP
@@ -202,15 +203,19 @@ set title "Tumbling puffs: multi-view atlas memory against error over yaw, pitch
 set xlabel "atlas GL texture memory, MiB (core::atlasTextureBytes, every mip level)"
 set ylabel "1 - coverage IoU against the cel reference"
 set logscale xy
-set yrange [0.02:0.2]
-set ytics add (0.02, 0.03, 0.05, 0.07, 0.15, 0.2)
+set yrange [0.01:0.4]
+set ytics add (0.01, 0.02, 0.03, 0.05, 0.07, 0.15, 0.2, 0.3)
 set grid
 set key top right
-plot "$tmp/tumble.dat" using (stringcolumn(1) eq "oct" ? \$5 / 1048576 : 1/0):(1 - \$8) with points pt 7 ps 1.3 lc rgb "#1f77b4" title "oct (whole sphere): 1 - mean", \
-     "$tmp/tumble.dat" using (stringcolumn(1) eq "oct" ? \$5 / 1048576 : 1/0):(1 - \$7) with points pt 6 ps 1.3 lc rgb "#1f77b4" title "oct: 1 - worst pose", \
-     "$tmp/tumble.dat" using (stringcolumn(1) eq "hemioct" ? \$5 / 1048576 : 1/0):(1 - \$8) with points pt 5 ps 1.3 lc rgb "#d62728" title "hemioct (front half, back mirrored): 1 - mean", \
-     "$tmp/tumble.dat" using (stringcolumn(1) eq "hemioct" ? \$5 / 1048576 : 1/0):(1 - \$7) with points pt 4 ps 1.3 lc rgb "#d62728" title "hemioct: 1 - worst pose", \
-     "$tmp/tumble.dat" using (\$5 / 1048576):(1 - \$8):(stringcolumn(1) eq "oct" ? sprintf("%dx%d x %d", \$2, \$2, \$4) : "") with labels offset 0,-1 font ",8" notitle, \
+plot "$tmp/tumble.dat" using (stringcolumn(1) eq "oct" && stringcolumn(14) eq "hull" ? \$5 / 1048576 : 1/0):(1 - \$8) with points pt 7 ps 1.3 lc rgb "#1f77b4" title "oct, hull: 1 - mean", \
+     "$tmp/tumble.dat" using (stringcolumn(1) eq "oct" && stringcolumn(14) eq "hull" ? \$5 / 1048576 : 1/0):(1 - \$7) with points pt 6 ps 1.3 lc rgb "#1f77b4" title "oct, hull: 1 - worst pose", \
+     "$tmp/tumble.dat" using (stringcolumn(1) eq "hemioct" && stringcolumn(14) eq "hull" ? \$5 / 1048576 : 1/0):(1 - \$8) with points pt 5 ps 1.3 lc rgb "#d62728" title "hemioct, hull: 1 - mean", \
+     "$tmp/tumble.dat" using (stringcolumn(1) eq "hemioct" && stringcolumn(14) eq "hull" ? \$5 / 1048576 : 1/0):(1 - \$7) with points pt 4 ps 1.3 lc rgb "#d62728" title "hemioct, hull: 1 - worst pose", \
+     "$tmp/tumble.dat" using (stringcolumn(1) eq "oct" && stringcolumn(14) eq "blend" ? \$5 / 1048576 : 1/0):(1 - \$8) with points pt 9 ps 1.1 lc rgb "#9ecae1" title "oct, blend: 1 - mean", \
+     "$tmp/tumble.dat" using (stringcolumn(1) eq "oct" && stringcolumn(14) eq "blend" ? \$5 / 1048576 : 1/0):(1 - \$7) with points pt 8 ps 1.1 lc rgb "#9ecae1" title "oct, blend: 1 - worst pose", \
+     "$tmp/tumble.dat" using (stringcolumn(1) eq "hemioct" && stringcolumn(14) eq "blend" ? \$5 / 1048576 : 1/0):(1 - \$8) with points pt 13 ps 1.1 lc rgb "#fc9272" title "hemioct, blend: 1 - mean", \
+     "$tmp/tumble.dat" using (stringcolumn(1) eq "hemioct" && stringcolumn(14) eq "blend" ? \$5 / 1048576 : 1/0):(1 - \$7) with points pt 12 ps 1.1 lc rgb "#fc9272" title "hemioct, blend: 1 - worst pose", \
+     "$tmp/tumble.dat" using (\$5 / 1048576):(1 - \$7):(stringcolumn(1) eq "oct" && stringcolumn(14) eq "hull" ? sprintf("%dx%d x %d", \$2, \$2, \$4) : "") with labels offset 0,-1 font ",8" notitle, \
      0.05 with lines dt 2 lc rgb "#555555" title "issue 22's bar: coverage IoU 0.95"
 GP
 fi
@@ -508,11 +513,11 @@ fi
     echo "at issue 22's bars (coverage >= 0.95, outline >= 0.5). Frame ms: the median time of one frame of the"
     echo "pose grid (one roll: 24 x 13 puffs at 1728 x 936), nailboards only."
     echo
-    echo "| layout | views | cell texels | atlas MiB | poses | coverage IoU worst | mean | share >= 0.95 | outline IoU worst | mean | share >= 0.5 | frame ms |"
-    echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
-    tail -n +2 "$out/tumble.csv" | awk -F, '{printf "| %s | %dx%d | %d | %.1f | %d | %.4f | %.4f | %.3f | %.4f | %.4f | %.3f | %.0f |\n", $1, $2, $2, $4, $5 / 1048576, $6, $7, $8, $9, $10, $11, $12, $13}'
+    echo "| layout | views | cell texels | method | atlas MiB | poses | coverage IoU worst | mean | share >= 0.95 | outline IoU worst | mean | share >= 0.5 | frame ms |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    tail -n +2 "$out/tumble.csv" | awk -F, '{printf "| %s | %dx%d | %d | %s | %.1f | %d | %.4f | %.4f | %.3f | %.4f | %.4f | %.3f | %.0f |\n", $1, $2, $2, $4, $14, $5 / 1048576, $6, $7, $8, $9, $10, $11, $12, $13}'
     echo
-    tail -n +2 "$out/tumble.csv" | awk -F, '$7 >= 0.95 && $10 >= 0.5 {n++; if (!best || $5 < bytes) {best = $1 " " $2 "x" $2 " x " $4; bytes = $5}}
+    tail -n +2 "$out/tumble.csv" | awk -F, '$7 >= 0.95 && $10 >= 0.5 {n++; if (!best || $5 < bytes) {best = $1 " " $2 "x" $2 " x " $4 " (" $14 ")"; bytes = $5}}
       END {if (n) printf "Atlases with every pose at both bars: %d; the smallest, %s, %.1f MiB.\n", n, best, bytes / 1048576;
            else print "No atlas here has every pose at both bars (coverage IoU >= 0.95 and outline IoU >= 0.5)."}'
     echo

@@ -188,6 +188,7 @@ TEST(Scene, ErrorsNameTheFileThePointerWhatWasExpectedAndWhatCame) {
       {R"({"style": {"alignment": "sideways"}})",
        "/style/alignment: expected one of view-plane, viewpoint, axial, got \"sideways\""},
       {R"({"style": {"shadowBias": 2}})", "/style/shadowBias: expected a number in [0, 1], got 2"},
+      {R"({"style": {"tumble": "spin"}})", "/style/tumble: expected one of hull, blend, got \"spin\""},
       {R"({"style": {"outlineWidth": -1}})", "/style/outlineWidth: expected a number in [0, 64], got -1"},
       {R"({"atlas": "a.json", "particles": [{"variation": 256}]})",
        "/particles/0/variation: expected an integer in [0, 255], got 256"},
@@ -349,7 +350,8 @@ json everything() {
     "ramp": {"image": "../ramps/q.png", "smooth": true},
     "atlas": "${PUFF_ART}/default/puff.json",
     "style": {"preset": "ink", "outlines": false, "outlineWidth": 1.5, "outlineColor": [0.2, 0.1, 0],
-              "shading": true, "shadows": true, "alignment": "viewpoint", "shadowBias": 0.3, "shadowLength": 12},
+              "shading": true, "shadows": true, "alignment": "viewpoint", "shadowBias": 0.3, "shadowLength": 12,
+              "tumble": "blend"},
     "particles": [{"position": [1, 2, 3], "size": 0.7, "variation": 3, "oriented": true,
                    "orientation": {"axis": [1, 1, 0], "degrees": 40}, "velocity": [0.1, 0, 0],
                    "angularVelocity": [0, 1, 0], "birth": 0.5, "lifetime": 3}],
@@ -407,6 +409,7 @@ TEST(Scene, ToJsonRoundTripsEveryField) {
   EXPECT_EQ(t.style.alignment, puff::cel::Alignment::kViewpoint);
   EXPECT_EQ(t.style.shadowBias, s.style.shadowBias);
   EXPECT_EQ(t.style.shadowLength, s.style.shadowLength);
+  EXPECT_EQ(t.style.tumble, puff::cel::TumbleMethod::kBlend);
   ASSERT_EQ(t.particles.size(), 1u);
   const auto &p = s.particles[0], &q = t.particles[0];
   EXPECT_EQ(q.position, p.position);

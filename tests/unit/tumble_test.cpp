@@ -7,10 +7,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <algorithm>
 #include <map>
 
 #include <puff/bake/baker.h>
@@ -31,20 +31,25 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// An atlas's views, and the floors its sweep must keep: coverage IoU (worst pose, mean over the
-// poses) and outline IoU (worst, mean). The floors are what this code measured (tests/unit, 48-px
-// puffs, point-sampled) less about 0.01: they catch a change that turns puffs worse. They are not
-// issue 22's targets (coverage >= 0.95 and outline >= 0.5 at every pose), which the means meet from
-// 5 x 5 views on and the worst poses do not: blending four views' silhouettes leaves up to ~8% of a
-// lumpy puff's pixels off where a pose lies between views (docs/report/README.md, "Tumbling puffs").
+// An atlas's views, the tumble method (cel::Style::tumble), and the floors its sweep must keep:
+// coverage IoU (worst pose, mean over the poses) and outline IoU (worst, mean). The floors are what
+// this code measured (tests/unit, 48-px puffs, point-sampled, roll every 45 degrees) less about 0.01:
+// they catch a change that turns puffs worse. The hull meets issue 22's outline target (>= 0.5 at
+// every pose) at every atlas here; its coverage target (>= 0.95 at every pose) it does not: the worst
+// poses reach 0.916-0.943 (the baked front view itself, unturned, reaches 0.974-0.979 against the
+// mesh at this size, where a pixel all around the silhouette is about 10% of a puff's pixels).
+// docs/cel-rendering.md, "Tumbling puffs", and docs/report/README.md have the numbers. The blend is
+// kept for its cost (about an eighth of the hull's on llvmpipe) and guarded at two atlases.
 struct Config {
   bake::ViewLayout layout;
   int grid;
   double minCoverage, meanCoverage, minOutline, meanOutline;
+  cel::TumbleMethod method = cel::TumbleMethod::kHull;
 };
 
 std::string name(const Config& c) {
-  return std::string(c.layout == bake::ViewLayout::kOct ? "oct" : "hemioct") + std::to_string(c.grid);
+  return std::string(c.layout == bake::ViewLayout::kOct ? "oct" : "hemioct") + std::to_string(c.grid) +
+         (c.method == cel::TumbleMethod::kBlend ? "_blend" : "");
 }
 
 // Each suite bakes into its own directory, removed when the suite ends.
@@ -116,7 +121,7 @@ TEST_P(Tumble, EveryPoseKeepsItsSilhouetteAndItsInk) {
   const fs::path atlas = atlasFor(c);
   ASSERT_FALSE(atlas.empty());
   const eval::TumbleReference& ref = reference(atlas);
-  auto result = eval::measureTumble(atlas, ref);
+  auto result = eval::measureTumble(atlas, ref, c.method);
   ASSERT_OK(result);
   ASSERT_EQ(result->poses.size(), eval::tumblePoses(15).size() / 3);
   const eval::TumblePose* worstCoverage = &result->poses.front();
@@ -131,6 +136,12 @@ TEST_P(Tumble, EveryPoseKeepsItsSilhouetteAndItsInk) {
       name(c).c_str(), result->poses.size(), result->minCoverageIoU, worstCoverage->yaw, worstCoverage->pitch,
       worstCoverage->roll, result->meanCoverageIoU, result->minOutlineIoU, worstOutline->yaw, worstOutline->pitch,
       worstOutline->roll, result->meanOutlineIoU);
+  // What a baked view itself scores (the front view, unturned): the floor of any interpolation.
+  for (const eval::TumblePose& p : result->poses) {
+    if (p.yaw == 0 && p.pitch == 0)
+      std::printf("  the front view itself (roll %d, variation %d): coverage IoU %.4f outline IoU %.4f\n", p.roll,
+                  p.variation, p.coverageIoU, p.outlineIoU);
+  }
   // The worst few poses, to see where a change went wrong.
   std::vector<eval::TumblePose> poses = result->poses;
   std::sort(poses.begin(), poses.end(), [](const eval::TumblePose& a, const eval::TumblePose& b) {
@@ -148,6 +159,9 @@ TEST_P(Tumble, EveryPoseKeepsItsSilhouetteAndItsInk) {
 
 // ---- what a tumbling puff must never show ---------------------------------------------------------
 
+// Both ways of drawing a tumbling puff (cel::Style::tumble) must keep what follows.
+constexpr const char* kMethods[] = {"hull", "blend"};
+
 // One hemi-oct 5 x 5 atlas of the art's puffs; scenes of a few oriented puffs drawn by the cel path.
 class TumbleCases : public TumbleBase {
  protected:
@@ -159,22 +173,24 @@ class TumbleCases : public TumbleBase {
   // 160 px a puff diameter, orthographic camera on +z, the light from the camera (every surface the
   // camera sees faces it: the lit band), outlines 2 px.
   static nlohmann::json sceneJson(const fs::path& atlas, const nlohmann::json& particles,
-                                  const nlohmann::json& objects = nlohmann::json::array()) {
-    return {{"output", {{"width", 240}, {"height", 240}, {"samples", 1}, {"background", {0.9, 0.9, 0.9}}}},
-            {"camera",
-             {{"position", {0, 0, 20}},
-              {"target", {0, 0, 0}},
-              {"up", {0, 1, 0}},
-              {"fovY", 0},
-              {"orthoHeight", 1.5},
-              {"near", 1},
-              {"far", 40}}},
-            {"light", {{"direction", {0, 0, 1}}, {"color", {0.5, 0.5, 0.5}}}},
-            {"ambient", {{"color", {0.3, 0.3, 0.3}}}},
-            {"atlas", atlas.string()},
-            {"style", {{"outlines", true}, {"outlineWidth", 2}, {"shading", true}, {"shadows", false}}},
-            {"particles", particles},
-            {"objects", objects}};
+                                  const nlohmann::json& objects = nlohmann::json::array(),
+                                  const char* tumble = "hull") {
+    return {
+        {"output", {{"width", 240}, {"height", 240}, {"samples", 1}, {"background", {0.9, 0.9, 0.9}}}},
+        {"camera",
+         {{"position", {0, 0, 20}},
+          {"target", {0, 0, 0}},
+          {"up", {0, 1, 0}},
+          {"fovY", 0},
+          {"orthoHeight", 1.5},
+          {"near", 1},
+          {"far", 40}}},
+        {"light", {{"direction", {0, 0, 1}}, {"color", {0.5, 0.5, 0.5}}}},
+        {"ambient", {{"color", {0.3, 0.3, 0.3}}}},
+        {"atlas", atlas.string()},
+        {"style", {{"outlines", true}, {"outlineWidth", 2}, {"shading", true}, {"shadows", false}, {"tumble", tumble}}},
+        {"particles", particles},
+        {"objects", objects}};
   }
 
   static Result<core::Image> render(const nlohmann::json& j) {
@@ -202,18 +218,21 @@ class TumbleCases : public TumbleBase {
 // A puff rolled about the view axis draws nothing past its silhouette's reach (half a diameter) plus
 // its band: the quad's corners, which reach past its cell, read nothing of the neighbouring cells.
 TEST_F(TumbleCases, RolledPuffsDrawNothingOfTheirNeighbours) {
-  for (int variation = 0; variation < 4; ++variation) {
-    for (float roll = 0.0f; roll < 90.0f; roll += 15.0f) {
-      auto im = render(sceneJson(hemiAtlas(), nlohmann::json::array({puff(variation, {0, 0, 1}, roll)})));
-      ASSERT_OK(im);
-      // 160 px a diameter: the silhouette within 80 px of the centre, the band 2 px past it, 1.5 px of edge.
-      int stray = 0;
-      for (int y = 0; y < im->height; ++y)
-        for (int x = 0; x < im->width; ++x) {
-          const float r = std::hypot(x + 0.5f - 120.0f, y + 0.5f - 120.0f);
-          if (r > 80.0f + 2.0f + 1.5f && !isBackground(*im, x, y)) ++stray;
-        }
-      EXPECT_EQ(stray, 0) << "variation " << variation << " roll " << roll;
+  for (const char* method : kMethods) {
+    for (int variation = 0; variation < 4; ++variation) {
+      for (float roll = 0.0f; roll < 90.0f; roll += 15.0f) {
+        auto im = render(sceneJson(hemiAtlas(), nlohmann::json::array({puff(variation, {0, 0, 1}, roll)}),
+                                   nlohmann::json::array(), method));
+        ASSERT_OK(im);
+        // 160 px a diameter: the silhouette within 80 px of the centre, the band 2 px past it, 1.5 px of edge.
+        int stray = 0;
+        for (int y = 0; y < im->height; ++y)
+          for (int x = 0; x < im->width; ++x) {
+            const float r = std::hypot(x + 0.5f - 120.0f, y + 0.5f - 120.0f);
+            if (r > 80.0f + 2.0f + 1.5f && !isBackground(*im, x, y)) ++stray;
+          }
+        EXPECT_EQ(stray, 0) << method << ": variation " << variation << " roll " << roll;
+      }
     }
   }
 }
@@ -223,25 +242,28 @@ TEST_F(TumbleCases, RolledPuffsDrawNothingOfTheirNeighbours) {
 // disc within sqrt(3)/2 of the radius, 3/4 of it. A lumpy puff is lit about as much from behind as from
 // the front; the back used to keep normals facing away, all in the dark band.
 TEST_F(TumbleCases, APuffSeenFromBehindIsLitLikeItsFront) {
-  auto litShare = [&](float yaw) -> double {
-    auto im = render(sceneJson(hemiAtlas(), nlohmann::json::array({puff(0, {0, 1, 0}, yaw)})));
-    EXPECT_OK(im);
-    if (!im) return 0.0;
-    int puffPx = 0, lit = 0;
-    // K_a + C K_L q (display values, white puffs): the lit band is 0.3 + 0.5 = 0.8 (0.60 scene-linear),
-    // the dark one at most 0.3 + 0.5 q_dark; split at 0.45 scene-linear.
-    for (int y = 0; y < im->height; ++y)
-      for (int x = 0; x < im->width; ++x) {
-        if (isBackground(*im, x, y) || im->at(x, y, 0) < 0.05f) continue;  // background or ink
-        ++puffPx;
-        lit += im->at(x, y, 0) > 0.45f;
-      }
-    return puffPx > 0 ? static_cast<double>(lit) / puffPx : 0.0;
-  };
-  const double front = litShare(0.0f), back = litShare(180.0f), side = litShare(120.0f);
-  EXPECT_NEAR(front, 0.75, 0.1);
-  EXPECT_NEAR(back, front, 0.1);
-  EXPECT_NEAR(side, front, 0.15);
+  for (const char* method : kMethods) {
+    auto litShare = [&](float yaw) -> double {
+      auto im = render(
+          sceneJson(hemiAtlas(), nlohmann::json::array({puff(0, {0, 1, 0}, yaw)}), nlohmann::json::array(), method));
+      EXPECT_OK(im);
+      if (!im) return 0.0;
+      int puffPx = 0, lit = 0;
+      // K_a + C K_L q (display values, white puffs): the lit band is 0.3 + 0.5 = 0.8 (0.60 scene-linear),
+      // the dark one at most 0.3 + 0.5 q_dark; split at 0.45 scene-linear.
+      for (int y = 0; y < im->height; ++y)
+        for (int x = 0; x < im->width; ++x) {
+          if (isBackground(*im, x, y) || im->at(x, y, 0) < 0.05f) continue;  // background or ink
+          ++puffPx;
+          lit += im->at(x, y, 0) > 0.45f;
+        }
+      return puffPx > 0 ? static_cast<double>(lit) / puffPx : 0.0;
+    };
+    const double front = litShare(0.0f), back = litShare(180.0f), side = litShare(120.0f);
+    EXPECT_NEAR(front, 0.75, 0.1) << method;
+    EXPECT_NEAR(back, front, 0.1) << method;
+    EXPECT_NEAR(side, front, 0.15) << method;
+  }
 }
 
 // A wall whose face is the puff's billboard plane: the puff's body bulges in front of it (d > 0), from
@@ -250,21 +272,23 @@ TEST_F(TumbleCases, APuffSeenFromBehindIsLitLikeItsFront) {
 TEST_F(TumbleCases, APuffSeenFromBehindBulgesTowardTheCamera) {
   const nlohmann::json wall = nlohmann::json::array(
       {{{"type", "box"}, {"translate", {0, 0, -1}}, {"scale", {3, 3, 1}}, {"albedo", {0.1, 0.5, 0.1}}}});
-  auto visible = [&](float yaw) {
-    auto im = render(sceneJson(hemiAtlas(), nlohmann::json::array({puff(1, {0, 1, 0}, yaw)}), wall));
-    EXPECT_OK(im);
-    if (!im) return 0;
-    int n = 0;
-    for (int y = 0; y < im->height; ++y)
-      for (int x = 0; x < im->width; ++x) {
-        const float r = im->at(x, y, 0), g = im->at(x, y, 1);
-        n += !(g > 1.5f * r);  // not the green wall
-      }
-    return n;
-  };
-  const int front = visible(0.0f), back = visible(180.0f);
-  EXPECT_GT(front, 8000);  // most of a 160-px puff
-  EXPECT_NEAR(static_cast<double>(back) / front, 1.0, 0.1);
+  for (const char* method : kMethods) {
+    auto visible = [&](float yaw) {
+      auto im = render(sceneJson(hemiAtlas(), nlohmann::json::array({puff(1, {0, 1, 0}, yaw)}), wall, method));
+      EXPECT_OK(im);
+      if (!im) return 0;
+      int n = 0;
+      for (int y = 0; y < im->height; ++y)
+        for (int x = 0; x < im->width; ++x) {
+          const float r = im->at(x, y, 0), g = im->at(x, y, 1);
+          n += !(g > 1.5f * r);  // not the green wall
+        }
+      return n;
+    };
+    const int front = visible(0.0f), back = visible(180.0f);
+    EXPECT_GT(front, 8000) << method;  // most of a 160-px puff
+    EXPECT_NEAR(static_cast<double>(back) / front, 1.0, 0.1) << method;
+  }
 }
 
 // From behind, a hemi-oct atlas shows the view opposite, mirrored: an orthographic silhouette seen
@@ -272,23 +296,26 @@ TEST_F(TumbleCases, APuffSeenFromBehindBulgesTowardTheCamera) {
 // the cel reference draws it (turned meshes). Yaw 180 +- 33.69 degrees puts -d on the 5 x 5 grid's
 // views (x, z) = (-+0.4, 0.6) normalized; lopsided puffs (variations 1 and 2) show any wrong mirror.
 TEST_F(TumbleCases, APuffSeenFromBehindShowsTheSilhouetteOfItsMesh) {
-  for (int variation : {1, 2}) {
-    for (float yaw : {180.0f, 213.69f, 146.31f}) {
-      const nlohmann::json j = sceneJson(hemiAtlas(), nlohmann::json::array({puff(variation, {0, 1, 0}, yaw)}));
-      auto scene = scene::parseScene(j, dir_ / "case.json");
-      ASSERT_OK(scene);
-      auto cel = render(j);
-      auto ref = eval::createCelReference(*scene, eval::CelReferenceOptions{.supersample = 1});
-      ASSERT_OK(cel);
-      ASSERT_OK(ref);
-      auto refImage = (*ref)->renderFrame(0);
-      ASSERT_OK(refImage);
-      core::Image background = *refImage;
-      for (int y = 0; y < background.height; ++y)
-        for (int x = 0; x < background.width; ++x)
-          for (int c = 0; c < 4; ++c) background.at(x, y, c) = refImage->at(0, 0, c);
-      const double iou = reference::coverageIoU(*cel, *refImage, background);
-      EXPECT_GE(iou, 0.97) << "variation " << variation << " yaw " << yaw;
+  for (const char* method : kMethods) {
+    for (int variation : {1, 2}) {
+      for (float yaw : {180.0f, 213.69f, 146.31f}) {
+        const nlohmann::json j = sceneJson(hemiAtlas(), nlohmann::json::array({puff(variation, {0, 1, 0}, yaw)}),
+                                           nlohmann::json::array(), method);
+        auto scene = scene::parseScene(j, dir_ / "case.json");
+        ASSERT_OK(scene);
+        auto cel = render(j);
+        auto ref = eval::createCelReference(*scene, eval::CelReferenceOptions{.supersample = 1});
+        ASSERT_OK(cel);
+        ASSERT_OK(ref);
+        auto refImage = (*ref)->renderFrame(0);
+        ASSERT_OK(refImage);
+        core::Image background = *refImage;
+        for (int y = 0; y < background.height; ++y)
+          for (int x = 0; x < background.width; ++x)
+            for (int c = 0; c < 4; ++c) background.at(x, y, c) = refImage->at(0, 0, c);
+        const double iou = reference::coverageIoU(*cel, *refImage, background);
+        EXPECT_GE(iou, 0.97) << method << ": variation " << variation << " yaw " << yaw;
+      }
     }
   }
 }
@@ -309,14 +336,17 @@ TEST_F(TumbleCases, OrientedPuffsOnAOneViewAtlasAreRefused) {
   EXPECT_OK(render(sceneJson(oneView, nlohmann::json::array({plain}))));
 }
 
-INSTANTIATE_TEST_SUITE_P(Atlases, Tumble,
-                         ::testing::Values(Config{bake::ViewLayout::kOct, 3, 0.87, 0.935, 0.31, 0.63},
-                                           Config{bake::ViewLayout::kOct, 5, 0.905, 0.945, 0.42, 0.72},
-                                           Config{bake::ViewLayout::kOct, 7, 0.915, 0.95, 0.54, 0.775},
-                                           Config{bake::ViewLayout::kHemiOct, 3, 0.88, 0.935, 0.40, 0.67},
-                                           Config{bake::ViewLayout::kHemiOct, 5, 0.89, 0.945, 0.45, 0.73},
-                                           Config{bake::ViewLayout::kHemiOct, 7, 0.885, 0.945, 0.49, 0.755}),
-                         [](const ::testing::TestParamInfo<Config>& i) { return name(i.param); });
+INSTANTIATE_TEST_SUITE_P(
+    Atlases, Tumble,
+    ::testing::Values(Config{bake::ViewLayout::kOct, 3, 0.905, 0.948, 0.68, 0.865},
+                      Config{bake::ViewLayout::kOct, 5, 0.92, 0.96, 0.77, 0.90},
+                      Config{bake::ViewLayout::kOct, 7, 0.923, 0.965, 0.815, 0.91},
+                      Config{bake::ViewLayout::kHemiOct, 3, 0.907, 0.952, 0.505, 0.77},
+                      Config{bake::ViewLayout::kHemiOct, 5, 0.925, 0.962, 0.49, 0.80},
+                      Config{bake::ViewLayout::kHemiOct, 7, 0.93, 0.965, 0.535, 0.81},
+                      Config{bake::ViewLayout::kOct, 3, 0.695, 0.91, 0.31, 0.63, cel::TumbleMethod::kBlend},
+                      Config{bake::ViewLayout::kHemiOct, 7, 0.875, 0.96, 0.495, 0.755, cel::TumbleMethod::kBlend}),
+    [](const ::testing::TestParamInfo<Config>& i) { return name(i.param); });
 
 }  // namespace
 }  // namespace puff

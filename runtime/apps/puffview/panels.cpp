@@ -128,6 +128,9 @@ void stylePanel(scene::Scene& s, Edits& edit) {
     edit(ImGui::SliderFloat("Shadow map scale", &st.shadowMapScale, 0.125f, 4.0f, "%.3f",
                             ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic));
   }
+  const char* tumbles[] = {"hull", "blend"};
+  int t = static_cast<int>(st.tumble);
+  if (edit(ImGui::Combo("Tumbling puffs", &t, tumbles, 2))) st.tumble = static_cast<cel::TumbleMethod>(t);
 }
 
 void lightPanel(scene::Scene& s, Edits& edit) {

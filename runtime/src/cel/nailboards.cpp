@@ -49,6 +49,7 @@ struct NailboardProgram {
   AtlasUniforms atlas;
   GLint pass = -1, shading = -1, outlines = -1, outlineWidth = -1, outlineColor = -1, multisample = -1;
   GLint casterBias = -1, eyeRight = -1, eyeUp = -1;  // the caster variants only (-1 elsewhere)
+  GLint tumbleHull = -1;                             // the multi-view variants only
 
   static Result<NailboardProgram> build(const std::string& name, const std::string& fragment = "") {
     auto p = core::buildProgram({"cel/" + name + ".vert", "cel/" + (fragment.empty() ? name : fragment) + ".frag"});
@@ -66,6 +67,7 @@ struct NailboardProgram {
     n.casterBias = glGetUniformLocation(id, "uShadowBias");
     n.eyeRight = glGetUniformLocation(id, "uEyeRight");
     n.eyeUp = glGetUniformLocation(id, "uEyeUp");
+    n.tumbleHull = glGetUniformLocation(id, "uTumbleHull");
     // The caster variants draw from the light in every call: their vertex stage's mode is fixed.
     if (!fragment.empty()) glProgramUniform1i(id, glGetUniformLocation(id, "uCaster"), 1);
     return n;
@@ -378,6 +380,7 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   glProgramUniform1i(p, nb.outlines, style.outlines ? 1 : 0);
   glProgramUniform1f(p, nb.outlineWidth, std::max(0.0f, style.outlineWidth));
   glProgramUniform3fv(p, nb.outlineColor, 1, glm::value_ptr(style.outlineColor));
+  glProgramUniform1i(p, nb.tumbleHull, style.tumble == TumbleMethod::kHull ? 1 : 0);
   const bool msaa = framebufferIsMultisampled();
   glProgramUniform1i(p, nb.multisample, msaa ? 1 : 0);
 
@@ -415,6 +418,7 @@ DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& 
   glProgramUniform1f(p, nb.outlineWidth, 0.0f);
   glProgramUniform1i(p, nb.multisample, 0);  // hard edge at half coverage: the map is not multisampled
   glProgramUniform1f(p, nb.casterBias, std::clamp(style.shadowBias, 0.0f, 1.0f));
+  glProgramUniform1i(p, nb.tumbleHull, style.tumble == TumbleMethod::kHull ? 1 : 0);
   const glm::mat4 eyeToWorld = glm::inverse(eye.view);
   glProgramUniform3fv(p, nb.eyeRight, 1, glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[0]))));
   glProgramUniform3fv(p, nb.eyeUp, 1, glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[1]))));

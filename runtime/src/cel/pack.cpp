@@ -164,4 +164,13 @@ Result<ShadowMethod> parseShadowMethod(std::string_view name) {
   return Error{"unknown shadow method \"" + std::string(name) + "\" (expected volumes or map)"};
 }
 
+std::string_view toString(TumbleMethod m) { return m == TumbleMethod::kBlend ? "blend" : "hull"; }
+
+Result<TumbleMethod> parseTumbleMethod(std::string_view name) {
+  for (TumbleMethod m : {TumbleMethod::kHull, TumbleMethod::kBlend}) {
+    if (name == toString(m)) return m;
+  }
+  return Error{"unknown tumble method \"" + std::string(name) + "\" (expected hull or blend)"};
+}
+
 }  // namespace puff::cel

@@ -60,7 +60,8 @@ Result<void> checkOptions(const TumbleOptions& o) {
 
 // The scene of one roll's grid: an orthographic camera on +z, a light from the upper left front,
 // outlines and Eq. 2 shading, no shadows (each pose alone is judged).
-Result<scene::Scene> gridScene(const fs::path& atlas, const TumbleOptions& o, int roll, int variations) {
+Result<scene::Scene> gridScene(const fs::path& atlas, const TumbleOptions& o, int roll, int variations,
+                               cel::TumbleMethod method = cel::TumbleMethod::kHull) {
   const Grid g = gridFor(o);
   const float unit = 1.0f;  // a puff's diameter, world units
   const float pxPerUnit = static_cast<float>(o.puffPixels) / unit;
@@ -82,7 +83,12 @@ Result<scene::Scene> gridScene(const fs::path& atlas, const TumbleOptions& o, in
       {"light", {{"direction", {-0.4, 0.5, 0.77}}, {"color", {0.7, 0.7, 0.7}}}},
       {"ambient", {{"color", {0.25, 0.25, 0.25}}}},
       {"atlas", atlas.string()},
-      {"style", {{"outlines", true}, {"outlineWidth", o.outlineWidth}, {"shading", true}, {"shadows", false}}}};
+      {"style",
+       {{"outlines", true},
+        {"outlineWidth", o.outlineWidth},
+        {"shading", true},
+        {"shadows", false},
+        {"tumble", std::string(cel::toString(method))}}}};
   auto s = scene::parseScene(j, atlas.parent_path() / "tumble-sweep.json");
   if (!s) return s.error();
   const std::vector<int> yaws = sweep(0, 360, o.stepDegrees), pitches = sweep(-90, 90, o.stepDegrees, true);
@@ -167,7 +173,8 @@ Result<TumbleReference> renderTumbleReference(const fs::path& atlas, const Tumbl
   return ref;
 }
 
-Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference& reference, double* msPerFrame) {
+Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference& reference, cel::TumbleMethod method,
+                                   double* msPerFrame) {
   const TumbleOptions& o = reference.options;
   PUFF_TRY(checkOptions(o));
   const Grid g = gridFor(o);
@@ -183,7 +190,7 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
     for (int x = 0; x < g.square; ++x)
       for (int c = 0; c < 4; ++c) background.at(x, y, c) = c < 3 ? linearBackground[c] : 1.0f;
   for (std::size_t f = 0; f < reference.rolls.size(); ++f) {
-    auto s = gridScene(atlas, o, reference.rolls[f], variations);
+    auto s = gridScene(atlas, o, reference.rolls[f], variations, method);
     if (!s) return s.error();
     auto image = renderOnce(*s, render::RenderPath::kCel, msPerFrame ? &times : nullptr);
     if (!image) return image.error();

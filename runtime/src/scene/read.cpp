@@ -122,7 +122,7 @@ void readRamp(const json& j, const std::string& ptr, const Reader& r, Scene& s) 
 void readStyle(const json& j, const std::string& ptr, Scene& s) {
   requireObject(j, ptr,
                 {"preset", "outlines", "outlineWidth", "outlineColor", "shading", "shadows", "alignment", "shadowBias",
-                 "shadowLength", "shadowMethod", "shadowMapScale"});
+                 "shadowLength", "shadowMethod", "shadowMapScale", "tumble"});
   // The preset first, whatever the key order: explicit fields then change what it set.
   if (auto* v = find(j, "preset")) {
     const std::string name = readString(*v, child(ptr, "preset"));
@@ -159,6 +159,13 @@ void readStyle(const json& j, const std::string& ptr, Scene& s) {
   }
   if (auto* v = find(j, "shadowMapScale")) {
     st.shadowMapScale = readFloat(*v, child(ptr, "shadowMapScale"), Range{0.125, 4.0});
+  }
+  if (auto* v = find(j, "tumble")) {
+    const std::string what = "one of hull, blend";
+    const std::string name = readString(*v, child(ptr, "tumble"), what);
+    auto m = cel::parseTumbleMethod(name);
+    if (!m) fail(child(ptr, "tumble"), what, *v);
+    st.tumble = *m;
   }
 }
 

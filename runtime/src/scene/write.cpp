@@ -298,7 +298,8 @@ json toJson(const Scene& s) {
                 {"shadowBias", number(st.shadowBias)},
                 {"shadowLength", number(st.shadowLength)},
                 {"shadowMethod", std::string(cel::toString(st.shadowMethod))},
-                {"shadowMapScale", number(st.shadowMapScale)}};
+                {"shadowMapScale", number(st.shadowMapScale)},
+                {"tumble", std::string(cel::toString(st.tumble))}};
   if (!s.stylePreset.empty()) j["style"]["preset"] = s.stylePreset;
   j["particles"] = json::array();
   for (const ParticleSpec& p : s.particles) j["particles"].push_back(particleJson(p));

@@ -70,6 +70,20 @@ enum class ShadowMethod {
 std::string_view toString(ShadowMethod m);
 Result<ShadowMethod> parseShadowMethod(std::string_view name);  ///< "volumes", "map"
 
+/// How an oriented puff (one that tumbles) is drawn from a multi-view atlas between its baked views
+/// (docs/cel-rendering.md, "Tumbling puffs").
+enum class TumbleMethod {
+  /// The eye ray marched through the depth hull of the nearest views (each view's silhouette swept
+  /// along it and its front surface bound the puff): lumps keep their place and the ink its width
+  /// between views. About 8 times the fragment cost of kBlend on llvmpipe.
+  kHull,
+  /// The four nearest views' maps turned to the billboard and blended: one read per view, but between
+  /// views the silhouette is a blend of four and lumps are off by a few pixels.
+  kBlend,
+};
+std::string_view toString(TumbleMethod m);
+Result<TumbleMethod> parseTumbleMethod(std::string_view name);  ///< "hull", "blend"
+
 /// The Fig. 8 progression and its knobs. Every effect toggles on its own.
 struct Style {
   bool outlines = true;          ///< black flange (§4.2); off = the body's silhouette only
@@ -92,6 +106,8 @@ struct Style {
   /// kMap: the map's texels per screen pixel of the casters' footprint (ShadowMap::chooseSize);
   /// [0.125, 4]. Smaller is cheaper and blockier.
   float shadowMapScale = 1.0f;
+  /// Oriented puffs on a multi-view atlas: the hull by default (the closer to the puff's mesh).
+  TumbleMethod tumble = TumbleMethod::kHull;
   bool operator==(const Style&) const = default;
 };
 

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <vector>
 
+#include <puff/cel/types.h>
 #include <puff/core/error.h>
 #include <puff/core/image.h>
 
@@ -51,9 +52,10 @@ Result<TumbleReference> renderTumbleReference(const std::filesystem::path& atlas
                                               std::vector<int> rolls = {});
 
 /// The nailboards of `atlas` (baked from the reference's meshes, oriented puffs allowed: more than
-/// one view) over the same poses, pose by pose against `reference`. `msPerFrame`, when given,
-/// receives the median time of a grid frame (the nailboards only).
+/// one view) over the same poses, pose by pose against `reference`, drawn by `method`
+/// (cel::Style::tumble). `msPerFrame`, when given, receives the median time of a grid frame (the
+/// nailboards only).
 Result<TumbleResult> measureTumble(const std::filesystem::path& atlas, const TumbleReference& reference,
-                                   double* msPerFrame = nullptr);
+                                   cel::TumbleMethod method = cel::TumbleMethod::kHull, double* msPerFrame = nullptr);
 
 }  // namespace puff::eval
