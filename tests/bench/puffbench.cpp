@@ -377,8 +377,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "%-8s %dx%d views, %4d texels, %-5s: %9zu bytes, %zu poses: coverage IoU min %.4f mean %.4f (%.1f%% "
                    ">= 0.95), outline IoU min %.4f mean %.4f (%.1f%% >= 0.5), %.1f ms\n",
-                   r.layout.c_str(), r.grid, r.grid, r.cellSize, r.method.c_str(), r.atlasBytes, r.poses, r.minCoverageIoU,
-                   r.meanCoverageIoU, 100.0 * r.coverageShare, r.minOutlineIoU, r.meanOutlineIoU,
+                   r.layout.c_str(), r.grid, r.grid, r.cellSize, r.method.c_str(), r.atlasBytes, r.poses,
+                   r.minCoverageIoU, r.meanCoverageIoU, 100.0 * r.coverageShare, r.minOutlineIoU, r.meanOutlineIoU,
                    100.0 * r.outlineShare, r.ms);
     }
     return bench::writeCsv("puffbench", tumbleCsvPath, puffbench::tumbleCsv(*rows)) ? 0 : 1;

@@ -102,33 +102,33 @@ Result<std::vector<TumbleRow>> runTumbleBench(const TumbleBenchOptions& opt) {
             std::to_string(reference->rolls.size()) + " frames");
       }
       for (cel::TumbleMethod method : {cel::TumbleMethod::kHull, cel::TumbleMethod::kBlend}) {
-      double ms = 0.0;
-      auto result = eval::measureTumble(baked->sidecar, *reference, method, &ms);
-      if (!result) return result.error();
-      TumbleRow r;
-      r.layout = a.layout;
-      r.method = std::string(cel::toString(method));
-      r.grid = a.grid;
-      r.views = a.grid * a.grid;
-      r.cellSize = cell;
-      r.atlasBytes = core::atlasTextureBytes(baked->desc);
-      r.poses = result->poses.size();
-      r.minCoverageIoU = result->minCoverageIoU;
-      r.meanCoverageIoU = result->meanCoverageIoU;
-      r.minOutlineIoU = result->minOutlineIoU;
-      r.meanOutlineIoU = result->meanOutlineIoU;
-      std::size_t coverageOk = 0, outlineOk = 0;
-      for (const eval::TumblePose& p : result->poses) {
-        coverageOk += p.coverageIoU >= 0.95;
-        outlineOk += p.outlineIoU >= 0.5;
-      }
-      if (r.poses > 0) {
-        r.coverageShare = static_cast<double>(coverageOk) / static_cast<double>(r.poses);
-        r.outlineShare = static_cast<double>(outlineOk) / static_cast<double>(r.poses);
-      }
-      r.ms = ms;
-      rows.push_back(r);
-      log(name + ": measured, " + r.method);
+        double ms = 0.0;
+        auto result = eval::measureTumble(baked->sidecar, *reference, method, &ms);
+        if (!result) return result.error();
+        TumbleRow r;
+        r.layout = a.layout;
+        r.method = std::string(cel::toString(method));
+        r.grid = a.grid;
+        r.views = a.grid * a.grid;
+        r.cellSize = cell;
+        r.atlasBytes = core::atlasTextureBytes(baked->desc);
+        r.poses = result->poses.size();
+        r.minCoverageIoU = result->minCoverageIoU;
+        r.meanCoverageIoU = result->meanCoverageIoU;
+        r.minOutlineIoU = result->minOutlineIoU;
+        r.meanOutlineIoU = result->meanOutlineIoU;
+        std::size_t coverageOk = 0, outlineOk = 0;
+        for (const eval::TumblePose& p : result->poses) {
+          coverageOk += p.coverageIoU >= 0.95;
+          outlineOk += p.outlineIoU >= 0.5;
+        }
+        if (r.poses > 0) {
+          r.coverageShare = static_cast<double>(coverageOk) / static_cast<double>(r.poses);
+          r.outlineShare = static_cast<double>(outlineOk) / static_cast<double>(r.poses);
+        }
+        r.ms = ms;
+        rows.push_back(r);
+        log(name + ": measured, " + r.method);
       }
       std::error_code ec;
       fs::remove_all(o.outDir, ec);  // the next atlas needs its own; this one is done

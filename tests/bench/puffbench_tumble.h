@@ -27,7 +27,7 @@ struct TumbleBenchOptions {
 /// One atlas measured over the whole sweep against the cel reference, drawn by one tumble method.
 struct TumbleRow {
   std::string layout;
-  std::string method;  ///< cel::Style::tumble: "hull" or "blend"
+  std::string method;                     ///< cel::Style::tumble: "hull" or "blend"
   int grid = 0, views = 0, cellSize = 0;  ///< views: per variation (grid^2)
   std::size_t atlasBytes = 0;             ///< core::atlasTextureBytes of the baked atlas: what the GL holds
   std::size_t poses = 0;

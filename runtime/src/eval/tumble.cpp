@@ -23,7 +23,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr float kSpacing = 1.5f;  // a square is 1.5 puff diameters: neighbours' ink never meets
+constexpr float kSpacing = 1.5f;    // a square is 1.5 puff diameters: neighbours' ink never meets
 const glm::vec3 kBackground(0.9f);  // the scene's clear colour: a display (sRGB-encoded) value
 
 struct Grid {
@@ -66,29 +66,28 @@ Result<scene::Scene> gridScene(const fs::path& atlas, const TumbleOptions& o, in
   const float unit = 1.0f;  // a puff's diameter, world units
   const float pxPerUnit = static_cast<float>(o.puffPixels) / unit;
   const int width = g.columns * g.square, height = g.rows * g.square;
-  const nlohmann::json j = {
-      {"output",
-       {{"width", width},
-        {"height", height},
-        {"samples", 1},
-        {"background", {kBackground.x, kBackground.y, kBackground.z}}}},
-      {"camera",
-       {{"position", {0, 0, 50}},
-        {"target", {0, 0, 0}},
-        {"up", {0, 1, 0}},
-        {"fovY", 0},
-        {"orthoHeight", static_cast<float>(height) / pxPerUnit},
-        {"near", 1},
-        {"far", 100}}},
-      {"light", {{"direction", {-0.4, 0.5, 0.77}}, {"color", {0.7, 0.7, 0.7}}}},
-      {"ambient", {{"color", {0.25, 0.25, 0.25}}}},
-      {"atlas", atlas.string()},
-      {"style",
-       {{"outlines", true},
-        {"outlineWidth", o.outlineWidth},
-        {"shading", true},
-        {"shadows", false},
-        {"tumble", std::string(cel::toString(method))}}}};
+  const nlohmann::json j = {{"output",
+                             {{"width", width},
+                              {"height", height},
+                              {"samples", 1},
+                              {"background", {kBackground.x, kBackground.y, kBackground.z}}}},
+                            {"camera",
+                             {{"position", {0, 0, 50}},
+                              {"target", {0, 0, 0}},
+                              {"up", {0, 1, 0}},
+                              {"fovY", 0},
+                              {"orthoHeight", static_cast<float>(height) / pxPerUnit},
+                              {"near", 1},
+                              {"far", 100}}},
+                            {"light", {{"direction", {-0.4, 0.5, 0.77}}, {"color", {0.7, 0.7, 0.7}}}},
+                            {"ambient", {{"color", {0.25, 0.25, 0.25}}}},
+                            {"atlas", atlas.string()},
+                            {"style",
+                             {{"outlines", true},
+                              {"outlineWidth", o.outlineWidth},
+                              {"shading", true},
+                              {"shadows", false},
+                              {"tumble", std::string(cel::toString(method))}}}};
   auto s = scene::parseScene(j, atlas.parent_path() / "tumble-sweep.json");
   if (!s) return s.error();
   const std::vector<int> yaws = sweep(0, 360, o.stepDegrees), pitches = sweep(-90, 90, o.stepDegrees, true);
