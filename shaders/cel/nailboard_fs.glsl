@@ -18,6 +18,7 @@ flat in vec4 vMap[PUFF_VIEWS];
 flat in mat3 vNormalXf[PUFF_VIEWS];
 #if PUFF_VIEWS == 4
 flat in int vHull;
+flat in int vHullBehind;
 flat in ivec2 vCellAcross;
 flat in mat3 vBillboardPuff;
 flat in mat3 vPuffToView;
@@ -118,6 +119,7 @@ HullBound hullBound(int k, vec3 pt, float lod, bool fromTable, float trusted) {
 
 struct HullHit {
   bool hit;
+  bool behind;    // seen from behind on a hemi-oct atlas: the surface is an assumption (shaded as blended)
   float t;        // along the ray toward the eye, diameters from the billboard plane
   float nearest;  // a miss: least distance to the hull (diameters)
   float deepest;  // a hit: how far inside the hull the ray reaches (<= 0, diameters; probed to 2 px)
@@ -164,6 +166,7 @@ HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, float rea
   float tMax = sqrt(max(0.25 - dot(origin, origin), 0.0));
   HullHit h;
   h.hit = false;
+  h.behind = behind;
   h.t = 0.0;
   h.nearest = length(origin) - 0.5;
   h.deepest = 0.0;
@@ -230,7 +233,9 @@ HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, float rea
       float nz = sqrt(max(0.0, 1.0 - dot(nxy, nxy)));
       // How far the hit lies off this view's surface along its direction: a view that sees another
       // lump there (the hit lies behind it) or none at all (in front of it) fades out.
-      float off = abs((texel.z - 0.5) * uAtlasScale.y - v.side * dot(pt, v.dir)) * max(nz, 0.25) / pixel;
+      // (In pixels or texels, whichever is larger: a magnified map is as exact as its texels.)
+      float off = abs((texel.z - 0.5) * uAtlasScale.y - v.side * dot(pt, v.dir)) * max(nz, 0.25) /
+                  max(pixel, 1.0 / uAtlasScale.x);
       // Near a view's silhouette its filtered normal is mixed with the empty texels outside (no
       // normal): that view's rim may cross the middle of the puff the eye sees. It fades out there.
       float rim = (0.5 - texel.w) * 2.0 * uAtlasScale.z / exp2(ceil(lod));  // texels of the level read
@@ -272,14 +277,15 @@ void main() {
   float depth = 0.0, dist = 0.0, tableDist = 0.0;
 #if PUFF_VIEWS == 4
   bool marched = vHull == 1;  // an oriented puff: hullMarch below, not the blend of four views
+  bool blendShades = !marched || vHullBehind == 1;  // from behind, the blend shades the hull (below)
 #else
-  const bool marched = false;
+  const bool marched = false, blendShades = true;
 #endif
   for (int k = 0; k < PUFF_VIEWS; ++k) {  // a constant bound: unrolled
     uv[k] = vec2(0.0);
     nxy[k] = vec2(0.0);
     inside[k] = false;
-    if (marched) continue;
+    if (!blendShades) continue;
     vec2 local = mat2(vMap[k].xy, vMap[k].zw) * vPuff;  // the cell's view, puff diameters
     uv[k] = cellUv(vCell[k], local);
     // Lookups stay inside their cell: a rolled or foreshortened quad reaches past the cell's
@@ -293,6 +299,7 @@ void main() {
     if (fromTable) tableDist += w * (length(local) - silhouetteRadius(vCell[k], local)) * uAtlasScale.x;
   }
 #if PUFF_VIEWS == 4
+  float blendDist = dist;  // the blend's distance to its silhouette (when blendShades)
   HullHit hull;
   if (marched) {
     float reach = (wantTexels + tpp) / uAtlasScale.x;
@@ -350,7 +357,10 @@ void main() {
     }
 #if PUFF_VIEWS == 4
     if (marched && hull.hit) {
-      n = hull.normal;
+      // Seen from behind, the hull's surface is an assumption that differs from view to view: the
+      // blend's turned normals shade it (coherent, as the blend draws backs) where the blend covers
+      // the pixel; the colour is the hull's.
+      if (!hull.behind || blendDist > 0.0) n = hull.normal;
       color = hull.color;
     }
 #endif

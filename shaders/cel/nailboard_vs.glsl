@@ -20,6 +20,7 @@ flat out mat3 vNormalXf[PUFF_VIEWS];   // cell camera space -> camera (view) spa
 // (nailboard_fs.glsl, hullMarch): the billboard's right, up and normal (toward the eye) in puff
 // space, and puff space -> camera space.
 flat out int vHull;
+flat out int vHullBehind;  // a hemi-oct atlas seen from behind: some of the four cells stand for back views
 flat out ivec2 vCellAcross;  // the views nearest the billboard's right and up: they bound the depth
 flat out mat3 vBillboardPuff;
 flat out mat3 vPuffToView;
@@ -100,6 +101,10 @@ void main() {
   vNormalXf[3] = toView * cellToBillboard(vMap[3]);
   vHull = p.oriented && uAtlasLayout.y > 1 && uTumbleHull == 1 ? 1 : 0;
   vCellAcross = ivec2(nearestView(p, rP), nearestView(p, uP));
+  vHullBehind = 0;
+  for (int k = 0; k < 4; ++k) {
+    if (uAtlasLayout.w != 1 && dot(cells[cell[k]].dir.xyz, toward) < 0.0) vHullBehind = 1;
+  }
   vBillboardPuff = mat3(rP, uP, toward);
   vPuffToView = mat3(uView) * puff;
 #endif

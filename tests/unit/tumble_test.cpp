@@ -34,10 +34,11 @@ namespace fs = std::filesystem;
 // An atlas's views, the tumble method (cel::Style::tumble), and the floors its sweep must keep:
 // coverage IoU (worst pose, mean over the poses) and outline IoU (worst, mean). The floors are what
 // this code measured (tests/unit, 48-px puffs, point-sampled, roll every 45 degrees) less about 0.01:
-// they catch a change that turns puffs worse. The hull meets issue 22's outline target (>= 0.5 at
-// every pose) at every atlas here; its coverage target (>= 0.95 at every pose) it does not: the worst
-// poses reach 0.916-0.943 (the baked front view itself, unturned, reaches 0.974-0.979 against the
-// mesh at this size, where a pixel all around the silhouette is about 10% of a puff's pixels).
+// they catch a change that turns puffs worse. Issue 22's targets are coverage >= 0.95 and outline
+// >= 0.5 at every pose. The hull meets the outline target at every atlas here but hemi-oct 3 x 3
+// (0.37); the coverage target at none: the worst poses reach 0.916-0.942 (the baked front view
+// itself, unturned, reaches 0.974-0.979 against the mesh at this size, where a pixel all around the
+// silhouette is about 10% of a puff's pixels).
 // docs/cel-rendering.md, "Tumbling puffs", and docs/report/README.md have the numbers. The blend is
 // kept for its cost (about an eighth of the hull's on llvmpipe) and guarded at two atlases.
 struct Config {
@@ -320,6 +321,27 @@ TEST_F(TumbleCases, APuffSeenFromBehindShowsTheSilhouetteOfItsMesh) {
   }
 }
 
+// style.tumble chooses how a puff between views is drawn: the hull and the blend must draw it
+// differently (a switch the shader ignored would draw both alike), each near the mesh's silhouette.
+TEST_F(TumbleCases, TheTumbleMethodIsTheStylesChoice) {
+  const nlohmann::json particles = nlohmann::json::array({puff(3, {1, 1, 0}, 37.0f)});
+  auto hull = render(sceneJson(hemiAtlas(), particles, nlohmann::json::array(), "hull"));
+  auto blend = render(sceneJson(hemiAtlas(), particles, nlohmann::json::array(), "blend"));
+  ASSERT_OK(hull);
+  ASSERT_OK(blend);
+  int puffPx = 0, differ = 0;
+  for (int y = 0; y < hull->height; ++y)
+    for (int x = 0; x < hull->width; ++x) {
+      if (isBackground(*hull, x, y) && isBackground(*blend, x, y)) continue;
+      ++puffPx;
+      float d = 0.0f;
+      for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(hull->at(x, y, c) - blend->at(x, y, c)));
+      differ += d > 0.05f;
+    }
+  EXPECT_GT(puffPx, 8000);
+  EXPECT_GT(differ, puffPx / 50) << "of " << puffPx;  // measured: about 6% of a between-views pose's pixels
+}
+
 // Oriented puffs need views from every side: a one-view atlas is refused, naming the scene, where
 // it asks for orientation, and the atlas.
 TEST_F(TumbleCases, OrientedPuffsOnAOneViewAtlasAreRefused) {
@@ -338,14 +360,14 @@ TEST_F(TumbleCases, OrientedPuffsOnAOneViewAtlasAreRefused) {
 
 INSTANTIATE_TEST_SUITE_P(
     Atlases, Tumble,
-    ::testing::Values(Config{bake::ViewLayout::kOct, 3, 0.905, 0.948, 0.68, 0.865},
-                      Config{bake::ViewLayout::kOct, 5, 0.92, 0.96, 0.77, 0.90},
-                      Config{bake::ViewLayout::kOct, 7, 0.923, 0.965, 0.815, 0.91},
-                      Config{bake::ViewLayout::kHemiOct, 3, 0.907, 0.952, 0.505, 0.77},
-                      Config{bake::ViewLayout::kHemiOct, 5, 0.925, 0.962, 0.49, 0.80},
-                      Config{bake::ViewLayout::kHemiOct, 7, 0.93, 0.965, 0.535, 0.81},
-                      Config{bake::ViewLayout::kOct, 3, 0.695, 0.91, 0.31, 0.63, cel::TumbleMethod::kBlend},
-                      Config{bake::ViewLayout::kHemiOct, 7, 0.875, 0.96, 0.495, 0.755, cel::TumbleMethod::kBlend}),
+    ::testing::Values(Config{bake::ViewLayout::kOct, 3, 0.905, 0.948, 0.52, 0.69},
+                      Config{bake::ViewLayout::kOct, 5, 0.92, 0.96, 0.625, 0.79},
+                      Config{bake::ViewLayout::kOct, 7, 0.923, 0.965, 0.635, 0.83},
+                      Config{bake::ViewLayout::kHemiOct, 3, 0.907, 0.952, 0.36, 0.615},
+                      Config{bake::ViewLayout::kHemiOct, 5, 0.925, 0.962, 0.505, 0.715},
+                      Config{bake::ViewLayout::kHemiOct, 7, 0.93, 0.965, 0.60, 0.76},
+                      Config{bake::ViewLayout::kOct, 3, 0.695, 0.91, 0.055, 0.475, cel::TumbleMethod::kBlend},
+                      Config{bake::ViewLayout::kHemiOct, 7, 0.875, 0.96, 0.28, 0.715, cel::TumbleMethod::kBlend}),
     [](const ::testing::TestParamInfo<Config>& i) { return name(i.param); });
 
 }  // namespace

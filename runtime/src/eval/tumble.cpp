@@ -25,6 +25,7 @@ namespace {
 
 constexpr float kSpacing = 1.5f;    // a square is 1.5 puff diameters: neighbours' ink never meets
 const glm::vec3 kBackground(0.9f);  // the scene's clear colour: a display (sRGB-encoded) value
+constexpr float kAmbient = 0.25f;   // display value: the darkest a (white) puff's body is drawn
 
 struct Grid {
   int columns = 0, rows = 0, square = 0;  // square: pixels per side
@@ -80,7 +81,7 @@ Result<scene::Scene> gridScene(const fs::path& atlas, const TumbleOptions& o, in
                               {"near", 1},
                               {"far", 100}}},
                             {"light", {{"direction", {-0.4, 0.5, 0.77}}, {"color", {0.7, 0.7, 0.7}}}},
-                            {"ambient", {{"color", {0.25, 0.25, 0.25}}}},
+                            {"ambient", {{"color", {kAmbient, kAmbient, kAmbient}}}},
                             {"atlas", atlas.string()},
                             {"style",
                              {{"outlines", true},
@@ -184,6 +185,7 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
   double sumCoverage = 0.0, sumOutline = 0.0;
   // Frames are scene-linear: the clear colour as the frames hold it.
   const glm::vec3 linearBackground = core::srgbToLinear(kBackground);
+  const double inkTolerance = 0.5 * core::srgbToLinear(static_cast<double>(kAmbient));
   core::Image background(g.square, g.square, 4);
   for (int y = 0; y < g.square; ++y)
     for (int x = 0; x < g.square; ++x)
@@ -216,9 +218,10 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
         }
         TumblePose p{yaws[c], pitches[r], reference.rolls[f], index % variations};
         p.coverageIoU = reference::coverageIoU(a, b, background);
-        // Ink: the outline colour, black, where the background is not.
-        p.outlineIoU = reference::maskIoU(reference::inkMask(a, background, glm::vec3(0.0f)),
-                                          reference::inkMask(b, background, glm::vec3(0.0f)));
+        // Ink: the outline colour, black, where the background is not; within half the darkest body
+        // colour (the ambient alone), so the dark band is not taken for ink.
+        p.outlineIoU = reference::maskIoU(reference::inkMask(a, background, glm::vec3(0.0f), inkTolerance),
+                                          reference::inkMask(b, background, glm::vec3(0.0f), inkTolerance));
         out.minCoverageIoU = std::min(out.minCoverageIoU, p.coverageIoU);
         out.minOutlineIoU = std::min(out.minOutlineIoU, p.outlineIoU);
         sumCoverage += p.coverageIoU;
