@@ -1,7 +1,10 @@
 // Nailboard shading (McGuire & Fein Eq. 2) with a per-pixel depth offset (§4.2) and outlines drawn
 // from the baked signed distance to the silhouette, so their width is a run-time choice and both
 // edges are antialiased (alpha-to-coverage when the target is multisampled).
-// Compiled with PUFF_CASTER for the shadow map's caster pass (drawn from the light: depth and id only).
+// Compiled with PUFF_CASTER for the shadow map's caster pass (drawn from the light: depth and id only),
+// and with PUFF_HULL (four views, nailboard_hull*.frag) to draw oriented puffs by marching the hull of
+// their views (style.tumble "hull"); without it, oriented puffs blend four views and the program
+// carries none of the hull's code (its registers would slow every puff drawn with it).
 #include "common/frame.glsl"
 #include "cel/particle.glsl"
 #include "cel/shadow_map.glsl"
@@ -16,7 +19,7 @@ flat in ivec4 vCell;
 flat in vec4 vWeight;
 flat in vec4 vMap[PUFF_VIEWS];
 flat in mat3 vNormalXf[PUFF_VIEWS];
-#if PUFF_VIEWS == 4
+#ifdef PUFF_HULL
 flat in int vHull;
 flat in int vHullBehind;
 flat in ivec2 vCellAcross;
@@ -43,7 +46,7 @@ layout(location = 0) out uint oId;
 out vec4 fragColor;
 #endif
 
-#if PUFF_VIEWS == 4
+#ifdef PUFF_HULL
 // An oriented puff between its baked views (issue 22). Each view's maps bound the puff: it lies
 // inside the view's silhouette swept along the view's direction (the distance map), and behind the
 // view's front surface (the depth map). The puff lies inside the intersection of its four views'
@@ -275,7 +278,7 @@ void main() {
   vec2 nxy[PUFF_VIEWS];
   bool inside[PUFF_VIEWS];
   float depth = 0.0, dist = 0.0, tableDist = 0.0;
-#if PUFF_VIEWS == 4
+#ifdef PUFF_HULL
   bool marched = vHull == 1;  // an oriented puff: hullMarch below, not the blend of four views
   bool blendShades = !marched || vHullBehind == 1;  // from behind, the blend shades the hull (below)
 #else
@@ -298,7 +301,7 @@ void main() {
     dist += w * ((pk.w - 0.5) * 2.0 * range);
     if (fromTable) tableDist += w * (length(local) - silhouetteRadius(vCell[k], local)) * uAtlasScale.x;
   }
-#if PUFF_VIEWS == 4
+#ifdef PUFF_HULL
   float blendDist = dist;  // the blend's distance to its silhouette (when blendShades)
   HullHit hull;
   if (marched) {
@@ -317,7 +320,7 @@ void main() {
   // (half a pixel) must end inside its range; beyond is empty.
   float widthTexels;
   if (fromTable) {
-#if PUFF_VIEWS == 4
+#ifdef PUFF_HULL
     if (!marched)
 #endif
       dist = dist < trusted ? dist : max(tableDist, trusted);
@@ -355,7 +358,7 @@ void main() {
       n += w * (vNormalXf[k] * vec3(nxy[k], sqrt(max(0.0, 1.0 - dot(nxy[k], nxy[k])))));
       if (inside[k]) color += w * textureLod(uColor, uv[k], lod).rgb;  // views blended in linear light
     }
-#if PUFF_VIEWS == 4
+#ifdef PUFF_HULL
     if (marched && hull.hit) {
       // Seen from behind, the hull's surface is an assumption that differs from view to view: the
       // blend's turned normals shade it (coherent, as the blend draws backs) where the blend covers

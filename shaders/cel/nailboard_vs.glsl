@@ -57,8 +57,6 @@ uniform vec3 uEyeUp;
 // The fragment stage's outline switch and width (pixels): a small puff's quad grows to hold its band.
 uniform int uOutlines;
 uniform float uOutlineWidth;
-// 1: oriented puffs are drawn by marching the hull of their views (Style::tumble "hull"); 0: blended.
-uniform int uTumbleHull;
 
 #if PUFF_VIEWS == 4
 // The atlas cell whose view is nearest puff-space direction `d` (or its opposite, on a hemi-oct
@@ -99,7 +97,7 @@ void main() {
   vNormalXf[1] = toView * cellToBillboard(vMap[1]);
   vNormalXf[2] = toView * cellToBillboard(vMap[2]);
   vNormalXf[3] = toView * cellToBillboard(vMap[3]);
-  vHull = p.oriented && uAtlasLayout.y > 1 && uTumbleHull == 1 ? 1 : 0;
+  vHull = p.oriented && uAtlasLayout.y > 1 ? 1 : 0;  // (read only by the hull's fragment stage)
   vCellAcross = ivec2(nearestView(p, rP), nearestView(p, uP));
   vHullBehind = 0;
   for (int k = 0; k < 4; ++k) {

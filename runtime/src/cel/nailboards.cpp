@@ -49,9 +49,9 @@ struct NailboardProgram {
   AtlasUniforms atlas;
   GLint pass = -1, shading = -1, outlines = -1, outlineWidth = -1, outlineColor = -1, multisample = -1;
   GLint casterBias = -1, eyeRight = -1, eyeUp = -1;  // the caster variants only (-1 elsewhere)
-  GLint tumbleHull = -1;                             // the multi-view variants only
 
-  static Result<NailboardProgram> build(const std::string& name, const std::string& fragment = "") {
+  // `caster`: the shadow map's caster pass (drawn from the light).
+  static Result<NailboardProgram> build(const std::string& name, const std::string& fragment, bool caster) {
     auto p = core::buildProgram({"cel/" + name + ".vert", "cel/" + (fragment.empty() ? name : fragment) + ".frag"});
     if (!p) return p.error();
     NailboardProgram n;
@@ -67,16 +67,16 @@ struct NailboardProgram {
     n.casterBias = glGetUniformLocation(id, "uShadowBias");
     n.eyeRight = glGetUniformLocation(id, "uEyeRight");
     n.eyeUp = glGetUniformLocation(id, "uEyeUp");
-    n.tumbleHull = glGetUniformLocation(id, "uTumbleHull");
     // The caster variants draw from the light in every call: their vertex stage's mode is fixed.
-    if (!fragment.empty()) glProgramUniform1i(id, glGetUniformLocation(id, "uCaster"), 1);
+    if (caster) glProgramUniform1i(id, glGetUniformLocation(id, "uCaster"), 1);
     return n;
   }
 };
 
 struct NailboardRenderer::Impl {
   Bindings bindings;
-  NailboardProgram singleView, multiView, singleCaster, multiCaster;
+  // multi: four views blended (style.tumble "blend"); hull: oriented puffs by the hull of their views.
+  NailboardProgram singleView, multiView, hullView, singleCaster, multiCaster, hullCaster;
   core::Program shadow, sprite;
   AtlasUniforms svAtlas, spAtlas;
   GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1, shadowBackFace = -1;
@@ -126,14 +126,18 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
   std::unique_ptr<NailboardRenderer> r(new NailboardRenderer());
   Impl& m = *r->impl_;
   m.bindings = bindings;
-  auto single = NailboardProgram::build("nailboard");
+  auto single = NailboardProgram::build("nailboard", "", false);
   if (!single) return single.error();
-  auto multi = NailboardProgram::build("nailboard_views");
+  auto multi = NailboardProgram::build("nailboard_views", "", false);
   if (!multi) return multi.error();
-  auto singleCaster = NailboardProgram::build("nailboard", "nailboard_caster");
+  auto singleCaster = NailboardProgram::build("nailboard", "nailboard_caster", true);
   if (!singleCaster) return singleCaster.error();
-  auto multiCaster = NailboardProgram::build("nailboard_views", "nailboard_views_caster");
+  auto multiCaster = NailboardProgram::build("nailboard_views", "nailboard_views_caster", true);
   if (!multiCaster) return multiCaster.error();
+  auto hull = NailboardProgram::build("nailboard_views", "nailboard_hull", false);
+  if (!hull) return hull.error();
+  auto hullCaster = NailboardProgram::build("nailboard_views", "nailboard_hull_caster", true);
+  if (!hullCaster) return hullCaster.error();
   auto sv = core::buildProgram({"cel/shadow.vert", "cel/shadow.frag"});
   if (!sv) return sv.error();
   auto sp = core::buildProgram({"cel/sprite.vert", "cel/sprite.frag"});
@@ -142,6 +146,8 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
   m.multiView = std::move(*multi);
   m.singleCaster = std::move(*singleCaster);
   m.multiCaster = std::move(*multiCaster);
+  m.hullView = std::move(*hull);
+  m.hullCaster = std::move(*hullCaster);
   m.shadow = std::move(*sv);
   m.sprite = std::move(*sp);
   m.svAtlas.find(m.shadow.get());
@@ -150,8 +156,9 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
   m.shadowLength = glGetUniformLocation(m.shadow.get(), "uShadowLength");
   m.shadowFloor = glGetUniformLocation(m.shadow.get(), "uShadowFloor");
   m.shadowBackFace = glGetUniformLocation(m.shadow.get(), "uBackFace");
-  for (const GLuint p : {m.singleView.program.get(), m.multiView.program.get(), m.singleCaster.program.get(),
-                         m.multiCaster.program.get(), m.shadow.get(), m.sprite.get()}) {
+  for (const GLuint p : {m.singleView.program.get(), m.multiView.program.get(), m.hullView.program.get(),
+                         m.singleCaster.program.get(), m.multiCaster.program.get(), m.hullCaster.program.get(),
+                         m.shadow.get(), m.sprite.get()}) {
     detail::assignBindPoints(p, bindings);
   }
   m.vao = core::makeVertexArray();
@@ -372,7 +379,8 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   s.particles = m.count;
   if (m.count == 0 || !m.hasAtlas) return s;
   // A multi-view atlas blends the four nearest views; a one-view atlas needs one lookup per map.
-  const NailboardProgram& nb = m.desc.views > 1 ? m.multiView : m.singleView;
+  const NailboardProgram& nb =
+      m.desc.views == 1 ? m.singleView : style.tumble == TumbleMethod::kHull ? m.hullView : m.multiView;
   const GLuint p = nb.program.get();
   m.setCommon(p, nb.atlas, style);
   glProgramUniform1i(p, nb.pass, pass == ShadePass::kLit ? 0 : pass == ShadePass::kShadowed ? 1 : 2);
@@ -380,7 +388,6 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   glProgramUniform1i(p, nb.outlines, style.outlines ? 1 : 0);
   glProgramUniform1f(p, nb.outlineWidth, std::max(0.0f, style.outlineWidth));
   glProgramUniform3fv(p, nb.outlineColor, 1, glm::value_ptr(style.outlineColor));
-  glProgramUniform1i(p, nb.tumbleHull, style.tumble == TumbleMethod::kHull ? 1 : 0);
   const bool msaa = framebufferIsMultisampled();
   glProgramUniform1i(p, nb.multisample, msaa ? 1 : 0);
 
@@ -409,7 +416,8 @@ DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& 
   DrawStats s;
   s.particles = m.count;
   if (m.count == 0 || !m.hasAtlas) return s;
-  const NailboardProgram& nb = m.desc.views > 1 ? m.multiCaster : m.singleCaster;
+  const NailboardProgram& nb =
+      m.desc.views == 1 ? m.singleCaster : style.tumble == TumbleMethod::kHull ? m.hullCaster : m.multiCaster;
   const GLuint p = nb.program.get();
   m.setCommon(p, nb.atlas, style);
   glProgramUniform1i(p, nb.pass, 0);
@@ -418,7 +426,6 @@ DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& 
   glProgramUniform1f(p, nb.outlineWidth, 0.0f);
   glProgramUniform1i(p, nb.multisample, 0);  // hard edge at half coverage: the map is not multisampled
   glProgramUniform1f(p, nb.casterBias, std::clamp(style.shadowBias, 0.0f, 1.0f));
-  glProgramUniform1i(p, nb.tumbleHull, style.tumble == TumbleMethod::kHull ? 1 : 0);
   const glm::mat4 eyeToWorld = glm::inverse(eye.view);
   glProgramUniform3fv(p, nb.eyeRight, 1, glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[0]))));
   glProgramUniform3fv(p, nb.eyeUp, 1, glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[1]))));
