@@ -156,9 +156,9 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
   m.shadowLength = glGetUniformLocation(m.shadow.get(), "uShadowLength");
   m.shadowFloor = glGetUniformLocation(m.shadow.get(), "uShadowFloor");
   m.shadowBackFace = glGetUniformLocation(m.shadow.get(), "uBackFace");
-  for (const GLuint p : {m.singleView.program.get(), m.multiView.program.get(), m.hullView.program.get(),
-                         m.singleCaster.program.get(), m.multiCaster.program.get(), m.hullCaster.program.get(),
-                         m.shadow.get(), m.sprite.get()}) {
+  for (const GLuint p :
+       {m.singleView.program.get(), m.multiView.program.get(), m.hullView.program.get(), m.singleCaster.program.get(),
+        m.multiCaster.program.get(), m.hullCaster.program.get(), m.shadow.get(), m.sprite.get()}) {
     detail::assignBindPoints(p, bindings);
   }
   m.vao = core::makeVertexArray();
@@ -379,8 +379,9 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   s.particles = m.count;
   if (m.count == 0 || !m.hasAtlas) return s;
   // A multi-view atlas blends the four nearest views; a one-view atlas needs one lookup per map.
-  const NailboardProgram& nb =
-      m.desc.views == 1 ? m.singleView : style.tumble == TumbleMethod::kHull ? m.hullView : m.multiView;
+  const NailboardProgram& nb = m.desc.views == 1                     ? m.singleView
+                               : style.tumble == TumbleMethod::kHull ? m.hullView
+                                                                     : m.multiView;
   const GLuint p = nb.program.get();
   m.setCommon(p, nb.atlas, style);
   glProgramUniform1i(p, nb.pass, pass == ShadePass::kLit ? 0 : pass == ShadePass::kShadowed ? 1 : 2);
@@ -416,8 +417,9 @@ DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& 
   DrawStats s;
   s.particles = m.count;
   if (m.count == 0 || !m.hasAtlas) return s;
-  const NailboardProgram& nb =
-      m.desc.views == 1 ? m.singleCaster : style.tumble == TumbleMethod::kHull ? m.hullCaster : m.multiCaster;
+  const NailboardProgram& nb = m.desc.views == 1                     ? m.singleCaster
+                               : style.tumble == TumbleMethod::kHull ? m.hullCaster
+                                                                     : m.multiCaster;
   const GLuint p = nb.program.get();
   m.setCommon(p, nb.atlas, style);
   glProgramUniform1i(p, nb.pass, 0);
