@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
+#include <utility>
+
+#include <gtest/gtest.h>
 
 namespace puff::test {
 
@@ -19,11 +22,14 @@ fs::path outputDir() {
   return PUFF_GOLDEN_OUT_DIR;
 }
 
-GoldenResult compareToGolden(const core::Image& actual, const std::string& name, const GoldenTolerance& tol) {
+GoldenResult compareToGolden(const core::Image& actual, const std::string& name, const GoldenTolerance& tol,
+                             bool writeOnFailure) {
   GoldenResult r;
   const fs::path refPath = referenceDir() / (name + ".png");
   const fs::path out = outputDir();
   auto writeActual = [&](const std::string& why) {
+    r.message = name + ": " + why;
+    if (!writeOnFailure) return;
     std::error_code ec;
     fs::create_directories(out, ec);
     r.actualPath = out / (name + ".actual.png");
@@ -70,17 +76,81 @@ GoldenResult compareToGolden(const core::Image& actual, const std::string& name,
   }
   r.failingFraction = static_cast<double>(failing) / (static_cast<double>(actual.width) * actual.height);
   r.passed = r.failingFraction <= tol.maxFailingFraction;
+  if (r.passed && writeOnFailure) {
+    // A stale failure's images would be taken for this run's by tests/golden/accept.sh.
+    std::error_code ec;
+    fs::remove(out / (name + ".actual.png"), ec);
+    fs::remove(out / (name + ".diff.png"), ec);
+  }
   if (!r.passed) {
     std::ostringstream s;
     s << r.failingFraction * 100.0 << "% of pixels differ by more than " << tol.pixelThreshold * 255.0f
       << "/255 (allowed " << tol.maxFailingFraction * 100.0 << "%), max difference " << r.maxDifference * 255.0f
       << "/255";
     writeActual(s.str());
+    if (!writeOnFailure) return r;
     r.diffPath = out / (name + ".diff.png");
     auto w = core::writeImage(r.diffPath, diff, core::PixelType::kUInt8);
     r.message += "; diff image: " + (w ? r.diffPath.string() : w.error().message);
   }
   return r;
+}
+
+namespace {
+
+// Ink: all channels below 0.06 display (black outlines; a dark band is K_a, well above).
+bool isInkPixel(const core::Image& im, int x, int y) {
+  for (int c = 0; c < std::min(3, im.channels); ++c) {
+    if (im.at(x, y, c) >= 0.06f) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+void expectSceneGolden(const core::Image& actual, const std::string& name) {
+  const GoldenResult r = compareToGolden(actual, name, kSceneTolerance);
+  EXPECT_TRUE(r.passed) << r.message;
+  if (!r.passed) return;
+  // The tolerance must see a 3% colour change, either way, on every scene.
+  for (float scale : {1.03f, 0.97f}) {
+    core::Image changed = actual;
+    for (int y = 0; y < changed.height; ++y) {
+      for (int x = 0; x < changed.width; ++x) {
+        for (int c = 0; c < std::min(3, changed.channels); ++c) {
+          changed.at(x, y, c) = std::clamp(changed.at(x, y, c) * scale, 0.0f, 1.0f);
+        }
+      }
+    }
+    const GoldenResult c = compareToGolden(changed, name, kSceneTolerance, false);
+    EXPECT_FALSE(c.passed) << name << ": every channel x" << scale << " passes the tolerance ("
+                           << c.failingFraction * 100.0 << "% of pixels fail)";
+  }
+  // And outlines one pixel wider, where the frame shows ink: every pixel beside ink turns to ink.
+  core::Image wider = actual;
+  std::size_t ink = 0;
+  for (int y = 0; y < actual.height; ++y) {
+    for (int x = 0; x < actual.width; ++x) {
+      if (isInkPixel(actual, x, y)) {
+        ++ink;
+        continue;
+      }
+      bool beside = false;
+      for (auto [dx, dy] : {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}}) {
+        const int nx = x + dx, ny = y + dy;
+        if (nx >= 0 && ny >= 0 && nx < actual.width && ny < actual.height && isInkPixel(actual, nx, ny)) beside = true;
+      }
+      if (beside) {
+        for (int c = 0; c < std::min(3, actual.channels); ++c) wider.at(x, y, c) = 0.0f;
+      }
+    }
+  }
+  const double inkFraction = static_cast<double>(ink) / (static_cast<double>(actual.width) * actual.height);
+  if (inkFraction >= 0.005) {  // a frame that shows outlines
+    const GoldenResult c = compareToGolden(wider, name, kSceneTolerance, false);
+    EXPECT_FALSE(c.passed) << name << ": outlines 1 px wider pass the tolerance (" << c.failingFraction * 100.0
+                           << "% of pixels fail)";
+  }
 }
 
 }  // namespace puff::test

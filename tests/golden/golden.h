@@ -25,8 +25,21 @@ struct GoldenResult {
 };
 
 /// References live in referenceDir() as CASE.png; failures write CASE.actual.png and
-/// CASE.diff.png into outputDir(). A missing reference fails (and writes the actual image).
-GoldenResult compareToGolden(const core::Image& actual, const std::string& caseName, const GoldenTolerance& tol = {});
+/// CASE.diff.png into outputDir() unless `writeOnFailure` is false. A missing reference fails (and
+/// writes the actual image).
+GoldenResult compareToGolden(const core::Image& actual, const std::string& caseName, const GoldenTolerance& tol = {},
+                             bool writeOnFailure = true);
+
+/// The art scenes' tolerance (scene_golden_test.cpp, media_scene_test.cpp): a pixel fails when a
+/// channel differs by more than 3/255, a scene when more than 0.2% of its pixels fail. Derived from
+/// what must not change, and checked on every scene by expectSceneGolden: every channel 3% brighter
+/// or darker fails every scene, and outlines 1 px wider fail every scene that shows ink.
+inline constexpr GoldenTolerance kSceneTolerance{3.0f / 255.0f, 0.002};
+
+/// A rendered art scene (display values) against its reference at kSceneTolerance, then the
+/// tolerance itself: the same image changed as a reviewer would notice (3% colour either way;
+/// outlines one pixel wider where the frame shows ink) must fail, each as a separate expectation.
+void expectSceneGolden(const core::Image& actual, const std::string& caseName);
 
 /// $PUFF_GOLDEN_REFERENCE_DIR, else tests/golden/references in the source tree.
 std::filesystem::path referenceDir();

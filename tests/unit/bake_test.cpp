@@ -72,6 +72,49 @@ class BakeSphere : public test::GlTest {
   static inline std::unique_ptr<core::Atlas> atlas_;
 };
 
+// The colour map holds the puff's colour past its silhouette, at every mip level: each texel
+// outside takes the colour of the puff nearest it, so a filtered read at the rim mixes the puff's
+// own colour, not black (which darkened the body's edge by a fifth of a pixel and read as ink).
+// A sphere red on its right half and blue on its left: the nearest point of a disc lies on the
+// same side of its centre line as the texel, so every texel of the cell, inside or out, is red on
+// the right and blue on the left (away from the seam), and coverage (alpha) is untouched.
+TEST_F(BakeSphere, TheColourMapCarriesThePuffsColourPastItsSilhouette) {
+  std::vector<PuffSource> src = sphereSources(1, 5);
+  mesh::TriMesh& m = src[0].mesh;
+  m.colors.resize(m.positions.size());
+  for (std::size_t i = 0; i < m.positions.size(); ++i) {
+    m.colors[i] = m.positions[i].x >= 0.0f ? glm::vec3(1, 0, 0) : glm::vec3(0, 0, 1);
+  }
+  test::ScopedTempDir dir("puff_bake_test_colour");
+  BakeOptions o;
+  o.cellSize = 64;
+  o.flange = {3.0f, false};
+  o.outDir = dir.path();
+  o.contactSheet = false;
+  auto r = bakeAtlas(src, o);
+  ASSERT_OK(r);
+  auto atlas = core::loadAtlas(r->sidecar);
+  ASSERT_OK(atlas);
+  const std::vector<core::Image>& levels = atlas->maps.at("color");
+  ASSERT_GE(levels.size(), 4u);
+  for (std::size_t level = 0; level < levels.size(); ++level) {
+    const core::Image& c = levels[level];
+    int outside = 0, wrong = 0;
+    for (int y = 0; y < c.height; ++y) {
+      for (int x = 0; x < c.width; ++x) {
+        const float u = (x + 0.5f) / c.width - 0.5f;         // one cell: its centre is the puff's
+        if (std::abs(u) < 1.5f / c.width + 0.02f) continue;  // the seam
+        outside += c.at(x, y, 3) == 0.0f;
+        const glm::vec3 want = u > 0.0f ? glm::vec3(1, 0, 0) : glm::vec3(0, 0, 1);
+        const glm::vec3 got(c.at(x, y, 0), c.at(x, y, 1), c.at(x, y, 2));
+        if (glm::length(got - want) > 0.02f) ++wrong;
+      }
+    }
+    EXPECT_EQ(wrong, 0) << "level " << level;
+    if (level == 0) EXPECT_GT(outside, 200) << "coverage stays 0 past the flange";
+  }
+}
+
 TEST_F(BakeSphere, InteriorNormalsAndDepthMatchTheSphereWithin1Over255) {
   const core::AtlasDesc& d = atlas_->desc;
   const core::Image& nd = atlas_->maps.at("normalDepth")[0];
@@ -118,7 +161,9 @@ TEST_F(BakeSphere, CoverageRadiusWithinOneTexelAndFlangeAsAsked) {
   EXPECT_NEAR(std::sqrt(bodyArea / kPi), radius, 1.0);
   EXPECT_NEAR(std::sqrt(dilatedArea / kPi) - radius, d.flangeTexels, 0.25);
   EXPECT_FLOAT_EQ(d.flangeTexels, 4.0f);
-  // Flange texels are opaque black at d = 0, the outline of the paper's Fig. 3.
+  // Flange texels are opaque at d = 0, the outline of the paper's Fig. 3; their colour is the
+  // puff's (white here), carried out past the silhouette, where the paper bakes them black (the
+  // ink comes from the distance map).
   const core::Image& nd = atlas_->maps.at("normalDepth")[0];
   int flangeTexels = 0;
   for (int y = 0; y < d.cellSize; ++y) {
@@ -127,7 +172,7 @@ TEST_F(BakeSphere, CoverageRadiusWithinOneTexelAndFlangeAsAsked) {
       if (r > radius + 1.0 && r < radius + d.flangeTexels - 1.0) {
         ++flangeTexels;
         ASSERT_NEAR(color.at(x, y, 3), 1.0, 1e-6);
-        for (int c = 0; c < 3; ++c) ASSERT_NEAR(color.at(x, y, c), 0.0, 1e-6);
+        for (int c = 0; c < 3; ++c) ASSERT_NEAR(color.at(x, y, c), 1.0, 1e-6);
         ASSERT_NEAR(nd.at(x, y, 3), 0.5, 1.0 / 255.0);
       }
       if (r > radius + d.flangeTexels + 1.0) {

@@ -31,7 +31,7 @@ void PrintTo(const MediaCase& c, std::ostream* os) { *os << c.scene << " frame "
 
 class MediaSceneGolden : public test::GlTest, public ::testing::WithParamInterface<MediaCase> {};
 
-// Same tolerances as the cel scenes (8/255 per channel, 0.3% of pixels).
+// The cel scenes' tolerance and its check (test::expectSceneGolden: 3/255 per channel, 0.2% of pixels).
 TEST_P(MediaSceneGolden, MatchesReference) {
   const MediaCase c = GetParam();
   auto scene = scene::loadScene(sceneFile(c.scene), PUFF_ART_DIR);
@@ -43,13 +43,8 @@ TEST_P(MediaSceneGolden, MatchesReference) {
   auto image = (*renderer)->renderFrame(c.frame, &stats);
   ASSERT_OK(image);
   EXPECT_GT(stats.mediaParticles, 20u);
-  test::GoldenTolerance tol;
-  tol.pixelThreshold = 8.0f / 255.0f;
-  tol.maxFailingFraction = 0.003;
-  const test::GoldenResult r =
-      test::compareToGolden(test::display(*image, scene::viewTransformFor(*scene)),
-                            "scene-" + std::string(c.scene) + "-" + std::to_string(c.frame), tol);
-  EXPECT_TRUE(r.passed) << r.message;
+  test::expectSceneGolden(test::display(*image, scene::viewTransformFor(*scene)),
+                          "scene-" + std::string(c.scene) + "-" + std::to_string(c.frame));
 }
 
 INSTANTIATE_TEST_SUITE_P(ArtScenes, MediaSceneGolden,

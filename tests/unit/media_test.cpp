@@ -201,6 +201,92 @@ TEST_F(MediaTest, PlanarCutsIntoAWallSoftAndSphericalDoNot) {
   EXPECT_LT(scurve, 0.12f);
 }
 
+// The spherical billboard's path length at every pixel, off-axis ones included, against an
+// independent derivation: the ray's chord through the sphere as a segment [t0, t1], cut by the
+// near plane (z = -near, so t >= near / -dir.z) and by a wall tilted 35 degrees off the view
+// axis (the plane n.p = k, hit at t = k / n.dir), with the opacity 1 - exp(-tau (1 - d/r) ds).
+// The renderer sees the wall only as the linear depth a depth buffer holds at each pixel centre,
+// and must turn it into a length along that pixel's own ray; the sphere sits off the axis, so
+// rays cross it at up to 20 degrees from the axis. Three near planes: before the sphere, through
+// its front, through its centre.
+TEST_F(MediaTest, SphericalPathLengthIsTheChordCutByATiltedWallAndTheNearPlane) {
+  const double tau = 0.9, r = 1.1;
+  const glm::dvec3 c(0.9, -0.5, -5.5);
+  ASSERT_TRUE(renderer_->setMaterials({plainMaterial(static_cast<float>(tau))}).ok());
+  MediaTarget t(kSize);
+  const glm::dvec3 n = glm::normalize(glm::dvec3(0.5, 0.35, 1.0));  // faces the camera
+  const double k = glm::dot(n, c + glm::dvec3(0.2, 0.0, -0.3));     // the wall passes behind the centre
+  for (float nearPlane : {0.5f, 4.6f, 5.4f}) {
+    Camera cam;
+    cam.nearPlane = nearPlane;
+    std::vector<float> depth(static_cast<std::size_t>(kSize) * kSize);
+    for (int y = 0; y < kSize; ++y) {
+      for (int x = 0; x < kSize; ++x) {
+        const glm::dvec3 d = cam.ray(x, y, kSize);
+        const double tw = k / glm::dot(n, d);
+        depth[static_cast<std::size_t>(y) * kSize + x] = tw > 0.0 ? cam.linear(static_cast<float>(-d.z * tw)) : 1.0f;
+      }
+    }
+    t.setDepth(depth);
+    const auto px = drawOne(t, cam, sphereAt(glm::vec3(c), static_cast<float>(r)), Method::kSpherical);
+    double worst = 0.0;
+    int cut = 0, clipped = 0;
+    for (int y = 0; y < kSize; ++y) {
+      for (int x = 0; x < kSize; ++x) {
+        const glm::dvec3 d = cam.ray(x, y, kSize);
+        const double along = glm::dot(c, d);
+        const double miss = glm::length(c - along * d);
+        double expected = 0.0;
+        if (miss < r) {
+          const double half = std::sqrt(r * r - miss * miss);
+          const double tw = k / glm::dot(n, d);
+          const double t0 = std::max(along - half, nearPlane / -d.z);
+          const double t1 = std::min(along + half, tw > 0.0 ? tw : 1e30);
+          cut += tw > 0.0 && tw < along + half;
+          clipped += nearPlane / -d.z > along - half;
+          expected = 1.0 - std::exp(-tau * (1.0 - miss / r) * std::max(0.0, t1 - t0));
+        }
+        const double got = 1.0 - px[static_cast<std::size_t>(y) * kSize + x].a;
+        worst = std::max(worst, std::abs(got - expected));
+      }
+    }
+    EXPECT_GT(cut, 300) << "the wall cuts the sphere's chords";
+    if (nearPlane > 1.0f) EXPECT_GT(clipped, 100) << "the near plane cuts them";
+    EXPECT_LT(worst, 5e-5) << "near " << nearPlane;
+  }
+}
+
+// Soft particles fade the planar billboard by how far the scene lies behind its plane, x = (z_scene
+// - z_centre) / 2r in [0, 1]: linearly (Ilmonen) or by Lorach's contrast curve (2x^2 below a half,
+// 1 - 2(1 - x)^2 above), times the full chord's opacity. Walls at eight depths from the sphere's
+// front to past its back, so x sweeps the whole curve.
+TEST_F(MediaTest, SoftParticlesFadeLinearlyOrByLorachsCurve) {
+  const double tau = 0.8, r = 1.0;
+  const glm::dvec3 c(0.3, 0.2, -5.0);
+  ASSERT_TRUE(renderer_->setMaterials({plainMaterial(static_cast<float>(tau))}).ok());
+  MediaTarget t(kSize);
+  const Camera cam;
+  for (Method m : {Method::kSoftLinear, Method::kSoftSCurve}) {
+    for (double wall : {4.2, 4.6, 4.9, 5.1, 5.35, 5.6, 5.9, 6.3}) {
+      t.setDepth(cam.linear(static_cast<float>(wall)));
+      const auto px = drawOne(t, cam, sphereAt(glm::vec3(c), static_cast<float>(r)), m);
+      const double x = std::clamp((wall - 5.0) / (2.0 * r), 0.0, 1.0);
+      const double fade = m == Method::kSoftLinear ? x : x < 0.5 ? 2.0 * x * x : 1.0 - 2.0 * (1.0 - x) * (1.0 - x);
+      double worst = 0.0;
+      for (int y = 0; y < kSize; ++y) {
+        for (int i = 0; i < kSize; ++i) {
+          const glm::dvec3 d = cam.ray(i, y, kSize);
+          const double along = glm::dot(c, d), miss = glm::length(c - along * d);
+          const double chord = miss < r ? 2.0 * std::sqrt(r * r - miss * miss) : 0.0;
+          const double expected = miss < r ? (1.0 - std::exp(-tau * (1.0 - miss / r) * chord)) * fade : 0.0;
+          worst = std::max(worst, std::abs((1.0 - px[static_cast<std::size_t>(y) * kSize + i].a) - expected));
+        }
+      }
+      EXPECT_LT(worst, 5e-5) << media::toString(m) << ", wall at " << wall << " (x = " << x << ")";
+    }
+  }
+}
+
 // planar-textured: the quad of half side r in the centre's plane, the opacity from the baked
 // falloff texture. Its closed form at a pixel: the pixel's ray meets the quad's plane at rho radii
 // from the centre, alpha = 1 - exp(-tau r falloffWeight(rho)). The texture samples falloffWeight
@@ -883,6 +969,36 @@ TEST_F(MediaLayersTest, ExplosionLightFollowsDepthNotPolygons) {
   EXPECT_NEAR(modulated[32 * 96 + 48].r, pole, 0.005f);
   EXPECT_NEAR(modulated[32 * 96 + 48].g, pole * 0.875f, 0.005f);
   EXPECT_NEAR(modulated[32 * 96 + 48].b, pole * 0.75f, 0.005f);
+}
+
+// The explosion light's projected texture: over the cone from the eye tangent to the explosion's
+// sphere, the weight falls as (1 - rho^2)^2, rho the angle from the sphere's centre over the cone's
+// half angle. The pole stands behind the centre (full in depth), and each of its rows sees the
+// light at another angle: the added light down the column is 0.5 (1 - rho^2)^2 of its colour.
+TEST_F(MediaLayersTest, ExplosionLightFallsOffOverItsProjectedDisc) {
+  ASSERT_TRUE(renderer_->setMaterials({plainMaterial(0.0f)}).ok());
+  media::ExplosionLight light;
+  light.center = {0.15f, 0.3f, -2.5f};
+  light.radius = 1.0f;
+  light.color = {1.0f, 0.5f, 0.0f};
+  light.intensity = 0.5f;
+  const auto lit = composeScene(*renderer_, 1.0f, true, std::span(&light, 1));
+  const int w = 96, h = 64, x = 48;
+  const double t = std::tan(glm::radians(20.0)), aspect = double(w) / h;
+  const glm::dvec3 c(light.center);
+  const double halfAngle = std::asin(light.radius / glm::length(c));
+  double worst = 0.0, lowest = 1.0;
+  for (int y = 0; y < h; ++y) {
+    const glm::dvec3 dir =
+        glm::normalize(glm::dvec3(((x + 0.5) / w * 2.0 - 1.0) * t * aspect, ((y + 0.5) / h * 2.0 - 1.0) * t, -1.0));
+    const double rho = std::acos(std::clamp(glm::dot(dir, glm::normalize(c)), -1.0, 1.0)) / halfAngle;
+    const double weight = rho < 1.0 ? (1.0 - rho * rho) * (1.0 - rho * rho) : 0.0;
+    lowest = std::min(lowest, weight);
+    const glm::vec4 p = lit[static_cast<std::size_t>(y) * w + x];
+    worst = std::max({worst, std::abs(p.r - (0.1 + 0.5 * weight)), std::abs(p.g - (0.1 + 0.25 * weight))});
+  }
+  EXPECT_LT(lowest, 0.3);  // the column reaches well out toward the disc's edge
+  EXPECT_LT(worst, 2e-3);
 }
 
 }  // namespace

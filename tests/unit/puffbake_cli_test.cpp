@@ -149,11 +149,13 @@ TEST_F(PuffbakeCli, UnwritableOutputFailsAndExistingOutputsSurvive) {
   // A file where the output directory should be.
   const fs::path notDir = write("file", "x");
   expectOneLineError(run("bake -g sphere -n 1 -s 16 -o " + notDir.string()), "not a directory");
-  // A directory we may not write (root ignores permissions, so only check when that holds).
+  // A directory no one may write, root included (CI runs as root, which ignores permissions): no
+  // file can be made in /proc. Then one the permissions lock, where they hold.
+  expectOneLineError(run("bake -g sphere -n 1 -s 16 -o /proc"), "/proc: cannot write");
   const fs::path locked = dir_ / "locked";
   fs::create_directories(locked);
   fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
-  if (::access(locked.c_str(), W_OK) != 0) {
+  if (::access(locked.c_str(), W_OK) != 0) {  // not root
     expectOneLineError(run("bake -g sphere -n 1 -s 16 -o " + locked.string()), "cannot write");
   }
   // A previous bake's outputs are untouched by a bake that fails.
@@ -273,7 +275,8 @@ TEST_F(PuffbakeCli, BlackbodyUnwritableOutputFailsAndExistingOutputSurvives) {
   const fs::path locked = dir_ / "locked";
   fs::create_directories(locked);
   fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
-  if (::access(locked.c_str(), W_OK) != 0) {
+  expectOneLineError(run("blackbody -o /proc/bb.exr"), "/proc: cannot write");  // root too (see above)
+  if (::access(locked.c_str(), W_OK) != 0) {                                    // not root
     expectOneLineError(run("blackbody -o " + (locked / "bb.exr").string()), "cannot write");
     EXPECT_TRUE(fs::is_empty(locked));
   }
@@ -377,7 +380,8 @@ TEST_F(PuffbakeCli, DetailBadFramesFailNamingTheFileAndExistingOutputSurvives) {
   const fs::path locked = dir_ / "locked";
   fs::create_directories(locked);
   fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
-  if (::access(locked.c_str(), W_OK) != 0) {
+  expectOneLineError(run("detail --size 8 --frames 2 -o /proc/d.png"), "/proc: cannot write");  // root too
+  if (::access(locked.c_str(), W_OK) != 0) {                                                    // not root
     expectOneLineError(run("detail --size 8 --frames 2 -o " + (locked / "d.png").string()), "cannot write");
     EXPECT_TRUE(fs::is_empty(locked));
   }

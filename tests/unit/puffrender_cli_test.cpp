@@ -193,11 +193,14 @@ TEST_F(PuffrenderCli, UnwritableOutputLeavesNothingAndExistingOutputsSurvive) {
   // A file where the output directory should be.
   write("file", "x");
   expectOneLineError(run(scene.string() + " -o " + (dir_ / "file" / "out.png").string()), "not a directory");
-  // A directory we may not write (root ignores permissions, so only check when that holds).
+  // A directory no one may write, root included (CI runs as root, which ignores permissions): no
+  // file or directory can be made in /proc. Then one the permissions lock, where they hold.
+  expectOneLineError(run(scene.string() + " -o /proc/out.png"), "/proc: cannot write");
+  expectOneLineError(run(scene.string() + " -o /proc/sub/f_##.png"), "/proc/sub: cannot create directory");
   const fs::path locked = dir_ / "locked";
   fs::create_directories(locked);
   fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec);
-  if (::access(locked.c_str(), W_OK) != 0) {
+  if (::access(locked.c_str(), W_OK) != 0) {  // not root
     expectOneLineError(run(scene.string() + " -o " + (locked / "out.png").string()), "cannot write");
     expectOneLineError(run(scene.string() + " -o " + (locked / "sub" / "f_##.png").string()), "cannot");
   }

@@ -61,8 +61,8 @@
 //
 // Added here:
 //   StabilityDepth        linear vs hyperbolic 24-bit depth for nailboards meeting 900 units away
-//   StabilityCel          a nailboard larger than the screen; (disabled, a known bug) one particle
-//                         with a non-finite position wiping out its whole batch
+//   StabilityCel          a nailboard larger than the screen; one particle with a non-finite
+//                         position does not wipe out its whole batch (it once did)
 //   StabilityMedia        zero and tiny radius, a sphere over the whole screen, the camera inside one
 //   StabilityBudget(Scene) a million births per second on a budget of a thousand (simulator,
 //                         parser limits, a rendered media scene)
@@ -376,13 +376,11 @@ TEST_F(StabilityCel, ANailboardLargerThanTheScreenCoversItWithTheRightDepth) {
   EXPECT_LT(worst, 0.5);
 }
 
-// DISABLED: a known bug (issue 7 report). One particle with a non-finite position takes the whole
-// batch with it: packParticles builds PackBounds from every position, so x = +inf anywhere (or NaN
-// in the first particle) makes the box infinite (NaN) and every particle unpacks to x = NaN: the
-// two puffs below vanish (975 px drawn without the bad one, 0 with it). A NaN further down the list
-// is drawn at the box's corner instead of not at all. Sizes are already sanitized (non-finite
-// draws nothing); positions should be too: bounds from finite positions, non-finite ones drawn
-// with size 0. Enable when fixed.
+// One particle with a non-finite position must not take the whole batch with it. It once did (the
+// issue 7 report): PackBounds came from every position, so x = +inf anywhere (or NaN in the first
+// particle) made the box infinite and every particle unpacked to NaN (the two puffs below drew 975
+// px without the bad one, 0 with it). Bounds now come from finite positions, and a non-finite one
+// draws nothing.
 TEST_F(StabilityCel, ANonFiniteParticleDoesNotTakeTheOthersWithIt) {
   const std::vector<cel::Particle> good = {cel::Particle{glm::vec3(-1.2f, 0.6f, 0), 1.5f},
                                            cel::Particle{glm::vec3(1.2f, -0.6f, 0.4f), 1.5f}};

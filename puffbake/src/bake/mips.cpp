@@ -20,12 +20,13 @@ double coverageFraction(const core::Image& color, int cellX, int cellY, int cell
 
 namespace {
 
+// No coverage: facing the viewer at the billboard plane. The colour stays: level 0 holds the puff's
+// colour carried out past its silhouette (resolveCell), and a filtered read at the silhouette must
+// find that, not black.
 void emptyTexel(AtlasLevel& l, int x, int y) {
   const float nd[4] = {0, 0, 1, 0};
-  for (int c = 0; c < 4; ++c) {
-    l.normalDepth.at(x, y, c) = nd[c];
-    l.color.at(x, y, c) = 0.0f;
-  }
+  for (int c = 0; c < 4; ++c) l.normalDepth.at(x, y, c) = nd[c];
+  l.color.at(x, y, 3) = 0.0f;
 }
 
 // Scales the alpha of one cell so the share of texels at or above `threshold` matches `target`:
@@ -74,7 +75,7 @@ AtlasLevel buildMipLevel(const AtlasLevel& level0, int cellSize, int level, floa
         const int y = static_cast<int>(row);
         for (int x = 0; x < w; ++x) {
           float alpha = 0.0f, depth = 0.0f, dist = 0.0f;
-          glm::vec3 normal(0.0f), color(0.0f);
+          glm::vec3 normal(0.0f), color(0.0f), plain(0.0f);
           for (int by = y * f; by < (y + 1) * f; ++by) {
             for (int bx = x * f; bx < (x + 1) * f; ++bx) {
               const float a = level0.color.at(bx, by, 3);
@@ -83,13 +84,17 @@ AtlasLevel buildMipLevel(const AtlasLevel& level0, int cellSize, int level, floa
                                       level0.normalDepth.at(bx, by, 2));
               depth += a * level0.normalDepth.at(bx, by, 3);
               // The map holds display values; a mip averages light (docs/colour.md).
-              color += a * core::srgbToLinear(glm::vec3(level0.color.at(bx, by, 0), level0.color.at(bx, by, 1),
-                                                        level0.color.at(bx, by, 2)));
+              const glm::vec3 linear = core::srgbToLinear(
+                  glm::vec3(level0.color.at(bx, by, 0), level0.color.at(bx, by, 1), level0.color.at(bx, by, 2)));
+              color += a * linear;
+              plain += linear;
               dist += level0.distance.at(bx, by);
             }
           }
           out.distance.at(x, y) = dist * perBlock;
           if (alpha <= 0.0f) {
+            const glm::vec3 display = core::linearToSrgb(plain * perBlock);  // the carried-out colour
+            for (int c = 0; c < 3; ++c) out.color.at(x, y, c) = display[c];
             emptyTexel(out, x, y);
             continue;
           }

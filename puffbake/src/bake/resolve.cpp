@@ -1,7 +1,10 @@
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 
 #include <puff/bake/maps.h>
 #include <puff/core/parallel.h>
@@ -29,6 +32,64 @@ std::vector<float> signedSampleDistances(const std::vector<std::uint8_t>& inside
       },
       1 << 16);
   return signedSamples;
+}
+
+// Carries the colour of the texels the puff covers out over the rest of the cell: each empty
+// texel takes the colour of the covered texel nearest it (Euclidean; nearest positions propagated
+// in two raster passes, as in 8SSEDT). A filtered read at the silhouette, at any mip level, then
+// mixes the puff's own colour instead of the black around it, which darkened the body's edge by
+// about a fifth of a pixel at every size. Coverage (alpha) is untouched.
+void carryColourOut(core::Image& color, const std::vector<std::uint8_t>& covered) {
+  const int w = color.width, h = color.height;
+  constexpr int kNone = -1;
+  std::vector<glm::ivec2> nearest(static_cast<std::size_t>(w) * h, glm::ivec2(kNone));
+  auto at = [&](int x, int y) -> glm::ivec2& { return nearest[static_cast<std::size_t>(y) * w + x]; };
+  bool any = false;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if (covered[static_cast<std::size_t>(y) * w + x]) {
+        at(x, y) = {x, y};
+        any = true;
+      }
+    }
+  }
+  if (!any) return;
+  auto d2 = [](glm::ivec2 a, int x, int y) {
+    const long dx = a.x - x, dy = a.y - y;
+    return dx * dx + dy * dy;
+  };
+  auto offer = [&](int x, int y, int nx, int ny) {
+    if (nx < 0 || ny < 0 || nx >= w || ny >= h) return;
+    const glm::ivec2 cand = at(nx, ny);
+    if (cand.x == kNone) return;
+    glm::ivec2& mine = at(x, y);
+    if (mine.x == kNone || d2(cand, x, y) < d2(mine, x, y)) mine = cand;
+  };
+  for (int y = 0; y < h; ++y) {  // down: from above and the left, then from the right
+    for (int x = 0; x < w; ++x) {
+      offer(x, y, x - 1, y);
+      offer(x, y, x - 1, y - 1);
+      offer(x, y, x, y - 1);
+      offer(x, y, x + 1, y - 1);
+    }
+    for (int x = w - 1; x >= 0; --x) offer(x, y, x + 1, y);
+  }
+  for (int y = h - 1; y >= 0; --y) {  // up: from below and the right, then from the left
+    for (int x = w - 1; x >= 0; --x) {
+      offer(x, y, x + 1, y);
+      offer(x, y, x + 1, y + 1);
+      offer(x, y, x, y + 1);
+      offer(x, y, x - 1, y + 1);
+    }
+    for (int x = 0; x < w; ++x) offer(x, y, x - 1, y);
+  }
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      if (covered[static_cast<std::size_t>(y) * w + x]) continue;
+      const glm::ivec2 src = at(x, y);
+      for (int c = 0; c < 3; ++c) color.at(x, y, c) = color.at(src.x, src.y, c);
+    }
+  }
 }
 
 }  // namespace
@@ -74,7 +135,7 @@ CellMaps resolveCell(const SampleBuffer& samples, int supersample, float flangeT
                 depthSum += nd.w * 0.5f;  // camera z in unit-sphere radii -> puff diameters
                 colorSum += glm::vec3(samples.color[i]);
               } else if (flangeSamples > 0.0f && signedSamples[i] <= flangeSamples) {
-                ++dilatedCount;  // flange: black, d = 0, facing the viewer
+                ++dilatedCount;  // flange: d = 0, facing the viewer (its colour is carried out below)
                 normalSum += glm::vec3(0.0f, 0.0f, 1.0f);
               }
             }
@@ -85,8 +146,8 @@ CellMaps resolveCell(const SampleBuffer& samples, int supersample, float flangeT
             const float inv = 1.0f / static_cast<float>(dilatedCount);
             if (glm::length(normalSum) > 1e-6f) normal = glm::normalize(normalSum);
             depth = depthSum * inv;
-            color = colorSum * inv;
           }
+          if (bodyCount > 0) color = colorSum / static_cast<float>(bodyCount);  // the puff's own colour
           out.normalDepth.at(tx, ty, 0) = normal.x;
           out.normalDepth.at(tx, ty, 1) = normal.y;
           out.normalDepth.at(tx, ty, 2) = normal.z;
@@ -100,6 +161,11 @@ CellMaps resolveCell(const SampleBuffer& samples, int supersample, float flangeT
         }
       },
       4);
+  std::vector<std::uint8_t> covered(static_cast<std::size_t>(texels) * texels);
+  for (int y = 0; y < texels; ++y) {
+    for (int x = 0; x < texels; ++x) covered[static_cast<std::size_t>(y) * texels + x] = out.body.at(x, y) > 0.0f;
+  }
+  carryColourOut(out.color, covered);
   return out;
 }
 

@@ -8,7 +8,11 @@
 //     toward the viewer positive, in units of the puff's diameter (the content square's width),
 //     so d lies in [-0.5, 0.5]. Flange and empty texels hold N=(0,0,1), d=0.
 //   color RGBA: diffuse colour C (as authored, sRGB-encoded) and coverage alpha, dilated by the
-//     flange; flange texels have C black. Straight (not premultiplied) alpha.
+//     flange. Straight (not premultiplied) alpha. Past the silhouette, C is the colour of the
+//     nearest covered texel (flange and empty texels alike, every mip level), so a filtered read at
+//     the rim sees the puff's colour; the paper's Fig. 3 bakes the flange black instead, and Puff
+//     draws the ink from the distance map. (Atlases baked before this hold black there: they load
+//     and draw, with a slightly dark rim.)
 //   distance (one channel): signed distance from the texel center to the puff's silhouette
 //     (without the flange), in level-0 texels, outside positive: dist = (v - 0.5) * 2 * range.
 // A cell is one (variation, view); the puff's unit bounding sphere projects onto the cell's
