@@ -301,8 +301,18 @@ TEST(Simulator, EmittersBornAtTheirRateWithinTheBudget) {
   auto sim = make(s);
   sim->advanceToFrame(60);  // 2 s
   EXPECT_EQ(sim->size(), 500u);
+  // Still air, drag k = 2, born at v0 = (0, 1, 0) somewhere in the sphere: at age a a particle
+  // moves at v0 e^(-k a) and lies v0 (1 - e^(-k a)) / k above where it was born, inside the sphere,
+  // give or take the substep h it was born in (drag acts from the substep's start on).
+  // (A particle that ignored drag would lie up to 2 units above it.)
+  const float k = s.forces.drag, h = 1.0f / (s.fps * static_cast<float>(s.substeps));
   for (std::size_t i = 0; i < sim->size(); ++i) {
-    EXPECT_LE(glm::length(sim->particle(i).position - sim->particle(i).velocity * 0.0f), 2.0f + 2.0f * 1.0f * 2.1f);
+    const sim::ParticleState p = sim->particle(i);
+    const float decay = std::exp(-k * p.age);
+    EXPECT_GE(p.velocity.y, decay - 1e-5f) << i;
+    EXPECT_LE(p.velocity.y, std::exp(-k * (p.age - h)) + 1e-5f) << i;
+    const glm::vec3 birth = p.position - glm::vec3(0.0f, (1.0f - decay) / k, 0.0f);
+    EXPECT_LE(glm::length(birth), e.radius + h) << i << " (age " << p.age << ")";
   }
   s.maxParticles = 100;
   auto capped = make(s);
