@@ -3,6 +3,10 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "golden/golden.h"
 #include "support/temp_dir.h"
@@ -16,15 +20,27 @@ class Golden : public ::testing::Test {
  protected:
   void SetUp() override {
     fs::create_directories(root_ / "refs");
+    for (const char* name : {"PUFF_GOLDEN_REFERENCE_DIR", "PUFF_GOLDEN_OUTPUT_DIR"}) {
+      const char* v = std::getenv(name);
+      saved_.emplace_back(name, v ? std::optional<std::string>(v) : std::nullopt);
+    }
     setenv("PUFF_GOLDEN_REFERENCE_DIR", (root_ / "refs").c_str(), 1);
     setenv("PUFF_GOLDEN_OUTPUT_DIR", (root_ / "out").c_str(), 1);
     ref_ = core::Image(20, 10, 3, 0.5f);
     ASSERT_TRUE(core::writeImage(root_ / "refs" / "case.png", ref_, core::PixelType::kUInt8).ok());
   }
+  // Puts back what the process had (tests/mutation/run.py points the output elsewhere: the tests
+  // after these must keep writing there).
   void TearDown() override {
-    unsetenv("PUFF_GOLDEN_REFERENCE_DIR");
-    unsetenv("PUFF_GOLDEN_OUTPUT_DIR");
+    for (const auto& [name, value] : saved_) {
+      if (value) {
+        setenv(name.c_str(), value->c_str(), 1);
+      } else {
+        unsetenv(name.c_str());
+      }
+    }
   }
+  std::vector<std::pair<std::string, std::optional<std::string>>> saved_;
   ScopedTempDir root_{"puff_golden_test"};
   core::Image ref_;
 };

@@ -585,6 +585,22 @@ TEST(MediaPhase, BothModelsIntegrateToOne) {
   EXPECT_NEAR(media::phase(media::PhaseModel::kCornetteShanks, 0.0, 0.0), 3.0 / (16.0 * std::numbers::pi), 1e-12);
 }
 
+// Forward and back, where g matters: c = cos of the angle between the light's travel and the
+// scattered direction, so g > 0 scatters forward (c = 1). Values worked by hand from the printed
+// formulas, at g = 0.5: Henyey-Greenstein (1 - g^2) / (4 pi (1 + g^2 -+ 2g)^1.5) = 0.75 / (4 pi
+// 0.125) forward, 0.75 / (4 pi 3.375) back; Cornette-Shanks 3/2 (1 - g^2)/(2 + g^2) (1 + c^2) /
+// (1 + g^2 -+ 2g)^1.5 / (4 pi) = 8 / (4 pi) forward, 8 / 27 / (4 pi) back. (Integrating to one and
+// the g = 0 values cannot see the angle reversed.)
+TEST(MediaPhase, ForwardScatteringIsWhereGPoints) {
+  const double fourPi = 4.0 * std::numbers::pi;
+  EXPECT_NEAR(media::phase(media::PhaseModel::kHenyeyGreenstein, 1.0, 0.5), 6.0 / fourPi, 1e-12);
+  EXPECT_NEAR(media::phase(media::PhaseModel::kHenyeyGreenstein, -1.0, 0.5), (0.75 / 3.375) / fourPi, 1e-12);
+  EXPECT_NEAR(media::phase(media::PhaseModel::kCornetteShanks, 1.0, 0.5), 8.0 / fourPi, 1e-12);
+  EXPECT_NEAR(media::phase(media::PhaseModel::kCornetteShanks, -1.0, 0.5), (8.0 / 27.0) / fourPi, 1e-12);
+  // g < 0 mirrors it.
+  EXPECT_NEAR(media::phase(media::PhaseModel::kHenyeyGreenstein, -1.0, -0.5), 6.0 / fourPi, 1e-12);
+}
+
 TEST(MediaSort, BackToFrontIsStableAndFarthestFirst) {
   std::vector<media::Particle> ps;
   const float zs[] = {-3, -10, -3, 2, -7.5f, -0.0f, -10};
