@@ -312,6 +312,31 @@ TEST_F(Nailboards, ParticleMeetsAPlaneAlongTheDepthMapCurve) {
   }
 }
 
+// Outline texels lie on the billboard plane (d = 0), which is what lets a nearer body hide them
+// (Fig. 5). A receiving plane a hair in front of the billboard plane (0.1 units, 1/40 of the
+// diameter) hides the whole ink ring, while the body's front pokes through it; the same plane a hair
+// behind shows the whole ring, as wide as asked.
+TEST_F(Nailboards, OutlinesLieOnTheBillboardPlane) {
+  cel::Style style;
+  style.outlineWidth = 3.0f;
+  for (float planeZ : {0.1f, -0.1f}) {
+    draw(orthoFrame(), {Particle{glm::vec3(0), 4.0f}}, style, depthOfZ(planeZ));
+    const auto px = target_->readColor();
+    int ink = 0, body = 0;
+    for (const glm::vec4& c : px) {
+      ink += isInk(c) ? 1 : 0;
+      body += !isInk(c) && !isWhiteBg(c) ? 1 : 0;
+    }
+    const double ring = std::numbers::pi * ((32.0 + 3.0) * (32.0 + 3.0) - 32.0 * 32.0);  // 3 px around 32 px
+    if (planeZ > 0.0f) {
+      EXPECT_EQ(ink, 0) << "ink in front of a plane 0.1 units before the billboard plane";
+      EXPECT_GT(body, 2500) << "the body pokes through";
+    } else {
+      EXPECT_NEAR(ink, ring, 0.15 * ring);
+    }
+  }
+}
+
 // Fig. 5: two puffs at the same depth overlapping; the body of each is nearer than the other's
 // flange, so no ink shows inside the union, while the outer outline is there.
 TEST_F(Nailboards, FlangeBetweenOverlappingParticlesIsHidden) {
