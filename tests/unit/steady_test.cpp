@@ -5,7 +5,7 @@
 //                  from the origin, 10 km included.
 //   SteadyImage    a still puff drawn beside a crowd that moves every frame keeps every pixel.
 //   SteadyRamp     the fixed path's bands change where the cel path's do (N.L = k / W for a W-texel
-//                  ramp sampled nearest), within 1/256, for ramps 3, 5 and 300 texels wide.
+//                  ramp sampled nearest), within 1/512, for ramps 3, 5 and 300 texels wide.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -280,7 +280,7 @@ TEST_F(SteadyImage, AStillPuffKeepsItsPixelsUnderAMovingCrowd) {
 // wide viewport. The texture coordinate s = N.L is interpolated linearly across the quad, so pixel
 // column c sees s0 + (1 - s0)(c + 1/2) / 1024; each change of tone between two columns is an edge
 // at the midpoint (within half a column, 0.0005). The edges are those of the closed form, in order,
-// with the same tones either side, each within 1/256.
+// with the same tones either side, each within 1/512 (half a texel of the 256-texel resample).
 class SteadyRamp : public ::testing::Test {
  protected:
   static constexpr int kWidth = 1024, kHeight = 16;  // cell size 8: the viewport needs 16 x 16
@@ -388,11 +388,13 @@ class SteadyRamp : public ::testing::Test {
     for (std::size_t i = 0; i < expected.size(); ++i) {
       EXPECT_EQ(measured[i].below, expected[i].below) << "edge " << i;
       EXPECT_EQ(measured[i].above, expected[i].above) << "edge " << i;
-      EXPECT_NEAR(measured[i].s, expected[i].s, 1.0 / 256.0) << "edge " << i;
+      // Resampled nearest at texel centres, an edge moves at most half a texel of the 256: 1/512
+      // (measured: 0.00171 at worst). Read at texel edges it moves up to a whole texel.
+      EXPECT_NEAR(measured[i].s, expected[i].s, 1.0 / 512.0) << "edge " << i;
       worst = std::max(worst, std::abs(measured[i].s - expected[i].s));
     }
-    std::printf("%d-texel ramp: %zu band edges, worst |fixed - cel| = %.5f in N.L (tolerance 1/256 = %.5f)\n", w,
-                expected.size(), worst, 1.0 / 256.0);
+    std::printf("%d-texel ramp: %zu band edges, worst |fixed - cel| = %.5f in N.L (tolerance 1/512 = %.5f)\n", w,
+                expected.size(), worst, 1.0 / 512.0);
   }
 };
 
