@@ -8,8 +8,11 @@
 //  - opaque objects shadow the ground and the puffs (the map and the reference; docs/cel-rendering.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
@@ -84,6 +87,58 @@ class ShadowMethods : public test::SphereAtlasTest {
     return {(x + 0.5f - kPx / 2.0f) / kPxPerUnit, (y + 0.5f - kPx / 2.0f) / kPxPerUnit};
   }
   static bool shadowed(const core::Image& im, int x, int y) { return std::abs(im.at(x, y, 0) - kAmbient) < 0.1f; }
+
+  // The shadowed ground pixels of `im` that `counted` keeps, row by row.
+  template <class Counted>
+  static std::vector<bool> shadowMask(const core::Image& im, Counted counted) {
+    std::vector<bool> mask(static_cast<std::size_t>(kPx) * kPx);
+    for (int y = 0; y < kPx; ++y)
+      for (int x = 0; x < kPx; ++x) mask[static_cast<std::size_t>(y) * kPx + x] = counted(x, y) && shadowed(im, x, y);
+    return mask;
+  }
+
+  // `m` saved as NAME/NAME.obj under the suite's directory (so the reference loads the mesh itself)
+  // and baked beside it: one view, 128-texel cells, a 4-texel flange. The sidecar.
+  static std::filesystem::path bakeMesh(const mesh::TriMesh& m, const std::string& name) {
+    const std::filesystem::path obj = dir_ / name / (name + ".obj");
+    std::filesystem::create_directories(obj.parent_path());
+    EXPECT_OK(mesh::saveMesh(m, obj));
+    auto sources = bake::loadSources({obj}, std::nullopt);
+    EXPECT_OK(sources);
+    if (!sources) return {};
+    bake::BakeOptions o;
+    o.cellSize = 128;
+    o.flange = {4.0f, false};
+    o.outDir = obj.parent_path();
+    o.contactSheet = false;
+    auto baked = bake::bakeAtlas(*sources, o);
+    EXPECT_OK(baked);
+    return baked ? baked->sidecar : std::filesystem::path();
+  }
+
+  // Scene `j` with its puffs alone (no ground), drawn with shadows and without, shading off: the
+  // pixels that differ (a puff shadowing itself) and the puffs' pixels.
+  struct SelfShadow {
+    int differ = 0, puff = 0;
+  };
+  static SelfShadow selfShadow(nlohmann::json j, Method m) {
+    j["objects"] = nlohmann::json::array();
+    j["style"]["shading"] = false;
+    const core::Image with = render(j, m);
+    j["style"]["shadows"] = false;
+    const core::Image without = render(j, m);
+    SelfShadow r;
+    EXPECT_EQ(with.width, kPx);
+    EXPECT_EQ(without.width, kPx);
+    if (with.width != kPx || without.width != kPx) return r;
+    for (int y = 0; y < kPx; ++y) {
+      for (int x = 0; x < kPx; ++x) {
+        r.puff += std::abs(without.at(x, y, 0) - without.at(0, 0, 0)) > 0.05f;
+        r.differ += std::abs(with.at(x, y, 0) - without.at(x, y, 0)) > 2.0f / 255.0f;
+      }
+    }
+    return r;
+  }
 };
 
 // IoU of the shadowed ground pixels with `inside` over the pixels `counted` keeps.
@@ -179,22 +234,9 @@ TEST_P(ShadowOfASphere, APuffNeverShadowsItself) {
     for (float bias : {0.0f, 0.05f}) {
       if (m == Method::kReference && bias > 0.0f) continue;
       if (m == Method::kVolumes && bias == 0.0f) continue;  // the volumes' only guard is the bias
-      nlohmann::json j = groundScene(l, style(m, {{"shading", false}, {"shadowBias", bias}}), particles);
-      j["objects"] = nlohmann::json::array();  // the puff alone
-      const core::Image with = render(j, m);
-      j["style"]["shadows"] = false;
-      const core::Image without = render(j, m);
-      ASSERT_EQ(with.width, kPx);
-      ASSERT_EQ(without.width, kPx);
-      int differ = 0, puff = 0;
-      for (int y = 0; y < kPx; ++y) {
-        for (int x = 0; x < kPx; ++x) {
-          puff += std::abs(without.at(x, y, 0) - without.at(0, 0, 0)) > 0.05f;
-          differ += std::abs(with.at(x, y, 0) - without.at(x, y, 0)) > 2.0f / 255.0f;
-        }
-      }
-      EXPECT_GT(puff, 1000);
-      EXPECT_LE(differ, m == Method::kVolumes ? 3 * puff / 100 : 0)
+      const SelfShadow r = selfShadow(groundScene(l, style(m, {{"shadowBias", bias}}), particles), m);
+      EXPECT_GT(r.puff, 1000);
+      EXPECT_LE(r.differ, m == Method::kVolumes ? 3 * r.puff / 100 : 0)
           << name(m) << " light " << l.x << "," << l.y << "," << l.z << " bias " << bias;
     }
   }
@@ -266,24 +308,14 @@ TEST_F(ShadowMethods, ALongPuffsShadowLiesAlongItAsTheReferenceCastsIt) {
   for (glm::vec3& p : m.positions) p *= glm::vec3(1.0f, 0.33f, 0.5f);
   mesh::computeNormals(m);
   mesh::normalizeToUnitSphere(m);
-  const std::filesystem::path obj = dir_ / "long" / "long.obj";
-  std::filesystem::create_directories(obj.parent_path());
-  ASSERT_OK(mesh::saveMesh(m, obj));
-  auto sources = bake::loadSources({obj}, std::nullopt);
-  ASSERT_OK(sources);
-  bake::BakeOptions o;
-  o.cellSize = 128;
-  o.flange = {4.0f, false};
-  o.outDir = obj.parent_path();
-  o.contactSheet = false;
-  auto baked = bake::bakeAtlas(*sources, o);
-  ASSERT_OK(baked);
+  const std::filesystem::path atlas = bakeMesh(m, "long");
+  ASSERT_FALSE(atlas.empty());
   const float H = 1.5f;
   for (const glm::vec3& dir :
        {glm::vec3(0.5f, 1, 0), glm::vec3(0, 1, 0.6f), glm::vec3(-0.4f, 1, 0.4f), glm::vec3(0.3f, 1, -0.5f)}) {
     const glm::vec3 l = glm::normalize(dir);
     nlohmann::json j = groundScene(l, style(Method::kMap), {{{"position", {0, H, 0}}, {"size", 3.0}}});
-    j["atlas"] = baked->sidecar.string();
+    j["atlas"] = atlas.string();
     const core::Image ref = render(j, Method::kReference);
     ASSERT_EQ(ref.width, kPx);
     // The ground away from the puff seen from above (its ellipse and ink, grown a little).
@@ -291,10 +323,7 @@ TEST_F(ShadowMethods, ALongPuffsShadowLiesAlongItAsTheReferenceCastsIt) {
       const glm::vec2 g = ground(x, y);
       return (g.x / 1.7f) * (g.x / 1.7f) + (g.y / 0.6f) * (g.y / 0.6f) > 1.0f;
     };
-    std::vector<bool> refMask(static_cast<std::size_t>(kPx) * kPx);
-    for (int y = 0; y < kPx; ++y)
-      for (int x = 0; x < kPx; ++x)
-        refMask[static_cast<std::size_t>(y) * kPx + x] = counted(x, y) && shadowed(ref, x, y);
+    const std::vector<bool> refMask = shadowMask(ref, counted);
     for (Method m2 : {Method::kMap, Method::kVolumes}) {
       j["style"]["shadowMethod"] = m2 == Method::kMap ? "map" : "volumes";
       const core::Image im = render(j, m2);
@@ -305,10 +334,7 @@ TEST_F(ShadowMethods, ALongPuffsShadowLiesAlongItAsTheReferenceCastsIt) {
       // little (measured 0.69-0.80), their direction not at all: a shadow turned 90 degrees (the light's
       // own up, as before) fails the axis check.
       EXPECT_GE(iou, 0.65) << name(m2) << " light " << l.x << "," << l.y << "," << l.z;
-      std::vector<bool> mask(refMask.size());
-      for (int y = 0; y < kPx; ++y)
-        for (int x = 0; x < kPx; ++x) mask[static_cast<std::size_t>(y) * kPx + x] = counted(x, y) && shadowed(im, x, y);
-      const double a = principalAxisDegrees(mask), b = principalAxisDegrees(refMask);
+      const double a = principalAxisDegrees(shadowMask(im, counted)), b = principalAxisDegrees(refMask);
       const double d = std::fmod(std::abs(a - b), 180.0);
       EXPECT_LT(std::min(d, 180.0 - d), 10.0) << name(m2) << ": shadow axis " << a << ", the reference's " << b;
     }
@@ -333,40 +359,17 @@ TEST_F(ShadowMethods, ALumpyPuffNeverShadowsItselfAndCastsItsOwnShape) {
   cp.seed = 11;
   mesh::TriMesh m = mesh::generateCluster(cp);
   mesh::normalizeToUnitSphere(m);
-  const std::filesystem::path obj = dir_ / "lumpy" / "lumpy.obj";
-  std::filesystem::create_directories(obj.parent_path());
-  ASSERT_OK(mesh::saveMesh(m, obj));
-  auto sources = bake::loadSources({obj}, std::nullopt);
-  ASSERT_OK(sources);
-  bake::BakeOptions o;
-  o.cellSize = 128;
-  o.flange = {4.0f, false};
-  o.outDir = obj.parent_path();
-  o.contactSheet = false;
-  auto baked = bake::bakeAtlas(*sources, o);
-  ASSERT_OK(baked);
-  const float H = 1.5f, size = 3.0f;
-  const nlohmann::json particles = {{{"position", {0, H, 0}}, {"size", size}}};
+  const std::filesystem::path atlas = bakeMesh(m, "lumpy");
+  ASSERT_FALSE(atlas.empty());
+  const nlohmann::json particles = {{{"position", {0, 1.5, 0}}, {"size", 3.0}}};
 
   for (Method method : {Method::kMap, Method::kVolumes}) {
     for (const glm::vec3& dir : {glm::vec3(1, 0.3f, 0), glm::vec3(-1, 0.6f, 0.2f), glm::vec3(0, 1, 0),
                                  glm::vec3(0.3f, 0.4f, 1), glm::vec3(0.2f, 0.5f, -1), glm::vec3(1, -0.4f, 1),
                                  glm::vec3(-0.6f, 1, -0.6f), glm::vec3(0.7f, 0.1f, -0.7f)}) {
-      nlohmann::json j = groundScene(glm::normalize(dir), style(method, {{"shading", false}}), particles);
-      j["atlas"] = baked->sidecar.string();
-      j["objects"] = nlohmann::json::array();  // the puff alone
-      const core::Image with = render(j, method);
-      j["style"]["shadows"] = false;
-      const core::Image without = render(j, method);
-      ASSERT_EQ(with.width, kPx);
-      ASSERT_EQ(without.width, kPx);
-      int differ = 0, puff = 0;
-      for (int y = 0; y < kPx; ++y) {
-        for (int x = 0; x < kPx; ++x) {
-          puff += std::abs(without.at(x, y, 0) - without.at(0, 0, 0)) > 0.05f;
-          differ += std::abs(with.at(x, y, 0) - without.at(x, y, 0)) > 2.0f / 255.0f;
-        }
-      }
+      nlohmann::json j = groundScene(glm::normalize(dir), style(method), particles);
+      j["atlas"] = atlas.string();
+      const auto [differ, puff] = selfShadow(j, method);
       EXPECT_GT(puff, 800);
       // Measured for the volumes: 0 to 75 of 1,015 pixels (7.4%, lit from a low side); 0 from
       // straight above. A volume started in front of its puff shades half of it.
@@ -382,20 +385,13 @@ TEST_F(ShadowMethods, ALumpyPuffNeverShadowsItselfAndCastsItsOwnShape) {
     const float el = glm::radians(58.0f), az = glm::radians(azimuth);
     const glm::vec3 l(std::cos(el) * std::cos(az), std::sin(el), std::cos(el) * std::sin(az));
     nlohmann::json j = groundScene(l, style(Method::kMap), high);
-    j["atlas"] = baked->sidecar.string();
+    j["atlas"] = atlas.string();
     const core::Image ref = render(j, Method::kReference);
     ASSERT_EQ(ref.width, kPx);
     // The ground away from the puff seen from above (within its bounding circle and ink).
     auto counted = [&](int x, int y) { return glm::length(ground(x, y)) > 1.2f + 3.0f / kPxPerUnit; };
-    std::vector<bool> refMask(static_cast<std::size_t>(kPx) * kPx);
-    int refCount = 0;
-    for (int y = 0; y < kPx; ++y) {
-      for (int x = 0; x < kPx; ++x) {
-        const bool s = counted(x, y) && shadowed(ref, x, y);
-        refMask[static_cast<std::size_t>(y) * kPx + x] = s;
-        refCount += s;
-      }
-    }
+    const std::vector<bool> refMask = shadowMask(ref, counted);
+    const auto refCount = static_cast<int>(std::count(refMask.begin(), refMask.end(), true));
     EXPECT_GT(refCount, 150) << "azimuth " << azimuth;
     for (Method m2 : {Method::kMap, Method::kVolumes}) {
       j["style"]["shadowMethod"] = m2 == Method::kMap ? "map" : "volumes";
