@@ -1,11 +1,13 @@
 #version 450 core
 // The cel reference's outlines: the TRUE silhouette of each puff mesh, its edges between a triangle
-// facing the eye and one facing away, each drawn as a band uWidth pixels wide on the side away from
-// the puff (and uWidth longer at both ends, so the bands of consecutive edges join), at the edge's own
-// depth. Drawn after everything else with the depth test and no depth write: a nearer surface hides
-// the ink, a farther one or the background shows it, as the nailboards' flange (§4.2, Fig. 5). Only
-// the puff's OUTER silhouette is inked, as the nailboards' distance map outlines it: silhouette.frag
-// drops ink over the puff's own pixels (a fold inside its outline shows the puff itself behind it).
+// facing the eye and one facing away. The ink is every pixel within uWidth pixels of a silhouette
+// edge (the segment, round at its ends: the exact offset of the silhouette polygon, as a distance to
+// the silhouette defines it), at the edge's own depth. Each edge is drawn as the rectangle around
+// its capsule; silhouette.frag keeps the pixels whose centres lie within uWidth of the segment.
+// Drawn after everything else with the depth test and no depth write: a nearer surface hides the
+// ink, a farther one or the background shows it, as the nailboards' flange (§4.2, Fig. 5). Only the
+// puff's OUTER silhouette is inked, as the nailboards' distance map outlines it: silhouette.frag drops
+// ink over the puff's own pixels (a fold inside its outline shows the puff itself behind it).
 #include "common/frame.glsl"
 
 layout(triangles_adjacency) in;
@@ -15,6 +17,7 @@ in vec3 vView[];
 flat in uint vId[];
 out float gDist;  // view-axis distance, for linear depth
 flat out uint gId;
+flat out vec4 gSegment;  // the edge's ends, pixels of the target viewport
 
 uniform float uWidth;  // pixels of the (supersampled) target
 
@@ -25,10 +28,11 @@ bool facesEye(vec3 a, vec3 b, vec3 c) {
 
 vec2 toPixels(vec4 clip) { return (clip.xy / clip.w * 0.5 + 0.5) * uViewport.zw; }
 
-void emit(vec4 clip, vec2 offsetPixels, float dist) {
+void emit(vec4 clip, vec2 offsetPixels, float dist, vec4 segment) {
   gl_Position = vec4(clip.xy + offsetPixels / uViewport.zw * 2.0 * clip.w, clip.zw);
   gDist = dist;
   gId = vId[0];
+  gSegment = segment;
   EmitVertex();
 }
 
@@ -39,20 +43,22 @@ void main() {
     int i0 = 2 * e, i1 = (2 * e + 2) % 6, across = 2 * e + 1, inner = (2 * e + 4) % 6;
     if (vView[across] == vView[inner]) continue;  // no neighbour (an open mesh's border): not inked
     if (facesEye(vView[i1], vView[i0], vView[across])) continue;  // both faces front: not a silhouette
-    vec4 c0 = gl_in[i0].gl_Position, c1 = gl_in[i1].gl_Position, ci = gl_in[inner].gl_Position;
-    if (c0.w <= 0.0 || c1.w <= 0.0 || ci.w <= 0.0) continue;  // through the eye plane: left out
-    vec2 p0 = toPixels(c0), p1 = toPixels(c1), pi = toPixels(ci);
+    vec4 c0 = gl_in[i0].gl_Position, c1 = gl_in[i1].gl_Position;
+    if (c0.w <= 0.0 || c1.w <= 0.0) continue;  // through the eye plane: left out
+    vec2 p0 = toPixels(c0), p1 = toPixels(c1);
     vec2 along = p1 - p0;
     float len = length(along);
-    if (len < 1e-6) continue;
-    along /= len;
-    vec2 out2 = vec2(-along.y, along.x);
-    if (dot(out2, pi - p0) > 0.0) out2 = -out2;  // away from the front face's third vertex
-    vec2 a = -along * uWidth, b = along * uWidth, o = out2 * uWidth;
-    emit(c0, a, -vView[i0].z);
-    emit(c0, a + o, -vView[i0].z);
-    emit(c1, b, -vView[i1].z);
-    emit(c1, b + o, -vView[i1].z);
+    // A edge seen end-on is a point: its ink is the disc around it.
+    along = len < 1e-6 ? vec2(1.0, 0.0) : along / len;
+    vec2 side = vec2(-along.y, along.x);
+    // Half a pixel more all round: every pixel centre within uWidth is inside the rectangle.
+    float reach = uWidth + 0.5;
+    vec2 a = -along * reach, b = along * reach, o = side * reach;
+    vec4 segment = vec4(p0, p1);
+    emit(c0, a - o, -vView[i0].z, segment);
+    emit(c0, a + o, -vView[i0].z, segment);
+    emit(c1, b - o, -vView[i1].z, segment);
+    emit(c1, b + o, -vView[i1].z, segment);
     EndPrimitive();
   }
 }

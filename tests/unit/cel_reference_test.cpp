@@ -136,6 +136,39 @@ TEST_F(CelReference, OutlinesRingTheTrueSilhouetteAtTheirWidth) {
   EXPECT_GT(ink, 150);  // about 2 pi 32
 }
 
+// The ink is every pixel within the outline's width of the silhouette: its outer edge is a circle
+// of radius R + width around a sphere puff, measured from the areas the ink and the body cover
+// (point-sampled, one sample a pixel, as the tumble sweep draws it). Over the sizes and widths a
+// style can set: the bands of a polygon's edges drawn as rectangles reach past that at every corner
+// (by up to 0.41 widths; 0.25 px at width 4 on this sphere).
+TEST_F(CelReference, InkReachesTheOutlinesWidthAndNoFarther) {
+  for (float R : {1.0f, 2.0f, 3.0f}) {
+    for (float width : {1.0f, 2.0f, 4.0f, 8.0f}) {
+      const nlohmann::json style = {
+          {"outlines", true}, {"outlineWidth", width}, {"shading", false}, {"shadows", false}};
+      auto scene =
+          scene::parseScene(frontScene(style, {{{"position", {0, 0, 0}}, {"size", 2 * R}}}), dir_ / "ink.json");
+      ASSERT_OK(scene);
+      auto reference = eval::createCelReference(*scene, eval::CelReferenceOptions{.supersample = 1});
+      ASSERT_OK(reference);
+      auto frame = (*reference)->renderFrame(0);
+      ASSERT_OK(frame);
+      const core::Image img = test::display(*frame);
+      int covered = 0, ink = 0;
+      for (int y = 0; y < kPx; ++y) {
+        for (int x = 0; x < kPx; ++x) {
+          covered += std::abs(img.at(x, y, 0) - 0.9f) > 0.01f;
+          ink += img.at(x, y, 0) < 0.05f;
+        }
+      }
+      const double outer = std::sqrt(covered / std::numbers::pi), body = std::sqrt((covered - ink) / std::numbers::pi);
+      const double r = R * kPxPerUnit;
+      EXPECT_NEAR(outer, r + width, 0.15) << "sphere " << r << " px, width " << width;
+      EXPECT_NEAR(body, r, 0.15) << "sphere " << r << " px, width " << width;
+    }
+  }
+}
+
 // A nearer puff hides the farther one's outline where it covers it: no ink inside the nearer disc.
 TEST_F(CelReference, ANearerPuffHidesTheFartherOnesOutline) {
   const float R = 1.5f;
