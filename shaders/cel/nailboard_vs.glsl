@@ -21,7 +21,10 @@ flat out mat3 vNormalXf[PUFF_VIEWS];   // cell camera space -> camera (view) spa
 // space, and puff space -> camera space.
 flat out int vHull;
 flat out int vHullBehind;  // a hemi-oct atlas seen from behind: some of the four cells stand for back views
-flat out ivec2 vCellAcross;  // the views nearest the billboard's right and up: they bound the depth
+// The views nearest the billboard's right, up and the two diagonals between (every 45 degrees
+// across the eye ray): their silhouettes bound the puff's depth, and together the width the four
+// nearest views leave open (views that straddle the eye ray bound a lens wider than the puff).
+flat out ivec4 vCellAcross;
 flat out mat3 vBillboardPuff;
 flat out mat3 vPuffToView;
 #endif
@@ -98,7 +101,8 @@ void main() {
   vNormalXf[2] = toView * cellToBillboard(vMap[2]);
   vNormalXf[3] = toView * cellToBillboard(vMap[3]);
   vHull = p.oriented && uAtlasLayout.y > 1 ? 1 : 0;  // (read only by the hull's fragment stage)
-  vCellAcross = ivec2(nearestView(p, rP), nearestView(p, uP));
+  vCellAcross = ivec4(nearestView(p, rP), nearestView(p, uP), nearestView(p, normalize(rP + uP)),
+                      nearestView(p, normalize(rP - uP)));
   vHullBehind = 0;
   for (int k = 0; k < 4; ++k) {
     if (uAtlasLayout.w != 1 && dot(cells[cell[k]].dir.xyz, toward) < 0.0) vHullBehind = 1;

@@ -17,6 +17,7 @@
 #include <puff/core/atlas.h>
 #include <puff/eval/cel_reference.h>
 #include <puff/eval/tumble.h>
+#include <puff/mesh/mesh.h>
 #include <puff/reference/metrics.h>
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
@@ -35,12 +36,13 @@ namespace fs = std::filesystem;
 // coverage IoU (worst pose, mean over the poses) and outline IoU (worst, mean). The floors are what
 // this code measured (tests/unit, 48-px puffs, point-sampled, roll every 45 degrees) less about 0.01:
 // they catch a change that turns puffs worse. Issue 22's targets are coverage >= 0.95 and outline
-// >= 0.5 at every pose. The hull meets the outline target at every atlas here but oct 3 x 3 (0.50)
-// and hemi-oct 3 x 3 and 5 x 5 (0.32, 0.48); the coverage target at none: the worst poses reach
-// 0.910-0.945 (2026-12-03, after the reference's ink stopped reaching past the outline's width at
-// the meshes' polygon corners: coverage rose by 0.005-0.015, outline fell by up to 0.02). The baked
-// front view itself, unturned, reaches 0.974-0.979 against the mesh at this size, where a pixel all
-// around the silhouette is about 10% of a puff's pixels.
+// >= 0.5 at every pose. The hull meets the outline target at every atlas here, and the coverage
+// target at 7 x 7 (oct 0.956, hemi-oct 0.954; the floors are the target itself), not at 3 x 3 and
+// 5 x 5 (0.914-0.945). (2026-12-03: the reference's ink stopped reaching past the outline's width at
+// the meshes' polygon corners; the hull takes four views across the ray, not two, and no longer
+// allows a texel and a half over the front surfaces; outline IoU counts what the outlines add to
+// the puff, not dark pixels.) The baked front view itself, unturned, reaches 0.974-0.979 against
+// the mesh at this size, where a pixel all around the silhouette is about 10% of a puff's pixels.
 // docs/cel-rendering.md, "Tumbling puffs", and docs/report/README.md have the numbers. The blend is
 // kept for its cost (about an eighth of the hull's on llvmpipe) and guarded at two atlases.
 struct Config {
@@ -362,15 +364,45 @@ TEST_F(TumbleCases, OrientedPuffsOnAOneViewAtlasAreRefused) {
 
 INSTANTIATE_TEST_SUITE_P(
     Atlases, Tumble,
-    ::testing::Values(Config{bake::ViewLayout::kOct, 3, 0.90, 0.948, 0.495, 0.675},
-                      Config{bake::ViewLayout::kOct, 5, 0.935, 0.967, 0.635, 0.80},
-                      Config{bake::ViewLayout::kOct, 7, 0.925, 0.972, 0.635, 0.86},
-                      Config{bake::ViewLayout::kHemiOct, 3, 0.91, 0.955, 0.31, 0.58},
-                      Config{bake::ViewLayout::kHemiOct, 5, 0.93, 0.97, 0.475, 0.71},
-                      Config{bake::ViewLayout::kHemiOct, 7, 0.93, 0.975, 0.57, 0.775},
-                      Config{bake::ViewLayout::kOct, 3, 0.685, 0.92, 0.045, 0.46, cel::TumbleMethod::kBlend},
-                      Config{bake::ViewLayout::kHemiOct, 7, 0.865, 0.975, 0.22, 0.72, cel::TumbleMethod::kBlend}),
+    ::testing::Values(Config{bake::ViewLayout::kOct, 3, 0.905, 0.955, 0.56, 0.74},
+                      Config{bake::ViewLayout::kOct, 5, 0.935, 0.97, 0.695, 0.83},
+                      Config{bake::ViewLayout::kOct, 7, 0.95, 0.975, 0.75, 0.87},
+                      Config{bake::ViewLayout::kHemiOct, 3, 0.915, 0.96, 0.57, 0.76},
+                      Config{bake::ViewLayout::kHemiOct, 5, 0.935, 0.97, 0.705, 0.86},
+                      Config{bake::ViewLayout::kHemiOct, 7, 0.95, 0.98, 0.755, 0.90},
+                      Config{bake::ViewLayout::kOct, 3, 0.685, 0.92, 0.05, 0.515, cel::TumbleMethod::kBlend},
+                      Config{bake::ViewLayout::kHemiOct, 7, 0.865, 0.975, 0.295, 0.855, cel::TumbleMethod::kBlend}),
     [](const ::testing::TestParamInfo<Config>& i) { return name(i.param); });
+
+// A sphere puff looks the same from everywhere: turned any way, its hull is a disc ringed by ink of
+// the style's width, as the reference's sphere mesh is drawn. A convex puff leaves the hull nothing
+// to fill (no bays), so what is left is the pixel grid's own error at the silhouette: every pose
+// within that of the front view, for the coarsest atlases of both layouts.
+TEST_F(TumbleCases, ASphereTumblesAsADiscRingedByInk) {
+  for (bake::ViewLayout layout : {bake::ViewLayout::kOct, bake::ViewLayout::kHemiOct}) {
+    bake::BakeOptions o;
+    o.cellSize = 128;
+    o.viewGrid = 3;
+    o.viewLayout = layout;
+    o.outDir = dir_ / (layout == bake::ViewLayout::kOct ? "sphere-oct3" : "sphere-hemioct3");
+    o.contactSheet = false;
+    bake::PuffSource sphere;
+    sphere.mesh = mesh::generateSphere({6});
+    sphere.provenance.generator = "sphere";  // what the cel reference regenerates it from
+    sphere.provenance.params = {{"subdivisions", 6}};
+    auto baked = bake::bakeAtlas({sphere}, o);
+    ASSERT_OK(baked);
+    auto reference = eval::renderTumbleReference(baked->sidecar, options(), {0, 45});
+    ASSERT_OK(reference);
+    auto result = eval::measureTumble(baked->sidecar, *reference, cel::TumbleMethod::kHull);
+    ASSERT_OK(result);
+    std::printf("sphere, %s 3 x 3: coverage IoU min %.4f mean %.4f, outline IoU min %.4f mean %.4f\n",
+                layout == bake::ViewLayout::kOct ? "oct" : "hemi-oct", result->minCoverageIoU, result->meanCoverageIoU,
+                result->minOutlineIoU, result->meanOutlineIoU);
+    EXPECT_GE(result->minCoverageIoU, 0.975);
+    EXPECT_GE(result->minOutlineIoU, 0.85);
+  }
+}
 
 }  // namespace
 }  // namespace puff

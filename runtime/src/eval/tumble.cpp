@@ -25,7 +25,7 @@ namespace {
 
 constexpr float kSpacing = 1.5f;    // a square is 1.5 puff diameters: neighbours' ink never meets
 const glm::vec3 kBackground(0.9f);  // the scene's clear colour: a display (sRGB-encoded) value
-constexpr float kAmbient = 0.25f;   // display value: the darkest a (white) puff's body is drawn
+constexpr float kAmbient = 0.25f;   // display value: the ambient light
 
 struct Grid {
   int columns = 0, rows = 0, square = 0;  // square: pixels per side
@@ -62,7 +62,7 @@ Result<void> checkOptions(const TumbleOptions& o) {
 // The scene of one roll's grid: an orthographic camera on +z, a light from the upper left front,
 // outlines and Eq. 2 shading, no shadows (each pose alone is judged).
 Result<scene::Scene> gridScene(const fs::path& atlas, const TumbleOptions& o, int roll, int variations,
-                               cel::TumbleMethod method = cel::TumbleMethod::kHull) {
+                               cel::TumbleMethod method = cel::TumbleMethod::kHull, bool outlines = true) {
   const Grid g = gridFor(o);
   const float unit = 1.0f;  // a puff's diameter, world units
   const float pxPerUnit = static_cast<float>(o.puffPixels) / unit;
@@ -84,7 +84,7 @@ Result<scene::Scene> gridScene(const fs::path& atlas, const TumbleOptions& o, in
                             {"ambient", {{"color", {kAmbient, kAmbient, kAmbient}}}},
                             {"atlas", atlas.string()},
                             {"style",
-                             {{"outlines", true},
+                             {{"outlines", outlines},
                               {"outlineWidth", o.outlineWidth},
                               {"shading", true},
                               {"shadows", false},
@@ -136,6 +136,14 @@ core::Image square(const core::Image& im, int col, int row, int side) {
   return out;
 }
 
+// The pixels `outlined` covers and `body` (the same frame drawn without outlines) does not.
+std::vector<bool> inkBand(const core::Image& outlined, const core::Image& body, const core::Image& background) {
+  std::vector<bool> ink = reference::coverageMask(outlined, background);
+  const std::vector<bool> bare = reference::coverageMask(body, background);
+  for (std::size_t i = 0; i < ink.size(); ++i) ink[i] = ink[i] && !bare[i];
+  return ink;
+}
+
 int variationsOf(const fs::path& atlas) {
   auto d = core::loadAtlasDesc(atlas);
   return d ? std::max(1, d->variations) : 1;
@@ -164,11 +172,13 @@ Result<TumbleReference> renderTumbleReference(const fs::path& atlas, const Tumbl
   ref.rolls = rolls;
   const int variations = variationsOf(atlas);
   for (int roll : rolls) {
-    auto s = gridScene(atlas, options, roll, variations);
-    if (!s) return s.error();
-    auto image = renderOnce(*s, render::RenderPath::kReference, nullptr);
-    if (!image) return image.error();
-    ref.frames.push_back(std::move(*image));
+    for (bool outlines : {true, false}) {
+      auto s = gridScene(atlas, options, roll, variations, cel::TumbleMethod::kHull, outlines);
+      if (!s) return s.error();
+      auto image = renderOnce(*s, render::RenderPath::kReference, nullptr);
+      if (!image) return image.error();
+      (outlines ? ref.frames : ref.bodies).push_back(std::move(*image));
+    }
   }
   return ref;
 }
@@ -185,7 +195,6 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
   double sumCoverage = 0.0, sumOutline = 0.0;
   // Frames are scene-linear: the clear colour as the frames hold it.
   const glm::vec3 linearBackground = core::srgbToLinear(kBackground);
-  const double inkTolerance = 0.5 * core::srgbToLinear(static_cast<double>(kAmbient));
   core::Image background(g.square, g.square, 4);
   for (int y = 0; y < g.square; ++y)
     for (int x = 0; x < g.square; ++x)
@@ -195,6 +204,10 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
     if (!s) return s.error();
     auto image = renderOnce(*s, render::RenderPath::kCel, msPerFrame ? &times : nullptr);
     if (!image) return image.error();
+    auto bare = gridScene(atlas, o, reference.rolls[f], variations, method, false);
+    if (!bare) return bare.error();
+    auto body = renderOnce(*bare, render::RenderPath::kCel, nullptr);
+    if (!body) return body.error();
     const core::Image& ref = reference.frames[f];
     if (ref.width != image->width || ref.height != image->height) {
       return Error{"tumble sweep: the reference frames are " + std::to_string(ref.width) + "x" +
@@ -207,6 +220,8 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
         if (std::abs(pitches[r]) == 90 && yaws[c] != 0) continue;  // the same poses as yaw 0
         const core::Image a = square(*image, static_cast<int>(c), static_cast<int>(r), g.square);
         const core::Image b = square(ref, static_cast<int>(c), static_cast<int>(r), g.square);
+        const core::Image aBody = square(*body, static_cast<int>(c), static_cast<int>(r), g.square);
+        const core::Image bBody = square(reference.bodies[f], static_cast<int>(c), static_cast<int>(r), g.square);
         // The yardstick checks itself: a square's corner lies outside its puff (half a diameter
         // from the centre of a square 1.5 diameters wide), so it must read as background.
         for (const core::Image* im : {&a, &b}) {
@@ -218,10 +233,12 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
         }
         TumblePose p{yaws[c], pitches[r], reference.rolls[f], index % variations};
         p.coverageIoU = reference::coverageIoU(a, b, background);
-        // Ink: the outline colour, black, where the background is not; within half the darkest body
-        // colour (the ambient alone), so the dark band is not taken for ink.
-        p.outlineIoU = reference::maskIoU(reference::inkMask(a, background, glm::vec3(0.0f), inkTolerance),
-                                          reference::inkMask(b, background, glm::vec3(0.0f), inkTolerance));
+        // Ink: what the outlines add to the puff, the pixels covered with them and not without (the
+        // body alone, drawn again without outlines). From coverage, not colour: the nailboards'
+        // ink mixes with the body within half a pixel of the silhouette (its antialiased inner
+        // edge), the reference's does not, and a colour threshold would take a mixed pixel on a lit
+        // body for body and one on the dark band for ink.
+        p.outlineIoU = reference::maskIoU(inkBand(a, aBody, background), inkBand(b, bBody, background));
         out.minCoverageIoU = std::min(out.minCoverageIoU, p.coverageIoU);
         out.minOutlineIoU = std::min(out.minOutlineIoU, p.outlineIoU);
         sumCoverage += p.coverageIoU;

@@ -33,6 +33,7 @@ struct TumblePose {
 struct TumbleReference {
   TumbleOptions options;
   std::vector<core::Image> frames;  ///< scene-linear RGBA
+  std::vector<core::Image> bodies;  ///< the same frames without outlines (what the ink adds is the ink)
   std::vector<int> rolls;
 };
 
