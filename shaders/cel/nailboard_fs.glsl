@@ -55,8 +55,8 @@ out vec4 fragColor;
 // surface), and the four nearest the directions across the eye ray every 45 degrees (silhouette:
 // they bound the depth, and the width of the lens that four near views straddling the ray leave;
 // with two, right and up only, as until 2026-12-03, coverage IoU over the tumble sweep was up to
-// 0.008 lower and outline IoU up to 0.08). The eye ray is marched through that hull. Each bound gives a
-// distance (the silhouette's, or the height over the front surface times the surface normal's z:
+// 0.008 lower and outline IoU up to 0.08). The eye ray is marched through that hull. Each bound
+// gives a distance (the silhouette's, or the height over the front surface times the surface normal's z:
 // the distance to its tangent plane), and the largest is about the distance to the hull: steps of
 // that size do not pass through it (sphere tracing). The ray hits where it reaches 0; a ray that
 // misses passes the hull at its least distance, the ink band's distance to the silhouette.
