@@ -15,9 +15,9 @@ layout(triangle_strip, max_vertices = 12) out;
 
 in vec3 vView[];
 flat in uint vId[];
-out float gDist;  // view-axis distance, for linear depth
 flat out uint gId;
 flat out vec4 gSegment;  // the edge's ends, pixels of the target viewport
+flat out vec2 gEndDist;  // their view-axis distances (the ink's depth is the edge's at the nearest point)
 
 uniform float uWidth;  // pixels of the (supersampled) target
 
@@ -28,11 +28,11 @@ bool facesEye(vec3 a, vec3 b, vec3 c) {
 
 vec2 toPixels(vec4 clip) { return (clip.xy / clip.w * 0.5 + 0.5) * uViewport.zw; }
 
-void emit(vec4 clip, vec2 offsetPixels, float dist, vec4 segment) {
+void emit(vec4 clip, vec2 offsetPixels, vec4 segment, vec2 endDist) {
   gl_Position = vec4(clip.xy + offsetPixels / uViewport.zw * 2.0 * clip.w, clip.zw);
-  gDist = dist;
   gId = vId[0];
   gSegment = segment;
+  gEndDist = endDist;
   EmitVertex();
 }
 
@@ -55,10 +55,11 @@ void main() {
     float reach = uWidth + 0.5;
     vec2 a = -along * reach, b = along * reach, o = side * reach;
     vec4 segment = vec4(p0, p1);
-    emit(c0, a - o, -vView[i0].z, segment);
-    emit(c0, a + o, -vView[i0].z, segment);
-    emit(c1, b - o, -vView[i1].z, segment);
-    emit(c1, b + o, -vView[i1].z, segment);
+    vec2 endDist = vec2(-vView[i0].z, -vView[i1].z);
+    emit(c0, a - o, segment, endDist);
+    emit(c0, a + o, segment, endDist);
+    emit(c1, b - o, segment, endDist);
+    emit(c1, b + o, segment, endDist);
     EndPrimitive();
   }
 }

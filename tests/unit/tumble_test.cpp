@@ -63,9 +63,10 @@ class TumbleBase : public test::GlSuite<> {
   static void SetUpTestSuite() {
     GlSuite::SetUpTestSuite();
     hemi_.clear();
-    dir_ = fs::temp_directory_path() /
-           ("puff-tumble-" + std::string(::testing::UnitTest::GetInstance()->current_test_suite()->name()) + "-" +
-            std::to_string(::getpid()));
+    // (A parameterized suite's name holds a '/': one directory, not two.)
+    std::string suite = ::testing::UnitTest::GetInstance()->current_test_suite()->name();
+    std::replace(suite.begin(), suite.end(), '/', '-');
+    dir_ = fs::temp_directory_path() / ("puff-tumble-" + suite + "-" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -402,6 +403,18 @@ TEST_F(TumbleCases, ASphereTumblesAsADiscRingedByInk) {
     EXPECT_GE(result->minCoverageIoU, 0.975);
     EXPECT_GE(result->minOutlineIoU, 0.85);
   }
+}
+
+// A reference not made by renderTumbleReference (frames without their outline-free twins, which
+// the ink is measured against) is refused, not read past its end.
+TEST(TumbleSweep, AReferenceWithoutItsBodiesIsRefused) {
+  eval::TumbleReference ref;
+  ref.options.stepDegrees = 15;
+  ref.rolls = {0};
+  ref.frames.emplace_back(4, 4, 4);
+  auto r = eval::measureTumble("unused.json", ref);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("renderTumbleReference"), std::string::npos) << r.error().message;
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
@@ -187,6 +188,11 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
                                    double* msPerFrame) {
   const TumbleOptions& o = reference.options;
   PUFF_TRY(checkOptions(o));
+  if (reference.bodies.size() != reference.frames.size() || reference.frames.size() != reference.rolls.size()) {
+    return Error{"tumble sweep: the reference has " + std::to_string(reference.frames.size()) + " frames, " +
+                 std::to_string(reference.bodies.size()) + " without outlines and " +
+                 std::to_string(reference.rolls.size()) + " rolls (make it with renderTumbleReference)"};
+  }
   const Grid g = gridFor(o);
   const std::vector<int> yaws = sweep(0, 360, o.stepDegrees), pitches = sweep(-90, 90, o.stepDegrees, true);
   const int variations = variationsOf(atlas);
@@ -209,7 +215,12 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
     auto body = renderOnce(*bare, render::RenderPath::kCel, nullptr);
     if (!body) return body.error();
     const core::Image& ref = reference.frames[f];
-    if (ref.width != image->width || ref.height != image->height) {
+    const bool sizesMatch = [&] {
+      for (const core::Image* im : std::initializer_list<const core::Image*>{&*image, &*body, &reference.bodies[f]})
+        if (im->width != ref.width || im->height != ref.height) return false;
+      return true;
+    }();
+    if (!sizesMatch) {
       return Error{"tumble sweep: the reference frames are " + std::to_string(ref.width) + "x" +
                    std::to_string(ref.height) + ", the nailboards' " + std::to_string(image->width) + "x" +
                    std::to_string(image->height)};
@@ -238,7 +249,19 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
         // ink mixes with the body within half a pixel of the silhouette (its antialiased inner
         // edge), the reference's does not, and a colour threshold would take a mixed pixel on a lit
         // body for body and one on the dark band for ink.
-        p.outlineIoU = reference::maskIoU(inkBand(a, aBody, background), inkBand(b, bBody, background));
+        const std::vector<bool> inkA = inkBand(a, aBody, background), inkB = inkBand(b, bBody, background);
+        // The yardstick checks itself again: the reference's ink rings its puff (at least a
+        // quarter of a ring of the outline's width around a circle the puff's size). A fault that
+        // drew both the same, with outlines or without, would leave both masks empty: IoU 1.
+        const auto refInk = std::count(inkB.begin(), inkB.end(), true);
+        const double ring = 0.25 * std::numbers::pi * o.puffPixels * o.outlineWidth;
+        if (o.outlineWidth > 0.0f && static_cast<double>(refInk) < ring) {
+          return Error{"tumble sweep: the reference's ink covers " + std::to_string(refInk) + " pixels of pose yaw " +
+                       std::to_string(p.yaw) + " pitch " + std::to_string(p.pitch) + " roll " + std::to_string(p.roll) +
+                       ", under a quarter of a ring of the outline's width (" + std::to_string(static_cast<int>(ring)) +
+                       "): the ink masks would be wrong"};
+        }
+        p.outlineIoU = reference::maskIoU(inkA, inkB);
         out.minCoverageIoU = std::min(out.minCoverageIoU, p.coverageIoU);
         out.minOutlineIoU = std::min(out.minOutlineIoU, p.outlineIoU);
         sumCoverage += p.coverageIoU;
