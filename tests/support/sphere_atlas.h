@@ -17,11 +17,15 @@
 
 namespace puff::test {
 
-/// Bakes into `dir` (128-texel cells, a 4-texel flange, no contact sheet) and returns the sidecar.
-inline Result<std::filesystem::path> bakeSphereAtlas(const std::filesystem::path& dir) {
+/// Bakes into `dir` (128-texel cells, a 4-texel flange, no contact sheet; `viewGrid` x `viewGrid`
+/// views laid out by `layout`) and returns the sidecar.
+inline Result<std::filesystem::path> bakeSphereAtlas(const std::filesystem::path& dir, int viewGrid = 1,
+                                                     bake::ViewLayout layout = bake::BakeOptions{}.viewLayout) {
   bake::BakeOptions o;
   o.cellSize = 128;
   o.flange = {4.0f, false};
+  o.viewGrid = viewGrid;
+  o.viewLayout = layout;
   o.outDir = dir;
   o.contactSheet = false;
   bake::PuffSource src;

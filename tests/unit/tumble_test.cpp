@@ -17,7 +17,6 @@
 #include <puff/core/atlas.h>
 #include <puff/eval/cel_reference.h>
 #include <puff/eval/tumble.h>
-#include <puff/mesh/mesh.h>
 #include <puff/reference/metrics.h>
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
@@ -26,6 +25,7 @@
 
 #include "support/assert_ok.h"
 #include "support/gl_fixture.h"
+#include "support/sphere_atlas.h"
 
 namespace puff {
 namespace {
@@ -44,7 +44,7 @@ namespace fs = std::filesystem;
 // the puff, not dark pixels.) The baked front view itself, unturned, reaches 0.974-0.979 against
 // the mesh at this size, where a pixel all around the silhouette is about 10% of a puff's pixels.
 // docs/cel-rendering.md, "Tumbling puffs", and docs/report/README.md have the numbers. The blend is
-// kept for its cost (about an eighth of the hull's on llvmpipe) and guarded at two atlases.
+// kept for its cost (about a tenth of the hull's on llvmpipe) and guarded at two atlases.
 struct Config {
   bake::ViewLayout layout;
   int grid;
@@ -381,21 +381,12 @@ INSTANTIATE_TEST_SUITE_P(
 // within that of the front view, for the coarsest atlases of both layouts.
 TEST_F(TumbleCases, ASphereTumblesAsADiscRingedByInk) {
   for (bake::ViewLayout layout : {bake::ViewLayout::kOct, bake::ViewLayout::kHemiOct}) {
-    bake::BakeOptions o;
-    o.cellSize = 128;
-    o.viewGrid = 3;
-    o.viewLayout = layout;
-    o.outDir = dir_ / (layout == bake::ViewLayout::kOct ? "sphere-oct3" : "sphere-hemioct3");
-    o.contactSheet = false;
-    bake::PuffSource sphere;
-    sphere.mesh = mesh::generateSphere({6});
-    sphere.provenance.generator = "sphere";  // what the cel reference regenerates it from
-    sphere.provenance.params = {{"subdivisions", 6}};
-    auto baked = bake::bakeAtlas({sphere}, o);
+    auto baked =
+        test::bakeSphereAtlas(dir_ / (layout == bake::ViewLayout::kOct ? "sphere-oct3" : "sphere-hemioct3"), 3, layout);
     ASSERT_OK(baked);
-    auto reference = eval::renderTumbleReference(baked->sidecar, options(), {0, 45});
+    auto reference = eval::renderTumbleReference(*baked, options(), {0, 45});
     ASSERT_OK(reference);
-    auto result = eval::measureTumble(baked->sidecar, *reference, cel::TumbleMethod::kHull);
+    auto result = eval::measureTumble(*baked, *reference, cel::TumbleMethod::kHull);
     ASSERT_OK(result);
     std::printf("sphere, %s 3 x 3: coverage IoU min %.4f mean %.4f, outline IoU min %.4f mean %.4f\n",
                 layout == bake::ViewLayout::kOct ? "oct" : "hemi-oct", result->minCoverageIoU, result->meanCoverageIoU,

@@ -222,8 +222,9 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
     }();
     if (!sizesMatch) {
       return Error{"tumble sweep: the reference frames are " + std::to_string(ref.width) + "x" +
-                   std::to_string(ref.height) + ", the nailboards' " + std::to_string(image->width) + "x" +
-                   std::to_string(image->height)};
+                   std::to_string(ref.height) + ", its frames without outlines " +
+                   std::to_string(reference.bodies[f].width) + "x" + std::to_string(reference.bodies[f].height) +
+                   ", the nailboards' " + std::to_string(image->width) + "x" + std::to_string(image->height)};
     }
     int index = 0;
     for (std::size_t r = 0; r < pitches.size(); ++r) {
