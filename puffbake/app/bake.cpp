@@ -1,12 +1,10 @@
 // puffbake bake: mesh files and/or generated puffs into an atlas (bake/baker.h).
-#include <unistd.h>
-
-#include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
-#include <string_view>
 
 #include <cli/app.h>
+#include <cli/progress.h>
 #include <puff/core/gl_context.h>
 #include <puff/core/shader.h>
 
@@ -15,6 +13,9 @@
 namespace puff::app {
 
 namespace {
+
+// Meshes of this many bytes in all take seconds to read (a 13 MB OBJ: about 1 s here).
+constexpr std::uintmax_t kAnnounceMeshBytes = 32u << 20;
 
 // "6" (texels) or "3%" (of the cell).
 std::optional<bake::FlangeWidth> parseFlange(const std::string& text) {
@@ -54,40 +55,6 @@ std::string flangeText(const bake::FlangeWidth& f) {
     std::snprintf(b, sizeof b, "%g", static_cast<double>(f.value));
   return b;
 }
-
-// Progress on stderr, only for work that takes more than about a second.
-class Progress {
- public:
-  explicit Progress(bool quiet) : quiet_(quiet), tty_(::isatty(2) != 0), start_(std::chrono::steady_clock::now()) {}
-  ~Progress() { finish(); }
-  /// Ends a progress line left open on a terminal, so what is printed next starts on its own line.
-  void finish() {
-    if (shown_ && tty_) std::fputc('\n', stderr);
-    shown_ = false;
-  }
-  void operator()(std::string_view stage, int done, int total) {
-    if (quiet_) return;
-    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    if (elapsed < 1.0 && !shown_) return;
-    const int percent = total > 0 ? 100 * done / total : 100;
-    if (tty_) {
-      std::fprintf(stderr, "\r%s: %.*s %d/%d (%d%%)   ", cli::name(), static_cast<int>(stage.size()), stage.data(),
-                   done, total, percent);
-    } else if (stage != lastStage_ || percent / 25 != lastQuarter_ || done == total) {
-      std::fprintf(stderr, "%s: %.*s %d/%d\n", cli::name(), static_cast<int>(stage.size()), stage.data(), done, total);
-      lastQuarter_ = percent / 25;
-    }
-    lastStage_ = std::string(stage);
-    shown_ = true;
-    std::fflush(stderr);
-  }
-
- private:
-  bool quiet_, tty_, shown_ = false;
-  std::chrono::steady_clock::time_point start_;
-  std::string lastStage_;
-  int lastQuarter_ = -1;
-};
 
 // What the bake wrote: LOD results, the atlas, the contact sheet.
 void printBakeResult(const bake::BakeReport& result) {
@@ -208,7 +175,17 @@ int printBakeDefaults() {
 }
 
 int runBake(const Options& o) {
-  auto sources = bake::loadSources(o.inputs, o.generator);
+  cli::Progress progress(o.quiet);
+  // Large meshes take seconds to read before there is a step to count: said at once.
+  std::uintmax_t bytes = 0;
+  for (const auto& file : o.inputs) {
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(file, ec);
+    if (!ec) bytes += size;
+  }
+  if (bytes >= kAnnounceMeshBytes) progress.announce("loading meshes", static_cast<long long>(o.inputs.size()));
+  auto sources = bake::loadSources(o.inputs, o.generator, std::ref(progress));
+  progress.finish();
   if (!sources) {
     cli::printError(sources.error());
     return 1;
@@ -231,7 +208,6 @@ int runBake(const Options& o) {
     cli::printError(context.error());
     return 1;
   }
-  Progress progress(o.quiet);
   auto result = bake::bakeAtlas(*sources, o.bake, std::ref(progress));
   progress.finish();
   if (!result) {

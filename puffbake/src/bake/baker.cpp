@@ -337,9 +337,11 @@ Result<void> validate(const BakeOptions& o, int variations) {
 }
 
 Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFiles,
-                                            const std::optional<GeneratorSpec>& gen) {
+                                            const std::optional<GeneratorSpec>& gen, const ProgressFn& progress) {
   std::vector<PuffSource> sources;
+  const int files = static_cast<int>(meshFiles.size());
   for (const fs::path& file : meshFiles) {
+    if (progress) progress("loading meshes", static_cast<int>(sources.size()), files);
     auto bytes = core::readFileBytes(file);
     if (!bytes) return bytes.error();
     mesh::LoadInfo info;
@@ -361,10 +363,12 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
     s.mesh = std::move(*m);
     sources.push_back(std::move(s));
   }
+  if (progress && files > 0) progress("loading meshes", files, files);
   if (gen) {
     if (gen->count < 1 || gen->count > 256)
       return Error{"--variations must be in [1, 256], got " + std::to_string(gen->count)};
     for (int i = 0; i < gen->count; ++i) {
+      if (progress) progress("generating puffs", i, gen->count);
       PuffSource s;
       s.provenance.generator = gen->kind;
       if (!mesh::isGeneratorKind(gen->kind)) {
@@ -381,6 +385,7 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
       s.provenance.faces = s.mesh.faceCount();
       sources.push_back(std::move(s));
     }
+    if (progress) progress("generating puffs", gen->count, gen->count);
   }
   return sources;
 }

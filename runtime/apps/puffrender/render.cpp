@@ -6,6 +6,7 @@
 #include <string>
 
 #include <cli/app.h>
+#include <cli/progress.h>
 #include <puff/core/colour.h>
 #include <puff/core/files.h>
 #include <puff/core/gl_context.h>
@@ -98,14 +99,13 @@ int writeFrames(const Options& o, const scene::Scene& scene, const Plan& plan, r
   const core::AlphaMode alpha =
       scene.alpha.value_or(plan.exr ? core::AlphaMode::kPremultiplied : core::AlphaMode::kStraight);
   const int count = plan.last - plan.first + 1;
+  cli::Progress progress(o.quiet || count == 1);
   for (int f = plan.first; f <= plan.last; ++f) {
     const fs::path target = plan.pattern.name(f);
-    if (!o.quiet && count > 1) {
-      std::fprintf(stderr, "%s: frame %d (%d/%d) -> %s\n", cli::name(), f, f - plan.first + 1, count, target.c_str());
-      std::fflush(stderr);
-    }
+    progress("frames", f - plan.first, count);
     auto image = renderer.renderFrame(f);
     if (!image) {
+      progress.finish();
       cli::printError(image.error());
       return 1;
     }
@@ -121,14 +121,18 @@ int writeFrames(const Options& o, const scene::Scene& scene, const Plan& plan, r
                                            : core::ImageAttributes{{"puff:view", std::string(core::toString(view))}};
     if (scene.transparent) attributes.emplace_back("puff:alpha", std::string(core::toString(alpha)));
     if (auto r = core::writeImage(temp, out, type, attributes, formatHint); !r) {
+      progress.finish();
       cli::printError(Error::at(target, r.error().message));
       return 1;
     }
     if (auto r = frame.commit(); !r) {
+      progress.finish();
       cli::printError(r.error());
       return 1;
     }
   }
+  progress("frames", count, count);
+  progress.finish();
   if (!o.quiet) {
     if (count == 1) {
       std::printf("%s: wrote %s (%dx%d, frame %d)\n", cli::name(), plan.pattern.name(plan.first).c_str(), scene.width,

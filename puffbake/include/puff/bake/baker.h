@@ -80,9 +80,14 @@ struct GeneratorSpec {
   int count = 4;
 };
 
+/// Progress: a stage name, steps done and total. Called from the baking thread.
+using ProgressFn = std::function<void(std::string_view stage, int done, int total)>;
+
 /// Loads mesh files (one variation each) or runs the generator. Errors name the file or flag.
+/// `progress` hears "loading meshes" (files) and "generating puffs" (variations).
 Result<std::vector<PuffSource>> loadSources(const std::vector<std::filesystem::path>& meshFiles,
-                                            const std::optional<GeneratorSpec>& generator);
+                                            const std::optional<GeneratorSpec>& generator,
+                                            const ProgressFn& progress = {});
 
 /// What the automatic level of detail chose for one variation.
 struct LodResult {
@@ -103,9 +108,6 @@ struct BakeReport {
   /// Per variation with --lod auto: the chosen mesh's file (the sidecar's sources[i].lodMesh).
   std::vector<std::filesystem::path> lodMeshes;
 };
-
-/// Progress: a stage name, steps done and total. Called from the baking thread.
-using ProgressFn = std::function<void(std::string_view stage, int done, int total)>;
 
 /// Bakes `sources` (one variation each) with the GL context that is current on this thread.
 /// All outputs are staged and renamed into place only when every one is written: on failure
