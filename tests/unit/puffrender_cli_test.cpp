@@ -52,8 +52,9 @@ class PuffrenderCli : public puff::test::CliTest {
 TEST_F(PuffrenderCli, HelpListsTheOptionsThatExist) {
   CliRun r = run("--help");
   EXPECT_EQ(r.exitCode, 0);
-  for (const char* flag : {"--out", "--frames", "--format", "--gl", "--width", "--height", "--samples", "--art-dir",
-                           "--shader-dir", "--style", "--print-scene", "--quiet", "%0Nd", "####"}) {
+  for (const char* flag :
+       {"--out", "--frames", "--format", "--gl", "--width", "--height", "--samples", "--art-dir", "--shader-dir",
+        "--style", "--print-scene", "--quiet", "%0Nd", "####", "--flipbook", "--alpha"}) {
     EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
   }
   for (const char* preset : {"outlines", "cel-shadows", "ink", "solid"}) {
@@ -303,6 +304,93 @@ TEST_F(PuffrenderCli, RendersParticlesFromABakedAtlas) {
   // The big puff covers the centre: not the white background.
   const float centre = image->at(24, 24, 0) + image->at(24, 24, 1) + image->at(24, 24, 2);
   EXPECT_LT(centre, 2.9f);
+}
+
+// A flipbook's cells are the frames rendered alone with a transparent background, left to right and
+// top to bottom; cells past the last frame are empty; the JSON beside it says so.
+TEST_F(PuffrenderCli, FlipbookCellsAreTheFramesOnATransparentBackground) {
+  const fs::path scene = write("ground.json", kGroundScene);
+  std::string transparentText = kGroundScene;
+  transparentText.replace(transparentText.find("\"#336699\""), 9, "\"transparent\"");
+  const fs::path transparent = write("transparent.json", transparentText);
+  const fs::path sheet = dir_ / "book" / "sheet.png";
+  // Three frames (1-3) in a 2x2 sheet.
+  CliRun r = run(scene.string() + " --flipbook 2x2 --frames 1-3 -o " + sheet.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("3 frames, 1 to 3, in 2x2 cells of 40x30, straight alpha"), std::string::npos) << r.out;
+  auto image = puff::core::readImage(sheet);
+  ASSERT_OK(image);
+  ASSERT_EQ(image->width, 80);
+  ASSERT_EQ(image->height, 60);
+  ASSERT_EQ(image->channels, 4);
+  for (int i = 0; i < 3; ++i) {
+    const fs::path alone = dir_ / ("alone" + std::to_string(i) + ".png");
+    ASSERT_EQ(run(transparent.string() + " -q --frames " + std::to_string(1 + i) + " -o " + alone.string()).exitCode,
+              0);
+    auto frame = puff::core::readImage(alone);
+    ASSERT_OK(frame);
+    const int x0 = (i % 2) * 40, y0 = (i / 2) * 30;
+    int differ = 0, clear = 0;
+    for (int y = 0; y < 30; ++y)
+      for (int x = 0; x < 40; ++x) {
+        clear += frame->at(x, y, 3) == 0.0f ? 1 : 0;
+        for (int c = 0; c < 4; ++c) differ += frame->at(x, y, c) != image->at(x0 + x, y0 + y, c) ? 1 : 0;
+      }
+    EXPECT_EQ(differ, 0) << "frame " << 1 + i;
+    EXPECT_GT(clear, 0) << "frame " << 1 + i << ": the background is transparent";
+  }
+  for (int y = 30; y < 60; ++y)
+    for (int x = 40; x < 80; ++x) ASSERT_EQ(image->at(x, y, 3), 0.0f) << "the empty fourth cell at " << x << "," << y;
+  const auto layout = nlohmann::json::parse(*puff::core::readFileBytes(dir_ / "book" / "sheet.json"));
+  EXPECT_EQ(layout["image"], "sheet.png");
+  EXPECT_EQ(layout["columns"], 2);
+  EXPECT_EQ(layout["rows"], 2);
+  EXPECT_EQ(layout["frameCount"], 3);
+  EXPECT_EQ(layout["frameWidth"], 40);
+  EXPECT_EQ(layout["frameHeight"], 30);
+  EXPECT_EQ(layout["firstFrame"], 1);
+  EXPECT_EQ(layout["lastFrame"], 3);
+  EXPECT_EQ(layout["fps"], 10.0);
+  EXPECT_EQ(layout["alpha"], "straight");
+
+  // Premultiplied on request: colour times alpha, and no frames given: as many as the sheet holds
+  // (all 4 of the scene's in 3x2).
+  const fs::path pre = dir_ / "pre.png";
+  r = run(scene.string() + " -q --flipbook 3x2 --alpha premultiplied -o " + pre.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto premultiplied = puff::core::readImage(pre);
+  ASSERT_OK(premultiplied);
+  EXPECT_EQ(premultiplied->width, 120);
+  const auto preLayout = nlohmann::json::parse(*puff::core::readFileBytes(dir_ / "pre.json"));
+  EXPECT_EQ(preLayout["frameCount"], 4);
+  EXPECT_EQ(preLayout["alpha"], "premultiplied");
+  int covered = 0;
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      const float a = premultiplied->at(x, y, 3);
+      for (int c = 0; c < 3; ++c) EXPECT_LE(premultiplied->at(x, y, c), a + 0.5f / 255.0f);
+      covered += a > 0.0f ? 1 : 0;
+    }
+  EXPECT_GT(covered, 0);
+}
+
+TEST_F(PuffrenderCli, FlipbookUsageErrorsNameTheProblemAndWriteNothing) {
+  const fs::path scene = write("ground.json", kGroundScene);
+  const std::string s = scene.string();
+  const std::string sheet = (dir_ / "sheet.png").string();
+  expectOneLineError(run(s + " --flipbook 3 -o " + sheet), "--flipbook: expected COLSxROWS", 2);
+  expectOneLineError(run(s + " --flipbook 0x4 -o " + sheet), "each 1 to 256", 2);
+  expectOneLineError(run(s + " --flipbook 2x257 -o " + sheet), "each 1 to 256", 2);
+  expectOneLineError(run(s + " --flipbook 1x1x2 -o " + sheet), "--flipbook: expected COLSxROWS", 2);
+  expectOneLineError(run(s + " --flipbook 1x2 --frames 0-3 -o " + sheet), "holds 2 frames, and --frames 0-3 asks for 4",
+                     2);
+  expectOneLineError(run(s + " --flipbook 2x2 -o " + (dir_ / "f_##.png").string()), "one sprite sheet", 2);
+  expectOneLineError(run(s + " --flipbook 256x256 --width 2000 --height 2000 -o " + sheet), "--flipbook 256x256", 2);
+  expectOneLineError(run(s + " --flipbook 2x2 --alpha straight -o " + (dir_ / "sheet.exr").string()),
+                     "cannot be written to EXR", 2);
+  expectOneLineError(run(s + " --alpha premultiplied -o " + sheet), "--alpha applies to a transparent frame", 2);
+  expectOneLineError(run(s + " --flipbook 2x2 --compare fixed,cel -o " + sheet), "do not go together", 2);
+  EXPECT_TRUE(outputs().empty());
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // choose.cpp picks the cheapest model within an error (--max-error) before the frames are drawn.
 #pragma once
 
+#include <puff/render/render.h>
 #include <puff/scene/scene.h>
 
 #include "options.h"
@@ -14,11 +15,17 @@ struct Plan {
   OutputPattern pattern;
   int first = 0, last = 0;
   bool exr = false;
+  int flipColumns = 0, flipRows = 0;  ///< --flipbook: the sheet's grid; 0: frames go to their own files
 };
 
 /// Draws the plan's frames of `scene` (with --compare, by both paths; with --max-error, after
 /// choosing the model) into their outputs. Returns the exit code, after saying why on failure.
 int renderFrames(const Options& o, scene::Scene scene, const Plan& plan);
+
+/// --flipbook: the plan's frames, each drawn with a transparent background, into the cells of one
+/// sprite sheet (plan.pattern's single file), and beside it a JSON of its layout, frame rate and
+/// alpha mode (docs/flipbooks.md). Returns the exit code.
+int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan, render::SceneRenderer& renderer);
 
 /// --compare A,B: every frame by both paths, and without particles for the masks; OUT gets the side
 /// by side image, stdout a line per frame and a summary. Needs a compatibility context current.

@@ -46,10 +46,34 @@ Result<Plan> makePlan(const Options& o, const scene::Scene& scene) {
       return Error{"--frames " + o.frames + ": the scene has " + std::to_string(frames) + " frame(s), 0 to " +
                    std::to_string(frames - 1) + " (/animation/frames)"};
     }
+  } else if (!o.flipbook.empty()) {
+    plan.last = 0;  // set below: as many frames as the sheet holds
   } else {
     plan.last = plan.pattern.numbered ? frames - 1 : 0;
   }
-  if (!plan.pattern.numbered && plan.last > plan.first) {
+  if (!o.flipbook.empty()) {
+    const auto grid = *parseFlipbookGrid(o.flipbook);
+    plan.flipColumns = grid.first;
+    plan.flipRows = grid.second;
+    const int cells = grid.first * grid.second;
+    if (plan.pattern.numbered) {
+      return Error{"-o " + o.out + ": --flipbook writes one sprite sheet: give a single file name, e.g. sheet.png"};
+    }
+    if (o.frames.empty()) plan.last = std::min(cells, frames) - 1;
+    const int count = plan.last - plan.first + 1;
+    if (count > cells) {
+      return Error{"--flipbook " + o.flipbook + " holds " + std::to_string(cells) + " frames, and --frames " +
+                   o.frames + " asks for " + std::to_string(count) + ": give a larger grid or fewer frames"};
+    }
+    const long long sheetW = static_cast<long long>(scene.width) * grid.first;
+    const long long sheetH = static_cast<long long>(scene.height) * grid.second;
+    if (const std::string problem = core::imageLimitProblem(sheetW, sheetH, 4, core::ImageLimits{"a flipbook"});
+        !problem.empty()) {
+      return Error{"--flipbook " + o.flipbook + " of " + std::to_string(scene.width) + "x" +
+                   std::to_string(scene.height) + " frames: " + problem + "; give a smaller grid, --width or --height"};
+    }
+  }
+  if (!plan.pattern.numbered && plan.last > plan.first && o.flipbook.empty()) {
     return Error{"-o " + o.out + ": " + std::to_string(plan.last - plan.first + 1) +
                  " frames need a numbered output, e.g. frame_####.png or frame_%04d.png"};
   }
@@ -182,6 +206,10 @@ Result<void> checkOptions(const Options& o) {
   if (!o.frames.empty()) {
     if (auto r = parseFrameRange(o.frames); !r) return r.error();
   }
+  if (!o.flipbook.empty()) {
+    if (auto g = parseFlipbookGrid(o.flipbook); !g) return g.error();
+    if (!o.compare.empty()) return Error{"--flipbook and --compare do not go together"};
+  }
   return {};
 }
 
@@ -193,6 +221,11 @@ Result<void> checkAgainstScene(const Options& o, const scene::Scene& scene, cons
     return Error{"--view applies only to PNG output: EXR holds the scene-linear frame before the view transform"};
   }
   if (!o.compare.empty() && plan.exr) return Error{"--compare writes 8-bit PNG comparison images: give -o a .png name"};
+  if (!o.alpha.empty() && !scene.transparent) {
+    return Error::at(scene.file,
+                     "--alpha applies to a transparent frame (/output/background \"transparent\", "
+                     "or --flipbook): this scene draws an opaque background");
+  }
   if (scene.transparent && plan.exr && scene.alpha == core::AlphaMode::kStraight) {
     return Error::at(scene.file,
                      "/output/alpha: \"straight\" cannot be written to EXR, which stores premultiplied colour (its "
@@ -268,6 +301,16 @@ Result<OutputPattern> parseOutputPattern(const std::string& out) {
   return p;
 }
 
+Result<std::pair<int, int>> parseFlipbookGrid(const std::string& text) {
+  const Error bad{"--flipbook: expected COLSxROWS, each 1 to 256 (e.g. 8x8), got \"" + text + "\""};
+  const auto x = core::lower(text).find('x');
+  if (x == std::string::npos) return bad;
+  auto a = parseFrameRange(text.substr(0, x)), b = parseFrameRange(text.substr(x + 1));
+  if (!a || !b || a->first != a->second || b->first != b->second) return bad;
+  if (a->first < 1 || a->first > 256 || b->first < 1 || b->first > 256) return bad;
+  return std::pair{a->first, b->first};
+}
+
 Result<std::pair<int, int>> parseFrameRange(const std::string& text) {
   auto number = [](const std::string& s) -> std::optional<int> {
     if (s.empty() || s.size() > 9 || !std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; })) {
@@ -302,6 +345,18 @@ std::variant<Options, int> parse(int argc, char** argv) {
   CLI::Option* tolerance = addCompareOptions(app, o);
   std::string maxErrorText;
   CLI::Option* maxError = addMaxErrorOption(app, maxErrorText);
+  app.add_option("--flipbook", o.flipbook,
+                 "Render the frames into one sprite sheet for a game engine's flipbook (Unity's Texture Sheet "
+                 "Animation, Godot's particle animation): OUT (one .png or .exr) gets COLSxROWS cells of the "
+                 "output size, frame by frame left to right and top to bottom, on a transparent background; "
+                 "OUT's name with .json gets the layout, frame rate and alpha mode (docs/flipbooks.md). Frames: "
+                 "--frames, else as many from frame 0 as the sheet holds (at most the scene's)")
+      ->type_name("COLSxROWS");
+  app.add_option("--alpha", o.alpha,
+                 "How a transparent frame's alpha is written, replacing /output/alpha: straight (colour as it is "
+                 "where covered: PNG's convention and the default for PNG) or premultiplied (colour times alpha: "
+                 "EXR's, and the only one EXR takes)")
+      ->check(CLI::IsMember({"straight", "premultiplied"}));
   app.add_flag("--print-scene", o.printScene,
                "Print the scene as it will be rendered (every field, defaults and the options above applied) as JSON, "
                "and exit without rendering");
@@ -337,6 +392,10 @@ int run(const Options& o) {
   if (o.height) scene.height = *o.height;
   if (o.samples) scene.samples = *o.samples;
   if (!o.view.empty()) scene.view = core::parseViewTransform(o.view);
+  if (!o.flipbook.empty()) scene.transparent = true;  // a sprite sheet's cells are the smoke alone
+  if (!o.alpha.empty()) {
+    scene.alpha = o.alpha == "premultiplied" ? core::AlphaMode::kPremultiplied : core::AlphaMode::kStraight;
+  }
   if (!o.style.empty()) {
     auto style = scene::stylePreset(o.style);
     if (!style) {

@@ -31,6 +31,10 @@ struct Options {
   /// --max-error: the largest RMSE (linear colour, (0, 1]) the media may differ from the exact
   /// reference by; puffrender then measures and picks the cheapest media layer resolution within it.
   std::optional<double> maxError;
+  /// --flipbook COLSxROWS: the frames go into one sprite sheet (OUT, a single file) of COLS x ROWS
+  /// cells, left to right and top to bottom, with a transparent background, and a JSON beside it.
+  std::string flipbook;
+  std::string alpha;  ///< "straight" or "premultiplied": replaces the scene's /output/alpha
   bool printScene = false;
   bool quiet = false;
 };
@@ -56,5 +60,8 @@ Result<OutputPattern> parseOutputPattern(const std::string& out);
 
 /// "N" or "A-B" (inclusive, A <= B, non-negative).
 Result<std::pair<int, int>> parseFrameRange(const std::string& text);
+
+/// "COLSxROWS" (each 1..256) for --flipbook.
+Result<std::pair<int, int>> parseFlipbookGrid(const std::string& text);
 
 }  // namespace puff::app

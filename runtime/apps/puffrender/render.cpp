@@ -199,6 +199,7 @@ int renderFrames(const Options& o, scene::Scene scene, const Plan& plan) {
     cli::printError(renderer.error());
     return 1;
   }
+  if (plan.flipColumns > 0) return writeFlipbook(o, scene, plan, **renderer);
   return writeFrames(o, scene, plan, **renderer);
 }
 
