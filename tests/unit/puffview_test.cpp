@@ -192,6 +192,43 @@ TEST_F(PuffviewCli, BatchScreenshotMatchesPuffrender) {
   EXPECT_LT(shareWithin(plumeView, puffrender(plume, 0), 2), 0.99) << "the plume moves";
 }
 
+// A sequence from the viewer (issue 18): --frames A-B with a numbered --screenshot writes every frame
+// of the range to its own file, each the frame puffrender draws (a simulated scene started at A,
+// not 0, is still a pure function of the frame number); a plain name keeps the last frame only.
+TEST_F(PuffviewCli, ARangeWithANumberedScreenshotWritesEveryFrame) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const std::string plume = std::string(PUFF_SOURCE_DIR) + "/art/scenes/lamp-plume.json";
+  const std::string common = " --hide-ui --width 320 --height 240 --art-dir " PUFF_ART_DIR;
+  CliRun r = run(plume + " --frames 4-6 --screenshot " + (dir_ / "seq" / "shot_##.png").string() + common);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("wrote 3 frames (320x240): " + (dir_ / "seq" / "shot_04.png").string() + " .. " +
+                       (dir_ / "seq" / "shot_06.png").string()),
+            std::string::npos)
+      << r.out;
+  std::vector<std::string> files;
+  for (const auto& e : fs::directory_iterator(dir_ / "seq")) files.push_back(e.path().filename().string());
+  std::sort(files.begin(), files.end());
+  EXPECT_EQ(files, (std::vector<std::string>{"shot_04.png", "shot_05.png", "shot_06.png"}));
+  for (int f = 4; f <= 6; ++f) {
+    auto shot = puff::core::readImage(dir_ / "seq" / ("shot_0" + std::to_string(f) + ".png"));
+    ASSERT_OK(shot);
+    EXPECT_GE(shareWithin(*shot, puffrender(plume, f), 2), 0.999) << "frame " << f;
+  }
+  // A plain name: the range's last frame.
+  const fs::path last = dir_ / "last.png";
+  r = run(plume + " --frames 4-6 --screenshot " + last.string() + common);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("wrote " + last.string() + " (320x240, frame 6)"), std::string::npos) << r.out;
+  EXPECT_EQ(*puff::core::readFileBytes(last), *puff::core::readFileBytes(dir_ / "seq" / "shot_06.png"));
+  // A range past the scene's frames, a range backwards, two patterns: usage errors, nothing written.
+  expectOneLineError(run(plume + " --frames 70-72 --screenshot " + (dir_ / "x_#.png").string() + common),
+                     "the scene has 72 frame(s)", 2);
+  expectOneLineError(run(plume + " --frames 6-4" + common), "ends before it starts", 2);
+  expectOneLineError(run(plume + " --frames 0-1 --screenshot " + (dir_ / "a_#_#.png").string() + common),
+                     "more than one frame-number pattern", 2);
+  EXPECT_FALSE(fs::exists(dir_ / "x_70.png"));
+}
+
 // The fixed path in the viewer is puffrender's --path fixed: the same SceneRenderer, built for the
 // window's size as puffrender builds it for the image's, drawn into a single-sample target.
 // Measured on llvmpipe: every RGB byte the same.

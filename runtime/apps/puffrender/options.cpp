@@ -256,51 +256,6 @@ Result<void> checkAgainstScene(const Options& o, const scene::Scene& scene, cons
 
 }  // namespace
 
-std::string OutputPattern::name(int frame) const {
-  if (!numbered) return prefix;
-  std::string number = std::to_string(frame);
-  if (static_cast<int>(number.size()) < digits) number.insert(0, static_cast<std::size_t>(digits) - number.size(), '0');
-  return prefix + number + suffix;
-}
-
-Result<OutputPattern> parseOutputPattern(const std::string& out) {
-  OutputPattern p;
-  std::size_t start = std::string::npos, end = 0;
-  int found = 0;
-  for (std::size_t i = 0; i < out.size();) {
-    if (out[i] == '#') {
-      std::size_t j = i;
-      while (j < out.size() && out[j] == '#') ++j;
-      ++found, start = i, end = j;
-      p.digits = static_cast<int>(j - i);
-      i = j;
-    } else if (out[i] == '%') {
-      // "%d" or "%0Nd" with N in 1..9.
-      if (i + 1 < out.size() && out[i + 1] == 'd') {
-        ++found, start = i, end = i + 2, p.digits = 0;
-        i += 2;
-      } else if (i + 3 < out.size() && out[i + 1] == '0' && out[i + 2] >= '1' && out[i + 2] <= '9' &&
-                 out[i + 3] == 'd') {
-        ++found, start = i, end = i + 4, p.digits = out[i + 2] - '0';
-        i += 4;
-      } else {
-        ++i;
-      }
-    } else {
-      ++i;
-    }
-  }
-  if (found > 1) return Error{"-o " + out + ": more than one frame-number pattern (%d, %0Nd or ###)"};
-  if (found == 0) {
-    p.prefix = out;
-    return p;
-  }
-  p.numbered = true;
-  p.prefix = out.substr(0, start);
-  p.suffix = out.substr(end);
-  return p;
-}
-
 Result<std::pair<int, int>> parseFlipbookGrid(const std::string& text) {
   const Error bad{"--flipbook: expected COLSxROWS, each 1 to 256 (e.g. 8x8), got \"" + text + "\""};
   const auto x = core::lower(text).find('x');
@@ -309,26 +264,6 @@ Result<std::pair<int, int>> parseFlipbookGrid(const std::string& text) {
   if (!a || !b || a->first != a->second || b->first != b->second) return bad;
   if (a->first < 1 || a->first > 256 || b->first < 1 || b->first > 256) return bad;
   return std::pair{a->first, b->first};
-}
-
-Result<std::pair<int, int>> parseFrameRange(const std::string& text) {
-  auto number = [](const std::string& s) -> std::optional<int> {
-    if (s.empty() || s.size() > 9 || !std::all_of(s.begin(), s.end(), [](char c) { return c >= '0' && c <= '9'; })) {
-      return std::nullopt;
-    }
-    return std::stoi(s);
-  };
-  const Error bad{"--frames: expected a frame N or a range A-B (0-based, inclusive), got \"" + text + "\""};
-  const auto dash = text.find('-');
-  if (dash == std::string::npos) {
-    auto n = number(text);
-    if (!n) return bad;
-    return std::pair{*n, *n};
-  }
-  auto a = number(text.substr(0, dash)), b = number(text.substr(dash + 1));
-  if (!a || !b) return bad;
-  if (*a > *b) return Error{"--frames " + text + ": the range ends before it starts"};
-  return std::pair{*a, *b};
 }
 
 std::variant<Options, int> parse(int argc, char** argv) {

@@ -7,6 +7,7 @@
 #include <variant>
 #include <vector>
 
+#include <cli/frames.h>
 #include <puff/core/error.h>
 
 namespace puff::app {
@@ -47,19 +48,9 @@ std::variant<Options, int> parse(int argc, char** argv);
 /// only the scene could reveal, e.g. --frames beyond the scene's last frame).
 int run(const Options& options);
 
-/// Where frame N goes: OUT with its one "%d", "%0Nd" or run of '#' replaced by the number
-/// (zero-padded to the run's length).
-struct OutputPattern {
-  std::string prefix, suffix;
-  int digits = 0;         ///< zero-padding width; 0 = none
-  bool numbered = false;  ///< false: every frame goes to `prefix` (a single file)
-  std::string name(int frame) const;
-};
-/// Errors (as text for a usage message) for more than one pattern in OUT.
-Result<OutputPattern> parseOutputPattern(const std::string& out);
-
-/// "N" or "A-B" (inclusive, A <= B, non-negative).
-Result<std::pair<int, int>> parseFrameRange(const std::string& text);
+using cli::OutputPattern;
+using cli::parseFrameRange;
+using cli::parseOutputPattern;
 
 /// "COLSxROWS" (each 1..256) for --flipbook.
 Result<std::pair<int, int>> parseFlipbookGrid(const std::string& text);

@@ -6,6 +6,8 @@
 #include <CLI/CLI.hpp>
 
 #include <cli/app.h>
+#include <cli/frames.h>
+#include <cli/progress.h>
 
 #include <puff/render/path.h>
 #include <puffview/viewer.h>
@@ -43,12 +45,14 @@ std::variant<Options, int> parse(int argc, char** argv) {
       cli::name()};
   app.set_version_flag("--version", "puffview 0.1.0");
   app.add_option("scene", o.scene, "Scene file (JSON)")->required();
-  app.add_option("--frames", o.frames,
-                 "Batch mode: show frames 0 to N-1, one per displayed frame (no wall clock, so every run shows the "
-                 "same frames), then exit")
-      ->check(CLI::Range(1, 1000000));
+  std::string framesText;
+  app.add_option("--frames", framesText,
+                 "Batch mode: N shows frames 0 to N-1, A-B frames A to B (0-based, inclusive), one per displayed "
+                 "frame (no wall clock, so every run shows the same frames), then exits")
+      ->type_name("N|A-B");
   app.add_option("--screenshot", o.screenshot,
-                 "Batch mode: save the window as drawn for the last frame to this PNG (implies --frames 1 when "
+                 "Batch mode: save the window as drawn for the last frame to this PNG, or, for a name with one %d, "
+                 "%0Nd or run of # (shot_####.png), every frame to its numbered file (implies --frames 1 when "
                  "--frames is not given)");
   app.add_flag("--hide-ui", o.hideUi,
                "Start with the panels hidden (H shows them); screenshots then show the scene only");
@@ -66,7 +70,37 @@ std::variant<Options, int> parse(int argc, char** argv) {
   app.add_flag("-q,--quiet", o.quiet, "Print errors only");
 
   if (const auto exitCode = cli::parse(app, argc, argv)) return *exitCode;
-  if (!o.screenshot.empty() && !o.frames) o.frames = 1;
+  if (!framesText.empty()) {
+    const bool range = framesText.find('-') != std::string::npos;
+    auto frames = cli::parseFrameRange(framesText);
+    if (!frames && frames.error().message.find("ends before") != std::string::npos) {
+      cli::printError(frames.error());
+      return 2;
+    }
+    if (!frames) {
+      cli::printError(
+          Error{"--frames: expected a count N (frames 0 to N-1) or a range A-B (0-based, inclusive), "
+                "got \"" +
+                framesText + "\""});
+      return 2;
+    }
+    if (range) {
+      o.frames = *frames;
+      o.framesRange = true;
+    } else if (frames->first < 1) {
+      cli::printError("--frames " + framesText + ": show at least one frame");
+      return 2;
+    } else {
+      o.frames = std::pair{0, frames->first - 1};
+    }
+  }
+  if (!o.screenshot.empty()) {
+    if (auto p = cli::parseOutputPattern(o.screenshot, "--screenshot"); !p) {
+      cli::printError(p.error());
+      return 2;
+    }
+  }
+  if (!o.screenshot.empty() && !o.frames) o.frames = std::pair{0, 0};
   if (o.artDir.empty()) o.artDir = defaultArtDir();
   return o;
 }
@@ -88,13 +122,34 @@ int run(const Options& o) {
     return 1;
   }
   if (!o.frames) return (*viewer)->runInteractive();
-  if (auto r = (*viewer)->runBatch(*o.frames, o.screenshot); !r) {
+  const auto [first, last] = *o.frames;
+  if (const int frames = (*viewer)->scene().animation.frames; o.framesRange && last >= frames) {
+    cli::printError("--frames " + std::to_string(first) + "-" + std::to_string(last) + ": the scene has " +
+                    std::to_string(frames) + " frame(s), 0 to " + std::to_string(frames - 1) + " (/animation/frames)");
+    return 2;
+  }
+  const cli::OutputPattern pattern =
+      o.screenshot.empty() ? cli::OutputPattern{} : *cli::parseOutputPattern(o.screenshot);
+  // A numbered name takes every frame; a plain one the last.
+  const auto shotFor = [&](int f) -> fs::path {
+    if (o.screenshot.empty() || (!pattern.numbered && f != last)) return {};
+    return pattern.name(f);
+  };
+  cli::Progress progress(o.quiet || first == last);
+  auto r = (*viewer)->runBatch(first, last, shotFor, [&](int done, int total) { progress("frames", done, total); });
+  progress.finish();
+  if (!r) {
     cli::printError(r.error());
     return 1;
   }
   if (!o.quiet && !o.screenshot.empty()) {
     const glm::ivec2 size = (*viewer)->framebufferSize();
-    std::printf("%s: wrote %s (%dx%d, frame %d)\n", cli::name(), o.screenshot.c_str(), size.x, size.y, *o.frames - 1);
+    if (pattern.numbered) {
+      std::printf("%s: wrote %d frames (%dx%d): %s .. %s\n", cli::name(), last - first + 1, size.x, size.y,
+                  pattern.name(first).c_str(), pattern.name(last).c_str());
+    } else {
+      std::printf("%s: wrote %s (%dx%d, frame %d)\n", cli::name(), o.screenshot.c_str(), size.x, size.y, last);
+    }
   }
   return 0;
 }

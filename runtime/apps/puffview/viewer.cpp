@@ -696,19 +696,23 @@ int Viewer::runInteractive() {
   return 0;
 }
 
-Result<void> Viewer::runBatch(int frames, const fs::path& screenshot) {
+Result<void> Viewer::runBatch(int first, int last, const std::function<fs::path(int)>& screenshotFor,
+                              const std::function<void(int done, int total)>& progress) {
   glfwSwapInterval(0);
   playing_ = false;
-  for (int f = 0; f < frames; ++f) {
+  const int total = last - first + 1;
+  for (int f = first; f <= last; ++f) {
+    if (progress) progress(f - first, total);
     setFrame(f);
     if (processEvents()) return Error{"the window was closed before frame " + std::to_string(f)};
     frame_ = f;  // keys (space, arrows) must not move a batch run off its frames
     drawFrame();
-    if (f == frames - 1 && !screenshot.empty()) {
-      if (auto shot = saveScreenshot(screenshot); !shot) return shot.error();
+    if (const fs::path shot = screenshotFor ? screenshotFor(f) : fs::path(); !shot.empty()) {
+      if (auto saved = saveScreenshot(shot); !saved) return saved.error();
     }
     present();
   }
+  if (progress) progress(total, total);
   return {};
 }
 

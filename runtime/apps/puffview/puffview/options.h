@@ -4,14 +4,19 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <variant>
 
 namespace puff::view {
 
 struct Options {
   std::filesystem::path scene;
-  std::optional<int> frames;            ///< batch mode: show frames 0..N-1, then exit
-  std::filesystem::path screenshot;     ///< batch mode: save the window after the last frame
+  /// Batch mode: show frames first..last, then exit ("N": 0..N-1; "A-B": A..B).
+  std::optional<std::pair<int, int>> frames;
+  bool framesRange = false;  ///< given as A-B (checked against the scene's frames; N is a count, as it was)
+  /// Batch mode: save the window after the last frame to this file, or, when it holds a frame-number
+  /// pattern (shot_####.png), after every frame to its numbered file.
+  std::string screenshot;
   bool hideUi = false;                  ///< start with the panels hidden (H shows them)
   std::optional<int> width, height;     ///< window size; default the scene's output size
   std::filesystem::path artDir;         ///< replaces "${PUFF_ART}" in the scene's paths

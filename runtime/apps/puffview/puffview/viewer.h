@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -58,9 +59,11 @@ class Viewer {
   /// Runs until the window is closed (or Esc); the frame advances with the wall clock at the
   /// scene's fps while playing. Returns the exit code.
   int runInteractive();
-  /// Shows frames 0 .. frames-1, one per displayed frame (no wall clock: the same every run),
-  /// then saves the window as drawn for the last one to `screenshot` (when not empty).
-  Result<void> runBatch(int frames, const std::filesystem::path& screenshot);
+  /// Shows frames first .. last, one per displayed frame (no wall clock: the same every run). After
+  /// drawing frame f it saves the window as drawn to screenshotFor(f) when that is not empty, and
+  /// tells `progress` (frames shown, of all) when given.
+  Result<void> runBatch(int first, int last, const std::function<std::filesystem::path(int)>& screenshotFor,
+                        const std::function<void(int done, int total)>& progress = {});
 
   // ---- one displayed frame, step by step ------------------------------------------------------
   /// Processes window events and the keyboard/mouse (camera, keys); true once closing was asked.
