@@ -76,9 +76,14 @@ void printBakeResult(const bake::BakeReport& result) {
               result.files.size());
   if (!result.contactSheet.empty()) {
     std::printf("%s: contact sheet: %s", cli::name(), result.contactSheet.c_str());
-    if (result.contactSheetCells < static_cast<int>(d.cells.size())) {
-      std::printf(" (the first %d of %zu cells)", result.contactSheetCells, d.cells.size());
+    if (result.contactSheetRows < d.variations) {
+      std::printf(" (the first %d of %d variations)", result.contactSheetRows, d.variations);
     }
+    std::printf("\n");
+  }
+  if (!result.viewSheets.empty()) {
+    std::printf("%s: views of each variation: %s", cli::name(), result.viewSheets.front().c_str());
+    if (result.viewSheets.size() > 1) std::printf(" .. %s", result.viewSheets.back().filename().c_str());
     std::printf("\n");
   }
 }

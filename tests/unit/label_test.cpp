@@ -7,6 +7,8 @@
 
 #include <puff/core/label.h>
 
+#include "support/read_text.h"
+
 namespace puff::core {
 namespace {
 
@@ -34,21 +36,7 @@ TEST(Label, EveryGlyphIsSevenRowsOfFiveAndNoTwoAlike) {
   EXPECT_EQ(glyph('~'), glyph('?')) << "a character the font lacks is drawn as '?'";
 }
 
-// Reads the glyph whose top-left is (x, y) at `scale` by sampling the centre of each font pixel,
-// and returns the character whose glyph it is ('\0' if none).
-char readGlyph(const Image& image, int x, int y, int scale) {
-  std::string g;
-  for (int row = 0; row < kGlyphHeight; ++row) {
-    if (row > 0) g += ' ';
-    for (int col = 0; col < kGlyphWidth; ++col) {
-      g += image.at(x + col * scale + scale / 2, y + row * scale + scale / 2, 0) > 0.5f ? '#' : '.';
-    }
-  }
-  for (char c : kAll) {
-    if (glyph(c) == g) return c;
-  }
-  return '\0';
-}
+using test::readGlyph;
 
 TEST(Label, TextReadsBackAtEveryScaleAndStaysInItsBox) {
   const std::string text = "Frame 0042: (3x3) 95% a/b_c-d+e=f.g,h#?";
@@ -66,8 +54,7 @@ TEST(Label, TextReadsBackAtEveryScaleAndStaysInItsBox) {
     // Nothing outside the text's box.
     for (int y = 0; y < image.height; ++y)
       for (int x = 0; x < image.width; ++x) {
-        const bool inside =
-            x >= x0 && x < x0 + textWidth(text, scale) && y >= y0 && y < y0 + textHeight(scale);
+        const bool inside = x >= x0 && x < x0 + textWidth(text, scale) && y >= y0 && y < y0 + textHeight(scale);
         if (!inside) ASSERT_EQ(image.at(x, y, 0), 0.0f) << "scale " << scale << " at " << x << "," << y;
       }
     EXPECT_EQ(image.at(0, 0, 1), 0.0f);

@@ -2,6 +2,8 @@
 // and the problem, a non-zero exit, and no output written or clobbered.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -25,6 +27,7 @@
 
 #include "support/assert_ok.h"
 #include "support/cli_test.h"
+#include "support/read_text.h"
 
 namespace {
 
@@ -88,6 +91,60 @@ TEST_F(PuffbakeCli, BakesAGeneratedPuffAndReportsWhereItWent) {
   ASSERT_EQ(run("bake -q -g sphere -n 1 -s 32 --no-contact-sheet -o " + (dir_ / "out").string()).exitCode, 0);
   EXPECT_FALSE(fs::exists(dir_ / "out" / "puff_contact.png"));
   EXPECT_FALSE(fs::exists(dir_ / "out" / nd));
+}
+
+// Contact sheets a person can read (issue 18): the columns are titled and the rows named; a
+// multi-view atlas gets a sheet per variation with its views as a grid, each numbered, whose front
+// view is the main sheet's preview; a later bake with fewer views or variations takes the extra
+// sheets away.
+TEST_F(PuffbakeCli, ContactSheetsAreLabelledAndMultiViewAtlasesGetAGridPerVariation) {
+  const fs::path out = dir_ / "views";
+  CliRun r = run("bake -g lumpy -n 2 --subdivisions 3 -s 32 --views 3 --view-layout oct -o " + out.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(
+      r.out.find("views of each variation: " + (out / "puff_contact_v1.png").string() + " .. puff_contact_v2.png"),
+      std::string::npos)
+      << r.out;
+  auto sheet = puff::core::readImage(out / "puff_contact.png");
+  ASSERT_OK(sheet);
+  // Layout: a 4-pixel gap, a margin as wide as "V2", columns as wide as "DISTANCE" (47 px) plus the
+  // gap; a title row 15 px high, then a row of 32-px thumbnails per variation.
+  const int margin = 4 + puff::core::textWidth("V2"), pitch = puff::core::textWidth("DISTANCE") + 4;
+  EXPECT_EQ(sheet->width, margin + 4 + 6 * pitch);
+  EXPECT_EQ(sheet->height, 15 + 2 * (32 + 4));
+  const char* titles[] = {"PREVIEW", "NORMALS", "DEPTH", "COLOUR", "COVERAGE", "DISTANCE"};
+  for (int c = 0; c < 6; ++c) {
+    EXPECT_EQ(puff::test::readText(*sheet, margin + 4 + c * pitch, 4, static_cast<int>(std::strlen(titles[c]))),
+              titles[c]);
+  }
+  for (int v = 0; v < 2; ++v) {
+    EXPECT_EQ(puff::test::readText(*sheet, 2, 15 + v * 36 + (32 - 7) / 2, 2), "V" + std::to_string(v + 1));
+  }
+  for (int v = 0; v < 2; ++v) {
+    auto views = puff::core::readImage(out / ("puff_contact_v" + std::to_string(v + 1) + ".png"));
+    ASSERT_OK(views);
+    EXPECT_EQ(puff::test::readText(*views, 4, 4, 12), "VARIATION " + std::to_string(v + 1) + ":");
+    // A 3 x 3 grid of 32-px thumbnails, each with its number under it.
+    const int pitchX = 32 + 4, pitchY = 32 + 11 + 4;
+    for (int view = 0; view < 9; ++view) {
+      const int ox = 4 + (view % 3) * pitchX, oy = 15 + (view / 3) * pitchY;
+      EXPECT_EQ(puff::test::readGlyph(*views, ox, oy + 32 + 2), static_cast<char>('0' + view)) << "view " << view;
+    }
+    // View 4, the centre of the oct grid, looks from +z: it is the main sheet's preview of this variation.
+    int differ = 0;
+    for (int y = 0; y < 32; ++y)
+      for (int x = 0; x < 32; ++x)
+        for (int c = 0; c < 3; ++c)
+          differ += views->at(4 + pitchX + x, 15 + pitchY + y, c) != sheet->at(margin + 4 + x, 15 + v * 36 + y, c);
+    EXPECT_EQ(differ, 0) << "variation " << v + 1;
+  }
+  // Fewer variations, then one view: the sheets of what is gone go with it.
+  ASSERT_EQ(run("bake -q -g lumpy -n 1 --subdivisions 3 -s 32 --views 3 -o " + out.string()).exitCode, 0);
+  EXPECT_TRUE(fs::exists(out / "puff_contact_v1.png"));
+  EXPECT_FALSE(fs::exists(out / "puff_contact_v2.png"));
+  ASSERT_EQ(run("bake -q -g lumpy -n 1 --subdivisions 3 -s 32 -o " + out.string()).exitCode, 0);
+  EXPECT_FALSE(fs::exists(out / "puff_contact_v1.png"));
+  EXPECT_TRUE(fs::exists(out / "puff_contact.png"));
 }
 
 TEST_F(PuffbakeCli, BadUsageExitsTwo) {

@@ -288,19 +288,50 @@ struct AtlasBake {
       std::error_code ec;  // the replaced atlas's contact sheet would show what is no longer there
       fs::remove(o.outDir / (o.name + "_contact.png"), ec);
     }
+    if (!replaced.empty()) removeStaleViewSheets();
     result.desc = std::move(desc);
     return {};
+  }
+
+  // The replaced atlas's view sheets (NAME_contact_vI.png) that this bake did not write again:
+  // views or variations it no longer has.
+  void removeStaleViewSheets() const {
+    const std::string prefix = o.name + "_contact_v";
+    std::error_code ec;
+    std::vector<fs::path> stale;
+    for (const auto& e : fs::directory_iterator(o.outDir, ec)) {
+      const std::string n = e.path().filename().string();
+      if (n.size() <= prefix.size() + 4 || n.rfind(prefix, 0) != 0 || n.substr(n.size() - 4) != ".png") continue;
+      const std::string digits = n.substr(prefix.size(), n.size() - prefix.size() - 4);
+      if (!std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) continue;
+      if (std::find(result.viewSheets.begin(), result.viewSheets.end(), e.path()) == result.viewSheets.end()) {
+        stale.push_back(e.path());
+      }
+    }
+    for (const fs::path& p : stale) fs::remove(p, ec);
   }
 
   Result<void> writeContactSheet(core::OutputTransaction& tx, const AtlasLevel& level0) {
     if (!o.contactSheet) return {};
     result.contactSheet = o.outDir / (o.name + "_contact.png");
     const int thumb = std::min(o.cellSize, 160);
-    // One row per cell, up to a sheet about 8192 pixels tall; beyond that the first cells only.
-    result.contactSheetCells = std::min<int>(static_cast<int>(desc.cells.size()), 8192 / (thumb + 4));
-    const core::Image sheet = contactSheet(level0, desc, thumb, result.contactSheetCells);
+    // One row per variation, up to a sheet about 8192 pixels tall; beyond that the first ones only.
+    result.contactSheetRows = std::min(desc.variations, 8192 / (thumb + 4));
+    const core::Image sheet = contactSheet(level0, desc, thumb, result.contactSheetRows);
     PUFF_TRY(core::writeImage(tx.stage(result.contactSheet), sheet, core::PixelType::kUInt8, {}, result.contactSheet));
     result.files.push_back(result.contactSheet);
+    // A multi-view atlas: each variation's views as a grid, at most about 2048 pixels on a side.
+    if (desc.views > 1) {
+      for (int v = 0; v < desc.variations; ++v) {
+        report("contact sheets", v, desc.variations);
+        const fs::path file = o.outDir / (o.name + "_contact_v" + std::to_string(v + 1) + ".png");
+        const core::Image views = viewSheet(level0, desc, v, 2048);
+        PUFF_TRY(core::writeImage(tx.stage(file), views, core::PixelType::kUInt8, {}, file));
+        result.viewSheets.push_back(file);
+        result.files.push_back(file);
+      }
+      report("contact sheets", desc.variations, desc.variations);
+    }
     return {};
   }
 };

@@ -1,16 +1,22 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
+#include <string>
 
 #include <glm/geometric.hpp>
 
 #include <puff/bake/baker.h>
+#include <puff/core/label.h>
 
 namespace puff::bake {
 
 namespace {
 
-constexpr int kColumns = 6;  // preview, normal, depth, colour, coverage, distance
+constexpr int kColumns = 6;
+constexpr const char* kColumnTitles[kColumns] = {"PREVIEW", "NORMALS", "DEPTH", "COLOUR", "COVERAGE", "DISTANCE"};
 constexpr int kGap = 4;
+const glm::vec3 kLabelColor(0.9f, 0.9f, 0.86f);
 const glm::vec3 kSheetBackground(0.18f, 0.18f, 0.2f);
 const glm::vec3 kPreviewBackground(0.86f, 0.89f, 0.93f);
 // Eq. 2 preview: a dusky ambient, white light from the upper left front, a two-tone ramp.
@@ -52,41 +58,96 @@ glm::vec3 texelColor(const AtlasLevel& l, const core::AtlasDesc& desc, int colum
   }
 }
 
-}  // namespace
-
-core::Image contactSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int thumb, int maxCells) {
-  const int rows = std::min(static_cast<int>(desc.cells.size()), maxCells);
-  const int width = kGap + kColumns * (thumb + kGap), height = kGap + rows * (thumb + kGap);
-  core::Image sheet(width, height, 3);
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      for (int ch = 0; ch < 3; ++ch) sheet.at(x, y, ch) = kSheetBackground[ch];
-    }
-  }
-  // Each thumbnail pixel averages the block of texels it covers (cellSize / thumb on a side).
+// A thumbnail of one map (`column`) of the cell at `rect`, its top-left at (ox, oy). Each thumbnail
+// pixel averages the block of texels it covers (cellSize / thumb on a side).
+void drawThumb(core::Image& sheet, const AtlasLevel& level0, const core::AtlasDesc& desc,
+               const std::array<int, 4>& rect, int column, int thumb, int ox, int oy) {
   const float scale = static_cast<float>(desc.cellSize) / static_cast<float>(thumb);
   const int block = std::max(1, static_cast<int>(std::ceil(scale)));
-  for (int row = 0; row < rows; ++row) {
-    const auto& rect = desc.cells[static_cast<std::size_t>(row)].rect;
-    for (int col = 0; col < kColumns; ++col) {
-      const int ox = kGap + col * (thumb + kGap), oy = kGap + row * (thumb + kGap);
-      for (int py = 0; py < thumb; ++py) {
-        for (int px = 0; px < thumb; ++px) {
-          glm::vec3 sum(0.0f);
-          const int x0 = rect[0] + static_cast<int>(static_cast<float>(px) * scale);
-          const int y0 = rect[1] + static_cast<int>(static_cast<float>(py) * scale);
-          int n = 0;
-          for (int by = y0; by < std::min(y0 + block, rect[1] + rect[3]); ++by) {
-            for (int bx = x0; bx < std::min(x0 + block, rect[0] + rect[2]); ++bx) {
-              sum += texelColor(level0, desc, col, bx, by, px, py);
-              ++n;
-            }
-          }
-          sum /= static_cast<float>(std::max(n, 1));
-          for (int ch = 0; ch < 3; ++ch) sheet.at(ox + px, oy + py, ch) = sum[ch];
+  for (int py = 0; py < thumb; ++py) {
+    for (int px = 0; px < thumb; ++px) {
+      glm::vec3 sum(0.0f);
+      const int x0 = rect[0] + static_cast<int>(static_cast<float>(px) * scale);
+      const int y0 = rect[1] + static_cast<int>(static_cast<float>(py) * scale);
+      int n = 0;
+      for (int by = y0; by < std::min(y0 + block, rect[1] + rect[3]); ++by) {
+        for (int bx = x0; bx < std::min(x0 + block, rect[0] + rect[2]); ++bx) {
+          sum += texelColor(level0, desc, column, bx, by, px, py);
+          ++n;
         }
       }
+      sum /= static_cast<float>(std::max(n, 1));
+      for (int ch = 0; ch < 3; ++ch) sheet.at(ox + px, oy + py, ch) = sum[ch];
     }
+  }
+}
+
+core::Image blankSheet(int width, int height) {
+  core::Image sheet(width, height, 3);
+  for (std::size_t i = 0; i < sheet.pixels.size(); i += 3) {
+    for (int ch = 0; ch < 3; ++ch) sheet.pixels[i + static_cast<std::size_t>(ch)] = kSheetBackground[ch];
+  }
+  return sheet;
+}
+
+}  // namespace
+
+int frontCell(const core::AtlasDesc& desc, int variation) {
+  int best = -1;
+  for (std::size_t i = 0; i < desc.cells.size(); ++i) {
+    const core::AtlasCell& c = desc.cells[i];
+    if (c.variation != variation) continue;
+    if (best < 0 || c.viewDir.z > desc.cells[static_cast<std::size_t>(best)].viewDir.z) best = static_cast<int>(i);
+  }
+  return best;
+}
+
+core::Image contactSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int thumb, int maxRows) {
+  const int rows = std::min(desc.variations, maxRows);
+  // Columns at least as wide as their titles; a margin on the left for the rows' names.
+  const int pitch = std::max(thumb, core::textWidth("DISTANCE")) + kGap;
+  const int margin = kGap + core::textWidth("V" + std::to_string(desc.variations));
+  const int header = kGap + core::textHeight() + kGap;
+  const int width = margin + kGap + kColumns * pitch, height = header + rows * (thumb + kGap);
+  core::Image sheet = blankSheet(width, height);
+  for (int col = 0; col < kColumns; ++col) {
+    core::drawText(sheet, margin + kGap + col * pitch, kGap, kColumnTitles[col], kLabelColor);
+  }
+  for (int row = 0; row < rows; ++row) {
+    const int oy = header + row * (thumb + kGap);
+    core::drawText(sheet, kGap / 2, oy + (thumb - core::textHeight()) / 2, "V" + std::to_string(row + 1), kLabelColor);
+    const int cell = frontCell(desc, row);
+    if (cell < 0) continue;
+    for (int col = 0; col < kColumns; ++col) {
+      drawThumb(sheet, level0, desc, desc.cells[static_cast<std::size_t>(cell)].rect, col, thumb,
+                margin + kGap + col * pitch, oy);
+    }
+  }
+  return sheet;
+}
+
+core::Image viewSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int variation, int maxSide) {
+  const int n = std::max(1, desc.viewGrid);
+  const int label = core::textHeight() + kGap;  // the view's number (and direction) under each thumbnail
+  const int thumb = std::clamp((maxSide - kGap) / n - kGap - label, 8, std::min(desc.cellSize, 256));
+  const std::string title = "VARIATION " + std::to_string(variation + 1) + ": " + std::to_string(desc.views) +
+                            " VIEWS, " + desc.viewLayout + " " + std::to_string(n) + "x" + std::to_string(n) +
+                            ", SHADED PREVIEW";
+  const int header = kGap + core::textHeight() + kGap;
+  const int pitchX = std::max(thumb, core::textWidth("000")) + kGap, pitchY = thumb + label + kGap;
+  const int width = std::max(kGap + n * pitchX, 2 * kGap + core::textWidth(title)), height = header + n * pitchY;
+  core::Image sheet = blankSheet(width, height);
+  core::drawText(sheet, kGap, kGap, title, kLabelColor);
+  for (const core::AtlasCell& c : desc.cells) {
+    if (c.variation != variation) continue;
+    const int ox = kGap + (c.view % n) * pitchX, oy = header + (c.view / n) * pitchY;
+    drawThumb(sheet, level0, desc, c.rect, 0, thumb, ox, oy);
+    // The view's number, and where it looks from when there is room: "12 +0.71 +0.00 +0.71".
+    char dir[64];
+    std::snprintf(dir, sizeof dir, "%d %+.2f %+.2f %+.2f", c.view, static_cast<double>(c.viewDir.x),
+                  static_cast<double>(c.viewDir.y), static_cast<double>(c.viewDir.z));
+    const std::string text = core::textWidth(dir) <= pitchX - kGap ? dir : std::to_string(c.view);
+    core::drawText(sheet, ox, oy + thumb + kGap / 2, text, kLabelColor);
   }
   return sheet;
 }

@@ -102,7 +102,9 @@ struct LodResult {
 struct BakeReport {
   core::AtlasDesc desc;
   std::filesystem::path sidecar, contactSheet;
-  int contactSheetCells = 0;                  ///< cells the contact sheet shows (it caps its height)
+  int contactSheetRows = 0;  ///< variations the contact sheet shows (it caps its height)
+  /// Multi-view atlases: per variation, the sheet of its views (NAME_contact_vI.png, I from 1).
+  std::vector<std::filesystem::path> viewSheets;
   std::vector<std::filesystem::path> files;   ///< every file written
   std::vector<std::optional<LodResult>> lod;  ///< per variation when the level of detail was automatic
   /// Per variation with --lod auto: the chosen mesh's file (the sidecar's sources[i].lodMesh).
@@ -145,8 +147,18 @@ LodResult chooseLod(const mesh::TriMesh& full,
                     const LodTolerances& tolerances, mesh::DecimatedNormals normals, mesh::TriMesh* chosen,
                     const std::function<void(int step, int maxSteps)>& onStep = {});
 
-/// The contact sheet: one row per cell (the first `maxCells`), columns shaded preview, normal,
-/// depth, colour, coverage, distance. `thumb` is the thumbnail size in pixels.
-core::Image contactSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int thumb, int maxCells);
+/// The cell of `variation` whose view is nearest the front (+z), or -1 if it has none.
+int frontCell(const core::AtlasDesc& desc, int variation);
+
+/// The contact sheet: a row of column titles (PREVIEW: shaded with Eq. 2 and a two-tone ramp,
+/// NORMALS, DEPTH, COLOUR, COVERAGE, DISTANCE), then one row per variation (the first `maxRows`),
+/// named V1, V2, ... on the left, showing its view nearest the front. `thumb`: thumbnail pixels.
+core::Image contactSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int thumb, int maxRows);
+
+/// A multi-view atlas's `variation` as the grid of its views (view i at column i % viewGrid, row
+/// i / viewGrid, as the atlas lays them out), each the shaded preview with its number and
+/// direction under it, under a title; thumbnails sized so that the grid is at most about `maxSide`
+/// pixels on a side.
+core::Image viewSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int variation, int maxSide);
 
 }  // namespace puff::bake

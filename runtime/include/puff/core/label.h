@@ -31,7 +31,6 @@ void drawText(Image& image, int x, int y, std::string_view text, glm::vec3 color
 
 /// A label: `text` on a box of `background` reaching `scale` pixels past it on every side, so it
 /// reads over any picture. Returns the box's width.
-int drawLabel(Image& image, int x, int y, std::string_view text, glm::vec3 color, glm::vec3 background,
-              int scale = 1);
+int drawLabel(Image& image, int x, int y, std::string_view text, glm::vec3 color, glm::vec3 background, int scale = 1);
 
 }  // namespace puff::core
