@@ -20,6 +20,7 @@
 #include <puff/core/image.h>
 #include "support/assert_ok.h"
 #include "support/cli_test.h"
+#include "support/read_text.h"
 
 namespace {
 
@@ -391,6 +392,162 @@ TEST_F(PuffrenderCli, FlipbookUsageErrorsNameTheProblemAndWriteNothing) {
   expectOneLineError(run(s + " --alpha premultiplied -o " + sheet), "--alpha applies to a transparent frame", 2);
   expectOneLineError(run(s + " --flipbook 2x2 --compare fixed,cel -o " + sheet), "do not go together", 2);
   EXPECT_TRUE(outputs().empty());
+}
+
+// A sequence seen whole (issue 18): the contact sheet is the frames in a grid, each the frame
+// rendered alone, with its number under it; without -o only the sheet is written.
+TEST_F(PuffrenderCli, ContactSheetIsTheFramesInAGridWithTheirNumbers) {
+  const fs::path scene = write("ground.json", kGroundScene);
+  const fs::path sheetFile = dir_ / "sheets" / "ground.png";
+  CliRun r = run(scene.string() + " --contact-sheet " + sheetFile.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("contact sheet: " + sheetFile.string() + " (180x60, 4 frames)"), std::string::npos) << r.out;
+  EXPECT_EQ(outputs(), (std::vector<std::string>{"sheets", "sheets/ground.png"})) << "no frame files without -o";
+  auto sheet = puff::core::readImage(sheetFile);
+  ASSERT_OK(sheet);
+  // 40x30 thumbnails (the frames' own size: under 256 wide), 44 apart across (40 + the 4-px gap),
+  // under a 15-px title row, each with its number 2 px under it.
+  ASSERT_EQ(sheet->width, 180);
+  ASSERT_EQ(sheet->height, 60);
+  EXPECT_EQ(puff::test::readText(*sheet, 4, 4, 18), "GROUND: FRAMES 0-3");
+  for (int f = 0; f < 4; ++f) {
+    const fs::path alone = dir_ / ("alone" + std::to_string(f) + ".png");
+    ASSERT_EQ(run(scene.string() + " -q --frames " + std::to_string(f) + " -o " + alone.string()).exitCode, 0);
+    auto frame = puff::core::readImage(alone);
+    ASSERT_OK(frame);
+    const int ox = 4 + f * 44, oy = 15;
+    int differ = 0;
+    for (int y = 0; y < 30; ++y)
+      for (int x = 0; x < 40; ++x)
+        for (int c = 0; c < 3; ++c) differ += sheet->at(ox + x, oy + y, c) != frame->at(x, y, c) ? 1 : 0;
+    EXPECT_EQ(differ, 0) << "frame " << f;
+    EXPECT_EQ(puff::test::readGlyph(*sheet, ox, oy + 30 + 2), static_cast<char>('0' + f));
+  }
+  // A range, with frames written too.
+  r = run(scene.string() + " -q --frames 2-3 -o " + (dir_ / "f_#.png").string() + " --contact-sheet " +
+          (dir_ / "part.png").string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir_ / "f_2.png") && fs::exists(dir_ / "f_3.png"));
+  auto part = puff::core::readImage(dir_ / "part.png");
+  ASSERT_OK(part);
+  EXPECT_EQ(puff::test::readText(*part, 4, 4, 18), "GROUND: FRAMES 2-3");
+  EXPECT_EQ(puff::test::readGlyph(*part, 4, 15 + 32), '2');
+}
+
+// More frames than fit in 8192 pixels: one frame in N, said on the sheet and on stdout.
+TEST_F(PuffrenderCli, ContactSheetOfALongSequenceShowsEveryNthFrame) {
+  std::string text = kGroundScene;
+  text.replace(text.find("\"frames\": 4"), std::string("\"frames\": 4").size(), "\"frames\": 130");
+  const fs::path scene = write("long.json", text);
+  // 16x4000 frames: 61 columns of 33 px (a 5-digit number's width, and the gap) and 2 rows of
+  // 4015 px fit 8192: 122 slots for 130 frames, so one frame in 2, 65 shown.
+  const fs::path sheetFile = dir_ / "long.png";
+  CliRun r = run(scene.string() + " -q --width 16 --height 4000 --contact-sheet " + sheetFile.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto sheet = puff::core::readImage(sheetFile);
+  ASSERT_OK(sheet);
+  EXPECT_EQ(puff::test::readText(*sheet, 4, 4, 30), "LONG: FRAMES 0-129, ONE IN 2  ");
+  EXPECT_LE(sheet->height, 8192);
+  // Slot 1 is frame 2, slot 61 (the second row's first) frame 122.
+  EXPECT_EQ(puff::test::readText(*sheet, 4 + 33, 15 + 4000 + 2, 1), "2");
+  EXPECT_EQ(puff::test::readText(*sheet, 4, 15 + 4015 + 4000 + 2, 3), "122");
+  r = run(scene.string() + " --width 16 --height 4000 --frames 0-9 --contact-sheet " + sheetFile.string());
+  EXPECT_NE(r.out.find("(334x4030, 10 frames)"), std::string::npos) << r.out;  // one row of 10
+  r = run(scene.string() + " --width 16 --height 4000 --contact-sheet " + sheetFile.string());
+  EXPECT_NE(r.out.find("(2017x8045, 65 frames, one in 2)"), std::string::npos) << r.out;
+}
+
+// The animated preview: a GIF through OpenImageIO, an MP4 through whatever `ffmpeg` is on PATH
+// (here a stand-in that keeps what it is given), and clear errors when neither can be written.
+TEST_F(PuffrenderCli, PreviewIsAnAnimatedGifOrAnMp4ThroughFfmpeg) {
+  const fs::path scene = write("ground.json", kGroundScene);
+  const fs::path gif = dir_ / "ground.gif";
+  CliRun r = run(scene.string() + " --preview " + gif.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("preview: " + gif.string() + " (4 frames at 10 fps, GIF by OpenImageIO)"), std::string::npos)
+      << r.out;
+  const std::string bytes = *puff::core::readFileBytes(gif);
+  EXPECT_EQ(bytes.rfind("GIF89a", 0), 0u);
+  std::size_t frames = 0;
+  for (std::size_t at = bytes.find("\x21\xf9\x04"); at != std::string::npos; at = bytes.find("\x21\xf9\x04", at + 1))
+    ++frames;
+  EXPECT_EQ(frames, 4u) << "a graphic control block per frame";
+  EXPECT_NE(bytes.find("NETSCAPE2.0"), std::string::npos) << "it loops";
+  // Its first frame is frame 0, within what a 256-colour palette keeps.
+  const fs::path still = dir_ / "still.png";
+  ASSERT_EQ(run(scene.string() + " -q -o " + still.string()).exitCode, 0);
+  auto first = puff::core::readImage(gif), expected = puff::core::readImage(still);
+  ASSERT_OK(first);
+  ASSERT_OK(expected);
+  ASSERT_EQ(first->width, 40);
+  int close = 0;
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      bool near = true;
+      for (int c = 0; c < 3; ++c) near = near && std::abs(first->at(x, y, c) - expected->at(x, y, c)) <= 8.0f / 255.0f;
+      close += near ? 1 : 0;
+    }
+  EXPECT_GE(close, 40 * 30 * 95 / 100);
+
+  // MP4: raw RGB frames piped into ffmpeg with the size and rate, written whole or not at all.
+  const fs::path bin = dir_ / "bin";
+  fs::create_directories(bin);
+  const fs::path args = dir_ / "ffmpeg_args.txt";
+  {
+    std::ofstream fake(bin / "ffmpeg");
+    fake << "#!/bin/sh\nprintf '%s\\n' \"$@\" > '" << args.string() << "'\n"
+         << "for a; do out=\"$a\"; done\n"
+         << "if [ -n \"$FAKE_FFMPEG_FAIL\" ]; then echo \"Unknown encoder 'libx264'\" >&2; cat >/dev/null; exit 1; fi\n"
+         << "cat > \"$out\"\n";
+  }
+  fs::permissions(bin / "ffmpeg", fs::perms::owner_all);
+  const fs::path mp4 = dir_ / "ground.mp4";
+  const auto runWithPath = [&](const std::string& env, const std::string& extra) {
+    const std::string cmd = env + " " + PUFFRENDER_EXE + " " + scene.string() + " " + extra + " >" +
+                            (dir_ / "out.txt").string() + " 2>" + (dir_ / "err.txt").string();
+    const int status = std::system(cmd.c_str());
+    CliRun result;
+    result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    result.out = *puff::core::readFileBytes(dir_ / "out.txt");
+    result.err = *puff::core::readFileBytes(dir_ / "err.txt");
+    return result;
+  };
+  r = runWithPath("PATH=" + bin.string() + ":/usr/bin:/bin", "--preview " + mp4.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("(4 frames at 10 fps, MP4 (H.264) by ffmpeg)"), std::string::npos) << r.out;
+  EXPECT_EQ(fs::file_size(mp4), 40u * 30u * 3u * 4u) << "4 frames of 40x30 RGB, 8 bits";
+  const std::string given = *puff::core::readFileBytes(args);
+  for (const char* a :
+       {"rawvideo\n", "rgb24\n", "-s\n40x30\n", "-framerate\n10\n", "-i\n-\n", "libx264\n", "yuv420p\n"}) {
+    EXPECT_NE(given.find(a), std::string::npos) << a << " in\n" << given;
+  }
+  // The frames piped are the frames rendered: the first 3600 bytes are frame 0's 8-bit RGB.
+  const std::string video = *puff::core::readFileBytes(mp4);
+  int equal = 0;
+  for (int p = 0; p < 40 * 30; ++p)
+    for (int c = 0; c < 3; ++c)
+      equal += static_cast<unsigned char>(video[static_cast<std::size_t>(p * 3 + c)]) ==
+                       static_cast<unsigned char>(
+                           std::lround(expected->pixels[static_cast<std::size_t>(p * 4 + c)] * 255.0f))
+                   ? 1
+                   : 0;
+  EXPECT_EQ(equal, 40 * 30 * 3);
+  // ffmpeg failing: its message in one line, and the old preview left as it was.
+  r = runWithPath("FAKE_FFMPEG_FAIL=1 PATH=" + bin.string() + ":/usr/bin:/bin", "--preview " + mp4.string());
+  expectOneLineError(r, "ffmpeg failed (exit status 1): Unknown encoder 'libx264'", 1);
+  EXPECT_EQ(fs::file_size(mp4), 40u * 30u * 3u * 4u);
+  // No ffmpeg at all.
+  r = runWithPath("PATH=/nonexistent", "--preview " + (dir_ / "none.mp4").string());
+  expectOneLineError(r, "an MP4 preview needs the ffmpeg program, and there is none on PATH", 1);
+  EXPECT_FALSE(fs::exists(dir_ / "none.mp4"));
+  // Usage.
+  expectOneLineError(run(scene.string() + " --preview " + (dir_ / "x.avi").string()), "expected a .gif or .mp4 name",
+                     2);
+  expectOneLineError(run(scene.string() + " --contact-sheet " + (dir_ / "x.jpg").string()), "give a .png name", 2);
+  expectOneLineError(
+      run(scene.string() + " --preview " + gif.string() + " --flipbook 2x2 -o " + (dir_ / "s.png").string()),
+      "not with --flipbook", 2);
+  expectOneLineError(run(scene.string()), "-o OUT is required (or --contact-sheet, --preview or --print-scene)", 2);
 }
 
 }  // namespace

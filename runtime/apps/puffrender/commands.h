@@ -3,6 +3,10 @@
 // choose.cpp picks the cheapest model within an error (--max-error) before the frames are drawn.
 #pragma once
 
+#include <memory>
+#include <string>
+
+#include <puff/core/image.h>
 #include <puff/render/render.h>
 #include <puff/scene/scene.h>
 
@@ -16,6 +20,7 @@ struct Plan {
   int first = 0, last = 0;
   bool exr = false;
   int flipColumns = 0, flipRows = 0;  ///< --flipbook: the sheet's grid; 0: frames go to their own files
+  bool writeFrames = true;            ///< false: no -o, only --contact-sheet and/or --preview
 };
 
 /// Draws the plan's frames of `scene` (with --compare, by both paths; with --max-error, after
@@ -26,6 +31,28 @@ int renderFrames(const Options& o, scene::Scene scene, const Plan& plan);
 /// sprite sheet (plan.pattern's single file), and beside it a JSON of its layout, frame rate and
 /// alpha mode (docs/flipbooks.md). Returns the exit code.
 int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan, render::SceneRenderer& renderer);
+
+/// --contact-sheet and --preview: the frames of a run as a grid with their numbers, and as an
+/// animated GIF or MP4 (sequence.cpp). open() before the first frame, add() each frame as rendered
+/// (scene-linear), finish() after the last: it writes them and returns what to say on stdout.
+class SequenceExtras {
+ public:
+  SequenceExtras(const Options& o, const scene::Scene& scene, const Plan& plan);
+  ~SequenceExtras();
+  bool wanted() const;
+  Result<void> open();
+  Result<void> add(int frame, const core::Image& linear);
+  Result<std::string> finish();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Which animated previews this machine can write, for --help and messages.
+std::string previewSupport();
+/// --preview's name: .gif (when OpenImageIO has a GIF writer) or .mp4 (when ffmpeg is on PATH).
+Result<void> checkPreviewTarget(const std::string& preview);
 
 /// --compare A,B: every frame by both paths, and without particles for the masks; OUT gets the side
 /// by side image, stdout a line per frame and a summary. Needs a compatibility context current.

@@ -33,6 +33,22 @@ fs::path defaultArtDir() {
 // Checks the options against the scene; errors are usage errors (exit 2).
 Result<Plan> makePlan(const Options& o, const scene::Scene& scene) {
   Plan plan;
+  if (o.out.empty()) {
+    // Only --contact-sheet and/or --preview: no frame files; every frame unless --frames says.
+    plan.writeFrames = false;
+    plan.last = scene.animation.frames - 1;
+    if (!o.frames.empty()) {
+      auto range = parseFrameRange(o.frames);
+      if (!range) return range.error();
+      plan.first = range->first;
+      plan.last = range->second;
+    }
+    if (plan.last >= scene.animation.frames) {
+      return Error{"--frames " + o.frames + ": the scene has " + std::to_string(scene.animation.frames) +
+                   " frame(s), 0 to " + std::to_string(scene.animation.frames - 1) + " (/animation/frames)"};
+    }
+    return plan;
+  }
   auto pattern = parseOutputPattern(o.out);
   if (!pattern) return pattern.error();
   plan.pattern = *pattern;
@@ -199,7 +215,24 @@ Result<double> parseMaxError(const std::string& text) {
 
 // The checks of the options alone that CLI11 does not make; errors are usage errors (exit 2).
 Result<void> checkOptions(const Options& o) {
-  if (o.out.empty() && !o.printScene) return Error{"-o OUT is required (or --print-scene); see --help"};
+  if (o.out.empty() && !o.printScene && o.contactSheet.empty() && o.preview.empty()) {
+    return Error{"-o OUT is required (or --contact-sheet, --preview or --print-scene); see --help"};
+  }
+  if (!o.contactSheet.empty() && core::lower(fs::path(o.contactSheet).extension().string()) != ".png") {
+    return Error{"--contact-sheet " + o.contactSheet + ": the contact sheet is a PNG: give a .png name"};
+  }
+  if (!o.preview.empty()) {
+    const std::string ext = core::lower(fs::path(o.preview).extension().string());
+    if (ext != ".gif" && ext != ".mp4") {
+      return Error{"--preview " + o.preview + ": expected a .gif or .mp4 name (" + previewSupport() + ")"};
+    }
+  }
+  if ((!o.contactSheet.empty() || !o.preview.empty()) && (!o.flipbook.empty() || !o.compare.empty())) {
+    return Error{"--contact-sheet and --preview go with frames rendered as they are, not with --flipbook or --compare"};
+  }
+  if ((!o.contactSheet.empty() || !o.preview.empty()) && o.maxError && o.out.empty()) {
+    return Error{"--max-error chooses the model for the frames written: give -o as well"};
+  }
   if (!o.out.empty()) {
     if (auto p = parseOutputPattern(o.out); !p) return p.error();
   }
@@ -287,6 +320,17 @@ std::variant<Options, int> parse(int argc, char** argv) {
                  "OUT's name with .json gets the layout, frame rate and alpha mode (docs/flipbooks.md). Frames: "
                  "--frames, else as many from frame 0 as the sheet holds (at most the scene's)")
       ->type_name("COLSxROWS");
+  app.add_option("--contact-sheet", o.contactSheet,
+                 "Also (or, without -o, only) write the frames as one PNG grid, each with its frame number under it, "
+                 "thumbnails at most 256 pixels wide, the sheet at most 2048 wide and 8192 tall (one frame in N "
+                 "when more do not fit, and it says so); transparent frames over a grey checker")
+      ->type_name("FILE.png");
+  app.add_option("--preview", o.preview,
+                 "Also (or, without -o, only) write the frames as an animated preview at the scene's frame rate, "
+                 "looping: .gif through OpenImageIO's GIF writer (256 colours a frame, at most 640 pixels wide) or "
+                 ".mp4 (H.264) through the ffmpeg program; " +
+                     previewSupport())
+      ->type_name("FILE.gif|FILE.mp4");
   app.add_option("--alpha", o.alpha,
                  "How a transparent frame's alpha is written, replacing /output/alpha: straight (colour as it is "
                  "where covered: PNG's convention and the default for PNG) or premultiplied (colour times alpha: "
@@ -352,6 +396,12 @@ int run(const Options& o) {
   if (auto r = checkAgainstScene(o, scene, *plan); !r) {
     cli::printError(r.error());
     return 2;
+  }
+  if (!o.preview.empty()) {
+    if (auto r = checkPreviewTarget(o.preview); !r) {
+      cli::printError(r.error());
+      return 1;
+    }
   }
   return renderFrames(o, scene, *plan);
 }

@@ -35,7 +35,9 @@ struct Options {
   /// --flipbook COLSxROWS: the frames go into one sprite sheet (OUT, a single file) of COLS x ROWS
   /// cells, left to right and top to bottom, with a transparent background, and a JSON beside it.
   std::string flipbook;
-  std::string alpha;  ///< "straight" or "premultiplied": replaces the scene's /output/alpha
+  std::string alpha;         ///< "straight" or "premultiplied": replaces the scene's /output/alpha
+  std::string contactSheet;  ///< --contact-sheet: a PNG of the frames as a grid with their numbers
+  std::string preview;       ///< --preview: an animated .gif or .mp4 of the frames
   bool printScene = false;
   bool quiet = false;
 };

@@ -30,7 +30,7 @@ namespace {
 // writable.
 Result<void> prepareDirectories(const Plan& plan, core::OutputTransaction& directories) {
   std::set<fs::path> dirs;
-  for (int f = plan.first; f <= plan.last; ++f) {
+  for (int f = plan.first; f <= plan.last && plan.writeFrames; ++f) {
     dirs.insert(fs::path(plan.pattern.name(f)).parent_path());
     if (!plan.pattern.numbered) break;
   }
@@ -99,6 +99,11 @@ int writeFrames(const Options& o, const scene::Scene& scene, const Plan& plan, r
   const core::AlphaMode alpha =
       scene.alpha.value_or(plan.exr ? core::AlphaMode::kPremultiplied : core::AlphaMode::kStraight);
   const int count = plan.last - plan.first + 1;
+  SequenceExtras extras(o, scene, plan);
+  if (auto r = extras.open(); !r) {
+    cli::printError(r.error());
+    return 1;
+  }
   cli::Progress progress(o.quiet || count == 1);
   for (int f = plan.first; f <= plan.last; ++f) {
     const fs::path target = plan.pattern.name(f);
@@ -109,6 +114,12 @@ int writeFrames(const Options& o, const scene::Scene& scene, const Plan& plan, r
       cli::printError(image.error());
       return 1;
     }
+    if (auto r = extras.add(f, *image); !r) {
+      progress.finish();
+      cli::printError(r.error());
+      return 1;
+    }
+    if (!plan.writeFrames) continue;
     core::OutputTransaction frame;
     const fs::path temp = frame.stage(target);
     // A transparent frame comes premultiplied (EXR's convention); a PNG gets display values, its
@@ -133,7 +144,12 @@ int writeFrames(const Options& o, const scene::Scene& scene, const Plan& plan, r
   }
   progress("frames", count, count);
   progress.finish();
-  if (!o.quiet) {
+  auto said = extras.finish();
+  if (!said) {
+    cli::printError(said.error());
+    return 1;
+  }
+  if (!o.quiet && plan.writeFrames) {
     if (count == 1) {
       std::printf("%s: wrote %s (%dx%d, frame %d)\n", cli::name(), plan.pattern.name(plan.first).c_str(), scene.width,
                   scene.height, plan.first);
@@ -142,6 +158,7 @@ int writeFrames(const Options& o, const scene::Scene& scene, const Plan& plan, r
                   plan.pattern.name(plan.first).c_str(), plan.pattern.name(plan.last).c_str());
     }
   }
+  if (!o.quiet) std::fputs(said->c_str(), stdout);
   return 0;
 }
 

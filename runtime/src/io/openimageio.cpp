@@ -3,8 +3,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <mutex>
 
 #include <OpenImageIO/imageio.h>
@@ -173,6 +176,89 @@ constexpr core::ImageCodec kCodec{"OpenImageIO", &read, &readAttribute, &write};
 }  // namespace
 
 const core::ImageCodec& openImageIOCodec() { return kCodec; }
+
+bool canWriteGif() {
+  static const bool can = [] { return OIIO::ImageOutput::create("probe.gif") != nullptr; }();
+  return can;
+}
+
+struct AnimatedGif::Impl {
+  std::unique_ptr<OIIO::ImageOutput> out;
+  std::vector<OIIO::ImageSpec> specs;
+  fs::path path, naming;
+  int width = 0, height = 0, added = 0;
+  std::vector<float> rgb;
+};
+
+AnimatedGif::AnimatedGif() : impl_(std::make_unique<Impl>()) {}
+AnimatedGif::~AnimatedGif() {
+  if (impl_ && impl_->out && impl_->added > 0) impl_->out->close();
+}
+
+Result<std::unique_ptr<AnimatedGif>> AnimatedGif::open(const fs::path& path, int frames, int width, int height,
+                                                       double fps, const fs::path& name) {
+  std::unique_ptr<AnimatedGif> gif(new AnimatedGif());
+  Impl& m = *gif->impl_;
+  m.path = path;
+  m.naming = name.empty() ? path : name;
+  if (frames < 1 || width < 1 || height < 1) return Error::at(m.naming, "an animated GIF needs at least one frame");
+  m.out = OIIO::ImageOutput::create("animation.gif");
+  if (!m.out) return Error::at(m.naming, "this OpenImageIO has no GIF writer: " + firstLine(OIIO::geterror()));
+  if (frames > 1 && !m.out->supports("appendsubimage")) {
+    return Error::at(m.naming, "this OpenImageIO's GIF writer cannot append frames");
+  }
+  m.width = width;
+  m.height = height;
+  // Frame rate as a rational of thousandths; GIF itself keeps delays in hundredths of a second.
+  const int fpsRational[2] = {std::max(1, static_cast<int>(std::lround(fps * 1000.0))), 1000};
+  m.specs.assign(static_cast<std::size_t>(frames), OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8));
+  for (OIIO::ImageSpec& spec : m.specs) {
+    spec.attribute("FramesPerSecond", OIIO::TypeRational, fpsRational);
+    spec.attribute("oiio:Movie", 1);
+    spec.attribute("gif:LoopCount", 0);  // forever
+  }
+  m.rgb.resize(static_cast<std::size_t>(width) * height * 3);
+  return gif;
+}
+
+Result<void> AnimatedGif::add(const Image& f) {
+  Impl& m = *impl_;
+  if (m.added >= static_cast<int>(m.specs.size())) {
+    return Error::at(m.naming, "more frames than the " + std::to_string(m.specs.size()) + " it was opened for");
+  }
+  if (f.width != m.width || f.height != m.height || f.channels < 3) {
+    return Error::at(m.naming, "frame " + std::to_string(m.added) + " is " + std::to_string(f.width) + "x" +
+                                   std::to_string(f.height) + "x" + std::to_string(f.channels) + ", not " +
+                                   std::to_string(m.width) + "x" + std::to_string(m.height) + " RGB");
+  }
+  const bool opened = m.added == 0 ? m.out->open(m.path.string(), static_cast<int>(m.specs.size()), m.specs.data())
+                                   : m.out->open(m.path.string(), m.specs[static_cast<std::size_t>(m.added)],
+                                                 OIIO::ImageOutput::AppendSubimage);
+  if (!opened) return Error::at(m.naming, "cannot write: " + firstLine(m.out->geterror()));
+  ++m.added;
+  const std::size_t pixels = static_cast<std::size_t>(m.width) * m.height;
+  for (std::size_t p = 0; p < pixels; ++p) {
+    for (std::size_t c = 0; c < 3; ++c) {
+      const float v = f.pixels[p * static_cast<std::size_t>(f.channels) + c];
+      m.rgb[p * 3 + c] = v != v ? 0.0f : std::clamp(v, 0.0f, 1.0f);
+    }
+  }
+  if (!m.out->write_image(OIIO::TypeDesc::FLOAT, m.rgb.data())) {
+    return Error::at(m.naming, "write failed: " + firstLine(m.out->geterror()));
+  }
+  return {};
+}
+
+Result<void> AnimatedGif::close() {
+  Impl& m = *impl_;
+  if (m.added != static_cast<int>(m.specs.size())) {
+    return Error::at(m.naming, std::to_string(m.added) + " of the " + std::to_string(m.specs.size()) +
+                                   " frames it was opened for were written");
+  }
+  m.added = 0;  // closed: the destructor has nothing to do
+  if (!m.out->close()) return Error::at(m.naming, "write failed: " + firstLine(m.out->geterror()));
+  return {};
+}
 
 void useOpenImageIO() { core::setImageCodec(&kCodec); }
 

@@ -4,6 +4,10 @@
 // core/image.h); a game that ships cooked assets needs neither this component nor OpenImageIO.
 #pragma once
 
+#include <filesystem>
+#include <memory>
+#include <vector>
+
 #include <puff/core/image.h>
 
 namespace puff::io {
@@ -13,6 +17,30 @@ namespace puff::io {
 /// the attributes in the file's metadata, float formats zip-compressed, with no time stamp (the
 /// same inputs give the same bytes).
 const core::ImageCodec& openImageIOCodec();
+
+/// Whether the installed OpenImageIO has a GIF writer.
+bool canWriteGif();
+
+/// An animated GIF written a frame at a time (a long sequence is never held whole): frames are
+/// display-encoded RGB or RGBA in [0, 1] (alpha dropped), all `width` x `height`; it plays at `fps`
+/// and loops forever; OpenImageIO picks each frame's 256-colour palette. Errors name `name` (the
+/// user's file; `path` may be a staged temporary), else `path`.
+class AnimatedGif {
+ public:
+  static Result<std::unique_ptr<AnimatedGif>> open(const std::filesystem::path& path, int frames, int width, int height,
+                                                   double fps, const std::filesystem::path& name = {});
+  ~AnimatedGif();
+  AnimatedGif(const AnimatedGif&) = delete;
+  AnimatedGif& operator=(const AnimatedGif&) = delete;
+  Result<void> add(const core::Image& frame);
+  /// After the last of the frames it was opened for.
+  Result<void> close();
+
+ private:
+  AnimatedGif();
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 /// Installs openImageIOCodec() for every later core::readImage / core::writeImage
 /// (core::setImageCodec). Call it first thing in main.
