@@ -411,6 +411,71 @@ TEST_F(PuffviewWindow, PanelEditsShowAtOnceAndSaveRoundTrips) {
   EXPECT_EQ(*puff::core::readFileBytes(copy), beforeRefusal);
 }
 
+// Undo and redo (issue 18): every edit is one step however many changes make it (a drag), a change
+// on disk is a step too, a new edit drops the steps undone, and the scene file stays where Save as
+// put it.
+TEST_F(PuffviewWindow, UndoAndRedoTakeEditsBackAndForthWhole) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const fs::path file = dir_ / "cloud.json";
+  rewrite(file, scene("#ffffff"));
+  auto v = open(file);
+  ASSERT_TRUE(v);
+  EXPECT_FALSE(v->canUndo());
+  EXPECT_FALSE(v->undo());
+  expectColor(draw(*v), 2, 2, {1, 1, 1}, "white to start");
+
+  // Edit 1: the background, dragged through three values.
+  v->beginEdit();
+  for (float r : {0.2f, 0.4f, 0.6f}) {
+    v->scene().background = glm::vec3(r, 0.0f, 0.0f);
+    ASSERT_TRUE(v->applyEdit());
+    v->beginEdit();  // called on every change of the drag: still one step
+  }
+  v->endEdit();
+  // Edit 2: the outline width.
+  v->beginEdit();
+  v->scene().style.outlineWidth = 7.0f;
+  ASSERT_TRUE(v->applyEdit());
+  v->endEdit();
+  expectColor(draw(*v), 2, 2, {0.6f, 0, 0}, "after the drag");
+
+  ASSERT_TRUE(v->undo());
+  EXPECT_NE(v->scene().style.outlineWidth, 7.0f);
+  EXPECT_EQ(v->scene().background, glm::vec3(0.6f, 0.0f, 0.0f)) << "only the last edit is taken back";
+  ASSERT_TRUE(v->undo());
+  EXPECT_EQ(v->scene().background, glm::vec3(1.0f)) << "the whole drag at once";
+  expectColor(draw(*v), 2, 2, {1, 1, 1}, "drawn as undone");
+  EXPECT_FALSE(v->canUndo());
+  ASSERT_TRUE(v->redo());
+  EXPECT_EQ(v->scene().background, glm::vec3(0.6f, 0.0f, 0.0f));
+  expectColor(draw(*v), 2, 2, {0.6f, 0, 0}, "drawn as redone");
+  ASSERT_TRUE(v->redo());
+  EXPECT_EQ(v->scene().style.outlineWidth, 7.0f);
+  EXPECT_FALSE(v->redo());
+
+  // A new edit after an undo drops what was undone.
+  ASSERT_TRUE(v->undo());
+  EXPECT_TRUE(v->canRedo());
+  v->beginEdit();
+  v->scene().style.outlineColor = glm::vec3(0.0f, 0.0f, 1.0f);
+  ASSERT_TRUE(v->applyEdit());
+  v->endEdit();
+  EXPECT_FALSE(v->canRedo());
+
+  // A change on disk is undone like an edit; the file saved elsewhere stays the scene file.
+  rewrite(file, scene("#00ff00"));
+  v->checkFiles();
+  ASSERT_EQ(v->fileError(), "");
+  EXPECT_EQ(v->scene().background, glm::vec3(0.0f, 1.0f, 0.0f));
+  const fs::path copy = dir_ / "copy.json";
+  ASSERT_TRUE(v->save(copy));
+  ASSERT_TRUE(v->undo());
+  EXPECT_EQ(v->scene().style.outlineColor, glm::vec3(0.0f, 0.0f, 1.0f)) << "the panel edit before the reload";
+  EXPECT_EQ(v->scene().background, glm::vec3(0.6f, 0.0f, 0.0f));
+  EXPECT_EQ(v->sceneFile(), copy);
+  expectColor(draw(*v), 2, 2, {0.6f, 0, 0}, "the reload taken back");
+}
+
 TEST_F(PuffviewWindow, BrokenShaderShowsItsErrorAndKeepsTheLastGoodRenderer) {
   PUFFVIEW_NEEDS_DISPLAY();
   const fs::path shaders = dir_ / "shaders";

@@ -266,6 +266,15 @@ void drawPanels(Viewer& v, PanelState& state) {
     return;
   }
   ImGui::TextUnformatted(v.sceneFile().c_str());
+  ImGui::BeginDisabled(!v.canUndo());
+  if (ImGui::Button("Undo")) v.undo();
+  ImGui::EndDisabled();
+  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("Ctrl+Z");
+  ImGui::SameLine();
+  ImGui::BeginDisabled(!v.canRedo());
+  if (ImGui::Button("Redo")) v.redo();
+  ImGui::EndDisabled();
+  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("Ctrl+Y or Ctrl+Shift+Z");
   timelinePanel(v);
   Edits edit;
   scene::Scene& s = v.scene();
@@ -282,12 +291,17 @@ void drawPanels(Viewer& v, PanelState& state) {
     }
   }
   if (!s.emitters.empty() && ImGui::CollapsingHeader("Placed particles")) sceneEmittersPanel(s.emitters, edit);
-  if (edit.any) (void)v.applyEdit();
+  // One undo step per edit: it begins with its first change and ends when no widget is held.
+  if (edit.any) {
+    v.beginEdit();
+    (void)v.applyEdit();
+  }
+  if (!ImGui::IsAnyItemActive()) v.endEdit();
   if (!v.editError().empty()) ImGui::TextColored(kRed, "%s", v.editError().c_str());
   ImGui::Separator();
   savePanel(v, state);
   if (!v.status().empty()) ImGui::TextDisabled("%s", v.status().c_str());
-  ImGui::TextDisabled("H panels  P/F12 screenshot  F orbit/fly  C reset camera");
+  ImGui::TextDisabled("H panels  P/F12 screenshot  F orbit/fly  C reset camera  Ctrl+Z/Y undo/redo");
   ImGui::End();
 }
 

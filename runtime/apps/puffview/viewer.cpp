@@ -60,7 +60,7 @@ struct Viewer::Impl {
   core::Texture resolved;
   std::optional<render::ViewPass> viewPass;
 
-  std::vector<int> keys;  // key presses (and repeats) since the last processEvents
+  std::vector<std::pair<int, int>> keys;  // key presses (and repeats) since the last processEvents, with modifiers
   double scroll = 0.0;
   double cursorX = 0.0, cursorY = 0.0;
   bool haveCursor = false;
@@ -69,9 +69,9 @@ struct Viewer::Impl {
   std::string sceneError, resourceError;  // what fileError() joins
 
   static Viewer* of(GLFWwindow* w) { return static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
-  static void onKey(GLFWwindow* w, int key, int /*scancode*/, int action, int /*mods*/) {
+  static void onKey(GLFWwindow* w, int key, int /*scancode*/, int action, int mods) {
     if (action == GLFW_PRESS || action == GLFW_REPEAT) {
-      if (Viewer* v = of(w)) v->impl_->keys.push_back(key);
+      if (Viewer* v = of(w)) v->impl_->keys.emplace_back(key, mods);
     }
   }
   static void onScroll(GLFWwindow* w, double /*x*/, double y) {
@@ -86,7 +86,15 @@ struct Viewer::Impl {
     }
   }
 
-  static void pressKey(Viewer& v, int key) {
+  static void pressKey(Viewer& v, int key, int mods) {
+    if (mods & GLFW_MOD_CONTROL) {  // Ctrl+Z undo; Ctrl+Y or Ctrl+Shift+Z redo
+      if (key == GLFW_KEY_Z && !(mods & GLFW_MOD_SHIFT)) {
+        if (!v.undo()) v.setStatus("nothing to undo");
+      } else if (key == GLFW_KEY_Y || key == GLFW_KEY_Z) {
+        if (!v.redo()) v.setStatus("nothing to redo");
+      }
+      return;
+    }
     switch (key) {
       case GLFW_KEY_SPACE:
         v.setPlaying(!v.playing_);
@@ -310,6 +318,7 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
   v->renderer_ = std::move(*path);
   v->pathName_ = pathName;
   v->camera_.reset(scene::cameraAt(v->scene_, 0));
+  v->committed_ = v->scene_;
   v->watchScene();
   m.lastInput = m.lastPresent = m.lastPoll = now();
   return v;
@@ -366,7 +375,11 @@ void Viewer::reloadScene() {
   if (!loaded) return fail(loaded.error().message);
   loaded->file = scene_.file;
   if (auto r = renderer_->update(*loaded); !r) return fail(r.error().message);
+  // A change on disk is a step undo can take back, like an edit in the panels.
+  endEdit();
+  beginEdit();
   scene_ = std::move(*loaded);
+  endEdit();
   m.sceneError.clear();
   m.resourceError.clear();  // update() reloaded what the scene names, or nothing changed there
   fileError_.clear();
@@ -393,6 +406,49 @@ void Viewer::rebuildPath(const std::string& why) {
 }
 
 // ---- editing ---------------------------------------------------------------------------------
+
+void Viewer::beginEdit() {
+  if (editing_) return;
+  editing_ = true;
+  undo_.push_back(committed_);
+  if (undo_.size() > kUndoSteps) undo_.erase(undo_.begin());
+  redo_.clear();
+}
+
+void Viewer::endEdit() {
+  if (!editing_) return;
+  editing_ = false;
+  committed_ = scene_;
+}
+
+void Viewer::restore(scene::Scene scene, const char* what) {
+  scene.file = scene_.file;  // Save as moved the file on: undo does not move it back
+  scene_ = std::move(scene);
+  committed_ = scene_;
+  if (!cameraOverride_) camera_.reset(scene::cameraAt(scene_, frame_));
+  (void)applyEdit();
+  setStatus(what);
+}
+
+bool Viewer::undo() {
+  endEdit();
+  if (undo_.empty()) return false;
+  redo_.push_back(scene_);
+  scene::Scene previous = std::move(undo_.back());
+  undo_.pop_back();
+  restore(std::move(previous), "undo");
+  return true;
+}
+
+bool Viewer::redo() {
+  endEdit();
+  if (redo_.empty()) return false;
+  undo_.push_back(scene_);
+  scene::Scene next = std::move(redo_.back());
+  redo_.pop_back();
+  restore(std::move(next), "redo");
+  return true;
+}
 
 Result<void> Viewer::applyEdit() {
   auto r = renderer_->update(scene_);
@@ -479,9 +535,12 @@ void Viewer::resetCamera() {
 
 void Viewer::cameraToScene() {
   const cel::Camera c = camera_.camera(scene_.camera);
+  endEdit();
+  beginEdit();
   scene_.camera = c;
   scene_.animation.orbitDegreesPerSecond = 0.0f;  // the saved view is the view seen
   cameraOverride_ = false;
+  endEdit();
   (void)applyEdit();
 }
 
@@ -522,10 +581,10 @@ void Viewer::handleInput() {
   const float dt = static_cast<float>(std::min(0.1, t - m.lastInput));
   m.lastInput = t;
 
-  std::vector<int> keys;
+  std::vector<std::pair<int, int>> keys;
   keys.swap(m.keys);
   if (!uiKeys) {
-    for (int key : keys) Impl::pressKey(*this, key);
+    for (const auto& [key, mods] : keys) Impl::pressKey(*this, key, mods);
     if (camera_.mode() == CameraController::Mode::kFly) Impl::fly(*this, dt);
   }
   Impl::drag(*this, uiMouse);

@@ -8,6 +8,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <glm/vec2.hpp>
 
@@ -91,6 +92,21 @@ class Viewer {
   /// elsewhere makes that file the scene file from then on (watched, saved to).
   Result<std::filesystem::path> save(const std::filesystem::path& file = {});
   const std::filesystem::path& sceneFile() const { return scene_.file; }
+
+  // ---- undo and redo -------------------------------------------------------------------------
+  /// An edit begins: the scene as it was when the last edit ended becomes an undo step (once per
+  /// edit, however many small changes it makes: a slider dragged is undone whole) and the redo
+  /// steps are dropped. The panels call it on an edit's first change, endEdit() when no widget is
+  /// held any more.
+  void beginEdit();
+  void endEdit();
+  /// Back to the scene before the last edit (or reload from disk), applied at once; false when
+  /// there is nothing to undo. The scene file (Save as) stays where it is.
+  bool undo();
+  /// Forward again to the edit undo() took back; false when there is nothing to redo.
+  bool redo();
+  bool canUndo() const { return !undo_.empty(); }
+  bool canRedo() const { return !redo_.empty(); }
   const std::string& fileError() const { return fileError_; }
   const std::string& editError() const { return editError_; }
 
@@ -157,6 +173,13 @@ class Viewer {
   double frameMs_ = 0.0;
   CameraController camera_;
   bool cameraOverride_ = false;
+  // Undo: the scene before each edit (oldest first, at most kUndoSteps), the steps undone, and the
+  // scene as the last edit left it (what beginEdit() records).
+  static constexpr std::size_t kUndoSteps = 200;
+  std::vector<scene::Scene> undo_, redo_;
+  scene::Scene committed_;
+  bool editing_ = false;
+  void restore(scene::Scene scene, const char* what);
 };
 
 }  // namespace puff::view
