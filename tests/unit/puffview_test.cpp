@@ -476,6 +476,53 @@ TEST_F(PuffviewWindow, UndoAndRedoTakeEditsBackAndForthWhole) {
   expectColor(draw(*v), 2, 2, {0.6f, 0, 0}, "the reload taken back");
 }
 
+// The panel docks beside the image (issue 18): the window is the image plus the panel's width, at
+// least the panel's height, and the image is drawn whole beside the panel, the same pixels as
+// without the panels; hiding the panels gives the image the window.
+TEST_F(PuffviewWindow, ThePanelDocksBesideTheImageNotOverIt) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const fs::path file = dir_ / "cloud.json";
+  rewrite(file, scene("#ff0000"));
+  auto bare = open(file);
+  ASSERT_TRUE(bare);
+  const Image alone = draw(*bare);
+  bare.reset();
+
+  puff::view::ViewerOptions o = options(file);
+  o.ui = true;
+  auto opened = puff::view::Viewer::open(o);
+  ASSERT_OK(opened);
+  puff::view::Viewer& v = **opened;
+  draw(v);
+  const Image docked = draw(v);
+  ASSERT_EQ(docked.width, 160 + puff::view::kPanelWidth);
+  ASSERT_EQ(docked.height, puff::view::kPanelMinHeight);
+  const puff::cel::Viewport area = v.imageViewport();
+  EXPECT_EQ(area.x, 0);
+  EXPECT_EQ(area.width, 160);
+  EXPECT_EQ(area.height, 120);
+  EXPECT_EQ(area.y, (puff::view::kPanelMinHeight - 120) / 2) << "centred beside the panel";
+  const int top = docked.height - area.y - area.height;  // readWindow's rows run top to bottom
+  int differ = 0;
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x)
+      differ += glm::length(rgb(docked, x, top + y) - rgb(alone, x, y)) > 2.0f / 255.0f ? 1 : 0;
+  EXPECT_EQ(differ, 0) << "the image beside the panel is the image without it";
+  // Above the image, a plain bar; right of it, the panel (not the red background).
+  expectColor(docked, 80, top / 2, {0.11f, 0.11f, 0.12f}, "the bar above the image");
+  int red = 0;
+  for (int y = 0; y < docked.height; ++y)
+    for (int x = 160; x < docked.width; ++x) red += glm::length(rgb(docked, x, y) - glm::vec3(1, 0, 0)) < 0.1f ? 1 : 0;
+  EXPECT_EQ(red, 0) << "nothing of the image under the panel";
+
+  // Panels hidden: the image fills the window at its own aspect.
+  v.uiVisible = false;
+  const puff::cel::Viewport full = v.imageViewport();
+  EXPECT_EQ(full.width, 560);
+  EXPECT_EQ(full.height, 420);
+  EXPECT_EQ(full.y, 30);
+}
+
 TEST_F(PuffviewWindow, BrokenShaderShowsItsErrorAndKeepsTheLastGoodRenderer) {
   PUFFVIEW_NEEDS_DISPLAY();
   const fs::path shaders = dir_ / "shaders";

@@ -57,9 +57,13 @@ std::variant<Options, int> parse(int argc, char** argv) {
                  "--frames is not given)");
   app.add_flag("--hide-ui", o.hideUi,
                "Start with the panels hidden (H shows them); screenshots then show the scene only");
-  app.add_option("--width", o.width, "Window width in pixels (default: the scene's output width, at most 1920)")
+  app.add_option("--width", o.width,
+                 "Image width in pixels (default: the scene's output width, at most 1920); the window adds the docked "
+                 "panel's 400 when the panels are shown")
       ->check(CLI::Range(16, 16384));
-  app.add_option("--height", o.height, "Window height in pixels (default: the scene's output height, at most 1200)")
+  app.add_option("--height", o.height,
+                 "Image height in pixels (default: the scene's output height, at most 1200); the window is at least "
+                 "480 tall when the panels are shown")
       ->check(CLI::Range(16, 16384));
   app.add_option("--art-dir", o.artDir,
                  "Directory that \"${PUFF_ART}\" in the scene's paths stands for (default: $PUFF_ART, else build/art)");

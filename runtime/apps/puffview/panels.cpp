@@ -258,13 +258,17 @@ void savePanel(Viewer& v, PanelState& state) {
 }  // namespace
 
 void drawPanels(Viewer& v, PanelState& state) {
-  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowSize(ImVec2(380, 0), ImGuiCond_FirstUseEver);
-  ImGui::SetNextWindowBgAlpha(0.85f);
-  if (!ImGui::Begin("puffview")) {
+  // Docked on the window's right, beside the image (Viewer::imageViewport), never over it.
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  ImGui::SetNextWindowPos(ImVec2(display.x - static_cast<float>(kPanelWidth), 0.0f), ImGuiCond_Always);
+  ImGui::SetNextWindowSize(ImVec2(static_cast<float>(kPanelWidth), display.y), ImGuiCond_Always);
+  if (!ImGui::Begin("puffview", nullptr,
+                    ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                        ImGuiWindowFlags_NoTitleBar)) {
     ImGui::End();
     return;
   }
+  ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.55f);  // room for the labels on the right
   ImGui::TextUnformatted(v.sceneFile().c_str());
   ImGui::BeginDisabled(!v.canUndo());
   if (ImGui::Button("Undo")) v.undo();
@@ -302,6 +306,7 @@ void drawPanels(Viewer& v, PanelState& state) {
   savePanel(v, state);
   if (!v.status().empty()) ImGui::TextDisabled("%s", v.status().c_str());
   ImGui::TextDisabled("H panels  P/F12 screenshot  F orbit/fly  C reset camera  Ctrl+Z/Y undo/redo");
+  ImGui::PopItemWidth();
   ImGui::End();
 }
 

@@ -167,10 +167,10 @@ struct Viewer::Impl {
     const bool moved = delta != glm::vec2(0.0f);
     if (camera.mode() == CameraController::Mode::kOrbit) {
       if (left && moved) touchCamera(v), camera.rotate(delta);
-      if ((right || middle) && moved) touchCamera(v), camera.pan(delta, v.framebufferSize().y);
+      if ((right || middle) && moved) touchCamera(v), camera.pan(delta, v.imageViewport().height);
     } else {
       if ((right || left) && moved) touchCamera(v), camera.rotate(delta);
-      if (middle && moved) touchCamera(v), camera.pan(delta, v.framebufferSize().y);
+      if (middle && moved) touchCamera(v), camera.pan(delta, v.imageViewport().height);
     }
     if (scroll != 0.0) touchCamera(v), camera.zoom(static_cast<float>(scroll));
   }
@@ -284,8 +284,9 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
   gl.backend = "glfw";
   gl.profile = core::GlProfile::kCompatibility;  // GL 4.5 for the cel path, GL 1.x calls for the fixed one
   gl.visible = options.visible;
-  gl.width = options.width > 0 ? options.width : std::clamp(v->scene_.width, 64, 1920);
-  gl.height = options.height > 0 ? options.height : std::clamp(v->scene_.height, 64, 1200);
+  const glm::ivec2 image = v->imageSize();
+  gl.width = image.x + (options.ui ? kPanelWidth : 0);
+  gl.height = options.ui ? std::max(image.y, kPanelMinHeight) : image.y;
   gl.title = "puffview: " + options.scene.string();
   // The automatic fallback: the cel path (the default) needs GL 4.5 and programs that build; where
   // the platform or the shaders cannot give that, the fixed path draws instead, saying so.
@@ -557,6 +558,25 @@ Result<void> Viewer::setPath(const std::string& name) {
   return {};
 }
 
+glm::ivec2 Viewer::imageSize() const {
+  return {options_.width > 0 ? options_.width : std::clamp(scene_.width, 64, 1920),
+          options_.height > 0 ? options_.height : std::clamp(scene_.height, 64, 1200)};
+}
+
+cel::Viewport Viewer::imageViewport() const {
+  const glm::ivec2 fb = framebufferSize();
+  int windowWidth = 0, windowHeight = 0;
+  glfwGetWindowSize(impl_->window, &windowWidth, &windowHeight);
+  const double pixelsPerPoint = windowWidth > 0 ? static_cast<double>(fb.x) / windowWidth : 1.0;
+  const int panel = uiVisible ? static_cast<int>(std::lround(kPanelWidth * pixelsPerPoint)) : 0;
+  const int areaW = std::max(1, fb.x - panel), areaH = std::max(1, fb.y);
+  const glm::ivec2 image = imageSize();
+  const double scale = std::min(static_cast<double>(areaW) / image.x, static_cast<double>(areaH) / image.y);
+  const int w = std::clamp(static_cast<int>(std::lround(image.x * scale)), 1, areaW);
+  const int h = std::clamp(static_cast<int>(std::lround(image.y * scale)), 1, areaH);
+  return cel::Viewport{(areaW - w) / 2, (areaH - h) / 2, w, h};
+}
+
 glm::ivec2 Viewer::framebufferSize() const {
   int w = 0, h = 0;
   glfwGetFramebufferSize(impl_->window, &w, &h);
@@ -595,8 +615,10 @@ void Viewer::handleInput() {
 void Viewer::drawFrame() {
   Impl& m = *impl_;
   m.context->makeCurrent();
-  const glm::ivec2 size = framebufferSize();
-  if (size.x <= 0 || size.y <= 0) return;  // minimized
+  const glm::ivec2 window = framebufferSize();
+  if (window.x <= 0 || window.y <= 0) return;  // minimized
+  const cel::Viewport area = imageViewport();
+  const glm::ivec2 size(area.width, area.height);
 
   GLint maxSamples = 1;
   glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
@@ -644,16 +666,22 @@ void Viewer::drawFrame() {
     }
     m.viewPass = std::move(*pass);
   }
+  // What the image does not cover (beside the panel, or bars where the window's shape is not the
+  // image's) is a plain dark grey.
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glDrawBuffer(GL_BACK);
+  glViewport(0, 0, window.x, window.y);
+  glClearColor(0.11f, 0.11f, 0.12f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT);
   if (displayValues) {
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glDrawBuffer(GL_BACK);
-    glBlitNamedFramebuffer(m.fbo.get(), 0, 0, 0, size.x, size.y, 0, 0, size.x, size.y, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBlitNamedFramebuffer(m.fbo.get(), 0, 0, 0, size.x, size.y, area.x, area.y, area.x + size.x, area.y + size.y,
+                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
   } else {
     glBlitNamedFramebuffer(m.fbo.get(), m.resolveFbo.get(), 0, 0, size.x, size.y, 0, 0, size.x, size.y,
                            GL_COLOR_BUFFER_BIT, GL_NEAREST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDrawBuffer(GL_BACK);
-    m.viewPass->draw(m.resolved.get(), cel::Viewport{0, 0, size.x, size.y}, scene::viewTransformFor(scene_));
+    m.viewPass->draw(m.resolved.get(), area, scene::viewTransformFor(scene_));
   }
   drawUi();
 }

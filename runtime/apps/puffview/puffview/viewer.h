@@ -27,8 +27,11 @@ struct ViewerOptions {
   /// Shaders are read from here (core::setShaderDir) and every file under it is watched. Empty:
   /// $PUFF_SHADER_DIR when set (watched too), else the embedded copies (nothing to watch).
   std::filesystem::path shaderDir;
-  std::string path = "cel";             ///< render path, one of render::renderPaths()
-  int width = 0, height = 0;            ///< window size; 0: the scene's output size, clamped to [64, 1920] x [64, 1200]
+  std::string path = "cel";  ///< render path, one of render::renderPaths()
+  /// The image's size; 0: the scene's output size, clamped to [64, 1920] x [64, 1200]. The window is
+  /// that, and with the panels shown as wide again as the panel (kPanelWidth) and at least
+  /// kPanelMinHeight tall: the panel docks beside the image, never over it.
+  int width = 0, height = 0;
   bool visible = true;                  ///< show the window (tests under Xvfb may keep it hidden)
   bool ui = true;                       ///< draw the panels (H toggles them at run time)
   std::filesystem::path screenshotDir;  ///< screenshots go here; empty: beside the scene file
@@ -39,6 +42,9 @@ struct ViewerOptions {
 /// current GL context. Errors: an unknown name (listing the available ones), or whatever loading the
 /// scene's resources or building the programs reported.
 Result<std::unique_ptr<render::SceneRenderer>> createRenderer(const std::string& pathName, const scene::Scene& scene);
+
+/// The docked panel's width and the least window height that shows it (window pixels).
+inline constexpr int kPanelWidth = 400, kPanelMinHeight = 480;
 
 class Viewer {
  public:
@@ -137,6 +143,10 @@ class Viewer {
   const render::FrameStats& stats() const { return stats_; }
   double frameMs() const { return frameMs_; }  ///< wall time between displayed frames, smoothed
   glm::ivec2 framebufferSize() const;
+  /// Where the image is drawn in the window (framebuffer pixels, origin bottom-left): the window
+  /// left of the panel when it is shown, else the whole window, the image's aspect fitted and
+  /// centred in it (the image size from the options, else the scene's output size).
+  cel::Viewport imageViewport() const;
 
   /// Saves the window (as drawn last, panels included when shown) as a PNG: to `file`, or when
   /// empty to a new "<scene>_fNNNN[_K].png" in the screenshot directory. Returns the path.
@@ -158,6 +168,8 @@ class Viewer {
   void handleInput();
   void drawUi();
   void setStatus(std::string text);
+
+  glm::ivec2 imageSize() const;
 
   ViewerOptions options_;
   scene::Scene scene_;
