@@ -19,6 +19,7 @@
 #include <puff/core/shader.h>
 #include <puff/render/path.h>
 #include <puff/scene/read.h>
+#include <puffview/ramp_edit.h>
 #include <puffview/viewer.h>
 
 #include "support/assert_ok.h"
@@ -80,6 +81,56 @@ double samePuffs(const Image& a, const Image& b, glm::vec3 background, int maxX 
   }
   EXPECT_GT(inner, 200u) << "the puffs cover part of the image";
   return inner ? static_cast<double>(same) / static_cast<double>(inner) : 0.0;
+}
+
+// The ramp editor's bands and the gradient editor's ends, to and from the images the renderer reads.
+TEST(RampEdit, BandsBecomeTheRampImageAndReadBack) {
+  using puff::view::RampBands;
+  RampBands bands;
+  bands.starts = {0.0f, 0.25f, 0.5f, 0.75f};
+  bands.colors = {{0.1f, 0.0f, 0.2f}, {0.4f, 0.2f, 0.6f}, {0.8f, 0.6f, 0.2f}, {1.0f, 1.0f, 1.0f}};
+  const Image image = puff::view::rampImage(bands);
+  ASSERT_EQ(image.width, puff::view::kRampWidth);
+  ASSERT_EQ(image.height, 1);
+  ASSERT_EQ(image.channels, 3);
+  // Texel x holds the band of (x + 0.5) / 256: 63 is the first band's last, 64 the second's first.
+  EXPECT_EQ(rgb(image, 0, 0), bands.colors[0]);
+  EXPECT_EQ(rgb(image, 63, 0), bands.colors[0]);
+  EXPECT_EQ(rgb(image, 64, 0), bands.colors[1]);
+  EXPECT_EQ(rgb(image, 191, 0), bands.colors[2]);
+  EXPECT_EQ(rgb(image, 192, 0), bands.colors[3]);
+  EXPECT_EQ(rgb(image, 255, 0), bands.colors[3]);
+  EXPECT_EQ(puff::view::bandsFromImage(image), bands) << "starts on texel boundaries read back exactly";
+
+  // Out of order, out of range, the first not at 0: put in order, clamped, the first from 0.
+  RampBands messy;
+  messy.starts = {0.6f, 0.2f, -1.0f};
+  messy.colors = {{1, 1, 1}, {0.5f, 0.5f, 0.5f}, {2.0f, -1.0f, 0.0f}};
+  const RampBands tidy = puff::view::normalized(messy);
+  EXPECT_EQ(tidy.starts, (std::vector<float>{0.0f, 0.2f, 0.6f}));
+  EXPECT_EQ(tidy.colors[0], glm::vec3(1.0f, 0.0f, 0.0f));
+  EXPECT_EQ(puff::view::normalized(RampBands{{}, {}}).starts.size(), 1u) << "at least one band";
+
+  // A smooth ramp (every texel its own) is sampled into the most bands the editor holds.
+  Image smooth(256, 3, 3);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 256; ++x)
+      for (int c = 0; c < 3; ++c) smooth.at(x, y, c) = y == 1 ? static_cast<float>(x) / 255.0f : 0.0f;
+  const RampBands sampled = puff::view::bandsFromImage(smooth);
+  ASSERT_EQ(sampled.starts.size(), static_cast<std::size_t>(puff::view::kMaxRampBands));
+  EXPECT_NEAR(sampled.colors[0].r, 8.0f / 255.0f, 1e-6f) << "the middle row, at the band's middle";
+  EXPECT_EQ(sampled.starts[1], 1.0f / 16.0f);
+
+  // The gradient: top row to bottom row, each end the mean of its row.
+  const puff::view::VerticalGradient g{{1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+  const Image gi = puff::view::gradientImage(g);
+  ASSERT_EQ(gi.width, puff::view::kGradientSize);
+  EXPECT_NEAR(gi.at(10, 0, 0), 1.0f - 0.5f / 256.0f, 1e-6f);
+  EXPECT_NEAR(gi.at(10, 255, 2), 1.0f - 0.5f / 256.0f, 1e-6f);
+  EXPECT_NEAR(gi.at(10, 128, 0), 0.5f - 0.5f / 256.0f, 1e-6f);
+  const puff::view::VerticalGradient back = puff::view::gradientFromImage(gi);
+  EXPECT_NEAR(back.top.r, 1.0f - 0.5f / 256.0f, 1e-6f);
+  EXPECT_NEAR(back.bottom.b, 1.0f - 0.5f / 256.0f, 1e-6f);
 }
 
 class PuffviewCli : public puff::test::CliTest {
@@ -521,6 +572,69 @@ TEST_F(PuffviewWindow, ThePanelDocksBesideTheImageNotOverIt) {
   EXPECT_EQ(full.width, 560);
   EXPECT_EQ(full.height, 420);
   EXPECT_EQ(full.y, 30);
+}
+
+// The ramp and gradient editors (issue 18): an edited ramp shows in the next frame, undo takes it
+// back, and Save writes it beside the scene file and names it there.
+TEST_F(PuffviewWindow, AnEditedRampShowsAtOnceAndIsSavedBesideTheScene) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const fs::path file = dir_ / "cloud.json";
+  rewrite(file, scene("#ffffff"));
+  auto v = open(file);
+  ASSERT_TRUE(v);
+  auto share = [](const Image& image, glm::vec3 color) {
+    int n = 0;
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x) n += glm::length(rgb(image, x, y) - color) < 0.08f ? 1 : 0;
+    return n;
+  };
+  const Image before = draw(*v);
+  // One flat band of pure red: q = (1, 0, 0) at every N.L, so a lit puff pixel is K_a + C K_L q with
+  // white C and K_L: the ambient plus pure red, a colour the two-tone ramp never gives.
+  puff::view::RampBands red;
+  red.starts = {0.0f};
+  red.colors = {{1.0f, 0.0f, 0.0f}};
+  v->beginEdit();
+  ASSERT_OK(v->setRamp(puff::view::rampImage(red)));
+  v->endEdit();
+  EXPECT_EQ(v->scene().ramp.parent_path(), v->scratchDir());
+  const Image edited = draw(*v);
+  const glm::vec3 ka = v->scene().ambientColor;
+  const glm::vec3 lit = glm::min(ka + glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(1.0f));
+  EXPECT_GT(share(edited, lit), 200) << "puffs lit through the red ramp";
+  EXPECT_EQ(share(before, lit), 0);
+
+  // The gradient (green at the top, blue at the bottom) replaces the uniform K_a under the puffs.
+  v->beginEdit();
+  ASSERT_OK(v->setAmbientGradient(puff::view::gradientImage({{0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}})));
+  v->endEdit();
+  const Image graded = draw(*v);
+  EXPECT_NE(samePuffs(edited, graded, {1, 1, 1}), 1.0) << "the gradient changes the puffs";
+
+  // Save: both beside the scene, named there, the same pixels.
+  ASSERT_OK(v->save());
+  EXPECT_EQ(v->scene().ramp, dir_ / "cloud_ramp.png");
+  EXPECT_EQ(v->scene().ambientGradient, dir_ / "cloud_gradient.png");
+  auto saved = puff::scene::loadScene(file, PUFF_ART_DIR);
+  ASSERT_OK(saved);
+  EXPECT_EQ(saved->ramp, dir_ / "cloud_ramp.png");
+  auto rampFile = puff::core::readImage(dir_ / "cloud_ramp.png");
+  ASSERT_OK(rampFile);
+  EXPECT_EQ(rgb(*rampFile, 100, 0), glm::vec3(1.0f, 0.0f, 0.0f));
+  const std::string text = *puff::core::readFileBytes(file);
+  EXPECT_NE(text.find("cloud_ramp.png"), std::string::npos) << text;
+  EXPECT_EQ(text.find(v->scratchDir().string()), std::string::npos) << "no scratch path in the saved scene";
+  EXPECT_GE(samePuffs(graded, draw(*v), {1, 1, 1}), 0.99) << "the same frame from the saved files";
+
+  // Undo twice: the built-in ramp and no gradient again.
+  ASSERT_TRUE(v->undo());
+  ASSERT_TRUE(v->undo());
+  EXPECT_TRUE(v->scene().ramp.empty());
+  EXPECT_TRUE(v->scene().ambientGradient.empty());
+  EXPECT_GE(samePuffs(before, draw(*v), {1, 1, 1}), 0.99) << "drawn as before the edits";
+  const fs::path scratch = v->scratchDir();
+  v.reset();
+  EXPECT_FALSE(fs::exists(scratch)) << "the scratch directory goes with the viewer";
 }
 
 TEST_F(PuffviewWindow, BrokenShaderShowsItsErrorAndKeepsTheLastGoodRenderer) {

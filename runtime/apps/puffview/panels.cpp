@@ -5,16 +5,21 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <string>
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <puff/cel/frame.h>
+#include <puff/core/files.h>
 #include <puff/render/path.h>
 #include <puff/scene/evaluate.h>
 #include <puff/scene/read.h>
 #include <puffview/viewer.h>
 
 namespace puff::view {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -238,6 +243,285 @@ void sceneEmittersPanel(std::vector<scene::EmitterSpec>& emitters, Edits& edit) 
   }
 }
 
+// The atlas: any sidecar under the art directory (a JSON file with cells and maps), and the level
+// of its mips the nailboards start from.
+std::vector<fs::path> findAtlases(const fs::path& artDir) {
+  std::vector<fs::path> found;
+  std::error_code ec;
+  for (fs::recursive_directory_iterator it(artDir, fs::directory_options::skip_permission_denied, ec), end;
+       !ec && it != end; it.increment(ec)) {
+    if (it.depth() > 2) it.disable_recursion_pending();
+    if (!it->is_regular_file(ec) || it->path().extension() != ".json" || it->file_size(ec) > (1u << 22)) continue;
+    auto text = core::readFileBytes(it->path());
+    if (text && text->find("\"cells\"") != std::string::npos && text->find("\"maps\"") != std::string::npos) {
+      found.push_back(it->path());
+    }
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+void atlasPanel(Viewer& v, PanelState& state, Edits& edit) {
+  scene::Scene& s = v.scene();
+  const std::string current = s.atlas.empty() ? "(none)" : s.atlas.string();
+  if (ImGui::BeginCombo("Atlas", current.c_str())) {
+    if (ImGui::IsWindowAppearing()) state.atlases = findAtlases(v.artDir());
+    for (const fs::path& a : state.atlases) {
+      const std::string label = fs::relative(a, v.artDir()).string();
+      if (ImGui::Selectable(label.c_str(), a == s.atlas) && a != s.atlas) {
+        s.atlas = a;
+        s.atlasLevel = 0;
+        edit(true);
+      }
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", a.c_str());
+    }
+    if (state.atlases.empty()) ImGui::TextDisabled("no atlas under %s", v.artDir().c_str());
+    ImGui::EndCombo();
+  }
+  edit(ImGui::SliderInt("Atlas level", &s.atlasLevel, 0, 6, "%d", ImGuiSliderFlags_AlwaysClamp));
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("draw from this mip level on: cells 2^level times smaller");
+  edit(ImGui::SliderFloat("Particle share", &s.particleFraction, 0.01f, 1.0f, "%.3f", ImGuiSliderFlags_AlwaysClamp));
+}
+
+// A strip showing `colors` over [0, 1] (the ramp's bands, the gradient's ends), `height` pixels.
+void colorStrip(const std::vector<float>& starts, const std::vector<glm::vec3>& colors, float height) {
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  const ImVec2 at = ImGui::GetCursorScreenPos();
+  const float width = ImGui::CalcItemWidth();
+  for (std::size_t i = 0; i < colors.size(); ++i) {
+    const float x0 = at.x + width * starts[i], x1 = at.x + width * (i + 1 < starts.size() ? starts[i + 1] : 1.0f);
+    const glm::vec3 c = colors[i];
+    draw->AddRectFilled(ImVec2(x0, at.y), ImVec2(x1, at.y + height),
+                        ImGui::ColorConvertFloat4ToU32(ImVec4(c.r, c.g, c.b, 1.0f)));
+  }
+  draw->AddRect(at, ImVec2(at.x + width, at.y + height), IM_COL32(90, 90, 90, 255));
+  ImGui::Dummy(ImVec2(width, height));
+}
+
+// The ramp editor: flat bands over N.L (Eq. 2's q), shown at once and kept beside the scene on Save.
+void rampPanel(Viewer& v, PanelState& state) {
+  scene::Scene& s = v.scene();
+  if (state.rampFrom != s.ramp) {  // the scene names another ramp (opened, undone, reloaded): read it
+    state.rampFrom = s.ramp;
+    state.rampError.clear();
+    if (s.ramp.empty()) {
+      state.ramp = RampBands{};  // the built-in two-tone ramp
+    } else if (auto image = cel::Ramp::read(s.ramp)) {
+      state.ramp = bandsFromImage(*image);
+    } else {
+      state.rampError = image.error().message;
+    }
+  }
+  if (!state.rampError.empty()) ImGui::TextColored(kRed, "%s", state.rampError.c_str());
+  RampBands& r = state.ramp;
+  const RampBands shown = normalized(r);
+  colorStrip(shown.starts, shown.colors, 18.0f);
+  bool changed = false;
+  int remove = -1;
+  for (std::size_t i = 0; i < r.starts.size(); ++i) {
+    ImGui::PushID(static_cast<int>(i));
+    changed |= ImGui::ColorEdit3("##colour", glm::value_ptr(r.colors[i]), ImGuiColorEditFlags_NoInputs);
+    ImGui::SameLine();
+    ImGui::BeginDisabled(i == 0);
+    ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - ImGui::GetFrameHeight() - 8.0f);
+    changed |= ImGui::SliderFloat("##start", &r.starts[i], 0.0f, 1.0f, i == 0 ? "from 0" : "from %.3f",
+                                  ImGuiSliderFlags_AlwaysClamp);
+    ImGui::SameLine();
+    if (ImGui::Button("x") && r.starts.size() > 1) remove = static_cast<int>(i);
+    ImGui::EndDisabled();
+    ImGui::PopID();
+  }
+  if (remove >= 0) {
+    r.starts.erase(r.starts.begin() + remove);
+    r.colors.erase(r.colors.begin() + remove);
+    changed = true;
+  }
+  ImGui::BeginDisabled(r.starts.size() >= static_cast<std::size_t>(kMaxRampBands));
+  if (ImGui::Button("Add band")) {
+    // Halfway through the widest band, its colour a step lighter.
+    const RampBands n = normalized(r);
+    std::size_t widest = 0;
+    float width = 0.0f;
+    for (std::size_t i = 0; i < n.starts.size(); ++i) {
+      const float w = (i + 1 < n.starts.size() ? n.starts[i + 1] : 1.0f) - n.starts[i];
+      if (w > width) width = w, widest = i;
+    }
+    r = n;
+    r.starts.insert(r.starts.begin() + static_cast<long>(widest) + 1, n.starts[widest] + 0.5f * width);
+    r.colors.insert(r.colors.begin() + static_cast<long>(widest) + 1,
+                    glm::min(n.colors[widest] + glm::vec3(0.25f), glm::vec3(1.0f)));
+    changed = true;
+  }
+  ImGui::EndDisabled();
+  ImGui::SameLine();
+  bool smooth = s.rampSmooth;
+  if (ImGui::Checkbox("Smooth", &smooth)) {
+    v.beginEdit();
+    s.rampSmooth = smooth;
+    (void)v.applyEdit();
+  }
+  if (changed) {
+    v.beginEdit();
+    if (auto ok = v.setRamp(rampImage(r)); !ok) state.rampError = ok.error().message;
+    state.rampFrom = s.ramp;  // what the editor holds is what the scene names now
+  }
+  ImGui::TextDisabled(s.ramp.empty() ? "built-in two-tone ramp" : "%s", s.ramp.filename().c_str());
+}
+
+// The ambient gradient editor: K_a from the top of the frame to its bottom, or a uniform colour.
+void gradientPanel(Viewer& v, PanelState& state) {
+  scene::Scene& s = v.scene();
+  if (state.gradientFrom != s.ambientGradient) {
+    state.gradientFrom = s.ambientGradient;
+    if (!s.ambientGradient.empty()) {
+      if (auto image = cel::Gradient::read(s.ambientGradient)) state.gradient = gradientFromImage(*image);
+    } else {
+      state.gradient.top = state.gradient.bottom = s.ambientColor;
+    }
+  }
+  bool use = !s.ambientGradient.empty();
+  bool changed = false;
+  if (ImGui::Checkbox("Gradient (else the uniform ambient colour)", &use)) {
+    if (use) {
+      changed = true;
+    } else {
+      v.beginEdit();
+      s.ambientGradient.clear();
+      state.gradientFrom = s.ambientGradient;
+      (void)v.applyEdit();
+    }
+  }
+  if (!use && !changed) return;
+  VerticalGradient& g = state.gradient;
+  colorStrip({0.0f, 0.5f}, {g.top, g.bottom}, 12.0f);
+  changed |= ImGui::ColorEdit3("Top", glm::value_ptr(g.top));
+  changed |= ImGui::ColorEdit3("Bottom", glm::value_ptr(g.bottom));
+  if (changed) {
+    v.beginEdit();
+    if (auto ok = v.setAmbientGradient(gradientImage(g)); !ok) state.rampError = ok.error().message;
+    state.gradientFrom = s.ambientGradient;
+  }
+}
+
+// The media: how they are drawn, their materials, emitters and lights.
+void mediaPanel(Viewer& v, Edits& edit) {
+  scene::Scene& s = v.scene();
+  if (!s.media) {
+    ImGui::TextDisabled("this scene has no \"media\"");
+    return;
+  }
+  scene::MediaSpec& m = *s.media;
+  const char* methods[] = {"planar", "soft-linear", "soft-scurve", "spherical", "planar-textured"};
+  int method = static_cast<int>(m.method);
+  if (edit(ImGui::Combo("Method", &method, methods, 5))) m.method = static_cast<media::Method>(method);
+  const float resolutions[] = {1.0f, 0.5f, 0.25f, 0.125f};
+  const char* resolutionNames[] = {"1 (full)", "1/2", "1/4", "1/8"};
+  int r = 0;
+  for (int i = 0; i < 4; ++i) r = m.resolution == resolutions[i] ? i : r;
+  if (edit(ImGui::Combo("Resolution", &r, resolutionNames, 4))) m.resolution = resolutions[r];
+  const char* views[] = {"automatic", "standard", "filmic"};
+  int view = !s.view ? 0 : *s.view == core::ViewTransform::kStandard ? 1 : 2;
+  if (edit(ImGui::Combo("View transform", &view, views, 3))) {
+    s.view = view == 0   ? std::nullopt
+             : view == 1 ? std::optional(core::ViewTransform::kStandard)
+                         : std::optional(core::ViewTransform::kFilmic);
+  }
+  edit(ImGui::SliderFloat("Exposure", &m.settings.exposure, 0.01f, 100.0f, "%.3f",
+                          ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp));
+  edit(ImGui::SliderInt("Motion blur frames", &m.motionBlurFrames, 0, 16, "%d", ImGuiSliderFlags_AlwaysClamp));
+  if (m.motionBlurFrames > 0) {
+    edit(
+        ImGui::SliderFloat("Persistence", &m.motionBlurPersistence, 0.0f, 0.99f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+  }
+  edit(ImGui::SliderFloat("Heat shimmer", &m.compose.shimmerPixels, 0.0f, 20.0f, "%.1f px",
+                          ImGuiSliderFlags_AlwaysClamp));
+  std::vector<const char*> names;
+  for (const media::Material& mat : m.materials) names.push_back(mat.name.c_str());
+  for (std::size_t i = 0; i < m.materials.size(); ++i) {
+    media::Material& mat = m.materials[i];
+    ImGui::PushID(4000 + static_cast<int>(i));
+    if (ImGui::TreeNode("material", "Material %s", mat.name.c_str())) {
+      edit(ImGui::Checkbox("Emissive (black body)", &mat.emissive));
+      if (mat.emissive) {
+        edit(ImGui::DragFloat("Temperature", &mat.temperature, 10.0f, 0.0f, 1e5f, "%.0f K",
+                              ImGuiSliderFlags_AlwaysClamp));
+        edit(ImGui::DragFloat("Temperature range", &mat.temperatureRange, 10.0f, -1e5f, 1e5f, "%.0f K",
+                              ImGuiSliderFlags_AlwaysClamp));
+        edit(ImGui::SliderFloat("Emission", &mat.emission, 0.0f, 100.0f, "%.2f",
+                                ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp));
+      } else {
+        edit(ImGui::SliderFloat("Albedo", &mat.albedo, 0.0f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+        edit(ImGui::ColorEdit3("Tint", glm::value_ptr(mat.color)));
+        edit(ImGui::SliderFloat("Phase g", &mat.g, -0.95f, 0.95f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+        edit(ImGui::SliderFloat("Detail", &mat.detail, 0.0f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+      }
+      edit(ImGui::SliderFloat("Density", &mat.density, 0.0f, 100.0f, "%.3f /unit",
+                              ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Burn", &mat.burn, 0.0f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::SliderFloat("Shimmer", &mat.shimmer, 0.0f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+      std::vector<const char*> becomes{"(stays)"};
+      becomes.insert(becomes.end(), names.begin(), names.end());
+      int b = mat.becomes + 1;
+      if (edit(ImGui::Combo("Becomes", &b, becomes.data(), static_cast<int>(becomes.size())))) mat.becomes = b - 1;
+      if (mat.becomes >= 0) {
+        edit(ImGui::DragFloatRange2("Transition", &mat.transitionStart, &mat.transitionEnd, 0.01f, 0.0f, 1.0f,
+                                    "from %.2f", "to %.2f", ImGuiSliderFlags_AlwaysClamp));
+      }
+      ImGui::TreePop();
+    }
+    ImGui::PopID();
+  }
+  for (std::size_t i = 0; i < m.emitters.size(); ++i) {
+    scene::MediaEmitterSpec& e = m.emitters[i];
+    ImGui::PushID(5000 + static_cast<int>(i));
+    if (ImGui::TreeNode("emitter", "Media emitter %zu (%s)", i, e.material.c_str())) {
+      int mat = e.materialIndex;
+      if (edit(ImGui::Combo("Material", &mat, names.data(), static_cast<int>(names.size())))) {
+        e.materialIndex = mat;
+        e.material = m.materials[static_cast<std::size_t>(mat)].name;
+      }
+      edit(ImGui::SliderFloat("Growth", &e.growth, 0.0f, 100.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+      std::vector<sim::Emitter> one{e.emitter};
+      Edits inner;
+      simEmittersPanel(one, inner);
+      if (edit(inner.any)) e.emitter = one[0];
+      ImGui::TreePop();
+    }
+    ImGui::PopID();
+  }
+  for (std::size_t i = 0; i < m.lights.size(); ++i) {
+    scene::MediaLightSpec& l = m.lights[i];
+    ImGui::PushID(6000 + static_cast<int>(i));
+    if (ImGui::TreeNode("light", "Explosion light %zu", i)) {
+      edit(ImGui::DragFloat3("Centre", glm::value_ptr(l.center), 0.01f, -1000.0f, 1000.0f, "%.2f",
+                             ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::DragFloat("Radius", &l.radius, 0.01f, 0.01f, 1000.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+      edit(ImGui::ColorEdit3("Colour", glm::value_ptr(l.color)));
+      edit(ImGui::Checkbox("Modulate", &l.modulate));
+      ImGui::SameLine();
+      edit(ImGui::Checkbox("Full at back", &l.fullAtBack));
+      for (std::size_t k = 0; k < l.times.size() && k < l.intensities.size(); ++k) {
+        ImGui::PushID(static_cast<int>(k));
+        float key[2] = {l.times[k], l.intensities[k]};
+        if (edit(ImGui::DragFloat2("Key (s, intensity)", key, 0.01f, 0.0f, 1e4f, "%.2f",
+                                   ImGuiSliderFlags_AlwaysClamp))) {
+          // Times stay in order between their neighbours.
+          const float lo = k > 0 ? l.times[k - 1] : 0.0f, hi = k + 1 < l.times.size() ? l.times[k + 1] : 1e4f;
+          l.times[k] = std::clamp(key[0], lo, hi);
+          l.intensities[k] = key[1];
+        }
+        ImGui::PopID();
+      }
+      ImGui::TreePop();
+    }
+    ImGui::PopID();
+  }
+  if (ImGui::TreeNode("Media forces")) {
+    forcesPanel(m.forces, edit);
+    ImGui::TreePop();
+  }
+}
+
 void savePanel(Viewer& v, PanelState& state) {
   if (!state.saveAsInitialized) {
     std::snprintf(state.saveAs, sizeof state.saveAs, "%s", v.sceneFile().c_str());
@@ -285,7 +569,13 @@ void drawPanels(Viewer& v, PanelState& state) {
   if (ImGui::CollapsingHeader("Camera")) cameraPanel(v, edit);
   pathPanel(v);
   if (ImGui::CollapsingHeader("Style", ImGuiTreeNodeFlags_DefaultOpen)) stylePanel(s, edit);
-  if (ImGui::CollapsingHeader("Light, ambient, background")) lightPanel(s, edit);
+  if (ImGui::CollapsingHeader("Atlas")) atlasPanel(v, state, edit);
+  if (ImGui::CollapsingHeader("Ramp (q)")) rampPanel(v, state);
+  if (ImGui::CollapsingHeader("Light, ambient, background")) {
+    lightPanel(s, edit);
+    gradientPanel(v, state);
+  }
+  if (ImGui::CollapsingHeader("Fire, smoke and dust (media)")) mediaPanel(v, edit);
   if (ImGui::CollapsingHeader("Simulation")) {
     if (s.simulation) {
       forcesPanel(s.simulation->forces, edit);

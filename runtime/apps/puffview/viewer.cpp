@@ -13,6 +13,7 @@
 #include <optional>
 #include <vector>
 
+#include <puff/cel/frame.h>
 #include <puff/core/atlas.h>
 #include <puff/core/files.h>
 #include <puff/core/gl.h>
@@ -25,6 +26,8 @@
 #include <puff/scene/write.h>
 #include <puffview/panels.h>
 #include <puffview/viewer.h>
+
+#include <unistd.h>
 
 namespace puff::view {
 
@@ -251,6 +254,10 @@ double now() { return glfwGetTime(); }
 Viewer::Viewer() : impl_(std::make_unique<Impl>()) {}
 
 Viewer::~Viewer() {
+  if (!scratch_.empty()) {
+    std::error_code ec;
+    fs::remove_all(scratch_, ec);
+  }
   if (!impl_ || !impl_->context) return;
   impl_->context->makeCurrent();
   renderer_.reset();
@@ -408,6 +415,56 @@ void Viewer::rebuildPath(const std::string& why) {
 
 // ---- editing ---------------------------------------------------------------------------------
 
+const fs::path& Viewer::scratchDir() {
+  if (scratch_.empty()) {
+    std::error_code ec;
+    const fs::path base = fs::temp_directory_path(ec);
+    scratch_ = (ec ? fs::path("/tmp") : base) / ("puffview-" + std::to_string(::getpid()));
+    fs::create_directories(scratch_, ec);
+  }
+  return scratch_;
+}
+
+Result<fs::path> Viewer::writeScratch(const char* kind, const core::Image& image) {
+  std::string bytes(reinterpret_cast<const char*>(image.pixels.data()), image.pixels.size() * sizeof(float));
+  bytes += std::to_string(image.width) + "x" + std::to_string(image.height) + "x" + std::to_string(image.channels);
+  const fs::path file = scratchDir() / (std::string(kind) + "." + core::fnv1a64Hex(bytes).substr(0, 12) + ".png");
+  std::error_code ec;
+  if (fs::exists(file, ec)) return file;  // named by its content: already written
+  core::OutputTransaction tx;
+  PUFF_TRY(core::writeImage(tx.stage(file), image, core::PixelType::kUInt8, {}, file));
+  PUFF_TRY(tx.commit());
+  return file;
+}
+
+Result<void> Viewer::setRamp(const core::Image& ramp) {
+  PUFF_TRY(cel::Ramp::check(ramp, "the edited ramp"));
+  auto file = writeScratch("ramp", ramp);
+  if (!file) return file.error();
+  scene_.ramp = *file;
+  return applyEdit();
+}
+
+Result<void> Viewer::setAmbientGradient(const core::Image& gradient) {
+  PUFF_TRY(cel::Gradient::check(gradient, "the edited gradient"));
+  auto file = writeScratch("gradient", gradient);
+  if (!file) return file.error();
+  scene_.ambientGradient = *file;
+  return applyEdit();
+}
+
+Result<void> Viewer::keepBeside(const fs::path& target, fs::path& image, const char* suffix) {
+  if (image.empty() || scratch_.empty() || image.parent_path() != scratch_) return {};
+  const fs::path beside = target.parent_path() / (target.stem().string() + suffix);
+  core::OutputTransaction tx;
+  std::error_code ec;
+  fs::copy_file(image, tx.stage(beside), fs::copy_options::overwrite_existing, ec);
+  if (ec) return Error::at(beside, "cannot write: " + ec.message());
+  PUFF_TRY(tx.commit());
+  image = beside;
+  return {};
+}
+
 void Viewer::beginEdit() {
   if (editing_) return;
   editing_ = true;
@@ -467,6 +524,17 @@ Result<fs::path> Viewer::save(const fs::path& file) {
     return Error::at(target,
                      "not saved: the file on disk has edits that do not load (fix them there, or Save as another "
                      "file); saving would overwrite them");
+  }
+  // A ramp or gradient edited in the panel goes beside the scene file, and the scene names it there.
+  scene::Scene beside = scene_;
+  PUFF_TRY(keepBeside(target, beside.ramp, "_ramp.png"));
+  PUFF_TRY(keepBeside(target, beside.ambientGradient, "_gradient.png"));
+  if (beside.ramp != scene_.ramp || beside.ambientGradient != scene_.ambientGradient) {
+    scene_.ramp = beside.ramp;
+    scene_.ambientGradient = beside.ambientGradient;
+    committed_.ramp = scene_.ramp;
+    committed_.ambientGradient = scene_.ambientGradient;
+    (void)applyEdit();
   }
   scene::Scene copy = scene_;
   copy.file = target;  // toJson writes paths relative to where the file will be

@@ -1,9 +1,15 @@
-// The viewer's Dear ImGui panels: timeline and stats, camera, render path, style, light, ambient,
-// background, simulation forces and emitters, save / save as, and the red error overlay. Every
-// widget edits Viewer::scene() and applies it at once (Viewer::applyEdit).
+// The viewer's Dear ImGui panels: undo/redo, timeline and stats, camera, render path, style, the atlas,
+// the ramp and gradient editors, light, ambient, background, simulation forces and emitters, the
+// media (method, resolution, view transform, materials, emitters, lights), save / save as, and the
+// red error overlay. Every widget edits Viewer::scene() and applies it at once (Viewer::applyEdit),
+// one undo step per edit.
 #pragma once
 
+#include <filesystem>
 #include <string>
+#include <vector>
+
+#include <puffview/ramp_edit.h>
 
 namespace puff::view {
 
@@ -12,6 +18,15 @@ class Viewer;
 struct PanelState {
   char saveAs[1024] = {};  ///< the "Save as" path field
   bool saveAsInitialized = false;
+  // The ramp and gradient editors: what they edit, and the file they read it from (read again when
+  // the scene names another, after an undo or a reload).
+  RampBands ramp;
+  std::filesystem::path rampFrom = "?";
+  VerticalGradient gradient;
+  std::filesystem::path gradientFrom = "?";
+  std::string rampError;
+  // The atlases found under the art directory, listed when the combo opens.
+  std::vector<std::filesystem::path> atlases;
 };
 
 /// Draws the panels inside the current ImGui frame.

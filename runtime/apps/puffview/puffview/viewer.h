@@ -99,6 +99,17 @@ class Viewer {
   Result<std::filesystem::path> save(const std::filesystem::path& file = {});
   const std::filesystem::path& sceneFile() const { return scene_.file; }
 
+  // ---- ramp and gradient editing ---------------------------------------------------------------
+  /// The ramp (q, RGB display values, Ramp's limits) or ambient gradient edited in the panel: written,
+  /// named by its content, into the viewer's scratch directory and the scene pointed at it, so the
+  /// next frame shows it and undo can go back to any earlier one. Call within an edit
+  /// (beginEdit). save() writes it beside the scene file as STEM_ramp.png / STEM_gradient.png and
+  /// points the saved scene (and the viewer's) there.
+  Result<void> setRamp(const core::Image& ramp);
+  Result<void> setAmbientGradient(const core::Image& gradient);
+  /// Where setRamp and setAmbientGradient write (removed with the viewer).
+  const std::filesystem::path& scratchDir();
+
   // ---- undo and redo -------------------------------------------------------------------------
   /// An edit begins: the scene as it was when the last edit ended becomes an undo step (once per
   /// edit, however many small changes it makes: a slider dragged is undone whole) and the redo
@@ -192,6 +203,10 @@ class Viewer {
   scene::Scene committed_;
   bool editing_ = false;
   void restore(scene::Scene scene, const char* what);
+  std::filesystem::path scratch_;
+  Result<std::filesystem::path> writeScratch(const char* kind, const core::Image& image);
+  /// save(): a ramp or gradient still in the scratch directory, copied beside `target`.
+  Result<void> keepBeside(const std::filesystem::path& target, std::filesystem::path& image, const char* suffix);
 };
 
 }  // namespace puff::view
