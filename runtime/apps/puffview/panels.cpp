@@ -191,6 +191,89 @@ void forcesPanel(sim::Forces& f, Edits& edit) {
   }
 }
 
+// A curve over life: its shape plotted, its keys (age, value), linear or smooth; "(default)" with
+// none. Returns whether it changed.
+bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue) {
+  bool changed = false;
+  ImGui::PushID(label);
+  if (c.empty()) {
+    ImGui::TextDisabled("%s: the default", label);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Add curve")) {
+      c.ages = {0.0f, 1.0f};
+      c.values = {1.0f, 1.0f};
+      changed = true;
+    }
+    ImGui::PopID();
+    return changed;
+  }
+  float samples[64];
+  for (int i = 0; i < 64; ++i) samples[i] = c.at(static_cast<float>(i) / 63.0f);
+  ImGui::PlotLines(label, samples, 64, 0, nullptr, 0.0f, std::max(1.0f, *std::max_element(samples, samples + 64)),
+                   ImVec2(0, 48));
+  int interp = c.interp == sim::LifeCurve::Interp::kSmooth ? 1 : 0;
+  const char* interps[] = {"linear", "smooth"};
+  if (ImGui::Combo("Between keys", &interp, interps, 2)) {
+    c.interp = interp == 1 ? sim::LifeCurve::Interp::kSmooth : sim::LifeCurve::Interp::kLinear;
+    changed = true;
+  }
+  int remove = -1;
+  for (std::size_t k = 0; k < c.ages.size(); ++k) {
+    ImGui::PushID(static_cast<int>(k));
+    float key[2] = {c.ages[k], c.values[k]};
+    ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - ImGui::GetFrameHeight() - 8.0f);
+    if (ImGui::DragFloat2("##key", key, 0.005f, 0.0f, maxValue, "%.3f", ImGuiSliderFlags_AlwaysClamp)) {
+      // Ages stay between their neighbours' (strictly increasing), in [0, 1].
+      const float lo = k > 0 ? c.ages[k - 1] + 1e-3f : 0.0f, hi = k + 1 < c.ages.size() ? c.ages[k + 1] - 1e-3f : 1.0f;
+      c.ages[k] = std::clamp(key[0], lo, std::max(lo, hi));
+      c.values[k] = std::clamp(key[1], 0.0f, maxValue);
+      changed = true;
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("x")) remove = static_cast<int>(k);
+    ImGui::SameLine();
+    ImGui::TextDisabled(k == 0 ? "age, value" : "");
+    ImGui::PopID();
+  }
+  if (remove >= 0) {
+    c.ages.erase(c.ages.begin() + remove);
+    c.values.erase(c.values.begin() + remove);
+    changed = true;
+  }
+  if (ImGui::SmallButton("Add key") && c.ages.size() < 64) {
+    // Halfway along the widest gap (or at the end).
+    std::size_t at = c.ages.size();
+    float gap = c.ages.empty() ? 1.0f : 1.0f - c.ages.back(), age = c.ages.empty() ? 0.0f : 1.0f;
+    for (std::size_t k = 0; k + 1 < c.ages.size(); ++k) {
+      if (c.ages[k + 1] - c.ages[k] > gap) gap = c.ages[k + 1] - c.ages[k], at = k + 1, age = c.ages[k] + 0.5f * gap;
+    }
+    if (at == c.ages.size() && !(gap > 1e-3f)) age = -1.0f;  // no room
+    if (age >= 0.0f) {
+      c.ages.insert(c.ages.begin() + static_cast<long>(at), age);
+      c.values.insert(c.values.begin() + static_cast<long>(at), c.at(age));
+      changed = true;
+    }
+  }
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Default")) {
+    c = {};
+    changed = true;
+  }
+  ImGui::PopID();
+  return changed;
+}
+
+// Size (and density, where the particles have one) over life.
+bool lifeCurvesEditor(sim::LifeCurves& curves, bool density) {
+  bool changed = false;
+  if (ImGui::TreeNode("Over life")) {
+    changed |= lifeCurveEditor("Size", curves.size, 100.0f);
+    if (density) changed |= lifeCurveEditor("Density", curves.density, 1000.0f);
+    ImGui::TreePop();
+  }
+  return changed;
+}
+
 void simEmittersPanel(std::vector<sim::Emitter>& emitters, Edits& edit) {
   for (std::size_t i = 0; i < emitters.size(); ++i) {
     sim::Emitter& e = emitters[i];
@@ -212,6 +295,7 @@ void simEmittersPanel(std::vector<sim::Emitter>& emitters, Edits& edit) {
       edit(ImGui::SliderFloat("Radius", &e.radius, 0.0f, 10.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
       edit(ImGui::DragFloat3("Position", glm::value_ptr(e.position), 0.01f, -1000.0f, 1000.0f, "%.2f",
                              ImGuiSliderFlags_AlwaysClamp));
+      edit(lifeCurvesEditor(e.overLife, true));
       ImGui::TreePop();
     }
     ImGui::PopID();
@@ -237,6 +321,12 @@ void sceneEmittersPanel(std::vector<scene::EmitterSpec>& emitters, Edits& edit) 
       edit(ImGui::DragFloat3("Velocity", glm::value_ptr(e.velocity), 0.01f, -100.0f, 100.0f, "%.2f",
                              ImGuiSliderFlags_AlwaysClamp));
       edit(ImGui::SliderFloat("Lifetime", &e.lifetime, 0.0f, 30.0f, "%.2f s", ImGuiSliderFlags_AlwaysClamp));
+      if (e.lifetime > 0.0f) {
+        edit(lifeCurvesEditor(e.overLife, false));
+      } else if (!e.overLife.empty()) {
+        e.overLife = {};  // particles that live forever have no life to shape (the scene refuses it)
+        edit(true);
+      }
       ImGui::TreePop();
     }
     ImGui::PopID();

@@ -34,14 +34,16 @@ glm::vec3 unitBall(Rng& rng) {
   return unitDirection(u1, u2) * std::cbrt(u3);
 }
 
-// Moves, spins and shrinks a particle to time t; false when it is not alive then.
-bool evolve(const ParticleSpec& p, float t, cel::Particle& out) {
+// Moves, spins and shrinks a particle to time t (its size over its life from `sizeCurve` when that
+// is not empty); false when it is not alive then.
+bool evolve(const ParticleSpec& p, float t, cel::Particle& out, const sim::LifeCurve& sizeCurve = {}) {
   if (t < p.birth) return false;
   const float age = t - p.birth;
   float size = p.size;
   if (p.lifetime > 0.0f) {
     if (age >= p.lifetime) return false;
-    size *= std::max(0.0f, 1.0f - age / p.lifetime) * celBirthGrowth(age / p.lifetime);
+    const float life = age / p.lifetime;
+    size *= sizeCurve.empty() ? std::max(0.0f, 1.0f - life) * celBirthGrowth(life) : sizeCurve.at(life);
   }
   out.position = p.position + p.velocity * age;
   out.size = size;
@@ -155,7 +157,7 @@ std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variat
     for (int i = 0; i < count; ++i) {
       ParticleSpec spec = emit(e, i, variations);
       spec.size *= grow;
-      if (evolve(spec, t, p)) out.push_back(p);
+      if (evolve(spec, t, p, e.overLife.size)) out.push_back(p);
     }
   }
   return out;

@@ -13,10 +13,14 @@ double millisecondsSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// What the simulators were built from, forces aside (forces change in place).
+// What the simulators were built from, forces aside (forces change in place) and the curves over
+// life (they shape what is drawn, read from the scene each frame, not the simulation).
 std::optional<sim::Settings> simulationKey(const Scene& s) {
   std::optional<sim::Settings> key = s.simulation;
-  if (key) key->forces = {};
+  if (key) {
+    key->forces = {};
+    for (sim::Emitter& e : key->emitters) e.overLife = {};
+  }
   return key;
 }
 
@@ -24,7 +28,9 @@ auto mediaKey(const Scene& s) {
   using Key = std::tuple<std::vector<MediaEmitterSpec>, int, float, std::size_t, float>;
   if (!s.media) return std::optional<Key>{};
   const MediaSpec& m = *s.media;
-  return std::optional<Key>(Key{m.emitters, m.substeps, m.preroll, m.maxParticles, m.collisionRadius});
+  std::vector<MediaEmitterSpec> emitters = m.emitters;
+  for (MediaEmitterSpec& e : emitters) e.emitter.overLife = {};
+  return std::optional<Key>(Key{emitters, m.substeps, m.preroll, m.maxParticles, m.collisionRadius});
 }
 
 }  // namespace
@@ -111,7 +117,10 @@ FrameInputs FrameEvaluator::evaluate(int frame, const cel::Camera* camera) {
       in.particles.reserve(in.particles.size() + sim_->size());
       for (std::size_t i = 0; i < sim_->size(); ++i) {
         const sim::ParticleState p = sim_->particle(i);
-        const float size = p.size * (p.lifetime > 0.0f ? celBirthGrowth(p.age / p.lifetime) : 1.0f);
+        const sim::LifeCurve& curve = s.simulation->emitters[static_cast<std::size_t>(p.emitter)].overLife.size;
+        const float life = p.lifetime > 0.0f ? std::clamp(p.age / p.lifetime, 0.0f, 1.0f) : 0.0f;
+        const float size =
+            curve.empty() ? p.size * (p.lifetime > 0.0f ? celBirthGrowth(life) : 1.0f) : p.birthSize * curve.at(life);
         if (!(size > 0.0f)) continue;
         in.particles.push_back(cel::Particle{p.position, size, p.variation, p.oriented, p.orientation});
         ++in.simulated;
@@ -134,10 +143,13 @@ FrameInputs FrameEvaluator::evaluate(int frame, const cel::Camera* camera) {
         const float life = std::clamp(p.age / p.lifetime, 0.0f, 1.0f);
         // The radius grows by `growth` over the particle's life; the emitter's density multiplies
         // the material's tau, fades in over the first kMediaBirthFade of the life and falls
-        // linearly to 0 with age.
-        in.media.push_back(media::Particle{p.position, 0.5f * p.birthSize * (1.0f + e.growth * life),
-                                           static_cast<std::uint32_t>(e.materialIndex), life,
-                                           p.density * mediaBirthFade(life), p.id});
+        // linearly to 0 with age. Curves over life replace either.
+        const sim::LifeCurves& curves = e.emitter.overLife;
+        const float radius = 0.5f * p.birthSize * (curves.size.empty() ? 1.0f + e.growth * life : curves.size.at(life));
+        const float density =
+            curves.density.empty() ? p.density * mediaBirthFade(life) : e.emitter.density * curves.density.at(life);
+        in.media.push_back(
+            media::Particle{p.position, radius, static_cast<std::uint32_t>(e.materialIndex), life, density, p.id});
       }
     }
   }

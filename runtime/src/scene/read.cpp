@@ -200,10 +200,10 @@ ParticleSpec readParticle(const json& j, const std::string& ptr) {
 }
 
 EmitterSpec readEmitter(const json& j, const std::string& ptr) {
-  requireObject(
-      j, ptr,
-      {"shape", "count", "seed", "center", "radius", "halfExtent", "end", "endRadius", "sizeMin", "sizeMax",
-       "sizeFalloff", "variations", "oriented", "spin", "velocity", "speedSpread", "birthSpread", "lifetime"});
+  requireObject(j, ptr,
+                {"shape", "count", "seed", "center", "radius", "halfExtent", "end", "endRadius", "sizeMin", "sizeMax",
+                 "sizeFalloff", "variations", "oriented", "spin", "velocity", "speedSpread", "birthSpread", "lifetime",
+                 "overLife"});
   EmitterSpec e;
   using Shape = EmitterSpec::Shape;
   if (auto* v = find(j, "shape")) {
@@ -239,6 +239,13 @@ EmitterSpec readEmitter(const json& j, const std::string& ptr) {
   if (auto* v = find(j, "speedSpread")) e.speedSpread = readFloat(*v, child(ptr, "speedSpread"), kNonNegative);
   if (auto* v = find(j, "birthSpread")) e.birthSpread = readFloat(*v, child(ptr, "birthSpread"), kNonNegative);
   if (auto* v = find(j, "lifetime")) e.lifetime = readFloat(*v, child(ptr, "lifetime"), kNonNegative);
+  // Placed particles have no density to shape (nailboards draw none), and a life only with a lifetime.
+  if (auto* v = find(j, "overLife")) {
+    e.overLife = readLifeCurves(*v, child(ptr, "overLife"), false);
+    if (!e.overLife.empty() && !(e.lifetime > 0.0f)) {
+      failText(child(ptr, "overLife"), "curves over life need a \"lifetime\" > 0 (these particles live forever)");
+    }
+  }
   return e;
 }
 

@@ -56,6 +56,9 @@ sim::Path readPath3(const json& j, const std::string& ptr);
 glm::vec3 readDirection(const json& v, const std::string& ptr);
 sim::Forces readForces(const json& j, const std::string& ptr);
 sim::Emitter readSimEmitter(const json& j, const std::string& ptr);
+/// "overLife": {"size": CURVE, "density": CURVE}, CURVE {"keys": [[age, value], ...], "interp":
+/// "linear" | "smooth"}; `density`: whether the emitter's particles have a density to shape.
+sim::LifeCurves readLifeCurves(const json& j, const std::string& ptr, bool density);
 sim::Settings readSimulation(const json& j, const std::string& ptr);
 MediaSpec readMedia(const json& j, const std::string& ptr, const Reader& r);
 

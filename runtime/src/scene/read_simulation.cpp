@@ -86,11 +86,56 @@ sim::Forces readForces(const json& j, const std::string& ptr) {
   return f;
 }
 
+namespace {
+
+sim::LifeCurve readLifeCurve(const json& j, const std::string& ptr, double maxValue) {
+  requireObject(j, ptr, {"keys", "interp"});
+  sim::LifeCurve c;
+  if (auto* v = find(j, "interp")) {
+    c.interp = readEnum<sim::LifeCurve::Interp>(
+        *v, child(ptr, "interp"),
+        {{"linear", sim::LifeCurve::Interp::kLinear}, {"smooth", sim::LifeCurve::Interp::kSmooth}});
+  }
+  const json* keys = find(j, "keys");
+  const std::string kp = child(ptr, "keys");
+  if (!keys) failText(kp, "expected keys [[age, value], ...] (ages in [0, 1], increasing), got none");
+  if (!keys->is_array() || keys->empty() || keys->size() > 64) {
+    fail(kp, "1 to 64 keys [[age, value], ...] (ages in [0, 1], increasing)", *keys);
+  }
+  for (std::size_t i = 0; i < keys->size(); ++i) {
+    const json& k = (*keys)[i];
+    const std::string p = child(kp, i);
+    if (!k.is_array() || k.size() != 2) fail(p, "a key [age, value]", k);
+    const float age = readFloat(k[0], child(p, 0), Range{0.0, 1.0}, "an age in [0, 1] (0 birth, 1 death)");
+    if (!c.ages.empty() && !(age > c.ages.back())) {
+      fail(child(p, 0), "an age after the previous key's (" + formatNumber(c.ages.back()) + ")", k[0]);
+    }
+    c.ages.push_back(age);
+    c.values.push_back(readFloat(k[1], child(p, 1), Range{0.0, maxValue}));
+  }
+  return c;
+}
+
+}  // namespace
+
+sim::LifeCurves readLifeCurves(const json& j, const std::string& ptr, bool density) {
+  if (density) {
+    requireObject(j, ptr, {"size", "density"});
+  } else {
+    requireObject(j, ptr, {"size"});
+  }
+  sim::LifeCurves c;
+  // Multipliers of the birth size and density.
+  if (auto* v = find(j, "size")) c.size = readLifeCurve(*v, child(ptr, "size"), 100.0);
+  if (auto* v = find(j, "density")) c.density = readLifeCurve(*v, child(ptr, "density"), 1e3);
+  return c;
+}
+
 sim::Emitter readSimEmitter(const json& j, const std::string& ptr) {
   requireObject(j, ptr, {"shape",          "position",        "radius",   "normal",  "path",     "attach",
                          "rate",           "start",           "duration", "seed",    "velocity", "spread",
                          "speedSpread",    "inheritVelocity", "density",  "sizeMin", "sizeMax",  "lifetime",
-                         "lifetimeSpread", "variations",      "oriented", "spin"});
+                         "lifetimeSpread", "variations",      "oriented", "spin",    "overLife"});
   sim::Emitter e;
   using Shape = sim::Emitter::Shape;
   if (auto* v = find(j, "shape")) {
@@ -133,6 +178,7 @@ sim::Emitter readSimEmitter(const json& j, const std::string& ptr) {
   }
   if (auto* v = find(j, "oriented")) e.oriented = readBool(*v, child(ptr, "oriented"));
   if (auto* v = find(j, "spin")) e.spin = readFloat(*v, child(ptr, "spin"), Range{0.0, 1e3});
+  if (auto* v = find(j, "overLife")) e.overLife = readLifeCurves(*v, child(ptr, "overLife"), true);
   return e;
 }
 

@@ -57,6 +57,20 @@ json pathKeys(const sim::Path& p) {
   return out;
 }
 
+json lifeCurveJson(const sim::LifeCurve& c) {
+  json keys = json::array();
+  for (std::size_t i = 0; i < c.ages.size(); ++i) keys.push_back(json::array({number(c.ages[i]), number(c.values[i])}));
+  return {{"keys", std::move(keys)}, {"interp", c.interp == sim::LifeCurve::Interp::kSmooth ? "smooth" : "linear"}};
+}
+
+// The curves an emitter has ({} for none: its default life).
+json lifeCurvesJson(const sim::LifeCurves& c) {
+  json j = json::object();
+  if (!c.size.empty()) j["size"] = lifeCurveJson(c.size);
+  if (!c.density.empty()) j["density"] = lifeCurveJson(c.density);
+  return j;
+}
+
 json simulationJson(const sim::Settings& s) {
   json j;
   j["substeps"] = s.substeps;
@@ -118,7 +132,8 @@ json simulationJson(const sim::Settings& s) {
                              {"lifetimeSpread", number(e.lifetimeSpread)},
                              {"variations", e.variations},
                              {"oriented", e.oriented},
-                             {"spin", number(e.spin)}});
+                             {"spin", number(e.spin)},
+                             {"overLife", lifeCurvesJson(e.overLife)}});
   }
   return j;
 }
@@ -241,7 +256,8 @@ json emitterJson(const EmitterSpec& e) {
           {"velocity", vec3(e.velocity)},
           {"speedSpread", number(e.speedSpread)},
           {"birthSpread", number(e.birthSpread)},
-          {"lifetime", number(e.lifetime)}};
+          {"lifetime", number(e.lifetime)},
+          {"overLife", lifeCurvesJson(e.overLife)}};
 }
 
 json objectJson(const ObjectSpec& o, const fs::path& dir) {

@@ -28,6 +28,17 @@ std::size_t segmentOf(const std::vector<float>& times, double t) {
 
 }  // namespace
 
+float LifeCurve::at(float age) const {
+  if (ages.empty()) return 1.0f;
+  if (!(age > ages.front())) return values.front();
+  if (age >= ages.back()) return values.back();
+  std::size_t i = 1;
+  while (i < ages.size() && ages[i] < age) ++i;
+  float t = (age - ages[i - 1]) / (ages[i] - ages[i - 1]);
+  if (interp == Interp::kSmooth) t = t * t * (3.0f - 2.0f * t);
+  return values[i - 1] + (values[i] - values[i - 1]) * t;
+}
+
 glm::vec3 Path::at(double t) const {
   if (times.empty()) return glm::vec3(0.0f);
   if (t <= times.front()) return points.front();

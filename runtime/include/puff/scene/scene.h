@@ -69,6 +69,8 @@ struct EmitterSpec {
   float speedSpread = 0.0f;
   float birthSpread = 0.0f;
   float lifetime = 0.0f;
+  /// Size over the life (needs a lifetime > 0); density is not drawn by nailboards.
+  sim::LifeCurves overLife;
   bool operator==(const EmitterSpec&) const = default;
 };
 

@@ -55,6 +55,30 @@ struct Path {
   bool operator==(const Path&) const = default;
 };
 
+/// A value over a particle's life (issue 18, "curves over life"): keys of (normalized age in [0, 1],
+/// value >= 0), ages strictly increasing; linear between keys, or smooth (a smoothstep in each
+/// segment: flat at every key), held before the first key and after the last. Empty: no curve (the
+/// emitter's default, below).
+struct LifeCurve {
+  enum class Interp { kLinear, kSmooth };
+  Interp interp = Interp::kLinear;
+  std::vector<float> ages, values;
+  float at(float age) const;
+  bool empty() const { return ages.empty(); }
+  bool operator==(const LifeCurve&) const = default;
+};
+
+/// What an emitter's particles do over their life, as drawn: `size` multiplies the birth size
+/// (replacing the default: a smooth growth over the first tenth of the life, then a linear shrink
+/// to nothing for cel puffs; 1 + growth * age for media), `density` multiplies the birth density
+/// (replacing the default fade in and linear fall to 0 of media). The simulator's own dynamics
+/// (buoyancy from density, collision radius) keep the default linear fall.
+struct LifeCurves {
+  LifeCurve size, density;
+  bool empty() const { return size.empty() && density.empty(); }
+  bool operator==(const LifeCurves&) const = default;
+};
+
 /// A line vortex: air turns about `axis` through `position` (plus its path's position). Its
 /// tangential speed is the Lamb–Oseen profile scaled so it peaks at `strength` (world units / s;
 /// negative turns the other way) at 1.12 core radii: linear inside the core, 1/r outside. `falloff`
@@ -140,6 +164,7 @@ struct Emitter {
   std::vector<int> variations;           ///< allowed atlas variations; empty = 0 .. variations-1
   bool oriented = false;                 ///< random orientation (multi-view atlases)
   float spin = 0.0f;                     ///< random angular velocity up to this, radians / s
+  LifeCurves overLife;                   ///< size and density over the life, as drawn
   bool operator==(const Emitter&) const = default;
 };
 
