@@ -121,7 +121,10 @@ CLI::App* addBakeCommand(CLI::App& app, Options& o, BakeFlags& flags) {
   cmd->add_option("--color", flags.color, "Diffuse colour of meshes without vertex colours: #rrggbb or r,g,b in [0,1]")
       ->capture_default_str();
   cmd->add_flag("--no-mips", flags.noMips, "Write level 0 only");
-  cmd->add_flag("--no-contact-sheet", flags.noSheet, "Skip NAME_contact.png");
+  cmd->add_flag(
+      "--no-contact-sheet", flags.noSheet,
+      "Skip NAME_contact.png (and NAME_contact_vN.png); the sheets of an atlas this bake replaces are removed "
+      "with it");
   cmd->add_option("--lod", flags.lod,
                   "full: bake meshes as given; auto: decimate each to the fewest faces within the tolerances and "
                   "write the chosen mesh beside the atlas (NAME_lodI.HASH.ply, named in the sidecar)")

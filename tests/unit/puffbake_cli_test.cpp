@@ -102,14 +102,14 @@ TEST_F(PuffbakeCli, ContactSheetsAreLabelledAndMultiViewAtlasesGetAGridPerVariat
   CliRun r = run("bake -g lumpy -n 2 --subdivisions 3 -s 32 --views 3 --view-layout oct -o " + out.string());
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_NE(
-      r.out.find("views of each variation: " + (out / "puff_contact_v1.png").string() + " .. puff_contact_v2.png"),
+      r.out.find("views of each variation: " + (out / "puff_contact_v0.png").string() + " .. puff_contact_v1.png"),
       std::string::npos)
       << r.out;
   auto sheet = puff::core::readImage(out / "puff_contact.png");
   ASSERT_OK(sheet);
-  // Layout: a 4-pixel gap, a margin as wide as "V2", columns as wide as "DISTANCE" (47 px) plus the
-  // gap; a title row 15 px high, then a row of 32-px thumbnails per variation.
-  const int margin = 4 + puff::core::textWidth("V2"), pitch = puff::core::textWidth("DISTANCE") + 4;
+  // Layout: a 4-pixel gap, a margin as wide as "V1", columns as wide as "DISTANCE" (47 px) plus two
+  // gaps; a title row 15 px high, then a row of 32-px thumbnails per variation.
+  const int margin = 4 + puff::core::textWidth("V1"), pitch = puff::core::textWidth("DISTANCE") + 8;
   EXPECT_EQ(sheet->width, margin + 4 + 6 * pitch);
   EXPECT_EQ(sheet->height, 15 + 2 * (32 + 4));
   const char* titles[] = {"PREVIEW", "NORMALS", "DEPTH", "COLOUR", "COVERAGE", "DISTANCE"};
@@ -118,12 +118,13 @@ TEST_F(PuffbakeCli, ContactSheetsAreLabelledAndMultiViewAtlasesGetAGridPerVariat
               titles[c]);
   }
   for (int v = 0; v < 2; ++v) {
-    EXPECT_EQ(puff::test::readText(*sheet, 2, 15 + v * 36 + (32 - 7) / 2, 2), "V" + std::to_string(v + 1));
+    EXPECT_EQ(puff::test::readText(*sheet, 2, 15 + v * 36 + (32 - 7) / 2, 2), "V" + std::to_string(v))
+        << "numbered from 0, as a scene's variations";
   }
   for (int v = 0; v < 2; ++v) {
-    auto views = puff::core::readImage(out / ("puff_contact_v" + std::to_string(v + 1) + ".png"));
+    auto views = puff::core::readImage(out / ("puff_contact_v" + std::to_string(v) + ".png"));
     ASSERT_OK(views);
-    EXPECT_EQ(puff::test::readText(*views, 4, 4, 12), "VARIATION " + std::to_string(v + 1) + ":");
+    EXPECT_EQ(puff::test::readText(*views, 4, 4, 12), "VARIATION " + std::to_string(v) + ":");
     // A 3 x 3 grid of 32-px thumbnails, each with its number under it.
     const int pitchX = 32 + 4, pitchY = 32 + 11 + 4;
     for (int view = 0; view < 9; ++view) {
@@ -136,14 +137,14 @@ TEST_F(PuffbakeCli, ContactSheetsAreLabelledAndMultiViewAtlasesGetAGridPerVariat
       for (int x = 0; x < 32; ++x)
         for (int c = 0; c < 3; ++c)
           differ += views->at(4 + pitchX + x, 15 + pitchY + y, c) != sheet->at(margin + 4 + x, 15 + v * 36 + y, c);
-    EXPECT_EQ(differ, 0) << "variation " << v + 1;
+    EXPECT_EQ(differ, 0) << "variation " << v;
   }
   // Fewer variations, then one view: the sheets of what is gone go with it.
   ASSERT_EQ(run("bake -q -g lumpy -n 1 --subdivisions 3 -s 32 --views 3 -o " + out.string()).exitCode, 0);
-  EXPECT_TRUE(fs::exists(out / "puff_contact_v1.png"));
-  EXPECT_FALSE(fs::exists(out / "puff_contact_v2.png"));
-  ASSERT_EQ(run("bake -q -g lumpy -n 1 --subdivisions 3 -s 32 -o " + out.string()).exitCode, 0);
+  EXPECT_TRUE(fs::exists(out / "puff_contact_v0.png"));
   EXPECT_FALSE(fs::exists(out / "puff_contact_v1.png"));
+  ASSERT_EQ(run("bake -q -g lumpy -n 1 --subdivisions 3 -s 32 -o " + out.string()).exitCode, 0);
+  EXPECT_FALSE(fs::exists(out / "puff_contact_v0.png"));
   EXPECT_TRUE(fs::exists(out / "puff_contact.png"));
 }
 

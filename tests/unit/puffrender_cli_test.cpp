@@ -18,6 +18,7 @@
 #include <puff/core/files.h>
 
 #include <puff/core/image.h>
+#include <puff/io/openimageio.h>
 #include "support/assert_ok.h"
 #include "support/cli_test.h"
 #include "support/read_text.h"
@@ -331,14 +332,22 @@ TEST_F(PuffrenderCli, FlipbookCellsAreTheFramesOnATransparentBackground) {
     auto frame = puff::core::readImage(alone);
     ASSERT_OK(frame);
     const int x0 = (i % 2) * 40, y0 = (i / 2) * 30;
-    int differ = 0, clear = 0;
+    int differ = 0, clear = 0, black = 0;
     for (int y = 0; y < 30; ++y)
       for (int x = 0; x < 40; ++x) {
-        clear += frame->at(x, y, 3) == 0.0f ? 1 : 0;
-        for (int c = 0; c < 4; ++c) differ += frame->at(x, y, c) != image->at(x0 + x, y0 + y, c) ? 1 : 0;
+        const bool covered = frame->at(x, y, 3) > 0.0f;
+        clear += covered ? 0 : 1;
+        // Covered texels are the frame's; uncovered ones keep alpha 0 and take the nearest covered
+        // colour (so an engine's filtering blends no black into the smoke's edge).
+        for (int c = 0; c < 4; ++c) {
+          if (covered || c == 3) differ += frame->at(x, y, c) != image->at(x0 + x, y0 + y, c) ? 1 : 0;
+        }
+        if (!covered)
+          black += image->at(x0 + x, y0 + y, 0) + image->at(x0 + x, y0 + y, 1) + image->at(x0 + x, y0 + y, 2) == 0.0f;
       }
     EXPECT_EQ(differ, 0) << "frame " << 1 + i;
     EXPECT_GT(clear, 0) << "frame " << 1 + i << ": the background is transparent";
+    EXPECT_EQ(black, 0) << "frame " << 1 + i << ": uncovered texels hold a covered neighbour's colour";
   }
   for (int y = 30; y < 60; ++y)
     for (int x = 40; x < 80; ++x) ASSERT_EQ(image->at(x, y, 3), 0.0f) << "the empty fourth cell at " << x << "," << y;
@@ -392,6 +401,15 @@ TEST_F(PuffrenderCli, FlipbookUsageErrorsNameTheProblemAndWriteNothing) {
   expectOneLineError(run(s + " --alpha premultiplied -o " + sheet), "--alpha applies to a transparent frame", 2);
   expectOneLineError(run(s + " --flipbook 2x2 --compare fixed,cel -o " + sheet), "do not go together", 2);
   EXPECT_TRUE(outputs().empty());
+  // The layout beside the sheet never replaces the scene, an atlas sidecar or another sheet's layout.
+  expectOneLineError(run(s + " --flipbook 2x2 -o " + (dir_ / "ground.png").string()), "the scene itself", 2);
+  const std::string sidecar = R"({"version": 1, "cells": [], "maps": {}})";
+  write("atlas.json", sidecar);
+  expectOneLineError(run(s + " --flipbook 2x2 -o " + (dir_ / "atlas.png").string()), "is not a flipbook layout", 2);
+  EXPECT_EQ(*puff::core::readFileBytes(dir_ / "atlas.json"), sidecar);
+  ASSERT_EQ(run(s + " -q --flipbook 2x2 -o " + (dir_ / "book.png").string()).exitCode, 0);
+  expectOneLineError(run(s + " --flipbook 2x2 -o " + (dir_ / "book.exr").string()), "the layout of another sheet", 2);
+  EXPECT_EQ(run(s + " -q --flipbook 1x2 -o " + (dir_ / "book.png").string()).exitCode, 0) << "its own layout, again";
 }
 
 // A sequence seen whole (issue 18): the contact sheet is the frames in a grid, each the frame
@@ -464,7 +482,10 @@ TEST_F(PuffrenderCli, PreviewIsAnAnimatedGifOrAnMp4ThroughFfmpeg) {
   const fs::path gif = dir_ / "ground.gif";
   CliRun r = run(scene.string() + " --preview " + gif.string());
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_NE(r.out.find("preview: " + gif.string() + " (4 frames at 10 fps, GIF by OpenImageIO)"), std::string::npos)
+  EXPECT_NE(r.out.find("preview: " + gif.string() +
+                       " (4 frames at 10 fps as 4 GIF frames 10/100 s apart, GIF by "
+                       "OpenImageIO)"),
+            std::string::npos)
       << r.out;
   const std::string bytes = *puff::core::readFileBytes(gif);
   EXPECT_EQ(bytes.rfind("GIF89a", 0), 0u);
@@ -548,6 +569,41 @@ TEST_F(PuffrenderCli, PreviewIsAnAnimatedGifOrAnMp4ThroughFfmpeg) {
       run(scene.string() + " --preview " + gif.string() + " --flipbook 2x2 -o " + (dir_ / "s.png").string()),
       "not with --flipbook", 2);
   expectOneLineError(run(scene.string()), "-o OUT is required (or --contact-sheet, --preview or --print-scene)", 2);
+  expectOneLineError(
+      run(scene.string() + " -o " + (dir_ / "same.png").string() + " --contact-sheet " + (dir_ / "same.png").string()),
+      "is where -o", 2);
+  expectOneLineError(run(scene.string() + " -o " + (dir_ / "f_###.png").string() + " --contact-sheet " +
+                         (dir_ / "f_002.png").string()),
+                     "is where -o", 2);
+  // A sheet that cannot be written is found before any frame is drawn (and no frame file is left).
+  write("plain.txt", "not a directory");
+  expectOneLineError(run(scene.string() + " -o " + (dir_ / "g_#.png").string() + " --contact-sheet " +
+                         (dir_ / "plain.txt" / "sheet.png").string()),
+                     "plain.txt", 1);
+  EXPECT_FALSE(fs::exists(dir_ / "g_0.png"));
+}
+
+// GIF keeps one delay for every frame, in hundredths of a second: frames are shown twice or skipped
+// so that the GIF lasts as long as the sequence, and no delay is under 2 (browsers slow those).
+TEST(GifTiming, TheGifLastsAsLongAsTheSequence) {
+  // 24 fps: 4/100 s a frame, 75 GIF frames for 72 (3 s either way), one frame shown twice in 24.
+  auto t = puff::io::gifTiming(72, 24.0);
+  EXPECT_EQ(t.delay, 4);
+  ASSERT_EQ(t.source.size(), 75u);
+  EXPECT_EQ(t.source.front(), 0);
+  EXPECT_EQ(t.source.back(), 71);
+  EXPECT_TRUE(std::is_sorted(t.source.begin(), t.source.end()));
+  for (std::size_t k = 0; k < t.source.size(); ++k) {
+    const double shown = static_cast<double>(k) * t.delay / 100.0;  // seconds
+    EXPECT_LE(t.source[k] / 24.0, shown + 1e-9) << "no frame before its time";
+    EXPECT_GT((t.source[k] + 1) / 24.0, shown) << "and none after the next one is due";
+  }
+  // 10 fps: exact. 60 fps: 2/100 s, every frame due at 50 per second (some skipped).
+  EXPECT_EQ(puff::io::gifTiming(4, 10.0).source, (std::vector<int>{0, 1, 2, 3}));
+  t = puff::io::gifTiming(60, 60.0);
+  EXPECT_EQ(t.delay, 2);
+  EXPECT_EQ(t.source.size(), 50u) << "a second at 50 GIF frames a second";
+  EXPECT_EQ(puff::io::gifTiming(3, 0.5).delay, 200);
 }
 
 }  // namespace
@@ -569,6 +625,36 @@ class PuffrenderPaths : public PuffrenderCli {
     return n;
   }
 };
+
+// The art scene made for flipbooks: every frame but the first (before any puff is born) holds smoke,
+// and nothing else: no cell is covered from edge to edge, and each keeps a clear border.
+TEST_F(PuffrenderPaths, ThePuffBurstSceneMakesAFlipbookOfSmokeAlone) {
+  const std::string burst = std::string(PUFF_SOURCE_DIR) + "/art/scenes/puff-burst.json";
+  const fs::path sheetFile = dir_ / "burst.png";
+  CliRun r = run(burst + " -q --art-dir " + std::string(PUFF_ART_DIR) + " --flipbook 6x6 -o " + sheetFile.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(r.err, "");
+  auto sheet = puff::core::readImage(sheetFile);
+  ASSERT_OK(sheet);
+  ASSERT_EQ(sheet->width, 768);
+  for (int cell = 0; cell < 36; ++cell) {
+    const int x0 = (cell % 6) * 128, y0 = (cell / 6) * 128;
+    int covered = 0, border = 0;
+    for (int y = 0; y < 128; ++y)
+      for (int x = 0; x < 128; ++x) {
+        const bool c = sheet->at(x0 + x, y0 + y, 3) > 0.0f;
+        covered += c;
+        border += c && (x < 2 || y < 2 || x >= 126 || y >= 126);
+      }
+    if (cell == 0) {
+      EXPECT_EQ(covered, 0) << "frame 0: nothing born yet";
+      continue;
+    }
+    EXPECT_GT(covered, 20) << "frame " << cell;
+    EXPECT_LT(covered, 128 * 128 / 2) << "frame " << cell << ": smoke, not a background";
+    EXPECT_EQ(border, 0) << "frame " << cell << ": a clear border (mipmaps do not mix cells)";
+  }
+}
 
 TEST_F(PuffrenderPaths, FixedPathDrawsTheSceneWithoutShaders) {
   const fs::path fixed = dir_ / "fixed.png", cel = dir_ / "cel.png";

@@ -189,7 +189,7 @@ struct AtlasBake {
     const mesh::TriMesh* bakeMesh = &src.mesh;
     mesh::TriMesh reduced;
     if (o.lodAuto) {
-      const std::string stage = "choosing level of detail, variation " + std::to_string(var + 1);
+      const std::string stage = "choosing level of detail, variation " + std::to_string(var);
       const LodTolerances tolerances{o.lodNormalTolerance, o.lodSilhouetteTolerance, o.lodDepthTolerance,
                                      o.lodColorTolerance};
       LodResult lod = chooseLod(
@@ -209,6 +209,7 @@ struct AtlasBake {
     prov.defaultColor = o.defaultColor;
     if (o.lodAuto) prov.lodMesh = lodFileName(o.name, var);
     desc.sources.push_back(prov);
+    if (o.lodAuto) report("rasterizing", var * g.views, desc.variations * g.views);
     const std::vector<CellMaps> cells = views.render(*views.rasterizer, g.supersample, *bakeMesh, g.flange);
     for (int v = 0; v < g.views; ++v) {
       const int index = var * g.views + v;
@@ -236,8 +237,12 @@ struct AtlasBake {
     const std::string ext = desc.fileFormat;
     const core::PixelType mapType = o.format == MapFormat::kExr ? core::PixelType::kHalf : core::PixelType::kUInt8;
     const core::PixelType distType = o.format == MapFormat::kExr ? core::PixelType::kHalf : core::PixelType::kUInt16;
-    const int totalFiles = desc.mipLevels * 3 + 2 + static_cast<int>(lodMeshes.size());
+    // Every file: the maps, the LOD meshes, the contact sheets (the main one, and one per variation
+    // of a multi-view atlas) and the sidecar.
+    const int sheets = o.contactSheet ? 1 + (desc.views > 1 ? desc.variations : 0) : 0;
+    const int totalFiles = desc.mipLevels * 3 + 1 + sheets + static_cast<int>(lodMeshes.size());
     int written = 0;
+    report("writing", 0, totalFiles);
     std::vector<fs::path> contentNamed;  // the files a killed run would leave behind
     // Each file is staged, written, then named by its content (NAME_color.mip1.HASH.png).
     auto put = [&](const char* map, const char* key, int level, const core::Image& img,
@@ -272,7 +277,7 @@ struct AtlasBake {
       result.lodMeshes.push_back(*target);
       report("writing", ++written, totalFiles);
     }
-    PUFF_TRY(writeContactSheet(tx, levels[0]));
+    PUFF_TRY(writeContactSheet(tx, levels[0], [&] { report("writing", ++written, totalFiles); }));
     result.sidecar = sidecar;
     // Paths need not be UTF-8 on Linux: replace what JSON cannot hold rather than throw.
     const std::string text = core::toJson(desc).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
@@ -311,7 +316,8 @@ struct AtlasBake {
     for (const fs::path& p : stale) fs::remove(p, ec);
   }
 
-  Result<void> writeContactSheet(core::OutputTransaction& tx, const AtlasLevel& level0) {
+  Result<void> writeContactSheet(core::OutputTransaction& tx, const AtlasLevel& level0,
+                                 const std::function<void()>& wrote) {
     if (!o.contactSheet) return {};
     result.contactSheet = o.outDir / (o.name + "_contact.png");
     const int thumb = std::min(o.cellSize, 160);
@@ -320,17 +326,18 @@ struct AtlasBake {
     const core::Image sheet = contactSheet(level0, desc, thumb, result.contactSheetRows);
     PUFF_TRY(core::writeImage(tx.stage(result.contactSheet), sheet, core::PixelType::kUInt8, {}, result.contactSheet));
     result.files.push_back(result.contactSheet);
-    // A multi-view atlas: each variation's views as a grid, at most about 2048 pixels on a side.
+    wrote();
+    // A multi-view atlas: each variation's views as a grid, at most about 2048 pixels on a side;
+    // numbered from 0, as a scene's "variations" count them.
     if (desc.views > 1) {
       for (int v = 0; v < desc.variations; ++v) {
-        report("contact sheets", v, desc.variations);
-        const fs::path file = o.outDir / (o.name + "_contact_v" + std::to_string(v + 1) + ".png");
+        const fs::path file = o.outDir / (o.name + "_contact_v" + std::to_string(v) + ".png");
         const core::Image views = viewSheet(level0, desc, v, 2048);
         PUFF_TRY(core::writeImage(tx.stage(file), views, core::PixelType::kUInt8, {}, file));
         result.viewSheets.push_back(file);
         result.files.push_back(file);
+        wrote();
       }
-      report("contact sheets", desc.variations, desc.variations);
     }
     return {};
   }
@@ -435,12 +442,15 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
                     core::Image(desc.width, desc.height, 1, desc.distanceRange)};
   for (std::size_t i = 2; i < level0.normalDepth.pixels.size(); i += 4) level0.normalDepth.pixels[i] = 1.0f;  // N = +z
 
+  // Each stage says when it starts (0 done), so that its clock and rate count its first step too.
   for (int var = 0; var < variations; ++var) {
+    if (!o.lodAuto || var > 0) bake.report("rasterizing", var * g.views, variations * g.views);
     bake.rasterizeVariation(views, sources[static_cast<std::size_t>(var)], var, level0);
   }
 
   std::vector<AtlasLevel> levels;
   levels.push_back(std::move(level0));
+  if (desc.mipLevels > 1) bake.report("mip levels", 0, desc.mipLevels - 1);
   for (int l = 1; l < desc.mipLevels; ++l) {
     levels.push_back(buildMipLevel(levels[0], o.cellSize, l, desc.alphaThreshold));
     bake.report("mip levels", l, desc.mipLevels - 1);

@@ -105,8 +105,8 @@ int frontCell(const core::AtlasDesc& desc, int variation) {
 core::Image contactSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int thumb, int maxRows) {
   const int rows = std::min(desc.variations, maxRows);
   // Columns at least as wide as their titles; a margin on the left for the rows' names.
-  const int pitch = std::max(thumb, core::textWidth("DISTANCE")) + kGap;
-  const int margin = kGap + core::textWidth("V" + std::to_string(desc.variations));
+  const int pitch = std::max(thumb, core::textWidth("DISTANCE")) + 2 * kGap;
+  const int margin = kGap + core::textWidth("V" + std::to_string(desc.variations - 1));
   const int header = kGap + core::textHeight() + kGap;
   const int width = margin + kGap + kColumns * pitch, height = header + rows * (thumb + kGap);
   core::Image sheet = blankSheet(width, height);
@@ -115,7 +115,7 @@ core::Image contactSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, 
   }
   for (int row = 0; row < rows; ++row) {
     const int oy = header + row * (thumb + kGap);
-    core::drawText(sheet, kGap / 2, oy + (thumb - core::textHeight()) / 2, "V" + std::to_string(row + 1), kLabelColor);
+    core::drawText(sheet, kGap / 2, oy + (thumb - core::textHeight()) / 2, "V" + std::to_string(row), kLabelColor);
     const int cell = frontCell(desc, row);
     if (cell < 0) continue;
     for (int col = 0; col < kColumns; ++col) {
@@ -130,9 +130,8 @@ core::Image viewSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int
   const int n = std::max(1, desc.viewGrid);
   const int label = core::textHeight() + kGap;  // the view's number (and direction) under each thumbnail
   const int thumb = std::clamp((maxSide - kGap) / n - kGap - label, 8, std::min(desc.cellSize, 256));
-  const std::string title = "VARIATION " + std::to_string(variation + 1) + ": " + std::to_string(desc.views) +
-                            " VIEWS, " + desc.viewLayout + " " + std::to_string(n) + "x" + std::to_string(n) +
-                            ", SHADED PREVIEW";
+  const std::string title = "VARIATION " + std::to_string(variation) + ": " + std::to_string(desc.views) + " VIEWS, " +
+                            desc.viewLayout + " " + std::to_string(n) + "x" + std::to_string(n) + ", SHADED PREVIEW";
   const int header = kGap + core::textHeight() + kGap;
   const int pitchX = std::max(thumb, core::textWidth("000")) + kGap, pitchY = thumb + label + kGap;
   const int width = std::max(kGap + n * pitchX, 2 * kGap + core::textWidth(title)), height = header + n * pitchY;

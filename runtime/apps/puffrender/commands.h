@@ -31,6 +31,9 @@ int renderFrames(const Options& o, scene::Scene scene, const Plan& plan);
 /// sprite sheet (plan.pattern's single file), and beside it a JSON of its layout, frame rate and
 /// alpha mode (docs/flipbooks.md). Returns the exit code.
 int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan, render::SceneRenderer& renderer);
+/// Before anything is drawn: the layout JSON beside the sheet may be written (it is not the scene,
+/// and any file already there is this sheet's own layout).
+Result<void> checkFlipbookLayoutTarget(const Options& o, const Plan& plan);
 
 /// --contact-sheet and --preview: the frames of a run as a grid with their numbers, and as an
 /// animated GIF or MP4 (sequence.cpp). open() before the first frame, add() each frame as rendered

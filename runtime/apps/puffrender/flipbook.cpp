@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <vector>
 
 #include <cli/app.h>
 #include <cli/progress.h>
@@ -17,6 +18,62 @@
 namespace puff::app {
 
 namespace fs = std::filesystem;
+
+namespace {
+
+// A straight-alpha cell: every uncovered texel (alpha 0) takes the colour of the nearest covered one
+// (breadth first over the 4 neighbours). Alpha is untouched, so nothing drawn changes, but an engine
+// filtering or mipmapping the sheet mixes covered colours with their own instead of with black:
+// no dark fringe around the smoke.
+void bleedColour(core::Image& cell) {
+  const int w = cell.width, h = cell.height;
+  std::vector<int> queue;
+  std::vector<char> filled(static_cast<std::size_t>(w) * h, 0);
+  for (int i = 0; i < w * h; ++i) {
+    if (cell.pixels[static_cast<std::size_t>(i) * 4 + 3] > 0.0f)
+      filled[static_cast<std::size_t>(i)] = 1, queue.push_back(i);
+  }
+  for (std::size_t q = 0; q < queue.size(); ++q) {
+    const int i = queue[q], x = i % w, y = i / w;
+    const int next[4] = {x > 0 ? i - 1 : -1, x + 1 < w ? i + 1 : -1, y > 0 ? i - w : -1, y + 1 < h ? i + w : -1};
+    for (int n : next) {
+      if (n < 0 || filled[static_cast<std::size_t>(n)]) continue;
+      filled[static_cast<std::size_t>(n)] = 1;
+      for (int c = 0; c < 3; ++c) {
+        cell.pixels[static_cast<std::size_t>(n) * 4 + static_cast<std::size_t>(c)] =
+            cell.pixels[static_cast<std::size_t>(i) * 4 + static_cast<std::size_t>(c)];
+      }
+      queue.push_back(n);
+    }
+  }
+}
+
+}  // namespace
+
+Result<void> checkFlipbookLayoutTarget(const Options& o, const Plan& plan) {
+  const fs::path target = plan.pattern.name(plan.first);
+  fs::path layout = target;
+  layout.replace_extension(".json");
+  std::error_code ec;
+  if (fs::equivalent(layout, o.scene, ec) || layout.lexically_normal() == o.scene.lexically_normal()) {
+    return Error{"-o " + target.string() + ": the flipbook's layout would be written to " + layout.string() +
+                 ", the scene itself: give the sheet another name"};
+  }
+  if (!fs::exists(layout, ec)) return {};
+  // Only a flipbook layout of this same sheet is replaced: never an atlas sidecar, a scene, or the
+  // layout of another sheet (sheet.png and sheet.exr would share sheet.json).
+  auto text = core::readFileBytes(layout);
+  nlohmann::json j = text ? nlohmann::json::parse(*text, nullptr, false) : nlohmann::json();
+  if (!j.is_object() || j.value("format", "") != "puff-flipbook") {
+    return Error{"-o " + target.string() + ": the flipbook's layout goes to " + layout.string() +
+                 ", which exists and is not a flipbook layout; it is left alone: give the sheet another name"};
+  }
+  if (j.value("image", "") != target.filename().string()) {
+    return Error{"-o " + target.string() + ": " + layout.string() + " is the layout of another sheet (" +
+                 j.value("image", "") + "); it is left alone: give the sheet another name"};
+  }
+  return {};
+}
 
 int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan, render::SceneRenderer& renderer) {
   const int count = plan.last - plan.first + 1;
@@ -37,7 +94,8 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
       return 1;
     }
     // The renderer draws a transparent frame premultiplied, in scene-linear light.
-    const core::Image cell = plan.exr ? std::move(*image) : core::viewTransform(*image, view, alpha);
+    core::Image cell = plan.exr ? std::move(*image) : core::viewTransform(*image, view, alpha);
+    if (!plan.exr && alpha == core::AlphaMode::kStraight) bleedColour(cell);
     const int x0 = (i % columns) * w, y0 = (i / columns) * h;
     for (int y = 0; y < h; ++y) {
       std::copy_n(&cell.pixels[cell.index(0, y)], static_cast<std::size_t>(w) * 4,
@@ -64,7 +122,7 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
   j["firstFrame"] = plan.first;
   j["lastFrame"] = plan.last;
   j["alpha"] = std::string(core::toString(alpha));
-  j["colour"] = plan.exr ? "scene-linear Rec.709 (half float)"
+  j["colour"] = plan.exr ? (o.float32 ? "scene-linear Rec.709 (32-bit float)" : "scene-linear Rec.709 (half float)")
                          : "display sRGB, 8 bits, through the " + std::string(core::toString(view)) + " view transform";
   j["scene"] = scene.file.filename().string();
 
@@ -92,9 +150,15 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
     return 1;
   }
   if (!o.quiet) {
-    std::printf("%s: wrote %s (%dx%d: %d frames, %d to %d, in %dx%d cells of %dx%d, %s alpha) and %s\n", cli::name(),
-                target.c_str(), sheet.width, sheet.height, count, plan.first, plan.last, columns, rows, w, h,
-                std::string(core::toString(alpha)).c_str(), layout.c_str());
+    std::printf("%s: wrote %s (%dx%d: %d frame%s, %d to %d, in %dx%d cells of %dx%d, %s alpha) and %s\n", cli::name(),
+                target.c_str(), sheet.width, sheet.height, count, count == 1 ? "" : "s", plan.first, plan.last, columns,
+                rows, w, h, std::string(core::toString(alpha)).c_str(), layout.c_str());
+    if (count < columns * rows) {
+      std::printf(
+          "%s: note: the last %d cell%s of the sheet are empty (frameCount in the layout says how many hold "
+          "frames)\n",
+          cli::name(), columns * rows - count, columns * rows - count == 1 ? "" : "s");
+    }
   }
   return 0;
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 
@@ -227,6 +228,21 @@ Result<void> checkOptions(const Options& o) {
       return Error{"--preview " + o.preview + ": expected a .gif or .mp4 name (" + previewSupport() + ")"};
     }
   }
+  if (!o.contactSheet.empty() && !o.out.empty()) {
+    auto pattern = parseOutputPattern(o.out);
+    if (pattern && ((!pattern->numbered &&
+                     fs::path(pattern->prefix).lexically_normal() == fs::path(o.contactSheet).lexically_normal()) ||
+                    (pattern->numbered && o.contactSheet.rfind(pattern->prefix, 0) == 0 &&
+                     o.contactSheet.size() > pattern->prefix.size() + pattern->suffix.size() &&
+                     o.contactSheet.compare(o.contactSheet.size() - pattern->suffix.size(), pattern->suffix.size(),
+                                            pattern->suffix) == 0 &&
+                     std::all_of(o.contactSheet.begin() + static_cast<long>(pattern->prefix.size()),
+                                 o.contactSheet.end() - static_cast<long>(pattern->suffix.size()),
+                                 [](char c) { return c >= '0' && c <= '9'; })))) {
+      return Error{"--contact-sheet " + o.contactSheet + " is where -o " + o.out +
+                   " writes a frame: give the sheet another name"};
+    }
+  }
   if ((!o.contactSheet.empty() || !o.preview.empty()) && (!o.flipbook.empty() || !o.compare.empty())) {
     return Error{"--contact-sheet and --preview go with frames rendered as they are, not with --flipbook or --compare"};
   }
@@ -371,7 +387,16 @@ int run(const Options& o) {
   if (o.height) scene.height = *o.height;
   if (o.samples) scene.samples = *o.samples;
   if (!o.view.empty()) scene.view = core::parseViewTransform(o.view);
-  if (!o.flipbook.empty()) scene.transparent = true;  // a sprite sheet's cells are the smoke alone
+  if (!o.flipbook.empty()) {
+    scene.transparent = true;  // a sprite sheet's cells are the smoke alone
+    if (!scene.plate.empty()) {
+      if (!o.quiet) {
+        std::fprintf(stderr, "%s: note: a flipbook has a transparent background: the plate %s is left out\n",
+                     cli::name(), scene.plate.c_str());
+      }
+      scene.plate.clear();
+    }
+  }
   if (!o.alpha.empty()) {
     scene.alpha = o.alpha == "premultiplied" ? core::AlphaMode::kPremultiplied : core::AlphaMode::kStraight;
   }
@@ -401,6 +426,12 @@ int run(const Options& o) {
     if (auto r = checkPreviewTarget(o.preview); !r) {
       cli::printError(r.error());
       return 1;
+    }
+  }
+  if (plan->flipColumns > 0) {
+    if (auto r = checkFlipbookLayoutTarget(o, *plan); !r) {
+      cli::printError(r.error());
+      return 2;
     }
   }
   return renderFrames(o, scene, *plan);

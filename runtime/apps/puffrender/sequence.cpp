@@ -200,6 +200,7 @@ struct SequenceExtras::Impl {
   core::ViewTransform view;
   int count = 0;
   // The contact sheet.
+  core::OutputTransaction sheetTx;
   core::Image sheet;
   int stride = 1, columns = 1, thumbFactor = 1, thumbW = 0, thumbH = 0, shown = 0;
   int pitchX = 0, pitchY = 0, header = 0, labelScale = 1;
@@ -207,6 +208,7 @@ struct SequenceExtras::Impl {
   core::OutputTransaction previewTx;
   fs::path previewStaged;
   int previewFactor = 1;
+  io::GifTiming gifTiming;
   std::unique_ptr<io::AnimatedGif> gif;
   std::unique_ptr<Mp4Pipe> mp4;
 };
@@ -222,6 +224,12 @@ Result<void> SequenceExtras::open() {
   m.count = m.plan.last - m.plan.first + 1;
   const int w = m.scene.width, h = m.scene.height;
   if (!m.o.contactSheet.empty()) {
+    // Its directory is made and checked now, not after every frame has been drawn.
+    const fs::path target = m.o.contactSheet;
+    const fs::path dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    PUFF_TRY(m.sheetTx.prepareDirectory(dir));
+    if (::access(dir.c_str(), W_OK) != 0)
+      return Error::at(target, std::string("cannot write: ") + std::strerror(errno));
     m.thumbFactor = shrinkFactor(w, kThumbMaxWidth);
     m.thumbW = std::max(1, w / m.thumbFactor);
     m.thumbH = std::max(1, h / m.thumbFactor);
@@ -259,8 +267,10 @@ Result<void> SequenceExtras::open() {
     if (isGif) {
       // A GIF holds 256 colours a frame and no compression across frames: at most 640 pixels wide.
       m.previewFactor = shrinkFactor(w, kGifMaxWidth);
-      auto gif = io::AnimatedGif::open(m.previewStaged, m.count, std::max(1, w / m.previewFactor),
-                                       std::max(1, h / m.previewFactor), fps, target);
+      m.gifTiming = io::gifTiming(m.count, fps);
+      auto gif = io::AnimatedGif::open(m.previewStaged, static_cast<int>(m.gifTiming.source.size()),
+                                       std::max(1, w / m.previewFactor), std::max(1, h / m.previewFactor),
+                                       m.gifTiming.delay, target);
       if (!gif) return gif.error();
       m.gif = std::move(*gif);
     } else {
@@ -287,7 +297,14 @@ Result<void> SequenceExtras::add(int frame, const core::Image& linear) {
     }
     core::drawText(m.sheet, ox, oy + m.thumbH + kGap / 2, std::to_string(frame), kLabelColor, m.labelScale);
   }
-  if (m.gif) PUFF_TRY(m.gif->add(shrink(display, m.previewFactor)));
+  if (m.gif) {
+    // As many GIF frames as are due while this frame shows (none, one, or a repeat).
+    const auto shows = std::count(m.gifTiming.source.begin(), m.gifTiming.source.end(), index);
+    if (shows > 0) {
+      const core::Image small = shrink(display, m.previewFactor);
+      for (long k = 0; k < shows; ++k) PUFF_TRY(m.gif->add(small));
+    }
+  }
   if (m.mp4) PUFF_TRY(m.mp4->add(display));
   return {};
 }
@@ -297,24 +314,29 @@ Result<std::string> SequenceExtras::finish() {
   std::string said;
   if (!m.sheet.empty()) {
     const fs::path target = m.o.contactSheet;
-    core::OutputTransaction tx;
-    if (!target.parent_path().empty()) PUFF_TRY(tx.prepareDirectory(target.parent_path()));
-    const fs::path staged = tx.stage(target);
+    const fs::path staged = m.sheetTx.stage(target);
     PUFF_TRY(core::writeImage(staged, m.sheet, core::PixelType::kUInt8,
                               {{"puff:view", std::string(core::toString(m.view))}}, target));
-    PUFF_TRY(tx.commit());
+    PUFF_TRY(m.sheetTx.commit());
     said += std::string(cli::name()) + ": contact sheet: " + target.string() + " (" + std::to_string(m.sheet.width) +
-            "x" + std::to_string(m.sheet.height) + ", " + std::to_string(m.shown) + " frames" +
-            (m.stride > 1 ? ", one in " + std::to_string(m.stride) : "") + ")\n";
+            "x" + std::to_string(m.sheet.height) + ", " + std::to_string(m.shown) +
+            (m.shown == 1 ? " frame" : " frames") + (m.stride > 1 ? ", one in " + std::to_string(m.stride) : "") +
+            ")\n";
   }
   if (m.gif || m.mp4) {
     if (m.gif) PUFF_TRY(m.gif->close());
     if (m.mp4) PUFF_TRY(m.mp4->close());
     PUFF_TRY(m.previewTx.commit());
-    char fps[32];
-    std::snprintf(fps, sizeof fps, "%g", static_cast<double>(m.scene.animation.fps));
-    said += std::string(cli::name()) + ": preview: " + m.o.preview + " (" + std::to_string(m.count) + " frames at " +
-            fps + " fps, " + (m.gif ? "GIF by OpenImageIO" : "MP4 (H.264) by ffmpeg") + ")\n";
+    char rate[200];
+    if (m.gif) {
+      std::snprintf(rate, sizeof rate, "%d frame%s at %g fps as %zu GIF frames %d/100 s apart, GIF by OpenImageIO",
+                    m.count, m.count == 1 ? "" : "s", static_cast<double>(m.scene.animation.fps),
+                    m.gifTiming.source.size(), m.gifTiming.delay);
+    } else {
+      std::snprintf(rate, sizeof rate, "%d frame%s at %g fps, MP4 (H.264) by ffmpeg", m.count, m.count == 1 ? "" : "s",
+                    static_cast<double>(m.scene.animation.fps));
+    }
+    said += std::string(cli::name()) + ": preview: " + m.o.preview + " (" + rate + ")\n";
   }
   return said;
 }

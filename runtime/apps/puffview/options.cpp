@@ -1,5 +1,6 @@
 #include <puffview/options.h>
 
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 
@@ -100,6 +101,12 @@ std::variant<Options, int> parse(int argc, char** argv) {
     }
   }
   if (!o.screenshot.empty()) {
+    std::string ext = fs::path(o.screenshot).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".png") {
+      cli::printError("--screenshot " + o.screenshot + ": screenshots are PNG: give a .png name");
+      return 2;
+    }
     if (auto p = cli::parseOutputPattern(o.screenshot, "--screenshot"); !p) {
       cli::printError(p.error());
       return 2;
@@ -149,11 +156,11 @@ int run(const Options& o) {
   }
   if (!o.quiet && !o.screenshot.empty()) {
     const glm::ivec2 size = (*viewer)->framebufferSize();
-    if (pattern.numbered) {
+    if (pattern.numbered && last > first) {
       std::printf("%s: wrote %d frames (%dx%d): %s .. %s\n", cli::name(), last - first + 1, size.x, size.y,
                   pattern.name(first).c_str(), pattern.name(last).c_str());
     } else {
-      std::printf("%s: wrote %s (%dx%d, frame %d)\n", cli::name(), o.screenshot.c_str(), size.x, size.y, last);
+      std::printf("%s: wrote %s (%dx%d, frame %d)\n", cli::name(), pattern.name(last).c_str(), size.x, size.y, last);
     }
   }
   return 0;

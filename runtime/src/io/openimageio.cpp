@@ -182,6 +182,20 @@ bool canWriteGif() {
   return can;
 }
 
+GifTiming gifTiming(int count, double fps) {
+  GifTiming t;
+  if (count < 1 || !(fps > 0.0)) return t;
+  t.delay = std::max(2, static_cast<int>(std::lround(100.0 / fps)));
+  // GIF frame k shows at k * delay / 100 s: the sequence's frame due then.
+  for (int k = 0;; ++k) {
+    const double due = static_cast<double>(k) * t.delay / 100.0 * fps;
+    const int frame = static_cast<int>(std::floor(due + 1e-9));
+    if (frame >= count) break;
+    t.source.push_back(frame);
+  }
+  return t;
+}
+
 struct AnimatedGif::Impl {
   std::unique_ptr<OIIO::ImageOutput> out;
   std::vector<OIIO::ImageSpec> specs;
@@ -196,7 +210,7 @@ AnimatedGif::~AnimatedGif() {
 }
 
 Result<std::unique_ptr<AnimatedGif>> AnimatedGif::open(const fs::path& path, int frames, int width, int height,
-                                                       double fps, const fs::path& name) {
+                                                       int delay, const fs::path& name) {
   std::unique_ptr<AnimatedGif> gif(new AnimatedGif());
   Impl& m = *gif->impl_;
   m.path = path;
@@ -209,8 +223,11 @@ Result<std::unique_ptr<AnimatedGif>> AnimatedGif::open(const fs::path& path, int
   }
   m.width = width;
   m.height = height;
-  // Frame rate as a rational of thousandths; GIF itself keeps delays in hundredths of a second.
-  const int fpsRational[2] = {std::max(1, static_cast<int>(std::lround(fps * 1000.0))), 1000};
+  // GIF keeps one delay between frames, in hundredths of a second; OpenImageIO's writer takes it as
+  // the frame rate 100 / delay.
+  if (delay < 1 || delay > 65535)
+    return Error::at(m.naming, "a GIF's frame delay is 1 to 65535 hundredths of a second");
+  const int fpsRational[2] = {100, delay};
   m.specs.assign(static_cast<std::size_t>(frames), OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8));
   for (OIIO::ImageSpec& spec : m.specs) {
     spec.attribute("FramesPerSecond", OIIO::TypeRational, fpsRational);

@@ -103,7 +103,7 @@ struct BakeReport {
   core::AtlasDesc desc;
   std::filesystem::path sidecar, contactSheet;
   int contactSheetRows = 0;  ///< variations the contact sheet shows (it caps its height)
-  /// Multi-view atlases: per variation, the sheet of its views (NAME_contact_vI.png, I from 1).
+  /// Multi-view atlases: per variation, the sheet of its views (NAME_contact_vI.png, I from 0).
   std::vector<std::filesystem::path> viewSheets;
   std::vector<std::filesystem::path> files;   ///< every file written
   std::vector<std::optional<LodResult>> lod;  ///< per variation when the level of detail was automatic
@@ -152,7 +152,7 @@ int frontCell(const core::AtlasDesc& desc, int variation);
 
 /// The contact sheet: a row of column titles (PREVIEW: shaded with Eq. 2 and a two-tone ramp,
 /// NORMALS, DEPTH, COLOUR, COVERAGE, DISTANCE), then one row per variation (the first `maxRows`),
-/// named V1, V2, ... on the left, showing its view nearest the front. `thumb`: thumbnail pixels.
+/// named V0, V1, ... on the left (numbered from 0, as a scene's "variations" count them), showing its view nearest the front. `thumb`: thumbnail pixels.
 core::Image contactSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int thumb, int maxRows);
 
 /// A multi-view atlas's `variation` as the grid of its views (view i at column i % viewGrid, row

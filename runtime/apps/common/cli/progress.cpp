@@ -49,7 +49,8 @@ std::string formatProgress(std::string_view stage, long long done, long long tot
       std::snprintf(b, sizeof b, ", %s each", formatDuration(elapsed / static_cast<double>(counted)).c_str());
     }
     s += b;
-    if (total > 0 && done < total) s += ", about " + formatDuration(static_cast<double>(total - done) / rate) + " left";
+    const double left = total > 0 && done < total ? static_cast<double>(total - done) / rate : 0.0;
+    if (left >= 0.05) s += ", about " + formatDuration(left) + " left";
   }
   return s;
 }

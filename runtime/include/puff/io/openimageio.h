@@ -22,13 +22,14 @@ const core::ImageCodec& openImageIOCodec();
 bool canWriteGif();
 
 /// An animated GIF written a frame at a time (a long sequence is never held whole): frames are
-/// display-encoded RGB or RGBA in [0, 1] (alpha dropped), all `width` x `height`; it plays at `fps`
-/// and loops forever; OpenImageIO picks each frame's 256-colour palette. Errors name `name` (the
-/// user's file; `path` may be a staged temporary), else `path`.
+/// display-encoded RGB or RGBA in [0, 1] (alpha dropped), all `width` x `height`, shown `delay`
+/// hundredths of a second each (GIF has one delay for all; gifTiming() picks it); it loops
+/// forever; OpenImageIO picks each frame's 256-colour palette. Errors name `name` (the user's file;
+/// `path` may be a staged temporary), else `path`.
 class AnimatedGif {
  public:
   static Result<std::unique_ptr<AnimatedGif>> open(const std::filesystem::path& path, int frames, int width, int height,
-                                                   double fps, const std::filesystem::path& name = {});
+                                                   int delay, const std::filesystem::path& name = {});
   ~AnimatedGif();
   AnimatedGif(const AnimatedGif&) = delete;
   AnimatedGif& operator=(const AnimatedGif&) = delete;
@@ -41,6 +42,17 @@ class AnimatedGif {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// How `count` frames at `fps` play in a GIF, whose frames all show for one whole number of
+/// hundredths of a second: that delay (at least 2: browsers slow shorter ones to a tenth of a second),
+/// and for each GIF frame the frame it shows (source[k], non-decreasing), the one due at its time,
+/// so the GIF lasts as long as the sequence (a frame shown twice, or one skipped, where the rate is
+/// not 100 / delay).
+struct GifTiming {
+  int delay = 4;
+  std::vector<int> source;
+};
+GifTiming gifTiming(int count, double fps);
 
 /// Installs openImageIOCodec() for every later core::readImage / core::writeImage
 /// (core::setImageCodec). Call it first thing in main.
