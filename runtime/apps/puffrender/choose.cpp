@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <cli/app.h>
+#include <cli/progress.h>
 #include <puff/core/image.h>
 #include <puff/eval/budget.h>
 
@@ -26,7 +27,11 @@ int chooseMediaResolution(const Options& o, scene::Scene& scene, const Plan& pla
                  cli::name(), *o.maxError, frames.size() == 1 ? "frame" : "frames", list.c_str());
     std::fflush(stderr);
   }
-  auto budget = eval::measureMediaBudget(scene, frames);
+  cli::Progress progress(o.quiet);
+  eval::MediaBudgetOptions options;
+  options.progress = [&](int done, int total) { progress("measuring frames", done, total); };
+  auto budget = eval::measureMediaBudget(scene, frames, options);
+  progress.finish();
   if (!budget) {
     cli::printError(budget.error());
     return 1;
@@ -66,7 +71,11 @@ int chooseCelModel(const Options& o, scene::Scene& scene, const Plan& plan, eval
                  frames.size() == 1 ? "frame" : "frames", list.c_str());
     std::fflush(stderr);
   }
-  auto budget = eval::measureCelBudget(scene, frames, {}, knob, *references);
+  cli::Progress progress(o.quiet);
+  eval::MediaBudgetOptions options;
+  options.progress = [&](int done, int total) { progress("measuring (references, then candidates)", done, total); };
+  auto budget = eval::measureCelBudget(scene, frames, options, knob, *references);
+  progress.finish();
   if (!budget) {
     cli::printError(budget.error());
     return 1;

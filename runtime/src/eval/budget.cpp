@@ -285,6 +285,9 @@ Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> 
   }
   std::vector<std::vector<double>> times(renderers.size());
 
+  const int steps = static_cast<int>(budget.frames.size());
+  int done = 0;
+  if (options.progress) options.progress(0, steps);
   for (int f : budget.frames) {
     PUFF_TRY(measureMediaErrors(scene, measured, f, renderers, *detail, options.physical, budget));
     for (int k = 0; k < options.timedRenders; ++k) {
@@ -295,6 +298,7 @@ Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> 
         if (!image) return image.error();
       }
     }
+    if (options.progress) options.progress(++done, steps);
   }
   for (std::size_t i = 0; i < budget.candidates.size(); ++i) {
     MediaCandidate& c = budget.candidates[i];
@@ -533,11 +537,17 @@ Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> fram
   budget.frames.assign(frames.begin(), frames.end());
   std::sort(budget.frames.begin(), budget.frames.end());
 
+  const std::vector<Scene> candidates = celCandidates(s, *desc, knob);
+  // Steps: the references (one, however many frames), then each candidate.
+  const int steps = 1 + static_cast<int>(candidates.size());
+  if (options.progress) options.progress(0, steps);
   PUFF_TRY(celReferences(s, reuse, budget));
-  for (const Scene& c : celCandidates(s, *desc, knob)) {
+  if (options.progress) options.progress(1, steps);
+  for (const Scene& c : candidates) {
     auto cand = measureCelCandidate(c, *desc, budget, options);
     if (!cand) return cand.error();
     budget.candidates.push_back(std::move(*cand));
+    if (options.progress) options.progress(1 + static_cast<int>(budget.candidates.size()), steps);
   }
   if (knob == CelKnob::kShadows) {
     // No order of cost is known beforehand (the volumes' fill against the map's passes): the measured one.

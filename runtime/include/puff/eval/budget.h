@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -31,6 +32,9 @@ struct MediaBudgetOptions {
   /// model reference's discretisation error (layer resolution, tables, sort). Seconds per frame; the
   /// choice never uses it.
   bool physical = false;
+  /// Told (steps done, of all) as the measurement goes: frames for the media, the references and
+  /// then the candidates for the nailboards. A tool's progress line (cli::Progress).
+  std::function<void(int done, int total)> progress;
 };
 
 /// Where the error lies, per measured frame (MediaBudget::frames order) against one reference: the
