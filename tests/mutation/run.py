@@ -149,7 +149,12 @@ def run_tests(exe, pattern, shader_dir, timeout, workdir, cwd):
 
 
 def build(build_dir):
-    p = subprocess.run(["cmake", "--build", str(build_dir), "--target", "puff_tests", "-j", str(os.cpu_count() or 2)],
+    # The tests run the tools too (puffbake, puffrender, puffview): a mutant in a tool's code is
+    # built into it as well as into puff_tests.
+    targets = ["puff_tests", "puffbake", "puffrender"]
+    if (pathlib.Path(build_dir) / "runtime" / "puffview").exists():
+        targets.append("puffview")
+    p = subprocess.run(["cmake", "--build", str(build_dir), "--target", *targets, "-j", str(os.cpu_count() or 2)],
                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, errors="replace")
     return p.returncode == 0, p.stdout[-3000:]
 

@@ -155,7 +155,13 @@ TEST(FrameEvaluator, ReloadRuleRebuildsOnlyForWhatPlacesOrSimulatesParticles) {
   looks.simulation->forces.buoyancy = 3.0f;
   looks.media->forces.drag = 4.0f;
   looks.particleFraction = 0.5f;
-  EXPECT_FALSE(e->needsRebuild(looks)) << "looks, camera, forces and the placed share are read per frame";
+  // Curves over life shape what is drawn, read each frame: not a reason to simulate again.
+  looks.simulation->emitters[0].overLife.size.ages = {0.0f, 1.0f};
+  looks.simulation->emitters[0].overLife.size.values = {1.0f, 0.5f};
+  looks.media->emitters[0].emitter.overLife.density.ages = {0.0f};
+  looks.media->emitters[0].emitter.overLife.density.values = {2.0f};
+  EXPECT_FALSE(e->needsRebuild(looks))
+      << "looks, camera, forces, curves over life and the placed share are read per frame";
   for (auto edit : std::initializer_list<void (*)(Scene&)>{
            [](Scene& x) { x.emitters[0].count = 21; },
            [](Scene& x) { x.particles[0].size = 1.0f; },

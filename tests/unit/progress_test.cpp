@@ -148,6 +148,14 @@ TEST(ProgressLines, ATerminalGetsOneLineRewrittenInPlaceAndKeptWhenAStageEnds) {
   EXPECT_NE(t.find("frames 40/40 (100%), 2.5 s, 16/s\x1b[K\n"), std::string::npos) << t;
   EXPECT_NE(t.find("writing 1/3 (33%), 0.0 s\x1b[K\n"), std::string::npos) << t;
   EXPECT_EQ(t.back(), '\n');
+
+  // A stage that reaches its end ends its line at once, before anything else is printed.
+  Recorder ended(true);
+  ended.now = 5.0;
+  ended.progress("writing", 0, 2);
+  ended.now = 6.0;
+  ended.progress("writing", 2, 2);
+  EXPECT_EQ(ended.text().back(), '\n') << ended.text();
 }
 
 TEST(ProgressLines, AnnounceShowsASlowPhaseAtOnceAndQuietShowsNothing) {

@@ -441,6 +441,12 @@ TEST_F(PuffrenderCli, ContactSheetIsTheFramesInAGridWithTheirNumbers) {
     EXPECT_EQ(differ, 0) << "frame " << f;
     EXPECT_EQ(puff::test::readGlyph(*sheet, ox, oy + 30 + 2), static_cast<char>('0' + f));
   }
+  // A range of one frame is a range.
+  r = run(scene.string() + " -q --frames 2-2 --contact-sheet " + (dir_ / "one.png").string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto one = puff::core::readImage(dir_ / "one.png");
+  ASSERT_OK(one);
+  EXPECT_EQ(puff::test::readText(*one, 4, 4, 18), "GROUND: FRAMES 2-2");
   // A range, with frames written too.
   r = run(scene.string() + " -q --frames 2-3 -o " + (dir_ / "f_#.png").string() + " --contact-sheet " +
           (dir_ / "part.png").string());
@@ -494,6 +500,24 @@ TEST_F(PuffrenderCli, PreviewIsAnAnimatedGifOrAnMp4ThroughFfmpeg) {
     ++frames;
   EXPECT_EQ(frames, 4u) << "a graphic control block per frame";
   EXPECT_NE(bytes.find("NETSCAPE2.0"), std::string::npos) << "it loops";
+  // At 24 fps (GIF delays are whole hundredths) some frames show twice: 12 frames become the 13
+  // GIF frames gifTiming says, and the GIF says 4/100 s.
+  std::string at24 = kGroundScene;
+  at24.replace(at24.find("\"fps\": 10, \"frames\": 4"), std::string("\"fps\": 10, \"frames\": 4").size(),
+               "\"fps\": 24, \"frames\": 12");
+  const fs::path scene24 = write("ground24.json", at24);
+  const fs::path gif24 = dir_ / "ground24.gif";
+  r = run(scene24.string() + " --preview " + gif24.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const puff::io::GifTiming timing24 = puff::io::gifTiming(12, 24.0);
+  EXPECT_EQ(timing24.source.size(), 13u);
+  EXPECT_NE(r.out.find("12 frames at 24 fps as 13 GIF frames 4/100 s apart"), std::string::npos) << r.out;
+  const std::string bytes24 = *puff::core::readFileBytes(gif24);
+  std::size_t blocks24 = 0;
+  for (std::size_t at = bytes24.find("\x21\xf9\x04"); at != std::string::npos;
+       at = bytes24.find("\x21\xf9\x04", at + 1))
+    ++blocks24;
+  EXPECT_EQ(blocks24, timing24.source.size());
   // Its first frame is frame 0, within what a 256-colour palette keeps.
   const fs::path still = dir_ / "still.png";
   ASSERT_EQ(run(scene.string() + " -q -o " + still.string()).exitCode, 0);
@@ -604,6 +628,10 @@ TEST(GifTiming, TheGifLastsAsLongAsTheSequence) {
   EXPECT_EQ(t.delay, 2);
   EXPECT_EQ(t.source.size(), 50u) << "a second at 50 GIF frames a second";
   EXPECT_EQ(puff::io::gifTiming(3, 0.5).delay, 200);
+  // Faster than 50 fps: never under 2/100 s (browsers show 1/100 s frames at a tenth of a second).
+  EXPECT_EQ(puff::io::gifTiming(120, 100.0).delay, 2);
+  EXPECT_EQ(puff::io::gifTiming(120, 120.0).delay, 2);
+  EXPECT_EQ(puff::io::gifTiming(120, 120.0).source.size(), 50u);
 }
 
 }  // namespace
