@@ -6,7 +6,8 @@ once) in a shader or a C++ source, and names the groups of tests (gtest filters)
 
   Shader mutants are applied to a copy of shaders/ that puff_tests reads through PUFF_SHADER_DIR:
   nothing in the tree changes and nothing is rebuilt.
-  C++ mutants are applied to the source in place and puff_tests is rebuilt; the source is put back
+  C++ mutants are applied to the source in place and puff_tests (with the tools: puffbake,
+  puffrender, puffview) is rebuilt; the source is put back
   (and puff_tests rebuilt) when the mutant is done, and on Ctrl-C, SIGTERM or SIGHUP. They need a
   tree whose mutated files have no uncommitted changes, and puff_tests is built before the baseline.
 
@@ -152,7 +153,7 @@ def build(build_dir):
     # The tests run the tools too (puffbake, puffrender, puffview): a mutant in a tool's code is
     # built into it as well as into puff_tests.
     targets = ["puff_tests", "puffbake", "puffrender"]
-    if (pathlib.Path(build_dir) / "runtime" / "puffview").exists():
+    if (Path(build_dir) / "runtime" / "puffview").exists():
         targets.append("puffview")
     p = subprocess.run(["cmake", "--build", str(build_dir), "--target", *targets, "-j", str(os.cpu_count() or 2)],
                        stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, errors="replace")
