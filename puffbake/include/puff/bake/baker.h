@@ -152,7 +152,8 @@ int frontCell(const core::AtlasDesc& desc, int variation);
 
 /// The contact sheet: a row of column titles (PREVIEW: shaded with Eq. 2 and a two-tone ramp,
 /// NORMALS, DEPTH, COLOUR, COVERAGE, DISTANCE), then one row per variation (the first `maxRows`),
-/// named V0, V1, ... on the left (numbered from 0, as a scene's "variations" count them), showing its view nearest the front. `thumb`: thumbnail pixels.
+/// named V0, V1, ... on the left (numbered from 0, as a scene's "variations" count them),
+/// showing its view nearest the front. `thumb`: thumbnail pixels.
 core::Image contactSheet(const AtlasLevel& level0, const core::AtlasDesc& desc, int thumb, int maxRows);
 
 /// A multi-view atlas's `variation` as the grid of its views (view i at column i % viewGrid, row
