@@ -384,6 +384,55 @@ TEST_F(PuffrenderCli, FlipbookCellsAreTheFramesOnATransparentBackground) {
   EXPECT_GT(covered, 0);
 }
 
+// --loop N: the last N frames cross-fade into the first N cells, in scene-linear premultiplied
+// light (checked on EXR sheets against the frames rendered alone), so the sheet holds N fewer.
+TEST_F(PuffrenderCli, ALoopedFlipbookCrossFadesItsEndIntoItsStart) {
+  std::string text = kGroundScene;
+  text.replace(text.find("\"#336699\""), 9, "\"transparent\"");
+  text.replace(text.find("\"frames\": 4"), std::string("\"frames\": 4").size(), "\"frames\": 6");
+  const fs::path scene = write("ground6.json", text);
+  const fs::path sheetFile = dir_ / "loop.exr";
+  CliRun r = run(scene.string() + " --flipbook 2x2 --loop 2 -o " + sheetFile.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("4 frames, 0 to 3"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("frames 4 to 5 cross-faded into the first 2 cells"), std::string::npos) << r.out;
+  auto sheet = puff::core::readImage(sheetFile);
+  ASSERT_OK(sheet);
+  std::vector<puff::core::Image> frames;
+  for (int f = 0; f < 6; ++f) {
+    const fs::path alone = dir_ / ("f" + std::to_string(f) + ".exr");
+    ASSERT_EQ(run(scene.string() + " -q --frames " + std::to_string(f) + " -o " + alone.string()).exitCode, 0);
+    auto image = puff::core::readImage(alone);
+    ASSERT_OK(image);
+    frames.push_back(*image);
+  }
+  double worst = 0.0;
+  for (int cell = 0; cell < 4; ++cell) {
+    const int x0 = (cell % 2) * 40, y0 = (cell / 2) * 30;
+    // Cells 0 and 1: frame j at weight (j + 1) / 3 over frame 4 + j; cells 2 and 3: frames 2 and 3.
+    const float weight = cell < 2 ? static_cast<float>(cell + 1) / 3.0f : 1.0f;
+    const puff::core::Image& head = frames[static_cast<std::size_t>(cell)];
+    const puff::core::Image& tail = frames[static_cast<std::size_t>(cell < 2 ? 4 + cell : cell)];
+    for (int y = 0; y < 30; ++y)
+      for (int x = 0; x < 40; ++x)
+        for (int c = 0; c < 4; ++c) {
+          const float expected = weight * head.at(x, y, c) + (1.0f - weight) * tail.at(x, y, c);
+          worst = std::max(worst, static_cast<double>(std::abs(sheet->at(x0 + x, y0 + y, c) - expected)));
+        }
+  }
+  EXPECT_LT(worst, 2e-3) << "half floats: the mix rounded once more than the frames";
+  EXPECT_GT(worst, 0.0) << "(the frames differ, so the mix is not one of them)";
+  const auto layout = nlohmann::json::parse(*puff::core::readFileBytes(dir_ / "loop.json"));
+  EXPECT_EQ(layout["frameCount"], 4);
+  EXPECT_EQ(layout["loop"], 2);
+  EXPECT_EQ(layout["lastFrame"], 3);
+  // Too short to loop, or a loop without a flipbook.
+  expectOneLineError(run(scene.string() + " --flipbook 2x2 --loop 4 -o " + (dir_ / "x.png").string()),
+                     "render at least 8 frames", 2);
+  expectOneLineError(run(scene.string() + " --loop 2 -o " + (dir_ / "x.png").string()),
+                     "--loop applies to a --flipbook", 2);
+}
+
 TEST_F(PuffrenderCli, FlipbookUsageErrorsNameTheProblemAndWriteNothing) {
   const fs::path scene = write("ground.json", kGroundScene);
   const std::string s = scene.string();

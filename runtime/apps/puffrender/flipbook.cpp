@@ -84,6 +84,21 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
   const core::AlphaMode alpha =
       scene.alpha.value_or(plan.exr ? core::AlphaMode::kPremultiplied : core::AlphaMode::kStraight);
   core::Image sheet(w * columns, h * rows, 4, 0.0f);  // cells past the last frame stay empty (alpha 0)
+  const auto place = [&](int slot, const core::Image& linear) {
+    // The renderer draws a transparent frame premultiplied, in scene-linear light.
+    core::Image cell = plan.exr ? linear : core::viewTransform(linear, view, alpha);
+    if (!plan.exr && alpha == core::AlphaMode::kStraight) bleedColour(cell);
+    const int x0 = (slot % columns) * w, y0 = (slot / columns) * h;
+    for (int y = 0; y < h; ++y) {
+      std::copy_n(&cell.pixels[cell.index(0, y)], static_cast<std::size_t>(w) * 4,
+                  &sheet.pixels[sheet.index(x0, y0 + y)]);
+    }
+  };
+  // --loop N: the first N frames wait for the last N; cell j < N is the mix of frame j (weight
+  // (j + 1) / (N + 1)) and frame count - N + j, premultiplied in scene-linear light, so the sheet's
+  // last cell (frame count - N - 1) runs on into its first.
+  const int loop = o.loop, cellsUsed = count - loop;
+  std::vector<core::Image> head;
   cli::Progress progress(o.quiet || count == 1);
   for (int i = 0; i < count; ++i) {
     progress("frames", i, count);
@@ -93,13 +108,19 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
       cli::printError(image.error());
       return 1;
     }
-    // The renderer draws a transparent frame premultiplied, in scene-linear light.
-    core::Image cell = plan.exr ? std::move(*image) : core::viewTransform(*image, view, alpha);
-    if (!plan.exr && alpha == core::AlphaMode::kStraight) bleedColour(cell);
-    const int x0 = (i % columns) * w, y0 = (i / columns) * h;
-    for (int y = 0; y < h; ++y) {
-      std::copy_n(&cell.pixels[cell.index(0, y)], static_cast<std::size_t>(w) * 4,
-                  &sheet.pixels[sheet.index(x0, y0 + y)]);
+    if (i < loop) {
+      head.push_back(std::move(*image));
+    } else if (i < cellsUsed) {
+      place(i, *image);
+    } else {
+      const int j = i - cellsUsed;
+      const float weight = static_cast<float>(j + 1) / static_cast<float>(loop + 1);
+      core::Image mixed = std::move(*image);
+      const core::Image& from = head[static_cast<std::size_t>(j)];
+      for (std::size_t k = 0; k < mixed.pixels.size(); ++k) {
+        mixed.pixels[k] = (1.0f - weight) * mixed.pixels[k] + weight * from.pixels[k];
+      }
+      place(j, mixed);
     }
   }
   progress("frames", count, count);
@@ -114,13 +135,14 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
   j["image"] = target.filename().string();
   j["columns"] = columns;
   j["rows"] = rows;
-  j["frameCount"] = count;
+  j["frameCount"] = cellsUsed;
   j["frameWidth"] = w;
   j["frameHeight"] = h;
   j["order"] = "left to right, then top to bottom; frame i at column i % columns, row i / columns (row 0 at the top)";
   j["fps"] = scene.animation.fps;
   j["firstFrame"] = plan.first;
-  j["lastFrame"] = plan.last;
+  j["lastFrame"] = plan.last - loop;
+  j["loop"] = loop;  // frames cross-faded: the sheet's cell j < loop also holds frame lastFrame + 1 + j
   j["alpha"] = std::string(core::toString(alpha));
   j["colour"] = plan.exr ? (o.float32 ? "scene-linear Rec.709 (32-bit float)" : "scene-linear Rec.709 (half float)")
                          : "display sRGB, 8 bits, through the " + std::string(core::toString(view)) + " view transform";
@@ -151,13 +173,17 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
   }
   if (!o.quiet) {
     std::printf("%s: wrote %s (%dx%d: %d frame%s, %d to %d, in %dx%d cells of %dx%d, %s alpha) and %s\n", cli::name(),
-                target.c_str(), sheet.width, sheet.height, count, count == 1 ? "" : "s", plan.first, plan.last, columns,
-                rows, w, h, std::string(core::toString(alpha)).c_str(), layout.c_str());
-    if (count < columns * rows) {
+                target.c_str(), sheet.width, sheet.height, cellsUsed, cellsUsed == 1 ? "" : "s", plan.first,
+                plan.last - loop, columns, rows, w, h, std::string(core::toString(alpha)).c_str(), layout.c_str());
+    if (loop > 0) {
+      std::printf("%s: looped: frames %d to %d cross-faded into the first %d cells\n", cli::name(),
+                  plan.last - loop + 1, plan.last, loop);
+    }
+    if (cellsUsed < columns * rows) {
       std::printf(
           "%s: note: the last %d cell%s of the sheet are empty (frameCount in the layout says how many hold "
           "frames)\n",
-          cli::name(), columns * rows - count, columns * rows - count == 1 ? "" : "s");
+          cli::name(), columns * rows - cellsUsed, columns * rows - cellsUsed == 1 ? "" : "s");
     }
   }
   return 0;

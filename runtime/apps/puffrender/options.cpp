@@ -76,11 +76,19 @@ Result<Plan> makePlan(const Options& o, const scene::Scene& scene) {
     if (plan.pattern.numbered) {
       return Error{"-o " + o.out + ": --flipbook writes one sprite sheet: give a single file name, e.g. sheet.png"};
     }
-    if (o.frames.empty()) plan.last = std::min(cells, frames) - 1;
+    if (o.frames.empty()) plan.last = std::min(cells + o.loop, frames) - 1;
     const int count = plan.last - plan.first + 1;
-    if (count > cells) {
+    if (o.loop > 0 && 2 * o.loop > count) {
+      return Error{"--loop " + std::to_string(o.loop) + ": a loop cross-fades the last " + std::to_string(o.loop) +
+                   " frames into the first " + std::to_string(o.loop) + ", and there are " + std::to_string(count) +
+                   ": render at least " + std::to_string(2 * o.loop) + " frames"};
+    }
+    if (count - o.loop > cells) {
       return Error{"--flipbook " + o.flipbook + " holds " + std::to_string(cells) + " frames, and --frames " +
-                   o.frames + " asks for " + std::to_string(count) + ": give a larger grid or fewer frames"};
+                   o.frames + " asks for " + std::to_string(count - o.loop) +
+                   (o.loop > 0 ? " (" + std::to_string(count) + " less the " + std::to_string(o.loop) + " of --loop)"
+                               : std::string()) +
+                   ": give a larger grid or fewer frames"};
     }
     const long long sheetW = static_cast<long long>(scene.width) * grid.first;
     const long long sheetH = static_cast<long long>(scene.height) * grid.second;
@@ -259,6 +267,7 @@ Result<void> checkOptions(const Options& o) {
     if (auto g = parseFlipbookGrid(o.flipbook); !g) return g.error();
     if (!o.compare.empty()) return Error{"--flipbook and --compare do not go together"};
   }
+  if (o.loop > 0 && o.flipbook.empty()) return Error{"--loop applies to a --flipbook"};
   return {};
 }
 
@@ -347,6 +356,12 @@ std::variant<Options, int> parse(int argc, char** argv) {
                  ".mp4 (H.264) through the ffmpeg program; " +
                      previewSupport())
       ->type_name("FILE.gif|FILE.mp4");
+  app.add_option("--loop", o.loop,
+                 "--flipbook: cross-fade the last N frames into the first N (frame A+i of the sheet's first N is "
+                 "mixed with the N frames after its last, the weight moving from them to it), so the sheet loops "
+                 "without a jump; it holds N frames fewer than are rendered. Default: 0 (no loop)")
+      ->check(CLI::Range(0, 65536))
+      ->type_name("N");
   app.add_option("--alpha", o.alpha,
                  "How a transparent frame's alpha is written, replacing /output/alpha: straight (colour as it is "
                  "where covered: PNG's convention and the default for PNG) or premultiplied (colour times alpha: "

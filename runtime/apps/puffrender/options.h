@@ -35,6 +35,9 @@ struct Options {
   /// --flipbook COLSxROWS: the frames go into one sprite sheet (OUT, a single file) of COLS x ROWS
   /// cells, left to right and top to bottom, with a transparent background, and a JSON beside it.
   std::string flipbook;
+  /// --loop N with --flipbook: the last N frames cross-fade into the first N, so the sheet loops
+  /// without a jump (it holds N frames fewer than were rendered).
+  int loop = 0;
   std::string alpha;         ///< "straight" or "premultiplied": replaces the scene's /output/alpha
   std::string contactSheet;  ///< --contact-sheet: a PNG of the frames as a grid with their numbers
   std::string preview;       ///< --preview: an animated .gif or .mp4 of the frames
