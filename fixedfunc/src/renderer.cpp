@@ -204,6 +204,7 @@ struct FixedRenderer::Impl {
   std::vector<glm::vec4> puffColors;
   std::vector<glm::vec3> quadPositions;
   std::vector<glm::vec2> quadTexCoords;
+  std::vector<glm::vec4> quadColors;  // the sprites' tints (only when one is tinted)
   // The host's colour and depth under the puff texture's corner (FixedFrame::clear false).
   std::vector<float> cornerColor, cornerDepth;
 
@@ -497,9 +498,13 @@ void FixedRenderer::Impl::billboardPass(const FixedFrame& frame, const std::vect
   const bool perspective = frame.projection[2][3] != 0.0f;
 
   // One quad per billboard; `offset` and `scale` make the outline billboards.
+  const auto tintOf = [](const Billboard& b) { return glm::clamp(b.tint, glm::vec3(0.0f), glm::vec3(1.0f)); };
+  const bool tinted = std::any_of(billboards.begin(), billboards.end(),
+                                  [&](const Billboard& b) { return tintOf(b) != glm::vec3(1.0f); });
   auto build = [&](bool outline) {
     quadPositions.clear();
     quadTexCoords.clear();
+    quadColors.clear();
     for (const Billboard& b : billboards) {
       if (!(b.size > 0.0f) || !std::isfinite(b.size) || !finite(b.position)) continue;
       glm::vec3 center = b.position;
@@ -528,11 +533,17 @@ void FixedRenderer::Impl::billboardPass(const FixedFrame& frame, const std::vect
       const glm::vec3 r = right * h, u = up * h;
       quadPositions.insert(quadPositions.end(), {center - r - u, center + r - u, center + r + u, center - r + u});
       quadTexCoords.insert(quadTexCoords.end(), {t0, {t1.x, t0.y}, t1, {t0.x, t1.y}});
+      if (!outline && tinted) quadColors.insert(quadColors.end(), 4, glm::vec4(tintOf(b), 1.0f));
     }
     if (quadPositions.empty()) return;
     FF_GL(glVertexPointer, 3, GL_FLOAT, 0, quadPositions.data());
     FF_GL(glTexCoordPointer, 2, GL_FLOAT, 0, quadTexCoords.data());
+    if (!quadColors.empty()) {
+      FF_GL(glEnableClientState, GL_COLOR_ARRAY);
+      FF_GL(glColorPointer, 4, GL_FLOAT, 0, quadColors.data());
+    }
     FF_GL(glDrawArrays, GL_QUADS, 0, static_cast<GLsizei>(quadPositions.size()));
+    if (!quadColors.empty()) FF_GL(glDisableClientState, GL_COLOR_ARRAY);
   };
 
   loadMatrix(GL_PROJECTION, frame.projection);
@@ -554,7 +565,27 @@ void FixedRenderer::Impl::billboardPass(const FixedFrame& frame, const std::vect
     FF_GL(glColor4f, 0.0f, 0.0f, 0.0f, 1.0f);
     build(true);
   }
-  FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+  if (tinted) {
+    // K_a + tint (texel - K_a) = texel * tint + K_a * (1 - tint): the texel holds K_a + C K_L q, so
+    // the tint multiplies C K_L q alone, as the cel path's tint multiplies C. Alpha: the texel's.
+    FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_COMBINE);
+    FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_COMBINE_RGB, GL_INTERPOLATE);
+    FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_SOURCE0_RGB, GL_TEXTURE);
+    FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_OPERAND0_RGB, GL_SRC_COLOR);
+    FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_SOURCE1_RGB, GL_CONSTANT);
+    FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_OPERAND1_RGB, GL_SRC_COLOR);
+    FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_SOURCE2_RGB, GL_PRIMARY_COLOR);
+    FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_OPERAND2_RGB, GL_SRC_COLOR);
+    FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_COMBINE_ALPHA, GL_REPLACE);
+    FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_SOURCE0_ALPHA, GL_TEXTURE);
+    FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_OPERAND0_ALPHA, GL_SRC_ALPHA);
+    FF_GL(glTexEnvf, GL_TEXTURE_ENV, GL_RGB_SCALE, 1.0f);
+    FF_GL(glTexEnvf, GL_TEXTURE_ENV, GL_ALPHA_SCALE, 1.0f);
+    const glm::vec4 ambient(glm::clamp(frame.ambientColor, glm::vec3(0.0f), glm::vec3(1.0f)), 0.0f);
+    FF_GL(glTexEnvfv, GL_TEXTURE_ENV, GL_TEXTURE_ENV_COLOR, glm::value_ptr(ambient));
+  } else {
+    FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_REPLACE);
+  }
   build(false);
   FF_GL(glDisableClientState, GL_TEXTURE_COORD_ARRAY);
   FF_GL(glDisable, GL_ALPHA_TEST);

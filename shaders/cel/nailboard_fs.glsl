@@ -14,6 +14,7 @@ in float vDist;
 in vec3 vWorld;
 flat in uint vId;
 flat in float vSize;
+flat in vec3 vTint;
 flat in float vTexelsPerPixel;
 flat in ivec4 vCell;
 flat in vec4 vWeight;
@@ -373,7 +374,7 @@ void main() {
       color = hull.color;
     }
 #endif
-    color = linearToSrgb(color);  // Eq. 2 combines display values
+    color = linearToSrgb(color) * vTint;  // Eq. 2 combines display values; the particle's tint multiplies C
     vec3 q = uShading == 1 ? quantize(dot(normalize(n), uLightDirView.xyz)) : vec3(1.0);
     rgb = ka + color * uLightColor.rgb * q;
     // A shadow-map receiver in another caster's shadow keeps the ambient term only, as the volumes'

@@ -10,6 +10,7 @@ out float vDist;    // camera-space distance along the view axis of the billboar
 out vec3 vWorld;    // world-space point of the billboard plane here (shadow-map receivers)
 flat out uint vId;  // particle index + 1: the caster id of the shadow map (cel/shadow_map.glsl)
 flat out float vSize;
+flat out vec3 vTint;  // display multiplier of Eq. 2's C
 flat out float vTexelsPerPixel;  // level-0 atlas texels per screen pixel at the particle
 flat out ivec4 vCell;
 flat out vec4 vWeight;
@@ -113,6 +114,7 @@ void main() {
   vCell = cell;
   vWeight = weight;
   vSize = p.size;
+  vTint = p.tint;
   // Pixels per world unit at the particle's distance (orthographic: everywhere the same).
   float centreDist = max(-(uView * vec4(p.position, 1.0)).z, uDepthRange.x);
   float pxPerUnit = 0.5 * uViewport.w * uProj[1][1] / (isOrthographic() ? 1.0 : centreDist);

@@ -27,6 +27,7 @@ struct Particle {
   vec4 orientation;  // quaternion x, y, z, w
   int variation;
   bool oriented;
+  vec3 tint;  // display multiplier of Eq. 2's C (7 bits a channel; puff::cel::PackedParticle)
 };
 
 vec4 unpackQuat(uint bits) {
@@ -56,6 +57,7 @@ Particle unpackParticle(uint index) {
   p.orientation = unpackQuat(d.z);
   p.variation = int(d.w & 0xFFu) % max(1, uAtlasLayout.x);
   p.oriented = (d.w & 0x100u) != 0u;
+  p.tint = vec3(float((d.w >> 9u) & 127u), float((d.w >> 16u) & 127u), float((d.w >> 23u) & 127u)) / 127.0;
   return p;
 }
 

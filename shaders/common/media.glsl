@@ -27,8 +27,9 @@ layout(std140, binding = 4) uniform MaterialBlock {
 };
 
 struct MediaParticle {
-  vec4 positionRadius;  // world position, radius
-  uvec4 data;           // material, life (float bits), density (float bits), seed
+  vec4 positionRadius;      // world position, radius
+  uvec4 data;               // material, life (float bits), density (float bits), seed
+  vec4 tintTemperature;     // rgb: scene-linear tint of its light; a: T0 in kelvin when > 0 (else the material's)
 };
 layout(std430, binding = 0) readonly buffer MediaParticles {
   MediaParticle particles[];

@@ -5,6 +5,7 @@
 
 flat in vec4 vCentreRadius;
 flat in uvec4 vData;
+flat in vec4 vTintTemperature;
 
 layout(binding = 0) uniform sampler2D uDepthTex;        // opaque linear depth at this target's size
 layout(binding = 1) uniform sampler1D uBlackbody;       // linear sRGB radiance over uKelvin.xy
@@ -131,7 +132,9 @@ void main() {
     const vec3 at = vec3(tex3.xy, tex3.z + uTime.x * speed / size.z);
     temperatureDetail = texture(uTemperatureDetail, at).r;
     shimmerY = texture(uTemperatureDetail, at + vec3(0.37, 0.61, 0.0)).r;
-    const float T = mat.tempRangeBurnDetail.x + mat.tempRangeBurnDetail.y * temperatureDetail;
+    // T0: the particle's own temperature over its life when it has one, else the material's.
+    const float t0 = vTintTemperature.a > 0.0 ? vTintTemperature.a : mat.tempRangeBurnDetail.x;
+    const float T = t0 + mat.tempRangeBurnDetail.y * temperatureDetail;
     const float s = clamp((T - uKelvin.x) * uKelvin.z, 0.0, 1.0);
     const float n = float(textureSize(uBlackbody, 0));
     const vec3 le = max(texture(uBlackbody, (s * (n - 1.0) + 0.5) / n).rgb, vec3(0.0));  // gamut: clip at 0
@@ -141,6 +144,7 @@ void main() {
   const float alpha = (1.0 - exp(-tau * (1.0 - d / r) * ds)) * fade;
   if (!(alpha > 0.0)) discard;
   const float burn = clamp(mat.tempRangeBurnDetail.z, 0.0, 1.0);
+  radiance *= max(vTintTemperature.rgb, vec3(0.0));  // the particle's tint: what it scatters and emits
   outMedia = vec4(alpha * radiance, alpha * (1.0 - burn));
   // Heat shimmer: a signed offset from the detail video, where fire is.
   const float sh = mat.windowSpeedShimmerNext.z * alpha;

@@ -8,6 +8,7 @@
 
 flat out vec4 vCentreRadius;  // camera space centre, radius
 flat out uvec4 vData;
+flat out vec4 vTintTemperature;  // rgb: scene-linear tint; a: T0 (kelvin) when > 0
 
 const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
 
@@ -18,6 +19,7 @@ void main() {
   const float r = p.positionRadius.w;
   vCentreRadius = vec4(c, r);
   vData = p.data;
+  vTintTemperature = p.tintTemperature;
   const float dz = -c.z;  // distance along the view axis
   const bool ortho = uDepth.w > 0.5;
   // Nothing to draw: no size, wholly behind the camera's near plane or beyond the far plane.

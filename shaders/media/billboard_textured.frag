@@ -11,6 +11,7 @@
 
 flat in vec4 vCentreRadius;
 flat in uvec4 vData;
+flat in vec4 vTintTemperature;
 in vec2 vUv;
 in vec3 vView;
 
@@ -95,7 +96,9 @@ void main() {
     const vec3 at = vec3(tex3.xy, tex3.z + uTime.x * speed / size.z);
     temperatureDetail = texture(uTemperatureDetail, at).r;
     shimmerY = texture(uTemperatureDetail, at + vec3(0.37, 0.61, 0.0)).r;
-    const float T = mat.tempRangeBurnDetail.x + mat.tempRangeBurnDetail.y * temperatureDetail;
+    // T0: the particle's own temperature over its life when it has one, else the material's.
+    const float t0 = vTintTemperature.a > 0.0 ? vTintTemperature.a : mat.tempRangeBurnDetail.x;
+    const float T = t0 + mat.tempRangeBurnDetail.y * temperatureDetail;
     const float s = clamp((T - uKelvin.x) * uKelvin.z, 0.0, 1.0);
     const float n = float(textureSize(uBlackbody, 0));
     const vec3 le = max(texture(uBlackbody, (s * (n - 1.0) + 0.5) / n).rgb, vec3(0.0));  // gamut: clip at 0
@@ -105,6 +108,7 @@ void main() {
   const float alpha = 1.0 - exp(-tau * r * weight);
   if (!(alpha > 0.0)) discard;
   const float burn = clamp(mat.tempRangeBurnDetail.z, 0.0, 1.0);
+  radiance *= max(vTintTemperature.rgb, vec3(0.0));  // the particle's tint: what it scatters and emits
   outMedia = vec4(alpha * radiance, alpha * (1.0 - burn));
   const float sh = mat.windowSpeedShimmerNext.z * alpha;
   outShimmer = vec4(sh * (temperatureDetail - 0.5), sh * (shimmerY - 0.5), 0.0, 0.0);

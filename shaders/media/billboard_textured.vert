@@ -7,6 +7,7 @@
 
 flat out vec4 vCentreRadius;  // camera-space centre, radius
 flat out uvec4 vData;
+flat out vec4 vTintTemperature;  // rgb: scene-linear tint; a: T0 (kelvin) when > 0
 out vec2 vUv;    // [0, 1]^2 over the quad: the falloff texture's and the detail window's coordinates
 out vec3 vView;  // camera-space point on the quad: the eye ray's direction there (perspective)
 
@@ -19,6 +20,7 @@ void main() {
   const float r = p.positionRadius.w;
   vCentreRadius = vec4(c, r);
   vData = p.data;
+  vTintTemperature = p.tintTemperature;
   vUv = corner * 0.5 + 0.5;
   const float dz = -c.z;
   // Nothing to draw: no size, wholly behind the camera's near plane or beyond the far plane.

@@ -11,7 +11,7 @@ layout(location = 2) in vec3 aColor;     // C as baked (sRGB-encoded values, use
 
 struct Instance {
   vec4 row0, row1, row2;  // model matrix rows: puff -> world
-  uvec4 id;               // x: the particle's id (its index + 1; 0 means "no puff")
+  uvec4 id;               // x: the particle's id (its index + 1; 0 means "no puff"); yzw: its tint (float bits)
 };
 layout(std430, binding = 0) readonly buffer Instances { Instance instances[]; };
 
@@ -32,7 +32,7 @@ void main() {
   vec4 world = model * vec4(aPosition, 1.0);
   vWorld = world.xyz;
   vId = inst.id.x;
-  vColor = aColor;
+  vColor = aColor * uintBitsToFloat(inst.id.yzw);  // the particle's tint multiplies C (display values)
   // The model is a rotation times a uniform scale: its 3x3 turns normals as it turns vectors.
   vec3 nWorld = mat3(model) * aNormal;
   vNormalView = transpose(mat3(uInvView)) * nWorld;

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <puff/core/colour.h>
 #include <puff/scene/evaluate.h>
 #include <puff/scene/geometry.h>
 #include <puff/scene/read.h>
@@ -45,6 +46,22 @@ TEST(LifeCurve, LinearAndSmoothBetweenKeysHeldOutside) {
   EXPECT_FLOAT_EQ(late.at(0.5f), 2.0f);
   EXPECT_FLOAT_EQ(curve({0.3f}, {2.0f}).at(0.9f), 2.0f);
   EXPECT_TRUE(LifeCurve{}.empty());
+}
+
+TEST(LifeCurve, AColourCurveMixesItsKeysAndIsWhiteWithout) {
+  sim::ColourCurve c;
+  c.ages = {0.2f, 0.6f};
+  c.values = {glm::vec3(1.0f, 0.5f, 0.0f), glm::vec3(0.0f, 0.5f, 1.0f)};
+  EXPECT_EQ(c.at(0.0f), c.values[0]) << "held before the first key";
+  EXPECT_EQ(c.at(1.0f), c.values[1]) << "held after the last";
+  const glm::vec3 mid = c.at(0.3f);  // a quarter of the way
+  EXPECT_FLOAT_EQ(mid.r, 0.75f);
+  EXPECT_FLOAT_EQ(mid.g, 0.5f);
+  EXPECT_FLOAT_EQ(mid.b, 0.25f);
+  c.interp = LifeCurve::Interp::kSmooth;
+  EXPECT_FLOAT_EQ(c.at(0.3f).r, 1.0f - 0.25f * 0.25f * (3.0f - 0.5f));
+  EXPECT_FLOAT_EQ(c.at(0.4f).b, 0.5f) << "the middle of a segment is the same either way";
+  EXPECT_EQ(sim::ColourCurve{}.at(0.5f), glm::vec3(1.0f));
 }
 
 Scene parsed(const std::string& text) {
@@ -143,9 +160,61 @@ TEST(LifeCurves, SimulatedAndMediaCurvesShapeWhatIsDrawnNotTheSimulation) {
   }
 }
 
+// Colour tints what is drawn: the cel puffs' tint is the curve's display value at their age; the
+// media's is that value decoded (they light in linear), and a temperature curve gives each fire
+// particle its own T0 at its age. Neither moves a particle or changes its size.
+TEST(LifeCurves, ColourAndTemperatureCurvesTintAndHeatWhatIsDrawn) {
+  const std::string colour = R"("color": {"keys": [[0, [1, 0.5, 0.25]], [1, "#3399ff"]]})";
+  const std::string smooth = R"("color": {"keys": [[0, [1, 0.5, 0.25]], [1, "#3399ff"]], "interp": "smooth"})";
+  const std::string heat = R"("temperature": {"keys": [[0, 3000], [0.5, 1800], [1, 900]]})";
+  // The same simulation with linear size curves, whose sizes tell each cel puff's age.
+  const FrameInputs ages = evaluate(simulated(R"({"size": {"keys": [[0, 1], [1, 0]]}})", "{}"), 30);
+  const FrameInputs ones = evaluate(simulated(R"({"size": {"keys": [[0, 1]]}})", "{}"), 30);
+  const FrameInputs tinted = evaluate(simulated("{" + colour + R"(, "size": {"keys": [[0, 1], [1, 0]]}})",
+                                                "{" + colour + ", " + heat + "}"),
+                                      30);
+  const FrameInputs smoothed = evaluate(simulated("{" + smooth + "}", "{" + smooth + "}"), 30);
+  const FrameInputs plain = evaluate(simulated("{}", "{}"), 30);
+  ASSERT_GT(ages.simulated, 10u);
+  ASSERT_EQ(tinted.particles.size(), ages.particles.size());
+  ASSERT_EQ(ones.particles.size(), ages.particles.size());
+  ASSERT_EQ(plain.particles.size(), ages.particles.size());
+  const glm::vec3 birth(1.0f, 0.5f, 0.25f), death(0x33 / 255.0f, 0x99 / 255.0f, 1.0f);
+  int young = 0, old = 0;
+  for (std::size_t i = 0; i < ages.particles.size(); ++i) {
+    const float life = 1.0f - ages.particles[i].size / ones.particles[i].size;
+    const glm::vec3 want = birth + (death - birth) * life;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(tinted.particles[i].tint[c], want[c], 1e-5f) << i << " channel " << c;
+    EXPECT_EQ(tinted.particles[i].position, ages.particles[i].position);
+    EXPECT_EQ(tinted.particles[i].size, ages.particles[i].size) << "colour does not change sizes";
+    EXPECT_EQ(plain.particles[i].tint, glm::vec3(1.0f)) << "no curve: untinted";
+    const float s = life * life * (3.0f - 2.0f * life);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(smoothed.particles[i].tint[c], birth[c] + (death[c] - birth[c]) * s, 1e-5f);
+    young += life < 0.3f ? 1 : 0;
+    old += life > 0.6f ? 1 : 0;
+  }
+  EXPECT_GT(young, 0);
+  EXPECT_GT(old, 0);
+  ASSERT_GT(tinted.media.size(), 10u);
+  ASSERT_EQ(plain.media.size(), tinted.media.size());
+  for (std::size_t i = 0; i < tinted.media.size(); ++i) {
+    const media::Particle &p = tinted.media[i], &q = plain.media[i];
+    const glm::vec3 want = core::srgbToLinear(birth + (death - birth) * p.life);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(p.tint[c], want[c], 1e-5f) << i << " channel " << c;
+    const float kelvin = p.life < 0.5f ? 3000.0f - 1200.0f * p.life / 0.5f : 1800.0f - 900.0f * (p.life - 0.5f) / 0.5f;
+    EXPECT_NEAR(p.temperature, kelvin, 0.05f) << "life " << p.life;
+    EXPECT_EQ(p.position, q.position);
+    EXPECT_EQ(p.radius, q.radius);
+    EXPECT_EQ(p.density, q.density);
+    EXPECT_EQ(q.tint, glm::vec3(1.0f));
+    EXPECT_EQ(q.temperature, 0.0f) << "no curve: the material's temperature";
+  }
+}
+
 TEST(LifeCurves, FramesWithCurvesArePureFunctionsOfTheFrameNumber) {
-  const std::string text = simulated(R"({"size": {"keys": [[0, 0.2], [0.3, 1], [1, 0.5]], "interp": "smooth"}})",
-                                     R"({"density": {"keys": [[0, 0], [0.2, 1], [1, 0]], "interp": "smooth"}})");
+  const std::string text = simulated(
+      R"({"size": {"keys": [[0, 0.2], [0.3, 1], [1, 0.5]], "interp": "smooth"}, "color": {"keys": [[0, "#ff0000"], [1, "#0000ff"]]}})",
+      R"({"density": {"keys": [[0, 0], [0.2, 1], [1, 0]], "interp": "smooth"}, "temperature": {"keys": [[0, 3000], [1, 1000]]}})");
   const Scene s = parsed(text);
   auto geometry = loadGeometry(s);
   ASSERT_TRUE(geometry.ok());
@@ -156,16 +225,30 @@ TEST(LifeCurves, FramesWithCurvesArePureFunctionsOfTheFrameNumber) {
   for (int f = 0; f <= 20; ++f) last = (*sequence)->evaluate(f);
   const FrameInputs one = (*alone)->evaluate(20);
   ASSERT_EQ(one.particles.size(), last.particles.size());
-  for (std::size_t i = 0; i < one.particles.size(); ++i) EXPECT_EQ(one.particles[i].size, last.particles[i].size);
+  for (std::size_t i = 0; i < one.particles.size(); ++i) {
+    EXPECT_EQ(one.particles[i].size, last.particles[i].size);
+    EXPECT_EQ(one.particles[i].tint, last.particles[i].tint);
+  }
   ASSERT_EQ(one.media.size(), last.media.size());
-  for (std::size_t i = 0; i < one.media.size(); ++i) EXPECT_EQ(one.media[i].density, last.media[i].density);
+  for (std::size_t i = 0; i < one.media.size(); ++i) {
+    EXPECT_EQ(one.media[i].density, last.media[i].density);
+    EXPECT_EQ(one.media[i].tint, last.media[i].tint);
+    EXPECT_EQ(one.media[i].temperature, last.media[i].temperature);
+  }
 }
 
 TEST(LifeCurves, AreWrittenAndReadBackAndBadOnesNameTheField) {
-  const Scene s = parsed(simulated(R"({"size": {"keys": [[0, 0.2], [0.3, 1], [1, 0.5]], "interp": "smooth"}})",
-                                   R"({"density": {"keys": [[0.1, 2]]}})"));
+  const Scene s = parsed(simulated(
+      R"({"size": {"keys": [[0, 0.2], [0.3, 1], [1, 0.5]], "interp": "smooth"}, "color": {"keys": [[0.5, "#80ff00"]]}})",
+      R"({"density": {"keys": [[0.1, 2]]}, "color": {"keys": [[0, [1, 0.9, 0.2]], [1, [0.1, 0.1, 0.1]]], "interp": "smooth"},
+          "temperature": {"keys": [[0, 2800], [1, 1100]]}})"));
   Scene withPlaced = s;
-  withPlaced.emitters = parsed(placed(R"({"size": {"keys": [[0, 1], [1, 0.25]]}})")).emitters;
+  withPlaced.emitters =
+      parsed(placed(R"({"size": {"keys": [[0, 1], [1, 0.25]]}, "color": {"keys": [[0, [0, 0, 0]], [1, [1, 1, 1]]]}})"))
+          .emitters;
+  ASSERT_EQ(withPlaced.media->emitters[0].emitter.overLife.temperature.values, (std::vector<float>{2800.0f, 1100.0f}));
+  ASSERT_EQ(withPlaced.simulation->emitters[0].overLife.color.values[0], glm::vec3(128 / 255.0f, 1.0f, 0.0f));
+  ASSERT_EQ(withPlaced.emitters[0].overLife.color.values.size(), 2u);
   const nlohmann::json j = toJson(withPlaced);
   auto back = parseScene(j, "curves.json");
   ASSERT_TRUE(back.ok()) << back.error().message;
@@ -196,6 +279,23 @@ TEST(LifeCurves, AreWrittenAndReadBackAndBadOnesNameTheField) {
             std::string::npos);
   // Nailboards draw no density; placed particles that live forever have no life to shape.
   EXPECT_NE(error(placed(R"({"density": {"keys": [[0, 1]]}})")).find("/emitters/0/overLife"), std::string::npos);
+  // Colours are colours; cel puffs have no temperature; media that do not emit have none to shape.
+  EXPECT_NE(error(placed(R"({"color": {"keys": [[0, [2, 0, 0]]]}})")).find("/emitters/0/overLife/color/keys/0/1"),
+            std::string::npos);
+  EXPECT_NE(error(placed(R"({"color": {"keys": [[0, 1]]}})")).find("/overLife/color/keys/0/1"), std::string::npos);
+  EXPECT_NE(error(placed(R"({"temperature": {"keys": [[0, 2000]]}})"))
+                .find("/emitters/0/overLife/temperature: cel puffs have no temperature"),
+            std::string::npos);
+  EXPECT_NE(error(simulated(R"({"temperature": {"keys": [[0, 2000]]}})", "{}"))
+                .find("/simulation/emitters/0/overLife/temperature: cel puffs have no temperature"),
+            std::string::npos);
+  std::string smoke = simulated("{}", R"({"temperature": {"keys": [[0, 2000]]}})");
+  smoke.replace(smoke.find("\"fire\""), 6, "\"smoke\"");
+  EXPECT_NE(error(smoke).find("/media/emitters/0/overLife/temperature: material \"smoke\" does not emit"),
+            std::string::npos)
+      << error(smoke);
+  EXPECT_NE(error(simulated("{}", R"({"temperature": {"keys": [[0, 0]]}})")).find("/overLife/temperature/keys/0/1"),
+            std::string::npos);
   std::string forever = placed(R"({"size": {"keys": [[0, 1]]}})");
   forever.replace(forever.find("\"lifetime\": 2"), 13, "\"lifetime\": 0");
   EXPECT_NE(error(forever).find("curves over life need a \"lifetime\" > 0"), std::string::npos) << error(forever);

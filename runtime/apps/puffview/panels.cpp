@@ -193,7 +193,8 @@ void forcesPanel(sim::Forces& f, Edits& edit) {
 
 // A curve over life: its shape plotted, its keys (age, value), linear or smooth; "(default)" with
 // none. Returns whether it changed.
-bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue) {
+// `minValue`..`maxValue`: the values the scene takes; `start`: both keys of a new curve.
+bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue, float minValue = 0.0f, float start = 1.0f) {
   bool changed = false;
   ImGui::PushID(label);
   if (c.empty()) {
@@ -201,7 +202,7 @@ bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue) {
     ImGui::SameLine();
     if (ImGui::SmallButton("Add curve")) {
       c.ages = {0.0f, 1.0f};
-      c.values = {1.0f, 1.0f};
+      c.values = {start, start};
       changed = true;
     }
     ImGui::PopID();
@@ -222,11 +223,12 @@ bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue) {
     ImGui::PushID(static_cast<int>(k));
     float key[2] = {c.ages[k], c.values[k]};
     ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - ImGui::GetFrameHeight() - 8.0f);
-    if (ImGui::DragFloat2("##key", key, 0.005f, 0.0f, maxValue, "%.3f", ImGuiSliderFlags_AlwaysClamp)) {
+    const float speed = std::max(0.005f, 0.002f * maxValue / 100.0f);  // kelvin move faster than multipliers
+    if (ImGui::DragFloat2("##key", key, speed, 0.0f, maxValue, "%.3f", ImGuiSliderFlags_AlwaysClamp)) {
       // Ages stay between their neighbours' (strictly increasing), in [0, 1].
       const float lo = k > 0 ? c.ages[k - 1] + 1e-3f : 0.0f, hi = k + 1 < c.ages.size() ? c.ages[k + 1] - 1e-3f : 1.0f;
       c.ages[k] = std::clamp(key[0], lo, std::max(lo, hi));
-      c.values[k] = std::clamp(key[1], 0.0f, maxValue);
+      c.values[k] = std::clamp(key[1], minValue, maxValue);
       changed = true;
     }
     ImGui::SameLine();
@@ -263,18 +265,112 @@ bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue) {
   return changed;
 }
 
-// Size (and density, where the particles have one) over life.
-bool lifeCurvesEditor(sim::LifeCurves& curves, bool density) {
+// A colour over life: a strip of its colours, its keys (age, display colour). Returns whether it
+// changed.
+bool colourCurveEditor(const char* label, sim::ColourCurve& c) {
+  bool changed = false;
+  ImGui::PushID(label);
+  if (c.empty()) {
+    ImGui::TextDisabled("%s: white (no tint)", label);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Add curve")) {
+      c.ages = {0.0f, 1.0f};
+      c.values = {glm::vec3(1.0f), glm::vec3(1.0f)};
+      changed = true;
+    }
+    ImGui::PopID();
+    return changed;
+  }
+  // The curve as a strip of 32 swatches (display values, as the keys are).
+  const ImVec2 at = ImGui::GetCursorScreenPos();
+  const float width = ImGui::CalcItemWidth(), height = 16.0f;
+  ImDrawList* draw = ImGui::GetWindowDrawList();
+  for (int i = 0; i < 32; ++i) {
+    const glm::vec3 v = glm::clamp(c.at((static_cast<float>(i) + 0.5f) / 32.0f), glm::vec3(0.0f), glm::vec3(1.0f));
+    const float x0 = at.x + width * static_cast<float>(i) / 32.0f, x1 = at.x + width * static_cast<float>(i + 1) / 32.0f;
+    draw->AddRectFilled(ImVec2(x0, at.y), ImVec2(x1, at.y + height), ImGui::ColorConvertFloat4ToU32(ImVec4(v.r, v.g, v.b, 1.0f)));
+  }
+  ImGui::Dummy(ImVec2(width, height));
+  ImGui::SameLine();
+  ImGui::TextUnformatted(label);
+  int interp = c.interp == sim::LifeCurve::Interp::kSmooth ? 1 : 0;
+  const char* interps[] = {"linear", "smooth"};
+  if (ImGui::Combo("Between keys", &interp, interps, 2)) {
+    c.interp = interp == 1 ? sim::LifeCurve::Interp::kSmooth : sim::LifeCurve::Interp::kLinear;
+    changed = true;
+  }
+  int remove = -1;
+  for (std::size_t k = 0; k < c.ages.size(); ++k) {
+    ImGui::PushID(static_cast<int>(k));
+    float age = c.ages[k];
+    ImGui::SetNextItemWidth(0.3f * ImGui::CalcItemWidth());
+    if (ImGui::DragFloat("##age", &age, 0.005f, 0.0f, 1.0f, "%.3f", ImGuiSliderFlags_AlwaysClamp)) {
+      const float lo = k > 0 ? c.ages[k - 1] + 1e-3f : 0.0f, hi = k + 1 < c.ages.size() ? c.ages[k + 1] - 1e-3f : 1.0f;
+      c.ages[k] = std::clamp(age, lo, std::max(lo, hi));
+      changed = true;
+    }
+    ImGui::SameLine();
+    changed |= ImGui::ColorEdit3("##colour", glm::value_ptr(c.values[k]), ImGuiColorEditFlags_NoInputs);
+    ImGui::SameLine();
+    if (ImGui::Button("x")) remove = static_cast<int>(k);
+    ImGui::SameLine();
+    ImGui::TextDisabled(k == 0 ? "age, colour" : "");
+    ImGui::PopID();
+  }
+  if (remove >= 0) {
+    c.ages.erase(c.ages.begin() + remove);
+    c.values.erase(c.values.begin() + remove);
+    changed = true;
+  }
+  if (ImGui::SmallButton("Add key") && c.ages.size() < 64) {
+    // Halfway along the widest gap (or at the end).
+    std::size_t insertAt = c.ages.size();
+    float gap = c.ages.empty() ? 1.0f : 1.0f - c.ages.back(), age = c.ages.empty() ? 0.0f : 1.0f;
+    for (std::size_t k = 0; k + 1 < c.ages.size(); ++k) {
+      if (c.ages[k + 1] - c.ages[k] > gap) gap = c.ages[k + 1] - c.ages[k], insertAt = k + 1, age = c.ages[k] + 0.5f * gap;
+    }
+    if (insertAt == c.ages.size() && !(gap > 1e-3f)) age = -1.0f;  // no room
+    if (age >= 0.0f) {
+      const glm::vec3 value = c.at(age);
+      c.ages.insert(c.ages.begin() + static_cast<long>(insertAt), age);
+      c.values.insert(c.values.begin() + static_cast<long>(insertAt), value);
+      changed = true;
+    }
+  }
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Default")) {
+    c = {};
+    changed = true;
+  }
+  ImGui::PopID();
+  return changed;
+}
+
+// Which curves over life an emitter's particles take (the scene refuses the others).
+enum class CurveSet {
+  kCel,        ///< placed cel puffs: size, colour
+  kCelSim,     ///< simulated cel puffs: size, density, colour
+  kMedia,      ///< media that do not emit: size, density, colour
+  kMediaFire,  ///< media that emit (or turn into a material that does): and temperature
+};
+
+bool lifeCurvesEditor(sim::LifeCurves& curves, CurveSet set) {
   bool changed = false;
   if (ImGui::TreeNode("Over life")) {
     changed |= lifeCurveEditor("Size", curves.size, 100.0f);
-    if (density) changed |= lifeCurveEditor("Density", curves.density, 1000.0f);
+    if (set != CurveSet::kCel) changed |= lifeCurveEditor("Density", curves.density, 1000.0f);
+    changed |= colourCurveEditor("Colour", curves.color);
+    if (set == CurveSet::kMediaFire) changed |= lifeCurveEditor("Temperature (K)", curves.temperature, 1e5f, 1.0f, 2500.0f);
     ImGui::TreePop();
+  }
+  if (set != CurveSet::kMediaFire && !curves.temperature.empty()) {
+    curves.temperature = {};  // a material that does not emit has no temperature to shape (the scene refuses it)
+    changed = true;
   }
   return changed;
 }
 
-void simEmittersPanel(std::vector<sim::Emitter>& emitters, Edits& edit) {
+void simEmittersPanel(std::vector<sim::Emitter>& emitters, Edits& edit, CurveSet curves = CurveSet::kCelSim) {
   for (std::size_t i = 0; i < emitters.size(); ++i) {
     sim::Emitter& e = emitters[i];
     ImGui::PushID(2000 + static_cast<int>(i));
@@ -295,7 +391,7 @@ void simEmittersPanel(std::vector<sim::Emitter>& emitters, Edits& edit) {
       edit(ImGui::SliderFloat("Radius", &e.radius, 0.0f, 10.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
       edit(ImGui::DragFloat3("Position", glm::value_ptr(e.position), 0.01f, -1000.0f, 1000.0f, "%.2f",
                              ImGuiSliderFlags_AlwaysClamp));
-      edit(lifeCurvesEditor(e.overLife, true));
+      edit(lifeCurvesEditor(e.overLife, curves));
       ImGui::TreePop();
     }
     ImGui::PopID();
@@ -322,7 +418,7 @@ void sceneEmittersPanel(std::vector<scene::EmitterSpec>& emitters, Edits& edit) 
                              ImGuiSliderFlags_AlwaysClamp));
       edit(ImGui::SliderFloat("Lifetime", &e.lifetime, 0.0f, 30.0f, "%.2f s", ImGuiSliderFlags_AlwaysClamp));
       if (e.lifetime > 0.0f) {
-        edit(lifeCurvesEditor(e.overLife, false));
+        edit(lifeCurvesEditor(e.overLife, CurveSet::kCel));
       } else if (!e.overLife.empty()) {
         e.overLife = {};  // particles that live forever have no life to shape (the scene refuses it)
         edit(true);
@@ -571,9 +667,12 @@ void mediaPanel(Viewer& v, Edits& edit) {
         e.material = m.materials[static_cast<std::size_t>(mat)].name;
       }
       edit(ImGui::SliderFloat("Growth", &e.growth, 0.0f, 100.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
+      const media::Material& mt = m.materials[static_cast<std::size_t>(e.materialIndex)];
+      const bool emits =
+          mt.emissive || (mt.becomes >= 0 && m.materials[static_cast<std::size_t>(mt.becomes)].emissive);
       std::vector<sim::Emitter> one{e.emitter};
       Edits inner;
-      simEmittersPanel(one, inner);
+      simEmittersPanel(one, inner, emits ? CurveSet::kMediaFire : CurveSet::kMedia);
       if (edit(inner.any)) e.emitter = one[0];
       ImGui::TreePop();
     }

@@ -79,6 +79,23 @@ glm::quat unpackQuat(std::uint32_t bits) {
   return glm::normalize(glm::quat(c[3], c[0], c[1], c[2]));
 }
 
+// Tint: 7 bits a channel at bits 9, 16 and 23 (white 127, 127, 127 is exactly 1). A channel that is
+// not a number draws untinted.
+std::uint32_t packTint(const glm::vec3& tint) {
+  std::uint32_t bits = 0;
+  for (int c = 0; c < 3; ++c) {
+    const float v = std::isnan(tint[c]) ? 1.0f : std::clamp(tint[c], 0.0f, 1.0f);
+    bits |= static_cast<std::uint32_t>(std::lround(v * 127.0f)) << (9 + 7 * c);
+  }
+  return bits;
+}
+
+glm::vec3 unpackTint(std::uint32_t w) {
+  return glm::vec3(static_cast<float>((w >> 9) & 127u), static_cast<float>((w >> 16) & 127u),
+                   static_cast<float>((w >> 23) & 127u)) /
+         127.0f;
+}
+
 }  // namespace
 
 PackBounds packParticles(std::span<const Particle> particles, std::vector<PackedParticle>& out) {
@@ -118,7 +135,7 @@ PackBounds packParticles(std::span<const Particle> particles, std::vector<Packed
     o.x = draw ? index(p.position.x, 0) | (index(p.position.y, 1) << 16) : 0u;
     o.y = (draw ? index(p.position.z, 2) : 0u) | (static_cast<std::uint32_t>(glm::packHalf1x16(size)) << 16);
     o.z = p.oriented ? packQuat(p.orientation) : packQuat(glm::quat(1.0f, 0.0f, 0.0f, 0.0f));
-    o.w = (static_cast<std::uint32_t>(p.variation) & 0xFFu) | (p.oriented ? 0x100u : 0u);
+    o.w = (static_cast<std::uint32_t>(p.variation) & 0xFFu) | (p.oriented ? 0x100u : 0u) | packTint(p.tint);
   }
   return b;
 }
@@ -133,6 +150,7 @@ Particle unpackParticle(const PackedParticle& packed, const PackBounds& b) {
   p.orientation = unpackQuat(packed.z);
   p.variation = static_cast<int>(packed.w & 0xFFu);
   p.oriented = (packed.w & 0x100u) != 0;
+  p.tint = unpackTint(packed.w);
   return p;
 }
 

@@ -1,6 +1,7 @@
 #include "cel_reference_gl.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -185,7 +186,7 @@ struct CelReference::Impl {
     glm::vec3 lo{INFINITY}, hi{-INFINITY};
   };
 
-  // Uploads the instances, grouped by variation: rows of the model matrix and the particle's id.
+  // Uploads the instances, grouped by variation: rows of the model matrix, the particle's id and tint.
   Instances uploadInstances(const cel::Frame& frame, std::span<const cel::Particle> particles,
                             const cel::Style& style) {
     struct Instance {
@@ -209,7 +210,12 @@ struct CelReference::Impl {
       for (std::size_t i : list) {
         const cel::Particle& p = particles[i];
         const glm::mat4 model = glm::transpose(puffTransform(p, style.alignment, frame.view, ortho));
-        packed.push_back(Instance{{model[0], model[1], model[2]}, glm::uvec4(static_cast<unsigned>(i + 1), 0, 0, 0)});
+        // The tint as the particle holds it (a display multiplier of C, clamped to [0, 1]), in float
+        // bits: the reference does not share the nailboards' 7-bit packing.
+        const glm::vec3 tint = glm::clamp(p.tint, glm::vec3(0.0f), glm::vec3(1.0f));
+        packed.push_back(Instance{{model[0], model[1], model[2]},
+                                  glm::uvec4(static_cast<unsigned>(i + 1), std::bit_cast<std::uint32_t>(tint.r),
+                                             std::bit_cast<std::uint32_t>(tint.g), std::bit_cast<std::uint32_t>(tint.b))});
         out.lo = glm::min(out.lo, p.position - glm::vec3(0.5f * p.size));
         out.hi = glm::max(out.hi, p.position + glm::vec3(0.5f * p.size));
       }

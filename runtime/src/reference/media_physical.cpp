@@ -121,6 +121,7 @@ struct Tracer : detail::FrameConstants {
                                 : constantLe[hit.k];
       source += mt.emissive * mt.emission * exposure * le;
     }
+    source *= p.tint;
   }
 
   // The particles the ray meets between tNear and tScene, in prepared order.

@@ -145,6 +145,7 @@ struct Tracer : detail::FrameConstants {
                                   : constantLe[k];
         radiance += mt.emissive * mt.emission * exposure * le;
       }
+      radiance *= p.tint;
       const double burn = std::clamp(mt.burn, 0.0, 1.0);
       const double t = in.viewAxisOrder ? -static_cast<double>(rank[p.index]) : -b;
       hits.push_back({t, p.index, alpha, 1.0 - alpha * (1.0 - burn), radiance});

@@ -129,6 +129,8 @@ Result<std::vector<Prepared>> prepareParticles(const MediaReferenceInput& in, co
       const double t = end > start ? std::clamp((life - start) / (end - start), 0.0, 1.0) : (life < start ? 0.0 : 1.0);
       q.mat = mix(q.mat, fromMaterial(in.materials[static_cast<std::size_t>(m.becomes)]), t);
     }
+    if (p.temperature > 0.0f) q.mat.t0 = p.temperature;  // the particle's own T0 over its life
+    q.tint = glm::max(glm::dvec3(p.tint), glm::dvec3(0.0));
     q.tau = q.mat.density * static_cast<double>(p.density);
     q.windowX = unitHash(p.seed);
     q.windowY = unitHash(p.seed ^ 0x68bc21ebu);

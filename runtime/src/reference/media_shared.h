@@ -35,6 +35,7 @@ struct Prepared {
   double radius = 0.0;
   Mixed mat;
   double tau = 0.0;                            ///< material density * particle density, before detail
+  glm::dvec3 tint{1.0};                        ///< the particle's: multiplies what it scatters and emits
   double windowX = 0, windowY = 0, time0 = 0;  ///< the seed's place and time in the detail videos
   std::uint32_t index = 0;                     ///< in the input's particle span
 };
@@ -48,7 +49,8 @@ Ray rayThrough(const glm::dmat4& invProj, bool orthographic, int width, int heig
 /// The input's checks (frame size, opaque spans, materials, settings); errors start "media reference: ".
 Result<void> checkInput(const MediaReferenceInput& in);
 
-/// The particles a ray may meet, in input order: in camera space (`view`), their material mixed,
+/// The particles a ray may meet, in input order: in camera space (`view`), their material mixed
+/// (then T0 the particle's own temperature where it has one, and its tint taken, clamped at 0),
 /// culled as the billboards are (radius <= 0, wholly in front of the near plane or beyond the far
 /// plane). Error: a particle's material index outside the table.
 Result<std::vector<Prepared>> prepareParticles(const MediaReferenceInput& in, const glm::dmat4& view);

@@ -34,9 +34,10 @@ glm::vec3 unitBall(Rng& rng) {
   return unitDirection(u1, u2) * std::cbrt(u3);
 }
 
-// Moves, spins and shrinks a particle to time t (its size over its life from `sizeCurve` when that
-// is not empty); false when it is not alive then.
-bool evolve(const ParticleSpec& p, float t, cel::Particle& out, const sim::LifeCurve& sizeCurve = {}) {
+// Moves, spins and shrinks a particle to time t (its size over its life from `curves.size` when that
+// is not empty, its tint from `curves.color`); false when it is not alive then.
+bool evolve(const ParticleSpec& p, float t, cel::Particle& out, const sim::LifeCurves& curves = {}) {
+  const sim::LifeCurve& sizeCurve = curves.size;
   if (t < p.birth) return false;
   const float age = t - p.birth;
   float size = p.size;
@@ -44,6 +45,9 @@ bool evolve(const ParticleSpec& p, float t, cel::Particle& out, const sim::LifeC
     if (age >= p.lifetime) return false;
     const float life = age / p.lifetime;
     size *= sizeCurve.empty() ? std::max(0.0f, 1.0f - life) * celBirthGrowth(life) : sizeCurve.at(life);
+    out.tint = curves.color.at(life);  // white without a curve
+  } else {
+    out.tint = glm::vec3(1.0f);
   }
   out.position = p.position + p.velocity * age;
   out.size = size;
@@ -157,7 +161,7 @@ std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variat
     for (int i = 0; i < count; ++i) {
       ParticleSpec spec = emit(e, i, variations);
       spec.size *= grow;
-      if (evolve(spec, t, p, e.overLife.size)) out.push_back(p);
+      if (evolve(spec, t, p, e.overLife)) out.push_back(p);
     }
   }
   return out;

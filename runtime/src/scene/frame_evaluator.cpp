@@ -5,6 +5,8 @@
 
 #include <puff/scene/evaluate.h>
 
+#include <puff/core/colour.h>
+
 namespace puff::scene {
 
 namespace {
@@ -117,12 +119,15 @@ FrameInputs FrameEvaluator::evaluate(int frame, const cel::Camera* camera) {
       in.particles.reserve(in.particles.size() + sim_->size());
       for (std::size_t i = 0; i < sim_->size(); ++i) {
         const sim::ParticleState p = sim_->particle(i);
-        const sim::LifeCurve& curve = s.simulation->emitters[static_cast<std::size_t>(p.emitter)].overLife.size;
+        const sim::LifeCurves& curves = s.simulation->emitters[static_cast<std::size_t>(p.emitter)].overLife;
+        const sim::LifeCurve& curve = curves.size;
         const float life = p.lifetime > 0.0f ? std::clamp(p.age / p.lifetime, 0.0f, 1.0f) : 0.0f;
         const float size =
             curve.empty() ? p.size * (p.lifetime > 0.0f ? celBirthGrowth(life) : 1.0f) : p.birthSize * curve.at(life);
         if (!(size > 0.0f)) continue;
-        in.particles.push_back(cel::Particle{p.position, size, p.variation, p.oriented, p.orientation});
+        // The colour curve is a display value, as Eq. 2's C is.
+        in.particles.push_back(
+            cel::Particle{p.position, size, p.variation, p.oriented, p.orientation, curves.color.at(life)});
         ++in.simulated;
       }
     }
@@ -148,8 +153,11 @@ FrameInputs FrameEvaluator::evaluate(int frame, const cel::Camera* camera) {
         const float radius = 0.5f * p.birthSize * (curves.size.empty() ? 1.0f + e.growth * life : curves.size.at(life));
         const float density =
             curves.density.empty() ? p.density * mediaBirthFade(life) : e.emitter.density * curves.density.at(life);
-        in.media.push_back(
-            media::Particle{p.position, radius, static_cast<std::uint32_t>(e.materialIndex), life, density, p.id});
+        // The colour curve is a display value (a scene colour), decoded: the media light in linear.
+        const glm::vec3 tint = curves.color.empty() ? glm::vec3(1.0f) : core::srgbToLinear(curves.color.at(life));
+        const float temperature = curves.temperature.empty() ? 0.0f : curves.temperature.at(life);
+        in.media.push_back(media::Particle{p.position, radius, static_cast<std::uint32_t>(e.materialIndex), life,
+                                           density, p.id, tint, temperature});
       }
     }
   }

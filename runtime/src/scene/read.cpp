@@ -241,7 +241,7 @@ EmitterSpec readEmitter(const json& j, const std::string& ptr) {
   if (auto* v = find(j, "lifetime")) e.lifetime = readFloat(*v, child(ptr, "lifetime"), kNonNegative);
   // Placed particles have no density to shape (nailboards draw none), and a life only with a lifetime.
   if (auto* v = find(j, "overLife")) {
-    e.overLife = readLifeCurves(*v, child(ptr, "overLife"), false);
+    e.overLife = readLifeCurves(*v, child(ptr, "overLife"), CurveOwner::kCelEmitter);
     if (!e.overLife.empty() && !(e.lifetime > 0.0f)) {
       failText(child(ptr, "overLife"), "curves over life need a \"lifetime\" > 0 (these particles live forever)");
     }

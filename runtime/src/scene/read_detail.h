@@ -55,10 +55,16 @@ sim::Path readPath3(const json& j, const std::string& ptr);
 /// A non-zero vector.
 glm::vec3 readDirection(const json& v, const std::string& ptr);
 sim::Forces readForces(const json& j, const std::string& ptr);
-sim::Emitter readSimEmitter(const json& j, const std::string& ptr);
-/// "overLife": {"size": CURVE, "density": CURVE}, CURVE {"keys": [[age, value], ...], "interp":
-/// "linear" | "smooth"}; `density`: whether the emitter's particles have a density to shape.
-sim::LifeCurves readLifeCurves(const json& j, const std::string& ptr, bool density);
+/// Who owns a set of curves over life, which decides the curves it may have: a scene emitter of
+/// cel puffs (size, color), a simulated cel emitter (size, density, color) or a media emitter (size,
+/// density, color, temperature).
+enum class CurveOwner { kCelEmitter, kCelSimulation, kMedia };
+/// `owner`: kCelSimulation or kMedia (a media emitter is a simulation emitter's fields and more).
+sim::Emitter readSimEmitter(const json& j, const std::string& ptr, CurveOwner owner = CurveOwner::kCelSimulation);
+/// "overLife": {"size": CURVE, "density": CURVE, "color": COLOUR CURVE, "temperature": CURVE},
+/// CURVE {"keys": [[age, value], ...], "interp": "linear" | "smooth"}, a colour curve's values
+/// colours; the keys `owner` may not have are errors.
+sim::LifeCurves readLifeCurves(const json& j, const std::string& ptr, CurveOwner owner);
 sim::Settings readSimulation(const json& j, const std::string& ptr);
 MediaSpec readMedia(const json& j, const std::string& ptr, const Reader& r);
 

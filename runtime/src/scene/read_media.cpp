@@ -225,7 +225,16 @@ void readMediaEmitters(const json& v, const std::string& p, MediaSpec& m) {
       if (e.contains(key))
         failText(child(q, key), "unknown key: media particles are spheres (no atlas variation or orientation)");
     }
-    s.emitter = readSimEmitter(e, q);
+    s.emitter = readSimEmitter(e, q, CurveOwner::kMedia);
+    if (!s.emitter.overLife.temperature.empty()) {
+      // T0 matters only where the material emits, or the one it becomes does.
+      const media::Material& mt = m.materials[static_cast<std::size_t>(s.materialIndex)];
+      const bool emits = mt.emissive || (mt.becomes >= 0 && m.materials[static_cast<std::size_t>(mt.becomes)].emissive);
+      if (!emits) {
+        failText(child(child(q, "overLife"), "temperature"),
+                 "material \"" + mt.name + "\" does not emit (\"emissive\": false), so a temperature curve would change nothing");
+      }
+    }
     m.emitters.push_back(std::move(s));
   }
 }

@@ -88,9 +88,11 @@ sim::Forces readForces(const json& j, const std::string& ptr) {
 
 namespace {
 
-sim::LifeCurve readLifeCurve(const json& j, const std::string& ptr, double maxValue) {
+// A curve's interpolation and keys [[age, value], ...]: `value` reads one key's value.
+template <typename Curve, typename ReadValue>
+Curve readCurveKeys(const json& j, const std::string& ptr, ReadValue value) {
   requireObject(j, ptr, {"keys", "interp"});
-  sim::LifeCurve c;
+  Curve c;
   if (auto* v = find(j, "interp")) {
     c.interp = readEnum<sim::LifeCurve::Interp>(
         *v, child(ptr, "interp"),
@@ -111,27 +113,43 @@ sim::LifeCurve readLifeCurve(const json& j, const std::string& ptr, double maxVa
       fail(child(p, 0), "an age after the previous key's (" + formatNumber(c.ages.back()) + ")", k[0]);
     }
     c.ages.push_back(age);
-    c.values.push_back(readFloat(k[1], child(p, 1), Range{0.0, maxValue}));
+    c.values.push_back(value(k[1], child(p, 1)));
   }
   return c;
+}
+
+sim::LifeCurve readLifeCurve(const json& j, const std::string& ptr, double minValue, double maxValue) {
+  return readCurveKeys<sim::LifeCurve>(
+      j, ptr, [&](const json& v, const std::string& p) { return readFloat(v, p, Range{minValue, maxValue}); });
 }
 
 }  // namespace
 
-sim::LifeCurves readLifeCurves(const json& j, const std::string& ptr, bool density) {
-  if (density) {
-    requireObject(j, ptr, {"size", "density"});
+sim::LifeCurves readLifeCurves(const json& j, const std::string& ptr, CurveOwner owner) {
+  if (owner != CurveOwner::kMedia && j.is_object() && j.contains("temperature")) {
+    failText(child(ptr, "temperature"),
+             "cel puffs have no temperature: temperature curves are for media emitters (fire), under /media/emitters");
+  }
+  if (owner == CurveOwner::kCelEmitter) {
+    requireObject(j, ptr, {"size", "color"});
+  } else if (owner == CurveOwner::kCelSimulation) {
+    requireObject(j, ptr, {"size", "density", "color"});
   } else {
-    requireObject(j, ptr, {"size"});
+    requireObject(j, ptr, {"size", "density", "color", "temperature"});
   }
   sim::LifeCurves c;
-  // Multipliers of the birth size and density.
-  if (auto* v = find(j, "size")) c.size = readLifeCurve(*v, child(ptr, "size"), 100.0);
-  if (auto* v = find(j, "density")) c.density = readLifeCurve(*v, child(ptr, "density"), 1e3);
+  // Multipliers of the birth size and density; a display colour; kelvin.
+  if (auto* v = find(j, "size")) c.size = readLifeCurve(*v, child(ptr, "size"), 0.0, 100.0);
+  if (auto* v = find(j, "density")) c.density = readLifeCurve(*v, child(ptr, "density"), 0.0, 1e3);
+  if (auto* v = find(j, "color")) {
+    c.color = readCurveKeys<sim::ColourCurve>(*v, child(ptr, "color"),
+                                              [](const json& x, const std::string& p) { return readColor(x, p); });
+  }
+  if (auto* v = find(j, "temperature")) c.temperature = readLifeCurve(*v, child(ptr, "temperature"), 1.0, 1e5);
   return c;
 }
 
-sim::Emitter readSimEmitter(const json& j, const std::string& ptr) {
+sim::Emitter readSimEmitter(const json& j, const std::string& ptr, CurveOwner owner) {
   requireObject(j, ptr, {"shape",          "position",        "radius",   "normal",  "path",     "attach",
                          "rate",           "start",           "duration", "seed",    "velocity", "spread",
                          "speedSpread",    "inheritVelocity", "density",  "sizeMin", "sizeMax",  "lifetime",
@@ -178,7 +196,7 @@ sim::Emitter readSimEmitter(const json& j, const std::string& ptr) {
   }
   if (auto* v = find(j, "oriented")) e.oriented = readBool(*v, child(ptr, "oriented"));
   if (auto* v = find(j, "spin")) e.spin = readFloat(*v, child(ptr, "spin"), Range{0.0, 1e3});
-  if (auto* v = find(j, "overLife")) e.overLife = readLifeCurves(*v, child(ptr, "overLife"), true);
+  if (auto* v = find(j, "overLife")) e.overLife = readLifeCurves(*v, child(ptr, "overLife"), owner);
   return e;
 }
 

@@ -63,11 +63,19 @@ json lifeCurveJson(const sim::LifeCurve& c) {
   return {{"keys", std::move(keys)}, {"interp", c.interp == sim::LifeCurve::Interp::kSmooth ? "smooth" : "linear"}};
 }
 
+json colourCurveJson(const sim::ColourCurve& c) {
+  json keys = json::array();
+  for (std::size_t i = 0; i < c.ages.size(); ++i) keys.push_back(json::array({number(c.ages[i]), vec3(c.values[i])}));
+  return {{"keys", std::move(keys)}, {"interp", c.interp == sim::LifeCurve::Interp::kSmooth ? "smooth" : "linear"}};
+}
+
 // The curves an emitter has ({} for none: its default life).
 json lifeCurvesJson(const sim::LifeCurves& c) {
   json j = json::object();
   if (!c.size.empty()) j["size"] = lifeCurveJson(c.size);
   if (!c.density.empty()) j["density"] = lifeCurveJson(c.density);
+  if (!c.color.empty()) j["color"] = colourCurveJson(c.color);
+  if (!c.temperature.empty()) j["temperature"] = lifeCurveJson(c.temperature);
   return j;
 }
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <utility>
 #include <cmath>
 #include <limits>
 #include <thread>
@@ -28,14 +29,32 @@ std::size_t segmentOf(const std::vector<float>& times, double t) {
 
 }  // namespace
 
+namespace {
+
+// The keys around `age` and the weight of the later one, for ages.front() < age < ages.back().
+std::pair<std::size_t, float> lifeSegment(const std::vector<float>& ages, float age, LifeCurve::Interp interp) {
+  std::size_t i = 1;
+  while (i < ages.size() && ages[i] < age) ++i;
+  float t = (age - ages[i - 1]) / (ages[i] - ages[i - 1]);
+  if (interp == LifeCurve::Interp::kSmooth) t = t * t * (3.0f - 2.0f * t);
+  return {i, t};
+}
+
+}  // namespace
+
 float LifeCurve::at(float age) const {
   if (ages.empty()) return 1.0f;
   if (!(age > ages.front())) return values.front();
   if (age >= ages.back()) return values.back();
-  std::size_t i = 1;
-  while (i < ages.size() && ages[i] < age) ++i;
-  float t = (age - ages[i - 1]) / (ages[i] - ages[i - 1]);
-  if (interp == Interp::kSmooth) t = t * t * (3.0f - 2.0f * t);
+  const auto [i, t] = lifeSegment(ages, age, interp);
+  return values[i - 1] + (values[i] - values[i - 1]) * t;
+}
+
+glm::vec3 ColourCurve::at(float age) const {
+  if (ages.empty()) return glm::vec3(1.0f);
+  if (!(age > ages.front())) return values.front();
+  if (age >= ages.back()) return values.back();
+  const auto [i, t] = lifeSegment(ages, age, interp);
   return values[i - 1] + (values[i] - values[i - 1]) * t;
 }
 

@@ -70,6 +70,9 @@ struct Billboard {
   glm::vec3 position{0.0f};  ///< world-space centre
   float size = 1.0f;         ///< world-space diameter of the puff (the mesh's unit sphere), > 0
   int variation = 0;         ///< any integer; variation mod 4 (made non-negative) picks the cell
+  /// Multiplies C in K_a + C K_L q (display values, each clamped to [0, 1]; white = untinted):
+  /// the sprite is K_a + tint (texel - K_a), one texture-combine interpolation.
+  glm::vec3 tint{1.0f};
 };
 
 enum class ObjectShading {

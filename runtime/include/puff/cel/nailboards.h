@@ -63,7 +63,8 @@ namespace puff::cel {
 ///   x: position x | y << 16   (16-bit grid indices, PackBounds)
 ///   y: position z | half(size) << 16
 ///   z: orientation, "smallest three" quaternion: 2-bit index of the dropped component, 3 x 10 bits
-///   w: variation (8 bits) | oriented flag (bit 8); the rest is 0
+///   w: variation (8 bits) | oriented flag (bit 8) | tint r, g, b (7 bits each, bits 9, 16 and 23:
+///      round(127 x channel), the display multiplier of C); bits 30-31 are 0
 struct PackedParticle {
   std::uint32_t x = 0, y = 0, z = 0, w = 0;
 };

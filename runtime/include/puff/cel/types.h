@@ -46,6 +46,9 @@ struct Particle {
   /// the camera sees, blending the nearest baked views, so it tumbles in 3D.
   bool oriented = false;
   glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f};  ///< puff space -> world; unit quaternion
+  /// Multiplies the puff's colour C in Eq. 2 (K_a + C K_L q): a display value, each channel in
+  /// [0, 1] (clamped), white = untinted. Drawn with 7 bits a channel (steps of 1/127).
+  glm::vec3 tint{1.0f};
 };
 
 /// How a billboard turns toward the camera (Real-Time Rendering §10.6).

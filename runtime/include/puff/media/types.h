@@ -84,7 +84,7 @@ Material fireMaterial();
 /// "FIELD: expected ..., got ..." for the first bad value; `count` is the table size (for becomes).
 Result<void> validate(const Material& m, int count);
 
-/// One particle as the GPU sees it: 32 bytes.
+/// One particle as the GPU sees it: 48 bytes.
 struct Particle {
   glm::vec3 position{0.0f};    ///< world space
   float radius = 0.5f;         ///< world units, >= 0 (0 draws nothing)
@@ -92,8 +92,14 @@ struct Particle {
   float life = 0.0f;           ///< age / lifetime, [0, 1]
   float density = 1.0f;        ///< multiplies the material's tau (a fading particle), >= 0
   std::uint32_t seed = 0;      ///< picks its window of the detail video and its time offset
+  /// Multiplies the light the particle scatters and emits: scene-linear, each channel >= 0 (a
+  /// scene file's colour curve is a display value, decoded before it gets here). White: untinted.
+  glm::vec3 tint{1.0f};
+  /// > 0: replaces the material's T0 (kelvin; the detail still adds T1 x detail); <= 0: the
+  /// material's (mixed across a `becomes` transition). Matters only where the material emits.
+  float temperature = 0.0f;
 };
-static_assert(sizeof(Particle) == 32);
+static_assert(sizeof(Particle) == 48);
 
 /// Everything about the frame a media draw needs.
 struct Frame {

@@ -68,14 +68,30 @@ struct LifeCurve {
   bool operator==(const LifeCurve&) const = default;
 };
 
+/// A colour over a particle's life: keys of (normalized age, display colour in [0, 1]^3), as
+/// LifeCurve's (same interpolation, held outside the keys). Empty: white (no tint).
+struct ColourCurve {
+  LifeCurve::Interp interp = LifeCurve::Interp::kLinear;
+  std::vector<float> ages;
+  std::vector<glm::vec3> values;  ///< display values (sRGB-encoded), each in [0, 1]
+  glm::vec3 at(float age) const;
+  bool empty() const { return ages.empty(); }
+  bool operator==(const ColourCurve&) const = default;
+};
+
 /// What an emitter's particles do over their life, as drawn: `size` multiplies the birth size
 /// (replacing the default: a smooth growth over the first tenth of the life, then a linear shrink
 /// to nothing for cel puffs; 1 + growth * age for media), `density` multiplies the birth density
-/// (replacing the default fade in and linear fall to 0 of media). The simulator's own dynamics
-/// (buoyancy from density, collision radius) keep the default linear fall.
+/// (replacing the default fade in and linear fall to 0 of media). `color` tints the particle (a
+/// display value: cel puffs multiply Eq. 2's C by it; media multiply the light a particle
+/// scatters and emits by it, decoded to linear). `temperature` (kelvin; media fire only) replaces
+/// the material's T0. The simulator's own dynamics (buoyancy from density, collision radius) keep
+/// the default linear fall.
 struct LifeCurves {
   LifeCurve size, density;
-  bool empty() const { return size.empty() && density.empty(); }
+  ColourCurve color;
+  LifeCurve temperature;
+  bool empty() const { return size.empty() && density.empty() && color.empty() && temperature.empty(); }
   bool operator==(const LifeCurves&) const = default;
 };
 
