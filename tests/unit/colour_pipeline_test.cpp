@@ -24,6 +24,7 @@
 #include "support/display.h"
 #include "support/gl_target.h"
 #include "support/sphere_atlas.h"
+#include "support/temp_dir.h"
 
 namespace puff {
 namespace {
@@ -54,6 +55,69 @@ TEST(ColourDecode, DecodeSrgbDecodesColourAndLeavesAlpha) {
     core::Image im(1, 1, channels, 0.5f);
     const core::Image g = core::decodeSrgb(im);
     for (float v : g.pixels) EXPECT_NEAR(v, 0.214041, 1e-6) << channels << " channels";
+  }
+}
+
+// Distance in pixels of pixel (x, y)'s centre from the target's centre.
+float radiusPx(int x, int y) { return glm::length(glm::vec2(x + 0.5f - kPx / 2.0f, y + 0.5f - kPx / 2.0f)); }
+
+// Curves over life (issue 18): one puff of kSize at the origin, born at 0 and living 2 s, its colour
+// over life a curve of display values; ambient 0.2 and a light of 0.7, flat and without outlines, so
+// K_a + tint C K_L = 0.2 + 0.7 tint wherever the body is (the sphere atlas's and mesh's C is white):
+// the tint multiplies C alone, not the ambient.
+nlohmann::json tintedPuffScene(const std::filesystem::path& sidecar) {
+  return {
+      {"output", {{"width", kPx}, {"height", kPx}, {"samples", 1}, {"background", {0, 0, 0}}}},
+      {"camera",
+       {{"position", {0, 0, 10}},
+        {"target", {0, 0, 0}},
+        {"up", {0, 1, 0}},
+        {"fovY", 0},
+        {"orthoHeight", kWorld},
+        {"near", 1},
+        {"far", 20}}},
+      {"light", {{"direction", {0, 0, 1}}, {"color", {0.7, 0.7, 0.7}}}},
+      {"ambient", {{"color", {0.2, 0.2, 0.2}}}},
+      {"atlas", sidecar.string()},
+      {"style", {{"outlines", false}, {"shading", false}, {"shadows", false}}},
+      {"animation", {{"fps", 24}, {"frames", 48}}},
+      {"emitters",
+       {{{"count", 1},
+         {"radius", 0},
+         {"sizeMin", kSize},
+         {"sizeMax", kSize},
+         {"lifetime", 2},
+         {"overLife",
+          {{"size", {{"keys", {{0, 1}}}}}, {"color", {{"keys", {{0, {1.0, 0.5, 0.25}}, {1, {0.2, 0.6, 1.0}}}}}}}}}}}};
+}
+
+// Every body pixel of frame `f` (life f / 48) of the tinted puff on `path` is 0.2 + 0.7 times the
+// curve's display value there, within `tolerance` (display units).
+void expectTintedBody(const scene::Scene& scene, render::RenderPath path, double tolerance) {
+  auto renderer = eval::createRenderer(scene, path);
+  ASSERT_OK(renderer);
+  const glm::vec3 birth(1.0f, 0.5f, 0.25f), death(0.2f, 0.6f, 1.0f);
+  for (int f : {0, 12, 24, 36, 47}) {
+    SCOPED_TRACE("frame " + std::to_string(f) + " on the " + std::string(render::toString(path)) + " path");
+    auto linear = (*renderer)->renderFrame(f);
+    ASSERT_OK(linear);
+    const glm::vec3 want = 0.2f + 0.7f * (birth + (death - birth) * (static_cast<float>(f) / 48.0f));
+    int body = 0;
+    double worst = 0.0;
+    for (int y = 0; y < kPx; ++y) {
+      for (int x = 0; x < kPx; ++x) {
+        if (radiusPx(x, y) > 0.8f * kRadiusPx) continue;
+        for (int k = 0; k < 3; ++k) {
+          const double got = core::linearToSrgb(double{linear->at(x, y, k)});
+          worst = std::max(worst, std::abs(got - want[k]));
+          EXPECT_NEAR(got, want[k], tolerance) << x << "," << y << " channel " << k;
+        }
+        ++body;
+      }
+    }
+    EXPECT_GT(body, 2000);
+    std::printf("%s path, frame %d: body within %.4f of K_a + tint C K_L\n",
+                std::string(render::toString(path)).c_str(), f, worst);
   }
 }
 
@@ -94,8 +158,6 @@ class ColourPipeline : public test::SphereAtlasTest {
     f.ambientColor = ambient;
     return f;
   }
-  // Distance in pixels of pixel (x, y)'s centre from the puff's centre (the target's centre).
-  static float radiusPx(int x, int y) { return glm::length(glm::vec2(x + 0.5f - kPx / 2.0f, y + 0.5f - kPx / 2.0f)); }
 
   // One puff of kSize at the origin over a white background; the frame as stored (scene-linear).
   std::vector<glm::vec4> drawPuff(const cel::Frame& f, const cel::Style& style) {
@@ -253,6 +315,15 @@ TEST_F(ColourPipeline, GreyInkIsItsDisplayValueOnTheNailboardsAndTheReference) {
   EXPECT_GT(refInk, 120);
 }
 
+// The tint multiplies C on the nailboards (7 bits a channel: within 0.7 x half of 1/127, plus the
+// frame's half floats) and on the reference (its float), at every age the curve passes through.
+TEST_F(ColourPipeline, AColourCurveOverLifeTintsThePuffOnTheNailboardsAndTheReference) {
+  auto scene = scene::parseScene(tintedPuffScene(sidecar_), dir_ / "tinted.json");
+  ASSERT_OK(scene);
+  expectTintedBody(*scene, render::RenderPath::kCel, 0.5 / 127.0 + 0.002);
+  expectTintedBody(*scene, render::RenderPath::kReference, 0.002);
+}
+
 // An opaque frame has alpha 1 everywhere (docs/colour.md), the fill-rate floor's bare quads too:
 // their colour map's alpha decides coverage (the alpha test) and must not reach the frame. (It failed
 // before NailboardRenderer::drawBaseline masked alpha writes: 0.63, 0.72, ... on the quads' edges.)
@@ -392,6 +463,21 @@ TEST_F(ColourFixedPath, TheFixedPathsFrameIsSceneLinear) {
       EXPECT_EQ(frame->at(x, y, 3), 1.0f);
     }
   }
+}
+
+// The fixed path: the sprite is K_a + tint (texel - K_a), one texture-combine interpolation of
+// 8-bit values (the puff texture's texel and the frame's): within 2.5 / 255.
+TEST_F(ColourFixedPath, AColourCurveOverLifeTintsThePuff) {
+  test::ScopedTempDir dir("puff_tint_fixed");
+  auto sidecar = test::bakeSphereAtlas(dir.path());
+  ASSERT_OK(sidecar);
+  // The fixed path draws the puff mesh itself (the sphere the atlas was baked from).
+  ASSERT_OK(mesh::saveMesh(mesh::generateSphere({6}), dir.path() / "sphere.ply", mesh::SaveNormals::kYes));
+  nlohmann::json j = tintedPuffScene(*sidecar);
+  j["fixed"] = {{"puff", (dir.path() / "sphere.ply").string()}};
+  auto scene = scene::parseScene(j, dir.path() / "tinted.json");
+  ASSERT_OK(scene);
+  expectTintedBody(*scene, render::RenderPath::kFixed, 2.5 / 255.0);
 }
 
 }  // namespace

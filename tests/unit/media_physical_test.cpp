@@ -321,6 +321,44 @@ TEST(MediaPhysical, BurnIsTheModelsBlendForALoneSphere) {
   }
 }
 
+// A particle's tint multiplies all the light it gives (scattered and emitted) and nothing it
+// absorbs; its own temperature is the material's T0 set to it. On both references.
+TEST(MediaPhysical, AParticlesTintAndTemperatureAreItsOwn) {
+  const media::Frame f = rayFrame();
+  const glm::vec3 tint(0.9f, 0.4f, 0.1f);
+  for (bool fire : {false, true}) {
+    SCOPED_TRACE(fire ? "fire" : "smoke");
+    media::Material m = fire ? media::fireMaterial() : plain(0.7f, 0.6f);
+    std::vector<media::Material> materials{m};
+    std::vector<media::Particle> plainParticle{sphereAt({0.2f, 0.0f, -5.0f}, 1.0f)};
+    std::vector<media::Particle> tinted = plainParticle, hot = plainParticle;
+    tinted[0].tint = tint;
+    hot[0].temperature = 1900.0f;
+    MediaReferenceInput in;
+    in.frame = f;
+    in.materials = materials;
+    for (bool physical : {false, true}) {
+      SCOPED_TRACE(physical ? "physical" : "model");
+      const auto pixel = [&](const std::vector<media::Particle>& ps) {
+        in.particles = ps;
+        return physical ? physicalPixel(in, {.step = 0.05}) : modelPixel(in);
+      };
+      const Pixel a = pixel(plainParticle), b = pixel(tinted), c = pixel(hot);
+      ASSERT_GT(a.radiance.r, 0.01);
+      expectNear(b.radiance, a.radiance * glm::dvec3(tint), 1e-6);  // the layer holds floats
+      EXPECT_EQ(b.transmittance, a.transmittance);
+      m.temperature = 1900.0f;
+      materials[0] = m;
+      in.particles = plainParticle;
+      const Pixel d = physical ? physicalPixel(in, {.step = 0.05}) : modelPixel(in);
+      expectNear(c.radiance, d.radiance, 1e-6);
+      if (fire) EXPECT_GT(std::abs(c.radiance.r - a.radiance.r), 0.01) << "1900 K is not fire's 2500 K";
+      m = fire ? media::fireMaterial() : plain(0.7f, 0.6f);
+      materials[0] = m;
+    }
+  }
+}
+
 TEST(MediaPhysical, TheTemperatureTableIsExactAtTheToleranceOfTheReference) {
   // A constant temperature video of 0.5 gives T0 + T1 / 2 at every sample, as no video does; with
   // it the reference reads Le from its 0.25 K table, without it evaluates Planck's law.

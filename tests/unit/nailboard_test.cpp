@@ -42,6 +42,8 @@ TEST(ParticlePacking, SixteenBytesRoundTripWithinQuantization) {
     p.variation = i % 7;
     p.oriented = (i % 2) == 1;
     p.orientation = glm::normalize(glm::quat(std::cos(i * 0.1f), std::sin(i * 0.3f), 0.2f, -std::sin(i * 0.2f)));
+    // Tints over [-0.1, 1.1]: the ends clamp to [0, 1]; every other particle untinted.
+    if (i % 2 == 0) p.tint = glm::vec3(-0.1f + 1.2f * i / 199.0f, 1.1f - 1.2f * i / 199.0f, 0.5f);
     in.push_back(p);
   }
   std::vector<cel::PackedParticle> packed;
@@ -54,6 +56,10 @@ TEST(ParticlePacking, SixteenBytesRoundTripWithinQuantization) {
     EXPECT_NEAR(out.size, in[i].size, in[i].size * 1e-3f) << i;  // half float: 11 significant bits
     EXPECT_EQ(out.variation, in[i].variation);
     EXPECT_EQ(out.oriented, in[i].oriented);
+    for (int c = 0; c < 3; ++c) {  // 7 bits a channel, white exactly 1
+      EXPECT_NEAR(out.tint[c], std::clamp(in[i].tint[c], 0.0f, 1.0f), 0.5f / 127.0f + 1e-6f) << i << " channel " << c;
+    }
+    if (i % 2 == 1) EXPECT_EQ(out.tint, glm::vec3(1.0f));
     if (in[i].oriented) {
       // q and -q are one rotation: compare |dot|.
       EXPECT_GT(std::abs(glm::dot(out.orientation, in[i].orientation)), 0.99999f - 2e-5f) << i;

@@ -670,6 +670,61 @@ TEST_F(ReferenceGpu, TheShaderComputesTheReferenceModel) {
   renderer_->setDetail(nullptr, nullptr);
 }
 
+// Curves over life give each particle its own tint and temperature (issue 18). The shader takes
+// them as the reference does (float target, the renderer's order: as TheShaderComputesTheReferenceModel),
+// and they change the image by far more than the two differ. A tint of 0 leaves only what the medium
+// absorbs, exactly as materials that neither scatter nor emit, on the textured billboards too; a
+// particle's own temperature is exactly the material's T0 set to it.
+TEST_F(ReferenceGpu, ParticlesTintsAndTemperaturesAreTheReferenceModels) {
+  const media::Frame f = cloudFrame();
+  const auto materials = cloudMaterials();
+  ASSERT_TRUE(renderer_->setMaterials(materials).ok());
+  renderer_->setDetail(nullptr, nullptr);
+  const Opaque o = cloudOpaque(f, false);
+  auto particles = cloudParticles();
+  const auto plain = particles;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const float k = static_cast<float>(i) / static_cast<float>(particles.size());
+    particles[i].tint = glm::vec3(1.0f - 0.8f * k, 0.3f + 0.5f * k, 0.6f);
+    particles[i].temperature = i % 3 == 0 ? 0.0f : 1200.0f + 2400.0f * k;  // a third keep the material's
+  }
+  const core::Image gpu = drawFloatTarget(*renderer_, f, o, false, particles, media::Method::kSpherical);
+  const core::Image ref = drawReference(f, o, particles, materials, nullptr, nullptr, true);
+  const core::Image untinted = drawReference(f, o, plain, materials, nullptr, nullptr, true);
+  const reference::ImageError e = reference::imageError(gpu, ref), change = reference::imageError(untinted, ref);
+  std::printf("tints and temperatures: GPU against the reference rmse %.2e max %.2e (they change it by rmse %.4f)\n",
+              e.rmse, e.maxAbs, change.rmse);
+  EXPECT_LT(e.rmse, 5e-5);
+  EXPECT_LT(e.maxAbs, 5e-4);
+  EXPECT_GT(change.rmse, 0.02);
+
+  std::vector<media::Material> dark = materials;
+  for (media::Material& m : dark) {
+    m.albedo = 0.0f;
+    m.emission = 0.0f;
+  }
+  std::vector<media::Particle> black = plain, hot = plain;
+  for (media::Particle& p : black) p.tint = glm::vec3(0.0f);
+  for (media::Particle& p : hot) p.temperature = 1800.0f;
+  std::vector<media::Material> at1800 = materials;
+  for (media::Material& m : at1800) m.temperature = 1800.0f;
+  for (media::Method method : {media::Method::kSpherical, media::Method::kPlanarTextured}) {
+    SCOPED_TRACE(std::string(media::toString(method)));
+    const core::Image tintedBlack = drawFloatTarget(*renderer_, f, o, false, black, method);
+    const core::Image heated = drawFloatTarget(*renderer_, f, o, false, hot, method);
+    ASSERT_TRUE(renderer_->setMaterials(dark).ok());
+    const core::Image absorbing = drawFloatTarget(*renderer_, f, o, false, plain, method);
+    ASSERT_TRUE(renderer_->setMaterials(at1800).ok());
+    const core::Image materialHeat = drawFloatTarget(*renderer_, f, o, false, plain, method);
+    ASSERT_TRUE(renderer_->setMaterials(materials).ok());
+    const core::Image own = drawFloatTarget(*renderer_, f, o, false, plain, method);
+    EXPECT_EQ(reference::imageError(tintedBlack, absorbing).maxAbs, 0.0) << "a tint of 0: only absorption";
+    EXPECT_EQ(reference::imageError(heated, materialHeat).maxAbs, 0.0) << "its own T0 is the material's set to it";
+    EXPECT_GT(reference::imageError(own, absorbing).rmse, 0.02) << "the cloud scatters and emits";
+    EXPECT_GT(reference::imageError(own, heated).rmse, 0.005) << "1800 K is not the materials' temperature";
+  }
+}
+
 TEST_F(ReferenceGpu, SphericalBillboardsMatchTheReferenceAndPlanarOnesDoNotAtAWall) {
   // The whole GPU path (media::Renderer + media::Layers at scale 1: RGBA8 opaque colour, depth24
   // resolved to R32F, RGBA16F layer, composition) against the exact reference, 30 overlapping
