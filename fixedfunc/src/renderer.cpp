@@ -498,7 +498,12 @@ void FixedRenderer::Impl::billboardPass(const FixedFrame& frame, const std::vect
   const bool perspective = frame.projection[2][3] != 0.0f;
 
   // One quad per billboard; `offset` and `scale` make the outline billboards.
-  const auto tintOf = [](const Billboard& b) { return glm::clamp(b.tint, glm::vec3(0.0f), glm::vec3(1.0f)); };
+  // Each channel clamped to [0, 1]; not a number draws untinted (as the nailboards' packing does).
+  const auto tintOf = [](const Billboard& b) {
+    glm::vec3 t;
+    for (int c = 0; c < 3; ++c) t[c] = std::isnan(b.tint[c]) ? 1.0f : std::clamp(b.tint[c], 0.0f, 1.0f);
+    return t;
+  };
   const bool tinted = std::any_of(billboards.begin(), billboards.end(),
                                   [&](const Billboard& b) { return tintOf(b) != glm::vec3(1.0f); });
   auto build = [&](bool outline) {

@@ -15,11 +15,14 @@
 #include <sstream>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include <puff/core/files.h>
 #include <puff/core/image.h>
 #include <puff/core/shader.h>
 #include <puff/render/path.h>
 #include <puff/scene/read.h>
+#include <puff/scene/write.h>
 #include <puffview/ramp_edit.h>
 #include <puffview/viewer.h>
 
@@ -90,6 +93,49 @@ double samePuffs(const Image& a, const Image& b, glm::vec3 background, int maxX 
   }
   EXPECT_GT(inner, 200u) << "the puffs cover part of the image";
   return inner ? static_cast<double>(same) / static_cast<double>(inner) : 0.0;
+}
+
+// An edit that leaves a temperature curve on media that no longer emit drops the curve, so the
+// scene stays one parseScene reads: whether the material was switched, made to scatter, or set to
+// become one that does not emit; a material that becomes fire keeps it.
+TEST(RampEdit, AnEditNeverLeavesACurveTheSceneWouldRefuse) {
+  const std::string text = R"({"atlas": "a.json", "media": {"materials": [
+      {"name": "smoke"}, {"name": "fire", "emissive": true}, {"name": "sooty", "becomes": "fire"}],
+    "emitters": [{"material": "fire", "lifetime": 1, "overLife": {"temperature": {"keys": [[0, 3000], [1, 900]]}}}]}})";
+  auto parsed = puff::scene::parseScene(nlohmann::json::parse(text), "curves.json");
+  ASSERT_OK(parsed);
+  const puff::scene::Scene base = *parsed;
+  const auto reads = [](const puff::scene::Scene& s) {
+    auto again = puff::scene::parseScene(puff::scene::toJson(s), "curves.json");
+    return again.ok() ? std::string() : again.error().message;
+  };
+  puff::scene::Scene s = base;
+  EXPECT_FALSE(puff::view::dropRefusedCurves(s)) << "fire keeps its curve";
+  EXPECT_EQ(s, base);
+
+  s.media->emitters[0].materialIndex = 2;  // a material that becomes fire
+  s.media->emitters[0].material = "sooty";
+  EXPECT_FALSE(puff::view::dropRefusedCurves(s));
+  EXPECT_EQ(reads(s), "");
+
+  for (int edit = 0; edit < 3; ++edit) {
+    s = base;
+    if (edit == 0) {
+      s.media->emitters[0].materialIndex = 0;
+      s.media->emitters[0].material = "smoke";
+    } else if (edit == 1) {
+      s.media->materials[1].emissive = false;
+    } else {
+      s.media->emitters[0].materialIndex = 2;
+      s.media->emitters[0].material = "sooty";
+      s.media->materials[2].becomes = 0;
+    }
+    SCOPED_TRACE("edit " + std::to_string(edit));
+    EXPECT_NE(reads(s).find("does not emit"), std::string::npos) << "the edit alone leaves a refused scene";
+    EXPECT_TRUE(puff::view::dropRefusedCurves(s));
+    EXPECT_TRUE(s.media->emitters[0].emitter.overLife.temperature.empty());
+    EXPECT_EQ(reads(s), "");
+  }
 }
 
 // The ramp editor's bands and the gradient editor's ends, to and from the images the renderer reads.

@@ -221,14 +221,21 @@ bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue, float
   int remove = -1;
   for (std::size_t k = 0; k < c.ages.size(); ++k) {
     ImGui::PushID(static_cast<int>(k));
-    float key[2] = {c.ages[k], c.values[k]};
-    ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - ImGui::GetFrameHeight() - 8.0f);
-    const float speed = std::max(0.005f, 0.002f * maxValue / 100.0f);  // kelvin move faster than multipliers
-    if (ImGui::DragFloat2("##key", key, speed, 0.0f, maxValue, "%.3f", ImGuiSliderFlags_AlwaysClamp)) {
+    // Age and value dragged apart: an age moves in steps of 0.005 whatever the value's range.
+    float age = c.ages[k];
+    ImGui::SetNextItemWidth(0.3f * ImGui::CalcItemWidth());
+    if (ImGui::DragFloat("##age", &age, 0.005f, 0.0f, 1.0f, "%.3f", ImGuiSliderFlags_AlwaysClamp)) {
       // Ages stay between their neighbours' (strictly increasing), in [0, 1].
       const float lo = k > 0 ? c.ages[k - 1] + 1e-3f : 0.0f, hi = k + 1 < c.ages.size() ? c.ages[k + 1] - 1e-3f : 1.0f;
-      c.ages[k] = std::clamp(key[0], lo, std::max(lo, hi));
-      c.values[k] = std::clamp(key[1], minValue, maxValue);
+      c.ages[k] = std::clamp(age, lo, std::max(lo, hi));
+      changed = true;
+    }
+    ImGui::SameLine();
+    float value = c.values[k];
+    const float speed = std::max(0.005f, maxValue / 20000.0f);  // kelvin move faster than multipliers
+    ImGui::SetNextItemWidth(0.7f * ImGui::CalcItemWidth() - ImGui::GetFrameHeight() - 16.0f);
+    if (ImGui::DragFloat("##value", &value, speed, minValue, maxValue, "%.3f", ImGuiSliderFlags_AlwaysClamp)) {
+      c.values[k] = std::clamp(value, minValue, maxValue);
       changed = true;
     }
     ImGui::SameLine();
@@ -287,8 +294,10 @@ bool colourCurveEditor(const char* label, sim::ColourCurve& c) {
   ImDrawList* draw = ImGui::GetWindowDrawList();
   for (int i = 0; i < 32; ++i) {
     const glm::vec3 v = glm::clamp(c.at((static_cast<float>(i) + 0.5f) / 32.0f), glm::vec3(0.0f), glm::vec3(1.0f));
-    const float x0 = at.x + width * static_cast<float>(i) / 32.0f, x1 = at.x + width * static_cast<float>(i + 1) / 32.0f;
-    draw->AddRectFilled(ImVec2(x0, at.y), ImVec2(x1, at.y + height), ImGui::ColorConvertFloat4ToU32(ImVec4(v.r, v.g, v.b, 1.0f)));
+    const float x0 = at.x + width * static_cast<float>(i) / 32.0f,
+                x1 = at.x + width * static_cast<float>(i + 1) / 32.0f;
+    draw->AddRectFilled(ImVec2(x0, at.y), ImVec2(x1, at.y + height),
+                        ImGui::ColorConvertFloat4ToU32(ImVec4(v.r, v.g, v.b, 1.0f)));
   }
   ImGui::Dummy(ImVec2(width, height));
   ImGui::SameLine();
@@ -327,7 +336,8 @@ bool colourCurveEditor(const char* label, sim::ColourCurve& c) {
     std::size_t insertAt = c.ages.size();
     float gap = c.ages.empty() ? 1.0f : 1.0f - c.ages.back(), age = c.ages.empty() ? 0.0f : 1.0f;
     for (std::size_t k = 0; k + 1 < c.ages.size(); ++k) {
-      if (c.ages[k + 1] - c.ages[k] > gap) gap = c.ages[k + 1] - c.ages[k], insertAt = k + 1, age = c.ages[k] + 0.5f * gap;
+      if (c.ages[k + 1] - c.ages[k] > gap)
+        gap = c.ages[k + 1] - c.ages[k], insertAt = k + 1, age = c.ages[k] + 0.5f * gap;
     }
     if (insertAt == c.ages.size() && !(gap > 1e-3f)) age = -1.0f;  // no room
     if (age >= 0.0f) {
@@ -360,7 +370,8 @@ bool lifeCurvesEditor(sim::LifeCurves& curves, CurveSet set) {
     changed |= lifeCurveEditor("Size", curves.size, 100.0f);
     if (set != CurveSet::kCel) changed |= lifeCurveEditor("Density", curves.density, 1000.0f);
     changed |= colourCurveEditor("Colour", curves.color);
-    if (set == CurveSet::kMediaFire) changed |= lifeCurveEditor("Temperature (K)", curves.temperature, 1e5f, 1.0f, 2500.0f);
+    if (set == CurveSet::kMediaFire)
+      changed |= lifeCurveEditor("Temperature (K)", curves.temperature, 1e5f, 1.0f, 2500.0f);
     ImGui::TreePop();
   }
   if (set != CurveSet::kMediaFire && !curves.temperature.empty()) {
@@ -668,8 +679,7 @@ void mediaPanel(Viewer& v, Edits& edit) {
       }
       edit(ImGui::SliderFloat("Growth", &e.growth, 0.0f, 100.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp));
       const media::Material& mt = m.materials[static_cast<std::size_t>(e.materialIndex)];
-      const bool emits =
-          mt.emissive || (mt.becomes >= 0 && m.materials[static_cast<std::size_t>(mt.becomes)].emissive);
+      const bool emits = mt.emissive || (mt.becomes >= 0 && m.materials[static_cast<std::size_t>(mt.becomes)].emissive);
       std::vector<sim::Emitter> one{e.emitter};
       Edits inner;
       simEmittersPanel(one, inner, emits ? CurveSet::kMediaFire : CurveSet::kMedia);
@@ -709,6 +719,9 @@ void mediaPanel(Viewer& v, Edits& edit) {
     forcesPanel(m.forces, edit);
     ImGui::TreePop();
   }
+  // A temperature curve on an emitter whose material no longer emits (its material switched, made
+  // to scatter, or set to become another) would make the scene one it refuses: the same edit drops it.
+  if (edit.any) view::dropRefusedCurves(s);
 }
 
 void savePanel(Viewer& v, PanelState& state) {

@@ -102,4 +102,23 @@ VerticalGradient gradientFromImage(const core::Image& image) {
   return g;
 }
 
+bool dropRefusedCurves(scene::Scene& scene) {
+  if (!scene.media) return false;
+  scene::MediaSpec& m = *scene.media;
+  bool dropped = false;
+  for (scene::MediaEmitterSpec& e : m.emitters) {
+    if (e.emitter.overLife.temperature.empty()) continue;
+    const auto material = [&](int i) -> const media::Material* {
+      return i >= 0 && static_cast<std::size_t>(i) < m.materials.size() ? &m.materials[static_cast<std::size_t>(i)]
+                                                                        : nullptr;
+    };
+    const media::Material* mt = material(e.materialIndex);
+    const media::Material* next = mt ? material(mt->becomes) : nullptr;
+    if (mt && (mt->emissive || (next && next->emissive))) continue;
+    e.emitter.overLife.temperature = {};
+    dropped = true;
+  }
+  return dropped;
+}
+
 }  // namespace puff::view

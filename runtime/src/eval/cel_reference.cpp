@@ -212,10 +212,12 @@ struct CelReference::Impl {
         const glm::mat4 model = glm::transpose(puffTransform(p, style.alignment, frame.view, ortho));
         // The tint as the particle holds it (a display multiplier of C, clamped to [0, 1]), in float
         // bits: the reference does not share the nailboards' 7-bit packing.
-        const glm::vec3 tint = glm::clamp(p.tint, glm::vec3(0.0f), glm::vec3(1.0f));
-        packed.push_back(Instance{{model[0], model[1], model[2]},
-                                  glm::uvec4(static_cast<unsigned>(i + 1), std::bit_cast<std::uint32_t>(tint.r),
-                                             std::bit_cast<std::uint32_t>(tint.g), std::bit_cast<std::uint32_t>(tint.b))});
+        glm::vec3 tint;  // as the packing takes it: clamped to [0, 1], not a number untinted
+        for (int c = 0; c < 3; ++c) tint[c] = std::isnan(p.tint[c]) ? 1.0f : std::clamp(p.tint[c], 0.0f, 1.0f);
+        packed.push_back(
+            Instance{{model[0], model[1], model[2]},
+                     glm::uvec4(static_cast<unsigned>(i + 1), std::bit_cast<std::uint32_t>(tint.r),
+                                std::bit_cast<std::uint32_t>(tint.g), std::bit_cast<std::uint32_t>(tint.b))});
         out.lo = glm::min(out.lo, p.position - glm::vec3(0.5f * p.size));
         out.hi = glm::max(out.hi, p.position + glm::vec3(0.5f * p.size));
       }

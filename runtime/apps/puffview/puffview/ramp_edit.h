@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include <puff/core/image.h>
+#include <puff/scene/scene.h>
 
 namespace puff::view {
 
@@ -42,5 +43,10 @@ inline constexpr int kGradientSize = 256;
 core::Image gradientImage(const VerticalGradient& g);
 /// The top and bottom rows' mean colours of any gradient image.
 VerticalGradient gradientFromImage(const core::Image& image);
+
+/// Drops the curves over life an edit left that the scene would refuse (scene::parseScene): a
+/// temperature curve on a media emitter whose material no longer emits (switched to another,
+/// made to scatter, or set to become one that does not emit). Returns whether it dropped any.
+bool dropRefusedCurves(scene::Scene& scene);
 
 }  // namespace puff::view

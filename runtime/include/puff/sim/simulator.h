@@ -180,7 +180,7 @@ struct Emitter {
   std::vector<int> variations;           ///< allowed atlas variations; empty = 0 .. variations-1
   bool oriented = false;                 ///< random orientation (multi-view atlases)
   float spin = 0.0f;                     ///< random angular velocity up to this, radians / s
-  LifeCurves overLife;                   ///< size and density over the life, as drawn
+  LifeCurves overLife;                   ///< size, density, colour (temperature: media) over the life, as drawn
   bool operator==(const Emitter&) const = default;
 };
 
