@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <puff/core/colour.h>
 #include <puff/core/files.h>
 #include <puff/core/image.h>
 #include <puff/core/shader.h>
@@ -307,6 +308,38 @@ TEST_F(PuffviewCli, BatchScreenshotMatchesPuffrender) {
   const Image plumeView = puffview(plume, 7);
   EXPECT_GE(shareWithin(plumeView, puffrender(plume, 6), 2), 0.999);
   EXPECT_LT(shareWithin(plumeView, puffrender(plume, 0), 2), 0.99) << "the plume moves";
+}
+
+// A transparent scene (issue 18's flipbook scene) is shown over a grey checkerboard, not black, so
+// its ink stays visible: the screenshot is puffrender's straight-alpha frame composited over the
+// checkerboard in linear light, and the corners are the checkerboard's 8-pixel squares.
+TEST_F(PuffviewCli, ATransparentSceneIsShownOverACheckerboard) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const std::string burst = std::string(PUFF_SOURCE_DIR) + "/art/scenes/puff-burst.json";
+  const Image view = puffview(burst, 13);
+  const Image render = puffrender(burst, 12);
+  ASSERT_EQ(view.width, 320);
+  ASSERT_EQ(render.channels, 4);
+  const auto checker = [](int x, int y) { return ((x / 8) + (y / 8)) % 2 == 0 ? 0.62f : 0.78f; };
+  EXPECT_NEAR(view.at(2, 2, 0), checker(2, 2), 1.0f / 255.0f);
+  EXPECT_NEAR(view.at(10, 2, 0), checker(10, 2), 1.0f / 255.0f);
+  EXPECT_NEAR(view.at(317, 237, 1), checker(317, 237), 1.0f / 255.0f);
+  std::size_t same = 0, covered = 0;
+  for (int y = 0; y < view.height; ++y) {
+    for (int x = 0; x < view.width; ++x) {
+      const float a = render.at(x, y, 3);
+      covered += a > 0.5f ? 1 : 0;
+      bool close = true;
+      for (int c = 0; c < 3; ++c) {
+        const double linear = puff::core::srgbToLinear(double{render.at(x, y, c)}) * a +
+                              puff::core::srgbToLinear(double{checker(x, y)}) * (1.0 - a);
+        close = close && std::abs(puff::core::linearToSrgb(linear) - view.at(x, y, c)) <= 3.0 / 255.0;
+      }
+      same += close ? 1 : 0;
+    }
+  }
+  EXPECT_GT(covered, 2000u) << "the puffs cover part of the frame";
+  EXPECT_GE(static_cast<double>(same) / (view.width * view.height), 0.98);
 }
 
 // A sequence from the viewer (issue 18): --frames A-B with a numbered --screenshot writes every frame

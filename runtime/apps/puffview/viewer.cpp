@@ -321,7 +321,7 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
     v->setStatus(message);
     pathName = "fixed";
   }
-  auto path = createRenderer(pathName, v->scene_);
+  auto path = createRenderer(pathName, v->shown(v->scene_));
   if (!path) return path.error();
   v->renderer_ = std::move(*path);
   v->pathName_ = pathName;
@@ -382,7 +382,7 @@ void Viewer::reloadScene() {
   };
   if (!loaded) return fail(loaded.error().message);
   loaded->file = scene_.file;
-  if (auto r = renderer_->update(*loaded); !r) return fail(r.error().message);
+  if (auto r = renderer_->update(shown(*loaded)); !r) return fail(r.error().message);
   // A change on disk is a step undo can take back, like an edit in the panels.
   endEdit();
   beginEdit();
@@ -400,7 +400,7 @@ void Viewer::reloadScene() {
 
 void Viewer::rebuildPath(const std::string& why) {
   Impl& m = *impl_;
-  auto path = createRenderer(pathName_, scene_);
+  auto path = createRenderer(pathName_, shown(scene_));
   if (!path) {
     m.resourceError = path.error().message;
     if (!options_.quiet) std::fprintf(stderr, "puffview: error: %s\n", m.resourceError.c_str());
@@ -435,6 +435,30 @@ Result<fs::path> Viewer::writeScratch(const char* kind, const core::Image& image
   PUFF_TRY(core::writeImage(tx.stage(file), image, core::PixelType::kUInt8, {}, file));
   PUFF_TRY(tx.commit());
   return file;
+}
+
+scene::Scene Viewer::shown(const scene::Scene& s) {
+  if (!s.transparent) return s;
+  // 8-pixel squares of two light greys (display values), one plate pixel per pixel of the image the
+  // window shows at its own size (the plate is stretched to the frame drawn).
+  const glm::ivec2 size = imageSize();
+  core::Image checker(size.x, size.y, 3);
+  for (int y = 0; y < checker.height; ++y) {
+    for (int x = 0; x < checker.width; ++x) {
+      const float v = ((x / 8) + (y / 8)) % 2 == 0 ? 0.62f : 0.78f;
+      for (int c = 0; c < 3; ++c) checker.at(x, y, c) = v;
+    }
+  }
+  auto plate = writeScratch("checker", checker);
+  if (!plate) {
+    setStatus("cannot draw the checkerboard under the transparent frame: " + plate.error().message);
+    return s;
+  }
+  scene::Scene copy = s;
+  copy.transparent = false;
+  copy.alpha.reset();
+  copy.plate = *plate;
+  return copy;
 }
 
 Result<void> Viewer::setRamp(const core::Image& ramp) {
@@ -509,7 +533,7 @@ bool Viewer::redo() {
 }
 
 Result<void> Viewer::applyEdit() {
-  auto r = renderer_->update(scene_);
+  auto r = renderer_->update(shown(scene_));
   editError_ = r ? "" : r.error().message;
   return r;
 }
@@ -615,7 +639,7 @@ void Viewer::cameraToScene() {
 
 Result<void> Viewer::setPath(const std::string& name) {
   impl_->context->makeCurrent();
-  auto path = createRenderer(name, scene_);
+  auto path = createRenderer(name, shown(scene_));
   if (!path) {
     setStatus("cannot switch to the " + name + " path: " + path.error().message);
     return path.error();

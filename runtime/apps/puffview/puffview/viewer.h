@@ -205,6 +205,10 @@ class Viewer {
   void restore(scene::Scene scene, const char* what);
   std::filesystem::path scratch_;
   Result<std::filesystem::path> writeScratch(const char* kind, const core::Image& image);
+  /// The scene as the window shows it: a transparent frame over a grey checkerboard (a plate in the
+  /// scratch directory at the frame's size), so dark ink and smoke stay visible; any other scene
+  /// as it is. What is edited and saved is always the scene itself.
+  scene::Scene shown(const scene::Scene& s);
   /// save(): a ramp or gradient still in the scratch directory, copied beside `target`.
   Result<void> keepBeside(const std::filesystem::path& target, std::filesystem::path& image, const char* suffix);
 };
