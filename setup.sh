@@ -9,6 +9,8 @@ packages=(
   # libraries
   libglfw3-dev libglm-dev libopenmesh-dev libosmesa6-dev libegl-dev
   libopenimageio-dev nlohmann-json3-dev libcli11-dev
+  # rigid bodies (scene objects with "dynamic"): the ODE physics library McGuire & Fein used
+  libode-dev
   # puffview's panels: Dear ImGui (static lib with the GLFW + OpenGL 3 backends) and the stb it needs
   libimgui-dev libstb-dev
   # GL loader generator, run at configure time

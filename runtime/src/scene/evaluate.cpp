@@ -169,6 +169,8 @@ std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variat
 
 glm::mat4 objectTransform(const ObjectSpec& o, double t) {
   glm::mat4 m = glm::translate(glm::mat4(1.0f), o.translate + o.path.at(t));
+  // A dynamic body's simulated turn (identity for a keyframed or still object), then its own.
+  if (!o.path.rotations.empty()) m = m * glm::mat4_cast(o.path.rotationAt(t));
   // XYZ Euler angles applied X first: M = T * Rz * Ry * Rx * S.
   m = glm::rotate(m, glm::radians(o.rotateDegrees.z), glm::vec3(0, 0, 1));
   m = glm::rotate(m, glm::radians(o.rotateDegrees.y), glm::vec3(0, 1, 0));

@@ -1,6 +1,8 @@
 // Scene files: JSON -> Scene with every value checked (docs/scene-format.md is the reference).
 #include <puff/scene/read.h>
 
+#include <puff/scene/bodies.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -271,9 +273,9 @@ sim::Path readPath3(const json& j, const std::string& ptr) {
 }
 
 ObjectSpec readObject(const json& j, const std::string& ptr, std::size_t index, const Reader& r) {
-  requireObject(
-      j, ptr,
-      {"type", "name", "mesh", "translate", "rotate", "scale", "albedo", "shading", "path", "collide", "friction"});
+  requireObject(j, ptr,
+                {"type", "name", "mesh", "translate", "rotate", "scale", "albedo", "shading", "path", "collide",
+                 "friction", "dynamic"});
   ObjectSpec o;
   using Type = ObjectSpec::Type;
   if (auto* v = find(j, "type")) {
@@ -304,7 +306,31 @@ ObjectSpec readObject(const json& j, const std::string& ptr, std::size_t index, 
   if (auto* v = find(j, "path")) o.path = readPath3(*v, child(ptr, "path"));
   if (auto* v = find(j, "collide")) o.collide = readBool(*v, child(ptr, "collide"));
   if (auto* v = find(j, "friction")) o.friction = readFloat(*v, child(ptr, "friction"), kUnit);
+  if (auto* v = find(j, "dynamic")) {
+    const std::string p = child(ptr, "dynamic");
+    if (o.type != Type::kBox && o.type != Type::kSphere) {
+      failText(p, "only a box or a sphere can be dynamic (a rigid body), this object is a " +
+                      std::string(o.type == Type::kPlane ? "plane" : "mesh"));
+    }
+    if (!o.path.empty()) {
+      failText(p, "a dynamic object moves as it is simulated: it cannot also follow a \"path\"");
+    }
+    requireObject(*v, p, {"mass", "velocity", "angularVelocity", "friction", "restitution"});
+    DynamicBody d;
+    if (auto* x = find(*v, "mass")) d.mass = readFloat(*x, child(p, "mass"), Range{0.0, 1e6, true, false});
+    if (auto* x = find(*v, "velocity")) d.velocity = readVec3(*x, child(p, "velocity"));
+    if (auto* x = find(*v, "angularVelocity")) d.angularVelocity = readVec3(*x, child(p, "angularVelocity"));
+    if (auto* x = find(*v, "friction")) d.friction = readFloat(*x, child(p, "friction"), Range{0.0, 10.0});
+    if (auto* x = find(*v, "restitution")) d.restitution = readFloat(*x, child(p, "restitution"), kUnit);
+    o.dynamic = d;
+  }
   return o;
+}
+
+void readRigidBodies(const json& j, const std::string& ptr, RigidBodies& b) {
+  requireObject(j, ptr, {"gravity", "stepsPerSecond"});
+  if (auto* v = find(j, "gravity")) b.gravity = readVec3(*v, child(ptr, "gravity"));
+  if (auto* v = find(j, "stepsPerSecond")) b.stepsPerSecond = readInt(*v, child(ptr, "stepsPerSecond"), 24, 10000);
 }
 
 void readAnimation(const json& j, const std::string& ptr, Animation& a) {
@@ -417,7 +443,7 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
   if (!j.is_object()) throw Failure{"expected a JSON object at the top level, got " + describe(j)};
   requireObject(j, "",
                 {"output", "camera", "light", "ambient", "ramp", "atlas", "atlasLevel", "particleFraction", "style",
-                 "particles", "emitters", "objects", "animation", "simulation", "fixed", "media"});
+                 "particles", "emitters", "objects", "rigidBodies", "animation", "simulation", "fixed", "media"});
   const Reader r(file, artDir);
   Scene s;
   s.file = file;
@@ -438,6 +464,9 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
     for (std::size_t i = 0; i < v->size(); ++i) s.objects.push_back(readObject((*v)[i], child("/objects", i), i, r));
   }
   if (auto* v = find(j, "animation")) readAnimation(*v, "/animation", s.animation);
+  if (auto* v = find(j, "rigidBodies")) readRigidBodies(*v, "/rigidBodies", s.rigidBodies);
+  // The dynamic objects' trajectories, before anything rides on them ("attach") or collides.
+  if (auto ok = simulateBodies(s); !ok) throw Failure{ok.error().message};
   if (auto* v = find(j, "fixed")) readFixed(*v, "/fixed", r, s.fixed);
   if (auto* v = find(j, "simulation")) {
     readSimulationSection(*v, s);

@@ -273,17 +273,28 @@ json objectJson(const ObjectSpec& o, const fs::path& dir) {
                      : o.type == ObjectSpec::Type::kBox    ? "box"
                      : o.type == ObjectSpec::Type::kSphere ? "sphere"
                                                            : "mesh";
-  return {{"type", type},
-          {"name", o.name},
-          {"mesh", pathJson(o.mesh, dir)},
-          {"translate", vec3(o.translate)},
-          {"rotate", vec3(o.rotateDegrees)},
-          {"scale", vec3(o.scale)},
-          {"albedo", vec3(o.albedo)},
-          {"shading", o.cel ? "cel" : "smooth"},
-          {"path", pathKeys(o.path)},
-          {"collide", o.collide},
-          {"friction", number(o.friction)}};
+  json j = {{"type", type},
+            {"name", o.name},
+            {"mesh", pathJson(o.mesh, dir)},
+            {"translate", vec3(o.translate)},
+            {"rotate", vec3(o.rotateDegrees)},
+            {"scale", vec3(o.scale)},
+            {"albedo", vec3(o.albedo)},
+            {"shading", o.cel ? "cel" : "smooth"},
+            {"collide", o.collide},
+            {"friction", number(o.friction)}};
+  if (o.dynamic) {
+    // Its path is the simulation's, computed again when the scene is read.
+    const DynamicBody& d = *o.dynamic;
+    j["dynamic"] = {{"mass", number(d.mass)},
+                    {"velocity", vec3(d.velocity)},
+                    {"angularVelocity", vec3(d.angularVelocity)},
+                    {"friction", number(d.friction)},
+                    {"restitution", number(d.restitution)}};
+  } else {
+    j["path"] = pathKeys(o.path);
+  }
+  return j;
 }
 
 }  // namespace
@@ -331,6 +342,7 @@ json toJson(const Scene& s) {
   for (const EmitterSpec& e : s.emitters) j["emitters"].push_back(emitterJson(e));
   j["objects"] = json::array();
   for (const ObjectSpec& o : s.objects) j["objects"].push_back(objectJson(o, dir));
+  j["rigidBodies"] = {{"gravity", vec3(s.rigidBodies.gravity)}, {"stepsPerSecond", s.rigidBodies.stepsPerSecond}};
   j["animation"] = {{"fps", number(s.animation.fps)},
                     {"frames", s.animation.frames},
                     {"orbit", number(s.animation.orbitDegreesPerSecond)},

@@ -203,15 +203,17 @@ void Simulator::Impl::prepareColliders(double t0, double t1) {
     sc.center = onPath ? c.center + c.path.at(t1) : c.center;
     sc.halfExtent = c.halfExtent;
     sc.keep = 1.0f - c.friction;
+    // A turning body (a dynamic object's trajectory) turns its frame about its centre.
+    const glm::quat rotation = onPath ? glm::normalize(c.path.rotationAt(t1) * c.rotation) : c.rotation;
     switch (c.type) {
       case Collider::Type::kPlane:
-        sc.frame = glm::transpose(glm::mat3_cast(c.rotation));
+        sc.frame = glm::transpose(glm::mat3_cast(rotation));
         break;
       case Collider::Type::kSphere:
-        sc.up = c.rotation * glm::vec3(0, 1, 0);
+        sc.up = rotation * glm::vec3(0, 1, 0);
         break;
       case Collider::Type::kBox:
-        sc.frame = glm::mat3_cast(c.rotation);
+        sc.frame = glm::mat3_cast(rotation);
         break;
       case Collider::Type::kMesh:
         // A moving mesh: the particle's step is tested in the mesh's frame (start against where the

@@ -3,10 +3,10 @@
 
 #include <algorithm>
 #include <atomic>
-#include <utility>
 #include <cmath>
 #include <limits>
 #include <thread>
+#include <utility>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -66,6 +66,16 @@ glm::vec3 Path::at(double t) const {
   const double t0 = times[i - 1], t1 = times[i];
   const float f = static_cast<float>(std::clamp((t - t0) / (t1 - t0), 0.0, 1.0));
   return glm::mix(points[i - 1], points[i], f);
+}
+
+glm::quat Path::rotationAt(double t) const {
+  if (rotations.empty() || rotations.size() != times.size()) return glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+  if (t <= times.front()) return rotations.front();
+  if (t >= times.back()) return rotations.back();
+  const std::size_t i = segmentOf(times, t);
+  const double t0 = times[i - 1], t1 = times[i];
+  const float f = static_cast<float>(std::clamp((t - t0) / (t1 - t0), 0.0, 1.0));
+  return glm::normalize(glm::slerp(rotations[i - 1], rotations[i], f));
 }
 
 glm::vec3 Path::velocityAt(double t) const {

@@ -45,6 +45,10 @@ struct Check {
       if (error.empty()) error = ptr + ": expected as many times as points";
       return;
     }
+    if (!p.rotations.empty() && p.rotations.size() != p.times.size()) {
+      if (error.empty()) error = ptr + ": expected a rotation for every key, or none";
+      return;
+    }
     for (std::size_t i = 0; i < p.times.size(); ++i) {
       const std::string at = ptr + "/" + std::to_string(i);
       finite(at + "/time", p.times[i]);

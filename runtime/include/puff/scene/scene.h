@@ -74,6 +74,27 @@ struct EmitterSpec {
   bool operator==(const EmitterSpec&) const = default;
 };
 
+/// A rigid body simulated with ODE (McGuire & Fein §3's "Newtonian rigid body simulator"; issue 19).
+/// Its motion is computed once per scene, from where the object stands at t = 0, at a fixed step
+/// (RigidBodies): ObjectSpec::path then holds its trajectory (positions and rotations), so every
+/// frame reads it as a pure function of time and everything that follows keyframed objects (the
+/// renderers, the smoke's colliders, "attach") follows the body.
+struct DynamicBody {
+  float mass = 1.0f;                ///< kg, (0, 1e6]; spread uniformly through the box or sphere
+  glm::vec3 velocity{0.0f};         ///< world units / s at t = 0
+  glm::vec3 angularVelocity{0.0f};  ///< world-space axis times radians / s at t = 0
+  float friction = 0.5f;            ///< Coulomb mu of its contacts, [0, 10] (two bodies: their mean)
+  float restitution = 0.3f;         ///< bounce, [0, 1] (two bodies: the larger)
+  bool operator==(const DynamicBody&) const = default;
+};
+
+/// The rigid-body world: gravity and the fixed step.
+struct RigidBodies {
+  glm::vec3 gravity{0.0f, -9.81f, 0.0f};  ///< world units / s^2
+  int stepsPerSecond = 240;               ///< [24, 10000]
+  bool operator==(const RigidBodies&) const = default;
+};
+
 struct ObjectSpec {
   enum class Type { kPlane, kBox, kSphere, kMesh };
   Type type = Type::kPlane;
@@ -89,6 +110,9 @@ struct ObjectSpec {
   sim::Path path;
   bool collide = true;    ///< simulated particles collide with it (scenes with a "simulation")
   float friction = 0.0f;  ///< [0, 1], for simulated particles sliding on it
+  /// A box or sphere simulated as a rigid body (not with a keyframed `path`: `path` is then its
+  /// computed trajectory, never written back to a scene file).
+  std::optional<DynamicBody> dynamic;
   bool operator==(const ObjectSpec&) const = default;
 };
 
@@ -212,6 +236,7 @@ struct Scene {
   std::vector<ParticleSpec> particles;
   std::vector<EmitterSpec> emitters;
   std::vector<ObjectSpec> objects;
+  RigidBodies rigidBodies;  ///< for objects with `dynamic`
   Animation animation;
   /// The smoke simulator (forces, emitters; colliders come from `objects` with collide = true).
   /// Its fps is the animation's. Absent: particles and emitters above move without forces.

@@ -49,8 +49,12 @@ namespace puff::sim {
 struct Path {
   std::vector<float> times;
   std::vector<glm::vec3> points;
+  /// Empty, or one unit quaternion per key: a turning body (a dynamic scene object's simulated
+  /// trajectory), slerped between keys and held outside them; it turns about the body's origin.
+  std::vector<glm::quat> rotations;
   glm::vec3 at(double t) const;
   glm::vec3 velocityAt(double t) const;  ///< slope of the segment at t; zero outside the keys
+  glm::quat rotationAt(double t) const;  ///< identity without rotations
   bool empty() const { return times.empty(); }
   bool operator==(const Path&) const = default;
 };

@@ -1,0 +1,242 @@
+// A scene's dynamic objects simulated with ODE (bodies.h).
+#include <puff/scene/bodies.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include <ode/ode.h>
+#include <glm/gtc/quaternion.hpp>
+
+namespace puff::scene {
+
+namespace {
+
+// What a geom stands for, for the contacts' surface.
+struct GeomInfo {
+  bool dynamic = false;
+  float friction = 0.0f, restitution = 0.0f;
+};
+
+struct World {
+  dWorldID world = nullptr;
+  dSpaceID space = nullptr;
+  dJointGroupID contacts = nullptr;
+  ~World() {
+    if (contacts) dJointGroupDestroy(contacts);
+    if (space) dSpaceDestroy(space);  // and its geoms
+    if (world) dWorldDestroy(world);  // and its bodies
+  }
+};
+
+struct Collision {
+  World* w = nullptr;
+};
+
+// ODE's quaternions are (w, x, y, z).
+glm::quat fromOde(const dReal* q) {
+  return glm::normalize(glm::quat(static_cast<float>(q[0]), static_cast<float>(q[1]), static_cast<float>(q[2]),
+                                  static_cast<float>(q[3])));
+}
+void toOde(const glm::quat& q, dQuaternion out) { out[0] = q.w, out[1] = q.x, out[2] = q.y, out[3] = q.z; }
+
+glm::quat eulerRotation(const glm::vec3& degrees) {
+  return glm::angleAxis(glm::radians(degrees.z), glm::vec3(0, 0, 1)) *
+         glm::angleAxis(glm::radians(degrees.y), glm::vec3(0, 1, 0)) *
+         glm::angleAxis(glm::radians(degrees.x), glm::vec3(1, 0, 0));
+}
+
+// Contacts between a dynamic body and anything (two still or keyframed objects never touch).
+void nearCallback(void* data, dGeomID a, dGeomID b) {
+  const auto* ia = static_cast<const GeomInfo*>(dGeomGetData(a));
+  const auto* ib = static_cast<const GeomInfo*>(dGeomGetData(b));
+  if (!ia->dynamic && !ib->dynamic) return;
+  World& w = *static_cast<Collision*>(data)->w;
+  constexpr int kMax = 8;
+  dContact contact[kMax];
+  const int n = dCollide(a, b, kMax, &contact[0].geom, sizeof(dContact));
+  // A dynamic body's own surface decides; two bodies take the mean friction and the larger bounce.
+  float mu = 0.0f, bounce = 0.0f;
+  if (ia->dynamic && ib->dynamic) {
+    mu = 0.5f * (ia->friction + ib->friction);
+    bounce = std::max(ia->restitution, ib->restitution);
+  } else {
+    const GeomInfo& d = ia->dynamic ? *ia : *ib;
+    mu = d.friction;
+    bounce = d.restitution;
+  }
+  for (int i = 0; i < n; ++i) {
+    dSurfaceParameters& s = contact[i].surface;
+    s.mode = dContactBounce | dContactApprox1 | dContactSoftCFM;
+    s.mu = mu;
+    s.bounce = bounce;
+    s.bounce_vel = 0.05;  // slower impacts do not bounce: bodies come to rest
+    s.soft_cfm = 1e-6;
+    dJointID j = dJointCreateContact(w.world, w.contacts, &contact[i]);
+    dJointAttach(j, dGeomGetBody(a), dGeomGetBody(b));
+  }
+}
+
+}  // namespace
+
+Result<void> simulateBodies(Scene& scene) {
+  std::vector<std::size_t> dynamic;
+  for (std::size_t i = 0; i < scene.objects.size(); ++i)
+    if (scene.objects[i].dynamic) dynamic.push_back(i);
+  if (dynamic.empty()) return {};
+
+  const double rate = scene.rigidBodies.stepsPerSecond;
+  const double dt = 1.0 / rate;
+  const double duration = static_cast<double>(scene.animation.frames) / static_cast<double>(scene.animation.fps);
+  const auto steps = static_cast<long long>(std::max(1.0, std::ceil(duration * rate - 1e-9)));
+  // Every key of every body is kept: bounded, so that a long animation fails clearly instead of
+  // taking minutes and gigabytes.
+  constexpr long long kMaxKeys = 20'000'000;
+  if (steps * static_cast<long long>(dynamic.size()) > kMaxKeys) {
+    return Error{"/rigidBodies: " + std::to_string(dynamic.size()) + " dynamic objects over " + std::to_string(steps) +
+                 " steps (" + std::to_string(duration) + " s at " + std::to_string(scene.rigidBodies.stepsPerSecond) +
+                 " steps per second) are more than " + std::to_string(kMaxKeys) +
+                 " keys: fewer frames, or fewer steps per second"};
+  }
+
+  static std::once_flag initialized;
+  std::call_once(initialized, [] { dInitODE2(0); });
+  if (!dAllocateODEDataForThread(dAllocateMaskAll)) return Error{"rigid bodies: ODE could not start on this thread"};
+  dRandSetSeed(1);  // QuickStep reorders its constraints with ODE's random numbers: the same each run
+
+  World w;
+  w.world = dWorldCreate();
+  w.space = dSimpleSpaceCreate(nullptr);  // pairs in the order the geoms were added
+  w.contacts = dJointGroupCreate(0);
+  const glm::vec3 g = scene.rigidBodies.gravity;
+  dWorldSetGravity(w.world, g.x, g.y, g.z);
+  dWorldSetERP(w.world, 0.2);
+  dWorldSetCFM(w.world, 1e-6);
+  dWorldSetQuickStepNumIterations(w.world, 40);
+  dWorldSetContactSurfaceLayer(w.world, 1e-3);
+  dWorldSetAutoDisableFlag(w.world, 0);
+
+  std::vector<std::unique_ptr<GeomInfo>> infos;
+  struct Kinematic {
+    dBodyID body;
+    const ObjectSpec* object;
+  };
+  std::vector<Kinematic> kinematic;
+  std::vector<dBodyID> bodies(scene.objects.size(), nullptr);
+  for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+    const ObjectSpec& o = scene.objects[i];
+    const bool isDynamic = o.dynamic.has_value();
+    if (!o.collide && !isDynamic) continue;
+    if (o.type == ObjectSpec::Type::kMesh) continue;  // not collided with yet (bodies.h)
+    const bool touches = o.collide;                   // a dynamic body with collide false flies through everything
+    const glm::quat q0 = eulerRotation(o.rotateDegrees);
+    dGeomID geom = nullptr;
+    glm::vec3 geomOffset(0.0f);  // a plane's slab lies under its square
+    switch (touches ? o.type : ObjectSpec::Type::kMesh) {
+      case ObjectSpec::Type::kBox:
+        geom = dCreateBox(w.space, 2.0 * o.scale.x, 2.0 * o.scale.y, 2.0 * o.scale.z);
+        break;
+      case ObjectSpec::Type::kSphere:
+        geom = dCreateSphere(w.space, std::max({o.scale.x, o.scale.y, o.scale.z}));
+        break;
+      case ObjectSpec::Type::kPlane: {
+        const float h = std::max({o.scale.x, o.scale.z, 0.5f});
+        geom = dCreateBox(w.space, 2.0 * o.scale.x, 2.0 * h, 2.0 * o.scale.z);
+        geomOffset = q0 * glm::vec3(0.0f, -h, 0.0f);
+        break;
+      }
+      case ObjectSpec::Type::kMesh:
+        break;
+    }
+    if (geom) {
+      auto info = std::make_unique<GeomInfo>();
+      info->dynamic = isDynamic;
+      if (isDynamic) info->friction = o.dynamic->friction, info->restitution = o.dynamic->restitution;
+      dGeomSetData(geom, info.get());
+      infos.push_back(std::move(info));
+    }
+    dQuaternion q;
+    toOde(q0, q);
+    if (isDynamic || !o.path.empty()) {
+      dBodyID body = dBodyCreate(w.world);
+      dBodySetPosition(body, o.translate.x + (o.path.empty() ? 0.0f : o.path.at(0.0).x),
+                       o.translate.y + (o.path.empty() ? 0.0f : o.path.at(0.0).y),
+                       o.translate.z + (o.path.empty() ? 0.0f : o.path.at(0.0).z));
+      dBodySetQuaternion(body, q);
+      if (isDynamic) {
+        dMass m;
+        if (o.type == ObjectSpec::Type::kBox) {
+          dMassSetBoxTotal(&m, o.dynamic->mass, 2.0 * o.scale.x, 2.0 * o.scale.y, 2.0 * o.scale.z);
+        } else {
+          dMassSetSphereTotal(&m, o.dynamic->mass, std::max({o.scale.x, o.scale.y, o.scale.z}));
+        }
+        dBodySetMass(body, &m);
+        const glm::vec3 v = o.dynamic->velocity, wv = o.dynamic->angularVelocity;
+        dBodySetLinearVel(body, v.x, v.y, v.z);
+        dBodySetAngularVel(body, wv.x, wv.y, wv.z);
+        bodies[i] = body;
+      } else {
+        dBodySetKinematic(body);
+        kinematic.push_back({body, &o});
+      }
+      if (geom) dGeomSetBody(geom, body);
+    } else {
+      const glm::vec3 c = o.translate + geomOffset;
+      dGeomSetPosition(geom, c.x, c.y, c.z);
+      dGeomSetQuaternion(geom, q);
+    }
+  }
+
+  // The trajectories: a key at t = 0 and after each step.
+  std::vector<sim::Path> paths(scene.objects.size());
+  const auto record = [&](float t) {
+    for (std::size_t i : dynamic) {
+      const ObjectSpec& o = scene.objects[i];
+      const dReal* p = dBodyGetPosition(bodies[i]);
+      const glm::vec3 at(static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2]));
+      // objectTransform draws T(translate + path) R_path R_euler S: R_path = body R_euler^-1.
+      const glm::quat turn =
+          glm::normalize(fromOde(dBodyGetQuaternion(bodies[i])) * glm::inverse(eulerRotation(o.rotateDegrees)));
+      paths[i].times.push_back(t);
+      paths[i].points.push_back(at - o.translate);
+      paths[i].rotations.push_back(turn);
+    }
+  };
+  for (std::size_t i : dynamic) {
+    paths[i].times.reserve(static_cast<std::size_t>(steps) + 1);
+    paths[i].points.reserve(static_cast<std::size_t>(steps) + 1);
+    paths[i].rotations.reserve(static_cast<std::size_t>(steps) + 1);
+  }
+  record(0.0f);
+  Collision collision{&w};
+  for (long long k = 0; k < steps; ++k) {
+    const double t0 = static_cast<double>(k) * dt, t1 = static_cast<double>(k + 1) * dt;
+    // Keyframed objects: where their path has them now, moving to where it has them at the step's end.
+    for (const Kinematic& kb : kinematic) {
+      const glm::vec3 p0 = kb.object->translate + kb.object->path.at(t0);
+      const glm::vec3 v = (kb.object->path.at(t1) - kb.object->path.at(t0)) / static_cast<float>(dt);
+      dBodySetPosition(kb.body, p0.x, p0.y, p0.z);
+      dBodySetLinearVel(kb.body, v.x, v.y, v.z);
+    }
+    dSpaceCollide(w.space, &collision, &nearCallback);
+    dWorldQuickStep(w.world, dt);
+    dJointGroupEmpty(w.contacts);
+    record(static_cast<float>(t1));
+  }
+  for (std::size_t i : dynamic) {
+    for (const glm::vec3& p : paths[i].points) {
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+        return Error{"/objects/" + std::to_string(i) + "/dynamic: the rigid-body simulation diverged (" +
+                     scene.objects[i].name +
+                     "); a smaller step (rigidBodies.stepsPerSecond) or a larger mass may help"};
+      }
+    }
+    scene.objects[i].path = std::move(paths[i]);
+  }
+  return {};
+}
+
+}  // namespace puff::scene
