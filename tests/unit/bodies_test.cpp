@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -20,6 +22,8 @@
 
 namespace puff::scene {
 namespace {
+
+namespace fs = std::filesystem;
 
 Scene parsed(const nlohmann::json& j) {
   auto s = parseScene(j, "bodies.json");
@@ -254,6 +258,27 @@ TEST(RigidBodies, SmokeIsKeptOutOfASpinningFallingBox) {
   EXPECT_GT(particles, 10000);
   EXPECT_EQ(inside[0], 0) << "with collisions";
   EXPECT_GT(inside[1], 100) << "without them the falling box passes through the cloud";
+}
+
+// The art scene (art/scenes/bouncing-ball.json, golden-tested at frame 30): its ball bounces along
+// the ground, never in it, each bounce lower than the last (restitution 0.75), moving on.
+TEST(RigidBodies, TheBouncingBallSceneBouncesAlongTheGround) {
+  auto s = loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "bouncing-ball.json", PUFF_ART_DIR);
+  ASSERT_OK(s);
+  const ObjectSpec& ball = s->objects[1];
+  ASSERT_EQ(ball.name, "ball");
+  const sim::Path& p = ball.path;
+  std::vector<float> apexes, lows;
+  for (std::size_t i = 1; i + 1 < p.points.size(); ++i) {
+    const float y0 = p.points[i - 1].y, y1 = p.points[i].y, y2 = p.points[i + 1].y;
+    if (y1 > y0 && y1 >= y2) apexes.push_back(ball.translate.y + y1);
+    if (y1 < y0 && y1 <= y2) lows.push_back(ball.translate.y + y1);
+  }
+  ASSERT_GE(lows.size(), 3u) << "three bounces in three seconds";
+  for (float low : lows) EXPECT_NEAR(low, 0.45f, 0.03f) << "the ball's bottom on the ground";
+  for (std::size_t i = 1; i < apexes.size(); ++i) EXPECT_LT(apexes[i], apexes[i - 1]) << "bounce " << i;
+  EXPECT_GT(apexes.size() > 1 ? apexes[1] : 0.0f, 1.5f) << "the first rebound rises a metre or more";
+  EXPECT_GT(centreAt(ball, 3.0).x, centreAt(ball, 0.0).x + 5.0f) << "it travels";
 }
 
 }  // namespace
