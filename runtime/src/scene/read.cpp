@@ -316,10 +316,20 @@ ObjectSpec readObject(const json& j, const std::string& ptr, std::size_t index, 
       failText(p, "a dynamic object moves as it is simulated: it cannot also follow a \"path\"");
     }
     requireObject(*v, p, {"mass", "velocity", "angularVelocity", "friction", "restitution"});
+    // Bounded so that the rigid-body solver stays in numbers it can step (a body a millimetre to
+    // 10 km across, of a gram to 1000 tonnes, at up to 10 km/s and 10,000 rad/s).
+    for (int a = 0; a < 3; ++a) {
+      if (!(o.scale[a] >= 1e-3f && o.scale[a] <= 1e4f)) {
+        failText(child(ptr, "scale"),
+                 "a dynamic object's scale must be in [0.001, 10000] on every axis, got " + formatNumber(o.scale[a]));
+      }
+    }
     DynamicBody d;
-    if (auto* x = find(*v, "mass")) d.mass = readFloat(*x, child(p, "mass"), Range{0.0, 1e6, true, false});
-    if (auto* x = find(*v, "velocity")) d.velocity = readVec3(*x, child(p, "velocity"));
-    if (auto* x = find(*v, "angularVelocity")) d.angularVelocity = readVec3(*x, child(p, "angularVelocity"));
+    if (auto* x = find(*v, "mass")) d.mass = readFloat(*x, child(p, "mass"), Range{1e-3, 1e6});
+    if (auto* x = find(*v, "velocity")) d.velocity = readVec3(*x, child(p, "velocity"), Range{-1e4, 1e4});
+    if (auto* x = find(*v, "angularVelocity")) {
+      d.angularVelocity = readVec3(*x, child(p, "angularVelocity"), Range{-1e4, 1e4});
+    }
     if (auto* x = find(*v, "friction")) d.friction = readFloat(*x, child(p, "friction"), Range{0.0, 10.0});
     if (auto* x = find(*v, "restitution")) d.restitution = readFloat(*x, child(p, "restitution"), kUnit);
     o.dynamic = d;
@@ -329,7 +339,7 @@ ObjectSpec readObject(const json& j, const std::string& ptr, std::size_t index, 
 
 void readRigidBodies(const json& j, const std::string& ptr, RigidBodies& b) {
   requireObject(j, ptr, {"gravity", "stepsPerSecond"});
-  if (auto* v = find(j, "gravity")) b.gravity = readVec3(*v, child(ptr, "gravity"));
+  if (auto* v = find(j, "gravity")) b.gravity = readVec3(*v, child(ptr, "gravity"), Range{-1e4, 1e4});
   if (auto* v = find(j, "stepsPerSecond")) b.stepsPerSecond = readInt(*v, child(ptr, "stepsPerSecond"), 24, 10000);
 }
 
