@@ -168,7 +168,7 @@ TEST(Scene, ErrorsNameTheFileThePointerWhatWasExpectedAndWhatCame) {
       {R"({"camra": {}})",
        "/camra: unknown key, expected one of output, camera, light, ambient, ramp, atlas, atlasLevel, "
        "particleFraction, style, particles, emitters, "
-       "objects, animation, simulation, fixed, media (did you mean \"camera\"?)"},
+       "objects, rigidBodies, animation, simulation, fixed, media (did you mean \"camera\"?)"},
       {R"({"output": {"width": 0}})", "/output/width: expected an integer in [1, 16384], got 0"},
       {R"({"output": {"height": 16385}})", "/output/height: expected an integer in [1, 16384], got 16385"},
       {R"({"output": {"width": 640.5}})", "/output/width: expected an integer in [1, 16384], got 640.5"},
@@ -237,7 +237,7 @@ TEST(Scene, ErrorsNameTheFileThePointerWhatWasExpectedAndWhatCame) {
       {R"({"a/b~c": 1})",
        "/a~1b~0c: unknown key, expected one of output, camera, light, ambient, ramp, atlas, atlasLevel, "
        "particleFraction, style, particles, "
-       "emitters, objects, animation, simulation, fixed, media"},
+       "emitters, objects, rigidBodies, animation, simulation, fixed, media"},
       {R"([1, 2])", "expected a JSON object at the top level, got [1,2]"},
   };
   for (const auto& [text, expected] : cases) EXPECT_EQ(parseError(std::string(text)), f + expected) << text;
