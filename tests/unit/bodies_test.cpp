@@ -146,15 +146,19 @@ TEST(RigidBodies, EqualBallsMeetingHeadOnConserveMomentum) {
   }
 }
 
-// A keyframed object is a kinematic body: it pushes a ball in its way, and is not pushed back.
+// A keyframed object is a kinematic body: it pushes a ball in its way, however heavy (100 kg here),
+// and is not pushed back.
 TEST(RigidBodies, AKeyframedObjectPushesABody) {
-  const Scene s = parsed(world(
-      {{{"type", "box"},
-        {"translate", {-2, 0, 0}},
-        {"scale", {0.5, 0.5, 0.5}},
-        {"path", {{{"time", 0}, {"position", {0, 0, 0}}}, {{"time", 1}, {"position", {4, 0, 0}}}}}},
-       {{"type", "sphere"}, {"translate", {1, 0, 0}}, {"scale", {0.4, 0.4, 0.4}}, {"dynamic", {{"friction", 0}}}}},
-      1.0, {{"gravity", {0, 0, 0}}}));
+  const Scene s =
+      parsed(world({{{"type", "box"},
+                     {"translate", {-2, 0, 0}},
+                     {"scale", {0.5, 0.5, 0.5}},
+                     {"path", {{{"time", 0}, {"position", {0, 0, 0}}}, {{"time", 1}, {"position", {4, 0, 0}}}}}},
+                    {{"type", "sphere"},
+                     {"translate", {1, 0, 0}},
+                     {"scale", {0.4, 0.4, 0.4}},
+                     {"dynamic", {{"mass", 100}, {"friction", 0}}}}},
+                   1.0, {{"gravity", {0, 0, 0}}}));
   EXPECT_EQ(centreAt(s.objects[0], 1.0), glm::vec3(2, 0, 0)) << "the keyframed box keeps its path";
   EXPECT_GT(centreAt(s.objects[1], 1.0).x, 2.0f + 0.5f + 0.4f - 0.02f) << "pushed at least ahead of the box";
 }
