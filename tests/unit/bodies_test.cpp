@@ -163,6 +163,21 @@ TEST(RigidBodies, AKeyframedObjectPushesABody) {
   EXPECT_GT(centreAt(s.objects[1], 1.0).x, 2.0f + 0.5f + 0.4f - 0.02f) << "pushed at least ahead of the box";
 }
 
+// A keyframed plane is a moving floor: a box resting on it rides up with it, its bottom on the plane
+// (the slab lies under the plane's square as it moves, as it does under a still one).
+TEST(RigidBodies, ABoxRidesAKeyframedPlaneUp) {
+  const Scene s = parsed(world(
+      {{{"type", "plane"},
+        {"scale", {5, 1, 5}},
+        {"path", {{{"time", 0}, {"position", {0, 0, 0}}}, {{"time", 2}, {"position", {0, 1, 0}}}}}},
+       {{"type", "box"}, {"translate", {0, 0.3, 0}}, {"scale", {0.3, 0.3, 0.3}}, {"dynamic", {{"restitution", 0}}}}},
+      2.0));
+  for (double t : {0.5, 1.0, 2.0}) {
+    const float floor = centreAt(s.objects[0], t).y;
+    EXPECT_NEAR(centreAt(s.objects[1], t).y, floor + 0.3f, 0.02f) << "t " << t;
+  }
+}
+
 // The same scene gives bit-identical trajectories every time it is read, so a frame alone equals
 // the same frame in a sequence; the trajectory is not written back, and reads back the same.
 TEST(RigidBodies, TrajectoriesAreTheSameEveryTimeAndRoundTrip) {
@@ -226,6 +241,15 @@ TEST(RigidBodies, BadBodiesNameTheField) {
   EXPECT_TRUE(flung == "(read)" ||
               flung.find("/objects/1/dynamic: the rigid-body simulation diverged") != std::string::npos)
       << flung;
+  // A tiny fps makes an astronomical duration: refused, not a crash.
+  nlohmann::json slowFrames = with({{"type", "box"}, {"dynamic", nlohmann::json::object()}});
+  slowFrames["animation"] = {{"fps", 1e-20}, {"frames", 1}};
+  EXPECT_NE(error(slowFrames).find("/rigidBodies: 1 dynamic objects over"), std::string::npos) << error(slowFrames);
+  nlohmann::json crowd = world(nlohmann::json::array(), 0.1);
+  for (int i = 0; i < 257; ++i) {
+    crowd["objects"].push_back({{"type", "sphere"}, {"translate", {i, 0, 0}}, {"dynamic", nlohmann::json::object()}});
+  }
+  EXPECT_NE(error(crowd).find("/objects/256/dynamic: at most 256 dynamic objects"), std::string::npos);
   nlohmann::json longRun = with({{"type", "box"}, {"dynamic", nlohmann::json::object()}});
   longRun["animation"] = {{"fps", 1}, {"frames", 100000}};
   longRun["rigidBodies"] = {{"stepsPerSecond", 10000}};

@@ -91,16 +91,27 @@ Result<void> simulateBodies(Scene& scene) {
   const double rate = scene.rigidBodies.stepsPerSecond;
   const double dt = 1.0 / rate;
   const double duration = static_cast<double>(scene.animation.frames) / static_cast<double>(scene.animation.fps);
-  const auto steps = static_cast<long long>(std::max(1.0, std::ceil(duration * rate - 1e-9)));
-  // Every key of every body is kept: bounded, so that a long animation fails clearly instead of
-  // taking minutes and gigabytes.
-  constexpr long long kMaxKeys = 2'000'000;
-  if (steps * static_cast<long long>(dynamic.size()) > kMaxKeys) {
-    return Error{"/rigidBodies: " + std::to_string(dynamic.size()) + " dynamic objects over " + std::to_string(steps) +
-                 " steps (" + std::to_string(duration) + " s at " + std::to_string(scene.rigidBodies.stepsPerSecond) +
-                 " steps per second) are more than " + std::to_string(kMaxKeys) +
-                 " keys: fewer frames, or fewer steps per second"};
+  // Every key of every body is kept: bounded (counted in doubles, before anything is an integer:
+  // a tiny fps makes the duration astronomical), so that a long animation fails clearly instead of
+  // taking minutes and gigabytes. So are the bodies, whose contacts every step tests pairwise.
+  constexpr double kMaxKeys = 2'000'000;
+  constexpr std::size_t kMaxBodies = 256;
+  const double stepCount = std::max(1.0, std::ceil(duration * rate - 1e-9));
+  if (!(stepCount * static_cast<double>(dynamic.size()) <= kMaxKeys)) {
+    return Error{"/rigidBodies: " + std::to_string(dynamic.size()) + " dynamic objects over " +
+                 std::to_string(duration) + " s at " + std::to_string(scene.rigidBodies.stepsPerSecond) +
+                 " steps per second are more than " + std::to_string(static_cast<long long>(kMaxKeys)) +
+                 " keys (steps times objects): fewer frames, or fewer steps per second"};
   }
+  if (dynamic.size() > kMaxBodies) {
+    return Error{"/objects/" + std::to_string(dynamic[kMaxBodies]) + "/dynamic: at most " + std::to_string(kMaxBodies) +
+                 " dynamic objects in a scene, this one has " + std::to_string(dynamic.size())};
+  }
+  const auto steps = static_cast<long long>(stepCount);
+  // ODE's random numbers (QuickStep's constraint order) are one stream for the whole process: one
+  // simulation at a time keeps each one's the same, whichever threads parse scenes.
+  static std::mutex oneAtATime;
+  const std::lock_guard<std::mutex> lock(oneAtATime);
 
   static std::once_flag initialized;
   std::call_once(initialized, [] { dInitODE2(0); });
@@ -109,7 +120,7 @@ Result<void> simulateBodies(Scene& scene) {
 
   World w;
   w.world = dWorldCreate();
-  w.space = dSimpleSpaceCreate(nullptr);  // pairs in the order the geoms were added
+  w.space = dSimpleSpaceCreate(nullptr);  // every pair, in an order that depends on the scene alone
   w.contacts = dJointGroupCreate(0);
   const glm::vec3 g = scene.rigidBodies.gravity;
   dWorldSetGravity(w.world, g.x, g.y, g.z);
@@ -182,7 +193,11 @@ Result<void> simulateBodies(Scene& scene) {
         dBodySetKinematic(body);
         kinematic.push_back({body, &o});
       }
-      if (geom) dGeomSetBody(geom, body);
+      if (geom) {
+        dGeomSetBody(geom, body);
+        // A keyframed plane's slab lies under its square, in the body's (the plane's) frame.
+        if (o.type == ObjectSpec::Type::kPlane) dGeomSetOffsetPosition(geom, 0.0, -glm::length(geomOffset), 0.0);
+      }
     } else {
       const glm::vec3 c = o.translate + geomOffset;
       dGeomSetPosition(geom, c.x, c.y, c.z);
@@ -231,12 +246,18 @@ Result<void> simulateBodies(Scene& scene) {
       const dReal* v = dBodyGetLinearVel(bodies[i]);
       const dReal* a = dBodyGetAngularVel(bodies[i]);
       bool fine = true;
-      for (int c = 0; c < 3; ++c) fine = fine && std::abs(p[c]) < 1e7 && std::abs(v[c]) < 1e7 && std::abs(a[c]) < 1e7;
+      // Positions as far as a path may reach (sim::validate's 10^6 units from where it starts).
+      const glm::vec3 from = scene.objects[i].translate;
+      for (int c = 0; c < 3; ++c) {
+        fine = fine && std::abs(p[c] - from[c]) < 1e6 && std::abs(v[c]) < 1e7 && std::abs(a[c]) < 1e7;
+      }
       if (!fine) {
-        return Error{"/objects/" + std::to_string(i) + "/dynamic: the rigid-body simulation diverged at t = " +
-                     std::to_string(t1) + " s (" + scene.objects[i].name +
-                     " went past 10^7 units or units / s); a smaller step (rigidBodies.stepsPerSecond), a larger "
-                     "mass or smaller speeds may help"};
+        return Error{"/objects/" + std::to_string(i) + "/dynamic: " + scene.objects[i].name +
+                     " went past 10^6 units from where it started, or 10^7 units or radians a second, at t = " +
+                     std::to_string(t1) +
+                     " s (the rigid-body simulation diverged, or the animation is long enough to fall that far): a "
+                     "smaller step (rigidBodies.stepsPerSecond), a larger "
+                     "mass, smaller speeds or fewer frames may help"};
       }
     }
     record(static_cast<float>(t1));

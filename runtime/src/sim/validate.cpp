@@ -137,6 +137,9 @@ void checkCollider(Check& c, const Collider& k, const std::string& p) {
   c.path(p + "/path", k.path);
   if (k.type == Collider::Type::kMesh) {
     if (c.ok() && (k.indices.empty() || k.indices.size() % 3 != 0)) c.error = p + ": a mesh collider needs triangles";
+    // A mesh follows its path's positions only (Simulator's mesh test is in the mesh's unturned frame).
+    if (c.ok() && !k.path.rotations.empty())
+      c.error = p + "/path: a mesh collider cannot turn (its path has rotations)";
     for (std::uint32_t i : k.indices) {
       if (c.ok() && i >= k.positions.size()) c.error = p + ": a triangle index is out of range";
     }

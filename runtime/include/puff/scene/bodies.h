@@ -20,8 +20,11 @@ namespace puff::scene {
 ///
 /// Deterministic: one thread, a fixed step, ODE's random seed reset for every call, the bodies in
 /// the scene's order; the same scene gives bit-identical paths on one machine (tested), so a frame
-/// rendered alone equals the same frame of a sequence. Errors (none expected from a scene that
-/// parseScene accepted): ODE that cannot start. A scene without dynamic objects is left untouched.
+/// rendered alone equals the same frame of a sequence (one simulation runs at a time: ODE's random
+/// numbers are one stream for the process). Errors, each naming the JSON pointer: more than 256
+/// dynamic objects, more than 2 million keys (steps times dynamic objects), a body that goes past
+/// 10^6 units from where it started or 10^7 units or radians a second (diverged, or fell for
+/// long enough), ODE that cannot start. A scene without dynamic objects is left untouched.
 Result<void> simulateBodies(Scene& scene);
 
 }  // namespace puff::scene

@@ -80,7 +80,7 @@ struct EmitterSpec {
 /// frame reads it as a pure function of time and everything that follows keyframed objects (the
 /// renderers, the smoke's colliders, "attach") follows the body.
 struct DynamicBody {
-  float mass = 1.0f;                ///< kg, (0, 1e6]; spread uniformly through the box or sphere
+  float mass = 1.0f;                ///< kg, [0.001, 1e6]; spread uniformly through the box or sphere
   glm::vec3 velocity{0.0f};         ///< world units / s at t = 0
   glm::vec3 angularVelocity{0.0f};  ///< world-space axis times radians / s at t = 0
   float friction = 0.5f;            ///< Coulomb mu of its contacts, [0, 10] (two bodies: their mean)
