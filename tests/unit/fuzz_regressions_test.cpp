@@ -66,7 +66,8 @@ TEST(FuzzRegressions, EveryInputThatOnceCrashedIsReadOrRefusedInOneLine) {
       // A key with a newline was echoed into the message, which then spanned two lines.
       {"key-with-newline.json",
        "/a\\nimation: unknown key, expected one of output, camera, light, ambient, ramp, atlas, atlasLevel, "
-       "particleFraction, style, particles, emitters, objects, rigidBodies, animation, simulation, fixed, media (did you mean "
+       "particleFraction, style, particles, emitters, objects, rigidBodies, animation, simulation, fixed, media (did "
+       "you mean "
        "\"animation\"?)"},
       // OpenMesh's OBJ reader wrote the normal of "f ... -17/1/1" (no such vertex) out of bounds.
       {"normal-of-missing-vertex.obj",

@@ -170,9 +170,8 @@ TEST(LifeCurves, ColourAndTemperatureCurvesTintAndHeatWhatIsDrawn) {
   // The same simulation with linear size curves, whose sizes tell each cel puff's age.
   const FrameInputs ages = evaluate(simulated(R"({"size": {"keys": [[0, 1], [1, 0]]}})", "{}"), 30);
   const FrameInputs ones = evaluate(simulated(R"({"size": {"keys": [[0, 1]]}})", "{}"), 30);
-  const FrameInputs tinted = evaluate(simulated("{" + colour + R"(, "size": {"keys": [[0, 1], [1, 0]]}})",
-                                                "{" + colour + ", " + heat + "}"),
-                                      30);
+  const FrameInputs tinted = evaluate(
+      simulated("{" + colour + R"(, "size": {"keys": [[0, 1], [1, 0]]}})", "{" + colour + ", " + heat + "}"), 30);
   const FrameInputs smoothed = evaluate(simulated("{" + smooth + "}", "{" + smooth + "}"), 30);
   const FrameInputs plain = evaluate(simulated("{}", "{}"), 30);
   ASSERT_GT(ages.simulated, 10u);

@@ -149,7 +149,8 @@ class FixedPath final : public Path {
     }
     std::vector<fixedfunc::Billboard> billboards;
     billboards.reserve(frame.inputs.particles.size());
-    for (const cel::Particle& p : frame.inputs.particles) billboards.push_back({p.position, p.size, p.variation, p.tint});
+    for (const cel::Particle& p : frame.inputs.particles)
+      billboards.push_back({p.position, p.size, p.variation, p.tint});
     fixedfunc::FixedStyle style;
     style.outlines = s.style.outlines;
     style.shading = s.style.shading;

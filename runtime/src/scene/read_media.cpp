@@ -232,7 +232,8 @@ void readMediaEmitters(const json& v, const std::string& p, MediaSpec& m) {
       const bool emits = mt.emissive || (mt.becomes >= 0 && m.materials[static_cast<std::size_t>(mt.becomes)].emissive);
       if (!emits) {
         failText(child(child(q, "overLife"), "temperature"),
-                 "material \"" + mt.name + "\" does not emit (\"emissive\": false), so a temperature curve would change nothing");
+                 "material \"" + mt.name +
+                     "\" does not emit (\"emissive\": false), so a temperature curve would change nothing");
       }
     }
     m.emitters.push_back(std::move(s));

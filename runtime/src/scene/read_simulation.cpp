@@ -119,8 +119,9 @@ Curve readCurveKeys(const json& j, const std::string& ptr, ReadValue value) {
 }
 
 sim::LifeCurve readLifeCurve(const json& j, const std::string& ptr, double minValue, double maxValue) {
-  return readCurveKeys<sim::LifeCurve>(
-      j, ptr, [&](const json& v, const std::string& p) { return readFloat(v, p, Range{minValue, maxValue}); });
+  return readCurveKeys<sim::LifeCurve>(j, ptr, [&](const json& v, const std::string& p) {
+    return readFloat(v, p, Range{minValue, maxValue});
+  });
 }
 
 }  // namespace
