@@ -191,14 +191,17 @@ void forcesPanel(sim::Forces& f, Edits& edit) {
   }
 }
 
-// A curve over life: its shape plotted, its keys (age, value), linear or smooth; "(default)" with
-// none. Returns whether it changed.
-// `minValue`..`maxValue`: the values the scene takes; `start`: both keys of a new curve.
-bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue, float minValue = 0.0f, float start = 1.0f) {
+// What every curve editor shares: "Add curve" when there is none (`none` says what that means;
+// both keys of a new curve are `start`), the curve drawn by `plot`, linear or smooth, each key's age
+// (kept between its neighbours') and its value (`editValue`, returning whether it changed),
+// removing and adding keys, and back to the default. Returns whether the curve changed.
+template <typename Curve, typename Value, typename Plot, typename EditValue>
+bool curveEditor(const char* label, Curve& c, const char* none, Value start, Plot plot, EditValue editValue,
+                 const char* keyLabel) {
   bool changed = false;
   ImGui::PushID(label);
   if (c.empty()) {
-    ImGui::TextDisabled("%s: the default", label);
+    ImGui::TextDisabled("%s: %s", label, none);
     ImGui::SameLine();
     if (ImGui::SmallButton("Add curve")) {
       c.ages = {0.0f, 1.0f};
@@ -208,10 +211,7 @@ bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue, float
     ImGui::PopID();
     return changed;
   }
-  float samples[64];
-  for (int i = 0; i < 64; ++i) samples[i] = c.at(static_cast<float>(i) / 63.0f);
-  ImGui::PlotLines(label, samples, 64, 0, nullptr, 0.0f, std::max(1.0f, *std::max_element(samples, samples + 64)),
-                   ImVec2(0, 48));
+  plot();
   int interp = c.interp == sim::LifeCurve::Interp::kSmooth ? 1 : 0;
   const char* interps[] = {"linear", "smooth"};
   if (ImGui::Combo("Between keys", &interp, interps, 2)) {
@@ -221,7 +221,7 @@ bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue, float
   int remove = -1;
   for (std::size_t k = 0; k < c.ages.size(); ++k) {
     ImGui::PushID(static_cast<int>(k));
-    // Age and value dragged apart: an age moves in steps of 0.005 whatever the value's range.
+    // Age and value edited apart: an age moves in steps of 0.005 whatever the value's range.
     float age = c.ages[k];
     ImGui::SetNextItemWidth(0.3f * ImGui::CalcItemWidth());
     if (ImGui::DragFloat("##age", &age, 0.005f, 0.0f, 1.0f, "%.3f", ImGuiSliderFlags_AlwaysClamp)) {
@@ -231,17 +231,11 @@ bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue, float
       changed = true;
     }
     ImGui::SameLine();
-    float value = c.values[k];
-    const float speed = std::max(0.005f, maxValue / 20000.0f);  // kelvin move faster than multipliers
-    ImGui::SetNextItemWidth(0.7f * ImGui::CalcItemWidth() - ImGui::GetFrameHeight() - 16.0f);
-    if (ImGui::DragFloat("##value", &value, speed, minValue, maxValue, "%.3f", ImGuiSliderFlags_AlwaysClamp)) {
-      c.values[k] = std::clamp(value, minValue, maxValue);
-      changed = true;
-    }
+    changed |= editValue(c.values[k]);
     ImGui::SameLine();
     if (ImGui::Button("x")) remove = static_cast<int>(k);
     ImGui::SameLine();
-    ImGui::TextDisabled(k == 0 ? "age, value" : "");
+    ImGui::TextDisabled(k == 0 ? keyLabel : "");
     ImGui::PopID();
   }
   if (remove >= 0) {
@@ -258,8 +252,9 @@ bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue, float
     }
     if (at == c.ages.size() && !(gap > 1e-3f)) age = -1.0f;  // no room
     if (age >= 0.0f) {
+      const Value value = c.at(age);
       c.ages.insert(c.ages.begin() + static_cast<long>(at), age);
-      c.values.insert(c.values.begin() + static_cast<long>(at), c.at(age));
+      c.values.insert(c.values.begin() + static_cast<long>(at), value);
       changed = true;
     }
   }
@@ -272,88 +267,48 @@ bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue, float
   return changed;
 }
 
-// A colour over life: a strip of its colours, its keys (age, display colour). Returns whether it
-// changed.
+// A number over life, plotted. `minValue`..`maxValue`: the values the scene takes; `start`: both
+// keys of a new curve.
+bool lifeCurveEditor(const char* label, sim::LifeCurve& c, float maxValue, float minValue = 0.0f, float start = 1.0f) {
+  const auto plot = [&] {
+    float samples[64];
+    for (int i = 0; i < 64; ++i) samples[i] = c.at(static_cast<float>(i) / 63.0f);
+    ImGui::PlotLines(label, samples, 64, 0, nullptr, 0.0f, std::max(1.0f, *std::max_element(samples, samples + 64)),
+                     ImVec2(0, 48));
+  };
+  const auto editValue = [&](float& value) {
+    const float speed = std::max(0.005f, maxValue / 20000.0f);  // kelvin move faster than multipliers
+    ImGui::SetNextItemWidth(0.7f * ImGui::CalcItemWidth() - ImGui::GetFrameHeight() - 16.0f);
+    if (!ImGui::DragFloat("##value", &value, speed, minValue, maxValue, "%.3f", ImGuiSliderFlags_AlwaysClamp))
+      return false;
+    value = std::clamp(value, minValue, maxValue);
+    return true;
+  };
+  return curveEditor(label, c, "the default", start, plot, editValue, "age, value");
+}
+
+// A colour over life: a strip of its colours, each key a colour picker's display value.
 bool colourCurveEditor(const char* label, sim::ColourCurve& c) {
-  bool changed = false;
-  ImGui::PushID(label);
-  if (c.empty()) {
-    ImGui::TextDisabled("%s: white (no tint)", label);
-    ImGui::SameLine();
-    if (ImGui::SmallButton("Add curve")) {
-      c.ages = {0.0f, 1.0f};
-      c.values = {glm::vec3(1.0f), glm::vec3(1.0f)};
-      changed = true;
+  const auto plot = [&] {
+    // 32 swatches (display values, as the keys are).
+    const ImVec2 at = ImGui::GetCursorScreenPos();
+    const float width = ImGui::CalcItemWidth(), height = 16.0f;
+    ImDrawList* draw = ImGui::GetWindowDrawList();
+    for (int i = 0; i < 32; ++i) {
+      const glm::vec3 v = glm::clamp(c.at((static_cast<float>(i) + 0.5f) / 32.0f), glm::vec3(0.0f), glm::vec3(1.0f));
+      const float x0 = at.x + width * static_cast<float>(i) / 32.0f,
+                  x1 = at.x + width * static_cast<float>(i + 1) / 32.0f;
+      draw->AddRectFilled(ImVec2(x0, at.y), ImVec2(x1, at.y + height),
+                          ImGui::ColorConvertFloat4ToU32(ImVec4(v.r, v.g, v.b, 1.0f)));
     }
-    ImGui::PopID();
-    return changed;
-  }
-  // The curve as a strip of 32 swatches (display values, as the keys are).
-  const ImVec2 at = ImGui::GetCursorScreenPos();
-  const float width = ImGui::CalcItemWidth(), height = 16.0f;
-  ImDrawList* draw = ImGui::GetWindowDrawList();
-  for (int i = 0; i < 32; ++i) {
-    const glm::vec3 v = glm::clamp(c.at((static_cast<float>(i) + 0.5f) / 32.0f), glm::vec3(0.0f), glm::vec3(1.0f));
-    const float x0 = at.x + width * static_cast<float>(i) / 32.0f,
-                x1 = at.x + width * static_cast<float>(i + 1) / 32.0f;
-    draw->AddRectFilled(ImVec2(x0, at.y), ImVec2(x1, at.y + height),
-                        ImGui::ColorConvertFloat4ToU32(ImVec4(v.r, v.g, v.b, 1.0f)));
-  }
-  ImGui::Dummy(ImVec2(width, height));
-  ImGui::SameLine();
-  ImGui::TextUnformatted(label);
-  int interp = c.interp == sim::LifeCurve::Interp::kSmooth ? 1 : 0;
-  const char* interps[] = {"linear", "smooth"};
-  if (ImGui::Combo("Between keys", &interp, interps, 2)) {
-    c.interp = interp == 1 ? sim::LifeCurve::Interp::kSmooth : sim::LifeCurve::Interp::kLinear;
-    changed = true;
-  }
-  int remove = -1;
-  for (std::size_t k = 0; k < c.ages.size(); ++k) {
-    ImGui::PushID(static_cast<int>(k));
-    float age = c.ages[k];
-    ImGui::SetNextItemWidth(0.3f * ImGui::CalcItemWidth());
-    if (ImGui::DragFloat("##age", &age, 0.005f, 0.0f, 1.0f, "%.3f", ImGuiSliderFlags_AlwaysClamp)) {
-      const float lo = k > 0 ? c.ages[k - 1] + 1e-3f : 0.0f, hi = k + 1 < c.ages.size() ? c.ages[k + 1] - 1e-3f : 1.0f;
-      c.ages[k] = std::clamp(age, lo, std::max(lo, hi));
-      changed = true;
-    }
+    ImGui::Dummy(ImVec2(width, height));
     ImGui::SameLine();
-    changed |= ImGui::ColorEdit3("##colour", glm::value_ptr(c.values[k]), ImGuiColorEditFlags_NoInputs);
-    ImGui::SameLine();
-    if (ImGui::Button("x")) remove = static_cast<int>(k);
-    ImGui::SameLine();
-    ImGui::TextDisabled(k == 0 ? "age, colour" : "");
-    ImGui::PopID();
-  }
-  if (remove >= 0) {
-    c.ages.erase(c.ages.begin() + remove);
-    c.values.erase(c.values.begin() + remove);
-    changed = true;
-  }
-  if (ImGui::SmallButton("Add key") && c.ages.size() < 64) {
-    // Halfway along the widest gap (or at the end).
-    std::size_t insertAt = c.ages.size();
-    float gap = c.ages.empty() ? 1.0f : 1.0f - c.ages.back(), age = c.ages.empty() ? 0.0f : 1.0f;
-    for (std::size_t k = 0; k + 1 < c.ages.size(); ++k) {
-      if (c.ages[k + 1] - c.ages[k] > gap)
-        gap = c.ages[k + 1] - c.ages[k], insertAt = k + 1, age = c.ages[k] + 0.5f * gap;
-    }
-    if (insertAt == c.ages.size() && !(gap > 1e-3f)) age = -1.0f;  // no room
-    if (age >= 0.0f) {
-      const glm::vec3 value = c.at(age);
-      c.ages.insert(c.ages.begin() + static_cast<long>(insertAt), age);
-      c.values.insert(c.values.begin() + static_cast<long>(insertAt), value);
-      changed = true;
-    }
-  }
-  ImGui::SameLine();
-  if (ImGui::SmallButton("Default")) {
-    c = {};
-    changed = true;
-  }
-  ImGui::PopID();
-  return changed;
+    ImGui::TextUnformatted(label);
+  };
+  const auto editValue = [](glm::vec3& colour) {
+    return ImGui::ColorEdit3("##colour", glm::value_ptr(colour), ImGuiColorEditFlags_NoInputs);
+  };
+  return curveEditor(label, c, "white (no tint)", glm::vec3(1.0f), plot, editValue, "age, colour");
 }
 
 // Which curves over life an emitter's particles take (the scene refuses the others).
