@@ -13,6 +13,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
+#include <puff/scene/bodies.h>
 #include <puff/scene/evaluate.h>
 #include <puff/scene/geometry.h>
 #include <puff/scene/read.h>
@@ -303,6 +304,39 @@ TEST(RigidBodies, SmokeIsKeptOutOfASpinningFallingBox) {
   EXPECT_GT(particles, 10000);
   EXPECT_EQ(inside[0], 0) << "with collisions";
   EXPECT_GT(inside[1], 100) << "without them the falling box passes through the cloud";
+}
+
+// An edit in memory (puffview's rigid-body panel) simulates again and moves what rides on the body,
+// exactly as reading the edited scene does; a refused edit changes nothing.
+TEST(RigidBodies, AnEditInMemoryIsTheEditedSceneRead) {
+  const auto scene = [](double vx) {
+    nlohmann::json j = world({kGround,
+                              {{"type", "sphere"},
+                               {"name", "ball"},
+                               {"translate", {0, 2, 0}},
+                               {"scale", {0.4, 0.4, 0.4}},
+                               {"dynamic", {{"velocity", {vx, 0, 0}}}}}},
+                             1.0);
+    j["atlas"] = "a.json";
+    j["simulation"] = {{"emitters", {{{"attach", "ball"}, {"rate", 20}, {"lifetime", 1}}}},
+                       {"forces", {{"vortices", {{{"attach", "ball"}}}}}}};
+    return j;
+  };
+  Scene edited = parsed(scene(1.0));
+  const Scene wanted = parsed(scene(3.0));
+  ASSERT_NE(edited.objects[1].path, wanted.objects[1].path);
+  edited.objects[1].dynamic->velocity.x = 3.0f;
+  ASSERT_OK(updateBodies(edited));
+  EXPECT_EQ(edited.objects[1].path, wanted.objects[1].path);
+  EXPECT_EQ(edited.simulation->emitters[0].path, wanted.simulation->emitters[0].path);
+  EXPECT_EQ(edited.simulation->forces.vortices[0].path, wanted.simulation->forces.vortices[0].path);
+  EXPECT_EQ(edited, wanted);
+  Scene refused = edited;
+  refused.animation.frames = 100000000;
+  refused.animation.fps = 1.0f;
+  const Scene before = refused;
+  EXPECT_FALSE(updateBodies(refused).ok());
+  EXPECT_EQ(refused, before);
 }
 
 // The art scene (art/scenes/bouncing-ball.json, golden-tested at frame 30): its ball bounces along

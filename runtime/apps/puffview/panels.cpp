@@ -13,6 +13,7 @@
 #include <puff/cel/frame.h>
 #include <puff/core/files.h>
 #include <puff/render/path.h>
+#include <puff/scene/bodies.h>
 #include <puff/scene/evaluate.h>
 #include <puff/scene/read.h>
 #include <puffview/viewer.h>
@@ -520,6 +521,50 @@ void rampPanel(Viewer& v, PanelState& state) {
   ImGui::TextDisabled(s.ramp.empty() ? "built-in two-tone ramp" : "%s", s.ramp.filename().c_str());
 }
 
+// The dynamic objects (rigid bodies, issue 19) and the rigid-body world. Their trajectories are
+// simulated again at once, and what rides on them follows (scene::updateBodies), so the frame shows
+// what puffrender makes of the saved scene.
+void bodiesPanel(scene::Scene& s, Edits& edit, std::string& error) {
+  bool changed = false;
+  changed |= ImGui::DragFloat3("Gravity", glm::value_ptr(s.rigidBodies.gravity), 0.05f, -1e4f, 1e4f, "%.2f",
+                               ImGuiSliderFlags_AlwaysClamp);
+  changed |= ImGui::SliderInt("Steps per second", &s.rigidBodies.stepsPerSecond, 24, 2400, "%d",
+                              ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
+  for (std::size_t i = 0; i < s.objects.size(); ++i) {
+    scene::ObjectSpec& o = s.objects[i];
+    if (!o.dynamic) continue;
+    ImGui::PushID(7000 + static_cast<int>(i));
+    if (ImGui::TreeNode("body", "%s", o.name.c_str())) {
+      scene::DynamicBody& d = *o.dynamic;
+      changed |= ImGui::DragFloat3("Start", glm::value_ptr(o.translate), 0.01f, -1000.0f, 1000.0f, "%.2f",
+                                   ImGuiSliderFlags_AlwaysClamp);
+      changed |= ImGui::SliderFloat("Mass (kg)", &d.mass, 0.001f, 1e6f, "%.3f",
+                                    ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp);
+      changed |= ImGui::DragFloat3("Velocity", glm::value_ptr(d.velocity), 0.02f, -1e4f, 1e4f, "%.2f",
+                                   ImGuiSliderFlags_AlwaysClamp);
+      changed |= ImGui::DragFloat3("Spin (rad/s)", glm::value_ptr(d.angularVelocity), 0.05f, -1e4f, 1e4f, "%.2f",
+                                   ImGuiSliderFlags_AlwaysClamp);
+      changed |= ImGui::SliderFloat("Friction", &d.friction, 0.0f, 10.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+      changed |= ImGui::SliderFloat("Restitution", &d.restitution, 0.0f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
+      ImGui::TreePop();
+    }
+    ImGui::PopID();
+  }
+  if (changed) {
+    // A setting the simulation refuses (too many keys, a body that diverges) keeps the last good
+    // trajectories and says why.
+    scene::Scene next = s;
+    if (auto ok = scene::updateBodies(next); ok) {
+      s = std::move(next);
+      error.clear();
+    } else {
+      error = ok.error().message;
+    }
+    edit(true);
+  }
+  if (!error.empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.4f, 1.0f), "%s", error.c_str());
+}
+
 // The ambient gradient editor: K_a from the top of the frame to its bottom, or a uniform colour.
 void gradientPanel(Viewer& v, PanelState& state) {
   scene::Scene& s = v.scene();
@@ -742,6 +787,9 @@ void drawPanels(Viewer& v, PanelState& state) {
     }
   }
   if (!s.emitters.empty() && ImGui::CollapsingHeader("Placed particles")) sceneEmittersPanel(s.emitters, edit);
+  const bool bodies =
+      std::any_of(s.objects.begin(), s.objects.end(), [](const auto& o) { return o.dynamic.has_value(); });
+  if (bodies && ImGui::CollapsingHeader("Rigid bodies")) bodiesPanel(s, edit, state.bodiesError);
   // One undo step per edit: it begins with its first change and ends when no widget is held.
   if (edit.any) {
     v.beginEdit();

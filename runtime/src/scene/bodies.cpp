@@ -266,4 +266,34 @@ Result<void> simulateBodies(Scene& scene) {
   return {};
 }
 
+Result<void> updateBodies(Scene& scene) {
+  Scene next = scene;
+  PUFF_TRY(simulateBodies(next));
+  // What rides on a dynamic object follows its path as the reader attaches it (read.cpp): the
+  // object's keys, offset by where the object stands.
+  const auto follow = [&](const std::string& name, sim::Path& path) {
+    if (name.empty()) return;
+    for (const ObjectSpec& o : next.objects) {
+      if (o.name != name || !o.dynamic) continue;
+      path = o.path;
+      for (glm::vec3& p : path.points) p += o.translate;
+    }
+  };
+  const auto forAll = [&](sim::Forces& forces, auto& emitters, auto emitterOf) {
+    for (sim::Vortex& v : forces.vortices) follow(v.attach, v.path);
+    for (auto& e : emitters) {
+      sim::Emitter& em = emitterOf(e);
+      follow(em.attach, em.path);
+    }
+  };
+  if (next.simulation) {
+    forAll(next.simulation->forces, next.simulation->emitters, [](sim::Emitter& e) -> sim::Emitter& { return e; });
+  }
+  if (next.media) {
+    forAll(next.media->forces, next.media->emitters, [](MediaEmitterSpec& e) -> sim::Emitter& { return e.emitter; });
+  }
+  scene = std::move(next);
+  return {};
+}
+
 }  // namespace puff::scene

@@ -27,6 +27,7 @@ struct PanelState {
   std::string rampError;
   // The atlases found under the art directory, listed when the combo opens.
   std::vector<std::filesystem::path> atlases;
+  std::string bodiesError;  ///< why the last rigid-body edit could not be simulated
 };
 
 /// Draws the panels inside the current ImGui frame.

@@ -27,4 +27,9 @@ namespace puff::scene {
 /// long enough), ODE that cannot start. A scene without dynamic objects is left untouched.
 Result<void> simulateBodies(Scene& scene);
 
+/// After an edit in memory (puffview's panels): simulates the dynamic objects again and gives the
+/// emitters and vortices that ride on one of them (`attach`, in `simulation` and `media`) its new
+/// trajectory, as reading the edited scene from a file would. On an error the scene is unchanged.
+Result<void> updateBodies(Scene& scene);
+
 }  // namespace puff::scene
