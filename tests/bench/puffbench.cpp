@@ -167,6 +167,13 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
       frozen.media->emitters.clear();
       frozen.media->particles.clear();
       for (const media::Particle& p : in->particles) {
+        // A listed media particle has no tint or temperature of its own (curves over life belong to
+        // emitters): freezing one that has them would measure another picture.
+        if (p.tint != glm::vec3(1.0f) || p.temperature > 0.0f) {
+          return Error{
+              "puffbench: the media particles of this scene have curves over life (tint or temperature), "
+              "which frozen particles cannot keep"};
+        }
         scene::MediaParticleSpec spec;
         spec.position = p.position;
         spec.radius = p.radius;
