@@ -408,7 +408,7 @@ void attachToObject(const std::vector<ObjectSpec>& objects, const std::string& n
     failText(ptr, "\"" + name + "\" names more than one object; give the object a unique name");
   if (!path.empty()) failText(ptr, "a vortex or emitter follows its own path or an object, not both");
   path = it->path;
-  if (path.empty()) path = sim::Path{{0.0f}, {glm::vec3(0.0f)}};
+  if (path.empty()) path = sim::Path{{0.0f}, {glm::vec3(0.0f)}, {}};
   for (glm::vec3& p : path.points) p += it->translate;
 }
 
