@@ -61,6 +61,12 @@ TEST(ColourDecode, DecodeSrgbDecodesColourAndLeavesAlpha) {
 // Distance in pixels of pixel (x, y)'s centre from the target's centre.
 float radiusPx(int x, int y) { return glm::length(glm::vec2(x + 0.5f - kPx / 2.0f, y + 0.5f - kPx / 2.0f)); }
 
+// The scene file's camera these tests draw through: orthographic on +z, kWorld tall, as frame() below.
+nlohmann::json orthoCamera() {
+  return {{"position", {0, 0, 10}}, {"target", {0, 0, 0}}, {"up", {0, 1, 0}}, {"fovY", 0},
+          {"orthoHeight", kWorld},  {"near", 1},           {"far", 20}};
+}
+
 // Curves over life (issue 18): one puff of kSize at the origin, born at 0 and living 2 s, its colour
 // over life a curve of display values; ambient 0.2 and a light of 0.7, flat and without outlines, so
 // K_a + tint C K_L = 0.2 + 0.7 tint wherever the body is (the sphere atlas's and mesh's C is white):
@@ -68,14 +74,7 @@ float radiusPx(int x, int y) { return glm::length(glm::vec2(x + 0.5f - kPx / 2.0
 nlohmann::json tintedPuffScene(const std::filesystem::path& sidecar) {
   return {
       {"output", {{"width", kPx}, {"height", kPx}, {"samples", 1}, {"background", {0, 0, 0}}}},
-      {"camera",
-       {{"position", {0, 0, 10}},
-        {"target", {0, 0, 0}},
-        {"up", {0, 1, 0}},
-        {"fovY", 0},
-        {"orthoHeight", kWorld},
-        {"near", 1},
-        {"far", 20}}},
+      {"camera", orthoCamera()},
       {"light", {{"direction", {0, 0, 1}}, {"color", {0.7, 0.7, 0.7}}}},
       {"ambient", {{"color", {0.2, 0.2, 0.2}}}},
       {"atlas", sidecar.string()},
@@ -277,14 +276,7 @@ TEST_F(ColourPipeline, GreyInkIsItsDisplayValueOnTheNailboardsAndTheReference) {
   // The reference path, through a scene file: the same puff, ink and colours; background 0.9.
   const nlohmann::json j = {
       {"output", {{"width", kPx}, {"height", kPx}, {"samples", 1}, {"background", {0.9, 0.9, 0.9}}}},
-      {"camera",
-       {{"position", {0, 0, 10}},
-        {"target", {0, 0, 0}},
-        {"up", {0, 1, 0}},
-        {"fovY", 0},
-        {"orthoHeight", kWorld},
-        {"near", 1},
-        {"far", 20}}},
+      {"camera", orthoCamera()},
       {"light", {{"direction", {0, 0, 1}}, {"color", {0.5, 0.5, 0.5}}}},
       {"ambient", {{"color", {0.2, 0.2, 0.2}}}},
       {"atlas", sidecar_.string()},
@@ -330,14 +322,7 @@ TEST_F(ColourPipeline, AColourCurveOverLifeTintsThePuffOnTheNailboardsAndTheRefe
 TEST_F(ColourPipeline, TheFillRateFloorsFrameIsOpaqueEverywhere) {
   const nlohmann::json j = {
       {"output", {{"width", kPx}, {"height", kPx}, {"samples", 1}, {"background", {0.9, 0.9, 0.9}}}},
-      {"camera",
-       {{"position", {0, 0, 10}},
-        {"target", {0, 0, 0}},
-        {"up", {0, 1, 0}},
-        {"fovY", 0},
-        {"orthoHeight", kWorld},
-        {"near", 1},
-        {"far", 20}}},
+      {"camera", orthoCamera()},
       {"atlas", sidecar_.string()},
       {"style", {{"outlines", true}, {"outlineWidth", 2}, {"shading", true}, {"shadows", false}}},
       {"particles", {{{"position", {0, 0, 0}}, {"size", kSize}}, {{"position", {1.3, 0.4, 0.5}}, {"size", 1.7}}}}};

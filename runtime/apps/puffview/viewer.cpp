@@ -441,7 +441,15 @@ scene::Scene Viewer::shown(const scene::Scene& s) {
   if (!s.transparent) return s;
   // 8-pixel squares of two light greys (display values), one plate pixel per pixel of the image the
   // window shows at its own size (the plate is stretched to the frame drawn).
+  // Made once per size: shown() runs on every edit, and the plate is the same file each time.
   const glm::ivec2 size = imageSize();
+  if (size == checkerSize_ && !checkerPlate_.empty()) {
+    scene::Scene copy = s;
+    copy.transparent = false;
+    copy.alpha.reset();
+    copy.plate = checkerPlate_;
+    return copy;
+  }
   core::Image checker(size.x, size.y, 3);
   for (int y = 0; y < checker.height; ++y) {
     for (int x = 0; x < checker.width; ++x) {
@@ -454,11 +462,9 @@ scene::Scene Viewer::shown(const scene::Scene& s) {
     setStatus("cannot draw the checkerboard under the transparent frame: " + plate.error().message);
     return s;
   }
-  scene::Scene copy = s;
-  copy.transparent = false;
-  copy.alpha.reset();
-  copy.plate = *plate;
-  return copy;
+  checkerSize_ = size;
+  checkerPlate_ = *plate;
+  return shown(s);
 }
 
 Result<void> Viewer::setRamp(const core::Image& ramp) {

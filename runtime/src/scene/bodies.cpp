@@ -173,9 +173,8 @@ Result<void> simulateBodies(Scene& scene) {
     toOde(q0, q);
     if (isDynamic || !o.path.empty()) {
       dBodyID body = dBodyCreate(w.world);
-      dBodySetPosition(body, o.translate.x + (o.path.empty() ? 0.0f : o.path.at(0.0).x),
-                       o.translate.y + (o.path.empty() ? 0.0f : o.path.at(0.0).y),
-                       o.translate.z + (o.path.empty() ? 0.0f : o.path.at(0.0).z));
+      const glm::vec3 start = o.translate + o.path.at(0.0);  // an empty path is at 0
+      dBodySetPosition(body, start.x, start.y, start.z);
       dBodySetQuaternion(body, q);
       if (isDynamic) {
         dMass m;

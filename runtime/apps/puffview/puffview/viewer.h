@@ -209,6 +209,8 @@ class Viewer {
   /// scratch directory at the frame's size), so dark ink and smoke stay visible; any other scene
   /// as it is. What is edited and saved is always the scene itself.
   scene::Scene shown(const scene::Scene& s);
+  glm::ivec2 checkerSize_{0};
+  std::filesystem::path checkerPlate_;  ///< the checkerboard written for checkerSize_
   /// save(): a ramp or gradient still in the scratch directory, copied beside `target`.
   Result<void> keepBeside(const std::filesystem::path& target, std::filesystem::path& image, const char* suffix);
 };
