@@ -11,8 +11,10 @@ layout(std140, binding = 3) uniform MediaBlock {
   vec4 uLightColor;   // rgb: radiance an isotropic medium scatters toward the eye
   vec4 uAmbient;      // rgb: isotropic in-scattered radiance
   vec4 uKelvin;       // black-body texture range: min, max, 1 / (max - min), exposure
-  ivec4 uMode;        // x: method (0 planar, 1 soft linear, 2 soft S-curve, 3 spherical), y: shimmer target
+  ivec4 uMode;        // x: method (0 planar, 1 soft linear, 2 soft S-curve, 3 spherical), y: shimmer target,
+                      // z: 1 for the cartoon style (outputs 2 and 3 written)
   vec4 uTime;         // x: seconds
+  vec4 uCartoon;      // x: the fire bands' cool kelvin, y: 1 / (hot - cool)
 };
 
 struct MaterialGpu {
@@ -39,3 +41,19 @@ const int kPlanar = 0;
 const int kSoftLinear = 1;
 const int kSoftSCurve = 2;
 const int kSpherical = 3;
+
+// The cartoon style (media::Style::kCartoon; runtime/include/puff/media/layers.h says how Layers read
+// them): what one particle adds at this pixel, for over-compositing (ONE, ONE_MINUS_SRC_ALPHA on
+// every channel, burn ignored: cartoon fire occludes). alpha: its opacity; scatter: the light it
+// scatters, tinted; e: its emissive weight; kelvin: its temperature; w: its emission scale (the
+// material's emission times the tint's luminance); lin: the medium's linear depth here.
+//   media:  (alpha * scatter, alpha)                     rgb: scattered light only; a: transmittance x (1 - alpha)
+//   fire:   (alpha e s, alpha e, alpha e w, alpha)        s: kelvin over the fire bands' range, clamped to [0, 1]
+//   depth:  (alpha lin, 0, 0, alpha)
+void cartoonOutputs(float alpha, vec3 scatter, float e, float kelvin, float w, float lin, out vec4 media,
+                    out vec4 fire, out vec4 depth) {
+  const float s = clamp((kelvin - uCartoon.x) * uCartoon.y, 0.0, 1.0);
+  media = vec4(alpha * scatter, alpha);
+  fire = vec4(alpha * e * s, alpha * e, alpha * e * w, alpha);
+  depth = vec4(alpha * lin, 0.0, 0.0, alpha);
+}

@@ -74,9 +74,15 @@ float depthWeight(float diff, float tolerance) {
   return clamp((kDepthFalloff - x) / (kDepthFalloff - 1.0), 0.0, 1.0);
 }
 
-// The media layer at pixel p (premultiplied radiance, transmittance), upsampled by uCounts.y's rule,
-// and the heat-shimmer offset there.
-vec4 upsampledMedia(ivec2 p, out vec2 shimmer) {
+// The layer texels pixel p reads and their weights, by uCounts.y's rule: the value there is
+// sum(w[i] * texel(t[i])) / sum (upsample()). `shimmer` is the heat-shimmer offset at p.
+struct Taps {
+  ivec2 t[4];
+  float w[4];
+  float sum;
+};
+
+Taps mediaTaps(ivec2 p, out vec2 shimmer) {
   const float factor = uLayer.z;
   const ivec2 layerSize = ivec2(uLayer.xy);
 
@@ -89,9 +95,11 @@ vec4 upsampledMedia(ivec2 p, out vec2 shimmer) {
 
   const float z = viewDistance(texelFetch(uOpaqueDepth, p, 0).r);
   const float tolerance = uLayer.w * z;
-  vec4 media = vec4(0.0), bilateral = vec4(0.0);
+  Taps plain, bilateral;
+  plain.sum = 1.0;
+  bilateral.sum = 0.0;
   shimmer = vec2(0.0);
-  float worst = 0.0, best = 3.0e38, weightSum = 0.0;
+  float worst = 0.0, best = 3.0e38;
   int nearest = 0;
   for (int i = 0; i < 4; ++i) {
     const ivec2 ti = clamp(t[i], ivec2(0), layerSize - 1);
@@ -102,19 +110,18 @@ vec4 upsampledMedia(ivec2 p, out vec2 shimmer) {
       best = diff;
       nearest = i;
     }
-    const vec4 m = texelFetch(uMedia, ti, 0);
-    media += w[i] * m;
-    const float wi = w[i] * depthWeight(diff, tolerance);
-    bilateral += wi * m;
-    weightSum += wi;
+    plain.t[i] = ti;
+    plain.w[i] = w[i];
+    bilateral.t[i] = ti;
+    bilateral.w[i] = w[i] * depthWeight(diff, tolerance);
+    bilateral.sum += bilateral.w[i];
     shimmer += w[i] * texelFetch(uShimmerTex, ti, 0).rg;
   }
   // uCounts.y: 0 plain bilinear; 1 bilateral in depth; 2 the earlier all-or-nearest switch (kept
   // to measure against).
   const int rule = uCounts.y;
-  if (rule == 1 && weightSum > 0.0) {
-    media = bilateral / weightSum;
-  } else if ((rule == 1) || (rule == 2 && worst > tolerance)) {
+  if (rule == 1 && bilateral.sum > 0.0) return bilateral;
+  if ((rule == 1) || (rule == 2 && worst > tolerance)) {
     // Not one surface: take the layer texel drawn against the depth nearest this pixel's, looking
     // one texel further out too (a surface thinner than a texel owns the texels around it).
     ivec2 pick = t[nearest];
@@ -129,8 +136,26 @@ vec4 upsampledMedia(ivec2 p, out vec2 shimmer) {
         }
       }
     }
-    media = texelFetch(uMedia, clamp(pick, ivec2(0), layerSize - 1), 0);
+    Taps one;
+    one.t[0] = clamp(pick, ivec2(0), layerSize - 1);
+    one.w[0] = 1.0;
+    for (int i = 1; i < 4; ++i) {
+      one.t[i] = one.t[0];
+      one.w[i] = 0.0;
+    }
+    one.sum = 1.0;
+    return one;
   }
-  return media;
+  return plain;
 }
 
+// A layer texture at the taps.
+vec4 upsample(sampler2D layer, Taps k) {
+  vec4 v = vec4(0.0);
+  for (int i = 0; i < 4; ++i) v += k.w[i] * texelFetch(layer, k.t[i], 0);
+  return v / k.sum;
+}
+
+// The media layer at pixel p (premultiplied radiance, transmittance), upsampled by uCounts.y's rule,
+// and the heat-shimmer offset there.
+vec4 upsampledMedia(ivec2 p, out vec2 shimmer) { return upsample(uMedia, mediaTaps(p, shimmer)); }

@@ -10,10 +10,11 @@ core::GuardExtent guardExtent(const Bindings& b) {
   core::GuardExtent e;
   const unsigned units =
       std::max({b.depth, b.blackbody, b.phase, b.temperatureDetail, b.opacityDetail, b.falloff, b.opaqueColor,
-                b.opaqueDepth, b.mediaLayer, b.mediaDepth, b.shimmer, b.resolveSource, b.historyFirst + 7});
+                b.opaqueDepth, b.mediaLayer, b.mediaDepth, b.shimmer, b.resolveSource, b.historyFirst + 7, b.cartoonFirst + 2});
   e.textureUnits = static_cast<int>(units) + 1;
-  e.uniformBuffers = static_cast<int>(std::max({b.mediaBlock, b.materialBlock, b.composeBlock})) + 1;
+  e.uniformBuffers = static_cast<int>(std::max({b.mediaBlock, b.materialBlock, b.composeBlock, b.cartoonBlock})) + 1;
   e.storageBuffers = static_cast<int>(b.particles) + 1;
+  e.drawBuffers = 4;  // the cartoon style's Renderer::draw sets draw buffers 2 and 3's blending
   return e;
 }
 
@@ -21,7 +22,7 @@ Result<void> validate(const Bindings& b) {
   const std::string what = "media::Bindings";
   const std::vector<std::pair<GLenum, std::vector<core::NamedPoint>>> groups = {
       {GL_MAX_UNIFORM_BUFFER_BINDINGS, {{"mediaBlock", b.mediaBlock}, {"materialBlock", b.materialBlock}}},
-      {GL_MAX_UNIFORM_BUFFER_BINDINGS, {{"composeBlock", b.composeBlock}}},
+      {GL_MAX_UNIFORM_BUFFER_BINDINGS, {{"composeBlock", b.composeBlock}, {"cartoonBlock", b.cartoonBlock}}},
       {GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS, {{"particles", b.particles}}},
       {GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS,
        {{"depth", b.depth},
@@ -35,7 +36,8 @@ Result<void> validate(const Bindings& b) {
         {"opaqueDepth", b.opaqueDepth},
         {"mediaLayer", b.mediaLayer},
         {"mediaDepth", b.mediaDepth},
-        {"shimmer", b.shimmer}}},
+        {"shimmer", b.shimmer},
+        {"cartoonFirst", b.cartoonFirst, 3}}},
       {GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, {{"resolveSource", b.resolveSource}}},
       {GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, {{"historyFirst", b.historyFirst, 8}}},
   };

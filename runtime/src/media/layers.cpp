@@ -8,6 +8,7 @@
 #include <glm/matrix.hpp>
 
 #include <puff/core/bind_points.h>
+#include <puff/core/blackbody.h>
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
 #include <puff/media/layers.h>
@@ -27,6 +28,11 @@ struct ComposeBlockData {
   glm::vec4 viewport, depth, layer, shimmer;
   glm::ivec4 counts;
   LightGpu lights[kMaxLights];
+};
+constexpr int kMaxBands = 8;
+struct CartoonBlockData {  // shaders/media/cartoon.glsl
+  glm::vec4 style, ink;
+  glm::vec4 fireColors[kMaxBands];
 };
 
 // The state Layers' full-screen passes rely on (and leave): no depth or stencil test, blending,
@@ -83,6 +89,13 @@ struct Layers::Impl {
   std::vector<core::Framebuffer> historyFbo;
   core::VertexArray vao;
   core::Buffer block;
+  // The cartoon style (made on first use): the layer's attributes (attachments 2, 3 of mediaFbo),
+  // the full-size fill and field, the seeds ping-ponged by the flood passes, and the programs.
+  bool cartoonMade = false, cartoonBegun = false;
+  core::Texture cartoonFire, cartoonDepth, fill, field, seeds[2];
+  core::Framebuffer fieldFbo, seedFbo[2];
+  core::Program cartoonField, cartoonSeed, cartoonFlood, cartoonCompose;
+  core::Buffer cartoonBlock;
 
   // Fills the compose passes' uniform block (compose.glsl's ComposeBlock).
   void uploadComposeBlock(const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
@@ -92,6 +105,10 @@ struct Layers::Impl {
   void drawCompose(GLuint program);
   // The full-size linear depth's layer-resolution nearest (downsample.frag), into depthFbo.
   void downsampleDepth();
+  // Makes the cartoon style's textures and framebuffers (its programs are built with the layers).
+  void makeCartoon();
+  // compose()'s cartoon passes (layers.h, "Cartoon media"), the block already uploaded.
+  void composeCartoon(GLuint target, const int viewport[4], const CartoonCompose& cartoon);
 };
 
 void Layers::Impl::uploadComposeBlock(const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
@@ -187,6 +204,14 @@ Result<std::unique_ptr<Layers>> Layers::make(int width, int height, int samples,
   if (!compose) return compose.error();
   auto blur = core::buildProgram({"media/fullscreen.vert", "media/blur.frag"});
   if (!blur) return blur.error();
+  const char* cartoonStages[] = {"media/cartoon_field.frag", "media/cartoon_seed.frag", "media/cartoon_flood.frag",
+                                 "media/cartoon_compose.frag"};
+  core::Program cartoon[4];
+  for (int i = 0; i < (host ? 0 : 4); ++i) {
+    auto p = core::buildProgram({"media/fullscreen.vert", cartoonStages[i]});
+    if (!p) return p.error();
+    cartoon[i] = std::move(*p);
+  }
   core::Program resolveHost, resolveHostMs, composeOver;
   if (host) {
     auto single = core::buildProgram({"media/fullscreen.vert", "media/resolve_host_depth.frag"});
@@ -210,6 +235,8 @@ Result<std::unique_ptr<Layers>> Layers::make(int width, int height, int samples,
   m.host = host;
   m.resolveHost = std::move(resolveHost), m.resolveHostMs = std::move(resolveHostMs);
   m.composeOver = std::move(composeOver);
+  m.cartoonField = std::move(cartoon[0]), m.cartoonSeed = std::move(cartoon[1]);
+  m.cartoonFlood = std::move(cartoon[2]), m.cartoonCompose = std::move(cartoon[3]);
   m.bindings = bindings;
   {
     using K = core::BindPoint::Kind;
@@ -222,6 +249,31 @@ Result<std::unique_ptr<Layers>> Layers::make(int width, int height, int samples,
                                              {K::kSampler, "uMedia", bindings.mediaLayer},
                                              {K::kSampler, "uMediaDepth", bindings.mediaDepth},
                                              {K::kSampler, "uShimmerTex", bindings.shimmer}});
+    if (!host) {
+      const unsigned c = bindings.cartoonFirst;
+      core::assignBindPoints(m.cartoonField.get(), {{K::kUniformBlock, "ComposeBlock", bindings.composeBlock},
+                                                    {K::kUniformBlock, "CartoonBlock", bindings.cartoonBlock},
+                                                    {K::kSampler, "uOpaqueDepth", bindings.opaqueDepth},
+                                                    {K::kSampler, "uMedia", bindings.mediaLayer},
+                                                    {K::kSampler, "uMediaDepth", bindings.mediaDepth},
+                                                    {K::kSampler, "uShimmerTex", bindings.shimmer},
+                                                    {K::kSampler, "uCartoonFire", c},
+                                                    {K::kSampler, "uCartoonDepth", c + 1}});
+      core::assignBindPoints(m.cartoonSeed.get(), {{K::kUniformBlock, "CartoonBlock", bindings.cartoonBlock},
+                                                   {K::kSampler, "uField", c + 1}});
+      core::assignBindPoints(m.cartoonFlood.get(), {{K::kUniformBlock, "CartoonBlock", bindings.cartoonBlock},
+                                                    {K::kSampler, "uSeeds", c + 2}});
+      core::assignBindPoints(m.cartoonCompose.get(), {{K::kUniformBlock, "ComposeBlock", bindings.composeBlock},
+                                                      {K::kUniformBlock, "CartoonBlock", bindings.cartoonBlock},
+                                                      {K::kSampler, "uOpaqueColor", bindings.opaqueColor},
+                                                      {K::kSampler, "uOpaqueDepth", bindings.opaqueDepth},
+                                                      {K::kSampler, "uMedia", bindings.mediaLayer},
+                                                      {K::kSampler, "uMediaDepth", bindings.mediaDepth},
+                                                      {K::kSampler, "uShimmerTex", bindings.shimmer},
+                                                      {K::kSampler, "uFill", c},
+                                                      {K::kSampler, "uField", c + 1},
+                                                      {K::kSampler, "uSeeds", c + 2}});
+    }
     if (host) {
       core::assignBindPoints(m.resolveHost.get(), {{K::kSampler, "uHostDepth", bindings.resolveSource}});
       core::assignBindPoints(m.resolveHostMs.get(), {{K::kSampler, "uHostDepth", bindings.resolveSource}});
@@ -449,6 +501,9 @@ Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Fra
                                  std::span<const ExplosionLight> lights, const ComposeSettings& settings) {
   Impl& m = *impl_;
   if (!m.host) return Error{"composeOver: these media layers have their own opaque pass (Layers::create): use compose"};
+  if (m.cartoonBegun)
+    return Error{"composeOver: the layer holds the cartoon style (beginMedia(true)), which is not drawn over a "
+                 "host's frame yet; draw it with Style::kPhotoreal"};
   if (settings.shimmerPixels != 0.0f)
     return Error{"composeOver: heat shimmer (shimmerPixels " + std::to_string(settings.shimmerPixels) +
                  ") displaces the host's scene, which composeOver blends onto and cannot read; set it to 0"};
@@ -485,8 +540,100 @@ Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Fra
   return {};
 }
 
-void Layers::beginMedia() {
+void Layers::Impl::makeCartoon() {
+  if (cartoonMade) return;
+  cartoonFire = makeTexture2D(GL_RGBA32F, mediaWidth, mediaHeight, GL_NEAREST);
+  cartoonDepth = makeTexture2D(GL_RGBA32F, mediaWidth, mediaHeight, GL_NEAREST);
+  glNamedFramebufferTexture(mediaFbo.get(), GL_COLOR_ATTACHMENT2, cartoonFire.get(), 0);
+  glNamedFramebufferTexture(mediaFbo.get(), GL_COLOR_ATTACHMENT3, cartoonDepth.get(), 0);
+  fill = makeTexture2D(GL_RGBA16F, width, height, GL_NEAREST);
+  field = makeTexture2D(GL_RG32F, width, height, GL_NEAREST);
+  fieldFbo = core::makeFramebuffer();
+  glNamedFramebufferTexture(fieldFbo.get(), GL_COLOR_ATTACHMENT0, fill.get(), 0);
+  glNamedFramebufferTexture(fieldFbo.get(), GL_COLOR_ATTACHMENT1, field.get(), 0);
+  const GLenum two[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glNamedFramebufferDrawBuffers(fieldFbo.get(), 2, two);
+  for (int i = 0; i < 2; ++i) {
+    seeds[i] = makeTexture2D(GL_RGBA32UI, width, height, GL_NEAREST);
+    seedFbo[i] = core::makeFramebuffer();
+    glNamedFramebufferTexture(seedFbo[i].get(), GL_COLOR_ATTACHMENT0, seeds[i].get(), 0);
+  }
+  cartoonBlock = core::makeBuffer();
+  glNamedBufferStorage(cartoonBlock.get(), sizeof(CartoonBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  cartoonMade = true;
+}
+
+static std::vector<int> floodSteps(float inkWidth) {
+  // A jump-flooding pass of step k carries a seed k pixels; steps 2^j .. 1 reach 2^(j+1) - 1. The
+  // field must reach the ink's outer edge and the fill's antialiasing pixel: width + 2.
+  int step = 1;
+  while (2 * step - 1 < static_cast<int>(std::ceil(inkWidth)) + 2) step *= 2;
+  std::vector<int> steps;
+  for (; step >= 1; step /= 2) steps.push_back(step);
+  steps.push_back(1);  // "JFA+1": one more step of 1 mends most of jump flooding's misses
+  return steps;
+}
+
+void Layers::Impl::composeCartoon(GLuint target, const int viewport[4], const CartoonCompose& cartoon) {
+  const CartoonStyle& st = cartoon.style;
+  CartoonBlockData d{};
+  const float inkWidth = st.outlines ? st.outlineWidth : 0.0f;
+  d.style = glm::vec4(st.threshold, static_cast<float>(st.opacityBands), static_cast<float>(st.fireBands), inkWidth);
+  d.ink = glm::vec4(st.outlineColor, 1.0f);
+  for (std::size_t k = 0; k < cartoon.fireColors.size() && k < kMaxBands; ++k)
+    d.fireColors[k] = glm::vec4(cartoon.fireColors[k], 1.0f);
+  glNamedBufferSubData(cartoonBlock.get(), 0, sizeof(d), &d);
+  const GLuint blocks[2] = {block.get(), cartoonBlock.get()};
+  glBindBuffersBase(GL_UNIFORM_BUFFER, bindings.composeBlock, 1, &blocks[0]);  // multi-bind: the generic binding stays
+  glBindBuffersBase(GL_UNIFORM_BUFFER, bindings.cartoonBlock, 1, &blocks[1]);
+  fullscreenState();
+  glBindVertexArray(vao.get());
+  const unsigned c = bindings.cartoonFirst;
+  core::bindTextureAndNoSampler(bindings.opaqueColor, color.get());
+  core::bindTextureAndNoSampler(bindings.opaqueDepth, depth.get());
+  core::bindTextureAndNoSampler(bindings.mediaLayer, media.get());
+  core::bindTextureAndNoSampler(bindings.mediaDepth, mediaDepth.get());
+  core::bindTextureAndNoSampler(bindings.shimmer, shimmer.get());
+
+  // 1. The fill and the field at the output's size.
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fieldFbo.get());
+  glViewport(0, 0, width, height);
+  glUseProgram(cartoonField.get());
+  core::bindTextureAndNoSampler(c, cartoonFire.get());
+  core::bindTextureAndNoSampler(c + 1, cartoonDepth.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  // 2. The seeds.
+  core::bindTextureAndNoSampler(c + 1, field.get());
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, seedFbo[0].get());
+  glUseProgram(cartoonSeed.get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  // 3. Jump flooding, ping-ponging the seeds.
+  int from = 0;
+  glUseProgram(cartoonFlood.get());
+  for (int step : floodSteps(inkWidth)) {
+    core::bindTextureAndNoSampler(c + 2, seeds[from].get());
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, seedFbo[1 - from].get());
+    glUniform1i(0, step);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    from = 1 - from;
+  }
+  // 4. The fill and the ink over the opaque scene.
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+  glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+  glUseProgram(cartoonCompose.get());
+  core::bindTextureAndNoSampler(c, fill.get());
+  core::bindTextureAndNoSampler(c + 2, seeds[from].get());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  glUseProgram(0);
+}
+
+void Layers::beginMedia(bool cartoon) {
   Impl& m = *impl_;
+  if (cartoon) m.makeCartoon();
+  m.cartoonBegun = cartoon;
+  const GLenum buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
+  glNamedFramebufferDrawBuffers(m.mediaFbo.get(), cartoon ? 4 : 2, buffers);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.mediaFbo.get());
   glViewport(0, 0, m.mediaWidth, m.mediaHeight);
   glDisable(GL_SCISSOR_TEST);
@@ -495,17 +642,28 @@ void Layers::beginMedia() {
   const float none[4] = {0.0f, 0.0f, 0.0f, 1.0f}, zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   glClearNamedFramebufferfv(m.mediaFbo.get(), GL_COLOR, 0, none);
   glClearNamedFramebufferfv(m.mediaFbo.get(), GL_COLOR, 1, zero);
+  if (cartoon) {
+    glClearNamedFramebufferfv(m.mediaFbo.get(), GL_COLOR, 2, zero);
+    glClearNamedFramebufferfv(m.mediaFbo.get(), GL_COLOR, 3, zero);
+  }
 }
 
 void Layers::compose(GLuint target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
-                     const ComposeSettings& settings) {
+                     const ComposeSettings& settings, const CartoonCompose* cartoon) {
   Impl& m = *impl_;
   if (m.host) misuse("Layers::compose on layers made by createForHost, which have no opaque colour: call composeOver");
+  if ((cartoon != nullptr) != m.cartoonBegun)
+    misuse(cartoon ? "Layers::compose with a CartoonCompose on a layer not begun with beginMedia(true)"
+                   : "Layers::compose without a CartoonCompose on a layer begun with beginMedia(true)");
   PUFF_CHECK(viewport[2] == m.width && viewport[3] == m.height);
   m.uploadComposeBlock(viewport, frame, lights, settings);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
   fullscreenState();
+  if (cartoon) {
+    m.composeCartoon(target, viewport, *cartoon);
+    return;
+  }
   core::bindTextureAndNoSampler(m.bindings.opaqueColor, m.color.get());
   m.drawCompose(m.compose.get());
 }

@@ -38,6 +38,7 @@ struct MediaBlockData {
   glm::vec4 target, origin, depth, lightDir, lightColor, ambient, kelvin;
   glm::ivec4 mode;
   glm::vec4 time;
+  glm::vec4 cartoon;
 };
 struct MaterialGpu {
   glm::vec4 colorAlbedo, densityGEmissiveEmission, tempRangeBurnDetail, windowSpeedShimmerNext, transition;
@@ -82,8 +83,11 @@ MediaBlockData blockData(const Frame& frame, const Settings& settings, Method me
   d.ambient = glm::vec4(frame.ambient, 1.0f);
   d.kelvin = glm::vec4(settings.minKelvin, settings.maxKelvin, 1.0f / (settings.maxKelvin - settings.minKelvin),
                        settings.exposure);
-  d.mode = glm::ivec4(static_cast<int>(method), shimmer ? 1 : 0, 0, 0);
+  const bool cartoon = settings.style == Style::kCartoon;
+  d.mode = glm::ivec4(static_cast<int>(method), shimmer ? 1 : 0, cartoon ? 1 : 0, 0);
   d.time = glm::vec4(frame.time, 0.0f, 0.0f, 0.0f);
+  d.cartoon = glm::vec4(settings.cartoon.coolKelvin, 1.0f / (settings.cartoon.hotKelvin - settings.cartoon.coolKelvin),
+                        0.0f, 0.0f);
   return d;
 }
 
@@ -91,7 +95,9 @@ MediaBlockData blockData(const Frame& frame, const Settings& settings, Method me
 // test (surfaces clip in the shader; planar and planar-textured test the opaque depth texture
 // there, as the depth unit would), depth clamp for the spherical method only (its far-point
 // quads must not be clipped; planar billboards keep the near-plane clipping that makes them pop).
-void applyBlendState(Method method, bool shimmer) {
+// The cartoon style over-composites draw buffers 0, 2 and 3 (common/media.glsl, cartoonOutputs);
+// the photoreal style's programs have no outputs there, and it leaves their state alone.
+void applyBlendState(Method method, bool shimmer, bool cartoon) {
   glDisable(GL_DEPTH_TEST);
   glDepthMask(GL_FALSE);
   glDisable(GL_STENCIL_TEST);
@@ -113,6 +119,12 @@ void applyBlendState(Method method, bool shimmer) {
   // Without shimmer, a second attachment (if the host has one) is left untouched.
   const GLboolean s = shimmer ? GL_TRUE : GL_FALSE;
   glColorMaski(1, s, s, s, s);
+  if (!cartoon) return;
+  for (GLuint i : {2u, 3u}) {
+    glBlendEquationi(i, GL_FUNC_ADD);
+    glBlendFunci(i, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    glColorMaski(i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  }
 }
 
 }  // namespace
@@ -274,7 +286,7 @@ struct Renderer::Impl {
   // The sphere-profile program (planar, soft and spherical: billboard.vert/.frag), the classic
   // textured billboard (billboard_textured.vert/.frag), and each one's fill-rate floor: its own
   // vertex stage and depth test with a fragment stage that computes nothing else.
-  core::Program program, textured;
+  core::Program program, textured;  // the cartoon style's versions when Settings::style is kCartoon
   core::Program floorProgram, planarFloor, texturedFloor;
   bool fillRateFloor = false;
   core::Texture falloff;
@@ -296,11 +308,19 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings, con
   if (auto ok = inRange("exposure", settings.exposure, 0, 1e4); !ok) return ok.error();
   if (settings.sort != SortKey::kViewDepth && settings.sort != SortKey::kPowerDistance)
     return Error{"sort: expected view-depth or power-distance, got " + std::to_string(static_cast<int>(settings.sort))};
+  if (settings.style != Style::kPhotoreal && settings.style != Style::kCartoon)
+    return Error{"style: expected photoreal or cartoon, got " + std::to_string(static_cast<int>(settings.style))};
+  if (settings.style == Style::kCartoon) {
+    if (auto ok = validate(settings.cartoon); !ok) return Error{"cartoon/" + ok.error().message};
+  }
   auto ramp = core::makeBlackbodyRamp(settings.minKelvin, settings.maxKelvin, 1024, settings.normalizeKelvin);
   if (!ramp) return ramp.error();
-  auto program = core::buildProgram({"media/billboard.vert", "media/billboard.frag"});
+  const bool cartoon = settings.style == Style::kCartoon;
+  auto program =
+      core::buildProgram({"media/billboard.vert", cartoon ? "media/billboard_cartoon.frag" : "media/billboard.frag"});
   if (!program) return program.error();
-  auto textured = core::buildProgram({"media/billboard_textured.vert", "media/billboard_textured.frag"});
+  auto textured = core::buildProgram({"media/billboard_textured.vert", cartoon ? "media/billboard_textured_cartoon.frag"
+                                                                               : "media/billboard_textured.frag"});
   if (!textured) return textured.error();
   auto floorProgram = core::buildProgram({"media/billboard.vert", "media/floor.frag"});
   if (!floorProgram) return floorProgram.error();
@@ -432,7 +452,7 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
   const MediaBlockData d = blockData(frame, m.settings, method, shimmer);
   glNamedBufferSubData(m.block.get(), 0, sizeof(d), &d);
 
-  applyBlendState(method, shimmer);
+  applyBlendState(method, shimmer, m.settings.style == Style::kCartoon);
 
   // The floor of a method keeps its quads and its depth test (planar and planar-textured test
   // the opaque depth; the soft and spherical methods read it only to compute their opacity).

@@ -28,6 +28,11 @@ Result<std::unique_ptr<MediaPass>> MediaPass::create(const scene::Scene& scene) 
     opacity = std::move(*v);
   }
   (*renderer)->setDetail(temperature ? &*temperature : nullptr, opacity ? &*opacity : nullptr);
+  if (spec.settings.style == media::Style::kCartoon) {
+    auto cartoon = media::cartoonCompose(spec.settings);
+    if (!cartoon) return Error::at(scene.file, "/media/" + cartoon.error().message);
+    pass->cartoon_ = std::move(*cartoon);
+  }
   pass->renderer_ = std::move(*renderer);
   return pass;
 }
@@ -56,7 +61,7 @@ void MediaPass::draw(const scene::Scene& s, const scene::FrameInputs& inputs, co
   const scene::MediaSpec& spec = *s.media;
   particles_ = inputs.media;
   layers_->resolveOpaque();
-  layers_->beginMedia();
+  layers_->beginMedia(cartoon_.has_value());
   // The scene's colours are display values; the media light in scene-linear (docs/colour.md).
   const media::Frame mf = scene::mediaFrameFor(s, inputs.camera, inputs.time, viewport.width, viewport.height);
   media::DrawStats ds;
@@ -68,7 +73,13 @@ void MediaPass::draw(const scene::Scene& s, const scene::FrameInputs& inputs, co
                                            l.modulate, l.fullAtBack});
   }
   const int vp[4] = {viewport.x, viewport.y, viewport.width, viewport.height};
-  layers_->compose(target, vp, mf, lights, spec.compose);
+  if (cartoon_) {
+    // The ink is the cel path's: the scene's outline switch, width and colour (a display value).
+    cartoon_->style.outlines = s.style.outlines;
+    cartoon_->style.outlineWidth = s.style.outlineWidth;
+    cartoon_->style.outlineColor = core::srgbToLinear(s.style.outlineColor);
+  }
+  layers_->compose(target, vp, mf, lights, spec.compose, cartoon_ ? &*cartoon_ : nullptr);
   lastFrame_ = mf;
   stats.mediaParticles = ds.particles;
 }

@@ -43,6 +43,7 @@ class MediaPass {
   std::unique_ptr<media::Layers> layers_;
   std::vector<media::Particle> particles_;  // of the last frame drawn
   std::optional<media::Frame> lastFrame_;   // the full-size frame of the last draw
+  std::optional<media::CartoonCompose> cartoon_;  // the cartoon style's compose, when the scene has it
 };
 
 }  // namespace puff::render::detail

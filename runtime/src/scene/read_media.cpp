@@ -116,6 +116,23 @@ void readBlackbody(const json& v, const std::string& p, media::Settings& setting
   }
 }
 
+// The cartoon style's bands (types.h, CartoonStyle). Its ink is the scene's `style` outline
+// (render::MediaPass takes it each frame), so it has none of its own here.
+void readCartoon(const json& v, const std::string& p, media::CartoonStyle& c) {
+  requireObject(v, p, {"threshold", "opacityBands", "fireBands", "coolKelvin", "hotKelvin"});
+  if (auto* x = find(v, "threshold"))
+    c.threshold = readFloat(*x, child(p, "threshold"), Range{0.0, 1.0, true, true}, "an opacity in (0, 1)");
+  if (auto* x = find(v, "opacityBands")) c.opacityBands = readInt(*x, child(p, "opacityBands"), 1, 8);
+  if (auto* x = find(v, "fireBands")) c.fireBands = readInt(*x, child(p, "fireBands"), 1, 8);
+  const Range kelvin{0.0, 1e5, true, false};
+  if (auto* x = find(v, "coolKelvin")) c.coolKelvin = readFloat(*x, child(p, "coolKelvin"), Range{0.0, 1e5, true, true});
+  if (auto* x = find(v, "hotKelvin")) c.hotKelvin = readFloat(*x, child(p, "hotKelvin"), kelvin);
+  if (!(c.hotKelvin > c.coolKelvin)) {
+    const char* key = find(v, "hotKelvin") ? "hotKelvin" : "coolKelvin";
+    fail(child(p, key), "hotKelvin > coolKelvin", find(v, key) ? *find(v, key) : v);
+  }
+}
+
 // How the media are drawn: method, layer resolution, phase, sort key, black body, exposure, detail videos,
 // composition and motion blur.
 void readLook(const json& j, const std::string& ptr, const Reader& r, MediaSpec& m) {
@@ -145,6 +162,11 @@ void readLook(const json& j, const std::string& ptr, const Reader& r, MediaSpec&
   }
   if (auto* v = find(j, "blackbody")) readBlackbody(*v, child(ptr, "blackbody"), m.settings);
   if (auto* v = find(j, "exposure")) m.settings.exposure = readFloat(*v, child(ptr, "exposure"), Range{0.0, 1e4});
+  if (auto* v = find(j, "style")) {
+    m.settings.style = readEnum<media::Style>(
+        *v, child(ptr, "style"), {{"photoreal", media::Style::kPhotoreal}, {"cartoon", media::Style::kCartoon}});
+  }
+  if (auto* v = find(j, "cartoon")) readCartoon(*v, child(ptr, "cartoon"), m.settings.cartoon);
   if (auto* v = find(j, "detail")) {
     const std::string p = child(ptr, "detail");
     requireObject(*v, p, {"temperature", "opacity"});
@@ -242,7 +264,8 @@ void readMediaEmitters(const json& v, const std::string& p, MediaSpec& m) {
 
 MediaSpec readMedia(const json& j, const std::string& ptr, const Reader& r) {
   requireObject(j, ptr,
-                {"method",  "resolution", "phase",          "sort",         "blackbody",       "exposure",  "detail",
+                {"method",  "resolution", "phase",          "sort",         "blackbody",       "exposure",  "style",
+                 "cartoon",   "detail",
                  "shimmer", "depthAware", "depthTolerance", "motionBlur",   "materials",       "particles", "emitters",
                  "forces",  "substeps",   "preroll",        "maxParticles", "collisionRadius", "lights"});
   MediaSpec m;

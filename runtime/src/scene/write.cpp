@@ -176,6 +176,13 @@ json mediaJson(const MediaSpec& m, const fs::path& dir) {
                     {"maxKelvin", number(m.settings.maxKelvin)},
                     {"normalizeKelvin", number(m.settings.normalizeKelvin)}};
   j["exposure"] = number(m.settings.exposure);
+  j["style"] = std::string(media::toString(m.settings.style));
+  const media::CartoonStyle& c = m.settings.cartoon;
+  j["cartoon"] = {{"threshold", number(c.threshold)},
+                  {"opacityBands", c.opacityBands},
+                  {"fireBands", c.fireBands},
+                  {"coolKelvin", number(c.coolKelvin)},
+                  {"hotKelvin", number(c.hotKelvin)}};
   j["detail"] = {{"temperature", pathJson(m.temperatureDetail, dir)}, {"opacity", pathJson(m.opacityDetail, dir)}};
   j["shimmer"] = number(m.compose.shimmerPixels);
   j["depthAware"] = m.compose.depthAware;

@@ -49,7 +49,7 @@ struct GuardExtent {
   int textureUnits = 8;    ///< units 0-7
   int uniformBuffers = 6;  ///< uniform buffer bindings 0-5
   int storageBuffers = 2;  ///< shader storage buffer bindings 0-1
-  int drawBuffers = 2;     ///< per-draw-buffer blend state and colour masks 0-1
+  int drawBuffers = 4;     ///< per-draw-buffer blend state and colour masks 0-3
   /// The larger of each.
   GuardExtent cover(const GuardExtent& other) const;
 };

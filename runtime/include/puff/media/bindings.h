@@ -22,9 +22,13 @@
 //   resolveSource      texture unit     0        Layers::resolveOpaque, resolveHostDepth (2D or 2D
 //                                                multisample, then 2D)
 //   historyFirst       texture units    0-7      Layers::blendHistory: units historyFirst + slot, 2D
+//   cartoonBlock       uniform buffer   3        Layers::compose with a CartoonCompose
+//   cartoonFirst       texture units    5-7      Layers::compose with a CartoonCompose: 2D (the third
+//                                                an unsigned integer texture), with compose's units
 //
 // The programs' blocks and samplers are pointed at these after linking. Points read by one call
-// must differ (Renderer::draw's six units, its two uniform buffers; compose's five units); calls
+// must differ (Renderer::draw's six units, its two uniform buffers; compose's five units and the
+// cartoon's three, its two uniform buffers); calls
 // may share points. create() checks them against GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS and
 // GL_MAX_UNIFORM_BUFFER_BINDINGS / GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS.
 #pragma once
@@ -42,6 +46,8 @@ struct Bindings {
   unsigned opaqueColor = 0, opaqueDepth = 1, mediaLayer = 2, mediaDepth = 3, shimmer = 4;  ///< units (compose)
   unsigned resolveSource = 0;  ///< unit (Layers::resolveOpaque, resolveHostDepth)
   unsigned historyFirst = 0;   ///< first of 8 consecutive units (Layers::blendHistory)
+  unsigned cartoonBlock = 3;   ///< uniform buffer binding (Layers::compose, cartoon style)
+  unsigned cartoonFirst = 5;   ///< first of 3 consecutive units (Layers::compose, cartoon style)
   bool operator==(const Bindings&) const = default;
 };
 

@@ -31,6 +31,26 @@
 // (mul = the modulating lights' product, add = the additive lights' sum). The same image as
 // compose() gives over the same opaque colour, without reading or copying the host's colour;
 // heat shimmer, which must read the scene displaced, is the one thing it cannot do.
+//
+// CARTOON MEDIA (media::Style::kCartoon, beyond the papers; docs/media.md, "Cartoon media"). The
+// renderer then writes, besides the scattered light, each particle's emissive weight, temperature,
+// emission and depth into two more layer attachments, all over-composited (beginMedia(true)).
+// compose() with a CartoonCompose draws, instead of out = opaque T + M, in four passes at the
+// output's size:
+//   1. the layer and its attributes upsampled as above; per pixel the accumulated opacity A, the
+//      medium's depth and the flat fill (types.h, CartoonStyle: an opacity tier, and the fire band's
+//      black-body colour where emitting medium is most of what is seen, else the scattered light);
+//   2. the seeds of a distance field: where the iso-line A = threshold crosses the segments between
+//      neighbouring pixel centres, A linear along them (sub-pixel, so the ink moves smoothly);
+//   3. jump flooding (Rong & Tan 2006): every pixel finds its nearest seed, up to the ink's width
+//      away (steps 2^k .. 1, then 1 again);
+//   4. out = opaque (1 - a - ink) + fill a + inkColour ink, with s the signed distance to the
+//      iso-line (negative inside), a = clamp(0.5 - s) x tier and ink = clamp(width + 0.5 - s) -
+//      clamp(0.5 - s): the fill ends at the iso-line and the ink is a band `width` pixels wide
+//      outside it, one outline around the whole layer however many particles overlap (Fig. 5's
+//      merging). The ink lies at the medium's depth: nearer opaque surfaces hide it.
+// The cartoon style ignores burn: cartoon fire occludes what is behind it. composeOver (a host's
+// frame) does not draw it yet: it refuses a cartoon layer.
 #pragma once
 
 #include <memory>
@@ -60,6 +80,19 @@ struct HostDepth {
   core::DepthSpace space;
   int x = 0, y = 0;  ///< where the layers' width() x height() region starts in the texture
 };
+
+/// What Layers::compose needs to draw the cartoon style.
+struct CartoonCompose {
+  CartoonStyle style;
+  /// Band k's colour (k < style.fireBands): the black-body colour at the band's centre temperature,
+  /// linear sRGB clipped at 0, normalized as the renderer's (luminance 1 at normalizeKelvin) and
+  /// times the exposure. A pixel's fire colour is this times its particles' mean emission.
+  std::vector<glm::vec3> fireColors;
+  bool operator==(const CartoonCompose&) const = default;
+};
+/// The cartoon compose for `settings` (its cartoon style, black-body normalization and exposure).
+/// Errors: the style's or the black body's values (validate, makeBlackbodyRamp).
+Result<CartoonCompose> cartoonCompose(const Settings& settings);
 
 class Layers {
  public:
@@ -118,14 +151,15 @@ class Layers {
   /// i covers full pixels [i * factor, (i + 1) * factor), the last ones partly outside the image).
   Frame layerFrame(const Frame& full) const;
   /// Binds the media layer framebuffer (attachment 0: RGBA32F radiance + transmittance; 1: RG16F
-  /// shimmer), sets the viewport and clears it to no medium (0, 0, 0, 1).
+  /// shimmer), sets the viewport and clears it to no medium (0, 0, 0, 1). `cartoon`: for a renderer
+  /// with Style::kCartoon, attachments 2 and 3 (RGBA32F, made on first use) too, cleared to 0.
   /// Leaves (a begin call: Renderer::draw draws into it next): the draw framebuffer = the media
   /// layer's; the viewport = (0, 0, mediaWidth(), mediaHeight()); scissor test and rasterizer
   /// discard off; colour write masks on for every draw buffer. (GL_STENCIL_REF then reads back 0:
   /// the query clamps the stored reference to the bound framebuffer's stencil bits, none here; the
   /// stored value is untouched. The same for compose and blendHistory with a `target` without
   /// stencil.)
-  void beginMedia();
+  void beginMedia(bool cartoon = false);
   /// Composes into framebuffer `target` (0 = the default framebuffer; bound as the DRAW framebuffer,
   /// the read binding is left alone) over `viewport` (x, y, w, h; w x h must be width() x height()).
   /// `frame`: the full-size frame (camera, planes) for the explosion lights. Colour only: the
@@ -134,15 +168,20 @@ class Layers {
   /// (resolveOpaque); no program, no vertex array; uniform buffer binding `composeBlock` = its
   /// block (whole buffer; the generic binding untouched); units `opaqueColor`, `opaqueDepth`,
   /// `mediaLayer`, `mediaDepth` and `shimmer` with their 2D textures = its and sampler binding 0.
+  /// With `cartoon` (the layer begun with beginMedia(true); otherwise the program stops with a
+  /// message): the cartoon style (header comment). It also leaves uniform buffer binding
+  /// `cartoonBlock` and units cartoonFirst .. cartoonFirst + 2 with their 2D textures bound to its
+  /// own, the generic uniform buffer binding untouched, and the full-screen state.
   void compose(core::GlId target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
-               const ComposeSettings& settings);
+               const ComposeSettings& settings, const CartoonCompose* cartoon = nullptr);
 
   /// compose() for a host's frame (createForHost, after resolveHostDepth): blends the media layer
   /// and the explosion lights over what framebuffer `target` already holds (header comment), over
   /// `viewport` (its w x h must be width() x height()). Colour only (RGB; the target's alpha, depth
   /// and stencil are kept). The blend happens in the target's space: give it scene-linear colour,
   /// a float target or an sRGB one with GL_FRAMEBUFFER_SRGB on (left as the host set it).
-  /// Errors (nothing drawn): layers not made by createForHost; settings.shimmerPixels != 0; more
+  /// Errors (nothing drawn): layers not made by createForHost; a layer begun with beginMedia(true)
+  /// (the cartoon style is not drawn over a host's frame yet); settings.shimmerPixels != 0; more
   /// than 8 lights that shine (intensity and radius > 0: compose() uses the first 8); a
   /// viewport of another size; a target drawing to more colour buffers than dual-source blending
   /// allows (GL_MAX_DUAL_SOURCE_DRAW_BUFFERS, 1 on common GPUs; the target is then left bound).

@@ -84,14 +84,18 @@ class Renderer {
 
   /// Draws `particles` (sorted back to front here) into the current framebuffer, whose colour
   /// attachment 0 is the media layer (float RGBA: premultiplied radiance, transmittance in alpha)
-  /// and attachment 1 (if `shimmer`) the heat-shimmer offsets (RG). `depth` is a texture of the
+  /// and attachment 1 (if `shimmer`) the heat-shimmer offsets (RG). With Settings::style kCartoon,
+  /// attachment 0 holds the scattered light only, and attachments 2 and 3 (float RGBA, cleared to 0)
+  /// get the cartoon attributes (shaders/common/media.glsl, cartoonOutputs), all over-composited
+  /// with burn ignored: Layers::beginMedia(true) makes such a target. `depth` is a texture of the
   /// opaque scene's LINEAR depth ((-z - near) / (far - near)) at the target's resolution (R32F, or a
   /// depth texture), read at each pixel's offset from the viewport's origin. The viewport must be
   /// (frame.x, frame.y, frame.width, frame.height). Sets every GL state it needs and queries none.
   /// Leaves (docs/media.md, "Host state"; a core::HostStateGuard restores it all):
   ///   no program, no vertex array; blending off on every draw buffer, with draw buffer 0's
   ///   functions (GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA) and draw buffer
-  ///   1's (GL_ONE, GL_ONE) and both equations GL_FUNC_ADD; depth test, stencil test, culling,
+  ///   1's (GL_ONE, GL_ONE), draw buffers 2 and 3's (GL_ONE, GL_ONE_MINUS_SRC_ALPHA) and their equations
+  ///   GL_FUNC_ADD; depth test, stencil test, culling,
   ///   scissor test, alpha to coverage, rasterizer discard and depth clamp off;
   ///   polygon mode GL_FILL; depth write mask on; colour write masks on for every draw buffer;
   ///   uniform buffer bindings `mediaBlock` and `materialBlock` (whole buffers) and storage buffer

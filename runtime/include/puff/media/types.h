@@ -115,12 +115,46 @@ struct Frame {
   int x = 0, y = 0, width = 0, height = 0;
 };
 
+/// How the media layer becomes pixels (docs/media.md, "Cartoon media").
+enum class Style {
+  kPhotoreal,  ///< the papers' translucent media: the layer composed as it was integrated
+  kCartoon,    ///< flat bands and ink (CartoonStyle), in the style of McGuire & Fein's smoke
+};
+std::string_view toString(Style s);
+std::optional<Style> parseStyle(std::string_view name);  ///< photoreal, cartoon
+
+/// The cartoon style (beyond the papers). The layer's accumulated opacity A (over-composited, burn
+/// ignored: cartoon fire occludes) decides what is drawn: nothing below `threshold`; above it flat
+/// opacity tiers, band k of `opacityBands` drawing theta + (1 - theta) (k + 1) / n (the top one
+/// opaque); an ink band `outlineWidth` pixels wide outside the iso-line A = theta, from a distance
+/// field of the whole layer, so overlapping particles share one outline (Fig. 5). Where emitting
+/// medium is most of what is seen, the colour is the black-body colour of the band its mean
+/// temperature falls in: [coolKelvin, hotKelvin] split into `fireBands` equal bands, band k showing
+/// Le at its centre; elsewhere the medium's scattered light, unpremultiplied (so flat within a tier).
+struct CartoonStyle {
+  float threshold = 0.35f;               ///< the ink's iso-line, accumulated opacity in (0, 1)
+  int opacityBands = 2;                  ///< [1, 8]
+  int fireBands = 3;                     ///< [1, 8]
+  float coolKelvin = 1400.0f;            ///< (0, 1e5), < hotKelvin
+  float hotKelvin = 3000.0f;             ///< (0, 1e5]
+  bool outlines = true;                  ///< off: no ink (the fill keeps its antialiased edge)
+  float outlineWidth = 2.0f;             ///< pixels of the output image, [0, 64]
+  glm::vec3 outlineColor{0.0f};          ///< the ink, scene-linear, each in [0, 1]
+  bool operator==(const CartoonStyle&) const = default;
+};
+/// "FIELD: expected ..., got ..." for the first bad value.
+Result<void> validate(const CartoonStyle& s);
+
 struct Settings {
   PhaseModel phase = PhaseModel::kCornetteShanks;
   float minKelvin = 1000.0f, maxKelvin = 10000.0f;  ///< the black-body texture's range
   float normalizeKelvin = 3200.0f;                  ///< luminance 1 at this temperature
   float exposure = 1.0f;                            ///< scales every emission, [0, 1e4]
   SortKey sort = SortKey::kViewDepth;               ///< back-to-front order (docs/media.md, "Sorting")
+  /// kCartoon: Renderer::draw also writes the cartoon attributes (media.h) and Layers draw bands and
+  /// ink from them (Layers::compose with a CartoonCompose).
+  Style style = Style::kPhotoreal;
+  CartoonStyle cartoon;
   bool operator==(const Settings&) const = default;
 };
 

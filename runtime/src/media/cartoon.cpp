@@ -1,0 +1,69 @@
+// The cartoon style's values (types.h) and its compose inputs (layers.h).
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include <puff/core/blackbody.h>
+#include <puff/media/layers.h>
+#include <puff/media/types.h>
+
+namespace puff::media {
+
+std::string_view toString(Style s) { return s == Style::kCartoon ? "cartoon" : "photoreal"; }
+
+std::optional<Style> parseStyle(std::string_view name) {
+  if (name == "photoreal") return Style::kPhotoreal;
+  if (name == "cartoon") return Style::kCartoon;
+  return std::nullopt;
+}
+
+namespace {
+
+std::string fmt(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+}  // namespace
+
+Result<void> validate(const CartoonStyle& s) {
+  if (!(s.threshold > 0.0f && s.threshold < 1.0f))
+    return Error{"threshold: expected an opacity in (0, 1), got " + fmt(s.threshold)};
+  if (s.opacityBands < 1 || s.opacityBands > 8)
+    return Error{"opacityBands: expected 1 to 8, got " + std::to_string(s.opacityBands)};
+  if (s.fireBands < 1 || s.fireBands > 8)
+    return Error{"fireBands: expected 1 to 8, got " + std::to_string(s.fireBands)};
+  if (!(s.coolKelvin > 0.0f && s.coolKelvin < 1e5f))
+    return Error{"coolKelvin: expected kelvin in (0, 100000), got " + fmt(s.coolKelvin)};
+  if (!(s.hotKelvin > s.coolKelvin && s.hotKelvin <= 1e5f))
+    return Error{"hotKelvin: expected kelvin in (coolKelvin " + fmt(s.coolKelvin) + ", 100000], got " +
+                 fmt(s.hotKelvin)};
+  if (!(s.outlineWidth >= 0.0f && s.outlineWidth <= 64.0f))
+    return Error{"outlineWidth: expected pixels in [0, 64], got " + fmt(s.outlineWidth)};
+  for (int i = 0; i < 3; ++i) {
+    if (!(s.outlineColor[i] >= 0.0f && s.outlineColor[i] <= 1.0f))
+      return Error{"outlineColor/" + std::to_string(i) + ": expected [0, 1], got " + fmt(s.outlineColor[i])};
+  }
+  return {};
+}
+
+Result<CartoonCompose> cartoonCompose(const Settings& settings) {
+  if (auto ok = validate(settings.cartoon); !ok) return Error{"cartoon/" + ok.error().message};
+  const CartoonStyle& st = settings.cartoon;
+  // The renderer's normalization (luminance 1 at normalizeKelvin), over the bands' own range.
+  auto ramp = core::makeBlackbodyRamp(st.coolKelvin, st.hotKelvin, 2, settings.normalizeKelvin);
+  if (!ramp) return ramp.error();
+  const glm::dvec3 white = core::blackbodyXYZ(settings.normalizeKelvin);
+  CartoonCompose c;
+  c.style = st;
+  const double width = (static_cast<double>(st.hotKelvin) - st.coolKelvin) / st.fireBands;
+  for (int k = 0; k < st.fireBands; ++k) {
+    const double kelvin = st.coolKelvin + (k + 0.5) * width;
+    const glm::dvec3 rgb = core::xyzToLinearSrgb(core::blackbodyXYZ(kelvin) / white.y);
+    c.fireColors.push_back(glm::max(glm::vec3(rgb), glm::vec3(0.0f)) * settings.exposure);
+  }
+  return c;
+}
+
+}  // namespace puff::media

@@ -1,0 +1,36 @@
+#version 450 core
+// The cartoon style, pass 4: the flat fill and the ink over the opaque scene. s, the signed distance
+// from the pixel's centre to the iso-line A = threshold (negative inside), gives the fill's coverage
+// clamp(0.5 - s) and the ink's, clamp(width + 0.5 - s) minus the fill's: a band `width` pixels wide
+// outside the iso-line, antialiased on both edges. The ink lies at the medium's depth: a nearer
+// opaque surface hides it, as the depth test hides a nailboard's.
+layout(binding = 0) uniform sampler2D uOpaqueColor;
+#include "media/compose.glsl"
+#include "media/lit.glsl"
+#include "media/cartoon.glsl"
+
+layout(binding = 5) uniform sampler2D uFill;    // cartoonFill: colour, opacity tier
+layout(binding = 6) uniform sampler2D uField;   // x: A, y: linear depth
+layout(binding = 7) uniform usampler2D uSeeds;  // the nearest iso-line point (cartoon_seed.frag)
+
+layout(location = 0) out vec4 outColor;
+
+void main() {
+  const ivec2 p = ivec2(gl_FragCoord.xy - uViewport.xy);
+  vec2 shimmer;
+  mediaTaps(p, shimmer);
+  const vec3 scene = litAt(vec2(p) + shimmer * uShimmer.x, ivec2(uViewport.zw));
+
+  const bool inside = texelFetch(uField, p, 0).r >= uStyle.x;
+  const uvec4 seed = texelFetch(uSeeds, p, 0);
+  const bool seeded = seed.w != kNoSeed;
+  const float d = seeded ? distance(vec2(p) + 0.5, vec2(uintBitsToFloat(seed.x), uintBitsToFloat(seed.y))) : 3.0e38;
+  const float s = inside ? -d : d;
+  const float fillCover = clamp(0.5 - s, 0.0, 1.0);
+  float ink = uStyle.w > 0.0 ? clamp(uStyle.w + 0.5 - s, 0.0, 1.0) - fillCover : 0.0;
+  if (!seeded || texelFetch(uOpaqueDepth, p, 0).r < uintBitsToFloat(seed.z)) ink = 0.0;
+  // A pixel just outside that the fill partly covers shows the fill of the inside pixel it borders.
+  const vec4 fill = texelFetch(uFill, inside || !seeded ? p : ivec2(seed.w & 0xffffu, seed.w >> 16), 0);
+  const float a = fillCover * fill.a;
+  outColor = vec4(scene * (1.0 - a - ink) + fill.rgb * a + uInk.rgb * ink, 1.0);
+}

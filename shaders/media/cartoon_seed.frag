@@ -1,0 +1,36 @@
+#version 450 core
+// The cartoon style, pass 2: where the iso-line A = threshold crosses the segments from this pixel's
+// centre to its four neighbours' (A linear between them), the nearest crossing: the distance field's
+// seed. Sub-pixel, so the ink moves smoothly as the medium does.
+#include "media/cartoon.glsl"
+
+layout(binding = 6) uniform sampler2D uField;  // x: A, y: linear depth
+
+// x, y: the point (pixels, float bits); z: the medium's depth at its inside end (float bits);
+// w: that inside pixel, x | y << 16, or kNoSeed.
+layout(location = 0) out uvec4 outSeed;
+
+void main() {
+  const ivec2 p = ivec2(gl_FragCoord.xy);
+  const ivec2 size = textureSize(uField, 0);
+  const float theta = uStyle.x;
+  const vec2 here = texelFetch(uField, p, 0).rg;
+  const bool inside = here.r >= theta;
+  const ivec2 steps[4] = ivec2[](ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1), ivec2(0, -1));
+  float best = 2.0;
+  outSeed = uvec4(0u, 0u, 0u, kNoSeed);
+  for (int i = 0; i < 4; ++i) {
+    const ivec2 q = p + steps[i];
+    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;  // the frame's edge is no edge
+    const vec2 there = texelFetch(uField, q, 0).rg;
+    if ((there.r >= theta) == inside) continue;
+    const float t = clamp((here.r - theta) / (here.r - there.r), 0.0, 1.0);
+    if (t >= best) continue;
+    best = t;
+    const vec2 point = vec2(p) + 0.5 + t * vec2(steps[i]);
+    const ivec2 from = inside ? p : q;
+    const float depth = inside ? here.g : there.g;
+    outSeed = uvec4(floatBitsToUint(point.x), floatBitsToUint(point.y), floatBitsToUint(depth),
+                    uint(from.x) | (uint(from.y) << 16));
+  }
+}
