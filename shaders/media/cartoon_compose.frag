@@ -24,11 +24,22 @@ void main() {
   const bool inside = texelFetch(uField, p, 0).r >= uStyle.x;
   const uvec4 seed = texelFetch(uSeeds, p, 0);
   const bool seeded = seed.w != kNoSeed;
-  const float d = seeded ? distance(vec2(p) + 0.5, vec2(uintBitsToFloat(seed.x), uintBitsToFloat(seed.y))) : 3.0e38;
+  // The distance to the iso-line: to the line through the nearest seed along the iso-line there
+  // (the seeds are at most a pixel apart, so that line is the iso-line to a few hundredths of a
+  // pixel), not to the seed itself, which would thin the ink by the seeds' spacing.
+  const vec2 depthAngle = unpackUnorm2x16(seed.z);
+  const float angle = (depthAngle.y - 0.5) * 6.28318530718;
+  const vec2 v = vec2(p) + 0.5 - vec2(uintBitsToFloat(seed.x), uintBitsToFloat(seed.y));
+  const float d = seeded ? abs(dot(v, vec2(cos(angle), sin(angle)))) : 3.0e38;
   const float s = inside ? -d : d;
-  const float fillCover = clamp(0.5 - s, 0.0, 1.0);
+  float fillCover = clamp(0.5 - s, 0.0, 1.0);
   float ink = uStyle.w > 0.0 ? clamp(uStyle.w + 0.5 - s, 0.0, 1.0) - fillCover : 0.0;
-  if (!seeded || texelFetch(uOpaqueDepth, p, 0).r < uintBitsToFloat(seed.z)) ink = 0.0;
+  // What lies outside the iso-line (the ink, and the fill's antialiased rim) is at the medium's
+  // depth: a nearer opaque surface hides it.
+  if (!seeded || texelFetch(uOpaqueDepth, p, 0).r < depthAngle.x) {
+    ink = 0.0;
+    if (!inside) fillCover = 0.0;
+  }
   // A pixel just outside that the fill partly covers shows the fill of the inside pixel it borders.
   const vec4 fill = texelFetch(uFill, inside || !seeded ? p : ivec2(seed.w & 0xffffu, seed.w >> 16), 0);
   const float a = fillCover * fill.a;

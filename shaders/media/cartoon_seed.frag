@@ -6,9 +6,17 @@
 
 layout(binding = 6) uniform sampler2D uField;  // x: A, y: linear depth
 
-// x, y: the point (pixels, float bits); z: the medium's depth at its inside end (float bits);
-// w: that inside pixel, x | y << 16, or kNoSeed.
+// x, y: the point (pixels, float bits); z: packUnorm2x16(the medium's depth at its inside end, the
+// iso-line's normal angle / 2 pi); w: that inside pixel, x | y << 16, or kNoSeed.
 layout(location = 0) out uvec4 outSeed;
+
+float fieldAt(ivec2 q, ivec2 size) { return texelFetch(uField, clamp(q, ivec2(0), size - 1), 0).r; }
+
+// A's gradient at pixel q by central differences (one-sided at the frame's edge).
+vec2 gradientAt(ivec2 q, ivec2 size) {
+  return vec2(fieldAt(q + ivec2(1, 0), size) - fieldAt(q - ivec2(1, 0), size),
+              fieldAt(q + ivec2(0, 1), size) - fieldAt(q - ivec2(0, 1), size));
+}
 
 void main() {
   const ivec2 p = ivec2(gl_FragCoord.xy);
@@ -30,7 +38,12 @@ void main() {
     const vec2 point = vec2(p) + 0.5 + t * vec2(steps[i]);
     const ivec2 from = inside ? p : q;
     const float depth = inside ? here.g : there.g;
-    outSeed = uvec4(floatBitsToUint(point.x), floatBitsToUint(point.y), floatBitsToUint(depth),
+    // The iso-line's normal there: A's gradient at the two pixels, mixed as the crossing lies; the
+    // segment's own direction where A is flat across it (cannot happen at a crossing, but be safe).
+    vec2 g = mix(gradientAt(p, size), gradientAt(q, size), t);
+    if (!(dot(g, g) > 0.0)) g = inside ? -vec2(steps[i]) : vec2(steps[i]);
+    const float angle = atan(g.y, g.x) / 6.28318530718 + 0.5;  // [0, 1]
+    outSeed = uvec4(floatBitsToUint(point.x), floatBitsToUint(point.y), packUnorm2x16(vec2(depth, angle)),
                     uint(from.x) | (uint(from.y) << 16));
   }
 }
