@@ -49,7 +49,10 @@ TEST_P(MediaSceneGolden, MatchesReference) {
 
 INSTANTIATE_TEST_SUITE_P(ArtScenes, MediaSceneGolden,
                          ::testing::Values(MediaCase{"explosion-walls", 5}, MediaCase{"explosion-walls", 20},
-                                           MediaCase{"smoke-flythrough", 30}, MediaCase{"fire-to-smoke", 48}),
+                                           MediaCase{"smoke-flythrough", 30}, MediaCase{"fire-to-smoke", 48},
+                                           // The cartoon style (issue 19): bands and ink, beside cel puffs.
+                                           MediaCase{"explosion-walls-cartoon", 20},
+                                           MediaCase{"fire-to-smoke-cartoon", 48}),
                          [](const ::testing::TestParamInfo<MediaCase>& i) {
                            std::string n = i.param.scene;
                            for (char& ch : n) ch = (ch == '-') ? '_' : ch;
