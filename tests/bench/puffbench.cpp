@@ -37,6 +37,7 @@
 #include "harness.h"
 #include "puffbench_cel.h"
 #include "puffbench_shadows.h"
+#include "puffbench_cartoon.h"
 #include "puffbench_tumble.h"
 
 namespace {
@@ -281,7 +282,7 @@ int main(int argc, char** argv) {
   puff::io::useOpenImageIO();
   int reps = 3, width = 320, height = 240;
   bool physical = false;
-  std::string csvPath, celCsvPath, stabilityCsvPath, shadowCsvPath, tumbleCsvPath, part = "all";
+  std::string csvPath, celCsvPath, stabilityCsvPath, shadowCsvPath, tumbleCsvPath, cartoonCsvPath, part = "all";
   std::vector<std::string> shadowScenes = {"cloud-fig8c", "explosion", "magic-lamp", "cloud-10k"};
   puffbench::CelBenchOptions cel;
   puffbench::TumbleBenchOptions tumble;
@@ -312,6 +313,8 @@ int main(int argc, char** argv) {
         if (comma > at) shadowScenes.push_back(list.substr(at, comma - at));
         at = comma + 1;
       }
+    } else if (!std::strcmp(argv[i], "--cartoon-csv") && i + 1 < argc) {
+      cartoonCsvPath = argv[++i];
     } else if (!std::strcmp(argv[i], "--tumble-csv") && i + 1 < argc) {
       tumbleCsvPath = argv[++i];
     } else if (!std::strcmp(argv[i], "--tumble-atlases") && i + 1 < argc) {
@@ -335,6 +338,7 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(argv[i], "--part") && i + 1 < argc &&
                (!std::strcmp(argv[i + 1], "media") || !std::strcmp(argv[i + 1], "cel") ||
                 !std::strcmp(argv[i + 1], "shadows") || !std::strcmp(argv[i + 1], "tumble") ||
+                !std::strcmp(argv[i + 1], "cartoon") ||
                 !std::strcmp(argv[i + 1], "all"))) {
       part = argv[++i];
     } else if (!std::strcmp(argv[i], "--reference-limit") && i + 1 < argc) {
@@ -349,7 +353,7 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(
           puff::bench::usageStream(argv[i]),
-          "usage: puffbench [--part media|cel|shadows|tumble|all (all: media and cel)] [--reps N (3)]\n"
+          "usage: puffbench [--part media|cel|shadows|tumble|cartoon|all (all: media and cel)] [--reps N (3)]\n"
           "                 [--size W H (320 240)] [--shadow-csv FILE] [--shadow-scenes A,B (cloud-fig8c,\n"
           "                 explosion,magic-lamp,cloud-10k)]\n"
           "                 [--scene NAME ... (media scenes)] [--csv FILE (media)] [--cel-csv FILE]\n"
@@ -360,7 +364,9 @@ int main(int argc, char** argv) {
           "                 [--tumble-csv FILE] [--tumble-atlases LIST (oct3,oct5,oct7,oct9,hemioct3,\n"
           "                 hemioct5,hemioct7)] [--tumble-cells LIST (64,128,256)] [--tumble-step DEG (15)]\n"
           "                 (tumble: each atlas drawn by both tumble methods, hull and blend; frame times are\n"
-          "                 eval::measureTumble's, 3 renders a roll; --reps is not used)\n");
+          "                 eval::measureTumble's, 3 renders a roll; --reps is not used)\n"
+          "                 [--cartoon-csv FILE] (cartoon: explosion-walls-cartoon and fire-to-smoke-cartoon\n"
+          "                 against their photoreal selves: cost, stability, the ink against the references)\n");
       return puff::bench::usageExit(argv[i]);
     }
   }
@@ -389,6 +395,27 @@ int main(int argc, char** argv) {
                    100.0 * r.outlineShare, r.ms);
     }
     return bench::writeCsv("puffbench", tumbleCsvPath, puffbench::tumbleCsv(*rows)) ? 0 : 1;
+  }
+  if (part == "cartoon") {
+    puffbench::CartoonBenchOptions c;
+    c.sceneDir = sceneDir;
+    c.artDir = artDir;
+    c.width = width;
+    c.height = height;
+    c.reps = reps;
+    auto rows = puffbench::runCartoonBench(c);
+    if (!rows) {
+      std::fprintf(stderr, "puffbench: error: %s\n", rows.error().message.c_str());
+      return 1;
+    }
+    for (const puffbench::CartoonRow& r : *rows) {
+      std::fprintf(stderr,
+                   "%-24s %-9s %8.2f ms (bare %.2f, empty %.2f)  d2 mean %.5f p99 %.4f flicker %.5f%%  iso: model IoU %.4f "
+                   "mean %.2f px p95 %.2f px, physical IoU %.4f mean %.2f px p95 %.2f px\n",
+                   r.scene.c_str(), r.style.c_str(), r.ms, r.bareMs, r.emptyMs, r.d2Mean, r.d2P99, 100.0 * r.flickerShare,
+                   r.iouModel, r.meanPxModel, r.p95PxModel, r.iouPhysical, r.meanPxPhysical, r.p95PxPhysical);
+    }
+    return bench::writeCsv("puffbench", cartoonCsvPath, puffbench::cartoonCsv(*rows)) ? 0 : 1;
   }
   if (part == "shadows") {
     cel.sceneDir = sceneDir;

@@ -169,6 +169,7 @@ GLuint Layers::mediaDepth() const { return impl_->mediaDepth.get(); }
 GLuint Layers::opaqueColor() const { return impl_->color.get(); }
 GLuint Layers::opaqueDepth() const { return impl_->depth.get(); }
 GLuint Layers::mediaColor() const { return impl_->media.get(); }
+GLuint Layers::cartoonField() const { return impl_->field.get(); }
 void Layers::setUpsampling(Upsampling rule) { impl_->upsampling = rule; }
 Layers::Upsampling Layers::upsampling() const { return impl_->upsampling; }
 bool Layers::forHost() const { return impl_->host; }

@@ -99,6 +99,13 @@ Result<MediaFrameInputs> MediaPass::lastFrame() const {
                     in.opaqueColor.data());
   glGetTextureImage(layers_->opaqueDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(n * sizeof(float)),
                     in.opaqueDepth.data());
+  if (cartoon_ && layers_->cartoonField() != 0) {
+    std::vector<glm::vec2> field(n);
+    glGetTextureImage(layers_->cartoonField(), 0, GL_RG, GL_FLOAT, static_cast<GLsizei>(n * sizeof(glm::vec2)),
+                      field.data());
+    in.cartoonOpacity.resize(n);
+    for (std::size_t i = 0; i < n; ++i) in.cartoonOpacity[i] = field[i].x;
+  }
   if (const std::string e = core::drainGlErrors(); !e.empty()) return Error{"reading the opaque layer back: " + e};
   return in;
 }

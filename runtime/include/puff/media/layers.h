@@ -217,6 +217,9 @@ class Layers {
   core::GlId opaqueColor() const;
   core::GlId opaqueDepth() const;
   core::GlId mediaColor() const;
+  /// The cartoon style's field at the output's size (RG32F: accumulated opacity A, the medium's
+  /// linear depth), as the last cartoon compose made it; 0 before the first cartoon beginMedia.
+  core::GlId cartoonField() const;
 
  private:
   Layers();

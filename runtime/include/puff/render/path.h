@@ -62,6 +62,10 @@ struct MediaFrameInputs {
   /// the colour as its RGBA8 texture holds it (k / 255) and the linear depth (R32F, >= 1: none).
   std::vector<glm::vec3> opaqueColor;
   std::vector<float> opaqueDepth;
+  /// The cartoon style only (else empty): the layer's accumulated opacity A at the output's size,
+  /// as the cartoon passes read it (media::Layers::cartoonField), row 0 at the BOTTOM. Its iso-line
+  /// A = threshold is where the fill ends and the ink begins.
+  std::vector<float> cartoonOpacity;
 };
 
 /// One frame for a path to draw into the current draw framebuffer.
