@@ -35,9 +35,9 @@
 
 #include "bench_usage.h"
 #include "harness.h"
+#include "puffbench_cartoon.h"
 #include "puffbench_cel.h"
 #include "puffbench_shadows.h"
-#include "puffbench_cartoon.h"
 #include "puffbench_tumble.h"
 
 namespace {
@@ -338,8 +338,7 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(argv[i], "--part") && i + 1 < argc &&
                (!std::strcmp(argv[i + 1], "media") || !std::strcmp(argv[i + 1], "cel") ||
                 !std::strcmp(argv[i + 1], "shadows") || !std::strcmp(argv[i + 1], "tumble") ||
-                !std::strcmp(argv[i + 1], "cartoon") ||
-                !std::strcmp(argv[i + 1], "all"))) {
+                !std::strcmp(argv[i + 1], "cartoon") || !std::strcmp(argv[i + 1], "all"))) {
       part = argv[++i];
     } else if (!std::strcmp(argv[i], "--reference-limit") && i + 1 < argc) {
       cel.referenceLimit = static_cast<std::size_t>(std::max(0, std::atoi(argv[++i])));
@@ -409,11 +408,12 @@ int main(int argc, char** argv) {
       return 1;
     }
     for (const puffbench::CartoonRow& r : *rows) {
-      std::fprintf(stderr,
-                   "%-24s %-9s %8.2f ms (bare %.2f, empty %.2f)  d2 mean %.5f p99 %.4f flicker %.5f%%  iso: model IoU %.4f "
-                   "mean %.2f px p95 %.2f px, physical IoU %.4f mean %.2f px p95 %.2f px\n",
-                   r.scene.c_str(), r.style.c_str(), r.ms, r.bareMs, r.emptyMs, r.d2Mean, r.d2P99, 100.0 * r.flickerShare,
-                   r.iouModel, r.meanPxModel, r.p95PxModel, r.iouPhysical, r.meanPxPhysical, r.p95PxPhysical);
+      std::fprintf(
+          stderr,
+          "%-24s %-9s %8.2f ms (bare %.2f, empty %.2f)  d2 mean %.5f p99 %.4f flicker %.5f%%  iso: model IoU %.4f "
+          "mean %.2f px p95 %.2f px, physical IoU %.4f mean %.2f px p95 %.2f px\n",
+          r.scene.c_str(), r.style.c_str(), r.ms, r.bareMs, r.emptyMs, r.d2Mean, r.d2P99, 100.0 * r.flickerShare,
+          r.iouModel, r.meanPxModel, r.p95PxModel, r.iouPhysical, r.meanPxPhysical, r.p95PxPhysical);
     }
     return bench::writeCsv("puffbench", cartoonCsvPath, puffbench::cartoonCsv(*rows)) ? 0 : 1;
   }

@@ -27,8 +27,8 @@ struct CartoonRow {
   double ms = 0.0, bareMs = 0.0, emptyMs = 0.0;
   /// Stability over the sequence (display values, the largest channel): the mean and the 99th
   /// percentile of |x(t+1) - 2 x(t) + x(t-1)|, and the share of pixel-frames that flicker: a step of
-  /// more than 0.1 that the next frame undoes to within a quarter of it (an edge passing over a pixel
-  /// changes it twice, scene to ink to fill, but does not undo).
+  /// more than 0.1 that the next frame undoes, every channel back within 0.02 (an edge passing over
+  /// a pixel changes it twice, scene to ink to fill, but the fill is not the scene it covered).
   double d2Mean = 0.0, d2P99 = 0.0, flickerShare = 0.0;
   /// Cartoon only: the fill's mask (A >= threshold, from the GPU's own field) against the mask of
   /// each reference's accumulated opacity (burn ignored, as the cartoon does): IoU, and the mean and

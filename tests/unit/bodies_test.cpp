@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -181,6 +182,58 @@ TEST(RigidBodies, ABoxRidesAKeyframedPlaneUp) {
 
 // The same scene gives bit-identical trajectories every time it is read, so a frame alone equals
 // the same frame in a sequence; the trajectory is not written back, and reads back the same.
+// Mesh objects collide with bodies through their triangles, scaled and turned as drawn: a ball
+// dropped on a slab mesh rests on its top (a mesh object is its file moved into the unit sphere:
+// this 4 x 0.2 x 4 slab becomes k times it, centred, k = 1 / sqrt(8.01), so its top is at 0.1 k, or
+// 0.2 k stretched twice as tall), and on the slab tilted 20 degrees about z it rolls down towards
+// -x, never sinking into it.
+TEST(RigidBodies, ABallRestsOnAMeshAndRollsDownAMeshRamp) {
+  const fs::path dir = fs::temp_directory_path() /
+                       ("puff-bodies-mesh-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
+  fs::create_directories(dir);
+  const fs::path slab = dir / "slab.obj";
+  {
+    // A 4 x 0.2 x 4 box, y from 0 to 0.2, faces counter-clockwise from outside.
+    std::FILE* f = std::fopen(slab.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    for (int i = 0; i < 8; ++i)
+      std::fprintf(f, "v %d %g %d\n", (i & 1) ? 2 : -2, (i & 2) ? 0.2 : 0.0, (i & 4) ? 2 : -2);
+    const int faces[12][3] = {{1, 5, 7}, {1, 7, 3}, {2, 4, 8}, {2, 8, 6}, {1, 2, 6}, {1, 6, 5},
+                              {3, 7, 8}, {3, 8, 4}, {1, 3, 4}, {1, 4, 2}, {5, 6, 8}, {5, 8, 7}};
+    for (const auto& t : faces) std::fprintf(f, "f %d %d %d\n", t[0], t[1], t[2]);
+    std::fclose(f);
+  }
+  auto ball = [](double x, double y) {
+    return nlohmann::json{{"type", "sphere"},
+                          {"translate", {x, y, 0}},
+                          {"scale", {0.5, 0.5, 0.5}},
+                          {"dynamic", {{"restitution", 0.0}, {"friction", 0.6}}}};
+  };
+  for (double height : {1.0, 2.0}) {
+    SCOPED_TRACE("slab scaled " + std::to_string(height) + " in y");
+    const Scene s =
+        parsed(world({{{"type", "mesh"}, {"mesh", slab.string()}, {"scale", {1, height, 1}}}, ball(0.3, 2.0)}, 2.0));
+    const glm::vec3 c = centreAt(s.objects[1], 2.0);
+    const double k = 1.0 / std::sqrt(8.01);
+    EXPECT_NEAR(c.y, 0.1 * k * height + 0.5, 0.01) << "on the slab's top, not through it";
+    EXPECT_NEAR(c.x, 0.3, 0.01);
+  }
+  // Four times as wide and deep, so the ball stays on it: its top is the plane dot(n, p) = 0.1 k.
+  const Scene ramp = parsed(
+      world({{{"type", "mesh"}, {"mesh", slab.string()}, {"scale", {4, 1, 4}}, {"rotate", {0, 0, 20}}}, ball(0.0, 0.7)},
+            1.25));
+  const glm::vec3 n(-std::sin(glm::radians(20.0f)), std::cos(glm::radians(20.0f)), 0.0f);  // the top's normal
+  const float top = 0.1f / std::sqrt(8.01f);
+  float deepest = 1e9f;
+  for (int f = 6; f <= 30; ++f) deepest = std::min(deepest, glm::dot(n, centreAt(ramp.objects[1], f / 24.0)) - top);
+  EXPECT_NEAR(deepest, 0.5f, 0.01f) << "the ball's centre stays a radius above the tilted top";
+  EXPECT_LT(centreAt(ramp.objects[1], 1.25).x, -0.5f) << "it rolled down towards -x";
+  // A mesh that does not load is named.
+  const std::string e = error(world({{{"type", "mesh"}, {"mesh", (dir / "missing.obj").string()}}, ball(0, 2)}, 1.0));
+  EXPECT_NE(e.find("/objects/0/mesh"), std::string::npos) << e;
+  fs::remove_all(dir);
+}
+
 TEST(RigidBodies, TrajectoriesAreTheSameEveryTimeAndRoundTrip) {
   const nlohmann::json j = world({kGround,
                                   {{"type", "box"},

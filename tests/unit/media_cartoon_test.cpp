@@ -253,7 +253,8 @@ TEST_F(CartoonMedia, FireBandsAreTheBlackBodyColourAtEachBandsCentre) {
     const glm::vec4 m = t.read()[16 * 33 + 16];
     const glm::vec3 expected = glm::vec3(m) / (1.0f - m.a);
     // The sphere's centre pixel in the cartoon frame: project it.
-    const glm::vec4 clip = kit.camera.frame(kSize).projection * glm::vec4(ps[static_cast<std::size_t>(i)].position, 1.0f);
+    const glm::vec4 clip =
+        kit.camera.frame(kSize).projection * glm::vec4(ps[static_cast<std::size_t>(i)].position, 1.0f);
     const int x = static_cast<int>((clip.x / clip.w * 0.5f + 0.5f) * kSize), y = kSize / 2;
     const glm::vec4 got = px[static_cast<std::size_t>(y) * kSize + x];
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], expected[c], 2e-3 * std::max(1.0f, expected[c])) << c;
@@ -392,7 +393,8 @@ TEST_F(CartoonMedia, ASlidingSphereNeverFlickers) {
   // than its centre's, 0.2 px per frame), within a twentieth of a pixel.
   double sf = 0, sc = 0, sff = 0, sfc = 0;
   for (int f = 0; f < frames; ++f) {
-    sf += f, sc += centroid[static_cast<std::size_t>(f)], sff += f * f, sfc += f * centroid[static_cast<std::size_t>(f)];
+    sf += f, sc += centroid[static_cast<std::size_t>(f)], sff += f * f,
+        sfc += f * centroid[static_cast<std::size_t>(f)];
   }
   const double slope = (frames * sfc - sf * sc) / (frames * sff - sf * sf), offset = (sc - slope * sf) / frames;
   EXPECT_NEAR(slope, 0.2, 0.03);
@@ -400,7 +402,8 @@ TEST_F(CartoonMedia, ASlidingSphereNeverFlickers) {
   for (int f = 0; f < frames; ++f)
     worstResidual = std::max(worstResidual, std::abs(centroid[static_cast<std::size_t>(f)] - offset - slope * f));
   if (std::getenv("PUFF_TEST_VERBOSE"))
-    std::printf("centroid slope %.4f px/frame, worst residual %.4f px, %d pixels change\n", slope, worstResidual, changing);
+    std::printf("centroid slope %.4f px/frame, worst residual %.4f px, %d pixels change\n", slope, worstResidual,
+                changing);
   for (int f = 0; f < frames; ++f) EXPECT_NEAR(centroid[static_cast<std::size_t>(f)], offset + slope * f, 0.05) << f;
 }
 
@@ -416,7 +419,8 @@ TEST(CartoonStyle, ValidationNamesTheField) {
   EXPECT_EQ(bad([](auto& c) { c.threshold = 1.0f; }), "threshold: expected an opacity in (0, 1), got 1");
   EXPECT_EQ(bad([](auto& c) { c.opacityBands = 0; }), "opacityBands: expected 1 to 8, got 0");
   EXPECT_EQ(bad([](auto& c) { c.fireBands = 9; }), "fireBands: expected 1 to 8, got 9");
-  EXPECT_EQ(bad([](auto& c) { c.hotKelvin = 1000.0f; }), "hotKelvin: expected kelvin in (coolKelvin 1400, 100000], got 1000");
+  EXPECT_EQ(bad([](auto& c) { c.hotKelvin = 1000.0f; }),
+            "hotKelvin: expected kelvin in (coolKelvin 1400, 100000], got 1000");
   EXPECT_EQ(bad([](auto& c) { c.outlineWidth = -1.0f; }), "outlineWidth: expected pixels in [0, 64], got -1");
   EXPECT_EQ(bad([](auto& c) { c.outlineColor.g = 2.0f; }), "outlineColor/1: expected [0, 1], got 2");
   EXPECT_EQ(media::parseStyle("cartoon"), media::Style::kCartoon);
@@ -441,14 +445,11 @@ TEST_F(CartoonMedia, RefusedWhereItCannotBeDrawn) {
 
 // The scene format: media.style and media.cartoon read, written back and refused with pointers.
 TEST(CartoonScene, StyleAndBandsReadWriteAndRefuse) {
-  const nlohmann::json base = {{"media",
-                                {{"style", "cartoon"},
-                                 {"cartoon",
-                                  {{"threshold", 0.4},
-                                   {"opacityBands", 3},
-                                   {"fireBands", 4},
-                                   {"coolKelvin", 1200},
-                                   {"hotKelvin", 2800}}}}}};
+  const nlohmann::json base = {
+      {"media",
+       {{"style", "cartoon"},
+        {"cartoon",
+         {{"threshold", 0.4}, {"opacityBands", 3}, {"fireBands", 4}, {"coolKelvin", 1200}, {"hotKelvin", 2800}}}}}};
   auto s = scene::parseScene(base, "c.json");
   ASSERT_OK(s);
   const media::Settings& m = s->media->settings;

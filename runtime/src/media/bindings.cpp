@@ -8,9 +8,9 @@ namespace puff::media {
 
 core::GuardExtent guardExtent(const Bindings& b) {
   core::GuardExtent e;
-  const unsigned units =
-      std::max({b.depth, b.blackbody, b.phase, b.temperatureDetail, b.opacityDetail, b.falloff, b.opaqueColor,
-                b.opaqueDepth, b.mediaLayer, b.mediaDepth, b.shimmer, b.resolveSource, b.historyFirst + 7, b.cartoonFirst + 2});
+  const unsigned units = std::max({b.depth, b.blackbody, b.phase, b.temperatureDetail, b.opacityDetail, b.falloff,
+                                   b.opaqueColor, b.opaqueDepth, b.mediaLayer, b.mediaDepth, b.shimmer, b.resolveSource,
+                                   b.historyFirst + 7, b.cartoonFirst + 2});
   e.textureUnits = static_cast<int>(units) + 1;
   e.uniformBuffers = static_cast<int>(std::max({b.mediaBlock, b.materialBlock, b.composeBlock, b.cartoonBlock})) + 1;
   e.storageBuffers = static_cast<int>(b.particles) + 1;

@@ -503,8 +503,9 @@ Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Fra
   Impl& m = *impl_;
   if (!m.host) return Error{"composeOver: these media layers have their own opaque pass (Layers::create): use compose"};
   if (m.cartoonBegun)
-    return Error{"composeOver: the layer holds the cartoon style (beginMedia(true)), which is not drawn over a "
-                 "host's frame yet; draw it with Style::kPhotoreal"};
+    return Error{
+        "composeOver: the layer holds the cartoon style (beginMedia(true)), which is not drawn over a "
+        "host's frame yet; draw it with Style::kPhotoreal"};
   if (settings.shimmerPixels != 0.0f)
     return Error{"composeOver: heat shimmer (shimmerPixels " + std::to_string(settings.shimmerPixels) +
                  ") displaces the host's scene, which composeOver blends onto and cannot read; set it to 0"};

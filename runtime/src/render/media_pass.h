@@ -41,8 +41,8 @@ class MediaPass {
   MediaPass() = default;
   std::unique_ptr<media::Renderer> renderer_;
   std::unique_ptr<media::Layers> layers_;
-  std::vector<media::Particle> particles_;  // of the last frame drawn
-  std::optional<media::Frame> lastFrame_;   // the full-size frame of the last draw
+  std::vector<media::Particle> particles_;        // of the last frame drawn
+  std::optional<media::Frame> lastFrame_;         // the full-size frame of the last draw
   std::optional<media::CartoonCompose> cartoon_;  // the cartoon style's compose, when the scene has it
 };
 

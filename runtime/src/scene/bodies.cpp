@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -10,6 +11,8 @@
 
 #include <ode/ode.h>
 #include <glm/gtc/quaternion.hpp>
+
+#include <puff/mesh/mesh.h>
 
 namespace puff::scene {
 
@@ -21,13 +24,22 @@ struct GeomInfo {
   float friction = 0.0f, restitution = 0.0f;
 };
 
+// A mesh object's triangles as ODE holds them (the arrays must outlive its geom).
+struct TriangleSoup {
+  std::vector<dReal> vertices;  // x, y, z: the object's scaled vertices, in its own frame
+  std::vector<dTriIndex> indices;
+  dTriMeshDataID data = nullptr;
+};
+
 struct World {
   dWorldID world = nullptr;
   dSpaceID space = nullptr;
   dJointGroupID contacts = nullptr;
+  std::vector<std::unique_ptr<TriangleSoup>> meshes;
   ~World() {
     if (contacts) dJointGroupDestroy(contacts);
-    if (space) dSpaceDestroy(space);  // and its geoms
+    if (space) dSpaceDestroy(space);  // and its geoms, before the triangle data they use
+    for (const auto& m : meshes) dGeomTriMeshDataDestroy(m->data);
     if (world) dWorldDestroy(world);  // and its bodies
   }
 };
@@ -137,12 +149,12 @@ Result<void> simulateBodies(Scene& scene) {
   };
   std::vector<Kinematic> kinematic;
   std::vector<dBodyID> bodies(scene.objects.size(), nullptr);
+  std::map<std::filesystem::path, std::unique_ptr<mesh::TriMesh>> meshFiles;  // each file read once
   for (std::size_t i = 0; i < scene.objects.size(); ++i) {
     const ObjectSpec& o = scene.objects[i];
     const bool isDynamic = o.dynamic.has_value();
     if (!o.collide && !isDynamic) continue;
-    if (o.type == ObjectSpec::Type::kMesh) continue;  // not collided with yet (bodies.h)
-    const bool touches = o.collide;                   // a dynamic body with collide false flies through everything
+    const bool touches = o.collide;  // a dynamic body with collide false flies through everything
     const glm::quat q0 = eulerRotation(o.rotateDegrees);
     dGeomID geom = nullptr;
     glm::vec3 geomOffset(0.0f);  // a plane's slab lies under its square
@@ -159,8 +171,32 @@ Result<void> simulateBodies(Scene& scene) {
         geomOffset = q0 * glm::vec3(0.0f, -h, 0.0f);
         break;
       }
-      case ObjectSpec::Type::kMesh:
+      case ObjectSpec::Type::kMesh: {
+        if (!touches) break;
+        // The mesh's triangles, scaled, in its own frame (its turn and place are the geom's).
+        auto& loaded = meshFiles[o.mesh];
+        if (!loaded) {
+          auto m = mesh::loadMesh(o.mesh);
+          if (!m)
+            return Error{"/objects/" + std::to_string(i) + "/mesh (a collider of rigid bodies): " + m.error().message};
+          loaded = std::make_unique<mesh::TriMesh>(std::move(*m));
+        }
+        auto soup = std::make_unique<TriangleSoup>();
+        soup->vertices.reserve(loaded->positions.size() * 3);
+        for (const glm::vec3& v : loaded->positions) {
+          const glm::vec3 s = v * o.scale;
+          soup->vertices.insert(soup->vertices.end(), {s.x, s.y, s.z});
+        }
+        soup->indices.reserve(loaded->triangles.size() * 3);
+        for (const glm::uvec3& t : loaded->triangles) soup->indices.insert(soup->indices.end(), {t.x, t.y, t.z});
+        soup->data = dGeomTriMeshDataCreate();
+        dGeomTriMeshDataBuildDouble(soup->data, soup->vertices.data(), 3 * sizeof(dReal),
+                                    static_cast<int>(loaded->positions.size()), soup->indices.data(),
+                                    static_cast<int>(soup->indices.size()), 3 * sizeof(dTriIndex));
+        geom = dCreateTriMesh(w.space, soup->data, nullptr, nullptr, nullptr);
+        w.meshes.push_back(std::move(soup));
         break;
+      }
     }
     if (geom) {
       auto info = std::make_unique<GeomInfo>();

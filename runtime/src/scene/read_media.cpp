@@ -125,7 +125,8 @@ void readCartoon(const json& v, const std::string& p, media::CartoonStyle& c) {
   if (auto* x = find(v, "opacityBands")) c.opacityBands = readInt(*x, child(p, "opacityBands"), 1, 8);
   if (auto* x = find(v, "fireBands")) c.fireBands = readInt(*x, child(p, "fireBands"), 1, 8);
   const Range kelvin{0.0, 1e5, true, false};
-  if (auto* x = find(v, "coolKelvin")) c.coolKelvin = readFloat(*x, child(p, "coolKelvin"), Range{0.0, 1e5, true, true});
+  if (auto* x = find(v, "coolKelvin"))
+    c.coolKelvin = readFloat(*x, child(p, "coolKelvin"), Range{0.0, 1e5, true, true});
   if (auto* x = find(v, "hotKelvin")) c.hotKelvin = readFloat(*x, child(p, "hotKelvin"), kelvin);
   if (!(c.hotKelvin > c.coolKelvin)) {
     const char* key = find(v, "hotKelvin") ? "hotKelvin" : "coolKelvin";
@@ -263,11 +264,10 @@ void readMediaEmitters(const json& v, const std::string& p, MediaSpec& m) {
 }
 
 MediaSpec readMedia(const json& j, const std::string& ptr, const Reader& r) {
-  requireObject(j, ptr,
-                {"method",  "resolution", "phase",          "sort",         "blackbody",       "exposure",  "style",
-                 "cartoon",   "detail",
-                 "shimmer", "depthAware", "depthTolerance", "motionBlur",   "materials",       "particles", "emitters",
-                 "forces",  "substeps",   "preroll",        "maxParticles", "collisionRadius", "lights"});
+  requireObject(j, ptr, {"method",     "resolution",   "phase",           "sort",     "blackbody",  "exposure",
+                         "style",      "cartoon",      "detail",          "shimmer",  "depthAware", "depthTolerance",
+                         "motionBlur", "materials",    "particles",       "emitters", "forces",     "substeps",
+                         "preroll",    "maxParticles", "collisionRadius", "lights"});
   MediaSpec m;
   readLook(j, ptr, r, m);
   if (auto* v = find(j, "materials")) readMaterials(*v, child(ptr, "materials"), m);

@@ -132,14 +132,14 @@ std::optional<Style> parseStyle(std::string_view name);  ///< photoreal, cartoon
 /// temperature falls in: [coolKelvin, hotKelvin] split into `fireBands` equal bands, band k showing
 /// Le at its centre; elsewhere the medium's scattered light, unpremultiplied (so flat within a tier).
 struct CartoonStyle {
-  float threshold = 0.35f;               ///< the ink's iso-line, accumulated opacity in (0, 1)
-  int opacityBands = 2;                  ///< [1, 8]
-  int fireBands = 3;                     ///< [1, 8]
-  float coolKelvin = 1400.0f;            ///< (0, 1e5), < hotKelvin
-  float hotKelvin = 3000.0f;             ///< (0, 1e5]
-  bool outlines = true;                  ///< off: no ink (the fill keeps its antialiased edge)
-  float outlineWidth = 2.0f;             ///< pixels of the output image, [0, 64]
-  glm::vec3 outlineColor{0.0f};          ///< the ink, scene-linear, each in [0, 1]
+  float threshold = 0.35f;       ///< the ink's iso-line, accumulated opacity in (0, 1)
+  int opacityBands = 2;          ///< [1, 8]
+  int fireBands = 3;             ///< [1, 8]
+  float coolKelvin = 1400.0f;    ///< (0, 1e5), < hotKelvin
+  float hotKelvin = 3000.0f;     ///< (0, 1e5]
+  bool outlines = true;          ///< off: no ink (the fill keeps its antialiased edge)
+  float outlineWidth = 2.0f;     ///< pixels of the output image, [0, 64]
+  glm::vec3 outlineColor{0.0f};  ///< the ink, scene-linear, each in [0, 1]
   bool operator==(const CartoonStyle&) const = default;
 };
 /// "FIELD: expected ..., got ..." for the first bad value.

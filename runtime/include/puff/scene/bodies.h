@@ -13,9 +13,11 @@ namespace puff::scene {
 /// rotations (applied before the object's own `rotate`). Nothing happens before t = 0 (a body holds
 /// its first key, as every path does).
 ///
-/// What it meets: the other dynamic bodies, and the scene's boxes, spheres and planes whether still
-/// or keyframed (a keyframed object moves as a kinematic body along its path and pushes what it
-/// hits; a plane is the top of a slab under its square). Mesh objects are not collided with yet.
+/// What it meets: the other dynamic bodies, and the scene's boxes, spheres, planes and meshes whether
+/// still or keyframed (a keyframed object moves as a kinematic body along its path and pushes what it
+/// hits; a plane is the top of a slab under its square; a mesh is its triangles, turned and scaled
+/// as it is drawn, through ODE's triangle-mesh collider; a mesh file that does not load is an error
+/// naming the object).
 /// Objects with `collide: false` are left out of the rigid-body world as they are of the smoke's.
 ///
 /// Deterministic: one thread, a fixed step, ODE's random seed reset for every call, the bodies in
