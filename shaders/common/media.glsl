@@ -46,14 +46,16 @@ const int kSpherical = 3;
 // them): what one particle adds at this pixel, for over-compositing (ONE, ONE_MINUS_SRC_ALPHA on
 // every channel, burn ignored: cartoon fire occludes). alpha: its opacity; scatter: the light it
 // scatters, tinted; e: its emissive weight; kelvin: its temperature; w: its emission scale (the
-// material's emission times the tint's luminance); lin: the medium's linear depth here.
+// material's emission times the tint's luminance); lin: the medium's linear depth here; free: its
+// opacity were no opaque surface to clip it (where a surface cuts the medium, A < threshold
+// while the medium itself is not thin: that iso-line is the surface's edge, not the medium's).
 //   media:  (alpha * scatter, alpha)                     rgb: scattered light only; a: transmittance x (1 - alpha)
 //   fire:   (alpha e s, alpha e, alpha e w, alpha)        s: kelvin over the fire bands' range, clamped to [0, 1]
-//   depth:  (alpha lin, 0, 0, alpha)
-void cartoonOutputs(float alpha, vec3 scatter, float e, float kelvin, float w, float lin, out vec4 media,
+//   depth:  (alpha lin, free, 0, alpha)     g: sum free x the transmittance in front, >= A
+void cartoonOutputs(float alpha, vec3 scatter, float e, float kelvin, float w, float lin, float free, out vec4 media,
                     out vec4 fire, out vec4 depth) {
   const float s = clamp((kelvin - uCartoon.x) * uCartoon.y, 0.0, 1.0);
   media = vec4(alpha * scatter, alpha);
   fire = vec4(alpha * e * s, alpha * e, alpha * e * w, alpha);
-  depth = vec4(alpha * lin, 0.0, 0.0, alpha);
+  depth = vec4(alpha * lin, max(free, alpha), 0.0, alpha);
 }

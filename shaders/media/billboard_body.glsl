@@ -158,8 +158,12 @@ void main() {
     // The medium's depth where the ray enters it (or the near plane), as the layer's linear depth.
     const float zIn = oz + max(tF, tNear) * cosA;
     const float lin = clamp((zIn - uDepth.x) / uDepth.z, 0.0, 1.0);
-    const float w = mat.densityGEmissiveEmission.w * dot(tint, vec3(0.2126, 0.7152, 0.0722));
-    cartoonOutputs(alpha, scatter * tint, emissive, kelvin, w, lin, outMedia, outCartoonFire, outCartoonDepth);
+    const float emission = mat.densityGEmissiveEmission.w * dot(tint, vec3(0.2126, 0.7152, 0.0722));
+    // The opacity without the opaque surfaces' clipping (the near plane still clips) or soft fade.
+    const float dsFree = uMode.x == kSpherical ? max(0.0, tB - max(tF, tNear)) : 2.0 * w;
+    const float free = 1.0 - exp(-tau * (1.0 - d / r) * dsFree);
+    cartoonOutputs(alpha, scatter * tint, emissive, kelvin, emission, lin, free, outMedia, outCartoonFire,
+                   outCartoonDepth);
   }
 #endif
   // Heat shimmer: a signed offset from the detail video, where fire is.

@@ -121,7 +121,9 @@ void main() {
   {
     const float w = mat.densityGEmissiveEmission.w * dot(tint, vec3(0.2126, 0.7152, 0.0722));
     const float quadLin = clamp((-vCentreRadius.z - uDepth.x) / uDepth.z, 0.0, 1.0);  // the quad's depth
-    cartoonOutputs(alpha, scatter * tint, emissive, kelvin, w, quadLin, outMedia, outCartoonFire, outCartoonDepth);
+    // All or nothing against the opaque depth: nothing else clips it.
+    cartoonOutputs(alpha, scatter * tint, emissive, kelvin, w, quadLin, alpha, outMedia, outCartoonFire,
+                   outCartoonDepth);
   }
 #endif
   const float sh = mat.windowSpeedShimmerNext.z * alpha;

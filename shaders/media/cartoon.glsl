@@ -9,6 +9,16 @@ layout(std140, binding = 3) uniform CartoonBlock {
 // A seed texel with no iso-line point.
 const uint kNoSeed = 0xffffffffu;
 
+// How much the iso-line at a seed is an opaque surface's edge rather than the medium's: from the
+// medium's opacity without the surfaces' clipping just outside it (A < threshold there). At the
+// threshold (the medium thins out by itself: a silhouette) 0; from halfway between the threshold
+// and 1 (a surface cuts through thick medium) 1; smooth between, so an iso-line that surfaces cut
+// in some places and not in others fades its ink instead of breaking it into dashes.
+float cartoonCut(float unclipped) {
+  const float theta = uStyle.x;
+  return smoothstep(theta, theta + 0.5 * (1.0 - theta), unclipped);
+}
+
 // The flat fill of a pixel from the upsampled layer: scatterSum the scattered light (premultiplied,
 // over-composited), fire = (sum a e s, sum a e, sum a e w, A) (common/media.glsl, cartoonOutputs).
 // rgb: the colour (linear, unpremultiplied); a: the opacity tier, theta + (1 - theta) (k + 1) / n for

@@ -10,7 +10,7 @@ layout(binding = 0) uniform sampler2D uOpaqueColor;
 #include "media/cartoon.glsl"
 
 layout(binding = 5) uniform sampler2D uFill;    // cartoonFill: colour, opacity tier
-layout(binding = 6) uniform sampler2D uField;   // x: A, y: linear depth
+layout(binding = 6) uniform sampler2D uField;   // x: A, y: linear depth, z: A unclipped
 layout(binding = 7) uniform usampler2D uSeeds;  // the nearest iso-line point (cartoon_seed.frag)
 
 layout(location = 0) out vec4 outColor;
@@ -40,8 +40,14 @@ void main() {
     ink = 0.0;
     if (!inside) fillCover = 0.0;
   }
-  // A pixel just outside that the fill partly covers shows the fill of the inside pixel it borders.
-  const vec4 fill = texelFetch(uFill, inside || !seeded ? p : ivec2(seed.w & 0xffffu, seed.w >> 16), 0);
+  // Where a surface cuts the medium (cartoonCut) the iso-line is that surface's edge: the ink fades
+  // out, and the fill ends at the pixels the surface leaves it, unantialiased as the surface is.
+  if (seeded) {
+    const float cut = float(seed.w) / 65535.0;
+    ink *= 1.0 - cut;
+    fillCover = mix(fillCover, inside ? 1.0 : 0.0, cut);
+  }
+  const vec4 fill = texelFetch(uFill, p, 0);
   const float a = fillCover * fill.a;
   outColor = vec4(scene * (1.0 - a - ink) + fill.rgb * a + uInk.rgb * ink, 1.0);
 }

@@ -263,6 +263,33 @@ TEST_F(CartoonMedia, FireBandsAreTheBlackBodyColourAtEachBandsCentre) {
   EXPECT_GT(kit.cartoon.fireColors[2].g, kit.cartoon.fireColors[0].g * 2.0f);
 }
 
+// Where fire is most of what is seen it is drawn as fire, elsewhere as smoke: a fire sphere just in
+// front of a smoke sphere, the fire's own opacity at the centre pixel 0.62 (the fire's share of A
+// about 0.62 / (0.62 + 0.38) with the smoke opaque behind) and 0.38 (share about 0.38).
+TEST_F(CartoonMedia, WhereFireIsMostOfWhatIsSeenItIsDrawnAsFire) {
+  media::Material fire = media::fireMaterial();
+  fire.temperatureRange = 0.0f;
+  fire.burn = 0.0f;
+  fire.detail = 0.0f;
+  const media::Settings settings = cartoonSettings(2.0f);
+  for (double share : {0.62, 0.38}) {
+    SCOPED_TRACE("the fire's opacity " + std::to_string(share));
+    // 1 - exp(-tau 2 r) = share at the centre (r = 1).
+    fire.density = static_cast<float>(-std::log(1.0 - share) / 2.0);
+    CartoonKit kit(settings, 1.0f, {fire, smoke(8.0f)});
+    media::Particle front = test::sphereAt({0.0f, 0.0f, -7.0f}, 1.0f), back = test::sphereAt({0.0f, 0.0f, -9.5f}, 1.5f);
+    front.material = 0;
+    front.temperature = 2200.0f;  // band 1 of [1400, 3000] / 3
+    back.material = 1;
+    const media::Particle ps[2] = {back, front};
+    const auto px = kit.draw(ps);
+    const glm::vec4 centre = px[static_cast<std::size_t>(kSize / 2) * kSize + kSize / 2];
+    const glm::vec3 fireColour = kit.cartoon.fireColors[1];
+    const glm::vec3 expected = share > 0.5 ? fireColour : kColour;  // the top tier: opaque
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(centre[c], expected[c], 3e-3 * std::max(1.0f, expected[c])) << c;
+  }
+}
+
 // Two overlapping spheres are one shape: no ink inside their union's iso-line, where each alone
 // would have drawn its own outline (Fig. 5's merging).
 TEST_F(CartoonMedia, OverlappingParticlesShareOneOutline) {
@@ -319,6 +346,37 @@ TEST_F(CartoonMedia, ANearerSurfaceHidesTheInkAndAFartherOneDoesNot) {
   }
   EXPECT_GT(poleRows, 0);
   EXPECT_GT(inkedWall, 30);  // the wall behind the medium shows its ink
+}
+
+// An opaque surface through the medium's middle (a wall at the sphere's centre depth over the
+// right half) cuts it: what is left in front of the wall is drawn, but the iso-line the cut makes is
+// the wall's edge, not the medium's, and gets no ink; the medium's own rim on the left keeps its ink.
+TEST_F(CartoonMedia, ASurfaceCuttingTheMediumIsNotInked) {
+  const media::Settings settings = cartoonSettings(3.0f);
+  CartoonKit kit(settings, 1.0f, {smoke(0.6f)});
+  const media::Particle p = test::sphereAt({0.0f, 0.0f, -6.0f}, 2.0f);
+  const glm::vec3 wall(0.7f, 0.6f, 0.1f);
+  const auto px = kit.draw(std::span(&p, 1), 1.0f, kSize / 2, kSize, kit.camera.linear(6.0f), wall);
+  // The medium's own iso-line (uncut): the wall pixels inside it are where the cut's iso-line lies.
+  // (Outside it, above and below the disc, the left half's own ink reaches over the wall, rightly.)
+  const double rho = isoRadius(kit.camera, 6.0, 2.0, 0.6, settings.cartoon.threshold, kSize);
+  int wallInk = 0, wallPixels = 0, leftInk = 0;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = 0; x < kSize; ++x) {
+      const glm::vec4& c = px[static_cast<std::size_t>(y) * kSize + x];
+      const bool black = c.r < 0.05f && c.g < 0.05f && c.b < 0.05f;
+      const double r = std::hypot(x + 0.5 - kSize / 2.0, y + 0.5 - kSize / 2.0);
+      if (x >= kSize / 2 + 1 && r < rho - 1.0) {
+        ++wallPixels;
+        wallInk += black;
+      } else if (x < kSize / 2 - 4) {
+        leftInk += black;
+      }
+    }
+  }
+  EXPECT_GT(wallPixels, 0);
+  EXPECT_EQ(wallInk, 0) << "no ink where the wall cuts the medium";
+  EXPECT_GT(leftInk, 100) << "the medium's own rim keeps its ink";
 }
 
 // Outlines off: no ink anywhere; the fill still ends antialiased at the iso-line (its area the disc's).
@@ -474,6 +532,16 @@ TEST(CartoonScene, StyleAndBandsReadWriteAndRefuse) {
   EXPECT_NE(refused("/cartoon/opacityBands", 9).find("/media/cartoon/opacityBands"), std::string::npos);
   EXPECT_NE(refused("/cartoon/hotKelvin", 1000).find("/media/cartoon/hotKelvin"), std::string::npos);
   EXPECT_NE(refused("/cartoon/outlineWidth", 2).find("/media/cartoon/outlineWidth"), std::string::npos);
+  // Both values named, and which one is the default.
+  nlohmann::json cool = base;
+  cool["media"]["cartoon"] = {{"coolKelvin", 4000}};
+  auto r = scene::parseScene(cool, "c.json");
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message,
+            "c.json: /media/cartoon/coolKelvin: hotKelvin (3000, the default) must exceed coolKelvin (4000)");
+  // Motion blur would stack whole cartoon frames' outlines: refused, with the way out.
+  EXPECT_NE(refused("/motionBlur", {{"frames", 2}}).find("/media/motionBlur: motion blur blends whole frames"),
+            std::string::npos);
 }
 
 }  // namespace

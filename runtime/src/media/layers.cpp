@@ -549,7 +549,7 @@ void Layers::Impl::makeCartoon() {
   glNamedFramebufferTexture(mediaFbo.get(), GL_COLOR_ATTACHMENT2, cartoonFire.get(), 0);
   glNamedFramebufferTexture(mediaFbo.get(), GL_COLOR_ATTACHMENT3, cartoonDepth.get(), 0);
   fill = makeTexture2D(GL_RGBA16F, width, height, GL_NEAREST);
-  field = makeTexture2D(GL_RG32F, width, height, GL_NEAREST);
+  field = makeTexture2D(GL_RGBA32F, width, height, GL_NEAREST);
   fieldFbo = core::makeFramebuffer();
   glNamedFramebufferTexture(fieldFbo.get(), GL_COLOR_ATTACHMENT0, fill.get(), 0);
   glNamedFramebufferTexture(fieldFbo.get(), GL_COLOR_ATTACHMENT1, field.get(), 0);

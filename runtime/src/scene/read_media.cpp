@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
 #include <string>
 #include <vector>
@@ -129,8 +130,13 @@ void readCartoon(const json& v, const std::string& p, media::CartoonStyle& c) {
     c.coolKelvin = readFloat(*x, child(p, "coolKelvin"), Range{0.0, 1e5, true, true});
   if (auto* x = find(v, "hotKelvin")) c.hotKelvin = readFloat(*x, child(p, "hotKelvin"), kelvin);
   if (!(c.hotKelvin > c.coolKelvin)) {
+    // Name the key the file has (the other may be the default), and both values.
     const char* key = find(v, "hotKelvin") ? "hotKelvin" : "coolKelvin";
-    fail(child(p, key), "hotKelvin > coolKelvin", find(v, key) ? *find(v, key) : v);
+    char values[96];
+    std::snprintf(values, sizeof values, "hotKelvin (%g%s) must exceed coolKelvin (%g%s)", c.hotKelvin,
+                  find(v, "hotKelvin") ? "" : ", the default", c.coolKelvin,
+                  find(v, "coolKelvin") ? "" : ", the default");
+    failText(child(p, key), values);
   }
 }
 
@@ -185,6 +191,11 @@ void readLook(const json& j, const std::string& ptr, const Reader& r, MediaSpec&
     if (auto* x = find(*v, "frames")) m.motionBlurFrames = readInt(*x, child(p, "frames"), 0, 7);
     if (auto* x = find(*v, "persistence"))
       m.motionBlurPersistence = readFloat(*x, child(p, "persistence"), Range{0.0, 1.0, false, true});
+  }
+  if (m.settings.style == media::Style::kCartoon && m.motionBlurFrames > 0) {
+    failText(child(ptr, "motionBlur"),
+             "motion blur blends whole frames, which stacks the cartoon style's outlines into ghosts; use it with "
+             "\"style\": \"photoreal\", or set its frames to 0");
   }
 }
 

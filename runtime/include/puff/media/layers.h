@@ -48,7 +48,9 @@
 //      iso-line (negative inside), a = clamp(0.5 - s) x tier and ink = clamp(width + 0.5 - s) -
 //      clamp(0.5 - s): the fill ends at the iso-line and the ink is a band `width` pixels wide
 //      outside it, one outline around the whole layer however many particles overlap (Fig. 5's
-//      merging). The ink lies at the medium's depth: nearer opaque surfaces hide it.
+//      merging). The ink lies at the medium's depth: nearer opaque surfaces hide it. Where an
+//      opaque surface cuts the medium (outside the iso-line the medium unclipped is above the
+//      threshold), the iso-line is the surface's edge, not the medium's: no ink, no rim.
 // The cartoon style ignores burn: cartoon fire occludes what is behind it. composeOver (a host's
 // frame) does not draw it yet: it refuses a cartoon layer.
 #pragma once
@@ -217,8 +219,9 @@ class Layers {
   core::GlId opaqueColor() const;
   core::GlId opaqueDepth() const;
   core::GlId mediaColor() const;
-  /// The cartoon style's field at the output's size (RG32F: accumulated opacity A, the medium's
-  /// linear depth), as the last cartoon compose made it; 0 before the first cartoon beginMedia.
+  /// The cartoon style's field at the output's size (RGBA32F: accumulated opacity A, the medium's
+  /// linear depth, A without the opaque surfaces' clipping), as the last cartoon compose made it;
+  /// 0 before the first cartoon beginMedia.
   core::GlId cartoonField() const;
 
  private:
