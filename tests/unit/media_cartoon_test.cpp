@@ -10,12 +10,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <numbers>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include <puff/eval/budget.h>
 #include <puff/gl_api.h>
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
@@ -28,6 +30,8 @@
 
 namespace puff {
 namespace {
+
+namespace fs = std::filesystem;
 
 constexpr int kSize = 96;
 const glm::vec3 kBackground(0.2f, 0.4f, 0.9f);  // scene-linear
@@ -499,6 +503,20 @@ TEST_F(CartoonMedia, RefusedWhereItCannotBeDrawn) {
   auto over = (*host)->composeOver(0, vp, test::MediaCamera{}.frame(16), {}, {});
   ASSERT_FALSE(over);
   EXPECT_NE(over.error().message.find("cartoon style"), std::string::npos) << over.error().message;
+}
+
+// The media budget (puffrender --max-error) measures against the photoreal references: it refuses
+// a cartoon scene rather than measure the style's distance from them.
+TEST(CartoonScene, TheMediaBudgetRefusesACartoonScene) {
+  auto s =
+      scene::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / "explosion-walls-cartoon.json", PUFF_ART_DIR);
+  ASSERT_OK(s);
+  const int frames[1] = {10};
+  auto r = eval::measureMediaBudget(*s, frames);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("/media/style: the media budget measures the layer against the photoreal"),
+            std::string::npos)
+      << r.error().message;
 }
 
 // The scene format: media.style and media.cartoon read, written back and refused with pointers.

@@ -158,6 +158,13 @@ bool sameInputs(const FrameReference& r, const SceneRenderer::MediaFrameInputs& 
 
 Result<void> checkMediaBudget(const Scene& scene, std::span<const int> frames, const MediaBudgetOptions& options) {
   if (!scene.media) return Error::at(scene.file, "/media: the scene has no media, so no media resolution to choose");
+  if (scene.media->settings.style == media::Style::kCartoon) {
+    // The references are the photoreal image: a cartoon frame's distance from it measures the style.
+    return Error::at(scene.file,
+                     "/media/style: the media budget measures the layer against the photoreal references, which a "
+                     "cartoon frame is not drawn to match; choose its resolution with \"style\": \"photoreal\" (the "
+                     "cartoon's iso-line follows the same layer), or set /media/resolution by hand");
+  }
   if (frames.empty() || frames.size() > 16) {
     return Error{"measuring the media budget: expected 1 to 16 frames, got " + std::to_string(frames.size())};
   }

@@ -94,9 +94,9 @@ std::vector<int> budgetFrames(int first, int last);
 /// reference per frame, its clip band (every pixel against every particle, one thread) and per
 /// resolution an SSIM map (two with physical) (explosion-walls, 640 x 480, 241 particles and a temperature video: about
 /// 1.5 s on 2 cores; measuring frames 0, 36 and 71 of it: about 6 s).
-/// Errors: a scene without media, no frames or a frame outside the scene, timedRenders outside
-/// [1, 100], and what render::SceneRenderer::create, renderFrame, core::loadDetailVideo and
-/// reference::renderMediaReference return.
+/// Errors: a scene without media or with cartoon media (the references are photoreal), no frames
+/// or a frame outside the scene, timedRenders outside [1, 100], and what render::SceneRenderer::create, renderFrame,
+/// core::loadDetailVideo and reference::renderMediaReference return.
 Result<MediaBudget> measureMediaBudget(const scene::Scene& scene, std::span<const int> frames,
                                        const MediaBudgetOptions& options = {});
 
