@@ -11,8 +11,7 @@ layout(std140, binding = 3) uniform MediaBlock {
   vec4 uLightColor;   // rgb: radiance an isotropic medium scatters toward the eye
   vec4 uAmbient;      // rgb: isotropic in-scattered radiance
   vec4 uKelvin;       // black-body texture range: min, max, 1 / (max - min), exposure
-  ivec4 uMode;        // x: method (0 planar, 1 soft linear, 2 soft S-curve, 3 spherical), y: shimmer target,
-                      // z: 1 for the cartoon style (outputs 2 and 3 written)
+  ivec4 uMode;        // x: method (0 planar, 1 soft linear, 2 soft S-curve, 3 spherical), y: shimmer target
   vec4 uTime;         // x: seconds
   vec4 uCartoon;      // x: the fire bands' cool kelvin, y: 1 / (hot - cool)
 };

@@ -92,7 +92,8 @@ std::vector<glm::ivec2> edgePixels(const std::vector<bool>& mask, int w, int h) 
   return out;
 }
 
-// Distances from each of `from`'s points to the nearest of `to`'s (brute force over a grid of buckets).
+// Distances from each of `from`'s points to the nearest of `to`'s (brute force: the iso-lines are a
+// few thousand pixels at the bench's sizes).
 std::vector<double> nearestDistances(const std::vector<glm::ivec2>& from, const std::vector<glm::ivec2>& to) {
   std::vector<double> out;
   for (const glm::ivec2& p : from) {

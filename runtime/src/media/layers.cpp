@@ -659,13 +659,13 @@ void Layers::compose(GLuint target, const int viewport[4], const Frame& frame, s
                    : "Layers::compose without a CartoonCompose on a layer begun with beginMedia(true)");
   PUFF_CHECK(viewport[2] == m.width && viewport[3] == m.height);
   m.uploadComposeBlock(viewport, frame, lights, settings);
+  if (cartoon) {
+    m.composeCartoon(target, viewport, *cartoon);  // its own passes, the target's last
+    return;
+  }
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
   fullscreenState();
-  if (cartoon) {
-    m.composeCartoon(target, viewport, *cartoon);
-    return;
-  }
   core::bindTextureAndNoSampler(m.bindings.opaqueColor, m.color.get());
   m.drawCompose(m.compose.get());
 }

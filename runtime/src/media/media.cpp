@@ -83,8 +83,7 @@ MediaBlockData blockData(const Frame& frame, const Settings& settings, Method me
   d.ambient = glm::vec4(frame.ambient, 1.0f);
   d.kelvin = glm::vec4(settings.minKelvin, settings.maxKelvin, 1.0f / (settings.maxKelvin - settings.minKelvin),
                        settings.exposure);
-  const bool cartoon = settings.style == Style::kCartoon;
-  d.mode = glm::ivec4(static_cast<int>(method), shimmer ? 1 : 0, cartoon ? 1 : 0, 0);
+  d.mode = glm::ivec4(static_cast<int>(method), shimmer ? 1 : 0, 0, 0);
   d.time = glm::vec4(frame.time, 0.0f, 0.0f, 0.0f);
   d.cartoon = glm::vec4(settings.cartoon.coolKelvin, 1.0f / (settings.cartoon.hotKelvin - settings.cartoon.coolKelvin),
                         0.0f, 0.0f);
