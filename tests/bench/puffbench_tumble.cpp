@@ -118,9 +118,28 @@ Result<std::vector<TumbleRow>> runTumbleBench(const TumbleBenchOptions& opt) {
         r.minOutlineIoU = result->minOutlineIoU;
         r.meanOutlineIoU = result->meanOutlineIoU;
         std::size_t coverageOk = 0, outlineOk = 0;
+        const eval::TumblePose* worst = nullptr;
+        double extra = 0.0, missing = 0.0, bodyExtra = 0.0, bodyMissing = 0.0;
         for (const eval::TumblePose& p : result->poses) {
           coverageOk += p.coverageIoU >= 0.95;
           outlineOk += p.outlineIoU >= 0.5;
+          if (!worst || p.coverageIoU < worst->coverageIoU) worst = &p;
+          extra += p.coverageExtra;
+          missing += p.coverageMissing;
+          bodyExtra += p.bodyExtra;
+          bodyMissing += p.bodyMissing;
+        }
+        if (worst) {
+          // Whether the puffs are drawn too large or too small: the mean over the poses, and the
+          // worst pose's (fractions of the reference's pixels).
+          const double n = static_cast<double>(result->poses.size());
+          char line[256];
+          std::snprintf(line, sizeof line,
+                        "%s: coverage extra / missing mean %.4f / %.4f (body %.4f / %.4f); worst pose yaw %d pitch %d roll %d "
+                        "variation %d: IoU %.4f, extra %.4f, missing %.4f",
+                        r.method.c_str(), extra / n, missing / n, bodyExtra / n, bodyMissing / n, worst->yaw, worst->pitch, worst->roll,
+                        worst->variation, worst->coverageIoU, worst->coverageExtra, worst->coverageMissing);
+          log(name + ": " + line);
         }
         if (r.poses > 0) {
           r.coverageShare = static_cast<double>(coverageOk) / static_cast<double>(r.poses);

@@ -184,6 +184,22 @@ Result<TumbleReference> renderTumbleReference(const fs::path& atlas, const Tumbl
   return ref;
 }
 
+namespace {
+
+// The pixels `a` covers and `b` does not (extra), and the reverse (missing), as fractions of `b`'s.
+void differences(const std::vector<bool>& a, const std::vector<bool>& b, double& extra, double& missing) {
+  std::size_t more = 0, fewer = 0, covered = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    more += a[i] && !b[i];
+    fewer += b[i] && !a[i];
+    covered += b[i];
+  }
+  extra = covered ? static_cast<double>(more) / static_cast<double>(covered) : 0.0;
+  missing = covered ? static_cast<double>(fewer) / static_cast<double>(covered) : 0.0;
+}
+
+}  // namespace
+
 Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference& reference, cel::TumbleMethod method,
                                    double* msPerFrame) {
   const TumbleOptions& o = reference.options;
@@ -244,7 +260,12 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
           }
         }
         TumblePose p{yaws[c], pitches[r], reference.rolls[f], index % variations};
-        p.coverageIoU = reference::coverageIoU(a, b, background);
+        const std::vector<bool> coveredA = reference::coverageMask(a, background),
+                                coveredB = reference::coverageMask(b, background);
+        p.coverageIoU = reference::maskIoU(coveredA, coveredB);
+        differences(coveredA, coveredB, p.coverageExtra, p.coverageMissing);
+        differences(reference::coverageMask(aBody, background), reference::coverageMask(bBody, background),
+                    p.bodyExtra, p.bodyMissing);
         // Ink: what the outlines add to the puff, the pixels covered with them and not without (the
         // body alone, drawn again without outlines). From coverage, not colour: the nailboards'
         // ink mixes with the body within half a pixel of the silhouette (its antialiased inner

@@ -26,6 +26,11 @@ struct TumblePose {
   int yaw = 0, pitch = 0, roll = 0;
   int variation = 0;
   double coverageIoU = 1.0, outlineIoU = 1.0;
+  /// Where the coverage differs, as fractions of the reference's pixels: pixels the nailboards cover
+  /// and the reference does not (too large), and the reverse (too small).
+  double coverageExtra = 0.0, coverageMissing = 0.0;
+  /// The same for the puff drawn without outlines (its body, without the ink).
+  double bodyExtra = 0.0, bodyMissing = 0.0;
 };
 
 /// The reference's frames (one per roll), rendered once and compared with any atlas baked from the
