@@ -150,6 +150,25 @@ vec2 hullAt(vec3 pt, float lod, bool fromTable, float trusted, out HullBound b[k
   return f;
 }
 
+// Whether the eye ray through `origin` (puff space, on the billboard plane) hits the hull: the march
+// below, without its probes.
+bool hullHits(vec3 origin, float eps, float lod, bool fromTable, float trusted) {
+  float r2 = dot(origin, origin);
+  if (r2 >= 0.25) return false;
+  vec3 ray = vBillboardPuff[2];
+  float tMax = sqrt(0.25 - r2);
+  HullBound b[kHullViews];
+  bool wall;
+  float t = tMax;
+  for (int i = 0; i < 64; ++i) {
+    vec2 f = hullAt(origin + t * ray, lod, fromTable, trusted, b, wall);
+    if (f.x <= 0.0) return true;
+    t -= max(f.x, eps);
+    if (t < -tMax) break;
+  }
+  return false;
+}
+
 // wantEdge: how deep a hit reaches (the antialiased edge and the ink's inner edge); wantShade: the
 // normal and colour of a hit.
 // reach: diameters past the silhouette where anything is drawn (the ink and its antialiased edge).
@@ -186,8 +205,10 @@ HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, float rea
   float t = tMax;
   vec2 f;
   bool wall = true, throughWall = true;
+  float tNearest = t;
   for (int i = 0; i < 64; ++i) {
     f = hullAt(origin + t * ray, lod, fromTable, trusted, b, wall);
+    if (i == 0 || f.x < h.nearest) tNearest = t;
     h.nearest = i == 0 ? f.x : min(h.nearest, f.x);
     if (f.x <= 0.0) {
       h.hit = true;
@@ -197,7 +218,53 @@ HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, float rea
     t -= max(f.x, eps);
     if (t < -tMax) break;
   }
-  if (!h.hit) return h;
+  if (!h.hit) {
+    // A miss: its least distance to the hull is the largest of the bounds' distances at the ray's
+    // closest approach, an estimate (short where two bounds meet, long where a front surface curves
+    // up toward the ray), and the ink's outer edge lies where it reaches the ink's width. Near that
+    // edge the distance is measured on the screen instead: the eye rays through the billboard plane
+    // toward the hull (down the estimate's gradient there) hit it from some distance on, found by
+    // bisection to an eighth of the way.
+    float ink = reach - pixel;  // the ink's width (diameters); beyond `reach` nothing is drawn
+    if (ink > 0.0 && h.nearest <= reach + pixel) {
+      vec3 at = origin + tNearest * ray;
+      float delta = 0.5 * pixel;
+      HullBound g[kHullViews];
+      bool gw;
+      vec2 grad = vec2(hullAt(at + delta * vBillboardPuff[0], lod, fromTable, trusted, g, gw).x,
+                       hullAt(at + delta * vBillboardPuff[1], lod, fromTable, trusted, g, gw).x) -
+                  h.nearest;
+      // Down the gradient, and toward the puff's centre (where the gradient misleads: a bay).
+      vec2 towards[2] = vec2[2](dot(grad, grad) > 1e-12 ? -normalize(grad) : vec2(0.0),
+                                dot(vPuff, vPuff) > 1e-12 ? -normalize(vPuff) : vec2(0.0));
+      // What is drawn depends on the distance only within half a pixel of the ink's edges (the
+      // antialiased edges; between them the pixel is ink whatever the distance): the bisection stops
+      // once its interval lies between them, or is a quarter of a pixel wide.
+      float solid = ink - 0.5 * pixel;  // nearer than this (and over half a pixel out): ink
+      float best = -1.0;
+      for (int k = 0; k < 2; ++k) {
+        vec2 toward = towards[k];
+        if (dot(toward, toward) == 0.0 || (best >= 0.0 && best <= solid)) continue;
+        float lo = 0.0, hi = ink + 0.5 * pixel;
+        if (best >= 0.0) hi = min(hi, best);
+        if (!hullHits(vBillboardPuff * vec3(vPuff + hi * toward, 0.0), eps, lod, fromTable, trusted)) continue;
+        for (int i = 0; i < 4; ++i) {
+          if ((lo >= 0.5 * pixel && hi <= solid) || hi - lo <= 0.25 * pixel) break;
+          // The first split at the inner edge of the outer antialiased band, where most pixels of
+          // the ring are decided.
+          float mid = i == 0 && solid > lo && solid < hi ? solid : 0.5 * (lo + hi);
+          if (hullHits(vBillboardPuff * vec3(vPuff + mid * toward, 0.0), eps, lod, fromTable, trusted)) {
+            hi = mid;
+          } else {
+            lo = mid;
+          }
+        }
+        best = max(0.5 * (lo + hi), 1e-4);
+      }
+      h.nearest = best >= 0.0 ? best : max(h.nearest, ink + 1.5 * pixel);
+    }
+    return h;
+  }
   h.t = t;
   // A ray that enters through a front surface is inside the silhouette: its pixel is body. One that
   // enters through a silhouette's wall may graze it: on into the hull until 2 px deep (or out).

@@ -119,7 +119,8 @@ Result<std::vector<TumbleRow>> runTumbleBench(const TumbleBenchOptions& opt) {
         r.meanOutlineIoU = result->meanOutlineIoU;
         std::size_t coverageOk = 0, outlineOk = 0;
         const eval::TumblePose* worst = nullptr;
-        double extra = 0.0, missing = 0.0, bodyExtra = 0.0, bodyMissing = 0.0;
+        double extra = 0.0, missing = 0.0, bodyExtra = 0.0, bodyMissing = 0.0, bodyMin = 1.0;
+        std::size_t bodyOk = 0;
         for (const eval::TumblePose& p : result->poses) {
           coverageOk += p.coverageIoU >= 0.95;
           outlineOk += p.outlineIoU >= 0.5;
@@ -128,16 +129,22 @@ Result<std::vector<TumbleRow>> runTumbleBench(const TumbleBenchOptions& opt) {
           missing += p.coverageMissing;
           bodyExtra += p.bodyExtra;
           bodyMissing += p.bodyMissing;
+          // IoU = |A and B| / |A or B| = (1 - missing) / (1 + extra), both fractions of B's pixels.
+          const double bodyIoU = (1.0 - p.bodyMissing) / (1.0 + p.bodyExtra);
+          bodyMin = std::min(bodyMin, bodyIoU);
+          bodyOk += bodyIoU >= 0.95;
         }
         if (worst) {
           // Whether the puffs are drawn too large or too small: the mean over the poses, and the
           // worst pose's (fractions of the reference's pixels).
           const double n = static_cast<double>(result->poses.size());
-          char line[256];
+          char line[384];
           std::snprintf(line, sizeof line,
-                        "%s: coverage extra / missing mean %.4f / %.4f (body %.4f / %.4f); worst pose yaw %d pitch %d roll %d "
+                        "%s: coverage extra / missing mean %.4f / %.4f; without outlines %.4f / %.4f, IoU min %.4f "
+                        "(%.1f%% >= 0.95); worst pose yaw %d pitch %d roll %d "
                         "variation %d: IoU %.4f, extra %.4f, missing %.4f",
-                        r.method.c_str(), extra / n, missing / n, bodyExtra / n, bodyMissing / n, worst->yaw, worst->pitch, worst->roll,
+                        r.method.c_str(), extra / n, missing / n, bodyExtra / n, bodyMissing / n, bodyMin,
+                        100.0 * static_cast<double>(bodyOk) / n, worst->yaw, worst->pitch, worst->roll,
                         worst->variation, worst->coverageIoU, worst->coverageExtra, worst->coverageMissing);
           log(name + ": " + line);
         }

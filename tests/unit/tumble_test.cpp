@@ -34,17 +34,18 @@ namespace fs = std::filesystem;
 
 // An atlas's views, the tumble method (cel::Style::tumble), and the floors its sweep must keep:
 // coverage IoU (worst pose, mean over the poses) and outline IoU (worst, mean). The floors are what
-// this code measured (tests/unit, 48-px puffs, point-sampled, roll every 45 degrees) less about 0.01:
-// they catch a change that turns puffs worse. Issue 22's targets are coverage >= 0.95 and outline
-// >= 0.5 at every pose. The hull meets the outline target at every atlas here, and the coverage
-// target at 7 x 7 (oct 0.956, hemi-oct 0.954; the floors are the target itself), not at 3 x 3 and
-// 5 x 5 (0.914-0.945). (2026-12-03: the reference's ink stopped reaching past the outline's width at
-// the meshes' polygon corners; the hull takes four views across the ray, not two, and no longer
-// allows a texel and a half over the front surfaces; outline IoU counts what the outlines add to
-// the puff, not dark pixels.) The baked front view itself, unturned, reaches 0.974-0.979 against
-// the mesh at this size, where a pixel all around the silhouette is about 10% of a puff's pixels.
+// this code measured (tests/unit, 48-px puffs, point-sampled, four rolls) less about 0.01, and at
+// least issue 22's coverage target of 0.95 where it is met: they catch a change that turns puffs
+// worse. Issue 22's targets are coverage >= 0.95 and outline >= 0.5 at every pose. The hull meets
+// both at every atlas here but hemi-oct 3 x 3, whose worst pose is 0.949 (2026-12-03: measured
+// 0.962, 0.969, 0.972 for oct 3, 5, 7 and 0.949, 0.970, 0.979 for hemi-oct). Its body alone is
+// what hemi-oct 3 x 3 lacks: nine views of one hemisphere bound some poses' silhouettes more than
+// a pixel wide even with exact maps (docs/cel-rendering.md). Until 2026-12-03 the ink's outer
+// edge came from the march's distance estimate; measured on the screen it gained 0.03-0.05 at
+// the worst poses. The baked front view itself, unturned, reaches 0.974-0.979 against the mesh at
+// this size, where a pixel all around the silhouette is about 10% of a puff's pixels.
 // docs/cel-rendering.md, "Tumbling puffs", and docs/report/README.md have the numbers. The blend is
-// kept for its cost (about a tenth of the hull's on llvmpipe) and guarded at two atlases.
+// kept for its cost (under a tenth of the hull's on llvmpipe) and guarded at two atlases.
 struct Config {
   bake::ViewLayout layout;
   int grid;
@@ -99,9 +100,11 @@ class TumbleBase : public test::GlSuite<> {
   // The reference depends on the meshes only: drawn once, with the first atlas baked.
   static const eval::TumbleReference& reference(const fs::path& atlas) {
     if (references_.empty()) {
-      // Yaw and pitch every 15 degrees; roll every 45 (the report sweeps roll every 15 too:
-      // docs/report, tumble.csv), to keep the suite's time.
-      auto r = eval::renderTumbleReference(atlas, options(), {0, 45, 90, 135, 180, 225, 270, 315});
+      // Yaw and pitch every 15 degrees; four rolls (the report sweeps roll every 15 too: docs/report,
+      // tumble.csv), to keep the suite's time: none, a diagonal (a rolled quad reaches farthest
+      // past its cell), a half turn (the views across the ray are the other sides') and a quarter
+      // turn the other way.
+      auto r = eval::renderTumbleReference(atlas, options(), {0, 45, 180, 270});
       EXPECT_OK(r);
       references_.emplace(0, std::move(*r));
     }
@@ -129,7 +132,7 @@ TEST_P(Tumble, EveryPoseKeepsItsSilhouetteAndItsInk) {
   const eval::TumbleReference& ref = reference(atlas);
   auto result = eval::measureTumble(atlas, ref, c.method);
   ASSERT_OK(result);
-  ASSERT_EQ(result->poses.size(), eval::tumblePoses(15).size() / 3);
+  ASSERT_EQ(result->poses.size(), eval::tumblePoses(15).size() / 6);
   const eval::TumblePose* worstCoverage = &result->poses.front();
   const eval::TumblePose* worstOutline = &result->poses.front();
   for (const eval::TumblePose& p : result->poses) {
@@ -365,14 +368,14 @@ TEST_F(TumbleCases, OrientedPuffsOnAOneViewAtlasAreRefused) {
 
 INSTANTIATE_TEST_SUITE_P(
     Atlases, Tumble,
-    ::testing::Values(Config{bake::ViewLayout::kOct, 3, 0.905, 0.955, 0.56, 0.74},
-                      Config{bake::ViewLayout::kOct, 5, 0.935, 0.97, 0.695, 0.83},
-                      Config{bake::ViewLayout::kOct, 7, 0.95, 0.975, 0.75, 0.87},
-                      Config{bake::ViewLayout::kHemiOct, 3, 0.915, 0.96, 0.57, 0.76},
-                      Config{bake::ViewLayout::kHemiOct, 5, 0.935, 0.97, 0.705, 0.86},
-                      Config{bake::ViewLayout::kHemiOct, 7, 0.95, 0.98, 0.755, 0.90},
-                      Config{bake::ViewLayout::kOct, 3, 0.685, 0.92, 0.05, 0.515, cel::TumbleMethod::kBlend},
-                      Config{bake::ViewLayout::kHemiOct, 7, 0.865, 0.975, 0.295, 0.855, cel::TumbleMethod::kBlend}),
+    ::testing::Values(Config{bake::ViewLayout::kOct, 3, 0.95, 0.97, 0.71, 0.815},
+                      Config{bake::ViewLayout::kOct, 5, 0.96, 0.98, 0.77, 0.875},
+                      Config{bake::ViewLayout::kOct, 7, 0.96, 0.98, 0.815, 0.91},
+                      Config{bake::ViewLayout::kHemiOct, 3, 0.94, 0.97, 0.60, 0.81},
+                      Config{bake::ViewLayout::kHemiOct, 5, 0.96, 0.98, 0.77, 0.90},
+                      Config{bake::ViewLayout::kHemiOct, 7, 0.97, 0.985, 0.83, 0.93},
+                      Config{bake::ViewLayout::kOct, 3, 0.745, 0.92, 0.105, 0.515, cel::TumbleMethod::kBlend},
+                      Config{bake::ViewLayout::kHemiOct, 7, 0.90, 0.975, 0.455, 0.855, cel::TumbleMethod::kBlend}),
     [](const ::testing::TestParamInfo<Config>& i) { return name(i.param); });
 
 // A sphere puff looks the same from everywhere: turned any way, its hull is a disc ringed by ink of
