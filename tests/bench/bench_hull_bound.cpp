@@ -74,7 +74,8 @@ Grid voxelize(const mesh::TriMesh& m, int n) {
         const double b = ((p[2].x - px) * (p[0].y - py) - (p[0].x - px) * (p[2].y - py)) / d;
         const double c = 1.0 - a - b;
         if (a < 0.0 || b < 0.0 || c < 0.0) continue;
-        crossings[static_cast<std::size_t>(j) * n + i].push_back(static_cast<float>(a * p[0].z + b * p[1].z + c * p[2].z));
+        crossings[static_cast<std::size_t>(j) * n + i].push_back(
+            static_cast<float>(a * p[0].z + b * p[1].z + c * p[2].z));
       }
     }
   }
@@ -249,7 +250,8 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(argv[i], "--grid") && more) {
       if (!number(argv[++i], 1, 15, grid)) return std::fprintf(stderr, "puff_bench_hull: --grid takes 1 to 15\n"), 2;
     } else if (!std::strcmp(argv[i], "--layers") && more) {
-      if (!number(argv[++i], 0, 16, layers)) return std::fprintf(stderr, "puff_bench_hull: --layers takes 0 to 16\n"), 2;
+      if (!number(argv[++i], 0, 16, layers))
+        return std::fprintf(stderr, "puff_bench_hull: --layers takes 0 to 16\n"), 2;
     } else if (!std::strcmp(argv[i], "--voxels") && more) {
       if (!number(argv[++i], 32, 512, voxels))
         return std::fprintf(stderr, "puff_bench_hull: --voxels takes 32 to 512\n"), 2;
@@ -273,8 +275,8 @@ int main(int argc, char** argv) {
     const Grid puff = voxelize(*m, voxels);
     const Score s = compare(puff, hullOf(puff, layout, grid, layers));
     std::printf("%s: %s %dx%d, %d layers: coverage IoU worst %.3f mean %.3f, %.1f%% of directions >= 0.95\n",
-                path.c_str(), layout == bake::ViewLayout::kOct ? "oct" : "hemioct", grid, grid, layers, s.worst,
-                s.mean, 100.0 * s.share);
+                path.c_str(), layout == bake::ViewLayout::kOct ? "oct" : "hemioct", grid, grid, layers, s.worst, s.mean,
+                100.0 * s.share);
   }
   return 0;
 }

@@ -264,8 +264,8 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
                                 coveredB = reference::coverageMask(b, background);
         p.coverageIoU = reference::maskIoU(coveredA, coveredB);
         differences(coveredA, coveredB, p.coverageExtra, p.coverageMissing);
-        differences(reference::coverageMask(aBody, background), reference::coverageMask(bBody, background),
-                    p.bodyExtra, p.bodyMissing);
+        differences(reference::coverageMask(aBody, background), reference::coverageMask(bBody, background), p.bodyExtra,
+                    p.bodyMissing);
         // Ink: what the outlines add to the puff, the pixels covered with them and not without (the
         // body alone, drawn again without outlines). From coverage, not colour: the nailboards'
         // ink mixes with the body within half a pixel of the silhouette (its antialiased inner
