@@ -223,8 +223,8 @@ HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, float rea
     // closest approach, an estimate (short where two bounds meet, long where a front surface curves
     // up toward the ray), and the ink's outer edge lies where it reaches the ink's width. Near that
     // edge the distance is measured on the screen instead: the eye rays through the billboard plane
-    // toward the hull (down the estimate's gradient there) hit it from some distance on, found by
-    // bisection to an eighth of the way.
+    // stepped toward the hull hit it from some distance on, found by bisection along two directions
+    // (below), the nearer kept.
     float ink = reach - pixel;  // the ink's width (diameters); beyond `reach` nothing is drawn
     if (ink > 0.0 && h.nearest <= reach + pixel) {
       vec3 at = origin + tNearest * ray;

@@ -136,6 +136,8 @@ TEST_P(Tumble, EveryPoseKeepsItsSilhouetteAndItsInk) {
   const eval::TumblePose* worstCoverage = &result->poses.front();
   const eval::TumblePose* worstOutline = &result->poses.front();
   for (const eval::TumblePose& p : result->poses) {
+    // Too large and too small (fractions of the reference's pixels) are the same masks' IoU.
+    EXPECT_NEAR(p.coverageIoU, (1.0 - p.coverageMissing) / (1.0 + p.coverageExtra), 1e-9);
     if (p.coverageIoU < worstCoverage->coverageIoU) worstCoverage = &p;
     if (p.outlineIoU < worstOutline->outlineIoU) worstOutline = &p;
   }

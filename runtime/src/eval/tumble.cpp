@@ -150,6 +150,18 @@ int variationsOf(const fs::path& atlas) {
   return d ? std::max(1, d->variations) : 1;
 }
 
+// The pixels `a` covers and `b` does not (extra), and the reverse (missing), as fractions of `b`'s.
+void differences(const std::vector<bool>& a, const std::vector<bool>& b, double& extra, double& missing) {
+  std::size_t more = 0, fewer = 0, covered = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    more += a[i] && !b[i];
+    fewer += b[i] && !a[i];
+    covered += b[i];
+  }
+  extra = covered ? static_cast<double>(more) / static_cast<double>(covered) : 0.0;
+  missing = covered ? static_cast<double>(fewer) / static_cast<double>(covered) : 0.0;
+}
+
 }  // namespace
 
 std::vector<TumblePose> tumblePoses(int stepDegrees) {
@@ -183,22 +195,6 @@ Result<TumbleReference> renderTumbleReference(const fs::path& atlas, const Tumbl
   }
   return ref;
 }
-
-namespace {
-
-// The pixels `a` covers and `b` does not (extra), and the reverse (missing), as fractions of `b`'s.
-void differences(const std::vector<bool>& a, const std::vector<bool>& b, double& extra, double& missing) {
-  std::size_t more = 0, fewer = 0, covered = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    more += a[i] && !b[i];
-    fewer += b[i] && !a[i];
-    covered += b[i];
-  }
-  extra = covered ? static_cast<double>(more) / static_cast<double>(covered) : 0.0;
-  missing = covered ? static_cast<double>(fewer) / static_cast<double>(covered) : 0.0;
-}
-
-}  // namespace
 
 Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference& reference, cel::TumbleMethod method,
                                    double* msPerFrame) {
