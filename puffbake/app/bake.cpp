@@ -110,7 +110,9 @@ CLI::App* addBakeCommand(CLI::App& app, Options& o, BakeFlags& flags) {
   cmd->add_option("--flange", flags.flange,
                   "Outline flange width: texels (\"6\") or percent of the cell (\"3%\"); 0 = none")
       ->capture_default_str();
-  cmd->add_option("--views", o.bake.viewGrid, "Views per variation as an N x N grid of directions (1 = front only)")
+  cmd->add_option("--views", o.bake.viewGrid,
+                  "Views per variation as an N x N grid of directions (1 = front only; more also writes each view's "
+                  "far side, the back map, for puffs that tumble)")
       ->capture_default_str();
   cmd->add_option("--view-layout", flags.layout, "View grid: hemioct (front hemisphere) or oct (whole sphere)")
       ->check(CLI::IsMember({"hemioct", "oct"}))

@@ -203,6 +203,13 @@ void readMaps(const json& j, AtlasDesc& d) {
     check(m.levels.size() == static_cast<std::size_t>(d.mipLevels), where + "/levels", "must list mipLevels files");
     d.maps[name] = m;
   }
+  // Optional: multi-view atlases baked since 2026-12-03 (older ones, and one-view atlases, have none).
+  if (j["maps"].contains("back")) {
+    AtlasMap m;
+    m.levels = stringsField(j["maps"]["back"], "levels", "/maps/back");
+    check(m.levels.size() == static_cast<std::size_t>(d.mipLevels), "/maps/back/levels", "must list mipLevels files");
+    d.maps["back"] = m;
+  }
 }
 
 }  // namespace
@@ -233,6 +240,11 @@ json toJson(const AtlasDesc& d) {
        "rgba = ((N+1)/2, d+0.5); N camera-space unit normal, d offset toward the viewer in puff diameters"},
       {"color", "rgb = diffuse colour (sRGB), a = coverage dilated by the flange (straight alpha)"},
       {"distance", "signed distance to the silhouette in level-0 texels, outside positive: (v-0.5)*2*distanceRange"}};
+  if (d.maps.count("back")) {
+    j["encoding"]["back"] =
+        "v = b+0.5; b the far side's offset toward the viewer (puff diameters) where the ray crosses the puff once "
+        "(one run), else 0 (no bound)";
+  }
   json maps = json::object();
   for (const auto& [name, m] : d.maps) maps[name] = {{"levels", m.levels}};
   j["maps"] = maps;
@@ -329,7 +341,7 @@ Result<Atlas> loadAtlas(const fs::path& sidecar) {
                                    ", the sidecar says " + std::to_string(w) + "x" + std::to_string(h));
       }
       // Each map's own channels: a level that names another map's file is refused here.
-      const int channels = name == "distance" ? 1 : 4;
+      const int channels = name == "distance" || name == "back" ? 1 : 4;
       if (img->channels != channels) {
         return Error::at(file, "has " + std::to_string(img->channels) + " channel(s), but the " + name + " map has " +
                                    std::to_string(channels) + " (does the sidecar name the right file?)");
@@ -398,6 +410,10 @@ std::size_t atlasTextureBytes(const AtlasDesc& d) {
                                static_cast<std::size_t>(std::max(1, d.height >> level));
     bytes += texels * texelBytes;
   }
+  // The back map (R8, level 0 only: the tumbling hull gathers it there) when the renderer keeps it:
+  // a multi-view atlas that has one.
+  if (d.views > 1 && d.maps.count("back"))
+    bytes += static_cast<std::size_t>(d.width) * static_cast<std::size_t>(d.height);
   return bytes;
 }
 

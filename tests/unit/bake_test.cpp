@@ -376,6 +376,221 @@ TEST_F(BakeGl, EllipsoidProjectedAreaInEveryView) {
   }
 }
 
+// The back map against the closed form: an ellipsoid's far side along each view's ray, the
+// farthest over the texel's samples (a bound), at every level the farthest of the block below, no
+// bound off the silhouette; a one-view atlas has none.
+TEST_F(BakeGl, BackMapIsTheEllipsoidsFarSideInEveryView) {
+  const glm::dvec3 axes(1.0, 0.5, 0.7);
+  auto src = sphereSources(1, 5);
+  for (auto& p : src[0].mesh.positions) p *= glm::vec3(axes);
+  for (auto& n : src[0].mesh.normals) n = glm::normalize(n / glm::vec3(axes));
+  // Far crossing (d, diameters toward the viewer) of the ray through (u, w) (radii) along -dir, or
+  // nothing where it misses.
+  auto farSide = [&](const glm::dvec3& right, const glm::dvec3& up, const glm::dvec3& dir, double u,
+                     double w) -> std::optional<double> {
+    const glm::dvec3 q = (u * right + w * up) / axes, d = dir / axes;
+    const double a = glm::dot(d, d), b = 2.0 * glm::dot(q, d), c = glm::dot(q, q) - 1.0;
+    const double disc = b * b - 4.0 * a * c;
+    if (disc < 0.0) return std::nullopt;
+    return 0.5 * (-b - std::sqrt(disc)) / (2.0 * a);
+  };
+  for (ViewLayout layout : {ViewLayout::kHemiOct, ViewLayout::kOct}) {
+    SCOPED_TRACE(layout == ViewLayout::kOct ? "oct" : "hemioct");
+    BakeOptions o;
+    o.cellSize = 96;
+    o.supersample = 4;
+    o.viewGrid = 3;
+    o.viewLayout = layout;
+    o.flange = {0.0f, false};
+    o.contactSheet = false;
+    const test::ScopedTempDir out("puff_bake_test_back");
+    o.outDir = out.path();
+    auto r = bakeAtlas(src, o);
+    ASSERT_OK(r);
+    auto atlas = core::loadAtlas(r->sidecar);
+    ASSERT_OK(atlas);
+    const core::AtlasDesc& d = atlas->desc;
+    ASSERT_EQ(atlas->maps.count("back"), 1u);
+    const std::vector<core::Image>& back = atlas->maps.at("back");
+    ASSERT_EQ(back.size(), static_cast<std::size_t>(d.mipLevels));
+    ASSERT_GE(d.mipLevels, 3);
+    const core::Image& dist = atlas->maps.at("distance")[0];
+    const int ss = d.supersample;
+    for (const core::AtlasCell& cell : d.cells) {
+      SCOPED_TRACE("view " + std::to_string(cell.view));
+      const glm::dvec3 dir = glm::normalize(glm::dvec3(cell.viewDir)), up = glm::normalize(glm::dvec3(cell.viewUp));
+      const glm::dvec3 right = glm::cross(up, dir);
+      int interior = 0;
+      for (int y = 0; y < d.cellSize; ++y) {
+        for (int x = 0; x < d.cellSize; ++x) {
+          const int ax = cell.rect[0] + x, ay = cell.rect[1] + y;
+          const double signedDist = (dist.at(ax, ay) - 0.5) * 2.0 * d.distanceRange;
+          const float value = back[0].at(ax, ay);
+          if (signedDist >= 1.0) {
+            ASSERT_EQ(value, 0.0f) << "texel " << x << "," << y << " off the silhouette bounds something";
+            continue;
+          }
+          if (signedDist > -1.5) continue;
+          // The farthest far side over the texel's samples (each at its own centre).
+          double farthest = 1.0;
+          for (int sy = 0; sy < ss; ++sy) {
+            for (int sx = 0; sx < ss; ++sx) {
+              const double u = ((x + (sx + 0.5) / ss) - d.margin) * 2.0 / d.contentSize - 1.0;
+              const double w = 1.0 - ((y + (sy + 0.5) / ss) - d.margin) * 2.0 / d.contentSize;
+              const auto f = farSide(right, up, dir, u, w);
+              ASSERT_TRUE(f.has_value()) << "texel " << x << "," << y << " is inside but its ray misses";
+              farthest = std::min(farthest, *f);
+            }
+          }
+          ASSERT_NEAR(value, farthest + 0.5, 1.0 / 255.0) << "texel " << x << "," << y;
+          ++interior;
+        }
+      }
+      EXPECT_GT(interior, 100) << "too few interior texels checked";
+    }
+    // Each level keeps the farthest of the block below it (8-bit rounding keeps the order).
+    for (int l = 1; l < d.mipLevels; ++l) {
+      const core::Image& fine = back[static_cast<std::size_t>(l) - 1];
+      const core::Image& coarse = back[static_cast<std::size_t>(l)];
+      for (int y = 0; y < coarse.height; ++y) {
+        for (int x = 0; x < coarse.width; ++x) {
+          const float least = std::min({fine.at(2 * x, 2 * y), fine.at(2 * x + 1, 2 * y), fine.at(2 * x, 2 * y + 1),
+                                        fine.at(2 * x + 1, 2 * y + 1)});
+          ASSERT_EQ(coarse.at(x, y), least) << "level " << l << " texel " << x << "," << y;
+        }
+      }
+    }
+  }
+  BakeOptions one;
+  one.cellSize = 32;
+  one.contactSheet = false;
+  const test::ScopedTempDir out("puff_bake_test_back_one");
+  one.outDir = out.path();
+  auto r = bakeAtlas(src, one);
+  ASSERT_OK(r);
+  EXPECT_EQ(r->desc.maps.count("back"), 0u) << "a one-view atlas has no back map (no hull reads it)";
+}
+
+// Where a ray meets two runs of puff, the back map bounds nothing (the nearer run's far side would
+// cut the farther run away); where it meets one, it does. Two spheres of radius 0.4, one behind the
+// other along z (centres 1.1 apart): seen along z every ray through them meets both; from the other
+// views of a hemi-oct 3x3 grid (55-63 degrees off z) their discs lie apart (centres 0.9 apart, radii
+// 0.4), and every ray meets one.
+TEST_F(BakeGl, BackMapBoundsNothingWhereARayMeetsTwoRuns) {
+  auto a = mesh::generateSphere({4});
+  mesh::TriMesh two;
+  for (const float z : {0.55f, -0.55f}) {
+    const auto base = static_cast<unsigned>(two.positions.size());
+    for (std::size_t i = 0; i < a.positions.size(); ++i) {
+      two.positions.push_back(0.4f * a.positions[i] + glm::vec3(0.0f, 0.0f, z));
+      two.normals.push_back(a.normals[i]);
+    }
+    for (const glm::uvec3& t : a.triangles) two.triangles.push_back(t + glm::uvec3(base));
+  }
+  std::vector<PuffSource> src(1);
+  src[0].mesh = std::move(two);
+  src[0].provenance.generator = "sphere";
+  BakeOptions o;
+  o.cellSize = 64;
+  o.viewGrid = 3;
+  o.flange = {0.0f, false};
+  o.mips = false;
+  o.contactSheet = false;
+  const test::ScopedTempDir out("puff_bake_test_back_runs");
+  o.outDir = out.path();
+  auto r = bakeAtlas(src, o);
+  ASSERT_OK(r);
+  auto atlas = core::loadAtlas(r->sidecar);
+  ASSERT_OK(atlas);
+  const core::AtlasDesc& d = atlas->desc;
+  const core::Image& back = atlas->maps.at("back")[0];
+  const core::Image& color = atlas->maps.at("color")[0];
+  ASSERT_EQ(d.cells[4].viewDir, glm::vec3(0.0f, 0.0f, 1.0f));
+  for (const core::AtlasCell& cell : d.cells) {
+    SCOPED_TRACE("view " + std::to_string(cell.view));
+    int covered = 0, bounded = 0;
+    for (int y = 0; y < d.cellSize; ++y) {
+      for (int x = 0; x < d.cellSize; ++x) {
+        const bool whole = color.at(cell.rect[0] + x, cell.rect[1] + y, 3) >= 1.0f;
+        const bool bound = back.at(cell.rect[0] + x, cell.rect[1] + y) > 0.0f;
+        covered += whole;
+        bounded += whole && bound;
+        if (cell.view == 4) {
+          ASSERT_FALSE(bound) << "texel " << x << "," << y << ": its ray meets both spheres";
+        }
+      }
+    }
+    ASSERT_GT(covered, 200);
+    if (cell.view != 4) {
+      EXPECT_EQ(bounded, covered) << "every ray meets one sphere";
+    }
+  }
+}
+
+// What the tumbling hull relies on (docs/cel-rendering.md): every point of the puff lies, in every
+// view, before the far side the back map holds, read as the hull reads it (the farthest of the four
+// level-0 texels around the point, less a step of 8 bits). Checked at every vertex and triangle
+// centre of the art's meshes (the default flange). The front depth is not a bound in the same sense:
+// a texel holds the mean of its samples' front, and at a steep rim a point of the surface lies up to
+// 0.1 diameters in front of the nearest of four (recorded as worst_front; the hull allows a step).
+TEST_F(BakeGl, EveryPointOfThePuffLiesBeforeEachViewsFarSide) {
+  std::vector<fs::path> files;
+  for (const char* f : {"variation-1.obj", "variation-2.ply", "variation-3.off", "variation-4.stl"})
+    files.push_back(fs::path(PUFF_SOURCE_DIR) / "art" / "puffs" / f);
+  auto sources = loadSources(files, std::nullopt);
+  ASSERT_OK(sources);
+  BakeOptions o;
+  o.cellSize = 128;
+  o.viewGrid = 3;
+  o.contactSheet = false;
+  const test::ScopedTempDir out("puff_bake_test_bounds");
+  o.outDir = out.path();
+  auto r = bakeAtlas(*sources, o);
+  ASSERT_OK(r);
+  auto atlas = core::loadAtlas(r->sidecar);
+  ASSERT_OK(atlas);
+  const core::AtlasDesc& d = atlas->desc;
+  const core::Image& nd = atlas->maps.at("normalDepth")[0];
+  const core::Image& back = atlas->maps.at("back")[0];
+  const core::Image& color = atlas->maps.at("color")[0];
+  const double step = 1.0 / 255.0;
+  for (int var = 0; var < d.variations; ++var) {
+    const mesh::TriMesh& m = (*sources)[static_cast<std::size_t>(var)].mesh;
+    std::vector<glm::vec3> points = m.positions;
+    for (const glm::uvec3& t : m.triangles)
+      points.push_back((m.positions[t.x] + m.positions[t.y] + m.positions[t.z]) / 3.0f);
+    double worstBack = 0.0, worstFront = 0.0;
+    int bounded = 0;
+    for (int view = 0; view < d.views; ++view) {
+      const core::AtlasCell& cell = d.cell(var, view);
+      const glm::vec3 dir = cell.viewDir, up = cell.viewUp, right = glm::cross(up, dir);
+      for (const glm::vec3& q : points) {
+        const glm::vec3 p = 0.5f * q;  // diameters
+        // Texel coordinates (texel centres at +0.5), rows down.
+        const double x = cell.rect[0] + d.margin + (glm::dot(p, right) + 0.5) * d.contentSize;
+        const double y = cell.rect[1] + d.margin + (0.5 - glm::dot(p, up)) * d.contentSize;
+        const int x0 = static_cast<int>(std::floor(x - 0.5)), y0 = static_cast<int>(std::floor(y - 0.5));
+        double least = 1.0, top = -1.0;
+        for (int j = 0; j < 2; ++j) {
+          for (int i = 0; i < 2; ++i) {
+            least = std::min(least, double(back.at(x0 + i, y0 + j)));
+            if (color.at(x0 + i, y0 + j, 3) > 0.0f) top = std::max(top, double(nd.at(x0 + i, y0 + j, 3)));
+          }
+        }
+        const double h = glm::dot(p, dir);
+        if (top >= 0.0) worstFront = std::max(worstFront, h - (top - 0.5 + step));
+        if (least > 0.0) {
+          ++bounded;
+          worstBack = std::max(worstBack, (least - 0.5 - step) - h);
+        }
+      }
+    }
+    EXPECT_GT(bounded, static_cast<int>(points.size())) << "variation " << var << ": too few points bounded";
+    EXPECT_LE(worstBack, 0.0) << "variation " << var << ": a point beyond a view's far side";
+    RecordProperty("worst_front_" + std::to_string(var), std::to_string(worstFront));
+  }
+}
+
 TEST_F(BakeGl, VertexColoursReachTheColourMap) {
   auto src = sphereSources(1, 4);
   src[0].mesh.colors.assign(src[0].mesh.positions.size(), glm::vec3(0.2f, 0.6f, 0.8f));

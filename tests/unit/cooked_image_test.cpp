@@ -436,19 +436,27 @@ TEST_F(CookedAtlas, WrongMapsAndNonFiniteTexelsAreRefused) {
   puff::bake::BakeOptions o = smallBake(dir_ / "exr");
   o.format = puff::bake::MapFormat::kExr;
   o.mips = false;
+  o.viewGrid = 2;  // with a back map
   auto baked = puff::bake::bakeAtlas(spheres(1, 3), o);
   ASSERT_OK(baked);
   ASSERT_OK(puff::core::loadAtlas(baked->sidecar));
-  nlohmann::json j = *puff::core::jsonread::loadJsonFile(baked->sidecar);
-  const std::string color = j["maps"]["color"]["levels"][0];
-  j["maps"]["distance"]["levels"][0] = color;
-  const fs::path swapped = o.outDir / "swapped.json";
-  ASSERT_OK(puff::core::writeFileBytes(swapped, j.dump(2)));
-  auto wrong = puff::core::loadAtlas(swapped);
-  ASSERT_FALSE(wrong.ok());
-  EXPECT_EQ(wrong.error().message, (o.outDir / color).string() +
-                                       ": has 4 channel(s), but the distance map has 1 (does the sidecar name the "
-                                       "right file?)");
+  const nlohmann::json good = *puff::core::jsonread::loadJsonFile(baked->sidecar);
+  const std::string color = good["maps"]["color"]["levels"][0];
+  for (const char* map : {"distance", "back"}) {
+    nlohmann::json j = good;
+    j["maps"][map]["levels"][0] = color;
+    const fs::path swapped = o.outDir / "swapped.json";
+    ASSERT_OK(puff::core::writeFileBytes(swapped, j.dump(2)));
+    auto wrong = puff::core::loadAtlas(swapped);
+    ASSERT_FALSE(wrong.ok());
+    EXPECT_EQ(wrong.error().message, (o.outDir / color).string() + ": has 4 channel(s), but the " + map +
+                                         " map has 1 (does the sidecar name the right file?)");
+  }
+  nlohmann::json j = good;
+  j["maps"]["back"]["levels"].push_back(color);
+  auto levels = puff::core::atlasFromJson(j, "x.json");
+  ASSERT_FALSE(levels.ok());
+  EXPECT_EQ(levels.error().message, "x.json: /maps/back/levels: must list mipLevels files");
   const fs::path normal = o.outDir / std::string(j["maps"]["normalDepth"]["levels"][0]);
   auto image = puff::core::readImage(normal);
   ASSERT_OK(image);

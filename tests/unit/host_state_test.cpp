@@ -371,8 +371,8 @@ const Keys kWriteMasks = {"depth.mask", "colormask[0]", "colormask[1]", "stencil
                           "stencil.back.writemask"};
 const Keys kNoProgram = {"program", "vao"};
 Keys atlas(const cel::Bindings& b) {
-  return texture(b.atlasPacked, "2D") + texture(b.atlasColor, "2D") + texture(b.shadowProfile, "2D") +
-         Keys{ssbo(b.particles), ssbo(b.cells)};
+  return texture(b.atlasPacked, "2D") + texture(b.atlasColor, "2D") + texture(b.atlasBack, "2D") +
+         texture(b.shadowProfile, "2D") + Keys{ssbo(b.particles), ssbo(b.cells)};
 }
 // A draw framebuffer without a stencil buffer bound: the stored stencil reference is untouched, but
 // GL_STENCIL_REF reads back clamped to its 0 stencil bits (the host's 3 and 5 read as 0).
@@ -711,6 +711,7 @@ cel::Bindings chosenCel() {
   b.gradient = 12;
   b.atlasPacked = 10;
   b.atlasColor = 11;
+  b.atlasBack = 8;
   b.shadowProfile = 13;
   b.shadowMapDepth = 14;
   b.shadowMapIds = 15;

@@ -33,7 +33,8 @@ namespace {
 namespace fs = std::filesystem;
 
 // Two lumpy variations, 32-texel cells, --lod auto unless `lod` is false.
-Result<bake::BakeReport> bakeLumpy(const fs::path& dir, bool lod, bake::MapFormat format = bake::MapFormat::kPng) {
+Result<bake::BakeReport> bakeLumpy(const fs::path& dir, bool lod, bake::MapFormat format = bake::MapFormat::kPng,
+                                   int viewGrid = 1) {
   bake::GeneratorSpec gen;
   gen.kind = "lumpy";
   gen.lumpy.subdivisions = 4;
@@ -44,6 +45,7 @@ Result<bake::BakeReport> bakeLumpy(const fs::path& dir, bool lod, bake::MapForma
   o.cellSize = 32;
   o.lodAuto = lod;
   o.format = format;
+  o.viewGrid = viewGrid;
   o.contactSheet = false;
   o.outDir = dir;
   return bake::bakeAtlas(*sources, o);
@@ -298,24 +300,31 @@ TEST_F(AtlasMemory, ReportedBytesAreTheBytesTheGlHolds) {
   auto renderer = cel::NailboardRenderer::create();
   ASSERT_OK(renderer);
   EXPECT_EQ((*renderer)->textureBytes(), 0u);
-  for (const auto format : {bake::MapFormat::kPng, bake::MapFormat::kExr}) {
-    const bool exr = format == bake::MapFormat::kExr;
-    SCOPED_TRACE(exr ? "exr" : "png");
-    const test::ScopedTempDir out("puff_atlas_memory");
-    auto r = bakeLumpy(out.path(), false, format);
-    ASSERT_OK(r);
-    auto atlas = core::loadAtlas(r->sidecar);
-    ASSERT_OK(atlas);
-    // Two 32-texel cells side by side: 64 x 32 texels, mip levels 64x32, 32x16, 16x8.
-    ASSERT_EQ(atlas->desc.width, 64);
-    ASSERT_EQ(atlas->desc.height, 32);
-    ASSERT_EQ(atlas->desc.mipLevels, 3);
-    // Per texel: the packed normal/depth/distance map (RGBA8, 4 bytes) and the colour map
-    // (SRGB8_ALPHA8, 4 bytes; RGBA16F, 8 bytes, for exr). No distance texture of its own.
-    const std::size_t byHand = (64 * 32 + 32 * 16 + 16 * 8) * (exr ? 12u : 8u);
-    ASSERT_OK((*renderer)->setAtlas(*atlas));
-    EXPECT_EQ((*renderer)->textureBytes(), byHand);
-    EXPECT_EQ(core::atlasTextureBytes(atlas->desc), byHand);
+  for (const int grid : {1, 2}) {
+    for (const auto format : {bake::MapFormat::kPng, bake::MapFormat::kExr}) {
+      const bool exr = format == bake::MapFormat::kExr;
+      SCOPED_TRACE(std::string(exr ? "exr" : "png") + ", " + std::to_string(grid * grid) + " views");
+      const test::ScopedTempDir out("puff_atlas_memory");
+      auto r = bakeLumpy(out.path(), false, format, grid);
+      ASSERT_OK(r);
+      auto atlas = core::loadAtlas(r->sidecar);
+      ASSERT_OK(atlas);
+      // Two variations of 32-texel cells: 2 cells side by side (64 x 32 texels, mip levels 64x32,
+      // 32x16, 16x8); with 4 views, 8 cells in 3 x 3 (96 x 96, 48 x 48, 24 x 24).
+      const int w = grid == 1 ? 64 : 96, h = grid == 1 ? 32 : 96;
+      ASSERT_EQ(atlas->desc.width, w);
+      ASSERT_EQ(atlas->desc.height, h);
+      ASSERT_EQ(atlas->desc.mipLevels, 3);
+      // Per texel: the packed normal/depth/distance map (RGBA8, 4 bytes) and the colour map
+      // (SRGB8_ALPHA8, 4 bytes; RGBA16F, 8 bytes, for exr). No distance texture of its own. With
+      // views, the back map at level 0 only (R8, 1 byte).
+      const std::size_t texels = static_cast<std::size_t>(w * h + (w / 2) * (h / 2) + (w / 4) * (h / 4));
+      const std::size_t byHand = texels * (exr ? 12u : 8u) + (grid > 1 ? static_cast<std::size_t>(w * h) : 0u);
+      ASSERT_EQ(atlas->maps.count("back"), grid > 1 ? 1u : 0u);
+      ASSERT_OK((*renderer)->setAtlas(*atlas));
+      EXPECT_EQ((*renderer)->textureBytes(), byHand);
+      EXPECT_EQ(core::atlasTextureBytes(atlas->desc), byHand);
+    }
   }
 }
 

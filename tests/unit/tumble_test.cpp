@@ -37,10 +37,10 @@ namespace fs = std::filesystem;
 // this code measured (tests/unit, 48-px puffs, point-sampled, four rolls) less about 0.01, and at
 // least issue 22's coverage target of 0.95 where it is met: they catch a change that turns puffs
 // worse. Issue 22's targets are coverage >= 0.95 and outline >= 0.5 at every pose. The hull meets
-// both at every atlas here but hemi-oct 3 x 3, whose worst pose is 0.949 (2026-12-03: measured
-// 0.962, 0.969, 0.972 for oct 3, 5, 7 and 0.949, 0.970, 0.979 for hemi-oct). Its body alone is
-// what hemi-oct 3 x 3 lacks: nine views of one hemisphere bound some poses' silhouettes more than
-// a pixel wide even with exact maps (docs/cel-rendering.md). Until 2026-12-03 the ink's outer
+// both at every atlas here (2026-12-03, with the back map: measured 0.962, 0.972, 0.973 for oct 3,
+// 5, 7 and 0.957, 0.971, 0.979 for hemi-oct). Without the back map hemi-oct 3 x 3's worst pose was
+// 0.949: nine views of one hemisphere, front depth only, bound some poses' silhouettes more than a
+// pixel wide even with exact maps (docs/cel-rendering.md). Until 2026-12-03 the ink's outer
 // edge came from the march's distance estimate; measured on the screen it gained 0.03-0.05 at
 // the worst poses. The baked front view itself, unturned, reaches 0.974-0.979 against the mesh at
 // this size, where a pixel all around the silhouette is about 10% of a puff's pixels.
@@ -373,7 +373,7 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(Config{bake::ViewLayout::kOct, 3, 0.95, 0.97, 0.71, 0.815},
                       Config{bake::ViewLayout::kOct, 5, 0.96, 0.98, 0.77, 0.875},
                       Config{bake::ViewLayout::kOct, 7, 0.96, 0.98, 0.815, 0.91},
-                      Config{bake::ViewLayout::kHemiOct, 3, 0.94, 0.97, 0.60, 0.81},
+                      Config{bake::ViewLayout::kHemiOct, 3, 0.95, 0.975, 0.69, 0.845},
                       Config{bake::ViewLayout::kHemiOct, 5, 0.96, 0.98, 0.77, 0.90},
                       Config{bake::ViewLayout::kHemiOct, 7, 0.97, 0.985, 0.83, 0.93},
                       Config{bake::ViewLayout::kOct, 3, 0.745, 0.92, 0.105, 0.515, cel::TumbleMethod::kBlend},

@@ -23,12 +23,12 @@ std::string num(float v) {
   return b;
 }
 
-// What one bake may hold in memory. Per sample of the cell being resolved: two RGBA32F GL
-// targets, their readback copies, masks, two distance transforms and the signed distances
-// (about 100 bytes). Per atlas texel at level 0: the decoded maps (9 floats), the mip chain
-// (a third more) and one encoded copy at a time (about 64 bytes).
+// What one bake may hold in memory. Per sample of the cell being resolved: three RGBA32F GL
+// targets (the third for the back map), their readback copies, masks, two distance transforms and
+// the signed distances (about 140 bytes). Per atlas texel at level 0: the decoded maps (10 floats),
+// the mip chain (a third more) and one encoded copy at a time (about 64 bytes).
 constexpr double kMaxBakeBytes = 12.0 * (1u << 30);
-constexpr double kBytesPerSample = 100.0, kBytesPerAtlasTexel = 64.0;
+constexpr double kBytesPerSample = 140.0, kBytesPerAtlasTexel = 64.0;
 
 // The most samples per texel side, up to 4, that keep a cell within 4096^2 samples; at least 2
 // (clean edges) while that fits the memory budget on its own.
@@ -155,11 +155,12 @@ struct ViewRenderer {
     return {};
   }
 
-  std::vector<CellMaps> render(PuffRasterizer& r, int ss, const mesh::TriMesh& m, float flange) {
+  // `back`: with the back map (a multi-view atlas's; --lod auto's trials compare without it).
+  std::vector<CellMaps> render(PuffRasterizer& r, int ss, const mesh::TriMesh& m, float flange, bool back) {
     r.setMesh(m, o.defaultColor);
     std::vector<CellMaps> maps;
     for (const glm::vec3& dir : viewDirs) {
-      r.render(viewRotation(dir), g.margin * ss, g.content * ss, samples);
+      r.render(viewRotation(dir), g.margin * ss, g.content * ss, samples, back);
       maps.push_back(resolveCell(samples, ss, flange));
     }
     return maps;
@@ -194,7 +195,7 @@ struct AtlasBake {
                                      o.lodColorTolerance};
       LodResult lod = chooseLod(
           src.mesh,
-          [&](const mesh::TriMesh& m) { return views.render(views.lodRaster(), views.lodSupersample, m, 0.0f); },
+          [&](const mesh::TriMesh& m) { return views.render(views.lodRaster(), views.lodSupersample, m, 0.0f, false); },
           tolerances, src.normalsAuthored ? mesh::DecimatedNormals::kFromSource : mesh::DecimatedNormals::kRecompute,
           &reduced, [&](int step, int maxSteps) { report(stage, step, maxSteps); });
       result.lod.push_back(lod);
@@ -210,7 +211,8 @@ struct AtlasBake {
     if (o.lodAuto) prov.lodMesh = lodFileName(o.name, var);
     desc.sources.push_back(prov);
     if (o.lodAuto) report("rasterizing", var * g.views, desc.variations * g.views);
-    const std::vector<CellMaps> cells = views.render(*views.rasterizer, g.supersample, *bakeMesh, g.flange);
+    const std::vector<CellMaps> cells =
+        views.render(*views.rasterizer, g.supersample, *bakeMesh, g.flange, !level0.back.pixels.empty());
     for (int v = 0; v < g.views; ++v) {
       const int index = var * g.views + v;
       core::AtlasCell cell;
@@ -240,7 +242,8 @@ struct AtlasBake {
     // Every file: the maps, the LOD meshes, the contact sheets (the main one, and one per variation
     // of a multi-view atlas) and the sidecar.
     const int sheets = o.contactSheet ? 1 + (desc.views > 1 ? desc.variations : 0) : 0;
-    const int totalFiles = desc.mipLevels * 3 + 1 + sheets + static_cast<int>(lodMeshes.size());
+    const bool back = !levels[0].back.pixels.empty();
+    const int totalFiles = desc.mipLevels * (back ? 4 : 3) + 1 + sheets + static_cast<int>(lodMeshes.size());
     int written = 0;
     report("writing", 0, totalFiles);
     std::vector<fs::path> contentNamed;  // the files a killed run would leave behind
@@ -263,6 +266,7 @@ struct AtlasBake {
       PUFF_TRY(put("normal_depth", "normalDepth", l, encodeNormalDepth(lv.normalDepth), mapType));
       PUFF_TRY(put("color", "color", l, lv.color, mapType));
       PUFF_TRY(put("distance", "distance", l, encodeDistance(lv.distance, desc.distanceRange), distType));
+      if (back) PUFF_TRY(put("back", "back", l, encodeBack(lv.back), mapType));
     }
     // The meshes the atlas was baked from, with the normals the bake used, so a consumer that draws
     // the mesh itself (the fixed path) draws the same level of detail.
@@ -441,6 +445,8 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
   AtlasLevel level0{core::Image(desc.width, desc.height, 4), core::Image(desc.width, desc.height, 4),
                     core::Image(desc.width, desc.height, 1, desc.distanceRange)};
   for (std::size_t i = 2; i < level0.normalDepth.pixels.size(); i += 4) level0.normalDepth.pixels[i] = 1.0f;  // N = +z
+  // The back map bounds a puff seen from any side (the tumbling hull): only a multi-view atlas's.
+  if (desc.views > 1) level0.back = core::Image(desc.width, desc.height, 1, kNoBack);
 
   // Each stage says when it starts (0 done), so that its clock and rate count its first step too.
   for (int var = 0; var < variations; ++var) {

@@ -50,6 +50,7 @@ void placeCell(AtlasLevel& atlas, const CellMaps& cell, int x0, int y0) {
   copy(atlas.normalDepth, cell.normalDepth);
   copy(atlas.color, cell.color);
   copy(atlas.distance, cell.distance);
+  if (!atlas.back.pixels.empty()) copy(atlas.back, cell.back);
 }
 
 int mipLevelCount(int cellSize) {
@@ -67,6 +68,12 @@ core::Image encodeNormalDepth(const core::Image& decoded) {
     for (int c = 0; c < 3; ++c) out.pixels[i + c] = 0.5f * (decoded.pixels[i + c] + 1.0f);
     out.pixels[i + 3] = decoded.pixels[i + 3] + 0.5f;
   }
+  return out;
+}
+
+core::Image encodeBack(const core::Image& decoded) {
+  core::Image out = decoded;
+  for (float& v : out.pixels) v = std::clamp(v + 0.5f, 0.0f, 1.0f);
   return out;
 }
 

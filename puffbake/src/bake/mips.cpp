@@ -67,7 +67,9 @@ AtlasLevel buildMipLevel(const AtlasLevel& level0, int cellSize, int level, floa
   const int f = 1 << level;
   PUFF_CHECK(cellSize % f == 0 && level0.color.width % f == 0 && level0.color.height % f == 0);
   const int w = level0.color.width / f, h = level0.color.height / f, cell = cellSize / f;
-  AtlasLevel out{core::Image(w, h, 4), core::Image(w, h, 4), core::Image(w, h, 1)};
+  AtlasLevel out{core::Image(w, h, 4), core::Image(w, h, 4), core::Image(w, h, 1), {}};
+  const bool back = !level0.back.pixels.empty();
+  if (back) out.back = core::Image(w, h, 1, kNoBack);
   const float perBlock = 1.0f / static_cast<float>(f * f);
   core::parallelFor(
       static_cast<std::size_t>(h),
@@ -92,6 +94,13 @@ AtlasLevel buildMipLevel(const AtlasLevel& level0, int cellSize, int level, floa
             }
           }
           out.distance.at(x, y) = dist * perBlock;
+          if (back) {
+            // A bound: the farthest of the block's (kNoBack, the least, where any has none).
+            float farthest = level0.back.at(x * f, y * f);
+            for (int by = y * f; by < (y + 1) * f; ++by)
+              for (int bx = x * f; bx < (x + 1) * f; ++bx) farthest = std::min(farthest, level0.back.at(bx, by));
+            out.back.at(x, y) = farthest;
+          }
           if (alpha <= 0.0f) {
             const glm::vec3 display = core::linearToSrgb(plain * perBlock);  // the carried-out colour
             for (int c = 0; c < 3; ++c) out.color.at(x, y, c) = display[c];

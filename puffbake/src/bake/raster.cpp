@@ -27,11 +27,15 @@ Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSid
   }
   auto program = core::buildProgram({"bake/puff.vert", "bake/puff.frag"});
   if (!program) return program.error();
+  auto backProgram = core::buildProgram({"bake/puff.vert", "bake/puff_back.frag"});
+  if (!backProgram) return backProgram.error();
 
   std::unique_ptr<PuffRasterizer> r(new PuffRasterizer);
   r->size_ = samplesPerSide;
   r->program_ = std::move(*program);
   r->viewRotationLoc_ = glGetUniformLocation(r->program_.get(), "uViewRotation");
+  r->backProgram_ = std::move(*backProgram);
+  r->backViewRotationLoc_ = glGetUniformLocation(r->backProgram_.get(), "uViewRotation");
 
   r->normalDepthTex_ = core::makeTexture(GL_TEXTURE_2D);
   glTextureStorage2D(r->normalDepthTex_.get(), 1, GL_RGBA32F, samplesPerSide, samplesPerSide);
@@ -45,13 +49,23 @@ Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSid
   glNamedFramebufferRenderbuffer(r->fbo_.get(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->depthRb_.get());
   const GLenum drawBuffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
   glNamedFramebufferDrawBuffers(r->fbo_.get(), 2, drawBuffers);
-  const GLenum status = glCheckNamedFramebufferStatus(r->fbo_.get(), GL_FRAMEBUFFER);
-  if (status != GL_FRAMEBUFFER_COMPLETE) {
-    return Error{"bake framebuffer of " + std::to_string(samplesPerSide) + "^2 samples is incomplete (status 0x" + [&] {
-      char b[16];
-      std::snprintf(b, sizeof b, "%x", status);
-      return std::string(b);
-    }() + ")"};
+  // The back pass: every crossing counted (red, added) and the farthest kept (alpha, least z).
+  r->backTex_ = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(r->backTex_.get(), 1, GL_RGBA32F, samplesPerSide, samplesPerSide);
+  r->backFbo_ = core::makeFramebuffer();
+  glNamedFramebufferTexture(r->backFbo_.get(), GL_COLOR_ATTACHMENT0, r->backTex_.get(), 0);
+  glNamedFramebufferDrawBuffer(r->backFbo_.get(), GL_COLOR_ATTACHMENT0);
+  for (const GLuint fbo : {r->fbo_.get(), r->backFbo_.get()}) {
+    const GLenum status = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+      return Error{"bake framebuffer of " + std::to_string(samplesPerSide) + "^2 samples is incomplete (status 0x" +
+                   [&] {
+                     char b[16];
+                     std::snprintf(b, sizeof b, "%x", status);
+                     return std::string(b);
+                   }() +
+                   ")"};
+    }
   }
   r->vao_ = core::makeVertexArray();
   r->vbo_ = core::makeBuffer();
@@ -82,7 +96,8 @@ void PuffRasterizer::setMesh(const mesh::TriMesh& m, const glm::vec3& defaultCol
   indexCount_ = static_cast<GLsizei>(m.triangles.size() * 3);
 }
 
-void PuffRasterizer::render(const glm::mat3& viewRotation, int marginSamples, int contentSamples, SampleBuffer& out) {
+void PuffRasterizer::render(const glm::mat3& viewRotation, int marginSamples, int contentSamples, SampleBuffer& out,
+                            bool back) {
   // Every state this pass relies on is set here; nothing is inherited.
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get());
   glDisable(GL_BLEND);
@@ -115,16 +130,42 @@ void PuffRasterizer::render(const glm::mat3& viewRotation, int marginSamples, in
   out.color.resize(n);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   std::vector<glm::vec4> rows(n);
-  auto readFlipped = [&](GLenum attachment, std::vector<glm::vec4>& dst) {
-    glNamedFramebufferReadBuffer(fbo_.get(), attachment);
+  auto readFlipped = [&](GLuint fbo, GLenum attachment, std::vector<glm::vec4>& dst) {
+    glNamedFramebufferReadBuffer(fbo, attachment);
     glReadPixels(0, 0, size_, size_, GL_RGBA, GL_FLOAT, rows.data());
     for (int y = 0; y < size_; ++y) {
       std::copy_n(rows.begin() + static_cast<std::ptrdiff_t>(y) * size_, size_,
                   dst.begin() + static_cast<std::ptrdiff_t>(size_ - 1 - y) * size_);
     }
   };
-  readFlipped(GL_COLOR_ATTACHMENT0, out.normalDepth);
-  readFlipped(GL_COLOR_ATTACHMENT1, out.color);
+  readFlipped(fbo_.get(), GL_COLOR_ATTACHMENT0, out.normalDepth);
+  readFlipped(fbo_.get(), GL_COLOR_ATTACHMENT1, out.color);
+  out.back.clear();
+  if (back) {
+    // Every fragment, no depth test: red counts the crossings, alpha keeps the least z (farthest).
+    glBindFramebuffer(GL_FRAMEBUFFER, backFbo_.get());
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_BLEND);
+    glBlendEquationSeparate(GL_FUNC_ADD, GL_MIN);
+    glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ONE, GL_ONE);
+    const float none[4] = {0, 0, 0, 2};  // z lies in [-1, 1]
+    glClearNamedFramebufferfv(backFbo_.get(), GL_COLOR, 0, none);
+    glUseProgram(backProgram_.get());
+    glUniformMatrix3fv(backViewRotationLoc_, 1, GL_FALSE, glm::value_ptr(viewRotation));
+    glBindVertexArray(vao_.get());
+    glDrawElements(GL_TRIANGLES, indexCount_, GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
+    glUseProgram(0);
+    glDisable(GL_BLEND);
+    glBlendEquation(GL_FUNC_ADD);
+    glBlendFunc(GL_ONE, GL_ZERO);
+    glDepthMask(GL_TRUE);
+    std::vector<glm::vec4> crossings(n);
+    readFlipped(backFbo_.get(), GL_COLOR_ATTACHMENT0, crossings);
+    out.back.resize(n);
+    for (std::size_t i = 0; i < n; ++i) out.back[i] = glm::vec2(crossings[i].r, crossings[i].a);
+  }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 

@@ -9,8 +9,8 @@ namespace puff::cel {
 
 core::GuardExtent guardExtent(const Bindings& b) {
   core::GuardExtent e;
-  const unsigned units =
-      std::max({b.ramp, b.gradient, b.atlasPacked, b.atlasColor, b.shadowProfile, b.shadowMapDepth, b.shadowMapIds});
+  const unsigned units = std::max({b.ramp, b.gradient, b.atlasPacked, b.atlasColor, b.atlasBack, b.shadowProfile,
+                                   b.shadowMapDepth, b.shadowMapIds});
   e.textureUnits = static_cast<int>(units) + 1;
   e.uniformBuffers = static_cast<int>(b.frameBlock) + 1;
   e.storageBuffers = static_cast<int>(std::max(b.particles, b.cells)) + 1;
@@ -32,6 +32,7 @@ Result<void> validate(const Bindings& b) {
                                 {"gradient", b.gradient},
                                 {"atlasPacked", b.atlasPacked},
                                 {"atlasColor", b.atlasColor},
+                                {"atlasBack", b.atlasBack},
                                 {"shadowProfile", b.shadowProfile},
                                 {"shadowMapDepth", b.shadowMapDepth},
                                 {"shadowMapIds", b.shadowMapIds}});
@@ -48,6 +49,7 @@ void assignBindPoints(GLuint program, const Bindings& b) {
                                    {K::kSampler, "uGradient", b.gradient},
                                    {K::kSampler, "uPacked", b.atlasPacked},
                                    {K::kSampler, "uColor", b.atlasColor},
+                                   {K::kSampler, "uBack", b.atlasBack},
                                    {K::kSampler, "uShadowProfile", b.shadowProfile},
                                    {K::kSampler, "uShadowMapDepth", b.shadowMapDepth},
                                    {K::kSampler, "uShadowMapId", b.shadowMapIds}});

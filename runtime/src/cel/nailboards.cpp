@@ -88,6 +88,8 @@ struct NailboardRenderer::Impl {
   PackBounds bounds;
   std::vector<PackedParticle> packed;
   core::Texture maps, color;  // maps: normal xy, depth, distance (RGBA8); color: C + coverage
+  core::Texture back;         // a multi-view atlas's back map, level 0 (R8); none: 0
+  core::Texture noBack;       // 1 x 1 R8 of 0 (no bound), on unit atlasBack when the atlas has no back map
   core::AtlasDesc desc;
   bool hasAtlas = false;
 
@@ -107,6 +109,7 @@ struct NailboardRenderer::Impl {
     glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, bindings.cells, 1, &cellBuffer);
     core::bindTextureAndNoSampler(bindings.atlasPacked, maps.get());
     core::bindTextureAndNoSampler(bindings.atlasColor, color.get());
+    core::bindTextureAndNoSampler(bindings.atlasBack, back.get() != 0 ? back.get() : noBack.get());
     // The silhouette's radius table: the shadow volumes' sides, small nailboards' silhouettes and bands.
     core::bindTextureAndNoSampler(bindings.shadowProfile, shadowProfile.get());
   }
@@ -161,6 +164,10 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
         m.multiCaster.program.get(), m.hullCaster.program.get(), m.shadow.get(), m.sprite.get()}) {
     detail::assignBindPoints(p, bindings);
   }
+  // Binding texture 0 would empty every target of the unit (glBindTextureUnit), the host's too.
+  m.noBack = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(m.noBack.get(), 1, GL_R8, 1, 1);
+  glClearTexImage(m.noBack.get(), 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);  // 0; no unpack state touched
   m.vao = core::makeVertexArray();
   m.particles = core::makeBuffer();
   m.cells = core::makeBuffer();
@@ -329,6 +336,17 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   const bool floatMap = d.fileFormat == "exr";
   auto co = uploadLevels(d, *colorMap, "color", 4, floatMap ? GL_RGBA16F : GL_SRGB8_ALPHA8, floatMap);
   if (!co) return co.error();
+  // The back map: only the tumbling hull reads it, and only level 0 (textureGather). 8 bits, as the
+  // front depth in the packed map.
+  core::Texture back;
+  const std::vector<core::Image>* backMap = d.views > 1 ? findMap(atlas, "back") : nullptr;
+  if (backMap) {
+    if (backMap->empty() || (*backMap)[0].channels != 1) return Error{"atlas back map is not one channel"};
+    auto b = uploadLevels(d, {backMap->front()}, "back", 1, GL_R8);
+    if (!b) return b.error();
+    back = std::move(*b);
+  }
+
   std::vector<glm::vec4> cellData;
   cellData.reserve(d.cells.size() * 4);
   for (const core::AtlasCell& c : d.cells) {
@@ -353,6 +371,7 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   glTextureParameteri(sp, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   m.maps = std::move(*nd);
   m.color = std::move(*co);
+  m.back = std::move(back);
   m.desc = d;
   m.hasAtlas = true;
   return {};
@@ -506,7 +525,8 @@ std::size_t NailboardRenderer::textureBytes() const {
   const Impl& m = *impl_;
   if (!m.hasAtlas) return 0;
   std::size_t bytes = 0;
-  for (const core::Texture* t : {&m.maps, &m.color}) {
+  for (const core::Texture* t : {&m.maps, &m.color, &m.back}) {
+    if (t->get() == 0) continue;
     GLint levels = 0;
     glGetTextureParameteriv(t->get(), GL_TEXTURE_IMMUTABLE_LEVELS, &levels);
     for (GLint l = 0; l < levels; ++l) {
@@ -522,6 +542,9 @@ std::size_t NailboardRenderer::textureBytes() const {
           break;
         case GL_RGBA16F:
           texelBytes = 8;
+          break;
+        case GL_R8:
+          texelBytes = 1;
           break;
         default:
           PUFF_CHECK(!"an atlas texture in a format setAtlas never makes");

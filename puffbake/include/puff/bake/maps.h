@@ -35,7 +35,14 @@ struct SampleBuffer {
   int size = 0;
   std::vector<glm::vec4> normalDepth;  ///< camera-space unit normal, camera-space z (unit-sphere radii)
   std::vector<glm::vec4> color;        ///< diffuse rgb, a = 1 where the puff covers the sample
+  /// Only when rendered with the back surface (PuffRasterizer::render's `back`), else empty: x, how
+  /// many times the sample's ray crosses the mesh; y, the farthest crossing's camera-space z (radii).
+  std::vector<glm::vec2> back;
 };
+
+/// A back map's value where it bounds nothing (decoded, puff diameters): beyond the unit sphere's
+/// far side, so it encodes to 0.
+inline constexpr float kNoBack = -1.0f;
 
 /// One cell's maps before encoding, `size` x `size` texels, row 0 at the top.
 struct CellMaps {
@@ -43,6 +50,10 @@ struct CellMaps {
   core::Image color;        ///< 4 channels: C, alpha = coverage dilated by the flange
   core::Image distance;     ///< 1 channel: signed distance to the silhouette, texels, outside > 0
   core::Image body;         ///< 1 channel: coverage of the puff itself (no flange), [0,1]
+  /// 1 channel, only when the samples hold the back surface (else empty): the back map (puff/core/atlas.h).
+  /// Where every covered sample's ray crosses the mesh exactly twice (one run of puff), the farthest
+  /// of their far crossings (d, puff diameters toward the viewer); elsewhere kNoBack.
+  core::Image back;
 };
 
 /// Squared Euclidean distance, in samples, from each sample to the nearest sample where
@@ -52,14 +63,16 @@ std::vector<float> squaredDistanceTransform(const std::vector<std::uint8_t>& fea
 
 /// Box-filters `samples` (supersample x supersample samples per texel) into texel maps. The
 /// flange dilates coverage by `flangeTexels` around the silhouette: flange samples have alpha 1,
-/// C black, d 0 and N (0,0,1). Attributes are averaged over the samples inside the dilated shape.
+/// C black, d 0 and N (0,0,1). Attributes are averaged over the samples inside the dilated shape;
+/// the back map (when the samples hold one) takes the farthest.
 CellMaps resolveCell(const SampleBuffer& samples, int supersample, float flangeTexels);
 
 // ---- atlas and mips -----------------------------------------------------------------------------
 
-/// Decoded atlas maps at one mip level (same channel meaning as CellMaps).
+/// Decoded atlas maps at one mip level (same channel meaning as CellMaps). `back` is empty when the
+/// atlas has no back map (one view).
 struct AtlasLevel {
-  core::Image normalDepth, color, distance;
+  core::Image normalDepth, color, distance, back;
 };
 
 /// Copies a cell's maps into the atlas at texel offset (x, y).
@@ -70,9 +83,9 @@ void placeCell(AtlasLevel& atlas, const CellMaps& cell, int x, int y);
 int mipLevelCount(int cellSize);
 
 /// Level `level` (>= 1) from level 0: coverage-weighted box filter over 2^level texels (normals
-/// renormalized, distances averaged), then per cell the alpha is scaled so the share of texels
-/// passing `alphaThreshold` matches level 0's (Castaño's coverage-preserving mipmaps), and each
-/// cell's outer ring of texels is emptied so bilinear filtering never mixes two cells.
+/// renormalized, distances averaged, the back map's farthest kept), then per cell the alpha is scaled so the share of
+/// texels passing `alphaThreshold` matches level 0's (Castaño's coverage-preserving mipmaps), and each cell's outer
+/// ring of texels is emptied so bilinear filtering never mixes two cells.
 AtlasLevel buildMipLevel(const AtlasLevel& level0, int cellSize, int level, float alphaThreshold);
 
 /// Fraction of a cell's texels whose alpha is at least `threshold`.
@@ -82,5 +95,7 @@ double coverageFraction(const core::Image& color, int cellX, int cellY, int cell
 /// distance 0.5 + dist / (2 * range).
 core::Image encodeNormalDepth(const core::Image& decoded);
 core::Image encodeDistance(const core::Image& decoded, float range);
+/// The back map: d + 0.5, clamped to [0, 1] (kNoBack: 0).
+core::Image encodeBack(const core::Image& decoded);
 
 }  // namespace puff::bake

@@ -25,8 +25,11 @@ class PuffRasterizer {
 
   /// Draws the mesh seen through `viewRotation` (rows: right, up, toward viewer) so the unit
   /// square [-1,1]^2 fills the square of `contentSamples` samples starting `marginSamples` from the
-  /// buffer's top-left corner, and reads the samples back.
-  void render(const glm::mat3& viewRotation, int marginSamples, int contentSamples, SampleBuffer& out);
+  /// buffer's top-left corner, and reads the samples back. `back`: also how many times each sample's
+  /// ray crosses the mesh and its farthest crossing (SampleBuffer::back, for the back map), in a
+  /// second draw; without it SampleBuffer::back is left empty.
+  void render(const glm::mat3& viewRotation, int marginSamples, int contentSamples, SampleBuffer& out,
+              bool back = false);
 
   int samplesPerSide() const { return size_; }
 
@@ -36,13 +39,13 @@ class PuffRasterizer {
   int indexCount_ = 0;
   bool hasColors_ = false;
   glm::vec3 defaultColor_{1.0f};
-  core::Program program_;
-  core::Framebuffer fbo_;
-  core::Texture normalDepthTex_, colorTex_;
+  core::Program program_, backProgram_;
+  core::Framebuffer fbo_, backFbo_;
+  core::Texture normalDepthTex_, colorTex_, backTex_;
   core::Renderbuffer depthRb_;
   core::VertexArray vao_;
   core::Buffer vbo_, ibo_;
-  int viewRotationLoc_ = -1;
+  int viewRotationLoc_ = -1, backViewRotationLoc_ = -1;
 };
 
 }  // namespace puff::bake

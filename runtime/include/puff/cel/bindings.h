@@ -11,13 +11,14 @@
 //   gradient             texture unit     1        K_a(x, y), 2D (Gradient::bind)
 //   atlasPacked          texture unit     2        the atlas's normal/depth/distance map, 2D
 //   atlasColor           texture unit     3        the atlas's colour map, 2D
+//   atlasBack            texture unit     4        the atlas's back map, 2D (tumbling hull only)
 //   shadowProfile        texture unit     5        the silhouettes' radius table, 2D
 //   shadowMapDepth       texture unit     6        ShadowMap::bind, 2D depth
 //   shadowMapIds         texture unit     7        ShadowMap::bind, 2D R32UI
 //
 // The renderers point their programs' blocks and samplers at these after linking
 // (glUniformBlockBinding, glShaderStorageBlockBinding, glProgramUniform1i), so the shaders keep
-// their defaults in source. The texture units must all differ (one program reads up to all seven),
+// their defaults in source. The texture units must all differ (one program reads up to all eight),
 // as must the two storage buffers; the uniform buffer is alone. create() checks them against the
 // GL's GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, GL_MAX_UNIFORM_BUFFER_BINDINGS and
 // GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS. Every object that binds (FrameBlock, Ramp, Gradient,
@@ -37,6 +38,7 @@ struct Bindings {
   unsigned gradient = 1;    ///< texture unit of the ambient gradient
   unsigned atlasPacked = 2;
   unsigned atlasColor = 3;
+  unsigned atlasBack = 4;
   unsigned shadowProfile = 5;
   unsigned shadowMapDepth = 6;
   unsigned shadowMapIds = 7;

@@ -28,8 +28,9 @@
 //    draw buffer, stencil write mask 0xFF front and back;
 //  - "no program, no vertex array": glUseProgram(0), glBindVertexArray(0) (a host binding an
 //    element buffer next would otherwise change Puff's vertex array);
-//  - "its atlas": units `atlasPacked` and `atlasColor` (2D: the atlas's maps) and `shadowProfile`
-//    (2D: the silhouettes' radius table), each with sampler binding 0; storage buffer bindings
+//  - "its atlas": units `atlasPacked`, `atlasColor` and `atlasBack` (2D: the atlas's maps; on
+//    `atlasBack` the renderer's own 1 x 1 texture of 0, no bound, when the atlas has no back map) and
+//    `shadowProfile` (2D: the silhouettes' radius table), each with sampler binding 0; storage buffer bindings
 //    `particles` and `cells` (whole buffers; the generic GL_SHADER_STORAGE_BUFFER binding is
 //    untouched: multi-bind).
 // Never changed by any cel call: the framebuffers (but ShadowMap::beginCasters), the viewport (the
@@ -124,10 +125,10 @@ class NailboardRenderer {
 
   /// Draws the nailboards of the last upload into the current framebuffer with `frame`'s block
   /// already bound (FrameBlock::upload), the ramp and the gradient on their units (Ramp::bind,
-  /// Gradient::bind). Binds the atlas on units `atlasPacked` (packed normal, depth, distance) and
-  /// `atlasColor` and the silhouette's radius table on `shadowProfile` (small puffs' silhouettes and
-  /// ink bands: shaders/cel/particle.glsl, silhouetteRadius).
-  /// Leaves: the pass state; its atlas; no program, no vertex array; write masks on; and per pass
+  /// Gradient::bind). Binds the atlas on units `atlasPacked` (packed normal, depth, distance),
+  /// `atlasColor` and `atlasBack` (the back map, or a texel of 0) and the silhouette's radius table on `shadowProfile`
+  /// (small puffs' silhouettes and ink bands: shaders/cel/particle.glsl, silhouetteRadius). Leaves: the pass state; its
+  /// atlas; no program, no vertex array; write masks on; and per pass
   ///   kLit, kDepthOnly: depth function GL_LESS, stencil test off;
   ///   kShadowed: depth function GL_EQUAL, stencil test ON, stencil function GL_NOTEQUAL, reference
   ///              0, value mask 0xFF and operations GL_KEEP x 3, front and back.

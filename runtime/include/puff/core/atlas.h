@@ -15,6 +15,13 @@
 //     and draw, with a slightly dark rim.)
 //   distance (one channel): signed distance from the texel center to the puff's silhouette
 //     (without the flange), in level-0 texels, outside positive: dist = (v - 0.5) * 2 * range.
+//   back (one channel; optional: multi-view atlases baked since 2026-12-03): v = b + 0.5, b the offset
+//     of the puff's far side from the billboard plane (as d), where every ray through the texel crosses
+//     the puff's surface exactly twice (one run of puff): the farthest such b in the texel (a bound:
+//     nothing of the puff lies beyond it). Elsewhere (outside the silhouette, or where a ray meets
+//     two runs or an open mesh) v = 0: no bound. Each mip level keeps the least of its block. The
+//     tumbling hull (docs/cel-rendering.md) reads it; it is what makes a hemi-oct atlas seen from
+//     behind bound the side it faces.
 // A cell is one (variation, view); the puff's unit bounding sphere projects onto the cell's
 // content square, centred in the cell with `margin` texels on each side.
 #pragma once
@@ -92,7 +99,7 @@ struct AtlasDesc {
   std::string viewLayout = "hemioct";    ///< "hemioct" (front hemisphere) or "oct" (full sphere)
   std::vector<AtlasCell> cells;          ///< variation-major: cell index = variation * views + view
   std::vector<AtlasSource> sources;      ///< one per variation
-  std::map<std::string, AtlasMap> maps;  ///< "normalDepth", "color", "distance"
+  std::map<std::string, AtlasMap> maps;  ///< "normalDepth", "color", "distance", and optionally "back"
 
   const AtlasCell& cell(int variation, int view) const {
     return cells.at(static_cast<std::size_t>(variation * views + view));
@@ -128,7 +135,8 @@ Result<Atlas> atlasFromLevel(const Atlas& atlas, int level);
 /// Bytes of GL texture memory the atlas's maps take once the nailboard renderer uploads them, every
 /// mip level: the packed normal, depth and distance map (RGBA8, 4 bytes a texel; the distance map has
 /// no texture of its own) and the colour map (SRGB8_ALPHA8, 4 bytes, for a png atlas; RGBA16F, 8
-/// bytes, for an exr one). cel::NailboardRenderer::textureBytes() measures the same from the GL.
+/// bytes, for an exr one); and a multi-view atlas's back map, level 0 only (R8, 1 byte).
+/// cel::NailboardRenderer::textureBytes() measures the same from the GL.
 std::size_t atlasTextureBytes(const AtlasDesc& desc);
 
 /// The absolute (or working-directory-relative) path of a source's lodMesh: beside `sidecar`.
