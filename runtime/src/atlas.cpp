@@ -242,8 +242,8 @@ json toJson(const AtlasDesc& d) {
       {"distance", "signed distance to the silhouette in level-0 texels, outside positive: (v-0.5)*2*distanceRange"}};
   if (d.maps.count("back")) {
     j["encoding"]["back"] =
-        "v = b+0.5; b the far side's offset toward the viewer (puff diameters) where the ray crosses the puff once "
-        "(one run), else 0 (no bound)";
+        "v = b+0.5; b the offset toward the viewer (puff diameters) of the farthest point where the texel's rays "
+        "cross the puff, else 0 (no bound)";
   }
   json maps = json::object();
   for (const auto& [name, m] : d.maps) maps[name] = {{"levels", m.levels}};

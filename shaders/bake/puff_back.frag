@@ -1,11 +1,11 @@
 #version 450 core
-// The back map's samples (PuffRasterizer::render with `back`): drawn with no depth test and blending
-// that adds red (each fragment one crossing of the sample's ray with the mesh) and keeps the least
-// alpha (the farthest crossing's camera-space z).
+// The back map's samples (PuffRasterizer::render with `back`): drawn with no depth test and GL_MIN
+// blending, so each sample keeps the least camera-space z of every fragment: the farthest point
+// where its ray crosses the mesh.
 in vec3 vNormal;
 in vec3 vColor;
 in float vDepth;
 
-layout(location = 0) out vec4 oCrossing;
+layout(location = 0) out float oFarthest;
 
-void main() { oCrossing = vec4(1.0, 0.0, 0.0, vDepth); }
+void main() { oFarthest = vDepth; }

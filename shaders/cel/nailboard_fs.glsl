@@ -124,8 +124,8 @@ HullBound hullBound(int k, vec3 pt, float lod, bool fromTable, float trusted) {
       float depthBound = above > 0.0 ? above * slope : above;
       b.wall = b.exact >= depthBound;
       b.exact = max(b.exact, depthBound);
-      // The far side, where the four texels around the point all bound it (one run of puff): the
-      // farthest of the four, less a step of its 8 bits. A point beyond it lies outside, about the
+      // The far side (the last run of puff's along each ray), where the four texels around the point
+      // all hold one (inside the silhouette): the farthest of the four, less a step of its 8 bits. A point beyond it lies outside, about the
       // height under it times the far side's normal z away; no map holds that normal, so a tenth of
       // the height is taken (the front's least slope): short steps, that never pass the far side.
       // (The slope of the four texels, tried on 2026-12-03, overshot where the far side curves: oct

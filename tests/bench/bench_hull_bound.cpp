@@ -2,7 +2,8 @@
 // (docs/cel-rendering.md, "Tumbling puffs") with exact maps. Each mesh (normalized as puffbake
 // normalizes it) is voxelized; every view of the atlas's layout and grid keeps the voxels inside its
 // silhouette and behind its front surface (with --layers K, also outside the gaps between the first
-// K runs of the puff along each of its rays: what K depth layers per view would add); the hull is
+// K runs of the puff along each of its rays: what K depth layers per view would add; with --far,
+// before the far side of the last run: what the back map adds, puff/core/atlas.h); the hull is
 // what every view keeps, inside the unit sphere. It and the mesh are then seen from every direction
 // of the sweep (yaw and pitch every 15 degrees), 48 pixels across, and their silhouettes compared:
 // coverage IoU, worst and mean, and the share of directions at 0.95. No GL: no texel, bit depth or
@@ -27,11 +28,13 @@ namespace {
 using namespace puff;
 
 void usage(std::FILE* f) {
-  std::fprintf(f,
-               "usage: puff_bench_hull [--layout oct|hemioct] [--grid N (3)] [--layers K (0)] [--voxels N (192)] "
-               "MESH...\n"
-               "The silhouette coverage IoU of the hull of exact views (silhouette and front depth; --layers K:\n"
-               "K depth layers) against each mesh, over yaw and pitch every 15 degrees at 48 px.\n");
+  std::fprintf(
+      f,
+      "usage: puff_bench_hull [--layout oct|hemioct] [--grid N (3)] [--layers K (0)] [--far] [--voxels N (192)] "
+      "MESH...\n"
+      "The silhouette coverage IoU of the hull of exact views (silhouette and front depth; --layers K:\n"
+      "K depth layers; --far: the last run's far side, as the back map) against each mesh, over yaw and\n"
+      "pitch every 15 degrees at 48 px.\n");
 }
 
 struct Grid {
@@ -100,7 +103,7 @@ void axes(const glm::vec3& dir, glm::vec3& right, glm::vec3& up) {
   up = glm::vec3(r[0][1], r[1][1], r[2][1]);
 }
 
-Grid hullOf(const Grid& puff, bake::ViewLayout layout, int grid, int layers) {
+Grid hullOf(const Grid& puff, bake::ViewLayout layout, int grid, int layers, bool far) {
   const int n = puff.n, m = n / 2;  // each view's image: two voxels a pixel
   Grid h{n, std::vector<unsigned char>(puff.v.size(), 0)};
   for (int k = 0; k < n; ++k)
@@ -166,6 +169,7 @@ Grid hullOf(const Grid& puff, bake::ViewLayout layout, int grid, int layers) {
             // In a gap the layers show, or behind the last run when they show every run.
             if (!inRun && (!beyond || known == static_cast<int>(r.size()))) h.v[id] = 0;
           }
+          if (far && depth < r.back().second - voxel) h.v[id] = 0;  // beyond the last run's far side
         }
       }
     }
@@ -234,6 +238,7 @@ bool number(const char* text, int lo, int hi, int& out) {
 int main(int argc, char** argv) {
   bake::ViewLayout layout = bake::ViewLayout::kOct;
   int grid = 3, layers = 0, voxels = 192;
+  bool far = false;
   std::vector<std::string> meshes;
   for (int i = 1; i < argc; ++i) {
     const bool more = i + 1 < argc;
@@ -252,6 +257,8 @@ int main(int argc, char** argv) {
     } else if (!std::strcmp(argv[i], "--layers") && more) {
       if (!number(argv[++i], 0, 16, layers))
         return std::fprintf(stderr, "puff_bench_hull: --layers takes 0 to 16\n"), 2;
+    } else if (!std::strcmp(argv[i], "--far")) {
+      far = true;
     } else if (!std::strcmp(argv[i], "--voxels") && more) {
       if (!number(argv[++i], 32, 512, voxels))
         return std::fprintf(stderr, "puff_bench_hull: --voxels takes 32 to 512\n"), 2;
@@ -273,10 +280,10 @@ int main(int argc, char** argv) {
       return 1;
     }
     const Grid puff = voxelize(*m, voxels);
-    const Score s = compare(puff, hullOf(puff, layout, grid, layers));
-    std::printf("%s: %s %dx%d, %d layers: coverage IoU worst %.3f mean %.3f, %.1f%% of directions >= 0.95\n",
-                path.c_str(), layout == bake::ViewLayout::kOct ? "oct" : "hemioct", grid, grid, layers, s.worst, s.mean,
-                100.0 * s.share);
+    const Score s = compare(puff, hullOf(puff, layout, grid, layers, far));
+    std::printf("%s: %s %dx%d, %d layers%s: coverage IoU worst %.3f mean %.3f, %.1f%% of directions >= 0.95\n",
+                path.c_str(), layout == bake::ViewLayout::kOct ? "oct" : "hemioct", grid, grid, layers,
+                far ? ", far side" : "", s.worst, s.mean, 100.0 * s.share);
   }
   return 0;
 }

@@ -471,18 +471,21 @@ TEST_F(BakeGl, BackMapIsTheEllipsoidsFarSideInEveryView) {
   EXPECT_EQ(r->desc.maps.count("back"), 0u) << "a one-view atlas has no back map (no hull reads it)";
 }
 
-// Where a ray meets two runs of puff, the back map bounds nothing (the nearer run's far side would
-// cut the farther run away); where it meets one, it does. Two spheres of radius 0.4, one behind the
-// other along z (centres 1.1 apart): seen along z every ray through them meets both; from the other
-// views of a hemi-oct 3x3 grid (55-63 degrees off z) their discs lie apart (centres 0.9 apart, radii
-// 0.4), and every ray meets one.
-TEST_F(BakeGl, BackMapBoundsNothingWhereARayMeetsTwoRuns) {
+// Where a ray meets two runs of puff, the back map holds the far side of the farther: it bounds the
+// whole puff, never cutting the farther run away (as the first run's end would). Two spheres of
+// radius 0.4 (radii of the unit sphere), one behind the other along z (centres at z = +-0.55): seen
+// along z (view 4 of a hemi-oct 3x3 grid) every ray through them meets both; from the other views
+// (55-63 degrees off z) their discs lie apart, and each ray meets one. Checked against the closed
+// form in every view.
+TEST_F(BakeGl, BackMapIsTheFarSideOfTheLastRunAlongEachRay) {
   auto a = mesh::generateSphere({4});
   mesh::TriMesh two;
-  for (const float z : {0.55f, -0.55f}) {
+  const glm::dvec3 centres[2] = {{0.0, 0.0, 0.55}, {0.0, 0.0, -0.55}};
+  const double radius = 0.4;
+  for (const glm::dvec3& c : centres) {
     const auto base = static_cast<unsigned>(two.positions.size());
     for (std::size_t i = 0; i < a.positions.size(); ++i) {
-      two.positions.push_back(0.4f * a.positions[i] + glm::vec3(0.0f, 0.0f, z));
+      two.positions.push_back(static_cast<float>(radius) * a.positions[i] + glm::vec3(c));
       two.normals.push_back(a.normals[i]);
     }
     for (const glm::uvec3& t : a.triangles) two.triangles.push_back(t + glm::uvec3(base));
@@ -492,6 +495,7 @@ TEST_F(BakeGl, BackMapBoundsNothingWhereARayMeetsTwoRuns) {
   src[0].provenance.generator = "sphere";
   BakeOptions o;
   o.cellSize = 64;
+  o.supersample = 4;
   o.viewGrid = 3;
   o.flange = {0.0f, false};
   o.mips = false;
@@ -504,25 +508,48 @@ TEST_F(BakeGl, BackMapBoundsNothingWhereARayMeetsTwoRuns) {
   ASSERT_OK(atlas);
   const core::AtlasDesc& d = atlas->desc;
   const core::Image& back = atlas->maps.at("back")[0];
-  const core::Image& color = atlas->maps.at("color")[0];
+  const core::Image& dist = atlas->maps.at("distance")[0];
   ASSERT_EQ(d.cells[4].viewDir, glm::vec3(0.0f, 0.0f, 1.0f));
+  const int ss = d.supersample;
   for (const core::AtlasCell& cell : d.cells) {
     SCOPED_TRACE("view " + std::to_string(cell.view));
-    int covered = 0, bounded = 0;
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(cell.viewDir)), up = glm::normalize(glm::dvec3(cell.viewUp));
+    const glm::dvec3 right = glm::cross(up, dir);
+    int interior = 0, behindBoth = 0;
     for (int y = 0; y < d.cellSize; ++y) {
       for (int x = 0; x < d.cellSize; ++x) {
-        const bool whole = color.at(cell.rect[0] + x, cell.rect[1] + y, 3) >= 1.0f;
-        const bool bound = back.at(cell.rect[0] + x, cell.rect[1] + y) > 0.0f;
-        covered += whole;
-        bounded += whole && bound;
-        if (cell.view == 4) {
-          ASSERT_FALSE(bound) << "texel " << x << "," << y << ": its ray meets both spheres";
+        const int ax = cell.rect[0] + x, ay = cell.rect[1] + y;
+        if ((dist.at(ax, ay) - 0.5) * 2.0 * d.distanceRange > -1.5) continue;
+        double farthest = 1.0;  // radii
+        int both = 0;
+        for (int sy = 0; sy < ss; ++sy) {
+          for (int sx = 0; sx < ss; ++sx) {
+            const double u = ((x + (sx + 0.5) / ss) - d.margin) * 2.0 / d.contentSize - 1.0;
+            const double w = 1.0 - ((y + (sy + 0.5) / ss) - d.margin) * 2.0 / d.contentSize;
+            const glm::dvec3 q = u * right + w * up;  // on the ray, at z = 0; the ray runs along -dir
+            int hits = 0;
+            for (const glm::dvec3& c : centres) {
+              const glm::dvec3 off = q - c;
+              const double along = glm::dot(off, dir), across = glm::dot(off, off) - along * along;
+              if (across >= radius * radius) continue;
+              ++hits;
+              // The sphere's far crossing: -dir by along + sqrt(r^2 - across) from q's foot.
+              farthest = std::min(farthest, -along - std::sqrt(radius * radius - across));
+            }
+            both += hits == 2;
+          }
         }
+        if (farthest >= 1.0) continue;  // a texel inside the silhouette whose samples all miss: none here
+        ASSERT_NEAR(back.at(ax, ay), 0.5 * farthest + 0.5, 1.0 / 255.0) << "texel " << x << "," << y;
+        ++interior;
+        behindBoth += both > 0;
       }
     }
-    ASSERT_GT(covered, 200);
-    if (cell.view != 4) {
-      EXPECT_EQ(bounded, covered) << "every ray meets one sphere";
+    EXPECT_GT(interior, 200);
+    if (cell.view == 4) {
+      EXPECT_EQ(behindBoth, interior) << "seen along z every ray meets both spheres";
+    } else {
+      EXPECT_EQ(behindBoth, 0) << "seen from here the spheres lie apart";
     }
   }
 }
@@ -843,7 +870,7 @@ TEST(BakeMips, SoftCoverageSurvivesWhereABoxFilterWouldErodeIt) {
   // the 0.5 test. Box-filtered levels average toward 0.4 and fewer and fewer texels pass (about
   // 19% at level 1 and 4% at level 2), which is how plain mipmaps erode alpha-tested shapes.
   constexpr int kCell = 64;
-  AtlasLevel level0{core::Image(kCell, kCell, 4), core::Image(kCell, kCell, 4), core::Image(kCell, kCell, 1, 8.0f)};
+  AtlasLevel level0{core::Image(kCell, kCell, 4), core::Image(kCell, kCell, 4), core::Image(kCell, kCell, 1, 8.0f), {}};
   std::uint32_t rng = 12345;
   for (int y = 8; y < kCell - 8; ++y) {
     for (int x = 8; x < kCell - 8; ++x) {
@@ -882,7 +909,7 @@ TEST(BakeMips, SoftCoverageSurvivesWhereABoxFilterWouldErodeIt) {
 // texels becomes the display value of linear 0.5, 0.7354, not 0.5; a flat colour stays itself.
 TEST(BakeMips, ColourIsAveragedInLinearLight) {
   constexpr int kCell = 16;
-  AtlasLevel level0{core::Image(kCell, kCell, 4), core::Image(kCell, kCell, 4), core::Image(kCell, kCell, 1, 8.0f)};
+  AtlasLevel level0{core::Image(kCell, kCell, 4), core::Image(kCell, kCell, 4), core::Image(kCell, kCell, 1, 8.0f), {}};
   for (int y = 0; y < kCell; ++y) {
     for (int x = 0; x < kCell; ++x) {
       const float v = (x + y) % 2 == 0 ? 1.0f : 0.0f;

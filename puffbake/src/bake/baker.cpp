@@ -23,12 +23,13 @@ std::string num(float v) {
   return b;
 }
 
-// What one bake may hold in memory. Per sample of the cell being resolved: three RGBA32F GL
-// targets (the third for the back map), their readback copies, masks, two distance transforms and
-// the signed distances (about 140 bytes). Per atlas texel at level 0: the decoded maps (10 floats),
-// the mip chain (a third more) and one encoded copy at a time (about 64 bytes).
+// What one bake may hold in memory. Per sample of the cell being resolved: two RGBA32F GL
+// targets, their readback copies, masks, two distance transforms and the signed distances
+// (about 100 bytes), and with the back map (multi-view atlases) an R32F target, its readback and
+// its samples (12 more). Per atlas texel at level 0: the decoded maps (9 floats, 10 with the back
+// map), the mip chain (a third more) and one encoded copy at a time (about 64 bytes).
 constexpr double kMaxBakeBytes = 12.0 * (1u << 30);
-constexpr double kBytesPerSample = 140.0, kBytesPerAtlasTexel = 64.0;
+constexpr double kBytesPerSample = 100.0, kBackBytesPerSample = 12.0, kBytesPerAtlasTexel = 64.0;
 
 // The most samples per texel side, up to 4, that keep a cell within 4096^2 samples; at least 2
 // (clean edges) while that fits the memory budget on its own.
@@ -84,7 +85,8 @@ Result<Geometry> planGeometry(const BakeOptions& o, int variations) {
   }
   const double samples = std::pow(static_cast<double>(o.cellSize) * g.supersample, 2.0);
   const double atlasTexels = static_cast<double>(cells) * o.cellSize * o.cellSize;
-  const double bytes = samples * kBytesPerSample + atlasTexels * kBytesPerAtlasTexel;
+  const double perSample = kBytesPerSample + (g.views > 1 ? kBackBytesPerSample : 0.0);
+  const double bytes = samples * perSample + atlasTexels * kBytesPerAtlasTexel;
   if (bytes > kMaxBakeBytes) {
     return Error{"--size " + std::to_string(o.cellSize) + " x " + std::to_string(cells) + " cells at --supersample " +
                  std::to_string(g.supersample) + " needs about " + gib(bytes) + ", more than the " +
@@ -138,7 +140,7 @@ struct ViewRenderer {
   std::vector<glm::vec3> viewDirs;
 
   Result<void> create() {
-    auto made = PuffRasterizer::create(o.cellSize * g.supersample);
+    auto made = PuffRasterizer::create(o.cellSize * g.supersample, g.views > 1);
     if (!made) return made.error();
     rasterizer = std::move(*made);
     // --lod auto rasterizes a mesh a dozen times or more; two samples per texel side still place
@@ -442,8 +444,10 @@ Result<BakeReport> bakeAtlas(const std::vector<PuffSource>& sources, const BakeO
   PUFF_TRY(views.create());
 
   const core::AtlasDesc& desc = bake.desc;
-  AtlasLevel level0{core::Image(desc.width, desc.height, 4), core::Image(desc.width, desc.height, 4),
-                    core::Image(desc.width, desc.height, 1, desc.distanceRange)};
+  AtlasLevel level0{core::Image(desc.width, desc.height, 4),
+                    core::Image(desc.width, desc.height, 4),
+                    core::Image(desc.width, desc.height, 1, desc.distanceRange),
+                    {}};
   for (std::size_t i = 2; i < level0.normalDepth.pixels.size(); i += 4) level0.normalDepth.pixels[i] = 1.0f;  // N = +z
   // The back map bounds a puff seen from any side (the tumbling hull): only a multi-view atlas's.
   if (desc.views > 1) level0.back = core::Image(desc.width, desc.height, 1, kNoBack);

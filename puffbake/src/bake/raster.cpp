@@ -15,7 +15,7 @@ struct Vertex {
 };
 }  // namespace
 
-Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSide) {
+Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSide, bool back) {
   GLint maxRb = 0, maxTex = 0;
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxRb);
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTex);
@@ -27,15 +27,19 @@ Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSid
   }
   auto program = core::buildProgram({"bake/puff.vert", "bake/puff.frag"});
   if (!program) return program.error();
-  auto backProgram = core::buildProgram({"bake/puff.vert", "bake/puff_back.frag"});
-  if (!backProgram) return backProgram.error();
+  core::Program backProgram;
+  if (back) {
+    auto built = core::buildProgram({"bake/puff.vert", "bake/puff_back.frag"});
+    if (!built) return built.error();
+    backProgram = std::move(*built);
+  }
 
   std::unique_ptr<PuffRasterizer> r(new PuffRasterizer);
   r->size_ = samplesPerSide;
   r->program_ = std::move(*program);
   r->viewRotationLoc_ = glGetUniformLocation(r->program_.get(), "uViewRotation");
-  r->backProgram_ = std::move(*backProgram);
-  r->backViewRotationLoc_ = glGetUniformLocation(r->backProgram_.get(), "uViewRotation");
+  r->backProgram_ = std::move(backProgram);
+  if (back) r->backViewRotationLoc_ = glGetUniformLocation(r->backProgram_.get(), "uViewRotation");
 
   r->normalDepthTex_ = core::makeTexture(GL_TEXTURE_2D);
   glTextureStorage2D(r->normalDepthTex_.get(), 1, GL_RGBA32F, samplesPerSide, samplesPerSide);
@@ -49,13 +53,17 @@ Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSid
   glNamedFramebufferRenderbuffer(r->fbo_.get(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, r->depthRb_.get());
   const GLenum drawBuffers[] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
   glNamedFramebufferDrawBuffers(r->fbo_.get(), 2, drawBuffers);
-  // The back pass: every crossing counted (red, added) and the farthest kept (alpha, least z).
-  r->backTex_ = core::makeTexture(GL_TEXTURE_2D);
-  glTextureStorage2D(r->backTex_.get(), 1, GL_RGBA32F, samplesPerSide, samplesPerSide);
-  r->backFbo_ = core::makeFramebuffer();
-  glNamedFramebufferTexture(r->backFbo_.get(), GL_COLOR_ATTACHMENT0, r->backTex_.get(), 0);
-  glNamedFramebufferDrawBuffer(r->backFbo_.get(), GL_COLOR_ATTACHMENT0);
-  for (const GLuint fbo : {r->fbo_.get(), r->backFbo_.get()}) {
+  std::vector<GLuint> framebuffers{r->fbo_.get()};
+  if (back) {
+    // The far side's pass: the least z of every fragment (GL_MIN blending, no depth test).
+    r->backTex_ = core::makeTexture(GL_TEXTURE_2D);
+    glTextureStorage2D(r->backTex_.get(), 1, GL_R32F, samplesPerSide, samplesPerSide);
+    r->backFbo_ = core::makeFramebuffer();
+    glNamedFramebufferTexture(r->backFbo_.get(), GL_COLOR_ATTACHMENT0, r->backTex_.get(), 0);
+    glNamedFramebufferDrawBuffer(r->backFbo_.get(), GL_COLOR_ATTACHMENT0);
+    framebuffers.push_back(r->backFbo_.get());
+  }
+  for (const GLuint fbo : framebuffers) {
     const GLenum status = glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
       return Error{"bake framebuffer of " + std::to_string(samplesPerSide) + "^2 samples is incomplete (status 0x" +
@@ -130,26 +138,26 @@ void PuffRasterizer::render(const glm::mat3& viewRotation, int marginSamples, in
   out.color.resize(n);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   std::vector<glm::vec4> rows(n);
-  auto readFlipped = [&](GLuint fbo, GLenum attachment, std::vector<glm::vec4>& dst) {
-    glNamedFramebufferReadBuffer(fbo, attachment);
+  auto readFlipped = [&](GLenum attachment, std::vector<glm::vec4>& dst) {
+    glNamedFramebufferReadBuffer(fbo_.get(), attachment);
     glReadPixels(0, 0, size_, size_, GL_RGBA, GL_FLOAT, rows.data());
     for (int y = 0; y < size_; ++y) {
       std::copy_n(rows.begin() + static_cast<std::ptrdiff_t>(y) * size_, size_,
                   dst.begin() + static_cast<std::ptrdiff_t>(size_ - 1 - y) * size_);
     }
   };
-  readFlipped(fbo_.get(), GL_COLOR_ATTACHMENT0, out.normalDepth);
-  readFlipped(fbo_.get(), GL_COLOR_ATTACHMENT1, out.color);
+  readFlipped(GL_COLOR_ATTACHMENT0, out.normalDepth);
+  readFlipped(GL_COLOR_ATTACHMENT1, out.color);
   out.back.clear();
   if (back) {
-    // Every fragment, no depth test: red counts the crossings, alpha keeps the least z (farthest).
+    PUFF_CHECK(backFbo_.get() != 0);  // created with `back`
+    // Every fragment, no depth test: the least z (the farthest crossing) stays.
     glBindFramebuffer(GL_FRAMEBUFFER, backFbo_.get());
     glDisable(GL_DEPTH_TEST);
     glDepthMask(GL_FALSE);
     glEnable(GL_BLEND);
-    glBlendEquationSeparate(GL_FUNC_ADD, GL_MIN);
-    glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ONE, GL_ONE);
-    const float none[4] = {0, 0, 0, 2};  // z lies in [-1, 1]
+    glBlendEquation(GL_MIN);
+    const float none[4] = {2, 0, 0, 0};  // z lies in [-1, 1]
     glClearNamedFramebufferfv(backFbo_.get(), GL_COLOR, 0, none);
     glUseProgram(backProgram_.get());
     glUniformMatrix3fv(backViewRotationLoc_, 1, GL_FALSE, glm::value_ptr(viewRotation));
@@ -157,14 +165,19 @@ void PuffRasterizer::render(const glm::mat3& viewRotation, int marginSamples, in
     glDrawElements(GL_TRIANGLES, indexCount_, GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);
     glUseProgram(0);
+    // What the front pass set, so that the state after render() does not depend on `back`.
     glDisable(GL_BLEND);
     glBlendEquation(GL_FUNC_ADD);
-    glBlendFunc(GL_ONE, GL_ZERO);
+    glEnable(GL_DEPTH_TEST);
     glDepthMask(GL_TRUE);
-    std::vector<glm::vec4> crossings(n);
-    readFlipped(backFbo_.get(), GL_COLOR_ATTACHMENT0, crossings);
+    std::vector<float> z(n);
+    glNamedFramebufferReadBuffer(backFbo_.get(), GL_COLOR_ATTACHMENT0);
+    glReadPixels(0, 0, size_, size_, GL_RED, GL_FLOAT, z.data());
     out.back.resize(n);
-    for (std::size_t i = 0; i < n; ++i) out.back[i] = glm::vec2(crossings[i].r, crossings[i].a);
+    for (int y = 0; y < size_; ++y) {
+      std::copy_n(z.begin() + static_cast<std::ptrdiff_t>(y) * size_, size_,
+                  out.back.begin() + static_cast<std::ptrdiff_t>(size_ - 1 - y) * size_);
+    }
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

@@ -125,10 +125,9 @@ CellMaps resolveCell(const SampleBuffer& samples, int supersample, float flangeT
           glm::vec3 normalSum(0.0f), colorSum(0.0f);
           float depthSum = 0.0f, distSum = 0.0f;
           int bodyCount = 0, dilatedCount = 0;
-          // The back map: the farthest far crossing, while every covered sample's ray crosses the
-          // mesh exactly twice (more, or an odd count, may hide another run of puff behind).
+          // The back map: the farthest of the covered samples' farthest crossings (each the far side
+          // of the last run of puff along its ray), so nothing of the puff lies beyond it.
           float farthest = 1.0f;
-          bool oneRun = back;
           for (int sy = 0; sy < ss; ++sy) {
             for (int sx = 0; sx < ss; ++sx) {
               const std::size_t i = static_cast<std::size_t>(ty * ss + sy) * n + (tx * ss + sx);
@@ -140,11 +139,7 @@ CellMaps resolveCell(const SampleBuffer& samples, int supersample, float flangeT
                 normalSum += glm::vec3(nd);
                 depthSum += nd.w * 0.5f;  // camera z in unit-sphere radii -> puff diameters
                 colorSum += glm::vec3(samples.color[i]);
-                if (back) {
-                  const glm::vec2 crossing = samples.back[i];
-                  oneRun = oneRun && crossing.x == 2.0f;
-                  farthest = std::min(farthest, crossing.y * 0.5f);  // radii -> diameters
-                }
+                if (back) farthest = std::min(farthest, samples.back[i] * 0.5f);  // radii -> diameters
               } else if (flangeSamples > 0.0f && signedSamples[i] <= flangeSamples) {
                 ++dilatedCount;  // flange: d = 0, facing the viewer (its colour is carried out below)
                 normalSum += glm::vec3(0.0f, 0.0f, 1.0f);
@@ -169,7 +164,7 @@ CellMaps resolveCell(const SampleBuffer& samples, int supersample, float flangeT
           out.color.at(tx, ty, 3) = static_cast<float>(dilatedCount) * perTexel;
           out.body.at(tx, ty) = static_cast<float>(bodyCount) * perTexel;
           out.distance.at(tx, ty) = distSum * perTexel / static_cast<float>(ss);
-          if (oneRun && bodyCount > 0) out.back.at(tx, ty) = farthest;
+          if (back && bodyCount > 0) out.back.at(tx, ty) = farthest;
         }
       },
       4);

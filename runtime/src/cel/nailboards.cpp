@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -185,7 +186,7 @@ const std::vector<core::Image>* findMap(const core::Atlas& atlas, const std::str
 
 // `decode`: the levels hold display values (the atlas colour map) and `internal` is a float format:
 // decode RGB to scene-linear here (8-bit maps use GL_SRGB8_ALPHA8, which decodes on read instead).
-Result<core::Texture> uploadLevels(const core::AtlasDesc& d, const std::vector<core::Image>& levels,
+Result<core::Texture> uploadLevels(const core::AtlasDesc& d, std::span<const core::Image> levels,
                                    const std::string& key, int channels, GLenum internal, bool decode = false) {
   GLint maxSize = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
@@ -341,8 +342,8 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   core::Texture back;
   const std::vector<core::Image>* backMap = d.views > 1 ? findMap(atlas, "back") : nullptr;
   if (backMap) {
-    if (backMap->empty() || (*backMap)[0].channels != 1) return Error{"atlas back map is not one channel"};
-    auto b = uploadLevels(d, {backMap->front()}, "back", 1, GL_R8);
+    if (backMap->front().channels != 1) return Error{"atlas back map is not one channel"};
+    auto b = uploadLevels(d, std::span(backMap->data(), 1), "back", 1, GL_R8);
     if (!b) return b.error();
     back = std::move(*b);
   }

@@ -20,7 +20,7 @@ struct Cooked {
 
 /// Cooks the atlas described by `sidecar` into `outSidecar` (a .json path, STEM.json): every map
 /// level becomes STEM_MAP.puffimg or STEM_MAP.mipN.puffimg beside it (MAP: normal_depth, color,
-/// distance), a `--lod auto` mesh STEM_lodI.EXT; the sidecar is the source's JSON with only those
+/// distance, back), a `--lod auto` mesh STEM_lodI.EXT; the sidecar is the source's JSON with only those
 /// file names changed. Files are named after the output, never after the source's names, so they
 /// stay beside it and two cooked atlases share a directory.
 /// All or nothing: the files appear together, and nothing existing is touched on an error. An

@@ -35,9 +35,10 @@ struct SampleBuffer {
   int size = 0;
   std::vector<glm::vec4> normalDepth;  ///< camera-space unit normal, camera-space z (unit-sphere radii)
   std::vector<glm::vec4> color;        ///< diffuse rgb, a = 1 where the puff covers the sample
-  /// Only when rendered with the back surface (PuffRasterizer::render's `back`), else empty: x, how
-  /// many times the sample's ray crosses the mesh; y, the farthest crossing's camera-space z (radii).
-  std::vector<glm::vec2> back;
+  /// Only when rendered with the back surface (PuffRasterizer::render's `back`), else empty: the
+  /// camera-space z (radii) of the farthest point where the sample's ray crosses the mesh (any
+  /// surface, every run of puff along the ray: nothing of the mesh lies beyond it).
+  std::vector<float> back;
 };
 
 /// A back map's value where it bounds nothing (decoded, puff diameters): beyond the unit sphere's
@@ -51,8 +52,8 @@ struct CellMaps {
   core::Image distance;     ///< 1 channel: signed distance to the silhouette, texels, outside > 0
   core::Image body;         ///< 1 channel: coverage of the puff itself (no flange), [0,1]
   /// 1 channel, only when the samples hold the back surface (else empty): the back map (puff/core/atlas.h).
-  /// Where every covered sample's ray crosses the mesh exactly twice (one run of puff), the farthest
-  /// of their far crossings (d, puff diameters toward the viewer); elsewhere kNoBack.
+  /// Where the texel holds the puff, the farthest of its covered samples' farthest crossings (d, puff
+  /// diameters toward the viewer); elsewhere kNoBack.
   core::Image back;
 };
 

@@ -16,18 +16,20 @@ namespace puff::bake {
 
 class PuffRasterizer {
  public:
-  /// Builds the bake program and a `samplesPerSide`-square float framebuffer. Errors: the program
+  /// Builds the bake programs (the front surface's, and the far side's for render's `back`) and a
+  /// `samplesPerSide`-square float framebuffer. Errors: the program
   /// does not build, or the size exceeds GL_MAX_RENDERBUFFER_SIZE / GL_MAX_TEXTURE_SIZE.
-  static Result<std::unique_ptr<PuffRasterizer>> create(int samplesPerSide);
+  /// `back`: also the far side's program and target (render's `back`).
+  static Result<std::unique_ptr<PuffRasterizer>> create(int samplesPerSide, bool back = false);
 
   /// Uploads a mesh; vertices without colours get `defaultColor`.
   void setMesh(const mesh::TriMesh& mesh, const glm::vec3& defaultColor);
 
   /// Draws the mesh seen through `viewRotation` (rows: right, up, toward viewer) so the unit
   /// square [-1,1]^2 fills the square of `contentSamples` samples starting `marginSamples` from the
-  /// buffer's top-left corner, and reads the samples back. `back`: also how many times each sample's
-  /// ray crosses the mesh and its farthest crossing (SampleBuffer::back, for the back map), in a
-  /// second draw; without it SampleBuffer::back is left empty.
+  /// buffer's top-left corner, and reads the samples back. `back` (only if created with it): also each
+  /// sample's farthest crossing with the mesh (SampleBuffer::back, for the back map), in a second
+  /// draw; without it SampleBuffer::back is left empty.
   void render(const glm::mat3& viewRotation, int marginSamples, int contentSamples, SampleBuffer& out,
               bool back = false);
 

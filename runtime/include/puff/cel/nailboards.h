@@ -108,13 +108,14 @@ class NailboardRenderer {
   static Result<std::unique_ptr<NailboardRenderer>> create(const Bindings& bindings = {});
   ~NailboardRenderer();
 
-  /// Uploads the atlas's maps (every mip level). Fails if a map is missing or sizes disagree.
+  /// Uploads the atlas's maps (every mip level; the back map, which only the tumbling hull reads,
+  /// level 0 only). Fails if a map is missing or sizes disagree.
   /// Leaves GL_UNPACK_ALIGNMENT = 4 (and no bound object changed: direct state access).
   Result<void> setAtlas(const core::Atlas& atlas);
   const core::AtlasDesc& atlas() const;
-  /// Bytes the atlas's two textures hold on the GL (the packed normal/depth/distance map and the
-  /// colour map, every level), measured from the textures: each level's width x height (queried)
-  /// times the bytes per texel of its queried internal format. 0 before setAtlas. Equals
+  /// Bytes the atlas's textures hold on the GL (the packed normal/depth/distance map and the colour
+  /// map, every level, and a multi-view atlas's back map, level 0), measured from the textures: each level's width x
+  /// height (queried) times the bytes per texel of its queried internal format. 0 before setAtlas. Equals
   /// core::atlasTextureBytes(atlas()). Not counted: the per-cell shadow profile (32 floats a cell).
   std::size_t textureBytes() const;
 

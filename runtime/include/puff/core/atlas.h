@@ -16,12 +16,11 @@
 //   distance (one channel): signed distance from the texel center to the puff's silhouette
 //     (without the flange), in level-0 texels, outside positive: dist = (v - 0.5) * 2 * range.
 //   back (one channel; optional: multi-view atlases baked since 2026-12-03): v = b + 0.5, b the offset
-//     of the puff's far side from the billboard plane (as d), where every ray through the texel crosses
-//     the puff's surface exactly twice (one run of puff): the farthest such b in the texel (a bound:
-//     nothing of the puff lies beyond it). Elsewhere (outside the silhouette, or where a ray meets
-//     two runs or an open mesh) v = 0: no bound. Each mip level keeps the least of its block. The
-//     tumbling hull (docs/cel-rendering.md) reads it; it is what makes a hemi-oct atlas seen from
-//     behind bound the side it faces.
+//     from the billboard plane (as d) of the farthest point where the texel's rays (its covered
+//     samples') cross the puff's surface: the far side of the last run of puff along them, a bound
+//     (nothing of the puff lies beyond it). Outside the silhouette v = 0: no bound. Each mip level
+//     keeps the least of its block. The tumbling hull (docs/cel-rendering.md) reads it; it is what
+//     makes a hemi-oct atlas seen from behind bound the side it faces.
 // A cell is one (variation, view); the puff's unit bounding sphere projects onto the cell's
 // content square, centred in the cell with `margin` texels on each side.
 #pragma once
