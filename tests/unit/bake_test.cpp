@@ -48,6 +48,24 @@ SphereTexel sphereAt(const core::AtlasDesc& d, int x, int y) {
   return {u, v, u * u + v * v};
 }
 
+// Bakes `src` with `o` into a fresh temporary directory `dir` and loads the atlas back (nullopt, with a
+// test failure, if either fails).
+std::optional<core::Atlas> bakeAndLoad(const std::vector<PuffSource>& src, BakeOptions o, const std::string& dir) {
+  const test::ScopedTempDir out(dir);
+  o.outDir = out.path();
+  auto r = bakeAtlas(src, o);
+  if (!r) {
+    ADD_FAILURE() << r.error().message;
+    return std::nullopt;
+  }
+  auto atlas = core::loadAtlas(r->sidecar);
+  if (!atlas) {
+    ADD_FAILURE() << atlas.error().message;
+    return std::nullopt;
+  }
+  return std::move(*atlas);
+}
+
 class BakeSphere : public test::GlTest {
  protected:
   static void SetUpTestSuite() {
@@ -111,7 +129,9 @@ TEST_F(BakeSphere, TheColourMapCarriesThePuffsColourPastItsSilhouette) {
       }
     }
     EXPECT_EQ(wrong, 0) << "level " << level;
-    if (level == 0) EXPECT_GT(outside, 200) << "coverage stays 0 past the flange";
+    if (level == 0) {
+      EXPECT_GT(outside, 200) << "coverage stays 0 past the flange";
+    }
   }
 }
 
@@ -403,12 +423,8 @@ TEST_F(BakeGl, BackMapIsTheEllipsoidsFarSideInEveryView) {
     o.viewLayout = layout;
     o.flange = {0.0f, false};
     o.contactSheet = false;
-    const test::ScopedTempDir out("puff_bake_test_back");
-    o.outDir = out.path();
-    auto r = bakeAtlas(src, o);
-    ASSERT_OK(r);
-    auto atlas = core::loadAtlas(r->sidecar);
-    ASSERT_OK(atlas);
+    const auto atlas = bakeAndLoad(src, o, "puff_bake_test_back");
+    ASSERT_TRUE(atlas);
     const core::AtlasDesc& d = atlas->desc;
     ASSERT_EQ(atlas->maps.count("back"), 1u);
     const std::vector<core::Image>& back = atlas->maps.at("back");
@@ -500,12 +516,8 @@ TEST_F(BakeGl, BackMapIsTheFarSideOfTheLastRunAlongEachRay) {
   o.flange = {0.0f, false};
   o.mips = false;
   o.contactSheet = false;
-  const test::ScopedTempDir out("puff_bake_test_back_runs");
-  o.outDir = out.path();
-  auto r = bakeAtlas(src, o);
-  ASSERT_OK(r);
-  auto atlas = core::loadAtlas(r->sidecar);
-  ASSERT_OK(atlas);
+  const auto atlas = bakeAndLoad(src, o, "puff_bake_test_back_runs");
+  ASSERT_TRUE(atlas);
   const core::AtlasDesc& d = atlas->desc;
   const core::Image& back = atlas->maps.at("back")[0];
   const core::Image& dist = atlas->maps.at("distance")[0];
@@ -570,12 +582,8 @@ TEST_F(BakeGl, EveryPointOfThePuffLiesBeforeEachViewsFarSide) {
   o.cellSize = 128;
   o.viewGrid = 3;
   o.contactSheet = false;
-  const test::ScopedTempDir out("puff_bake_test_bounds");
-  o.outDir = out.path();
-  auto r = bakeAtlas(*sources, o);
-  ASSERT_OK(r);
-  auto atlas = core::loadAtlas(r->sidecar);
-  ASSERT_OK(atlas);
+  const auto atlas = bakeAndLoad(*sources, o, "puff_bake_test_bounds");
+  ASSERT_TRUE(atlas);
   const core::AtlasDesc& d = atlas->desc;
   const core::Image& nd = atlas->maps.at("normalDepth")[0];
   const core::Image& back = atlas->maps.at("back")[0];
