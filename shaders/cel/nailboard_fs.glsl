@@ -48,8 +48,8 @@ out vec4 fragColor;
 #endif
 
 #ifdef PUFF_HULL
-// The back map (puff/core/atlas.h), level 0 only: where each ray through a texel leaves the puff's one
-// run; 0, no bound (an atlas without one, baked before it, reads a texel of 0).
+// The back map (puff/core/atlas.h), level 0 only: where each ray through a texel last leaves the puff;
+// 0, no bound (an atlas without one, baked before it, reads the renderer's texel of 0).
 layout(binding = 4) uniform sampler2D uBack;
 
 // An oriented puff between its baked views (issue 22). Each view's maps bound the puff: it lies
@@ -124,10 +124,11 @@ HullBound hullBound(int k, vec3 pt, float lod, bool fromTable, float trusted) {
       float depthBound = above > 0.0 ? above * slope : above;
       b.wall = b.exact >= depthBound;
       b.exact = max(b.exact, depthBound);
-      // The far side (the last run of puff's along each ray), where the four texels around the point
-      // all hold one (inside the silhouette): the farthest of the four, less a step of its 8 bits. A point beyond it lies outside, about the
-      // height under it times the far side's normal z away; no map holds that normal, so a tenth of
-      // the height is taken (the front's least slope): short steps, that never pass the far side.
+      // The far side (where each ray last leaves the puff), where the four texels around the point
+      // all hold one (inside the silhouette): the farthest of the four, less a step of its 8 bits. A
+      // point beyond it lies outside, about the height under it times the far side's normal z away;
+      // no map holds that normal, so a tenth of the height is taken (the front's least slope): short
+      // steps, that never pass the far side.
       // (The slope of the four texels, tried on 2026-12-03, overshot where the far side curves: oct
       // 3x3's worst pose 0.954, against 0.962 without the back map and 0.962 with a tenth.)
       vec4 backs = textureGather(uBack, b.uv, 0);

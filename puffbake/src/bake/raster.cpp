@@ -1,6 +1,7 @@
 #include <puff/bake/raster.h>
 
 #include <algorithm>
+#include <vector>
 
 #include <glm/gtc/type_ptr.hpp>
 
@@ -13,6 +14,22 @@ namespace {
 struct Vertex {
   glm::vec3 position, normal, color;
 };
+
+// Reads `attachment` of `fbo` (size x size texels of T, `format` floats each) into `dst`, row 0 at
+// the top (GL's rows run bottom-up).
+template <class T>
+void readFlipped(GLuint fbo, GLenum attachment, GLenum format, int size, std::vector<T>& dst) {
+  const std::size_t n = static_cast<std::size_t>(size) * size;
+  std::vector<T> rows(n);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glNamedFramebufferReadBuffer(fbo, attachment);
+  glReadPixels(0, 0, size, size, format, GL_FLOAT, rows.data());
+  dst.resize(n);
+  for (int y = 0; y < size; ++y) {
+    std::copy_n(rows.begin() + static_cast<std::ptrdiff_t>(y) * size, size,
+                dst.begin() + static_cast<std::ptrdiff_t>(size - 1 - y) * size);
+  }
+}
 }  // namespace
 
 Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSide, bool back) {
@@ -124,30 +141,21 @@ void PuffRasterizer::render(const glm::mat3& viewRotation, int marginSamples, in
   glClearNamedFramebufferfv(fbo_.get(), GL_DEPTH, 0, &one);
   // GL's window origin is the bottom-left; the content square is centred, so the same margin works.
   glViewport(marginSamples, size_ - marginSamples - contentSamples, contentSamples, contentSamples);
-  glUseProgram(program_.get());
-  // glm and GLSL share column-major storage: the matrix goes up as it is.
-  glUniformMatrix3fv(viewRotationLoc_, 1, GL_FALSE, glm::value_ptr(viewRotation));
-  glBindVertexArray(vao_.get());
-  glDrawElements(GL_TRIANGLES, indexCount_, GL_UNSIGNED_INT, nullptr);
-  glBindVertexArray(0);
-  glUseProgram(0);
+  // The mesh seen through the view, drawn with `program` (its uViewRotation at `location`).
+  const auto drawMesh = [&](GLuint program, GLint location) {
+    glUseProgram(program);
+    // glm and GLSL share column-major storage: the matrix goes up as it is.
+    glUniformMatrix3fv(location, 1, GL_FALSE, glm::value_ptr(viewRotation));
+    glBindVertexArray(vao_.get());
+    glDrawElements(GL_TRIANGLES, indexCount_, GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
+    glUseProgram(0);
+  };
+  drawMesh(program_.get(), viewRotationLoc_);
 
   out.size = size_;
-  const std::size_t n = static_cast<std::size_t>(size_) * size_;
-  out.normalDepth.resize(n);
-  out.color.resize(n);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  std::vector<glm::vec4> rows(n);
-  auto readFlipped = [&](GLenum attachment, std::vector<glm::vec4>& dst) {
-    glNamedFramebufferReadBuffer(fbo_.get(), attachment);
-    glReadPixels(0, 0, size_, size_, GL_RGBA, GL_FLOAT, rows.data());
-    for (int y = 0; y < size_; ++y) {
-      std::copy_n(rows.begin() + static_cast<std::ptrdiff_t>(y) * size_, size_,
-                  dst.begin() + static_cast<std::ptrdiff_t>(size_ - 1 - y) * size_);
-    }
-  };
-  readFlipped(GL_COLOR_ATTACHMENT0, out.normalDepth);
-  readFlipped(GL_COLOR_ATTACHMENT1, out.color);
+  readFlipped(fbo_.get(), GL_COLOR_ATTACHMENT0, GL_RGBA, size_, out.normalDepth);
+  readFlipped(fbo_.get(), GL_COLOR_ATTACHMENT1, GL_RGBA, size_, out.color);
   out.back.clear();
   if (back) {
     PUFF_CHECK(backFbo_.get() != 0);  // created with `back`
@@ -159,25 +167,13 @@ void PuffRasterizer::render(const glm::mat3& viewRotation, int marginSamples, in
     glBlendEquation(GL_MIN);
     const float none[4] = {2, 0, 0, 0};  // z lies in [-1, 1]
     glClearNamedFramebufferfv(backFbo_.get(), GL_COLOR, 0, none);
-    glUseProgram(backProgram_.get());
-    glUniformMatrix3fv(backViewRotationLoc_, 1, GL_FALSE, glm::value_ptr(viewRotation));
-    glBindVertexArray(vao_.get());
-    glDrawElements(GL_TRIANGLES, indexCount_, GL_UNSIGNED_INT, nullptr);
-    glBindVertexArray(0);
-    glUseProgram(0);
+    drawMesh(backProgram_.get(), backViewRotationLoc_);
     // What the front pass set, so that the state after render() does not depend on `back`.
     glDisable(GL_BLEND);
     glBlendEquation(GL_FUNC_ADD);
     glEnable(GL_DEPTH_TEST);
     glDepthMask(GL_TRUE);
-    std::vector<float> z(n);
-    glNamedFramebufferReadBuffer(backFbo_.get(), GL_COLOR_ATTACHMENT0);
-    glReadPixels(0, 0, size_, size_, GL_RED, GL_FLOAT, z.data());
-    out.back.resize(n);
-    for (int y = 0; y < size_; ++y) {
-      std::copy_n(z.begin() + static_cast<std::ptrdiff_t>(y) * size_, size_,
-                  out.back.begin() + static_cast<std::ptrdiff_t>(size_ - 1 - y) * size_);
-    }
+    readFlipped(backFbo_.get(), GL_COLOR_ATTACHMENT0, GL_RED, size_, out.back);
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
