@@ -770,11 +770,41 @@ TEST(BakeOptions, RejectsAbsurdSizes) {
   EXPECT_NE(validate(o, 1).error().message.find("a GL framebuffer can hold"), std::string::npos);
   o.flange = {1e10f, false};  // must not wrap an int
   o.supersample = 0;
-  EXPECT_NE(validate(o, 1).error().message.find("--flange"), std::string::npos);
-  o.flange = {};
+  EXPECT_EQ(validate(o, 1).error().message,
+            "--size 4096 leaves no room for the puff: each side of the cell keeps the flange (1e+10 texels, rounded "
+            "up) and a 128-texel guard band, and the puff needs 4 texels; lower --flange");
   o.cellSize = 64;
   o.flange = {40.0f, false};
-  EXPECT_NE(validate(o, 1).error().message.find("--flange"), std::string::npos);
+  EXPECT_EQ(validate(o, 1).error().message,
+            "--size 64 leaves no room for the puff: each side of the cell keeps the flange (40 texels, rounded up) and "
+            "a 2-texel guard band, and the puff needs 4 texels; the least --size that fits is 88, or lower --flange");
+}
+
+TEST(BakeOptions, TheSmallestCellsSayWhatFits) {
+  // Each side keeps the flange rounded up and a guard band of max(2, size / 32) texels; the puff
+  // needs 4 texels across. The default flange (3% of the cell) rounds up to one texel below 34.
+  BakeOptions o;
+  for (int size : {8, 9}) {
+    o.cellSize = size;
+    const std::string flange = size == 8 ? "0.24" : "0.27";
+    EXPECT_EQ(validate(o, 1).error().message,
+              "--size " + std::to_string(size) + " leaves no room for the puff: each side of the cell keeps the " +
+                  "flange (" + flange + " texels, rounded up) and a 2-texel guard band, and the puff needs 4 " +
+                  "texels; the least --size that fits is 10, or lower --flange");
+  }
+  o.cellSize = 10;
+  EXPECT_OK(validate(o, 1));
+  o.cellSize = 8;
+  o.flange = {0.0f, false};  // no flange: 8 - 2 x 2 = 4 texels
+  EXPECT_OK(validate(o, 1));
+  o.flange = {4.5f, false};  // 16 - 2 x (5 + 2) = 2
+  o.cellSize = 16;
+  EXPECT_EQ(validate(o, 1).error().message,
+            "--size 16 leaves no room for the puff: each side of the cell keeps the flange (4.5 texels, rounded up) "
+            "and a 2-texel guard band, and the puff needs 4 texels; the least --size that fits is 18, or lower "
+            "--flange");
+  o.flange = {0.49f, true};  // a percentage grows with the cell: 49% never leaves 4 texels
+  EXPECT_NE(validate(o, 1).error().message.find("texels; lower --flange"), std::string::npos);
 }
 
 }  // namespace

@@ -58,21 +58,26 @@ Result<Geometry> planGeometry(const BakeOptions& o, int variations) {
                  " is " + std::to_string(o.cellSize * g.supersample) + " samples across, above the " +
                  std::to_string(kMaxCellSize) + " a GL framebuffer can hold"};
   }
-  // Checked in floating point before any cast: a flange of 1e10 texels must not wrap an int.
-  const double flange = o.flange.fractionOfCell ? double(o.flange.value) * o.cellSize : double(o.flange.value);
-  if (flange > o.cellSize / 2.0 - 4.0) {
-    return Error{"--flange " + num(static_cast<float>(flange)) + " texels leaves no room for the puff in a " +
-                 std::to_string(o.cellSize) + "-texel cell"};
+  // Each side of a cell keeps a margin: the flange rounded up, then a guard band so the flange's
+  // antialiased edge and the first mip levels stay clear of the cell border. Checked in floating
+  // point before any cast: a flange of 1e10 texels must not wrap an int.
+  const auto guardBand = [](int size) { return std::max(2, size / 32); };
+  const auto contentOf = [&](int size) {
+    return size - 2.0 * (std::ceil(double(o.flange.texels(size))) + guardBand(size));
+  };
+  if (contentOf(o.cellSize) < 4.0) {
+    int least = o.cellSize + 1;  // a percentage flange grows with the cell, so search
+    while (least <= kMaxCellSize && contentOf(least) < 4.0) ++least;
+    const double flange = o.flange.texels(o.cellSize);
+    std::string fix = least <= kMaxCellSize ? "; the least --size that fits is " + std::to_string(least) : "";
+    if (flange > 0.0) fix += (fix.empty() ? "; " : ", or ") + std::string("lower --flange");
+    return Error{"--size " + std::to_string(o.cellSize) + " leaves no room for the puff: each side of the cell keeps " +
+                 "the flange (" + num(static_cast<float>(flange)) + " texels, rounded up) and a " +
+                 std::to_string(guardBand(o.cellSize)) + "-texel guard band, and the puff needs 4 texels" + fix};
   }
   g.flange = o.flange.texels(o.cellSize);
-  // Margin: the flange, then a guard band so the flange's antialiased edge and the first mip
-  // levels stay clear of the cell border.
-  g.margin = static_cast<int>(std::ceil(g.flange)) + std::max(2, o.cellSize / 32);
+  g.margin = static_cast<int>(std::ceil(g.flange)) + guardBand(o.cellSize);
   g.content = o.cellSize - 2 * g.margin;
-  if (g.content < 4) {
-    return Error{"--flange " + num(g.flange) + " texels leaves no room for the puff in a " +
-                 std::to_string(o.cellSize) + "-texel cell"};
-  }
   g.views = o.viewGrid * o.viewGrid;
   const int cells = variations * g.views;
   g.columns = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(cells))));
