@@ -373,6 +373,8 @@ TEST_F(PuffviewCli, ARangeWithANumberedScreenshotWritesEveryFrame) {
   // A range past the scene's frames, a range backwards, two patterns: usage errors, nothing written.
   expectOneLineError(run(plume + " --frames 70-72 --screenshot " + (dir_ / "x_#.png").string() + common),
                      "the scene has 72 frame(s)", 2);
+  expectOneLineError(run(plume + " --frames 73" + common),
+                     "--frames 73: the scene has 72 frame(s), 0 to 71 (/animation/frames)", 2);
   expectOneLineError(run(plume + " --frames 6-4" + common), "ends before it starts", 2);
   expectOneLineError(run(plume + " --frames 0-1 --screenshot " + (dir_ / "a_#_#.png").string() + common),
                      "more than one frame-number pattern", 2);
@@ -641,7 +643,9 @@ TEST_F(PuffviewWindow, ThePanelDocksBesideTheImageNotOverIt) {
   // A window that could not be opened for GL 4.5 at that moment falls back to the fixed path (seen
   // once under Xvfb: "Failed to open display" right after the other window closed); the comparison
   // is between the same path's images.
-  if (v.pathName() != path) ASSERT_OK(v.setPath(path));
+  if (v.pathName() != path) {
+    ASSERT_OK(v.setPath(path));
+  }
   draw(v);
   const Image docked = draw(v);
   ASSERT_EQ(docked.width, 160 + puff::view::kPanelWidth);

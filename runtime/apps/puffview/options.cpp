@@ -49,7 +49,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
   app.add_option("scene", o.scene, "Scene file (JSON)")->required();
   std::string framesText;
   app.add_option("--frames", framesText,
-                 "Batch mode: N shows frames 0 to N-1, A-B frames A to B (0-based, inclusive), one per displayed "
+                 "Batch mode: N shows frames 0 to N-1, A-B frames A to B (0-based, inclusive, within the scene's /animation/frames), one per displayed "
                  "frame (no wall clock, so every run shows the same frames), then exits")
       ->type_name("N|A-B");
   app.add_option("--screenshot", o.screenshot,
@@ -135,9 +135,13 @@ int run(const Options& o) {
   }
   if (!o.frames) return (*viewer)->runInteractive();
   const auto [first, last] = *o.frames;
-  if (const int frames = (*viewer)->scene().animation.frames; o.framesRange && last >= frames) {
-    cli::printError("--frames " + std::to_string(first) + "-" + std::to_string(last) + ": the scene has " +
-                    std::to_string(frames) + " frame(s), 0 to " + std::to_string(frames - 1) + " (/animation/frames)");
+  // Frames past the scene's end are refused in both forms: playing stops or loops at its last frame,
+  // and puffrender refuses them too.
+  if (const int frames = (*viewer)->scene().animation.frames; last >= frames) {
+    const std::string given =
+        o.framesRange ? std::to_string(first) + "-" + std::to_string(last) : std::to_string(last + 1);
+    cli::printError("--frames " + given + ": the scene has " + std::to_string(frames) + " frame(s), 0 to " +
+                    std::to_string(frames - 1) + " (/animation/frames)");
     return 2;
   }
   const cli::OutputPattern pattern =

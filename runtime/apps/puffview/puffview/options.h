@@ -13,7 +13,7 @@ struct Options {
   std::filesystem::path scene;
   /// Batch mode: show frames first..last, then exit ("N": 0..N-1; "A-B": A..B).
   std::optional<std::pair<int, int>> frames;
-  bool framesRange = false;  ///< given as A-B (checked against the scene's frames; N is a count, as it was)
+  bool framesRange = false;  ///< given as A-B, not as a count N (both are checked against the scene's frames)
   /// Batch mode: save the window after the last frame to this file, or, when it holds a frame-number
   /// pattern (shot_####.png), after every frame to its numbered file.
   std::string screenshot;
