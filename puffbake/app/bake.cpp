@@ -101,7 +101,8 @@ CLI::App* addBakeCommand(CLI::App& app, Options& o, BakeFlags& flags) {
       ->capture_default_str();
   cmd->add_option(
          "-s,--size", o.bake.cellSize,
-         "Cell size in texels, per variation and view (8..16384; the flange and a guard band each side must leave the puff 4 texels, so the default flange needs 10 or more; a bake that would need more than 12 GiB is refused)")
+         "Cell size in texels, per variation and view (8..16384; the flange and a guard band each side must leave the "
+         "puff 4 texels, so the default flange needs 10 or more; a bake that would need more than 12 GiB is refused)")
       ->capture_default_str();
   cmd->add_option("--supersample", o.bake.supersample,
                   "Samples per texel side for clean edges; 0 = auto (4, fewer for cells above 1024)")

@@ -287,6 +287,30 @@ TEST_F(PuffbakeCli, MeshCommandWritesAGeneratedPuffThatBakes) {
   EXPECT_EQ(b.exitCode, 0) << b.err;
 }
 
+// The sidecar's readers (the cel reference, the fixed path) look for a relative source mesh beside
+// the sidecar: a mesh named relative to the working directory must be found from there, and an
+// absolute one stays as typed.
+TEST_F(PuffbakeCli, ASourceMeshIsFoundFromTheSidecarHoweverItWasNamed) {
+  fs::create_directories(dir_ / "meshes");
+  ASSERT_EQ(run("mesh -g cluster --count 4 --seed 3 -o " + (dir_ / "meshes" / "cluster.ply").string()).exitCode, 0);
+  const fs::path cwd = fs::current_path();
+  fs::current_path(dir_.path());  // the child inherits it
+  CliRun r = run("bake meshes/cluster.ply -s 32 -o out/relative");
+  fs::current_path(cwd);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto desc = puff::core::loadAtlasDesc(dir_ / "out" / "relative" / "puff.json");
+  ASSERT_OK(desc);
+  ASSERT_EQ(desc->sources.size(), 1u);
+  EXPECT_EQ(desc->sources[0].path, "../../meshes/cluster.ply");
+  EXPECT_TRUE(fs::equivalent(dir_ / "out" / "relative" / desc->sources[0].path, dir_ / "meshes" / "cluster.ply"));
+
+  const fs::path absolute = fs::absolute(dir_ / "meshes" / "cluster.ply");
+  ASSERT_EQ(run("bake " + absolute.string() + " -s 32 -o " + (dir_ / "out" / "absolute").string()).exitCode, 0);
+  desc = puff::core::loadAtlasDesc(dir_ / "out" / "absolute" / "puff.json");
+  ASSERT_OK(desc);
+  EXPECT_EQ(desc->sources[0].path, absolute.string());
+}
+
 // ---- blackbody ----------------------------------------------------------------------------------
 
 TEST_F(PuffbakeCli, BlackbodyWritesTheRampWithItsRange) {

@@ -50,6 +50,19 @@ std::string gib(double bytes) {
   return b;
 }
 
+// Readers take a relative source path from the sidecar's directory (the reference and the fixed
+// path load the mesh again), so a mesh named relative to the working directory is stored relative
+// to the output directory; an absolute one stays absolute.
+std::string pathFromSidecar(const std::string& path, const fs::path& outDir) {
+  if (path.empty() || fs::path(path).is_absolute()) return path;
+  std::error_code ec;
+  const fs::path mesh = fs::weakly_canonical(fs::absolute(path), ec);
+  const fs::path dir = ec ? fs::path() : fs::weakly_canonical(fs::absolute(outDir), ec);
+  if (ec) return fs::absolute(path).string();
+  const fs::path relative = mesh.lexically_relative(dir);
+  return relative.empty() ? mesh.string() : relative.generic_string();
+}
+
 Result<Geometry> planGeometry(const BakeOptions& o, int variations) {
   Geometry g{};
   g.supersample = o.supersample > 0 ? o.supersample : autoSupersample(o.cellSize);
@@ -212,6 +225,7 @@ struct AtlasBake {
       result.lod.emplace_back();
     }
     core::AtlasSource prov = src.provenance;
+    prov.path = pathFromSidecar(prov.path, o.outDir);
     prov.faces = src.mesh.faceCount();
     prov.facesBaked = bakeMesh->faceCount();
     prov.defaultColor = o.defaultColor;

@@ -49,8 +49,9 @@ std::variant<Options, int> parse(int argc, char** argv) {
   app.add_option("scene", o.scene, "Scene file (JSON)")->required();
   std::string framesText;
   app.add_option("--frames", framesText,
-                 "Batch mode: N shows frames 0 to N-1, A-B frames A to B (0-based, inclusive, within the scene's /animation/frames), one per displayed "
-                 "frame (no wall clock, so every run shows the same frames), then exits")
+                 "Batch mode: N shows frames 0 to N-1, A-B frames A to B (0-based, inclusive, within the scene's "
+                 "/animation/frames), one per displayed frame (no wall clock, so every run shows the same frames), "
+                 "then exits")
       ->type_name("N|A-B");
   app.add_option("--screenshot", o.screenshot,
                  "Batch mode: save the window as drawn for the last frame to this PNG, or, for a name with one %d, "

@@ -50,7 +50,9 @@ struct AtlasCell {
 };
 
 struct AtlasSource {
-  std::string path;            ///< mesh file as given to puffbake, or empty for a generator
+  /// The mesh file: absolute as given to puffbake, else relative to the sidecar's directory; empty
+  /// for a generator.
+  std::string path;
   std::string hash;            ///< "fnv1a64:<hex>" of the file's bytes; empty for a generator
   std::string generator;       ///< "sphere", "lumpy", "cluster", or empty for a file
   nlohmann::json params;       ///< generator parameters (seed included)
