@@ -59,7 +59,9 @@ TEST(ParticlePacking, SixteenBytesRoundTripWithinQuantization) {
     for (int c = 0; c < 3; ++c) {  // 7 bits a channel, white exactly 1
       EXPECT_NEAR(out.tint[c], std::clamp(in[i].tint[c], 0.0f, 1.0f), 0.5f / 127.0f + 1e-6f) << i << " channel " << c;
     }
-    if (i % 2 == 1) EXPECT_EQ(out.tint, glm::vec3(1.0f));
+    if (i % 2 == 1) {
+      EXPECT_EQ(out.tint, glm::vec3(1.0f));
+    }
     if (in[i].oriented) {
       // q and -q are one rotation: compare |dot|.
       EXPECT_GT(std::abs(glm::dot(out.orientation, in[i].orientation)), 0.99999f - 2e-5f) << i;

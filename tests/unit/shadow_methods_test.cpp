@@ -270,7 +270,7 @@ TEST_P(ShadowOfASphere, EndsShadowLengthAlongTheLight) {
 
 INSTANTIATE_TEST_SUITE_P(AllMethods, ShadowOfASphere,
                          ::testing::Values(Method::kVolumes, Method::kMap, Method::kReference),
-                         [](const auto& info) { return name(info.param); });
+                         [](const auto& p) { return name(p.param); });
 
 // The map's resolution follows the screen: at shadowMapScale 0.25 a texel spans 4 pixels and the
 // ellipse's edge is blockier, but its area stays; at 4 it matches the volumes' sharpness.
@@ -538,7 +538,7 @@ TEST_P(ObjectShadows, AnObjectShadowsAPuff) {
 }
 
 INSTANTIATE_TEST_SUITE_P(MapAndReference, ObjectShadows, ::testing::Values(Method::kMap, Method::kReference),
-                         [](const auto& info) { return name(info.param); });
+                         [](const auto& p) { return name(p.param); });
 
 }  // namespace
 }  // namespace puff
