@@ -287,9 +287,10 @@ TEST_F(PuffviewCli, NoDisplayIsOneLineNotACrash) {
 TEST_F(PuffviewCli, BatchScreenshotMatchesPuffrender) {
   PUFFVIEW_NEEDS_DISPLAY();
   const std::string cloud = std::string(PUFF_SOURCE_DIR) + "/art/scenes/cloud-fig8c.json";
-  // cloud-fig8c does not move (no velocities, lifetimes or orbit): frame 2 is frame 0, the only
-  // frame puffrender renders of it.
-  const Image view = puffview(cloud, 3);
+  // cloud-fig8c is a still (no /animation): its one frame, frame 0. More is refused (RangeWith...).
+  const Image view = puffview(cloud, 1);
+  expectOneLineError(run(cloud + " --frames 3 --hide-ui --art-dir " PUFF_ART_DIR),
+                     "--frames 3: the scene has 1 frame(s), 0 to 0 (/animation/frames)", 2);
   const Image render = puffrender(cloud, 0);
   ASSERT_EQ(view.width, 320);
   ASSERT_EQ(view.height, 240);
