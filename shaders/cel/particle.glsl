@@ -76,17 +76,18 @@ vec3 towardCamera(vec3 p) {
   return normalize(uCameraWorld.xyz - p);
 }
 
-// The billboard's world-space frame: columns right, up, normal (toward the viewer).
-mat3 billboardFrame(vec3 p) {
+// The billboard's world-space frame for `alignment` (0 view-plane, 1 viewpoint, 2 axial): columns
+// right, up, normal (toward the viewer).
+mat3 billboardFrame(vec3 p, int alignment) {
   vec3 camRight = normalize(uInvView[0].xyz), camUp = normalize(uInvView[1].xyz), camBack = normalize(uInvView[2].xyz);
-  if (uAlignment == 1) {  // viewpoint-oriented: faces the eye, upright against the camera's up
+  if (alignment == 1) {  // viewpoint-oriented: faces the eye, upright against the camera's up
     vec3 w = towardCamera(p);
     vec3 r = cross(camUp, w);
     if (dot(r, r) > 1e-8) {
       r = normalize(r);
       return mat3(r, cross(w, r), w);
     }
-  } else if (uAlignment == 2) {  // axial: turns only about world up
+  } else if (alignment == 2) {  // axial: turns only about world up
     vec3 u = vec3(0.0, 1.0, 0.0);
     vec3 w = towardCamera(p);
     w -= dot(w, u) * u;
@@ -97,6 +98,9 @@ mat3 billboardFrame(vec3 p) {
   }
   return mat3(camRight, camUp, camBack);
 }
+
+// The style's alignment (Style::alignment).
+mat3 billboardFrame(vec3 p) { return billboardFrame(p, uAlignment); }
 
 // The frame an UNORIENTED puff shows the light (the shadow map's casters and the shadow volumes
 // both use it): facing the light, its right the eye's right carried across the light (or, with the

@@ -94,6 +94,8 @@ struct Style {
   glm::vec3 outlineColor{0.0f};  ///< the ink
   bool shading = true;           ///< Eq. 2 with q(max(0, N.L)); off = flat K_a + C * K_L
   bool shadows = false;          ///< billboard shadow volumes (§4.3)
+  /// How unoriented puffs' billboards face the camera; oriented ones always face the eye (their
+  /// billboard only carries the rays the hull is marched along).
   Alignment alignment = Alignment::kViewPlane;
   /// Shadow volumes start this far (in puff diameters) past the puff's own far side (as its depth
   /// map gives it), so a puff does not shadow itself. [0, 1].
