@@ -476,8 +476,3 @@ TEST(TumbleSweep, AReferenceWithoutItsBodiesIsRefused) {
 
 }  // namespace
 }  // namespace puff
-
-namespace puff {
-namespace {
-}  // namespace
-}  // namespace puff
