@@ -78,7 +78,7 @@ Result<ShadowMethod> parseShadowMethod(std::string_view name);  ///< "volumes", 
 enum class TumbleMethod {
   /// The eye ray marched through the depth hull of the nearest views (each view's silhouette swept
   /// along it and its front surface bound the puff): lumps keep their place and the ink its width
-  /// between views. About 8 times the fragment cost of kBlend on llvmpipe.
+  /// between views. 15 to 35 times the frame time of kBlend on llvmpipe (docs/report, tumble).
   kHull,
   /// The four nearest views' maps turned to the billboard and blended: one read per view, but between
   /// views the silhouette is a blend of four and lumps are off by a few pixels.
