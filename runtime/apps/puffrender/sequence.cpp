@@ -194,6 +194,8 @@ Result<void> checkPreviewTarget(const std::string& preview) {
 }
 
 struct SequenceExtras::Impl {
+  Impl(const Options& options, const scene::Scene& s, const Plan& p)
+      : o(options), scene(s), plan(p), view(scene::viewTransformFor(s)) {}
   const Options& o;
   const scene::Scene& scene;
   const Plan& plan;
@@ -214,7 +216,7 @@ struct SequenceExtras::Impl {
 };
 
 SequenceExtras::SequenceExtras(const Options& o, const scene::Scene& scene, const Plan& plan)
-    : impl_(new Impl{o, scene, plan, scene::viewTransformFor(scene)}) {}
+    : impl_(new Impl(o, scene, plan)) {}
 SequenceExtras::~SequenceExtras() = default;
 
 bool SequenceExtras::wanted() const { return !impl_->o.contactSheet.empty() || !impl_->o.preview.empty(); }
