@@ -34,7 +34,7 @@ struct MediaBudgetOptions {
   bool physical = false;
   /// Told (steps done, of all) as the measurement goes: frames for the media, the references and
   /// then the candidates for the nailboards. A tool's progress line (cli::Progress).
-  std::function<void(int done, int total)> progress;
+  std::function<void(int done, int total)> progress{};
 };
 
 /// Where the error lies, per measured frame (MediaBudget::frames order) against one reference: the
