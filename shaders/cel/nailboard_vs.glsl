@@ -83,13 +83,7 @@ void main() {
   uint index = uint(gl_VertexID) / 6u;
   vec2 corner = kCorners[gl_VertexID % 6];
   Particle p = unpackParticle(index);
-  // An oriented puff (turned by its own rotation, drawn from a multi-view atlas) faces the eye
-  // whatever the style's alignment: its billboard only carries the rays it marches (or the views it
-  // blends) along its normal, and the puff itself does not wear the billboard's frame. Under
-  // perspective a view-plane normal is off the eye ray by the puff's angle off the view axis (a puff
-  // 23 degrees off lost a tenth of its silhouette's pixels); orthographic, both frames are one.
-  mat3 bb = uCaster == 1 ? lightFacingFrame(uInvView[2].xyz, uEyeRight, uEyeUp)
-                         : billboardFrame(p.position, p.oriented ? 1 : uAlignment);
+  mat3 bb = uCaster == 1 ? lightFacingFrame(uInvView[2].xyz, uEyeRight, uEyeUp) : billboardFrame(p);
   mat3 puff = puffFrame(p, bb);
   mat3 puffT = transpose(puff);
   ivec4 cell;

@@ -16,7 +16,7 @@ void main() {
   uint index = uint(gl_VertexID) / 6u;
   vec2 corner = kCorners[gl_VertexID % 6];
   Particle p = unpackParticle(index);
-  mat3 bb = billboardFrame(p.position, p.oriented ? 1 : uAlignment);  // as nailboard_vs.glsl faces them
+  mat3 bb = billboardFrame(p);
   float halfCell = 0.5 * uAtlasGeom.z / uAtlasScale.x;
   vec2 puff = corner * halfCell;
   vUv = cellUv(p.variation * max(1, uAtlasLayout.y), puff);
