@@ -1,7 +1,7 @@
 # Generates a glad 2 GL loader (compatibility profile 4.5, which also covers every GL 1.x entry
 # point the fixed-function path uses) into the build tree at configure time. Not committed.
 #
-# The loader is Puff's own and private (issue 16): a game loads GL with its own glad, GLEW, epoxy
+# The loader is Puff's own and private: a game loads GL with its own glad, GLEW, epoxy
 # or GLFW, and hands Puff its getProcAddress (puff::core::initGl). So that both loaders link into
 # one program, every global symbol glad defines is renamed here, after generation:
 #   glad_glX -> puff_glad_glX,  GLAD_GL_VERSION_4_5 -> PUFF_GLAD_GL_VERSION_4_5,

@@ -5,8 +5,8 @@
 
 #include <cli/app.h>
 #include <cli/progress.h>
-#include <puff/core/gl_context.h>
 #include <puff/core/shader.h>
+#include <puff/platform/gl_context.h>
 
 #include "commands.h"
 

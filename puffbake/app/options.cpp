@@ -5,7 +5,7 @@
 #include <cctype>
 
 #include <cli/app.h>
-#include <puff/core/text.h>
+#include <puff/support/text.h>
 
 #include "commands.h"
 

@@ -49,18 +49,18 @@ out vec4 fragColor;
 
 #ifdef PUFF_HULL
 // The back map (puff/core/atlas.h), level 0 only: where each ray through a texel last leaves the puff;
-// 0, no bound (an atlas without one, baked before it, reads the renderer's texel of 0).
+// 0, no bound (an atlas without one reads the renderer's texel of 0).
 layout(binding = 4) uniform sampler2D uBack;
 
-// An oriented puff between its baked views (issue 22). Each view's maps bound the puff: it lies
+// An oriented puff between its baked views. Each view's maps bound the puff: it lies
 // inside the view's silhouette swept along the view's direction (the distance map), and behind the
 // view's front surface (the depth map). The puff lies inside the intersection of its views' bounds
 // and its unit sphere (radius half a diameter): a depth hull, close to the puff itself where the
 // views are near each other. The views: the four nearest the eye's direction (silhouette and front
 // surface), and the four nearest the directions across the eye ray every 45 degrees (silhouette:
 // they bound the depth, and the width of the lens that four near views straddling the ray leave;
-// with two, right and up only, as until 2026-12-03, coverage IoU over the tumble sweep was up to
-// 0.008 lower and outline IoU up to 0.08). The eye ray is marched through that hull. Each bound
+// with two, right and up only, coverage IoU over the tumble sweep is up to 0.008 lower and outline
+// IoU up to 0.08). The eye ray is marched through that hull. Each bound
 // gives a distance (the silhouette's, or the height over the front surface times the surface normal's z:
 // the distance to its tangent plane), and the largest is about the distance to the hull: steps of
 // that size do not pass through it (sphere tracing). The ray hits where it reaches 0; a ray that
@@ -108,9 +108,9 @@ HullBound hullBound(int k, vec3 pt, float lod, bool fromTable, float trusted) {
     // lie inside the silhouette (outside, no depth is baked): a filtered read across an occluding
     // edge, or a coarse mip's, would cut away the nearer lump (a texel astride an occluding edge
     // holds the mean of the near and the far lump; the largest of four holds the near one). Less
-    // what the map cannot tell: a step of its 8 bits. (A texel and a half more, as until 2026-12-03,
-    // drew the puffs up to a pixel large where the nearest views bound them, and their ink thin:
-    // outline IoU 0.02-0.05 lower over the tumble sweep, coverage no better.)
+    // what the map cannot tell: a step of its 8 bits. (A texel and a half more draws the puffs up to
+    // a pixel large where the nearest views bound them, and their ink thin: outline IoU 0.02-0.05
+    // lower over the tumble sweep, coverage no better.)
     vec4 heights = textureGather(uPacked, b.uv, 2);
     vec4 outside = step(0.5 + 0.5 / 255.0, textureGather(uPacked, b.uv, 3));
     heights = mix(heights, vec4(-1.0), outside);
@@ -129,8 +129,8 @@ HullBound hullBound(int k, vec3 pt, float lod, bool fromTable, float trusted) {
       // point beyond it lies outside, about the height under it times the far side's normal z away;
       // no map holds that normal, so a tenth of the height is taken (the front's least slope): short
       // steps, that never pass the far side.
-      // (The slope of the four texels, tried on 2026-12-03, overshot where the far side curves: oct
-      // 3x3's worst pose 0.954, against 0.962 without the back map and 0.962 with a tenth.)
+      // (The slope of the four texels overshoots where the far side curves: oct 3x3's worst pose
+      // 0.954 with it, against 0.962 without the back map and 0.962 with a tenth.)
       vec4 backs = textureGather(uBack, b.uv, 0);
       float least = min(min(backs.x, backs.y), min(backs.z, backs.w));
       if (least > 0.0) {

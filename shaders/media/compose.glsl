@@ -117,7 +117,7 @@ Taps mediaTaps(ivec2 p, out vec2 shimmer) {
     bilateral.sum += bilateral.w[i];
     shimmer += w[i] * texelFetch(uShimmerTex, ti, 0).rg;
   }
-  // uCounts.y: 0 plain bilinear; 1 bilateral in depth; 2 the earlier all-or-nearest switch (kept
+  // uCounts.y: 0 plain bilinear; 1 bilateral in depth; 2 the all-or-nearest switch (kept
   // to measure against).
   const int rule = uCounts.y;
   if (rule == 1 && bilateral.sum > 0.0) return bilateral;

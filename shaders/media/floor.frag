@@ -1,5 +1,5 @@
 #version 450 core
-// The media path's fill-rate floor (issue 7's benchmarks, media::Renderer::setFillRateFloor): the
+// The media path's fill-rate floor (for the benchmarks, media::Renderer::setFillRateFloor): the
 // same quads as billboard.frag, the same blending, and nothing computed: a constant faint grey.
 // What any billboard method pays to touch those pixels.
 layout(location = 0) out vec4 outMedia;

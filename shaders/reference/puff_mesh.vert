@@ -1,5 +1,5 @@
 #version 450 core
-// The cel reference (issue 7, puff::render RenderPath::kReference): each particle drawn as its actual
+// The cel reference (puff::render RenderPath::kReference): each particle drawn as its actual
 // puff mesh, instanced, placed by an affine model matrix (position, puff frame, size / 2: the mesh lies
 // in the unit sphere and the particle's size is the puff's diameter). uMode 0: the camera's view
 // (Eq. 2 shading in puff_mesh.frag); 1 and 2: the light's view (the shadow map's two passes).

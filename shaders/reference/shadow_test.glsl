@@ -1,4 +1,4 @@
-// The cel reference's shadow test (issue 7): two maps of the puff meshes seen from the light. Pass 1
+// The cel reference's shadow test: two maps of the puff meshes seen from the light. Pass 1
 // keeps the nearest surface's distance and its puff's id; pass 2 the nearest surface of ANY OTHER
 // puff than the one pass 1 kept there. A point of puff `id` is in shadow when the nearest surface of
 // another puff lies between it and the light: d1 if pass 1 saw another puff there, else d2. A point

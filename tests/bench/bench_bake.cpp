@@ -10,8 +10,8 @@
 #include <vector>
 
 #include <puff/bake/baker.h>
-#include <puff/core/gl_context.h>
 #include <puff/io/openimageio.h>
+#include <puff/platform/gl_context.h>
 
 #include "bench_usage.h"
 #include "harness.h"

@@ -1,4 +1,4 @@
-// Cel rendering benchmark (issue 3): the same particles at the same overdraw drawn three ways, timed
+// Cel rendering benchmark: the same particles at the same overdraw drawn three ways, timed
 // in one run so the ratios compare methods on one machine:
 //   floor       bare alpha-tested textured quads (NailboardRenderer::drawBaseline) writing the
 //               nailboards' linear depth (gl_FragDepth, shaders/cel/sprite.frag), no offset
@@ -53,10 +53,10 @@
 #include <puff/core/gl.h>
 #include <puff/io/openimageio.h>
 
-#include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/gl_api.h>
 #include <puff/mesh/mesh.h>
+#include <puff/platform/gl_context.h>
 
 #include "bench_usage.h"
 #include "harness.h"

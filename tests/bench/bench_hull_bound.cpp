@@ -1,4 +1,4 @@
-// What a multi-view atlas's views can bound at best (issue 22): the tumbling hull
+// What a multi-view atlas's views can bound at best: the tumbling hull
 // (docs/cel-rendering.md, "Tumbling puffs") with exact maps. Each mesh (normalized as puffbake
 // normalizes it) is voxelized; every view of the atlas's layout and grid keeps the voxels inside its
 // silhouette and behind its front surface (with --layers K, also outside the gaps between the first

@@ -1,4 +1,4 @@
-// Spherical billboards benchmark (issue 6): Umenhoffer et al. 2006's two measurements redone on
+// Spherical billboards benchmark: Umenhoffer et al. 2006's two measurements redone on
 // media::Renderer + media::Layers, in one process and one GL 4.5 context.
 //
 //  table1  (the paper's Table 1) spherical billboards against the paper's classic textured
@@ -32,12 +32,12 @@
 // proportions (16 dust, 135 fire, 112 smoke of 263): fire in a ball of radius 1.2, smoke and dust
 // in a ball of radius 2, centred 8 units in front of the camera (45 degree vertical field of view).
 // Overdraw (summed area / screen area) is measured on the CPU two ways: overdraw_disc, of the
-// discs of radius f r / d (f = 1 / tan(fovY / 2), d the centre's view-axis distance; what the issue
-// asks for), and overdraw_quad, of the quads the vertex shader emits for them (clipped to the
+// discs of radius f r / d (f = 1 / tan(fovY / 2), d the centre's view-axis distance; the overdraw
+// the radii are chosen by), and overdraw_quad, of the quads the vertex shader emits for them (clipped to the
 // screen: the pixels the rasterizer shades).
 //  sort    media::backToFront alone (CPU, one thread) for 1578, 10k and 50k particles: sort_ms.
 //
-// Error (issue 7: the two measurements with the error added): for every table1 and fig12 case, one
+// Error (the two measurements with the error added): for every table1 and fig12 case, one
 // more frame (heat shimmer off, untimed) read back and compared with the exact reference
 // (puff::reference::renderMediaReference over the same resolved opaque layer, same particles,
 // materials and detail video, clamped to [0, 1] as the 8-bit target is): RMSE in linear colour,
@@ -63,12 +63,12 @@
 
 #include <puff/core/detail_video.h>
 #include <puff/core/gl.h>
-#include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/gl_api.h>
 #include <puff/io/openimageio.h>
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
+#include <puff/platform/gl_context.h>
 #include <puff/reference/media_reference.h>
 #include <puff/reference/metrics.h>
 
@@ -556,7 +556,7 @@ int main(int argc, char** argv) {
       dump(c, "fig12_" + std::to_string(r.layerPx));
     }
   }
-  // Sorting back to front (issue 6: "fast enough for 50k"): media::backToFront alone on the CPU, one
+  // Sorting back to front (it must be fast enough for 50k): media::backToFront alone on the CPU, one
   // thread, for the paper's counts and 50k, from a camera looking at the ball.
   for (int count : {1578, 10000, 50000}) {
     const std::vector<media::Particle> ps = makeParticles(count);

@@ -1,4 +1,4 @@
-// The back-to-front sort key measured against the physical reference (issue 21): for each art
+// The back-to-front sort key measured against the physical reference: for each art
 // scene's frames, the media drawn by the GPU (SceneRenderer::renderFrame, scene-linear floats)
 // with each media::SortKey, compared over the SAME opaque layer (SceneRenderer::lastMediaFrame)
 // with
@@ -26,9 +26,9 @@
 
 #include <puff/core/colour.h>
 #include <puff/core/detail_video.h>
-#include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/io/openimageio.h>
+#include <puff/platform/gl_context.h>
 #include <puff/reference/media_physical.h>
 #include <puff/reference/media_reference.h>
 #include <puff/reference/metrics.h>

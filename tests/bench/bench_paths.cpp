@@ -1,4 +1,4 @@
-// Fixed-function against programmable (issue 5): the art scenes, restricted to the fixed path's
+// Fixed-function against programmable: the art scenes, restricted to the fixed path's
 // limits (eval::restrictToFixedLimits: no shadows, uniform ambient, view-plane billboards, one
 // sample), drawn by both paths in one compatibility context. Per scene and path: 2 warm-up frames,
 // then the median of --reps frames (SceneRenderer::renderFrame of frame 0: the draw and the
@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include <puff/core/gl_context.h>
 #include <puff/eval/compare.h>
 #include <puff/io/openimageio.h>
+#include <puff/platform/gl_context.h>
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 

@@ -15,7 +15,7 @@
 #include <puff/core/files.h>
 
 #include <puff/core/random.h>
-#include <puff/core/statistics.h>
+#include <puff/support/statistics.h>
 
 namespace puff::bench {
 

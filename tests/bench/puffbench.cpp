@@ -1,4 +1,4 @@
-// puffbench (issue 7): speed against accuracy on the art scenes. The cel part (nailboards and the
+// puffbench: speed against accuracy on the art scenes. The cel part (nailboards and the
 // fixed-function path against the cel reference over atlas size, mesh detail and particle count) is
 // in puffbench_cel.cpp and writes --cel-csv; the shadow part is puffbench_shadows.cpp (--shadow-csv);
 // the tumble part (multi-view atlases' memory against their error over a sweep of orientations) is
@@ -25,10 +25,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/eval/budget.h>
 #include <puff/io/openimageio.h>
+#include <puff/platform/gl_context.h>
 #include <puff/reference/metrics.h>
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
@@ -106,7 +106,7 @@ Result<double> baselineMs(scene::Scene s, std::span<const int> frames, int reps,
   return bench::median(times);
 }
 
-// The places media methods break, measured (issue 7): per method,
+// The places media methods break, measured: per method,
 //  - temporal: smoke-flythrough's camera flying into the smoke (its pillar taken out, so only the
 //    media change), every frame in order; the largest and the mean second difference of consecutive
 //    frames (reference::largestSecondDifference: popping shows as spikes);

@@ -1,4 +1,4 @@
-// puffbench's cartoon part (issue 19): the cartoon media style against the photoreal one on the same
+// puffbench's cartoon part: the cartoon media style against the photoreal one on the same
 // scenes. Per scene and style:
 //  - cost: the median frame time over the budget's frames, and the frame without media particles
 //    (what both pay before the media): the media's own cost is ms - bareMs;

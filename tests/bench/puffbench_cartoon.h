@@ -1,4 +1,4 @@
-// puffbench's cartoon part (issue 19): see puffbench_cartoon.cpp.
+// puffbench's cartoon part: see puffbench_cartoon.cpp.
 #pragma once
 
 #include <filesystem>

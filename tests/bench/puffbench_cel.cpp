@@ -1,4 +1,4 @@
-// puffbench's cel part (issue 7): the nailboards and the fixed-function path against the cel
+// puffbench's cel part: the nailboards and the fixed-function path against the cel
 // reference (RenderPath::kReference: the actual puff meshes, true outer silhouettes, exact shadows)
 // over their cost parameters: the atlas's cell size (64 .. 1024 texels, baked here from the scene's
 // source meshes), the puff mesh's level of detail (the atlas baked from decimated meshes; the fixed

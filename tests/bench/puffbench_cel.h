@@ -1,4 +1,4 @@
-// puffbench's cel part (issue 7): see puffbench_cel.cpp.
+// puffbench's cel part: see puffbench_cel.cpp.
 #pragma once
 
 #include <cstddef>

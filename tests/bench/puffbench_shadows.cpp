@@ -1,4 +1,4 @@
-// puffbench's shadow part (issue 15): both shadow methods against the cel reference's exact shadows,
+// puffbench's shadow part: both shadow methods against the cel reference's exact shadows,
 // speed against accuracy. Per scene (cloud-fig8c, explosion, magic-lamp with shadows on, and
 // cloud-50k's emitters scaled to 10,000 particles) and per method (volumes; the map at
 // Style::shadowMapScale 0.25, 0.5, 1 and 2): the median frame time, its ratio to the fill-rate floor

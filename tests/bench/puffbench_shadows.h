@@ -1,4 +1,4 @@
-// puffbench's shadow part (issue 15): see puffbench_shadows.cpp.
+// puffbench's shadow part: see puffbench_shadows.cpp.
 #pragma once
 
 #include <cstddef>

@@ -1,4 +1,4 @@
-// puffbench's tumble part (issue 22): the multi-view atlas's size against its accuracy. The art's four
+// puffbench's tumble part: the multi-view atlas's size against its accuracy. The art's four
 // puffs are baked with each view layout (oct: the whole sphere; hemioct: the front hemisphere, back
 // views mirrored), grid (grid x grid views a variation) and cell size; each atlas's oriented
 // nailboards are turned through the sweep of eval::tumblePoses (yaw, pitch and roll every 15 degrees)
@@ -7,7 +7,7 @@
 // Each atlas is measured twice: its puffs drawn by marching the hull of their views (cel::Style::tumble
 // "hull", the default) and by blending four views ("blend").
 // Per atlas and method: its GL texture memory (core::atlasTextureBytes), coverage IoU and outline IoU over the
-// poses (smallest, mean, and the share of poses at the issue's bars: coverage >= 0.95, outline >= 0.5),
+// poses (smallest, mean, and the share of poses at the bars: coverage >= 0.95, outline >= 0.5),
 // and the median time of a frame of the pose grid (nailboards only). Not a test: nothing fails here.
 #include "puffbench_tumble.h"
 

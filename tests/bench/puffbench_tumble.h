@@ -1,4 +1,4 @@
-// puffbench's tumble part (issue 22): see puffbench_tumble.cpp.
+// puffbench's tumble part: see puffbench_tumble.cpp.
 #pragma once
 
 #include <cstddef>

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Regenerates docs/report/ (issue 7: speed against accuracy) and the figure tables the docs quote
-# (issue 21: one source for every figure): runs the benchmarks, keeps their CSVs, draws the charts with
+# Regenerates docs/report/ (speed against accuracy) and the figure tables the docs quote
+# (one source for every figure): runs the benchmarks, keeps their CSVs, draws the charts with
 # gnuplot (SVG), writes the markdown tables from the CSVs and the page docs/report/README.md.
 #   tests/bench/report.sh [BUILD_DIR (build)] [--only all|cel|media|paper|shadows|tumble|tables (all)] [puffbench options]
 #     all     puffbench (cel, then media) and puff_bench_media: every CSV in docs/report/
@@ -177,7 +177,7 @@ plot "$tmp/counts.dat" using (stringcolumn(2) eq "cel" ? \$4 : 1/0):9 with point
 GP
 fi
 
-# Shadows (issue 15): shadow-mask IoU against the exact shadows, and frame time, per scene and method.
+# Shadows: shadow-mask IoU against the exact shadows, and frame time, per scene and method.
 if [ -s "$out/shadows.csv" ]; then
   tail -n +2 "$out/shadows.csv" > "$tmp/shadows.dat"
   chart "shadows" 1000,600 <<GP
@@ -192,7 +192,7 @@ plot for [s in "cloud-fig8c explosion magic-lamp cloud-10k"] "$tmp/shadows.dat" 
 GP
 fi
 
-# Tumbling puffs (issue 22): each multi-view atlas's GL memory against its error over the sweep of
+# Tumbling puffs: each multi-view atlas's GL memory against its error over the sweep of
 # poses, one series per view layout and tumble method (filled: 1 - mean coverage IoU; open: 1 - the
 # worst pose's), points labelled with views x cell size (once: both layouts of one grid and cell size
 # take the same memory).
@@ -216,7 +216,7 @@ plot "$tmp/tumble.dat" using (stringcolumn(1) eq "oct" && stringcolumn(14) eq "h
      "$tmp/tumble.dat" using (stringcolumn(1) eq "hemioct" && stringcolumn(14) eq "blend" ? \$5 / 1048576 : 1/0):(1 - \$8) with points pt 13 ps 1.1 lc rgb "#fc9272" title "hemioct, blend: 1 - mean", \
      "$tmp/tumble.dat" using (stringcolumn(1) eq "hemioct" && stringcolumn(14) eq "blend" ? \$5 / 1048576 : 1/0):(1 - \$7) with points pt 12 ps 1.1 lc rgb "#fc9272" title "hemioct, blend: 1 - worst pose", \
      "$tmp/tumble.dat" using (\$5 / 1048576):(1 - \$7):(stringcolumn(1) eq "oct" && stringcolumn(14) eq "hull" ? sprintf("%dx%d x %d", \$2, \$2, \$4) : "") with labels offset 0,-1 font ",8" notitle, \
-     0.05 with lines dt 2 lc rgb "#555555" title "issue 22's bar: coverage IoU 0.95"
+     0.05 with lines dt 2 lc rgb "#555555" title "the bar: coverage IoU 0.95"
 GP
 fi
 
@@ -513,7 +513,7 @@ fi
     echo "what the GL holds (every mip level). Coverage IoU: the puff's pixels, ink included, against the"
     echo "reference's; outline IoU: the ink alone, the pixels the outlines add (each frame drawn again"
     echo "without outlines, for both); the worst pose, the mean, and the share of poses"
-    echo "at issue 22's bars (coverage >= 0.95, outline >= 0.5). Frame ms: the median time of one frame of the"
+    echo "at the bars (coverage >= 0.95, outline >= 0.5). Frame ms: the median time of one frame of the"
     echo "pose grid (one roll: 24 x 13 puffs at 1728 x 936), nailboards only."
     echo
     echo "| layout | views | cell texels | method | atlas MiB | poses | coverage IoU worst | mean | share >= 0.95 | outline IoU worst | mean | share >= 0.5 | frame ms |"
@@ -528,12 +528,12 @@ fi
     echo "hull keeps every pose of every atlas at both bars: its worst pose is 0.954 (hemioct 3x3) to 0.976"
     echo "(oct 9x9, hemioct 7x7) coverage IoU and 0.702 to 0.849 outline IoU, its means 0.983 to 0.993 and"
     echo "0.834 to 0.943. The blend's worst is 0.694 to 0.876 coverage and 0.06 to 0.31 outline, 35-98% of"
-    echo "its poses at the coverage bar. What changed since the run of 2026-12-03 (worst 0.908-0.956, 86-100%"
-    echo "of poses at 0.95): the ink's outer edge is measured on the screen, and multi-view atlases hold a"
+    echo "its poses at the coverage bar. What holds the hull's worst poses there (without them: worst 0.908-0.956,"
+    echo "86-100% of poses at 0.95): the ink's outer edge is measured on the screen, and multi-view atlases hold a"
     echo "back map, where each ray last leaves the puff, that the hull bounds with (docs/cel-rendering.md,"
-    echo "\"Tumbling puffs\"); each atlas is about 10% larger for it (6.6 MiB at 3x3, was 6.0). The price is"
+    echo "\"Tumbling puffs\"); each atlas is about 10% larger for it (6.6 MiB at 3x3, 6.0 without). The price is"
     echo "time: a grid frame takes the hull 6.1 to 6.5 s against the blend's 0.18 to 0.41 s, 15 to 35 times"
-    echo "(it was about 10 times without the back map). The 2 cores also ran niced builds for part of this"
+    echo "(about 10 times without the back map). The 2 cores also ran niced builds for part of this"
     echo "run (oct 3x3's hull, 10.7 s, was measured then), so compare times within the run only."
     echo
   fi

@@ -4,12 +4,14 @@
 Each mutant in tests/mutation/mutants.json replaces one exact piece of text (it must occur exactly
 once) in a shader or a C++ source, and names the groups of tests (gtest filters) to run against it.
 
-  Shader mutants are applied to a copy of shaders/ that puff_tests reads through PUFF_SHADER_DIR:
+  The tests are the tiers' executables, puff_tests_* (tests/tiers.cmake): each group's filter runs
+  in every one of them, so a group may span the tiers.
+  Shader mutants are applied to a copy of shaders/ that the tests read through PUFF_SHADER_DIR:
   nothing in the tree changes and nothing is rebuilt.
-  C++ mutants are applied to the source in place and puff_tests (with the tools: puffbake,
-  puffrender, puffview) is rebuilt; the source is put back
-  (and puff_tests rebuilt) when the mutant is done, and on Ctrl-C, SIGTERM or SIGHUP. They need a
-  tree whose mutated files have no uncommitted changes, and puff_tests is built before the baseline.
+  C++ mutants are applied to the source in place and the tests (with the tools: puffbake,
+  puffrender, puffview) are rebuilt; the source is put back
+  (and the tests rebuilt) when the mutant is done, and on Ctrl-C, SIGTERM or SIGHUP. They need a
+  tree whose mutated files have no uncommitted changes, and the tests are built before the baseline.
 
 First each group runs once unmutated (the baseline; every run reads the shaders from a copy, with
 PUFF_CI=1 so that a test which cannot run fails rather than skips). A mutant is killed by a test
@@ -21,7 +23,7 @@ went wrong without a kill are listed apart and left out of the score.
 
   python3 tests/mutation/run.py --build build                        # every mutant
   python3 tests/mutation/run.py --build build --only eq2-world-light,ink-wider-1px
-  python3 tests/mutation/run.py --build build --shaders-only --exe /tmp/puff_tests
+  python3 tests/mutation/run.py --build build --shaders-only --exe /tmp/puff-tests-copy
   python3 tests/mutation/run.py --list
 
 Writes OUT/mutants.csv and OUT/report.md (OUT: --out, default BUILD/mutation), also when stopped
@@ -106,8 +108,8 @@ def parse_log(log):
     return results, running
 
 
-def run_tests(exe, pattern, shader_dir, timeout, workdir, cwd):
-    """Runs one group. Returns ({test: 'pass'|'fail'|'skip'}, note, log); a test that crashed or
+def run_one(exe, pattern, shader_dir, timeout, workdir, cwd):
+    """Runs one group in one executable. Returns ({test: 'pass'|'fail'|'skip'}, note, log); a test that crashed or
     timed out is 'fail', tests that never ran are absent."""
     out = Path(workdir) / "result.json"
     if out.exists():
@@ -149,10 +151,27 @@ def run_tests(exe, pattern, shader_dir, timeout, workdir, cwd):
     return results, note, log
 
 
+def test_executables(exe_dir):
+    """The tiers' test executables in exe_dir (puff_tests_TIER, tests/tiers.cmake)."""
+    return sorted(p for p in Path(exe_dir).glob("puff_tests_*") if p.is_file() and os.access(p, os.X_OK))
+
+
+def run_tests(exes, pattern, shader_dir, timeout, workdir, cwd):
+    """Runs one group in every executable: the union of their results, and their notes and logs."""
+    results, notes, logs = {}, [], []
+    for exe in exes:
+        res, note, log = run_one(exe, pattern, shader_dir, timeout, workdir, cwd)
+        results.update(res)
+        if note:
+            notes.append(f"{exe.name}: {note}")
+        logs.append(log)
+    return results, "; ".join(notes), "\n".join(logs)
+
+
 def build(build_dir):
     # The tests run the tools too (puffbake, puffrender, puffview): a mutant in a tool's code is
-    # built into it as well as into puff_tests.
-    targets = ["puff_tests", "puffbake", "puffrender"]
+    # built into it as well as into the tests.
+    targets = [p.name for p in test_executables(Path(build_dir) / "tests")] + ["puffbake", "puffrender"]
     if (Path(build_dir) / "runtime" / "puffview").exists():
         targets.append("puffview")
     p = subprocess.run(["cmake", "--build", str(build_dir), "--target", *targets, "-j", str(os.cpu_count() or 2)],
@@ -208,15 +227,15 @@ def write_reports(out_dir, rows, baselines, interrupted):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--build", default="build",
-                    help="the build directory holding tests/puff_tests, relative to the current directory "
+                    help="the build directory holding tests/puff_tests_*, relative to the current directory "
                          "(default: %(default)s)")
     ap.add_argument("--mutants", default=str(ROOT / "tests/mutation/mutants.json"),
                     help="the mutant list (default: the repository's tests/mutation/mutants.json)")
     ap.add_argument("--only", default="", help="comma-separated mutant ids to run (default: all)")
     ap.add_argument("--shaders-only", action="store_true", help="only the shader mutants (nothing is rebuilt)")
     ap.add_argument("--exe", default="",
-                    help="the puff_tests to run (default: BUILD/tests/puff_tests); a copy keeps a run going while "
-                         "the build changes; shader mutants only")
+                    help="a folder holding the puff_tests_* to run (default: BUILD/tests); a copy keeps a run "
+                         "going while the build changes; shader mutants only")
     ap.add_argument("--out", default="", help="where mutants.csv and report.md go (default: BUILD/mutation)")
     ap.add_argument("--timeout", type=int, default=1200, help="seconds per run of one group (default: %(default)s)")
     ap.add_argument("--list", action="store_true", help="list the selected mutants and exit")
@@ -241,11 +260,11 @@ def main():
 
     build_dir = Path(args.build).resolve()
     cxx = [m for m in mutants if not m["file"].startswith("shaders/")]
-    exe = Path(args.exe).resolve() if args.exe else build_dir / "tests" / "puff_tests"
+    exe_dir = Path(args.exe).resolve() if args.exe else build_dir / "tests"
     if args.exe and cxx:
-        raise SetupError("--exe runs shader mutants only (C++ mutants rebuild BUILD's puff_tests): add --shaders-only")
+        raise SetupError("--exe runs shader mutants only (C++ mutants rebuild BUILD's tests): add --shaders-only")
     out_dir = Path(args.out).resolve() if args.out else build_dir / "mutation"
-    cwd = build_dir / "tests"  # where ctest runs puff_tests
+    cwd = build_dir / "tests"  # where ctest runs the tests
 
     # Every mutant applies before anything runs (a stale mutant is an error in the list, not a kill).
     problems = []
@@ -262,12 +281,13 @@ def main():
                                stdout=subprocess.PIPE, text=True).stdout.strip()
         if dirty:
             raise SetupError(f"C++ mutants change files with uncommitted edits (commit or stash them):\n{dirty}")
-        print("building puff_tests before the baseline", flush=True)
+        print("building the tests before the baseline", flush=True)
         ok, log = build(build_dir)
         if not ok:
-            raise SetupError(f"puff_tests does not build:\n{log}")
-    if not exe.exists():
-        raise SetupError(f"{exe}: not found (build the tree first: cmake --build {args.build})")
+            raise SetupError(f"the tests do not build:\n{log}")
+    exes = test_executables(exe_dir)
+    if not exes:
+        raise SetupError(f"{exe_dir}: no puff_tests_* (build the tree first: cmake --build {args.build})")
 
     for s in (signal.SIGTERM, signal.SIGHUP):
         signal.signal(s, interrupt)
@@ -280,7 +300,7 @@ def main():
         groups_needed = sorted({g for m in mutants for g in m["suites"]})
         for group in groups_needed:
             t0 = time.time()
-            res, note, log = run_tests(exe, spec["suites"][group], pristine, args.timeout, work, cwd)
+            res, note, log = run_tests(exes, spec["suites"][group], pristine, args.timeout, work, cwd)
             if note or not res:
                 raise SetupError(f"baseline {group}: {note or 'ran no test'}\n{log[-2000:]}")
             bad = sorted(t for t, r in res.items() if r != "pass")
@@ -313,7 +333,7 @@ def main():
                     continue
             killers, notes = [], []
             for group in m["suites"]:
-                res, note, _ = run_tests(exe, spec["suites"][group], shader_dir, args.timeout, work, cwd)
+                res, note, _ = run_tests(exes, spec["suites"][group], shader_dir, args.timeout, work, cwd)
                 if note:
                     notes.append(f"{group}: {note}")
                 killers += [t for t, r in baselines[group].items() if r == "pass" and res.get(t) == "fail"]
@@ -321,7 +341,7 @@ def main():
                 write_atomically(path, saved.pop(path).decode())
                 ok, log = build(build_dir)
                 if not ok:
-                    raise SetupError(f"puff_tests does not build after restoring {m['file']}:\n{log}")
+                    raise SetupError(f"the tests do not build after restoring {m['file']}:\n{log}")
             analytic = sorted({t for t in killers if not GOLDEN.search(t)})
             golden = sorted({t for t in killers if GOLDEN.search(t)})
             status = "killed" if analytic else ("golden only" if golden else ("error" if notes else "survived"))
@@ -339,7 +359,7 @@ def main():
         if saved:
             ok, log = build(build_dir)
             if not ok:
-                print(f"puff_tests does not build after restoring the sources:\n{log}", file=sys.stderr)
+                print(f"the tests do not build after restoring the sources:\n{log}", file=sys.stderr)
         shutil.rmtree(work, ignore_errors=True)
 
     if not rows:

@@ -5,7 +5,7 @@
 
 #include <memory>
 
-#include <puff/core/gl_context.h>
+#include <puff/platform/gl_context.h>
 
 #include "support/assert_ok.h"
 

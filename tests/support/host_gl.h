@@ -1,4 +1,4 @@
-// A host's own GL for the embedding tests (issue 16): the depth conventions a game may keep, their
+// A host's own GL for the embedding tests: the depth conventions a game may keep, their
 // projections and closed-form window depths, glClipControl scoped, a target with the depth format
 // the host chooses, and a program from the host's own source.
 #pragma once

@@ -1,4 +1,4 @@
-/* LD_PRELOAD shim for tests of "a bake is replaced whole" (issue 17): with PUFF_KILL_AT_RENAME=K in
+/* LD_PRELOAD shim for tests of "a bake is replaced whole": with PUFF_KILL_AT_RENAME=K in
  * the environment, the process sends itself SIGKILL at its K-th rename(2) call (1-based), before
  * the rename happens: the same as `kill -9` arriving between two renames. Without the variable,
  * or K < 1, renames pass through. */

@@ -1,11 +1,11 @@
-// Reads text drawn with core/label.h's font back from an image, glyph by glyph: what a test checks a
+// Reads text drawn with support/label.h's font back from an image, glyph by glyph: what a test checks a
 // label with (the pixels at each font pixel's centre, brighter than `threshold` on channel 0 set).
 #pragma once
 
 #include <string>
 
 #include <puff/core/image.h>
-#include <puff/core/label.h>
+#include <puff/support/label.h>
 
 namespace puff::test {
 

@@ -1,4 +1,4 @@
-// Issue 17: a bake is replaced whole. puffbake (and puffbake cook) name every map level by its
+// A bake is replaced whole. puffbake (and puffbake cook) name every map level by its
 // content, rename the sidecar into place last and only then remove the atlas it replaced
 // (puffbake/src/bake/atlas_files.h). Here the real tool is killed with SIGKILL at each of its
 // renames in turn (an LD_PRELOAD shim, tests/support/kill_at_rename.c), over an existing atlas:

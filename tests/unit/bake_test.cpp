@@ -302,8 +302,8 @@ TEST(BakeSidecar, WrongKindsOfValueSayWhatWasExpected) {
   }
 }
 
-// Issue 17: values of the right kind that no bake writes, each of which drew nothing, NaN or the
-// wrong map with exit 0, are refused with their pointer.
+// Values of the right kind that no bake writes, each of which would draw nothing, NaN or the wrong
+// map with exit 0, are refused with their pointer.
 TEST(BakeSidecar, ValuesNoBakeWritesAreRefused) {
   core::AtlasDesc good;
   good.fileFormat = "png";

@@ -1,4 +1,4 @@
-// Rigid bodies (issue 19): scene objects with "dynamic" simulated with ODE (scene/bodies.h), checked
+// Rigid bodies: scene objects with "dynamic" simulated with ODE (scene/bodies.h), checked
 // against closed forms (free fall under semi-implicit Euler, a free spin, restitution's rebound
 // height, momentum), for determinism, for what the scene format accepts, and for the smoke they
 // push.

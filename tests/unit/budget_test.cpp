@@ -1,4 +1,4 @@
-// "Just enough model" (issue 7): render/budget.h measures every media layer resolution against the
+// "Just enough model": render/budget.h measures every media layer resolution against the
 // exact reference (on a 96 x 72 explosion-walls at two frames with fire), and every atlas level of
 // the nailboards against the cel reference, and picks the cheapest within an error budget;
 // puffrender --max-error is its shell.
@@ -200,7 +200,7 @@ TEST_F(BudgetExplosion, FullResolutionIsClosestToTheReference) {
   EXPECT_LT(c.back().worstRmse, 0.01);
 }
 
-// The region figures (issue 21) against each reference: filled per frame, finite, in range, the worst
+// The region figures against each reference: filled per frame, finite, in range, the worst
 // over the frames, and consistent with the whole-frame RMSE they are part of.
 void expectRegions(const eval::RegionErrors& e, double rmseWhole, const std::vector<double>& whole,
                    const std::vector<std::size_t>& mediaPixels, const std::vector<std::size_t>& bandPixels) {

@@ -1,4 +1,4 @@
-// Popping measured live (issue 21), on the cel path: art/scenes/lamp-plume.json's smoke simulated
+// Popping measured live, on the cel path: art/scenes/lamp-plume.json's smoke simulated
 // frame by frame while puffs are born and die, as scene::FrameEvaluator hands the puffs to the
 // renderers. Each drawn puff is matched to the simulator's particle at the same position (the same
 // deterministic simulation run beside it), which gives its id, age and birth size, so a puff's

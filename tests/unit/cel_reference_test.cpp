@@ -1,4 +1,4 @@
-// The cel reference (RenderPath::kReference, issue 7): the image the nailboards approximate, checked
+// The cel reference (RenderPath::kReference): the image the nailboards approximate, checked
 // against what geometry alone says: a sphere puff is a disc of its size, shaded by q(N.L) of the
 // sphere's normals, ringed by ink of the outline's width; shadows fall where the light projects the
 // puff, on the ground and on other puffs, never on the puff itself. Then the nailboards against it.

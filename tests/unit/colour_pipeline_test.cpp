@@ -67,7 +67,7 @@ nlohmann::json orthoCamera() {
           {"orthoHeight", kWorld},  {"near", 1},           {"far", 20}};
 }
 
-// Curves over life (issue 18): one puff of kSize at the origin, born at 0 and living 2 s, its colour
+// Curves over life: one puff of kSize at the origin, born at 0 and living 2 s, its colour
 // over life a curve of display values; ambient 0.2 and a light of 0.7, flat and without outlines, so
 // K_a + tint C K_L = 0.2 + 0.7 tint wherever the body is (the sphere atlas's and mesh's C is white):
 // the tint multiplies C alone, not the ambient.

@@ -1,4 +1,4 @@
-// The colour pipeline (issue 21, docs/colour.md), end to end against closed forms: the sRGB transfer
+// The colour pipeline (docs/colour.md), end to end against closed forms: the sRGB transfer
 // function and its round trip through a ramp texture and the render target; the view transform on
 // the CPU and the GPU; a black body's on-screen chromaticity through the EXR (scene-linear) and PNG
 // (display) outputs; an EXR keeping values above 1; opaque frames keeping alpha 1.

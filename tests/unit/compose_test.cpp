@@ -1,4 +1,4 @@
-// Output for compositing (issue 16, part 8; McGuire & Fein Fig. 8d): a transparent background whose
+// Output for compositing (McGuire & Fein Fig. 8d): a transparent background whose
 // alpha is the frame's coverage, written straight or premultiplied to PNG and EXR, and a plate drawn
 // under the frame. Closed forms: an opaque box's edge through the middle of a pixel column covers
 // exactly the samples left of it (the multisample positions, queried), and the frame's colour there

@@ -19,9 +19,9 @@
 #include <puff/core/detail_video.h>
 #include <puff/core/files.h>
 #include <puff/core/image.h>
-#include <puff/core/json_read.h>
 #include <puff/io/openimageio.h>
 #include <puff/mesh/mesh.h>
+#include <puff/support/json_read.h>
 
 #include "support/assert_ok.h"
 #include "support/gl_fixture.h"
@@ -430,8 +430,8 @@ TEST_F(CookedAtlas, FilesAreTheOutputsOwnAndAReplacedAtlasLeavesNothingBehind) {
                 flat + " -o OUT.json` and load OUT.json, or link puff::io and call puff::io::useOpenImageIO() first");
 }
 
-// Issue 17: a level that names another map's file, or a map holding NaN, drew wrong pictures with
-// exit 0; both are refused naming the file.
+// A level that names another map's file, or a map holding NaN, would draw wrong pictures with exit
+// 0; both are refused naming the file.
 TEST_F(CookedAtlas, WrongMapsAndNonFiniteTexelsAreRefused) {
   puff::bake::BakeOptions o = smallBake(dir_ / "exr");
   o.format = puff::bake::MapFormat::kExr;
@@ -485,9 +485,9 @@ TEST_F(CookedAtlas, AFailedCookWritesNothingAndTheSourceIsNeverReplaced) {
   EXPECT_FALSE(fs::exists(dir_ / "cooked"));
 }
 
-// A review found cook writing atlases the runtime then refuses: a level of the wrong channels, the
-// wrong size or with NaN. Cook checks every level as loadAtlas does, and the cooked atlas already
-// in place stays.
+// Cook must not write an atlas the runtime then refuses (a level of the wrong channels, the wrong
+// size or with NaN): it checks every level as loadAtlas does, and the cooked atlas already in place
+// stays.
 TEST_F(CookedAtlas, CookRefusesWhatTheRuntimeWouldRefuse) {
   const puff::bake::BakeOptions o = smallBake(dir_ / "atlas");
   auto baked = puff::bake::bakeAtlas(spheres(1, 3), o);

@@ -365,8 +365,8 @@ TEST_F(DetailVideoFile, ImportErrorsNameTheFile) {
   expectError(puff::bake::importDetailVideo({}, 8, 0), "no frames");
 }
 
-// A detail clip made by another tool may store puff:frames as a number, not a string (a review:
-// `oiiotool --attrib:type=int puff:frames 2` was "missing attribute puff:frames").
+// A detail clip made by another tool may store puff:frames as a number, not a string (as
+// `oiiotool --attrib:type=int puff:frames 2` does); it is read, not "missing attribute puff:frames".
 TEST(DetailVideoAttributes, AFramesAttributeStoredAsANumberIsRead) {
   puff::test::ScopedTempDir dir("puff_detail_int");
   const fs::path clip = dir / "clip.exr";

@@ -1,4 +1,4 @@
-// Output files (core/files.h) as issue 17 found them: a run must fail before its work when its output
+// Output files (core/files.h): a run must fail before its work when its output
 // cannot be written, and must clear the temporary files that killed runs left behind.
 #include <puff/core/files.h>
 

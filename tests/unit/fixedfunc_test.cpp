@@ -23,9 +23,9 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
-#include <puff/core/gl_context.h>
 #include <puff/fixedfunc/renderer.h>
 #include <puff/mesh/mesh.h>
+#include <puff/platform/gl_context.h>
 
 #include "support/assert_ok.h"
 #include "support/skip.h"

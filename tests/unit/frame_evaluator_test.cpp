@@ -105,7 +105,7 @@ TEST(FrameEvaluator, AFrameAloneEqualsTheSameFrameOfASequenceAndOfARewind) {
   expectSameParticles(early, fresh);
 }
 
-// The simulators step on any number of threads (issue 15) and the frames do not change: 20,000
+// The simulators step on any number of threads and the frames do not change: 20,000
 // simulated smoke puffs and 12,000 fire particles (enough for every thread to get blocks), with
 // colliders, at frames 6, 24 and 40, on 1, 2, 3 and 8 threads.
 TEST(FrameEvaluator, FramesAreTheSameOnAnyNumberOfThreads) {

@@ -1,4 +1,4 @@
-// Issue 17: every input a fuzz harness ever crashed on (tests/fuzz/regressions/HARNESS/) is read
+// Every input a fuzz harness ever crashed on (tests/fuzz/regressions/HARNESS/) is read
 // again here, in the ordinary build, by the same reader the harness calls: each gives a result or
 // one line that names the file, and the known ones give exactly their message. tests/fuzz/run.sh
 // replays the same files under libFuzzer and the sanitizers.
@@ -69,13 +69,13 @@ TEST(FuzzRegressions, EveryInputThatOnceCrashedIsReadOrRefusedInOneLine) {
        "particleFraction, style, particles, emitters, objects, rigidBodies, animation, simulation, fixed, media (did "
        "you mean "
        "\"animation\"?)"},
-      // OpenMesh's OBJ reader wrote the normal of "f ... -17/1/1" (no such vertex) out of bounds.
+      // OpenMesh's OBJ reader writes the normal of "f ... -17/1/1" (no such vertex) out of bounds.
       {"normal-of-missing-vertex.obj",
        "the file declares 6 faces, only 5 could be added (the others repeat a vertex, refer to a missing one, or are "
        "not in the file)"},
-      // "x y z+w" on a vertex line: OpenMesh's OFF reader lost its place and never finished.
+      // "x y z+w" on a vertex line: OpenMesh's OFF reader loses its place and never finishes.
       {"openmesh-timeout.off", "not a valid OFF file (line 1196)"},
-      // A PLY header with a property line cut in half: OpenMesh's reader segfaulted.
+      // A PLY header with a property line cut in half: OpenMesh's reader segfaults.
       {"openmesh-header-segv.ply", "not a valid PLY file (header line 4)"},
       // A truncated PNG: OpenImageIO leaks its error string (tests/lsan.supp); Puff's error is one line.
       {"oiio-truncated-png-leak.png.in", "*"},

@@ -1,4 +1,4 @@
-// Issue 17: GL failures stay messages. No context, a context too old for GL 4.5, and a shader that
+// GL failures stay messages. No context, a context too old for GL 4.5, and a shader that
 // does not compile each give puffbake and puffrender one line on stderr (puffview's no-display and
 // broken-shader cases are in puffview_test.cpp), never a crash or a compiler log spread over
 // several lines. puffrender's documented fallback to the fixed path for a context older than GL 4.5
@@ -20,8 +20,8 @@
 #include <puff/core/atlas.h>
 #include <puff/core/files.h>
 #include <puff/core/gl.h>
-#include <puff/core/text.h>
 #include <puff/gl_api.h>
+#include <puff/support/text.h>
 
 #include "support/gl_fixture.h"
 #include "support/temp_dir.h"
@@ -162,8 +162,9 @@ TEST_F(GlLimits, AnAtlasLargerThanTheLargestTextureIsOneError) {
 // address-space limit (RLIMIT_AS) set just before setAtlas makes glTextureStorage2D fail. The atlas
 // is 4096 x 4096 with one level: setAtlas first packs normalDepth and distance into a float copy
 // (4 floats a texel, 256 MiB), then allocates the RGBA8 texture (64 MiB). The limit leaves room for
-// the copy and half the texture. The colour map is never reached: 1 x 1 is enough. (Until the storage
-// was checked on its own, the failure went unseen until converting the level threw std::bad_alloc.)
+// the copy and half the texture. The colour map is never reached: 1 x 1 is enough. (The storage is
+// checked on its own: unchecked, the failure goes unseen until converting the level throws
+// std::bad_alloc.)
 // The upload runs in a fresh process (EXPECT_EXIT, "threadsafe": this binary run again for this test
 // alone, with its own GL context), so the limit and whatever fails under it stay there. The child
 // writes setAtlas's message to stderr and exits 0 if setAtlas failed, 1 if it succeeded; an abort

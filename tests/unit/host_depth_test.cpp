@@ -1,4 +1,4 @@
-// The host's depth convention (issue 16, part 1; cel::DepthConvention). Puff computes depth in
+// The host's depth convention (cel::DepthConvention). Puff computes depth in
 // linear space and stores it in the host's convention (frame.glsl's storeDepth), so a host keeps
 // its own depth buffer and shaders:
 //  - the conversion, on the GPU, against closed forms and against the window depth the hardware
@@ -8,7 +8,8 @@
 //    ordinary gl_Position depth (and again with Puff's own opaque wall in that convention), matches
 //    the linear path (Puff's own opaque wall) to IoU >= 0.99 over a sweep of camera distances and
 //    wall positions, and the wall really hides part of the puff;
-//  - Puff told linear in a host's standard buffer (the issue's bug) draws the puff over the wall.
+//  - Puff told linear in a host's standard buffer (the mistake the conventions exist for) draws the
+//    puff over the wall.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -421,7 +422,7 @@ TEST_F(HostDepthScene, EveryConventionMatchesTheLinearPath) {
   std::printf("worst IoU %.5f\n", worst);
 }
 
-// What the issue reports, and what the conventions fix: Puff writing its linear depth into a host's
+// What the conventions exist for: Puff writing its linear depth into a host's
 // standard depth buffer (told kLinear) draws the puff over the host's wall wherever they overlap.
 TEST_F(HostDepthScene, LinearDepthInAStandardBufferDrawsPuffsOverTheWall) {
   const Placement p{1.0f, 0.3f, -0.8f};

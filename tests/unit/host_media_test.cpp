@@ -1,4 +1,4 @@
-// Media in the host's frame (issue 16, part 4; media::Layers::createForHost). The host keeps its
+// Media in the host's frame (media::Layers::createForHost). The host keeps its
 // framebuffer, its colour and its depth in its own convention; Puff reads the depth texture and
 // blends the media layer and the explosion light onto the host's colour:
 //  - core::linearFromStored against closed forms, and as storedDepth's inverse, in every convention;

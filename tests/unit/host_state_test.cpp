@@ -39,7 +39,7 @@ namespace {
 using Keys = std::set<std::string>;
 using State = std::map<std::string, std::string>;
 
-// ---- the snapshot: every piece of state the issue lists, and every piece any Puff call sets -----
+// ---- the snapshot: every piece of state core/host_state.h lists, and every piece any Puff call sets
 
 constexpr int kUnits = 24;       // texture units looked at (Puff's defaults use 0-7; the chosen ones below up to 23)
 constexpr int kIndexed = 16;     // uniform and storage buffer bindings looked at
@@ -476,7 +476,7 @@ class HostState : public test::SphereAtlasTest {
   void TearDown() override {
     suiteGuard_.reset();
     // The host's objects are gone: nothing of theirs may stay bound in the shared context (llvmpipe
-    // crashed in OSMesaMakeCurrent at exit when a deleted framebuffer stayed the draw target).
+    // crashes in OSMesaMakeCurrent at exit when a deleted framebuffer stays the draw target).
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glUseProgram(0);
     glBindVertexArray(0);

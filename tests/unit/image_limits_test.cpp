@@ -1,4 +1,4 @@
-// Issue 17, limits before work: every use of an image refuses, from the file's size and its header
+// Limits before work: every use of an image refuses, from the file's size and its header
 // and before a pixel is decoded, an image larger than that use may be (docs/file-formats.md). The
 // files here claim huge images and hold no pixels at all: an error that names the use's limit (not
 // "truncated" or "corrupt") proves the header was checked first, and nothing was allocated for
@@ -100,7 +100,7 @@ TEST_F(ImageLimits, EachUseRefusesAHugeImageFromItsHeader) {
   const auto any = [](const fs::path& f) { return puff::core::readImage(f); };
   expectRefused(20000, 20000, any, "a 20000x20000 image is larger than an image may be (at most 16384x16384)");
   expectRefused(16384, 16385, any, "a 16384x16385 image is larger than an image may be (at most 16384x16384)");
-  // The issue's 1 MB PNG claiming 16384 x 16384: over 9 GB as a gradient.
+  // A 1 MB PNG claiming 16384 x 16384: over 9 GB as a gradient.
   const auto gradient = [](const fs::path& f) { return puff::cel::Gradient::read(f); };
   expectRefused(16384, 16384, gradient, "a 16384x16384 image is larger than a gradient may be (at most 4096x4096)");
   expectRefused(4097, 1, gradient, "a 4097x1 image is larger than a gradient may be (at most 4096x4096)");

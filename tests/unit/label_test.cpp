@@ -1,11 +1,11 @@
-// The built-in font for labels on contact sheets (core/label.h): every glyph well formed and unlike
+// The built-in font for labels on contact sheets (support/label.h): every glyph well formed and unlike
 // every other, and text drawn at any scale reads back, glyph by glyph, as the text it was given.
 #include <gtest/gtest.h>
 
 #include <set>
 #include <string>
 
-#include <puff/core/label.h>
+#include <puff/support/label.h>
 
 #include "support/read_text.h"
 

@@ -1,4 +1,4 @@
-// Curves over a particle's life (issue 18): keyframed size and density over normalized age, on
+// Curves over a particle's life: keyframed size and density over normalized age, on
 // placed emitters, the simulation's emitters and media emitters. Checked against closed forms and
 // against the documented default life they replace; read, written and round-tripped; frames stay
 // pure functions of the frame number.

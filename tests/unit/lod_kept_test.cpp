@@ -1,4 +1,4 @@
-// Issue 22 parts 5 and 6: puffbake --lod auto keeps the mesh it chose (written beside the atlas,
+// puffbake --lod auto keeps the mesh it chose (written beside the atlas,
 // named by the sidecar, drawn by the fixed path; the cel reference keeps the full source), its
 // tolerance judges depth and colour and keeps authored normals; and the atlas memory reported is
 // what the GL holds.
@@ -293,7 +293,7 @@ TEST_F(LodTolerance, DepthBreaksBeforeNormalsAndStopsDecimation) {
   EXPECT_GT(judged.facesAfter, blind.facesAfter);
 }
 
-// Part 6: the bytes atlasTextureBytes reports are the bytes the nailboard renderer's textures hold.
+// The bytes atlasTextureBytes reports are the bytes the nailboard renderer's textures hold.
 class AtlasMemory : public test::GlTest {};
 
 TEST_F(AtlasMemory, ReportedBytesAreTheBytesTheGlHolds) {

@@ -1,4 +1,4 @@
-// Popping measured live (issue 21): the explosion of art/scenes/explosion-walls.json simulated
+// Popping measured live: the explosion of art/scenes/explosion-walls.json simulated
 // frame by frame while its particles are born and die, its media drawn from the scene's camera into
 // a float layer and composed over the scene's background colour (no opaque objects, no detail
 // videos: what changes between frames is only the particles). The temporal metric is the largest
@@ -124,7 +124,7 @@ TEST_F(MediaPopping, MediaParticlesFadeInInsteadOfAppearingAtFullDensity) {
   std::printf("largest second difference, deaths (frames 25-71): %.4f without, %.4f with\n", deathBefore, deathAfter);
   std::printf("mean second difference, frames 0-71: %.6f without, %.6f with\n", reference::meanSecondDifference(before),
               reference::meanSecondDifference(after));
-  // The bound: a particle that appeared at full density in one frame now takes a smoothstep over
+  // The bound: a particle that would appear at full density in one frame takes a smoothstep over
   // kMediaBirthFade of its life, 0.1 * 1.26 s = 3.0 frames for the shortest-lived fire (1.8 s less
   // its 30% spread); a smoothstep sampled every third of its length has second differences of at
   // most 0.354 of its height, whatever the phase of the samples (0.21 at the mean fire's 4.3

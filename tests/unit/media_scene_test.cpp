@@ -1,4 +1,4 @@
-// The media art scenes (issue 6): golden frames, a frame alone equal to the same frame of a
+// The media art scenes: golden frames, a frame alone equal to the same frame of a
 // sequence, the camera flying into smoke without popping, and the scene file's media section.
 #include <gtest/gtest.h>
 
@@ -50,7 +50,7 @@ TEST_P(MediaSceneGolden, MatchesReference) {
 INSTANTIATE_TEST_SUITE_P(ArtScenes, MediaSceneGolden,
                          ::testing::Values(MediaCase{"explosion-walls", 5}, MediaCase{"explosion-walls", 20},
                                            MediaCase{"smoke-flythrough", 30}, MediaCase{"fire-to-smoke", 48},
-                                           // The cartoon style (issue 19): bands and ink, beside cel puffs.
+                                           // The cartoon style: bands and ink, beside cel puffs.
                                            MediaCase{"explosion-walls-cartoon", 20},
                                            MediaCase{"fire-to-smoke-cartoon", 48}),
                          [](const ::testing::TestParamInfo<MediaCase>& i) {

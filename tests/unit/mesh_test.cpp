@@ -1,4 +1,5 @@
-// puff::mesh: generators, validation, normalization, loading/saving through OpenMesh, decimation.
+// puff::mesh: generators, validation, normalization, loading (Puff's own readers; OpenMesh builds the
+// connectivity) and saving, decimation.
 #include <puff/core/files.h>
 #include <puff/mesh/mesh.h>
 
@@ -474,7 +475,8 @@ TEST_F(MeshIo, BadFilesGiveTheExpectedError) {
 }
 
 TEST_F(MeshIo, FacesOpenMeshDropsAreCounted) {
-  // OpenMesh skips a face that repeats a vertex; the file declared it, so loading must fail.
+  // A face that repeats a vertex is left out (as OpenMesh's importer does); the file declared it, so
+  // loading must fail.
   writeBytes(dir_ / "repeat.obj",
              "v 1 1 1\nv 1 -1 -1\nv -1 1 -1\nv -1 -1 1\n"
              "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\nf 1 1 2\n");
@@ -527,9 +529,9 @@ TEST_F(MeshIo, OpenMeshStaysQuietAndItsStreamsAreRestored) {
   omerr().enable();
 }
 
-// Issue 17: real meshes (the cow's one non-manifold vertex, the beetle's dozens of non-manifold
-// edges) were refused though the baker only rasterizes triangles. Their faces are split onto their
-// own vertices, every face is kept, and the split is counted.
+// Real meshes (the cow's one non-manifold vertex, the beetle's dozens of non-manifold edges) load,
+// since the baker only rasterizes triangles: their faces are split onto their own vertices, every
+// face is kept, and the split is counted.
 TEST_F(MeshIo, NonManifoldFacesAreSplitOntoTheirOwnVerticesAndCounted) {
   LoadInfo info;
   auto fin = loadMesh(kData / "nonmanifold.obj", &info);  // three triangles on one edge
@@ -570,7 +572,7 @@ TEST_F(MeshIo, NonManifoldFacesAreSplitOntoTheirOwnVerticesAndCounted) {
   EXPECT_EQ(info.separatedFaces, 40u);
 }
 
-// Issue 17: a PLY of triangle strips (as the Igea model stores itself) was "no faces". Strips alternate
+// A PLY of triangle strips (as the Igea model stores itself) is read as triangles. Strips alternate
 // their winding (OpenGL's rule), -1 restarts a strip, and the degenerate triangles that stitch strips
 // together are dropped.
 TEST_F(MeshIo, PlyTriangleStripsAreRead) {
@@ -621,7 +623,7 @@ TEST_F(MeshIo, PlyTriangleStripsAreRead) {
   EXPECT_NEAR(signedVolume(*strips), signedVolume(sphere), 1e-4);
 }
 
-// Puff reads the files itself (OpenMesh's readers crashed on fuzzed input): every form of every
+// Puff reads the files itself (OpenMesh's readers crash on fuzzed input): every form of every
 // format, as the fuzz seeds hold them (tests/fuzz/seeds/mesh), gives the same solid.
 TEST_F(MeshIo, EveryFormOfEveryFormatReads) {
   const fs::path seeds = fs::path(PUFF_SOURCE_DIR) / "tests" / "fuzz" / "seeds" / "mesh";
@@ -656,8 +658,8 @@ TEST_F(MeshIo, EveryFormOfEveryFormatReads) {
 }
 
 // A polygon with a corner on one of its edges: the fan from that corner holds a flat triangle, so the
-// fan starts from a corner that gives none (a review found the face refused in one order and baked
-// in another).
+// fan starts from a corner that gives none (so the face bakes whichever corner the file lists
+// first).
 TEST_F(MeshIo, APolygonWithACornerOnAnEdgeIsTriangulatedFromAnotherApex) {
   for (const char* face : {"f 1 2 3 4 5\n", "f 2 3 4 5 1\n", "f 4 5 1 2 3\n"}) {
     SCOPED_TRACE(face);
@@ -672,7 +674,7 @@ TEST_F(MeshIo, APolygonWithACornerOnAnEdgeIsTriangulatedFromAnotherApex) {
   }
 }
 
-// What some writers do that the readers take (found by a review).
+// What some writers do that the readers take.
 TEST_F(MeshIo, WritersQuirksAreRead) {
   const std::string tetraV = "1 1 1\n-1 -1 1\n-1 1 -1\n1 -1 -1\n";
   const std::string tetraF = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
@@ -836,7 +838,7 @@ TEST(MeshDecimate, ColorsFollowTheKeptVerticesAndScaleIsKept) {
 
 namespace {
 
-// Issue 17: a FIFO named as a mesh (or any file Puff reads whole) hung the run; a device such as
+// A FIFO named as a mesh (or any file Puff reads whole) would hang the run; a device such as
 // /dev/zero never ends. Only regular files are read.
 TEST(MeshLoad, AFifoOrADeviceIsRefusedNotWaitedOn) {
   puff::test::ScopedTempDir dir("puff_mesh_fifo");

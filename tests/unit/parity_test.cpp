@@ -1,4 +1,4 @@
-// Fixed-function parity (issue 5): every art scene, restricted to the fixed path's limits (no
+// Fixed-function parity: every art scene, restricted to the fixed path's limits (no
 // shadows, uniform ambient, view-plane billboards, one sample), rendered by both paths in one
 // compatibility context; per scene the smoke masks' agreement and the share of shared smoke pixels
 // within a tone tolerance. Side-by-side and difference images go to
@@ -19,8 +19,8 @@
 
 #include <filesystem>
 
-#include <puff/core/gl_context.h>
 #include <puff/eval/compare.h>
+#include <puff/platform/gl_context.h>
 #include <puff/render/render.h>
 #include <puff/scene/read.h>
 

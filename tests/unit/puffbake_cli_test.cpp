@@ -93,7 +93,7 @@ TEST_F(PuffbakeCli, BakesAGeneratedPuffAndReportsWhereItWent) {
   EXPECT_FALSE(fs::exists(dir_ / "out" / nd));
 }
 
-// Contact sheets a person can read (issue 18): the columns are titled and the rows named; a
+// Contact sheets a person can read: the columns are titled and the rows named; a
 // multi-view atlas gets a sheet per variation with its views as a grid, each numbered, whose front
 // view is the main sheet's preview; a later bake with fewer views or variations takes the extra
 // sheets away.
@@ -182,7 +182,7 @@ TEST_F(PuffbakeCli, BadMeshesFailWithTheFileAndTheProblem) {
   EXPECT_FALSE(fs::exists(out));
 }
 
-// Issue 17: a mesh with a non-manifold vertex or edges bakes (the baker rasterizes triangles), and
+// A mesh with a non-manifold vertex or edges bakes (the baker rasterizes triangles), and
 // puffbake says how many faces it split.
 TEST_F(PuffbakeCli, NonManifoldMeshesBakeAndTheSplitIsReported) {
   const fs::path bowtie = write("bowtie.obj",

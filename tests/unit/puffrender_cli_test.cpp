@@ -101,7 +101,7 @@ TEST_F(PuffrenderCli, BadScenesFailWithTheFileAndThePointer) {
   EXPECT_FALSE(fs::exists(out));
 }
 
-// Issue 17: a file a scene names that cannot be read is one line naming the scene, the JSON pointer
+// A file a scene names that cannot be read is one line naming the scene, the JSON pointer
 // that named the file, and the file's own problem, on both paths.
 TEST_F(PuffrenderCli, AMissingFileNamesTheSceneAndThePointer) {
   const fs::path out = dir_ / "out.png";
@@ -461,7 +461,7 @@ TEST_F(PuffrenderCli, FlipbookUsageErrorsNameTheProblemAndWriteNothing) {
   EXPECT_EQ(run(s + " -q --flipbook 1x2 -o " + (dir_ / "book.png").string()).exitCode, 0) << "its own layout, again";
 }
 
-// A sequence seen whole (issue 18): the contact sheet is the frames in a grid, each the frame
+// A sequence seen whole: the contact sheet is the frames in a grid, each the frame
 // rendered alone, with its number under it; without -o only the sheet is written.
 TEST_F(PuffrenderCli, ContactSheetIsTheFramesInAGridWithTheirNumbers) {
   const fs::path scene = write("ground.json", kGroundScene);
@@ -685,7 +685,7 @@ TEST(GifTiming, TheGifLastsAsLongAsTheSequence) {
 
 }  // namespace
 
-// ---- the fixed-function path (issue 5) ------------------------------------------------------
+// ---- the fixed-function path ----------------------------------------------------------------
 
 namespace {
 
@@ -746,7 +746,7 @@ TEST_F(PuffrenderPaths, FixedPathDrawsTheSceneWithoutShaders) {
   EXPECT_EQ(run(common() + " --path gouraud -o x.png").exitCode, 2);
 }
 
-// The cel reference (issue 7) is a path of its own: the same scene, meshes instead of nailboards.
+// The cel reference is a path of its own: the same scene, meshes instead of nailboards.
 TEST_F(PuffrenderPaths, ReferencePathDrawsThePuffMeshes) {
   const fs::path ref = dir_ / "ref.png", cel = dir_ / "cel.png";
   CliRun r = run(common() + " --path reference -o " + ref.string());
@@ -810,7 +810,7 @@ TEST_F(PuffrenderPaths, CompareReportsParityAndWritesSideBySide) {
 }
 
 TEST_F(PuffrenderPaths, FallsBackToFixedWhenTheProgrammablePathCannotRun) {
-  // A shader that does not build (issue 17): an error in one line naming it, exit 1, no image; not
+  // A shader that does not build: an error in one line naming it, exit 1, no image; not
   // a reason to draw with another path.
   const fs::path shaders = dir_ / "shaders";
   fs::copy(fs::path(PUFF_SOURCE_DIR) / "shaders", shaders, fs::copy_options::recursive);

@@ -311,7 +311,7 @@ TEST_F(PuffviewCli, BatchScreenshotMatchesPuffrender) {
   EXPECT_LT(shareWithin(plumeView, puffrender(plume, 0), 2), 0.99) << "the plume moves";
 }
 
-// A transparent scene (issue 18's flipbook scene) is shown over a grey checkerboard, not black, so
+// A transparent scene (the flipbook scene) is shown over a grey checkerboard, not black, so
 // its ink stays visible: the screenshot is puffrender's straight-alpha frame composited over the
 // checkerboard in linear light, and the corners are the checkerboard's 8-pixel squares.
 TEST_F(PuffviewCli, ATransparentSceneIsShownOverACheckerboard) {
@@ -343,7 +343,7 @@ TEST_F(PuffviewCli, ATransparentSceneIsShownOverACheckerboard) {
   EXPECT_GE(static_cast<double>(same) / (view.width * view.height), 0.98);
 }
 
-// A sequence from the viewer (issue 18): --frames A-B with a numbered --screenshot writes every frame
+// A sequence from the viewer: --frames A-B with a numbered --screenshot writes every frame
 // of the range to its own file, each the frame puffrender draws (a simulated scene started at A,
 // not 0, is still a pure function of the frame number); a plain name keeps the last frame only.
 TEST_F(PuffviewCli, ARangeWithANumberedScreenshotWritesEveryFrame) {
@@ -397,7 +397,7 @@ TEST_F(PuffviewCli, FixedPathScreenshotMatchesPuffrender) {
   EXPECT_LT(shareWithin(fixedView, puffrender(lamp, 0, "cel"), 2), 0.99) << "the fixed path is not the cel path";
 }
 
-// A cel program that does not build (issue 17): an error in one line naming the shader, exit 1 (a
+// A cel program that does not build: an error in one line naming the shader, exit 1 (a
 // broken shader is not a reason to draw something else).
 TEST_F(PuffviewCli, BrokenCelShaderIsOneLineAndExitOne) {
   PUFFVIEW_NEEDS_DISPLAY();
@@ -558,7 +558,7 @@ TEST_F(PuffviewWindow, PanelEditsShowAtOnceAndSaveRoundTrips) {
   EXPECT_EQ(*puff::core::readFileBytes(copy), beforeRefusal);
 }
 
-// Undo and redo (issue 18): every edit is one step however many changes make it (a drag), a change
+// Undo and redo: every edit is one step however many changes make it (a drag), a change
 // on disk is a step too, a new edit drops the steps undone, and the scene file stays where Save as
 // put it.
 TEST_F(PuffviewWindow, UndoAndRedoTakeEditsBackAndForthWhole) {
@@ -623,7 +623,7 @@ TEST_F(PuffviewWindow, UndoAndRedoTakeEditsBackAndForthWhole) {
   expectColor(draw(*v), 2, 2, {0.6f, 0, 0}, "the reload taken back");
 }
 
-// The panel docks beside the image (issue 18): the window is the image plus the panel's width, at
+// The panel docks beside the image: the window is the image plus the panel's width, at
 // least the panel's height, and the image is drawn whole beside the panel, the same pixels as
 // without the panels; hiding the panels gives the image the window.
 TEST_F(PuffviewWindow, ThePanelDocksBesideTheImageNotOverIt) {
@@ -697,7 +697,7 @@ TEST_F(PuffviewWindow, ThePanelDocksBesideTheImageNotOverIt) {
   EXPECT_EQ(pillar.y, 0);
 }
 
-// The ramp and gradient editors (issue 18): an edited ramp shows in the next frame, undo takes it
+// The ramp and gradient editors: an edited ramp shows in the next frame, undo takes it
 // back, and Save writes it beside the scene file and names it there.
 TEST_F(PuffviewWindow, AnEditedRampShowsAtOnceAndIsSavedBesideTheScene) {
   PUFFVIEW_NEEDS_DISPLAY();

@@ -437,7 +437,8 @@ TEST(ReferenceMetrics, LargestJumpIsBetweenNeighboursInTheRegion) {
 constexpr int kW = 96, kH = 64;
 constexpr float kWallDistance = 6.0f;  // a wall behind the right part of the image, through the cloud
 constexpr int kWallFrom = 60;          // first column of the wall
-const glm::vec3 kSky(0.4f, 0.6f, 0.8f), kWall(0.6f, 0.4f, 0.2f);  // multiples of 1/255: exact in RGBA8
+// Multiples of 1/255; the RGBA16F opaque layer holds them to within 2e-4.
+const glm::vec3 kSky(0.4f, 0.6f, 0.8f), kWall(0.6f, 0.4f, 0.2f);
 
 class ReferenceGpu : public test::MediaRendererTest {};
 
@@ -670,7 +671,7 @@ TEST_F(ReferenceGpu, TheShaderComputesTheReferenceModel) {
   renderer_->setDetail(nullptr, nullptr);
 }
 
-// Curves over life give each particle its own tint and temperature (issue 18). The shader takes
+// Curves over life give each particle its own tint and temperature. The shader takes
 // them as the reference does (float target, the renderer's order: as TheShaderComputesTheReferenceModel),
 // and they change the image by far more than the two differ. A tint of 0 leaves only what the medium
 // absorbs, exactly as materials that neither scatter nor emit, on the textured billboards too; a
@@ -726,7 +727,7 @@ TEST_F(ReferenceGpu, ParticlesTintsAndTemperaturesAreTheReferenceModels) {
 }
 
 TEST_F(ReferenceGpu, SphericalBillboardsMatchTheReferenceAndPlanarOnesDoNotAtAWall) {
-  // The whole GPU path (media::Renderer + media::Layers at scale 1: RGBA8 opaque colour, depth24
+  // The whole GPU path (media::Renderer + media::Layers at scale 1: RGBA16F opaque colour, depth24
   // resolved to R32F, RGBA16F layer, composition) against the exact reference, 30 overlapping
   // particles of smoke, fire, dust and fire turning into smoke, no detail video. Measured on
   // llvmpipe (RMSE / max):
@@ -739,8 +740,8 @@ TEST_F(ReferenceGpu, SphericalBillboardsMatchTheReferenceAndPlanarOnesDoNotAtAWa
   //   - the 16-bit float layer: the GPU against that view-axis-order reference, 4.1e-4 / 0.0026,
   //     darker on average by 2.7e-4 (llvmpipe's half-float blending looks like it rounds toward
   //     zero); in a float target the same comparison gives 7.5e-6 (TheShaderComputesTheReferenceModel);
-  //   - the 8-bit opaque colour: nothing here, the sky and wall are multiples of 1/255 (any other
-  //     colour adds up to 1/510 times the transmittance);
+  //   - the half-float (RGBA16F) opaque colour: the sky and wall round by at most 2e-4 (any colour
+  //     in [0, 1] by at most 2.5e-4), times the transmittance;
   //   - the depth24 opaque depth: about 3e-6 world units at 6, far below everything else.
   // Thresholds: 2.5 times the measured RMSE, 3 times the largest order difference.
   const media::Frame f = cloudFrame();
@@ -820,11 +821,11 @@ TEST_F(ReferenceGpu, TheGpuSortsByTheViewAxisTheReferenceAlongEachRay) {
 }
 
 TEST_F(ReferenceGpu, GpuOpacityStaysContinuousAsFireStartsTurningIntoSmoke) {
-  // The shader once applied the opacity detail only while the mixed emissive weight was below 1,
-  // with the mixed `detail` field, which for fire (0.5 by default) is otherwise unused: the moment
-  // fire started turning into smoke, tau jumped by 1 + 0.5 (2 D - 1). With D = 0.1 everywhere the
-  // centre pixel went from (0.5601, 0.4458, 0.4184) at life 0.2499 to (0.5102, 0.4938, 0.5372) at
-  // 0.2501. Emitters now upload detail 0 (as their albedo), like the reference.
+  // Emitters upload detail 0 (as their albedo), like the reference. A shader that applies the
+  // opacity detail only while the mixed emissive weight is below 1, with the mixed `detail` field
+  // (for fire, 0.5 by default, otherwise unused), makes tau jump by 1 + 0.5 (2 D - 1) the moment fire
+  // starts turning into smoke: with D = 0.1 everywhere the centre pixel goes from
+  // (0.5601, 0.4458, 0.4184) at life 0.2499 to (0.5102, 0.4938, 0.5372) at 0.2501.
   media::Material fire = media::fireMaterial(), smoke = media::smokeMaterial();
   fire.becomes = 1;
   fire.transitionStart = 0.25f;

@@ -46,7 +46,7 @@ INSTANTIATE_TEST_SUITE_P(ArtScenes, SceneGolden,
                            return n;
                          });
 
-// The animated, simulated scenes (issue 4), each at a frame where its motion shows: the missile's
+// The animated, simulated scenes, each at a frame where its motion shows: the missile's
 // trail, the propeller's wake through the cloud, the lamp's plume. Same tolerances.
 struct AnimatedCase {
   const char* scene;
@@ -145,7 +145,7 @@ namespace {
 // The same for a simulated scene: frame 9 reached alone (re-simulated from the start) equals frame
 // 9 of a sequence, and going back to an earlier frame restarts and gives that frame again.
 TEST_F(SceneFrames, SimulatedFrameRenderedAloneEqualsTheSequence) {
-  // lamp-plume's smoke, and bouncing-ball's rigid body with the dust it trails (issue 19).
+  // lamp-plume's smoke, and bouncing-ball's rigid body with the dust it trails.
   for (const char* name : {"lamp-plume", "bouncing-ball"}) {
     SCOPED_TRACE(name);
     expectAloneEqualsSequence(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (std::string(name) + ".json"));

@@ -2,10 +2,10 @@
 // include step keeps errors pointing at the real file and line.
 #include <gtest/gtest.h>
 
-#include <puff/core/embedded.h>
-#include <puff/core/gl_context.h>
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
+#include <puff/platform/gl_context.h>
+#include <puff/support/embedded.h>
 
 #include <algorithm>
 #include <filesystem>

@@ -1,4 +1,4 @@
-// Shadows by every method (issue 15): the billboard shadow volumes, the shadow map and the cel
+// Shadows by every method: the billboard shadow volumes, the shadow map and the cel
 // reference, each checked against what geometry says, over light directions, map scales, shadow
 // lengths and caster kinds, not at one point:
 //  - a sphere puff's shadow on the ground is the light's projection of it: an ellipse of semi-axes

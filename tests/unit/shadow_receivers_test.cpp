@@ -1,4 +1,4 @@
-// Where a shadow falls on a puff (issue 15), by every method: the receiving point is the puff's surface as
+// Where a shadow falls on a puff, by every method: the receiving point is the puff's surface as
 // its depth map gives it, not its billboard plane, so a puff's shadow on another puff is where the light's
 // cylinder through the caster meets the receiver's visible surface. Checked against ray-sphere geometry with
 // an orthographic and a perspective camera, so both ways the map method rebuilds the receiving point from the

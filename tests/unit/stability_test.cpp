@@ -1,4 +1,4 @@
-// Stability: where the methods break (issue 7), and that Puff stays right there. Each test here
+// Stability: where the methods break, and that Puff stays right there. Each test here
 // asserts against a closed form and would fail on a regression; the counts they measure are
 // printed so the margins can be judged.
 //
@@ -62,7 +62,7 @@
 // Added here:
 //   StabilityDepth        linear vs hyperbolic 24-bit depth for nailboards meeting 900 units away
 //   StabilityCel          a nailboard larger than the screen; one particle with a non-finite
-//                         position does not wipe out its whole batch (it once did)
+//                         position does not wipe out its whole batch
 //   StabilityMedia        zero and tiny radius, a sphere over the whole screen, the camera inside one
 //   StabilityBudget(Scene) a million births per second on a budget of a thousand (simulator,
 //                         parser limits, a rendered media scene)
@@ -376,11 +376,10 @@ TEST_F(StabilityCel, ANailboardLargerThanTheScreenCoversItWithTheRightDepth) {
   EXPECT_LT(worst, 0.5);
 }
 
-// One particle with a non-finite position must not take the whole batch with it. It once did (the
-// issue 7 report): PackBounds came from every position, so x = +inf anywhere (or NaN in the first
-// particle) made the box infinite and every particle unpacked to NaN (the two puffs below drew 975
-// px without the bad one, 0 with it). Bounds now come from finite positions, and a non-finite one
-// draws nothing.
+// One particle with a non-finite position must not take the whole batch with it: bounds come from
+// finite positions only, and a non-finite one draws nothing. Bounds from every position would make
+// the box infinite for x = +inf anywhere (or NaN in the first particle), and every particle would
+// unpack to NaN (the two puffs below: 975 px without the bad one, 0 with it).
 TEST_F(StabilityCel, ANonFiniteParticleDoesNotTakeTheOthersWithIt) {
   const std::vector<cel::Particle> good = {cel::Particle{glm::vec3(-1.2f, 0.6f, 0), 1.5f},
                                            cel::Particle{glm::vec3(1.2f, -0.6f, 0.4f), 1.5f}};

@@ -1,4 +1,4 @@
-// Steady pictures (issue 22 part 7).
+// Steady pictures.
 //   SteadyPacking  the 16-byte record's positions lie on a world-fixed grid: a still particle keeps
 //                  its exact bits while the rest of its batch moves, and the round trip stays within
 //                  the documented bound (half a power-of-two step < extent / 65534) at any distance
@@ -25,10 +25,10 @@
 #include <puff/cel/frame.h>
 #include <puff/cel/nailboards.h>
 #include <puff/core/gl.h>
-#include <puff/core/gl_context.h>
 #include <puff/core/random.h>
 #include <puff/fixedfunc/renderer.h>
 #include <puff/mesh/mesh.h>
+#include <puff/platform/gl_context.h>
 
 #include "support/assert_ok.h"
 #include "support/gl_target.h"

@@ -10,7 +10,7 @@
 #include <fstream>
 
 #include <puff/core/atlas.h>
-#include <puff/core/json_read.h>
+#include <puff/support/json_read.h>
 
 namespace puff::bake::detail {
 

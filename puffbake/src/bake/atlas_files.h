@@ -1,4 +1,4 @@
-// How puffbake replaces an atlas whole (issue 17): every map level and LOD mesh is named by its
+// How puffbake replaces an atlas whole: every map level and LOD mesh is named by its
 // content (core::OutputTransaction::nameByContent), the sidecar is renamed into place last, in one
 // rename, and only then are the files of the atlas it replaced removed. A reader that read the old
 // sidecar finds the old files (or, once they are removed, no file: an error, never a mix); a

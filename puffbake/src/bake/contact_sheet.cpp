@@ -7,7 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include <puff/bake/baker.h>
-#include <puff/core/label.h>
+#include <puff/support/label.h>
 
 namespace puff::bake {
 

@@ -8,7 +8,7 @@
 #include <puff/core/atlas.h>
 #include <puff/core/files.h>
 #include <puff/core/image.h>
-#include <puff/core/json_read.h>
+#include <puff/support/json_read.h>
 
 #include "atlas_files.h"
 

@@ -13,8 +13,8 @@
 #include <utility>
 
 #include <puff/core/image.h>
-#include <puff/core/parallel.h>
 #include <puff/core/random.h>
+#include <puff/support/parallel.h>
 
 namespace puff::bake {
 

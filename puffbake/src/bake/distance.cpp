@@ -2,7 +2,7 @@
 #include <limits>
 
 #include <puff/bake/maps.h>
-#include <puff/core/parallel.h>
+#include <puff/support/parallel.h>
 
 namespace puff::bake {
 

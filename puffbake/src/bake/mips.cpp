@@ -6,7 +6,7 @@
 
 #include <puff/bake/maps.h>
 #include <puff/core/colour.h>
-#include <puff/core/parallel.h>
+#include <puff/support/parallel.h>
 
 namespace puff::bake {
 

@@ -7,7 +7,7 @@
 #include <glm/vec2.hpp>
 
 #include <puff/bake/maps.h>
-#include <puff/core/parallel.h>
+#include <puff/support/parallel.h>
 
 namespace puff::bake {
 

@@ -12,9 +12,9 @@
 #include <CLI/CLI.hpp>
 
 #include <cli/app.h>
-#include <puff/core/text.h>
 #include <puff/scene/read.h>
 #include <puff/scene/write.h>
+#include <puff/support/text.h>
 
 #include "commands.h"
 

@@ -9,13 +9,13 @@
 #include <cli/progress.h>
 #include <puff/core/colour.h>
 #include <puff/core/files.h>
-#include <puff/core/gl_context.h>
 #include <puff/core/image.h>
 #include <puff/core/shader.h>
-#include <puff/core/text.h>
 #include <puff/eval/cel_reference.h>
+#include <puff/platform/gl_context.h>
 #include <puff/render/render.h>
 #include <puff/scene/evaluate.h>
+#include <puff/support/text.h>
 
 #include "commands.h"
 

@@ -17,10 +17,10 @@
 #include <cli/app.h>
 #include <puff/core/colour.h>
 #include <puff/core/files.h>
-#include <puff/core/label.h>
-#include <puff/core/text.h>
 #include <puff/io/openimageio.h>
 #include <puff/scene/evaluate.h>
+#include <puff/support/label.h>
+#include <puff/support/text.h>
 
 #include "commands.h"
 

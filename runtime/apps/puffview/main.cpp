@@ -1,4 +1,4 @@
-// puffview: main parses and makes one call (DESIGN.md); the viewer lives in puffview_lib.
+// puffview: main parses and makes one call (docs/style.md, "Apps"); the viewer lives in puffview_lib.
 #include <cli/app.h>
 
 #include <puffview/options.h>

@@ -521,7 +521,7 @@ void rampPanel(Viewer& v, PanelState& state) {
   ImGui::TextDisabled(s.ramp.empty() ? "built-in two-tone ramp" : "%s", s.ramp.filename().c_str());
 }
 
-// The dynamic objects (rigid bodies, issue 19) and the rigid-body world. Their trajectories are
+// The dynamic objects (rigid bodies) and the rigid-body world. Their trajectories are
 // simulated again at once, and what rides on them follows (scene::updateBodies), so the frame shows
 // what puffrender makes of the saved scene.
 void bodiesPanel(scene::Scene& s, Edits& edit, std::string& error) {

@@ -17,13 +17,13 @@
 #include <puff/core/atlas.h>
 #include <puff/core/files.h>
 #include <puff/core/gl.h>
-#include <puff/core/gl_context.h>
 #include <puff/core/shader.h>
-#include <puff/core/text.h>
+#include <puff/platform/gl_context.h>
 #include <puff/render/view.h>
 #include <puff/scene/evaluate.h>
 #include <puff/scene/read.h>
 #include <puff/scene/write.h>
+#include <puff/support/text.h>
 #include <puffview/panels.h>
 #include <puffview/viewer.h>
 
@@ -52,8 +52,8 @@ struct Viewer::Impl {
 
   // The scene is drawn into this target and resolved into the window: the cel path with the scene's
   // samples (like puffrender), so edges look the same as in puffrender's images; the fixed path
-  // with one sample (it copies part of the framebuffer into a texture). RGBA8: the fixed path needs
-  // alpha.
+  // with one sample (it copies part of the framebuffer into a texture). Colour: scene-linear RGBA16F,
+  // or RGBA8 display values for the fixed path.
   core::Framebuffer fbo;
   core::Renderbuffer color, depthStencil;
   int fboWidth = 0, fboHeight = 0, fboSamples = 0;

@@ -8,13 +8,13 @@
 #include <puff/core/atlas.h>
 #include <puff/core/colour.h>
 #include <puff/core/detail_video.h>
-#include <puff/core/statistics.h>
 #include <puff/eval/budget.h>
 #include <puff/eval/cel_reference.h>
 #include <puff/reference/media_physical.h>
 #include <puff/reference/media_reference.h>
 #include <puff/reference/metrics.h>
 #include <puff/render/render.h>
+#include <puff/support/statistics.h>
 
 namespace puff::eval {
 

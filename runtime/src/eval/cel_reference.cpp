@@ -268,7 +268,7 @@ struct CelReference::Impl {
     for (GLuint unit : {4u, 5u, 6u}) glBindTextureUnit(unit, 0);
     const float far[4] = {1e30f, 0, 0, 0};
     const GLuint none[4] = {0, 0, 0, 0};
-    // Both passes draw the puffs and then the opaque objects (which cast too: issue 15).
+    // Both passes draw the puffs and then the opaque objects (which cast shadows too).
     auto drawCasters = [&](int mode) {
       glUseProgram(meshProg);
       setInt(meshProg, "uMode", mode);

@@ -9,8 +9,9 @@
 #include <vector>
 
 #include <puff/cel/frame.h>
-#include <puff/cel/nailboards.h>
 #include <puff/cel/opaque.h>
+#include <puff/cel/shadow_map.h>  // cel::Bounds
+#include <puff/cel/types.h>       // cel::Viewport
 #include <puff/core/atlas.h>
 #include <puff/core/error.h>
 #include <puff/core/gl.h>

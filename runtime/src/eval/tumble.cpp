@@ -39,10 +39,14 @@ std::vector<int> sweep(int from, int to, int step, bool inclusive = false) {
   return v;
 }
 
+// The grid's columns (yaws) and rows (pitches).
+std::vector<int> yawsOf(const TumbleOptions& o) { return sweep(o.offsetDegrees, 360, o.stepDegrees); }
+std::vector<int> pitchesOf(const TumbleOptions& o) { return sweep(-90 + o.offsetDegrees, 90, o.stepDegrees, true); }
+
 Grid gridFor(const TumbleOptions& o) {
   Grid g;
-  g.columns = static_cast<int>(sweep(0, 360, o.stepDegrees).size());
-  g.rows = static_cast<int>(sweep(-90, 90, o.stepDegrees, true).size());
+  g.columns = static_cast<int>(yawsOf(o).size());
+  g.rows = static_cast<int>(pitchesOf(o).size());
   g.square = static_cast<int>(std::lround(kSpacing * static_cast<float>(o.puffPixels)));
   return g;
 }
@@ -55,6 +59,10 @@ glm::quat poseRotation(const TumblePose& p) {
 Result<void> checkOptions(const TumbleOptions& o) {
   if (o.stepDegrees < 1 || 90 % o.stepDegrees != 0) {
     return Error{"tumble sweep: the step (" + std::to_string(o.stepDegrees) + " degrees) must divide 90"};
+  }
+  if (o.offsetDegrees < 0 || o.offsetDegrees >= o.stepDegrees) {
+    return Error{"tumble sweep: the offset (" + std::to_string(o.offsetDegrees) + " degrees) must be in [0, " +
+                 std::to_string(o.stepDegrees) + ")"};
   }
   if (o.puffPixels < 8 || o.puffPixels > 512) return Error{"tumble sweep: puffs of 8 to 512 pixels"};
   return {};
@@ -92,7 +100,7 @@ Result<scene::Scene> gridScene(const fs::path& atlas, const TumbleOptions& o, in
                               {"tumble", std::string(cel::toString(method))}}}};
   auto s = scene::parseScene(j, atlas.parent_path() / "tumble-sweep.json");
   if (!s) return s.error();
-  const std::vector<int> yaws = sweep(0, 360, o.stepDegrees), pitches = sweep(-90, 90, o.stepDegrees, true);
+  const std::vector<int> yaws = yawsOf(o), pitches = pitchesOf(o);
   int index = 0;
   for (std::size_t r = 0; r < pitches.size(); ++r) {
     for (std::size_t c = 0; c < yaws.size(); ++c, ++index) {
@@ -176,6 +184,17 @@ std::vector<TumblePose> tumblePoses(int stepDegrees) {
   return out;
 }
 
+std::vector<TumblePose> tumbleGridPoses(const TumbleOptions& options) {
+  std::vector<TumblePose> out;
+  if (!checkOptions(options)) return out;
+  for (int pitch : pitchesOf(options))
+    for (int yaw : yawsOf(options)) {
+      if (std::abs(pitch) == 90 && yaw != 0) continue;  // the same poses as yaw 0
+      out.push_back(TumblePose{yaw, pitch, 0});
+    }
+  return out;
+}
+
 Result<TumbleReference> renderTumbleReference(const fs::path& atlas, const TumbleOptions& options,
                                               std::vector<int> rolls) {
   PUFF_TRY(checkOptions(options));
@@ -206,7 +225,7 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
                  std::to_string(reference.rolls.size()) + " rolls (make it with renderTumbleReference)"};
   }
   const Grid g = gridFor(o);
-  const std::vector<int> yaws = sweep(0, 360, o.stepDegrees), pitches = sweep(-90, 90, o.stepDegrees, true);
+  const std::vector<int> yaws = yawsOf(o), pitches = pitchesOf(o);
   const int variations = variationsOf(atlas);
   TumbleResult out;
   std::vector<double> times;

@@ -3,8 +3,8 @@
 // Files are parsed by Puff's own readers (mesh_read.h: OpenMesh's crash, hang and write out of
 // bounds on malformed files); OpenMesh builds the connectivity, which finds the non-manifold faces
 // to split, and writes OFF, PLY and STL. Every face the file declares must make it in.
-#include <puff/core/text.h>
 #include <puff/mesh/mesh.h>
+#include <puff/support/text.h>
 
 #include "mesh_read.h"
 
@@ -265,8 +265,8 @@ std::string facesText(std::size_t n) { return std::to_string(n) + (n == 1 ? " fa
 
 // The file's vertices and faces into `om`, as OpenMesh's importer would add them: a face with
 // fewer than 3 corners, a corner that names no vertex, or a vertex repeated in one face is left out
-// (checkFaces counts it); a face the halfedge structure refuses (non-manifold where it is: issue
-// 17's cow and beetle, which real meshes are) goes onto its own copies of its vertices, colour and
+// (checkFaces counts it); a face the halfedge structure refuses (non-manifold where it is, as real
+// meshes such as the cow and the beetle are) goes onto its own copies of its vertices, colour and
 // normal included, and is marked.
 void buildOpenMesh(const detail::RawMesh& raw, OmMesh& om) {
   const OmSilence silence;  // add_face logs each face it refuses

@@ -1,6 +1,6 @@
 // Puff's own readers of OBJ, OFF, PLY and STL (private to puff::mesh). OpenMesh's readers crash,
-// hang or write out of bounds on malformed files (issue 17's fuzzers: a normal given to a missing
-// OBJ vertex, a PLY header that segfaults, an OFF file that never finishes), so the files are
+// hang or write out of bounds on malformed files (tests/fuzz/regressions: a normal given to a
+// missing OBJ vertex, a PLY header that segfaults, an OFF file that never finishes), so the files are
 // parsed here, with every count checked against the bytes that are left before anything is
 // reserved; OpenMesh only builds the connectivity (mesh_io.cpp).
 #pragma once

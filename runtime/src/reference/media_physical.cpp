@@ -15,8 +15,8 @@
 #include <glm/matrix.hpp>
 
 #include <puff/core/blackbody.h>
-#include <puff/core/parallel.h>
 #include <puff/reference/metrics.h>
+#include <puff/support/parallel.h>
 
 #include "media_shared.h"
 

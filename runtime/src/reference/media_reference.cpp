@@ -13,9 +13,9 @@
 #include <glm/vec4.hpp>
 
 #include <puff/core/blackbody.h>
-#include <puff/core/parallel.h>
 #include <puff/core/random.h>
 #include <puff/reference/media_reference.h>
+#include <puff/support/parallel.h>
 
 #include "media_shared.h"
 

@@ -1,5 +1,5 @@
-// The cel path: opaque objects, nailboards, billboard shadow volumes, shadowed receivers, and the
-// media pass composed over them.
+// The cel path: opaque objects, nailboards, shadows (the shadow map, or billboard shadow volumes and
+// the shadowed receivers' second pass), and the media pass composed over them.
 #include <algorithm>
 
 #include <puff/cel/nailboards.h>

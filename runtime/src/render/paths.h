@@ -12,7 +12,7 @@
 
 namespace puff::render::detail {
 
-/// Nailboards, outlines, shadow volumes and the media pass. Needs GL 4.5.
+/// Nailboards, outlines, shadows (the shadow map or the volumes) and the media pass. Needs GL 4.5.
 Result<std::unique_ptr<Path>> createCelPath(const scene::Scene& scene, const scene::SceneGeometry& geometry);
 /// The GL 1.x fixed-function path (see SceneRenderer::create for `contextFramebuffer`).
 Result<std::unique_ptr<Path>> createFixedPath(const scene::Scene& scene, const scene::SceneGeometry& geometry,

@@ -33,7 +33,8 @@ std::string_view toString(RenderPath path) {
 const std::vector<RenderPathInfo>& renderPaths() {
   static const std::vector<RenderPathInfo> paths = {
       {RenderPath::kCel, "cel",
-       "nailboards with cel shading, outlines and billboard shadow volumes (McGuire & Fein 2006)"},
+       "nailboards with cel shading, outlines and shadows, from a light-space map or billboard shadow volumes "
+       "(McGuire & Fein 2006)"},
       {RenderPath::kFixed, "fixed",
        "GL 1.x fixed function (McGuire & Fein 2006, 4.4): flat billboards of a per-frame puff texture, backing "
        "billboards for outlines; one light, uniform ambient, no shadows"},

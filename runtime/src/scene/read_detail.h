@@ -8,8 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include <puff/core/json_read.h>
 #include <puff/scene/scene.h>
+#include <puff/support/json_read.h>
 
 namespace puff::scene::detail {
 

@@ -329,7 +329,7 @@ json toJson(const Scene& s) {
   j["ramp"] = {{"image", pathJson(s.ramp, dir)}, {"smooth", s.rampSmooth}};
   j["atlas"] = pathJson(s.atlas, dir);
   j["atlasLevel"] = s.atlasLevel;
-  j["particleFraction"] = s.particleFraction;
+  j["particleFraction"] = number(s.particleFraction);
   const cel::Style& st = s.style;
   j["style"] = {{"outlines", st.outlines},
                 {"outlineWidth", number(st.outlineWidth)},

@@ -5,8 +5,8 @@
 
 #include <puff/bake/baker.h>
 #include <puff/core/atlas.h>
-#include <puff/core/gl_context.h>
 #include <puff/io/openimageio.h>
+#include <puff/platform/gl_context.h>
 
 int main(int argc, char** argv) {
   puff::io::useOpenImageIO();  // the atlas is baked and read as PNG

@@ -4,7 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include <puff/core/text.h>
+#include <puff/support/text.h>
 
 namespace puff::cli {
 

@@ -1,7 +1,8 @@
 // puffview's core: a GLFW window showing a scene through one render path, the artist's camera,
 // play/pause/step, the panels that edit the scene live, saving it back, screenshots, and hot
-// reload of every file the scene draws on. The app (app.cpp) is a loop around this class; tests
-// drive it one displayed frame at a time (processEvents, checkFiles, drawFrame, readWindow).
+// reload of every file the scene draws on. The app (puff::view::run, options.cpp) is a loop around
+// this class; tests drive it one displayed frame at a time (processEvents, checkFiles, drawFrame,
+// readWindow).
 #pragma once
 
 #include <filesystem>

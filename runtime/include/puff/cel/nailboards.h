@@ -1,5 +1,6 @@
-// Cel-shaded nailboards with outlines and billboard shadow volumes (McGuire & Fein §4.1-4.3),
-// drawn with programmable GL (4.5) into whatever framebuffer is current.
+// Cel-shaded nailboards with outlines and shadows (McGuire & Fein §4.1-4.3), drawn with
+// programmable GL (4.5) into whatever framebuffer is current. Shadows come from a shadow map (the
+// default; the puffs drawn as its casters: cel/shadow_map.h) or from billboard shadow volumes.
 //
 // A frame, as a host draws it (see puff::cel::renderScene for the whole sequence):
 //   1. clear colour, depth (to clearDepth(frame.depth): 1, or 0 for reversed-z) and stencil (to 0);
@@ -7,7 +8,7 @@
 //   2. draw opaque geometry lit, writing depth in the frame's convention (OpaqueRenderer, or the
 //      host's own shaders: linear depth for kLinear, plain gl_Position depth for the others);
 //   3. NailboardRenderer::drawNailboards(..., ShadePass::kLit);
-//   with shadows:
+//   with shadow volumes (Style::shadowMethod kVolumes; the shadow map's frame is in shadow_map.h):
 //   4. NailboardRenderer::drawShadowVolumes(...) counts into the stencil buffer (depth-fail);
 //   5. every receiver is drawn again with ShadePass::kShadowed: depth test EQUAL, only where the
 //      stencil is non-zero, colour = the ambient term only (Eq. 2 without its diffuse term).

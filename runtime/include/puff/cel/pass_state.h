@@ -1,6 +1,7 @@
-// GL state shared by the cel passes (nailboards, shadow volumes, opaque objects). Each pass sets
-// every state it relies on, never trusting what the previous pass or the host left. Public so that
-// a pass drawn alongside them (the cel reference in puff::eval, a host's own) sets the same state.
+// GL state shared by the cel passes (nailboards, shadow casters and volumes, opaque objects). Each
+// pass sets every state it relies on, never trusting what the previous pass or the host left. Public
+// so that a pass drawn alongside them (the cel reference in puff::eval, a host's own) sets the same
+// state.
 #pragma once
 
 #include <puff/cel/nailboards.h>

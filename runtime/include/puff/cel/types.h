@@ -93,12 +93,12 @@ struct Style {
   float outlineWidth = 2.0f;     ///< pixels on screen, from the baked distance field; >= 0
   glm::vec3 outlineColor{0.0f};  ///< the ink
   bool shading = true;           ///< Eq. 2 with q(max(0, N.L)); off = flat K_a + C * K_L
-  bool shadows = false;          ///< billboard shadow volumes (§4.3)
+  bool shadows = false;          ///< shadows, by shadowMethod (the map, or the volumes of §4.3)
   /// How unoriented puffs' billboards face the camera; oriented ones always face the eye (their
   /// billboard only carries the rays the hull is marched along).
   Alignment alignment = Alignment::kViewPlane;
-  /// Shadow volumes start this far (in puff diameters) past the puff's own far side (as its depth
-  /// map gives it), so a puff does not shadow itself. [0, 1].
+  /// Shadows start this far (in puff diameters) past the puff's own far side (as its depth map
+  /// gives it), by either method, so a puff does not shadow itself. [0, 1].
   float shadowBias = 0.05f;
   /// World-space length of each shadow along the light; > 0. Volumes measure it from the puff's
   /// centre (a closed object's from its far side), the map from where the shadow starts (a

@@ -11,11 +11,11 @@
 //     flange. Straight (not premultiplied) alpha. Past the silhouette, C is the colour of the
 //     nearest covered texel (flange and empty texels alike, every mip level), so a filtered read at
 //     the rim sees the puff's colour; the paper's Fig. 3 bakes the flange black instead, and Puff
-//     draws the ink from the distance map. (Atlases baked before this hold black there: they load
-//     and draw, with a slightly dark rim.)
+//     draws the ink from the distance map. (An atlas whose flange texels hold black loads and
+//     draws, with a slightly dark rim.)
 //   distance (one channel): signed distance from the texel center to the puff's silhouette
 //     (without the flange), in level-0 texels, outside positive: dist = (v - 0.5) * 2 * range.
-//   back (one channel; optional: multi-view atlases baked since 2026-12-03): v = b + 0.5, b the offset
+//   back (one channel; optional: puffbake writes it for multi-view atlases): v = b + 0.5, b the offset
 //     from the billboard plane (as d) of the farthest point where the texel's rays (its covered
 //     samples') cross the puff's surface: the far side of the last run of puff along them, a bound
 //     (nothing of the puff lies beyond it). Outside the silhouette v = 0: no bound. Each mip level
@@ -59,7 +59,7 @@ struct AtlasSource {
   std::size_t faces = 0;       ///< faces of the normalized source mesh
   std::size_t facesBaked = 0;  ///< faces actually rasterized (fewer when the bake decimated)
   /// Diffuse colour baked where the mesh has no vertex colours (the bake's default colour; sRGB-encoded as
-  /// authored). Sidecars written before it was recorded read as white, puffbake's default.
+  /// authored). A sidecar without it reads as white, puffbake's default.
   glm::vec3 defaultColor{1.0f};
   /// The mesh the atlas was baked from when puffbake --lod auto decimated it (fewer faces than the
   /// source): a mesh file relative to the sidecar, in the source's normalized space (unit sphere),

@@ -1,4 +1,4 @@
-// Two kinds of failure, kept apart (see DESIGN.md):
+// Two kinds of failure, kept apart (docs/style.md, "Errors"):
 //  - PUFF_CHECK: a broken internal promise. Prints file:line and the condition, then aborts.
 //  - puff::Error / puff::Result<T>: bad input (a mesh, a scene, an image, a flag). Carries one
 //    human-readable line, "FILE: problem", that `main` prints as "TOOL: error: FILE: problem".

@@ -38,7 +38,7 @@ struct MediaBudgetOptions {
 };
 
 /// Where the error lies, per measured frame (MediaBudget::frames order) against one reference: the
-/// whole-frame RMSE says how far an image is, these say where (issue 21). Scene-linear, not clamped.
+/// whole-frame RMSE says how far an image is, these say where. Scene-linear, not clamped.
 struct RegionErrors {
   /// RMSE over the pixels where that reference shows a medium (reference::mediaMask of its own
   /// layer, epsilon half an 8-bit step). A frame without such pixels gives 0.

@@ -1,4 +1,4 @@
-// Tumbling puffs against the cel reference (issue 22): oriented nailboards turned through a sweep of
+// Tumbling puffs against the cel reference: oriented nailboards turned through a sweep of
 // yaw, pitch and roll, each pose drawn as one puff in its own square of a grid, and compared pose by
 // pose with the cel reference, which turns the actual puff meshes. What a multi-view atlas's view
 // count and cell size buy: coverage IoU (the puff's silhouette with its ink) and outline IoU (the
@@ -15,7 +15,10 @@
 namespace puff::eval {
 
 struct TumbleOptions {
-  int stepDegrees = 15;       ///< yaw and roll in [0, 360), pitch in [-90, 90], this far apart; divides 90
+  int stepDegrees = 15;  ///< yaw and roll in [0, 360), pitch in [-90, 90], this far apart; divides 90
+  /// Where yaw and pitch start: yaw at this, pitch at -90 + this, in [0, stepDegrees). A step of 2k
+  /// offset by k samples a k-degree grid between its own poses (the poles are then left out).
+  int offsetDegrees = 0;
   int puffPixels = 48;        ///< a puff's diameter on screen (it is drawn this many pixels across)
   float outlineWidth = 2.0f;  ///< pixels
 };
@@ -51,6 +54,9 @@ struct TumbleResult {
 /// The poses of a sweep: yaw and roll in [0, 360) and pitch in [-90, 90] every `stepDegrees`
 /// (at pitch +-90 yaw and roll turn about the same axis: only yaw 0 is kept there).
 std::vector<TumblePose> tumblePoses(int stepDegrees);
+/// The yaw and pitch of each pose of `options`' grid that measureTumble measures at each roll (roll
+/// 0 here), row by row (pitch).
+std::vector<TumblePose> tumbleGridPoses(const TumbleOptions& options);
 
 /// The cel reference of the sweep, with the source meshes of `atlas` (a sidecar), in the current GL
 /// 4.5 context. `rolls` limits the frames drawn (empty: every roll of the sweep).

@@ -9,15 +9,15 @@
 // When all four vanish (a surface no texel around the pixel was drawn against) the pixel takes the
 // texel of the 4 x 4 around it whose depth is nearest its own. The layer's depth is the NEAREST
 // opaque depth in its footprint, so thin near objects keep their own texels. On a slanted surface
-// the texels' depths drift from the pixel's gradually, so their weights do too (the earlier rule,
-// bilinear only when all four were within the tolerance and otherwise the nearest texel, switched
-// there in blocks; Upsampling::kAllOrNearest keeps it for comparison).
+// the texels' depths drift from the pixel's gradually, so their weights do too (the other rule,
+// Upsampling::kAllOrNearest, kept for comparison: bilinear only when all four are within the
+// tolerance and otherwise the nearest texel, switches there in blocks).
 //
 // Heat shimmer moves the opaque scene by the layer's offset times ComposeSettings::shimmerPixels,
 // in fractions of a pixel: the opaque colour (lit) is fetched bilinearly at the displaced position.
 //
-// The explosion's light on the scene (volumetric-explosion-effects.txt) is applied in the same
-// pass from the depth texture, per pixel: surfaces seen through the explosion's projected circle
+// The explosion's light on the scene (*Volumetric Explosion Effects*, docs/media.md) is applied in
+// the same pass from the depth texture, per pixel: surfaces seen through the explosion's projected circle
 // get its projected texture, 0 in front of the explosion sphere, rising linearly to full at its
 // centre (or its back), full behind; added (additive) or multiplied in (modulating). No z-bias,
 // no polygon clipping. Background pixels (no surface) are left alone, as in the paper.
@@ -121,8 +121,8 @@ class Layers {
   int mediaHeight() const;
   float scale() const;
 
-  /// The framebuffer the opaque pass draws into: colour (RGBA8) + depth/stencil (the cel programs'
-  /// linear depth), multisampled as asked. The caller binds it, sets the viewport and clears.
+  /// The framebuffer the opaque pass draws into: colour (RGBA16F, scene-linear) + depth/stencil (the
+  /// cel programs' linear depth), multisampled as asked. The caller binds it, sets the viewport and clears.
   core::GlId opaqueFramebuffer() const;
   /// Resolves the opaque pass into single-sample colour + depth textures and builds the media
   /// layer's depth (nearest depth per layer texel, R32F linear). Sets its own state.
@@ -197,7 +197,7 @@ class Layers {
                            std::span<const ExplosionLight> lights, const ComposeSettings& settings);
 
   /// How compose() upsamples when ComposeSettings::depthAware is on: bilateral weights in depth
-  /// (the default), or the earlier rule (all four texels within the tolerance: bilinear, else the
+  /// (the default), or the all-or-nearest rule (all four texels within the tolerance: bilinear, else the
   /// nearest-depth texel), kept so tests and benchmarks can measure one against the other.
   enum class Upsampling { kBilateral, kAllOrNearest };
   void setUpsampling(Upsampling rule);
@@ -214,8 +214,8 @@ class Layers {
   void blendHistory(core::GlId target, const int viewport[4], std::span<const int> slots,
                     std::span<const float> weights);
 
-  /// The resolved opaque colour (RGBA8) and linear depth (R32F: the nearest of each pixel's
-  /// samples) textures (for tests and tools).
+  /// The resolved opaque colour (RGBA16F, scene-linear) and linear depth (R32F: the nearest of each
+  /// pixel's samples) textures (for tests and tools).
   core::GlId opaqueColor() const;
   core::GlId opaqueDepth() const;
   core::GlId mediaColor() const;

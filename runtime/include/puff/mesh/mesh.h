@@ -1,5 +1,6 @@
-// Puff meshes: loading (OBJ, OFF, PLY, STL through OpenMesh), validation, normalization to the
-// unit bounding sphere, built-in generators, writing, and quadric decimation.
+// Puff meshes: loading (OBJ, OFF, PLY, STL by Puff's own readers; OpenMesh builds the
+// connectivity), validation, normalization to the unit bounding sphere, built-in generators,
+// writing, and quadric decimation.
 #pragma once
 
 #include <cstddef>

@@ -54,7 +54,7 @@
 //
 // tests/unit/reference_test.cpp: in a float target and with viewAxisOrder, billboard.frag equals
 // this to an RMSE of about 1e-5 (32-bit arithmetic and the GPU's tables); everything else the full
-// GPU path differs by is the order, the float layer's blending and the 8-bit opaque colour.
+// GPU path differs by is the order, the float layer's blending and the half-float opaque colour.
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 // A render path: one way of drawing a scene's frames. SceneRenderer (render.h) owns the target, the
 // read-back, motion blur and the scene's evaluation, and hands each frame's inputs to its path:
-// the cel path (nailboards, shadow volumes, and the media pass for fire, smoke and dust) and the
+// the cel path (nailboards, shadows, and the media pass for fire, smoke and dust) and the
 // GL 1.x fixed path live in puff::render; puff::eval adds the cel reference through this interface.
 #pragma once
 
@@ -26,7 +26,7 @@ namespace puff::render {
 
 /// The render paths a scene can be drawn with.
 enum class RenderPath {
-  kCel,    ///< programmable GL 4.5: nailboards, outlines from the flange, shadow volumes (puff::cel)
+  kCel,    ///< programmable GL 4.5: nailboards, outlines from the flange, shadow map or volumes (puff::cel)
   kFixed,  ///< GL 1.x fixed function (puff::fixedfunc, §4.4): per-frame puff texture, backing
            ///< billboards for outlines; one light, uniform ambient, no shadows, flat billboards
   /// The image the nailboards approximate: every particle as its actual puff mesh (puff::eval,
@@ -59,7 +59,7 @@ struct MediaFrameInputs {
   media::Frame frame;                      ///< the FULL-SIZE frame (camera, planes, light, ambient, time, size)
   std::vector<media::Particle> particles;  ///< listed + simulated, as handed to media::Renderer::draw
   /// The resolved opaque layer the media were composed over, width x height, row 0 at the BOTTOM:
-  /// the colour as its RGBA8 texture holds it (k / 255) and the linear depth (R32F, >= 1: none).
+  /// the colour as its RGBA16F texture holds it (scene-linear) and the linear depth (R32F, >= 1: none).
   std::vector<glm::vec3> opaqueColor;
   std::vector<float> opaqueDepth;
   /// The cartoon style only (else empty): the layer's accumulated opacity A at the output's size,

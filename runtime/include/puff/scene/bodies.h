@@ -1,4 +1,4 @@
-// Rigid bodies (issue 19; McGuire & Fein §3 combine their smoke with "a Newtonian rigid body
+// Rigid bodies (McGuire & Fein §3 combine their smoke with "a Newtonian rigid body
 // simulator", ODE): a scene's dynamic objects simulated once, their trajectories kept as paths.
 #pragma once
 

@@ -74,7 +74,7 @@ struct EmitterSpec {
   bool operator==(const EmitterSpec&) const = default;
 };
 
-/// A rigid body simulated with ODE (McGuire & Fein §3's "Newtonian rigid body simulator"; issue 19).
+/// A rigid body simulated with ODE (McGuire & Fein §3's "Newtonian rigid body simulator").
 /// Its motion is computed once per scene, from where the object stands at t = 0, at a fixed step
 /// (RigidBodies): ObjectSpec::path then holds its trajectory (positions and rotations), so every
 /// frame reads it as a pure function of time and everything that follows keyframed objects (the

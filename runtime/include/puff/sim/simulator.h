@@ -59,7 +59,7 @@ struct Path {
   bool operator==(const Path&) const = default;
 };
 
-/// A value over a particle's life (issue 18, "curves over life"): keys of (normalized age in [0, 1],
+/// A value over a particle's life ("curves over life"): keys of (normalized age in [0, 1],
 /// value >= 0), ages strictly increasing; linear between keys, or smooth (a smoothstep in each
 /// segment: flat at every key), held before the first key and after the last. Empty: no curve (the
 /// emitter's default, below).

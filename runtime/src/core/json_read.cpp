@@ -1,4 +1,4 @@
-#include <puff/core/json_read.h>
+#include <puff/support/json_read.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -10,7 +10,7 @@
 #include <system_error>
 #include <vector>
 
-#include <puff/core/text.h>
+#include <puff/support/text.h>
 
 namespace puff::core::jsonread {
 

@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include <puff/core/gl_context.h>
+#include <puff/platform/gl_context.h>
 
 #include "gl_backends.h"
 

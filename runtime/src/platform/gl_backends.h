@@ -1,4 +1,4 @@
-// Private to puff::core: what gl_context.cpp and the backend files share.
+// Private to puff::platform: what gl_context.cpp and the backend files share.
 #pragma once
 
 #include <memory>
@@ -6,7 +6,7 @@
 
 #include <puff/gl_api.h>
 
-#include <puff/core/gl_context.h>
+#include <puff/platform/gl_context.h>
 
 namespace puff::core::detail {
 
@@ -22,10 +22,10 @@ Result<std::unique_ptr<GlContext>> createGlfwContext(const GlContextOptions& opt
 #endif
 
 /// Loads glad through `load` unless the pointers already come from `backend`; returns glad's
-/// version number (0 on failure). See gl_context.cpp for why backends reload.
-int loadGl(GlBackend backend, GLADloadfunc load);
+/// version number (0 on failure). core/gl.cpp says why backends reload.
+inline int loadGl(GlBackend backend, GLADloadfunc load) { return loadGl(static_cast<int>(backend), load); }
 /// Forgets which backend loaded glad (a backend whose library is about to unload calls this).
-void forgetGlLoader(GlBackend backend);
+inline void forgetGlLoader(GlBackend backend) { forgetGlLoader(static_cast<int>(backend)); }
 /// "4.5 core" / "2.1 compatibility", for messages.
 std::string versionName(const GlContextOptions& options);
 

@@ -1,7 +1,7 @@
 // Backend selection and the parts of GlContext every backend shares. The backends live in
 // gl_context_{osmesa,egl,glfw}.cpp, each compiled only when its PUFF_HAVE_* is defined.
-#include <puff/core/gl_context.h>
-#include <puff/core/text.h>
+#include <puff/platform/gl_context.h>
+#include <puff/support/text.h>
 
 #include "gl_backends.h"
 

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include <puff/core/gl_context.h>
+#include <puff/platform/gl_context.h>
 
 #include "gl_backends.h"
 

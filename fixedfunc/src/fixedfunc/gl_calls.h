@@ -1,4 +1,4 @@
-// The one door from puff::fixedfunc to GL. Every GL call in fixedfunc/src is written
+// The one door from puff::fixedfunc to GL. Every GL call in fixedfunc/src/fixedfunc is written
 // FF_GL(glName, args...): it records "glName" in the installed call log (setCallLog), then calls
 // the function through glad. The tests check the log against the OpenGL 1.5 entry points and scan
 // the sources for any gl* call that does not come through here.

@@ -3,8 +3,6 @@
 // access (glCreate*), so a new name is a complete object at once and nothing needs to be bound.
 #include <puff/gl_api.h>
 
-#include "gl_backends.h"
-
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
@@ -21,22 +19,22 @@ namespace detail {
 // context of a different backend becomes current. Within one backend the pointers do not depend on
 // the context. Like glad itself, this is process-wide, not per thread.
 namespace {
-std::optional<GlBackend> gLoadedFor;
+std::optional<int> gLoadedFor;  // the loader (a backend of puff::platform) the pointers came from
 }  // namespace
 
-int loadGl(GlBackend backend, GLADloadfunc load) {
-  if (gLoadedFor == backend) return 1;
+int loadGl(int loader, GLADloadfunc load) {
+  if (gLoadedFor == loader) return 1;
   const int version = puffGladLoadGL(load);
   if (version == 0) {
     gLoadedFor.reset();
     return 0;
   }
-  gLoadedFor = backend;
+  gLoadedFor = loader;
   return version;
 }
 
-void forgetGlLoader(GlBackend backend) {
-  if (gLoadedFor == backend) gLoadedFor.reset();
+void forgetGlLoader(int loader) {
+  if (gLoadedFor == loader) gLoadedFor.reset();
 }
 }  // namespace detail
 

@@ -7,7 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include <puff/core/files.h>
-#include <puff/core/json_read.h>
+#include <puff/support/json_read.h>
 
 namespace puff::core {
 
@@ -18,7 +18,7 @@ namespace {
 
 json vec3Json(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
 
-// The sidecar's fields, read with the scene's reader (core/json_read.h): a missing field is
+// The sidecar's fields, read with the scene's reader (support/json_read.h): a missing field is
 // "/pointer: missing", a wrong one "/pointer: expected ..., got ...".
 using namespace jsonread;
 
@@ -118,8 +118,8 @@ void checkLayout(const AtlasDesc& d) {
   // Cells stay apart at every level only if each level halves the cell exactly.
   check(d.mipLevels > 0 && d.mipLevels <= 15 && d.cellSize % (1 << (d.mipLevels - 1)) == 0, "/mipLevels",
         "must be in [1, 15] with cellSize divisible by 2^(mipLevels-1)");
-  // Ranges no baker writes outside, which would draw nothing or NaN (issue 17: depthScale 0,
-  // distanceRange 1e-38 or 1e38, alphaThreshold 7, flangeTexels -50 were all accepted).
+  // Ranges no baker writes outside; values past them (depthScale 0, distanceRange 1e-38 or 1e38,
+  // alphaThreshold 7, flangeTexels -50) would draw nothing or NaN, so they are refused.
   check(d.distanceRange >= 1e-3f && d.distanceRange <= 65536.0f, "/distanceRange",
         "must be in [0.001, 65536] texels, got " + std::to_string(d.distanceRange));
   check(d.depthScale > 0.0f && d.depthScale <= 64.0f, "/depthScale",
@@ -203,7 +203,7 @@ void readMaps(const json& j, AtlasDesc& d) {
     check(m.levels.size() == static_cast<std::size_t>(d.mipLevels), where + "/levels", "must list mipLevels files");
     d.maps[name] = m;
   }
-  // Optional: multi-view atlases baked since 2026-12-03 (older ones, and one-view atlases, have none).
+  // Optional: puffbake writes it for multi-view atlases; one-view atlases, and atlases without it, load.
   if (j["maps"].contains("back")) {
     AtlasMap m;
     m.levels = stringsField(j["maps"]["back"], "levels", "/maps/back");

@@ -7,7 +7,7 @@
 
 #include <vector>
 
-#include <puff/core/gl_context.h>
+#include <puff/platform/gl_context.h>
 
 #include "gl_backends.h"
 

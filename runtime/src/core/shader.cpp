@@ -14,8 +14,8 @@
 #include <sstream>
 #include <string_view>
 
-#include <puff/core/embedded.h>
 #include <puff/gl_api.h>
+#include <puff/support/embedded.h>
 
 namespace fs = std::filesystem;
 

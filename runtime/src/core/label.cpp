@@ -1,4 +1,4 @@
-#include <puff/core/label.h>
+#include <puff/support/label.h>
 
 #include <algorithm>
 #include <array>
