@@ -134,6 +134,12 @@ if grep -rlE '#include <(glad/|GL/|puff/glad)' "$work/prefix/include/puff"; then
   echo "check_install: an installed header includes a GL header" >&2
   exit 1
 fi
+# The helpers the libraries and tools share (puff_support) stay in the build tree.
+if [ -e "$work/prefix/include/puff/support" ] || grep -rl 'puff/support/' "$work/prefix/include/puff"; then
+  echo "check_install: puff_support's headers are installed or included by an installed header" >&2
+  exit 1
+fi
+test -f "$work/prefix/include/puff/platform/gl_context.h"
 # Every shader a host includes is installed.
 test -f "$work/prefix/share/puff/shaders/common/frame.glsl"
 pc=$(find "$work/prefix" -name puff.pc | head -1)

@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <memory>
 #include <mutex>
 
@@ -131,7 +133,63 @@ class LibpngLinesDropped {
   int saved_ = -1;
 };
 
+// OpenEXR allocates each header attribute at the size the file claims before reading it, so a few
+// hundred bytes claiming a 2 GB attribute cost 2 GB and seconds. An EXR file's headers (every part
+// of a multi-part file) are walked here first, and any attribute claiming more bytes than the file
+// has left is refused. Other formats, and a file that cannot be opened, are left to OpenImageIO.
+std::string exrHeaderProblem(const fs::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) return {};
+  f.seekg(0, std::ios::end);
+  const std::int64_t size = f.tellg();
+  f.seekg(0);
+  unsigned char magic[8] = {};
+  if (!f.read(reinterpret_cast<char*>(magic), 8) || magic[0] != 0x76 || magic[1] != 0x2f || magic[2] != 0x31 ||
+      magic[3] != 0x01)
+    return {};
+  const bool multiPart = (magic[5] & 0x10) != 0;  // version flags, bit 12
+  constexpr int kMaxAttributes = 100000;
+  std::int64_t pos = 8;
+  for (int attributes = 0; attributes < kMaxAttributes; ++attributes) {
+    // An attribute: its name and type name, each NUL-terminated (at most 255 characters), its size
+    // (int32, little-endian), its value. An empty name ends a header; a multi-part file's headers
+    // end with an empty one.
+    char buf[520] = {};
+    f.clear();
+    f.seekg(pos);
+    f.read(buf, sizeof buf);
+    const std::int64_t got = f.gcount();
+    if (got == 0) return "EXR header ends before its end";
+    if (buf[0] == '\0') {
+      if (!multiPart) return {};
+      if (got < 2 || buf[1] == '\0') return {};
+      pos += 1;
+      continue;
+    }
+    const char* nameEnd = static_cast<const char*>(std::memchr(buf, '\0', static_cast<std::size_t>(got)));
+    if (!nameEnd || nameEnd - buf > 255) return "EXR header attribute name is not terminated";
+    const std::int64_t typeAt = nameEnd - buf + 1;
+    const char* typeEnd = static_cast<const char*>(
+        std::memchr(buf + typeAt, '\0', static_cast<std::size_t>(std::max<std::int64_t>(0, got - typeAt))));
+    if (!typeEnd || typeEnd - (buf + typeAt) > 255) return "EXR header attribute type is not terminated";
+    const std::int64_t sizeAt = typeEnd - buf + 1;
+    if (sizeAt + 4 > got) return "EXR header ends inside attribute '" + std::string(buf) + "'";
+    const auto* b = reinterpret_cast<const unsigned char*>(buf + sizeAt);
+    const std::int32_t claimed =
+        static_cast<std::int32_t>(static_cast<std::uint32_t>(b[0]) | (std::uint32_t(b[1]) << 8) |
+                                  (std::uint32_t(b[2]) << 16) | (std::uint32_t(b[3]) << 24));
+    const std::int64_t valueAt = pos + sizeAt + 4;
+    if (claimed < 0 || claimed > size - valueAt) {
+      return "EXR header attribute '" + std::string(buf) + "' claims " + std::to_string(claimed) +
+             " bytes; the file has " + std::to_string(std::max<std::int64_t>(0, size - valueAt)) + " left";
+    }
+    pos = valueAt + claimed;
+  }
+  return "EXR header has more than " + std::to_string(kMaxAttributes) + " attributes";
+}
+
 Result<Image> read(const fs::path& path, ImageFileInfo* info, const core::ImageLimits& limits) {
+  if (std::string p = exrHeaderProblem(path); !p.empty()) return Error::at(path, "not a readable image: " + p);
   const LibpngLinesDropped quiet;
   // Read values as stored: no multiplication by a fourth channel that may not be alpha.
   OIIO::ImageSpec config;
@@ -165,6 +223,7 @@ Result<Image> read(const fs::path& path, ImageFileInfo* info, const core::ImageL
 }
 
 Result<std::string> readAttribute(const fs::path& path, const std::string& name) {
+  if (std::string p = exrHeaderProblem(path); !p.empty()) return Error::at(path, "not a readable image: " + p);
   const LibpngLinesDropped quiet;
   auto in = OIIO::ImageInput::open(path.string());
   if (!in) return Error::at(path, "not a readable image: " + firstLine(OIIO::geterror()));
