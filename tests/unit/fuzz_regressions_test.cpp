@@ -80,6 +80,10 @@ TEST(FuzzRegressions, EveryInputThatOnceCrashedIsReadOrRefusedInOneLine) {
       // A truncated PNG: OpenImageIO leaks its error string (tests/lsan.supp); Puff's error is one line.
       {"oiio-truncated-png-leak.png.in", "*"},
       // An EXR attribute claiming 1.8 GB in a 621-byte file: OpenEXR allocated it, taking seconds.
+      // The same with a name holding bytes that are not text: the message shows them as \xNN.
+      {"exr-attribute-name-unprintable.exr.in",
+       "not a readable image: EXR header attribute 'Exif:ImageHi\\xa5\\xb8\\x0a' claims 1869902592 bytes; the file "
+       "has 731 left"},
       {"exr-attribute-claims-2gb.exr.in",
        "not a readable image: EXR header attribute 'Software' claims 1886216547 bytes; the file has 487 left"},
   };

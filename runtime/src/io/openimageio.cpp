@@ -137,6 +137,23 @@ class LibpngLinesDropped {
 // hundred bytes claiming a 2 GB attribute cost 2 GB and seconds. An EXR file's headers (every part
 // of a multi-part file) are walked here first, and any attribute claiming more bytes than the file
 // has left is refused. Other formats, and a file that cannot be opened, are left to OpenImageIO.
+// An attribute's name as the file holds it, fit for a one-line message: printable ASCII as it is,
+// any other byte as \xNN.
+std::string printable(std::string_view name) {
+  std::string out;
+  for (const char c : name) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u < 0x7f) {
+      out += c;
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02x", u);
+      out += hex;
+    }
+  }
+  return out;
+}
+
 std::string exrHeaderProblem(const fs::path& path) {
   std::ifstream f(path, std::ios::binary);
   if (!f) return {};
@@ -173,14 +190,14 @@ std::string exrHeaderProblem(const fs::path& path) {
         std::memchr(buf + typeAt, '\0', static_cast<std::size_t>(std::max<std::int64_t>(0, got - typeAt))));
     if (!typeEnd || typeEnd - (buf + typeAt) > 255) return "EXR header attribute type is not terminated";
     const std::int64_t sizeAt = typeEnd - buf + 1;
-    if (sizeAt + 4 > got) return "EXR header ends inside attribute '" + std::string(buf) + "'";
+    if (sizeAt + 4 > got) return "EXR header ends inside attribute '" + printable(buf) + "'";
     const auto* b = reinterpret_cast<const unsigned char*>(buf + sizeAt);
     const std::int32_t claimed =
         static_cast<std::int32_t>(static_cast<std::uint32_t>(b[0]) | (std::uint32_t(b[1]) << 8) |
                                   (std::uint32_t(b[2]) << 16) | (std::uint32_t(b[3]) << 24));
     const std::int64_t valueAt = pos + sizeAt + 4;
     if (claimed < 0 || claimed > size - valueAt) {
-      return "EXR header attribute '" + std::string(buf) + "' claims " + std::to_string(claimed) +
+      return "EXR header attribute '" + printable(buf) + "' claims " + std::to_string(claimed) +
              " bytes; the file has " + std::to_string(std::max<std::int64_t>(0, size - valueAt)) + " left";
     }
     pos = valueAt + claimed;
