@@ -109,7 +109,9 @@ def check(root):
                     elif lib not in reach and lib in LIBRARIES:
                         problems.append(f"{rel}: includes <puff/{lib}/...> but {target} does not link puff_{lib}")
                 for inc in LOCAL_INCLUDE.findall(text):
-                    if not os.path.exists(os.path.join(os.path.dirname(f), inc)):
+                    if "/" in inc or "\\" in inc:
+                        problems.append(f"{rel}: includes \"{inc}\": a private header is named from beside it, never by a path")
+                    elif not os.path.exists(os.path.join(os.path.dirname(f), inc)):
                         problems.append(f"{rel}: includes \"{inc}\", which is not beside it (another library's private header?)")
                 if public and GL_HEADER.search(text):
                     problems.append(f"{rel}: a public header includes a GL header")
@@ -155,6 +157,7 @@ def self_test():
         ("runtime/include/puff/core/error.h", "#include <puff/support/text.h>\n", "<puff/support/"),
         ("runtime/src/sim/forces.cpp", "#include <puff/render/render.h>\n", "does not link puff_render"),
         ("runtime/src/core/gl.cpp", '#include "gl_backends.h"\n', "not beside it"),
+        ("runtime/src/cel/frame.cpp", '#include "../render/target.h"\n', "never by a path"),
         ("puffbake/src/bake/layout.cpp", "#include <puff/render/render.h>\n", "bake never touches render"),
         ("runtime/src/render/fixed_path.cpp", '#include "media_pass.h"\n', "the cel path's"),
         ("runtime/src/render/cel_path.cpp", "#include <puff/fixedfunc/renderer.h>\n", "the fixed path's"),

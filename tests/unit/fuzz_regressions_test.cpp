@@ -84,6 +84,15 @@ TEST(FuzzRegressions, EveryInputThatOnceCrashedIsReadOrRefusedInOneLine) {
       {"exr-attribute-name-unprintable.exr.in",
        "not a readable image: EXR header attribute 'Exif:ImageHi\\xa5\\xb8\\x0a' claims 1869902592 bytes; the file "
        "has 731 left"},
+      // The header walk's edges: one byte more than the file has, a negative size, a multi-part
+      // file whose second header claims 1.8 GB, and a valid two-part file, which reads.
+      {"exr-attribute-one-byte-over.exr.in",
+       "not a readable image: EXR header attribute 'Software' claims 462 bytes; the file has 461 left"},
+      {"exr-attribute-negative-size.exr.in",
+       "not a readable image: EXR header attribute 'Software' claims -1 bytes; the file has 461 left"},
+      {"exr-second-part-claims-2gb.exr.in",
+       "not a readable image: EXR header attribute 'Software' claims 1879048192 bytes; the file has 640 left"},
+      {"exr-valid-two-parts.exr.in", ""},
       {"exr-attribute-claims-2gb.exr.in",
        "not a readable image: EXR header attribute 'Software' claims 1886216547 bytes; the file has 487 left"},
   };
