@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -104,11 +105,9 @@ class TumbleBase : public test::GlSuite<> {
   // The reference depends on the meshes only: drawn once, with the first atlas baked.
   static const eval::TumbleReference& reference(const fs::path& atlas) {
     if (references_.empty()) {
-      // Yaw and pitch on options()'s grid; kRolls rolls (the report sweeps roll every 15 degrees:
-      // docs/report, tumble.csv): none, a diagonal (a rolled quad reaches farthest past its cell), a
-      // half turn (the views across the ray are the other sides') and a quarter turn the other way.
-      auto r = eval::renderTumbleReference(atlas, options(), {0, 45, 180, 270});
-      static_assert(kRolls == 4);
+      // Yaw and pitch on options()'s grid, at kRolls (the report sweeps roll every 15 degrees:
+      // docs/report, tumble.csv).
+      auto r = eval::renderTumbleReference(atlas, options(), {kRolls.begin(), kRolls.end()});
       EXPECT_OK(r);
       references_.emplace(0, std::move(*r));
     }
@@ -118,7 +117,9 @@ class TumbleBase : public test::GlSuite<> {
   // The suite's sample of the sweep: yaw and pitch every 30 degrees offset by 15, one pose in each
   // 30-degree square of the report's 15-degree grid (tests/bench/report.sh sweeps every pose at
   // every roll), each between the poses of a 30-degree grid, at the four rolls of reference().
-  static constexpr int kRolls = 4;
+  // Rolls: none, a diagonal (a rolled quad reaches farthest past its cell), a half turn (the views
+  // across the ray are the other sides') and a quarter turn the other way.
+  static constexpr std::array<int, 4> kRolls = {0, 45, 180, 270};
 
   static eval::TumbleOptions options() {
     eval::TumbleOptions o;
@@ -142,7 +143,7 @@ TEST_P(Tumble, EveryPoseKeepsItsSilhouetteAndItsInk) {
   const eval::TumbleReference& ref = reference(atlas);
   auto result = eval::measureTumble(atlas, ref, c.method);
   ASSERT_OK(result);
-  ASSERT_EQ(result->poses.size(), eval::tumbleGridPoses(options()).size() * kRolls);
+  ASSERT_EQ(result->poses.size(), eval::tumbleGridPoses(options()).size() * kRolls.size());
   const eval::TumblePose* worstCoverage = &result->poses.front();
   const eval::TumblePose* worstOutline = &result->poses.front();
   for (const eval::TumblePose& p : result->poses) {
