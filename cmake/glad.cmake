@@ -54,7 +54,9 @@ set_target_properties(puff_glad PROPERTIES POSITION_INDEPENDENT_CODE ON EXPORT_N
 target_include_directories(puff_glad PRIVATE ${_glad_dir}/include)
 install(TARGETS puff_glad EXPORT puff_coreTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
 
-# What Puff's own sources (libraries, apps, tests) include to call GL: <puff/gl_api.h>. Build tree
-# only: link it as $<BUILD_INTERFACE:puff_gl_api> so that no installed target names it.
+# What Puff's own sources (libraries, apps, tests) include to call GL: <puff/gl_api.h>, and the
+# C++/GLSL contract <puff/shader_contract.h>, which reads <common/contract.glsl> from the shaders'
+# root. Build tree only: link it as $<BUILD_INTERFACE:puff_gl_api> so that no installed target names it.
 add_library(puff_gl_api INTERFACE)
-target_include_directories(puff_gl_api INTERFACE ${_glad_dir}/include ${PROJECT_SOURCE_DIR}/runtime/private)
+target_include_directories(puff_gl_api INTERFACE ${_glad_dir}/include ${PROJECT_SOURCE_DIR}/runtime/private
+                                                 ${PROJECT_SOURCE_DIR}/shaders)

@@ -33,7 +33,7 @@ flat in mat3 vPuffToView;
 layout(binding = 2) uniform sampler2D uPacked;
 layout(binding = 3) uniform sampler2D uColor;  // scene-linear (an sRGB texture decodes the atlas's display values)
 
-uniform int uPass;          // 0 lit, 1 shadowed (ambient only), 2 depth only
+uniform int uPass;          // PUFF_PASS_LIT, _SHADOWED or _DEPTH_ONLY (common/contract.glsl)
 uniform int uShading;       // 1: q(N.L); 0: flat
 uniform int uOutlines;      // 1: draw the outline band
 uniform float uOutlineWidth;   // pixels
@@ -402,7 +402,7 @@ void main() {
 #ifdef PUFF_CASTER
     hull = hullMarch(lod, tpp, fromTable, trusted, reach, false, false);
 #else
-    hull = hullMarch(lod, tpp, fromTable, trusted, reach, uPass != 2, uPass == 0);
+    hull = hullMarch(lod, tpp, fromTable, trusted, reach, uPass != PUFF_PASS_DEPTH_ONLY, uPass == PUFF_PASS_LIT);
 #endif
     depth = hull.t * vNormalXf[0][2].z;
     // Outside, the least distance to the hull; inside, how deep the ray reaches into it.
@@ -438,13 +438,13 @@ void main() {
   oId = vId;
 #else
   gl_FragDepth = storeDepth(linearDepth(vDist - d * vSize));
-  if (uPass == 2) {
+  if (uPass == PUFF_PASS_DEPTH_ONLY) {
     fragColor = vec4(0.0);
     return;
   }
   vec3 ka = ambientAt(gl_FragCoord.xy);
   vec3 rgb = ka;
-  if (uPass == 0) {  // the lit pass alone needs the normal and the colour (the second read)
+  if (uPass == PUFF_PASS_LIT) {  // the lit pass alone needs the normal and the colour (the second read)
     vec3 n = vec3(0.0), color = vec3(0.0);
     for (int k = 0; k < PUFF_VIEWS; ++k) {
       float w = vWeight[k];

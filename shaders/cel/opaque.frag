@@ -13,21 +13,21 @@ in vec3 vNormalView;
 in float vDist;
 in vec3 vWorld;
 
-layout(location = 2) uniform vec3 uAlbedo;
-layout(location = 3) uniform int uCel;   // 1: through the ramp q, 0: smooth Lambert
-layout(location = 4) uniform int uPass;  // 0: lit, 1: shadowed (ambient only), 2: depth only
-layout(location = 5) uniform uint uId;   // the object's caster id in the shadow map
+layout(location = PUFF_LOC_OPAQUE_ALBEDO) uniform vec3 uAlbedo;
+layout(location = PUFF_LOC_OPAQUE_CEL) uniform int uCel;   // 1: through the ramp q, 0: smooth Lambert
+layout(location = PUFF_LOC_OPAQUE_PASS) uniform int uPass;  // PUFF_PASS_LIT, _SHADOWED or _DEPTH_ONLY
+layout(location = PUFF_LOC_OPAQUE_ID) uniform uint uId;   // the object's caster id in the shadow map
 
 layout(location = 0) out vec4 oColor;
 
 void main() {
   gl_FragDepth = storeDepth(linearDepth(vDist));
-  if (uPass == 2) {
+  if (uPass == PUFF_PASS_DEPTH_ONLY) {
     oColor = vec4(0.0);  // colour writes are masked off; keep the ramp lookups out of the depth pass
     return;
   }
   vec3 ambient = ambientAt(gl_FragCoord.xy);
-  if (uPass == 1 || (shadowMapEnabled() && inShadowMap(vWorld, uId))) {
+  if (uPass == PUFF_PASS_SHADOWED || (shadowMapEnabled() && inShadowMap(vWorld, uId))) {
     oColor = vec4(srgbToLinear(clamp(uAlbedo * ambient, 0.0, 1.0)), 1.0);
     return;
   }

@@ -6,8 +6,8 @@
 layout(location = 0) in vec3 aPosition;  // object space
 layout(location = 1) in vec3 aNormal;    // object space
 
-layout(location = 0) uniform mat4 uModel;         // object -> world
-layout(location = 1) uniform mat3 uNormalMatrix;  // inverse transpose of mat3(uModel)
+layout(location = PUFF_LOC_OPAQUE_MODEL) uniform mat4 uModel;         // object -> world
+layout(location = PUFF_LOC_OPAQUE_NORMAL_MATRIX) uniform mat3 uNormalMatrix;  // inverse transpose of mat3(uModel)
 
 out vec3 vNormalView;  // camera space, not normalized
 out float vDist;       // -z_view: view-axis distance, affine in camera space so interpolation is exact

@@ -6,7 +6,7 @@
 
 in float vDist;
 
-layout(location = 5) uniform uint uId;
+layout(location = PUFF_LOC_OPAQUE_ID) uniform uint uId;
 
 layout(location = 0) out uint oId;
 

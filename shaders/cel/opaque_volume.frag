@@ -8,6 +8,6 @@
 
 in float vDist;  // view-axis distance, affine in camera space so interpolation is exact
 
-layout(location = 3) uniform float uDepthBias;  // linear depth units
+layout(location = PUFF_LOC_VOLUME_BIAS) uniform float uDepthBias;  // linear depth units
 
 void main() { gl_FragDepth = storeDepth(clamp(linearDepth(vDist) + uDepthBias, 0.0, 1.0)); }

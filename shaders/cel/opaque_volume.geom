@@ -21,8 +21,8 @@ layout(triangle_strip, max_vertices = 18) out;
 
 in vec3 vWorldPos[];  // 0, 2, 4: the triangle (counter-clockwise); 1, 3, 5: across edges 0-2, 2-4, 4-0
 
-layout(location = 1) uniform float uShadowLength;  // world units
-layout(location = 2) uniform vec4 uShadowFloor;     // world plane (n, w): volumes end just past it; n = 0: none
+layout(location = PUFF_LOC_VOLUME_LENGTH) uniform float uShadowLength;  // world units
+layout(location = PUFF_LOC_VOLUME_FLOOR) uniform vec4 uShadowFloor;     // world plane (n, w): volumes end just past it; n = 0: none
 
 out float vDist;  // view-axis distance
 

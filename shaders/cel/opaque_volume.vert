@@ -3,7 +3,8 @@
 // in world space, for opaque_volume.geom to extrude along the light.
 layout(location = 0) in vec3 aPosition;  // object space
 
-layout(location = 0) uniform mat4 uModel;  // object -> world
+#include "common/contract.glsl"
+layout(location = PUFF_LOC_OPAQUE_MODEL) uniform mat4 uModel;  // object -> world
 
 out vec3 vWorldPos;  // world space
 

@@ -20,6 +20,7 @@
 // light, and are encoded after the lookup). A program decodes Eq. 2's result with srgbToLinear
 // before it leaves the shader: the target holds scene-linear colour.
 #include "common/colour.glsl"
+#include "common/contract.glsl"
 layout(std140, binding = 0) uniform FrameBlock {
   mat4 uView;            // world -> camera
   mat4 uProj;            // camera -> clip

@@ -1,5 +1,6 @@
 // The media pass's per-frame values (puff::media::Renderer, uniform binding 3) and its particle
 // and material layouts (std430 binding 0, std140 binding 4). Mirrors runtime/src/media/media.cpp.
+#include "common/contract.glsl"
 layout(std140, binding = 3) uniform MediaBlock {
   mat4 uView;         // world -> camera
   mat4 uProj;         // camera -> clip
@@ -24,7 +25,7 @@ struct MaterialGpu {
   vec4 transition;               // start, end (life fractions)
 };
 layout(std140, binding = 4) uniform MaterialBlock {
-  MaterialGpu uMaterials[32];
+  MaterialGpu uMaterials[PUFF_MAX_MATERIALS];
 };
 
 struct MediaParticle {

@@ -67,7 +67,7 @@ void main() {
   if (next >= 0) {
     const vec2 tr = mat.transition.xy;
     const float f = tr.y > tr.x ? clamp((life - tr.x) / (tr.y - tr.x), 0.0, 1.0) : step(tr.x, life);
-    mat = blend(mat, uMaterials[min(next, 31)], f);
+    mat = blend(mat, uMaterials[min(next, PUFF_MAX_MATERIALS - 1)], f);
   }
 
   // The particle's window of the detail video: a random place and time offset from its seed.

@@ -1,10 +1,11 @@
 #version 450 core
 // Motion blur (Umenhoffer §4: the new frame fades into the previous ones): the weighted sum of
 // the last frames, weights persistence^age normalized to 1 on the host.
-layout(binding = 0) uniform sampler2D uHistory[8];
-layout(location = 0) uniform int uCount;
-layout(location = 1) uniform float uWeights[8];
-layout(location = 9) uniform vec4 uViewport;  // x, y of the output viewport
+#include "common/contract.glsl"
+layout(binding = 0) uniform sampler2D uHistory[PUFF_MAX_BLUR_FRAMES];
+layout(location = PUFF_LOC_BLUR_COUNT) uniform int uCount;
+layout(location = PUFF_LOC_BLUR_WEIGHTS) uniform float uWeights[PUFF_MAX_BLUR_FRAMES];
+layout(location = PUFF_LOC_BLUR_VIEWPORT) uniform vec4 uViewport;  // x, y of the output viewport
 layout(location = 0) out vec4 outColor;
 
 void main() {

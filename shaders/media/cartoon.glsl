@@ -1,9 +1,10 @@
 // The cartoon style's passes (media::Layers::compose with a CartoonCompose; layers.h, "Cartoon
 // media"): its block, and what a pixel's fill is.
+#include "common/contract.glsl"
 layout(std140, binding = 3) uniform CartoonBlock {
   vec4 uStyle;          // x: threshold, y: opacity bands, z: fire bands, w: ink width in pixels (0: no ink)
   vec4 uInk;            // rgb: the ink, scene-linear
-  vec4 uFireColors[8];  // band k's colour: Le at its centre temperature times the exposure, linear
+  vec4 uFireColors[PUFF_MAX_FIRE_BANDS];  // band k's colour: Le at its centre temperature times the exposure, linear
 };
 
 // A seed texel with no iso-line point.

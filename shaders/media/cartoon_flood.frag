@@ -4,7 +4,7 @@
 #include "media/cartoon.glsl"
 
 layout(binding = 7) uniform usampler2D uSeeds;
-layout(location = 0) uniform int uStep;
+layout(location = PUFF_LOC_FLOOD_STEP) uniform int uStep;
 
 layout(location = 0) out uvec4 outSeed;
 

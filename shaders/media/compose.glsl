@@ -1,6 +1,7 @@
 // Composition (Umenhoffer §4) shared by compose.frag (over Puff's own opaque pass) and
 // compose_over.frag (blended over a host's frame): the media layer upsampled depth-aware, and the
 // explosions' light on the opaque surfaces (volumetric-explosion-effects).
+#include "common/contract.glsl"
 layout(binding = 1) uniform sampler2D uOpaqueDepth;  // linear depth, full resolution
 layout(binding = 2) uniform sampler2D uMedia;        // premultiplied radiance, transmittance
 layout(binding = 3) uniform sampler2D uMediaDepth;   // nearest linear depth per layer texel
@@ -18,7 +19,7 @@ layout(std140, binding = 5) uniform ComposeBlock {
   vec4 uLayer;     // layer width, height, factor (full pixels per layer texel), depth tolerance
   vec4 uShimmer;   // x: pixels per unit offset
   ivec4 uCounts;   // x: lights, y: upsampling rule (0 bilinear, 1 bilateral in depth, 2 all-or-nearest)
-  LightGpu uLights[8];
+  LightGpu uLights[PUFF_MAX_LIGHTS];
 };
 
 float viewDistance(float lin) { return uDepth.x + lin * uDepth.z; }

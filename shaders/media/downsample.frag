@@ -1,8 +1,9 @@
 #version 450 core
 // The media layer's opaque depth: the NEAREST linear depth in each layer texel's footprint of
 // uFactor x uFactor full-resolution pixels, so a thin object in front keeps its own texels.
+#include "common/contract.glsl"
 layout(binding = 0) uniform sampler2D uDepthFull;  // linear depth, full resolution
-layout(location = 0) uniform int uFactor;          // 1, 2, 4 or 8
+layout(location = PUFF_LOC_DOWNSAMPLE_FACTOR) uniform int uFactor;          // 1, 2, 4 or 8
 layout(location = 0) out float outDepth;
 
 void main() {

@@ -2,8 +2,9 @@
 // Resolves the opaque pass's multisampled depth to one linear depth per pixel: the NEAREST of its
 // samples, the same rule the layer's downsample uses (a blit would keep one sample of the
 // driver's choosing, so edge pixels could read as background while their colour is half object).
+#include "common/contract.glsl"
 layout(binding = 0) uniform sampler2DMS uDepthMS;
-layout(location = 0) uniform int uSamples;
+layout(location = PUFF_LOC_RESOLVE_SAMPLES) uniform int uSamples;
 layout(location = 0) out float outDepth;
 
 void main() {

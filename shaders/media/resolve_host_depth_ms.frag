@@ -3,7 +3,7 @@
 // NEAREST of its samples (as resolve_depth.frag does for Puff's own opaque pass).
 #include "media/host_depth.glsl"
 layout(binding = 0) uniform sampler2DMS uHostDepth;
-layout(location = 0) uniform int uSamples;
+layout(location = PUFF_LOC_RESOLVE_SAMPLES) uniform int uSamples;
 layout(location = 0) out float outDepth;
 
 void main() {

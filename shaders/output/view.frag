@@ -3,11 +3,12 @@
 // display values, once, at the end. uView 0: standard (clip, then sRGB); 1: filmic (the largest
 // channel rolled off above the knee, all three scaled alike so hue and saturation are kept).
 #include "common/colour.glsl"
+#include "common/contract.glsl"
 
 layout(binding = 0) uniform sampler2D uLinear;  // scene-linear RGBA, the viewport's size
-layout(location = 0) uniform int uView;
-layout(location = 1) uniform vec2 uOrigin;      // the output viewport's origin, pixels
-layout(location = 2) uniform float uKnee;       // core::kFilmicKnee
+layout(location = PUFF_LOC_VIEW_TRANSFORM) uniform int uView;
+layout(location = PUFF_LOC_VIEW_ORIGIN) uniform vec2 uOrigin;  // the output viewport's origin, pixels
+layout(location = PUFF_LOC_VIEW_KNEE) uniform float uKnee;       // core::kFilmicKnee
 
 layout(location = 0) out vec4 oColor;
 

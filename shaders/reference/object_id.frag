@@ -7,7 +7,7 @@
 
 in float vDist;
 
-layout(location = 5) uniform uint uId;
+layout(location = PUFF_LOC_OPAQUE_ID) uniform uint uId;
 
 layout(location = 0) out vec4 oColor;  // not written: attachment 0 is masked off
 layout(location = 1) out uint oId;

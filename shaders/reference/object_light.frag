@@ -4,7 +4,8 @@
 // caster other than the one pass 1 kept there.
 in float vDist;
 
-layout(location = 5) uniform uint uId;  // kObjectIdBase + the object's index
+#include "common/contract.glsl"
+layout(location = PUFF_LOC_OPAQUE_ID) uniform uint uId;  // kObjectIdBase + the object's index
 uniform int uMode;                       // 1 or 2
 layout(binding = 5) uniform usampler2D uShadowId;  // pass 1's ids (pass 2 only)
 

@@ -3,7 +3,8 @@
 // the object's triangles seen from the light, as puff_mesh.vert places the puffs there.
 layout(location = 0) in vec3 aPosition;  // object space
 
-layout(location = 0) uniform mat4 uModel;  // object -> world
+#include "common/contract.glsl"
+layout(location = PUFF_LOC_OPAQUE_MODEL) uniform mat4 uModel;  // object -> world
 uniform mat4 uLightView;                   // world -> light space (light looks along -z)
 uniform mat4 uLightProj;                   // light space -> clip (orthographic)
 

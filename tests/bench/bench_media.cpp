@@ -111,7 +111,8 @@ std::vector<media::Particle> makeParticles(int count) {
     const float ball = p.material == 2u ? kFireRadius : kBallRadius;
     glm::vec3 q;
     do {
-      q = glm::vec3(uniform(state, -1, 1), uniform(state, -1, 1), uniform(state, -1, 1));
+      const float z = uniform(state, -1, 1), y = uniform(state, -1, 1), x = uniform(state, -1, 1);  // z first
+      q = glm::vec3(x, y, z);
     } while (glm::dot(q, q) > 1.0f);
     p.position = q * ball;
     p.life = uniform(state, 0.0f, 1.0f);

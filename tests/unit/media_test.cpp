@@ -748,7 +748,8 @@ TEST_F(MediaLayersTest, DepthAwareUpsamplingRemovesHalosAroundNearEdges) {
 
 TEST_F(MediaLayersTest, ALowResolutionLayerStaysAlignedAtSizesNotAMultipleOfItsFactor) {
   ASSERT_TRUE(renderer_->setMaterials({plainMaterial(0.6f)}).ok());
-  for (auto [w, h] : {std::pair{100, 61}, std::pair{201, 77}}) {
+  for (const auto& size : {std::pair{100, 61}, std::pair{201, 77}}) {
+    const int w = size.first, h = size.second;  // named, not bound: lambdas capture them (clang 14)
     // Where the smoke is: the centroid of how far each pixel moved from the bare sky.
     auto centroid = [&](const std::vector<glm::vec4>& px) {
       double sx = 0, sy = 0, sw = 0;

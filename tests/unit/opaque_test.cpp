@@ -2,6 +2,7 @@
 // checked against the analytic answer (ray/plane depth, Eq. 2 colours, a sphere's projection).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -472,6 +473,63 @@ TEST_F(OpaqueTest, AmbientGradientIsStretchedOverTheViewport) {
   // Filtering mixes light (docs/colour.md): the display values are decoded, mixed, encoded again.
   const glm::vec3 mixed = core::linearToSrgb(glm::mix(core::srgbToLinear(bottom), core::srgbToLinear(top), t));
   expectColor(color[at(64, 64)], kAlbedo * mixed, "middle row", 64, 64);
+}
+
+// The gradient spans the viewport, not the target: on a viewport wider than tall and away from the
+// target's origin, each axis of the image runs over its own axis of the viewport. A 2 x 2 image,
+// four colours, so that swapping, sharing or dropping either axis's scale or offset shows.
+TEST_F(OpaqueTest, AmbientGradientSpansANonSquareViewportAwayFromTheOrigin) {
+  const glm::vec3 corner[2][2] = {{{0.9f, 0.6f, 0.2f}, {0.2f, 0.8f, 0.4f}},   // top row: left, right
+                                  {{0.1f, 0.3f, 0.5f}, {0.7f, 0.1f, 0.9f}}};  // bottom row
+  core::Image image(2, 2, 3);
+  for (int row = 0; row < 2; ++row)
+    for (int col = 0; col < 2; ++col)
+      for (int c = 0; c < 3; ++c) image.at(col, row, c) = corner[row][col][c];
+  auto gradient = Gradient::create(image, "test gradient");
+  ASSERT_OK(gradient);
+  const Viewport vp{16, 40, 96, 48};
+  Camera c;  // topDown()'s camera, over the viewport's aspect: 4 units wide, 2 tall
+  c.position = {0, 5, 0};
+  c.target = {0, 0, 0};
+  c.up = {0, 0, -1};
+  c.fovYDegrees = 0.0f;
+  c.orthoHeight = 2.0f;
+  c.nearPlane = 1.0f;
+  c.farPlane = 9.0f;
+  Frame frame = Frame::fromCamera(c, vp.width, vp.height);
+  frame.viewport = vp;
+  frame.ambientGradient = true;
+  frame.light.direction = {0, -1, 0};  // ambient only
+  begin(frame);
+  glViewport(vp.x, vp.y, vp.width, vp.height);
+  gradient->bind();
+  // The plane, 6 x 6 units, covers the 4 x 2 units the camera sees.
+  setObjects({object("ground", makePlane(), glm::scale(glm::mat4(1.0f), glm::vec3(3.0f)), kAlbedo)});
+  renderer_->draw(ShadePass::kLit);
+  glViewport(0, 0, kSize, kSize);
+  const std::vector<glm::vec4> color = target_->readColor();
+
+  // The bilinear lookup at (u, v) in the viewport (v up; the image's top row at v = 1), mixed in
+  // linear light (docs/colour.md); texel centres at 1/4 and 3/4 of each axis.
+  auto expected = [&](float u, float v) {
+    const float s = std::clamp((u - 0.25f) / 0.5f, 0.0f, 1.0f), t = std::clamp((v - 0.25f) / 0.5f, 0.0f, 1.0f);
+    auto lin = [&](int row, int col) { return core::srgbToLinear(corner[row][col]); };
+    const glm::vec3 bottom = glm::mix(lin(1, 0), lin(1, 1), s), top = glm::mix(lin(0, 0), lin(0, 1), s);
+    return kAlbedo * core::linearToSrgb(glm::mix(bottom, top, t));
+  };
+  for (int py = 1; py < vp.height; py += 5) {
+    for (int px = 1; px < vp.width; px += 5) {
+      const float u = (px + 0.5f) / vp.width, v = (py + 0.5f) / vp.height;
+      expectColor(color[at(vp.x + px, vp.y + py)], expected(u, v), "inside the viewport", vp.x + px, vp.y + py);
+    }
+  }
+  // The flat corners, where the lookup is one texel whatever the filter.
+  expectColor(color[at(vp.x + 5, vp.y + 44)], kAlbedo * corner[0][0], "top left", vp.x + 5, vp.y + 44);
+  expectColor(color[at(vp.x + 90, vp.y + 44)], kAlbedo * corner[0][1], "top right", vp.x + 90, vp.y + 44);
+  expectColor(color[at(vp.x + 5, vp.y + 3)], kAlbedo * corner[1][0], "bottom left", vp.x + 5, vp.y + 3);
+  expectColor(color[at(vp.x + 90, vp.y + 3)], kAlbedo * corner[1][1], "bottom right", vp.x + 90, vp.y + 3);
+  EXPECT_EQ(color[at(vp.x - 1, vp.y + 10)], Target::kClear) << "left of the viewport";
+  EXPECT_EQ(color[at(vp.x + 10, vp.y + vp.height)], Target::kClear) << "above the viewport";
 }
 
 TEST_F(OpaqueTest, DrawSetsEveryStateItReliesOn) {

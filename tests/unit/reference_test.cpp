@@ -479,7 +479,10 @@ std::vector<media::Particle> cloudParticles() {
   std::vector<media::Particle> ps;
   for (int i = 0; i < 30; ++i) {
     media::Particle p;
-    p.position = glm::vec3(-2.2f + 4.4f * next(), -1.3f + 2.6f * next(), -7.5f + 3.0f * next());
+    // One draw a statement, z first: the order the measurements below were made in (a call's
+    // arguments are evaluated in an order each compiler picks).
+    const float z = next(), y = next(), x = next();
+    p.position = glm::vec3(-2.2f + 4.4f * x, -1.3f + 2.6f * y, -7.5f + 3.0f * z);
     p.radius = 0.5f + 0.8f * next();
     p.material = static_cast<std::uint32_t>(i % 4);
     p.life = next();

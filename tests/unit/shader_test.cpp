@@ -5,11 +5,13 @@
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
 #include <puff/platform/gl_context.h>
+#include <puff/shader_blocks.h>
 #include <puff/support/embedded.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -83,6 +85,72 @@ TEST(ShaderPrograms, EveryProgramCompilesAndLinksOnOSMesaCore45) {
     EXPECT_TRUE(glIsProgram(program->get()));
   }
   EXPECT_TRUE(sawBake);
+  EXPECT_EQ(drainGlErrors(), "");
+}
+
+// The C++/GLSL contract (shaders/common/contract.glsl): every uniform block any program declares
+// has a C++ mirror (puff/shader_blocks.h) of the size GL lays it out at, and every mirror is used.
+TEST(ShaderContract, EveryUniformBlockIsTheSizeOfItsCppMirror) {
+  setShaderDir({});
+  std::unique_ptr<GlContext> context = osmesaCore45();
+  ASSERT_NE(context, nullptr);
+  const std::map<std::string, std::size_t> mirrors = {
+      {"FrameBlock", sizeof(shader::FrameBlockData)},
+      {"MediaBlock", sizeof(shader::MediaBlockData)},
+      {"MaterialBlock", sizeof(shader::MaterialGpu) * shader::kMaxMaterials},
+      {"ComposeBlock", sizeof(shader::ComposeBlockData)},
+      {"CartoonBlock", sizeof(shader::CartoonBlockData)},
+  };
+  std::map<std::string, int> programsDeclaring;
+  for (const auto& [name, stages] : listShaderPrograms()) {
+    SCOPED_TRACE(name);
+    Result<Program> program = buildProgram(stages);
+    ASSERT_OK(program);
+    const GLuint p = program->get();
+    GLint blocks = 0;
+    glGetProgramiv(p, GL_ACTIVE_UNIFORM_BLOCKS, &blocks);
+    for (GLint i = 0; i < blocks; ++i) {
+      char block[128] = {};
+      glGetActiveUniformBlockName(p, static_cast<GLuint>(i), sizeof block, nullptr, block);
+      GLint size = 0;
+      glGetActiveUniformBlockiv(p, static_cast<GLuint>(i), GL_UNIFORM_BLOCK_DATA_SIZE, &size);
+      const auto mirror = mirrors.find(block);
+      ASSERT_NE(mirror, mirrors.end()) << block << " has no C++ mirror: add one to puff/shader_blocks.h and here";
+      EXPECT_EQ(static_cast<std::size_t>(size), mirror->second)
+          << block << ": GL's std140 size against the C++ mirror's";
+      ++programsDeclaring[block];
+    }
+  }
+  for (const auto& [block, size] : mirrors) EXPECT_GT(programsDeclaring[block], 0) << "no program declares " << block;
+  EXPECT_EQ(drainGlErrors(), "");
+}
+
+// Arrays sized by the contract's limits, and uniforms at the contract's locations, as GL sees them.
+TEST(ShaderContract, ArraysAndLocationsAreTheContractsInTheLinkedPrograms) {
+  setShaderDir({});
+  std::unique_ptr<GlContext> context = osmesaCore45();
+  ASSERT_NE(context, nullptr);
+  auto blur = buildProgram({"media/fullscreen.vert", "media/blur.frag"});
+  ASSERT_OK(blur);
+  const GLuint p = blur->get();
+  EXPECT_EQ(glGetUniformLocation(p, "uCount"), shader::loc::kBlurCount);
+  EXPECT_EQ(glGetUniformLocation(p, "uWeights"), shader::loc::kBlurWeights);
+  EXPECT_EQ(glGetUniformLocation(p, "uViewport"), shader::loc::kBlurViewport);
+  GLuint index = GL_INVALID_INDEX;
+  const char* weights = "uWeights";
+  glGetUniformIndices(p, 1, &weights, &index);
+  ASSERT_NE(index, GL_INVALID_INDEX);
+  GLint length = 0;
+  glGetActiveUniformsiv(p, 1, &index, GL_UNIFORM_SIZE, &length);
+  EXPECT_EQ(length, shader::kMaxBlurFrames);
+  auto opaque = buildProgram({"cel/opaque.vert", "cel/opaque.frag"});
+  ASSERT_OK(opaque);
+  const GLuint o = opaque->get();
+  EXPECT_EQ(glGetUniformLocation(o, "uModel"), shader::loc::kOpaqueModel);
+  EXPECT_EQ(glGetUniformLocation(o, "uNormalMatrix"), shader::loc::kOpaqueNormalMatrix);
+  EXPECT_EQ(glGetUniformLocation(o, "uAlbedo"), shader::loc::kOpaqueAlbedo);
+  EXPECT_EQ(glGetUniformLocation(o, "uPass"), shader::loc::kOpaquePass);
+  EXPECT_EQ(glGetUniformLocation(o, "uId"), shader::loc::kOpaqueId);
   EXPECT_EQ(drainGlErrors(), "");
 }
 

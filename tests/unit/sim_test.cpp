@@ -252,7 +252,8 @@ TEST(Simulator, TurbulenceIsDivergenceFree) {
   };
   const int n = 400;
   for (int i = 0; i < n; ++i) {
-    const glm::vec3 p(next(), next(), next());
+    const float z = next(), y = next(), x = next();  // one draw a statement, z first
+    const glm::vec3 p(x, y, z);
     divExact += std::pow(divergence(exact, p), 2.0f);
     divLattice += std::pow(divergence(lattice, p), 2.0f);
     divGradient += std::pow(divergence(gradient, p), 2.0f);

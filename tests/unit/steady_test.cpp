@@ -239,7 +239,8 @@ TEST_F(SteadyImage, AStillPuffKeepsItsPixelsUnderAMovingCrowd) {
   std::vector<glm::vec3> velocity;
   auto add = [&](glm::vec3 p) {
     base.push_back(Particle{p, 0.8f + 0.4f * rng.uniform(), static_cast<int>(rng.next() % 4)});
-    velocity.push_back(0.0125f * (glm::vec3(rng.uniform(), rng.uniform(), rng.uniform()) - 0.5f));
+    const float vz = rng.uniform(), vy = rng.uniform(), vx = rng.uniform();  // one draw a statement, z first
+    velocity.push_back(0.0125f * (glm::vec3(vx, vy, vz) - 0.5f));
   };
   add({-600.0f, -300.0f, -20.0f});
   add({600.0f, 300.0f, 2.0f});

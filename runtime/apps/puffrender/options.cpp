@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cli/app.h>
+#include <puff/render/path.h>
 #include <puff/scene/read.h>
 #include <puff/scene/write.h>
 #include <puff/support/text.h>
@@ -164,15 +165,15 @@ void addRenderOptions(CLI::App& app, Options& o) {
   app.add_option("--shader-dir", o.shaderDir, "Read shaders from this directory instead of the built-in copies");
   app.add_option("--style", o.style, "Render with this style preset instead of the scene's style: " + presetList)
       ->check(CLI::IsMember(presets));
-  app.add_option("--path", o.path,
-                 "Render path: cel (programmable GL 4.5: nailboards, flange outlines, shadow maps or volumes; without "
-                 "--path it falls back to fixed, saying so, when the context is older than GL 4.5, and a shader that "
-                 "does not build is an error either way) or fixed (GL 1.x fixed function, McGuire & Fein 4.4: one "
-                 "light, uniform ambient, no shadows) or reference (the image the nailboards approximate: every "
-                 "particle's actual puff mesh, Eq. 2 per pixel, outlines around the true silhouettes, exact shadows; "
-                 "supersampled 3x3 and slow; media by the physical reference: the particles' summed density fields "
-                 "integrated along every ray on the CPU, seconds per frame). Default: cel")
-      ->check(CLI::IsMember({"cel", "fixed", "reference"}));
+  std::string pathHelp =
+      "Render path (default: cel; without --path, cel falls back to fixed, saying so, when the context is older "
+      "than GL 4.5, and a shader that does not build is an error either way):";
+  std::vector<std::string> pathNames;
+  for (const render::RenderPathInfo& p : render::renderPathTable()) {
+    pathHelp += "\n  " + p.name + ": " + p.description;
+    pathNames.push_back(p.name);
+  }
+  app.add_option("--path", o.path, pathHelp)->check(CLI::IsMember(pathNames));
 }
 
 // --compare and its --tolerance (returned, to tell whether it was given).

@@ -187,31 +187,16 @@ int renderFrames(const Options& o, scene::Scene scene, const Plan& plan) {
     }
     if (const int code = chooseModel(o, scene, plan); code != 0) return code;
   }
-  if (path == render::RenderPath::kFixed && scene.media && !o.quiet) {
-    std::fprintf(stderr, "%s: the fixed-function path draws no fire, smoke or dust: /media is left out\n", cli::name());
-  }
-  if (path == render::RenderPath::kFixed && scene.style.shadows && !o.quiet) {
-    std::fprintf(stderr,
-                 "%s: the fixed-function path draws no shadows (neither the puffs' nor the objects'): "
-                 "/style/shadows is left out\n",
-                 cli::name());
-  }
-  if (path == render::RenderPath::kFixed && !o.quiet && !scene::orientedPuffs(scene).empty()) {
-    std::fprintf(stderr,
-                 "%s: the fixed-function path draws every puff as a view-plane billboard: oriented puffs "
-                 "do not turn there\n",
-                 cli::name());
-  }
-  if (path == render::RenderPath::kReference && scene.media && !o.quiet) {
-    std::fprintf(stderr,
-                 "%s: the media are drawn by the physical reference (the particles' density fields integrated "
-                 "along every ray on the CPU, step halved until the image changes by < 1e-4 RMSE): seconds per "
-                 "frame; no explosion lights, heat shimmer or motion blur\n",
-                 cli::name());
+  if (!o.quiet) {
+    for (const std::string& line : render::renderPathInfo(path).omissions(scene)) {
+      std::fprintf(stderr, "%s: %s\n", cli::name(), line.c_str());
+    }
   }
   // The fixed path draws into the context's own framebuffer (made at the frame's size above):
   // OpenGL 1.x calls only, no framebuffer objects.
-  auto renderer = eval::createRenderer(scene, path, path == render::RenderPath::kFixed);
+  auto renderer = eval::createRenderer(
+      scene, path,
+      path == render::RenderPath::kFixed ? render::DrawTarget::kContextFramebuffer : render::DrawTarget::kOffscreen);
   if (!renderer) {
     cli::printError(renderer.error());
     return 1;

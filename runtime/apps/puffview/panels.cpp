@@ -86,7 +86,7 @@ void cameraPanel(Viewer& v, Edits& edit) {
 }
 
 void pathPanel(Viewer& v) {
-  const std::vector<render::RenderPathInfo>& paths = render::renderPaths();
+  const std::vector<render::RenderPathInfo> paths = render::renderPaths();
   if (ImGui::BeginCombo("Render path", v.pathName().c_str())) {
     for (const render::RenderPathInfo& p : paths) {
       if (ImGui::Selectable(p.name.c_str(), p.name == v.pathName()) && p.name != v.pathName()) {
@@ -95,6 +95,12 @@ void pathPanel(Viewer& v) {
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", p.description.c_str());
     }
     ImGui::EndCombo();
+  }
+  // What this path leaves out of the scene, as puffrender says it on stderr.
+  if (const std::optional<render::RenderPath> path = render::parseRenderPath(v.pathName())) {
+    for (const std::string& line : render::renderPathInfo(*path).omissions(v.scene())) {
+      ImGui::TextWrapped("%s", line.c_str());
+    }
   }
 }
 

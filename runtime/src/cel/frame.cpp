@@ -11,6 +11,7 @@
 #include <puff/core/bind_points.h>
 #include <puff/core/colour.h>
 #include <puff/gl_api.h>
+#include <puff/shader_blocks.h>
 
 namespace puff::cel {
 
@@ -61,17 +62,7 @@ DepthConvention boundDepthConvention() { return boundConvention; }
 
 namespace {
 
-// std140 mirror of shaders/common/frame.glsl's FrameBlock.
-struct FrameBlockData {
-  glm::mat4 view, proj, viewProj, invView, invViewProj;
-  glm::vec4 viewport, depthRange, lightDirView, lightDirWorld, lightColor, ambientColor, cameraWorld;
-  glm::ivec4 ambientMode;
-  glm::mat4 shadowMatrix;
-  glm::vec4 shadowParams;
-  glm::vec4 depthProjection;
-  glm::ivec4 depthMode;
-};
-static_assert(sizeof(FrameBlockData) == 6 * 64 + 11 * 16);
+using shader::FrameBlockData;
 
 }  // namespace
 

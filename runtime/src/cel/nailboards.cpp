@@ -404,7 +404,6 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
                                                                      : m.multiView;
   const GLuint p = nb.program.get();
   m.setCommon(p, nb.atlas, style);
-  glProgramUniform1i(p, nb.pass, pass == ShadePass::kLit ? 0 : pass == ShadePass::kShadowed ? 1 : 2);
   glProgramUniform1i(p, nb.shading, style.shading ? 1 : 0);
   glProgramUniform1i(p, nb.outlines, style.outlines ? 1 : 0);
   glProgramUniform1f(p, nb.outlineWidth, std::max(0.0f, style.outlineWidth));
@@ -419,7 +418,7 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
     glEnable(GL_MULTISAMPLE);
     glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   }
-  applyShadePass(pass);
+  glProgramUniform1i(p, nb.pass, applyShadePass(pass));  // the shade pass's PUFF_PASS_* for the shader
   // The shader's alpha is the edge's coverage, spent on the sample mask: it must not reach the
   // frame, whose alpha stays 1 (an opaque frame, docs/colour.md). GL_SAMPLE_ALPHA_TO_ONE would say
   // the same, but not every driver honours it (Mesa llvmpipe does not); a write mask does.

@@ -19,6 +19,7 @@
 
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
+#include <puff/shader_contract.h>
 
 #include "bindings_gl.h"
 
@@ -91,10 +92,12 @@ struct DrawItem {
   bool mirrored = false;  // det < 0: the transform turns counter-clockwise into clockwise
 };
 
-// Uniform locations, fixed in shaders/cel/opaque.{vert,frag}.
-constexpr GLint kModelLoc = 0, kNormalMatrixLoc = 1, kAlbedoLoc = 2, kCelLoc = 3, kPassLoc = 4, kIdLoc = 5;
-// Uniform locations of shaders/cel/opaque_volume.{vert,geom,frag}.
-constexpr GLint kVolumeLengthLoc = 1, kVolumeFloorLoc = 2, kVolumeBiasLoc = 3;
+// Uniform locations of shaders/cel/opaque.{vert,frag} and opaque_volume.{vert,geom,frag}.
+constexpr GLint kModelLoc = shader::loc::kOpaqueModel, kNormalMatrixLoc = shader::loc::kOpaqueNormalMatrix,
+                kAlbedoLoc = shader::loc::kOpaqueAlbedo, kCelLoc = shader::loc::kOpaqueCel,
+                kPassLoc = shader::loc::kOpaquePass, kIdLoc = shader::loc::kOpaqueId;
+constexpr GLint kVolumeLengthLoc = shader::loc::kVolumeLength, kVolumeFloorLoc = shader::loc::kVolumeFloor,
+                kVolumeBiasLoc = shader::loc::kVolumeBias;
 
 std::string describe(const OpaqueObject& o, std::size_t i) {
   std::string s = "opaque object ";

@@ -1,6 +1,7 @@
 
 #include <puff/cel/pass_state.h>
 #include <puff/gl_api.h>
+#include <puff/shader_contract.h>
 namespace puff::cel {
 
 void resetPassState() {
@@ -27,7 +28,7 @@ int applyShadePass(ShadePass pass) {
       glDepthMask(GL_TRUE);
       glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
       glDisable(GL_STENCIL_TEST);
-      return 0;
+      return shader::kPassLit;
     case ShadePass::kShadowed:
       glDepthFunc(GL_EQUAL);
       glDepthMask(GL_FALSE);
@@ -36,15 +37,15 @@ int applyShadePass(ShadePass pass) {
       glStencilFunc(GL_NOTEQUAL, 0, 0xFF);
       glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
       glStencilMask(0x00);
-      return 1;
+      return shader::kPassShadowed;
     case ShadePass::kDepthOnly:
       glDepthFunc(nearerDepthFunc(boundDepthConvention()));
       glDepthMask(GL_TRUE);
       glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
       glDisable(GL_STENCIL_TEST);
-      return 2;
+      return shader::kPassDepthOnly;
   }
-  return 0;
+  return shader::kPassLit;
 }
 
 void restoreWriteMasks() {

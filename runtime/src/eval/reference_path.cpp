@@ -160,9 +160,9 @@ Result<std::unique_ptr<render::SceneRenderer>> createCelReference(const scene::S
 }
 
 Result<std::unique_ptr<render::SceneRenderer>> createRenderer(const scene::Scene& scene, render::RenderPath path,
-                                                              bool contextFramebuffer) {
+                                                              render::DrawTarget target) {
   if (path == render::RenderPath::kReference) return createCelReference(scene);
-  return render::SceneRenderer::create(scene, path, contextFramebuffer);
+  return render::SceneRenderer::create(scene, path, target);
 }
 
 }  // namespace puff::eval

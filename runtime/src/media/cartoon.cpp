@@ -6,6 +6,7 @@
 #include <puff/core/blackbody.h>
 #include <puff/media/layers.h>
 #include <puff/media/types.h>
+#include <puff/shader_contract.h>
 
 namespace puff::media {
 
@@ -32,8 +33,9 @@ Result<void> validate(const CartoonStyle& s) {
     return Error{"threshold: expected an opacity in (0, 1), got " + fmt(s.threshold)};
   if (s.opacityBands < 1 || s.opacityBands > 8)
     return Error{"opacityBands: expected 1 to 8, got " + std::to_string(s.opacityBands)};
-  if (s.fireBands < 1 || s.fireBands > 8)
-    return Error{"fireBands: expected 1 to 8, got " + std::to_string(s.fireBands)};
+  if (s.fireBands < 1 || s.fireBands > shader::kMaxFireBands)
+    return Error{"fireBands: expected 1 to " + std::to_string(shader::kMaxFireBands) + ", got " +
+                 std::to_string(s.fireBands)};
   if (!(s.coolKelvin > 0.0f && s.coolKelvin < 1e5f))
     return Error{"coolKelvin: expected kelvin in (0, 100000), got " + fmt(s.coolKelvin)};
   if (!(s.hotKelvin > s.coolKelvin && s.hotKelvin <= 1e5f))

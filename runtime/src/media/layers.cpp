@@ -12,28 +12,15 @@
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
 #include <puff/media/layers.h>
+#include <puff/shader_blocks.h>
 
 namespace puff::media {
 
 namespace {
 
-constexpr int kMaxLights = 8;
-
-struct LightGpu {
-  glm::vec4 centreRadius, colorIntensity;
-  glm::ivec4 flags;
-};
-struct ComposeBlockData {
-  glm::mat4 invProj;
-  glm::vec4 viewport, depth, layer, shimmer;
-  glm::ivec4 counts;
-  LightGpu lights[kMaxLights];
-};
-constexpr int kMaxBands = 8;
-struct CartoonBlockData {  // shaders/media/cartoon.glsl
-  glm::vec4 style, ink;
-  glm::vec4 fireColors[kMaxBands];
-};
+using shader::CartoonBlockData;
+using shader::ComposeBlockData;
+using shader::LightGpu;
 
 // The state Layers' full-screen passes rely on (and leave): no depth or stencil test, blending,
 // culling, scissor, rasterizer discard, alpha to coverage or sample mask; filled polygons; colour
@@ -121,7 +108,7 @@ void Layers::Impl::uploadComposeBlock(const int viewport[4], const Frame& frame,
   d.shimmer = glm::vec4(settings.shimmerPixels, 0.0f, 0.0f, 0.0f);
   int n = 0;
   for (const ExplosionLight& l : lights) {
-    if (n == kMaxLights) break;
+    if (n == shader::kMaxLights) break;
     if (!(l.intensity > 0.0f) || !(l.radius > 0.0f)) continue;
     d.lights[n].centreRadius = glm::vec4(glm::vec3(frame.view * glm::vec4(l.center, 1.0f)), l.radius);
     d.lights[n].colorIntensity = glm::vec4(l.color, l.intensity);
@@ -152,7 +139,7 @@ void Layers::Impl::downsampleDepth() {
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, depthFbo.get());
   glViewport(0, 0, mediaWidth, mediaHeight);
   glUseProgram(downsample.get());
-  glUniform1i(0, factor);
+  glUniform1i(shader::loc::kDownsampleFactor, factor);
   core::bindTextureAndNoSampler(bindings.resolveSource, depth.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }
@@ -353,14 +340,15 @@ GLuint Layers::historyFramebuffer(int slot) const {
 void Layers::blendHistory(GLuint target, const int viewport[4], std::span<const int> slots,
                           std::span<const float> weights) {
   Impl& m = *impl_;
-  PUFF_CHECK(slots.size() == weights.size() && !slots.empty() && slots.size() <= 8);
+  PUFF_CHECK(slots.size() == weights.size() && !slots.empty() &&
+             slots.size() <= static_cast<std::size_t>(shader::kMaxBlurFrames));
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
   fullscreenState();
   glUseProgram(m.blur.get());
-  glUniform1i(0, static_cast<GLint>(slots.size()));
-  glUniform1fv(1, static_cast<GLsizei>(weights.size()), weights.data());
-  glUniform4f(9, static_cast<float>(viewport[0]), static_cast<float>(viewport[1]), 0.0f, 0.0f);
+  glUniform1i(shader::loc::kBlurCount, static_cast<GLint>(slots.size()));
+  glUniform1fv(shader::loc::kBlurWeights, static_cast<GLsizei>(weights.size()), weights.data());
+  glUniform4f(shader::loc::kBlurViewport, static_cast<float>(viewport[0]), static_cast<float>(viewport[1]), 0.0f, 0.0f);
   for (std::size_t i = 0; i < slots.size(); ++i) {
     const int slot = slots[i];
     PUFF_CHECK(slot >= 0 && slot < static_cast<int>(m.history.size()));
@@ -407,7 +395,7 @@ void Layers::resolveOpaque() {
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.linearFbo.get());
   glViewport(0, 0, m.width, m.height);
   glUseProgram(m.resolveDepth.get());
-  glUniform1i(0, m.samples);
+  glUniform1i(shader::loc::kResolveSamples, m.samples);
   core::bindTextureAndNoSampler(m.bindings.resolveSource, m.msDepth.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
 
@@ -479,15 +467,15 @@ Result<void> Layers::resolveHostDepth(const HostDepth& host) {
   glUseProgram(multi ? m.resolveHostMs.get() : m.resolveHost.get());
   const core::DepthSpace& sp = host.space;
   const glm::mat4& p = sp.projection;
-  if (multi) glUniform1i(0, samples);
-  glUniform4f(1, p[2][2], p[3][2], p[2][3], p[3][3]);
+  if (multi) glUniform1i(shader::loc::kResolveSamples, samples);
+  glUniform4f(shader::loc::kHostProjZW, p[2][2], p[3][2], p[2][3], p[3][3]);
   // host_depth.glsl's uPlanes.z: 0 linear, 1 standard, 2 reversed-z.
   const float convention = sp.convention == core::DepthConvention::kLinear     ? 0.0f
                            : sp.convention == core::DepthConvention::kStandard ? 1.0f
                                                                                : 2.0f;
-  glUniform4f(2, sp.nearPlane, sp.farPlane - sp.nearPlane, convention,
+  glUniform4f(shader::loc::kHostPlanes, sp.nearPlane, sp.farPlane - sp.nearPlane, convention,
               sp.clipDepth == core::ClipDepth::kZeroToOne ? 1.0f : 0.0f);
-  glUniform2i(3, host.x, host.y);
+  glUniform2i(shader::loc::kHostOrigin, host.x, host.y);
   core::bindTextureAndNoSampler(m.bindings.resolveSource, host.texture);  // on its own target (2D or 2D MS)
   glDrawArrays(GL_TRIANGLES, 0, 3);
   m.downsampleDepth();
@@ -511,8 +499,9 @@ Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Fra
                  ") displaces the host's scene, which composeOver blends onto and cannot read; set it to 0"};
   if (const auto lit = std::count_if(lights.begin(), lights.end(),
                                      [](const ExplosionLight& l) { return l.intensity > 0.0f && l.radius > 0.0f; });
-      lit > kMaxLights)
-    return Error{"composeOver: " + std::to_string(lit) + " explosion lights, at most " + std::to_string(kMaxLights)};
+      lit > shader::kMaxLights)
+    return Error{"composeOver: " + std::to_string(lit) + " explosion lights, at most " +
+                 std::to_string(shader::kMaxLights)};
   if (viewport[2] != m.width || viewport[3] != m.height)
     return Error{"composeOver: viewport " + std::to_string(viewport[2]) + "x" + std::to_string(viewport[3]) +
                  " is not the layers' " + std::to_string(m.width) + "x" + std::to_string(m.height)};
@@ -582,7 +571,7 @@ void Layers::Impl::composeCartoon(GLuint target, const int viewport[4], const Ca
   const float inkWidth = st.outlines ? st.outlineWidth : 0.0f;
   d.style = glm::vec4(st.threshold, static_cast<float>(st.opacityBands), static_cast<float>(st.fireBands), inkWidth);
   d.ink = glm::vec4(st.outlineColor, 1.0f);
-  for (std::size_t k = 0; k < cartoon.fireColors.size() && k < kMaxBands; ++k)
+  for (std::size_t k = 0; k < cartoon.fireColors.size() && k < shader::kMaxFireBands; ++k)
     d.fireColors[k] = glm::vec4(cartoon.fireColors[k], 1.0f);
   glNamedBufferSubData(cartoonBlock.get(), 0, sizeof(d), &d);
   const GLuint blocks[2] = {block.get(), cartoonBlock.get()};
@@ -615,7 +604,7 @@ void Layers::Impl::composeCartoon(GLuint target, const int viewport[4], const Ca
   for (int step : floodSteps(inkWidth)) {
     core::bindTextureAndNoSampler(c + 2, seeds[from].get());
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, seedFbo[1 - from].get());
-    glUniform1i(0, step);
+    glUniform1i(shader::loc::kFloodStep, step);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     from = 1 - from;
   }

@@ -13,12 +13,11 @@
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
 #include <puff/media/media.h>
+#include <puff/shader_blocks.h>
 
 namespace puff::media {
 
 namespace {
-
-constexpr int kMaxMaterials = 32;
 
 std::string fmt(double v) {
   char b[32];
@@ -32,18 +31,8 @@ Result<void> inRange(const std::string& field, double v, double lo, double hi) {
   return {};
 }
 
-// std140 mirrors of shaders/common/media.glsl.
-struct MediaBlockData {
-  glm::mat4 view, proj, invProj;
-  glm::vec4 target, origin, depth, lightDir, lightColor, ambient, kelvin;
-  glm::ivec4 mode;
-  glm::vec4 time;
-  glm::vec4 cartoon;
-};
-struct MaterialGpu {
-  glm::vec4 colorAlbedo, densityGEmissiveEmission, tempRangeBurnDetail, windowSpeedShimmerNext, transition;
-};
-static_assert(sizeof(MaterialGpu) == 80);
+using shader::MaterialGpu;
+using shader::MediaBlockData;
 
 core::Texture makeDetailTexture(const core::DetailVideo* v) {
   core::Texture t = core::makeTexture(GL_TEXTURE_3D);
@@ -355,7 +344,8 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings, con
   m.block = core::makeBuffer();
   glNamedBufferStorage(m.block.get(), sizeof(MediaBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
   m.materialBlock = core::makeBuffer();
-  glNamedBufferStorage(m.materialBlock.get(), sizeof(MaterialGpu) * kMaxMaterials, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  glNamedBufferStorage(m.materialBlock.get(), sizeof(MaterialGpu) * shader::kMaxMaterials, nullptr,
+                       GL_DYNAMIC_STORAGE_BIT);
 
   // Black body: linear sRGB radiance, negative (out-of-gamut) components kept; the shader clips.
   m.blackbody = core::makeTexture(GL_TEXTURE_1D);
@@ -398,10 +388,10 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings, con
 }
 
 Result<void> Renderer::setMaterials(std::vector<Material> materials) {
-  if (materials.empty() || materials.size() > kMaxMaterials)
-    return Error{"materials: expected 1 to " + std::to_string(kMaxMaterials) + ", got " +
+  if (materials.empty() || materials.size() > shader::kMaxMaterials)
+    return Error{"materials: expected 1 to " + std::to_string(shader::kMaxMaterials) + ", got " +
                  std::to_string(materials.size())};
-  std::array<MaterialGpu, kMaxMaterials> gpu{};
+  std::array<MaterialGpu, shader::kMaxMaterials> gpu{};
   for (std::size_t i = 0; i < materials.size(); ++i) {
     const Material& mt = materials[i];
     if (auto ok = validate(mt, static_cast<int>(materials.size())); !ok) return ok;

@@ -10,12 +10,11 @@
 #include <glm/vec4.hpp>
 
 #include <puff/core/blackbody.h>
+#include <puff/shader_contract.h>
 
 namespace puff::reference::detail {
 
 namespace {
-
-constexpr int kMaxMaterials = 32;  // media::Renderer's table size
 
 std::string number(double v) {
   char b[32];
@@ -92,8 +91,9 @@ Result<void> checkInput(const MediaReferenceInput& in) {
     return Error{at + "opaque depth: expected " + std::to_string(pixels) + " pixels, got " +
                  std::to_string(in.opaqueDepth.size())};
   const int count = static_cast<int>(in.materials.size());
-  if (count < 1 || count > kMaxMaterials)
-    return Error{at + "materials: expected 1 to " + std::to_string(kMaxMaterials) + ", got " + std::to_string(count)};
+  if (count < 1 || count > shader::kMaxMaterials)
+    return Error{at + "materials: expected 1 to " + std::to_string(shader::kMaxMaterials) + ", got " +
+                 std::to_string(count)};
   for (const media::Material& m : in.materials)
     if (auto ok = media::validate(m, count); !ok) return Error{at + ok.error().message};
   const media::Settings& s = in.settings;

@@ -53,7 +53,7 @@ namespace {
 class FixedPath final : public Path {
  public:
   static Result<std::unique_ptr<Path>> create(const scene::Scene& scene, const scene::SceneGeometry& geometry,
-                                              bool contextFramebuffer) {
+                                              DrawTarget target) {
     std::unique_ptr<FixedPath> p(new FixedPath());
     std::optional<core::Atlas> atlas;  // for the variation count and the default puff
     if (!scene.atlas.empty()) {
@@ -107,7 +107,7 @@ class FixedPath final : public Path {
     GLint alphaBits = 0;
     glGetIntegerv(GL_ALPHA_BITS, &alphaBits);  // of the context's own framebuffer (OpenGL 1.0)
     core::drainGlErrors();
-    if ((contextFramebuffer || !haveFbo) && alphaBits > 0) {
+    if ((target == DrawTarget::kContextFramebuffer || !haveFbo) && alphaBits > 0) {
       p->contextFramebuffer_ = true;
     } else if (!haveFbo) {
       return Error{
@@ -240,8 +240,8 @@ class FixedPath final : public Path {
 }  // namespace
 
 Result<std::unique_ptr<Path>> createFixedPath(const scene::Scene& scene, const scene::SceneGeometry& geometry,
-                                              bool contextFramebuffer) {
-  return FixedPath::create(scene, geometry, contextFramebuffer);
+                                              DrawTarget target) {
+  return FixedPath::create(scene, geometry, target);
 }
 
 }  // namespace puff::render::detail

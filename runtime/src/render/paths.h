@@ -14,9 +14,9 @@ namespace puff::render::detail {
 
 /// Nailboards, outlines, shadows (the shadow map or the volumes) and the media pass. Needs GL 4.5.
 Result<std::unique_ptr<Path>> createCelPath(const scene::Scene& scene, const scene::SceneGeometry& geometry);
-/// The GL 1.x fixed-function path (see SceneRenderer::create for `contextFramebuffer`).
+/// The GL 1.x fixed-function path, drawing into `target` where the context allows.
 Result<std::unique_ptr<Path>> createFixedPath(const scene::Scene& scene, const scene::SceneGeometry& geometry,
-                                              bool contextFramebuffer);
+                                              DrawTarget target);
 /// The one puff mesh the fixed path draws: `scene.fixed.puff` when set; else, with an atlas, the
 /// level of detail its first variation was baked from (sources[0].lodMesh, written by puffbake --lod
 /// auto), else that variation's source mesh file; with neither an atlas nor particles, a sphere.

@@ -5,6 +5,7 @@
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
 #include <puff/render/plate.h>
+#include <puff/shader_contract.h>
 
 #include "plate_pass.h"
 
@@ -50,7 +51,7 @@ void PlatePass::draw(const cel::Viewport& viewport) {
   glGetIntegerv(GL_TEXTURE_BINDING_2D, &unit0);
 
   const GLuint p = program_.get();
-  glProgramUniform2f(p, 0, static_cast<float>(viewport.x), static_cast<float>(viewport.y));
+  glProgramUniform2f(p, shader::loc::kPlateOrigin, static_cast<float>(viewport.x), static_cast<float>(viewport.y));
   glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_STENCIL_TEST);

@@ -18,35 +18,96 @@
 
 namespace puff::render {
 
-std::string_view toString(RenderPath path) {
-  switch (path) {
-    case RenderPath::kCel:
-      return "cel";
-    case RenderPath::kFixed:
-      return "fixed";
-    case RenderPath::kReference:
-      return "reference";
-  }
-  return "cel";
+namespace {
+
+Result<std::unique_ptr<SceneRenderer>> createCel(const scene::Scene& scene, DrawTarget) {
+  return SceneRenderer::create(
+      scene, [](const scene::Scene& s, const scene::SceneGeometry& g) { return detail::createCelPath(s, g); });
 }
 
-const std::vector<RenderPathInfo>& renderPaths() {
-  static const std::vector<RenderPathInfo> paths = {
+Result<std::unique_ptr<SceneRenderer>> createFixed(const scene::Scene& scene, DrawTarget target) {
+  return SceneRenderer::create(scene, [target](const scene::Scene& s, const scene::SceneGeometry& g) {
+    return detail::createFixedPath(s, g, target);
+  });
+}
+
+std::vector<std::string> celOmissions(const scene::Scene&) { return {}; }
+
+std::vector<std::string> fixedOmissions(const scene::Scene& scene) {
+  std::vector<std::string> lines;
+  if (scene.media) lines.push_back("the fixed-function path draws no fire, smoke or dust: /media is left out");
+  if (scene.style.shadows) {
+    lines.push_back(
+        "the fixed-function path draws no shadows (neither the puffs' nor the objects'): /style/shadows is left out");
+  }
+  if (!scene::orientedPuffs(scene).empty()) {
+    lines.push_back(
+        "the fixed-function path draws every puff as a view-plane billboard: oriented puffs do not turn there");
+  }
+  return lines;
+}
+
+std::vector<std::string> referenceOmissions(const scene::Scene& scene) {
+  if (!scene.media) return {};
+  return {
+      "the media are drawn by the physical reference (the particles' density fields integrated along every ray "
+      "on the CPU, step halved until the image changes by < 1e-4 RMSE): seconds per frame; no explosion lights, "
+      "heat shimmer or motion blur"};
+}
+
+}  // namespace
+
+const std::vector<RenderPathInfo>& renderPathTable() {
+  static const std::vector<RenderPathInfo> table = {
       {RenderPath::kCel, "cel",
-       "nailboards with cel shading, outlines and shadows, from a light-space map or billboard shadow volumes "
-       "(McGuire & Fein 2006)"},
+       "programmable GL 4.5 (McGuire & Fein 2006): nailboards with cel shading, outlines from the flange, shadows "
+       "from a light-space map or billboard shadow volumes; the media pass for fire, smoke and dust",
+       createCel, true, celOmissions},
       {RenderPath::kFixed, "fixed",
        "GL 1.x fixed function (McGuire & Fein 2006, 4.4): flat billboards of a per-frame puff texture, backing "
-       "billboards for outlines; one light, uniform ambient, no shadows"},
+       "billboards for outlines; one light, uniform ambient, no shadows",
+       createFixed, false, fixedOmissions},
+      {RenderPath::kReference, "reference",
+       "the image the nailboards approximate: every particle's actual puff mesh, Eq. 2 per pixel, outlines around "
+       "the true silhouettes, exact shadows; supersampled 3x3 and slow; media by the physical reference (the "
+       "particles' summed density fields integrated along every ray on the CPU, seconds per frame)",
+       nullptr, false, referenceOmissions},
   };
+  return table;
+}
+
+std::vector<RenderPathInfo> renderPaths() {
+  std::vector<RenderPathInfo> paths;
+  for (const RenderPathInfo& p : renderPathTable()) {
+    if (p.create) paths.push_back(p);
+  }
   return paths;
 }
 
+const RenderPathInfo& renderPathInfo(RenderPath path) {
+  for (const RenderPathInfo& p : renderPathTable()) {
+    if (p.path == path) return p;
+  }
+  PUFF_CHECK(false && "every RenderPath has a row in renderPathTable()");
+  return renderPathTable().front();
+}
+
+std::string_view toString(RenderPath path) { return renderPathInfo(path).name; }
+
 std::optional<RenderPath> parseRenderPath(std::string_view name) {
-  for (RenderPath p : {RenderPath::kCel, RenderPath::kFixed, RenderPath::kReference}) {
-    if (name == toString(p)) return p;
+  for (const RenderPathInfo& p : renderPathTable()) {
+    if (name == p.name) return p.path;
   }
   return std::nullopt;
+}
+
+std::string renderPathNames(std::string_view separator) {
+  std::string names;
+  for (const RenderPathInfo& p : renderPathTable()) {
+    if (!names.empty()) names += separator;
+    names += p.name;
+  }
+  return names;
 }
 
 namespace {
@@ -102,19 +163,12 @@ Result<void> SceneRenderer::checkProgrammable() {
 }
 
 Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const scene::Scene& scene, RenderPath path,
-                                                             bool contextFramebuffer) {
-  switch (path) {
-    case RenderPath::kCel:
-      return create(scene,
-                    [](const scene::Scene& s, const scene::SceneGeometry& g) { return detail::createCelPath(s, g); });
-    case RenderPath::kFixed:
-      return create(scene, [contextFramebuffer](const scene::Scene& s, const scene::SceneGeometry& g) {
-        return detail::createFixedPath(s, g, contextFramebuffer);
-      });
-    case RenderPath::kReference:
-      break;
+                                                             DrawTarget target) {
+  const RenderPathInfo& info = renderPathInfo(path);
+  if (!info.create) {
+    return Error{"the " + info.name + " path is measurement: puff::eval makes it (eval::createRenderer)"};
   }
-  return Error{"the cel reference is measurement: puff::eval makes it (eval::createCelReference)"};
+  return info.create(scene, target);
 }
 
 Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const scene::Scene& scene, PathFactory factory) {
@@ -174,7 +228,7 @@ Result<void> SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, 
   const scene::Scene& s = impl_->scene;
   // The references model no motion blur (docs/media.md): only a path with media layers blurs.
   if (s.media && s.media->motionBlurFrames > 0 && impl_->path->drawsMedia() &&
-      impl_->path->kind() != RenderPath::kReference) {
+      renderPathInfo(impl_->path->kind()).motionBlur) {
     return drawBlurred(frame, viewport, stats, camera);
   }
   return drawSingle(frame, viewport, stats, camera);

@@ -1,6 +1,7 @@
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
 #include <puff/render/view.h>
+#include <puff/shader_contract.h>
 
 namespace puff::render {
 
@@ -15,9 +16,9 @@ Result<ViewPass> ViewPass::create() {
 
 void ViewPass::draw(GLuint linear, const cel::Viewport& viewport, core::ViewTransform view) const {
   const GLuint p = program_.get();
-  glProgramUniform1i(p, 0, view == core::ViewTransform::kFilmic ? 1 : 0);
-  glProgramUniform2f(p, 1, static_cast<float>(viewport.x), static_cast<float>(viewport.y));
-  glProgramUniform1f(p, 2, static_cast<float>(core::kFilmicKnee));
+  glProgramUniform1i(p, shader::loc::kViewTransform, view == core::ViewTransform::kFilmic ? 1 : 0);
+  glProgramUniform2f(p, shader::loc::kViewOrigin, static_cast<float>(viewport.x), static_cast<float>(viewport.y));
+  glProgramUniform1f(p, shader::loc::kViewKnee, static_cast<float>(core::kFilmicKnee));
   glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_STENCIL_TEST);

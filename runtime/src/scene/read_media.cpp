@@ -12,6 +12,8 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include <puff/shader_contract.h>
+
 #include "read_detail.h"
 
 namespace puff::scene::detail {
@@ -188,7 +190,8 @@ void readLook(const json& j, const std::string& ptr, const Reader& r, MediaSpec&
   if (auto* v = find(j, "motionBlur")) {
     const std::string p = child(ptr, "motionBlur");
     requireObject(*v, p, {"frames", "persistence"});
-    if (auto* x = find(*v, "frames")) m.motionBlurFrames = readInt(*x, child(p, "frames"), 0, 7);
+    if (auto* x = find(*v, "frames"))
+      m.motionBlurFrames = readInt(*x, child(p, "frames"), 0, shader::kMaxBlurFrames - 1);
     if (auto* x = find(*v, "persistence"))
       m.motionBlurPersistence = readFloat(*x, child(p, "persistence"), Range{0.0, 1.0, false, true});
   }
@@ -294,7 +297,8 @@ MediaSpec readMedia(const json& j, const std::string& ptr, const Reader& r) {
   if (auto* v = find(j, "collisionRadius")) m.collisionRadius = readFloat(*v, child(ptr, "collisionRadius"), kUnit);
   if (auto* v = find(j, "lights")) {
     const std::string p = child(ptr, "lights");
-    if (!v->is_array() || v->size() > 8) fail(p, "an array of at most 8 lights", *v);
+    constexpr std::size_t kMost = shader::kMaxLights;
+    if (!v->is_array() || v->size() > kMost) fail(p, "an array of at most " + std::to_string(kMost) + " lights", *v);
     for (std::size_t i = 0; i < v->size(); ++i) m.lights.push_back(readMediaLight((*v)[i], child(p, i)));
   }
   return m;

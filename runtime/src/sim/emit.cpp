@@ -44,9 +44,13 @@ glm::vec3 birthOffset(const Emitter& e, Rng& r) {
   switch (e.shape) {
     case Emitter::Shape::kPoint:
       break;
-    case Emitter::Shape::kSphere:
-      offset = randomUnit(r) * (e.radius * std::cbrt(r.uniform()));
+    case Emitter::Shape::kSphere: {
+      // Each draw its own statement: the operands of one expression are evaluated in an order the
+      // compiler picks, and a seed must give the same smoke whatever compiled it.
+      const float depth = std::cbrt(r.uniform());
+      offset = randomUnit(r) * (e.radius * depth);
       break;
+    }
     case Emitter::Shape::kDisc: {
       const glm::vec3 n = glm::normalize(e.normal), a = anyPerpendicular(n), b = glm::cross(n, a);
       const float rr = e.radius * std::sqrt(r.uniform()), phi = r.uniform() * 2.0f * std::numbers::pi_v<float>;
@@ -121,8 +125,11 @@ void Simulator::Impl::spawn(double t0, double t1, StepStats& st) {
       glm::quat q(1.0f, 0.0f, 0.0f, 0.0f);
       glm::vec3 w(0.0f);
       if (e.oriented) {
-        q = glm::angleAxis(r.uniform() * 2.0f * std::numbers::pi_v<float>, randomUnit(r));
-        w = randomUnit(r) * (e.spin * r.uniform());
+        // One draw a statement (see birthOffset), in the order the seeds' smoke was first drawn in.
+        const glm::vec3 axis = randomUnit(r);
+        q = glm::angleAxis(r.uniform() * 2.0f * std::numbers::pi_v<float>, axis);
+        const float spin = e.spin * r.uniform();
+        w = randomUnit(r) * spin;
       }
       if (remaining >= lifetime) continue;  // born and dead inside one step
       if (!meshes.empty()) {                // where it was born, for the mesh colliders' segment test

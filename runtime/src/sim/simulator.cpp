@@ -198,7 +198,9 @@ detail::BlockStats Simulator::Impl::moveRange(std::size_t begin, std::size_t end
     }
     integrateRange(b, e);
     if (!s.colliders.empty()) {
-      const float* prev[3] = {ox.data() + b, oy.data() + b, oz.data() + b};
+      // Where the particles started, for the mesh colliders (none without a mesh: then no start).
+      const float* prev[3] = {nullptr, nullptr, nullptr};
+      if (haveMesh) prev[0] = ox.data() + b, prev[1] = oy.data() + b, prev[2] = oz.data() + b;
       out.collisions += collide(b, e, prev);
     }
     std::size_t nonFinite = 0;

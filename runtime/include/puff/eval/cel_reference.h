@@ -26,8 +26,8 @@ Result<std::unique_ptr<render::SceneRenderer>> createCelReference(const scene::S
                                                                   const CelReferenceOptions& options = {});
 
 /// A renderer for any path, the cel reference included (for tools that take a path by name); see
-/// render::SceneRenderer::create for the others and `contextFramebuffer`.
-Result<std::unique_ptr<render::SceneRenderer>> createRenderer(const scene::Scene& scene, render::RenderPath path,
-                                                              bool contextFramebuffer = false);
+/// render::SceneRenderer::create for the others and `target`.
+Result<std::unique_ptr<render::SceneRenderer>> createRenderer(
+    const scene::Scene& scene, render::RenderPath path, render::DrawTarget target = render::DrawTarget::kOffscreen);
 
 }  // namespace puff::eval

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -24,7 +25,7 @@ class Layers;
 
 namespace puff::render {
 
-/// The render paths a scene can be drawn with.
+/// The render paths a scene can be drawn with (what each is and can do: renderPathTable()).
 enum class RenderPath {
   kCel,    ///< programmable GL 4.5: nailboards, outlines from the flange, shadow map or volumes (puff::cel)
   kFixed,  ///< GL 1.x fixed function (puff::fixedfunc, §4.4): per-frame puff texture, backing
@@ -33,17 +34,42 @@ enum class RenderPath {
   /// eval/cel_reference.h). Measurement, not a path a game draws with.
   kReference,
 };
-std::string_view toString(RenderPath path);
-std::optional<RenderPath> parseRenderPath(std::string_view name);  ///< "cel", "fixed" or "reference"
 
+/// Where a SceneRenderer's frames go.
+enum class DrawTarget {
+  kOffscreen,  ///< framebuffer objects of the scene's size (every path that has them)
+  /// The context's own framebuffer, which must be at least the scene's size and have alpha: every
+  /// call the fixed path makes is then OpenGL 1.x. kFixed only; kCel ignores it.
+  kContextFramebuffer,
+};
+
+class SceneRenderer;
+
+/// A render path and what it can do: one row of renderPathTable(), which every list, parser, menu
+/// and warning of the libraries and tools reads.
 struct RenderPathInfo {
   RenderPath path;
-  std::string name;         ///< toString(path)
+  std::string name;         ///< as a scene, --path and puffview's menu spell it
   std::string description;  ///< one line, for a tool's --help or a menu's tooltip
+  /// Makes the path's renderer in the current context (SceneRenderer::create); null for the cel
+  /// reference, which puff::eval makes (eval::createRenderer), being measurement a game never draws.
+  Result<std::unique_ptr<SceneRenderer>> (*create)(const scene::Scene& scene, DrawTarget target);
+  /// Whether the media's motion blur applies (the references model none: docs/media.md).
+  bool motionBlur;
+  /// One line for each part of `scene` this path leaves out or draws otherwise (empty: it draws
+  /// all of it), for a tool to print and a viewer to show.
+  std::vector<std::string> (*omissions)(const scene::Scene& scene);
 };
-/// The paths SceneRenderer::create draws with, the default first (the cel reference is made by
-/// puff::eval).
-const std::vector<RenderPathInfo>& renderPaths();
+/// Every render path, the default first.
+const std::vector<RenderPathInfo>& renderPathTable();
+/// The paths SceneRenderer::create draws with (the rows with a `create`), the default first.
+std::vector<RenderPathInfo> renderPaths();
+const RenderPathInfo& renderPathInfo(RenderPath path);
+std::string_view toString(RenderPath path);  ///< its row's name
+/// The path whose name is `name`, of every path in the table; nullopt for any other name.
+std::optional<RenderPath> parseRenderPath(std::string_view name);
+/// The table's names, joined by `separator` ("cel, fixed, reference").
+std::string renderPathNames(std::string_view separator = ", ");
 
 struct FrameStats {
   std::size_t particles = 0;  ///< drawn (listed + placed + simulated)

@@ -25,14 +25,12 @@ class SceneRenderer {
   /// a compatibility profile of any version >= 1.3 for kFixed, which draws the scene within its
   /// limits (no shadows, the uniform ambient colour instead of a gradient, view-plane billboards,
   /// no MSAA) with the puff mesh of `scene.fixed` (default: the atlas's first source mesh).
-  /// Where frames go: an offscreen target (framebuffer objects) by default; with
-  /// `contextFramebuffer` (kFixed only) the context's own framebuffer, which must then be at least
-  /// the scene's size and have alpha: every call the fixed pipeline makes is then OpenGL 1.x.
-  /// kFixed in a context without GL 4.5's framebuffer objects always draws there. kReference is
-  /// made by puff::eval (eval::createCelReference), not here.
+  /// Where frames go: `target` (DrawTarget); kFixed in a context without GL 4.5's framebuffer
+  /// objects always draws into the context's own framebuffer. kReference is made by puff::eval
+  /// (eval::createRenderer), not here: renderPathTable() says which path is made where.
   /// Errors name the file that failed (atlas, ramp, gradient, mesh) and why.
   static Result<std::unique_ptr<SceneRenderer>> create(const scene::Scene& scene, RenderPath path = RenderPath::kCel,
-                                                       bool contextFramebuffer = false);
+                                                       DrawTarget target = DrawTarget::kOffscreen);
   /// A renderer around a path made by `factory` (another library's path, such as the cel reference).
   static Result<std::unique_ptr<SceneRenderer>> create(const scene::Scene& scene, PathFactory factory);
 
