@@ -1,7 +1,7 @@
-# cmake -D EXE=... -D OUT=... -D LABEL=... -D COST=... -D LSAN_SUPP=... -P list_suites.cmake
+# cmake -D EXE=... -D OUT=... -D LABEL=... -D COST=... -D TIMEOUT=... -D LSAN_SUPP=... -P list_suites.cmake
 # Writes OUT, a ctest file with one test per GoogleTest suite of EXE (suites.cmake says why).
 execute_process(COMMAND "${EXE}" --gtest_list_tests OUTPUT_VARIABLE _listing ERROR_VARIABLE _err
-                RESULT_VARIABLE _rc)
+                RESULT_VARIABLE _rc TIMEOUT 60)
 if(NOT _rc EQUAL 0)
   message(FATAL_ERROR "${EXE} --gtest_list_tests failed (${_rc}): ${_err}")
 endif()
@@ -15,7 +15,7 @@ foreach(_line IN LISTS _lines)
     set(_suite "${CMAKE_MATCH_1}")
     string(APPEND _out
       "add_test([==[${_suite}]==] [==[${EXE}]==] [==[--gtest_filter=${_suite}.*]==])\n"
-      "set_tests_properties([==[${_suite}]==] PROPERTIES LABELS [==[${LABEL}]==] COST ${COST} TIMEOUT 600\n"
+      "set_tests_properties([==[${_suite}]==] PROPERTIES LABELS [==[${LABEL}]==] COST ${COST} TIMEOUT ${TIMEOUT}\n"
       "  ENVIRONMENT PUFF_GL=osmesa\n"
       "  ENVIRONMENT_MODIFICATION [==[LSAN_OPTIONS=set:suppressions=${LSAN_SUPP}:print_suppressions=0]==])\n")
     math(EXPR _count "${_count} + 1")

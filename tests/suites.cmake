@@ -1,5 +1,6 @@
-# puff_add_suites(TARGET LABEL COST): one ctest test per GoogleTest suite of TARGET, named after the
-# suite and running it in one process (`TARGET --gtest_filter=Suite.*`), labelled LABEL.
+# puff_add_suites(TARGET LABEL COST TIMEOUT): one ctest test per GoogleTest suite of TARGET, named
+# after the suite and running it in one process (`TARGET --gtest_filter=Suite.*`), labelled LABEL,
+# with ctest's COST and a TIMEOUT in seconds for the whole suite.
 #
 # A suite's tests share a process, so what a suite sets up once (a GL context, a baked atlas) is made
 # once; a process per test spent most of the unit tier's time loading libraries (docs/testing.md,
@@ -7,12 +8,12 @@
 # list_suites.cmake. To run one test: TARGET --gtest_filter=Suite.Test.
 #
 # Every test gets PUFF_GL=osmesa and LeakSanitizer's suppressions for Mesa (tests/lsan.supp).
-function(puff_add_suites target label cost)
+function(puff_add_suites target label cost timeout)
   set(_list "${CMAKE_CURRENT_BINARY_DIR}/${target}_suites.cmake")
   set(_include "${CMAKE_CURRENT_BINARY_DIR}/${target}_include.cmake")
   add_custom_command(TARGET ${target} POST_BUILD
     COMMAND ${CMAKE_COMMAND} -D "EXE=$<TARGET_FILE:${target}>" -D "OUT=${_list}" -D "LABEL=${label}"
-            -D "COST=${cost}" -D "LSAN_SUPP=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp"
+            -D "COST=${cost}" -D "TIMEOUT=${timeout}" -D "LSAN_SUPP=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp"
             -P "${CMAKE_CURRENT_SOURCE_DIR}/list_suites.cmake"
     BYPRODUCTS "${_list}" VERBATIM)
   file(WRITE "${_include}"

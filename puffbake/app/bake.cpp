@@ -5,6 +5,7 @@
 
 #include <cli/app.h>
 #include <cli/progress.h>
+#include <puff/core/number_text.h>
 #include <puff/core/shader.h>
 #include <puff/platform/gl_context.h>
 
@@ -48,12 +49,7 @@ std::optional<glm::vec3> parseColor(const std::string& s) {
 }
 
 std::string flangeText(const bake::FlangeWidth& f) {
-  char b[32];
-  if (f.fractionOfCell)
-    std::snprintf(b, sizeof b, "%g%%", static_cast<double>(f.value * 100.0f));
-  else
-    std::snprintf(b, sizeof b, "%g", static_cast<double>(f.value));
-  return b;
+  return f.fractionOfCell ? core::numberText(f.value * 100.0f) + "%" : core::numberText(f.value);
 }
 
 // What the bake wrote: LOD results, the atlas, the contact sheet.

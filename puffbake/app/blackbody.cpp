@@ -3,6 +3,7 @@
 
 #include <cli/app.h>
 #include <puff/core/blackbody.h>
+#include <puff/core/number_text.h>
 
 #include "commands.h"
 
@@ -10,25 +11,18 @@ namespace puff::app {
 
 namespace {
 
-// "%g": 1000, 3200, 1e+05.
-std::string numberText(double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
-
 // The blackbody flags' ranges (core::makeBlackbodyRamp's), named as the user typed them.
 std::optional<std::string> blackbodyProblem(const BlackbodyOptions& b) {
-  const std::string top = numberText(core::kMaxKelvin);
+  const std::string top = core::numberText(core::kMaxKelvin);
   if (!(b.minKelvin > 0.0 && b.minKelvin < core::kMaxKelvin))
-    return "--min must be in (0, " + top + ") kelvin, got " + numberText(b.minKelvin);
+    return "--min must be in (0, " + top + ") kelvin, got " + core::numberText(b.minKelvin);
   if (!(b.maxKelvin > b.minKelvin && b.maxKelvin <= core::kMaxKelvin))
-    return "--max must be above --min (" + numberText(b.minKelvin) + ") and at most " + top + " kelvin, got " +
-           numberText(b.maxKelvin);
+    return "--max must be above --min (" + core::numberText(b.minKelvin) + ") and at most " + top + " kelvin, got " +
+           core::numberText(b.maxKelvin);
   if (b.size < 2 || b.size > core::kMaxBlackbodyTexels)
     return "--size must be in [2, " + std::to_string(core::kMaxBlackbodyTexels) + "], got " + std::to_string(b.size);
   if (!(b.normalizeKelvin > 0.0 && b.normalizeKelvin <= core::kMaxKelvin))
-    return "--normalize must be in (0, " + top + "] kelvin, got " + numberText(b.normalizeKelvin);
+    return "--normalize must be in (0, " + top + "] kelvin, got " + core::numberText(b.normalizeKelvin);
   return std::nullopt;
 }
 
@@ -73,8 +67,8 @@ int runBlackbody(const Options& o) {
   }
   if (!o.quiet) {
     std::printf("%s: wrote %s: black-body ramp %s..%s K in %d texels (linear sRGB, luminance 1 at %s K)\n", cli::name(),
-                o.out.c_str(), numberText(b.minKelvin).c_str(), numberText(b.maxKelvin).c_str(), b.size,
-                numberText(b.normalizeKelvin).c_str());
+                o.out.c_str(), core::numberText(b.minKelvin).c_str(), core::numberText(b.maxKelvin).c_str(), b.size,
+                core::numberText(b.normalizeKelvin).c_str());
   }
   return 0;
 }

@@ -1,6 +1,6 @@
 // Per-frame values shared by every cel program (nailboards, shadow volumes, opaque objects),
 // uploaded once per frame by puff::cel::FrameBlock into uniform buffer binding 0. The layout
-// mirrors puff::cel::FrameBlockData (std140) field for field.
+// is mirrored by puff::shader::FrameBlockData (std140, runtime/private/puff/shader_blocks.h).
 //
 // Depth (McGuire & Fein §4.2): every cel program computes LINEAR depth, the camera-space distance
 // along the view axis mapped so that the near plane is 0 and the far plane 1:

@@ -49,8 +49,8 @@ PATHS = {
                    "runtime/src/eval/cel_reference_gl.h"], ["puff/eval/cel_reference.h", "puff/reference/"]),
 }
 GL_HEADER = re.compile(r'^\s*#\s*include\s*[<"](glad/|GL/|GLFW/|EGL/|puff/gl_api\.h|puff/glad)', re.M)
-PUFF_INCLUDE = re.compile(r'^\s*#\s*include\s*<puff/(?!core/(?:error|random)\.h>)([a-z_]+)/', re.M)
-# core's header-only values (Result and PUFF_CHECK, the seeded random numbers), which puff::sim uses
+PUFF_INCLUDE = re.compile(r'^\s*#\s*include\s*<puff/(?!core/(?:error|random|number_text)\.h>)([a-z_]+)/', re.M)
+# core's header-only values (Result and PUFF_CHECK, the seeded random numbers, numbers in messages), which puff::sim uses
 # without linking any Puff library, are left out of rule 1 by PUFF_INCLUDE's look-ahead.
 ANY_INCLUDE = re.compile(r'^\s*#\s*include\s*[<"]([^>"]+)[>"]', re.M)
 LOCAL_INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"', re.M)

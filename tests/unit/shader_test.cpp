@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -123,6 +124,24 @@ TEST(ShaderContract, EveryUniformBlockIsTheSizeOfItsCppMirror) {
   }
   for (const auto& [block, size] : mirrors) EXPECT_GT(programsDeclaring[block], 0) << "no program declares " << block;
   EXPECT_EQ(drainGlErrors(), "");
+}
+
+// The contract is where a uniform's location and a shade pass's number are written: no shader
+// writes one as a bare number.
+TEST(ShaderContract, NoShaderWritesAUniformLocationOrAShadePassAsANumber) {
+  const fs::path root = fs::path(PUFF_SOURCE_DIR) / "shaders";
+  const std::regex location(R"(layout\s*\(\s*location\s*=\s*[0-9]+\s*\)\s*uniform)");
+  const std::regex pass(R"(uPass\s*[!=<>]=?\s*[0-9])");
+  int files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(root)) {
+    if (!entry.is_regular_file()) continue;
+    ++files;
+    const std::string text = readFile(entry.path());
+    const std::string name = entry.path().lexically_relative(root).generic_string();
+    EXPECT_FALSE(std::regex_search(text, location)) << name << ": a uniform location belongs in common/contract.glsl";
+    EXPECT_FALSE(std::regex_search(text, pass)) << name << ": a shade pass is PUFF_PASS_* (common/contract.glsl)";
+  }
+  EXPECT_GT(files, 50);
 }
 
 // Arrays sized by the contract's limits, and uniforms at the contract's locations, as GL sees them.

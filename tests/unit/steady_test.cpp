@@ -51,7 +51,8 @@ std::uint32_t bits(float v) { return std::bit_cast<std::uint32_t>(v); }
 std::vector<Particle> crowd(core::SplitMix64& rng, glm::dvec3 centre, glm::dvec3 half, int n) {
   std::vector<Particle> ps;
   for (int i = 0; i < n; ++i) {
-    glm::dvec3 u(rng.unit(), rng.unit(), rng.unit());
+    const double uz = rng.unit(), uy = rng.unit(), ux = rng.unit();  // one draw a statement, z first
+    glm::dvec3 u(ux, uy, uz);
     if (i == 0) u = glm::dvec3(0.0);
     if (i == 1) u = glm::dvec3(1.0);
     Particle p;
@@ -74,18 +75,22 @@ TEST(SteadyPacking, AStillParticleKeepsItsBitsWhileTheCrowdMoves) {
   for (int sweep = 0; sweep < 200; ++sweep) {
     const int j = -20 + static_cast<int>(rng.unit() * 30.0);  // steps 2^-20 .. 2^9: extents 6 cm .. 33 km
     const double bracket = 65534.0 * std::ldexp(1.0, j);
-    const glm::dvec3 half = 0.5 * bracket * (0.6 + 0.3 * glm::dvec3(rng.unit(), rng.unit(), rng.unit()));
+    const double hz = rng.unit(), hy = rng.unit(), hx = rng.unit();  // one draw a statement, z first
+    const glm::dvec3 half = 0.5 * bracket * (0.6 + 0.3 * glm::dvec3(hx, hy, hz));
     const double far = (sweep % 4 == 0) ? 10000.0 : (sweep % 4 == 1 ? -3.5 : 0.0);
-    const glm::dvec3 centre(far + 100.0 * rng.unit(), -far * 0.5, far * 0.25 + rng.unit());
+    const double cz = rng.unit(), cx = rng.unit();  // one draw a statement, z first
+    const glm::dvec3 centre(far + 100.0 * cx, -far * 0.5, far * 0.25 + cz);
     std::vector<Particle> before = crowd(rng, centre, half, 64);
     std::vector<Particle> after = before;
     for (Particle& p : after) {
-      const glm::dvec3 d(rng.unit() - 0.5, rng.unit() - 0.5, rng.unit() - 0.5);
+      const double dz = rng.unit(), dy = rng.unit(), dx = rng.unit();  // one draw a statement, z first
+      const glm::dvec3 d(dx - 0.5, dy - 0.5, dz - 0.5);
       p.position = glm::vec3(glm::dvec3(p.position) + 0.02 * d * half);
     }
     // The still one, anywhere inside the box (kept 2% in from its faces, so it stays inside).
     Particle still;
-    const glm::dvec3 u(rng.unit(), rng.unit(), rng.unit());
+    const double uz = rng.unit(), uy = rng.unit(), ux = rng.unit();  // one draw a statement, z first
+    const glm::dvec3 u(ux, uy, uz);
     still.position = glm::vec3(centre + (2.0 * u - 1.0) * 0.98 * half);
     const std::size_t at = static_cast<std::size_t>(rng.unit() * 64.0);
     before.insert(before.begin() + static_cast<std::ptrdiff_t>(at), still);

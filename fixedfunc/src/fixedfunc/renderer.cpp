@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <numbers>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,7 +25,7 @@ namespace puff::fixedfunc {
 
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
+constexpr float kPi = std::numbers::pi_v<float>;
 
 struct GlVersion {
   int major = 0, minor = 0;
@@ -641,9 +642,7 @@ Result<std::unique_ptr<FixedRenderer>> FixedRenderer::create(const mesh::TriMesh
     return Error{"fixedfunc: cell size " + std::to_string(cellSize) + " needs a " + std::to_string(2 * cellSize) +
                  " texture, GL_MAX_TEXTURE_SIZE is " + std::to_string(maxTextureSize)};
   }
-  auto mesh = toDrawMesh(puff, "fixedfunc: puff mesh");
-  if (!mesh) return mesh.error();
-  impl->puff = std::move(*mesh);
+  PUFF_TRY_ASSIGN(impl->puff, toDrawMesh(puff, "fixedfunc: puff mesh"));
 
   {
     StateGuard guard(impl->version);

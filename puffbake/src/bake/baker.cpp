@@ -9,6 +9,7 @@
 
 #include <puff/bake/raster.h>
 #include <puff/core/files.h>
+#include <puff/core/number_text.h>
 
 namespace puff::bake {
 
@@ -16,12 +17,6 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
-
-std::string num(float v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", static_cast<double>(v));
-  return b;
-}
 
 // What one bake may hold in memory. Per sample of the cell being resolved: two RGBA32F GL
 // targets, their readback copies, masks, two distance transforms and the signed distances
@@ -85,7 +80,7 @@ Result<Geometry> planGeometry(const BakeOptions& o, int variations) {
     std::string fix = least <= kMaxCellSize ? "; the least --size that fits is " + std::to_string(least) : "";
     if (flange > 0.0) fix += (fix.empty() ? "; " : ", or ") + std::string("lower --flange");
     return Error{"--size " + std::to_string(o.cellSize) + " leaves no room for the puff: each side of the cell keeps " +
-                 "the flange (" + num(static_cast<float>(flange)) + " texels, rounded up) and a " +
+                 "the flange (" + core::numberText(static_cast<float>(flange)) + " texels, rounded up) and a " +
                  std::to_string(guardBand(o.cellSize)) + "-texel guard band, and the puff needs 4 texels" + fix};
   }
   g.flange = o.flange.texels(o.cellSize);
@@ -158,9 +153,7 @@ struct ViewRenderer {
   std::vector<glm::vec3> viewDirs;
 
   Result<void> create() {
-    auto made = PuffRasterizer::create(o.cellSize * g.supersample, g.views > 1);
-    if (!made) return made.error();
-    rasterizer = std::move(*made);
+    PUFF_TRY_ASSIGN(rasterizer, PuffRasterizer::create(o.cellSize * g.supersample, g.views > 1));
     // --lod auto rasterizes a mesh a dozen times or more; two samples per texel side still place
     // silhouettes to a quarter texel, and cost a quarter of four.
     lodSupersample = std::min(g.supersample, 2);
@@ -441,9 +434,7 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
       mesh::Generator g{gen->kind, gen->sphere, gen->lumpy, gen->cluster};
       g.lumpy.seed += static_cast<std::uint64_t>(i);
       g.cluster.seed += static_cast<std::uint64_t>(i);
-      auto generated = mesh::generate(g);
-      if (!generated) return generated.error();
-      s.mesh = std::move(*generated);
+      PUFF_TRY_ASSIGN(s.mesh, mesh::generate(g));
       s.provenance.params = mesh::generatorToJson(g);
       s.provenance.faces = s.mesh.faceCount();
       sources.push_back(std::move(s));

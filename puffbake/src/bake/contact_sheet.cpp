@@ -2,6 +2,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -51,7 +52,7 @@ glm::vec3 texelColor(const AtlasLevel& l, const core::AtlasDesc& desc, int colum
       // Distance: blue inside, orange outside, darker bands every 4 texels, white on the silhouette.
       const float t = std::clamp(std::abs(dist) / desc.distanceRange, 0.0f, 1.0f);
       const glm::vec3 base = dist < 0 ? glm::vec3(0.25f, 0.45f, 0.9f) : glm::vec3(0.95f, 0.6f, 0.2f);
-      const float band = 0.8f + 0.2f * std::cos(dist * 3.14159265f / 2.0f);
+      const float band = 0.8f + 0.2f * std::cos(dist * std::numbers::pi_v<float> / 2.0f);
       const float edge = std::clamp(1.0f - std::abs(dist), 0.0f, 1.0f);
       return glm::mix(base * (1.0f - 0.6f * t) * band, glm::vec3(1.0f), edge);
     }

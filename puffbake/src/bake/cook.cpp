@@ -79,9 +79,7 @@ bool sameFile(const fs::path& a, const fs::path& b) {
 }  // namespace
 
 Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
-  auto parsed = core::jsonread::loadJsonFile(sidecar);
-  if (!parsed) return parsed.error();
-  json j = std::move(*parsed);
+  PUFF_TRY_ASSIGN(json j, core::jsonread::loadJsonFile(sidecar));
   auto desc = core::atlasFromJson(j, sidecar);
   if (!desc) return desc.error();
   // Every level checked as the runtime will check it (size, channels, finite texels): a cooked

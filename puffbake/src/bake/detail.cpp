@@ -13,6 +13,7 @@
 #include <utility>
 
 #include <puff/core/image.h>
+#include <puff/core/number_text.h>
 #include <puff/core/random.h>
 #include <puff/support/parallel.h>
 
@@ -135,11 +136,8 @@ Result<void> validate(const DetailSpec& s) {
   if (s.octaves < 1 || s.octaves > 10) return Error{"--octaves must be in [1, 10], got " + std::to_string(s.octaves)};
   if (s.frequency < 1 || s.frequency > 256)
     return Error{"--frequency must be in [1, 256], got " + std::to_string(s.frequency)};
-  if (!(s.contrast >= 0.0f && s.contrast <= 16.0f)) {
-    char b[64];
-    std::snprintf(b, sizeof b, "%g", static_cast<double>(s.contrast));
-    return Error{std::string("--contrast must be in [0, 16], got ") + b};
-  }
+  if (!(s.contrast >= 0.0f && s.contrast <= 16.0f))
+    return Error{"--contrast must be in [0, 16], got " + core::numberText(s.contrast)};
   return {};
 }
 

@@ -46,9 +46,7 @@ Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSid
   if (!program) return program.error();
   core::Program backProgram;
   if (back) {
-    auto built = core::buildProgram({"bake/puff.vert", "bake/puff_back.frag"});
-    if (!built) return built.error();
-    backProgram = std::move(*built);
+    PUFF_TRY_ASSIGN(backProgram, core::buildProgram({"bake/puff.vert", "bake/puff_back.frag"}));
   }
 
   std::unique_ptr<PuffRasterizer> r(new PuffRasterizer);

@@ -23,8 +23,9 @@ struct Options {
   std::optional<int> width, height, samples;  ///< overrides of the scene's output settings
   std::filesystem::path artDir;               ///< replaces "${PUFF_ART}" in the scene's paths
   std::string shaderDir;
-  std::string style;           ///< a style preset replacing the scene's style; empty: the scene's own
-  std::string path = "cel";    ///< "cel" (falls back to "fixed" when the context cannot run it) or "fixed"
+  std::string style;  ///< a style preset replacing the scene's style; empty: the scene's own
+  std::string path =
+      "cel";  ///< a render::renderPathTable() name; "cel" falls back to "fixed" when the context cannot run it
   bool pathGiven = false;      ///< --path was given: no fallback, the path asked for or an error
   std::string compare;         ///< "A,B" (cel and fixed, either order): render both, report parity
   float toneTolerance = 0.1f;  ///< --compare: per-channel tolerance of "the same tone"

@@ -276,9 +276,7 @@ Result<void> SequenceExtras::open() {
       if (!gif) return gif.error();
       m.gif = std::move(*gif);
     } else {
-      auto mp4 = Mp4Pipe::open(findOnPath("ffmpeg"), m.previewStaged, target, w, h, fps);
-      if (!mp4) return mp4.error();
-      m.mp4 = std::move(*mp4);
+      PUFF_TRY_ASSIGN(m.mp4, Mp4Pipe::open(findOnPath("ffmpeg"), m.previewStaged, target, w, h, fps));
     }
   }
   return {};

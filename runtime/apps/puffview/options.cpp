@@ -10,6 +10,7 @@
 #include <cli/frames.h>
 #include <cli/progress.h>
 
+#include <puff/core/limits.h>
 #include <puff/render/path.h>
 #include <puffview/viewer.h>
 
@@ -62,11 +63,11 @@ std::variant<Options, int> parse(int argc, char** argv) {
   app.add_option("--width", o.width,
                  "Image width in pixels (default: the scene's output width, at most 1920); the window adds the docked "
                  "panel's 400 when the panels are shown")
-      ->check(CLI::Range(16, 16384));
+      ->check(CLI::Range(16, core::kMaxImageSize));
   app.add_option("--height", o.height,
                  "Image height in pixels (default: the scene's output height, at most 1200); the window is at least "
                  "480 tall when the panels are shown")
-      ->check(CLI::Range(16, 16384));
+      ->check(CLI::Range(16, core::kMaxImageSize));
   app.add_option("--art-dir", o.artDir,
                  "Directory that \"${PUFF_ART}\" in the scene's paths stands for (default: $PUFF_ART, else build/art)");
   app.add_option("--shader-dir", o.shaderDir,
@@ -135,7 +136,7 @@ int run(const Options& o) {
     return 1;
   }
   if (!o.frames) return (*viewer)->runInteractive();
-  const auto [first, last] = *o.frames;
+  const int first = o.frames->first, last = o.frames->second;  // named, not bound: a lambda captures `last`
   // Frames past the scene's end are refused in both forms: playing stops or loops at its last frame,
   // and puffrender refuses them too.
   if (const int frames = (*viewer)->scene().animation.frames; last >= frames) {

@@ -321,9 +321,7 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
     v->setStatus(message);
     pathName = "fixed";
   }
-  auto path = createRenderer(pathName, v->shown(v->scene_));
-  if (!path) return path.error();
-  v->renderer_ = std::move(*path);
+  PUFF_TRY_ASSIGN(v->renderer_, createRenderer(pathName, v->shown(v->scene_)));
   v->pathName_ = pathName;
   v->camera_.reset(scene::cameraAt(v->scene_, 0));
   v->committed_ = v->scene_;

@@ -20,6 +20,7 @@ struct FrameBlockData {
   glm::vec4 depthProjection;
   glm::ivec4 depthMode;
 };
+static_assert(sizeof(FrameBlockData) == 6 * 64 + 11 * 16);
 
 /// shaders/common/media.glsl's MediaBlock (puff::media::Renderer).
 struct MediaBlockData {
@@ -34,6 +35,7 @@ struct MediaBlockData {
 struct MaterialGpu {
   glm::vec4 colorAlbedo, densityGEmissiveEmission, tempRangeBurnDetail, windowSpeedShimmerNext, transition;
 };
+static_assert(sizeof(MaterialGpu) == 80);
 
 /// shaders/media/compose.glsl's ComposeBlock (puff::media::Layers) and its lights.
 struct LightGpu {

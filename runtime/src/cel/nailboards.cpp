@@ -343,9 +343,7 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   const std::vector<core::Image>* backMap = d.views > 1 ? findMap(atlas, "back") : nullptr;
   if (backMap) {
     if (backMap->front().channels != 1) return Error{"atlas back map is not one channel"};
-    auto b = uploadLevels(d, std::span(backMap->data(), 1), "back", 1, GL_R8);
-    if (!b) return b.error();
-    back = std::move(*b);
+    PUFF_TRY_ASSIGN(back, uploadLevels(d, std::span(backMap->data(), 1), "back", 1, GL_R8));
   }
 
   std::vector<glm::vec4> cellData;

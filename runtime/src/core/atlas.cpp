@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include <puff/core/files.h>
+#include <puff/core/limits.h>
 #include <puff/support/json_read.h>
 
 namespace puff::core {
@@ -101,9 +102,10 @@ AtlasDesc readLayout(const json& j) {
 
 void checkLayout(const AtlasDesc& d) {
   check(d.fileFormat == "png" || d.fileFormat == "exr", "/fileFormat", "must be \"png\" or \"exr\"");
-  check(d.cellSize > 0 && d.cellSize <= 16384, "/cellSize", "must be in [1, 16384]");
-  check(d.columns > 0 && d.rows > 0 && d.columns <= 16384 && d.rows <= 16384, "/columns",
-        "columns and rows must be in [1, 16384]");
+  const std::string range = "[1, " + std::to_string(kMaxImageSize) + "]";
+  check(d.cellSize > 0 && d.cellSize <= kMaxImageSize, "/cellSize", "must be in " + range);
+  check(d.columns > 0 && d.rows > 0 && d.columns <= kMaxImageSize && d.rows <= kMaxImageSize, "/columns",
+        "columns and rows must be in " + range);
   check(d.width <= kMaxAtlasSide && d.height <= kMaxAtlasSide, "/width",
         "width and height must be at most " + std::to_string(kMaxAtlasSide) + " texels");
   check(static_cast<long long>(d.width) == static_cast<long long>(d.columns) * d.cellSize &&

@@ -8,6 +8,7 @@
 
 #include <puff/core/files.h>
 #include <puff/core/image.h>
+#include <puff/core/number_text.h>
 
 namespace puff::core {
 
@@ -33,25 +34,18 @@ std::string number(double v) {
   return b;
 }
 
-// "%g" for messages: 1000, 1e+05, 0.5.
-std::string shortNumber(double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
-
 Result<void> checkRange(double minKelvin, double maxKelvin, int size, double normalizeKelvin) {
-  const std::string top = shortNumber(kMaxKelvin);
+  const std::string top = core::numberText(kMaxKelvin);
   if (!(minKelvin > 0.0 && minKelvin < kMaxKelvin))
-    return Error{"minKelvin must be in (0, " + top + "), got " + shortNumber(minKelvin)};
+    return Error{"minKelvin must be in (0, " + top + "), got " + core::numberText(minKelvin)};
   if (!(maxKelvin > minKelvin && maxKelvin <= kMaxKelvin))
-    return Error{"maxKelvin must be in (minKelvin = " + shortNumber(minKelvin) + ", " + top + "], got " +
-                 shortNumber(maxKelvin)};
+    return Error{"maxKelvin must be in (minKelvin = " + core::numberText(minKelvin) + ", " + top + "], got " +
+                 core::numberText(maxKelvin)};
   if (size < 2 || size > kMaxBlackbodyTexels)
     return Error{"size must be in [2, " + std::to_string(kMaxBlackbodyTexels) + "] texels, got " +
                  std::to_string(size)};
   if (!(normalizeKelvin > 0.0 && normalizeKelvin <= kMaxKelvin))
-    return Error{"normalizeKelvin must be in (0, " + top + "], got " + shortNumber(normalizeKelvin)};
+    return Error{"normalizeKelvin must be in (0, " + top + "], got " + core::numberText(normalizeKelvin)};
   return {};
 }
 
@@ -101,7 +95,7 @@ Result<BlackbodyRamp> makeBlackbodyRamp(double minKelvin, double maxKelvin, int 
     return Error{"black-body ramp: " + r.error().message};
   const double y = blackbodyXYZ(normalizeKelvin).y;
   if (!(y > 0.0) || !std::isfinite(1.0 / y)) {
-    return Error{"black-body ramp: normalizeKelvin " + shortNumber(normalizeKelvin) +
+    return Error{"black-body ramp: normalizeKelvin " + core::numberText(normalizeKelvin) +
                  " K gives no visible light to normalize by"};
   }
   BlackbodyRamp ramp;
@@ -113,8 +107,9 @@ Result<BlackbodyRamp> makeBlackbodyRamp(double minKelvin, double maxKelvin, int 
     const double t = i == size - 1 ? maxKelvin : minKelvin + (maxKelvin - minKelvin) * i / (size - 1);
     const glm::vec3 c(xyzToLinearSrgb(blackbodyXYZ(t) / y));
     if (!std::isfinite(c.r) || !std::isfinite(c.g) || !std::isfinite(c.b)) {
-      return Error{"black-body ramp: the colour at " + shortNumber(t) + " K is " + shortNumber(blackbodyXYZ(t).y / y) +
-                   " times as bright as at normalizeKelvin " + shortNumber(normalizeKelvin) +
+      return Error{"black-body ramp: the colour at " + core::numberText(t) + " K is " +
+                   core::numberText(blackbodyXYZ(t).y / y) + " times as bright as at normalizeKelvin " +
+                   core::numberText(normalizeKelvin) +
                    " K: too much for 32-bit floats (raise normalizeKelvin or lower maxKelvin)"};
     }
     ramp.rgb[static_cast<std::size_t>(i)] = c;

@@ -1,3 +1,4 @@
+#include <puff/core/number_text.h>
 #include <puff/support/json_read.h>
 
 #include <algorithm>
@@ -130,18 +131,12 @@ const json* find(const json& obj, std::string_view key) {
   return it == obj.end() ? nullptr : &*it;
 }
 
-std::string formatNumber(double d) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", d);
-  return b;
-}
-
 std::string Range::text(const char* noun) const {
   const bool hasLo = std::isfinite(lo), hasHi = std::isfinite(hi);
   if (!hasLo && !hasHi) return std::string(noun);
-  if (!hasHi) return std::string(noun) + (loOpen ? " > " : " >= ") + formatNumber(lo);
-  if (!hasLo) return std::string(noun) + (hiOpen ? " < " : " <= ") + formatNumber(hi);
-  return std::string(noun) + " in " + (loOpen ? "(" : "[") + formatNumber(lo) + ", " + formatNumber(hi) +
+  if (!hasHi) return std::string(noun) + (loOpen ? " > " : " >= ") + core::numberText(lo);
+  if (!hasLo) return std::string(noun) + (hiOpen ? " < " : " <= ") + core::numberText(hi);
+  return std::string(noun) + " in " + (loOpen ? "(" : "[") + core::numberText(lo) + ", " + core::numberText(hi) +
          (hiOpen ? ")" : "]");
 }
 

@@ -8,6 +8,8 @@
 #include <puff/core/atlas.h>
 #include <puff/core/colour.h>
 #include <puff/core/detail_video.h>
+#include <puff/core/number_text.h>
+#include <puff/core/stopwatch.h>
 #include <puff/eval/budget.h>
 #include <puff/eval/cel_reference.h>
 #include <puff/reference/media_physical.h>
@@ -26,18 +28,12 @@ using scene::Scene;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+using core::Clock;
 
 using core::median;
 
 // A resolution as the scene file writes it: 0.125, 0.25, 0.5, 1.
-std::string resolutionText(float r) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", static_cast<double>(r));
-  return buf;
-}
+std::string resolutionText(float r) { return core::numberText(r); }
 
 // An RMSE: four decimals like the other reports, two significant digits below 0.001.
 std::string errorText(double e) {
@@ -60,9 +56,7 @@ std::string framesText(const std::vector<int>& frames) {
 template <class Candidates>
 Result<MediaChoice> chooseWithin(const Candidates& candidates, double maxError, const char* what) {
   if (!(maxError > 0.0 && maxError <= 1.0)) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%g", maxError);
-    return Error{std::string("the error budget must be an RMSE in (0, 1], got ") + buf};
+    return Error{"the error budget must be an RMSE in (0, 1], got " + core::numberText(maxError)};
   }
   if (candidates.empty()) return Error{std::string("the ") + what + " budget has no measured candidates"};
   MediaChoice c;
@@ -93,9 +87,7 @@ Result<Detail> loadDetail(const MediaSpec& spec) {
   for (auto [path, video] :
        {std::pair{&spec.temperatureDetail, &d.temperatureVideo}, std::pair{&spec.opacityDetail, &d.opacityVideo}}) {
     if (path->empty()) continue;
-    auto v = core::loadDetailVideo(*path);
-    if (!v) return v.error();
-    *video = std::move(*v);
+    PUFF_TRY_ASSIGN(*video, core::loadDetailVideo(*path));
   }
   return d;
 }
@@ -140,7 +132,7 @@ Result<FrameReference> makeReference(const Scene& scene, const SceneRenderer::Me
     const auto t0 = Clock::now();
     core::Image physicalLayer;
     auto p = reference::renderMediaPhysical(ri, reference::PhysicalOptions{}, &physicalLayer);
-    if (physicalMs) *physicalMs += msSince(t0);
+    if (physicalMs) *physicalMs += core::millisecondsSince(t0);
     if (!p) return Error::at(scene.file, "the physical media reference: " + p.error().message);
     r.physical = std::move(*p);
     if (regions) r.mediaPhysical = reference::mediaMask(physicalLayer);
@@ -217,7 +209,7 @@ Result<void> measureMediaErrors(const Scene& scene, const Scene& measured, int f
       const auto t0 = Clock::now();
       auto ref = makeReference(measured, *inputs, detail.temperature(), detail.opacity(), physical, &budget.physicalMs,
                                /*regions=*/true);
-      budget.referenceMs += msSince(t0);
+      budget.referenceMs += core::millisecondsSince(t0);
       if (!ref) return ref.error();
       if (!shared) {
         shared = std::move(*ref);
@@ -301,7 +293,7 @@ Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> 
       for (std::size_t i = 0; i < renderers.size(); ++i) {
         const auto t0 = Clock::now();
         auto image = renderers[i]->renderFrame(f);
-        times[i].push_back(msSince(t0));
+        times[i].push_back(core::millisecondsSince(t0));
         if (!image) return image.error();
       }
     }
@@ -348,10 +340,9 @@ std::string budgetTable(const MediaBudget& budget, const MediaChoice& choice) {
 
 std::string budgetSummary(const MediaBudget& budget, const MediaChoice& choice) {
   PUFF_CHECK(choice.chosen < budget.candidates.size() && choice.best < budget.candidates.size());
-  char maxError[32];
-  std::snprintf(maxError, sizeof maxError, "%g", choice.maxError);
+  const std::string maxError = core::numberText(choice.maxError);
   const MediaCandidate& c = budget.candidates[choice.chosen];
-  std::string s = std::string("--max-error ") + maxError + ": media resolution " + resolutionText(c.resolution);
+  std::string s = "--max-error " + maxError + ": media resolution " + resolutionText(c.resolution);
   const std::string frames = (budget.frames.size() == 1 ? "frame " : "frames ") + framesText(budget.frames);
   if (!choice.met) {
     const MediaCandidate& b = budget.candidates[choice.best];
@@ -383,11 +374,10 @@ std::string budgetSummary(const MediaBudget& budget, const MediaChoice& choice) 
 std::string budgetWarning(const MediaBudget& budget, const MediaChoice& choice) {
   if (choice.met) return {};
   PUFF_CHECK(choice.chosen < budget.candidates.size() && choice.best < budget.candidates.size());
-  char maxError[32];
-  std::snprintf(maxError, sizeof maxError, "%g", choice.maxError);
+  const std::string maxError = core::numberText(choice.maxError);
   const MediaCandidate& b = budget.candidates[choice.best];
-  return std::string("--max-error ") + maxError + " cannot be met: the smallest worst RMSE measured is " +
-         errorText(b.worstRmse) + " (media resolution " + resolutionText(b.resolution) + "); rendering at " +
+  return "--max-error " + maxError + " cannot be met: the smallest worst RMSE measured is " + errorText(b.worstRmse) +
+         " (media resolution " + resolutionText(b.resolution) + "); rendering at " +
          resolutionText(budget.candidates[choice.chosen].resolution);
 }
 
@@ -459,7 +449,7 @@ Result<void> celReferences(const Scene& s, std::span<const core::Image> reuse, C
       if (!image) return image.error();
       references.push_back(std::move(*image));
     }
-    budget.referenceMs = msSince(t0);
+    budget.referenceMs = core::millisecondsSince(t0);
   }
   return {};
 }
@@ -522,7 +512,7 @@ Result<CelCandidate> measureCelCandidate(const Scene& c, const core::AtlasDesc& 
     for (int k = 0; k < options.timedRenders; ++k) {
       const auto t0 = Clock::now();
       if (auto again = (*r)->renderFrame(budget.frames[i]); !again) return again.error();
-      times.push_back(msSince(t0));
+      times.push_back(core::millisecondsSince(t0));
     }
   }
   cand.worstRmse = *std::max_element(cand.rmse.begin(), cand.rmse.end());
@@ -600,10 +590,9 @@ std::string celBudgetTable(const CelBudget& budget, const MediaChoice& choice) {
 std::string celBudgetSummary(const CelBudget& budget, const MediaChoice& choice) {
   PUFF_CHECK(choice.chosen < budget.candidates.size() && choice.best < budget.candidates.size());
   const bool atlas = budget.knob == CelKnob::kAtlasLevel;
-  char maxError[32];
-  std::snprintf(maxError, sizeof maxError, "%g", choice.maxError);
+  const std::string maxError = core::numberText(choice.maxError);
   const CelCandidate& c = budget.candidates[choice.chosen];
-  std::string s = std::string("--max-error ") + maxError + ": " + candidateText(budget, c);
+  std::string s = "--max-error " + maxError + ": " + candidateText(budget, c);
   const std::string frames = (budget.frames.size() == 1 ? "frame " : "frames ") + framesText(budget.frames);
   if (budget.knob == CelKnob::kShadows) {
     // Candidates are in the order of their measured time: the chosen one is the fastest within it.
@@ -658,10 +647,9 @@ std::string celBudgetSummary(const CelBudget& budget, const MediaChoice& choice)
 std::string celBudgetWarning(const CelBudget& budget, const MediaChoice& choice) {
   if (choice.met) return {};
   PUFF_CHECK(choice.chosen < budget.candidates.size() && choice.best < budget.candidates.size());
-  char maxError[32];
-  std::snprintf(maxError, sizeof maxError, "%g", choice.maxError);
+  const std::string maxError = core::numberText(choice.maxError);
   const CelCandidate& b = budget.candidates[choice.best];
-  return std::string("--max-error ") + maxError + " cannot be met by the nailboards: the smallest worst RMSE " +
+  return "--max-error " + maxError + " cannot be met by the nailboards: the smallest worst RMSE " +
          "against the cel reference is " + errorText(b.worstRmse) + " (" + candidateText(budget, b) +
          "); rendering with " + candidateText(budget, budget.candidates[choice.chosen]);
 }

@@ -54,15 +54,11 @@ Result<std::vector<mesh::TriMesh>> atlasSourceMeshes(const core::AtlasDesc& desc
       if (!s.hash.empty() && "fnv1a64:" + core::fnv1a64Hex(*bytes) != s.hash) {
         return Error{where + ": " + file.string() + " has changed since the atlas was baked (re-bake it)"};
       }
-      auto loaded = mesh::loadMesh(file);
-      if (!loaded) return loaded.error();
-      m = std::move(*loaded);
+      PUFF_TRY_ASSIGN(m, mesh::loadMesh(file));
     } else {
       auto generator = mesh::generatorFromJson(s.generator, s.params, where);
       if (!generator) return generator.error();
-      auto generated = mesh::generate(*generator);
-      if (!generated) return generated.error();
-      m = std::move(*generated);
+      PUFF_TRY_ASSIGN(m, mesh::generate(*generator));
       if (s.faces != 0 && m.faceCount() != s.faces) {
         return Error{where + ": the " + s.generator + " generator with these parameters gives " +
                      std::to_string(m.faceCount()) + " faces, the baked puff had " + std::to_string(s.faces) +

@@ -37,14 +37,11 @@ class ReferencePath final : public render::Path {
     } else if (scene::hasParticles(scene)) {
       return Error::at(scene.file, "/atlas: the scene has particles but names no atlas");
     }
-    auto celScene = render::CelScene::create(scene, geometry);
-    if (!celScene) return celScene.error();
-    p->scene_ = std::move(*celScene);
+    PUFF_TRY_ASSIGN(p->scene_, render::CelScene::create(scene, geometry));
     if (!p->reference_) {
       // Nothing to draw but objects: the reference still supersamples them like the puffs.
-      auto ref = detail::CelReference::create({mesh::generateSphere(mesh::SphereParams{})}, options);
-      if (!ref) return ref.error();
-      p->reference_ = std::move(*ref);
+      PUFF_TRY_ASSIGN(p->reference_,
+                      detail::CelReference::create({mesh::generateSphere(mesh::SphereParams{})}, options));
     }
     if (scene.media) {
       p->media_ = true;
@@ -54,9 +51,7 @@ class ReferencePath final : public render::Path {
         p->temperature_ = std::move(*v);
       }
       if (!scene.media->opacityDetail.empty()) {
-        auto v = core::loadDetailVideo(scene.media->opacityDetail);
-        if (!v) return v.error();
-        p->opacity_ = std::move(*v);
+        PUFF_TRY_ASSIGN(p->opacity_, core::loadDetailVideo(scene.media->opacityDetail));
       }
     }
     return std::unique_ptr<render::Path>(std::move(p));

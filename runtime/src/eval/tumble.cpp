@@ -1,6 +1,7 @@
 // Tumbling puffs against the cel reference (tumble.h). Each pose is one oriented puff in its own
 // square of a grid (yaw across, pitch down, one frame per roll), orthographic, so every square shows
 // the same puff at the same size: the nailboards and the reference are judged square by square.
+#include <puff/core/stopwatch.h>
 #include <puff/eval/tumble.h>
 
 #include <algorithm>
@@ -129,9 +130,9 @@ Result<core::Image> renderOnce(const scene::Scene& s, render::RenderPath path, s
   auto image = (*r)->renderFrame(0);
   if (!image || !times) return image;
   for (int i = 0; i < 3; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = core::Clock::now();
     if (auto again = (*r)->renderFrame(0); !again) return again.error();
-    times->push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    times->push_back(core::millisecondsSince(t0));
   }
   return image;
 }

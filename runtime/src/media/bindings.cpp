@@ -3,6 +3,7 @@
 #include <puff/core/bind_points.h>
 #include <puff/gl_api.h>
 #include <puff/media/bindings.h>
+#include <puff/shader_contract.h>
 
 namespace puff::media {
 
@@ -10,7 +11,7 @@ core::GuardExtent guardExtent(const Bindings& b) {
   core::GuardExtent e;
   const unsigned units = std::max({b.depth, b.blackbody, b.phase, b.temperatureDetail, b.opacityDetail, b.falloff,
                                    b.opaqueColor, b.opaqueDepth, b.mediaLayer, b.mediaDepth, b.shimmer, b.resolveSource,
-                                   b.historyFirst + 7, b.cartoonFirst + 2});
+                                   b.historyFirst + shader::kMaxBlurFrames - 1, b.cartoonFirst + 2});
   e.textureUnits = static_cast<int>(units) + 1;
   e.uniformBuffers = static_cast<int>(std::max({b.mediaBlock, b.materialBlock, b.composeBlock, b.cartoonBlock})) + 1;
   e.storageBuffers = static_cast<int>(b.particles) + 1;
@@ -39,7 +40,7 @@ Result<void> validate(const Bindings& b) {
         {"shimmer", b.shimmer},
         {"cartoonFirst", b.cartoonFirst, 3}}},
       {GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, {{"resolveSource", b.resolveSource}}},
-      {GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, {{"historyFirst", b.historyFirst, 8}}},
+      {GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, {{"historyFirst", b.historyFirst, shader::kMaxBlurFrames}}},
   };
   for (const auto& [limit, points] : groups) {
     if (auto ok = core::checkBindPoints(what, limit, points); !ok) return ok;

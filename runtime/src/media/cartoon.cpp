@@ -4,6 +4,7 @@
 #include <string>
 
 #include <puff/core/blackbody.h>
+#include <puff/core/number_text.h>
 #include <puff/media/layers.h>
 #include <puff/media/types.h>
 #include <puff/shader_contract.h>
@@ -18,34 +19,27 @@ std::optional<Style> parseStyle(std::string_view name) {
   return std::nullopt;
 }
 
-namespace {
-
-std::string fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 Result<void> validate(const CartoonStyle& s) {
   if (!(s.threshold > 0.0f && s.threshold < 1.0f))
-    return Error{"threshold: expected an opacity in (0, 1), got " + fmt(s.threshold)};
+    return Error{"threshold: expected an opacity in (0, 1), got " + core::numberText(s.threshold)};
   if (s.opacityBands < 1 || s.opacityBands > 8)
     return Error{"opacityBands: expected 1 to 8, got " + std::to_string(s.opacityBands)};
   if (s.fireBands < 1 || s.fireBands > shader::kMaxFireBands)
     return Error{"fireBands: expected 1 to " + std::to_string(shader::kMaxFireBands) + ", got " +
                  std::to_string(s.fireBands)};
   if (!(s.coolKelvin > 0.0f && s.coolKelvin < 1e5f))
-    return Error{"coolKelvin: expected kelvin in (0, 100000), got " + fmt(s.coolKelvin)};
+    return Error{"coolKelvin: expected kelvin in (0, 100000), got " + core::numberText(s.coolKelvin)};
   if (!(s.hotKelvin > s.coolKelvin && s.hotKelvin <= 1e5f))
-    return Error{"hotKelvin: expected kelvin in (coolKelvin " + fmt(s.coolKelvin) + ", 100000], got " +
-                 fmt(s.hotKelvin)};
+    return Error{"hotKelvin: expected kelvin in (coolKelvin " + core::numberText(s.coolKelvin) + ", 100000], got " +
+                 core::numberText(s.hotKelvin)};
   if (!(s.outlineWidth >= 0.0f && s.outlineWidth <= 64.0f))
-    return Error{"outlineWidth: expected pixels in [0, 64], got " + fmt(s.outlineWidth)};
+    return Error{"outlineWidth: expected pixels in [0, 64], got " + core::numberText(s.outlineWidth)};
   for (int i = 0; i < 3; ++i) {
     if (!(s.outlineColor[i] >= 0.0f && s.outlineColor[i] <= 1.0f))
-      return Error{"outlineColor/" + std::to_string(i) + ": expected [0, 1], got " + fmt(s.outlineColor[i])};
+      return Error{"outlineColor/" + std::to_string(i) + ": expected [0, 1], got " +
+                   core::numberText(s.outlineColor[i])};
   }
   return {};
 }

@@ -9,6 +9,7 @@
 
 #include <puff/core/bind_points.h>
 #include <puff/core/blackbody.h>
+#include <puff/core/limits.h>
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
 #include <puff/media/layers.h>
@@ -173,8 +174,9 @@ Result<std::unique_ptr<Layers>> Layers::createForHost(int width, int height, flo
 Result<std::unique_ptr<Layers>> Layers::make(int width, int height, int samples, float scale, const Bindings& bindings,
                                              bool host) {
   if (auto ok = validate(bindings); !ok) return ok.error();
-  if (width < 1 || height < 1 || width > 16384 || height > 16384)
-    return Error{"media layers: size " + std::to_string(width) + "x" + std::to_string(height) + " outside 1..16384"};
+  if (width < 1 || height < 1 || width > core::kMaxImageSize || height > core::kMaxImageSize)
+    return Error{"media layers: size " + std::to_string(width) + "x" + std::to_string(height) + " outside 1.." +
+                 std::to_string(core::kMaxImageSize)};
   int factor = 0;
   for (int f : {1, 2, 4, 8})
     if (std::abs(scale - 1.0f / static_cast<float>(f)) < 1e-6f) factor = f;
@@ -196,9 +198,7 @@ Result<std::unique_ptr<Layers>> Layers::make(int width, int height, int samples,
                                  "media/cartoon_compose.frag"};
   core::Program cartoon[4];
   for (int i = 0; i < (host ? 0 : 4); ++i) {
-    auto p = core::buildProgram({"media/fullscreen.vert", cartoonStages[i]});
-    if (!p) return p.error();
-    cartoon[i] = std::move(*p);
+    PUFF_TRY_ASSIGN(cartoon[i], core::buildProgram({"media/fullscreen.vert", cartoonStages[i]}));
   }
   core::Program resolveHost, resolveHostMs, composeOver;
   if (host) {
@@ -230,7 +230,7 @@ Result<std::unique_ptr<Layers>> Layers::make(int width, int height, int samples,
     using K = core::BindPoint::Kind;
     core::assignBindPoints(m.resolveDepth.get(), {{K::kSampler, "uDepthMS", bindings.resolveSource}});
     core::assignBindPoints(m.downsample.get(), {{K::kSampler, "uDepthFull", bindings.resolveSource}});
-    core::assignBindPoints(m.blur.get(), {{K::kSampler, "uHistory[0]", bindings.historyFirst, 8}});
+    core::assignBindPoints(m.blur.get(), {{K::kSampler, "uHistory[0]", bindings.historyFirst, shader::kMaxBlurFrames}});
     core::assignBindPoints(m.compose.get(), {{K::kUniformBlock, "ComposeBlock", bindings.composeBlock},
                                              {K::kSampler, "uOpaqueColor", bindings.opaqueColor},
                                              {K::kSampler, "uOpaqueDepth", bindings.opaqueDepth},
@@ -321,7 +321,7 @@ Result<std::unique_ptr<Layers>> Layers::make(int width, int height, int samples,
 
 void Layers::setHistorySlots(int slots) {
   Impl& m = *impl_;
-  PUFF_CHECK(slots >= 1 && slots <= 8);
+  PUFF_CHECK(slots >= 1 && slots <= shader::kMaxBlurFrames);
   if (static_cast<int>(m.history.size()) == slots) return;
   m.history.clear();
   m.historyFbo.clear();

@@ -5,12 +5,15 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <numbers>
 
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
 #include <puff/core/bind_points.h>
+#include <puff/core/number_text.h>
 #include <puff/core/shader.h>
+#include <puff/core/stopwatch.h>
 #include <puff/gl_api.h>
 #include <puff/media/media.h>
 #include <puff/shader_blocks.h>
@@ -19,15 +22,10 @@ namespace puff::media {
 
 namespace {
 
-std::string fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
-
 Result<void> inRange(const std::string& field, double v, double lo, double hi) {
   if (!(v >= lo && v <= hi))
-    return Error{field + ": expected a number in [" + fmt(lo) + ", " + fmt(hi) + "], got " + fmt(v)};
+    return Error{field + ": expected a number in [" + core::numberText(lo) + ", " + core::numberText(hi) + "], got " +
+                 core::numberText(v)};
   return {};
 }
 
@@ -170,8 +168,8 @@ Result<void> validate(const Material& m, int count) {
   for (const auto& [name, v] : checks)
     if (auto ok = inRange(at + name, v[0], v[1], v[2]); !ok) return ok;
   if (m.transitionEnd < m.transitionStart)
-    return Error{at + "transitionEnd: expected >= transitionStart (" + fmt(m.transitionStart) + "), got " +
-                 fmt(m.transitionEnd)};
+    return Error{at + "transitionEnd: expected >= transitionStart (" + core::numberText(m.transitionStart) + "), got " +
+                 core::numberText(m.transitionEnd)};
   if (m.becomes < -1 || m.becomes >= count)
     return Error{at + "becomes: expected -1 or a material index below " + std::to_string(count) + ", got " +
                  std::to_string(m.becomes)};
@@ -369,7 +367,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings, con
       const double sHalf = static_cast<double>(i) / (kCos - 1);
       const double c = 1.0 - 2.0 * sHalf * sHalf;
       table[static_cast<std::size_t>(j) * kCos + i] =
-          static_cast<float>(4.0 * 3.14159265358979323846 * phase(settings.phase, c, g));
+          static_cast<float>(4.0 * std::numbers::pi * phase(settings.phase, c, g));
     }
   }
   m.phase = core::makeTexture(GL_TEXTURE_2D);
@@ -417,14 +415,14 @@ void Renderer::setDetail(const core::DetailVideo* temperature, const core::Detai
 void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Method method, GLuint depth, bool shimmer,
                     DrawStats* stats) {
   Impl& m = *impl_;
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = core::Clock::now();
   const std::vector<std::uint32_t> order = backToFront(frame.view, particles, m.settings.sort, frame.orthographic);
   m.sorted.clear();
   m.sorted.reserve(particles.size());
   for (std::uint32_t i : order)
     if (particles[i].radius > 0.0f) m.sorted.push_back(particles[i]);
   if (stats) {
-    stats->sortMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    stats->sortMs = core::millisecondsSince(t0);
     stats->particles = m.sorted.size();
   }
   if (m.sorted.empty()) return;

@@ -1,4 +1,5 @@
 // Mesh checks, normalization to the unit sphere, vertex normals, and generator parameter checks.
+#include <puff/core/number_text.h>
 #include <puff/mesh/mesh.h>
 
 #include <algorithm>
@@ -27,13 +28,6 @@ double dot(const DVec3& a, const DVec3& b) { return a.x * b.x + a.y * b.y + a.z 
 
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-// "2", "0.9", "nan": short and exact enough for a parameter echoed back to the user.
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
 Error paramError(const char* generator, const std::string& what) {
   return Error::at({}, std::string(generator) + ": " + what);
 }
@@ -41,7 +35,8 @@ Error paramError(const char* generator, const std::string& what) {
 // NaN fails every comparison, so ranges are written as !(lo <= v && v <= hi).
 Result<void> checkRange(const char* gen, const char* flag, double v, double lo, double hi) {
   if (!(lo <= v && v <= hi))
-    return paramError(gen, std::string(flag) + " must be in [" + num(lo) + ", " + num(hi) + "], got " + num(v));
+    return paramError(gen, std::string(flag) + " must be in [" + core::numberText(lo) + ", " + core::numberText(hi) +
+                               "], got " + core::numberText(v));
   return {};
 }
 
@@ -151,7 +146,7 @@ Result<void> validate(const LumpyParams& p) {
   PUFF_TRY(checkInt("lumpy", "--subdivisions", p.subdivisions, 0, 7));
   PUFF_TRY(checkRange("lumpy", "--amplitude", p.amplitude, 0.0, 0.9));
   if (!(p.frequency > 0.0f) || !std::isfinite(p.frequency))
-    return paramError("lumpy", "--frequency must be > 0, got " + num(p.frequency));
+    return paramError("lumpy", "--frequency must be > 0, got " + core::numberText(p.frequency));
   PUFF_TRY(checkInt("lumpy", "--octaves", p.octaves, 1, 8));
   return {};
 }
@@ -159,12 +154,12 @@ Result<void> validate(const LumpyParams& p) {
 Result<void> validate(const ClusterParams& p) {
   PUFF_TRY(checkInt("cluster", "--count", p.count, 1, 64));
   if (!(p.radiusMin > 0.0f) || !std::isfinite(p.radiusMin))
-    return paramError("cluster", "--radius-min must be > 0, got " + num(p.radiusMin));
+    return paramError("cluster", "--radius-min must be > 0, got " + core::numberText(p.radiusMin));
   if (!(p.radiusMax >= p.radiusMin) || !std::isfinite(p.radiusMax))
-    return paramError("cluster",
-                      "--radius-max must be >= --radius-min (" + num(p.radiusMin) + "), got " + num(p.radiusMax));
+    return paramError("cluster", "--radius-max must be >= --radius-min (" + core::numberText(p.radiusMin) + "), got " +
+                                     core::numberText(p.radiusMax));
   if (!(p.spread >= 0.0f) || !std::isfinite(p.spread))
-    return paramError("cluster", "--spread must be >= 0, got " + num(p.spread));
+    return paramError("cluster", "--spread must be >= 0, got " + core::numberText(p.spread));
   PUFF_TRY(checkInt("cluster", "--subdivisions", p.subdivisions, 0, 6));
   return {};
 }

@@ -1,6 +1,7 @@
 // The physical media reference (media_physical.h): the sum of the particles' density fields,
 // integrated along every pixel's ray by composite Simpson between the points where the set of
 // particles the ray is in changes.
+#include <puff/core/number_text.h>
 #include <puff/reference/media_physical.h>
 
 #include <algorithm>
@@ -54,9 +55,7 @@ struct Tracer : detail::FrameConstants {
   explicit Tracer(const MediaReferenceInput& input) : FrameConstants(input) {}
 
   Result<void> prepare() {
-    auto particles = detail::prepareParticles(in, view);
-    if (!particles) return particles.error();
-    prepared = std::move(*particles);
+    PUFF_TRY_ASSIGN(prepared, detail::prepareParticles(in, view));
     constantLe.assign(prepared.size(), glm::dvec3(0.0));
     bool anyEmitter = false;
     for (std::size_t k = 0; k < prepared.size(); ++k) {
@@ -274,19 +273,13 @@ struct Tracer : detail::FrameConstants {
   }
 };
 
-std::string number(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
-
 Result<void> checkOptions(const MediaReferenceInput& in, const PhysicalOptions& o) {
   const std::string at = "media physical reference: ";
   if (in.viewAxisOrder) return Error{at + "viewAxisOrder: the integral has no order; expected false"};
   if (!(std::isfinite(o.step) && o.step >= 0.0))
-    return Error{at + "step: expected 0 (automatic) or a positive length, got " + number(o.step)};
+    return Error{at + "step: expected 0 (automatic) or a positive length, got " + core::numberText(o.step)};
   if (!(std::isfinite(o.tolerance) && o.tolerance > 0.0))
-    return Error{at + "tolerance: expected a positive number, got " + number(o.tolerance)};
+    return Error{at + "tolerance: expected a positive number, got " + core::numberText(o.tolerance)};
   if (o.maxHalvings < 0 || o.maxHalvings > 24)
     return Error{at + "maxHalvings: expected 0 to 24, got " + std::to_string(o.maxHalvings)};
   return {};

@@ -96,9 +96,7 @@ struct Tracer : detail::FrameConstants {
 
   // The particles a ray may meet: in camera space, their material mixed, culled as the billboards are.
   Result<void> prepare() {
-    auto particles = detail::prepareParticles(in, view);
-    if (!particles) return particles.error();
-    prepared = std::move(*particles);
+    PUFF_TRY_ASSIGN(prepared, detail::prepareParticles(in, view));
     // Le(T) per pixel is 95 Planck evaluations; without a temperature video T is one value per
     // particle, so it is computed once.
     constantLe.assign(prepared.size(), glm::dvec3(0.0));

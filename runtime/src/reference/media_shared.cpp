@@ -10,19 +10,13 @@
 #include <glm/vec4.hpp>
 
 #include <puff/core/blackbody.h>
+#include <puff/core/limits.h>
+#include <puff/core/number_text.h>
 #include <puff/shader_contract.h>
 
 namespace puff::reference::detail {
 
-namespace {
-
-std::string number(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
-
-}  // namespace
+namespace {}  // namespace
 
 Mixed fromMaterial(const media::Material& m) {
   Mixed r;
@@ -81,8 +75,9 @@ Result<void> checkInput(const MediaReferenceInput& in) {
   const media::Frame& f = in.frame;
   const int w = f.width, h = f.height;
   const std::string at = "media reference: ";
-  if (w < 1 || h < 1 || w > 16384 || h > 16384)
-    return Error{at + "frame size " + std::to_string(w) + "x" + std::to_string(h) + " outside 1..16384"};
+  if (w < 1 || h < 1 || w > core::kMaxImageSize || h > core::kMaxImageSize)
+    return Error{at + "frame size " + std::to_string(w) + "x" + std::to_string(h) + " outside 1.." +
+                 std::to_string(core::kMaxImageSize)};
   const std::size_t pixels = static_cast<std::size_t>(w) * h;
   if (!in.opaqueColor.empty() && in.opaqueColor.size() != pixels)
     return Error{at + "opaque colour: expected " + std::to_string(pixels) + " pixels, got " +
@@ -98,7 +93,7 @@ Result<void> checkInput(const MediaReferenceInput& in) {
     if (auto ok = media::validate(m, count); !ok) return Error{at + ok.error().message};
   const media::Settings& s = in.settings;
   if (!(s.exposure >= 0.0f && s.exposure <= 1e4f))
-    return Error{at + "exposure: expected a number in [0, 10000], got " + number(s.exposure)};
+    return Error{at + "exposure: expected a number in [0, 10000], got " + core::numberText(s.exposure)};
   // The same range checks (and error text) the renderer's ramp makes.
   if (auto ramp = core::makeBlackbodyRamp(s.minKelvin, s.maxKelvin, 2, s.normalizeKelvin); !ramp)
     return Error{at + ramp.error().message};

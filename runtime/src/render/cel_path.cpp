@@ -22,9 +22,7 @@ class CelPath final : public Path {
  public:
   static Result<std::unique_ptr<Path>> create(const scene::Scene& scene, const scene::SceneGeometry& geometry) {
     std::unique_ptr<CelPath> p(new CelPath());
-    auto nb = cel::NailboardRenderer::create();
-    if (!nb) return nb.error();
-    p->nailboards_ = std::move(*nb);
+    PUFF_TRY_ASSIGN(p->nailboards_, cel::NailboardRenderer::create());
     if (!scene.atlas.empty()) {
       auto atlas = loadSceneAtlas(scene);
       if (!atlas) return atlas.error();
@@ -34,9 +32,7 @@ class CelPath final : public Path {
     } else if (scene::hasParticles(scene)) {
       return Error::at(scene.file, "/atlas: the scene has particles but names no atlas");
     }
-    auto celScene = CelScene::create(scene, geometry);
-    if (!celScene) return celScene.error();
-    p->scene_ = std::move(*celScene);
+    PUFF_TRY_ASSIGN(p->scene_, CelScene::create(scene, geometry));
     p->samples_ = scene.samples;
     if (!scene.plate.empty()) {
       auto plate = PlatePass::create(scene);

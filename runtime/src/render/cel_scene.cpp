@@ -37,9 +37,7 @@ std::shared_ptr<const cel::TriangleMesh> toTriangleMesh(const mesh::TriMesh& m) 
 
 Result<std::unique_ptr<CelScene>> CelScene::create(const scene::Scene& scene, const scene::SceneGeometry& geometry) {
   std::unique_ptr<CelScene> c(new CelScene());
-  auto opaque = cel::OpaqueRenderer::create();
-  if (!opaque) return opaque.error();
-  c->opaque_ = std::move(*opaque);
+  PUFF_TRY_ASSIGN(c->opaque_, cel::OpaqueRenderer::create());
   if (!scene.ramp.empty()) {
     auto ramp = cel::Ramp::load(scene.ramp, scene.rampSmooth);
     if (!ramp) return Error::at(scene.file, "/ramp: " + ramp.error().message);

@@ -50,9 +50,8 @@ bool MediaPass::needsRebuild(const scene::Scene& a, const scene::Scene& b) {
 
 Result<media::Layers*> MediaPass::layers(const scene::Scene& scene, const cel::Viewport& viewport) {
   if (layers_ && layers_->width() == viewport.width && layers_->height() == viewport.height) return layers_.get();
-  auto layers = media::Layers::create(viewport.width, viewport.height, scene.samples, scene.media->resolution);
-  if (!layers) return layers.error();
-  layers_ = std::move(*layers);
+  PUFF_TRY_ASSIGN(layers_,
+                  media::Layers::create(viewport.width, viewport.height, scene.samples, scene.media->resolution));
   return layers_.get();
 }
 

@@ -188,13 +188,10 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const scene::Scene&
   if (needs.contextFramebuffer) {
     m.target = detail::Target::contextOwn(scene.width, scene.height);
   } else {
-    auto target = detail::Target::create(scene.width, scene.height, needs.samples, needs.displayValues);
-    if (!target) return target.error();
-    m.target = std::move(*target);
+    PUFF_TRY_ASSIGN(m.target, detail::Target::create(scene.width, scene.height, needs.samples, needs.displayValues));
   }
-  auto evaluator = scene::FrameEvaluator::create(scene, m.geometry, m.path->variations(), m.path->drawsMedia());
-  if (!evaluator) return evaluator.error();
-  m.evaluator = std::move(*evaluator);
+  PUFF_TRY_ASSIGN(m.evaluator,
+                  scene::FrameEvaluator::create(scene, m.geometry, m.path->variations(), m.path->drawsMedia()));
   return r;
 }
 

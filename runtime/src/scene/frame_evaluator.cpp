@@ -3,6 +3,7 @@
 #include <chrono>
 #include <tuple>
 
+#include <puff/core/stopwatch.h>
 #include <puff/scene/evaluate.h>
 
 #include <puff/core/colour.h>
@@ -10,10 +11,6 @@
 namespace puff::scene {
 
 namespace {
-
-double millisecondsSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // What the simulators were built from, forces aside (forces change in place) and the curves over
 // life (they shape what is drawn, read from the scene each frame, not the simulation).
@@ -113,9 +110,9 @@ FrameInputs FrameEvaluator::evaluate(int frame, const cel::Camera* camera) {
   if (variations_ > 0) {
     in.particles = particlesAt(s, frame, variations_);
     if (sim_) {
-      const auto t0 = std::chrono::steady_clock::now();
+      const auto t0 = core::Clock::now();
       sim_->advanceToFrame(frame);
-      in.simulateMs += millisecondsSince(t0);
+      in.simulateMs += core::millisecondsSince(t0);
       in.particles.reserve(in.particles.size() + sim_->size());
       for (std::size_t i = 0; i < sim_->size(); ++i) {
         const sim::ParticleState p = sim_->particle(i);
@@ -139,9 +136,9 @@ FrameInputs FrameEvaluator::evaluate(int frame, const cel::Camera* camera) {
                                          p.density, p.seed});
     }
     if (mediaSim_) {
-      const auto t0 = std::chrono::steady_clock::now();
+      const auto t0 = core::Clock::now();
       mediaSim_->advanceToFrame(frame);
-      in.simulateMs += millisecondsSince(t0);
+      in.simulateMs += core::millisecondsSince(t0);
       for (std::size_t i = 0; i < mediaSim_->size(); ++i) {
         const sim::ParticleState p = mediaSim_->particle(i);
         const MediaEmitterSpec& e = spec.emitters[static_cast<std::size_t>(p.emitter)];

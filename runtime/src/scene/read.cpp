@@ -1,4 +1,5 @@
 // Scene files: JSON -> Scene with every value checked (docs/scene-format.md is the reference).
+#include <puff/core/number_text.h>
 #include <puff/scene/read.h>
 
 #include <puff/scene/bodies.h>
@@ -76,8 +77,9 @@ void readCamera(const json& j, const std::string& ptr, cel::Camera& c) {
   if (auto* v = find(j, "far")) c.farPlane = readFloat(*v, child(ptr, "far"), kPositive);
 
   if (!(c.farPlane > c.nearPlane)) {
-    if (auto* v = find(j, "far")) fail(child(ptr, "far"), "a number > near (" + formatNumber(c.nearPlane) + ")", *v);
-    fail(child(ptr, "near"), "a number < far (" + formatNumber(c.farPlane) + ")", *find(j, "near"));
+    if (auto* v = find(j, "far"))
+      fail(child(ptr, "far"), "a number > near (" + core::numberText(c.nearPlane) + ")", *v);
+    fail(child(ptr, "near"), "a number < far (" + core::numberText(c.farPlane) + ")", *find(j, "near"));
   }
   const glm::vec3 view = c.target - c.position;
   if (!(glm::length(view) > 0.0f)) {
@@ -225,9 +227,9 @@ EmitterSpec readEmitter(const json& j, const std::string& ptr) {
   if (auto* v = find(j, "sizeMax")) e.sizeMax = readFloat(*v, child(ptr, "sizeMax"), kNonNegative);
   if (e.sizeMin > e.sizeMax) {
     if (auto* v = find(j, "sizeMax")) {
-      fail(child(ptr, "sizeMax"), "a number >= sizeMin (" + formatNumber(e.sizeMin) + ")", *v);
+      fail(child(ptr, "sizeMax"), "a number >= sizeMin (" + core::numberText(e.sizeMin) + ")", *v);
     }
-    fail(child(ptr, "sizeMin"), "a number <= sizeMax (" + formatNumber(e.sizeMax) + ")", *find(j, "sizeMin"));
+    fail(child(ptr, "sizeMin"), "a number <= sizeMax (" + core::numberText(e.sizeMax) + ")", *find(j, "sizeMin"));
   }
   if (auto* v = find(j, "sizeFalloff")) e.sizeFalloff = readFloat(*v, child(ptr, "sizeFalloff"), kUnit);
   if (auto* v = find(j, "variations")) {
@@ -264,7 +266,7 @@ sim::Path readPath3(const json& j, const std::string& ptr) {
     if (!x) failText(child(p, "position"), "expected a position [x, y, z], got none");
     const float time = readFloat(*t, child(p, "time"), kMagnitude);
     if (!path.times.empty() && !(time > path.times.back())) {
-      fail(child(p, "time"), "a time after the previous key (" + formatNumber(path.times.back()) + ")", *t);
+      fail(child(p, "time"), "a time after the previous key (" + core::numberText(path.times.back()) + ")", *t);
     }
     path.times.push_back(time);
     path.points.push_back(readVec3(*x, child(p, "position"), kMagnitude));
@@ -320,8 +322,8 @@ ObjectSpec readObject(const json& j, const std::string& ptr, std::size_t index, 
     // 10 km across, of a gram to 1000 tonnes, at up to 10 km/s and 10,000 rad/s).
     for (int a = 0; a < 3; ++a) {
       if (!(o.scale[a] >= 1e-3f && o.scale[a] <= 1e4f)) {
-        failText(child(ptr, "scale"),
-                 "a dynamic object's scale must be in [0.001, 10000] on every axis, got " + formatNumber(o.scale[a]));
+        failText(child(ptr, "scale"), "a dynamic object's scale must be in [0.001, 10000] on every axis, got " +
+                                          core::numberText(o.scale[a]));
       }
     }
     DynamicBody d;

@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <puff/core/limits.h>
 #include <puff/scene/scene.h>
 #include <puff/support/json_read.h>
 
@@ -17,7 +18,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 using namespace core::jsonread;
 
-inline constexpr int kMaxImageSize = 16384;
+using core::kMaxImageSize;
 inline constexpr int kMaxEmitterCount = 1'000'000;
 inline constexpr long long kMaxParticles = 2'000'000;
 inline constexpr int kMaxFrames = 10'000'000;

@@ -1,4 +1,5 @@
 // The scene file's "media": fire, smoke and dust materials, particles, emitters and lights.
+#include <puff/core/number_text.h>
 #include <puff/scene/read.h>
 
 #include <algorithm>
@@ -93,7 +94,7 @@ MediaLightSpec readMediaLight(const json& j, const std::string& ptr) {
         if (!x) failText(child(k, "value"), "expected an intensity >= 0, got none");
         const float time = readFloat(*t, child(k, "time"), kMagnitude);
         if (!l.times.empty() && !(time > l.times.back()))
-          fail(child(k, "time"), "a time after the previous key (" + formatNumber(l.times.back()) + ")", *t);
+          fail(child(k, "time"), "a time after the previous key (" + core::numberText(l.times.back()) + ")", *t);
         l.times.push_back(time);
         l.intensities.push_back(readFloat(*x, child(k, "value"), Range{0.0, 1e4}));
       }
@@ -126,7 +127,7 @@ void readCartoon(const json& v, const std::string& p, media::CartoonStyle& c) {
   if (auto* x = find(v, "threshold"))
     c.threshold = readFloat(*x, child(p, "threshold"), Range{0.0, 1.0, true, true}, "an opacity in (0, 1)");
   if (auto* x = find(v, "opacityBands")) c.opacityBands = readInt(*x, child(p, "opacityBands"), 1, 8);
-  if (auto* x = find(v, "fireBands")) c.fireBands = readInt(*x, child(p, "fireBands"), 1, 8);
+  if (auto* x = find(v, "fireBands")) c.fireBands = readInt(*x, child(p, "fireBands"), 1, shader::kMaxFireBands);
   const Range kelvin{0.0, 1e5, true, false};
   if (auto* x = find(v, "coolKelvin"))
     c.coolKelvin = readFloat(*x, child(p, "coolKelvin"), Range{0.0, 1e5, true, true});
@@ -203,7 +204,9 @@ void readLook(const json& j, const std::string& ptr, const Reader& r, MediaSpec&
 }
 
 void readMaterials(const json& v, const std::string& p, MediaSpec& m) {
-  if (!v.is_array() || v.empty() || v.size() > 32) fail(p, "an array of 1 to 32 materials", v);
+  constexpr std::size_t kMost = shader::kMaxMaterials;
+  if (!v.is_array() || v.empty() || v.size() > kMost)
+    fail(p, "an array of 1 to " + std::to_string(kMost) + " materials", v);
   m.materials.clear();
   std::vector<std::string> becomes;
   for (std::size_t i = 0; i < v.size(); ++i) {

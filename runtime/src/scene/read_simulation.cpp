@@ -1,4 +1,5 @@
 // The scene file's "simulation" (forces, vortices, emitters) and the forces media share.
+#include <puff/core/number_text.h>
 #include <puff/scene/read.h>
 
 #include <algorithm>
@@ -110,7 +111,7 @@ Curve readCurveKeys(const json& j, const std::string& ptr, ReadValue value) {
     if (!k.is_array() || k.size() != 2) fail(p, "a key [age, value]", k);
     const float age = readFloat(k[0], child(p, 0), Range{0.0, 1.0}, "an age in [0, 1] (0 birth, 1 death)");
     if (!c.ages.empty() && !(age > c.ages.back())) {
-      fail(child(p, 0), "an age after the previous key's (" + formatNumber(c.ages.back()) + ")", k[0]);
+      fail(child(p, 0), "an age after the previous key's (" + core::numberText(c.ages.back()) + ")", k[0]);
     }
     c.ages.push_back(age);
     c.values.push_back(value(k[1], child(p, 1)));
@@ -183,8 +184,8 @@ sim::Emitter readSimEmitter(const json& j, const std::string& ptr, CurveOwner ow
   if (auto* v = find(j, "sizeMax")) e.sizeMax = readFloat(*v, child(ptr, "sizeMax"), kNonNegativeMagnitude);
   if (e.sizeMin > e.sizeMax) {
     if (auto* v = find(j, "sizeMax"))
-      fail(child(ptr, "sizeMax"), "a size >= sizeMin (" + formatNumber(e.sizeMin) + ")", *v);
-    fail(child(ptr, "sizeMin"), "a size <= sizeMax (" + formatNumber(e.sizeMax) + ")", *find(j, "sizeMin"));
+      fail(child(ptr, "sizeMax"), "a size >= sizeMin (" + core::numberText(e.sizeMin) + ")", *v);
+    fail(child(ptr, "sizeMin"), "a size <= sizeMax (" + core::numberText(e.sizeMax) + ")", *find(j, "sizeMin"));
   }
   if (auto* v = find(j, "lifetime"))
     e.lifetime = readFloat(*v, child(ptr, "lifetime"), Range{0.0, 1e6, true, false}, "a lifetime in seconds > 0");

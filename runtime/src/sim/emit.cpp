@@ -14,7 +14,8 @@ namespace puff::sim {
 
 namespace {
 
-// Counter-based random numbers: the value for (seed, stream, index, k) never depends on order.
+// Counter-based random numbers: the value for (seed, stream, index, k) never depends on the order
+// particles are born in; within one particle, the draws are taken one a statement (birthOffset).
 using core::mix64;
 
 struct Rng {

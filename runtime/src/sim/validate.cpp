@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <string>
 
+#include <puff/core/number_text.h>
 #include <puff/sim/simulator.h>
 #include <glm/geometric.hpp>
 
@@ -14,12 +15,7 @@ struct Check {
   std::string error;
   bool ok() const { return error.empty(); }
 
-  static std::string num(double d) {
-    if (!std::isfinite(d)) return "a non-finite number";
-    char b[32];
-    std::snprintf(b, sizeof b, "%g", d);
-    return b;
-  }
+  static std::string num(double d) { return std::isfinite(d) ? core::numberText(d) : "a non-finite number"; }
   void fail(const std::string& ptr, const std::string& expected, double got) {
     if (error.empty()) error = ptr + ": expected " + expected + ", got " + num(got);
   }

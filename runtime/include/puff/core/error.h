@@ -90,3 +90,16 @@ class [[nodiscard]] Result<void> {
     auto puffTryResult_ = (expr);                       \
     if (!puffTryResult_) return puffTryResult_.error(); \
   } while (0)
+
+/// Evaluates a Result<T> expression: returns its error from the enclosing function, else moves its
+/// value into `lhs`, a declaration or an lvalue:
+///   PUFF_TRY_ASSIGN(auto atlas, core::loadAtlas(path));
+///   PUFF_TRY_ASSIGN(m.program, core::buildProgram({"media/fullscreen.vert", "media/blur.frag"}));
+/// One statement at block scope (it declares a hidden local named after the line).
+#define PUFF_TRY_ASSIGN(lhs, expr) PUFF_TRY_ASSIGN_(PUFF_CONCAT_(puffTryAssign_, __LINE__), lhs, expr)
+#define PUFF_TRY_ASSIGN_(tmp, lhs, expr) \
+  auto tmp = (expr);                     \
+  if (!tmp) return tmp.error();          \
+  lhs = std::move(*tmp)
+#define PUFF_CONCAT_(a, b) PUFF_CONCAT_INNER_(a, b)
+#define PUFF_CONCAT_INNER_(a, b) a##b

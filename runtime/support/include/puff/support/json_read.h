@@ -47,8 +47,6 @@ std::size_t editDistance(std::string_view a, std::string_view b);
 void requireObject(const json& j, const std::string& ptr, std::initializer_list<std::string_view> allowed);
 /// The member `key` of object `obj`, or null.
 const json* find(const json& obj, std::string_view key);
-/// `d` as printf's %g.
-std::string formatNumber(double d);
 
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
