@@ -149,8 +149,9 @@ class OpaqueTest : public test::GlTest {
     ASSERT_OK(ok);
   }
 
-  // An orthographic camera looking straight down -y at the origin, the view `height` units tall.
-  static Frame topDown(float height = 2.0f) {
+  // An orthographic camera looking straight down -y at the origin, the view `height` units tall,
+  // over a viewport of `width` x `pixelsTall` pixels.
+  static Frame topDown(float height = 2.0f, int width = kSize, int pixelsTall = kSize) {
     Camera c;
     c.position = {0, 5, 0};
     c.target = {0, 0, 0};
@@ -159,7 +160,7 @@ class OpaqueTest : public test::GlTest {
     c.orthoHeight = height;
     c.nearPlane = 1.0f;
     c.farPlane = 9.0f;
-    return Frame::fromCamera(c, kSize, kSize);
+    return Frame::fromCamera(c, width, pixelsTall);
   }
 
   static OpaqueObject object(std::string name, const TriangleMesh& mesh, glm::mat4 transform, glm::vec3 albedo,
@@ -488,15 +489,7 @@ TEST_F(OpaqueTest, AmbientGradientSpansANonSquareViewportAwayFromTheOrigin) {
   auto gradient = Gradient::create(image, "test gradient");
   ASSERT_OK(gradient);
   const Viewport vp{16, 40, 96, 48};
-  Camera c;  // topDown()'s camera, over the viewport's aspect: 4 units wide, 2 tall
-  c.position = {0, 5, 0};
-  c.target = {0, 0, 0};
-  c.up = {0, 0, -1};
-  c.fovYDegrees = 0.0f;
-  c.orthoHeight = 2.0f;
-  c.nearPlane = 1.0f;
-  c.farPlane = 9.0f;
-  Frame frame = Frame::fromCamera(c, vp.width, vp.height);
+  Frame frame = topDown(2.0f, vp.width, vp.height);  // 4 units wide, 2 tall
   frame.viewport = vp;
   frame.ambientGradient = true;
   frame.light.direction = {0, -1, 0};  // ambient only
