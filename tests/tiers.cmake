@@ -9,20 +9,23 @@ set(PUFF_TEST_TIERS unit gl e2e slow)
 set(PUFF_TESTS_UNIT
   blackbody_test.cpp bodies_test.cpp cel_popping_test.cpp detail_video_test.cpp files_test.cpp
   frame_evaluator_test.cpp fuzz_regressions_test.cpp golden_test.cpp image_limits_test.cpp label_test.cpp
-  life_curves_test.cpp media_physical_test.cpp mesh_test.cpp metrics_test.cpp progress_test.cpp render_path_test.cpp
+  life_curves_test.cpp media_physical_test.cpp mesh_io_test.cpp mesh_test.cpp metrics_test.cpp progress_test.cpp render_path_test.cpp
   scene_roundtrip_test.cpp
-  scene_test.cpp
-  sim_test.cpp sim_threads_test.cpp)
+  scene_evaluate_test.cpp scene_test.cpp
+  sim_forces_test.cpp sim_test.cpp sim_threads_test.cpp)
 set(PUFF_TESTS_GL
+  bake_atlas_test.cpp bake_lod_mips_test.cpp fixedfunc_draw_test.cpp host_layers_errors_test.cpp
+  host_state_bindings_test.cpp media_layers_test.cpp media_model_test.cpp nailboard_shadow_test.cpp reference_gpu_test.cpp
   bake_test.cpp cel_floor_test.cpp cel_reference_test.cpp colour_pipeline_test.cpp compose_test.cpp
   cooked_image_test.cpp fixedfunc_test.cpp gl_context_test.cpp host_depth_test.cpp host_media_test.cpp
   host_state_test.cpp lod_kept_test.cpp media_cartoon_test.cpp media_popping_test.cpp media_sort_test.cpp
   media_test.cpp nailboard_test.cpp opaque_test.cpp opaque_volume_test.cpp reference_test.cpp reload_test.cpp
-  render_test.cpp shader_test.cpp shadow_methods_test.cpp shadow_receivers_test.cpp stability_test.cpp
+  render_test.cpp shader_test.cpp shadow_methods_test.cpp shadow_receivers_test.cpp stability_inputs_test.cpp stability_test.cpp
   steady_test.cpp)
 set(PUFF_TESTS_E2E
+  budget_cel_test.cpp puffrender_flipbook_test.cpp puffrender_paths_test.cpp
   bake_replace_test.cpp budget_test.cpp colour_test.cpp gl_failures_test.cpp media_scene_test.cpp parity_test.cpp
-  puffbake_cli_test.cpp puffrender_cli_test.cpp puffview_test.cpp scene_golden_test.cpp)
+  puffbake_cli_test.cpp puffrender_cli_test.cpp puffview_test.cpp puffview_window_test.cpp scene_golden_test.cpp)
 set(PUFF_TESTS_SLOW
   tumble_test.cpp)
 

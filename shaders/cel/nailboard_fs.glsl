@@ -188,10 +188,9 @@ bool hullHits(vec3 origin, float eps, float lod, bool fromTable, float trusted) 
   return false;
 }
 
-// wantEdge: how deep a hit reaches (the antialiased edge and the ink's inner edge); wantShade: the
-// normal and colour of a hit.
-// reach: diameters past the silhouette where anything is drawn (the ink and its antialiased edge).
-HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, float reach, bool wantEdge, bool wantShade) {
+// The views' frames for this fragment (hullViews); true when one of them stands for the view from
+// behind.
+bool setUpHullViews() {
   bool behind = false;
   for (int k = 0; k < kHullViews; ++k) {
     HullView v;
@@ -205,6 +204,150 @@ HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, float rea
     hullViews[k] = v;
     behind = behind || v.side < 0.0;
   }
+  return behind;
+}
+
+// The exact hull along the eye ray from the sphere's far side (t = tMax) toward the eye: the first
+// point inside it (h.hit, t, f its bounds there, b the views' bounds, throughWall whether it entered
+// through a silhouette's wall), or for a ray that misses its least distance (h.nearest, at
+// tNearest).
+void marchExact(vec3 origin, float tMax, float eps, float lod, bool fromTable, float trusted, inout HullHit h,
+                out float t, out vec2 f, out bool throughWall, out float tNearest, out HullBound b[kHullViews]) {
+  vec3 ray = vBillboardPuff[2];
+  t = tMax;
+  bool wall = true;
+  throughWall = true;
+  tNearest = t;
+  for (int i = 0; i < 64; ++i) {
+    f = hullAt(origin + t * ray, lod, fromTable, trusted, b, wall);
+    if (i == 0 || f.x < h.nearest) tNearest = t;
+    h.nearest = i == 0 ? f.x : min(h.nearest, f.x);
+    if (f.x <= 0.0) {
+      h.hit = true;
+      break;
+    }
+    throughWall = wall;
+    t -= max(f.x, eps);
+    if (t < -tMax) break;
+  }
+}
+
+// A miss's distance to the hull near the ink's outer edge, measured on the screen: the eye rays
+// through the billboard plane stepped toward the hull hit it from some distance on, found by
+// bisection along two directions (down the distance's gradient, and toward the puff's centre,
+// where the gradient misleads: a bay), the nearer kept. `at`: the ray's closest approach;
+// `nearest`: the bounds' estimate there; `ink`: the ink's width (diameters).
+float screenDistance(vec3 at, float nearest, float ink, float pixel, float eps, float lod, bool fromTable,
+                     float trusted) {
+  float delta = 0.5 * pixel;
+  HullBound g[kHullViews];
+  bool gw;
+  vec2 grad = vec2(hullAt(at + delta * vBillboardPuff[0], lod, fromTable, trusted, g, gw).x,
+                   hullAt(at + delta * vBillboardPuff[1], lod, fromTable, trusted, g, gw).x) -
+              nearest;
+  vec2 towards[2] = vec2[2](dot(grad, grad) > 1e-12 ? -normalize(grad) : vec2(0.0),
+                            dot(vPuff, vPuff) > 1e-12 ? -normalize(vPuff) : vec2(0.0));
+  // What is drawn depends on the distance only within half a pixel of the ink's edges (the
+  // antialiased edges; between them the pixel is ink whatever the distance): the bisection stops
+  // once its interval lies between them, or is a quarter of a pixel wide.
+  float solid = ink - 0.5 * pixel;  // nearer than this (and over half a pixel out): ink
+  float best = -1.0;
+  for (int k = 0; k < 2; ++k) {
+    vec2 toward = towards[k];
+    if (dot(toward, toward) == 0.0 || (best >= 0.0 && best <= solid)) continue;
+    float lo = 0.0, hi = ink + 0.5 * pixel;
+    if (best >= 0.0) hi = min(hi, best);
+    if (!hullHits(vBillboardPuff * vec3(vPuff + hi * toward, 0.0), eps, lod, fromTable, trusted)) continue;
+    for (int i = 0; i < 4; ++i) {
+      if ((lo >= 0.5 * pixel && hi <= solid) || hi - lo <= 0.25 * pixel) break;
+      // The first split at the inner edge of the outer antialiased band, where most pixels of
+      // the ring are decided.
+      float mid = i == 0 && solid > lo && solid < hi ? solid : 0.5 * (lo + hi);
+      if (hullHits(vBillboardPuff * vec3(vPuff + mid * toward, 0.0), eps, lod, fromTable, trusted)) {
+        hi = mid;
+      } else {
+        lo = mid;
+      }
+    }
+    best = max(0.5 * (lo + hi), 1e-4);
+  }
+  return best >= 0.0 ? best : max(nearest, ink + 1.5 * pixel);
+}
+
+// How deep a ray that entered at s = t through a silhouette's wall (bounds f there) reaches into
+// the hull: on into it until 2 px deep, or out (<= 0, diameters).
+float wallDepth(vec3 origin, float t, vec2 f, float tMax, float pixel, float eps, float lod, bool fromTable,
+                float trusted) {
+  vec3 ray = vBillboardPuff[2];
+  float deepest = f.x;
+  float s = t;
+  HullBound probe[kHullViews];
+  bool wall;
+  for (int i = 0; i < 8 && deepest > -2.0 * pixel; ++i) {
+    s -= max(-f.x, eps);
+    if (s < -tMax) break;
+    f = hullAt(origin + s * ray, lod, fromTable, trusted, probe, wall);
+    if (f.x > 0.0) break;
+    deepest = min(deepest, f.x);
+  }
+  return deepest;
+}
+
+// Seen from behind, the surface drawn: on from the hit at `t` to the first point behind every
+// reflected front too (t and b move there; if the ray finds none, the hit itself).
+void surfaceBehind(vec3 origin, float tMax, float eps, float lod, bool fromTable, float trusted, inout float t,
+                   inout HullBound b[kHullViews]) {
+  vec3 ray = vBillboardPuff[2];
+  float s = t;
+  HullBound at[kHullViews];
+  bool wall;
+  for (int i = 0; i < 32; ++i) {
+    vec2 f = hullAt(origin + s * ray, lod, fromTable, trusted, at, wall);
+    if (f.y <= 0.0) {
+      t = s;
+      b = at;
+      break;
+    }
+    s -= max(f.y, eps);
+    if (s < -tMax) break;
+  }
+}
+
+// The hit's normal and colour: the views that see it (it lies on their front surface, not behind
+// it) see the same point, their normals and colours blended as the views are.
+void shadeHit(vec3 pt, float pixel, float lod, HullBound b[kHullViews], inout HullHit h) {
+  vec3 n = vec3(0.0), color = vec3(0.0);
+  float total = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    HullView v = hullViews[k];
+    vec4 texel = b[k].texel;
+    vec2 nxy = texel.xy * 2.0 - 1.0;
+    float nz = sqrt(max(0.0, 1.0 - dot(nxy, nxy)));
+    // How far the hit lies off this view's surface along its direction: a view that sees another
+    // lump there (the hit lies behind it) or none at all (in front of it) fades out.
+    // (In pixels or texels, whichever is larger: a magnified map is as exact as its texels.)
+    float off = abs((texel.z - 0.5) * uAtlasScale.y - v.side * dot(pt, v.dir)) * max(nz, 0.25) /
+                max(pixel, 1.0 / uAtlasScale.x);
+    // Near a view's silhouette its filtered normal is mixed with the empty texels outside (no
+    // normal): that view's rim may cross the middle of the puff the eye sees. It fades out there.
+    float rim = (0.5 - texel.w) * 2.0 * uAtlasScale.z / exp2(ceil(lod));  // texels of the level read
+    // A view that faces the surface there sees it best (its normal's z: the cosine).
+    float w = (vWeight[k] + 0.05) * (nz * nz + 1e-3) * (smoothstep(0.5, 2.5, rim) + 1e-4) *
+              (1.0 - smoothstep(2.0, 4.0, off) + 1e-4);
+    n += w * (nxy.x * v.right + nxy.y * v.up + v.side * nz * v.dir);
+    color += w * textureLod(uColor, b[k].uv, lod).rgb;
+    total += w;
+  }
+  // (Every view weighs something; where none sees the point well, the least bad decide.)
+  h.normal = vPuffToView * normalize(n);
+  h.color = color / total;
+}
+
+// wantEdge: how deep a hit reaches (the antialiased edge and the ink's inner edge); wantShade: the
+// normal and colour of a hit.
+// reach: diameters past the silhouette where anything is drawn (the ink and its antialiased edge).
+HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, float reach, bool wantEdge, bool wantShade) {
+  bool behind = setUpHullViews();
   vec3 origin = vBillboardPuff * vec3(vPuff, 0.0);
   vec3 ray = vBillboardPuff[2];
   float pixel = tpp / uAtlasScale.x;  // a screen pixel in diameters
@@ -220,140 +363,136 @@ HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, float rea
   h.deepest = 0.0;
   if (h.nearest > reach) return h;  // farther from the sphere than any ink reaches: nothing to read
   HullBound b[kHullViews];
-  // The exact hull: the first point inside it, or the least distance of a ray that misses.
-  float t = tMax;
+  float t, tNearest;
   vec2 f;
-  bool wall = true, throughWall = true;
-  float tNearest = t;
-  for (int i = 0; i < 64; ++i) {
-    f = hullAt(origin + t * ray, lod, fromTable, trusted, b, wall);
-    if (i == 0 || f.x < h.nearest) tNearest = t;
-    h.nearest = i == 0 ? f.x : min(h.nearest, f.x);
-    if (f.x <= 0.0) {
-      h.hit = true;
-      break;
-    }
-    throughWall = wall;
-    t -= max(f.x, eps);
-    if (t < -tMax) break;
-  }
+  bool throughWall;
+  marchExact(origin, tMax, eps, lod, fromTable, trusted, h, t, f, throughWall, tNearest, b);
   if (!h.hit) {
     // A miss: its least distance to the hull is the largest of the bounds' distances at the ray's
     // closest approach, an estimate (short where two bounds meet, long where a front surface curves
     // up toward the ray), and the ink's outer edge lies where it reaches the ink's width. Near that
-    // edge the distance is measured on the screen instead: the eye rays through the billboard plane
-    // stepped toward the hull hit it from some distance on, found by bisection along two directions
-    // (below), the nearer kept.
+    // edge the distance is measured on the screen instead.
     float ink = reach - pixel;  // the ink's width (diameters); beyond `reach` nothing is drawn
-    if (ink > 0.0 && h.nearest <= reach + pixel) {
-      vec3 at = origin + tNearest * ray;
-      float delta = 0.5 * pixel;
-      HullBound g[kHullViews];
-      bool gw;
-      vec2 grad = vec2(hullAt(at + delta * vBillboardPuff[0], lod, fromTable, trusted, g, gw).x,
-                       hullAt(at + delta * vBillboardPuff[1], lod, fromTable, trusted, g, gw).x) -
-                  h.nearest;
-      // Down the gradient, and toward the puff's centre (where the gradient misleads: a bay).
-      vec2 towards[2] = vec2[2](dot(grad, grad) > 1e-12 ? -normalize(grad) : vec2(0.0),
-                                dot(vPuff, vPuff) > 1e-12 ? -normalize(vPuff) : vec2(0.0));
-      // What is drawn depends on the distance only within half a pixel of the ink's edges (the
-      // antialiased edges; between them the pixel is ink whatever the distance): the bisection stops
-      // once its interval lies between them, or is a quarter of a pixel wide.
-      float solid = ink - 0.5 * pixel;  // nearer than this (and over half a pixel out): ink
-      float best = -1.0;
-      for (int k = 0; k < 2; ++k) {
-        vec2 toward = towards[k];
-        if (dot(toward, toward) == 0.0 || (best >= 0.0 && best <= solid)) continue;
-        float lo = 0.0, hi = ink + 0.5 * pixel;
-        if (best >= 0.0) hi = min(hi, best);
-        if (!hullHits(vBillboardPuff * vec3(vPuff + hi * toward, 0.0), eps, lod, fromTable, trusted)) continue;
-        for (int i = 0; i < 4; ++i) {
-          if ((lo >= 0.5 * pixel && hi <= solid) || hi - lo <= 0.25 * pixel) break;
-          // The first split at the inner edge of the outer antialiased band, where most pixels of
-          // the ring are decided.
-          float mid = i == 0 && solid > lo && solid < hi ? solid : 0.5 * (lo + hi);
-          if (hullHits(vBillboardPuff * vec3(vPuff + mid * toward, 0.0), eps, lod, fromTable, trusted)) {
-            hi = mid;
-          } else {
-            lo = mid;
-          }
-        }
-        best = max(0.5 * (lo + hi), 1e-4);
-      }
-      h.nearest = best >= 0.0 ? best : max(h.nearest, ink + 1.5 * pixel);
-    }
+    if (ink > 0.0 && h.nearest <= reach + pixel)
+      h.nearest = screenDistance(origin + tNearest * ray, h.nearest, ink, pixel, eps, lod, fromTable, trusted);
     return h;
   }
   h.t = t;
   // A ray that enters through a front surface is inside the silhouette: its pixel is body. One that
   // enters through a silhouette's wall may graze it: on into the hull until 2 px deep (or out).
   h.deepest = -2.0 * pixel;
-  if (wantEdge && throughWall) {
-    h.deepest = f.x;
-    float s = t;
-    HullBound probe[kHullViews];
-    for (int i = 0; i < 8 && h.deepest > -2.0 * pixel; ++i) {
-      s -= max(-f.x, eps);
-      if (s < -tMax) break;
-      f = hullAt(origin + s * ray, lod, fromTable, trusted, probe, wall);
-      if (f.x > 0.0) break;
-      h.deepest = min(h.deepest, f.x);
-    }
-  }
-  if (behind && wantShade) {
-    // The surface drawn: on from the hit to the first point behind every reflected front too (if
-    // the ray finds none, the hit itself).
-    float s = t;
-    HullBound at[kHullViews];
-    for (int i = 0; i < 32; ++i) {
-      f = hullAt(origin + s * ray, lod, fromTable, trusted, at, wall);
-      if (f.y <= 0.0) {
-        h.t = s;
-        b = at;
-        break;
-      }
-      s -= max(f.y, eps);
-      if (s < -tMax) break;
-    }
-  }
-  if (h.hit && wantShade) {
-    // The views that see the hit (it lies on their front surface, not behind it) see the same
-    // point: their normals and colours, blended as the views are.
-    vec3 pt = origin + h.t * ray;
-    vec3 n = vec3(0.0), color = vec3(0.0);
-    float total = 0.0;
-    for (int k = 0; k < 4; ++k) {
-      HullView v = hullViews[k];
-      vec4 texel = b[k].texel;
-      vec2 nxy = texel.xy * 2.0 - 1.0;
-      float nz = sqrt(max(0.0, 1.0 - dot(nxy, nxy)));
-      // How far the hit lies off this view's surface along its direction: a view that sees another
-      // lump there (the hit lies behind it) or none at all (in front of it) fades out.
-      // (In pixels or texels, whichever is larger: a magnified map is as exact as its texels.)
-      float off = abs((texel.z - 0.5) * uAtlasScale.y - v.side * dot(pt, v.dir)) * max(nz, 0.25) /
-                  max(pixel, 1.0 / uAtlasScale.x);
-      // Near a view's silhouette its filtered normal is mixed with the empty texels outside (no
-      // normal): that view's rim may cross the middle of the puff the eye sees. It fades out there.
-      float rim = (0.5 - texel.w) * 2.0 * uAtlasScale.z / exp2(ceil(lod));  // texels of the level read
-      // A view that faces the surface there sees it best (its normal's z: the cosine).
-      float w = (vWeight[k] + 0.05) * (nz * nz + 1e-3) * (smoothstep(0.5, 2.5, rim) + 1e-4) *
-                (1.0 - smoothstep(2.0, 4.0, off) + 1e-4);
-      n += w * (nxy.x * v.right + nxy.y * v.up + v.side * nz * v.dir);
-      color += w * textureLod(uColor, b[k].uv, lod).rgb;
-      total += w;
-    }
-    // (Every view weighs something; where none sees the point well, the least bad decide.)
-    h.normal = vPuffToView * normalize(n);
-    h.color = color / total;
-  }
+  if (wantEdge && throughWall) h.deepest = wallDepth(origin, t, f, tMax, pixel, eps, lod, fromTable, trusted);
+  if (behind && wantShade) surfaceBehind(origin, tMax, eps, lod, fromTable, trusted, h.t, b);
+  if (h.hit && wantShade) shadeHit(origin + h.t * ray, pixel, lod, b, h);
   return h;
 }
 #endif
 
+// The blend of the views' packed maps at this fragment: each view's lookup (uv, inside its cell)
+// and normal, and the weighted depth offset and silhouette distance (texels; tableDist the radius
+// table's, read only when fromTable). All zero where the blend does not shade (`shades` false).
+struct ViewBlend {
+  vec2 uv[PUFF_VIEWS];
+  vec2 nxy[PUFF_VIEWS];
+  bool inside[PUFF_VIEWS];
+  float depth, dist, tableDist;
+};
+
+ViewBlend blendViews(float lod, float range, bool fromTable, bool shades) {
+  ViewBlend v;
+  v.depth = 0.0;
+  v.dist = 0.0;
+  v.tableDist = 0.0;
+  for (int k = 0; k < PUFF_VIEWS; ++k) {  // a constant bound: unrolled
+    v.uv[k] = vec2(0.0);
+    v.nxy[k] = vec2(0.0);
+    v.inside[k] = false;
+    if (!shades) continue;
+    vec2 local = mat2(vMap[k].xy, vMap[k].zw) * vPuff;  // the cell's view, puff diameters
+    v.uv[k] = cellUv(vCell[k], local);
+    // Lookups stay inside their cell: a rolled or foreshortened quad reaches past the cell's
+    // corners, into other variations and views. Outside is empty.
+    v.inside[k] = insideCell(local, lod);
+    vec4 pk = v.inside[k] ? textureLod(uPacked, v.uv[k], lod) : vec4(0.5, 0.5, 0.5, 1.0);
+    v.nxy[k] = pk.xy * 2.0 - 1.0;
+    float w = vWeight[k];
+    v.depth += w * (pk.z - 0.5) * uAtlasScale.y * vNormalXf[k][2].z;
+    v.dist += w * ((pk.w - 0.5) * 2.0 * range);
+    if (fromTable) v.tableDist += w * (length(local) - silhouetteRadius(vCell[k], local)) * uAtlasScale.x;
+  }
+  return v;
+}
+
+#ifndef PUFF_CASTER
+// The blend's normal (camera space, unnormalized) and colour (scene-linear: views blended in linear
+// light; the colour map is the second read, the lit pass's alone).
+void blendedSurface(ViewBlend v, float lod, out vec3 n, out vec3 color) {
+  n = vec3(0.0);
+  color = vec3(0.0);
+  for (int k = 0; k < PUFF_VIEWS; ++k) {
+    float w = vWeight[k];
+    n += w * (vNormalXf[k] * vec3(v.nxy[k], sqrt(max(0.0, 1.0 - dot(v.nxy[k], v.nxy[k])))));
+    if (v.inside[k]) color += w * textureLod(uColor, v.uv[k], lod).rgb;
+  }
+}
+
+// The world point this fragment shades: on its eye ray at the offset depth `d` (diameters toward
+// the eye).
+vec3 pointAtOffset(float d) {
+  if (isOrthographic()) return vWorld + normalize(uInvView[2].xyz) * (d * vSize);
+  return uCameraWorld.xyz + (vWorld - uCameraWorld.xyz) * ((vDist - d * vSize) / vDist);
+}
+#endif
+
+// The outline band: 0 < dist <= width (texels), the width returned. From the map, the band and its
+// antialiased edge (half a pixel) must end inside its range; beyond is empty (discarded). With
+// `fromTable`, a blended distance past what the map holds is the radius table's (`tableDist`).
+float outlineBand(bool fromTable, bool blended, float tableDist, float trusted, float range, float wantTexels,
+                  float tpp, inout float dist) {
+  if (fromTable) {
+    if (blended) dist = dist < trusted ? dist : max(tableDist, trusted);
+    return wantTexels;
+  }
+  if (dist >= range - 0.5) discard;
+  return max(0.0, min(wantTexels, range - 1.0 - 0.5 * tpp));
+}
+
+#ifdef PUFF_HULL
+// An oriented puff: the hull marched (hullMarch) in place of the blend, whose depth offset and
+// silhouette distance (texels: outside, the least distance to the hull; inside, how deep the ray
+// reaches into it) replace the blend's.
+HullHit marchHull(float lod, float tpp, bool fromTable, float trusted, float wantTexels, inout float depth,
+                  inout float dist) {
+  float reach = (wantTexels + tpp) / uAtlasScale.x;
+#ifdef PUFF_CASTER
+  HullHit hull = hullMarch(lod, tpp, fromTable, trusted, reach, false, false);
+#else
+  HullHit hull =
+      hullMarch(lod, tpp, fromTable, trusted, reach, uPass != PUFF_PASS_DEPTH_ONLY, uPass == PUFF_PASS_LIT);
+#endif
+  depth = hull.t * vNormalXf[0][2].z;
+  dist = hull.hit ? min(hull.deepest * uAtlasScale.x, -1e-3) : max(hull.nearest * uAtlasScale.x, 1e-3);
+  return hull;
+}
+#endif
+
+#ifndef PUFF_CASTER
+// Eq. 2, K_a + C K_L q(N . L), in display values: the surface's colour (scene-linear) is encoded and
+// the particle's tint multiplies it. A shadow-map receiver in another caster's shadow keeps the
+// ambient term only, as the volumes' shadowed pass draws it.
+vec3 litColor(vec3 ka, vec3 n, vec3 color, float d) {
+  color = linearToSrgb(color) * vTint;
+  vec3 q = uShading == 1 ? quantize(dot(normalize(n), uLightDirView.xyz)) : vec3(1.0);
+  vec3 rgb = ka + color * uLightColor.rgb * q;
+  if (shadowMapEnabled() && inShadowMap(pointAtOffset(d), vId)) rgb = ka;
+  return rgb;
+}
+#endif
+
+// First what every pass needs: depth offset and distance to the silhouette (one read per view).
+// The mip level comes from the particle's projected size, like the texel-to-pixel scale below:
+// no derivatives, so the colour can be read after the discards.
 void main() {
-  // First what every pass needs: depth offset and distance to the silhouette (one read per view).
-  // The mip level comes from the particle's projected size, like the texel-to-pixel scale below:
-  // no derivatives, so the colour can be read after the discards.
   float lod = max(0.0, log2(max(1e-4, vTexelsPerPixel)));
   // From the particle's projected size, not from derivatives: those break down along the quad's
   // diagonal on some rasterizers, and the size is known anyway.
@@ -367,61 +506,20 @@ void main() {
   float trusted = range - 1.0 - 0.5 * tpp;
   float wantTexels = uOutlines == 1 ? max(0.0, uOutlineWidth) * tpp : 0.0;
   bool fromTable = wantTexels > trusted;  // the same for the whole puff
-  vec2 uv[PUFF_VIEWS];
-  vec2 nxy[PUFF_VIEWS];
-  bool inside[PUFF_VIEWS];
-  float depth = 0.0, dist = 0.0, tableDist = 0.0;
 #ifdef PUFF_HULL
   bool marched = vHull == 1;  // an oriented puff: hullMarch below, not the blend of four views
   bool blendShades = !marched || vHullBehind == 1;  // from behind, the blend shades the hull (below)
 #else
   const bool marched = false, blendShades = true;
 #endif
-  for (int k = 0; k < PUFF_VIEWS; ++k) {  // a constant bound: unrolled
-    uv[k] = vec2(0.0);
-    nxy[k] = vec2(0.0);
-    inside[k] = false;
-    if (!blendShades) continue;
-    vec2 local = mat2(vMap[k].xy, vMap[k].zw) * vPuff;  // the cell's view, puff diameters
-    uv[k] = cellUv(vCell[k], local);
-    // Lookups stay inside their cell: a rolled or foreshortened quad reaches past the cell's
-    // corners, into other variations and views. Outside is empty.
-    inside[k] = insideCell(local, lod);
-    vec4 pk = inside[k] ? textureLod(uPacked, uv[k], lod) : vec4(0.5, 0.5, 0.5, 1.0);
-    nxy[k] = pk.xy * 2.0 - 1.0;
-    float w = vWeight[k];
-    depth += w * (pk.z - 0.5) * uAtlasScale.y * vNormalXf[k][2].z;
-    dist += w * ((pk.w - 0.5) * 2.0 * range);
-    if (fromTable) tableDist += w * (length(local) - silhouetteRadius(vCell[k], local)) * uAtlasScale.x;
-  }
+  ViewBlend views = blendViews(lod, range, fromTable, blendShades);
+  float depth = views.depth, dist = views.dist;
 #ifdef PUFF_HULL
   float blendDist = dist;  // the blend's distance to its silhouette (when blendShades)
   HullHit hull;
-  if (marched) {
-    float reach = (wantTexels + tpp) / uAtlasScale.x;
-#ifdef PUFF_CASTER
-    hull = hullMarch(lod, tpp, fromTable, trusted, reach, false, false);
-#else
-    hull = hullMarch(lod, tpp, fromTable, trusted, reach, uPass != PUFF_PASS_DEPTH_ONLY, uPass == PUFF_PASS_LIT);
+  if (marched) hull = marchHull(lod, tpp, fromTable, trusted, wantTexels, depth, dist);
 #endif
-    depth = hull.t * vNormalXf[0][2].z;
-    // Outside, the least distance to the hull; inside, how deep the ray reaches into it.
-    dist = hull.hit ? min(hull.deepest * uAtlasScale.x, -1e-3) : max(hull.nearest * uAtlasScale.x, 1e-3);
-  }
-#endif
-  // The outline band: 0 < dist <= width (texels). From the map, the band and its antialiased edge
-  // (half a pixel) must end inside its range; beyond is empty.
-  float widthTexels;
-  if (fromTable) {
-#ifdef PUFF_HULL
-    if (!marched)
-#endif
-      dist = dist < trusted ? dist : max(tableDist, trusted);
-    widthTexels = wantTexels;
-  } else {
-    if (dist >= range - 0.5) discard;
-    widthTexels = max(0.0, min(wantTexels, range - 1.0 - 0.5 * tpp));
-  }
+  float widthTexels = outlineBand(fromTable, !marched, views.tableDist, trusted, range, wantTexels, tpp, dist);
   float coverage = clamp(0.5 - (dist - widthTexels) / tpp, 0.0, 1.0);
   float body = clamp(0.5 - dist / tpp, 0.0, 1.0);
   if (uMultisample == 1 ? coverage <= 0.0 : coverage < 0.5) discard;
@@ -445,12 +543,8 @@ void main() {
   vec3 ka = ambientAt(gl_FragCoord.xy);
   vec3 rgb = ka;
   if (uPass == PUFF_PASS_LIT) {  // the lit pass alone needs the normal and the colour (the second read)
-    vec3 n = vec3(0.0), color = vec3(0.0);
-    for (int k = 0; k < PUFF_VIEWS; ++k) {
-      float w = vWeight[k];
-      n += w * (vNormalXf[k] * vec3(nxy[k], sqrt(max(0.0, 1.0 - dot(nxy[k], nxy[k])))));
-      if (inside[k]) color += w * textureLod(uColor, uv[k], lod).rgb;  // views blended in linear light
-    }
+    vec3 n, color;
+    blendedSurface(views, lod, n, color);
 #ifdef PUFF_HULL
     if (marched && hull.hit) {
       // Seen from behind, the hull's surface is an assumption that differs from view to view: the
@@ -460,20 +554,7 @@ void main() {
       color = hull.color;
     }
 #endif
-    color = linearToSrgb(color) * vTint;  // Eq. 2 combines display values; the particle's tint multiplies C
-    vec3 q = uShading == 1 ? quantize(dot(normalize(n), uLightDirView.xyz)) : vec3(1.0);
-    rgb = ka + color * uLightColor.rgb * q;
-    // A shadow-map receiver in another caster's shadow keeps the ambient term only, as the volumes'
-    // shadowed pass draws it. The point is on this pixel's eye ray at the offset depth.
-    if (shadowMapEnabled()) {
-      vec3 p;
-      if (isOrthographic()) {
-        p = vWorld + normalize(uInvView[2].xyz) * (d * vSize);
-      } else {
-        p = uCameraWorld.xyz + (vWorld - uCameraWorld.xyz) * ((vDist - d * vSize) / vDist);
-      }
-      if (inShadowMap(p, vId)) rgb = ka;
-    }
+    rgb = litColor(ka, n, color, d);
   }
   // Eq. 2's result is a display value, limited to the display's range as the paper's 8-bit frame
   // buffer limited it (K_a + C K_L q may exceed 1), then to scene-linear; the outline's antialiased

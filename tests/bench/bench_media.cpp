@@ -271,7 +271,7 @@ FrameTime drawFrame(media::Renderer& renderer, Case& c, bool shimmer = true) {
   renderer.setFillRateFloor(false);
   glFinish();
   const auto t2 = Clock::now();
-  const int vp[4] = {0, 0, layers.width(), layers.height()};
+  const core::Viewport vp{0, 0, layers.width(), layers.height()};
   media::ComposeSettings cs;
   cs.shimmerPixels = shimmer ? kShimmerPixels : 0.0f;
   layers.compose(c.output->fbo.get(), vp, f, {}, cs);

@@ -95,13 +95,12 @@ Result<double> baselineMs(scene::Scene s, std::span<const int> frames, int reps,
     s.media->particles.clear();
     s.media->emitters.clear();
   }
-  auto r = render::SceneRenderer::create(s);
-  if (!r) return r.error();
-  (*r)->setFillRateFloor(fillRateFloor);
+  PUFF_TRY_ASSIGN(auto r, render::SceneRenderer::create(s));
+  (r)->setFillRateFloor(fillRateFloor);
   std::vector<double> times;
   for (int f : frames) {
-    if (auto first = (*r)->renderFrame(f); !first) return first.error();
-    PUFF_TRY(puffbench::timeFrame(**r, f, reps, times));
+    if (auto first = (r)->renderFrame(f); !first) return first.error();
+    PUFF_TRY(puffbench::timeFrame(*r, f, reps, times));
   }
   return bench::median(times);
 }
@@ -151,23 +150,20 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
   std::vector<StabilityRow> rows;
   const auto& methods = kMethods;
   {
-    auto loaded = scene::loadScene(sceneDir / "smoke-flythrough.json", artDir);
-    if (!loaded) return loaded.error();
+    PUFF_TRY_ASSIGN(auto loaded, scene::loadScene(sceneDir / "smoke-flythrough.json", artDir));
     // The smoke frozen as it is at frame 0 (births pop in whatever the method; that is the
     // simulator's, not the billboards'), listed as particles; the pillar taken out.
-    scene::Scene frozen = *loaded;
+    scene::Scene frozen = loaded;
     frozen.width = width;
     frozen.height = height;
     frozen.objects.clear();
     {
-      auto r = render::SceneRenderer::create(frozen);
-      if (!r) return r.error();
-      if (auto im = (*r)->renderFrame(0); !im) return im.error();
-      auto in = (*r)->lastMediaFrame();
-      if (!in) return in.error();
+      PUFF_TRY_ASSIGN(auto r, render::SceneRenderer::create(frozen));
+      if (auto im = (r)->renderFrame(0); !im) return im.error();
+      PUFF_TRY_ASSIGN(auto in, (r)->lastMediaFrame());
       frozen.media->emitters.clear();
       frozen.media->particles.clear();
-      for (const media::Particle& p : in->particles) {
+      for (const media::Particle& p : in.particles) {
         // A listed media particle has no tint or temperature of its own (curves over life belong to
         // emitters): freezing one that has them would measure another picture.
         if (p.tint != glm::vec3(1.0f) || p.temperature > 0.0f) {
@@ -188,13 +184,11 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
     for (media::Method m : methods) {
       scene::Scene s = frozen;
       s.media->method = m;
-      auto r = render::SceneRenderer::create(s);
-      if (!r) return r.error();
+      PUFF_TRY_ASSIGN(auto r, render::SceneRenderer::create(s));
       std::vector<core::Image> frames;
       for (int f = 0; f < s.animation.frames; ++f) {
-        auto im = (*r)->renderFrame(f);
-        if (!im) return im.error();
-        frames.push_back(std::move(*im));
+        PUFF_TRY_ASSIGN(auto im, (r)->renderFrame(f));
+        frames.push_back(std::move(im));
       }
       const std::string method(media::toString(m));
       rows.push_back({"smoke-flythrough", method, "largest_second_difference",
@@ -204,40 +198,34 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
     }
   }
   {
-    auto loaded = scene::loadScene(sceneDir / "explosion-walls.json", artDir);
-    if (!loaded) return loaded.error();
-    scene::Scene bareScene = *loaded;
+    PUFF_TRY_ASSIGN(auto loaded, scene::loadScene(sceneDir / "explosion-walls.json", artDir));
+    scene::Scene bareScene = loaded;
     bareScene.width = width;
     bareScene.height = height;
     bareScene.media->particles.clear();
     bareScene.media->emitters.clear();
     bareScene.media->lights.clear();
-    auto bare = render::SceneRenderer::create(bareScene);
-    if (!bare) return bare.error();
+    PUFF_TRY_ASSIGN(auto bare, render::SceneRenderer::create(bareScene));
     const int fireFrames[] = {5, 20};
     std::vector<core::Image> bareFrames;
     for (int f : fireFrames) {
-      auto im = (*bare)->renderFrame(f);
-      if (!im) return im.error();
-      bareFrames.push_back(std::move(*im));
+      PUFF_TRY_ASSIGN(auto im, (bare)->renderFrame(f));
+      bareFrames.push_back(std::move(im));
     }
     for (media::Method m : methods) {
-      scene::Scene s = *loaded;
+      scene::Scene s = loaded;
       s.width = width;
       s.height = height;
       s.media->method = m;
       s.media->lights.clear();  // their light is not the media's: leave the walls as the bare frame has them
       s.media->compose.shimmerPixels = 0.0f;
       s.media->resolution = 1.0f;  // no upsampling error: what is left at the walls is the method's
-      auto r = render::SceneRenderer::create(s);
-      if (!r) return r.error();
+      PUFF_TRY_ASSIGN(auto r, render::SceneRenderer::create(s));
       double worst = 0.0;
       for (std::size_t i = 0; i < std::size(fireFrames); ++i) {
-        auto im = (*r)->renderFrame(fireFrames[i]);
-        if (!im) return im.error();
-        auto ref = eval::mediaReference(s, **r);
-        if (!ref) return ref.error();
-        worst = std::max(worst, largestErrorJump(*im, *ref, bareFrames[i]));
+        PUFF_TRY_ASSIGN(auto im, (r)->renderFrame(fireFrames[i]));
+        PUFF_TRY_ASSIGN(auto ref, eval::mediaReference(s, *r));
+        worst = std::max(worst, largestErrorJump(im, ref, bareFrames[i]));
       }
       rows.push_back({"explosion-walls", std::string(media::toString(m)), "largest_error_jump", worst,
                       static_cast<int>(std::size(fireFrames)), width, height});
@@ -252,25 +240,19 @@ Result<std::vector<StabilityRow>> stability(const fs::path& sceneDir, const fs::
         {"camera", {{"position", {0, 0, 6}}, {"target", {0, 0, 0}}, {"fovY", 40}, {"near", 0.5}, {"far", 30}}},
         {"objects", {{{"type", "plane"}, {"rotate", {70, 25, 0}}, {"scale", {4, 1, 4}}, {"albedo", {0.7, 0.5, 0.4}}}}},
         {"media", {{"resolution", 1}, {"particles", {{{"position", {0, 0, 0}}, {"radius", 1.6}, {"density", 3}}}}}}};
-    auto wall = scene::parseScene(j, sceneDir / "wall-through-smoke.json");
-    if (!wall) return wall.error();
-    scene::Scene bareScene = *wall;
+    PUFF_TRY_ASSIGN(auto wall, scene::parseScene(j, sceneDir / "wall-through-smoke.json"));
+    scene::Scene bareScene = wall;
     bareScene.media->particles.clear();
-    auto bare = render::SceneRenderer::create(bareScene);
-    if (!bare) return bare.error();
-    auto b = (*bare)->renderFrame(0);
-    if (!b) return b.error();
+    PUFF_TRY_ASSIGN(auto bare, render::SceneRenderer::create(bareScene));
+    PUFF_TRY_ASSIGN(auto b, (bare)->renderFrame(0));
     for (media::Method m : methods) {
-      scene::Scene s = *wall;
+      scene::Scene s = wall;
       s.media->method = m;
-      auto r = render::SceneRenderer::create(s);
-      if (!r) return r.error();
-      auto im = (*r)->renderFrame(0);
-      if (!im) return im.error();
-      auto ref = eval::mediaReference(s, **r);
-      if (!ref) return ref.error();
+      PUFF_TRY_ASSIGN(auto r, render::SceneRenderer::create(s));
+      PUFF_TRY_ASSIGN(auto im, (r)->renderFrame(0));
+      PUFF_TRY_ASSIGN(auto ref, eval::mediaReference(s, *r));
       rows.push_back({"wall-through-smoke", std::string(media::toString(m)), "largest_error_jump",
-                      largestErrorJump(*im, *ref, *b), 1, width, height});
+                      largestErrorJump(im, ref, b), 1, width, height});
     }
   }
   return rows;

@@ -138,39 +138,35 @@ std::vector<bool> referenceMask(const core::Image& layer, double threshold) {
 }
 
 Result<void> measureIso(const scene::Scene& s, std::span<const int> frames, CartoonRow& row) {
-  auto r = render::SceneRenderer::create(s);
-  if (!r) return r.error();
+  PUFF_TRY_ASSIGN(auto r, render::SceneRenderer::create(s));
   std::optional<core::DetailVideo> temperature, opacity;
   if (!s.media->temperatureDetail.empty()) {
-    auto v = core::loadDetailVideo(s.media->temperatureDetail);
-    if (!v) return v.error();
-    temperature = std::move(*v);
+    PUFF_TRY_ASSIGN(auto v, core::loadDetailVideo(s.media->temperatureDetail));
+    temperature = std::move(v);
   }
   if (!s.media->opacityDetail.empty()) {
-    auto v = core::loadDetailVideo(s.media->opacityDetail);
-    if (!v) return v.error();
-    opacity = std::move(*v);
+    PUFF_TRY_ASSIGN(auto v, core::loadDetailVideo(s.media->opacityDetail));
+    opacity = std::move(v);
   }
   std::vector<media::Material> materials = scene::linearMediaMaterials(s);
   for (media::Material& m : materials) m.burn = 0.0f;  // the cartoon's A ignores burn
   const double theta = s.media->settings.cartoon.threshold;
   IsoAgreement model, physical;
   for (int f : frames) {
-    if (auto im = (*r)->renderFrame(f); !im) return im.error();
-    auto in = (*r)->lastMediaFrame();
-    if (!in) return in.error();
-    if (in->cartoonOpacity.empty()) return Error{s.file.string() + ": no cartoon field was read back"};
-    std::vector<bool> gpu(in->cartoonOpacity.size());
-    for (std::size_t i = 0; i < gpu.size(); ++i) gpu[i] = in->cartoonOpacity[i] >= theta;
+    if (auto im = (r)->renderFrame(f); !im) return im.error();
+    PUFF_TRY_ASSIGN(auto in, (r)->lastMediaFrame());
+    if (in.cartoonOpacity.empty()) return Error{s.file.string() + ": no cartoon field was read back"};
+    std::vector<bool> gpu(in.cartoonOpacity.size());
+    for (std::size_t i = 0; i < gpu.size(); ++i) gpu[i] = in.cartoonOpacity[i] >= theta;
     reference::MediaReferenceInput ri;
-    ri.frame = in->frame;
-    ri.particles = in->particles;
+    ri.frame = in.frame;
+    ri.particles = in.particles;
     ri.materials = materials;
     ri.settings = s.media->settings;
     ri.temperatureDetail = temperature ? &*temperature : nullptr;
     ri.opacityDetail = opacity ? &*opacity : nullptr;
-    ri.opaqueColor = in->opaqueColor;
-    ri.opaqueDepth = in->opaqueDepth;
+    ri.opaqueColor = in.opaqueColor;
+    ri.opaqueDepth = in.opaqueDepth;
     core::Image layer, physicalLayer;
     if (auto m = reference::renderMediaReference(ri, &layer); !m) return m.error();
     if (auto p = reference::renderMediaPhysical(ri, reference::PhysicalOptions{}, &physicalLayer); !p) return p.error();
@@ -200,11 +196,10 @@ Result<std::vector<CartoonRow>> runCartoonBench(const CartoonBenchOptions& opt) 
                  std::chrono::duration<double>(Clock::now() - start).count());
   };
   for (const std::string& name : opt.scenes) {
-    auto loaded = scene::loadScene(opt.sceneDir / (name + ".json"), opt.artDir);
-    if (!loaded) return loaded.error();
-    if (!loaded->media || loaded->media->settings.style != media::Style::kCartoon)
+    PUFF_TRY_ASSIGN(auto loaded, scene::loadScene(opt.sceneDir / (name + ".json"), opt.artDir));
+    if (!loaded.media || loaded.media->settings.style != media::Style::kCartoon)
       return Error{name + ": not a cartoon media scene (media.style \"cartoon\")"};
-    scene::Scene cartoon = *loaded;
+    scene::Scene cartoon = loaded;
     cartoon.width = opt.width;
     cartoon.height = opt.height;
     cartoon.media->motionBlurFrames = 0;
@@ -219,26 +214,23 @@ Result<std::vector<CartoonRow>> runCartoonBench(const CartoonBenchOptions& opt) 
       row.style = std::string(media::toString(style));
       row.width = opt.width;
       row.height = opt.height;
-      auto timedFrames = renderFrames(s, render::RenderPath::kCel, timed, opt.reps);
-      if (!timedFrames) return timedFrames.error();
-      row.ms = timedFrames->ms;
+      PUFF_TRY_ASSIGN(auto timedFrames, renderFrames(s, render::RenderPath::kCel, timed, opt.reps));
+      row.ms = timedFrames.ms;
       scene::Scene bare = s;
       bare.media->particles.clear();
       bare.media->emitters.clear();
-      auto bareFrames = renderFrames(bare, render::RenderPath::kCel, timed, opt.reps);
-      if (!bareFrames) return bareFrames.error();
-      row.emptyMs = bareFrames->ms;
-      if (style == media::Style::kPhotoreal) photorealBare = bareFrames->ms;
+      PUFF_TRY_ASSIGN(auto bareFrames, renderFrames(bare, render::RenderPath::kCel, timed, opt.reps));
+      row.emptyMs = bareFrames.ms;
+      if (style == media::Style::kPhotoreal) photorealBare = bareFrames.ms;
       row.bareMs = photorealBare;
       log(name + ", " + row.style + ": timed");
       // Stability: consecutive frames around the middle, display values.
       std::vector<int> seq;
       const int from = std::max(0, last / 2 - opt.sequenceFrames / 2);
       for (int f = from; f <= std::min(last, from + opt.sequenceFrames - 1); ++f) seq.push_back(f);
-      auto frames = renderFrames(s, render::RenderPath::kCel, seq, 0);
-      if (!frames) return frames.error();
+      PUFF_TRY_ASSIGN(auto frames, renderFrames(s, render::RenderPath::kCel, seq, 0));
       std::vector<core::Image> display;
-      for (const core::Image& im : frames->images)
+      for (const core::Image& im : frames.images)
         display.push_back(core::viewTransform(im, scene::viewTransformFor(s)));
       stability(display, row);
       log(name + ", " + row.style + ": " + std::to_string(seq.size()) + " frames' stability");

@@ -62,17 +62,15 @@ Errors compare(const Frames& a, const Frames& aBare, const Frames& ref, const Fr
 // Bakes the scene atlas's source meshes (each decimated to 1 / `decimation` of its faces when > 1)
 // at `cellSize` into `dir`, with puffbake's defaults otherwise. Returns the sidecar.
 Result<fs::path> bake(const fs::path& sidecar, int cellSize, int decimation, const fs::path& dir, std::size_t* faces) {
-  auto desc = core::loadAtlasDesc(sidecar);
-  if (!desc) return desc.error();
+  PUFF_TRY_ASSIGN(auto desc, core::loadAtlasDesc(sidecar));
   std::vector<fs::path> files;
-  for (const core::AtlasSource& s : desc->sources) {
+  for (const core::AtlasSource& s : desc.sources) {
     if (s.path.empty()) return Error{sidecar.string() + ": puffbench re-bakes from mesh files; a source was generated"};
     files.push_back(fs::path(s.path).is_relative() ? sidecar.parent_path() / s.path : fs::path(s.path));
   }
-  auto sources = bake::loadSources(files, std::nullopt);
-  if (!sources) return sources.error();
+  PUFF_TRY_ASSIGN(auto sources, bake::loadSources(files, std::nullopt));
   *faces = 0;
-  for (bake::PuffSource& s : *sources) {
+  for (bake::PuffSource& s : sources) {
     if (decimation > 1) s.mesh = mesh::decimate(s.mesh, std::max<std::size_t>(20, s.mesh.faceCount() / decimation));
     *faces += s.mesh.faceCount();
   }
@@ -80,10 +78,9 @@ Result<fs::path> bake(const fs::path& sidecar, int cellSize, int decimation, con
   o.cellSize = cellSize;
   o.outDir = dir;
   o.contactSheet = false;
-  o.defaultColor = desc->sources.front().defaultColor;
-  auto report = bake::bakeAtlas(*sources, o);
-  if (!report) return report.error();
-  return report->sidecar;
+  o.defaultColor = desc.sources.front().defaultColor;
+  PUFF_TRY_ASSIGN(auto report, bake::bakeAtlas(sources, o));
+  return report.sidecar;
 }
 
 }  // namespace
@@ -101,18 +98,16 @@ Result<void> timeFrame(render::SceneRenderer& renderer, int frame, int reps, std
 // image) and then `reps` times timed.
 Result<Frames> renderFrames(const scene::Scene& scene, render::RenderPath path, std::span<const int> frames, int reps,
                             bool fillRateFloor) {
-  auto r = eval::createRenderer(scene, path);
-  if (!r) return r.error();
-  (*r)->setFillRateFloor(fillRateFloor);
+  PUFF_TRY_ASSIGN(auto r, eval::createRenderer(scene, path));
+  (r)->setFillRateFloor(fillRateFloor);
   Frames out;
   std::vector<double> times;
   for (int f : frames) {
     render::FrameStats stats;
-    auto image = (*r)->renderFrame(f, &stats);
-    if (!image) return image.error();
-    out.images.push_back(std::move(*image));
+    PUFF_TRY_ASSIGN(auto image, (r)->renderFrame(f, &stats));
+    out.images.push_back(std::move(image));
     out.particles = std::max(out.particles, stats.particles);
-    PUFF_TRY(timeFrame(**r, f, reps, times));
+    PUFF_TRY(timeFrame(*r, f, reps, times));
   }
   out.ms = bench::median(times);
   return out;
@@ -130,9 +125,8 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
   };
 
   for (const std::string& name : opt.scenes) {
-    auto loaded = scene::loadScene(opt.sceneDir / (name + ".json"), opt.artDir);
-    if (!loaded) return loaded.error();
-    scene::Scene scene = *loaded;
+    PUFF_TRY_ASSIGN(auto loaded, scene::loadScene(opt.sceneDir / (name + ".json"), opt.artDir));
+    scene::Scene scene = loaded;
     if (scene.atlas.empty()) return Error{name + ": not a cel scene (no atlas)"};
     scene.width = opt.width;
     scene.height = opt.height;
@@ -142,23 +136,19 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
     const auto t0 = Clock::now();
     // The programmable path's scene, and the same within the fixed path's limits (both references).
     const scene::Scene fixedScene = eval::restrictToFixedLimits(scene);
-    auto bare = renderFrames(eval::withoutParticles(scene), render::RenderPath::kCel, frames, opt.reps);
-    if (!bare) return bare.error();
-    auto bareFixed = renderFrames(eval::withoutParticles(fixedScene), render::RenderPath::kFixed, frames, opt.reps);
-    if (!bareFixed) return bareFixed.error();
-    auto bareCelLimits = renderFrames(eval::withoutParticles(fixedScene), render::RenderPath::kCel, frames, opt.reps);
-    if (!bareCelLimits) return bareCelLimits.error();
-    auto ref = renderFrames(scene, render::RenderPath::kReference, frames, 0);
-    if (!ref) return ref.error();
-    auto refBare = renderFrames(eval::withoutParticles(scene), render::RenderPath::kReference, frames, 0);
-    if (!refBare) return refBare.error();
-    auto refFixed = renderFrames(fixedScene, render::RenderPath::kReference, frames, 0);
-    if (!refFixed) return refFixed.error();
-    auto refFixedBare = renderFrames(eval::withoutParticles(fixedScene), render::RenderPath::kReference, frames, 0);
-    if (!refFixedBare) return refFixedBare.error();
+    PUFF_TRY_ASSIGN(auto bare, renderFrames(eval::withoutParticles(scene), render::RenderPath::kCel, frames, opt.reps));
+    PUFF_TRY_ASSIGN(auto bareFixed,
+                    renderFrames(eval::withoutParticles(fixedScene), render::RenderPath::kFixed, frames, opt.reps));
+    PUFF_TRY_ASSIGN(auto bareCelLimits,
+                    renderFrames(eval::withoutParticles(fixedScene), render::RenderPath::kCel, frames, opt.reps));
+    PUFF_TRY_ASSIGN(auto ref, renderFrames(scene, render::RenderPath::kReference, frames, 0));
+    PUFF_TRY_ASSIGN(auto refBare,
+                    renderFrames(eval::withoutParticles(scene), render::RenderPath::kReference, frames, 0));
+    PUFF_TRY_ASSIGN(auto refFixed, renderFrames(fixedScene, render::RenderPath::kReference, frames, 0));
+    PUFF_TRY_ASSIGN(auto refFixedBare,
+                    renderFrames(eval::withoutParticles(fixedScene), render::RenderPath::kReference, frames, 0));
     // The fill-rate floor: the scene's particles as bare alpha-tested quads, same frames.
-    auto fillFloor = renderFrames(scene, render::RenderPath::kCel, frames, opt.reps, true);
-    if (!fillFloor) return fillFloor.error();
+    PUFF_TRY_ASSIGN(auto fillFloor, renderFrames(scene, render::RenderPath::kCel, frames, opt.reps, true));
     log(name + ": floors and references", t0);
 
     auto add = [&](const std::string& path, const std::string& parameter, double value, const Frames& f,
@@ -174,7 +164,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
       r.width = opt.width;
       r.height = opt.height;
       r.ms = f.ms;
-      r.floorMs = fillFloor->ms;
+      r.floorMs = fillFloor.ms;
       r.bareMs = bareFrames.ms;
       const Errors e = compare(f, bareFrames, reference, referenceBare, ink);
       r.rmse = e.rmse;
@@ -188,13 +178,11 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
     for (int cell : opt.atlasCells) {
       const auto t1 = Clock::now();
       std::size_t faces = 0;
-      auto sidecar = bake(scene.atlas, cell, 1, work / (name + "-cell" + std::to_string(cell)), &faces);
-      if (!sidecar) return sidecar.error();
+      PUFF_TRY_ASSIGN(auto sidecar, bake(scene.atlas, cell, 1, work / (name + "-cell" + std::to_string(cell)), &faces));
       scene::Scene s = scene;
-      s.atlas = *sidecar;
-      auto f = renderFrames(s, render::RenderPath::kCel, frames, opt.reps);
-      if (!f) return f.error();
-      add("cel", "atlas", cell, *f, *bare, *ref, *refBare, std::to_string(cell));
+      s.atlas = sidecar;
+      PUFF_TRY_ASSIGN(auto f, renderFrames(s, render::RenderPath::kCel, frames, opt.reps));
+      add("cel", "atlas", cell, f, bare, ref, refBare, std::to_string(cell));
       log(name + ": nailboards, atlas cells " + std::to_string(cell), t1);
     }
     // Mesh level of detail: the atlas (256-texel cells) baked from decimated meshes; the fixed path
@@ -202,34 +190,28 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
     for (int k : opt.decimations) {
       const auto t1 = Clock::now();
       std::size_t faces = 0;
-      auto sidecar = bake(scene.atlas, 256, k, work / (name + "-lod" + std::to_string(k)), &faces);
-      if (!sidecar) return sidecar.error();
+      PUFF_TRY_ASSIGN(auto sidecar, bake(scene.atlas, 256, k, work / (name + "-lod" + std::to_string(k)), &faces));
       scene::Scene s = scene;
-      s.atlas = *sidecar;
-      auto f = renderFrames(s, render::RenderPath::kCel, frames, opt.reps);
-      if (!f) return f.error();
-      add("cel", "lod", static_cast<double>(faces), *f, *bare, *ref, *refBare, std::to_string(faces));
+      s.atlas = sidecar;
+      PUFF_TRY_ASSIGN(auto f, renderFrames(s, render::RenderPath::kCel, frames, opt.reps));
+      add("cel", "lod", static_cast<double>(faces), f, bare, ref, refBare, std::to_string(faces));
       // The fixed path's puff: the first source mesh at this level of detail, written beside the atlas.
-      auto desc = core::loadAtlasDesc(scene.atlas);
-      if (!desc) return desc.error();
-      fs::path first = desc->sources.front().path;
+      PUFF_TRY_ASSIGN(auto desc, core::loadAtlasDesc(scene.atlas));
+      fs::path first = desc.sources.front().path;
       if (first.is_relative()) first = scene.atlas.parent_path() / first;
-      auto full = mesh::loadMesh(first);
-      if (!full) return full.error();
-      const mesh::TriMesh m = k > 1 ? mesh::decimate(*full, std::max<std::size_t>(20, full->faceCount() / k)) : *full;
+      PUFF_TRY_ASSIGN(auto full, mesh::loadMesh(first));
+      const mesh::TriMesh m = k > 1 ? mesh::decimate(full, std::max<std::size_t>(20, full.faceCount() / k)) : full;
       const fs::path puff = work / (name + "-lod" + std::to_string(k)) / "fixed-puff.obj";
       if (auto ok = mesh::saveMesh(m, puff); !ok) return ok.error();
       scene::Scene lodScene = fixedScene;
       lodScene.fixed.puff = puff;
-      auto ff = renderFrames(lodScene, render::RenderPath::kFixed, frames, opt.reps);
-      if (!ff) return ff.error();
-      add("fixed", "lod", static_cast<double>(m.faceCount()), *ff, *bareFixed, *refFixed, *refFixedBare,
+      PUFF_TRY_ASSIGN(auto ff, renderFrames(lodScene, render::RenderPath::kFixed, frames, opt.reps));
+      add("fixed", "lod", static_cast<double>(m.faceCount()), ff, bareFixed, refFixed, refFixedBare,
           std::to_string(m.faceCount()));
       // The programmable path within the same limits, for the fixed path to be read against.
       if (k == 1) {
-        auto cf = renderFrames(fixedScene, render::RenderPath::kCel, frames, opt.reps);
-        if (!cf) return cf.error();
-        add("cel-fixed-limits", "lod", static_cast<double>(faces), *cf, *bareCelLimits, *refFixed, *refFixedBare,
+        PUFF_TRY_ASSIGN(auto cf, renderFrames(fixedScene, render::RenderPath::kCel, frames, opt.reps));
+        add("cel-fixed-limits", "lod", static_cast<double>(faces), cf, bareCelLimits, refFixed, refFixedBare,
             std::to_string(faces));
       }
       log(name + ": level of detail 1/" + std::to_string(k), t1);
@@ -239,23 +221,21 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
   // Particle count: cloud-50k's emitters scaled (a scene's first N particles are the same whatever
   // its count), the error against the reference of the same particles at frame 0.
   if (!opt.counts.empty()) {
-    auto loaded = scene::loadScene(opt.sceneDir / "cloud-50k.json", opt.artDir);
-    if (!loaded) return loaded.error();
-    scene::Scene base = *loaded;
+    PUFF_TRY_ASSIGN(auto loaded, scene::loadScene(opt.sceneDir / "cloud-50k.json", opt.artDir));
+    scene::Scene base = loaded;
     base.width = opt.width;
     base.height = opt.height;
     std::size_t total = 0;
     for (const scene::EmitterSpec& e : base.emitters) total += static_cast<std::size_t>(e.count);
     const std::vector<int> frame0{0};
-    auto bare = renderFrames(eval::withoutParticles(base), render::RenderPath::kCel, frame0, opt.reps);
-    if (!bare) return bare.error();
+    PUFF_TRY_ASSIGN(auto bare, renderFrames(eval::withoutParticles(base), render::RenderPath::kCel, frame0, opt.reps));
     const scene::Scene baseFixed = eval::restrictToFixedLimits(base);
-    auto bareFixed = renderFrames(eval::withoutParticles(baseFixed), render::RenderPath::kFixed, frame0, opt.reps);
-    if (!bareFixed) return bareFixed.error();
-    auto refBare = renderFrames(eval::withoutParticles(base), render::RenderPath::kReference, frame0, 0);
-    if (!refBare) return refBare.error();
-    auto refFixedBare = renderFrames(eval::withoutParticles(baseFixed), render::RenderPath::kReference, frame0, 0);
-    if (!refFixedBare) return refFixedBare.error();
+    PUFF_TRY_ASSIGN(auto bareFixed,
+                    renderFrames(eval::withoutParticles(baseFixed), render::RenderPath::kFixed, frame0, opt.reps));
+    PUFF_TRY_ASSIGN(auto refBare,
+                    renderFrames(eval::withoutParticles(base), render::RenderPath::kReference, frame0, 0));
+    PUFF_TRY_ASSIGN(auto refFixedBare,
+                    renderFrames(eval::withoutParticles(baseFixed), render::RenderPath::kReference, frame0, 0));
     // Rows of one cel and one fixed measurement of cloud-50k against the references given (none:
     // not measured).
     auto addCountRows = [&](const std::string& parameter, double value, const std::string& label, const Frames& cel,
@@ -273,10 +253,10 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
         r.height = opt.height;
         r.ms = x.ms;
         r.floorMs = floorMs;
-        r.bareMs = which == 0 ? bare->ms : bareFixed->ms;
+        r.bareMs = which == 0 ? bare.ms : bareFixed.ms;
         if (ref) {
-          const Errors e = which == 0 ? compare(x, *bare, *ref, *refBare, base.style.outlineColor)
-                                      : compare(x, *bareFixed, *refFixed, *refFixedBare, base.style.outlineColor);
+          const Errors e = which == 0 ? compare(x, bare, *ref, refBare, base.style.outlineColor)
+                                      : compare(x, bareFixed, *refFixed, refFixedBare, base.style.outlineColor);
           r.rmse = e.rmse;
           r.rmsePuffs = e.rmsePuffs;
           r.coverageIoU = e.coverageIoU;
@@ -307,23 +287,18 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
         placed += share;
       }
       const scene::Scene sf = eval::restrictToFixedLimits(s);
-      auto f = renderFrames(s, render::RenderPath::kCel, frame0, opt.reps);
-      if (!f) return f.error();
-      auto fillFloor = renderFrames(s, render::RenderPath::kCel, frame0, opt.reps, true);
-      if (!fillFloor) return fillFloor.error();
-      auto ff = renderFrames(sf, render::RenderPath::kFixed, frame0, opt.reps);
-      if (!ff) return ff.error();
+      PUFF_TRY_ASSIGN(auto f, renderFrames(s, render::RenderPath::kCel, frame0, opt.reps));
+      PUFF_TRY_ASSIGN(auto fillFloor, renderFrames(s, render::RenderPath::kCel, frame0, opt.reps, true));
+      PUFF_TRY_ASSIGN(auto ff, renderFrames(sf, render::RenderPath::kFixed, frame0, opt.reps));
       const bool measureError = n <= opt.referenceLimit;
       Frames ref, refFixed;
       if (measureError) {
-        auto r = renderFrames(s, render::RenderPath::kReference, frame0, 0);
-        if (!r) return r.error();
-        ref = std::move(*r);
-        auto rf = renderFrames(sf, render::RenderPath::kReference, frame0, 0);
-        if (!rf) return rf.error();
-        refFixed = std::move(*rf);
+        PUFF_TRY_ASSIGN(auto r, renderFrames(s, render::RenderPath::kReference, frame0, 0));
+        ref = std::move(r);
+        PUFF_TRY_ASSIGN(auto rf, renderFrames(sf, render::RenderPath::kReference, frame0, 0));
+        refFixed = std::move(rf);
       }
-      addCountRows("count", static_cast<double>(n), std::to_string(n), *f, *ff, fillFloor->ms,
+      addCountRows("count", static_cast<double>(n), std::to_string(n), f, ff, fillFloor.ms,
                    measureError ? &ref : nullptr, measureError ? &refFixed : nullptr);
       if (measureError) full = FullModel{s, n, std::move(ref), std::move(refFixed)};
       log("cloud-50k: " + std::to_string(n) + " particles" + (measureError ? "" : " (no reference: above the limit)"),
@@ -336,16 +311,14 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
         const auto t1 = Clock::now();
         scene::Scene s = full->scene;
         s.particleFraction = f;
-        auto cel = renderFrames(s, render::RenderPath::kCel, std::vector<int>{0}, opt.reps);
-        if (!cel) return cel.error();
+        PUFF_TRY_ASSIGN(auto cel, renderFrames(s, render::RenderPath::kCel, std::vector<int>{0}, opt.reps));
         auto fixed =
             renderFrames(eval::restrictToFixedLimits(s), render::RenderPath::kFixed, std::vector<int>{0}, opt.reps);
         if (!fixed) return fixed.error();
-        auto floor = renderFrames(s, render::RenderPath::kCel, std::vector<int>{0}, opt.reps, true);
-        if (!floor) return floor.error();
+        PUFF_TRY_ASSIGN(auto floor, renderFrames(s, render::RenderPath::kCel, std::vector<int>{0}, opt.reps, true));
         char label[64];
         std::snprintf(label, sizeof label, "1/%d of %zu", static_cast<int>(std::lround(1.0 / f)), full->count);
-        addCountRows("fraction", f, label, *cel, *fixed, floor->ms, &full->ref, &full->refFixed);
+        addCountRows("fraction", f, label, cel, *fixed, floor.ms, &full->ref, &full->refFixed);
         log(std::string("cloud-50k: ") + label + " particles, each larger", t1);
       }
     }

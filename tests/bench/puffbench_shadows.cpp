@@ -35,9 +35,8 @@ namespace {
 // A configuration's frames in display values (standard view), as the cel budget compares them.
 Result<Frames> render(const scene::Scene& scene, render::RenderPath path, std::span<const int> frames, int reps,
                       bool fillRateFloor = false) {
-  auto f = renderFrames(scene, path, frames, reps, fillRateFloor);
-  if (!f) return f.error();
-  for (core::Image& im : f->images) im = core::viewTransform(im, core::ViewTransform::kStandard);
+  PUFF_TRY_ASSIGN(auto f, renderFrames(scene, path, frames, reps, fillRateFloor));
+  for (core::Image& im : f.images) im = core::viewTransform(im, core::ViewTransform::kStandard);
   return f;
 }
 
@@ -61,9 +60,10 @@ Result<std::vector<ShadowRow>> runShadowBench(const CelBenchOptions& opt, std::s
   for (const std::string& name : scenes) {
     const auto t0 = Clock::now();
     const bool cloud10k = name == "cloud-10k";
-    auto loaded = scene::loadScene(opt.sceneDir / ((cloud10k ? std::string("cloud-50k") : name) + ".json"), opt.artDir);
-    if (!loaded) return loaded.error();
-    scene::Scene scene = *loaded;
+    PUFF_TRY_ASSIGN(
+        auto loaded,
+        scene::loadScene(opt.sceneDir / ((cloud10k ? std::string("cloud-50k") : name) + ".json"), opt.artDir));
+    scene::Scene scene = loaded;
     if (scene.atlas.empty()) return Error{name + ": not a cel scene (no atlas)"};
     scene.width = opt.width;
     scene.height = opt.height;
@@ -80,14 +80,10 @@ Result<std::vector<ShadowRow>> runShadowBench(const CelBenchOptions& opt, std::s
     const std::vector<int> frames = eval::budgetFrames(0, scene.animation.frames - 1);
     scene::Scene unshadowedScene = scene;
     unshadowedScene.style.shadows = false;
-    auto ref = render(scene, render::RenderPath::kReference, frames, 0);
-    if (!ref) return ref.error();
-    auto refNoShadow = render(unshadowedScene, render::RenderPath::kReference, frames, 0);
-    if (!refNoShadow) return refNoShadow.error();
-    auto noShadow = render(unshadowedScene, render::RenderPath::kCel, frames, opt.reps);
-    if (!noShadow) return noShadow.error();
-    auto floor = render(scene, render::RenderPath::kCel, frames, opt.reps, true);
-    if (!floor) return floor.error();
+    PUFF_TRY_ASSIGN(auto ref, render(scene, render::RenderPath::kReference, frames, 0));
+    PUFF_TRY_ASSIGN(auto refNoShadow, render(unshadowedScene, render::RenderPath::kReference, frames, 0));
+    PUFF_TRY_ASSIGN(auto noShadow, render(unshadowedScene, render::RenderPath::kCel, frames, opt.reps));
+    PUFF_TRY_ASSIGN(auto floor, render(scene, render::RenderPath::kCel, frames, opt.reps, true));
     std::fprintf(stderr, "puffbench: %s: reference and floors (%.1f s)\n", name.c_str(),
                  std::chrono::duration<double>(Clock::now() - t0).count());
 
@@ -96,27 +92,26 @@ Result<std::vector<ShadowRow>> runShadowBench(const CelBenchOptions& opt, std::s
       scene::Scene s = scene;
       s.style.shadowMethod = method;
       s.style.shadowMapScale = mapScale;
-      auto f = render(s, render::RenderPath::kCel, frames, opt.reps);
-      if (!f) return f.error();
+      PUFF_TRY_ASSIGN(auto f, render(s, render::RenderPath::kCel, frames, opt.reps));
       ShadowRow r;
       r.scene = name;
       r.method = std::string(cel::toString(method));
       r.mapScale = method == cel::ShadowMethod::kMap ? mapScale : 0.0f;
-      r.particles = f->particles;
+      r.particles = f.particles;
       r.width = opt.width;
       r.height = opt.height;
-      r.ms = f->ms;
-      r.floorMs = floor->ms;
-      r.noShadowMs = noShadow->ms;
+      r.ms = f.ms;
+      r.floorMs = floor.ms;
+      r.noShadowMs = noShadow.ms;
       r.shadowIoU = 1.0;
       for (std::size_t i = 0; i < frames.size(); ++i) {
-        const std::vector<bool> mine = shadowMask(f->images[i], noShadow->images[i]);
-        const std::vector<bool> exact = shadowMask(ref->images[i], refNoShadow->images[i]);
+        const std::vector<bool> mine = shadowMask(f.images[i], noShadow.images[i]);
+        const std::vector<bool> exact = shadowMask(ref.images[i], refNoShadow.images[i]);
         r.shadowIoU = std::min(r.shadowIoU, reference::maskIoU(mine, exact));
         std::size_t n = 0;
         for (bool b : exact) n += b;
         r.referenceShadowFraction = std::max(r.referenceShadowFraction, static_cast<double>(n) / exact.size());
-        r.rmse = std::max(r.rmse, reference::imageError(f->images[i], ref->images[i]).rmse);
+        r.rmse = std::max(r.rmse, reference::imageError(f.images[i], ref.images[i]).rmse);
       }
       rows.push_back(r);
       std::fprintf(stderr, "puffbench: %s: %s%s (%.1f s)\n", name.c_str(), r.method.c_str(),

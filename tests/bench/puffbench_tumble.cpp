@@ -72,56 +72,51 @@ Result<std::vector<TumbleRow>> runTumbleBench(const TumbleBenchOptions& opt) {
   std::vector<fs::path> meshes;
   for (const char* m : {"variation-1.obj", "variation-2.ply", "variation-3.off", "variation-4.stl"})
     meshes.push_back(opt.puffDir / m);
-  auto sources = bake::loadSources(meshes, std::nullopt);
-  if (!sources) return sources.error();
+  PUFF_TRY_ASSIGN(auto sources, bake::loadSources(meshes, std::nullopt));
 
   eval::TumbleOptions tumble;
   tumble.stepDegrees = opt.stepDegrees;
   std::optional<eval::TumbleReference> reference;
   std::vector<TumbleRow> rows;
   for (const TumbleAtlas& a : opt.atlases) {
-    auto layout = layoutOf(a.layout);
-    if (!layout) return layout.error();
+    PUFF_TRY_ASSIGN(auto layout, layoutOf(a.layout));
     for (int cell : opt.cellSizes) {
       const std::string name = a.layout + std::to_string(a.grid) + "-" + std::to_string(cell);
       bake::BakeOptions o;
       o.cellSize = cell;
       o.viewGrid = a.grid;
-      o.viewLayout = *layout;
+      o.viewLayout = layout;
       o.outDir = work / name;
       o.contactSheet = false;
-      auto baked = bake::bakeAtlas(*sources, o);
-      if (!baked) return baked.error();
+      PUFF_TRY_ASSIGN(auto baked, bake::bakeAtlas(sources, o));
       log(name + ": baked");
       if (!reference) {
         // The reference turns the source meshes the sidecar names: the same for every atlas here.
-        auto r = eval::renderTumbleReference(baked->sidecar, tumble);
-        if (!r) return r.error();
-        reference = std::move(*r);
+        PUFF_TRY_ASSIGN(auto r, eval::renderTumbleReference(baked.sidecar, tumble));
+        reference = std::move(r);
         log("the reference of " + std::to_string(eval::tumblePoses(tumble.stepDegrees).size()) + " poses, " +
             std::to_string(reference->rolls.size()) + " frames");
       }
       for (cel::TumbleMethod method : {cel::TumbleMethod::kHull, cel::TumbleMethod::kBlend}) {
         double ms = 0.0;
-        auto result = eval::measureTumble(baked->sidecar, *reference, method, &ms);
-        if (!result) return result.error();
+        PUFF_TRY_ASSIGN(auto result, eval::measureTumble(baked.sidecar, *reference, method, &ms));
         TumbleRow r;
         r.layout = a.layout;
         r.method = std::string(cel::toString(method));
         r.grid = a.grid;
         r.views = a.grid * a.grid;
         r.cellSize = cell;
-        r.atlasBytes = core::atlasTextureBytes(baked->desc);
-        r.poses = result->poses.size();
-        r.minCoverageIoU = result->minCoverageIoU;
-        r.meanCoverageIoU = result->meanCoverageIoU;
-        r.minOutlineIoU = result->minOutlineIoU;
-        r.meanOutlineIoU = result->meanOutlineIoU;
+        r.atlasBytes = core::atlasTextureBytes(baked.desc);
+        r.poses = result.poses.size();
+        r.minCoverageIoU = result.minCoverageIoU;
+        r.meanCoverageIoU = result.meanCoverageIoU;
+        r.minOutlineIoU = result.minOutlineIoU;
+        r.meanOutlineIoU = result.meanOutlineIoU;
         std::size_t coverageOk = 0, outlineOk = 0;
         const eval::TumblePose* worst = nullptr;
         double extra = 0.0, missing = 0.0, bodyExtra = 0.0, bodyMissing = 0.0, bodyMin = 1.0;
         std::size_t bodyOk = 0;
-        for (const eval::TumblePose& p : result->poses) {
+        for (const eval::TumblePose& p : result.poses) {
           coverageOk += p.coverageIoU >= 0.95;
           outlineOk += p.outlineIoU >= 0.5;
           if (!worst || p.coverageIoU < worst->coverageIoU) worst = &p;
@@ -137,7 +132,7 @@ Result<std::vector<TumbleRow>> runTumbleBench(const TumbleBenchOptions& opt) {
         if (worst) {
           // Whether the puffs are drawn too large or too small: the mean over the poses, and the
           // worst pose's (fractions of the reference's pixels).
-          const double n = static_cast<double>(result->poses.size());
+          const double n = static_cast<double>(result.poses.size());
           char line[384];
           std::snprintf(line, sizeof line,
                         "%s: coverage extra / missing mean %.4f / %.4f; without outlines %.4f / %.4f, IoU min %.4f "

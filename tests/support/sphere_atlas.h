@@ -1,5 +1,5 @@
-// A one-variation atlas of the unit sphere, baked in-process for tests that need analytic shapes:
-// its silhouette is a circle, its depth map sqrt(1/4 - r^2) diameters.
+// The sphere atlas (sphere_bake.h) shared by a suite: the build bakes it once
+// (bake_sphere_atlas.cpp, into PUFF_TEST_SPHERE_ATLAS_DIR) and each suite copies it.
 #pragma once
 
 #include <filesystem>
@@ -7,38 +7,17 @@
 #include <optional>
 #include <utility>
 
-#include <puff/bake/baker.h>
 #include <puff/core/atlas.h>
-#include <puff/mesh/mesh.h>
 
 #include "support/assert_ok.h"
 #include "support/gl_fixture.h"
+#include "support/sphere_bake.h"
 #include "support/temp_dir.h"
 
 namespace puff::test {
 
-/// Bakes into `dir` (128-texel cells, a 4-texel flange, no contact sheet; `viewGrid` x `viewGrid`
-/// views laid out by `layout`) and returns the sidecar.
-inline Result<std::filesystem::path> bakeSphereAtlas(const std::filesystem::path& dir, int viewGrid = 1,
-                                                     bake::ViewLayout layout = bake::BakeOptions{}.viewLayout) {
-  bake::BakeOptions o;
-  o.cellSize = 128;
-  o.flange = {4.0f, false};
-  o.viewGrid = viewGrid;
-  o.viewLayout = layout;
-  o.outDir = dir;
-  o.contactSheet = false;
-  bake::PuffSource src;
-  src.mesh = mesh::generateSphere({6});
-  src.provenance.generator = "sphere";
-  src.provenance.params = {{"subdivisions", 6}};  // what the cel reference regenerates it from
-  auto r = bake::bakeAtlas({src}, o);
-  if (!r) return r.error();
-  return r->sidecar;
-}
-
-/// A suite of GL tests sharing one sphere atlas (bakeSphereAtlas), baked into a scratch directory
-/// when the suite starts and removed with it when the suite ends: dir_ (the tests may write there
+/// A suite of GL tests sharing one sphere atlas (bakeSphereAtlas), copied from the build's into a
+/// scratch directory when the suite starts and removed with it when the suite ends: dir_ (the tests may write there
 /// too) and sidecar_; atlas_ too where the suite's SetUpTestSuite calls setUpSphereAtlas(true).
 /// The shared GL context stays for the next suite.
 class SphereAtlasTest : public GlTest {
@@ -49,14 +28,17 @@ class SphereAtlasTest : public GlTest {
     scratch_.reset();
   }
 
-  /// Makes the context, bakes the atlas and, with `load`, loads it into atlas_.
+  /// Makes the context, copies the build's atlas and, with `load`, loads it into atlas_.
   static void setUpSphereAtlas(bool load) {
     GlTest::SetUpTestSuite();
     scratch_.emplace("puff_sphere_atlas");
     dir_ = scratch_->path();
-    auto sidecar = bakeSphereAtlas(dir_);
-    ASSERT_OK(sidecar);
-    sidecar_ = *sidecar;
+    const std::filesystem::path built = PUFF_TEST_SPHERE_ATLAS_DIR;
+    std::error_code error;
+    std::filesystem::copy(built, dir_, std::filesystem::copy_options::recursive, error);
+    ASSERT_FALSE(error) << "copying the sphere atlas from " << built << ": " << error.message();
+    sidecar_ = dir_ / (bake::BakeOptions{}.name + ".json");
+    ASSERT_TRUE(std::filesystem::is_regular_file(sidecar_)) << sidecar_ << " (tests/support/bake_sphere_atlas.cpp)";
     if (!load) return;
     auto atlas = core::loadAtlas(sidecar_);
     ASSERT_OK(atlas);

@@ -341,7 +341,7 @@ TEST(RigidBodies, SmokeIsKeptOutOfASpinningFallingBox) {
     const Scene s = scene(collide);
     auto geometry = loadGeometry(s);
     ASSERT_OK(geometry);
-    auto e = FrameEvaluator::create(s, *geometry, 1, false);
+    auto e = FrameEvaluator::create(s, *geometry, 1, MediaEvaluation::kSkip);
     ASSERT_OK(e);
     for (int f = 0; f <= 24; ++f) {
       const FrameInputs in = (*e)->evaluate(f);

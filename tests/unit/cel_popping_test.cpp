@@ -46,7 +46,7 @@ TEST(CelPopping, PuffsGrowInInsteadOfAppearingAtFullSize) {
   ASSERT_TRUE(scene->simulation.has_value());
   auto geometry = scene::loadGeometry(*scene);
   ASSERT_OK(geometry);
-  auto evaluator = scene::FrameEvaluator::create(*scene, *geometry, 1, false);
+  auto evaluator = scene::FrameEvaluator::create(*scene, *geometry, 1, scene::MediaEvaluation::kSkip);
   ASSERT_OK(evaluator);
   auto settings = scene::simulationSettings(*scene, *geometry);
   ASSERT_OK(settings);

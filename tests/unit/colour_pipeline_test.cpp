@@ -454,11 +454,10 @@ TEST_F(ColourFixedPath, TheFixedPathsFrameIsSceneLinear) {
 // 8-bit values (the puff texture's texel and the frame's): within 2.5 / 255.
 TEST_F(ColourFixedPath, AColourCurveOverLifeTintsThePuff) {
   test::ScopedTempDir dir("puff_tint_fixed");
-  auto sidecar = test::bakeSphereAtlas(dir.path());
-  ASSERT_OK(sidecar);
+  const std::filesystem::path sidecar = std::filesystem::path(PUFF_TEST_SPHERE_ATLAS_DIR) / "puff.json";  // read only
   // The fixed path draws the puff mesh itself (the sphere the atlas was baked from).
   ASSERT_OK(mesh::saveMesh(mesh::generateSphere({6}), dir.path() / "sphere.ply", mesh::SaveNormals::kYes));
-  nlohmann::json j = tintedPuffScene(*sidecar);
+  nlohmann::json j = tintedPuffScene(sidecar);
   j["fixed"] = {{"puff", (dir.path() / "sphere.ply").string()}};
   auto scene = scene::parseScene(j, dir.path() / "tinted.json");
   ASSERT_OK(scene);

@@ -39,7 +39,8 @@ Scene parsed(const char* text = kScene) {
   return s.ok() ? *s : Scene{};
 }
 
-std::unique_ptr<FrameEvaluator> evaluator(const Scene& s, int variations = 4, bool media = true) {
+std::unique_ptr<FrameEvaluator> evaluator(const Scene& s, int variations = 4,
+                                          MediaEvaluation media = MediaEvaluation::kEvaluate) {
   auto geometry = loadGeometry(s);
   EXPECT_TRUE(geometry.ok());
   auto e = FrameEvaluator::create(s, *geometry, variations, media);
@@ -85,7 +86,7 @@ TEST(FrameEvaluator, EvaluatesEverySourceOfParticlesWithoutAContext) {
 
 TEST(FrameEvaluator, WithoutAnAtlasOrMediaItEvaluatesNeither) {
   const Scene s = parsed();
-  auto e = evaluator(s, /*variations=*/0, /*media=*/false);
+  auto e = evaluator(s, /*variations=*/0, MediaEvaluation::kSkip);
   ASSERT_TRUE(e);
   const FrameInputs in = e->evaluate(24);
   EXPECT_TRUE(in.particles.empty());
@@ -122,7 +123,7 @@ TEST(FrameEvaluator, FramesAreTheSameOnAnyNumberOfThreads) {
   ASSERT_TRUE(geometry.ok());
   std::vector<std::unique_ptr<FrameEvaluator>> evaluators;
   for (int threads : {1, 2, 3, 8}) {
-    auto e = FrameEvaluator::create(s, *geometry, 4, true, threads);
+    auto e = FrameEvaluator::create(s, *geometry, 4, MediaEvaluation::kEvaluate, threads);
     ASSERT_TRUE(e.ok()) << e.error().message;
     evaluators.push_back(std::move(*e));
   }

@@ -1,4 +1,4 @@
-// Media in the host's frame (media::Layers::createForHost). The host keeps its
+// Media in the host's frame (media::HostLayers). The host keeps its
 // framebuffer, its colour and its depth in its own convention; Puff reads the depth texture and
 // blends the media layer and the explosion light onto the host's colour:
 //  - core::linearFromStored against closed forms, and as storedDepth's inverse, in every convention;
@@ -9,7 +9,7 @@
 //  - composeOver against closed forms (a wall clipping a smoke sphere's chord, sky behind it) and
 //    against Puff's own linear path (Layers::create, compose) over the same scene, with explosion
 //    lights, at full and half resolution, in every convention;
-//  - its errors: shimmer, Puff's own layers.
+//  - its errors: host_layers_errors_test.cpp.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -187,10 +187,9 @@ class HostMedia : public MediaRendererTest {
     target.bindAndClear(kSky, cel::clearDepth(c.depth));
     glViewport(ox, oy, kSize, kSize);
     drawScene(c, c.depth == DepthConvention::kLinear);
-    auto layers = media::Layers::createForHost(kSize, kSize, scale);
+    auto layers = media::HostLayers::create(kSize, kSize, scale);
     EXPECT_OK(layers);
     if (!layers) return {};
-    EXPECT_EQ((*layers)->opaqueFramebuffer(), 0u);
     media::HostDepth depth;
     depth.texture = target.depthTexture();
     depth.space = spaceFor(c);
@@ -205,7 +204,7 @@ class HostMedia : public MediaRendererTest {
     const media::Frame f = mediaFrame(c);
     (*layers)->beginMedia();
     renderer_->draw((*layers)->layerFrame(f), particles, media::Method::kSpherical, (*layers)->mediaDepth());
-    const int vp[4] = {ox, oy, kSize, kSize};
+    const core::Viewport vp{ox, oy, kSize, kSize};
     EXPECT_OK((*layers)->composeOver(target.framebuffer(), vp, f, lights, {}));
     EXPECT_EQ(core::drainGlErrors(), "");
     return target.readLinear();
@@ -235,7 +234,7 @@ class HostMedia : public MediaRendererTest {
     (*layers)->beginMedia();
     renderer_->draw((*layers)->layerFrame(f), particles, media::Method::kSpherical, (*layers)->mediaDepth());
     HostTarget out(kSize, GL_DEPTH24_STENCIL8);
-    const int vp[4] = {0, 0, kSize, kSize};
+    const core::Viewport vp{0, 0, kSize, kSize};
     (*layers)->compose(out.framebuffer(), vp, f, lights, {});
     EXPECT_EQ(core::drainGlErrors(), "");
     return out.readLinear();
@@ -328,7 +327,7 @@ TEST_F(HostMedia, AMultisampledHostDepthKeepsTheNearestSample) {
   glViewport(0, 0, kSize, kSize);
   glClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
   drawScene(c, false);
-  auto layers = media::Layers::createForHost(kSize, kSize, 0.25f);
+  auto layers = media::HostLayers::create(kSize, kSize, 0.25f);
   ASSERT_OK(layers);
   media::HostDepth depth;
   depth.texture = ms.depth.get();
@@ -569,7 +568,7 @@ TEST_F(HostMedia, EverySampleOfAMultisampledDepthIsRead) {
     const MultisampleTarget ms(samples);
     ASSERT_TRUE(ms.complete());
     const GLuint fbo = ms.fbo.get();
-    auto layers = media::Layers::createForHost(kSize, kSize, 1.0f);
+    auto layers = media::HostLayers::create(kSize, kSize, 1.0f);
     ASSERT_OK(layers);
     for (int k = 0; k < samples; ++k) {
       glBindFramebuffer(GL_FRAMEBUFFER, fbo);
@@ -661,7 +660,7 @@ TEST_F(HostMedia, TheClearedFarPlaneIsNoSurfaceAndNoLightTouchesIt) {
   for (const Case& c : cases) {
     HostTarget target(kSize, c.format);
     target.bindAndClear(kSky, cel::clearDepth(c.space.convention));
-    auto layers = media::Layers::createForHost(kSize, kSize, 0.5f);
+    auto layers = media::HostLayers::create(kSize, kSize, 0.5f);
     ASSERT_OK(layers);
     media::HostDepth depth;
     depth.texture = target.depthTexture();
@@ -677,106 +676,13 @@ TEST_F(HostMedia, TheClearedFarPlaneIsNoSurfaceAndNoLightTouchesIt) {
     light.center = {0, 0, -5};
     light.radius = 4.0f;
     (*layers)->beginMedia();
-    const int vp[4] = {0, 0, kSize, kSize};
+    const core::Viewport vp{0, 0, kSize, kSize};
     ASSERT_OK((*layers)->composeOver(target.framebuffer(), vp, fr, std::span(&light, 1), {}));
     const auto px = target.readLinear();
     int lit = 0;
     for (const glm::vec4& p : px) lit += std::abs(p.r - px[0].r) > 1e-4f || std::abs(p.r - kSky.r) > 1e-3f;
     EXPECT_EQ(lit, 0);
   }
-}
-
-TEST_F(HostMedia, ResolveHostDepthRefusesWhatItCannotRead) {
-  auto layers = media::Layers::createForHost(32, 32, 1.0f);
-  ASSERT_OK(layers);
-  const auto refuse = [&](const media::HostDepth& d, const std::string& words) {
-    auto r = (*layers)->resolveHostDepth(d);
-    ASSERT_FALSE(r.ok()) << words;
-    EXPECT_NE(r.error().message.find(words), std::string::npos) << r.error().message;
-  };
-  media::HostDepth d;
-  d.space = spaceFor(kStandardNO);
-  refuse(d, "is not a texture");
-  core::Texture color = core::makeTexture(GL_TEXTURE_2D);
-  glTextureStorage2D(color.get(), 1, GL_RGBA32F, 32, 32);
-  d.texture = color.get();
-  refuse(d, "does not hold depth");
-  core::Texture cube = core::makeTexture(GL_TEXTURE_CUBE_MAP);
-  glTextureStorage2D(cube.get(), 1, GL_DEPTH_COMPONENT24, 32, 32);
-  d.texture = cube.get();
-  refuse(d, "not a 2D or 2D multisample texture");
-  core::Texture depth = core::makeTexture(GL_TEXTURE_2D);
-  glTextureStorage2D(depth.get(), 1, GL_DEPTH24_STENCIL8, 40, 32);
-  d.texture = depth.get();
-  d.x = 9;  // 9 + 32 > 40
-  refuse(d, "does not fit in it");
-  d.x = 8;
-  EXPECT_OK((*layers)->resolveHostDepth(d));
-  glTextureParameteri(depth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_STENCIL_INDEX);
-  refuse(d, "GL_DEPTH_STENCIL_TEXTURE_MODE");
-  glTextureParameteri(depth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
-  glTextureParameteri(depth.get(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-  refuse(d, "GL_TEXTURE_COMPARE_MODE");
-  glTextureParameteri(depth.get(), GL_TEXTURE_COMPARE_MODE, GL_NONE);
-  d.space.farPlane = d.space.nearPlane;
-  refuse(d, "need 0 < near < far");
-  d.space = spaceFor(kStandardNO);
-  auto own = media::Layers::create(32, 32, 1, 1.0f);
-  ASSERT_OK(own);
-  auto r = (*own)->resolveHostDepth(d);
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("use resolveOpaque"), std::string::npos) << r.error().message;
-  EXPECT_EQ(core::drainGlErrors(), "");
-}
-
-TEST_F(HostMedia, ComposeOverRefusesWhatItCannotDo) {
-  auto host = media::Layers::createForHost(16, 16, 1.0f);
-  ASSERT_OK(host);
-  EXPECT_TRUE((*host)->forHost());
-  const media::Frame f = MediaCamera{}.frame(16);
-  const int vp[4] = {0, 0, 16, 16};
-  media::ComposeSettings shimmer;
-  shimmer.shimmerPixels = 2.0f;
-  auto r = (*host)->composeOver(0, vp, f, {}, shimmer);
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("heat shimmer"), std::string::npos) << r.error().message;
-  const int wrong[4] = {0, 0, 15, 16};
-  r = (*host)->composeOver(0, wrong, f, {}, {});
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("15x16"), std::string::npos) << r.error().message;
-  const int wrongHeight[4] = {0, 0, 16, 17};
-  r = (*host)->composeOver(0, wrongHeight, f, {}, {});
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("16x17"), std::string::npos) << r.error().message;
-  // Nine lights that shine: at most 8 (intensity 0 does not count).
-  std::vector<media::ExplosionLight> nine(9);
-  r = (*host)->composeOver(0, vp, f, nine, {});
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("9 explosion lights, at most 8"), std::string::npos) << r.error().message;
-  nine[8].intensity = 0.0f;
-  EXPECT_OK((*host)->composeOver(0, vp, f, nine, {}));
-  // A target with two draw buffers: dual-source blending writes one.
-  core::Framebuffer two = core::makeFramebuffer();
-  core::Texture c0 = core::makeTexture(GL_TEXTURE_2D), c1 = core::makeTexture(GL_TEXTURE_2D);
-  glTextureStorage2D(c0.get(), 1, GL_RGBA16F, 16, 16);
-  glTextureStorage2D(c1.get(), 1, GL_RGBA16F, 16, 16);
-  glNamedFramebufferTexture(two.get(), GL_COLOR_ATTACHMENT0, c0.get(), 0);
-  glNamedFramebufferTexture(two.get(), GL_COLOR_ATTACHMENT1, c1.get(), 0);
-  const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glNamedFramebufferDrawBuffers(two.get(), 2, both);
-  r = (*host)->composeOver(two.get(), vp, f, {}, {});
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("dual-source blending allows"), std::string::npos) << r.error().message;
-  glNamedFramebufferDrawBuffer(two.get(), GL_COLOR_ATTACHMENT0);
-  EXPECT_OK((*host)->composeOver(two.get(), vp, f, {}, {}));
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  auto own = media::Layers::create(16, 16, 1, 1.0f);
-  ASSERT_OK(own);
-  EXPECT_FALSE((*own)->forHost());
-  r = (*own)->composeOver(0, vp, f, {}, {});
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("use compose"), std::string::npos) << r.error().message;
-  EXPECT_EQ(core::drainGlErrors(), "");
 }
 
 }  // namespace

@@ -119,7 +119,7 @@ FrameInputs evaluate(const std::string& text, int frame) {
   const Scene s = parsed(text);
   auto geometry = loadGeometry(s);
   EXPECT_TRUE(geometry.ok());
-  auto e = FrameEvaluator::create(s, *geometry, 4, true);
+  auto e = FrameEvaluator::create(s, *geometry, 4);
   EXPECT_TRUE(e.ok()) << (e.ok() ? "" : e.error().message);
   return e.ok() ? (*e)->evaluate(frame) : FrameInputs{};
 }
@@ -217,8 +217,8 @@ TEST(LifeCurves, FramesWithCurvesArePureFunctionsOfTheFrameNumber) {
   const Scene s = parsed(text);
   auto geometry = loadGeometry(s);
   ASSERT_TRUE(geometry.ok());
-  auto sequence = FrameEvaluator::create(s, *geometry, 4, true);
-  auto alone = FrameEvaluator::create(s, *geometry, 4, true);
+  auto sequence = FrameEvaluator::create(s, *geometry, 4);
+  auto alone = FrameEvaluator::create(s, *geometry, 4);
   ASSERT_TRUE(sequence.ok() && alone.ok());
   FrameInputs last;
   for (int f = 0; f <= 20; ++f) last = (*sequence)->evaluate(f);

@@ -39,8 +39,7 @@ Result<bake::BakeReport> bakeLumpy(const fs::path& dir, bool lod, bake::MapForma
   gen.kind = "lumpy";
   gen.lumpy.subdivisions = 4;
   gen.count = 2;
-  auto sources = bake::loadSources({}, gen);
-  if (!sources) return sources.error();
+  PUFF_TRY_ASSIGN(auto sources, bake::loadSources({}, gen));
   bake::BakeOptions o;
   o.cellSize = 32;
   o.lodAuto = lod;
@@ -48,7 +47,7 @@ Result<bake::BakeReport> bakeLumpy(const fs::path& dir, bool lod, bake::MapForma
   o.viewGrid = viewGrid;
   o.contactSheet = false;
   o.outDir = dir;
-  return bake::bakeAtlas(*sources, o);
+  return bake::bakeAtlas(sources, o);
 }
 
 // The (compatibility) context both the bake and the fixed path draw in.

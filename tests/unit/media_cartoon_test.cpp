@@ -102,10 +102,10 @@ class CartoonKit {
       glDisable(GL_SCISSOR_TEST);
     }
     layers->resolveOpaque();
-    layers->beginMedia(true);
+    layers->beginMedia(media::Style::kCartoon);
     const media::Frame f = camera.frame(kSize);
     renderer->draw(layers->layerFrame(f), particles, media::Method::kSpherical, layers->mediaDepth());
-    const int vp[4] = {0, 0, kSize, kSize};
+    const core::Viewport vp{0, 0, kSize, kSize};
     layers->compose(out.get(), vp, f, {}, media::ComposeSettings{}, &cartoon);
     std::vector<glm::vec4> px(static_cast<std::size_t>(kSize) * kSize);
     glGetTextureImage(color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px.size() * sizeof(glm::vec4)),
@@ -377,6 +377,33 @@ TEST_F(CartoonMedia, ASurfaceCuttingTheMediumIsNotInked) {
   EXPECT_GT(leftInk, 100) << "the medium's own rim keeps its ink";
 }
 
+// A wall well in front of the medium's centre (over the right half) cuts it deep: where the wall
+// leaves it less than the threshold but the medium unclipped is well above it, the cut is whole
+// (cartoonCut's ramp ends at threshold + (1 - threshold) / 2), and there the pixel is the bare
+// wall: no ink, and no antialiased rim of fill, as a surface's own edge is drawn.
+TEST_F(CartoonMedia, WhereASurfaceCutsTheMediumWhollyThePixelIsTheBareSurface) {
+  const media::Settings settings = cartoonSettings(3.0f);
+  CartoonKit kit(settings, 1.0f, {smoke(0.6f)});
+  const media::Particle p = test::sphereAt({0.0f, 0.0f, -6.0f}, 2.0f);
+  const glm::vec3 wall(0.7f, 0.6f, 0.1f);
+  const auto px = kit.draw(std::span(&p, 1), 1.0f, kSize / 2, kSize, kit.camera.linear(4.8f), wall);
+  std::vector<glm::vec4> field(px.size());
+  glGetTextureImage(kit.layers->cartoonField(), 0, GL_RGBA, GL_FLOAT,
+                    static_cast<GLsizei>(field.size() * sizeof(glm::vec4)), field.data());
+  const float theta = settings.cartoon.threshold, whole = theta + 0.5f * (1.0f - theta) + 0.05f;
+  int bare = 0;
+  for (int y = 0; y < kSize; ++y) {
+    for (int x = kSize / 2 + 1; x < kSize; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * kSize + x;
+      if (!(field[i].x < theta && field[i].z > whole)) continue;
+      ++bare;
+      // (The opaque colour is a half float: 0.7 is stored as 0.6997.)
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(px[i][c], wall[c], 1e-3) << x << "," << y << " channel " << c;
+    }
+  }
+  EXPECT_GT(bare, 100);
+}
+
 // Outlines off: no ink anywhere; the fill still ends antialiased at the iso-line (its area the disc's).
 TEST_F(CartoonMedia, WithoutOutlinesTheFillEndsAtTheIsoLineUninked) {
   const media::Settings settings = cartoonSettings(3.0f, false);
@@ -490,10 +517,10 @@ TEST_F(CartoonMedia, RefusedWhereItCannotBeDrawn) {
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().message, "cartoon/fireBands: expected 1 to 8, got 0");
   // A host's frame: composeOver refuses a cartoon layer rather than draw it as photoreal.
-  auto host = media::Layers::createForHost(16, 16, 1.0f);
+  auto host = media::HostLayers::create(16, 16, 1.0f);
   ASSERT_OK(host);
-  (*host)->beginMedia(true);
-  const int vp[4] = {0, 0, 16, 16};
+  (*host)->beginMedia(media::Style::kCartoon);
+  const core::Viewport vp{0, 0, 16, 16};
   auto over = (*host)->composeOver(0, vp, test::MediaCamera{}.frame(16), {}, {});
   ASSERT_FALSE(over);
   EXPECT_NE(over.error().message.find("cartoon style"), std::string::npos) << over.error().message;

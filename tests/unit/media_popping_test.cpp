@@ -43,7 +43,7 @@ TEST_F(MediaPopping, MediaParticlesFadeInInsteadOfAppearingAtFullDensity) {
   const scene::MediaSpec& spec = *scene->media;
   auto geometry = scene::loadGeometry(*scene);
   ASSERT_OK(geometry);
-  auto evaluator = scene::FrameEvaluator::create(*scene, *geometry, 0, true);
+  auto evaluator = scene::FrameEvaluator::create(*scene, *geometry, 0);
   ASSERT_OK(evaluator);
   auto renderer = media::Renderer::create(spec.settings);
   ASSERT_OK(renderer);

@@ -78,12 +78,14 @@ TEST(MediaSortKey, OrthographicPowerDistanceIsTheViewDepth) {
   const glm::mat4 view = turnedView();
   std::vector<media::Particle> ps = {sphereAt(world(view, kCentreA), kRadiusA),
                                      sphereAt(world(view, kCentreB), kRadiusB)};
-  EXPECT_EQ(media::backToFront(view, ps, SortKey::kPowerDistance, true), (std::vector<std::uint32_t>{0, 1}));
+  EXPECT_EQ(media::backToFront(view, ps, SortKey::kPowerDistance, media::Projection::kOrthographic),
+            (std::vector<std::uint32_t>{0, 1}));
   for (int i = 0; i < 500; ++i) {
     ps.push_back(sphereAt({static_cast<float>(i % 7), static_cast<float>(i % 5), -static_cast<float>(i % 23)},
                           0.1f + static_cast<float>(i % 11)));
   }
-  EXPECT_EQ(media::backToFront(view, ps, SortKey::kPowerDistance, true), media::backToFront(view, ps));
+  EXPECT_EQ(media::backToFront(view, ps, SortKey::kPowerDistance, media::Projection::kOrthographic),
+            media::backToFront(view, ps));
 }
 
 // The keys backToFront promises (ascending = farthest first), for a stable sort to compare with.

@@ -216,11 +216,9 @@ class TumbleCases : public TumbleBase {
   }
 
   static Result<core::Image> render(const nlohmann::json& j) {
-    auto scene = scene::parseScene(j, dir_ / "case.json");
-    if (!scene) return scene.error();
-    auto r = render::SceneRenderer::create(*scene);
-    if (!r) return r.error();
-    return (*r)->renderFrame(0);
+    PUFF_TRY_ASSIGN(auto scene, scene::parseScene(j, dir_ / "case.json"));
+    PUFF_TRY_ASSIGN(auto r, render::SceneRenderer::create(scene));
+    return (r)->renderFrame(0);
   }
 
   static nlohmann::json puff(int variation, glm::vec3 axis, float degrees) {

@@ -153,14 +153,14 @@ struct ViewRenderer {
   std::vector<glm::vec3> viewDirs;
 
   Result<void> create() {
-    PUFF_TRY_ASSIGN(rasterizer, PuffRasterizer::create(o.cellSize * g.supersample, g.views > 1));
+    PUFF_TRY_ASSIGN(rasterizer, PuffRasterizer::create(o.cellSize * g.supersample,
+                                                       g.views > 1 ? RasterSides::kFrontAndBack : RasterSides::kFront));
     // --lod auto rasterizes a mesh a dozen times or more; two samples per texel side still place
     // silhouettes to a quarter texel, and cost a quarter of four.
     lodSupersample = std::min(g.supersample, 2);
     if (o.lodAuto && lodSupersample != g.supersample) {
-      auto lod = PuffRasterizer::create(o.cellSize * lodSupersample);
-      if (!lod) return lod.error();
-      lodRasterizer = std::move(*lod);
+      PUFF_TRY_ASSIGN(auto lod, PuffRasterizer::create(o.cellSize * lodSupersample));
+      lodRasterizer = std::move(lod);
     }
     viewDirs.resize(static_cast<std::size_t>(g.views));
     for (int v = 0; v < g.views; ++v)
@@ -267,11 +267,10 @@ struct AtlasBake {
       const fs::path staged = tx.stage(o.outDir / mapFileName(o.name, map, level, ext));
       PUFF_TRY(core::writeImage(staged, img, type, {{"puff:map", map}, {"puff:level", std::to_string(level)}},
                                 o.outDir / mapFileName(o.name, map, level, ext)));
-      auto target = tx.nameByContent(staged);
-      if (!target) return target.error();
-      desc.maps[key].levels.push_back(target->filename().string());
-      result.files.push_back(*target);
-      contentNamed.push_back(*target);
+      PUFF_TRY_ASSIGN(auto target, tx.nameByContent(staged));
+      desc.maps[key].levels.push_back(target.filename().string());
+      result.files.push_back(target);
+      contentNamed.push_back(target);
       report("writing", ++written, totalFiles);
       return {};
     };
@@ -287,12 +286,11 @@ struct AtlasBake {
     for (std::size_t var = 0; var < lodMeshes.size(); ++var) {
       const fs::path staged = tx.stage(o.outDir / lodFileName(o.name, static_cast<int>(var)));
       PUFF_TRY(mesh::saveMesh(lodMeshes[var], staged, mesh::SaveNormals::kYes));
-      auto target = tx.nameByContent(staged);
-      if (!target) return target.error();
-      desc.sources[var].lodMesh = target->filename().string();
-      result.files.push_back(*target);
-      contentNamed.push_back(*target);
-      result.lodMeshes.push_back(*target);
+      PUFF_TRY_ASSIGN(auto target, tx.nameByContent(staged));
+      desc.sources[var].lodMesh = target.filename().string();
+      result.files.push_back(target);
+      contentNamed.push_back(target);
+      result.lodMeshes.push_back(target);
       report("writing", ++written, totalFiles);
     }
     PUFF_TRY(writeContactSheet(tx, levels[0], [&] { report("writing", ++written, totalFiles); }));
@@ -387,8 +385,7 @@ Result<void> validate(const BakeOptions& o, int variations) {
   if (o.name.empty() || o.name.find('/') != std::string::npos || o.name.front() == '.')
     return Error{"--name must be a plain file prefix (no '/', not starting with '.'), got \"" + o.name + "\""};
   if (variations < 1) return Error{"nothing to bake: give mesh files or --generate"};
-  auto g = planGeometry(o, variations);
-  if (!g) return g.error();
+  PUFF_TRY(planGeometry(o, variations));
   return {};
 }
 
@@ -398,8 +395,7 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
   const int files = static_cast<int>(meshFiles.size());
   for (const fs::path& file : meshFiles) {
     if (progress) progress("loading meshes", static_cast<int>(sources.size()), files);
-    auto bytes = core::readFileBytes(file);
-    if (!bytes) return bytes.error();
+    PUFF_TRY_ASSIGN(auto bytes, core::readFileBytes(file));
     mesh::LoadInfo info;
     Result<mesh::TriMesh> m = Error{};
     try {
@@ -412,7 +408,7 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
     if (!m) return m.error();
     PuffSource s;
     s.provenance.path = file.string();
-    s.provenance.hash = "fnv1a64:" + core::fnv1a64Hex(*bytes);
+    s.provenance.hash = "fnv1a64:" + core::fnv1a64Hex(bytes);
     s.provenance.faces = m->faceCount();
     s.normalsAuthored = info.hadNormals;
     s.separatedFaces = info.separatedFaces;

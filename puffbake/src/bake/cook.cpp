@@ -54,15 +54,13 @@ Result<fs::path> stageImage(core::OutputTransaction& tx, const fs::path& in, con
                             bool byContent) {
   core::ImageFileInfo info;
   // The limits of any image, and the channels a cooked image holds (1 to 4).
-  auto image = core::readImage(in, &info, core::ImageLimits{"a cooked image"});
-  if (!image) return image.error();
+  PUFF_TRY_ASSIGN(auto image, core::readImage(in, &info, core::ImageLimits{"a cooked image"}));
   const fs::path staged = tx.stage(target);
-  PUFF_TRY(core::writeImage(staged, *image, info.type, info.attributes, target));
+  PUFF_TRY(core::writeImage(staged, image, info.type, info.attributes, target));
   fs::path named = target;
   if (byContent) {
-    auto t = tx.nameByContent(staged);
-    if (!t) return t.error();
-    named = *t;
+    PUFF_TRY_ASSIGN(auto t, tx.nameByContent(staged));
+    named = t;
   }
   cooked.files.push_back(named);
   cooked.bytesRead += sizeOf(in);
@@ -80,8 +78,7 @@ bool sameFile(const fs::path& a, const fs::path& b) {
 
 Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
   PUFF_TRY_ASSIGN(json j, core::jsonread::loadJsonFile(sidecar));
-  auto desc = core::atlasFromJson(j, sidecar);
-  if (!desc) return desc.error();
+  PUFF_TRY_ASSIGN(auto desc, core::atlasFromJson(j, sidecar));
   // Every level checked as the runtime will check it (size, channels, finite texels): a cooked
   // atlas is one a game can load, or none is written.
   if (auto atlas = core::loadAtlas(sidecar); !atlas) return atlas.error();
@@ -97,33 +94,29 @@ Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
   Cooked cooked;
   core::OutputTransaction tx;
   PUFF_TRY(tx.prepareDirectory(outDir));
-  for (const auto& [name, map] : desc->maps) {
+  for (const auto& [name, map] : desc.maps) {
     for (std::size_t level = 0; level < map.levels.size(); ++level) {
       const std::string cookedLevel = levelName(stem, name, level);
       const fs::path in = inDir / map.levels[level], out = outDir / cookedLevel;
       if (sameFile(in, out)) return Error::at(in, "would be replaced by its own cooked copy; name another sidecar");
-      auto named = stageImage(tx, in, out, cooked, true);
-      if (!named) return named.error();
-      j["maps"][name]["levels"][level] = named->filename().string();
+      PUFF_TRY_ASSIGN(auto named, stageImage(tx, in, out, cooked, true));
+      j["maps"][name]["levels"][level] = named.filename().string();
     }
   }
-  for (std::size_t i = 0; i < desc->sources.size(); ++i) {
-    if (desc->sources[i].lodMesh.empty()) continue;
-    auto from = core::lodMeshFile(*desc, i, sidecar);
-    if (!from) return from.error();
-    const std::string lod = stem + "_lod" + std::to_string(i) + from->extension().string();
+  for (std::size_t i = 0; i < desc.sources.size(); ++i) {
+    if (desc.sources[i].lodMesh.empty()) continue;
+    PUFF_TRY_ASSIGN(auto from, core::lodMeshFile(desc, i, sidecar));
+    const std::string lod = stem + "_lod" + std::to_string(i) + from.extension().string();
     const fs::path to = outDir / lod;
-    if (sameFile(*from, to)) return Error::at(*from, "would be replaced by its own copy; name another sidecar");
-    auto mesh = core::readFileBytes(*from);
-    if (!mesh) return mesh.error();
+    if (sameFile(from, to)) return Error::at(from, "would be replaced by its own copy; name another sidecar");
+    PUFF_TRY_ASSIGN(auto mesh, core::readFileBytes(from));
     const fs::path staged = tx.stage(to);
-    PUFF_TRY(core::writeFileBytes(staged, *mesh, to));
-    auto named = tx.nameByContent(staged);
-    if (!named) return named.error();
-    j["sources"][i]["lodMesh"] = named->filename().string();
-    cooked.files.push_back(*named);
-    cooked.bytesRead += mesh->size();
-    cooked.bytesWritten += mesh->size();
+    PUFF_TRY(core::writeFileBytes(staged, mesh, to));
+    PUFF_TRY_ASSIGN(auto named, tx.nameByContent(staged));
+    j["sources"][i]["lodMesh"] = named.filename().string();
+    cooked.files.push_back(named);
+    cooked.bytesRead += mesh.size();
+    cooked.bytesWritten += mesh.size();
   }
   const std::string text = j.dump(2) + "\n";
   PUFF_TRY(core::writeFileBytes(tx.stage(outSidecar), text, outSidecar));

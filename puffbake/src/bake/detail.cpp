@@ -266,21 +266,19 @@ Result<core::DetailVideo> importDetailVideo(const std::vector<fs::path>& frames,
   AxisWeights wx, wy;
   for (int k = 0; k < count; ++k) {
     const fs::path& path = frames[static_cast<std::size_t>(k)];
-    auto img = core::readImage(path, nullptr, kDetailSourceFrameLimits);
-    if (!img) return img.error();
+    PUFF_TRY_ASSIGN(auto img, core::readImage(path, nullptr, kDetailSourceFrameLimits));
     if (k == 0) {
-      srcW = img->width;
-      srcH = img->height;
+      srcW = img.width;
+      srcH = img.height;
       wx = axisWeights(srcW, size);
       wy = axisWeights(srcH, size);
-    } else if (img->width != srcW || img->height != srcH) {
-      return Error::at(path, "frame is " + std::to_string(img->width) + "x" + std::to_string(img->height) + ", but " +
+    } else if (img.width != srcW || img.height != srcH) {
+      return Error::at(path, "frame is " + std::to_string(img.width) + "x" + std::to_string(img.height) + ", but " +
                                  fileName(frames[0]) + " (the first frame) is " + std::to_string(srcW) + "x" +
                                  std::to_string(srcH));
     }
-    auto lum = luminance(*img, path);
-    if (!lum) return lum.error();
-    resample(*lum, srcW, srcH, wx, wy, size, in[static_cast<std::size_t>(k)]);
+    PUFF_TRY_ASSIGN(auto lum, luminance(img, path));
+    resample(lum, srcW, srcH, wx, wy, size, in[static_cast<std::size_t>(k)]);
   }
 
   core::DetailVideo v;

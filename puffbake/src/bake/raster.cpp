@@ -32,7 +32,8 @@ void readFlipped(GLuint fbo, GLenum attachment, GLenum format, int size, std::ve
 }
 }  // namespace
 
-Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSide, bool back) {
+Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSide, RasterSides sides) {
+  const bool back = sides == RasterSides::kFrontAndBack;
   GLint maxRb = 0, maxTex = 0;
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &maxRb);
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTex);
@@ -42,8 +43,7 @@ Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSid
                  " samples, more than this GL's framebuffer limit of " + std::to_string(limit) +
                  ": lower --size or --supersample"};
   }
-  auto program = core::buildProgram({"bake/puff.vert", "bake/puff.frag"});
-  if (!program) return program.error();
+  PUFF_TRY_ASSIGN(auto program, core::buildProgram({"bake/puff.vert", "bake/puff.frag"}));
   core::Program backProgram;
   if (back) {
     PUFF_TRY_ASSIGN(backProgram, core::buildProgram({"bake/puff.vert", "bake/puff_back.frag"}));
@@ -51,7 +51,7 @@ Result<std::unique_ptr<PuffRasterizer>> PuffRasterizer::create(int samplesPerSid
 
   std::unique_ptr<PuffRasterizer> r(new PuffRasterizer);
   r->size_ = samplesPerSide;
-  r->program_ = std::move(*program);
+  r->program_ = std::move(program);
   r->viewRotationLoc_ = glGetUniformLocation(r->program_.get(), "uViewRotation");
   r->backProgram_ = std::move(backProgram);
   if (back) r->backViewRotationLoc_ = glGetUniformLocation(r->backProgram_.get(), "uViewRotation");

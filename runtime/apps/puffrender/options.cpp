@@ -40,10 +40,9 @@ Result<Plan> makePlan(const Options& o, const scene::Scene& scene) {
     plan.writeFrames = false;
     plan.last = scene.animation.frames - 1;
     if (!o.frames.empty()) {
-      auto range = parseFrameRange(o.frames);
-      if (!range) return range.error();
-      plan.first = range->first;
-      plan.last = range->second;
+      PUFF_TRY_ASSIGN(auto range, parseFrameRange(o.frames));
+      plan.first = range.first;
+      plan.last = range.second;
     }
     if (plan.last >= scene.animation.frames) {
       return Error{"--frames " + o.frames + ": the scene has " + std::to_string(scene.animation.frames) +
@@ -51,15 +50,13 @@ Result<Plan> makePlan(const Options& o, const scene::Scene& scene) {
     }
     return plan;
   }
-  auto pattern = parseOutputPattern(o.out);
-  if (!pattern) return pattern.error();
-  plan.pattern = *pattern;
+  PUFF_TRY_ASSIGN(auto pattern, parseOutputPattern(o.out));
+  plan.pattern = pattern;
   const int frames = scene.animation.frames;
   if (!o.frames.empty()) {
-    auto range = parseFrameRange(o.frames);
-    if (!range) return range.error();
-    plan.first = range->first;
-    plan.last = range->second;
+    PUFF_TRY_ASSIGN(auto range, parseFrameRange(o.frames));
+    plan.first = range.first;
+    plan.last = range.second;
     if (plan.last >= frames) {
       return Error{"--frames " + o.frames + ": the scene has " + std::to_string(frames) + " frame(s), 0 to " +
                    std::to_string(frames - 1) + " (/animation/frames)"};

@@ -270,11 +270,10 @@ Result<void> SequenceExtras::open() {
       // A GIF holds 256 colours a frame and no compression across frames: at most 640 pixels wide.
       m.previewFactor = shrinkFactor(w, kGifMaxWidth);
       m.gifTiming = io::gifTiming(m.count, fps);
-      auto gif = io::AnimatedGif::open(m.previewStaged, static_cast<int>(m.gifTiming.source.size()),
-                                       std::max(1, w / m.previewFactor), std::max(1, h / m.previewFactor),
-                                       m.gifTiming.delay, target);
-      if (!gif) return gif.error();
-      m.gif = std::move(*gif);
+      PUFF_TRY_ASSIGN(auto gif, io::AnimatedGif::open(m.previewStaged, static_cast<int>(m.gifTiming.source.size()),
+                                                      std::max(1, w / m.previewFactor),
+                                                      std::max(1, h / m.previewFactor), m.gifTiming.delay, target));
+      m.gif = std::move(gif);
     } else {
       PUFF_TRY_ASSIGN(m.mp4, Mp4Pipe::open(findOnPath("ffmpeg"), m.previewStaged, target, w, h, fps));
     }

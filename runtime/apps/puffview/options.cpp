@@ -26,6 +26,50 @@ fs::path defaultArtDir() {
   return env && *env ? fs::path(env) : fs::path("build/art");
 }
 
+// --frames: a count N (frames 0 to N-1) or a range A-B, into `o`. Returns the exit code when the text
+// is neither (after printing why).
+std::optional<int> readFrames(const std::string& framesText, Options& o) {
+  const bool range = framesText.find('-') != std::string::npos;
+  auto frames = cli::parseFrameRange(framesText);
+  if (!frames && frames.error().message.find("ends before") != std::string::npos) {
+    cli::printError(frames.error());
+    return 2;
+  }
+  if (!frames) {
+    cli::printError(
+        Error{"--frames: expected a count N (frames 0 to N-1) or a range A-B (0-based, inclusive), "
+              "got \"" +
+              framesText + "\""});
+    return 2;
+  }
+  if (range) {
+    o.frames = *frames;
+    o.framesRange = true;
+  } else if (frames->first < 1) {
+    cli::printError("--frames " + framesText + ": show at least one frame");
+    return 2;
+  } else {
+    o.frames = std::pair{0, frames->first - 1};
+  }
+  return std::nullopt;
+}
+
+// --screenshot: a .png name, with at most one frame-number pattern. Returns the exit code when it is
+// not (after printing why).
+std::optional<int> checkScreenshotName(const std::string& screenshot) {
+  std::string ext = fs::path(screenshot).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".png") {
+    cli::printError("--screenshot " + screenshot + ": screenshots are PNG: give a .png name");
+    return 2;
+  }
+  if (auto p = cli::parseOutputPattern(screenshot, "--screenshot"); !p) {
+    cli::printError(p.error());
+    return 2;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::variant<Options, int> parse(int argc, char** argv) {
@@ -79,40 +123,10 @@ std::variant<Options, int> parse(int argc, char** argv) {
 
   if (const auto exitCode = cli::parse(app, argc, argv)) return *exitCode;
   if (!framesText.empty()) {
-    const bool range = framesText.find('-') != std::string::npos;
-    auto frames = cli::parseFrameRange(framesText);
-    if (!frames && frames.error().message.find("ends before") != std::string::npos) {
-      cli::printError(frames.error());
-      return 2;
-    }
-    if (!frames) {
-      cli::printError(
-          Error{"--frames: expected a count N (frames 0 to N-1) or a range A-B (0-based, inclusive), "
-                "got \"" +
-                framesText + "\""});
-      return 2;
-    }
-    if (range) {
-      o.frames = *frames;
-      o.framesRange = true;
-    } else if (frames->first < 1) {
-      cli::printError("--frames " + framesText + ": show at least one frame");
-      return 2;
-    } else {
-      o.frames = std::pair{0, frames->first - 1};
-    }
+    if (const auto exitCode = readFrames(framesText, o)) return *exitCode;
   }
   if (!o.screenshot.empty()) {
-    std::string ext = fs::path(o.screenshot).extension().string();
-    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (ext != ".png") {
-      cli::printError("--screenshot " + o.screenshot + ": screenshots are PNG: give a .png name");
-      return 2;
-    }
-    if (auto p = cli::parseOutputPattern(o.screenshot, "--screenshot"); !p) {
-      cli::printError(p.error());
-      return 2;
-    }
+    if (const auto exitCode = checkScreenshotName(o.screenshot)) return *exitCode;
   }
   if (!o.screenshot.empty() && !o.frames) o.frames = std::pair{0, 0};
   if (o.artDir.empty()) o.artDir = defaultArtDir();

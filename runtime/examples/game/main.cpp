@@ -23,16 +23,14 @@
 
 #include <GLFW/glfw3.h>
 
-#include <unistd.h>
-
-#include <charconv>
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstdlib>
-#include <filesystem>
 #include <memory>
 #include <string>
-#include <string_view>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -55,6 +53,8 @@
 #include <puff/media/media.h>
 #endif
 
+#include "options.h"
+
 namespace {
 
 constexpr float kStep = 1.0f / 60.0f;  // seconds per frame: the simulators' fps is 60
@@ -64,91 +64,6 @@ constexpr GLuint kCameraBlock = 0;  // the game's camera uniform block: binding 
 // camera block on 0 stays bound through every Puff call. Everything else keeps its default
 // (cel: storage buffers 0-1, units 0-7; media: uniform buffers 3-5, storage buffer 0, units 0-5).
 const puff::cel::Bindings kCelBindings{.frameBlock = 1};
-
-int fail(const std::string& what) {
-  std::fprintf(stderr, "puff_game: %s\n", what.c_str());
-  return 1;
-}
-
-// ---- options --------------------------------------------------------------------------------
-struct Options {
-  std::filesystem::path atlas;       // the sidecar (DIR/puff.json, or a .json given directly)
-  std::filesystem::path screenshot;  // empty: interactive
-  int frames = 60, width = 960, height = 540;
-};
-
-constexpr const char* kHelp =
-    "puff_game: a small GLFW game scene with Puff's cel smoke (from the simulator)"
-#if GAME_MEDIA_FIRE
-    " and media fire"
-#endif
-    " drawn into the game's own frame.\n"
-    "Usage: puff_game --atlas DIR [--screenshot FILE.png [--frames N]] [--width W] [--height H]\n"
-    "  --atlas DIR          a cooked atlas: DIR/puff.json (or the sidecar .json itself), e.g. from\n"
-    "                       `puffbake bake -g lumpy -o baked`, then\n"
-    "                       `puffbake cook baked/puff.json -o DIR/puff.json`; required. The game\n"
-    "                       links no image library, so it reads cooked atlases (.puffimg maps) only\n"
-    "  --screenshot FILE    render --frames frames at a fixed 1/60 s step, write the last one as an\n"
-    "                       8-bit sRGB PNG and exit; without it the window runs until closed (Esc)\n"
-    "  --frames N           frames before the screenshot, >= 1 (default 60)\n"
-    "  --width W, --height H  the frame in pixels, 16..8192 (default 960 x 540)\n"
-    "  --help               this text\n"
-    "Needs a display (X11 or Xvfb: xvfb-run -a puff_game ...) and GL 4.5.\n";
-
-bool parseInt(std::string_view s, int lo, int hi, int& out) {
-  int v = 0;
-  auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-  if (ec != std::errc{} || end != s.data() + s.size() || v < lo || v > hi) return false;
-  out = v;
-  return true;
-}
-
-// Returns 0 to run, 1 on bad input (message printed), -1 for --help.
-int parseOptions(int argc, char** argv, Options& o) {
-  bool framesGiven = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view a = argv[i];
-    if (a == "--help" || a == "-h") {
-      std::fputs(kHelp, stdout);
-      return -1;
-    }
-    if (i + 1 >= argc) return fail(std::string(a) + ": unknown option or missing value (see --help)");
-    const std::string_view v = argv[++i];
-    if (a == "--atlas") {
-      o.atlas = v;
-    } else if (a == "--screenshot") {
-      o.screenshot = v;
-    } else if (a == "--frames") {
-      if (!parseInt(v, 1, 100000, o.frames))
-        return fail("--frames: expected an integer in [1, 100000], got " + std::string(v));
-      framesGiven = true;
-    } else if (a == "--width") {
-      if (!parseInt(v, 16, 8192, o.width))
-        return fail("--width: expected an integer in [16, 8192], got " + std::string(v));
-    } else if (a == "--height") {
-      if (!parseInt(v, 16, 8192, o.height))
-        return fail("--height: expected an integer in [16, 8192], got " + std::string(v));
-    } else {
-      return fail(std::string(a) + ": unknown option (see --help)");
-    }
-  }
-  if (o.atlas.empty()) return fail("--atlas DIR is required (a cooked atlas: see --help)");
-  if (framesGiven && o.screenshot.empty()) return fail("--frames needs --screenshot");
-  std::error_code ec;
-  if (std::filesystem::is_directory(o.atlas, ec)) o.atlas /= "puff.json";
-  if (!std::filesystem::is_regular_file(o.atlas, ec))
-    return fail("no atlas at " + o.atlas.string() + " (a cooked atlas: see --help)");
-  if (!o.screenshot.empty()) {
-    // Checked before any frame is drawn, so a bad path costs nothing.
-    const std::filesystem::path dir = o.screenshot.has_parent_path() ? o.screenshot.parent_path() : ".";
-    if (!std::filesystem::is_directory(dir, ec) || ::access(dir.c_str(), W_OK) != 0)
-      return fail("cannot write the screenshot " + o.screenshot.string() + ": " + dir.string() +
-                  " is not a writable directory");
-    if (std::filesystem::is_directory(o.screenshot, ec))
-      return fail("cannot write the screenshot " + o.screenshot.string() + ": it is a directory");
-  }
-  return 0;
-}
 
 // ---- the game's GL helpers ------------------------------------------------------------------
 GLuint compile(GLenum type, const char* source, std::string& log) {
@@ -322,6 +237,143 @@ const Box kBoxes[] = {
     {{2.4f, 0.1f, -0.6f}, {0.6f, 0.1f, 0.6f}, {0.12f, 0.11f, 0.10f}},      // fire pit's stones
 };
 
+// ---- the game's GL objects and passes ---------------------------------------------------------
+// The camera: glm::perspective, so GL's [-1, 1] clip z and standard hyperbolic depth.
+struct Camera {
+  glm::mat4 view, projection;
+};
+
+Camera makeCamera(int width, int height) {
+  const glm::vec3 eye(0.3f, 3.0f, 10.5f), lookAt(0.0f, 1.4f, 0.0f);
+  return {glm::lookAt(eye, lookAt, glm::vec3(0, 1, 0)),
+          glm::perspective(glm::radians(45.0f), float(width) / float(height), kNear, kFar)};
+}
+
+// The game's GL objects: its programs, meshes and render targets.
+struct GameResources {
+  int width = 0, height = 0;  // the frame, pixels
+  GLuint sceneProgram = 0, encodeProgram = 0, hudProgram = 0;
+  Mesh world, marker;
+  GLuint emptyVao = 0;  // the screen passes pull their vertices from gl_VertexID
+  Target scene;         // scene-linear colour, standard depth
+  Target display;       // display-encoded (sRGB) values
+};
+
+GameResources createGameResources(int width, int height) {
+  GameResources g;
+  g.width = width;
+  g.height = height;
+  g.sceneProgram = program(kSceneVs, kSceneFs);
+  g.encodeProgram = program(kScreenVs, kEncodeFs);
+  g.hudProgram = program(kScreenVs, kHudFs);
+  std::vector<Vertex> world;
+  for (const Box& b : kBoxes) addBox(world, b.centre, b.half, b.albedo);
+  g.world = upload(world);
+  std::vector<Vertex> marker;  // a diamond: a box turned on its corner by the model matrix
+  addBox(marker, glm::vec3(0.0f), glm::vec3(0.18f), glm::vec3(1.0f));
+  g.marker = upload(marker);
+  glCreateVertexArrays(1, &g.emptyVao);
+  g.scene = makeTarget(width, height, GL_RGBA16F, true);
+  g.display = makeTarget(width, height, GL_RGBA8, false);
+  return g;
+}
+
+// The camera written to the game's uniform block, which is bound once to binding 0 and never
+// again: Puff is told to use other points.
+void bindCameraBlock(const Camera& camera) {
+  struct CameraBlock {
+    glm::mat4 view, projection;
+    glm::vec4 sun;
+  } const cameraBlock{camera.view, camera.projection, glm::vec4(kSun, 0.0f)};
+  GLuint cameraUbo = 0;
+  glCreateBuffers(1, &cameraUbo);
+  glNamedBufferStorage(cameraUbo, sizeof cameraBlock, &cameraBlock, 0);
+  glBindBufferBase(GL_UNIFORM_BUFFER, kCameraBlock, cameraUbo);
+}
+
+// The game's opaque pass: its shaders, its depth.
+void drawScene(const GameResources& game) {
+  glBindFramebuffer(GL_FRAMEBUFFER, game.scene.fbo);
+  glViewport(0, 0, game.width, game.height);
+  glDisable(GL_BLEND);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glEnable(GL_CULL_FACE);
+  glClearColor(kSky.r, kSky.g, kSky.b, 1.0f);
+  glClearDepth(1.0);
+  glClearStencil(0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  glUseProgram(game.sceneProgram);
+  glProgramUniformMatrix4fv(game.sceneProgram, 0, 1, GL_FALSE, glm::value_ptr(glm::mat4(1.0f)));
+  glProgramUniform3f(game.sceneProgram, 1, 0.0f, 0.0f, 0.0f);
+  glProgramUniform3fv(game.sceneProgram, 2, 1, glm::value_ptr(kSunColor));
+  glProgramUniform3fv(game.sceneProgram, 3, 1, glm::value_ptr(kAmbient));
+  glBindVertexArray(game.world.vao);
+  glDrawArrays(GL_TRIANGLES, 0, game.world.count);
+}
+
+// The game again, after Puff: a spinning marker over the crate.
+// What Puff's calls left that this pass needs set (their headers list it): no program and no
+// vertex array; depth test off (composeOver), culling off; the draw framebuffer is the game's
+// (composeOver binds its target; the cel passes do not change it) but is bound again here so
+// the pass stands on its own. The camera block on binding 0 is still the game's: not rebound.
+void drawMarker(const GameResources& game, float time) {
+  glBindFramebuffer(GL_FRAMEBUFFER, game.scene.fbo);
+  glViewport(0, 0, game.width, game.height);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glEnable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glUseProgram(game.sceneProgram);
+  const glm::mat4 spin =
+      glm::rotate(glm::translate(glm::mat4(1.0f), kMarker + glm::vec3(0, 0.1f * std::sin(3 * time), 0)), 1.7f * time,
+                  glm::vec3(0, 1, 0)) *
+      glm::rotate(glm::mat4(1.0f), glm::radians(45.0f), glm::vec3(1, 0, 1));
+  glProgramUniformMatrix4fv(game.sceneProgram, 0, 1, GL_FALSE, glm::value_ptr(spin));
+  glProgramUniform3f(game.sceneProgram, 1, 1.0f, 0.8f, 0.05f);  // emissive yellow, scene-linear
+  glBindVertexArray(game.marker.vao);
+  glDrawArrays(GL_TRIANGLES, 0, game.marker.count);
+}
+
+// The display pass: scene-linear -> sRGB into the RGBA8 target.
+void drawDisplay(const GameResources& game) {
+  glBindFramebuffer(GL_FRAMEBUFFER, game.display.fbo);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glUseProgram(game.encodeProgram);
+  glBindVertexArray(game.emptyVao);
+  glBindTextureUnit(0, game.scene.colour);
+  glBindSampler(0, 0);
+  glProgramUniform4f(game.encodeProgram, 0, -1.0f, -1.0f, 1.0f, 1.0f);
+  glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+}
+
+// The HUD over the display pass, in display values: a health bar (frame, then fill) and a
+// crosshair, alpha blended.
+void drawHud(const GameResources& game) {
+  const int W = game.width, H = game.height;
+  const GLuint hudProgram = game.hudProgram;
+  glUseProgram(hudProgram);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glBlendEquation(GL_FUNC_ADD);
+  auto rect = [&](float x0, float y0, float x1, float y1, glm::vec4 tint) {
+    // pixels, origin bottom-left
+    glProgramUniform4f(hudProgram, 0, 2 * x0 / W - 1, 2 * y0 / H - 1, 2 * x1 / W - 1, 2 * y1 / H - 1);
+    glProgramUniform4fv(hudProgram, 1, 1, glm::value_ptr(tint));
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+  };
+  const float health = 0.75f;
+  rect(16, 16, 16 + 0.3f * W, 40, {0.0f, 0.0f, 0.0f, 0.6f});
+  rect(20, 20, 20 + (0.3f * W - 8) * health, 36, {0.86f, 0.20f, 0.16f, 1.0f});
+  rect(W / 2.0f - 10, H / 2.0f - 1, W / 2.0f + 10, H / 2.0f + 1, {1.0f, 1.0f, 1.0f, 0.85f});
+  rect(W / 2.0f - 1, H / 2.0f - 10, W / 2.0f + 1, H / 2.0f + 10, {1.0f, 1.0f, 1.0f, 0.85f});
+  glDisable(GL_BLEND);
+}
+
+// ---- Puff: cel smoke from the simulator --------------------------------------------------------
 puff::sim::Settings smokeSettings() {
   puff::sim::Settings s;
   s.fps = 60.0f;
@@ -372,7 +424,57 @@ void celParticles(const puff::sim::Simulator& sim, std::vector<puff::cel::Partic
   }
 }
 
+// What the smoke keeps from frame to frame.
+struct Smoke {
+  std::unique_ptr<puff::cel::NailboardRenderer> nailboards;
+  std::unique_ptr<puff::sim::Simulator> simulator;
+  puff::cel::FrameBlock celBlock;
+  puff::cel::Ramp ramp;
+  puff::cel::Frame celFrame;
+  puff::cel::Style style;
+  std::vector<puff::cel::Particle> puffs;
+};
+
+puff::Result<Smoke> createSmoke(const puff::core::Atlas& atlas, const Camera& camera, int width, int height) {
+  PUFF_TRY_ASSIGN(auto nailboards, puff::cel::NailboardRenderer::create(kCelBindings));
+  if (auto set = (nailboards)->setAtlas(atlas); !set) return set.error();
+  PUFF_TRY_ASSIGN(auto smoke, puff::sim::Simulator::create(smokeSettings(), std::max(1, atlas.desc.variations)));
+  puff::cel::FrameBlock celBlock(kCelBindings);
+  // A three-band ramp q (dark, mid, light) instead of the paper's two tones.
+  puff::core::Image bands(3, 1, 1);
+  bands.pixels = {0.15f, 0.55f, 1.0f};
+  PUFF_TRY_ASSIGN(auto ramp, puff::cel::Ramp::create(bands, "the game's ramp"));
+  puff::cel::Frame celFrame;
+  celFrame.view = camera.view;
+  celFrame.projection = camera.projection;  // the game's own matrix, used as is
+  celFrame.nearPlane = kNear;
+  celFrame.farPlane = kFar;
+  celFrame.depth = puff::cel::DepthConvention::kStandard;  // hyperbolic, as gl_Position wrote it
+  celFrame.clipDepth = puff::cel::ClipDepth::kNegativeOneToOne;
+  celFrame.viewport = {0, 0, width, height};
+  celFrame.light = {kSun, glm::vec3(0.75f)};
+  celFrame.ambientColor = glm::vec3(0.32f, 0.33f, 0.36f);
+  puff::cel::Style style;  // outlines on (black ink), Eq. 2 shading
+  style.outlineWidth = 2.5f;
+  return Smoke{std::move(nailboards), std::move(smoke), std::move(celBlock), std::move(ramp), celFrame, style, {}};
+}
+
+// The smoke simulator to `frame`, its particles as nailboards.
+void advanceSmoke(Smoke& smoke, int frame) {
+  smoke.simulator->advanceToFrame(frame);
+  celParticles(*smoke.simulator, smoke.puffs);
+}
+
+// The smoke, into the game's framebuffer, tested against its depth.
+void drawSmoke(Smoke& smoke) {
+  smoke.celBlock.upload(smoke.celFrame);  // uniform binding 1: the game's camera block on 0 is untouched
+  smoke.ramp.bind(kCelBindings);
+  smoke.nailboards->upload(smoke.puffs);
+  smoke.nailboards->drawNailboards(smoke.style, puff::cel::ShadePass::kLit);
+}
+
 #if GAME_MEDIA_FIRE
+// ---- Puff: fire from the media renderer, into the game's frame ---------------------------------
 puff::sim::Settings fireSettings() {
   puff::sim::Settings s;
   s.fps = 60.0f;
@@ -410,225 +512,136 @@ void mediaParticles(const puff::sim::Simulator& sim, std::vector<puff::media::Pa
     out.push_back({p.position, 0.5f * p.birthSize * (1.0f + 0.5f * life), 0u, life, p.density * fade, p.id});
   }
 }
-#endif
 
-int run(const Options& opt, const puff::core::Atlas& atlas, GLFWwindow* window) {
-  const int W = opt.width, H = opt.height;
+// What the fire keeps from frame to frame.
+struct Fire {
+  std::unique_ptr<puff::media::Renderer> media;
+  std::unique_ptr<puff::media::HostLayers> layers;
+  std::unique_ptr<puff::sim::Simulator> flames;
+  puff::media::Frame mediaFrame;
+  puff::media::HostDepth hostDepth;
+  std::vector<puff::media::Particle> fireParticles;
+};
 
-  // ---- the game's resources ------------------------------------------------------------------
-  const GLuint sceneProgram = program(kSceneVs, kSceneFs);
-  const GLuint encodeProgram = program(kScreenVs, kEncodeFs);
-  const GLuint hudProgram = program(kScreenVs, kHudFs);
-  std::vector<Vertex> world;
-  for (const Box& b : kBoxes) addBox(world, b.centre, b.half, b.albedo);
-  const Mesh worldMesh = upload(world);
-  std::vector<Vertex> marker;  // a diamond: a box turned on its corner by the model matrix
-  addBox(marker, glm::vec3(0.0f), glm::vec3(0.18f), glm::vec3(1.0f));
-  const Mesh markerMesh = upload(marker);
-  GLuint emptyVao = 0;  // the screen passes pull their vertices from gl_VertexID
-  glCreateVertexArrays(1, &emptyVao);
-  const Target scene = makeTarget(W, H, GL_RGBA16F, true);   // scene-linear colour, standard depth
-  const Target display = makeTarget(W, H, GL_RGBA8, false);  // display-encoded (sRGB) values
-
-  // The camera: glm::perspective (GL's [-1, 1] clip z), written to the game's uniform block,
-  // which is bound once to binding 0 and never again: Puff is told to use other points.
-  const glm::vec3 eye(0.3f, 3.0f, 10.5f), lookAt(0.0f, 1.4f, 0.0f);
-  const glm::mat4 view = glm::lookAt(eye, lookAt, glm::vec3(0, 1, 0));
-  const glm::mat4 projection = glm::perspective(glm::radians(45.0f), float(W) / float(H), kNear, kFar);
-  struct CameraBlock {
-    glm::mat4 view, projection;
-    glm::vec4 sun;
-  } const cameraBlock{view, projection, glm::vec4(kSun, 0.0f)};
-  GLuint cameraUbo = 0;
-  glCreateBuffers(1, &cameraUbo);
-  glNamedBufferStorage(cameraUbo, sizeof cameraBlock, &cameraBlock, 0);
-  glBindBufferBase(GL_UNIFORM_BUFFER, kCameraBlock, cameraUbo);
-
-  // ---- Puff: cel smoke from the simulator -----------------------------------------------------
-  auto nailboards = puff::cel::NailboardRenderer::create(kCelBindings);
-  if (!nailboards) return fail(nailboards.error().message);
-  if (auto set = (*nailboards)->setAtlas(atlas); !set) return fail(set.error().message);
-  auto smoke = puff::sim::Simulator::create(smokeSettings(), std::max(1, atlas.desc.variations));
-  if (!smoke) return fail(smoke.error().message);
-  puff::cel::FrameBlock celBlock(kCelBindings);
-  // A three-band ramp q (dark, mid, light) instead of the paper's two tones.
-  puff::core::Image bands(3, 1, 1);
-  bands.pixels = {0.15f, 0.55f, 1.0f};
-  auto ramp = puff::cel::Ramp::create(bands, "the game's ramp");
-  if (!ramp) return fail(ramp.error().message);
-  puff::cel::Frame celFrame;
-  celFrame.view = view;
-  celFrame.projection = projection;  // the game's own matrix, used as is
-  celFrame.nearPlane = kNear;
-  celFrame.farPlane = kFar;
-  celFrame.depth = puff::cel::DepthConvention::kStandard;  // hyperbolic, as gl_Position wrote it
-  celFrame.clipDepth = puff::cel::ClipDepth::kNegativeOneToOne;
-  celFrame.viewport = {0, 0, W, H};
-  celFrame.light = {kSun, glm::vec3(0.75f)};
-  celFrame.ambientColor = glm::vec3(0.32f, 0.33f, 0.36f);
-  puff::cel::Style style;  // outlines on (black ink), Eq. 2 shading
-  style.outlineWidth = 2.5f;
-  std::vector<puff::cel::Particle> puffs;
-
-#if GAME_MEDIA_FIRE
-  // ---- Puff: fire from the media renderer, into the game's frame -----------------------------
-  auto media = puff::media::Renderer::create();
-  if (!media) return fail(media.error().message);
+puff::Result<Fire> createFire(const Camera& camera, GLuint depthTexture, int width, int height) {
+  PUFF_TRY_ASSIGN(auto media, puff::media::Renderer::create());
   puff::media::Material fire = puff::media::fireMaterial();
   fire.density = 4.0f;  // denser and brighter than the preset: small flames
   fire.emission = 0.8f;
   fire.becomes = 1;  // fire turns to smoke over its life
   fire.transitionStart = 0.45f;
   fire.transitionEnd = 0.9f;
-  if (auto ok = (*media)->setMaterials({fire, puff::media::smokeMaterial()}); !ok) return fail(ok.error().message);
-  auto layers = puff::media::Layers::createForHost(W, H, 0.5f);  // the media layer at half size
-  if (!layers) return fail(layers.error().message);
-  auto flames = puff::sim::Simulator::create(fireSettings());
-  if (!flames) return fail(flames.error().message);
+  if (auto ok = (media)->setMaterials({fire, puff::media::smokeMaterial()}); !ok) return ok.error();
+  auto layers = puff::media::HostLayers::create(width, height, 0.5f);  // the media layer at half size
+  if (!layers) return layers.error();
+  PUFF_TRY_ASSIGN(auto flames, puff::sim::Simulator::create(fireSettings()));
   puff::media::Frame mediaFrame;
-  mediaFrame.view = view;
-  mediaFrame.projection = projection;
+  mediaFrame.view = camera.view;
+  mediaFrame.projection = camera.projection;
   mediaFrame.nearPlane = kNear;
   mediaFrame.farPlane = kFar;
   mediaFrame.lightDirection = kSun;
   mediaFrame.lightColor = kSunColor;
   mediaFrame.ambient = kAmbient;
-  mediaFrame.width = W;
-  mediaFrame.height = H;
+  mediaFrame.width = width;
+  mediaFrame.height = height;
   // The game's depth texture as Puff reads it: standard depth from the same projection.
-  const puff::media::HostDepth hostDepth{.texture = scene.depth,
-                                         .space = {puff::core::DepthConvention::kStandard,
-                                                   puff::core::ClipDepth::kNegativeOneToOne, projection, kNear, kFar}};
-  std::vector<puff::media::Particle> fireParticles;
+  const puff::media::HostDepth hostDepth{
+      .texture = depthTexture,
+      .space = {puff::core::DepthConvention::kStandard, puff::core::ClipDepth::kNegativeOneToOne, camera.projection,
+                kNear, kFar}};
+  return Fire{std::move(media), std::move(*layers), std::move(flames), mediaFrame, hostDepth, {}};
+}
+
+// The fire simulator to `frame`, its particles as the media renderer takes them.
+void advanceFire(Fire& fire, int frame, float time) {
+  fire.flames->advanceToFrame(frame);
+  mediaParticles(*fire.flames, fire.fireParticles);
+  fire.mediaFrame.time = time;
+}
+
+// The fire, drawn against the game's depth and composited over its colour, its light on the
+// scene flickering with `time`.
+puff::Result<void> drawFire(Fire& fire, const GameResources& game, float time) {
+  const float flicker = 1.0f + 0.25f * std::sin(time * 11.0f) * std::sin(time * 3.7f);
+  const puff::media::ExplosionLight glow{kFirePit + glm::vec3(0, 0.6f, 0), 2.2f, {1.0f, 0.45f, 0.12f}, 0.9f * flicker};
+  if (auto ok = fire.layers->resolveHostDepth(fire.hostDepth); !ok) return ok;
+  fire.layers->beginMedia();
+  fire.media->draw(fire.layers->layerFrame(fire.mediaFrame), fire.fireParticles, puff::media::Method::kSpherical,
+                   fire.layers->mediaDepth());
+  const puff::core::Viewport viewport{0, 0, game.width, game.height};
+  return fire.layers->composeOver(game.scene.fbo, viewport, fire.mediaFrame, {&glow, 1}, {});
+}
+#endif
+
+// ---- the frame loop -----------------------------------------------------------------------------
+// Esc closes the window.
+void handleInput(GLFWwindow* window) {
+  glfwPollEvents();
+  if (glfwGetKey(window, GLFW_KEY_ESCAPE) == GLFW_PRESS) glfwSetWindowShouldClose(window, GLFW_TRUE);
+}
+
+// The last frame, from the display target (the window's pixels may be covered or off-screen), as
+// an 8-bit sRGB PNG. `drawn` says what the frame holds.
+int writeScreenshot(const Options& opt, const Target& display, const std::string& drawn) {
+  const int W = opt.width, H = opt.height;
+  std::vector<unsigned char> rgb(static_cast<std::size_t>(W) * H * 3);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(display.colour, 0, GL_RGB, GL_UNSIGNED_BYTE, static_cast<GLsizei>(rgb.size()), rgb.data());
+  stbi_flip_vertically_on_write(1);  // GL's rows start at the bottom, PNG's at the top
+  if (stbi_write_png(opt.screenshot.c_str(), W, H, 3, rgb.data(), W * 3) == 0)
+    return fail("could not write the screenshot " + opt.screenshot.string());
+  std::printf("puff_game: %d frames, %s, wrote %s (%d x %d)\n", opt.frames, drawn.c_str(), opt.screenshot.c_str(), W,
+              H);
+  return 0;
+}
+
+// Every GL object, the game's and Puff's, is made here. Then each frame: the simulators step, the
+// game draws its scene, Puff its smoke (and fire) into it, the game its marker, the display pass and
+// the HUD, and the window shows the result.
+int run(const Options& opt, const puff::core::Atlas& atlas, GLFWwindow* window) {
+  const int W = opt.width, H = opt.height;
+  const Camera camera = makeCamera(W, H);
+  const GameResources game = createGameResources(W, H);
+  bindCameraBlock(camera);
+  auto smoke = createSmoke(atlas, camera, W, H);
+  if (!smoke) return fail(smoke.error().message);
+#if GAME_MEDIA_FIRE
+  auto fire = createFire(camera, game.scene.depth, W, H);
+  if (!fire) return fail(fire.error().message);
 #endif
 
   const bool interactive = opt.screenshot.empty();
   for (int frame = 0; interactive ? !glfwWindowShouldClose(window) : frame < opt.frames; ++frame) {
     const float time = frame * kStep;
-    // ---- the game's opaque pass: its shaders, its depth ---------------------------------------
-    glBindFramebuffer(GL_FRAMEBUFFER, scene.fbo);
-    glViewport(0, 0, W, H);
-    glDisable(GL_BLEND);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glEnable(GL_CULL_FACE);
-    glClearColor(kSky.r, kSky.g, kSky.b, 1.0f);
-    glClearDepth(1.0);
-    glClearStencil(0);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
-    glUseProgram(sceneProgram);
-    glProgramUniformMatrix4fv(sceneProgram, 0, 1, GL_FALSE, glm::value_ptr(glm::mat4(1.0f)));
-    glProgramUniform3f(sceneProgram, 1, 0.0f, 0.0f, 0.0f);
-    glProgramUniform3fv(sceneProgram, 2, 1, glm::value_ptr(kSunColor));
-    glProgramUniform3fv(sceneProgram, 3, 1, glm::value_ptr(kAmbient));
-    glBindVertexArray(worldMesh.vao);
-    glDrawArrays(GL_TRIANGLES, 0, worldMesh.count);
-
-    // ---- Puff: the smoke, into the game's framebuffer, tested against its depth -----------------
-    (*smoke)->advanceToFrame(frame);
-    celParticles(**smoke, puffs);
-    celBlock.upload(celFrame);  // uniform binding 1: the game's camera block on 0 is untouched
-    ramp->bind(kCelBindings);
-    (*nailboards)->upload(puffs);
-    (*nailboards)->drawNailboards(style, puff::cel::ShadePass::kLit);
-
+    advanceSmoke(*smoke, frame);
 #if GAME_MEDIA_FIRE
-    // ---- Puff: the fire, drawn against the game's depth and composited over its colour ----------
-    (*flames)->advanceToFrame(frame);
-    mediaParticles(**flames, fireParticles);
-    mediaFrame.time = time;
-    const float flicker = 1.0f + 0.25f * std::sin(time * 11.0f) * std::sin(time * 3.7f);
-    const puff::media::ExplosionLight glow{
-        kFirePit + glm::vec3(0, 0.6f, 0), 2.2f, {1.0f, 0.45f, 0.12f}, 0.9f * flicker};
-    if (auto ok = (*layers)->resolveHostDepth(hostDepth); !ok) return fail(ok.error().message);
-    (*layers)->beginMedia();
-    (*media)->draw((*layers)->layerFrame(mediaFrame), fireParticles, puff::media::Method::kSpherical,
-                   (*layers)->mediaDepth());
-    const int viewport[4] = {0, 0, W, H};
-    if (auto ok = (*layers)->composeOver(scene.fbo, viewport, mediaFrame, {&glow, 1}, {}); !ok)
-      return fail(ok.error().message);
+    advanceFire(*fire, frame, time);
 #endif
-
-    // ---- the game again, after Puff: a spinning marker over the crate ---------------------------
-    // What Puff's calls left that this pass needs set (their headers list it): no program and no
-    // vertex array; depth test off (composeOver), culling off; the draw framebuffer is the game's
-    // (composeOver binds its target; the cel passes do not change it) but is bound again here so
-    // the pass stands on its own. The camera block on binding 0 is still the game's: not rebound.
-    glBindFramebuffer(GL_FRAMEBUFFER, scene.fbo);
-    glViewport(0, 0, W, H);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glEnable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
-    glUseProgram(sceneProgram);
-    const glm::mat4 spin =
-        glm::rotate(glm::translate(glm::mat4(1.0f), kMarker + glm::vec3(0, 0.1f * std::sin(3 * time), 0)), 1.7f * time,
-                    glm::vec3(0, 1, 0)) *
-        glm::rotate(glm::mat4(1.0f), glm::radians(45.0f), glm::vec3(1, 0, 1));
-    glProgramUniformMatrix4fv(sceneProgram, 0, 1, GL_FALSE, glm::value_ptr(spin));
-    glProgramUniform3f(sceneProgram, 1, 1.0f, 0.8f, 0.05f);  // emissive yellow, scene-linear
-    glBindVertexArray(markerMesh.vao);
-    glDrawArrays(GL_TRIANGLES, 0, markerMesh.count);
-
-    // ---- the display pass: scene-linear -> sRGB into the RGBA8 target, then the HUD ------------
-    glBindFramebuffer(GL_FRAMEBUFFER, display.fbo);
-    glDisable(GL_DEPTH_TEST);
-    glDisable(GL_CULL_FACE);
-    glUseProgram(encodeProgram);
-    glBindVertexArray(emptyVao);
-    glBindTextureUnit(0, scene.colour);
-    glBindSampler(0, 0);
-    glProgramUniform4f(encodeProgram, 0, -1.0f, -1.0f, 1.0f, 1.0f);
-    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
-    // The HUD, in display values: a health bar (frame, then fill) and a crosshair, alpha blended.
-    glUseProgram(hudProgram);
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
-    glBlendEquation(GL_FUNC_ADD);
-    auto rect = [&](float x0, float y0, float x1, float y1, glm::vec4 tint) {
-      // pixels, origin bottom-left
-      glProgramUniform4f(hudProgram, 0, 2 * x0 / W - 1, 2 * y0 / H - 1, 2 * x1 / W - 1, 2 * y1 / H - 1);
-      glProgramUniform4fv(hudProgram, 1, 1, glm::value_ptr(tint));
-      glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
-    };
-    const float health = 0.75f;
-    rect(16, 16, 16 + 0.3f * W, 40, {0.0f, 0.0f, 0.0f, 0.6f});
-    rect(20, 20, 20 + (0.3f * W - 8) * health, 36, {0.86f, 0.20f, 0.16f, 1.0f});
-    rect(W / 2.0f - 10, H / 2.0f - 1, W / 2.0f + 10, H / 2.0f + 1, {1.0f, 1.0f, 1.0f, 0.85f});
-    rect(W / 2.0f - 1, H / 2.0f - 10, W / 2.0f + 1, H / 2.0f + 10, {1.0f, 1.0f, 1.0f, 0.85f});
-    glDisable(GL_BLEND);
-
-    // ---- show it -------------------------------------------------------------------------------
-    glBlitNamedFramebuffer(display.fbo, 0, 0, 0, W, H, 0, 0, W, H, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    drawScene(game);
+    drawSmoke(*smoke);
+#if GAME_MEDIA_FIRE
+    if (auto ok = drawFire(*fire, game, time); !ok) return fail(ok.error().message);
+#endif
+    drawMarker(game, time);
+    drawDisplay(game);
+    drawHud(game);
+    // Show it: the display target into the window.
+    glBlitNamedFramebuffer(game.display.fbo, 0, 0, 0, W, H, 0, 0, W, H, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     if (GLenum e = glGetError(); e != GL_NO_ERROR)
       return fail("GL error " + std::to_string(e) + " in frame " + std::to_string(frame));
     glfwSwapBuffers(window);
-    glfwPollEvents();
-    if (glfwGetKey(window, GLFW_KEY_ESCAPE) == GLFW_PRESS) glfwSetWindowShouldClose(window, GLFW_TRUE);
+    handleInput(window);
   }
+  if (interactive) return 0;
 
-  int status = 0;
-  if (!interactive) {
-    // The last frame, from the display target (the window's pixels may be covered or off-screen).
-    std::vector<unsigned char> rgb(static_cast<std::size_t>(W) * H * 3);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glGetTextureImage(display.colour, 0, GL_RGB, GL_UNSIGNED_BYTE, static_cast<GLsizei>(rgb.size()), rgb.data());
-    stbi_flip_vertically_on_write(1);  // GL's rows start at the bottom, PNG's at the top
-    if (stbi_write_png(opt.screenshot.c_str(), W, H, 3, rgb.data(), W * 3) == 0) {
-      status = fail("could not write the screenshot " + opt.screenshot.string());
-    } else {
-      std::printf("puff_game: %d frames, %zu smoke puffs%s, wrote %s (%d x %d)\n", opt.frames, puffs.size(),
+  std::string drawn = std::to_string(smoke->puffs.size()) + " smoke puffs";
 #if GAME_MEDIA_FIRE
-                  (", " + std::to_string(fireParticles.size()) + " fire particles").c_str(),
+  drawn += ", " + std::to_string(fire->fireParticles.size()) + " fire particles";
 #else
-                  " (built without GAME_MEDIA_FIRE: no fire)",
+  drawn += " (built without GAME_MEDIA_FIRE: no fire)";
 #endif
-                  opt.screenshot.c_str(), W, H);
-    }
-  }
-  return status;
+  return writeScreenshot(opt, game.display, drawn);
 }
 
 }  // namespace

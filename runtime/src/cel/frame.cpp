@@ -126,9 +126,8 @@ std::vector<float> rowRgb(const core::Image& image, int y) {
 // The image at `path` within `limits`, then through `check` (a use's own rules), errors naming the file.
 Result<core::Image> readChecked(const std::filesystem::path& path, const core::ImageLimits& limits,
                                 Result<void> (*check)(const core::Image&, const std::string&)) {
-  auto image = core::readImage(path, nullptr, limits);
-  if (!image) return image.error();
-  PUFF_TRY(check(*image, path.string()));
+  PUFF_TRY_ASSIGN(auto image, core::readImage(path, nullptr, limits));
+  PUFF_TRY(check(image, path.string()));
   return image;
 }
 
@@ -147,7 +146,7 @@ Result<void> Ramp::check(const core::Image& image, const std::string& what) {
 
 Result<core::Image> Ramp::read(const std::filesystem::path& path) { return readChecked(path, kRampLimits, check); }
 
-Result<Ramp> Ramp::create(const core::Image& image, const std::string& what, bool smooth) {
+Result<Ramp> Ramp::create(const core::Image& image, const std::string& what, RampFilter filter) {
   PUFF_TRY(check(image, what));
   const std::vector<float> row = rowRgb(image, image.height / 2);
   Ramp r;
@@ -167,16 +166,15 @@ Result<Ramp> Ramp::create(const core::Image& image, const std::string& what, boo
   glTextureSubImage1D(t, 0, 0, image.width, GL_RGBA, GL_FLOAT, rgba.data());
   // Clamp-to-edge is what makes q(N.L) equal q(max(0, N.L)) (§4.1).
   glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  const GLint filter = smooth ? GL_LINEAR : GL_NEAREST;
-  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, filter);
-  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, filter);
+  const GLint glFilter = filter == RampFilter::kLinear ? GL_LINEAR : GL_NEAREST;
+  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, glFilter);
+  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, glFilter);
   return r;
 }
 
-Result<Ramp> Ramp::load(const std::filesystem::path& path, bool smooth) {
-  auto image = read(path);
-  if (!image) return image.error();
-  return create(*image, path.string(), smooth);
+Result<Ramp> Ramp::load(const std::filesystem::path& path, RampFilter filter) {
+  PUFF_TRY_ASSIGN(auto image, read(path));
+  return create(image, path.string(), filter);
 }
 
 Ramp Ramp::twoTone() {
@@ -239,9 +237,8 @@ Result<Gradient> Gradient::create(const core::Image& image, const std::string& w
 }
 
 Result<Gradient> Gradient::load(const std::filesystem::path& path) {
-  auto image = read(path);
-  if (!image) return image.error();
-  return create(*image, path.string());
+  PUFF_TRY_ASSIGN(auto image, read(path));
+  return create(image, path.string());
 }
 
 void Gradient::bind(const Bindings& bindings) const {

@@ -53,10 +53,10 @@ struct NailboardProgram {
 
   // `caster`: the shadow map's caster pass (drawn from the light).
   static Result<NailboardProgram> build(const std::string& name, const std::string& fragment, bool caster) {
-    auto p = core::buildProgram({"cel/" + name + ".vert", "cel/" + (fragment.empty() ? name : fragment) + ".frag"});
-    if (!p) return p.error();
+    PUFF_TRY_ASSIGN(
+        auto p, core::buildProgram({"cel/" + name + ".vert", "cel/" + (fragment.empty() ? name : fragment) + ".frag"}));
     NailboardProgram n;
-    n.program = std::move(*p);
+    n.program = std::move(p);
     const GLuint id = n.program.get();
     n.atlas.find(id);
     n.pass = glGetUniformLocation(id, "uPass");
@@ -130,30 +130,22 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
   std::unique_ptr<NailboardRenderer> r(new NailboardRenderer());
   Impl& m = *r->impl_;
   m.bindings = bindings;
-  auto single = NailboardProgram::build("nailboard", "", false);
-  if (!single) return single.error();
-  auto multi = NailboardProgram::build("nailboard_views", "", false);
-  if (!multi) return multi.error();
-  auto singleCaster = NailboardProgram::build("nailboard", "nailboard_caster", true);
-  if (!singleCaster) return singleCaster.error();
-  auto multiCaster = NailboardProgram::build("nailboard_views", "nailboard_views_caster", true);
-  if (!multiCaster) return multiCaster.error();
-  auto hull = NailboardProgram::build("nailboard_views", "nailboard_hull", false);
-  if (!hull) return hull.error();
-  auto hullCaster = NailboardProgram::build("nailboard_views", "nailboard_hull_caster", true);
-  if (!hullCaster) return hullCaster.error();
-  auto sv = core::buildProgram({"cel/shadow.vert", "cel/shadow.frag"});
-  if (!sv) return sv.error();
-  auto sp = core::buildProgram({"cel/sprite.vert", "cel/sprite.frag"});
-  if (!sp) return sp.error();
-  m.singleView = std::move(*single);
-  m.multiView = std::move(*multi);
-  m.singleCaster = std::move(*singleCaster);
-  m.multiCaster = std::move(*multiCaster);
-  m.hullView = std::move(*hull);
-  m.hullCaster = std::move(*hullCaster);
-  m.shadow = std::move(*sv);
-  m.sprite = std::move(*sp);
+  PUFF_TRY_ASSIGN(auto single, NailboardProgram::build("nailboard", "", false));
+  PUFF_TRY_ASSIGN(auto multi, NailboardProgram::build("nailboard_views", "", false));
+  PUFF_TRY_ASSIGN(auto singleCaster, NailboardProgram::build("nailboard", "nailboard_caster", true));
+  PUFF_TRY_ASSIGN(auto multiCaster, NailboardProgram::build("nailboard_views", "nailboard_views_caster", true));
+  PUFF_TRY_ASSIGN(auto hull, NailboardProgram::build("nailboard_views", "nailboard_hull", false));
+  PUFF_TRY_ASSIGN(auto hullCaster, NailboardProgram::build("nailboard_views", "nailboard_hull_caster", true));
+  PUFF_TRY_ASSIGN(auto sv, core::buildProgram({"cel/shadow.vert", "cel/shadow.frag"}));
+  PUFF_TRY_ASSIGN(auto sp, core::buildProgram({"cel/sprite.vert", "cel/sprite.frag"}));
+  m.singleView = std::move(single);
+  m.multiView = std::move(multi);
+  m.singleCaster = std::move(singleCaster);
+  m.multiCaster = std::move(multiCaster);
+  m.hullView = std::move(hull);
+  m.hullCaster = std::move(hullCaster);
+  m.shadow = std::move(sv);
+  m.sprite = std::move(sp);
   m.svAtlas.find(m.shadow.get());
   m.spAtlas.find(m.sprite.get());
   m.shadowBias = glGetUniformLocation(m.shadow.get(), "uShadowBias");
@@ -330,13 +322,11 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
     }
     packed.push_back(std::move(p));
   }
-  auto nd = uploadLevels(d, packed, "normalDepth", 4, GL_RGBA8);
-  if (!nd) return nd.error();
+  PUFF_TRY_ASSIGN(auto nd, uploadLevels(d, packed, "normalDepth", 4, GL_RGBA8));
   // The colour map holds display values (docs/colour.md); the shader reads scene-linear ones, so
   // filtering and mips mix light: an sRGB texture decodes 8-bit maps, EXR maps are decoded here.
   const bool floatMap = d.fileFormat == "exr";
-  auto co = uploadLevels(d, *colorMap, "color", 4, floatMap ? GL_RGBA16F : GL_SRGB8_ALPHA8, floatMap);
-  if (!co) return co.error();
+  PUFF_TRY_ASSIGN(auto co, uploadLevels(d, *colorMap, "color", 4, floatMap ? GL_RGBA16F : GL_SRGB8_ALPHA8, floatMap));
   // The back map: only the tumbling hull reads it, and only level 0 (textureGather). 8 bits, as the
   // front depth in the packed map.
   core::Texture back;
@@ -368,8 +358,8 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   glTextureParameteri(sp, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   glTextureParameteri(sp, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTextureParameteri(sp, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  m.maps = std::move(*nd);
-  m.color = std::move(*co);
+  m.maps = std::move(nd);
+  m.color = std::move(co);
   m.back = std::move(back);
   m.desc = d;
   m.hasAtlas = true;

@@ -181,17 +181,15 @@ OpaqueRenderer::~OpaqueRenderer() = default;
 
 Result<std::unique_ptr<OpaqueRenderer>> OpaqueRenderer::create(const Bindings& bindings) {
   if (auto ok = validate(bindings); !ok) return ok.error();
-  auto program = core::buildProgram({"cel/opaque.vert", "cel/opaque.frag"});
-  if (!program) return program.error();
-  auto caster = core::buildProgram({"cel/opaque.vert", "cel/opaque_caster.frag"});
-  if (!caster) return caster.error();
-  auto volume = core::buildProgram({"cel/opaque_volume.vert", "cel/opaque_volume.geom", "cel/opaque_volume.frag"});
-  if (!volume) return volume.error();
+  PUFF_TRY_ASSIGN(auto program, core::buildProgram({"cel/opaque.vert", "cel/opaque.frag"}));
+  PUFF_TRY_ASSIGN(auto caster, core::buildProgram({"cel/opaque.vert", "cel/opaque_caster.frag"}));
+  PUFF_TRY_ASSIGN(auto volume,
+                  core::buildProgram({"cel/opaque_volume.vert", "cel/opaque_volume.geom", "cel/opaque_volume.frag"}));
   std::unique_ptr<OpaqueRenderer> r(new OpaqueRenderer);
   Impl& im = *r->impl_;
-  im.program = std::move(*program);
-  im.caster = std::move(*caster);
-  im.volume = std::move(*volume);
+  im.program = std::move(program);
+  im.caster = std::move(caster);
+  im.volume = std::move(volume);
   for (const GLuint p : {im.program.get(), im.caster.get(), im.volume.get()}) detail::assignBindPoints(p, bindings);
   im.vao = core::makeVertexArray();
   im.adjacencyVao = core::makeVertexArray();

@@ -293,9 +293,8 @@ Result<AtlasDesc> atlasFromJson(const json& j, const fs::path& file) {
 
 Result<AtlasDesc> loadAtlasDesc(const fs::path& sidecar) {
   // Parsed as a scene is: one error with the line and column, the JSON limits checked first.
-  auto j = jsonread::loadJsonFile(sidecar);
-  if (!j) return j.error();
-  return atlasFromJson(*j, sidecar);
+  PUFF_TRY_ASSIGN(auto j, jsonread::loadJsonFile(sidecar));
+  return atlasFromJson(j, sidecar);
 }
 
 Result<fs::path> lodMeshFile(const AtlasDesc& desc, std::size_t i, const fs::path& sidecar) {
@@ -316,15 +315,14 @@ fs::path lodMeshPath(const AtlasSource& source, const fs::path& sidecar) {
 }
 
 Result<Atlas> loadAtlas(const fs::path& sidecar) {
-  auto desc = loadAtlasDesc(sidecar);
-  if (!desc) return desc.error();
+  PUFF_TRY_ASSIGN(auto desc, loadAtlasDesc(sidecar));
   Atlas atlas;
-  atlas.desc = *desc;
-  for (const auto& [name, m] : desc->maps) {
+  atlas.desc = desc;
+  for (const auto& [name, m] : desc.maps) {
     auto& levels = atlas.maps[name];
     for (std::size_t level = 0; level < m.levels.size(); ++level) {
       const fs::path file = sidecar.parent_path() / m.levels[level];
-      const int w = std::max(1, desc->width >> level), h = std::max(1, desc->height >> level);
+      const int w = std::max(1, desc.width >> level), h = std::max(1, desc.height >> level);
       // The level's own size is the limit: a file that claims more is refused before decoding.
       const ImageLimits limits{"this atlas level (the sidecar's size)", w, h, 4, 1ll << 28, kMaxAtlasMapFileBytes};
       auto img = readImage(file, nullptr, limits);

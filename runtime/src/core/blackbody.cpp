@@ -134,11 +134,10 @@ Result<void> writeBlackbodyRamp(const fs::path& path, const BlackbodyRamp& ramp)
 
 Result<BlackbodyRamp> readBlackbodyRamp(const fs::path& path) {
   ImageFileInfo info;  // one read: the pixels and the puff: attributes together
-  auto img = readImage(path, &info, kBlackbodyRampLimits);
-  if (!img) return img.error();
-  if (img->height != 1 || img->channels != 3 || img->width < 2) {
-    return Error::at(path, "not a black-body ramp: expected N x 1 RGB (N >= 2), got " + std::to_string(img->width) +
-                               "x" + std::to_string(img->height) + " with " + std::to_string(img->channels) +
+  PUFF_TRY_ASSIGN(auto img, readImage(path, &info, kBlackbodyRampLimits));
+  if (img.height != 1 || img.channels != 3 || img.width < 2) {
+    return Error::at(path, "not a black-body ramp: expected N x 1 RGB (N >= 2), got " + std::to_string(img.width) +
+                               "x" + std::to_string(img.height) + " with " + std::to_string(img.channels) +
                                " channel(s)");
   }
   BlackbodyRamp ramp;
@@ -160,12 +159,12 @@ Result<BlackbodyRamp> readBlackbodyRamp(const fs::path& path) {
       return Error::at(path, std::string("attribute ") + name + " is not a number: \"" + *text + "\"");
     }
   }
-  if (auto r = checkRange(ramp.minKelvin, ramp.maxKelvin, img->width, ramp.normalizeKelvin); !r) {
+  if (auto r = checkRange(ramp.minKelvin, ramp.maxKelvin, img.width, ramp.normalizeKelvin); !r) {
     return Error::at(path, r.error().message);
   }
-  ramp.rgb.resize(static_cast<std::size_t>(img->width));
+  ramp.rgb.resize(static_cast<std::size_t>(img.width));
   for (std::size_t i = 0; i < ramp.rgb.size(); ++i) {
-    ramp.rgb[i] = glm::vec3(img->pixels[i * 3], img->pixels[i * 3 + 1], img->pixels[i * 3 + 2]);
+    ramp.rgb[i] = glm::vec3(img.pixels[i * 3], img.pixels[i * 3 + 1], img.pixels[i * 3 + 2]);
     if (!std::isfinite(ramp.rgb[i].r) || !std::isfinite(ramp.rgb[i].g) || !std::isfinite(ramp.rgb[i].b)) {
       return Error::at(path, "texel " + std::to_string(i) + " is not finite");
     }

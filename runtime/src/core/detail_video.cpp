@@ -55,8 +55,7 @@ float DetailVideo::at(int x, int y, int f) const {
 Result<DetailVideo> loadDetailVideo(const fs::path& path) {
   // One read: the pixels and the puff: attributes together.
   ImageFileInfo info;
-  auto img = readImage(path, &info, kDetailClipLimits);
-  if (!img) return img.error();
+  PUFF_TRY_ASSIGN(auto img, readImage(path, &info, kDetailClipLimits));
   const auto attribute = [&](const std::string& name) -> std::optional<std::string> {
     for (const auto& [key, value] : info.attributes) {
       if (key == name) return value;
@@ -73,25 +72,25 @@ Result<DetailVideo> loadDetailVideo(const fs::path& path) {
     return Error::at(path, "attribute puff:frames must be an integer in [1, " + std::to_string(kMaxDetailFrames) +
                                "], got \"" + *framesText + "\"");
   }
-  if (img->height % frames != 0) {
-    return Error::at(path, "image height " + std::to_string(img->height) + " is not a multiple of puff:frames " +
+  if (img.height % frames != 0) {
+    return Error::at(path, "image height " + std::to_string(img.height) + " is not a multiple of puff:frames " +
                                std::to_string(frames));
   }
   DetailVideo v;
-  v.width = img->width;
-  v.height = img->height / static_cast<int>(frames);
+  v.width = img.width;
+  v.height = img.height / static_cast<int>(frames);
   v.frames = static_cast<int>(frames);
   if (std::string p = sizeProblem(v.width, v.height, v.frames); !p.empty()) return Error::at(path, p);
   v.source = attribute("puff:source").value_or("");
 
-  const std::size_t n = static_cast<std::size_t>(img->width) * img->height;
-  const int ch = img->channels;
+  const std::size_t n = static_cast<std::size_t>(img.width) * img.height;
+  const int ch = img.channels;
   v.values.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const float* p = &img->pixels[i * static_cast<std::size_t>(ch)];
+    const float* p = &img.pixels[i * static_cast<std::size_t>(ch)];
     const float value = ch >= 3 ? 0.2126f * p[0] + 0.7152f * p[1] + 0.0722f * p[2] : p[0];
     if (!std::isfinite(value)) {
-      const std::size_t w = static_cast<std::size_t>(img->width);
+      const std::size_t w = static_cast<std::size_t>(img.width);
       return Error::at(path,
                        "value at pixel (" + std::to_string(i % w) + ", " + std::to_string(i / w) + ") is not finite");
     }

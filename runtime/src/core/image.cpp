@@ -220,9 +220,8 @@ Result<CookedHeader> checkCookedHeader(const fs::path& path, const std::string& 
 
 Result<Image> parseCooked(const fs::path& path, const std::string& bytes, ImageFileInfo* info,
                           const ImageLimits& limits) {
-  auto header = checkCookedHeader(path, bytes.substr(0, kHeaderBytes), bytes.size(), limits);
-  if (!header) return header.error();
-  const auto [version, width, height, channels, type, count] = *header;
+  PUFF_TRY_ASSIGN(auto header, checkCookedHeader(path, bytes.substr(0, kHeaderBytes), bytes.size(), limits));
+  const auto [version, width, height, channels, type, count] = header;
   (void)version;
   Reader r(bytes);
   r.skip(kHeaderBytes - sizeof kMagic);
@@ -370,9 +369,8 @@ std::string imageLimitProblem(long long width, long long height, int channels, c
 }
 
 Result<Image> readImage(const fs::path& path, ImageFileInfo* info, const ImageLimits& limits) {
-  auto cooked = readIfCooked(path, limits);
-  if (!cooked) return cooked.error();
-  if (!cooked->empty()) return parseCooked(path, *cooked, info, limits);
+  PUFF_TRY_ASSIGN(auto cooked, readIfCooked(path, limits));
+  if (!cooked.empty()) return parseCooked(path, cooked, info, limits);
   const ImageCodec* codec = imageCodec();
   if (!codec) return noCodec(path, "read");
   return codec->read(path, info, limits);
@@ -380,12 +378,10 @@ Result<Image> readImage(const fs::path& path, ImageFileInfo* info, const ImageLi
 
 Result<std::string> readImageAttribute(const fs::path& path, const std::string& name) {
   const ImageLimits limits;
-  auto cooked = readIfCooked(path, limits);
-  if (!cooked) return cooked.error();
-  if (!cooked->empty()) {
+  PUFF_TRY_ASSIGN(auto cooked, readIfCooked(path, limits));
+  if (!cooked.empty()) {
     ImageFileInfo info;
-    auto img = parseCooked(path, *cooked, &info, limits);
-    if (!img) return img.error();
+    PUFF_TRY_ASSIGN(auto img, parseCooked(path, cooked, &info, limits));
     for (const auto& [key, value] : info.attributes) {
       if (key == name) return value;
     }

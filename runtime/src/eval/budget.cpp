@@ -199,8 +199,7 @@ Result<void> measureMediaErrors(const Scene& scene, const Scene& measured, int f
                                 bool physical, MediaBudget& budget) {
   std::optional<FrameReference> shared;
   for (std::size_t i = 0; i < renderers.size(); ++i) {
-    auto image = renderers[i]->renderFrame(f);
-    if (!image) return image.error();
+    PUFF_TRY_ASSIGN(auto image, renderers[i]->renderFrame(f));
     auto inputs = renderers[i]->lastMediaFrame();
     if (!inputs) return Error::at(scene.file, "frame " + std::to_string(f) + ": " + inputs.error().message);
     // Every resolution draws the same opaque pass; should one ever differ, it gets its own reference.
@@ -222,11 +221,11 @@ Result<void> measureMediaErrors(const Scene& scene, const Scene& measured, int f
     }
     const FrameReference& ref = own ? *own : *shared;
     MediaCandidate& c = budget.candidates[i];
-    c.rmse.push_back(reference::imageError(*image, ref.image).rmse);
-    addRegionErrors(*image, ref.image, ref.media, ref.band, c.regions);
+    c.rmse.push_back(reference::imageError(image, ref.image).rmse);
+    addRegionErrors(image, ref.image, ref.media, ref.band, c.regions);
     if (physical) {
-      c.rmsePhysical.push_back(reference::imageError(*image, ref.physical).rmse);
-      addRegionErrors(*image, ref.physical, ref.mediaPhysical, ref.band, c.regionsPhysical);
+      c.rmsePhysical.push_back(reference::imageError(image, ref.physical).rmse);
+      addRegionErrors(image, ref.physical, ref.mediaPhysical, ref.band, c.regionsPhysical);
     }
   }
   return {};
@@ -236,13 +235,10 @@ Result<void> measureMediaErrors(const Scene& scene, const Scene& measured, int f
 
 Result<core::Image> mediaReference(const Scene& scene, const SceneRenderer& renderer) {
   if (!scene.media) return Error::at(scene.file, "/media: the scene has no media");
-  auto in = renderer.lastMediaFrame();
-  if (!in) return in.error();
-  auto detail = loadDetail(*scene.media);
-  if (!detail) return detail.error();
-  auto ref = makeReference(scene, *in, detail->temperature(), detail->opacity());
-  if (!ref) return ref.error();
-  return std::move(ref->image);
+  PUFF_TRY_ASSIGN(auto in, renderer.lastMediaFrame());
+  PUFF_TRY_ASSIGN(auto detail, loadDetail(*scene.media));
+  PUFF_TRY_ASSIGN(auto ref, makeReference(scene, in, detail.temperature(), detail.opacity()));
+  return std::move(ref.image);
 }
 
 std::vector<int> budgetFrames(int first, int last) {
@@ -262,8 +258,7 @@ Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> 
   measured.media->compose.shimmerPixels = 0.0f;
   measured.media->motionBlurFrames = 0;
 
-  auto detail = loadDetail(*scene.media);
-  if (!detail) return detail.error();
+  PUFF_TRY_ASSIGN(auto detail, loadDetail(*scene.media));
 
   MediaBudget budget;
   budget.frames.assign(frames.begin(), frames.end());
@@ -275,9 +270,8 @@ Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> 
   std::vector<std::unique_ptr<SceneRenderer>> renderers;
   for (float r : kMediaResolutions) {
     measured.media->resolution = r;
-    auto renderer = SceneRenderer::create(measured);
-    if (!renderer) return renderer.error();
-    renderers.push_back(std::move(*renderer));
+    PUFF_TRY_ASSIGN(auto renderer, SceneRenderer::create(measured));
+    renderers.push_back(std::move(renderer));
     MediaCandidate c;
     c.resolution = r;
     budget.candidates.push_back(c);
@@ -288,7 +282,7 @@ Result<MediaBudget> measureMediaBudget(const Scene& scene, std::span<const int> 
   int done = 0;
   if (options.progress) options.progress(0, steps);
   for (int f : budget.frames) {
-    PUFF_TRY(measureMediaErrors(scene, measured, f, renderers, *detail, options.physical, budget));
+    PUFF_TRY(measureMediaErrors(scene, measured, f, renderers, detail, options.physical, budget));
     for (int k = 0; k < options.timedRenders; ++k) {
       for (std::size_t i = 0; i < renderers.size(); ++i) {
         const auto t0 = Clock::now();
@@ -442,12 +436,10 @@ Result<void> celReferences(const Scene& s, std::span<const core::Image> reuse, C
     const auto t0 = Clock::now();
     Scene full = s;
     full.particleFraction = 1.0f;
-    auto ref = createCelReference(full);
-    if (!ref) return ref.error();
+    PUFF_TRY_ASSIGN(auto ref, createCelReference(full));
     for (int f : budget.frames) {
-      auto image = (*ref)->renderFrame(f);
-      if (!image) return image.error();
-      references.push_back(std::move(*image));
+      PUFF_TRY_ASSIGN(auto image, (ref)->renderFrame(f));
+      references.push_back(std::move(image));
     }
     budget.referenceMs = core::millisecondsSince(t0);
   }
@@ -485,8 +477,7 @@ std::vector<Scene> celCandidates(const Scene& s, const core::AtlasDesc& desc, Ce
 // One candidate: its atlas's size, its error at each frame against the reference, its time.
 Result<CelCandidate> measureCelCandidate(const Scene& c, const core::AtlasDesc& desc, const CelBudget& budget,
                                          const MediaBudgetOptions& options) {
-  auto r = SceneRenderer::create(c);
-  if (!r) return r.error();
+  PUFF_TRY_ASSIGN(auto r, SceneRenderer::create(c));
   CelCandidate cand;
   cand.atlasLevel = c.atlasLevel;
   cand.particleFraction = c.particleFraction;
@@ -501,17 +492,16 @@ Result<CelCandidate> measureCelCandidate(const Scene& c, const core::AtlasDesc& 
   std::vector<double> times;
   for (std::size_t i = 0; i < budget.frames.size(); ++i) {
     FrameStats stats;
-    auto image = (*r)->renderFrame(budget.frames[i], &stats);
-    if (!image) return image.error();
+    PUFF_TRY_ASSIGN(auto image, (r)->renderFrame(budget.frames[i], &stats));
     cand.particles = std::max(cand.particles, stats.particles);
     // Cel shading is a display palette operation (docs/colour.md): its error is measured on what the
     // screen shows, both frames through the standard view transform.
-    cand.rmse.push_back(reference::imageError(core::viewTransform(*image, core::ViewTransform::kStandard),
+    cand.rmse.push_back(reference::imageError(core::viewTransform(image, core::ViewTransform::kStandard),
                                               core::viewTransform(budget.references[i], core::ViewTransform::kStandard))
                             .rmse);
     for (int k = 0; k < options.timedRenders; ++k) {
       const auto t0 = Clock::now();
-      if (auto again = (*r)->renderFrame(budget.frames[i]); !again) return again.error();
+      if (auto again = (r)->renderFrame(budget.frames[i]); !again) return again.error();
       times.push_back(core::millisecondsSince(t0));
     }
   }
@@ -525,8 +515,7 @@ Result<CelCandidate> measureCelCandidate(const Scene& c, const core::AtlasDesc& 
 Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames, const MediaBudgetOptions& options,
                                    CelKnob knob, std::span<const core::Image> reuse) {
   PUFF_TRY(checkCelBudget(scene, frames, options, knob));
-  auto desc = core::loadAtlasDesc(scene.atlas);
-  if (!desc) return desc.error();
+  PUFF_TRY_ASSIGN(auto desc, core::loadAtlasDesc(scene.atlas));
   Scene s = scene;
   s.media.reset();
   CelBudget budget;
@@ -534,16 +523,15 @@ Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> fram
   budget.frames.assign(frames.begin(), frames.end());
   std::sort(budget.frames.begin(), budget.frames.end());
 
-  const std::vector<Scene> candidates = celCandidates(s, *desc, knob);
+  const std::vector<Scene> candidates = celCandidates(s, desc, knob);
   // Steps: the references (one, however many frames), then each candidate.
   const int steps = 1 + static_cast<int>(candidates.size());
   if (options.progress) options.progress(0, steps);
   PUFF_TRY(celReferences(s, reuse, budget));
   if (options.progress) options.progress(1, steps);
   for (const Scene& c : candidates) {
-    auto cand = measureCelCandidate(c, *desc, budget, options);
-    if (!cand) return cand.error();
-    budget.candidates.push_back(std::move(*cand));
+    PUFF_TRY_ASSIGN(auto cand, measureCelCandidate(c, desc, budget, options));
+    budget.candidates.push_back(std::move(cand));
     if (options.progress) options.progress(1 + static_cast<int>(budget.candidates.size()), steps);
   }
   if (knob == CelKnob::kShadows) {

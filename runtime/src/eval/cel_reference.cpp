@@ -56,9 +56,8 @@ Result<std::vector<mesh::TriMesh>> atlasSourceMeshes(const core::AtlasDesc& desc
       }
       PUFF_TRY_ASSIGN(m, mesh::loadMesh(file));
     } else {
-      auto generator = mesh::generatorFromJson(s.generator, s.params, where);
-      if (!generator) return generator.error();
-      PUFF_TRY_ASSIGN(m, mesh::generate(*generator));
+      PUFF_TRY_ASSIGN(auto generator, mesh::generatorFromJson(s.generator, s.params, where));
+      PUFF_TRY_ASSIGN(m, mesh::generate(generator));
       if (s.faces != 0 && m.faceCount() != s.faces) {
         return Error{where + ": the " + s.generator + " generator with these parameters gives " +
                      std::to_string(m.faceCount()) + " faces, the baked puff had " + std::to_string(s.faces) +
@@ -449,25 +448,20 @@ Result<std::unique_ptr<CelReference>> CelReference::create(std::vector<mesh::Tri
   std::unique_ptr<CelReference> r(new CelReference());
   Impl& m = *r->impl_;
   m.options = options;
-  auto mesh = core::buildProgram({"reference/puff_mesh.vert", "reference/puff_mesh.frag"});
-  if (!mesh) return mesh.error();
-  auto stencil = core::buildProgram({"reference/fullscreen.vert", "reference/shadow_stencil.frag"});
-  if (!stencil) return stencil.error();
+  PUFF_TRY_ASSIGN(auto mesh, core::buildProgram({"reference/puff_mesh.vert", "reference/puff_mesh.frag"}));
+  PUFF_TRY_ASSIGN(auto stencil, core::buildProgram({"reference/fullscreen.vert", "reference/shadow_stencil.frag"}));
   auto silhouette =
       core::buildProgram({"reference/silhouette.vert", "reference/silhouette.geom", "reference/silhouette.frag"});
   if (!silhouette) return silhouette.error();
-  auto down = core::buildProgram({"reference/fullscreen.vert", "reference/downsample.frag"});
-  if (!down) return down.error();
-  auto objectLight = core::buildProgram({"reference/object_light.vert", "reference/object_light.frag"});
-  if (!objectLight) return objectLight.error();
-  auto objectId = core::buildProgram({"cel/opaque.vert", "reference/object_id.frag"});
-  if (!objectId) return objectId.error();
-  m.objectLightProgram = std::move(*objectLight);
-  m.objectIdProgram = std::move(*objectId);
-  m.meshProgram = std::move(*mesh);
-  m.stencilProgram = std::move(*stencil);
+  PUFF_TRY_ASSIGN(auto down, core::buildProgram({"reference/fullscreen.vert", "reference/downsample.frag"}));
+  PUFF_TRY_ASSIGN(auto objectLight, core::buildProgram({"reference/object_light.vert", "reference/object_light.frag"}));
+  PUFF_TRY_ASSIGN(auto objectId, core::buildProgram({"cel/opaque.vert", "reference/object_id.frag"}));
+  m.objectLightProgram = std::move(objectLight);
+  m.objectIdProgram = std::move(objectId);
+  m.meshProgram = std::move(mesh);
+  m.stencilProgram = std::move(stencil);
   m.silhouetteProgram = std::move(*silhouette);
-  m.downsampleProgram = std::move(*down);
+  m.downsampleProgram = std::move(down);
   m.emptyVao = core::makeVertexArray();
   m.instances = core::makeBuffer();
 

@@ -26,14 +26,11 @@ class ReferencePath final : public render::Path {
                                                       const CelReferenceOptions& options) {
     std::unique_ptr<ReferencePath> p(new ReferencePath());
     if (!scene.atlas.empty()) {
-      auto atlas = render::loadSceneAtlas(scene);
-      if (!atlas) return atlas.error();
-      p->variations_ = std::max(1, atlas->desc.variations);
-      auto meshes = detail::atlasSourceMeshes(atlas->desc, scene.atlas);
-      if (!meshes) return meshes.error();
-      auto ref = detail::CelReference::create(std::move(*meshes), options);
-      if (!ref) return ref.error();
-      p->reference_ = std::move(*ref);
+      PUFF_TRY_ASSIGN(auto atlas, render::loadSceneAtlas(scene));
+      p->variations_ = std::max(1, atlas.desc.variations);
+      PUFF_TRY_ASSIGN(auto meshes, detail::atlasSourceMeshes(atlas.desc, scene.atlas));
+      PUFF_TRY_ASSIGN(auto ref, detail::CelReference::create(std::move(meshes), options));
+      p->reference_ = std::move(ref);
     } else if (scene::hasParticles(scene)) {
       return Error::at(scene.file, "/atlas: the scene has particles but names no atlas");
     }
@@ -46,9 +43,8 @@ class ReferencePath final : public render::Path {
     if (scene.media) {
       p->media_ = true;
       if (!scene.media->temperatureDetail.empty()) {
-        auto v = core::loadDetailVideo(scene.media->temperatureDetail);
-        if (!v) return v.error();
-        p->temperature_ = std::move(*v);
+        PUFF_TRY_ASSIGN(auto v, core::loadDetailVideo(scene.media->temperatureDetail));
+        p->temperature_ = std::move(v);
       }
       if (!scene.media->opacityDetail.empty()) {
         PUFF_TRY_ASSIGN(p->opacity_, core::loadDetailVideo(scene.media->opacityDetail));

@@ -99,8 +99,7 @@ Result<scene::Scene> gridScene(const fs::path& atlas, const TumbleOptions& o, in
                               {"shading", true},
                               {"shadows", false},
                               {"tumble", std::string(cel::toString(method))}}}};
-  auto s = scene::parseScene(j, atlas.parent_path() / "tumble-sweep.json");
-  if (!s) return s.error();
+  PUFF_TRY_ASSIGN(auto s, scene::parseScene(j, atlas.parent_path() / "tumble-sweep.json"));
   const std::vector<int> yaws = yawsOf(o), pitches = pitchesOf(o);
   int index = 0;
   for (std::size_t r = 0; r < pitches.size(); ++r) {
@@ -113,7 +112,7 @@ Result<scene::Scene> gridScene(const fs::path& atlas, const TumbleOptions& o, in
       p.variation = index % std::max(1, variations);
       p.oriented = true;
       p.orientation = poseRotation(TumblePose{yaws[c], pitches[r], roll});
-      s->particles.push_back(p);
+      s.particles.push_back(p);
     }
   }
   return s;
@@ -124,14 +123,14 @@ Result<core::Image> renderOnce(const scene::Scene& s, render::RenderPath path, s
   // masks compare where the silhouettes and bands lie, not how two antialiasing filters spread
   // their edges (a 3 x 3 box against 4 MSAA samples alone moves the masks by a fraction of a pixel
   // all around).
-  auto r = path == render::RenderPath::kReference ? createCelReference(s, CelReferenceOptions{.supersample = 1})
-                                                  : createRenderer(s, path);
-  if (!r) return r.error();
-  auto image = (*r)->renderFrame(0);
+  PUFF_TRY_ASSIGN(auto r, path == render::RenderPath::kReference
+                              ? createCelReference(s, CelReferenceOptions{.supersample = 1})
+                              : createRenderer(s, path));
+  auto image = (r)->renderFrame(0);
   if (!image || !times) return image;
   for (int i = 0; i < 3; ++i) {
     const auto t0 = core::Clock::now();
-    if (auto again = (*r)->renderFrame(0); !again) return again.error();
+    if (auto again = (r)->renderFrame(0); !again) return again.error();
     times->push_back(core::millisecondsSince(t0));
   }
   return image;
@@ -171,6 +170,140 @@ void differences(const std::vector<bool>& a, const std::vector<bool>& b, double&
   missing = covered ? static_cast<double>(fewer) / static_cast<double>(covered) : 0.0;
 }
 
+// A reference whose frames, frames without outlines and rolls do not match one to one is an error.
+Result<void> checkReference(const TumbleReference& reference) {
+  if (reference.bodies.size() != reference.frames.size() || reference.frames.size() != reference.rolls.size()) {
+    return Error{"tumble sweep: the reference has " + std::to_string(reference.frames.size()) + " frames, " +
+                 std::to_string(reference.bodies.size()) + " without outlines and " +
+                 std::to_string(reference.rolls.size()) + " rolls (make it with renderTumbleReference)"};
+  }
+  return {};
+}
+
+// The background a square is judged against: the clear colour as the frames hold it (frames are
+// scene-linear), and a square of it.
+struct Background {
+  glm::vec3 linear;
+  core::Image square;
+};
+
+Background backgroundOf(const Grid& g) {
+  Background bg{core::srgbToLinear(kBackground), core::Image(g.square, g.square, 4)};
+  for (int y = 0; y < g.square; ++y)
+    for (int x = 0; x < g.square; ++x)
+      for (int c = 0; c < 4; ++c) bg.square.at(x, y, c) = c < 3 ? bg.linear[c] : 1.0f;
+  return bg;
+}
+
+// One roll's grid drawn by the nailboards: with outlines (timed into `times`, when given) and
+// without.
+struct RollFrames {
+  core::Image outlined, body;
+};
+
+Result<RollFrames> renderRoll(const fs::path& atlas, const TumbleOptions& o, int roll, int variations,
+                              cel::TumbleMethod method, std::vector<double>* times) {
+  PUFF_TRY_ASSIGN(auto s, gridScene(atlas, o, roll, variations, method));
+  PUFF_TRY_ASSIGN(auto image, renderOnce(s, render::RenderPath::kCel, times));
+  PUFF_TRY_ASSIGN(auto bare, gridScene(atlas, o, roll, variations, method, false));
+  PUFF_TRY_ASSIGN(auto body, renderOnce(bare, render::RenderPath::kCel, nullptr));
+  return RollFrames{std::move(image), std::move(body)};
+}
+
+// The nailboards' frames of roll `f` must be the size of the reference's.
+Result<void> checkFrameSizes(const RollFrames& frames, const TumbleReference& reference, std::size_t f) {
+  const core::Image& ref = reference.frames[f];
+  for (const core::Image* im : {&frames.outlined, &frames.body, &reference.bodies[f]}) {
+    if (im->width == ref.width && im->height == ref.height) continue;
+    return Error{"tumble sweep: the reference frames are " + std::to_string(ref.width) + "x" +
+                 std::to_string(ref.height) + ", its frames without outlines " +
+                 std::to_string(reference.bodies[f].width) + "x" + std::to_string(reference.bodies[f].height) +
+                 ", the nailboards' " + std::to_string(frames.outlined.width) + "x" +
+                 std::to_string(frames.outlined.height)};
+  }
+  return {};
+}
+
+// One pose's square of the nailboards' frame (a) and the reference's (b), each with outlines and
+// without (body).
+struct PoseSquares {
+  core::Image a, b, aBody, bBody;
+};
+
+// Pose `p`'s coverage and ink measured in its squares: IoUs and the differences either way. The
+// yardstick checks itself on the way: an error where its masks would be wrong.
+Result<void> measurePose(const PoseSquares& s, const Background& bg, const TumbleOptions& o, TumblePose& p) {
+  // A square's corner lies outside its puff (half a diameter from the centre of a square 1.5
+  // diameters wide), so it must read as background.
+  for (const core::Image* im : {&s.a, &s.b}) {
+    if (reference::coverageMask(*im, bg.square)[0]) {
+      return Error{"tumble sweep: a square's corner is not the background colour (" + std::to_string(im->at(0, 0, 0)) +
+                   " against " + std::to_string(bg.linear.x) + "): the coverage masks would be wrong"};
+    }
+  }
+  const std::vector<bool> coveredA = reference::coverageMask(s.a, bg.square),
+                          coveredB = reference::coverageMask(s.b, bg.square);
+  p.coverageIoU = reference::maskIoU(coveredA, coveredB);
+  differences(coveredA, coveredB, p.coverageExtra, p.coverageMissing);
+  differences(reference::coverageMask(s.aBody, bg.square), reference::coverageMask(s.bBody, bg.square), p.bodyExtra,
+              p.bodyMissing);
+  // Ink: what the outlines add to the puff, the pixels covered with them and not without (the
+  // body alone, drawn again without outlines). From coverage, not colour: the nailboards'
+  // ink mixes with the body within half a pixel of the silhouette (its antialiased inner
+  // edge), the reference's does not, and a colour threshold would take a mixed pixel on a lit
+  // body for body and one on the dark band for ink.
+  const std::vector<bool> inkA = inkBand(s.a, s.aBody, bg.square), inkB = inkBand(s.b, s.bBody, bg.square);
+  // The yardstick checks itself again: the reference's ink rings its puff (at least a
+  // quarter of a ring of the outline's width around a circle the puff's size). A fault that
+  // drew both the same, with outlines or without, would leave both masks empty: IoU 1.
+  const auto refInk = std::count(inkB.begin(), inkB.end(), true);
+  const double ring = 0.25 * std::numbers::pi * o.puffPixels * o.outlineWidth;
+  if (o.outlineWidth > 0.0f && static_cast<double>(refInk) < ring) {
+    return Error{"tumble sweep: the reference's ink covers " + std::to_string(refInk) + " pixels of pose yaw " +
+                 std::to_string(p.yaw) + " pitch " + std::to_string(p.pitch) + " roll " + std::to_string(p.roll) +
+                 ", under a quarter of a ring of the outline's width (" + std::to_string(static_cast<int>(ring)) +
+                 "): the ink masks would be wrong"};
+  }
+  p.outlineIoU = reference::maskIoU(inkA, inkB);
+  return {};
+}
+
+// Every pose of roll `f`'s grid measured, square by square, row by row, appended to `poses`.
+Result<void> measureRoll(const RollFrames& frames, const TumbleReference& reference, std::size_t f,
+                         const Background& bg, int variations, std::vector<TumblePose>& poses) {
+  const TumbleOptions& o = reference.options;
+  const int side = gridFor(o).square;
+  const std::vector<int> yaws = yawsOf(o), pitches = pitchesOf(o);
+  int index = 0;
+  for (std::size_t r = 0; r < pitches.size(); ++r) {
+    for (std::size_t c = 0; c < yaws.size(); ++c, ++index) {
+      if (std::abs(pitches[r]) == 90 && yaws[c] != 0) continue;  // the same poses as yaw 0
+      const int col = static_cast<int>(c), row = static_cast<int>(r);
+      const PoseSquares s{square(frames.outlined, col, row, side), square(reference.frames[f], col, row, side),
+                          square(frames.body, col, row, side), square(reference.bodies[f], col, row, side)};
+      TumblePose p{yaws[c], pitches[r], reference.rolls[f], index % variations};
+      PUFF_TRY(measurePose(s, bg, o, p));
+      poses.push_back(p);
+    }
+  }
+  return {};
+}
+
+// The least and the mean IoUs of the poses, taken in their order.
+void summarize(TumbleResult& out) {
+  double sumCoverage = 0.0, sumOutline = 0.0;
+  for (const TumblePose& p : out.poses) {
+    out.minCoverageIoU = std::min(out.minCoverageIoU, p.coverageIoU);
+    out.minOutlineIoU = std::min(out.minOutlineIoU, p.outlineIoU);
+    sumCoverage += p.coverageIoU;
+    sumOutline += p.outlineIoU;
+  }
+  if (!out.poses.empty()) {
+    out.meanCoverageIoU = sumCoverage / static_cast<double>(out.poses.size());
+    out.meanOutlineIoU = sumOutline / static_cast<double>(out.poses.size());
+  }
+}
+
 }  // namespace
 
 std::vector<TumblePose> tumblePoses(int stepDegrees) {
@@ -206,11 +339,9 @@ Result<TumbleReference> renderTumbleReference(const fs::path& atlas, const Tumbl
   const int variations = variationsOf(atlas);
   for (int roll : rolls) {
     for (bool outlines : {true, false}) {
-      auto s = gridScene(atlas, options, roll, variations, cel::TumbleMethod::kHull, outlines);
-      if (!s) return s.error();
-      auto image = renderOnce(*s, render::RenderPath::kReference, nullptr);
-      if (!image) return image.error();
-      (outlines ? ref.frames : ref.bodies).push_back(std::move(*image));
+      PUFF_TRY_ASSIGN(auto s, gridScene(atlas, options, roll, variations, cel::TumbleMethod::kHull, outlines));
+      PUFF_TRY_ASSIGN(auto image, renderOnce(s, render::RenderPath::kReference, nullptr));
+      (outlines ? ref.frames : ref.bodies).push_back(std::move(image));
     }
   }
   return ref;
@@ -220,98 +351,18 @@ Result<TumbleResult> measureTumble(const fs::path& atlas, const TumbleReference&
                                    double* msPerFrame) {
   const TumbleOptions& o = reference.options;
   PUFF_TRY(checkOptions(o));
-  if (reference.bodies.size() != reference.frames.size() || reference.frames.size() != reference.rolls.size()) {
-    return Error{"tumble sweep: the reference has " + std::to_string(reference.frames.size()) + " frames, " +
-                 std::to_string(reference.bodies.size()) + " without outlines and " +
-                 std::to_string(reference.rolls.size()) + " rolls (make it with renderTumbleReference)"};
-  }
-  const Grid g = gridFor(o);
-  const std::vector<int> yaws = yawsOf(o), pitches = pitchesOf(o);
+  PUFF_TRY(checkReference(reference));
   const int variations = variationsOf(atlas);
+  const Background bg = backgroundOf(gridFor(o));
   TumbleResult out;
   std::vector<double> times;
-  double sumCoverage = 0.0, sumOutline = 0.0;
-  // Frames are scene-linear: the clear colour as the frames hold it.
-  const glm::vec3 linearBackground = core::srgbToLinear(kBackground);
-  core::Image background(g.square, g.square, 4);
-  for (int y = 0; y < g.square; ++y)
-    for (int x = 0; x < g.square; ++x)
-      for (int c = 0; c < 4; ++c) background.at(x, y, c) = c < 3 ? linearBackground[c] : 1.0f;
   for (std::size_t f = 0; f < reference.rolls.size(); ++f) {
-    auto s = gridScene(atlas, o, reference.rolls[f], variations, method);
-    if (!s) return s.error();
-    auto image = renderOnce(*s, render::RenderPath::kCel, msPerFrame ? &times : nullptr);
-    if (!image) return image.error();
-    auto bare = gridScene(atlas, o, reference.rolls[f], variations, method, false);
-    if (!bare) return bare.error();
-    auto body = renderOnce(*bare, render::RenderPath::kCel, nullptr);
-    if (!body) return body.error();
-    const core::Image& ref = reference.frames[f];
-    const bool sizesMatch = [&] {
-      for (const core::Image* im : std::initializer_list<const core::Image*>{&*image, &*body, &reference.bodies[f]})
-        if (im->width != ref.width || im->height != ref.height) return false;
-      return true;
-    }();
-    if (!sizesMatch) {
-      return Error{"tumble sweep: the reference frames are " + std::to_string(ref.width) + "x" +
-                   std::to_string(ref.height) + ", its frames without outlines " +
-                   std::to_string(reference.bodies[f].width) + "x" + std::to_string(reference.bodies[f].height) +
-                   ", the nailboards' " + std::to_string(image->width) + "x" + std::to_string(image->height)};
-    }
-    int index = 0;
-    for (std::size_t r = 0; r < pitches.size(); ++r) {
-      for (std::size_t c = 0; c < yaws.size(); ++c, ++index) {
-        if (std::abs(pitches[r]) == 90 && yaws[c] != 0) continue;  // the same poses as yaw 0
-        const core::Image a = square(*image, static_cast<int>(c), static_cast<int>(r), g.square);
-        const core::Image b = square(ref, static_cast<int>(c), static_cast<int>(r), g.square);
-        const core::Image aBody = square(*body, static_cast<int>(c), static_cast<int>(r), g.square);
-        const core::Image bBody = square(reference.bodies[f], static_cast<int>(c), static_cast<int>(r), g.square);
-        // The yardstick checks itself: a square's corner lies outside its puff (half a diameter
-        // from the centre of a square 1.5 diameters wide), so it must read as background.
-        for (const core::Image* im : {&a, &b}) {
-          if (reference::coverageMask(*im, background)[0]) {
-            return Error{"tumble sweep: a square's corner is not the background colour (" +
-                         std::to_string(im->at(0, 0, 0)) + " against " + std::to_string(linearBackground.x) +
-                         "): the coverage masks would be wrong"};
-          }
-        }
-        TumblePose p{yaws[c], pitches[r], reference.rolls[f], index % variations};
-        const std::vector<bool> coveredA = reference::coverageMask(a, background),
-                                coveredB = reference::coverageMask(b, background);
-        p.coverageIoU = reference::maskIoU(coveredA, coveredB);
-        differences(coveredA, coveredB, p.coverageExtra, p.coverageMissing);
-        differences(reference::coverageMask(aBody, background), reference::coverageMask(bBody, background), p.bodyExtra,
-                    p.bodyMissing);
-        // Ink: what the outlines add to the puff, the pixels covered with them and not without (the
-        // body alone, drawn again without outlines). From coverage, not colour: the nailboards'
-        // ink mixes with the body within half a pixel of the silhouette (its antialiased inner
-        // edge), the reference's does not, and a colour threshold would take a mixed pixel on a lit
-        // body for body and one on the dark band for ink.
-        const std::vector<bool> inkA = inkBand(a, aBody, background), inkB = inkBand(b, bBody, background);
-        // The yardstick checks itself again: the reference's ink rings its puff (at least a
-        // quarter of a ring of the outline's width around a circle the puff's size). A fault that
-        // drew both the same, with outlines or without, would leave both masks empty: IoU 1.
-        const auto refInk = std::count(inkB.begin(), inkB.end(), true);
-        const double ring = 0.25 * std::numbers::pi * o.puffPixels * o.outlineWidth;
-        if (o.outlineWidth > 0.0f && static_cast<double>(refInk) < ring) {
-          return Error{"tumble sweep: the reference's ink covers " + std::to_string(refInk) + " pixels of pose yaw " +
-                       std::to_string(p.yaw) + " pitch " + std::to_string(p.pitch) + " roll " + std::to_string(p.roll) +
-                       ", under a quarter of a ring of the outline's width (" + std::to_string(static_cast<int>(ring)) +
-                       "): the ink masks would be wrong"};
-        }
-        p.outlineIoU = reference::maskIoU(inkA, inkB);
-        out.minCoverageIoU = std::min(out.minCoverageIoU, p.coverageIoU);
-        out.minOutlineIoU = std::min(out.minOutlineIoU, p.outlineIoU);
-        sumCoverage += p.coverageIoU;
-        sumOutline += p.outlineIoU;
-        out.poses.push_back(p);
-      }
-    }
+    PUFF_TRY_ASSIGN(const RollFrames frames,
+                    renderRoll(atlas, o, reference.rolls[f], variations, method, msPerFrame ? &times : nullptr));
+    PUFF_TRY(checkFrameSizes(frames, reference, f));
+    PUFF_TRY(measureRoll(frames, reference, f, bg, variations, out.poses));
   }
-  if (!out.poses.empty()) {
-    out.meanCoverageIoU = sumCoverage / static_cast<double>(out.poses.size());
-    out.meanOutlineIoU = sumOutline / static_cast<double>(out.poses.size());
-  }
+  summarize(out);
   if (msPerFrame && !times.empty()) {
     std::sort(times.begin(), times.end());
     *msPerFrame = times[times.size() / 2];

@@ -48,8 +48,7 @@ Result<CartoonCompose> cartoonCompose(const Settings& settings) {
   if (auto ok = validate(settings.cartoon); !ok) return Error{"cartoon/" + ok.error().message};
   const CartoonStyle& st = settings.cartoon;
   // The renderer's normalization (luminance 1 at normalizeKelvin), over the bands' own range.
-  auto ramp = core::makeBlackbodyRamp(st.coolKelvin, st.hotKelvin, 2, settings.normalizeKelvin);
-  if (!ramp) return ramp.error();
+  PUFF_TRY_ASSIGN(auto ramp, core::makeBlackbodyRamp(st.coolKelvin, st.hotKelvin, 2, settings.normalizeKelvin));
   const glm::dvec3 white = core::blackbodyXYZ(settings.normalizeKelvin);
   CartoonCompose c;
   c.style = st;

@@ -62,7 +62,7 @@ core::Texture makeTexture2D(GLenum format, int w, int h, GLenum filter) {
 
 }  // namespace
 
-struct Layers::Impl {
+struct LayersBase::Impl {
   Bindings bindings;
   int width = 0, height = 0, samples = 1, factor = 1, mediaWidth = 0, mediaHeight = 0;
   float scale = 1.0f;
@@ -70,9 +70,8 @@ struct Layers::Impl {
   core::Framebuffer opaqueFbo, resolveFbo, linearFbo, depthFbo, mediaFbo;
   core::Texture msColor, msDepth;                          // multisample textures (1 sample when MSAA is off)
   core::Texture color, depth, mediaDepth, media, shimmer;  // depth: R32F linear, the samples' nearest
-  core::Program resolveDepth, downsample, compose, blur;
-  bool host = false;                                      // createForHost: no opaque pass of its own
-  core::Program resolveHost, resolveHostMs, composeOver;  // host programs (createForHost only)
+  core::Program resolveDepth, downsample, compose, blur;   // Layers' programs (downsample: both kinds')
+  core::Program resolveHost, resolveHostMs, composeOver;   // HostLayers' programs
   std::vector<core::Texture> history;
   std::vector<core::Framebuffer> historyFbo;
   core::VertexArray vao;
@@ -85,8 +84,17 @@ struct Layers::Impl {
   core::Program cartoonField, cartoonSeed, cartoonFlood, cartoonCompose;
   core::Buffer cartoonBlock;
 
+  // What both kinds make: the sizes checked, the downsample program, the compose block, the
+  // full-size linear depth, the layer's depth and the media layer.
+  static Result<std::unique_ptr<Impl>> make(int width, int height, int samples, float scale, const Bindings& bindings);
+  // Layers' programs and its multisampled opaque target with its resolve target.
+  Result<void> makeOwn();
+  // HostLayers' programs: the host depth resolves and the dual-source compose.
+  Result<void> makeHost();
+  // An error when a framebuffer made is not complete on this GL.
+  Result<void> checkComplete() const;
   // Fills the compose passes' uniform block (compose.glsl's ComposeBlock).
-  void uploadComposeBlock(const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
+  void uploadComposeBlock(const core::Viewport& viewport, const Frame& frame, std::span<const ExplosionLight> lights,
                           const ComposeSettings& settings);
   // Binds the compose passes' block and layer textures and draws `program` over the viewport
   // (compose binds the opaque colour too; composeOver has none).
@@ -96,14 +104,156 @@ struct Layers::Impl {
   // Makes the cartoon style's textures and framebuffers (its programs are built with the layers).
   void makeCartoon();
   // compose()'s cartoon passes (layers.h, "Cartoon media"), the block already uploaded.
-  void composeCartoon(GLuint target, const int viewport[4], const CartoonCompose& cartoon);
+  void composeCartoon(GLuint target, const core::Viewport& viewport, const CartoonCompose& cartoon);
 };
 
-void Layers::Impl::uploadComposeBlock(const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
-                                      const ComposeSettings& settings) {
+namespace {
+
+// The layer's factor (1, 2, 4 or 8) for a `scale` of 1, 1/2, 1/4 or 1/8; 0 for any other.
+int layerFactor(float scale) {
+  int factor = 0;
+  for (int f : {1, 2, 4, 8})
+    if (std::abs(scale - 1.0f / static_cast<float>(f)) < 1e-6f) factor = f;
+  return factor;
+}
+
+Result<core::Program> fullscreenProgram(const char* fragment) {
+  return core::buildProgram({"media/fullscreen.vert", fragment});
+}
+
+}  // namespace
+
+Result<std::unique_ptr<LayersBase::Impl>> LayersBase::Impl::make(int width, int height, int samples, float scale,
+                                                                 const Bindings& bindings) {
+  PUFF_TRY(validate(bindings));
+  if (width < 1 || height < 1 || width > core::kMaxImageSize || height > core::kMaxImageSize)
+    return Error{"media layers: size " + std::to_string(width) + "x" + std::to_string(height) + " outside 1.." +
+                 std::to_string(core::kMaxImageSize)};
+  const int factor = layerFactor(scale);
+  if (factor == 0) return Error{"media resolution: expected 1, 0.5, 0.25 or 0.125, got " + std::to_string(scale)};
+  GLint maxSamples = 1;
+  glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
+  if (samples < 1 || samples > maxSamples)
+    return Error{std::to_string(samples) + " samples per pixel asked, but this GL gives 1 to " +
+                 std::to_string(maxSamples)};
+  auto m = std::make_unique<Impl>();
+  PUFF_TRY_ASSIGN(m->downsample, fullscreenProgram("media/downsample.frag"));
+  m->width = width, m->height = height, m->samples = samples, m->factor = factor, m->scale = scale;
+  m->mediaWidth = std::max(1, (width + factor - 1) / factor);
+  m->mediaHeight = std::max(1, (height + factor - 1) / factor);
+  m->bindings = bindings;
+  core::assignBindPoints(m->downsample.get(),
+                         {{core::BindPoint::Kind::kSampler, "uDepthFull", bindings.resolveSource}});
+  m->vao = core::makeVertexArray();
+  m->block = core::makeBuffer();
+  glNamedBufferStorage(m->block.get(), sizeof(ComposeBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
+
+  m->depth = makeTexture2D(GL_R32F, width, height, GL_NEAREST);
+  m->linearFbo = core::makeFramebuffer();
+  glNamedFramebufferTexture(m->linearFbo.get(), GL_COLOR_ATTACHMENT0, m->depth.get(), 0);
+  m->mediaDepth = makeTexture2D(GL_R32F, m->mediaWidth, m->mediaHeight, GL_NEAREST);
+  m->depthFbo = core::makeFramebuffer();
+  glNamedFramebufferTexture(m->depthFbo.get(), GL_COLOR_ATTACHMENT0, m->mediaDepth.get(), 0);
+  // 32-bit floats: Mesa llvmpipe blends half floats rounding toward zero, which over the ~100 layers of
+  // a camera inside smoke darkened the image by 0.004 (4x the 8-bit rounding; puffbench measures it).
+  m->media = makeTexture2D(GL_RGBA32F, m->mediaWidth, m->mediaHeight, GL_NEAREST);
+  m->shimmer = makeTexture2D(GL_RG16F, m->mediaWidth, m->mediaHeight, GL_NEAREST);
+  m->mediaFbo = core::makeFramebuffer();
+  glNamedFramebufferTexture(m->mediaFbo.get(), GL_COLOR_ATTACHMENT0, m->media.get(), 0);
+  glNamedFramebufferTexture(m->mediaFbo.get(), GL_COLOR_ATTACHMENT1, m->shimmer.get(), 0);
+  const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+  glNamedFramebufferDrawBuffers(m->mediaFbo.get(), 2, both);
+  return m;
+}
+
+Result<void> LayersBase::Impl::makeOwn() {
+  PUFF_TRY_ASSIGN(resolveDepth, fullscreenProgram("media/resolve_depth.frag"));
+  PUFF_TRY_ASSIGN(compose, fullscreenProgram("media/compose.frag"));
+  PUFF_TRY_ASSIGN(blur, fullscreenProgram("media/blur.frag"));
+  PUFF_TRY_ASSIGN(cartoonField, fullscreenProgram("media/cartoon_field.frag"));
+  PUFF_TRY_ASSIGN(cartoonSeed, fullscreenProgram("media/cartoon_seed.frag"));
+  PUFF_TRY_ASSIGN(cartoonFlood, fullscreenProgram("media/cartoon_flood.frag"));
+  PUFF_TRY_ASSIGN(cartoonCompose, fullscreenProgram("media/cartoon_compose.frag"));
+  using K = core::BindPoint::Kind;
+  const Bindings& b = bindings;
+  const unsigned c = b.cartoonFirst;
+  core::assignBindPoints(resolveDepth.get(), {{K::kSampler, "uDepthMS", b.resolveSource}});
+  core::assignBindPoints(blur.get(), {{K::kSampler, "uHistory[0]", b.historyFirst, shader::kMaxBlurFrames}});
+  core::assignBindPoints(compose.get(), {{K::kUniformBlock, "ComposeBlock", b.composeBlock},
+                                         {K::kSampler, "uOpaqueColor", b.opaqueColor},
+                                         {K::kSampler, "uOpaqueDepth", b.opaqueDepth},
+                                         {K::kSampler, "uMedia", b.mediaLayer},
+                                         {K::kSampler, "uMediaDepth", b.mediaDepth},
+                                         {K::kSampler, "uShimmerTex", b.shimmer}});
+  core::assignBindPoints(cartoonField.get(), {{K::kUniformBlock, "ComposeBlock", b.composeBlock},
+                                              {K::kUniformBlock, "CartoonBlock", b.cartoonBlock},
+                                              {K::kSampler, "uOpaqueDepth", b.opaqueDepth},
+                                              {K::kSampler, "uMedia", b.mediaLayer},
+                                              {K::kSampler, "uMediaDepth", b.mediaDepth},
+                                              {K::kSampler, "uShimmerTex", b.shimmer},
+                                              {K::kSampler, "uCartoonFire", c},
+                                              {K::kSampler, "uCartoonDepth", c + 1}});
+  core::assignBindPoints(cartoonSeed.get(),
+                         {{K::kUniformBlock, "CartoonBlock", b.cartoonBlock}, {K::kSampler, "uField", c + 1}});
+  core::assignBindPoints(cartoonFlood.get(),
+                         {{K::kUniformBlock, "CartoonBlock", b.cartoonBlock}, {K::kSampler, "uSeeds", c + 2}});
+  core::assignBindPoints(cartoonCompose.get(), {{K::kUniformBlock, "ComposeBlock", b.composeBlock},
+                                                {K::kUniformBlock, "CartoonBlock", b.cartoonBlock},
+                                                {K::kSampler, "uOpaqueColor", b.opaqueColor},
+                                                {K::kSampler, "uOpaqueDepth", b.opaqueDepth},
+                                                {K::kSampler, "uMedia", b.mediaLayer},
+                                                {K::kSampler, "uMediaDepth", b.mediaDepth},
+                                                {K::kSampler, "uShimmerTex", b.shimmer},
+                                                {K::kSampler, "uFill", c},
+                                                {K::kSampler, "uField", c + 1},
+                                                {K::kSampler, "uSeeds", c + 2}});
+
+  // Opaque pass: multisample textures (the depth is read per sample), resolved into textures.
+  opaqueFbo = core::makeFramebuffer();
+  msColor = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
+  msDepth = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
+  // Scene-linear colour (docs/colour.md): half floats, as the output target.
+  glTextureStorage2DMultisample(msColor.get(), samples, GL_RGBA16F, width, height, GL_TRUE);
+  glTextureStorage2DMultisample(msDepth.get(), samples, GL_DEPTH24_STENCIL8, width, height, GL_TRUE);
+  glTextureParameteri(msDepth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
+  glNamedFramebufferTexture(opaqueFbo.get(), GL_COLOR_ATTACHMENT0, msColor.get(), 0);
+  glNamedFramebufferTexture(opaqueFbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, msDepth.get(), 0);
+  color = makeTexture2D(GL_RGBA16F, width, height, GL_NEAREST);
+  resolveFbo = core::makeFramebuffer();
+  glNamedFramebufferTexture(resolveFbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
+  return {};
+}
+
+Result<void> LayersBase::Impl::makeHost() {
+  PUFF_TRY_ASSIGN(resolveHost, fullscreenProgram("media/resolve_host_depth.frag"));
+  PUFF_TRY_ASSIGN(resolveHostMs, fullscreenProgram("media/resolve_host_depth_ms.frag"));
+  PUFF_TRY_ASSIGN(composeOver, fullscreenProgram("media/compose_over.frag"));
+  using K = core::BindPoint::Kind;
+  const Bindings& b = bindings;
+  core::assignBindPoints(resolveHost.get(), {{K::kSampler, "uHostDepth", b.resolveSource}});
+  core::assignBindPoints(resolveHostMs.get(), {{K::kSampler, "uHostDepth", b.resolveSource}});
+  core::assignBindPoints(composeOver.get(), {{K::kUniformBlock, "ComposeBlock", b.composeBlock},
+                                             {K::kSampler, "uOpaqueDepth", b.opaqueDepth},
+                                             {K::kSampler, "uMedia", b.mediaLayer},
+                                             {K::kSampler, "uMediaDepth", b.mediaDepth},
+                                             {K::kSampler, "uShimmerTex", b.shimmer}});
+  return {};
+}
+
+Result<void> LayersBase::Impl::checkComplete() const {
+  for (GLuint fbo : {opaqueFbo.get(), resolveFbo.get(), linearFbo.get(), depthFbo.get(), mediaFbo.get()}) {
+    if (fbo != 0 && glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      return Error{"media layers of " + std::to_string(width) + "x" + std::to_string(height) + " with " +
+                   std::to_string(samples) + " samples are not supported by this GL"};
+  }
+  return {};
+}
+
+void LayersBase::Impl::uploadComposeBlock(const core::Viewport& viewport, const Frame& frame,
+                                          std::span<const ExplosionLight> lights, const ComposeSettings& settings) {
   ComposeBlockData d{};
   d.invProj = glm::inverse(frame.projection);
-  d.viewport = glm::vec4(viewport[0], viewport[1], viewport[2], viewport[3]);
+  d.viewport = glm::vec4(viewport.x, viewport.y, viewport.width, viewport.height);
   d.depth = glm::vec4(frame.nearPlane, frame.farPlane, frame.farPlane - frame.nearPlane, frame.orthographic ? 1 : 0);
   d.layer = glm::vec4(mediaWidth, mediaHeight, factor, settings.depthTolerance);
   d.shimmer = glm::vec4(settings.shimmerPixels, 0.0f, 0.0f, 0.0f);
@@ -122,7 +272,7 @@ void Layers::Impl::uploadComposeBlock(const int viewport[4], const Frame& frame,
   glNamedBufferSubData(block.get(), 0, sizeof(d), &d);
 }
 
-void Layers::Impl::drawCompose(GLuint program) {
+void LayersBase::Impl::drawCompose(GLuint program) {
   glUseProgram(program);
   const GLuint b = block.get();
   glBindBuffersBase(GL_UNIFORM_BUFFER, bindings.composeBlock, 1, &b);  // multi-bind: the generic binding stays
@@ -136,7 +286,7 @@ void Layers::Impl::drawCompose(GLuint program) {
   glUseProgram(0);
 }
 
-void Layers::Impl::downsampleDepth() {
+void LayersBase::Impl::downsampleDepth() {
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, depthFbo.get());
   glViewport(0, 0, mediaWidth, mediaHeight);
   glUseProgram(downsample.get());
@@ -145,178 +295,37 @@ void Layers::Impl::downsampleDepth() {
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
-Layers::Layers() : impl_(std::make_unique<Impl>()) {}
+LayersBase::LayersBase(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+LayersBase::~LayersBase() = default;
 Layers::~Layers() = default;
-int Layers::width() const { return impl_->width; }
-int Layers::height() const { return impl_->height; }
-int Layers::mediaWidth() const { return impl_->mediaWidth; }
-int Layers::mediaHeight() const { return impl_->mediaHeight; }
-float Layers::scale() const { return impl_->scale; }
+HostLayers::~HostLayers() = default;
+int LayersBase::width() const { return impl_->width; }
+int LayersBase::height() const { return impl_->height; }
+int LayersBase::mediaWidth() const { return impl_->mediaWidth; }
+int LayersBase::mediaHeight() const { return impl_->mediaHeight; }
+float LayersBase::scale() const { return impl_->scale; }
+GLuint LayersBase::mediaDepth() const { return impl_->mediaDepth.get(); }
+GLuint LayersBase::mediaColor() const { return impl_->media.get(); }
+void LayersBase::setUpsampling(Upsampling rule) { impl_->upsampling = rule; }
+LayersBase::Upsampling LayersBase::upsampling() const { return impl_->upsampling; }
 GLuint Layers::opaqueFramebuffer() const { return impl_->opaqueFbo.get(); }
-GLuint Layers::mediaDepth() const { return impl_->mediaDepth.get(); }
 GLuint Layers::opaqueColor() const { return impl_->color.get(); }
-GLuint Layers::opaqueDepth() const { return impl_->depth.get(); }
-GLuint Layers::mediaColor() const { return impl_->media.get(); }
+GLuint LayersBase::opaqueDepth() const { return impl_->depth.get(); }
 GLuint Layers::cartoonField() const { return impl_->field.get(); }
-void Layers::setUpsampling(Upsampling rule) { impl_->upsampling = rule; }
-Layers::Upsampling Layers::upsampling() const { return impl_->upsampling; }
-bool Layers::forHost() const { return impl_->host; }
 
 Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int samples, float scale,
                                                const Bindings& bindings) {
-  return make(width, height, samples, scale, bindings, false);
+  PUFF_TRY_ASSIGN(auto m, Impl::make(width, height, samples, scale, bindings));
+  PUFF_TRY(m->makeOwn());
+  PUFF_TRY(m->checkComplete());
+  return std::unique_ptr<Layers>(new Layers(std::move(m)));
 }
 
-Result<std::unique_ptr<Layers>> Layers::createForHost(int width, int height, float scale, const Bindings& bindings) {
-  return make(width, height, 1, scale, bindings, true);
-}
-
-Result<std::unique_ptr<Layers>> Layers::make(int width, int height, int samples, float scale, const Bindings& bindings,
-                                             bool host) {
-  if (auto ok = validate(bindings); !ok) return ok.error();
-  if (width < 1 || height < 1 || width > core::kMaxImageSize || height > core::kMaxImageSize)
-    return Error{"media layers: size " + std::to_string(width) + "x" + std::to_string(height) + " outside 1.." +
-                 std::to_string(core::kMaxImageSize)};
-  int factor = 0;
-  for (int f : {1, 2, 4, 8})
-    if (std::abs(scale - 1.0f / static_cast<float>(f)) < 1e-6f) factor = f;
-  if (factor == 0) return Error{"media resolution: expected 1, 0.5, 0.25 or 0.125, got " + std::to_string(scale)};
-  GLint maxSamples = 1;
-  glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
-  if (samples < 1 || samples > maxSamples)
-    return Error{std::to_string(samples) + " samples per pixel asked, but this GL gives 1 to " +
-                 std::to_string(maxSamples)};
-  auto resolveDepth = core::buildProgram({"media/fullscreen.vert", "media/resolve_depth.frag"});
-  if (!resolveDepth) return resolveDepth.error();
-  auto downsample = core::buildProgram({"media/fullscreen.vert", "media/downsample.frag"});
-  if (!downsample) return downsample.error();
-  auto compose = core::buildProgram({"media/fullscreen.vert", "media/compose.frag"});
-  if (!compose) return compose.error();
-  auto blur = core::buildProgram({"media/fullscreen.vert", "media/blur.frag"});
-  if (!blur) return blur.error();
-  const char* cartoonStages[] = {"media/cartoon_field.frag", "media/cartoon_seed.frag", "media/cartoon_flood.frag",
-                                 "media/cartoon_compose.frag"};
-  core::Program cartoon[4];
-  for (int i = 0; i < (host ? 0 : 4); ++i) {
-    PUFF_TRY_ASSIGN(cartoon[i], core::buildProgram({"media/fullscreen.vert", cartoonStages[i]}));
-  }
-  core::Program resolveHost, resolveHostMs, composeOver;
-  if (host) {
-    auto single = core::buildProgram({"media/fullscreen.vert", "media/resolve_host_depth.frag"});
-    if (!single) return single.error();
-    auto multi = core::buildProgram({"media/fullscreen.vert", "media/resolve_host_depth_ms.frag"});
-    if (!multi) return multi.error();
-    auto over = core::buildProgram({"media/fullscreen.vert", "media/compose_over.frag"});
-    if (!over) return over.error();
-    resolveHost = std::move(*single), resolveHostMs = std::move(*multi), composeOver = std::move(*over);
-  }
-
-  std::unique_ptr<Layers> l(new Layers());
-  Impl& m = *l->impl_;
-  m.width = width, m.height = height, m.samples = samples, m.factor = factor, m.scale = scale;
-  m.mediaWidth = std::max(1, (width + factor - 1) / factor);
-  m.mediaHeight = std::max(1, (height + factor - 1) / factor);
-  m.resolveDepth = std::move(*resolveDepth);
-  m.downsample = std::move(*downsample);
-  m.compose = std::move(*compose);
-  m.blur = std::move(*blur);
-  m.host = host;
-  m.resolveHost = std::move(resolveHost), m.resolveHostMs = std::move(resolveHostMs);
-  m.composeOver = std::move(composeOver);
-  m.cartoonField = std::move(cartoon[0]), m.cartoonSeed = std::move(cartoon[1]);
-  m.cartoonFlood = std::move(cartoon[2]), m.cartoonCompose = std::move(cartoon[3]);
-  m.bindings = bindings;
-  {
-    using K = core::BindPoint::Kind;
-    core::assignBindPoints(m.resolveDepth.get(), {{K::kSampler, "uDepthMS", bindings.resolveSource}});
-    core::assignBindPoints(m.downsample.get(), {{K::kSampler, "uDepthFull", bindings.resolveSource}});
-    core::assignBindPoints(m.blur.get(), {{K::kSampler, "uHistory[0]", bindings.historyFirst, shader::kMaxBlurFrames}});
-    core::assignBindPoints(m.compose.get(), {{K::kUniformBlock, "ComposeBlock", bindings.composeBlock},
-                                             {K::kSampler, "uOpaqueColor", bindings.opaqueColor},
-                                             {K::kSampler, "uOpaqueDepth", bindings.opaqueDepth},
-                                             {K::kSampler, "uMedia", bindings.mediaLayer},
-                                             {K::kSampler, "uMediaDepth", bindings.mediaDepth},
-                                             {K::kSampler, "uShimmerTex", bindings.shimmer}});
-    if (!host) {
-      const unsigned c = bindings.cartoonFirst;
-      core::assignBindPoints(m.cartoonField.get(), {{K::kUniformBlock, "ComposeBlock", bindings.composeBlock},
-                                                    {K::kUniformBlock, "CartoonBlock", bindings.cartoonBlock},
-                                                    {K::kSampler, "uOpaqueDepth", bindings.opaqueDepth},
-                                                    {K::kSampler, "uMedia", bindings.mediaLayer},
-                                                    {K::kSampler, "uMediaDepth", bindings.mediaDepth},
-                                                    {K::kSampler, "uShimmerTex", bindings.shimmer},
-                                                    {K::kSampler, "uCartoonFire", c},
-                                                    {K::kSampler, "uCartoonDepth", c + 1}});
-      core::assignBindPoints(m.cartoonSeed.get(), {{K::kUniformBlock, "CartoonBlock", bindings.cartoonBlock},
-                                                   {K::kSampler, "uField", c + 1}});
-      core::assignBindPoints(m.cartoonFlood.get(), {{K::kUniformBlock, "CartoonBlock", bindings.cartoonBlock},
-                                                    {K::kSampler, "uSeeds", c + 2}});
-      core::assignBindPoints(m.cartoonCompose.get(), {{K::kUniformBlock, "ComposeBlock", bindings.composeBlock},
-                                                      {K::kUniformBlock, "CartoonBlock", bindings.cartoonBlock},
-                                                      {K::kSampler, "uOpaqueColor", bindings.opaqueColor},
-                                                      {K::kSampler, "uOpaqueDepth", bindings.opaqueDepth},
-                                                      {K::kSampler, "uMedia", bindings.mediaLayer},
-                                                      {K::kSampler, "uMediaDepth", bindings.mediaDepth},
-                                                      {K::kSampler, "uShimmerTex", bindings.shimmer},
-                                                      {K::kSampler, "uFill", c},
-                                                      {K::kSampler, "uField", c + 1},
-                                                      {K::kSampler, "uSeeds", c + 2}});
-    }
-    if (host) {
-      core::assignBindPoints(m.resolveHost.get(), {{K::kSampler, "uHostDepth", bindings.resolveSource}});
-      core::assignBindPoints(m.resolveHostMs.get(), {{K::kSampler, "uHostDepth", bindings.resolveSource}});
-      core::assignBindPoints(m.composeOver.get(), {{K::kUniformBlock, "ComposeBlock", bindings.composeBlock},
-                                                   {K::kSampler, "uOpaqueDepth", bindings.opaqueDepth},
-                                                   {K::kSampler, "uMedia", bindings.mediaLayer},
-                                                   {K::kSampler, "uMediaDepth", bindings.mediaDepth},
-                                                   {K::kSampler, "uShimmerTex", bindings.shimmer}});
-    }
-  }
-  m.vao = core::makeVertexArray();
-  m.block = core::makeBuffer();
-  glNamedBufferStorage(m.block.get(), sizeof(ComposeBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
-
-  // Opaque pass: multisample textures (the depth is read per sample), resolved into textures. A
-  // host's Layers keep only the linear depth (below): the host owns its scene's colour and depth.
-  if (!host) {
-    m.opaqueFbo = core::makeFramebuffer();
-    m.msColor = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
-    m.msDepth = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
-    // Scene-linear colour (docs/colour.md): half floats, as the output target.
-    glTextureStorage2DMultisample(m.msColor.get(), samples, GL_RGBA16F, width, height, GL_TRUE);
-    glTextureStorage2DMultisample(m.msDepth.get(), samples, GL_DEPTH24_STENCIL8, width, height, GL_TRUE);
-    glTextureParameteri(m.msDepth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
-    glNamedFramebufferTexture(m.opaqueFbo.get(), GL_COLOR_ATTACHMENT0, m.msColor.get(), 0);
-    glNamedFramebufferTexture(m.opaqueFbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, m.msDepth.get(), 0);
-
-    m.color = makeTexture2D(GL_RGBA16F, width, height, GL_NEAREST);
-    m.resolveFbo = core::makeFramebuffer();
-    glNamedFramebufferTexture(m.resolveFbo.get(), GL_COLOR_ATTACHMENT0, m.color.get(), 0);
-  }
-  m.depth = makeTexture2D(GL_R32F, width, height, GL_NEAREST);
-  m.linearFbo = core::makeFramebuffer();
-  glNamedFramebufferTexture(m.linearFbo.get(), GL_COLOR_ATTACHMENT0, m.depth.get(), 0);
-
-  m.mediaDepth = makeTexture2D(GL_R32F, m.mediaWidth, m.mediaHeight, GL_NEAREST);
-  m.depthFbo = core::makeFramebuffer();
-  glNamedFramebufferTexture(m.depthFbo.get(), GL_COLOR_ATTACHMENT0, m.mediaDepth.get(), 0);
-
-  // 32-bit floats: Mesa llvmpipe blends half floats rounding toward zero, which over the ~100 layers of
-  // a camera inside smoke darkened the image by 0.004 (4x the 8-bit rounding; puffbench measures it).
-  m.media = makeTexture2D(GL_RGBA32F, m.mediaWidth, m.mediaHeight, GL_NEAREST);
-  m.shimmer = makeTexture2D(GL_RG16F, m.mediaWidth, m.mediaHeight, GL_NEAREST);
-  m.mediaFbo = core::makeFramebuffer();
-  glNamedFramebufferTexture(m.mediaFbo.get(), GL_COLOR_ATTACHMENT0, m.media.get(), 0);
-  glNamedFramebufferTexture(m.mediaFbo.get(), GL_COLOR_ATTACHMENT1, m.shimmer.get(), 0);
-  const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glNamedFramebufferDrawBuffers(m.mediaFbo.get(), 2, both);
-
-  for (GLuint fbo : {m.opaqueFbo.get(), m.resolveFbo.get(), m.linearFbo.get(), m.depthFbo.get(), m.mediaFbo.get()}) {
-    if (fbo != 0 && glCheckNamedFramebufferStatus(fbo, GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-      return Error{"media layers of " + std::to_string(width) + "x" + std::to_string(height) + " with " +
-                   std::to_string(samples) + " samples are not supported by this GL"};
-  }
-  return l;
+Result<std::unique_ptr<HostLayers>> HostLayers::create(int width, int height, float scale, const Bindings& bindings) {
+  PUFF_TRY_ASSIGN(auto m, Impl::make(width, height, 1, scale, bindings));
+  PUFF_TRY(m->makeHost());
+  PUFF_TRY(m->checkComplete());
+  return std::unique_ptr<HostLayers>(new HostLayers(std::move(m)));
 }
 
 void Layers::setHistorySlots(int slots) {
@@ -337,18 +346,18 @@ GLuint Layers::historyFramebuffer(int slot) const {
   return impl_->historyFbo[static_cast<std::size_t>(slot)].get();
 }
 
-void Layers::blendHistory(GLuint target, const int viewport[4], std::span<const int> slots,
+void Layers::blendHistory(GLuint target, const core::Viewport& viewport, std::span<const int> slots,
                           std::span<const float> weights) {
   Impl& m = *impl_;
   PUFF_CHECK(slots.size() == weights.size() && !slots.empty() &&
              slots.size() <= static_cast<std::size_t>(shader::kMaxBlurFrames));
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-  glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+  glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
   fullscreenState();
   glUseProgram(m.blur.get());
   glUniform1i(shader::loc::kBlurCount, static_cast<GLint>(slots.size()));
   glUniform1fv(shader::loc::kBlurWeights, static_cast<GLsizei>(weights.size()), weights.data());
-  glUniform4f(shader::loc::kBlurViewport, static_cast<float>(viewport[0]), static_cast<float>(viewport[1]), 0.0f, 0.0f);
+  glUniform4f(shader::loc::kBlurViewport, static_cast<float>(viewport.x), static_cast<float>(viewport.y), 0.0f, 0.0f);
   for (std::size_t i = 0; i < slots.size(); ++i) {
     const int slot = slots[i];
     PUFF_CHECK(slot >= 0 && slot < static_cast<int>(m.history.size()));
@@ -361,7 +370,7 @@ void Layers::blendHistory(GLuint target, const int viewport[4], std::span<const 
   glUseProgram(0);
 }
 
-Frame Layers::layerFrame(const Frame& full) const {
+Frame LayersBase::layerFrame(const Frame& full) const {
   const Impl& m = *impl_;
   // Clip x' = sx x + (sx - 1) w maps the full image's [-1, 1] onto the first width() of the layer's
   // mediaWidth * factor pixels.
@@ -380,8 +389,6 @@ Frame Layers::layerFrame(const Frame& full) const {
 
 void Layers::resolveOpaque() {
   Impl& m = *impl_;
-  if (m.host)
-    misuse("Layers::resolveOpaque on layers made by createForHost, which have no opaque pass: call resolveHostDepth");
   // Its own framebuffers must not stay bound to catch the host's next draws: the draw framebuffer
   // and viewport it found are put back (two queries, answered client-side on desktop drivers).
   GLint hostDraw = 0, hostViewport[4] = {0, 0, 0, 0};
@@ -424,14 +431,10 @@ bool isDepthFormat(GLint format) {
 
 }  // namespace
 
-Result<void> Layers::resolveHostDepth(const HostDepth& host) {
+Result<void> HostLayers::resolveHostDepth(const HostDepth& host) {
   Impl& m = *impl_;
   // Built only on an error: this runs every frame.
   const auto what = [&] { return "resolveHostDepth: HostDepth.texture " + std::to_string(host.texture); };
-  if (!m.host)
-    return Error{
-        "resolveHostDepth: these media layers have their own opaque pass (Layers::create): use "
-        "resolveOpaque"};
   if (host.texture == 0 || glIsTexture(host.texture) != GL_TRUE) return Error{what() + " is not a texture"};
   // The texture says what it is: target, format, size and samples (a few object queries, no sync).
   GLint target = 0, format = 0, w = 0, h = 0, samples = 0, mode = GL_DEPTH_COMPONENT, compare = GL_NONE;
@@ -486,13 +489,12 @@ Result<void> Layers::resolveHostDepth(const HostDepth& host) {
   return {};
 }
 
-Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Frame& frame,
-                                 std::span<const ExplosionLight> lights, const ComposeSettings& settings) {
+Result<void> HostLayers::composeOver(GLuint target, const core::Viewport& viewport, const Frame& frame,
+                                     std::span<const ExplosionLight> lights, const ComposeSettings& settings) {
   Impl& m = *impl_;
-  if (!m.host) return Error{"composeOver: these media layers have their own opaque pass (Layers::create): use compose"};
   if (m.cartoonBegun)
     return Error{
-        "composeOver: the layer holds the cartoon style (beginMedia(true)), which is not drawn over a "
+        "composeOver: the layer holds the cartoon style (beginMedia(Style::kCartoon)), which is not drawn over a "
         "host's frame yet; draw it with Style::kPhotoreal"};
   if (settings.shimmerPixels != 0.0f)
     return Error{"composeOver: heat shimmer (shimmerPixels " + std::to_string(settings.shimmerPixels) +
@@ -502,8 +504,8 @@ Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Fra
       lit > shader::kMaxLights)
     return Error{"composeOver: " + std::to_string(lit) + " explosion lights, at most " +
                  std::to_string(shader::kMaxLights)};
-  if (viewport[2] != m.width || viewport[3] != m.height)
-    return Error{"composeOver: viewport " + std::to_string(viewport[2]) + "x" + std::to_string(viewport[3]) +
+  if (viewport.width != m.width || viewport.height != m.height)
+    return Error{"composeOver: viewport " + std::to_string(viewport.width) + "x" + std::to_string(viewport.height) +
                  " is not the layers' " + std::to_string(m.width) + "x" + std::to_string(m.height)};
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   // Dual-source blending writes GL_MAX_DUAL_SOURCE_DRAW_BUFFERS draw buffers at most (1 on
@@ -520,7 +522,7 @@ Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Fra
                    "; give it one draw buffer (glNamedFramebufferDrawBuffer) for this call"};
   }
   m.uploadComposeBlock(viewport, frame, lights, settings);
-  glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+  glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
   fullscreenState();  // GL_FRAMEBUFFER_SRGB the host's: on an sRGB target with it on, the blend is in linear
   // dst * src1 + src0 on RGB (compose_over.frag); the host's alpha kept.
   glEnablei(GL_BLEND, 0);
@@ -531,7 +533,7 @@ Result<void> Layers::composeOver(GLuint target, const int viewport[4], const Fra
   return {};
 }
 
-void Layers::Impl::makeCartoon() {
+void LayersBase::Impl::makeCartoon() {
   if (cartoonMade) return;
   cartoonFire = makeTexture2D(GL_RGBA32F, mediaWidth, mediaHeight, GL_NEAREST);
   cartoonDepth = makeTexture2D(GL_RGBA32F, mediaWidth, mediaHeight, GL_NEAREST);
@@ -565,7 +567,7 @@ static std::vector<int> floodSteps(float inkWidth) {
   return steps;
 }
 
-void Layers::Impl::composeCartoon(GLuint target, const int viewport[4], const CartoonCompose& cartoon) {
+void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewport, const CartoonCompose& cartoon) {
   const CartoonStyle& st = cartoon.style;
   CartoonBlockData d{};
   const float inkWidth = st.outlines ? st.outlineWidth : 0.0f;
@@ -610,7 +612,7 @@ void Layers::Impl::composeCartoon(GLuint target, const int viewport[4], const Ca
   }
   // 4. The fill and the ink over the opaque scene.
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-  glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+  glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
   glUseProgram(cartoonCompose.get());
   core::bindTextureAndNoSampler(c, fill.get());
   core::bindTextureAndNoSampler(c + 2, seeds[from].get());
@@ -619,8 +621,9 @@ void Layers::Impl::composeCartoon(GLuint target, const int viewport[4], const Ca
   glUseProgram(0);
 }
 
-void Layers::beginMedia(bool cartoon) {
+void LayersBase::beginMedia(Style style) {
   Impl& m = *impl_;
+  const bool cartoon = style == Style::kCartoon;
   if (cartoon) m.makeCartoon();
   m.cartoonBegun = cartoon;
   const GLenum buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2, GL_COLOR_ATTACHMENT3};
@@ -639,21 +642,21 @@ void Layers::beginMedia(bool cartoon) {
   }
 }
 
-void Layers::compose(GLuint target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
-                     const ComposeSettings& settings, const CartoonCompose* cartoon) {
+void Layers::compose(GLuint target, const core::Viewport& viewport, const Frame& frame,
+                     std::span<const ExplosionLight> lights, const ComposeSettings& settings,
+                     const CartoonCompose* cartoon) {
   Impl& m = *impl_;
-  if (m.host) misuse("Layers::compose on layers made by createForHost, which have no opaque colour: call composeOver");
   if ((cartoon != nullptr) != m.cartoonBegun)
-    misuse(cartoon ? "Layers::compose with a CartoonCompose on a layer not begun with beginMedia(true)"
-                   : "Layers::compose without a CartoonCompose on a layer begun with beginMedia(true)");
-  PUFF_CHECK(viewport[2] == m.width && viewport[3] == m.height);
+    misuse(cartoon ? "Layers::compose with a CartoonCompose on a layer not begun with beginMedia(Style::kCartoon)"
+                   : "Layers::compose without a CartoonCompose on a layer begun with beginMedia(Style::kCartoon)");
+  PUFF_CHECK(viewport.width == m.width && viewport.height == m.height);
   m.uploadComposeBlock(viewport, frame, lights, settings);
   if (cartoon) {
     m.composeCartoon(target, viewport, *cartoon);  // its own passes, the target's last
     return;
   }
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-  glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);
+  glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
   fullscreenState();
   core::bindTextureAndNoSampler(m.bindings.opaqueColor, m.color.get());
   m.drawCompose(m.compose.get());

@@ -191,13 +191,13 @@ double sphereOpacity(const glm::dvec3& o, const glm::dvec3& dir, const glm::dvec
 }
 
 std::vector<std::uint32_t> backToFront(const glm::mat4& view, std::span<const Particle> particles, SortKey key,
-                                       bool orthographic) {
+                                       Projection projection) {
   const std::size_t n = particles.size();
   std::vector<std::uint32_t> keys(n), idx(n), tmpKeys(n), tmpIdx(n);
   const glm::vec4 row(view[0][2], view[1][2], view[2][2], view[3][2]);  // camera-space z
   const glm::dmat4 dview(view);
   // The power order from an eye at infinity (orthographic) is the view-axis order (types.h).
-  const bool power = key == SortKey::kPowerDistance && !orthographic;
+  const bool power = key == SortKey::kPowerDistance && projection == Projection::kPerspective;
   for (std::size_t i = 0; i < n; ++i) {
     const glm::vec3& p = particles[i].position;
     // Ascending k = farthest first.
@@ -299,31 +299,29 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings, con
   if (settings.style == Style::kCartoon) {
     if (auto ok = validate(settings.cartoon); !ok) return Error{"cartoon/" + ok.error().message};
   }
-  auto ramp = core::makeBlackbodyRamp(settings.minKelvin, settings.maxKelvin, 1024, settings.normalizeKelvin);
-  if (!ramp) return ramp.error();
+  PUFF_TRY_ASSIGN(auto ramp,
+                  core::makeBlackbodyRamp(settings.minKelvin, settings.maxKelvin, 1024, settings.normalizeKelvin));
   const bool cartoon = settings.style == Style::kCartoon;
   auto program =
       core::buildProgram({"media/billboard.vert", cartoon ? "media/billboard_cartoon.frag" : "media/billboard.frag"});
   if (!program) return program.error();
-  auto textured = core::buildProgram({"media/billboard_textured.vert", cartoon ? "media/billboard_textured_cartoon.frag"
-                                                                               : "media/billboard_textured.frag"});
-  if (!textured) return textured.error();
-  auto floorProgram = core::buildProgram({"media/billboard.vert", "media/floor.frag"});
-  if (!floorProgram) return floorProgram.error();
-  auto planarFloor = core::buildProgram({"media/billboard.vert", "media/floor_depth_tested.frag"});
-  if (!planarFloor) return planarFloor.error();
-  auto texturedFloor = core::buildProgram({"media/billboard_textured.vert", "media/floor_depth_tested.frag"});
-  if (!texturedFloor) return texturedFloor.error();
+  PUFF_TRY_ASSIGN(auto textured,
+                  core::buildProgram({"media/billboard_textured.vert", cartoon ? "media/billboard_textured_cartoon.frag"
+                                                                               : "media/billboard_textured.frag"}));
+  PUFF_TRY_ASSIGN(auto floorProgram, core::buildProgram({"media/billboard.vert", "media/floor.frag"}));
+  PUFF_TRY_ASSIGN(auto planarFloor, core::buildProgram({"media/billboard.vert", "media/floor_depth_tested.frag"}));
+  PUFF_TRY_ASSIGN(auto texturedFloor,
+                  core::buildProgram({"media/billboard_textured.vert", "media/floor_depth_tested.frag"}));
 
   std::unique_ptr<Renderer> r(new Renderer());
   Impl& m = *r->impl_;
   m.settings = settings;
   m.bindings = bindings;
   m.program = std::move(*program);
-  m.textured = std::move(*textured);
-  m.floorProgram = std::move(*floorProgram);
-  m.planarFloor = std::move(*planarFloor);
-  m.texturedFloor = std::move(*texturedFloor);
+  m.textured = std::move(textured);
+  m.floorProgram = std::move(floorProgram);
+  m.planarFloor = std::move(planarFloor);
+  m.texturedFloor = std::move(texturedFloor);
   for (const GLuint p :
        {m.program.get(), m.textured.get(), m.floorProgram.get(), m.planarFloor.get(), m.texturedFloor.get()}) {
     using K = core::BindPoint::Kind;
@@ -347,9 +345,9 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings, con
 
   // Black body: linear sRGB radiance, negative (out-of-gamut) components kept; the shader clips.
   m.blackbody = core::makeTexture(GL_TEXTURE_1D);
-  const int n = static_cast<int>(ramp->rgb.size());
+  const int n = static_cast<int>(ramp.rgb.size());
   glTextureStorage1D(m.blackbody.get(), 1, GL_RGB32F, n);
-  glTextureSubImage1D(m.blackbody.get(), 0, 0, n, GL_RGB, GL_FLOAT, ramp->rgb.data());
+  glTextureSubImage1D(m.blackbody.get(), 0, 0, n, GL_RGB, GL_FLOAT, ramp.rgb.data());
   glTextureParameteri(m.blackbody.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTextureParameteri(m.blackbody.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTextureParameteri(m.blackbody.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
@@ -416,7 +414,9 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
                     DrawStats* stats) {
   Impl& m = *impl_;
   const auto t0 = core::Clock::now();
-  const std::vector<std::uint32_t> order = backToFront(frame.view, particles, m.settings.sort, frame.orthographic);
+  const std::vector<std::uint32_t> order =
+      backToFront(frame.view, particles, m.settings.sort,
+                  frame.orthographic ? Projection::kOrthographic : Projection::kPerspective);
   m.sorted.clear();
   m.sorted.reserve(particles.size());
   for (std::uint32_t i : order)

@@ -392,25 +392,22 @@ std::vector<std::uint32_t> triangulate(const OmMesh& om, TriMesh& mesh) {
 }  // namespace
 
 Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info, Normalize normalize) {
-  const Result<Format> format = formatOf(path);
-  if (!format) return format.error();
+  PUFF_TRY_ASSIGN(const Format format, formatOf(path));
   PUFF_TRY(checkReadable(path));
-  const Result<detail::RawMesh> raw = detail::readRawMesh(path, *format);
-  if (!raw) return raw.error();
+  PUFF_TRY_ASSIGN(const detail::RawMesh raw, detail::readRawMesh(path, format));
 
   OmMesh om;
   om.request_vertex_colors();
   om.request_vertex_normals();
   om.request_face_status();  // faces put on their own vertices are marked
-  buildOpenMesh(*raw, om);
+  buildOpenMesh(raw, om);
   std::size_t separated = 0;
-  const Result<std::size_t> added = checkFaces(path, raw->declaredFaces, om, separated);
-  if (!added) return added.error();
+  PUFF_TRY_ASSIGN(const std::size_t added, checkFaces(path, raw.declaredFaces, om, separated));
 
   TriMesh mesh;
   // The readers give colours and normals only where every vertex has them.
-  const bool fileColors = !raw->colors.empty();
-  const bool fileNormals = !raw->normals.empty();
+  const bool fileColors = !raw.colors.empty();
+  const bool fileNormals = !raw.normals.empty();
   copyVertices(om, fileColors, fileNormals, mesh);
   const std::vector<std::uint32_t> sourceFace = triangulate(om, mesh);
 
@@ -418,7 +415,7 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info, Normalize normali
   removeUnreferenced(mesh);
 
   LoadInfo li;
-  li.sourceFaces = *added;
+  li.sourceFaces = added;
   li.sourceVertices = om.n_vertices();
   li.separatedFaces = separated;
   li.hadColors = fileColors;
@@ -439,10 +436,9 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info, Normalize normali
 }
 
 Result<void> saveMesh(const TriMesh& mesh, const fs::path& path, SaveNormals normals) {
-  const Result<Format> format = formatOf(path);
-  if (!format) return format.error();
+  PUFF_TRY_ASSIGN(const Format format, formatOf(path));
   const bool writeNormals = normals == SaveNormals::kYes;
-  if (writeNormals && *format != Format::Ply && *format != Format::Obj)
+  if (writeNormals && format != Format::Ply && format != Format::Obj)
     return Error::at(path, "cannot write normals: only PLY and OBJ files carry them here");
   if (writeNormals && mesh.normals.size() != mesh.positions.size())
     return Error::at(path, "cannot write: " + std::to_string(mesh.normals.size()) + " normals for " +
@@ -468,11 +464,11 @@ Result<void> saveMesh(const TriMesh& mesh, const fs::path& path, SaveNormals nor
     std::fclose(probe);
   }
   bool written = false;
-  if (*format == Format::Obj) {
+  if (format == Format::Obj) {
     written = writeObj(mesh, tmp, writeNormals);
   } else {
     OmSilence silence;
-    written = writeWithOpenMesh(mesh, tmp, *format, writeNormals);
+    written = writeWithOpenMesh(mesh, tmp, format, writeNormals);
   }
   std::error_code ec;
   if (!written) {

@@ -51,12 +51,12 @@ std::string_view toString(GlBackend backend) {
   return "?";
 }
 
-Result<GlBackend> parseGlBackend(std::string_view name) {
+std::optional<GlBackend> parseGlBackend(std::string_view name) {
   const std::string n = lower(name);
   if (n == "osmesa") return GlBackend::kOSMesa;
   if (n == "egl") return GlBackend::kEgl;
   if (n == "glfw") return GlBackend::kGlfw;
-  return Error{"unknown GL backend \"" + std::string(name) + "\" (accepted: " + kAccepted + ")"};
+  return std::nullopt;
 }
 
 std::string GlContext::describe() const {
@@ -83,8 +83,8 @@ Result<std::unique_ptr<GlContext>> createGlContext(const GlContextOptions& optio
 #endif
     }
   }
-  Result<GlBackend> backend = parseGlBackend(name);
-  if (!backend) return Error{origin + backend.error().message};
+  const std::optional<GlBackend> backend = parseGlBackend(name);
+  if (!backend) return Error{origin + "unknown GL backend \"" + name + "\" (accepted: " + kAccepted + ")"};
 
   switch (*backend) {
     case GlBackend::kOSMesa:

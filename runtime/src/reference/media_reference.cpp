@@ -89,7 +89,9 @@ struct Tracer : detail::FrameConstants {
     // sort key (settings.sort) and the frame's projection, as media::Renderer::draw sorts.
     rank.assign(in.particles.size(), 0);
     if (in.viewAxisOrder) {
-      const std::vector<std::uint32_t> order = media::backToFront(f.view, in.particles, s.sort, f.orthographic);
+      const std::vector<std::uint32_t> order =
+          media::backToFront(f.view, in.particles, s.sort,
+                             f.orthographic ? media::Projection::kOrthographic : media::Projection::kPerspective);
       for (std::size_t k = 0; k < order.size(); ++k) rank[order[k]] = static_cast<std::uint32_t>(k);
     }
   }

@@ -24,25 +24,22 @@ class CelPath final : public Path {
     std::unique_ptr<CelPath> p(new CelPath());
     PUFF_TRY_ASSIGN(p->nailboards_, cel::NailboardRenderer::create());
     if (!scene.atlas.empty()) {
-      auto atlas = loadSceneAtlas(scene);
-      if (!atlas) return atlas.error();
-      if (auto oriented = checkOrientedPuffs(scene, atlas->desc); !oriented) return oriented.error();
-      if (auto set = p->nailboards_->setAtlas(*atlas); !set) return Error::at(scene.atlas, set.error().message);
-      p->variations_ = std::max(1, atlas->desc.variations);
+      PUFF_TRY_ASSIGN(auto atlas, loadSceneAtlas(scene));
+      if (auto oriented = checkOrientedPuffs(scene, atlas.desc); !oriented) return oriented.error();
+      if (auto set = p->nailboards_->setAtlas(atlas); !set) return Error::at(scene.atlas, set.error().message);
+      p->variations_ = std::max(1, atlas.desc.variations);
     } else if (scene::hasParticles(scene)) {
       return Error::at(scene.file, "/atlas: the scene has particles but names no atlas");
     }
     PUFF_TRY_ASSIGN(p->scene_, CelScene::create(scene, geometry));
     p->samples_ = scene.samples;
     if (!scene.plate.empty()) {
-      auto plate = PlatePass::create(scene);
-      if (!plate) return plate.error();
-      p->plate_ = std::make_unique<PlatePass>(std::move(*plate));
+      PUFF_TRY_ASSIGN(auto plate, PlatePass::create(scene));
+      p->plate_ = std::make_unique<PlatePass>(std::move(plate));
     }
     if (scene.media) {
-      auto media = MediaPass::create(scene);
-      if (!media) return media.error();
-      p->media_ = std::move(*media);
+      PUFF_TRY_ASSIGN(auto media, MediaPass::create(scene));
+      p->media_ = std::move(media);
     }
     return std::unique_ptr<Path>(std::move(p));
   }
@@ -66,9 +63,8 @@ class CelPath final : public Path {
     if (media_) {
       glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &callerFbo);
       glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &callerRead);
-      auto layers = media_->layers(s, frame.viewport);
-      if (!layers) return layers.error();
-      glBindFramebuffer(GL_FRAMEBUFFER, (*layers)->opaqueFramebuffer());
+      PUFF_TRY_ASSIGN(auto layers, media_->layers(s, frame.viewport));
+      glBindFramebuffer(GL_FRAMEBUFFER, (layers)->opaqueFramebuffer());
       celViewport = cel::Viewport{0, 0, frame.viewport.width, frame.viewport.height};
     }
     glViewport(celViewport.x, celViewport.y, celViewport.width, celViewport.height);

@@ -39,7 +39,7 @@ Result<std::unique_ptr<CelScene>> CelScene::create(const scene::Scene& scene, co
   std::unique_ptr<CelScene> c(new CelScene());
   PUFF_TRY_ASSIGN(c->opaque_, cel::OpaqueRenderer::create());
   if (!scene.ramp.empty()) {
-    auto ramp = cel::Ramp::load(scene.ramp, scene.rampSmooth);
+    auto ramp = cel::Ramp::load(scene.ramp, scene.rampSmooth ? cel::RampFilter::kLinear : cel::RampFilter::kNearest);
     if (!ramp) return Error::at(scene.file, "/ramp: " + ramp.error().message);
     c->ramp_ = std::move(*ramp);
   } else {

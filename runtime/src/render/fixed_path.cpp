@@ -33,9 +33,8 @@ Result<mesh::TriMesh> fixedPuffMesh(const scene::Scene& scene, const core::Atlas
     if (!atlas) return Error::at(scene.file, "/fixed/puff: no puff mesh and no atlas to take one from");
     if (!atlas->desc.sources.empty() && !atlas->desc.sources[0].lodMesh.empty()) {
       // Only this path draws it: the nailboards and the reference load the atlas without it.
-      auto lod = core::lodMeshFile(atlas->desc, 0, scene.atlas);
-      if (!lod) return lod.error();
-      return mesh::loadMesh(*lod, nullptr, mesh::Normalize::kNo);
+      PUFF_TRY_ASSIGN(auto lod, core::lodMeshFile(atlas->desc, 0, scene.atlas));
+      return mesh::loadMesh(lod, nullptr, mesh::Normalize::kNo);
     }
     if (atlas->desc.sources.empty() || atlas->desc.sources[0].path.empty()) {
       return Error::at(scene.file,
@@ -62,11 +61,10 @@ class FixedPath final : public Path {
       atlas = std::move(*loaded);
       p->variations_ = std::max(1, atlas->desc.variations);
     }
-    auto puff = fixedPuffMesh(scene, atlas ? &*atlas : nullptr);
-    if (!puff) return puff.error();
+    PUFF_TRY_ASSIGN(auto puff, fixedPuffMesh(scene, atlas ? &*atlas : nullptr));
     // A mesh without vertex colours is drawn in the colour the atlas was baked with (puffbake
     // --color, a display value like Eq. 2's C), as the nailboards draw it.
-    if (atlas && !atlas->desc.sources.empty() && !puff->hasColors()) {
+    if (atlas && !atlas->desc.sources.empty() && !puff.hasColors()) {
       p->puffColor_ = atlas->desc.sources[0].defaultColor;
     }
     // The puff texture is drawn through the frame's own pixels (2 x 2 cells): a small frame gets
@@ -76,9 +74,8 @@ class FixedPath final : public Path {
     if (2 * cellSize > std::min(scene.width, scene.height)) {
       return Error::at(scene.file, "/output: the fixed-function path needs a frame of at least 16 x 16 pixels");
     }
-    auto fixed = fixedfunc::FixedRenderer::create(*puff, cellSize);
-    if (!fixed) return fixed.error();
-    p->fixed_ = std::move(*fixed);
+    PUFF_TRY_ASSIGN(auto fixed, fixedfunc::FixedRenderer::create(puff, cellSize));
+    p->fixed_ = std::move(fixed);
     if (!scene.ramp.empty()) {
       auto ramp = cel::Ramp::read(scene.ramp);
       if (!ramp) return Error::at(scene.file, "/ramp: " + ramp.error().message);
@@ -98,9 +95,8 @@ class FixedPath final : public Path {
     }
     if (auto ok = p->fixed_->setObjects(p->objects_); !ok) return Error::at(scene.file, ok.error().message);
     if (!scene.plate.empty()) {
-      auto plate = loadPlate(scene);
-      if (!plate) return plate.error();
-      p->plate_ = std::move(*plate);
+      PUFF_TRY_ASSIGN(auto plate, loadPlate(scene));
+      p->plate_ = std::move(plate);
     }
     // One sample: the fixed path copies the framebuffer into its puff texture (no multisampled copy).
     const bool haveFbo = glCreateFramebuffers && glNamedRenderbufferStorageMultisample && glBlitNamedFramebuffer;

@@ -60,7 +60,7 @@ void MediaPass::draw(const scene::Scene& s, const scene::FrameInputs& inputs, co
   const scene::MediaSpec& spec = *s.media;
   particles_ = inputs.media;
   layers_->resolveOpaque();
-  layers_->beginMedia(cartoon_.has_value());
+  layers_->beginMedia(cartoon_ ? media::Style::kCartoon : media::Style::kPhotoreal);
   // The scene's colours are display values; the media light in scene-linear (docs/colour.md).
   const media::Frame mf = scene::mediaFrameFor(s, inputs.camera, inputs.time, viewport.width, viewport.height);
   media::DrawStats ds;
@@ -71,7 +71,7 @@ void MediaPass::draw(const scene::Scene& s, const scene::FrameInputs& inputs, co
     lights.push_back(media::ExplosionLight{l.center, l.radius, core::srgbToLinear(l.color), l.intensityAt(mf.time),
                                            l.modulate, l.fullAtBack});
   }
-  const int vp[4] = {viewport.x, viewport.y, viewport.width, viewport.height};
+  const core::Viewport& vp = viewport;
   if (cartoon_) {
     // The ink is the cel path's: the scene's outline switch, width and colour (a display value).
     cartoon_->style.outlines = s.style.outlines;

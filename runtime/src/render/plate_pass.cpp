@@ -12,13 +12,11 @@
 namespace puff::render::detail {
 
 Result<PlatePass> PlatePass::create(const scene::Scene& scene) {
-  auto linear = loadPlate(scene);
-  if (!linear) return linear.error();
-  auto program = core::buildProgram({"media/fullscreen.vert", "output/plate.frag"});
-  if (!program) return program.error();
+  PUFF_TRY_ASSIGN(auto linear, loadPlate(scene));
+  PUFF_TRY_ASSIGN(auto program, core::buildProgram({"media/fullscreen.vert", "output/plate.frag"}));
   PlatePass p;
-  p.linear_ = std::move(*linear);
-  p.program_ = std::move(*program);
+  p.linear_ = std::move(linear);
+  p.program_ = std::move(program);
   p.vao_ = core::makeVertexArray();
   return p;
 }

@@ -176,12 +176,10 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const scene::Scene&
   Impl& m = *r->impl_;
   m.scene = scene;
   m.factory = std::move(factory);
-  auto geometry = scene::loadGeometry(scene);
-  if (!geometry) return geometry.error();
-  m.geometry = std::move(*geometry);
-  auto path = m.factory(scene, m.geometry);
-  if (!path) return path.error();
-  m.path = std::move(*path);
+  PUFF_TRY_ASSIGN(auto geometry, scene::loadGeometry(scene));
+  m.geometry = std::move(geometry);
+  PUFF_TRY_ASSIGN(auto path, m.factory(scene, m.geometry));
+  m.path = std::move(path);
   m.pathWidth = scene.width;
   m.pathHeight = scene.height;
   const TargetNeeds needs = m.path->targetNeeds();
@@ -190,8 +188,9 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const scene::Scene&
   } else {
     PUFF_TRY_ASSIGN(m.target, detail::Target::create(scene.width, scene.height, needs.samples, needs.displayValues));
   }
-  PUFF_TRY_ASSIGN(m.evaluator,
-                  scene::FrameEvaluator::create(scene, m.geometry, m.path->variations(), m.path->drawsMedia()));
+  PUFF_TRY_ASSIGN(m.evaluator, scene::FrameEvaluator::create(scene, m.geometry, m.path->variations(),
+                                                             m.path->drawsMedia() ? scene::MediaEvaluation::kEvaluate
+                                                                                  : scene::MediaEvaluation::kSkip));
   return r;
 }
 
@@ -201,17 +200,18 @@ Result<void> SceneRenderer::update(const scene::Scene& next) {
   const scene::Scene& now = m.scene;
   const bool targetChanged = now.width != next.width || now.height != next.height || now.samples != next.samples;
   if (targetChanged || now.objects != next.objects || m.path->needsRebuild(now, next)) {
-    auto fresh = create(next, m.factory);
-    if (!fresh) return fresh.error();
+    PUFF_TRY_ASSIGN(auto fresh, create(next, m.factory));
     const bool fillRateFloor = m.fillRateFloor;
-    impl_ = std::move((*fresh)->impl_);  // `m` and `now` are gone from here on
+    impl_ = std::move((fresh)->impl_);  // `m` and `now` are gone from here on
     if (fillRateFloor) setFillRateFloor(true);
     return {};
   }
   if (m.evaluator->needsRebuild(next)) {
-    auto evaluator = scene::FrameEvaluator::create(next, m.geometry, m.path->variations(), m.path->drawsMedia());
-    if (!evaluator) return evaluator.error();
-    m.evaluator = std::move(*evaluator);
+    PUFF_TRY_ASSIGN(auto evaluator,
+                    scene::FrameEvaluator::create(
+                        next, m.geometry, m.path->variations(),
+                        m.path->drawsMedia() ? scene::MediaEvaluation::kEvaluate : scene::MediaEvaluation::kSkip));
+    m.evaluator = std::move(evaluator);
   } else if (auto ok = m.evaluator->update(next); !ok) {
     return ok.error();
   }
@@ -272,9 +272,8 @@ Result<void> SceneRenderer::drawBlurred(int frame, const cel::Viewport& viewport
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &callerFbo);
   glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &callerRead);
   const int n = s.media->motionBlurFrames;
-  auto layers = m.path->mediaLayers(s, viewport);
-  if (!layers) return layers.error();
-  media::Layers& history = **layers;
+  PUFF_TRY_ASSIGN(auto layers, m.path->mediaLayers(s, viewport));
+  media::Layers& history = *layers;
   history.setHistorySlots(n + 1);
   m.history.resize(static_cast<std::size_t>(n + 1));
   const cel::Viewport local{0, 0, viewport.width, viewport.height};
@@ -296,7 +295,7 @@ Result<void> SceneRenderer::drawBlurred(int frame, const cel::Viewport& viewport
     total += w;
   }
   for (float& w : weights) w /= total;
-  const int vp[4] = {viewport.x, viewport.y, viewport.width, viewport.height};
+  const core::Viewport& vp = viewport;
   history.blendHistory(static_cast<GLuint>(callerFbo), vp, slots, weights);
   glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(callerRead));
   return {};
@@ -321,19 +320,17 @@ Result<core::Image> SceneRenderer::renderFrame(int frame, FrameStats* stats) {
     m.history.clear();
     return image;
   };
-  auto black = over(0.0f, stats);
-  if (!black) return black.error();
-  auto white = over(1.0f, nullptr);
-  if (!white) return white.error();
-  core::Image& out = *black;
+  PUFF_TRY_ASSIGN(auto black, over(0.0f, stats));
+  PUFF_TRY_ASSIGN(auto white, over(1.0f, nullptr));
+  core::Image& out = black;
   const std::size_t n = static_cast<std::size_t>(out.width) * out.height;
   for (std::size_t i = 0; i < n; ++i) {
     float* p = &out.pixels[i * 4];
-    const float* w = &white->pixels[i * 4];
+    const float* w = &white.pixels[i * 4];
     const float behind = ((w[0] - p[0]) + (w[1] - p[1]) + (w[2] - p[2])) / 3.0f;  // 1 - a
     p[3] = std::clamp(1.0f - behind, 0.0f, 1.0f);
   }
-  return std::move(*black);
+  return black;
 }
 
 Result<core::Image> SceneRenderer::renderOpaque(int frame, FrameStats* stats) {

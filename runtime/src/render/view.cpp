@@ -6,10 +6,9 @@
 namespace puff::render {
 
 Result<ViewPass> ViewPass::create() {
-  auto program = core::buildProgram({"media/fullscreen.vert", "output/view.frag"});
-  if (!program) return program.error();
+  PUFF_TRY_ASSIGN(auto program, core::buildProgram({"media/fullscreen.vert", "output/view.frag"}));
   ViewPass v;
-  v.program_ = std::move(*program);
+  v.program_ = std::move(program);
   v.vao_ = core::makeVertexArray();
   return v;
 }

@@ -35,26 +35,24 @@ auto mediaKey(const Scene& s) {
 }  // namespace
 
 Result<std::unique_ptr<FrameEvaluator>> FrameEvaluator::create(const Scene& scene, const SceneGeometry& geometry,
-                                                               int variations, bool media, int threads) {
+                                                               int variations, MediaEvaluation media, int threads) {
   std::unique_ptr<FrameEvaluator> e(new FrameEvaluator());
   e->scene_ = scene;
   e->variations_ = variations;
-  e->media_ = media;
-  auto settings = simulationSettings(scene, geometry);
-  if (!settings) return settings.error();
-  if (*settings) {
-    (*settings)->threads = threads;
+  e->media_ = media == MediaEvaluation::kEvaluate;
+  PUFF_TRY_ASSIGN(auto settings, simulationSettings(scene, geometry));
+  if (settings) {
+    (settings)->threads = threads;
     // Particles carry an 8-bit variation (cel::Particle): emitters pick among the first 256.
-    auto sim = sim::Simulator::create(std::move(**settings), std::clamp(variations, 1, 256));
+    auto sim = sim::Simulator::create(std::move(*settings), std::clamp(variations, 1, 256));
     if (!sim) return Error::at(scene.file, "/simulation" + sim.error().message);
     e->sim_ = std::move(*sim);
   }
-  if (media && scene.media) {
-    auto mediaSettings = mediaSimulationSettings(scene, geometry);
-    if (!mediaSettings) return mediaSettings.error();
-    if (*mediaSettings) {
-      (*mediaSettings)->threads = threads;
-      auto sim = sim::Simulator::create(std::move(**mediaSettings), 1);
+  if (e->media_ && scene.media) {
+    PUFF_TRY_ASSIGN(auto mediaSettings, mediaSimulationSettings(scene, geometry));
+    if (mediaSettings) {
+      (mediaSettings)->threads = threads;
+      auto sim = sim::Simulator::create(std::move(*mediaSettings), 1);
       if (!sim) return Error::at(scene.file, "/media" + sim.error().message);
       e->mediaSim_ = std::move(*sim);
     }

@@ -26,9 +26,8 @@ Result<SceneGeometry> loadGeometry(const Scene& scene) {
       case ObjectSpec::Type::kMesh: {
         auto& loaded = files[o.mesh];
         if (!loaded) {
-          auto m = mesh::loadMesh(o.mesh);
-          if (!m) return m.error();
-          loaded = std::make_shared<const mesh::TriMesh>(std::move(*m));
+          PUFF_TRY_ASSIGN(auto m, mesh::loadMesh(o.mesh));
+          loaded = std::make_shared<const mesh::TriMesh>(std::move(m));
         }
         shape = loaded;
         break;

@@ -526,9 +526,8 @@ Result<Scene> parseScene(const json& j, const fs::path& file, const fs::path& ar
 }
 
 Result<Scene> loadScene(const fs::path& file, const fs::path& artDir) {
-  auto j = detail::loadJsonFile(file);
-  if (!j) return j.error();
-  return parseScene(*j, file, artDir);
+  PUFF_TRY_ASSIGN(auto j, detail::loadJsonFile(file));
+  return parseScene(j, file, artDir);
 }
 
 }  // namespace puff::scene

@@ -14,13 +14,16 @@
 
 namespace puff::bake {
 
+/// Which surfaces a PuffRasterizer draws: the front alone, or the far side too (render's `back`).
+enum class RasterSides { kFront, kFrontAndBack };
+
 class PuffRasterizer {
  public:
   /// Builds the bake programs (the front surface's, and the far side's for render's `back`) and a
   /// `samplesPerSide`-square float framebuffer. Errors: the program
   /// does not build, or the size exceeds GL_MAX_RENDERBUFFER_SIZE / GL_MAX_TEXTURE_SIZE.
-  /// `back`: also the far side's program and target (render's `back`).
-  static Result<std::unique_ptr<PuffRasterizer>> create(int samplesPerSide, bool back = false);
+  /// kFrontAndBack: also the far side's program and target (render's `back`).
+  static Result<std::unique_ptr<PuffRasterizer>> create(int samplesPerSide, RasterSides sides = RasterSides::kFront);
 
   /// Uploads a mesh; vertices without colours get `defaultColor`.
   void setMesh(const mesh::TriMesh& mesh, const glm::vec3& defaultColor);

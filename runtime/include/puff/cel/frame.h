@@ -149,6 +149,9 @@ inline constexpr core::ImageLimits kRampLimits{"a ramp", 16384, 256, 4, 1ll << 2
 inline constexpr core::ImageLimits kGradientLimits{"a gradient", 4096, 4096, 4, 1ll << 24, std::uintmax_t{256} << 20};
 
 /// The quantization ramp q (§4.1): a 1D texture, clamp-to-edge, which enforces max(0, N.L).
+/// How a Ramp's texture is filtered between its texels.
+enum class RampFilter { kNearest, kLinear };
+
 class Ramp {
  public:
   /// Reads a ramp file within kRampLimits and checks it as create does, without GL: the image
@@ -157,11 +160,12 @@ class Ramp {
   /// create's checks alone: a width in [2, 16384] and finite values in the middle row.
   static Result<void> check(const core::Image& image, const std::string& what);
   /// Uses the middle row of `image` (RGB; a 1- or 2-channel image is grey). Width in [2, 16384].
-  /// `smooth` selects linear filtering; the default, nearest, keeps the bands hard as in the paper.
+  /// `filter`: kNearest (the default) keeps the bands hard as in the paper; kLinear blends them.
   /// Errors name `what` (usually the file).
-  static Result<Ramp> create(const core::Image& image, const std::string& what, bool smooth = false);
+  static Result<Ramp> create(const core::Image& image, const std::string& what,
+                             RampFilter filter = RampFilter::kNearest);
   /// Loads a ramp image: a cooked image, or PNG and the like through the installed codec (core/image.h).
-  static Result<Ramp> load(const std::filesystem::path& path, bool smooth = false);
+  static Result<Ramp> load(const std::filesystem::path& path, RampFilter filter = RampFilter::kNearest);
   /// A two-tone ramp: black below 0.5, white from 0.5 (the paper's typical map).
   static Ramp twoTone();
   /// Binds to texture unit `bindings.ramp` (0 by default) with no sampler object there. Leaves:

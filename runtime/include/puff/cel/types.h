@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include <puff/core/error.h>
+#include <puff/core/viewport.h>
 
 namespace puff::cel {
 
@@ -32,9 +33,7 @@ struct Light {
   bool operator==(const Light&) const = default;
 };
 
-struct Viewport {
-  int x = 0, y = 0, width = 0, height = 0;  ///< pixels, GL convention (origin bottom-left)
-};
+using core::Viewport;
 
 /// One particle as a host or simulator holds it.
 struct Particle {

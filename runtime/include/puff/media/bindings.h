@@ -1,4 +1,4 @@
-// The binding points the media path uses, chosen by the host (Renderer::create, Layers::create).
+// The binding points the media path uses, chosen by the host (Renderer::create, Layers::create, HostLayers::create).
 // No GL: a plain struct.
 //
 // Defaults (the shaders' own `layout(binding = N)` values; docs/media.md, "Host state"):
@@ -13,13 +13,13 @@
 //   temperatureDetail  texture unit     3        Renderer::draw, 3D
 //   opacityDetail      texture unit     4        Renderer::draw, 3D
 //   falloff            texture unit     5        Renderer::draw (planar-textured), 2D
-//   composeBlock       uniform buffer   5        Layers::compose, composeOver
+//   composeBlock       uniform buffer   5        Layers::compose, HostLayers::composeOver
 //   opaqueColor        texture unit     0        Layers::compose, 2D
-//   opaqueDepth        texture unit     1        Layers::compose, composeOver, 2D
-//   mediaLayer         texture unit     2        Layers::compose, composeOver, 2D
-//   mediaDepth         texture unit     3        Layers::compose, composeOver, 2D
-//   shimmer            texture unit     4        Layers::compose, composeOver, 2D
-//   resolveSource      texture unit     0        Layers::resolveOpaque, resolveHostDepth (2D or 2D
+//   opaqueDepth        texture unit     1        Layers::compose, HostLayers::composeOver, 2D
+//   mediaLayer         texture unit     2        Layers::compose, HostLayers::composeOver, 2D
+//   mediaDepth         texture unit     3        Layers::compose, HostLayers::composeOver, 2D
+//   shimmer            texture unit     4        Layers::compose, HostLayers::composeOver, 2D
+//   resolveSource      texture unit     0        Layers::resolveOpaque, HostLayers::resolveHostDepth (2D or 2D
 //                                                multisample, then 2D)
 //   historyFirst       texture units    0-7      Layers::blendHistory: units historyFirst + slot, 2D
 //   cartoonBlock       uniform buffer   3        Layers::compose with a CartoonCompose
@@ -42,9 +42,9 @@ struct Bindings {
   unsigned mediaBlock = 3, materialBlock = 4;  ///< uniform buffer bindings (Renderer::draw)
   unsigned particles = 0;                      ///< storage buffer binding (Renderer::draw)
   unsigned depth = 0, blackbody = 1, phase = 2, temperatureDetail = 3, opacityDetail = 4, falloff = 5;  ///< units
-  unsigned composeBlock = 5;  ///< uniform buffer binding (Layers::compose, composeOver)
+  unsigned composeBlock = 5;  ///< uniform buffer binding (Layers::compose, HostLayers::composeOver)
   unsigned opaqueColor = 0, opaqueDepth = 1, mediaLayer = 2, mediaDepth = 3, shimmer = 4;  ///< units (compose)
-  unsigned resolveSource = 0;  ///< unit (Layers::resolveOpaque, resolveHostDepth)
+  unsigned resolveSource = 0;  ///< unit (Layers::resolveOpaque, HostLayers::resolveHostDepth)
   unsigned historyFirst = 0;   ///< first of 8 consecutive units (Layers::blendHistory)
   unsigned cartoonBlock = 3;   ///< uniform buffer binding (Layers::compose, cartoon style)
   unsigned cartoonFirst = 5;   ///< first of 3 consecutive units (Layers::compose, cartoon style)
@@ -54,7 +54,7 @@ struct Bindings {
 /// The extent a core::HostStateGuard needs to save every point of `b`.
 core::GuardExtent guardExtent(const Bindings& b);
 
-/// Checks `b`: "media::Bindings.NAME: ...". Renderer::create and Layers::create return this
+/// Checks `b`: "media::Bindings.NAME: ...". Renderer::create, Layers::create and HostLayers::create return this
 /// error. Needs a current GL context.
 Result<void> validate(const Bindings& b);
 

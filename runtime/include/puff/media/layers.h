@@ -22,7 +22,7 @@
 // centre (or its back), full behind; added (additive) or multiplied in (modulating). No z-bias,
 // no polygon clipping. Background pixels (no surface) are left alone, as in the paper.
 //
-// In a host's frame (createForHost; docs/embedding.md, "Media in the game's frame") there is no
+// In a host's frame (HostLayers; docs/embedding.md, "Media in the game's frame") there is no
 // opaque pass of Puff's: the host draws its scene into its own framebuffer with its own depth
 // convention. resolveHostDepth turns the host's depth texture into the linear depth above (full
 // size and the layer's), and composeOver blends the layer onto the host's colour target:
@@ -34,7 +34,7 @@
 //
 // CARTOON MEDIA (media::Style::kCartoon, beyond the papers; docs/media.md, "Cartoon media"). The
 // renderer then writes, besides the scattered light, each particle's emissive weight, temperature,
-// emission and depth into two more layer attachments, all over-composited (beginMedia(true)).
+// emission and depth into two more layer attachments, all over-composited (beginMedia(Style::kCartoon)).
 // compose() with a CartoonCompose draws, instead of out = opaque T + M, in four passes at the
 // output's size:
 //   1. the layer and its attributes upsampled as above; per pixel the accumulated opacity A, the
@@ -51,8 +51,8 @@
 //      merging). The ink lies at the medium's depth: nearer opaque surfaces hide it. Where an
 //      opaque surface cuts the medium (outside the iso-line the medium unclipped is above the
 //      threshold), the iso-line is the surface's edge, not the medium's: no ink, no rim.
-// The cartoon style ignores burn: cartoon fire occludes what is behind it. composeOver (a host's
-// frame) does not draw it yet: it refuses a cartoon layer.
+// The cartoon style ignores burn: cartoon fire occludes what is behind it. HostLayers::composeOver
+// (a host's frame) does not draw it yet: it refuses a cartoon layer.
 #pragma once
 
 #include <memory>
@@ -65,12 +65,13 @@
 #include <puff/core/depth.h>
 #include <puff/core/error.h>
 #include <puff/core/gl.h>
+#include <puff/core/viewport.h>
 #include <puff/media/media.h>
 #include <puff/media/types.h>
 
 namespace puff::media {
 
-/// The host's depth buffer, read by Layers::resolveHostDepth.
+/// The host's depth buffer, read by HostLayers::resolveHostDepth.
 struct HostDepth {
   /// A depth or depth-stencil texture, GL_TEXTURE_2D or GL_TEXTURE_2D_MULTISAMPLE (each pixel
   /// keeps its nearest sample), holding the host's opaque scene. Its target, format, size and
@@ -96,7 +97,57 @@ struct CartoonCompose {
 /// Errors: the style's or the black body's values (validate, makeBlackbodyRamp).
 Result<CartoonCompose> cartoonCompose(const Settings& settings);
 
-class Layers {
+/// What Layers and HostLayers share: the media layer (radiance, transmittance, shimmer and, for
+/// the cartoon style, its attributes) at `scale` of the output, the opaque depth at the layer's
+/// resolution, and how the layer is upsampled. Made only through Layers::create or
+/// HostLayers::create.
+class LayersBase {
+ public:
+  int width() const;
+  int height() const;
+  int mediaWidth() const;
+  int mediaHeight() const;
+  float scale() const;
+  /// The opaque scene's full-size linear depth (R32F: the nearest of each pixel's samples), as
+  /// Layers::resolveOpaque or HostLayers::resolveHostDepth left it (for tests and tools).
+  core::GlId opaqueDepth() const;
+  /// The opaque depth at the layer's resolution (for Renderer::draw).
+  core::GlId mediaDepth() const;
+  /// The media layer (RGBA32F: premultiplied radiance, transmittance), as the last draw left it.
+  core::GlId mediaColor() const;
+  /// The frame to draw the media layer with, from the full-size frame: the layer's size, and a
+  /// projection whose viewport is the layer's (mediaWidth * factor may exceed width(): layer texel
+  /// i covers full pixels [i * factor, (i + 1) * factor), the last ones partly outside the image).
+  Frame layerFrame(const Frame& full) const;
+  /// Binds the media layer framebuffer (attachment 0: RGBA32F radiance + transmittance; 1: RG16F
+  /// shimmer), sets the viewport and clears it to no medium (0, 0, 0, 1). Style::kCartoon: for a
+  /// renderer with that style, attachments 2 and 3 (RGBA32F, made on first use) too, cleared to 0.
+  /// Leaves (a begin call: Renderer::draw draws into it next): the draw framebuffer = the media
+  /// layer's; the viewport = (0, 0, mediaWidth(), mediaHeight()); scissor test and rasterizer
+  /// discard off; colour write masks on for every draw buffer. (GL_STENCIL_REF then reads back 0:
+  /// the query clamps the stored reference to the bound framebuffer's stencil bits, none here; the
+  /// stored value is untouched. The same for compose and blendHistory with a `target` without
+  /// stencil.)
+  void beginMedia(Style style = Style::kPhotoreal);
+  /// How compose() upsamples when ComposeSettings::depthAware is on: bilateral weights in depth
+  /// (the default), or the all-or-nearest rule (all four texels within the tolerance: bilinear, else the
+  /// nearest-depth texel), kept so tests and benchmarks can measure one against the other.
+  enum class Upsampling { kBilateral, kAllOrNearest };
+  void setUpsampling(Upsampling rule);
+  Upsampling upsampling() const;
+
+ protected:
+  struct Impl;
+  explicit LayersBase(std::unique_ptr<Impl> impl);
+  ~LayersBase();
+  LayersBase(const LayersBase&) = delete;
+  LayersBase& operator=(const LayersBase&) = delete;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Layers with an opaque pass of Puff's own: Puff draws the opaque scene into opaqueFramebuffer(),
+/// resolves it, and composes the media over it into a target.
+class Layers final : public LayersBase {
  public:
   /// Full size width x height (the output), `samples` MSAA samples for the opaque pass (1, 2, 4, 8),
   /// media layer at `scale` of it (1, 0.5, 0.25 or 0.125; at least 1 x 1). Needs GL 4.5. The
@@ -104,23 +155,7 @@ class Layers {
   /// bound state changed.
   static Result<std::unique_ptr<Layers>> create(int width, int height, int samples, float scale,
                                                 const Bindings& bindings = {});
-  /// Layers for a host that draws its own opaque scene (docs/embedding.md): the media layer and
-  /// its depth, no opaque framebuffer of their own (opaqueFramebuffer() is 0; resolveOpaque and
-  /// compose must not be called: they stop the program with a message). Use resolveHostDepth and
-  /// composeOver. The other arguments as create.
-  static Result<std::unique_ptr<Layers>> createForHost(int width, int height, float scale,
-                                                       const Bindings& bindings = {});
   ~Layers();
-
-  /// True for Layers made by createForHost.
-  bool forHost() const;
-
-  int width() const;
-  int height() const;
-  int mediaWidth() const;
-  int mediaHeight() const;
-  float scale() const;
-
   /// The framebuffer the opaque pass draws into: colour (RGBA16F, scene-linear) + depth/stencil (the
   /// cel programs' linear depth), multisampled as asked. The caller binds it, sets the viewport and clears.
   core::GlId opaqueFramebuffer() const;
@@ -134,75 +169,21 @@ class Layers {
   /// on for every draw buffer); no program, no vertex array; unit `resolveSource` with its 2D multisample texture = the
   /// opaque depth, its 2D texture = the resolved depth and sampler binding 0.
   void resolveOpaque();
-  /// resolveOpaque for a host's scene: reads `depth` (its convention, converted per sample to
-  /// linear depth and clamped to [0, 1]; the far plane and an infinite one read 1, "no surface")
-  /// into the full-size linear depth and the layer's nearest depth. Restores the draw framebuffer
-  /// and viewport it found. Leaves: the full-screen state (resolveOpaque); no program, no vertex array; unit
-  /// `resolveSource` with sampler binding 0, its 2D texture = Puff's linear depth and, after a multisample `depth`, its
-  /// 2D multisample texture = `depth.texture`. Reading a texture attached to the bound read framebuffer is fine; it
-  /// must not be attached to a draw buffer Puff renders into (it is not: Puff draws into its own).
-  /// Errors (nothing drawn, no state changed): layers made by create; `depth.texture` not a 2D or
-  /// 2D multisample texture of a depth format, reading its stencil or comparing; the layers'
-  /// region not inside it; planes not 0 < near < far < infinity. Checking takes eight queries of
-  /// the texture object's parameters.
-  Result<void> resolveHostDepth(const HostDepth& depth);
-  /// The opaque depth at the layer's resolution (for Renderer::draw).
-  core::GlId mediaDepth() const;
-  /// The frame to draw the media layer with, from the full-size frame: the layer's size, and a
-  /// projection whose viewport is the layer's (mediaWidth * factor may exceed width(): layer texel
-  /// i covers full pixels [i * factor, (i + 1) * factor), the last ones partly outside the image).
-  Frame layerFrame(const Frame& full) const;
-  /// Binds the media layer framebuffer (attachment 0: RGBA32F radiance + transmittance; 1: RG16F
-  /// shimmer), sets the viewport and clears it to no medium (0, 0, 0, 1). `cartoon`: for a renderer
-  /// with Style::kCartoon, attachments 2 and 3 (RGBA32F, made on first use) too, cleared to 0.
-  /// Leaves (a begin call: Renderer::draw draws into it next): the draw framebuffer = the media
-  /// layer's; the viewport = (0, 0, mediaWidth(), mediaHeight()); scissor test and rasterizer
-  /// discard off; colour write masks on for every draw buffer. (GL_STENCIL_REF then reads back 0:
-  /// the query clamps the stored reference to the bound framebuffer's stencil bits, none here; the
-  /// stored value is untouched. The same for compose and blendHistory with a `target` without
-  /// stencil.)
-  void beginMedia(bool cartoon = false);
   /// Composes into framebuffer `target` (0 = the default framebuffer; bound as the DRAW framebuffer,
-  /// the read binding is left alone) over `viewport` (x, y, w, h; w x h must be width() x height()).
+  /// the read binding is left alone) over `viewport` (its width x height must be width() x height()).
   /// `frame`: the full-size frame (camera, planes) for the explosion lights. Colour only: the
   /// target's depth and stencil are not written.
   /// Leaves: the draw framebuffer = `target`; the viewport = `viewport`; the full-screen state
   /// (resolveOpaque); no program, no vertex array; uniform buffer binding `composeBlock` = its
   /// block (whole buffer; the generic binding untouched); units `opaqueColor`, `opaqueDepth`,
   /// `mediaLayer`, `mediaDepth` and `shimmer` with their 2D textures = its and sampler binding 0.
-  /// With `cartoon` (the layer begun with beginMedia(true); otherwise the program stops with a
-  /// message): the cartoon style (header comment). It also leaves uniform buffer binding
+  /// With `cartoon` (the layer begun with beginMedia(Style::kCartoon); otherwise the program stops
+  /// with a message): the cartoon style (header comment). It also leaves uniform buffer binding
   /// `cartoonBlock` and units cartoonFirst .. cartoonFirst + 2 with their 2D textures bound to its
   /// own, the generic uniform buffer binding untouched, and the full-screen state.
-  void compose(core::GlId target, const int viewport[4], const Frame& frame, std::span<const ExplosionLight> lights,
-               const ComposeSettings& settings, const CartoonCompose* cartoon = nullptr);
-
-  /// compose() for a host's frame (createForHost, after resolveHostDepth): blends the media layer
-  /// and the explosion lights over what framebuffer `target` already holds (header comment), over
-  /// `viewport` (its w x h must be width() x height()). Colour only (RGB; the target's alpha, depth
-  /// and stencil are kept). The blend happens in the target's space: give it scene-linear colour,
-  /// a float target or an sRGB one with GL_FRAMEBUFFER_SRGB on (left as the host set it).
-  /// Errors (nothing drawn): layers not made by createForHost; a layer begun with beginMedia(true)
-  /// (the cartoon style is not drawn over a host's frame yet); settings.shimmerPixels != 0; more
-  /// than 8 lights that shine (intensity and radius > 0: compose() uses the first 8); a
-  /// viewport of another size; a target drawing to more colour buffers than dual-source blending
-  /// allows (GL_MAX_DUAL_SOURCE_DRAW_BUFFERS, 1 on common GPUs; the target is then left bound).
-  /// Leaves: the draw framebuffer = `target`; the viewport = `viewport`; depth test, stencil test,
-  /// culling, scissor test, rasterizer discard, alpha to coverage and the sample mask off; polygon mode GL_FILL; colour
-  /// write masks on for every draw buffer; blending off on every draw buffer, with draw buffer 0's functions (GL_ONE,
-  /// GL_SRC1_COLOR, GL_ZERO, GL_ONE) and equation GL_FUNC_ADD; no program, no vertex array; uniform buffer binding
-  /// `composeBlock` = its block; units `opaqueDepth`, `mediaLayer`, `mediaDepth` and `shimmer` with their 2D textures =
-  /// its and sampler binding 0.
-  Result<void> composeOver(core::GlId target, const int viewport[4], const Frame& frame,
-                           std::span<const ExplosionLight> lights, const ComposeSettings& settings);
-
-  /// How compose() upsamples when ComposeSettings::depthAware is on: bilateral weights in depth
-  /// (the default), or the all-or-nearest rule (all four texels within the tolerance: bilinear, else the
-  /// nearest-depth texel), kept so tests and benchmarks can measure one against the other.
-  enum class Upsampling { kBilateral, kAllOrNearest };
-  void setUpsampling(Upsampling rule);
-  Upsampling upsampling() const;
-
+  void compose(core::GlId target, const core::Viewport& viewport, const Frame& frame,
+               std::span<const ExplosionLight> lights, const ComposeSettings& settings,
+               const CartoonCompose* cartoon = nullptr);
   /// Motion blur: `slots` full-size RGBA16F frames kept between calls (1..8; reallocated when the
   /// count changes). A frame is composed into historyFramebuffer(slot), then blendHistory sums
   /// the chosen slots with their weights into `target` (colour only, over `viewport`).
@@ -211,25 +192,62 @@ class Layers {
   /// with their 2D textures = the slots' and sampler binding 0; the uniforms of its own program.
   void setHistorySlots(int slots);
   core::GlId historyFramebuffer(int slot) const;
-  void blendHistory(core::GlId target, const int viewport[4], std::span<const int> slots,
+  void blendHistory(core::GlId target, const core::Viewport& viewport, std::span<const int> slots,
                     std::span<const float> weights);
-
-  /// The resolved opaque colour (RGBA16F, scene-linear) and linear depth (R32F: the nearest of each
-  /// pixel's samples) textures (for tests and tools).
+  /// The resolved opaque colour (RGBA16F, scene-linear; for tests and tools).
   core::GlId opaqueColor() const;
-  core::GlId opaqueDepth() const;
-  core::GlId mediaColor() const;
   /// The cartoon style's field at the output's size (RGBA32F: accumulated opacity A, the medium's
   /// linear depth, A without the opaque surfaces' clipping), as the last cartoon compose made it;
   /// 0 before the first cartoon beginMedia.
   core::GlId cartoonField() const;
 
  private:
-  Layers();
-  static Result<std::unique_ptr<Layers>> make(int width, int height, int samples, float scale, const Bindings& bindings,
-                                              bool host);
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  using LayersBase::LayersBase;
+};
+
+/// Layers for a host that draws its own opaque scene (docs/embedding.md): the media layer and its
+/// depth, no opaque framebuffer of their own. resolveHostDepth reads the host's depth and
+/// composeOver blends the layer onto the host's colour target.
+class HostLayers final : public LayersBase {
+ public:
+  /// Full size width x height (the host's viewport), media layer at `scale` of it (1, 0.5, 0.25 or
+  /// 0.125; at least 1 x 1). Needs GL 4.5. The programs read the units and buffer `bindings` names
+  /// (validated: media::validate). Leaves no bound state changed.
+  static Result<std::unique_ptr<HostLayers>> create(int width, int height, float scale, const Bindings& bindings = {});
+  ~HostLayers();
+  /// Layers::resolveOpaque for a host's scene: reads `depth` (its convention, converted per sample to
+  /// linear depth and clamped to [0, 1]; the far plane and an infinite one read 1, "no surface")
+  /// into the full-size linear depth and the layer's nearest depth. Restores the draw framebuffer
+  /// and viewport it found. Leaves: the full-screen state (Layers::resolveOpaque); no program, no
+  /// vertex array; unit `resolveSource` with sampler binding 0, its 2D texture = Puff's linear depth
+  /// and, after a multisample `depth`, its 2D multisample texture = `depth.texture`. Reading a
+  /// texture attached to the bound read framebuffer is fine; it must not be attached to a draw
+  /// buffer Puff renders into (it is not: Puff draws into its own).
+  /// Errors (nothing drawn, no state changed): `depth.texture` not a 2D or 2D multisample texture
+  /// of a depth format, reading its stencil or comparing; the layers' region not inside it; planes
+  /// not 0 < near < far < infinity. Checking takes eight queries of the texture object's parameters.
+  Result<void> resolveHostDepth(const HostDepth& depth);
+  /// Layers::compose for a host's frame (after resolveHostDepth): blends the media layer and the
+  /// explosion lights over what framebuffer `target` already holds (header comment), over
+  /// `viewport` (its size must be width() x height()). Colour only (RGB; the target's alpha, depth
+  /// and stencil are kept). The blend happens in the target's space: give it scene-linear colour,
+  /// a float target or an sRGB one with GL_FRAMEBUFFER_SRGB on (left as the host set it).
+  /// Errors (nothing drawn): a layer begun with beginMedia(Style::kCartoon) (the cartoon style is
+  /// not drawn over a host's frame yet); settings.shimmerPixels != 0; more than 8 lights that shine
+  /// (intensity and radius > 0: compose() uses the first 8); a viewport of another size; a target
+  /// drawing to more colour buffers than dual-source blending allows
+  /// (GL_MAX_DUAL_SOURCE_DRAW_BUFFERS, 1 on common GPUs; the target is then left bound).
+  /// Leaves: the draw framebuffer = `target`; the viewport = `viewport`; depth test, stencil test,
+  /// culling, scissor test, rasterizer discard, alpha to coverage and the sample mask off; polygon mode GL_FILL; colour
+  /// write masks on for every draw buffer; blending off on every draw buffer, with draw buffer 0's functions (GL_ONE,
+  /// GL_SRC1_COLOR, GL_ZERO, GL_ONE) and equation GL_FUNC_ADD; no program, no vertex array; uniform buffer binding
+  /// `composeBlock` = its block; units `opaqueDepth`, `mediaLayer`, `mediaDepth` and `shimmer` with their 2D textures =
+  /// its and sampler binding 0.
+  Result<void> composeOver(core::GlId target, const core::Viewport& viewport, const Frame& frame,
+                           std::span<const ExplosionLight> lights, const ComposeSettings& settings);
+
+ private:
+  using LayersBase::LayersBase;
 };
 
 }  // namespace puff::media

@@ -87,7 +87,7 @@ class Renderer {
   /// and attachment 1 (if `shimmer`) the heat-shimmer offsets (RG). With Settings::style kCartoon,
   /// attachment 0 holds the scattered light only, and attachments 2 and 3 (float RGBA, cleared to 0)
   /// get the cartoon attributes (shaders/common/media.glsl, cartoonOutputs), all over-composited
-  /// with burn ignored: Layers::beginMedia(true) makes such a target. `depth` is a texture of the
+  /// with burn ignored: LayersBase::beginMedia(Style::kCartoon) makes such a target. `depth` is a texture of the
   /// opaque scene's LINEAR depth ((-z - near) / (far - near)) at the target's resolution (R32F, or a
   /// depth texture), read at each pixel's offset from the viewport's origin. The viewport must be
   /// (frame.x, frame.y, frame.width, frame.height). Sets every GL state it needs and queries none.
@@ -127,14 +127,18 @@ inline constexpr int kFalloffTexels = 65;
 /// falloff texture holds at each texel centre: the opacity is 1 - exp(-tau * r * weight).
 double falloffWeight(double rho);
 
+/// The projection a sort's eye has: at a point, or at infinity along the view axis.
+enum class Projection { kPerspective, kOrthographic };
+
 /// Indices of `particles` from farthest to nearest by `key` (types.h): the centres' view-axis depth
 /// or the power distance |c|^2 - r^2 of the eye (c = view * position, camera space; computed in
-/// double, sorted as a 32-bit float). With `orthographic`, kPowerDistance is the view-axis depth
+/// double, sorted as a 32-bit float). With kOrthographic, kPowerDistance is the view-axis depth
 /// (the power order from an eye at infinity along the view axis). Stable: equal keys keep their
 /// input order. An LSD radix sort: O(n), about a millisecond for 50k on one core. media::Renderer
-/// sorts with its Settings::sort and the frame's `orthographic`.
+/// sorts with its Settings::sort and the frame's projection.
 std::vector<std::uint32_t> backToFront(const glm::mat4& view, std::span<const Particle> particles,
-                                       SortKey key = SortKey::kViewDepth, bool orthographic = false);
+                                       SortKey key = SortKey::kViewDepth,
+                                       Projection projection = Projection::kPerspective);
 
 /// Opacity of one particle for a ray (CPU, double precision; the shader's formula): origin and
 /// unit direction in camera space (looking down -z), `sceneDepth` and `nearPlane` as distances

@@ -159,7 +159,7 @@ struct Settings {
 };
 
 /// One explosion's light on the scene. A frame composes at most 8 that shine (intensity and radius
-/// > 0): Layers::compose uses the first 8, Layers::composeOver refuses more.
+/// > 0): Layers::compose uses the first 8, HostLayers::composeOver refuses more.
 struct ExplosionLight {
   glm::vec3 center{0.0f};  ///< world space
   float radius = 1.0f;     ///< world units, > 0

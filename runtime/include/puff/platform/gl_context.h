@@ -4,6 +4,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -15,8 +16,8 @@ enum class GlBackend { kOSMesa, kEgl, kGlfw };
 
 /// "osmesa", "egl", "glfw".
 std::string_view toString(GlBackend backend);
-/// Parses "osmesa" | "egl" | "glfw" (case-insensitive); an error names the accepted values.
-Result<GlBackend> parseGlBackend(std::string_view name);
+/// Parses "osmesa" | "egl" | "glfw" (case-insensitive); nothing for any other name.
+std::optional<GlBackend> parseGlBackend(std::string_view name);
 
 enum class GlProfile { kCore, kCompatibility };
 

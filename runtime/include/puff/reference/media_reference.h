@@ -52,7 +52,7 @@
 //    the far plane (-z - r > far) are skipped; a sphere partly beyond the far plane is NOT clipped
 //    there (only the opaque depth and the near plane clip chords).
 //
-// tests/unit/reference_test.cpp: in a float target and with viewAxisOrder, billboard.frag equals
+// tests/unit/reference_gpu_test.cpp: in a float target and with viewAxisOrder, billboard.frag equals
 // this to an RMSE of about 1e-5 (32-bit arithmetic and the GPU's tables); everything else the full
 // GPU path differs by is the order, the float layer's blending and the half-float opaque colour.
 #pragma once

@@ -98,15 +98,21 @@ struct FrameInputs {
 /// Evaluates a scene frame by frame. Owns the scene's simulators (the smoke's and the media
 /// emitters'), steps them from the start to each frame asked (an earlier frame restarts them), so
 /// any frame equals the same frame of a full run.
+/// Whether a FrameEvaluator evaluates the scene's fire, smoke and dust (a path that does not draw
+/// them skips their simulation).
+enum class MediaEvaluation { kEvaluate, kSkip };
+
 class FrameEvaluator {
  public:
   /// `variations`: the atlas's variation count (cel particles pick among the first min(n, 256)), or
-  /// 0 when the scene draws no cel particles. `media`: evaluate the fire, smoke and dust too (a path
-  /// that does not draw them skips their simulation). `threads`: what the simulators step on
+  /// 0 when the scene draws no cel particles. `media`: whether the fire, smoke and dust are
+  /// evaluated too. `threads`: what the simulators step on
   /// (sim::Settings::threads; 0, the default, the hardware's threads): the frames are bit-identical
   /// for every count. Errors name the scene field or the collider mesh.
   static Result<std::unique_ptr<FrameEvaluator>> create(const Scene& scene, const SceneGeometry& geometry,
-                                                        int variations, bool media = true, int threads = 0);
+                                                        int variations,
+                                                        MediaEvaluation media = MediaEvaluation::kEvaluate,
+                                                        int threads = 0);
   ~FrameEvaluator();
 
   /// The reload rule: whether `next` needs a new evaluator. It does when anything that places or

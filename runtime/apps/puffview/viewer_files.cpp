@@ -1,0 +1,199 @@
+// What the viewer writes: scratch images (edited ramp and gradient, checkerboard), saved scenes, screenshots.
+#include <puffview/viewer.h>
+
+#include <cstdio>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include <puff/cel/frame.h>
+#include <puff/core/files.h>
+#include <puff/core/image.h>
+#include <puff/scene/read.h>
+#include <puff/scene/write.h>
+
+#include <unistd.h>
+
+namespace puff::view {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path normalAbsolute(const fs::path& p) {
+  std::error_code ec;
+  fs::path a = fs::absolute(p, ec);
+  return (ec ? p : a).lexically_normal();
+}
+
+// Paths inside the art directory are written as "${PUFF_ART}/..." again, so a saved scene keeps
+// working with another build's art directory (toJson writes them relative to the scene).
+void restoreArtPaths(nlohmann::json& j, const fs::path& sceneDir, const fs::path& artDir) {
+  if (artDir.empty()) return;
+  const fs::path art = normalAbsolute(artDir);
+  if (j.is_structured()) {
+    for (auto& item : j) restoreArtPaths(item, sceneDir, artDir);
+    return;
+  }
+  if (!j.is_string()) return;
+  const std::string s = j.get<std::string>();
+  if (s.empty() || s.starts_with("${")) return;
+  const fs::path full = normalAbsolute(fs::path(s).is_absolute() ? fs::path(s) : sceneDir / s);
+  const fs::path rel = full.lexically_relative(art);
+  std::error_code ec;
+  if (rel.empty() || *rel.begin() == ".." || !fs::is_regular_file(full, ec)) return;
+  j = "${PUFF_ART}/" + rel.generic_string();
+}
+
+}  // namespace
+
+// ---- scratch images --------------------------------------------------------------------------
+
+const fs::path& Viewer::scratchDir() {
+  if (scratch_.empty()) {
+    std::error_code ec;
+    const fs::path base = fs::temp_directory_path(ec);
+    scratch_ = (ec ? fs::path("/tmp") : base) / ("puffview-" + std::to_string(::getpid()));
+    fs::create_directories(scratch_, ec);
+  }
+  return scratch_;
+}
+
+Result<fs::path> Viewer::writeScratch(const char* kind, const core::Image& image) {
+  std::string bytes(reinterpret_cast<const char*>(image.pixels.data()), image.pixels.size() * sizeof(float));
+  bytes += std::to_string(image.width) + "x" + std::to_string(image.height) + "x" + std::to_string(image.channels);
+  const fs::path file = scratchDir() / (std::string(kind) + "." + core::fnv1a64Hex(bytes).substr(0, 12) + ".png");
+  std::error_code ec;
+  if (fs::exists(file, ec)) return file;  // named by its content: already written
+  core::OutputTransaction tx;
+  PUFF_TRY(core::writeImage(tx.stage(file), image, core::PixelType::kUInt8, {}, file));
+  PUFF_TRY(tx.commit());
+  return file;
+}
+
+scene::Scene Viewer::shown(const scene::Scene& s) {
+  if (!s.transparent) return s;
+  // 8-pixel squares of two light greys (display values), one plate pixel per pixel of the image the
+  // window shows at its own size (the plate is stretched to the frame drawn).
+  // Made once per size: shown() runs on every edit, and the plate is the same file each time.
+  const glm::ivec2 size = imageSize();
+  if (size == checkerSize_ && !checkerPlate_.empty()) {
+    scene::Scene copy = s;
+    copy.transparent = false;
+    copy.alpha.reset();
+    copy.plate = checkerPlate_;
+    return copy;
+  }
+  core::Image checker(size.x, size.y, 3);
+  for (int y = 0; y < checker.height; ++y) {
+    for (int x = 0; x < checker.width; ++x) {
+      const float v = ((x / 8) + (y / 8)) % 2 == 0 ? 0.62f : 0.78f;
+      for (int c = 0; c < 3; ++c) checker.at(x, y, c) = v;
+    }
+  }
+  auto plate = writeScratch("checker", checker);
+  if (!plate) {
+    setStatus("cannot draw the checkerboard under the transparent frame: " + plate.error().message);
+    return s;
+  }
+  checkerSize_ = size;
+  checkerPlate_ = *plate;
+  return shown(s);
+}
+
+Result<void> Viewer::setRamp(const core::Image& ramp) {
+  PUFF_TRY(cel::Ramp::check(ramp, "the edited ramp"));
+  PUFF_TRY_ASSIGN(auto file, writeScratch("ramp", ramp));
+  scene_.ramp = file;
+  return applyEdit();
+}
+
+Result<void> Viewer::setAmbientGradient(const core::Image& gradient) {
+  PUFF_TRY(cel::Gradient::check(gradient, "the edited gradient"));
+  PUFF_TRY_ASSIGN(auto file, writeScratch("gradient", gradient));
+  scene_.ambientGradient = file;
+  return applyEdit();
+}
+
+// ---- save ------------------------------------------------------------------------------------
+
+Result<void> Viewer::keepBeside(const fs::path& target, fs::path& image, const char* suffix) {
+  if (image.empty() || scratch_.empty() || image.parent_path() != scratch_) return {};
+  const fs::path beside = target.parent_path() / (target.stem().string() + suffix);
+  core::OutputTransaction tx;
+  std::error_code ec;
+  fs::copy_file(image, tx.stage(beside), fs::copy_options::overwrite_existing, ec);
+  if (ec) return Error::at(beside, "cannot write: " + ec.message());
+  PUFF_TRY(tx.commit());
+  image = beside;
+  return {};
+}
+
+Result<fs::path> Viewer::save(const fs::path& file) {
+  const fs::path target = file.empty() ? scene_.file : file;
+  // Never write what would not load, and never overwrite newer text edits that failed to load.
+  if (!editError_.empty()) {
+    return Error::at(target, "not saved: the panel holds a value the scene rejects (" + editError_ + ")");
+  }
+  if (!fileError_.empty() && target == scene_.file) {
+    return Error::at(target,
+                     "not saved: the file on disk has edits that do not load (fix them there, or Save as another "
+                     "file); saving would overwrite them");
+  }
+  // A ramp or gradient edited in the panel goes beside the scene file, and the scene names it there.
+  scene::Scene beside = scene_;
+  PUFF_TRY(keepBeside(target, beside.ramp, "_ramp.png"));
+  PUFF_TRY(keepBeside(target, beside.ambientGradient, "_gradient.png"));
+  if (beside.ramp != scene_.ramp || beside.ambientGradient != scene_.ambientGradient) {
+    scene_.ramp = beside.ramp;
+    scene_.ambientGradient = beside.ambientGradient;
+    committed_.ramp = scene_.ramp;
+    committed_.ambientGradient = scene_.ambientGradient;
+    (void)applyEdit();
+  }
+  scene::Scene copy = scene_;
+  copy.file = target;  // toJson writes paths relative to where the file will be
+  nlohmann::json j = scene::toJson(copy);
+  if (auto check = scene::parseScene(j, target, options_.artDir); !check) {
+    return Error::at(target, "not saved: " + check.error().message);
+  }
+  restoreArtPaths(j, target.parent_path(), options_.artDir);
+  if (auto r = core::writeFileAtomic(target, scene::jsonText(j) + "\n"); !r) return r.error();
+  if (target == scene_.file) {
+    watcher_.markSeen(target);  // our own write is not an outside change to reload
+  } else {
+    scene_.file = target;
+    watchScene();
+  }
+  setStatus("saved " + target.string());
+  if (!options_.quiet) std::printf("puffview: saved %s\n", target.c_str());
+  return target;
+}
+
+// ---- screenshots -----------------------------------------------------------------------------
+
+Result<fs::path> Viewer::saveScreenshot(const fs::path& file) {
+  fs::path target = file;
+  if (target.empty()) {
+    const fs::path dir = options_.screenshotDir.empty() ? scene_.file.parent_path() : options_.screenshotDir;
+    char number[32];
+    std::snprintf(number, sizeof number, "_f%04d", frame_);
+    const std::string base = scene_.file.stem().string() + number;
+    target = dir / (base + ".png");
+    std::error_code ec;
+    for (int k = 2; fs::exists(target, ec); ++k) target = dir / (base + "_" + std::to_string(k) + ".png");
+  }
+  PUFF_TRY_ASSIGN(auto image, readWindow());
+  core::OutputTransaction tx;
+  if (!target.parent_path().empty()) {
+    if (auto r = tx.prepareDirectory(target.parent_path()); !r) return r.error();
+  }
+  const fs::path temp = tx.stage(target);
+  if (auto r = core::writeImage(temp, image, core::PixelType::kUInt8, {}, "screenshot.png"); !r)
+    return Error::at(target, r.error().message);
+  if (auto r = tx.commit(); !r) return r.error();
+  setStatus("screenshot " + target.string());
+  return target;
+}
+
+}  // namespace puff::view
