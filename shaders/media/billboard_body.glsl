@@ -24,25 +24,69 @@ float sCurve(float x) {
   return x < 0.5 ? 0.5 * pow(2.0 * x, 2.0) : 1.0 - 0.5 * pow(2.0 * (1.0 - x), 2.0);
 }
 
-uint hash(uint x) {
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
-float unitHash(uint x) { return float(hash(x) >> 8) / 16777216.0; }
+#include "media/billboard_shading.glsl"
 
-MaterialGpu blend(MaterialGpu a, MaterialGpu b, float f) {
-  MaterialGpu m;
-  m.colorAlbedo = mix(a.colorAlbedo, b.colorAlbedo, f);
-  m.densityGEmissiveEmission = mix(a.densityGEmissiveEmission, b.densityGEmissiveEmission, f);
-  m.tempRangeBurnDetail = mix(a.tempRangeBurnDetail, b.tempRangeBurnDetail, f);
-  m.windowSpeedShimmerNext = mix(a.windowSpeedShimmerNext, b.windowSpeedShimmerNext, f);
-  m.transition = a.transition;
-  return m;
+// The pixel's eye ray in camera space, exact through the texel centre: origin `o` (the eye, or under an
+// orthographic projection the pixel's point in the camera's plane) and unit direction `dir`.
+void pixelRay(vec2 pixel, bool ortho, out vec3 o, out vec3 dir) {
+  const vec2 ndc = pixel * uTarget.zw * 2.0 - 1.0;
+  const vec4 pn = uInvProj * vec4(ndc, -1.0, 1.0);
+  const vec4 pf = uInvProj * vec4(ndc, 1.0, 1.0);
+  if (ortho) {
+    o = vec3(pn.xy / pn.w, 0.0);
+    dir = vec3(0.0, 0.0, -1.0);
+  } else {
+    o = vec3(0.0);
+    dir = normalize(pf.xyz / pf.w);
+  }
 }
+
+// The opaque surface's distance along the view axis at this pixel, from the opaque linear depth;
+// where the depth is cleared there is no surface, and the distance is beyond everything.
+float opaqueDistance(vec2 pixel) {
+  const float lin = texelFetch(uDepthTex, ivec2(pixel), 0).r;
+  return lin >= 1.0 ? 3.0e38 : uDepth.x + lin * uDepth.z;
+}
+
+// The ray's path through the sphere that the opacity integrates (ds) and the soft methods' fade,
+// by the method (uMode.x): the spherical chord clipped by the opaque surface and the near plane,
+// the planar methods' full chord. The planar method discards the fragment where its billboard
+// through the centre lies behind the opaque surface at distance zs (the depth test).
+void pathAndFade(vec3 c, float r, float w, float tF, float tB, float tScene, float tNear, float zs, out float ds,
+                 out float fade) {
+  ds = 2.0 * w;  // planar methods: the full chord
+  fade = 1.0;
+  const float dzc = -c.z;
+  if (uMode.x == kSpherical) {
+    ds = max(0.0, min(tB, tScene) - max(tF, tNear));  // clipped by surfaces and the near plane, never < 0
+  } else if (uMode.x == kPlanar) {
+    if (dzc > zs) discard;  // the billboard plane behind the surface: the depth test
+  } else {
+    const float x = clamp((zs - dzc) / (2.0 * r), 0.0, 1.0);  // Ilmonen: (zb - z) / size
+    fade = uMode.x == kSoftLinear ? x : sCurve(x);
+  }
+}
+
+// Where the ray passes closest to the centre c (ray parameter -b), over the billboard's [0, 1]^2
+// (the sphere's diameter across).
+vec2 closestUv(vec3 o, vec3 dir, float b, vec3 c, float r) {
+  const vec3 closest = o + dir * (-b) - c;
+  return closest.xy / (2.0 * r) + 0.5;
+}
+
+#ifdef PUFF_CARTOON
+// The medium's depth where the ray enters it (or the near plane), as the layer's linear depth.
+float entryDepth(float oz, float tF, float tNear, float cosA) {
+  const float zIn = oz + max(tF, tNear) * cosA;
+  return clamp((zIn - uDepth.x) / uDepth.z, 0.0, 1.0);
+}
+
+// The opacity without the opaque surfaces' clipping (the near plane still clips) or soft fade.
+float unclippedOpacity(float tau, float d, float r, float w, float tF, float tB, float tNear) {
+  const float dsFree = uMode.x == kSpherical ? max(0.0, tB - max(tF, tNear)) : 2.0 * w;
+  return 1.0 - exp(-tau * (1.0 - d / r) * dsFree);
+}
+#endif
 
 void main() {
   const vec3 c = vCentreRadius.xyz;
@@ -51,17 +95,8 @@ void main() {
 
   // The pixel's ray in camera space (exact, through the texel centre).
   const vec2 pixel = gl_FragCoord.xy - uOrigin.xy;
-  const vec2 ndc = pixel * uTarget.zw * 2.0 - 1.0;
-  const vec4 pn = uInvProj * vec4(ndc, -1.0, 1.0);
-  const vec4 pf = uInvProj * vec4(ndc, 1.0, 1.0);
   vec3 o, dir;
-  if (ortho) {
-    o = vec3(pn.xy / pn.w, 0.0);
-    dir = vec3(0.0, 0.0, -1.0);
-  } else {
-    o = vec3(0.0);
-    dir = normalize(pf.xyz / pf.w);
-  }
+  pixelRay(pixel, ortho, o, dir);
   // Sphere: closest approach d, entry tF and exit tB along the ray.
   const vec3 m = o - c;
   const float b = dot(m, dir);
@@ -72,44 +107,20 @@ void main() {
   const float tF = -b - w, tB = -b + w;
   // Depths along the view axis become ray parameters through the ray's slope.
   const float cosA = -dir.z, oz = -o.z;
-  const float lin = texelFetch(uDepthTex, ivec2(pixel), 0).r;
-  const float zs = lin >= 1.0 ? 3.0e38 : uDepth.x + lin * uDepth.z;  // cleared depth: no surface
+  const float zs = opaqueDistance(pixel);
   const float tScene = (zs - oz) / cosA, tNear = (uDepth.x - oz) / cosA;
-
-  float ds = 2.0 * w;  // planar methods: the full chord
-  float fade = 1.0;
-  const float dzc = -c.z;
-  if (uMode.x == kSpherical) {
-    ds = max(0.0, min(tB, tScene) - max(tF, tNear));  // clipped by surfaces and the near plane, never < 0
-  } else if (uMode.x == kPlanar) {
-    if (dzc > zs) discard;  // the billboard plane behind the surface: the depth test
-  } else {
-    const float x = clamp((zs - dzc) / (2.0 * r), 0.0, 1.0);  // Ilmonen: (zb - z) / size
-    fade = uMode.x == kSoftLinear ? x : sCurve(x);
-  }
+  float ds, fade;
+  pathAndFade(c, r, w, tF, tB, tScene, tNear, zs, ds, fade);  // discards a planar billboard behind the surface
 
   // The material, turning into another over the particle's life.
-  const uint mi = min(vData.x, 31u);
-  const float life = uintBitsToFloat(vData.y);
   const float density = uintBitsToFloat(vData.z);
   const uint seed = vData.w;
-  MaterialGpu mat = uMaterials[mi];
-  const int next = int(mat.windowSpeedShimmerNext.w);
-  if (next >= 0) {
-    const vec2 tr = mat.transition.xy;
-    const float f = tr.y > tr.x ? clamp((life - tr.x) / (tr.y - tr.x), 0.0, 1.0) : step(tr.x, life);
-    mat = blend(mat, uMaterials[min(next, PUFF_MAX_MATERIALS - 1)], f);
-  }
+  MaterialGpu mat = particleMaterial(vData);
 
   // The particle's window of the detail video: a random place and time offset from its seed.
-  const vec3 closest = o + dir * (-b) - c;
-  const vec2 uv = closest.xy / (2.0 * r) + 0.5;
-  const float window = mat.windowSpeedShimmerNext.x;
-  const vec3 detailAt = vec3(vec2(unitHash(seed), unitHash(seed ^ 0x68bc21ebu)) + uv * window,
-                             unitHash(seed ^ 0x02e5be93u));
+  const vec3 tex3 = detailCoord(closestUv(o, dir, b, c, r), seed, mat.windowSpeedShimmerNext.x);
   const float emissive = mat.densityGEmissiveEmission.z;
   const float speed = mat.windowSpeedShimmerNext.y;
-  const vec3 tex3 = vec3(detailAt.xy, detailAt.z);
 
   float tau = mat.densityGEmissiveEmission.x * density;
   vec3 radiance = vec3(0.0), scatter = vec3(0.0);
@@ -117,35 +128,9 @@ void main() {
   float temperatureDetail = 0.5, shimmerY = 0.5;
   // Opacity detail and scattering: both amounts are uploaded as 0 for emitters, so a material
   // turning from fire into smoke takes them up continuously (linearly) across its transition.
-  if (mat.tempRangeBurnDetail.w > 0.0) {
-    const vec3 size = vec3(textureSize(uOpacityDetail, 0));
-    const float D = texture(uOpacityDetail, vec3(tex3.xy, tex3.z + uTime.x * speed / size.z)).r;
-    tau *= max(0.0, 1.0 + mat.tempRangeBurnDetail.w * (2.0 * D - 1.0));
-  }
-  if (mat.colorAlbedo.a > 0.0) {
-    const float cosTheta = dot(uLightDir.xyz, dir);  // light's travel vs the scattered direction
-    const float g = mat.densityGEmissiveEmission.y;
-    const vec2 pc = vec2(sqrt(clamp((1.0 - cosTheta) * 0.5, 0.0, 1.0)), (g + 0.95) / 1.9);
-    const vec2 ps = vec2(textureSize(uPhase, 0));
-    const float p4pi = texture(uPhase, (pc * (ps - 1.0) + 0.5) / ps).r;
-    const vec3 C = uAmbient.rgb + uLightColor.rgb * p4pi;
-    scatter = mat.colorAlbedo.a * mat.colorAlbedo.rgb * C;
-    radiance += scatter;
-  }
-  if (emissive > 0.0) {
-    const vec3 size = vec3(textureSize(uTemperatureDetail, 0));
-    const vec3 at = vec3(tex3.xy, tex3.z + uTime.x * speed / size.z);
-    temperatureDetail = texture(uTemperatureDetail, at).r;
-    shimmerY = texture(uTemperatureDetail, at + vec3(0.37, 0.61, 0.0)).r;
-    // T0: the particle's own temperature over its life when it has one, else the material's.
-    const float t0 = vTintTemperature.a > 0.0 ? vTintTemperature.a : mat.tempRangeBurnDetail.x;
-    const float T = t0 + mat.tempRangeBurnDetail.y * temperatureDetail;
-    kelvin = T;
-    const float s = clamp((T - uKelvin.x) * uKelvin.z, 0.0, 1.0);
-    const float n = float(textureSize(uBlackbody, 0));
-    const vec3 le = max(texture(uBlackbody, (s * (n - 1.0) + 0.5) / n).rgb, vec3(0.0));  // gamut: clip at 0
-    radiance += emissive * mat.densityGEmissiveEmission.w * uKelvin.w * le;
-  }
+  if (mat.tempRangeBurnDetail.w > 0.0) tau *= opacityDetail(mat, tex3, speed);
+  if (mat.colorAlbedo.a > 0.0) addScattering(mat, dir, radiance, scatter);
+  if (emissive > 0.0) addEmission(mat, tex3, speed, emissive, radiance, temperatureDetail, shimmerY, kelvin);
 
   const float alpha = (1.0 - exp(-tau * (1.0 - d / r) * ds)) * fade;
   if (!(alpha > 0.0)) discard;
@@ -154,17 +139,9 @@ void main() {
   radiance *= tint;  // the particle's tint: what it scatters and emits
   outMedia = vec4(alpha * radiance, alpha * (1.0 - burn));
 #ifdef PUFF_CARTOON
-  {
-    // The medium's depth where the ray enters it (or the near plane), as the layer's linear depth.
-    const float zIn = oz + max(tF, tNear) * cosA;
-    const float lin = clamp((zIn - uDepth.x) / uDepth.z, 0.0, 1.0);
-    const float emission = mat.densityGEmissiveEmission.w * dot(tint, vec3(0.2126, 0.7152, 0.0722));
-    // The opacity without the opaque surfaces' clipping (the near plane still clips) or soft fade.
-    const float dsFree = uMode.x == kSpherical ? max(0.0, tB - max(tF, tNear)) : 2.0 * w;
-    const float free = 1.0 - exp(-tau * (1.0 - d / r) * dsFree);
-    cartoonOutputs(alpha, scatter * tint, emissive, kelvin, emission, lin, free, outMedia, outCartoonFire,
-                   outCartoonDepth);
-  }
+  const float emission = mat.densityGEmissiveEmission.w * dot(tint, vec3(0.2126, 0.7152, 0.0722));
+  cartoonOutputs(alpha, scatter * tint, emissive, kelvin, emission, entryDepth(oz, tF, tNear, cosA),
+                 unclippedOpacity(tau, d, r, w, tF, tB, tNear), outMedia, outCartoonFire, outCartoonDepth);
 #endif
   // Heat shimmer: a signed offset from the detail video, where fire is.
   const float sh = mat.windowSpeedShimmerNext.z * alpha;

@@ -267,7 +267,8 @@ FrameTime drawFrame(media::Renderer& renderer, Case& c, bool shimmer = true) {
   layers.beginMedia();
   media::DrawStats stats;
   renderer.setFillRateFloor(c.floor);
-  renderer.draw(f, *c.particles, c.method, layers.mediaDepth(), shimmer, &stats);
+  renderer.draw(f, *c.particles, c.method, layers.mediaDepth(),
+                shimmer ? media::Shimmer::kWritten : media::Shimmer::kOff, &stats);
   renderer.setFillRateFloor(false);
   glFinish();
   const auto t2 = Clock::now();

@@ -174,7 +174,7 @@ std::vector<glm::vec4> mediaFrame(const media::Bindings& b) {
     p.seed = static_cast<std::uint32_t>(i);
   }
   ly.beginMedia();
-  (*renderer)->draw(ly.layerFrame(f), ps, media::Method::kSpherical, ly.mediaDepth(), true);
+  (*renderer)->draw(ly.layerFrame(f), ps, media::Method::kSpherical, ly.mediaDepth(), media::Shimmer::kWritten);
   media::ExplosionLight light;
   light.center = glm::vec3(0.0f, 0.0f, -1.0f);
   light.radius = 3.0f;

@@ -188,7 +188,8 @@ TEST_F(HostState, MediaCallsLeaveWhatTheirHeadersList) {
                     texture(b.temperatureDetail, "3D") + texture(b.opacityDetail, "3D") + texture(b.falloff, "2D");
   const auto drawCase = [&](media::Method m) {
     return Case{"Renderer::draw(" + std::string(media::toString(m)) + ")",
-                [&, m] { (*renderer)->draw(ly.layerFrame(f), ps, m, ly.mediaDepth(), true); }, draw};
+                [&, m] { (*renderer)->draw(ly.layerFrame(f), ps, m, ly.mediaDepth(), media::Shimmer::kWritten); },
+                draw};
   };
   const std::vector<Case> cases = {
       drawCase(media::Method::kPlanar),

@@ -29,7 +29,9 @@ TEST(Label, EveryGlyphIsSevenRowsOfFiveAndNoTwoAlike) {
     }
     EXPECT_TRUE(seen.insert(g).second) << c << " looks like another glyph";
     // Every glyph but the space sets a pixel.
-    if (c != ' ') EXPECT_NE(g.find('#'), std::string::npos) << c;
+    if (c != ' ') {
+      EXPECT_NE(g.find('#'), std::string::npos) << c;
+    }
   }
   EXPECT_EQ(glyph('q'), glyph('Q')) << "lower case is drawn as capitals";
   EXPECT_FALSE(hasGlyph('~'));
@@ -55,7 +57,9 @@ TEST(Label, TextReadsBackAtEveryScaleAndStaysInItsBox) {
     for (int y = 0; y < image.height; ++y)
       for (int x = 0; x < image.width; ++x) {
         const bool inside = x >= x0 && x < x0 + textWidth(text, scale) && y >= y0 && y < y0 + textHeight(scale);
-        if (!inside) ASSERT_EQ(image.at(x, y, 0), 0.0f) << "scale " << scale << " at " << x << "," << y;
+        if (!inside) {
+          ASSERT_EQ(image.at(x, y, 0), 0.0f) << "scale " << scale << " at " << x << "," << y;
+        }
       }
     EXPECT_EQ(image.at(0, 0, 1), 0.0f);
   }

@@ -61,7 +61,8 @@ std::vector<glm::vec4> composeScene(media::Renderer& r, float scale, bool depthA
   f.width = w;
   f.height = h;
   const media::Particle p = sphereAt({0, 0, -6}, 2.0f);
-  r.draw((*layers)->layerFrame(f), std::span(&p, 1), Method::kSpherical, (*layers)->mediaDepth(), true);
+  r.draw((*layers)->layerFrame(f), std::span(&p, 1), Method::kSpherical, (*layers)->mediaDepth(),
+         media::Shimmer::kWritten);
   core::Framebuffer out = core::makeFramebuffer();
   core::Texture color = core::makeTexture(GL_TEXTURE_2D);
   glTextureStorage2D(color.get(), 1, GL_RGBA32F, w, h);
@@ -278,7 +279,7 @@ std::vector<glm::vec4> composeFloor(media::Renderer& r, float scale, media::Laye
   f.height = h;
   const std::vector<media::Particle> ps = {sphereAt({0.0f, -0.3f, -13.0f}, 2.0f), sphereAt({1.2f, -0.4f, -8.0f}, 1.5f),
                                            sphereAt({-1.5f, -0.6f, -5.0f}, 1.2f)};  // back to front
-  r.draw((*layers)->layerFrame(f), ps, Method::kSpherical, (*layers)->mediaDepth(), false);
+  r.draw((*layers)->layerFrame(f), ps, Method::kSpherical, (*layers)->mediaDepth(), media::Shimmer::kOff);
   core::Framebuffer out = core::makeFramebuffer();
   core::Texture color = core::makeTexture(GL_TEXTURE_2D);
   glTextureStorage2D(color.get(), 1, GL_RGBA32F, w, h);

@@ -352,7 +352,9 @@ TEST(MediaPhysical, AParticlesTintAndTemperatureAreItsOwn) {
       in.particles = plainParticle;
       const Pixel d = physical ? physicalPixel(in, {.step = 0.05}) : modelPixel(in);
       expectNear(c.radiance, d.radiance, 1e-6);
-      if (fire) EXPECT_GT(std::abs(c.radiance.r - a.radiance.r), 0.01) << "1900 K is not fire's 2500 K";
+      if (fire) {
+        EXPECT_GT(std::abs(c.radiance.r - a.radiance.r), 0.01) << "1900 K is not fire's 2500 K";
+      }
       m = fire ? media::fireMaterial() : plain(0.7f, 0.6f);
       materials[0] = m;
     }

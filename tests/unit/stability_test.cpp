@@ -430,7 +430,7 @@ class StabilityMedia : public test::MediaRendererTest {
     glClearNamedFramebufferfv(t.fbo.get(), GL_COLOR, 0, &kClear.x);
     glBindFramebuffer(GL_FRAMEBUFFER, t.fbo.get());
     glViewport(0, 0, kMediaPx, kMediaPx);
-    renderer_->draw(cam.frame(kMediaPx), std::span(&p, 1), method, t.depth.get(), false, stats);
+    renderer_->draw(cam.frame(kMediaPx), std::span(&p, 1), method, t.depth.get(), media::Shimmer::kOff, stats);
     EXPECT_EQ(core::drainGlErrors(), "");
     return t.read();
   }

@@ -173,7 +173,8 @@ struct ViewRenderer {
     r.setMesh(m, o.defaultColor);
     std::vector<CellMaps> maps;
     for (const glm::vec3& dir : viewDirs) {
-      r.render(viewRotation(dir), g.margin * ss, g.content * ss, samples, back);
+      r.render(viewRotation(dir), g.margin * ss, g.content * ss, samples,
+               back ? RasterSides::kFrontAndBack : RasterSides::kFront);
       maps.push_back(resolveCell(samples, ss, flange));
     }
     return maps;

@@ -120,7 +120,8 @@ void PuffRasterizer::setMesh(const mesh::TriMesh& m, const glm::vec3& defaultCol
 }
 
 void PuffRasterizer::render(const glm::mat3& viewRotation, int marginSamples, int contentSamples, SampleBuffer& out,
-                            bool back) {
+                            RasterSides sides) {
+  const bool back = sides == RasterSides::kFrontAndBack;
   // Every state this pass relies on is set here; nothing is inherited.
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get());
   glDisable(GL_BLEND);

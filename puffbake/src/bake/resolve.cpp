@@ -92,6 +92,93 @@ void carryColourOut(core::Image& color, const std::vector<std::uint8_t>& covered
   }
 }
 
+// What a texel is resolved from: the samples, which the puff covers, and their signed distances.
+struct SampleView {
+  const SampleBuffer& samples;
+  const std::vector<std::uint8_t>& inside;
+  const std::vector<float>& signedSamples;
+  int n, ss;
+  float flangeSamples;
+  bool back;
+};
+
+// The sums over one texel's samples that its values in the maps are made of.
+struct TexelSums {
+  glm::vec3 normalSum{0.0f}, colorSum{0.0f};
+  float depthSum = 0.0f, distSum = 0.0f;
+  int bodyCount = 0, dilatedCount = 0;
+  // The back map: the farthest of the covered samples' farthest crossings (each the far side
+  // of the last run of puff along its ray), so nothing of the puff lies beyond it.
+  float farthest = 1.0f;
+};
+
+// Sums texel (tx, ty)'s ss x ss samples: the body's and the flange's, each into what it adds to.
+TexelSums sumTexel(const SampleView& v, int tx, int ty) {
+  TexelSums s;
+  for (int sy = 0; sy < v.ss; ++sy) {
+    for (int sx = 0; sx < v.ss; ++sx) {
+      const std::size_t i = static_cast<std::size_t>(ty * v.ss + sy) * v.n + (tx * v.ss + sx);
+      s.distSum += v.signedSamples[i];
+      if (v.inside[i]) {
+        ++s.bodyCount;
+        ++s.dilatedCount;
+        const glm::vec4& nd = v.samples.normalDepth[i];
+        s.normalSum += glm::vec3(nd);
+        s.depthSum += nd.w * 0.5f;  // camera z in unit-sphere radii -> puff diameters
+        s.colorSum += glm::vec3(v.samples.color[i]);
+        if (v.back) s.farthest = std::min(s.farthest, v.samples.back[i] * 0.5f);  // radii -> diameters
+      } else if (v.flangeSamples > 0.0f && v.signedSamples[i] <= v.flangeSamples) {
+        ++s.dilatedCount;  // flange: d = 0, facing the viewer (its colour is carried out by carryColourOut)
+        s.normalSum += glm::vec3(0.0f, 0.0f, 1.0f);
+      }
+    }
+  }
+  return s;
+}
+
+// Writes texel (tx, ty) of each map from its sums; perTexel is 1 over its samples.
+void writeTexel(const TexelSums& s, int tx, int ty, float perTexel, const SampleView& v, CellMaps& out) {
+  glm::vec3 normal(0.0f, 0.0f, 1.0f), color(0.0f);
+  float depth = 0.0f;
+  if (s.dilatedCount > 0) {
+    const float inv = 1.0f / static_cast<float>(s.dilatedCount);
+    if (glm::length(s.normalSum) > 1e-6f) normal = glm::normalize(s.normalSum);
+    depth = s.depthSum * inv;
+  }
+  if (s.bodyCount > 0) color = s.colorSum / static_cast<float>(s.bodyCount);  // the puff's own colour
+  out.normalDepth.at(tx, ty, 0) = normal.x;
+  out.normalDepth.at(tx, ty, 1) = normal.y;
+  out.normalDepth.at(tx, ty, 2) = normal.z;
+  out.normalDepth.at(tx, ty, 3) = depth;
+  out.color.at(tx, ty, 0) = color.r;
+  out.color.at(tx, ty, 1) = color.g;
+  out.color.at(tx, ty, 2) = color.b;
+  out.color.at(tx, ty, 3) = static_cast<float>(s.dilatedCount) * perTexel;
+  out.body.at(tx, ty) = static_cast<float>(s.bodyCount) * perTexel;
+  out.distance.at(tx, ty) = s.distSum * perTexel / static_cast<float>(v.ss);
+  if (v.back && s.bodyCount > 0) out.back.at(tx, ty) = s.farthest;
+}
+
+// The cell's maps, texels x texels, all zero; the back map (kNoBack) only when `back`.
+CellMaps makeCellMaps(int texels, bool back) {
+  CellMaps out;
+  out.normalDepth = core::Image(texels, texels, 4);
+  out.color = core::Image(texels, texels, 4);
+  out.distance = core::Image(texels, texels, 1);
+  out.body = core::Image(texels, texels, 1);
+  if (back) out.back = core::Image(texels, texels, 1, kNoBack);
+  return out;
+}
+
+// Which texels of the body map the puff covers at all.
+std::vector<std::uint8_t> coveredTexels(const core::Image& body, int texels) {
+  std::vector<std::uint8_t> covered(static_cast<std::size_t>(texels) * texels);
+  for (int y = 0; y < texels; ++y) {
+    for (int x = 0; x < texels; ++x) covered[static_cast<std::size_t>(y) * texels + x] = body.at(x, y) > 0.0f;
+  }
+  return covered;
+}
+
 }  // namespace
 
 CellMaps resolveCell(const SampleBuffer& samples, int supersample, float flangeTexels) {
@@ -109,70 +196,18 @@ CellMaps resolveCell(const SampleBuffer& samples, int supersample, float flangeT
   const std::vector<float> signedSamples = signedSampleDistances(inside, outside, n);
   const float flangeSamples = flangeTexels * static_cast<float>(ss);
 
-  CellMaps out;
-  out.normalDepth = core::Image(texels, texels, 4);
-  out.color = core::Image(texels, texels, 4);
-  out.distance = core::Image(texels, texels, 1);
-  out.body = core::Image(texels, texels, 1);
   const bool back = !samples.back.empty();
-  if (back) out.back = core::Image(texels, texels, 1, kNoBack);
+  CellMaps out = makeCellMaps(texels, back);
+  const SampleView view{samples, inside, signedSamples, n, ss, flangeSamples, back};
   const float perTexel = 1.0f / static_cast<float>(ss * ss);
   core::parallelFor(
       static_cast<std::size_t>(texels),
       [&](std::size_t row) {
         const int ty = static_cast<int>(row);
-        for (int tx = 0; tx < texels; ++tx) {
-          glm::vec3 normalSum(0.0f), colorSum(0.0f);
-          float depthSum = 0.0f, distSum = 0.0f;
-          int bodyCount = 0, dilatedCount = 0;
-          // The back map: the farthest of the covered samples' farthest crossings (each the far side
-          // of the last run of puff along its ray), so nothing of the puff lies beyond it.
-          float farthest = 1.0f;
-          for (int sy = 0; sy < ss; ++sy) {
-            for (int sx = 0; sx < ss; ++sx) {
-              const std::size_t i = static_cast<std::size_t>(ty * ss + sy) * n + (tx * ss + sx);
-              distSum += signedSamples[i];
-              if (inside[i]) {
-                ++bodyCount;
-                ++dilatedCount;
-                const glm::vec4& nd = samples.normalDepth[i];
-                normalSum += glm::vec3(nd);
-                depthSum += nd.w * 0.5f;  // camera z in unit-sphere radii -> puff diameters
-                colorSum += glm::vec3(samples.color[i]);
-                if (back) farthest = std::min(farthest, samples.back[i] * 0.5f);  // radii -> diameters
-              } else if (flangeSamples > 0.0f && signedSamples[i] <= flangeSamples) {
-                ++dilatedCount;  // flange: d = 0, facing the viewer (its colour is carried out below)
-                normalSum += glm::vec3(0.0f, 0.0f, 1.0f);
-              }
-            }
-          }
-          glm::vec3 normal(0.0f, 0.0f, 1.0f), color(0.0f);
-          float depth = 0.0f;
-          if (dilatedCount > 0) {
-            const float inv = 1.0f / static_cast<float>(dilatedCount);
-            if (glm::length(normalSum) > 1e-6f) normal = glm::normalize(normalSum);
-            depth = depthSum * inv;
-          }
-          if (bodyCount > 0) color = colorSum / static_cast<float>(bodyCount);  // the puff's own colour
-          out.normalDepth.at(tx, ty, 0) = normal.x;
-          out.normalDepth.at(tx, ty, 1) = normal.y;
-          out.normalDepth.at(tx, ty, 2) = normal.z;
-          out.normalDepth.at(tx, ty, 3) = depth;
-          out.color.at(tx, ty, 0) = color.r;
-          out.color.at(tx, ty, 1) = color.g;
-          out.color.at(tx, ty, 2) = color.b;
-          out.color.at(tx, ty, 3) = static_cast<float>(dilatedCount) * perTexel;
-          out.body.at(tx, ty) = static_cast<float>(bodyCount) * perTexel;
-          out.distance.at(tx, ty) = distSum * perTexel / static_cast<float>(ss);
-          if (back && bodyCount > 0) out.back.at(tx, ty) = farthest;
-        }
+        for (int tx = 0; tx < texels; ++tx) writeTexel(sumTexel(view, tx, ty), tx, ty, perTexel, view, out);
       },
       4);
-  std::vector<std::uint8_t> covered(static_cast<std::size_t>(texels) * texels);
-  for (int y = 0; y < texels; ++y) {
-    for (int x = 0; x < texels; ++x) covered[static_cast<std::size_t>(y) * texels + x] = out.body.at(x, y) > 0.0f;
-  }
-  carryColourOut(out.color, covered);
+  carryColourOut(out.color, coveredTexels(out.body, texels));
   return out;
 }
 

@@ -72,7 +72,7 @@ int chooseCelModel(const Options& o, scene::Scene& scene, const Plan& plan, eval
     std::fflush(stderr);
   }
   cli::Progress progress(o.quiet);
-  eval::MediaBudgetOptions options;
+  eval::CelBudgetOptions options;
   options.progress = [&](int done, int total) { progress("measuring (references, then candidates)", done, total); };
   auto budget = eval::measureCelBudget(scene, frames, options, knob, *references);
   progress.finish();

@@ -32,27 +32,25 @@ fs::path defaultArtDir() {
   return env && *env ? fs::path(env) : fs::path("build/art");
 }
 
-// Checks the options against the scene; errors are usage errors (exit 2).
-Result<Plan> makePlan(const Options& o, const scene::Scene& scene) {
+// The plan without -o (only --contact-sheet and/or --preview): no frame files; every frame unless --frames says.
+Result<Plan> planWithoutOutput(const Options& o, const scene::Scene& scene) {
   Plan plan;
-  if (o.out.empty()) {
-    // Only --contact-sheet and/or --preview: no frame files; every frame unless --frames says.
-    plan.writeFrames = false;
-    plan.last = scene.animation.frames - 1;
-    if (!o.frames.empty()) {
-      PUFF_TRY_ASSIGN(auto range, parseFrameRange(o.frames));
-      plan.first = range.first;
-      plan.last = range.second;
-    }
-    if (plan.last >= scene.animation.frames) {
-      return Error{"--frames " + o.frames + ": the scene has " + std::to_string(scene.animation.frames) +
-                   " frame(s), 0 to " + std::to_string(scene.animation.frames - 1) + " (/animation/frames)"};
-    }
-    return plan;
+  plan.writeFrames = false;
+  plan.last = scene.animation.frames - 1;
+  if (!o.frames.empty()) {
+    PUFF_TRY_ASSIGN(auto range, parseFrameRange(o.frames));
+    plan.first = range.first;
+    plan.last = range.second;
   }
-  PUFF_TRY_ASSIGN(auto pattern, parseOutputPattern(o.out));
-  plan.pattern = pattern;
-  const int frames = scene.animation.frames;
+  if (plan.last >= scene.animation.frames) {
+    return Error{"--frames " + o.frames + ": the scene has " + std::to_string(scene.animation.frames) +
+                 " frame(s), 0 to " + std::to_string(scene.animation.frames - 1) + " (/animation/frames)"};
+  }
+  return plan;
+}
+
+// The frames to render: --frames, else every frame of a numbered output, else frame 0 (a flipbook: planFlipbook).
+Result<void> planFrameRange(const Options& o, int frames, Plan& plan) {
   if (!o.frames.empty()) {
     PUFF_TRY_ASSIGN(auto range, parseFrameRange(o.frames));
     plan.first = range.first;
@@ -62,44 +60,49 @@ Result<Plan> makePlan(const Options& o, const scene::Scene& scene) {
                    std::to_string(frames - 1) + " (/animation/frames)"};
     }
   } else if (!o.flipbook.empty()) {
-    plan.last = 0;  // set below: as many frames as the sheet holds
+    plan.last = 0;  // set by planFlipbook: as many frames as the sheet holds
   } else {
     plan.last = plan.pattern.numbered ? frames - 1 : 0;
   }
-  if (!o.flipbook.empty()) {
-    const auto grid = *parseFlipbookGrid(o.flipbook);
-    plan.flipColumns = grid.first;
-    plan.flipRows = grid.second;
-    const int cells = grid.first * grid.second;
-    if (plan.pattern.numbered) {
-      return Error{"-o " + o.out + ": --flipbook writes one sprite sheet: give a single file name, e.g. sheet.png"};
-    }
-    if (o.frames.empty()) plan.last = std::min(cells + o.loop, frames) - 1;
-    const int count = plan.last - plan.first + 1;
-    if (o.loop > 0 && 2 * o.loop > count) {
-      return Error{"--loop " + std::to_string(o.loop) + ": a loop cross-fades the last " + std::to_string(o.loop) +
-                   " frames into the first " + std::to_string(o.loop) + ", and there are " + std::to_string(count) +
-                   ": render at least " + std::to_string(2 * o.loop) + " frames"};
-    }
-    if (count - o.loop > cells) {
-      return Error{"--flipbook " + o.flipbook + " holds " + std::to_string(cells) + " frames, and --frames " +
-                   o.frames + " asks for " + std::to_string(count - o.loop) +
-                   (o.loop > 0 ? " (" + std::to_string(count) + " less the " + std::to_string(o.loop) + " of --loop)"
-                               : std::string()) +
-                   ": give a larger grid or fewer frames"};
-    }
-    const long long sheetW = static_cast<long long>(scene.width) * grid.first;
-    const long long sheetH = static_cast<long long>(scene.height) * grid.second;
-    if (const std::string problem = core::imageLimitProblem(sheetW, sheetH, 4, core::ImageLimits{"a flipbook"});
-        !problem.empty()) {
-      return Error{"--flipbook " + o.flipbook + " of " + std::to_string(scene.width) + "x" +
-                   std::to_string(scene.height) + " frames: " + problem + "; give a smaller grid, --width or --height"};
-    }
+  return {};
+}
+
+// --flipbook: the grid, the frames it holds without --frames, and the checks of --loop and the sheet's size.
+Result<void> planFlipbook(const Options& o, const scene::Scene& scene, Plan& plan) {
+  const int frames = scene.animation.frames;
+  const auto grid = *parseFlipbookGrid(o.flipbook);
+  plan.flipColumns = grid.first;
+  plan.flipRows = grid.second;
+  const int cells = grid.first * grid.second;
+  if (plan.pattern.numbered) {
+    return Error{"-o " + o.out + ": --flipbook writes one sprite sheet: give a single file name, e.g. sheet.png"};
   }
-  if (!plan.pattern.numbered && plan.last > plan.first && o.flipbook.empty()) {
-    return Error{"-o " + o.out + ": " + std::to_string(plan.last - plan.first + 1) +
-                 " frames need a numbered output, e.g. frame_####.png or frame_%04d.png"};
+  if (o.frames.empty()) plan.last = std::min(cells + o.loop, frames) - 1;
+  const int count = plan.last - plan.first + 1;
+  if (o.loop > 0 && 2 * o.loop > count) {
+    return Error{"--loop " + std::to_string(o.loop) + ": a loop cross-fades the last " + std::to_string(o.loop) +
+                 " frames into the first " + std::to_string(o.loop) + ", and there are " + std::to_string(count) +
+                 ": render at least " + std::to_string(2 * o.loop) + " frames"};
   }
+  if (count - o.loop > cells) {
+    return Error{"--flipbook " + o.flipbook + " holds " + std::to_string(cells) + " frames, and --frames " + o.frames +
+                 " asks for " + std::to_string(count - o.loop) +
+                 (o.loop > 0 ? " (" + std::to_string(count) + " less the " + std::to_string(o.loop) + " of --loop)"
+                             : std::string()) +
+                 ": give a larger grid or fewer frames"};
+  }
+  const long long sheetW = static_cast<long long>(scene.width) * grid.first;
+  const long long sheetH = static_cast<long long>(scene.height) * grid.second;
+  if (const std::string problem = core::imageLimitProblem(sheetW, sheetH, 4, core::ImageLimits{"a flipbook"});
+      !problem.empty()) {
+    return Error{"--flipbook " + o.flipbook + " of " + std::to_string(scene.width) + "x" +
+                 std::to_string(scene.height) + " frames: " + problem + "; give a smaller grid, --width or --height"};
+  }
+  return {};
+}
+
+// PNG or EXR: --format, else the output's extension; the two must agree when both say.
+Result<void> planFormat(const Options& o, Plan& plan) {
   const std::string ext = core::lower(fs::path(plan.pattern.name(plan.first)).extension().string());
   const std::string fromName = ext == ".png" ? "png" : ext == ".exr" ? "exr" : "";
   if (o.format.empty()) {
@@ -114,6 +117,22 @@ Result<Plan> makePlan(const Options& o, const scene::Scene& scene) {
     }
     plan.exr = o.format == "exr";
   }
+  return {};
+}
+
+// Checks the options against the scene; errors are usage errors (exit 2).
+Result<Plan> makePlan(const Options& o, const scene::Scene& scene) {
+  if (o.out.empty()) return planWithoutOutput(o, scene);
+  Plan plan;
+  PUFF_TRY_ASSIGN(auto pattern, parseOutputPattern(o.out));
+  plan.pattern = pattern;
+  PUFF_TRY(planFrameRange(o, scene.animation.frames, plan));
+  if (!o.flipbook.empty()) PUFF_TRY(planFlipbook(o, scene, plan));
+  if (!plan.pattern.numbered && plan.last > plan.first && o.flipbook.empty()) {
+    return Error{"-o " + o.out + ": " + std::to_string(plan.last - plan.first + 1) +
+                 " frames need a numbered output, e.g. frame_####.png or frame_%04d.png"};
+  }
+  PUFF_TRY(planFormat(o, plan));
   return plan;
 }
 

@@ -87,6 +87,79 @@ struct StencilFace {
   bool operator==(const StencilFace&) const = default;
 };
 
+// Reads the first n indexed bindings of one buffer target: buffer, start and size of each.
+std::vector<IndexedBuffer> captureIndexed(GLenum binding, GLenum start, GLenum size, int n) {
+  std::vector<IndexedBuffer> out(static_cast<std::size_t>(std::max(0, n)));
+  for (int i = 0; i < n; ++i) {
+    IndexedBuffer& b = out[static_cast<std::size_t>(i)];
+    glGetIntegeri_v(binding, static_cast<GLuint>(i), &b.buffer);
+    glGetInteger64i_v(start, static_cast<GLuint>(i), &b.start);
+    glGetInteger64i_v(size, static_cast<GLuint>(i), &b.size);
+  }
+  return out;
+}
+
+// Rebinds each indexed binding of `target` whose wanted state differs from what `is` read back.
+void applyIndexed(GLenum target, const std::vector<IndexedBuffer>& want, const std::vector<IndexedBuffer>& is) {
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    if (want[i] == is[i]) continue;
+    const IndexedBuffer& b = want[i];
+    // A whole-buffer binding reads back with size 0.
+    if (b.buffer != 0 && b.size > 0) {
+      glBindBufferRange(target, static_cast<GLuint>(i), static_cast<GLuint>(b.buffer), static_cast<GLintptr>(b.start),
+                        static_cast<GLsizeiptr>(b.size));
+    } else {
+      glBindBufferBase(target, static_cast<GLuint>(i), static_cast<GLuint>(b.buffer));
+    }
+  }
+}
+
+// Reads the front and back stencil state, the two faces' items interleaved.
+void captureStencil(StencilFace& front, StencilFace& back) {
+  const GLenum frontQ[7] = {GL_STENCIL_FUNC,
+                            GL_STENCIL_REF,
+                            GL_STENCIL_VALUE_MASK,
+                            GL_STENCIL_FAIL,
+                            GL_STENCIL_PASS_DEPTH_FAIL,
+                            GL_STENCIL_PASS_DEPTH_PASS,
+                            GL_STENCIL_WRITEMASK};
+  const GLenum backQ[7] = {GL_STENCIL_BACK_FUNC,
+                           GL_STENCIL_BACK_REF,
+                           GL_STENCIL_BACK_VALUE_MASK,
+                           GL_STENCIL_BACK_FAIL,
+                           GL_STENCIL_BACK_PASS_DEPTH_FAIL,
+                           GL_STENCIL_BACK_PASS_DEPTH_PASS,
+                           GL_STENCIL_BACK_WRITEMASK};
+  for (int i = 0; i < 7; ++i) {
+    front.v[static_cast<std::size_t>(i)] = geti(frontQ[i]);
+    back.v[static_cast<std::size_t>(i)] = geti(backQ[i]);
+  }
+}
+
+// Sets face f's stencil function, operations and write mask where `w` differs from `n`.
+void applyStencilFace(GLenum f, const StencilFace& w, const StencilFace& n) {
+  if (w.v[0] != n.v[0] || w.v[1] != n.v[1] || w.v[2] != n.v[2]) {
+    glStencilFuncSeparate(f, static_cast<GLenum>(w.v[0]), w.v[1], static_cast<GLuint>(w.v[2]));
+  }
+  if (w.v[3] != n.v[3] || w.v[4] != n.v[4] || w.v[5] != n.v[5]) {
+    glStencilOpSeparate(f, static_cast<GLenum>(w.v[3]), static_cast<GLenum>(w.v[4]), static_cast<GLenum>(w.v[5]));
+  }
+  if (w.v[6] != n.v[6]) glStencilMaskSeparate(f, static_cast<GLuint>(w.v[6]));
+}
+
+// Sets draw buffer d's blending and colour mask where `w` differs from `n`.
+void applyDrawBuffer(GLuint d, const DrawBufferState& w, const DrawBufferState& n) {
+  if (w.blend != n.blend) (w.blend ? glEnablei : glDisablei)(GL_BLEND, d);
+  if (w.func != n.func) {
+    glBlendFuncSeparatei(d, static_cast<GLenum>(w.func[0]), static_cast<GLenum>(w.func[1]),
+                         static_cast<GLenum>(w.func[2]), static_cast<GLenum>(w.func[3]));
+  }
+  if (w.equation != n.equation) {
+    glBlendEquationSeparatei(d, static_cast<GLenum>(w.equation[0]), static_cast<GLenum>(w.equation[1]));
+  }
+  if (w.colorMask != n.colorMask) glColorMaski(d, w.colorMask[0], w.colorMask[1], w.colorMask[2], w.colorMask[3]);
+}
+
 }  // namespace
 
 GuardExtent GuardExtent::cover(const GuardExtent& o) const {
@@ -115,8 +188,31 @@ struct HostStateGuard::Saved {
   std::array<GLint, 2> polygonMode{};
   GLint packAlignment = 4, unpackAlignment = 4;
 
+  // Reads every item, for the units, buffers and draw buffers that `e` covers.
   void capture(const GuardExtent& e) {
     extent = e;
+    captureBindings(e);
+    captureTextureUnits(e);
+    captureDrawBuffers(e);
+    captureCapsAndDepth();
+    captureStencil(front, back);
+    captureRasterAndPixelStore();
+  }
+
+  // Sets every item of `this` that differs from `now` (the state as it is).
+  void applyOver(const Saved& now) const {
+    applyBindings(now);
+    applyTextureUnits(now);
+    applyDrawBuffers(now);
+    applyCapsAndDepth(now);
+    applyStencilFace(GL_FRONT, front, now.front);
+    applyStencilFace(GL_BACK, back, now.back);
+    applyRasterAndPixelStore(now);
+  }
+
+ private:
+  // Reads the program, vertex array, framebuffer and buffer bindings, indexed ones included.
+  void captureBindings(const GuardExtent& e) {
     program = geti(GL_CURRENT_PROGRAM);
     vertexArray = geti(GL_VERTEX_ARRAY_BINDING);
     drawFbo = geti(GL_DRAW_FRAMEBUFFER_BINDING);
@@ -124,19 +220,14 @@ struct HostStateGuard::Saved {
     arrayBuffer = geti(GL_ARRAY_BUFFER_BINDING);
     uniformGeneric = geti(GL_UNIFORM_BUFFER_BINDING);
     storageGeneric = geti(GL_SHADER_STORAGE_BUFFER_BINDING);
-    const auto indexed = [](GLenum binding, GLenum start, GLenum size, int n) {
-      std::vector<IndexedBuffer> out(static_cast<std::size_t>(std::max(0, n)));
-      for (int i = 0; i < n; ++i) {
-        IndexedBuffer& b = out[static_cast<std::size_t>(i)];
-        glGetIntegeri_v(binding, static_cast<GLuint>(i), &b.buffer);
-        glGetInteger64i_v(start, static_cast<GLuint>(i), &b.start);
-        glGetInteger64i_v(size, static_cast<GLuint>(i), &b.size);
-      }
-      return out;
-    };
-    uniform = indexed(GL_UNIFORM_BUFFER_BINDING, GL_UNIFORM_BUFFER_START, GL_UNIFORM_BUFFER_SIZE, e.uniformBuffers);
-    storage = indexed(GL_SHADER_STORAGE_BUFFER_BINDING, GL_SHADER_STORAGE_BUFFER_START, GL_SHADER_STORAGE_BUFFER_SIZE,
-                      e.storageBuffers);
+    uniform =
+        captureIndexed(GL_UNIFORM_BUFFER_BINDING, GL_UNIFORM_BUFFER_START, GL_UNIFORM_BUFFER_SIZE, e.uniformBuffers);
+    storage = captureIndexed(GL_SHADER_STORAGE_BUFFER_BINDING, GL_SHADER_STORAGE_BUFFER_START,
+                             GL_SHADER_STORAGE_BUFFER_SIZE, e.storageBuffers);
+  }
+
+  // Reads the active unit and each unit's textures and sampler, visiting the units and coming back.
+  void captureTextureUnits(const GuardExtent& e) {
     activeTexture = geti(GL_ACTIVE_TEXTURE);
     units.assign(static_cast<std::size_t>(std::max(0, e.textureUnits)), {});
     for (int u = 0; u < e.textureUnits; ++u) {
@@ -146,6 +237,10 @@ struct HostStateGuard::Saved {
       row[kTargets.size()] = geti(GL_SAMPLER_BINDING);
     }
     glActiveTexture(static_cast<GLenum>(activeTexture));
+  }
+
+  // Reads each draw buffer's blending and colour mask, then the blend colour.
+  void captureDrawBuffers(const GuardExtent& e) {
     drawBuffers.assign(static_cast<std::size_t>(std::max(0, e.drawBuffers)), {});
     for (int i = 0; i < e.drawBuffers; ++i) {
       const auto d = static_cast<GLuint>(i);
@@ -160,6 +255,10 @@ struct HostStateGuard::Saved {
       glGetBooleani_v(GL_COLOR_WRITEMASK, d, s.colorMask.data());
     }
     glGetFloatv(GL_BLEND_COLOR, blendColor.data());
+  }
+
+  // Reads the capabilities, then the depth function, mask, range and (where there are) bounds.
+  void captureCapsAndDepth() {
     for (std::size_t c = 0; c < kCaps.size(); ++c) caps[c] = glIsEnabled(kCaps[c]);
     depthFunc = geti(GL_DEPTH_FUNC);
     glGetBooleanv(GL_DEPTH_WRITEMASK, &depthMask);
@@ -168,24 +267,10 @@ struct HostStateGuard::Saved {
       depthBoundsTest = glIsEnabled(GL_DEPTH_BOUNDS_TEST_EXT);
       glGetDoublev(GL_DEPTH_BOUNDS_EXT, depthBoundsRange.data());
     }
-    const GLenum frontQ[7] = {GL_STENCIL_FUNC,
-                              GL_STENCIL_REF,
-                              GL_STENCIL_VALUE_MASK,
-                              GL_STENCIL_FAIL,
-                              GL_STENCIL_PASS_DEPTH_FAIL,
-                              GL_STENCIL_PASS_DEPTH_PASS,
-                              GL_STENCIL_WRITEMASK};
-    const GLenum backQ[7] = {GL_STENCIL_BACK_FUNC,
-                             GL_STENCIL_BACK_REF,
-                             GL_STENCIL_BACK_VALUE_MASK,
-                             GL_STENCIL_BACK_FAIL,
-                             GL_STENCIL_BACK_PASS_DEPTH_FAIL,
-                             GL_STENCIL_BACK_PASS_DEPTH_PASS,
-                             GL_STENCIL_BACK_WRITEMASK};
-    for (int i = 0; i < 7; ++i) {
-      front.v[static_cast<std::size_t>(i)] = geti(frontQ[i]);
-      back.v[static_cast<std::size_t>(i)] = geti(backQ[i]);
-    }
+  }
+
+  // Reads culling, viewport, scissor, polygon offset and mode, and the pack and unpack alignments.
+  void captureRasterAndPixelStore() {
     cullFace = geti(GL_CULL_FACE_MODE);
     frontFace = geti(GL_FRONT_FACE);
     glGetIntegerv(GL_VIEWPORT, viewport.data());
@@ -198,32 +283,22 @@ struct HostStateGuard::Saved {
     unpackAlignment = geti(GL_UNPACK_ALIGNMENT);
   }
 
-  // Sets every item of `this` that differs from `now` (the state as it is).
-  void applyOver(const Saved& now) const {
+  // Sets the program, vertex array, framebuffer and buffer bindings that differ from `now`.
+  void applyBindings(const Saved& now) const {
     if (now.program != program) glUseProgram(static_cast<GLuint>(program));
     if (now.vertexArray != vertexArray) glBindVertexArray(static_cast<GLuint>(vertexArray));
     if (now.drawFbo != drawFbo) glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(drawFbo));
     if (now.readFbo != readFbo) glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(readFbo));
-    const auto indexed = [](GLenum target, const std::vector<IndexedBuffer>& want,
-                            const std::vector<IndexedBuffer>& is) {
-      for (std::size_t i = 0; i < want.size(); ++i) {
-        if (want[i] == is[i]) continue;
-        const IndexedBuffer& b = want[i];
-        // A whole-buffer binding reads back with size 0.
-        if (b.buffer != 0 && b.size > 0) {
-          glBindBufferRange(target, static_cast<GLuint>(i), static_cast<GLuint>(b.buffer),
-                            static_cast<GLintptr>(b.start), static_cast<GLsizeiptr>(b.size));
-        } else {
-          glBindBufferBase(target, static_cast<GLuint>(i), static_cast<GLuint>(b.buffer));
-        }
-      }
-    };
-    indexed(GL_UNIFORM_BUFFER, uniform, now.uniform);
-    indexed(GL_SHADER_STORAGE_BUFFER, storage, now.storage);
+    applyIndexed(GL_UNIFORM_BUFFER, uniform, now.uniform);
+    applyIndexed(GL_SHADER_STORAGE_BUFFER, storage, now.storage);
     // The generic bindings after the indexed ones (glBindBufferBase/Range set them too).
     glBindBuffer(GL_UNIFORM_BUFFER, static_cast<GLuint>(uniformGeneric));
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(storageGeneric));
     if (now.arrayBuffer != arrayBuffer) glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(arrayBuffer));
+  }
+
+  // Sets the textures and samplers of each unit that differs from `now`, then the active unit.
+  void applyTextureUnits(const Saved& now) const {
     for (std::size_t u = 0; u < units.size(); ++u) {
       if (units[u] == now.units[u]) continue;
       glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(u));
@@ -235,21 +310,18 @@ struct HostStateGuard::Saved {
       }
     }
     glActiveTexture(static_cast<GLenum>(activeTexture));
+  }
+
+  // Sets each draw buffer's blending and colour mask, then the blend colour, where they differ from `now`.
+  void applyDrawBuffers(const Saved& now) const {
     for (std::size_t i = 0; i < drawBuffers.size(); ++i) {
-      const DrawBufferState& w = drawBuffers[i];
-      const DrawBufferState& n = now.drawBuffers[i];
-      const auto d = static_cast<GLuint>(i);
-      if (w.blend != n.blend) (w.blend ? glEnablei : glDisablei)(GL_BLEND, d);
-      if (w.func != n.func) {
-        glBlendFuncSeparatei(d, static_cast<GLenum>(w.func[0]), static_cast<GLenum>(w.func[1]),
-                             static_cast<GLenum>(w.func[2]), static_cast<GLenum>(w.func[3]));
-      }
-      if (w.equation != n.equation) {
-        glBlendEquationSeparatei(d, static_cast<GLenum>(w.equation[0]), static_cast<GLenum>(w.equation[1]));
-      }
-      if (w.colorMask != n.colorMask) glColorMaski(d, w.colorMask[0], w.colorMask[1], w.colorMask[2], w.colorMask[3]);
+      applyDrawBuffer(static_cast<GLuint>(i), drawBuffers[i], now.drawBuffers[i]);
     }
     if (blendColor != now.blendColor) glBlendColor(blendColor[0], blendColor[1], blendColor[2], blendColor[3]);
+  }
+
+  // Sets the capabilities, then the depth function, mask, range and bounds, where they differ from `now`.
+  void applyCapsAndDepth(const Saved& now) const {
     for (std::size_t c = 0; c < kCaps.size(); ++c) {
       if (caps[c] != now.caps[c]) (caps[c] ? glEnable : glDisable)(kCaps[c]);
     }
@@ -260,17 +332,10 @@ struct HostStateGuard::Saved {
       if (depthBoundsTest != now.depthBoundsTest) (depthBoundsTest ? glEnable : glDisable)(GL_DEPTH_BOUNDS_TEST_EXT);
       if (depthBoundsRange != now.depthBoundsRange) glDepthBoundsEXT(depthBoundsRange[0], depthBoundsRange[1]);
     }
-    const auto face = [](GLenum f, const StencilFace& w, const StencilFace& n) {
-      if (w.v[0] != n.v[0] || w.v[1] != n.v[1] || w.v[2] != n.v[2]) {
-        glStencilFuncSeparate(f, static_cast<GLenum>(w.v[0]), w.v[1], static_cast<GLuint>(w.v[2]));
-      }
-      if (w.v[3] != n.v[3] || w.v[4] != n.v[4] || w.v[5] != n.v[5]) {
-        glStencilOpSeparate(f, static_cast<GLenum>(w.v[3]), static_cast<GLenum>(w.v[4]), static_cast<GLenum>(w.v[5]));
-      }
-      if (w.v[6] != n.v[6]) glStencilMaskSeparate(f, static_cast<GLuint>(w.v[6]));
-    };
-    face(GL_FRONT, front, now.front);
-    face(GL_BACK, back, now.back);
+  }
+
+  // Sets culling, viewport, scissor, polygon offset and mode, and the alignments that differ from `now`.
+  void applyRasterAndPixelStore(const Saved& now) const {
     if (cullFace != now.cullFace) glCullFace(static_cast<GLenum>(cullFace));
     if (frontFace != now.frontFace) glFrontFace(static_cast<GLenum>(frontFace));
     if (viewport != now.viewport) glViewport(viewport[0], viewport[1], viewport[2], viewport[3]);

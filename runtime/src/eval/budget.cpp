@@ -404,7 +404,7 @@ std::string megabytes(std::size_t bytes) {
   return buf;
 }
 
-Result<void> checkCelBudget(const Scene& scene, std::span<const int> frames, const MediaBudgetOptions& options,
+Result<void> checkCelBudget(const Scene& scene, std::span<const int> frames, const CelBudgetOptions& options,
                             CelKnob knob) {
   if (scene.atlas.empty()) return Error::at(scene.file, "/atlas: the scene has no atlas, so no cel model to choose");
   if (scene.particles.empty() && scene.emitters.empty() && !(scene.simulation && !scene.simulation->emitters.empty()))
@@ -476,7 +476,7 @@ std::vector<Scene> celCandidates(const Scene& s, const core::AtlasDesc& desc, Ce
 
 // One candidate: its atlas's size, its error at each frame against the reference, its time.
 Result<CelCandidate> measureCelCandidate(const Scene& c, const core::AtlasDesc& desc, const CelBudget& budget,
-                                         const MediaBudgetOptions& options) {
+                                         const CelBudgetOptions& options) {
   PUFF_TRY_ASSIGN(auto r, SceneRenderer::create(c));
   CelCandidate cand;
   cand.atlasLevel = c.atlasLevel;
@@ -512,7 +512,7 @@ Result<CelCandidate> measureCelCandidate(const Scene& c, const core::AtlasDesc& 
 
 }  // namespace
 
-Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames, const MediaBudgetOptions& options,
+Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> frames, const CelBudgetOptions& options,
                                    CelKnob knob, std::span<const core::Image> reuse) {
   PUFF_TRY(checkCelBudget(scene, frames, options, knob));
   PUFF_TRY_ASSIGN(auto desc, core::loadAtlasDesc(scene.atlas));

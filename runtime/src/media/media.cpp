@@ -289,7 +289,10 @@ Renderer::~Renderer() = default;
 const std::vector<Material>& Renderer::materials() const { return impl_->materials; }
 void Renderer::setFillRateFloor(bool on) { impl_->fillRateFloor = on; }
 
-Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings, const Bindings& bindings) {
+namespace {
+
+// The checks of Renderer::create's arguments: the bindings, the exposure, the sort key and the style.
+Result<void> checkSettings(const Settings& settings, const Bindings& bindings) {
   if (auto ok = validate(bindings); !ok) return ok.error();
   if (auto ok = inRange("exposure", settings.exposure, 0, 1e4); !ok) return ok.error();
   if (settings.sort != SortKey::kViewDepth && settings.sort != SortKey::kPowerDistance)
@@ -299,9 +302,16 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings, con
   if (settings.style == Style::kCartoon) {
     if (auto ok = validate(settings.cartoon); !ok) return Error{"cartoon/" + ok.error().message};
   }
-  PUFF_TRY_ASSIGN(auto ramp,
-                  core::makeBlackbodyRamp(settings.minKelvin, settings.maxKelvin, 1024, settings.normalizeKelvin));
-  const bool cartoon = settings.style == Style::kCartoon;
+  return {};
+}
+
+// The media pass's programs: the sphere-profile and textured billboards and their fill-rate floors.
+struct Programs {
+  core::Program program, textured, floorProgram, planarFloor, texturedFloor;
+};
+
+// Builds the programs, the billboards' cartoon fragment stages when `cartoon`.
+Result<Programs> buildPrograms(bool cartoon) {
   auto program =
       core::buildProgram({"media/billboard.vert", cartoon ? "media/billboard_cartoon.frag" : "media/billboard.frag"});
   if (!program) return program.error();
@@ -312,46 +322,45 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings, con
   PUFF_TRY_ASSIGN(auto planarFloor, core::buildProgram({"media/billboard.vert", "media/floor_depth_tested.frag"}));
   PUFF_TRY_ASSIGN(auto texturedFloor,
                   core::buildProgram({"media/billboard_textured.vert", "media/floor_depth_tested.frag"}));
+  return Programs{std::move(*program), std::move(textured), std::move(floorProgram), std::move(planarFloor),
+                  std::move(texturedFloor)};
+}
 
-  std::unique_ptr<Renderer> r(new Renderer());
-  Impl& m = *r->impl_;
-  m.settings = settings;
-  m.bindings = bindings;
-  m.program = std::move(*program);
-  m.textured = std::move(textured);
-  m.floorProgram = std::move(floorProgram);
-  m.planarFloor = std::move(planarFloor);
-  m.texturedFloor = std::move(texturedFloor);
-  for (const GLuint p :
-       {m.program.get(), m.textured.get(), m.floorProgram.get(), m.planarFloor.get(), m.texturedFloor.get()}) {
-    using K = core::BindPoint::Kind;
-    core::assignBindPoints(p, {{K::kUniformBlock, "MediaBlock", bindings.mediaBlock},
-                               {K::kUniformBlock, "MaterialBlock", bindings.materialBlock},
-                               {K::kStorageBlock, "MediaParticles", bindings.particles},
-                               {K::kSampler, "uDepthTex", bindings.depth},
-                               {K::kSampler, "uBlackbody", bindings.blackbody},
-                               {K::kSampler, "uPhase", bindings.phase},
-                               {K::kSampler, "uTemperatureDetail", bindings.temperatureDetail},
-                               {K::kSampler, "uOpacityDetail", bindings.opacityDetail},
-                               {K::kSampler, "uFalloff", bindings.falloff}});
-  }
-  m.falloff = makeFalloffTexture();
-  m.vao = core::makeVertexArray();
-  m.block = core::makeBuffer();
-  glNamedBufferStorage(m.block.get(), sizeof(MediaBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
-  m.materialBlock = core::makeBuffer();
-  glNamedBufferStorage(m.materialBlock.get(), sizeof(MaterialGpu) * shader::kMaxMaterials, nullptr,
-                       GL_DYNAMIC_STORAGE_BIT);
+// Points program `p`'s blocks and samplers at the units and binding points of `bindings`.
+void assignMediaBindPoints(GLuint p, const Bindings& bindings) {
+  using K = core::BindPoint::Kind;
+  core::assignBindPoints(p, {{K::kUniformBlock, "MediaBlock", bindings.mediaBlock},
+                             {K::kUniformBlock, "MaterialBlock", bindings.materialBlock},
+                             {K::kStorageBlock, "MediaParticles", bindings.particles},
+                             {K::kSampler, "uDepthTex", bindings.depth},
+                             {K::kSampler, "uBlackbody", bindings.blackbody},
+                             {K::kSampler, "uPhase", bindings.phase},
+                             {K::kSampler, "uTemperatureDetail", bindings.temperatureDetail},
+                             {K::kSampler, "uOpacityDetail", bindings.opacityDetail},
+                             {K::kSampler, "uFalloff", bindings.falloff}});
+}
 
-  // Black body: linear sRGB radiance, negative (out-of-gamut) components kept; the shader clips.
-  m.blackbody = core::makeTexture(GL_TEXTURE_1D);
+// A new buffer of `bytes` bytes, uninitialized, that glNamedBufferSubData updates.
+core::Buffer makeDynamicBuffer(GLsizeiptr bytes) {
+  core::Buffer b = core::makeBuffer();
+  glNamedBufferStorage(b.get(), bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
+  return b;
+}
+
+// Black body: linear sRGB radiance, negative (out-of-gamut) components kept; the shader clips.
+core::Texture makeBlackbodyTexture(const core::BlackbodyRamp& ramp) {
+  core::Texture t = core::makeTexture(GL_TEXTURE_1D);
   const int n = static_cast<int>(ramp.rgb.size());
-  glTextureStorage1D(m.blackbody.get(), 1, GL_RGB32F, n);
-  glTextureSubImage1D(m.blackbody.get(), 0, 0, n, GL_RGB, GL_FLOAT, ramp.rgb.data());
-  glTextureParameteri(m.blackbody.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(m.blackbody.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(m.blackbody.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureStorage1D(t.get(), 1, GL_RGB32F, n);
+  glTextureSubImage1D(t.get(), 0, 0, n, GL_RGB, GL_FLOAT, ramp.rgb.data());
+  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  return t;
+}
 
+// The phase texture: `model`'s 4 pi P(cos, g) over s = sin(theta / 2) and g, linearly filtered.
+core::Texture makePhaseTexture(PhaseModel model) {
   // Phase: 4 pi P(cos, g), so an isotropic medium scatters exactly the light's colour. Addressed by
   // s = sin(theta / 2) = sqrt((1 - cos) / 2), not cos: the forward peak of g = 0.95 is about 0.03
   // wide in s and 0.001 in cos, so evenly spaced s samples resolve it. Between g rows the lookup
@@ -364,18 +373,47 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings, con
     for (int i = 0; i < kCos; ++i) {
       const double sHalf = static_cast<double>(i) / (kCos - 1);
       const double c = 1.0 - 2.0 * sHalf * sHalf;
-      table[static_cast<std::size_t>(j) * kCos + i] =
-          static_cast<float>(4.0 * std::numbers::pi * phase(settings.phase, c, g));
+      table[static_cast<std::size_t>(j) * kCos + i] = static_cast<float>(4.0 * std::numbers::pi * phase(model, c, g));
     }
   }
-  m.phase = core::makeTexture(GL_TEXTURE_2D);
-  glTextureStorage2D(m.phase.get(), 1, GL_R32F, kCos, kG);
+  core::Texture t = core::makeTexture(GL_TEXTURE_2D);
+  glTextureStorage2D(t.get(), 1, GL_R32F, kCos, kG);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTextureSubImage2D(m.phase.get(), 0, 0, 0, kCos, kG, GL_RED, GL_FLOAT, table.data());
-  glTextureParameteri(m.phase.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(m.phase.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(m.phase.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(m.phase.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureSubImage2D(t.get(), 0, 0, 0, kCos, kG, GL_RED, GL_FLOAT, table.data());
+  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  return t;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings, const Bindings& bindings) {
+  PUFF_TRY(checkSettings(settings, bindings));
+  PUFF_TRY_ASSIGN(auto ramp,
+                  core::makeBlackbodyRamp(settings.minKelvin, settings.maxKelvin, 1024, settings.normalizeKelvin));
+  PUFF_TRY_ASSIGN(auto programs, buildPrograms(settings.style == Style::kCartoon));
+
+  std::unique_ptr<Renderer> r(new Renderer());
+  Impl& m = *r->impl_;
+  m.settings = settings;
+  m.bindings = bindings;
+  m.program = std::move(programs.program);
+  m.textured = std::move(programs.textured);
+  m.floorProgram = std::move(programs.floorProgram);
+  m.planarFloor = std::move(programs.planarFloor);
+  m.texturedFloor = std::move(programs.texturedFloor);
+  for (const GLuint p :
+       {m.program.get(), m.textured.get(), m.floorProgram.get(), m.planarFloor.get(), m.texturedFloor.get()}) {
+    assignMediaBindPoints(p, bindings);
+  }
+  m.falloff = makeFalloffTexture();
+  m.vao = core::makeVertexArray();
+  m.block = makeDynamicBuffer(sizeof(MediaBlockData));
+  m.materialBlock = makeDynamicBuffer(sizeof(MaterialGpu) * shader::kMaxMaterials);
+  m.blackbody = makeBlackbodyTexture(ramp);
+  m.phase = makePhaseTexture(settings.phase);
 
   r->setDetail(nullptr, nullptr);
   auto mats = r->setMaterials({smokeMaterial(), dustMaterial(), fireMaterial()});
@@ -410,8 +448,9 @@ void Renderer::setDetail(const core::DetailVideo* temperature, const core::Detai
   impl_->opacityDetail = makeDetailTexture(opacity);
 }
 
-void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Method method, GLuint depth, bool shimmer,
-                    DrawStats* stats) {
+void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Method method, GLuint depth,
+                    Shimmer shimmerOutput, DrawStats* stats) {
+  const bool shimmer = shimmerOutput == Shimmer::kWritten;
   Impl& m = *impl_;
   const auto t0 = core::Clock::now();
   const std::vector<std::uint32_t> order =

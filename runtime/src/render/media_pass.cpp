@@ -65,7 +65,7 @@ void MediaPass::draw(const scene::Scene& s, const scene::FrameInputs& inputs, co
   const media::Frame mf = scene::mediaFrameFor(s, inputs.camera, inputs.time, viewport.width, viewport.height);
   media::DrawStats ds;
   renderer_->draw(layers_->layerFrame(mf), particles_, spec.method, layers_->mediaDepth(),
-                  spec.compose.shimmerPixels > 0.0f, &ds);
+                  spec.compose.shimmerPixels > 0.0f ? media::Shimmer::kWritten : media::Shimmer::kOff, &ds);
   std::vector<media::ExplosionLight> lights;
   for (const scene::MediaLightSpec& l : spec.lights) {
     lights.push_back(media::ExplosionLight{l.center, l.radius, core::srgbToLinear(l.color), l.intensityAt(mf.time),

@@ -30,11 +30,11 @@ class PuffRasterizer {
 
   /// Draws the mesh seen through `viewRotation` (rows: right, up, toward viewer) so the unit
   /// square [-1,1]^2 fills the square of `contentSamples` samples starting `marginSamples` from the
-  /// buffer's top-left corner, and reads the samples back. `back` (only if created with it): also each
+  /// buffer's top-left corner, and reads the samples back. kFrontAndBack (only if created with it): also each
   /// sample's farthest crossing with the mesh (SampleBuffer::back, for the back map), in a second
   /// draw; without it SampleBuffer::back is left empty.
   void render(const glm::mat3& viewRotation, int marginSamples, int contentSamples, SampleBuffer& out,
-              bool back = false);
+              RasterSides sides = RasterSides::kFront);
 
   int samplesPerSide() const { return size_; }
 

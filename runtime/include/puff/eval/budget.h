@@ -37,6 +37,13 @@ struct MediaBudgetOptions {
   std::function<void(int done, int total)> progress{};
 };
 
+/// measureCelBudget's options: the timed renders and the progress as MediaBudgetOptions's (the cel
+/// budget has no physical reference).
+struct CelBudgetOptions {
+  int timedRenders = 3;                                 ///< per frame and candidate, [1, 100]
+  std::function<void(int done, int total)> progress{};  ///< references, then candidates
+};
+
 /// Where the error lies, per measured frame (MediaBudget::frames order) against one reference: the
 /// whole-frame RMSE says how far an image is, these say where. Scene-linear, not clamped.
 struct RegionErrors {
@@ -179,7 +186,7 @@ inline constexpr std::array<float, 4> kParticleFractions{0.125f, 0.25f, 0.5f, 1.
 /// `references` (optional): the full model's references of these frames from an earlier budget of the
 /// same scene and frames (CelBudget::references), reused instead of rendered again.
 Result<CelBudget> measureCelBudget(const scene::Scene& scene, std::span<const int> frames,
-                                   const MediaBudgetOptions& options = {}, CelKnob knob = CelKnob::kAtlasLevel,
+                                   const CelBudgetOptions& options = {}, CelKnob knob = CelKnob::kAtlasLevel,
                                    std::span<const core::Image> references = {});
 
 /// The cheapest candidate whose worstRmse <= maxError; none: the dearest (the last: level 0, or all

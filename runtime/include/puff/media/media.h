@@ -84,7 +84,7 @@ class Renderer {
 
   /// Draws `particles` (sorted back to front here) into the current framebuffer, whose colour
   /// attachment 0 is the media layer (float RGBA: premultiplied radiance, transmittance in alpha)
-  /// and attachment 1 (if `shimmer`) the heat-shimmer offsets (RG). With Settings::style kCartoon,
+  /// and attachment 1 (with Shimmer::kWritten) the heat-shimmer offsets (RG). With Settings::style kCartoon,
   /// attachment 0 holds the scattered light only, and attachments 2 and 3 (float RGBA, cleared to 0)
   /// get the cartoon attributes (shaders/common/media.glsl, cartoonOutputs), all over-composited
   /// with burn ignored: LayersBase::beginMedia(Style::kCartoon) makes such a target. `depth` is a texture of the
@@ -104,7 +104,7 @@ class Renderer {
   ///   textures, each with sampler binding 0. The generic buffer bindings, framebuffers, viewport
   ///   and active texture unit are untouched. Nothing at all when no particle has a radius > 0.
   void draw(const Frame& frame, std::span<const Particle> particles, Method method, core::GlId depth,
-            bool shimmer = false, DrawStats* stats = nullptr);
+            Shimmer shimmer = Shimmer::kOff, DrawStats* stats = nullptr);
 
   const std::vector<Material>& materials() const;
 

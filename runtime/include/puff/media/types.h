@@ -115,6 +115,9 @@ struct Frame {
   int x = 0, y = 0, width = 0, height = 0;
 };
 
+/// Whether Renderer::draw writes the heat-shimmer offsets (the target's attachment 1) or leaves them.
+enum class Shimmer { kOff, kWritten };
+
 /// How the media layer becomes pixels (docs/media.md, "Cartoon media").
 enum class Style {
   kPhotoreal,  ///< the papers' translucent media: the layer composed as it was integrated
