@@ -1,5 +1,7 @@
-# cmake -D EXE=... -D OUT=... -D LABEL=... -D COST=... -D TIMEOUT=... -D LSAN_SUPP=... -P list_suites.cmake
-# Writes OUT, a ctest file with one test per GoogleTest suite of EXE (suites.cmake says why).
+# cmake -D EXE=... -D OUT=... -D LABEL=... -D SWEEPS=A|B -D COST=... -D TIMEOUT=... -D LSAN_SUPP=... -P list_suites.cmake
+# Writes OUT, a ctest file with one test per GoogleTest suite of EXE (suites.cmake says why), labelled
+# LABEL, and `sweep` too for a suite SWEEPS names (tiers.cmake, PUFF_SWEEP_SUITES).
+string(REPLACE "|" ";" _sweeps "${SWEEPS}")
 execute_process(COMMAND "${EXE}" --gtest_list_tests OUTPUT_VARIABLE _listing ERROR_VARIABLE _err
                 RESULT_VARIABLE _rc TIMEOUT 60)
 if(NOT _rc EQUAL 0)
@@ -13,9 +15,14 @@ set(_count 0)
 foreach(_line IN LISTS _lines)
   if(_line MATCHES "^([^ #][^ ]*)\\.( |$)")
     set(_suite "${CMAKE_MATCH_1}")
+    set(_labels "${LABEL}")
+    list(FIND _sweeps "${_suite}" _sweep)
+    if(NOT _sweep EQUAL -1)
+      set(_labels "${LABEL};sweep")
+    endif()
     string(APPEND _out
       "add_test([==[${_suite}]==] [==[${EXE}]==] [==[--gtest_filter=${_suite}.*]==])\n"
-      "set_tests_properties([==[${_suite}]==] PROPERTIES LABELS [==[${LABEL}]==] COST ${COST} TIMEOUT ${TIMEOUT}\n"
+      "set_tests_properties([==[${_suite}]==] PROPERTIES LABELS [==[${_labels}]==] COST ${COST} TIMEOUT ${TIMEOUT}\n"
       "  ENVIRONMENT PUFF_GL=osmesa\n"
       "  ENVIRONMENT_MODIFICATION [==[LSAN_OPTIONS=set:suppressions=${LSAN_SUPP}:print_suppressions=0]==])\n")
     math(EXPR _count "${_count} + 1")

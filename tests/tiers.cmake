@@ -29,6 +29,11 @@ set(PUFF_TESTS_E2E
 set(PUFF_TESTS_SLOW
   tumble_test.cpp)
 
+# Suites that sweep one method over many light directions, each point the same code with other
+# numbers: they also carry the label `sweep`, which the sanitized run (.ci/run) leaves out; the
+# suites beside them (ShadowMethods, the receivers') run the same code under the sanitizers.
+set(PUFF_SWEEP_SUITES CelMethods/ShadowOfASphere Reference/ShadowOfASphere)
+
 # A test file in no tier, or in two, is an error here rather than a test that never runs.
 file(GLOB _puff_test_files RELATIVE ${CMAKE_CURRENT_LIST_DIR}/unit CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/unit/*.cpp)
 set(_puff_tiered ${PUFF_TESTS_UNIT} ${PUFF_TESTS_GL} ${PUFF_TESTS_E2E} ${PUFF_TESTS_SLOW})

@@ -312,13 +312,12 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
         scene::Scene s = full->scene;
         s.particleFraction = f;
         PUFF_TRY_ASSIGN(auto cel, renderFrames(s, render::RenderPath::kCel, std::vector<int>{0}, opt.reps));
-        auto fixed =
-            renderFrames(eval::restrictToFixedLimits(s), render::RenderPath::kFixed, std::vector<int>{0}, opt.reps);
-        if (!fixed) return fixed.error();
+        PUFF_TRY_ASSIGN(auto fixed, renderFrames(eval::restrictToFixedLimits(s), render::RenderPath::kFixed,
+                                                 std::vector<int>{0}, opt.reps));
         PUFF_TRY_ASSIGN(auto floor, renderFrames(s, render::RenderPath::kCel, std::vector<int>{0}, opt.reps, true));
         char label[64];
         std::snprintf(label, sizeof label, "1/%d of %zu", static_cast<int>(std::lround(1.0 / f)), full->count);
-        addCountRows("fraction", f, label, cel, *fixed, floor.ms, &full->ref, &full->refFixed);
+        addCountRows("fraction", f, label, cel, fixed, floor.ms, &full->ref, &full->refFixed);
         log(std::string("cloud-50k: ") + label + " particles, each larger", t1);
       }
     }

@@ -142,8 +142,7 @@ Result<Cooked> cookImage(const fs::path& in, const fs::path& out) {
   Cooked cooked;
   core::OutputTransaction tx;
   PUFF_TRY(tx.prepareDirectory(out.parent_path()));
-  auto named = stageImage(tx, in, out, cooked, false);  // one image: the name asked for
-  if (!named) return named.error();
+  PUFF_TRY(stageImage(tx, in, out, cooked, false));  // one image: the name asked for
   PUFF_TRY(tx.commit());
   return cooked;
 }

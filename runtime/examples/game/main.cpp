@@ -532,8 +532,7 @@ puff::Result<Fire> createFire(const Camera& camera, GLuint depthTexture, int wid
   fire.transitionStart = 0.45f;
   fire.transitionEnd = 0.9f;
   if (auto ok = (media)->setMaterials({fire, puff::media::smokeMaterial()}); !ok) return ok.error();
-  auto layers = puff::media::HostLayers::create(width, height, 0.5f);  // the media layer at half size
-  if (!layers) return layers.error();
+  PUFF_TRY_ASSIGN(auto layers, puff::media::HostLayers::create(width, height, 0.5f));  // the layer at half size
   PUFF_TRY_ASSIGN(auto flames, puff::sim::Simulator::create(fireSettings()));
   puff::media::Frame mediaFrame;
   mediaFrame.view = camera.view;
@@ -550,7 +549,7 @@ puff::Result<Fire> createFire(const Camera& camera, GLuint depthTexture, int wid
       .texture = depthTexture,
       .space = {puff::core::DepthConvention::kStandard, puff::core::ClipDepth::kNegativeOneToOne, camera.projection,
                 kNear, kFar}};
-  return Fire{std::move(media), std::move(*layers), std::move(flames), mediaFrame, hostDepth, {}};
+  return Fire{std::move(media), std::move(layers), std::move(flames), mediaFrame, hostDepth, {}};
 }
 
 // The fire simulator to `frame`, its particles as the media renderer takes them.

@@ -450,9 +450,8 @@ Result<std::unique_ptr<CelReference>> CelReference::create(std::vector<mesh::Tri
   m.options = options;
   PUFF_TRY_ASSIGN(auto mesh, core::buildProgram({"reference/puff_mesh.vert", "reference/puff_mesh.frag"}));
   PUFF_TRY_ASSIGN(auto stencil, core::buildProgram({"reference/fullscreen.vert", "reference/shadow_stencil.frag"}));
-  auto silhouette =
-      core::buildProgram({"reference/silhouette.vert", "reference/silhouette.geom", "reference/silhouette.frag"});
-  if (!silhouette) return silhouette.error();
+  PUFF_TRY_ASSIGN(auto silhouette, core::buildProgram({"reference/silhouette.vert", "reference/silhouette.geom",
+                                                       "reference/silhouette.frag"}));
   PUFF_TRY_ASSIGN(auto down, core::buildProgram({"reference/fullscreen.vert", "reference/downsample.frag"}));
   PUFF_TRY_ASSIGN(auto objectLight, core::buildProgram({"reference/object_light.vert", "reference/object_light.frag"}));
   PUFF_TRY_ASSIGN(auto objectId, core::buildProgram({"cel/opaque.vert", "reference/object_id.frag"}));
@@ -460,7 +459,7 @@ Result<std::unique_ptr<CelReference>> CelReference::create(std::vector<mesh::Tri
   m.objectIdProgram = std::move(objectId);
   m.meshProgram = std::move(mesh);
   m.stencilProgram = std::move(stencil);
-  m.silhouetteProgram = std::move(*silhouette);
+  m.silhouetteProgram = std::move(silhouette);
   m.downsampleProgram = std::move(down);
   m.emptyVao = core::makeVertexArray();
   m.instances = core::makeBuffer();

@@ -312,9 +312,8 @@ struct Programs {
 
 // Builds the programs, the billboards' cartoon fragment stages when `cartoon`.
 Result<Programs> buildPrograms(bool cartoon) {
-  auto program =
-      core::buildProgram({"media/billboard.vert", cartoon ? "media/billboard_cartoon.frag" : "media/billboard.frag"});
-  if (!program) return program.error();
+  PUFF_TRY_ASSIGN(auto program, core::buildProgram({"media/billboard.vert", cartoon ? "media/billboard_cartoon.frag"
+                                                                                    : "media/billboard.frag"}));
   PUFF_TRY_ASSIGN(auto textured,
                   core::buildProgram({"media/billboard_textured.vert", cartoon ? "media/billboard_textured_cartoon.frag"
                                                                                : "media/billboard_textured.frag"}));
@@ -322,7 +321,7 @@ Result<Programs> buildPrograms(bool cartoon) {
   PUFF_TRY_ASSIGN(auto planarFloor, core::buildProgram({"media/billboard.vert", "media/floor_depth_tested.frag"}));
   PUFF_TRY_ASSIGN(auto texturedFloor,
                   core::buildProgram({"media/billboard_textured.vert", "media/floor_depth_tested.frag"}));
-  return Programs{std::move(*program), std::move(textured), std::move(floorProgram), std::move(planarFloor),
+  return Programs{std::move(program), std::move(textured), std::move(floorProgram), std::move(planarFloor),
                   std::move(texturedFloor)};
 }
 
