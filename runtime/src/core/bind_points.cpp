@@ -32,6 +32,11 @@ void assignBindPoints(GLuint program, std::initializer_list<BindPoint> points) {
 }
 
 Result<void> checkBindPoints(const std::string& what, GLenum limit, const std::vector<NamedPoint>& points) {
+  // The first GL call of every renderer's create: without Puff's GL functions it would call a null
+  // pointer, so it returns what the host forgot instead.
+  if (!glLoaded())
+    return Error{"Puff's GL functions are not loaded (checking " + what +
+                 "): make a GL 4.5 context current and call puff::core::initGl(getProcAddress) first"};
   GLint max = 0;
   glGetIntegerv(limit, &max);
   const char* kind = limit == GL_MAX_UNIFORM_BUFFER_BINDINGS          ? "uniform buffer binding"

@@ -37,7 +37,8 @@ struct NamedPoint {
 /// Checks a set of points of one kind that one program (or one call) uses together: each below the
 /// limit GL reports for `limit` (GL_MAX_UNIFORM_BUFFER_BINDINGS, GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS
 /// or GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, queried), and no two the same. `what` names the
-/// options in the error, e.g. "cel::Bindings". Needs a current GL context.
+/// options in the error, e.g. "cel::Bindings". Needs a current GL context; before initGl it returns
+/// an error saying to call it (the renderers' create calls check their bindings first).
 Result<void> checkBindPoints(const std::string& what, GlEnum limit, const std::vector<NamedPoint>& points);
 
 /// Binds `texture` to `unit` (glBindTextureUnit, so on the texture's own target) and no sampler

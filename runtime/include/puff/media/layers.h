@@ -149,10 +149,10 @@ class LayersBase {
 /// resolves it, and composes the media over it into a target.
 class Layers final : public LayersBase {
  public:
-  /// Full size width x height (the output), `samples` MSAA samples for the opaque pass (1, 2, 4, 8),
-  /// media layer at `scale` of it (1, 0.5, 0.25 or 0.125; at least 1 x 1). Needs GL 4.5. The
-  /// programs read the units and buffer `bindings` names (validated: media::validate). Leaves no
-  /// bound state changed.
+  /// Full size width x height (the output; 1 to 16384 each, core::kMaxImageSize), `samples` MSAA
+  /// samples for the opaque pass (1, 2, 4, 8), media layer at `scale` of it (1, 0.5, 0.25 or 0.125;
+  /// at least 1 x 1). Needs GL 4.5. The programs read the units and buffer `bindings` names
+  /// (validated: media::validate). Leaves no bound state changed.
   static Result<std::unique_ptr<Layers>> create(int width, int height, int samples, float scale,
                                                 const Bindings& bindings = {});
   ~Layers();
@@ -210,9 +210,10 @@ class Layers final : public LayersBase {
 /// composeOver blends the layer onto the host's colour target.
 class HostLayers final : public LayersBase {
  public:
-  /// Full size width x height (the host's viewport), media layer at `scale` of it (1, 0.5, 0.25 or
-  /// 0.125; at least 1 x 1). Needs GL 4.5. The programs read the units and buffer `bindings` names
-  /// (validated: media::validate). Leaves no bound state changed.
+  /// Full size width x height (the host's viewport; 1 to 16384 each, core::kMaxImageSize), media
+  /// layer at `scale` of it (1, 0.5, 0.25 or 0.125; at least 1 x 1). Needs GL 4.5. The programs
+  /// read the units and buffer `bindings` names (validated: media::validate). Leaves no bound
+  /// state changed.
   static Result<std::unique_ptr<HostLayers>> create(int width, int height, float scale, const Bindings& bindings = {});
   ~HostLayers();
   /// Layers::resolveOpaque for a host's scene: reads `depth` (its convention, converted per sample to
