@@ -3,6 +3,8 @@
 //   floor       bare alpha-tested textured quads (NailboardRenderer::drawBaseline) writing the
 //               nailboards' linear depth (gl_FragDepth, shaders/cel/sprite.frag), no offset
 //   nailboards  cel shading, per-pixel linear depth (gl_FragDepth) and outlines (ShadePass::kLit)
+//   nailboards.depth  the nailboards' depth alone (ShadePass::kDepthOnly: the packed map's read, the
+//               depth offset and the silhouette's discard, no colour): what a depth pre-pass costs
 //   full-volumes  the frame with shadows by volumes: kLit, billboard shadow volumes into the
 //               stencil, kShadowed (Style::shadowMethod kVolumes)
 //   full-map    the frame with shadows by a map: the particles drawn from the light into a
@@ -129,8 +131,8 @@ struct Target : test::OffscreenTarget {
   }
 };
 
-enum class Method { kFloor, kNailboards, kFull, kFullMap };
-constexpr const char* kMethodNames[] = {"floor", "nailboards", "full-volumes", "full-map"};
+enum class Method { kFloor, kNailboards, kFull, kFullMap, kDepthOnly };
+constexpr const char* kMethodNames[] = {"floor", "nailboards", "full-volumes", "full-map", "nailboards.depth"};
 
 // One frame's time; for kFull with split timing also each pass: clear + uploads + lit nailboards,
 // shadow volumes, shadowed nailboards.
@@ -168,6 +170,9 @@ struct Bench {
         break;
       case Method::kNailboards:
         renderer.drawNailboards(style, cel::ShadePass::kLit);
+        break;
+      case Method::kDepthOnly:
+        renderer.drawNailboards(style, cel::ShadePass::kDepthOnly);
         break;
       case Method::kFullMap: {
         map.prepare(f, cel::particleBounds(ps), mapStyle());
@@ -412,6 +417,7 @@ int main(int argc, char** argv) {
       // Floor and nailboards, alternating frame by frame.
       std::vector<Method> fast{Method::kFloor};
       if (runNailboards) fast.push_back(Method::kNailboards);
+      if (runNailboards) fast.push_back(Method::kDepthOnly);
       if (runMap) fast.push_back(Method::kFullMap);
       int warmUp = kWarmUp, timed = reps;
       for (int w = 0; w < warmUp; ++w) {

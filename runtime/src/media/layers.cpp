@@ -45,6 +45,27 @@ void fullscreenState() {
 
 // A call the caller may not make (the header says so): one line naming it, then abort, as a
 // broken promise of the caller's, not Puff's ("internal check failed" would blame Puff).
+// The pixels of `outer` outside `inner` (which lies inside it), as at most four boxes.
+std::vector<PixelBox> around(const PixelBox& outer, const PixelBox& inner) {
+  if (inner.empty()) return {outer};
+  std::vector<PixelBox> strips;
+  for (const PixelBox& b :
+       {PixelBox{outer.x0, outer.y0, outer.x1, inner.y0}, PixelBox{outer.x0, inner.y1, outer.x1, outer.y1},
+        PixelBox{outer.x0, inner.y0, inner.x0, inner.y1}, PixelBox{inner.x1, inner.y0, outer.x1, inner.y1}})
+    if (!b.empty()) strips.push_back(b);
+  return strips;
+}
+
+// Scissors the passes that follow to `box`, offset by the target viewport's origin; nullopt: off.
+void scissorTo(const std::optional<PixelBox>& box, int x = 0, int y = 0) {
+  if (!box) {
+    glDisable(GL_SCISSOR_TEST);
+    return;
+  }
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(x + box->x0, y + box->y0, box->x1 - box->x0, box->y1 - box->y0);
+}
+
 [[noreturn]] void misuse(const char* message) {
   std::fprintf(stderr, "puff: %s\n", message);
   std::abort();
@@ -83,6 +104,27 @@ struct LayersBase::Impl {
   core::Framebuffer fieldFbo, seedFbo[2];
   core::Program cartoonField, cartoonSeed, cartoonFlood, cartoonCompose;
   core::Buffer cartoonBlock;
+  core::Program copy;  // the opaque colour alone, where the media change nothing (setCoverage)
+  // setCoverage: what the media cover (nullopt: the whole frame), the style and ink it was set for.
+  std::optional<PixelBox> covered;
+  Style coveredStyle = Style::kPhotoreal;
+  float coveredInk = 0.0f;
+  PixelBox fieldBox;  // what the last cartoon compose's field pass wrote
+
+  // The boxes each pass runs over for the coverage set (full-size pixels; `layer` in layer texels).
+  struct Boxes {
+    PixelBox compose;  // where the media layer (and the cartoon fill) can differ from none
+    PixelBox inked;    // the cartoon compose: where a seed can reach (the ink, the fill's rim)
+    PixelBox flood;    // the seeds and the flooding, exact over `inked`
+    PixelBox field;    // the cartoon field the seeds read
+    PixelBox cleared;  // seeds cleared to none, around `flood`, before the seed pass
+    PixelBox layer;    // the layer's depth: every texel a pass above reads, and 3 around
+    PixelBox resolve;  // the full-size linear depth: the layer texels' pixels
+  };
+  Boxes boxes() const;
+  bool wholeFrame(const PixelBox& b) const { return b == PixelBox{0, 0, width, height}; }
+  // A pass's box for the coverage set: nullopt (the whole frame) without one.
+  std::optional<PixelBox> limit(const PixelBox& b) const { return covered ? std::optional(b) : std::nullopt; }
 
   // What both kinds make: the sizes checked, the downsample program, the compose block, the
   // full-size linear depth, the layer's depth and the media layer.
@@ -99,6 +141,12 @@ struct LayersBase::Impl {
   // Binds the compose passes' block and layer textures and draws `program` over the viewport
   // (compose binds the opaque colour too; composeOver has none).
   void drawCompose(GLuint program);
+  // drawCompose over `box` (the coverage's, in the output viewport), the opaque colour copied
+  // around it; over the whole viewport without a coverage.
+  void composeWithin(GLuint program, const PixelBox& box, const core::Viewport& viewport);
+  // The opaque colour copied to the output viewport's pixels outside `box` (four strips: every
+  // pixel written once, which a multisampled target pays per sample).
+  void copyAround(const PixelBox& box, const core::Viewport& viewport);
   // The full-size linear depth's layer-resolution nearest (downsample.frag), into depthFbo.
   void downsampleDepth();
   // Makes the cartoon style's textures and framebuffers (its programs are built with the layers).
@@ -174,6 +222,7 @@ Result<void> LayersBase::Impl::makeOwn() {
   PUFF_TRY_ASSIGN(cartoonSeed, fullscreenProgram("media/cartoon_seed.frag"));
   PUFF_TRY_ASSIGN(cartoonFlood, fullscreenProgram("media/cartoon_flood.frag"));
   PUFF_TRY_ASSIGN(cartoonCompose, fullscreenProgram("media/cartoon_compose.frag"));
+  PUFF_TRY_ASSIGN(copy, fullscreenProgram("media/copy.frag"));
   using K = core::BindPoint::Kind;
   const Bindings& b = bindings;
   const unsigned c = b.cartoonFirst;
@@ -185,6 +234,8 @@ Result<void> LayersBase::Impl::makeOwn() {
                                          {K::kSampler, "uMedia", b.mediaLayer},
                                          {K::kSampler, "uMediaDepth", b.mediaDepth},
                                          {K::kSampler, "uShimmerTex", b.shimmer}});
+  core::assignBindPoints(
+      copy.get(), {{K::kUniformBlock, "ComposeBlock", b.composeBlock}, {K::kSampler, "uOpaqueColor", b.opaqueColor}});
   core::assignBindPoints(cartoonField.get(), {{K::kUniformBlock, "ComposeBlock", b.composeBlock},
                                               {K::kUniformBlock, "CartoonBlock", b.cartoonBlock},
                                               {K::kSampler, "uOpaqueDepth", b.opaqueDepth},
@@ -286,13 +337,35 @@ void LayersBase::Impl::drawCompose(GLuint program) {
   glUseProgram(0);
 }
 
+void LayersBase::Impl::composeWithin(GLuint program, const PixelBox& box, const core::Viewport& viewport) {
+  if (!covered || wholeFrame(box)) {
+    drawCompose(program);
+    return;
+  }
+  copyAround(box, viewport);
+  if (box.empty()) return;
+  scissorTo(box, viewport.x, viewport.y);
+  drawCompose(program);
+  glDisable(GL_SCISSOR_TEST);
+}
+
+void LayersBase::Impl::copyAround(const PixelBox& box, const core::Viewport& viewport) {
+  for (const PixelBox& strip : around(PixelBox{0, 0, width, height}, box)) {
+    scissorTo(strip, viewport.x, viewport.y);
+    drawCompose(copy.get());
+  }
+  glDisable(GL_SCISSOR_TEST);
+}
+
 void LayersBase::Impl::downsampleDepth() {
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, depthFbo.get());
   glViewport(0, 0, mediaWidth, mediaHeight);
   glUseProgram(downsample.get());
   glUniform1i(shader::loc::kDownsampleFactor, factor);
   core::bindTextureAndNoSampler(bindings.resolveSource, depth.get());
+  scissorTo(limit(boxes().layer));
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDisable(GL_SCISSOR_TEST);
 }
 
 LayersBase::LayersBase(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -312,6 +385,7 @@ GLuint Layers::opaqueFramebuffer() const { return impl_->opaqueFbo.get(); }
 GLuint Layers::opaqueColor() const { return impl_->color.get(); }
 GLuint LayersBase::opaqueDepth() const { return impl_->depth.get(); }
 GLuint Layers::cartoonField() const { return impl_->field.get(); }
+PixelBox Layers::cartoonFieldBox() const { return impl_->fieldBox; }
 
 Result<std::unique_ptr<Layers>> Layers::create(int width, int height, int samples, float scale,
                                                const Bindings& bindings) {
@@ -397,16 +471,19 @@ void Layers::resolveOpaque() {
   fullscreenState();  // (the blit honours the scissor test; both colour buffers are float: no sRGB conversion)
   glBlitNamedFramebuffer(m.opaqueFbo.get(), m.resolveFbo.get(), 0, 0, m.width, m.height, 0, 0, m.width, m.height,
                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
-  glBindVertexArray(m.vao.get());
-  // Depth cannot be averaged: each pixel keeps the nearest of its samples.
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.linearFbo.get());
-  glViewport(0, 0, m.width, m.height);
-  glUseProgram(m.resolveDepth.get());
-  glUniform1i(shader::loc::kResolveSamples, m.samples);
-  core::bindTextureAndNoSampler(m.bindings.resolveSource, m.msDepth.get());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-
-  m.downsampleDepth();
+  const Impl::Boxes boxes = m.boxes();
+  if (!m.covered || !boxes.resolve.empty()) {  // no media: no depth read
+    glBindVertexArray(m.vao.get());
+    // Depth cannot be averaged: each pixel keeps the nearest of its samples.
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.linearFbo.get());
+    glViewport(0, 0, m.width, m.height);
+    glUseProgram(m.resolveDepth.get());
+    glUniform1i(shader::loc::kResolveSamples, m.samples);
+    core::bindTextureAndNoSampler(m.bindings.resolveSource, m.msDepth.get());
+    scissorTo(m.limit(boxes.resolve));
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    m.downsampleDepth();
+  }
   glBindVertexArray(0);
   glUseProgram(0);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(hostDraw));
@@ -480,8 +557,12 @@ Result<void> HostLayers::resolveHostDepth(const HostDepth& host) {
               sp.clipDepth == core::ClipDepth::kZeroToOne ? 1.0f : 0.0f);
   glUniform2i(shader::loc::kHostOrigin, host.x, host.y);
   core::bindTextureAndNoSampler(m.bindings.resolveSource, host.texture);  // on its own target (2D or 2D MS)
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  m.downsampleDepth();
+  const Impl::Boxes boxes = m.boxes();
+  if (!m.covered || !boxes.resolve.empty()) {  // no media: no depth read
+    scissorTo(m.limit(boxes.resolve));
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    m.downsampleDepth();
+  }
   glBindVertexArray(0);
   glUseProgram(0);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(hostDraw));
@@ -528,7 +609,13 @@ Result<void> HostLayers::composeOver(GLuint target, const core::Viewport& viewpo
   glEnablei(GL_BLEND, 0);
   glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
   glBlendFuncSeparatei(0, GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
-  m.drawCompose(m.composeOver.get());
+  // Outside the coverage the blend would leave the host's colour as it is: nothing is drawn there.
+  const Impl::Boxes boxes = m.boxes();
+  if (!m.covered || !boxes.compose.empty()) {
+    scissorTo(m.limit(boxes.compose), viewport.x, viewport.y);
+    m.drawCompose(m.composeOver.get());
+    glDisable(GL_SCISSOR_TEST);
+  }
   glDisablei(GL_BLEND, 0);
   return {};
 }
@@ -567,6 +654,33 @@ static std::vector<int> floodSteps(float inkWidth) {
   return steps;
 }
 
+LayersBase::Impl::Boxes LayersBase::Impl::boxes() const {
+  Boxes b;
+  if (!covered || covered->empty()) return b;  // no media: every box empty
+  // A pixel's taps are the layer texels up to 2 away from the one holding it (compose.glsl,
+  // mediaTaps); a texel holds media where a billboard covers its centre, inside `covered`.
+  b.compose = grow(*covered, 4 * factor + 1, width, height);
+  PixelBox reads = b.compose;
+  if (coveredStyle == Style::kCartoon) {
+    // Seeds lie within a pixel of where A can be above 0, and flooding carries them at most the
+    // sum of its steps: past that no pixel holds a seed, and the whole frame's passes draw the
+    // opaque colour there. The flooding is exact over `inked` when it runs that far beyond it.
+    int reach = 1;
+    for (int step : floodSteps(coveredInk)) reach += step;
+    b.inked = grow(b.compose, reach + 1, width, height);
+    b.flood = grow(b.inked, reach, width, height);
+    b.field = grow(b.flood, 2, width, height);  // the seed pass reads the field's gradient
+    b.cleared = grow(b.flood, floodSteps(coveredInk).front(), width, height);
+    reads = b.field;
+  }
+  b.layer = grow(PixelBox{reads.x0 / factor, reads.y0 / factor, (reads.x1 + factor - 1) / factor,
+                          (reads.y1 + factor - 1) / factor},
+                 3, mediaWidth, mediaHeight);
+  b.resolve = PixelBox{b.layer.x0 * factor, b.layer.y0 * factor, std::min(width, b.layer.x1 * factor),
+                       std::min(height, b.layer.y1 * factor)};
+  return b;
+}
+
 void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewport, const CartoonCompose& cartoon) {
   const CartoonStyle& st = cartoon.style;
   CartoonBlockData d{};
@@ -588,17 +702,35 @@ void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewp
   core::bindTextureAndNoSampler(bindings.mediaDepth, mediaDepth.get());
   core::bindTextureAndNoSampler(bindings.shimmer, shimmer.get());
 
+  const Boxes b = boxes();
+  if (covered && b.inked.empty()) {  // no media: the opaque colour alone
+    fieldBox = PixelBox{};
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+    glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
+    copyAround(PixelBox{}, viewport);
+    return;
+  }
   // 1. The fill and the field at the output's size.
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fieldFbo.get());
   glViewport(0, 0, width, height);
   glUseProgram(cartoonField.get());
   core::bindTextureAndNoSampler(c, cartoonFire.get());
   core::bindTextureAndNoSampler(c + 1, cartoonDepth.get());
+  scissorTo(limit(b.field));
   glDrawArrays(GL_TRIANGLES, 0, 3);
-  // 2. The seeds.
+  fieldBox = covered ? b.field : PixelBox{0, 0, width, height};
+  // 2. The seeds. With a coverage, the flooding reads up to a step around its box: no seed there.
+  if (covered) {
+    const GLuint none[4] = {0u, 0u, 0u, 0xffffffffu};  // cartoon.glsl's kNoSeed in w
+    for (const PixelBox& r : around(b.cleared, b.flood))
+      for (const core::Texture& t : seeds)
+        glClearTexSubImage(t.get(), 0, r.x0, r.y0, 0, r.x1 - r.x0, r.y1 - r.y0, 1, GL_RGBA_INTEGER, GL_UNSIGNED_INT,
+                           none);
+  }
   core::bindTextureAndNoSampler(c + 1, field.get());
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, seedFbo[0].get());
   glUseProgram(cartoonSeed.get());
+  scissorTo(limit(b.flood));
   glDrawArrays(GL_TRIANGLES, 0, 3);
   // 3. Jump flooding, ping-ponging the seeds.
   int from = 0;
@@ -610,13 +742,20 @@ void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewp
     glDrawArrays(GL_TRIANGLES, 0, 3);
     from = 1 - from;
   }
-  // 4. The fill and the ink over the opaque scene.
+  // 4. The fill and the ink over the opaque scene (copied around the ink's box).
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
+  glDisable(GL_SCISSOR_TEST);
+  if (covered && !wholeFrame(b.inked)) {
+    copyAround(b.inked, viewport);
+    glBindVertexArray(vao.get());
+  }
+  scissorTo(limit(b.inked), viewport.x, viewport.y);
   glUseProgram(cartoonCompose.get());
   core::bindTextureAndNoSampler(c, fill.get());
   core::bindTextureAndNoSampler(c + 2, seeds[from].get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDisable(GL_SCISSOR_TEST);
   glBindVertexArray(0);
   glUseProgram(0);
 }
@@ -650,6 +789,10 @@ void Layers::compose(GLuint target, const core::Viewport& viewport, const Frame&
     misuse(cartoon ? "Layers::compose with a CartoonCompose on a layer not begun with beginMedia(Style::kCartoon)"
                    : "Layers::compose without a CartoonCompose on a layer begun with beginMedia(Style::kCartoon)");
   PUFF_CHECK(viewport.width == m.width && viewport.height == m.height);
+  if (m.covered && (m.coveredStyle == Style::kCartoon) != (cartoon != nullptr))
+    misuse("Layers::compose of another style than setCoverage was given");
+  if (m.covered && cartoon && cartoon->style.outlines && cartoon->style.outlineWidth > m.coveredInk)
+    misuse("Layers::compose with a wider ink than setCoverage was given");
   m.uploadComposeBlock(viewport, frame, lights, settings);
   if (cartoon) {
     m.composeCartoon(target, viewport, *cartoon);  // its own passes, the target's last
@@ -659,7 +802,13 @@ void Layers::compose(GLuint target, const core::Viewport& viewport, const Frame&
   glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
   fullscreenState();
   core::bindTextureAndNoSampler(m.bindings.opaqueColor, m.color.get());
-  m.drawCompose(m.compose.get());
+  m.composeWithin(m.compose.get(), m.boxes().compose, viewport);
+}
+
+void LayersBase::setCoverage(std::optional<PixelBox> covered, Style style, float inkPixels) {
+  impl_->covered = covered;
+  impl_->coveredStyle = style;
+  impl_->coveredInk = std::max(0.0f, inkPixels);
 }
 
 }  // namespace puff::media

@@ -138,6 +138,9 @@ class CelPath final : public Path {
     fillRateFloor_ = on;
     if (media_) media_->setFillRateFloor(on);
   }
+  void setMediaOverWholeFrame(bool on) override {
+    if (media_) media_->setOverWholeFrame(on);
+  }
 
   Result<media::Layers*> mediaLayers(const scene::Scene& scene, const cel::Viewport& viewport) override {
     if (!media_) return nullptr;

@@ -5,6 +5,7 @@
 #include <puff/core/colour.h>
 #include <puff/core/detail_video.h>
 #include <puff/gl_api.h>
+#include <puff/media/coverage.h>
 #include <puff/scene/evaluate.h>
 
 namespace puff::render::detail {
@@ -59,18 +60,30 @@ void MediaPass::draw(const scene::Scene& s, const scene::FrameInputs& inputs, co
                      GLuint target, FrameStats& stats) {
   const scene::MediaSpec& spec = *s.media;
   particles_ = inputs.media;
-  layers_->resolveOpaque();
-  layers_->beginMedia(cartoon_ ? media::Style::kCartoon : media::Style::kPhotoreal);
   // The scene's colours are display values; the media light in scene-linear (docs/colour.md).
   const media::Frame mf = scene::mediaFrameFor(s, inputs.camera, inputs.time, viewport.width, viewport.height);
-  media::DrawStats ds;
-  renderer_->draw(layers_->layerFrame(mf), particles_, spec.method, layers_->mediaDepth(),
-                  spec.compose.shimmerPixels > 0.0f ? media::Shimmer::kWritten : media::Shimmer::kOff, &ds);
   std::vector<media::ExplosionLight> lights;
   for (const scene::MediaLightSpec& l : spec.lights) {
     lights.push_back(media::ExplosionLight{l.center, l.radius, core::srgbToLinear(l.color), l.intensityAt(mf.time),
                                            l.modulate, l.fullAtBack});
   }
+  const media::Style style = cartoon_ ? media::Style::kCartoon : media::Style::kPhotoreal;
+  // The passes run over what the media cover (a small flame costs its own pixels, not the frame's).
+  const media::PixelBox covered =
+      overWholeFrame_ ? media::PixelBox{0, 0, mf.width, mf.height} : media::coverage(mf, particles_, lights);
+  if (overWholeFrame_) {
+    layers_->setCoverage(std::nullopt);
+  } else {
+    layers_->setCoverage(covered, style, s.style.outlines ? s.style.outlineWidth : 0.0f);
+  }
+  stats.mediaCoveredPixels = covered.empty() ? 0
+                                             : static_cast<std::size_t>(covered.x1 - covered.x0) *
+                                                   static_cast<std::size_t>(covered.y1 - covered.y0);
+  layers_->resolveOpaque();
+  layers_->beginMedia(style);
+  media::DrawStats ds;
+  renderer_->draw(layers_->layerFrame(mf), particles_, spec.method, layers_->mediaDepth(),
+                  spec.compose.shimmerPixels > 0.0f ? media::Shimmer::kWritten : media::Shimmer::kOff, &ds);
   const core::Viewport& vp = viewport;
   if (cartoon_) {
     // The ink is the cel path's: the scene's outline switch, width and colour (a display value).
@@ -93,6 +106,10 @@ Result<MediaFrameInputs> MediaPass::lastFrame() const {
   const std::size_t n = static_cast<std::size_t>(layers_->width()) * static_cast<std::size_t>(layers_->height());
   in.opaqueColor.resize(n);
   in.opaqueDepth.resize(n);
+  // A frame drawn over the media's coverage resolved the depth there only: the whole of it, as
+  // the passes over the whole frame leave it, for the tools that read it back.
+  layers_->setCoverage(std::nullopt);
+  layers_->resolveOpaque();
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
   glGetTextureImage(layers_->opaqueColor(), 0, GL_RGB, GL_FLOAT, static_cast<GLsizei>(n * sizeof(glm::vec3)),
                     in.opaqueColor.data());
@@ -102,8 +119,14 @@ Result<MediaFrameInputs> MediaPass::lastFrame() const {
     std::vector<glm::vec2> field(n);
     glGetTextureImage(layers_->cartoonField(), 0, GL_RG, GL_FLOAT, static_cast<GLsizei>(n * sizeof(glm::vec2)),
                       field.data());
-    in.cartoonOpacity.resize(n);
-    for (std::size_t i = 0; i < n; ++i) in.cartoonOpacity[i] = field[i].x;
+    in.cartoonOpacity.assign(n, 0.0f);
+    const media::PixelBox box = layers_->cartoonFieldBox();  // beyond it, no medium
+    const auto w = static_cast<std::size_t>(layers_->width());
+    for (int y = box.y0; y < box.y1; ++y)
+      for (int x = box.x0; x < box.x1; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * w + static_cast<std::size_t>(x);
+        in.cartoonOpacity[i] = field[i].x;
+      }
   }
   if (const std::string e = core::drainGlErrors(); !e.empty()) return Error{"reading the opaque layer back: " + e};
   return in;

@@ -35,14 +35,17 @@ class MediaPass {
   void draw(const scene::Scene& scene, const scene::FrameInputs& inputs, const cel::Viewport& viewport, GLuint target,
             FrameStats& stats);
   void setFillRateFloor(bool on);
+  /// The passes over the whole frame instead of the media's coverage (SceneRenderer::setMediaOverWholeFrame).
+  void setOverWholeFrame(bool on) { overWholeFrame_ = on; }
   Result<MediaFrameInputs> lastFrame() const;
 
  private:
   MediaPass() = default;
   std::unique_ptr<media::Renderer> renderer_;
   std::unique_ptr<media::Layers> layers_;
-  std::vector<media::Particle> particles_;        // of the last frame drawn
-  std::optional<media::Frame> lastFrame_;         // the full-size frame of the last draw
+  std::vector<media::Particle> particles_;  // of the last frame drawn
+  std::optional<media::Frame> lastFrame_;   // the full-size frame of the last draw
+  bool overWholeFrame_ = false;
   std::optional<media::CartoonCompose> cartoon_;  // the cartoon style's compose, when the scene has it
 };
 

@@ -136,7 +136,13 @@ struct SceneRenderer::Impl {
   detail::Target target;
   std::vector<HistoryTag> history;    // motion blur's kept frames, one per slot
   int pathWidth = 0, pathHeight = 0;  // the frame size the path was made for
-  bool fillRateFloor = false;
+  // The benchmarks' and tests' switches (setFillRateFloor, setMediaOverWholeFrame), kept across
+  // the paths a renderer makes again.
+  bool fillRateFloor = false, mediaOverWholeFrame = false;
+  void configure(Path& p) const {
+    p.setFillRateFloor(fillRateFloor);
+    p.setMediaOverWholeFrame(mediaOverWholeFrame);
+  }
 };
 
 SceneRenderer::SceneRenderer() : impl_(std::make_unique<Impl>()) {}
@@ -147,7 +153,12 @@ TargetNeeds SceneRenderer::targetNeeds() const { return impl_->path->targetNeeds
 
 void SceneRenderer::setFillRateFloor(bool on) {
   impl_->fillRateFloor = on;
-  impl_->path->setFillRateFloor(on);
+  impl_->configure(*impl_->path);
+}
+
+void SceneRenderer::setMediaOverWholeFrame(bool on) {
+  impl_->mediaOverWholeFrame = on;
+  impl_->configure(*impl_->path);
 }
 
 Result<void> SceneRenderer::checkProgrammable() {
@@ -201,9 +212,11 @@ Result<void> SceneRenderer::update(const scene::Scene& next) {
   const bool targetChanged = now.width != next.width || now.height != next.height || now.samples != next.samples;
   if (targetChanged || now.objects != next.objects || m.path->needsRebuild(now, next)) {
     PUFF_TRY_ASSIGN(auto fresh, create(next, m.factory));
-    const bool fillRateFloor = m.fillRateFloor;
+    const bool fillRateFloor = m.fillRateFloor, mediaOverWholeFrame = m.mediaOverWholeFrame;
     impl_ = std::move((fresh)->impl_);  // `m` and `now` are gone from here on
-    if (fillRateFloor) setFillRateFloor(true);
+    impl_->fillRateFloor = fillRateFloor;
+    impl_->mediaOverWholeFrame = mediaOverWholeFrame;
+    impl_->configure(*impl_->path);
     return {};
   }
   if (m.evaluator->needsRebuild(next)) {
@@ -243,7 +256,7 @@ void SceneRenderer::fitPathTo(const cel::Viewport& viewport) {
   // A frame too small for the path keeps the path it has (which then says so when it draws).
   if (auto path = m.factory(sized, m.geometry)) {
     m.path = std::move(*path);
-    m.path->setFillRateFloor(m.fillRateFloor);
+    m.configure(*m.path);
   }
 }
 

@@ -56,6 +56,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -66,6 +67,7 @@
 #include <puff/core/error.h>
 #include <puff/core/gl.h>
 #include <puff/core/viewport.h>
+#include <puff/media/coverage.h>
 #include <puff/media/media.h>
 #include <puff/media/types.h>
 
@@ -133,6 +135,19 @@ class LayersBase {
   /// (the default), or the all-or-nearest rule (all four texels within the tolerance: bilinear, else the
   /// nearest-depth texel), kept so tests and benchmarks can measure one against the other.
   enum class Upsampling { kBilateral, kAllOrNearest };
+  /// Limits the passes of the frames that follow to what the media can change (coverage.h): the
+  /// full-size depth resolve, the layer's depth and the compose (the cartoon style's field, seeds,
+  /// flooding and ink too) run over `covered` (coverage() of the frame's particles and lights),
+  /// grown by what each pass reads around a pixel: the upsampling's taps, and for Style::kCartoon
+  /// the jump flooding's reach for an ink `inkPixels` wide. Outside it compose copies the opaque
+  /// colour (composeOver leaves the host's). The image is the whole frame's passes' image, bit for
+  /// bit where the grown box reaches (tests/unit/media_coverage_test.cpp). An empty `covered` runs
+  /// no media pass but the copy. std::nullopt (the default): every pass over the whole frame.
+  /// `style` and `inkPixels` must be the frame's: compose stops the program with a message when
+  /// its cartoon style differs or its ink is wider. With a coverage set, resolveOpaque,
+  /// resolveHostDepth, compose and composeOver also leave the scissor box changed (their last
+  /// pass's box; the scissor test off, as listed).
+  void setCoverage(std::optional<PixelBox> covered, Style style = Style::kPhotoreal, float inkPixels = 0.0f);
   void setUpsampling(Upsampling rule);
   Upsampling upsampling() const;
 
@@ -200,6 +215,10 @@ class Layers final : public LayersBase {
   /// linear depth, A without the opaque surfaces' clipping), as the last cartoon compose made it;
   /// 0 before the first cartoon beginMedia.
   core::GlId cartoonField() const;
+  /// The pixels of cartoonField() the last cartoon compose wrote: the whole frame without a
+  /// coverage (setCoverage). Beyond them the whole frame's passes find no medium (A = 0); the
+  /// texture holds what an earlier frame left there.
+  PixelBox cartoonFieldBox() const;
 
  private:
   using LayersBase::LayersBase;

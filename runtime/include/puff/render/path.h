@@ -77,6 +77,9 @@ struct FrameStats {
   std::size_t bytesUploaded = 0;
   double simulateMs = 0.0;         ///< CPU time spent stepping the simulators for this frame
   std::size_t mediaParticles = 0;  ///< fire, smoke and dust particles drawn
+  /// Pixels of the frame the media can change (media::coverage; the whole frame with
+  /// SceneRenderer::setMediaOverWholeFrame): the media passes run over these, grown by what they read.
+  std::size_t mediaCoveredPixels = 0;
 };
 
 /// What the media pass drew in its most recent frame, read back (for tools and tests: puff::eval
@@ -135,6 +138,8 @@ class Path {
 
   /// Benchmarks: draw each particle as the fill-rate floor instead (see SceneRenderer).
   virtual void setFillRateFloor(bool) {}
+  /// Tests and benchmarks: the media passes over the whole frame (see SceneRenderer).
+  virtual void setMediaOverWholeFrame(bool) {}
   /// The media layers drawn into for a viewport of this size (made on first use), or null when the
   /// path draws no media. Motion blur keeps its history there. Errors: the layers could not be made.
   virtual Result<media::Layers*> mediaLayers(const scene::Scene&, const cel::Viewport&) { return nullptr; }

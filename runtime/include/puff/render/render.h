@@ -83,6 +83,11 @@ class SceneRenderer {
   /// program that computes nothing; the rest of the frame as usual. Ignored by the other paths. Off
   /// by default. docs/bench/README.md says what it measures.
   void setFillRateFloor(bool on);
+  /// Tests and benchmarks: run the media passes (the depth resolve, the layer's depth, the compose)
+  /// over the whole frame, as if the media covered it, instead of over what they cover
+  /// (media::LayersBase::setCoverage): the yardstick the coverage is checked and timed against.
+  /// Off by default.
+  void setMediaOverWholeFrame(bool on);
 
   using MediaFrameInputs = render::MediaFrameInputs;
   /// What the media pass drew in the most recent frame, read back. With motion blur, the last frame

@@ -1,0 +1,176 @@
+// What of a frame the media can change (media::coverage): closed forms for an orthographic camera,
+// and for a perspective one the box against the sphere's own projection (points of its surface,
+// projected) over the positions, distances and sizes a scene can set; what draws nothing covers
+// nothing; a sphere reaching the camera's plane covers the whole frame; lights as compose takes them.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <puff/media/coverage.h>
+
+namespace puff {
+namespace {
+
+using media::PixelBox;
+
+constexpr int kWidth = 200, kHeight = 160;  // the perspective frames
+constexpr int kOrtho = 160;                 // the orthographic frame's width and height
+
+// Orthographic: 10 pixels per world unit (x and y in [-8, 8]: the projection's scale 1/8 and the
+// pixels exact in floats), looking down -z from the origin.
+media::Frame orthoFrame() {
+  media::Frame f;
+  f.projection = glm::ortho(-8.0f, 8.0f, -8.0f, 8.0f, 0.5f, 50.0f);
+  f.nearPlane = 0.5f;
+  f.farPlane = 50.0f;
+  f.orthographic = true;
+  f.width = kOrtho;
+  f.height = kOrtho;
+  return f;
+}
+
+media::Frame perspectiveFrame(float fovYDegrees) {
+  media::Frame f;
+  f.projection = glm::perspective(glm::radians(fovYDegrees), static_cast<float>(kWidth) / kHeight, 0.5f, 50.0f);
+  f.nearPlane = 0.5f;
+  f.farPlane = 50.0f;
+  f.width = kWidth;
+  f.height = kHeight;
+  return f;
+}
+
+media::Particle particle(glm::vec3 p, float r) {
+  media::Particle q;
+  q.position = p;
+  q.radius = r;
+  return q;
+}
+
+TEST(MediaCoverage, AnOrthographicSphereCoversItsSquareGrownByAPixel) {
+  // Centre (1, 0.5), radius 1: x in [0, 2] world = [80, 100] px; y in [-0.5, 1.5] = [75, 95] px.
+  const media::Particle p = particle({1.0f, 0.5f, -5.0f}, 1.0f);
+  EXPECT_EQ(media::coverage(orthoFrame(), std::span(&p, 1)), (PixelBox{79, 74, 101, 96}));
+  // Fractional edges round out: centre (0.33, -0.27), radius 0.5 -> x [78.3, 88.3], y [72.3, 82.3].
+  const media::Particle q = particle({0.33f, -0.27f, -5.0f}, 0.5f);
+  EXPECT_EQ(media::coverage(orthoFrame(), std::span(&q, 1)), (PixelBox{77, 71, 90, 84}));
+  // Two particles: the box holding both.
+  const media::Particle both[2] = {p, q};
+  EXPECT_EQ(media::coverage(orthoFrame(), both), (PixelBox{77, 71, 101, 96}));
+}
+
+// The pixel box of the sphere's projection, from points of its silhouette: the surface points
+// whose normal is perpendicular to the ray from the eye (sampled densely).
+PixelBox projectedSphere(const media::Frame& f, glm::vec3 c, float r) {
+  float x0 = 1e9f, y0 = 1e9f, x1 = -1e9f, y1 = -1e9f;
+  const int n = 200;
+  for (int i = 0; i <= n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const float th = 3.14159265f * static_cast<float>(i) / n, ph = 2.0f * 3.14159265f * static_cast<float>(j) / n;
+      const glm::vec3 x = c + r * glm::vec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+      const glm::vec4 clip = f.projection * glm::vec4(x, 1.0f);
+      const float px = (clip.x / clip.w * 0.5f + 0.5f) * kWidth, py = (clip.y / clip.w * 0.5f + 0.5f) * kHeight;
+      x0 = std::min(x0, px), x1 = std::max(x1, px), y0 = std::min(y0, py), y1 = std::max(y1, py);
+    }
+  }
+  return {static_cast<int>(std::floor(x0)), static_cast<int>(std::floor(y0)), static_cast<int>(std::ceil(x1)),
+          static_cast<int>(std::ceil(y1))};
+}
+
+int area(const PixelBox& b) { return b.empty() ? 0 : (b.x1 - b.x0) * (b.y1 - b.y0); }
+
+TEST(MediaCoverage, APerspectiveSphereLiesInItsBoxAndTheBoxIsNotMuchLarger) {
+  // Positions across the frame and past its edges, distances from just clear of the camera's plane
+  // (the bound's 5 %) to far, small and large radii, narrow and wide lenses.
+  int checked = 0;
+  double loosest = 0.0;
+  for (float fov : {20.0f, 45.0f, 90.0f}) {
+    const media::Frame f = perspectiveFrame(fov);
+    for (float r : {0.05f, 0.3f, 1.5f}) {
+      for (float dz : {1.1f * r + 0.6f, 3.0f, 8.0f, 30.0f}) {
+        for (float u : {-1.2f, -0.6f, 0.0f, 0.45f, 0.9f}) {
+          for (float v : {-0.8f, 0.0f, 0.7f}) {
+            const float t = std::tan(glm::radians(fov) / 2.0f);
+            const glm::vec3 c(u * t * dz * kWidth / kHeight, v * t * dz, -dz);
+            const media::Particle p = particle(c, r);
+            const PixelBox box = media::coverage(f, std::span(&p, 1));
+            const PixelBox want = projectedSphere(f, c, r);
+            const PixelBox onScreen = media::grow(want, 0, kWidth, kHeight);
+            SCOPED_TRACE(::testing::Message()
+                         << "fov " << fov << " r " << r << " dz " << dz << " u " << u << " v " << v);
+            if (onScreen.empty()) continue;  // off the frame: nothing to hold
+            ++checked;
+            EXPECT_LE(box.x0, onScreen.x0);
+            EXPECT_LE(box.y0, onScreen.y0);
+            EXPECT_GE(box.x1, onScreen.x1);
+            EXPECT_GE(box.y1, onScreen.y1);
+            // The billboards' bound is loose off-axis ((1 + |c.xy| / dz) of the radius) and near
+            // the camera: for a sphere small on screen (what the coverage is for) and on it, the box
+            // is at most 3 times the projection's box grown by 2 px (the least the rounding adds).
+            if (r / dz <= 0.1f && std::abs(u) <= 0.9f) {
+              const int slack = area(media::grow(onScreen, 2, kWidth, kHeight));
+              loosest = std::max(loosest, static_cast<double>(area(box)) / slack);
+              EXPECT_LE(area(box), 3 * slack);
+            }
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 100);
+  std::printf("the box over the projection's (grown by 2 px), small spheres: at most %.2f\n", loosest);
+}
+
+TEST(MediaCoverage, WhatDrawsNothingCoversNothing) {
+  const media::Frame f = perspectiveFrame(45.0f);
+  const std::vector<media::Particle> none = {
+      particle({0, 0, -5}, 0.0f),       // no radius
+      particle({0, 0, -5}, -1.0f),      // a negative one
+      particle({0, 0, 2.0f}, 1.0f),     // behind the camera, nearer than the near plane
+      particle({0, 0, -60.0f}, 5.0f),   // beyond the far plane
+      particle({40, 0, -5.0f}, 1.0f)};  // off the frame
+  EXPECT_TRUE(media::coverage(f, none).empty());
+  EXPECT_TRUE(media::coverage(f, {}).empty());
+}
+
+TEST(MediaCoverage, ASphereReachingTheCamerasPlaneCoversTheWholeFrame) {
+  const media::Frame f = perspectiveFrame(45.0f);
+  for (float dz : {-0.5f, 0.0f, 0.6f, 1.0f}) {  // centres behind, at and just in front of the camera
+    const media::Particle p = particle({0.3f, -0.2f, -dz}, 1.05f);
+    EXPECT_EQ(media::coverage(f, std::span(&p, 1)), (PixelBox{0, 0, kWidth, kHeight})) << dz;
+  }
+}
+
+TEST(MediaCoverage, LightsThatShineAddTheirSpheresAsComposeTakesThem) {
+  const media::Frame f = orthoFrame();
+  media::ExplosionLight off;
+  off.center = {-5.0f, 0.0f, -5.0f};
+  off.radius = 1.0f;
+  off.intensity = 0.0f;
+  EXPECT_TRUE(media::coverage(f, {}, std::span(&off, 1)).empty());
+  media::ExplosionLight on = off;
+  on.intensity = 2.0f;
+  // x [-6, -4] world = [20, 40] px, y [-1, 1] = [70, 90] px.
+  EXPECT_EQ(media::coverage(f, {}, std::span(&on, 1)), (PixelBox{19, 69, 41, 91}));
+  // Compose takes the first 8 that shine: a ninth adds nothing.
+  std::vector<media::ExplosionLight> nine(9, on);
+  nine[8].center = {5.0f, 0.0f, -5.0f};
+  EXPECT_EQ(media::coverage(f, {}, nine), (PixelBox{19, 69, 41, 91}));
+  nine.insert(nine.begin(), off);  // one that does not shine does not count
+  EXPECT_EQ(media::coverage(f, {}, nine), (PixelBox{19, 69, 41, 91}));
+}
+
+TEST(MediaCoverage, GrowAndUniteKeepToTheFrame) {
+  EXPECT_EQ(media::grow(PixelBox{2, 3, 10, 12}, 4, 12, 14), (PixelBox{0, 0, 12, 14}));
+  EXPECT_TRUE(media::grow(PixelBox{}, 4, 12, 14).empty());
+  EXPECT_TRUE(media::grow(PixelBox{20, 20, 30, 30}, 1, 12, 14).empty());
+  EXPECT_EQ(media::unite(PixelBox{}, PixelBox{1, 2, 3, 4}), (PixelBox{1, 2, 3, 4}));
+  EXPECT_EQ(media::unite(PixelBox{1, 2, 3, 4}, PixelBox{0, 5, 2, 6}), (PixelBox{0, 2, 3, 6}));
+}
+
+}  // namespace
+}  // namespace puff
