@@ -1,7 +1,7 @@
-# cmake -D EXE=... -D OUT=... -D LABEL=... -D SWEEPS=A|B -D COST=... -D TIMEOUT=... -D LSAN_SUPP=... -P list_suites.cmake
+# cmake -D EXE=... -D OUT=... -D LABEL=... -D UNSANITIZED=A|B -D COST=... -D TIMEOUT=... -D LSAN_SUPP=... -P list_suites.cmake
 # Writes OUT, a ctest file with one test per GoogleTest suite of EXE (suites.cmake says why), labelled
-# LABEL, and `sweep` too for a suite SWEEPS names (tiers.cmake, PUFF_SWEEP_SUITES).
-string(REPLACE "|" ";" _sweeps "${SWEEPS}")
+# LABEL, and `unsanitized` too for a suite UNSANITIZED names (tiers.cmake, PUFF_UNSANITIZED_SUITES).
+string(REPLACE "|" ";" _unsanitized "${UNSANITIZED}")
 execute_process(COMMAND "${EXE}" --gtest_list_tests OUTPUT_VARIABLE _listing ERROR_VARIABLE _err
                 RESULT_VARIABLE _rc TIMEOUT 60)
 if(NOT _rc EQUAL 0)
@@ -16,9 +16,9 @@ foreach(_line IN LISTS _lines)
   if(_line MATCHES "^([^ #][^ ]*)\\.( |$)")
     set(_suite "${CMAKE_MATCH_1}")
     set(_labels "${LABEL}")
-    list(FIND _sweeps "${_suite}" _sweep)
-    if(NOT _sweep EQUAL -1)
-      set(_labels "${LABEL};sweep")
+    list(FIND _unsanitized "${_suite}" _left_out)
+    if(NOT _left_out EQUAL -1)
+      set(_labels "${LABEL};unsanitized")
     endif()
     string(APPEND _out
       "add_test([==[${_suite}]==] [==[${EXE}]==] [==[--gtest_filter=${_suite}.*]==])\n"

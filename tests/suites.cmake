@@ -11,10 +11,10 @@
 function(puff_add_suites target label cost timeout)
   set(_list "${CMAKE_CURRENT_BINARY_DIR}/${target}_suites.cmake")
   set(_include "${CMAKE_CURRENT_BINARY_DIR}/${target}_include.cmake")
-  string(REPLACE ";" "|" _sweeps "${PUFF_SWEEP_SUITES}")  # tiers.cmake
+  string(REPLACE ";" "|" _unsanitized "${PUFF_UNSANITIZED_SUITES}")  # tiers.cmake
   add_custom_command(TARGET ${target} POST_BUILD
     COMMAND ${CMAKE_COMMAND} -D "EXE=$<TARGET_FILE:${target}>" -D "OUT=${_list}" -D "LABEL=${label}"
-            -D "SWEEPS=${_sweeps}"
+            -D "UNSANITIZED=${_unsanitized}"
             -D "COST=${cost}" -D "TIMEOUT=${timeout}" -D "LSAN_SUPP=${CMAKE_CURRENT_SOURCE_DIR}/lsan.supp"
             -P "${CMAKE_CURRENT_SOURCE_DIR}/list_suites.cmake"
     BYPRODUCTS "${_list}" VERBATIM)

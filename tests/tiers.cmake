@@ -29,10 +29,13 @@ set(PUFF_TESTS_E2E
 set(PUFF_TESTS_SLOW
   tumble_test.cpp)
 
-# Suites that sweep one method over many light directions, each point the same code with other
-# numbers: they also carry the label `sweep`, which the sanitized run (.ci/run) leaves out; the
-# suites beside them (ShadowMethods, the receivers') run the same code under the sanitizers.
-set(PUFF_SWEEP_SUITES CelMethods/ShadowOfASphere Reference/ShadowOfASphere)
+# Suites the sanitized run (.ci/run) leaves out, which also carry the label `unsanitized`
+# (docs/testing.md, "Sanitizers"): two sweep one method over many light directions, each point the
+# same code with other numbers; two compare shadows and silhouettes with the cel reference on
+# lumpy, long and cluster puffs baked in-process, code the receivers' suites
+# (AllMethods/ShadowReceivers, MapAndReference/ObjectShadows, Reference/ObjectReceivers,
+# CelMethods/ObjectReceivers) run under the sanitizers too.
+set(PUFF_UNSANITIZED_SUITES CelMethods/ShadowOfASphere Reference/ShadowOfASphere ShadowMethods CelReference)
 
 # A test file in no tier, or in two, is an error here rather than a test that never runs.
 file(GLOB _puff_test_files RELATIVE ${CMAKE_CURRENT_LIST_DIR}/unit CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/unit/*.cpp)
