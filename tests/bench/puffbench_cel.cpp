@@ -147,8 +147,10 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
     PUFF_TRY_ASSIGN(auto refFixed, renderFrames(fixedScene, render::RenderPath::kReference, frames, 0));
     PUFF_TRY_ASSIGN(auto refFixedBare,
                     renderFrames(eval::withoutParticles(fixedScene), render::RenderPath::kReference, frames, 0));
-    // The fill-rate floor: the scene's particles as bare alpha-tested quads, same frames.
+    // The fill-rate floors: the scene's particles as bare alpha-tested quads, same frames; the fixed
+    // path's rows against its own (GL 1.x quads, within the fixed path's limits).
     PUFF_TRY_ASSIGN(auto fillFloor, renderFrames(scene, render::RenderPath::kCel, frames, opt.reps, true));
+    PUFF_TRY_ASSIGN(auto fixedFloor, renderFrames(fixedScene, render::RenderPath::kFixed, frames, opt.reps, true));
     log(name + ": floors and references", t0);
 
     auto add = [&](const std::string& path, const std::string& parameter, double value, const Frames& f,
@@ -164,7 +166,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
       r.width = opt.width;
       r.height = opt.height;
       r.ms = f.ms;
-      r.floorMs = fillFloor.ms;
+      r.floorMs = path == "fixed" ? fixedFloor.ms : fillFloor.ms;
       r.bareMs = bareFrames.ms;
       const Errors e = compare(f, bareFrames, reference, referenceBare, ink);
       r.rmse = e.rmse;
@@ -239,7 +241,8 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
     // Rows of one cel and one fixed measurement of cloud-50k against the references given (none:
     // not measured).
     auto addCountRows = [&](const std::string& parameter, double value, const std::string& label, const Frames& cel,
-                            const Frames& fixed, double floorMs, const Frames* ref, const Frames* refFixed) {
+                            const Frames& fixed, double floorMs, double fixedFloorMs, const Frames* ref,
+                            const Frames* refFixed) {
       for (int which = 0; which < 2; ++which) {
         const Frames& x = which == 0 ? cel : fixed;
         CelRow r;
@@ -252,7 +255,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
         r.width = opt.width;
         r.height = opt.height;
         r.ms = x.ms;
-        r.floorMs = floorMs;
+        r.floorMs = which == 0 ? floorMs : fixedFloorMs;
         r.bareMs = which == 0 ? bare.ms : bareFixed.ms;
         if (ref) {
           const Errors e = which == 0 ? compare(x, bare, *ref, refBare, base.style.outlineColor)
@@ -290,6 +293,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
       PUFF_TRY_ASSIGN(auto f, renderFrames(s, render::RenderPath::kCel, frame0, opt.reps));
       PUFF_TRY_ASSIGN(auto fillFloor, renderFrames(s, render::RenderPath::kCel, frame0, opt.reps, true));
       PUFF_TRY_ASSIGN(auto ff, renderFrames(sf, render::RenderPath::kFixed, frame0, opt.reps));
+      PUFF_TRY_ASSIGN(auto fixedFloor, renderFrames(sf, render::RenderPath::kFixed, frame0, opt.reps, true));
       const bool measureError = n <= opt.referenceLimit;
       Frames ref, refFixed;
       if (measureError) {
@@ -298,7 +302,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
         PUFF_TRY_ASSIGN(auto rf, renderFrames(sf, render::RenderPath::kReference, frame0, 0));
         refFixed = std::move(rf);
       }
-      addCountRows("count", static_cast<double>(n), std::to_string(n), f, ff, fillFloor.ms,
+      addCountRows("count", static_cast<double>(n), std::to_string(n), f, ff, fillFloor.ms, fixedFloor.ms,
                    measureError ? &ref : nullptr, measureError ? &refFixed : nullptr);
       if (measureError) full = FullModel{s, n, std::move(ref), std::move(refFixed)};
       log("cloud-50k: " + std::to_string(n) + " particles" + (measureError ? "" : " (no reference: above the limit)"),
@@ -315,9 +319,11 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
         PUFF_TRY_ASSIGN(auto fixed, renderFrames(eval::restrictToFixedLimits(s), render::RenderPath::kFixed,
                                                  std::vector<int>{0}, opt.reps));
         PUFF_TRY_ASSIGN(auto floor, renderFrames(s, render::RenderPath::kCel, std::vector<int>{0}, opt.reps, true));
+        PUFF_TRY_ASSIGN(auto fixedFloor, renderFrames(eval::restrictToFixedLimits(s), render::RenderPath::kFixed,
+                                                      std::vector<int>{0}, opt.reps, true));
         char label[64];
         std::snprintf(label, sizeof label, "1/%d of %zu", static_cast<int>(std::lround(1.0 / f)), full->count);
-        addCountRows("fraction", f, label, cel, fixed, floor.ms, &full->ref, &full->refFixed);
+        addCountRows("fraction", f, label, cel, fixed, floor.ms, fixedFloor.ms, &full->ref, &full->refFixed);
         log(std::string("cloud-50k: ") + label + " particles, each larger", t1);
       }
     }

@@ -275,5 +275,38 @@ TEST_F(FixedFuncTest, OffsetDDecidesWhetherAnInnerContourShows) {
   EXPECT_EQ(farBlack, 0) << "d = 1 > the gap: B's body hides A's contour (of " << farChecked << " pixels)";
 }
 
+// The path's fill-rate floor (drawFloorFrame): its billboards as bare quads of their cells, alpha
+// tested. On its first call it draws the puff texture; its frame is then drawFrame's with outlines
+// off, pixel for pixel, over overlapping puffs of several sizes and cells; tints and outlines are
+// not drawn; later calls keep the texture.
+TEST_F(FixedFuncTest, TheFloorIsTheFramesBareQuadsWithoutOutlinesOrTints) {
+  const FixedFrame frame = makeFrame();
+  std::vector<Billboard> puffs;
+  for (int k = 0; k < 9; ++k)
+    puffs.push_back({{0.6f * static_cast<float>(k % 3) - 0.6f, 0.5f * static_cast<float>(k / 3) - 0.5f,
+                      -4.0f - 0.3f * static_cast<float>(k)},
+                     0.6f + 0.15f * static_cast<float>(k % 4),
+                     k});
+  auto floorFirst = FixedRenderer::create(unitSphere(), 64);
+  ASSERT_OK(floorFirst);
+  ASSERT_OK((*floorFirst)->drawFloorFrame(frame, puffs));
+  const std::vector<glm::vec4> floor = readFramebuffer();
+  auto r = FixedRenderer::create(unitSphere(), 64);
+  ASSERT_OK(r);
+  FixedStyle bare;
+  bare.outlines = false;
+  ASSERT_OK((*r)->drawFrame(frame, puffs, bare));
+  const std::vector<glm::vec4> frameBare = readFramebuffer();
+  EXPECT_EQ(floor, frameBare);
+  int covered = 0;
+  for (const glm::vec4& c : floor) covered += c != floor.back() ? 1 : 0;  // the top right corner: no puff
+  EXPECT_GT(covered, static_cast<int>(floor.size()) / 10);                // the puffs are there
+  // Tinted and outlined in the frame, neither in the floor; the texture as the first call drew it.
+  for (Billboard& b : puffs) b.tint = glm::vec3(0.2f, 0.5f, 1.0f);
+  ASSERT_OK((*floorFirst)->drawFloorFrame(frame, puffs));
+  EXPECT_EQ(readFramebuffer(), frameBare);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
 }  // namespace
 }  // namespace puff::fixedfunc::test

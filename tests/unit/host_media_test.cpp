@@ -179,7 +179,7 @@ class HostMedia : public MediaRendererTest {
   std::vector<glm::vec4> hostPath(const Convention& c, float scale, std::span<const media::Particle> particles,
                                   std::span<const media::ExplosionLight> lights,
                                   std::vector<float>* linearDepth = nullptr, GLenum colorFormat = GL_RGBA16F,
-                                  int targetSize = kSize, int ox = 0, int oy = 0) {
+                                  int targetSize = kSize, int ox = 0, int oy = 0, bool covered = false) {
     // The game's frame is targetSize^2; the view Puff sees is the kSize^2 viewport at (ox, oy).
     HostTarget target(targetSize, c.depth == DepthConvention::kReversedZ ? GL_DEPTH32F_STENCIL8 : GL_DEPTH24_STENCIL8,
                       colorFormat);
@@ -195,6 +195,7 @@ class HostMedia : public MediaRendererTest {
     depth.space = spaceFor(c);
     depth.x = ox;
     depth.y = oy;
+    if (covered) (*layers)->setCoverage(media::coverage(mediaFrame(c), particles, lights));
     EXPECT_OK((*layers)->resolveHostDepth(depth));
     if (linearDepth) {
       linearDepth->resize(static_cast<std::size_t>(kSize) * kSize);
@@ -428,6 +429,15 @@ TEST_F(HostMedia, ComposeOverMatchesPuffsOwnLinearPath) {
     for (const Convention& c : kAll) {
       const ClipControlScope scope(c.clip);
       const auto host = hostPath(c, scale, ps, lights);
+      // Over what the media cover (LayersBase::setCoverage), the same frame to the bit: these, and a
+      // small puff (its box under a quarter of the frame's width) whose passes run over part of it.
+      EXPECT_EQ(hostPath(c, scale, ps, lights, nullptr, GL_RGBA16F, kSize, 0, 0, true), host) << c.name;
+      const media::Particle puff = sphereAt({1.5f, 0.8f, -7.0f}, 0.3f);
+      const media::PixelBox box = media::coverage(mediaFrame(c), std::span(&puff, 1));
+      EXPECT_TRUE(!box.empty() && box.x1 - box.x0 < kSize / 4) << c.name;
+      EXPECT_EQ(hostPath(c, scale, std::span(&puff, 1), {}, nullptr, GL_RGBA16F, kSize, 0, 0, true),
+                hostPath(c, scale, std::span(&puff, 1), {}))
+          << c.name;
       std::vector<glm::vec4> ownOpaque;
       const auto own = ownPath(c, scale, ps, lights, ownOpaque);
       const auto plain = hostPath(c, scale, {}, {});

@@ -63,22 +63,20 @@ TEST(MediaCoverage, AnOrthographicSphereCoversItsSquareGrownByAPixel) {
   EXPECT_EQ(media::coverage(orthoFrame(), both), (PixelBox{77, 71, 101, 96}));
 }
 
-// The pixel box of the sphere's projection, from points of its silhouette: the surface points
-// whose normal is perpendicular to the ray from the eye (sampled densely).
+// The pixel box of the sphere's projection under a symmetric perspective (glm::perspective): NDC x
+// is P00 x / -z, and x / -z over the sphere depends on (x, z) alone, a disc of radius r about
+// (c.x, c.z) seen from the eye: its tangents from the origin bound it, at the centre's angle plus
+// and minus asin(r / distance). The same for y.
 PixelBox projectedSphere(const media::Frame& f, glm::vec3 c, float r) {
-  float x0 = 1e9f, y0 = 1e9f, x1 = -1e9f, y1 = -1e9f;
-  const int n = 200;
-  for (int i = 0; i <= n; ++i) {
-    for (int j = 0; j < n; ++j) {
-      const float th = 3.14159265f * static_cast<float>(i) / n, ph = 2.0f * 3.14159265f * static_cast<float>(j) / n;
-      const glm::vec3 x = c + r * glm::vec3(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
-      const glm::vec4 clip = f.projection * glm::vec4(x, 1.0f);
-      const float px = (clip.x / clip.w * 0.5f + 0.5f) * kWidth, py = (clip.y / clip.w * 0.5f + 0.5f) * kHeight;
-      x0 = std::min(x0, px), x1 = std::max(x1, px), y0 = std::min(y0, py), y1 = std::max(y1, py);
-    }
-  }
-  return {static_cast<int>(std::floor(x0)), static_cast<int>(std::floor(y0)), static_cast<int>(std::ceil(x1)),
-          static_cast<int>(std::ceil(y1))};
+  auto extent = [&](double across, double depth, double scale, int size, int& lo, int& hi) {
+    const double centre = std::atan2(across, depth), half = std::asin(r / std::hypot(across, depth));
+    lo = static_cast<int>(std::floor((scale * std::tan(centre - half) * 0.5 + 0.5) * size));
+    hi = static_cast<int>(std::ceil((scale * std::tan(centre + half) * 0.5 + 0.5) * size));
+  };
+  PixelBox b;
+  extent(c.x, -c.z, f.projection[0][0], kWidth, b.x0, b.x1);
+  extent(c.y, -c.z, f.projection[1][1], kHeight, b.y0, b.y1);
+  return b;
 }
 
 int area(const PixelBox& b) { return b.empty() ? 0 : (b.x1 - b.x0) * (b.y1 - b.y0); }
@@ -98,7 +96,7 @@ TEST(MediaCoverage, APerspectiveSphereLiesInItsBoxAndTheBoxIsNotMuchLarger) {
             const glm::vec3 c(u * t * dz * kWidth / kHeight, v * t * dz, -dz);
             const media::Particle p = particle(c, r);
             const PixelBox box = media::coverage(f, std::span(&p, 1));
-            const PixelBox want = projectedSphere(f, c, r);
+            const PixelBox want = projectedSphere(f, c, r);  // the tangents stay within +-90 degrees here
             const PixelBox onScreen = media::grow(want, 0, kWidth, kHeight);
             SCOPED_TRACE(::testing::Message()
                          << "fov " << fov << " r " << r << " dz " << dz << " u " << u << " v " << v);

@@ -160,12 +160,12 @@ void FixedRenderer::Impl::beginBillboards(const FixedFrame& frame) {
 }
 
 void FixedRenderer::Impl::billboardPass(const FixedFrame& frame, const std::vector<Billboard>& billboards,
-                                        const FixedStyle& style, float extent) {
+                                        const FixedStyle& style, float extent, bool bare) {
   if (billboards.empty()) return;
   const Camera camera = cameraOf(frame);
-  const bool tinted = anyTinted(billboards);
+  const bool tinted = !bare && anyTinted(billboards);
   beginBillboards(frame);
-  if (style.outlines) {
+  if (style.outlines && !bare) {
     // Black where the cell is covered: colour (0,0,0) times texel, alpha 1 times texel alpha.
     FF_GL(glTexEnvi, GL_TEXTURE_ENV, GL_TEXTURE_ENV_MODE, GL_MODULATE);
     FF_GL(glColor4f, 0.0f, 0.0f, 0.0f, 1.0f);

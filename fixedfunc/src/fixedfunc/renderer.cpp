@@ -351,16 +351,42 @@ Result<void> FixedRenderer::drawFrame(const FixedFrame& frame, const std::vector
   const GlVersion& version = impl_->version;
   PUFF_TRY(checkHostState(version));
 
-  const glm::vec3 lightWorld = glm::normalize(frame.lightDirection);
-  const glm::vec3 lightCamera = glm::normalize(glm::mat3(frame.view) * lightWorld);
-
+  const glm::vec3 lightCamera = glm::normalize(glm::mat3(frame.view) * glm::normalize(frame.lightDirection));
   const FixedViewport& vp = frame.viewport;
   StateGuard guard(version);
   impl_->resetFixedState();
   if (!frame.clear) impl_->saveCorner(vp, 2 * cellSize_);
   impl_->puffPass(frame, style, lightCamera, cellSize_);
+  impl_->puffTextureDrawn = true;
   if (!frame.clear) impl_->restoreCorner(vp, 2 * cellSize_);
+  drawScene(frame, billboards, style, false);
+  return {};
+}
 
+Result<void> FixedRenderer::drawFloorFrame(const FixedFrame& frame, const std::vector<Billboard>& billboards) {
+  const FixedStyle style;
+  PUFF_TRY(checkFrame(frame, style, cellSize_));
+  const GlVersion& version = impl_->version;
+  PUFF_TRY(checkHostState(version));
+  const FixedViewport& vp = frame.viewport;
+  StateGuard guard(version);
+  impl_->resetFixedState();
+  if (!impl_->puffTextureDrawn) {
+    if (!frame.clear) impl_->saveCorner(vp, 2 * cellSize_);
+    impl_->puffPass(frame, style, glm::normalize(glm::mat3(frame.view) * glm::normalize(frame.lightDirection)),
+                    cellSize_);
+    impl_->puffTextureDrawn = true;
+    if (!frame.clear) impl_->restoreCorner(vp, 2 * cellSize_);
+  }
+  drawScene(frame, billboards, style, true);
+  return {};
+}
+
+void FixedRenderer::drawScene(const FixedFrame& frame, const std::vector<Billboard>& billboards,
+                              const FixedStyle& style, bool bare) {
+  const glm::vec3 lightWorld = glm::normalize(frame.lightDirection);
+  const glm::vec3 lightCamera = glm::normalize(glm::mat3(frame.view) * lightWorld);
+  const FixedViewport& vp = frame.viewport;
   FF_GL(glViewport, vp.x, vp.y, vp.width, vp.height);
   FF_GL(glScissor, vp.x, vp.y, vp.width, vp.height);
   if (frame.clear) {
@@ -369,8 +395,7 @@ Result<void> FixedRenderer::drawFrame(const FixedFrame& frame, const std::vector
     FF_GL(glClear, static_cast<GLbitfield>(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT));
   }
   impl_->objectPass(frame, lightCamera, lightWorld);
-  impl_->billboardPass(frame, billboards, style, cellExtent());
-  return {};
+  impl_->billboardPass(frame, billboards, style, cellExtent(), bare);
 }
 
 unsigned FixedRenderer::puffTexture() const { return impl_->puffTexture; }

@@ -70,7 +70,8 @@ struct FixedRenderer::Impl {
   };
   std::vector<Object> objects;
   GLuint puffTexture = 0, rampTexture = 0, whiteTexture = 0;
-  glm::vec3 rampLow{0.0f};  // q(0): the puff texture's empty texels take the darkest band's tone
+  bool puffTextureDrawn = false;  // by a puff pass: drawFloorFrame draws it once
+  glm::vec3 rampLow{0.0f};        // q(0): the puff texture's empty texels take the darkest band's tone
   // Per-frame scratch, kept to reuse the allocations.
   std::vector<glm::vec4> puffColors;
   detail::QuadArrays quads;
@@ -91,8 +92,9 @@ struct FixedRenderer::Impl {
   void objectPass(const FixedFrame& frame, const glm::vec3& lightCamera, const glm::vec3& lightWorld);
   // billboards.cpp: the billboard pass.
   void beginBillboards(const FixedFrame& frame);
+  // `bare`: the fill-rate floor's quads (no outline, no tint).
   void billboardPass(const FixedFrame& frame, const std::vector<Billboard>& billboards, const FixedStyle& style,
-                     float extent);
+                     float extent, bool bare = false);
 };
 
 }  // namespace puff::fixedfunc

@@ -166,8 +166,11 @@ class FixedPath final : public Path {
       drawPlate(viewport);
       f.clear = false;
     }
-    return fixed_->drawFrame(f, billboards, style);
+    return fillRateFloor_ ? fixed_->drawFloorFrame(f, billboards) : fixed_->drawFrame(f, billboards, style);
   }
+
+  // The benchmarks' floor of this path: its billboards as GL 1.x bare quads (FixedRenderer::drawFloorFrame).
+  void setFillRateFloor(bool on) override { fillRateFloor_ = on; }
 
  private:
   FixedPath() = default;
@@ -175,6 +178,7 @@ class FixedPath final : public Path {
   std::vector<fixedfunc::FixedObject> objects_;
   bool objectsMove_ = false;
   bool contextFramebuffer_ = false;
+  bool fillRateFloor_ = false;
   int variations_ = 0;                     // 0: no atlas, no particles
   glm::vec3 puffColor_{1.0f};              // C (display value): the atlas's bake colour for a mesh without colours
   core::Image plate_;                      // output.plate, scene-linear RGBA; empty: none

@@ -150,6 +150,12 @@ class FixedRenderer {
   /// non-finite position are skipped.
   Result<void> drawFrame(const FixedFrame& frame, const std::vector<Billboard>& billboards,
                          const FixedStyle& style = {});
+  /// The benchmarks' fill-rate floor of this path, a GL 1.x bare-quad pass: the frame drawFrame
+  /// draws (clear, objects) with each billboard a bare quad of its cell, alpha tested, untinted and
+  /// without its outline, and no puff texture pass (the texture is drawn once, on the first call,
+  /// with the default style). Its image is drawFrame's with outlines off for untinted billboards
+  /// once the texture holds the same puffs. Errors as drawFrame's.
+  Result<void> drawFloorFrame(const FixedFrame& frame, const std::vector<Billboard>& billboards);
 
   /// The puff texture (GL_TEXTURE_2D, RGBA8, 2*cellSize square) as the last drawFrame left it. Cell
   /// k (0..3) is column k % 2, row k / 2 counted from texel (0, 0); it shows the mesh in
@@ -163,6 +169,8 @@ class FixedRenderer {
  private:
   struct Impl;
   explicit FixedRenderer(std::unique_ptr<Impl> impl, int cellSize, std::string contextVersion);
+  // Steps 2-4 (the frame's clear, the objects, the billboards; `bare`: the floor's), the state saved.
+  void drawScene(const FixedFrame& frame, const std::vector<Billboard>& billboards, const FixedStyle& style, bool bare);
   std::unique_ptr<Impl> impl_;
   int cellSize_;
   std::string contextVersion_;

@@ -80,8 +80,9 @@ class SceneRenderer {
 
   /// Benchmarks: on the programmable cel path, draw every cel particle as the fill-rate floor (a bare
   /// alpha-tested quad of the nailboard's size) and every media particle as its quad with a fragment
-  /// program that computes nothing; the rest of the frame as usual. Ignored by the other paths. Off
-  /// by default. docs/bench/README.md says what it measures.
+  /// program that computes nothing; on the fixed path, every billboard as a GL 1.x bare alpha-tested
+  /// quad (fixedfunc::FixedRenderer::drawFloorFrame); the rest of the frame as usual. Ignored by the
+  /// references. Off by default. docs/bench/README.md says what it measures.
   void setFillRateFloor(bool on);
   /// Tests and benchmarks: run the media passes (the depth resolve, the layer's depth, the compose)
   /// over the whole frame, as if the media covered it, instead of over what they cover
