@@ -96,6 +96,45 @@ TEST_F(MediaLayersTest, FullResolutionCompositionIsOpaqueTimesTransmittancePlusM
   EXPECT_NEAR(px[y * 96 + 48].r, 0.1f, 1e-4);  // the opaque colour target holds half floats
 }
 
+// The passes over what the media cover (setCoverage) draw the whole frame's passes' image to the bit
+// at every layer scale, for a small dense puff beside the pole: at 1/8 a layer texel is wider than the
+// puff, and the upsampling carries it past its billboard's box by up to two texels, which the box's
+// padding holds (unpadded, pixels just outside the box change).
+TEST_F(MediaLayersTest, PassesOverTheCoverageDrawTheWholeFramesImage) {
+  ASSERT_TRUE(renderer_->setMaterials({plainMaterial(4.0f)}).ok());
+  constexpr int w = 96, h = 64;
+  Camera cam;
+  media::Frame f = cam.frame(0);
+  f.projection = glm::perspective(glm::radians(cam.fovDegrees), static_cast<float>(w) / h, cam.nearPlane, cam.farPlane);
+  f.width = w;
+  f.height = h;
+  const media::Particle p = sphereAt({1.1f, 0.4f, -6}, 0.35f);
+  const media::PixelBox box = media::coverage(f, std::span(&p, 1));
+  EXPECT_LT((box.x1 - box.x0) * (box.y1 - box.y0), w * h / 20);
+  for (const float scale : {1.0f, 0.5f, 0.25f, 0.125f}) {
+    std::vector<glm::vec4> px[2];
+    for (int covered = 0; covered < 2; ++covered) {
+      auto layers = media::Layers::create(w, h, 1, scale);
+      ASSERT_OK(layers);
+      fillOpaque(**layers, 45, 51, cam.linear(3.0f), {0.1f, 0.1f, 0.1f, 1.0f});
+      if (covered == 1) (*layers)->setCoverage(box);
+      (*layers)->resolveOpaque();
+      (*layers)->beginMedia();
+      renderer_->draw((*layers)->layerFrame(f), std::span(&p, 1), Method::kSpherical, (*layers)->mediaDepth());
+      core::Framebuffer out = core::makeFramebuffer();
+      core::Texture color = core::makeTexture(GL_TEXTURE_2D);
+      glTextureStorage2D(color.get(), 1, GL_RGBA32F, w, h);
+      glNamedFramebufferTexture(out.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
+      (*layers)->compose(out.get(), core::Viewport{0, 0, w, h}, f, {}, {});
+      px[covered].resize(static_cast<std::size_t>(w) * h);
+      glGetTextureImage(color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px[covered].size() * sizeof(glm::vec4)),
+                        px[covered].data());
+    }
+    EXPECT_EQ(px[1], px[0]) << "layer scale " << scale;
+  }
+  EXPECT_EQ(core::drainGlErrors(), "");
+}
+
 TEST_F(MediaLayersTest, DepthAwareUpsamplingRemovesHalosAroundNearEdges) {
   ASSERT_TRUE(renderer_->setMaterials({plainMaterial(0.6f)}).ok());
   const auto reference = composeScene(*renderer_, 1.0f, true);
