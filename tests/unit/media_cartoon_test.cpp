@@ -213,19 +213,20 @@ TEST_F(CartoonMedia, ALoneSphereIsAFlatDiscRingedByInkAtItsIsoLine) {
 }
 
 // The passes over what the media cover (setCoverage with the ink's width) draw the whole frame's
-// passes' image to the bit: a small dense puff, whose iso-line lies near its billboard's edge and
-// whose ink reaches up to 8 px past it, at full and quarter layer resolution; drawn after a larger
-// puff in the same place, whose seeds around the smaller one's box must not be read.
+// passes' image to the bit: a small dense puff on the view axis, whose iso-line lies within a pixel
+// or two of its billboard's edge and whose ink reaches up to 12 px past it, at full and quarter layer
+// resolution; drawn after a larger puff in the same place, whose seeds around the smaller one's box
+// must not be read.
 TEST_F(CartoonMedia, PassesOverTheCoverageDrawTheWholeFramesImage) {
   for (float scale : {1.0f, 0.25f}) {
-    for (float width : {2.0f, 8.0f}) {
+    for (float width : {2.0f, 12.0f}) {
       const media::Settings settings = cartoonSettings(width);
       CartoonKit whole(settings, scale, {smoke(30.0f)}), covered(settings, scale, {smoke(30.0f)});
-      const media::Particle before = test::sphereAt({1.2f, -0.7f, -6.0f}, 1.4f);
+      const media::Particle before = test::sphereAt({0.0f, 0.0f, -6.0f}, 1.4f);
       covered.layers->setCoverage(media::coverage(covered.camera.frame(kSize), std::span(&before, 1)),
                                   media::Style::kCartoon, width);
       covered.draw(std::span(&before, 1));
-      const media::Particle p = test::sphereAt({1.2f, -0.7f, -6.0f}, 0.5f);
+      const media::Particle p = test::sphereAt({0.0f, 0.0f, -6.0f}, 0.5f);
       const media::PixelBox box = media::coverage(covered.camera.frame(kSize), std::span(&p, 1));
       EXPECT_LT((box.x1 - box.x0) * (box.y1 - box.y0), kSize * kSize / 6);  // 12 % of the frame
       covered.layers->setCoverage(box, media::Style::kCartoon, width);
