@@ -446,7 +446,7 @@ fi
   echo "in the same run: the same frames with every particle a bare alpha-tested quad of its nailboard's"
   echo "size (\`SceneRenderer::setFillRateFloor\`); \`ratio_to_floor\` divides by it. The fixed path's rows"
   echo "divide by its own floor: its billboards as GL 1.x bare alpha-tested quads, within its limits"
-  echo "(\`fixedfunc::FixedRenderer::drawFloorFrame\`; CSVs before 2026-12-06 divide them by the"
+  echo "(\`fixedfunc::FixedRenderer::drawFloorFrame\`; CSVs made before it divide them by the"
   echo "programmable floor, which they could beat). \`bare_ms\` is the frame without particles (that path's own). y: the worst RMSE"
   echo "over those frames of the scene-linear frame values (\`renderFrame\`, not clamped) against the reference of the same particles, over"
   echo "the whole frame (as \`puffrender --max-error\` measures it); \`cel.csv\` adds the RMSE over the"
