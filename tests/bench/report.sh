@@ -13,6 +13,9 @@
 #             the other CSVs are kept (--only all does not run it: about 20 minutes on llvmpipe)
 #     tumble  puffbench --part tumble only: tumble.csv (multi-view atlases turned through yaw, pitch and
 #             roll against the cel reference); the other CSVs are kept (--only all does not run it)
+#     gpu     the GPU benchmark's package (tests/bench/gpu.sh) run on this machine's llvmpipe:
+#             gpu/llvmpipe.csv; gpu.md and gpu-s1.svg, gpu-s4.svg chart it beside every GPU's CSV in
+#             docs/report/gpu/ (docs/bench/gpu.md; --only all does not run it)
 #     tables  runs nothing: the charts and tables again from the CSVs there are
 #   puffbench options, e.g. --reps 5 --size 640 480 --physical (docs/bench/README.md lists them).
 # Every table is generated from one CSV and says which, with the command, date and machine that
@@ -30,7 +33,7 @@ if [ "${1:-}" = "--only" ]; then
   only=${2:-}
   shift 2 || true
 fi
-case $only in all | cel | media | paper | coverage | shadows | tumble | tables) ;; *) echo "report.sh: error: --only takes all, cel, media, paper, coverage, shadows, tumble or tables, got '$only'" >&2; exit 2 ;; esac
+case $only in all | cel | media | paper | coverage | shadows | tumble | gpu | tables) ;; *) echo "report.sh: error: --only takes all, cel, media, paper, coverage, shadows, tumble, gpu or tables, got '$only'" >&2; exit 2 ;; esac
 out=docs/report
 runs=$out/runs.tsv
 command -v gnuplot >/dev/null || { echo "report.sh: error: gnuplot not found (apt-get install gnuplot-nox)" >&2; exit 1; }
@@ -102,6 +105,15 @@ if [ "$only" = all ] || [ "$only" = coverage ]; then
   gl=$(sed -n '1s/^puff_bench_coverage: //p' "$tmp/log-coverage.txt")
   cp "$tmp/coverage.csv" "$out/coverage.csv"
   record coverage.csv "$(( $(date +%s) - start ))" "PUFF_GL=osmesa $build/tests/puff_bench_coverage --reps 7 --csv $out/coverage.csv"
+fi
+if [ "$only" = gpu ]; then
+  start=$(date +%s)
+  bash tests/bench/gpu.sh pack "$build" "$tmp/gpu-package" >/dev/null
+  bash "$tmp/gpu-package/gpu.sh" run --reps 3 --warm-up 1 --max-frame-s 2 --counts 1000,10000 --sizes 512 --csv "$tmp/llvmpipe.csv" 2> "$tmp/log-gpu.txt" || { cat "$tmp/log-gpu.txt" >&2; exit 1; }
+  gl=$(sed -n '1s/^puff_gpubench: //p' "$tmp/log-gpu.txt")
+  mkdir -p "$out/gpu"
+  cp "$tmp/llvmpipe.csv" "$out/gpu/llvmpipe.csv"
+  record gpu/llvmpipe.csv "$(( $(date +%s) - start ))" "bash tests/bench/gpu.sh pack $build; bash $build/gpu-package/gpu.sh run --reps 3 --warm-up 1 --max-frame-s 2 --counts 1000,10000 --sizes 512 --csv $out/gpu/llvmpipe.csv"
 fi
 if [ "$only" = shadows ]; then
   [ -x "$build/tests/puffbench" ] || { echo "report.sh: error: $build/tests/puffbench not built" >&2; exit 1; }
@@ -309,6 +321,52 @@ plot "$tmp/jump2.dat" using 2:xtic(1) title "wall through a smoke ball", "" usin
 GP
 fi
 
+# The GPU benchmark: every machine's CSV in docs/report/gpu/ (docs/bench/gpu.md), one table row per
+# case and samples, one column pair per machine. The time a machine is read by: a GPU's timer query,
+# llvmpipe's wall clock (its timer query does not time its rasterizer). gpu_table prints
+# "case,samples,MACHINE ms,MACHINE ratio,..." where the ratio is to the floor, or to the baseline
+# for the rows that have one (the hull's is the blend, the media's the frame without media).
+gpu_table() {
+  awk -F, 'FNR == 1 {m = FILENAME; sub(".*/", "", m); sub("[.]csv$", "", m); machines[++nm] = m
+                     delete col; for (i = 1; i <= NF; ++i) col[$i] = i; next}
+           {key = $col["case"] "," $col["samples"]; if (!(key in seen)) {seen[key] = 1; keys[++nk] = key}
+            llvm = index($col["renderer"], "llvmpipe") > 0
+            ms[key, m] = llvm ? $col["wall_ms"] : $col["gpu_ms"]
+            if ($col["baseline"] != "") r = llvm ? $col["wall_ms"] / $col["baseline_wall_ms"] : $col["gpu_over_baseline"]
+            else r = llvm ? $col["wall_over_floor"] : $col["gpu_over_floor"]
+            ratio[key, m] = r; base[key] = $col["baseline"] == "" ? "floor" : $col["baseline"]}
+           END {printf "case,samples,vs"; for (i = 1; i <= nm; ++i) printf ",%s ms,%s ratio", machines[i], machines[i]; print ""
+                for (k = 1; k <= nk; ++k) {printf "%s,%s", keys[k], base[keys[k]]
+                  for (i = 1; i <= nm; ++i) {m = machines[i]
+                    if ((keys[k], m) in ms) printf ",%.3f,%s", ms[keys[k], m], (ratio[keys[k], m] == "" ? "" : sprintf("%.2f", ratio[keys[k], m]))
+                    else printf ",,"}
+                  print ""}}' "$@"
+}
+gpu_csvs=()
+[ -d "$out/gpu" ] && mapfile -t gpu_csvs < <(ls "$out"/gpu/*.csv 2>/dev/null)
+if [ ${#gpu_csvs[@]} -gt 0 ]; then
+  gpu_table "${gpu_csvs[@]}" > "$tmp/gpu.dat"
+  machines=$(head -1 "$tmp/gpu.dat" | awk -F, '{print (NF - 3) / 2}')
+  for samples in 1 4; do
+    awk -F, -v s="$samples" 'NR == 1 {printf "case"; for (i = 5; i <= NF; i += 2) {h = $i; sub(" ratio", "", h); printf ",%s", h}; print ""; next}
+                             $2 == s {printf "%s", $1; for (i = 5; i <= NF; i += 2) printf ",%s", ($i == "" ? "NaN" : $i); print ""}' \
+      "$tmp/gpu.dat" > "$tmp/gpu-s$samples.dat"
+    chart "gpu-s$samples" 1100,600 <<GP
+set title "Each case's frame over its floor (the hull over the blend, media over no media), MSAA x$samples"
+set ylabel "ratio, within one machine's run"
+set logscale y
+set style data histograms
+set style histogram clustered gap 1
+set style fill solid 0.8 border -1
+set boxwidth 0.9
+set grid ytics
+set xtics rotate by -45 font ",8"
+set key top left
+plot for [i = 2:$((machines + 1))] "$tmp/gpu-s$samples.dat" using i:xtic(1) title columnheader(i)
+GP
+  done
+fi
+
 cp "$tmp"/*.svg "$out/"
 
 # ---- the tables the docs quote, each from one CSV ---------------------------------------------------
@@ -402,6 +460,21 @@ if [ -s "$out/coverage.csv" ]; then
                v("width"), v("height"), v("samples"), v("media_particles"), 100 * v("covered_share"), v("no_media_ms"),
                v("whole_frame_ms"), v("ms"), v("ratio_to_no_media"), v("whole_frame_ms") / v("no_media_ms"), v("ratio_to_whole_frame")}' "$out/coverage.csv"
   } > "$out/coverage.md"
+fi
+if [ ${#gpu_csvs[@]} -gt 0 ]; then
+  {
+    echo "# The GPU benchmark, machine beside machine"
+    echo
+    echo "Generated by tests/bench/report.sh from $(for f in "${gpu_csvs[@]}"; do printf '`%s` ' "$f"; done)(docs/bench/gpu.md"
+    echo "says what each case is). Per machine: the median frame ms (a GPU's timer query; llvmpipe's wall"
+    echo "clock, as its timer query does not time its rasterizer) and the ratio to what the row is measured"
+    echo "against (\`vs\`): its fill-rate floor, the blend for the hull, the frame without media for the media."
+    echo "Ratios compare within one machine's run only. Charts: [MSAA x1](gpu-s1.svg), [MSAA x4](gpu-s4.svg)."
+    echo
+    for f in "${gpu_csvs[@]}"; do provenance "${f#"$out"/}"; echo; done
+    awk -F, 'NR == 1 {printf "|"; for (i = 1; i <= NF; ++i) printf " %s |", $i; print ""; printf "|"; for (i = 1; i <= NF; ++i) printf " --- |"; print ""; next}
+             {printf "|"; for (i = 1; i <= NF; ++i) printf " %s |", $i; print ""}' "$tmp/gpu.dat"
+  } > "$out/gpu.md"
 fi
 if [ -s docs/bench/media-llvmpipe-2core.csv ]; then
   {

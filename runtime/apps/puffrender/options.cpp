@@ -25,13 +25,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The art directory when --art-dir is not given: $PUFF_ART, else build/art (where the build bakes
-// art/), relative to the working directory.
-fs::path defaultArtDir() {
-  const char* env = std::getenv("PUFF_ART");
-  return env && *env ? fs::path(env) : fs::path("build/art");
-}
-
 // The plan without -o (only --contact-sheet and/or --preview): no frame files; every frame unless --frames says.
 Result<Plan> planWithoutOutput(const Options& o, const scene::Scene& scene) {
   Plan plan;
@@ -176,8 +169,7 @@ void addRenderOptions(CLI::App& app, Options& o) {
       ->check(CLI::Range(1, 16384));
   app.add_option("--samples", o.samples, "MSAA samples per pixel, replacing the scene's: 1, 2, 4 or 8")
       ->check(CLI::IsMember({1, 2, 4, 8}));
-  app.add_option("--art-dir", o.artDir,
-                 "Directory that \"${PUFF_ART}\" in the scene's paths stands for (default: $PUFF_ART, else build/art)");
+  app.add_option("--art-dir", o.artDir, cli::kArtDirHelp);
   app.add_option("--shader-dir", o.shaderDir, "Read shaders from this directory instead of the built-in copies");
   app.add_option("--style", o.style, "Render with this style preset instead of the scene's style: " + presetList)
       ->check(CLI::IsMember(presets));
@@ -404,7 +396,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
     cli::printError(r.error());
     return 2;
   }
-  if (o.artDir.empty()) o.artDir = defaultArtDir();
+  if (o.artDir.empty()) o.artDir = cli::defaultArtDir();
   return o;
 }
 

@@ -20,12 +20,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// As puffrender: $PUFF_ART, else build/art relative to the working directory.
-fs::path defaultArtDir() {
-  const char* env = std::getenv("PUFF_ART");
-  return env && *env ? fs::path(env) : fs::path("build/art");
-}
-
 // --frames: a count N (frames 0 to N-1) or a range A-B, into `o`. Returns the exit code when the text
 // is neither (after printing why).
 std::optional<int> readFrames(const std::string& framesText, Options& o) {
@@ -112,8 +106,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
                  "Image height in pixels (default: the scene's output height, at most 1200); the window is at least "
                  "480 tall when the panels are shown")
       ->check(CLI::Range(16, core::kMaxImageSize));
-  app.add_option("--art-dir", o.artDir,
-                 "Directory that \"${PUFF_ART}\" in the scene's paths stands for (default: $PUFF_ART, else build/art)");
+  app.add_option("--art-dir", o.artDir, cli::kArtDirHelp);
   app.add_option("--shader-dir", o.shaderDir,
                  "Read shaders from this directory instead of the built-in copies, and reload when they change");
   app.add_option("--screenshot-dir", o.screenshotDir,
@@ -129,7 +122,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
     if (const auto exitCode = checkScreenshotName(o.screenshot)) return *exitCode;
   }
   if (!o.screenshot.empty() && !o.frames) o.frames = std::pair{0, 0};
-  if (o.artDir.empty()) o.artDir = defaultArtDir();
+  if (o.artDir.empty()) o.artDir = cli::defaultArtDir();
   return o;
 }
 

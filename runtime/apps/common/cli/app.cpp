@@ -1,6 +1,7 @@
 #include <cli/app.h>
 
 #include <cstdio>
+#include <cstdlib>
 
 #include <CLI/CLI.hpp>
 
@@ -21,6 +22,11 @@ void printError(const std::string& message) {
 }
 
 void printError(const Error& error) { printError(error.message); }
+
+std::filesystem::path defaultArtDir() {
+  const char* env = std::getenv("PUFF_ART");
+  return env && *env ? std::filesystem::path(env) : std::filesystem::path("build/art");
+}
 
 std::optional<int> parse(CLI::App& app, int argc, char** argv) {
   try {

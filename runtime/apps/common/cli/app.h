@@ -4,6 +4,7 @@
 #pragma once
 
 #include <exception>
+#include <filesystem>
 #include <new>
 #include <optional>
 #include <string>
@@ -30,6 +31,13 @@ void printError(const Error& error);
 /// 0 after printing --help or --version, 2 after printing CLI11's message as an error and a pointer
 /// to --help.
 std::optional<int> parse(CLI::App& app, int argc, char** argv);
+
+/// What "${PUFF_ART}" in a scene's paths stands for when --art-dir is not given: $PUFF_ART, else
+/// build/art (where the build bakes art/), relative to the working directory.
+std::filesystem::path defaultArtDir();
+/// --art-dir's help, the same in every tool that reads scenes.
+inline constexpr const char* kArtDirHelp =
+    "Directory that \"${PUFF_ART}\" in the scene's paths stands for (default: $PUFF_ART, else build/art)";
 
 namespace detail {
 void setName(const char* name);
