@@ -16,7 +16,7 @@ set(PUFF_TESTS_UNIT
 set(PUFF_TESTS_GL
   bake_atlas_test.cpp bake_lod_mips_test.cpp fixedfunc_draw_test.cpp host_layers_errors_test.cpp
   host_state_bindings_test.cpp media_layers_test.cpp media_model_test.cpp nailboard_shadow_test.cpp reference_gpu_test.cpp
-  bake_test.cpp cel_floor_test.cpp cel_reference_test.cpp colour_pipeline_test.cpp compose_test.cpp
+  bake_test.cpp cel_floor_test.cpp cel_reference_test.cpp colour_pipeline_test.cpp compose_test.cpp debug_names_test.cpp
   cooked_image_test.cpp fixedfunc_test.cpp gl_context_test.cpp host_depth_test.cpp host_media_test.cpp
   host_state_test.cpp lod_kept_test.cpp media_cartoon_test.cpp media_popping_test.cpp media_sort_test.cpp
   media_test.cpp nailboard_test.cpp opaque_test.cpp opaque_volume_test.cpp reference_test.cpp reload_test.cpp

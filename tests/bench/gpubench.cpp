@@ -8,7 +8,7 @@
 //                 puffs filling the same cloud), S x S pixels, no shadows; N 1k, 10k, 50k; S 512, 1024
 //   full-map      the same with shadows by the map
 //   full-volumes  the same with shadows by volumes
-//   cloud-50k     the scene as it is, at 1920 x 1080
+//   cloud-50k     the scene as it is, at 1920 x 1080 (--quick: 480 x 270)
 //   blend, hull   dust-roll frames 30-35 at 960 x 540, its oriented puffs drawn by blending views /
 //                 by the hull (style.tumble); the hull's baseline is the blend
 //   no-media      explosion-walls frame 20 at 960 x 540 without its media (particles, emitters and
@@ -40,6 +40,7 @@
 #include <vector>
 
 #include <puff/core/gl.h>
+#include <puff/core/shader.h>
 #include <puff/gl_api.h>
 #include <puff/platform/gl_context.h>
 #include <puff/render/render.h>
@@ -65,6 +66,8 @@ struct Options {
   std::vector<int> counts{1000, 10000, 50000};  ///< the nailboard cases' puffs
   std::vector<int> sizes{512, 1024};            ///< the nailboard cases' frame sides
   bool quick = false;                           ///< the smallest case of each group, one round: proves the binary runs
+  std::vector<std::string> groups;              ///< the groups to run; empty: all
+  fs::path shaderDir;                           ///< read the shaders here instead of the built-in copies
   double maxFrameS = 1e9;                       ///< a case whose first frame takes longer is timed by that round alone
 };
 
@@ -83,9 +86,8 @@ struct Timing {
 // The cases in the order they run (see the file's comment).
 std::vector<Case> plan(const Options& o) {
   std::vector<Case> cases;
-  const std::vector<std::size_t> counts =
-      o.quick ? std::vector<std::size_t>{1000} : std::vector<std::size_t>{1000, 10000, 50000};
-  const std::vector<int> sizes = o.quick ? std::vector<int>{512} : std::vector<int>{512, 1024};
+  const std::vector<int> counts = o.quick ? std::vector<int>{o.counts.front()} : o.counts;
+  const std::vector<int> sizes = o.quick ? std::vector<int>{o.sizes.front()} : o.sizes;
   for (int samples : o.samples) {
     for (int size : sizes) {
       for (int n : counts) {
@@ -127,7 +129,16 @@ std::vector<Case> plan(const Options& o) {
                          ""});
       }
     }
-    if (!o.quick) cases.push_back({"cloud-50k", "cloud-50k-1080", "cloud-50k.json", 1920, 1080, samples, {0}, {}, ""});
+    const int cloudWidth = o.quick ? 480 : 1920, cloudHeight = o.quick ? 270 : 1080;
+    cases.push_back({"cloud-50k",
+                     "cloud-50k-" + std::to_string(cloudHeight),
+                     "cloud-50k.json",
+                     cloudWidth,
+                     cloudHeight,
+                     samples,
+                     {0},
+                     [](scene::Scene&) {},
+                     ""});
     const std::vector<int> tumbleFrames = o.quick ? std::vector<int>{30} : std::vector<int>{30, 31, 32, 33, 34, 35};
     auto tumble = [](cel::TumbleMethod m) { return [=](scene::Scene& s) { s.style.tumble = m; }; };
     cases.push_back(
@@ -317,7 +328,7 @@ int usage(const char* message) {
 
 constexpr const char* kHelp =
     "usage: puff_gpubench --scenes DIR [--csv FILE] [--reps N] [--warm-up N] [--samples LIST] [--counts LIST]\n"
-    "                     [--sizes LIST] [--max-frame-s S] [--quick]\n"
+    "                     [--sizes LIST] [--groups LIST] [--shader-dir DIR] [--max-frame-s S] [--quick]\n"
     "What Puff's frames cost on this machine's GL (PUFF_GL: egl, the only backend it has), each beside its\n"
     "fill-rate floor: nailboards, the full frame with the map's and the volumes' shadows (1k, 10k, 50k puffs\n"
     "at 512^2 and 1024^2), cloud-50k at 1920x1080, dust-roll's hull against its blend, explosion-walls'\n"
@@ -329,6 +340,8 @@ constexpr const char* kHelp =
     "  --samples LIST  MSAA samples, comma-separated, each 1, 2, 4 or 8 (default 1,4)\n"
     "  --counts LIST   the nailboard cases' puff counts, each in [1, 50000] (default 1000,10000,50000)\n"
     "  --sizes LIST    the nailboard cases' frame sides in pixels, each in [16, 4096] (default 512,1024)\n"
+    "  --groups LIST   run only these groups: nailboards, full-map, full-volumes, cloud-50k, tumble, media\n"
+    "  --shader-dir DIR read the shaders from DIR instead of the built-in copies (a variant's cost)\n"
     "  --max-frame-s S a case whose first frame takes longer than S seconds is timed by that round alone\n"
     "                  (default: no limit; llvmpipe's report run uses it)\n"
     "  --quick         one small case per group, one round: shows the binary runs here\n"
@@ -388,6 +401,19 @@ int parse(int argc, char** argv, Options& o) {
       const double x = v ? std::strtod(v, &end) : 0.0;
       if (!v || *end != '\0' || !(x > 0.0)) return usage("--max-frame-s needs a number of seconds > 0");
       o.maxFrameS = x;
+    } else if (a == "--groups") {
+      const char* v = value();
+      if (!v) return usage("--groups needs a comma-separated list");
+      std::string names = v;
+      for (std::size_t at = 0; at <= names.size();) {
+        const std::size_t end = std::min(names.find(',', at), names.size());
+        o.groups.push_back(names.substr(at, end - at));
+        at = end + 1;
+      }
+    } else if (a == "--shader-dir") {
+      const char* v = value();
+      if (!v) return usage("--shader-dir needs a directory");
+      o.shaderDir = v;
     } else if (a == "--quick") {
       o.quick = true;
     } else {
@@ -395,6 +421,12 @@ int parse(int argc, char** argv, Options& o) {
     }
   }
   if (o.scenes.empty()) return usage("--scenes DIR is required");
+  for (const std::string& g : o.groups) {
+    static const char* const known[] = {"nailboards", "full-map", "full-volumes", "cloud-50k", "tumble", "media"};
+    if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return g == k; }) == std::end(known))
+      return usage(
+          ("--groups: no group \"" + g + "\" (nailboards, full-map, full-volumes, cloud-50k, tumble, media)").c_str());
+  }
   return -1;
 }
 
@@ -412,7 +444,12 @@ int main(int argc, char** argv) {
   }
   const std::string gpuName = rendererName();
   std::fprintf(stderr, "%s: %s\n", kTool, gpuName.c_str());
-  const std::vector<Case> cases = plan(o);
+  if (!o.shaderDir.empty()) core::setShaderDir(o.shaderDir);
+  std::vector<Case> cases = plan(o);
+  if (!o.groups.empty()) {
+    std::erase_if(
+        cases, [&](const Case& c) { return std::find(o.groups.begin(), o.groups.end(), c.group) == o.groups.end(); });
+  }
   std::string csv = kHeader;
   const auto t0 = Clock::now();
   for (std::size_t i = 0; i < cases.size(); ++i) {

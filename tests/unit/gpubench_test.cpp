@@ -149,6 +149,7 @@ TEST(GpuBench, PacksAndRunsFromItsPackage) {
   const std::map<std::string, std::string> particles{{"nailboards-1000-512", "1000"},
                                                      {"full-map-1000-512", "1000"},
                                                      {"full-volumes-1000-512", "1000"},
+                                                     {"cloud-50k-270", "50000"},
                                                      {"blend", "84"},
                                                      {"hull", "84"},
                                                      {"no-media", "0"},

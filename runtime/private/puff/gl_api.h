@@ -7,7 +7,30 @@
 
 #include <puff/glad/gl.h>
 
+#include <string_view>
+
 #include <puff/core/gl.h>
+
+namespace puff::core {
+/// Whether the current context names objects and passes for a capture: KHR_debug (GL 4.3 or the
+/// extension). The fixed path's GL 1.x contexts have neither.
+bool hasDebugNames();
+/// Labels object `name` (GL_PROGRAM, GL_TEXTURE, GL_BUFFER, GL_FRAMEBUFFER, GL_RENDERBUFFER,
+/// GL_VERTEX_ARRAY) "puff: WHAT" where hasDebugNames(); nothing otherwise.
+void labelObject(GLenum kind, GLuint name, std::string_view what);
+/// A pass in a capture: a debug group "puff: PASS" pushed for the object's life where
+/// hasDebugNames() (nothing otherwise). No GL state changes.
+class DebugGroup {
+ public:
+  explicit DebugGroup(std::string_view pass);
+  ~DebugGroup();
+  DebugGroup(const DebugGroup&) = delete;
+  DebugGroup& operator=(const DebugGroup&) = delete;
+
+ private:
+  bool pushed_ = false;
+};
+}  // namespace puff::core
 
 namespace puff::core::detail {
 /// Loads Puff's pointers through `load` unless they already came from `loader` (which of

@@ -66,7 +66,8 @@ using shader::FrameBlockData;
 
 }  // namespace
 
-FrameBlock::FrameBlock(const Bindings& bindings) : buffer_(core::makeBuffer()), binding_(bindings.frameBlock) {
+FrameBlock::FrameBlock(const Bindings& bindings)
+    : buffer_(core::makeBuffer("cel frame block")), binding_(bindings.frameBlock) {
   glNamedBufferStorage(buffer_.get(), sizeof(FrameBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
@@ -151,7 +152,7 @@ Result<Ramp> Ramp::create(const core::Image& image, const std::string& what, Ram
   const std::vector<float> row = rowRgb(image, image.height / 2);
   Ramp r;
   r.width_ = image.width;
-  r.texture_ = core::makeTexture(GL_TEXTURE_1D);
+  r.texture_ = core::makeTexture(GL_TEXTURE_1D, "ramp");
   const GLuint t = r.texture_.get();
   glTextureStorage1D(t, 1, GL_RGBA16F, image.width);
   std::vector<float> rgba(static_cast<std::size_t>(image.width) * 4, 1.0f);
@@ -225,7 +226,7 @@ Result<Gradient> Gradient::create(const core::Image& image, const std::string& w
     }
   }
   Gradient g;
-  g.texture_ = core::makeTexture(GL_TEXTURE_2D);
+  g.texture_ = core::makeTexture(GL_TEXTURE_2D, "ambient gradient");
   const GLuint t = g.texture_.get();
   glTextureStorage2D(t, 1, GL_RGBA16F, image.width, image.height);
   glTextureSubImage2D(t, 0, 0, 0, image.width, image.height, GL_RGBA, GL_FLOAT, rgba.data());

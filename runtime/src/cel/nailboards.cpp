@@ -158,12 +158,12 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
     detail::assignBindPoints(p, bindings);
   }
   // Binding texture 0 would empty every target of the unit (glBindTextureUnit), the host's too.
-  m.noBack = core::makeTexture(GL_TEXTURE_2D);
+  m.noBack = core::makeTexture(GL_TEXTURE_2D, "nailboards: no back map");
   glTextureStorage2D(m.noBack.get(), 1, GL_R8, 1, 1);
   glClearTexImage(m.noBack.get(), 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);  // 0; no unpack state touched
-  m.vao = core::makeVertexArray();
-  m.particles = core::makeBuffer();
-  m.cells = core::makeBuffer();
+  m.vao = core::makeVertexArray("nailboards: vertex array");
+  m.particles = core::makeBuffer("nailboards: particles");
+  m.cells = core::makeBuffer("nailboards: atlas cells");
   return r;
 }
 
@@ -187,7 +187,7 @@ Result<core::Texture> uploadLevels(const core::AtlasDesc& d, std::span<const cor
                  " texels, more than this GL's largest texture (" + std::to_string(maxSize) +
                  "): bake it with a smaller --size or fewer --views"};
   }
-  core::Texture t = core::makeTexture(GL_TEXTURE_2D);
+  core::Texture t = core::makeTexture(GL_TEXTURE_2D, "atlas " + key);
   const GLsizei nLevels = static_cast<GLsizei>(levels.size());
   // GL_OUT_OF_MEMORY (or any error) from the storage or the uploads: a message, not a blank atlas.
   const auto cannotMake = [&](const std::string& glErrors) {
@@ -346,10 +346,10 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
     cellData.emplace_back(up, 0.0f);
     cellData.emplace_back(dir, 0.0f);
   }
-  m.cells = core::makeBuffer();
+  m.cells = core::makeBuffer("nailboards: atlas cells");
   glNamedBufferStorage(m.cells.get(), static_cast<GLsizeiptr>(cellData.size() * sizeof(glm::vec4)), cellData.data(), 0);
   const ShadowProfiles profiles = shadowProfiles(atlas);
-  m.shadowProfile = core::makeTexture(GL_TEXTURE_2D);
+  m.shadowProfile = core::makeTexture(GL_TEXTURE_2D, "nailboards: silhouette radius table");
   const GLuint sp = m.shadowProfile.get();
   const auto rows = static_cast<GLsizei>(d.cells.size());
   glTextureStorage2D(sp, 1, GL_R32F, kPolar, rows);
@@ -382,6 +382,9 @@ DrawStats NailboardRenderer::upload(std::span<const Particle> particles) {
 }
 
 DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) {
+  const core::DebugGroup group(pass == ShadePass::kLit        ? "nailboards (lit)"
+                               : pass == ShadePass::kShadowed ? "nailboards (shadowed)"
+                                                              : "nailboards (depth)");
   Impl& m = *impl_;
   DrawStats s;
   s.particles = m.count;
@@ -420,6 +423,7 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
 }
 
 DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& eye) {
+  const core::DebugGroup group("nailboards (shadow casters)");
   Impl& m = *impl_;
   DrawStats s;
   s.particles = m.count;
@@ -449,6 +453,7 @@ DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& 
 }
 
 DrawStats NailboardRenderer::drawBaseline(const Style& style) {
+  const core::DebugGroup group("nailboards (fill-rate floor)");
   Impl& m = *impl_;
   DrawStats s;
   s.particles = m.count;
@@ -468,6 +473,7 @@ DrawStats NailboardRenderer::drawBaseline(const Style& style) {
 
 DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::vec4& floorPlane,
                                                const VolumeClip& clip) {
+  const core::DebugGroup group("nailboards (shadow volumes)");
   Impl& m = *impl_;
   DrawStats s;
   s.particles = m.count;

@@ -191,8 +191,8 @@ Result<std::unique_ptr<OpaqueRenderer>> OpaqueRenderer::create(const Bindings& b
   im.caster = std::move(caster);
   im.volume = std::move(volume);
   for (const GLuint p : {im.program.get(), im.caster.get(), im.volume.get()}) detail::assignBindPoints(p, bindings);
-  im.vao = core::makeVertexArray();
-  im.adjacencyVao = core::makeVertexArray();
+  im.vao = core::makeVertexArray("opaque objects: vertex array");
+  im.adjacencyVao = core::makeVertexArray("opaque objects: adjacency vertex array");
   const GLuint offsets[] = {offsetof(Vertex, position), offsetof(Vertex, normal)};
   for (const GLuint vao : {im.vao.get(), im.adjacencyVao.get()}) {
     for (GLuint a = 0; a < 2; ++a) {
@@ -274,9 +274,9 @@ Result<void> OpaqueRenderer::setObjects(std::vector<OpaqueObject> objects) {
   }
   Impl& im = *impl_;
   // Fresh buffers each time: immutable storage sized to this set.
-  im.vbo = core::makeBuffer();
-  im.ibo = core::makeBuffer();
-  im.adjacency = core::makeBuffer();
+  im.vbo = core::makeBuffer("opaque objects: vertices");
+  im.ibo = core::makeBuffer("opaque objects: indices");
+  im.adjacency = core::makeBuffer("opaque objects: adjacency indices");
   if (!vertices.empty()) {
     glNamedBufferStorage(im.vbo.get(), static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(), 0);
     glNamedBufferStorage(im.ibo.get(), static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
@@ -296,6 +296,9 @@ Result<void> OpaqueRenderer::setObjects(std::vector<OpaqueObject> objects) {
 }
 
 void OpaqueRenderer::draw(ShadePass pass) {
+  const core::DebugGroup group(pass == ShadePass::kLit        ? "opaque objects (lit)"
+                               : pass == ShadePass::kShadowed ? "opaque objects (shadowed)"
+                                                              : "opaque objects (depth)");
   Impl& im = *impl_;
   if (im.items.empty()) return;
 
@@ -327,6 +330,7 @@ void OpaqueRenderer::draw(ShadePass pass) {
 }
 
 void OpaqueRenderer::drawCasters() {
+  const core::DebugGroup group("opaque objects (shadow casters)");
   Impl& im = *impl_;
   if (im.items.empty()) return;
   resetPassState();

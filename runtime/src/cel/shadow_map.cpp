@@ -150,7 +150,7 @@ ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Sty
 }
 
 ShadowMap::ShadowMap(const Bindings& bindings)
-    : bindings_(bindings), lightBlock_(bindings), fbo_(core::makeFramebuffer()) {}
+    : bindings_(bindings), lightBlock_(bindings), fbo_(core::makeFramebuffer("shadow map")) {}
 
 void ShadowMap::prepare(const Frame& eye, const Bounds& casters, const Style& style, const Bounds& reach) {
   GLint maxTexture = 4096;
@@ -160,9 +160,9 @@ void ShadowMap::prepare(const Frame& eye, const Bounds& casters, const Style& st
   allocatedW_ = plan_.width;
   allocatedH_ = plan_.height;
   // Nearest sampling, no comparison: the receivers compare depths and ids themselves.
-  depth_ = core::makeTexture(GL_TEXTURE_2D);
+  depth_ = core::makeTexture(GL_TEXTURE_2D, "shadow map: depth");
   glTextureStorage2D(depth_.get(), 1, GL_DEPTH_COMPONENT32F, allocatedW_, allocatedH_);
-  ids_ = core::makeTexture(GL_TEXTURE_2D);
+  ids_ = core::makeTexture(GL_TEXTURE_2D, "shadow map: caster ids");
   glTextureStorage2D(ids_.get(), 1, GL_R32UI, allocatedW_, allocatedH_);
   for (GLuint t : {depth_.get(), ids_.get()}) {
     glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_NEAREST);

@@ -77,40 +77,63 @@ void requireLoaded(const char* what) {
 }
 }  // namespace
 
+bool hasDebugNames() { return PUFF_GLAD_GL_VERSION_4_3 || PUFF_GLAD_GL_KHR_debug; }
+
+void labelObject(GLenum kind, GLuint name, std::string_view what) {
+  if (what.empty() || name == 0 || !hasDebugNames()) return;
+  const std::string text = "puff: " + std::string(what);
+  glObjectLabel(kind, name, static_cast<GLsizei>(text.size()), text.data());
+}
+
+DebugGroup::DebugGroup(std::string_view pass) : pushed_(hasDebugNames()) {
+  if (!pushed_) return;
+  const std::string text = "puff: " + std::string(pass);
+  glPushDebugGroup(GL_DEBUG_SOURCE_APPLICATION, 0, static_cast<GLsizei>(text.size()), text.data());
+}
+
+DebugGroup::~DebugGroup() {
+  if (pushed_) glPopDebugGroup();
+}
+
 bool glLoaded() { return puff_glad_glCreateBuffers != nullptr && puff_glad_glGetString != nullptr; }
 
-Texture makeTexture(GlEnum target) {
+Texture makeTexture(GlEnum target, std::string_view what) {
   requireLoaded("a GL texture was made");
   GlId id = 0;
   glCreateTextures(target, 1, &id);
+  labelObject(GL_TEXTURE, id, what);
   return Texture(id);
 }
 
-Buffer makeBuffer() {
+Buffer makeBuffer(std::string_view what) {
   requireLoaded("a GL buffer was made");
   GlId id = 0;
   glCreateBuffers(1, &id);
+  labelObject(GL_BUFFER, id, what);
   return Buffer(id);
 }
 
-Framebuffer makeFramebuffer() {
+Framebuffer makeFramebuffer(std::string_view what) {
   requireLoaded("a GL framebuffer was made");
   GlId id = 0;
   glCreateFramebuffers(1, &id);
+  labelObject(GL_FRAMEBUFFER, id, what);
   return Framebuffer(id);
 }
 
-Renderbuffer makeRenderbuffer() {
+Renderbuffer makeRenderbuffer(std::string_view what) {
   requireLoaded("a GL renderbuffer was made");
   GlId id = 0;
   glCreateRenderbuffers(1, &id);
+  labelObject(GL_RENDERBUFFER, id, what);
   return Renderbuffer(id);
 }
 
-VertexArray makeVertexArray() {
+VertexArray makeVertexArray(std::string_view what) {
   requireLoaded("a GL vertex array was made");
   GlId id = 0;
   glCreateVertexArrays(1, &id);
+  labelObject(GL_VERTEX_ARRAY, id, what);
   return VertexArray(id);
 }
 

@@ -428,6 +428,9 @@ Result<Program> buildProgram(const std::vector<std::string>& stageFiles) {
     if (lines.empty()) lines.push_back("link " + names + ": failed (no log)");
     return Error{join(lines)};
   }
+  std::string names;
+  for (const std::string& f : stageFiles) names += (names.empty() ? "" : " + ") + f;
+  labelObject(GL_PROGRAM, program.get(), names);
   return program;
 }
 

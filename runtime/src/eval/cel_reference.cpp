@@ -24,8 +24,8 @@ using nlohmann::json;
 namespace {
 
 // A 2D texture of one level, sampled nearest (ids and depths must never be filtered).
-core::Texture nearestTexture(GLenum format, int w, int h) {
-  core::Texture t = core::makeTexture(GL_TEXTURE_2D);
+core::Texture nearestTexture(GLenum format, int w, int h, std::string_view what) {
+  core::Texture t = core::makeTexture(GL_TEXTURE_2D, what);
   glTextureStorage2D(t.get(), 1, format, w, h);
   glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
@@ -124,12 +124,12 @@ struct CelReference::Impl {
     if (w == width && h == height && fbo) return;
     width = w;
     height = h;
-    fbo = core::makeFramebuffer();
-    idsCopy = nearestTexture(GL_R32UI, w, h);
-    color = nearestTexture(GL_RGBA16F, w, h);  // scene-linear: the box filter averages light
-    ids = nearestTexture(GL_R32UI, w, h);
-    depthStencil = nearestTexture(GL_DEPTH24_STENCIL8, w, h);
-    depthCopy = nearestTexture(GL_DEPTH24_STENCIL8, w, h);
+    fbo = core::makeFramebuffer("cel reference: frame");
+    idsCopy = nearestTexture(GL_R32UI, w, h, "cel reference: ids copy");
+    color = nearestTexture(GL_RGBA16F, w, h, "cel reference: colour");  // scene-linear: the box filter averages light
+    ids = nearestTexture(GL_R32UI, w, h, "cel reference: ids");
+    depthStencil = nearestTexture(GL_DEPTH24_STENCIL8, w, h, "cel reference: depth and stencil");
+    depthCopy = nearestTexture(GL_DEPTH24_STENCIL8, w, h, "cel reference: depth copy");
     glTextureParameteri(depthCopy.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
     glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
     glNamedFramebufferTexture(fbo.get(), GL_COLOR_ATTACHMENT1, ids.get(), 0);
@@ -140,20 +140,20 @@ struct CelReference::Impl {
     if (shadowSize == options.shadowMapSize) return;
     shadowSize = options.shadowMapSize;
     const int s = shadowSize;
-    shadowNear = nearestTexture(GL_R32F, s, s);
-    shadowId = nearestTexture(GL_R32UI, s, s);
-    shadowOther = nearestTexture(GL_R32F, s, s);
-    shadowDepth1 = core::makeTexture(GL_TEXTURE_2D);
-    shadowDepth2 = core::makeTexture(GL_TEXTURE_2D);
+    shadowNear = nearestTexture(GL_R32F, s, s, "cel reference: shadow nearest");
+    shadowId = nearestTexture(GL_R32UI, s, s, "cel reference: shadow ids");
+    shadowOther = nearestTexture(GL_R32F, s, s, "cel reference: shadow others");
+    shadowDepth1 = core::makeTexture(GL_TEXTURE_2D, "cel reference: shadow depth 1");
+    shadowDepth2 = core::makeTexture(GL_TEXTURE_2D, "cel reference: shadow depth 2");
     glTextureStorage2D(shadowDepth1.get(), 1, GL_DEPTH_COMPONENT32F, s, s);
     glTextureStorage2D(shadowDepth2.get(), 1, GL_DEPTH_COMPONENT32F, s, s);
-    shadowFbo1 = core::makeFramebuffer();
+    shadowFbo1 = core::makeFramebuffer("cel reference: shadow 1");
     glNamedFramebufferTexture(shadowFbo1.get(), GL_COLOR_ATTACHMENT0, shadowNear.get(), 0);
     glNamedFramebufferTexture(shadowFbo1.get(), GL_COLOR_ATTACHMENT1, shadowId.get(), 0);
     glNamedFramebufferTexture(shadowFbo1.get(), GL_DEPTH_ATTACHMENT, shadowDepth1.get(), 0);
     const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
     glNamedFramebufferDrawBuffers(shadowFbo1.get(), 2, both);
-    shadowFbo2 = core::makeFramebuffer();
+    shadowFbo2 = core::makeFramebuffer("cel reference: shadow 2");
     glNamedFramebufferTexture(shadowFbo2.get(), GL_COLOR_ATTACHMENT0, shadowOther.get(), 0);
     glNamedFramebufferTexture(shadowFbo2.get(), GL_DEPTH_ATTACHMENT, shadowDepth2.get(), 0);
     glNamedFramebufferDrawBuffer(shadowFbo2.get(), GL_COLOR_ATTACHMENT0);
@@ -222,7 +222,7 @@ struct CelReference::Impl {
     if (!packed.empty()) {
       const std::size_t bytes = packed.size() * sizeof(Instance);
       if (bytes > instanceCapacity) {
-        instances = core::makeBuffer();
+        instances = core::makeBuffer("cel reference: instances");
         instanceCapacity = std::max<std::size_t>(bytes, 2 * instanceCapacity);
         glNamedBufferStorage(instances.get(), static_cast<GLsizeiptr>(instanceCapacity), nullptr,
                              GL_DYNAMIC_STORAGE_BIT);
@@ -461,8 +461,8 @@ Result<std::unique_ptr<CelReference>> CelReference::create(std::vector<mesh::Tri
   m.stencilProgram = std::move(stencil);
   m.silhouetteProgram = std::move(silhouette);
   m.downsampleProgram = std::move(down);
-  m.emptyVao = core::makeVertexArray();
-  m.instances = core::makeBuffer();
+  m.emptyVao = core::makeVertexArray("cel reference: empty vertex array");
+  m.instances = core::makeBuffer("cel reference: instances");
 
   struct Vertex {
     glm::vec3 position, normal, color;
@@ -473,14 +473,14 @@ Result<std::unique_ptr<CelReference>> CelReference::create(std::vector<mesh::Tri
     for (std::size_t i = 0; i < vertices.size(); ++i) {
       vertices[i] = {t.positions[i], t.normals[i], t.hasColors() ? t.colors[i] : glm::vec3(1.0f)};
     }
-    pm.vertices = core::makeBuffer();
-    pm.indices = core::makeBuffer();
+    pm.vertices = core::makeBuffer("cel reference: puff mesh vertices");
+    pm.indices = core::makeBuffer("cel reference: puff mesh indices");
     glNamedBufferStorage(pm.vertices.get(), static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(),
                          0);
     glNamedBufferStorage(pm.indices.get(), static_cast<GLsizeiptr>(t.triangles.size() * sizeof(glm::uvec3)),
                          t.triangles.data(), 0);
     pm.indexCount = static_cast<GLsizei>(t.triangles.size() * 3);
-    pm.vao = core::makeVertexArray();
+    pm.vao = core::makeVertexArray("cel reference: puff mesh");
     const GLuint vao = pm.vao.get();
     glVertexArrayVertexBuffer(vao, 0, pm.vertices.get(), 0, sizeof(Vertex));
     glVertexArrayElementBuffer(vao, pm.indices.get());
@@ -505,10 +505,10 @@ Result<std::unique_ptr<CelReference>> CelReference::create(std::vector<mesh::Tri
         adjacency.push_back(it != across.end() ? it->second : tri[(e + 2) % 3]);
       }
     }
-    pm.adjacency = core::makeBuffer();
+    pm.adjacency = core::makeBuffer("cel reference: puff mesh adjacency");
     glNamedBufferStorage(pm.adjacency.get(), static_cast<GLsizeiptr>(adjacency.size() * sizeof(std::uint32_t)),
                          adjacency.data(), 0);
-    pm.adjacencyVao = core::makeVertexArray();
+    pm.adjacencyVao = core::makeVertexArray("cel reference: puff mesh adjacency");
     glVertexArrayVertexBuffer(pm.adjacencyVao.get(), 0, pm.vertices.get(), 0, sizeof(Vertex));
     glVertexArrayElementBuffer(pm.adjacencyVao.get(), pm.adjacency.get());
     glEnableVertexArrayAttrib(pm.adjacencyVao.get(), 0);

@@ -120,11 +120,11 @@ class ReferencePath final : public render::Path {
         }
       }
     }
-    core::Texture tex = core::makeTexture(GL_TEXTURE_2D);
+    core::Texture tex = core::makeTexture(GL_TEXTURE_2D, "media reference: frame");
     glTextureStorage2D(tex.get(), 1, GL_RGBA32F, vp.width, vp.height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     glTextureSubImage2D(tex.get(), 0, 0, 0, vp.width, vp.height, GL_RGBA, GL_FLOAT, up.data());
-    core::Framebuffer read = core::makeFramebuffer();
+    core::Framebuffer read = core::makeFramebuffer("media reference: frame");
     glNamedFramebufferTexture(read.get(), GL_COLOR_ATTACHMENT0, tex.get(), 0);
     glBlitNamedFramebuffer(read.get(), callerFbo, 0, 0, vp.width, vp.height, vp.x, vp.y, vp.x + vp.width,
                            vp.y + vp.height, GL_COLOR_BUFFER_BIT, GL_NEAREST);

@@ -56,21 +56,21 @@ Result<std::unique_ptr<LayersBase::Impl>> LayersBase::Impl::make(int width, int 
   m->bindings = bindings;
   core::assignBindPoints(m->downsample.get(),
                          {{core::BindPoint::Kind::kSampler, "uDepthFull", bindings.resolveSource}});
-  m->vao = core::makeVertexArray();
-  m->block = core::makeBuffer();
+  m->vao = core::makeVertexArray("media layers: vertex array");
+  m->block = core::makeBuffer("media layers: compose block");
   glNamedBufferStorage(m->block.get(), sizeof(ComposeBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
 
-  m->depth = makeTexture2D(GL_R32F, width, height, GL_NEAREST);
-  m->linearFbo = core::makeFramebuffer();
+  m->depth = makeTexture2D(GL_R32F, width, height, GL_NEAREST, "media layers: linear depth");
+  m->linearFbo = core::makeFramebuffer("media layers: linear depth");
   glNamedFramebufferTexture(m->linearFbo.get(), GL_COLOR_ATTACHMENT0, m->depth.get(), 0);
-  m->mediaDepth = makeTexture2D(GL_R32F, m->mediaWidth, m->mediaHeight, GL_NEAREST);
-  m->depthFbo = core::makeFramebuffer();
+  m->mediaDepth = makeTexture2D(GL_R32F, m->mediaWidth, m->mediaHeight, GL_NEAREST, "media layers: layer depth");
+  m->depthFbo = core::makeFramebuffer("media layers: layer depth");
   glNamedFramebufferTexture(m->depthFbo.get(), GL_COLOR_ATTACHMENT0, m->mediaDepth.get(), 0);
   // 32-bit floats: Mesa llvmpipe blends half floats rounding toward zero, which over the ~100 layers of
   // a camera inside smoke darkened the image by 0.004 (4x the 8-bit rounding; puffbench measures it).
-  m->media = makeTexture2D(GL_RGBA32F, m->mediaWidth, m->mediaHeight, GL_NEAREST);
-  m->shimmer = makeTexture2D(GL_RG16F, m->mediaWidth, m->mediaHeight, GL_NEAREST);
-  m->mediaFbo = core::makeFramebuffer();
+  m->media = makeTexture2D(GL_RGBA32F, m->mediaWidth, m->mediaHeight, GL_NEAREST, "media layers: media");
+  m->shimmer = makeTexture2D(GL_RG16F, m->mediaWidth, m->mediaHeight, GL_NEAREST, "media layers: shimmer");
+  m->mediaFbo = core::makeFramebuffer("media layers: media");
   glNamedFramebufferTexture(m->mediaFbo.get(), GL_COLOR_ATTACHMENT0, m->media.get(), 0);
   glNamedFramebufferTexture(m->mediaFbo.get(), GL_COLOR_ATTACHMENT1, m->shimmer.get(), 0);
   const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
@@ -124,17 +124,17 @@ Result<void> LayersBase::Impl::makeOwn() {
                                                 {K::kSampler, "uSeeds", c + 2}});
 
   // Opaque pass: multisample textures (the depth is read per sample), resolved into textures.
-  opaqueFbo = core::makeFramebuffer();
-  msColor = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
-  msDepth = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE);
+  opaqueFbo = core::makeFramebuffer("media layers: opaque");
+  msColor = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE, "media layers: opaque colour");
+  msDepth = core::makeTexture(GL_TEXTURE_2D_MULTISAMPLE, "media layers: opaque depth");
   // Scene-linear colour (docs/colour.md): half floats, as the output target.
   glTextureStorage2DMultisample(msColor.get(), samples, GL_RGBA16F, width, height, GL_TRUE);
   glTextureStorage2DMultisample(msDepth.get(), samples, GL_DEPTH24_STENCIL8, width, height, GL_TRUE);
   glTextureParameteri(msDepth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
   glNamedFramebufferTexture(opaqueFbo.get(), GL_COLOR_ATTACHMENT0, msColor.get(), 0);
   glNamedFramebufferTexture(opaqueFbo.get(), GL_DEPTH_STENCIL_ATTACHMENT, msDepth.get(), 0);
-  color = makeTexture2D(GL_RGBA16F, width, height, GL_NEAREST);
-  resolveFbo = core::makeFramebuffer();
+  color = makeTexture2D(GL_RGBA16F, width, height, GL_NEAREST, "media layers: resolved opaque colour");
+  resolveFbo = core::makeFramebuffer("media layers: resolved opaque colour");
   glNamedFramebufferTexture(resolveFbo.get(), GL_COLOR_ATTACHMENT0, color.get(), 0);
   return {};
 }
@@ -253,8 +253,8 @@ void Layers::setHistorySlots(int slots) {
   m.history.clear();
   m.historyFbo.clear();
   for (int i = 0; i < slots; ++i) {
-    m.history.push_back(makeTexture2D(GL_RGBA16F, m.width, m.height, GL_NEAREST));
-    m.historyFbo.push_back(core::makeFramebuffer());
+    m.history.push_back(makeTexture2D(GL_RGBA16F, m.width, m.height, GL_NEAREST, "media layers: motion blur history"));
+    m.historyFbo.push_back(core::makeFramebuffer("media layers: motion blur history"));
     glNamedFramebufferTexture(m.historyFbo.back().get(), GL_COLOR_ATTACHMENT0, m.history.back().get(), 0);
   }
 }
@@ -266,6 +266,7 @@ GLuint Layers::historyFramebuffer(int slot) const {
 
 void Layers::blendHistory(GLuint target, const core::Viewport& viewport, std::span<const int> slots,
                           std::span<const float> weights) {
+  const core::DebugGroup group("media motion blur");
   Impl& m = *impl_;
   PUFF_CHECK(slots.size() == weights.size() && !slots.empty() &&
              slots.size() <= static_cast<std::size_t>(shader::kMaxBlurFrames));
@@ -306,6 +307,7 @@ Frame LayersBase::layerFrame(const Frame& full) const {
 }
 
 void Layers::resolveOpaque() {
+  const core::DebugGroup group("media: resolve the opaque frame");
   Impl& m = *impl_;
   // Its own framebuffers must not stay bound to catch the host's next draws: the draw framebuffer
   // and viewport it found are put back (two queries, answered client-side on desktop drivers).
@@ -353,6 +355,7 @@ bool isDepthFormat(GLint format) {
 }  // namespace
 
 Result<void> HostLayers::resolveHostDepth(const HostDepth& host) {
+  const core::DebugGroup group("media: resolve the host's depth");
   Impl& m = *impl_;
   // Built only on an error: this runs every frame.
   const auto what = [&] { return "resolveHostDepth: HostDepth.texture " + std::to_string(host.texture); };
@@ -416,6 +419,7 @@ Result<void> HostLayers::resolveHostDepth(const HostDepth& host) {
 
 Result<void> HostLayers::composeOver(GLuint target, const core::Viewport& viewport, const Frame& frame,
                                      std::span<const ExplosionLight> lights, const ComposeSettings& settings) {
+  const core::DebugGroup group("media compose over the host's frame");
   Impl& m = *impl_;
   if (m.cartoonBegun)
     return Error{
@@ -488,6 +492,7 @@ void LayersBase::beginMedia(Style style) {
 void Layers::compose(GLuint target, const core::Viewport& viewport, const Frame& frame,
                      std::span<const ExplosionLight> lights, const ComposeSettings& settings,
                      const CartoonCompose* cartoon) {
+  const core::DebugGroup group("media compose");
   Impl& m = *impl_;
   if ((cartoon != nullptr) != m.cartoonBegun)
     misuse(cartoon ? "Layers::compose with a CartoonCompose on a layer not begun with beginMedia(Style::kCartoon)"

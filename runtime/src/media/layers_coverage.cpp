@@ -32,23 +32,23 @@ void LayersBase::Impl::copyAround(const PixelBox& box, const core::Viewport& vie
 
 void LayersBase::Impl::makeCartoon() {
   if (cartoonMade) return;
-  cartoonFire = makeTexture2D(GL_RGBA32F, mediaWidth, mediaHeight, GL_NEAREST);
-  cartoonDepth = makeTexture2D(GL_RGBA32F, mediaWidth, mediaHeight, GL_NEAREST);
+  cartoonFire = makeTexture2D(GL_RGBA32F, mediaWidth, mediaHeight, GL_NEAREST, "cartoon media: fire");
+  cartoonDepth = makeTexture2D(GL_RGBA32F, mediaWidth, mediaHeight, GL_NEAREST, "cartoon media: depth");
   glNamedFramebufferTexture(mediaFbo.get(), GL_COLOR_ATTACHMENT2, cartoonFire.get(), 0);
   glNamedFramebufferTexture(mediaFbo.get(), GL_COLOR_ATTACHMENT3, cartoonDepth.get(), 0);
-  fill = makeTexture2D(GL_RGBA16F, width, height, GL_NEAREST);
-  field = makeTexture2D(GL_RGBA32F, width, height, GL_NEAREST);
-  fieldFbo = core::makeFramebuffer();
+  fill = makeTexture2D(GL_RGBA16F, width, height, GL_NEAREST, "cartoon media: fill");
+  field = makeTexture2D(GL_RGBA32F, width, height, GL_NEAREST, "cartoon media: field");
+  fieldFbo = core::makeFramebuffer("cartoon media: field");
   glNamedFramebufferTexture(fieldFbo.get(), GL_COLOR_ATTACHMENT0, fill.get(), 0);
   glNamedFramebufferTexture(fieldFbo.get(), GL_COLOR_ATTACHMENT1, field.get(), 0);
   const GLenum two[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
   glNamedFramebufferDrawBuffers(fieldFbo.get(), 2, two);
   for (int i = 0; i < 2; ++i) {
-    seeds[i] = makeTexture2D(GL_RGBA32UI, width, height, GL_NEAREST);
-    seedFbo[i] = core::makeFramebuffer();
+    seeds[i] = makeTexture2D(GL_RGBA32UI, width, height, GL_NEAREST, "cartoon media: ink seeds");
+    seedFbo[i] = core::makeFramebuffer("cartoon media: ink seeds");
     glNamedFramebufferTexture(seedFbo[i].get(), GL_COLOR_ATTACHMENT0, seeds[i].get(), 0);
   }
-  cartoonBlock = core::makeBuffer();
+  cartoonBlock = core::makeBuffer("cartoon media: block");
   glNamedBufferStorage(cartoonBlock.get(), sizeof(CartoonBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
   cartoonMade = true;
 }
@@ -92,6 +92,7 @@ LayersBase::Impl::Boxes LayersBase::Impl::boxes() const {
 }
 
 void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewport, const CartoonCompose& cartoon) {
+  const core::DebugGroup group("cartoon media: field, ink and compose");
   const CartoonStyle& st = cartoon.style;
   CartoonBlockData d{};
   const float inkWidth = st.outlines ? st.outlineWidth : 0.0f;

@@ -64,8 +64,8 @@ inline void scissorTo(const std::optional<PixelBox>& box, int x = 0, int y = 0) 
   std::abort();
 }
 
-inline core::Texture makeTexture2D(GLenum format, int w, int h, GLenum filter) {
-  core::Texture t = core::makeTexture(GL_TEXTURE_2D);
+inline core::Texture makeTexture2D(GLenum format, int w, int h, GLenum filter, std::string_view what) {
+  core::Texture t = core::makeTexture(GL_TEXTURE_2D, what);
   glTextureStorage2D(t.get(), 1, format, w, h);
   glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, static_cast<GLint>(filter));
   glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, static_cast<GLint>(filter));

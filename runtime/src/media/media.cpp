@@ -33,7 +33,7 @@ using shader::MaterialGpu;
 using shader::MediaBlockData;
 
 core::Texture makeDetailTexture(const core::DetailVideo* v) {
-  core::Texture t = core::makeTexture(GL_TEXTURE_3D);
+  core::Texture t = core::makeTexture(GL_TEXTURE_3D, "media: detail video");
   const bool have = v != nullptr && v->width > 0 && v->height > 0 && v->frames > 0;
   const int w = have ? v->width : 1, h = have ? v->height : 1, f = have ? v->frames : 1;
   glTextureStorage3D(t.get(), 1, GL_R16F, w, h, f);
@@ -253,7 +253,7 @@ core::Texture makeFalloffTexture() {
       w[static_cast<std::size_t>(y) * n + x] = static_cast<float>(falloffWeight(std::sqrt(u * u + v * v)));
     }
   }
-  core::Texture t = core::makeTexture(GL_TEXTURE_2D);
+  core::Texture t = core::makeTexture(GL_TEXTURE_2D, "media: planar falloff");
   glTextureStorage2D(t.get(), 1, GL_R32F, n, n);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glTextureSubImage2D(t.get(), 0, 0, 0, n, n, GL_RED, GL_FLOAT, w.data());
@@ -341,14 +341,14 @@ void assignMediaBindPoints(GLuint p, const Bindings& bindings) {
 
 // A new buffer of `bytes` bytes, uninitialized, that glNamedBufferSubData updates.
 core::Buffer makeDynamicBuffer(GLsizeiptr bytes) {
-  core::Buffer b = core::makeBuffer();
+  core::Buffer b = core::makeBuffer("media: block");
   glNamedBufferStorage(b.get(), bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
   return b;
 }
 
 // Black body: linear sRGB radiance, negative (out-of-gamut) components kept; the shader clips.
 core::Texture makeBlackbodyTexture(const core::BlackbodyRamp& ramp) {
-  core::Texture t = core::makeTexture(GL_TEXTURE_1D);
+  core::Texture t = core::makeTexture(GL_TEXTURE_1D, "media: black body");
   const int n = static_cast<int>(ramp.rgb.size());
   glTextureStorage1D(t.get(), 1, GL_RGB32F, n);
   glTextureSubImage1D(t.get(), 0, 0, n, GL_RGB, GL_FLOAT, ramp.rgb.data());
@@ -375,7 +375,7 @@ core::Texture makePhaseTexture(PhaseModel model) {
       table[static_cast<std::size_t>(j) * kCos + i] = static_cast<float>(4.0 * std::numbers::pi * phase(model, c, g));
     }
   }
-  core::Texture t = core::makeTexture(GL_TEXTURE_2D);
+  core::Texture t = core::makeTexture(GL_TEXTURE_2D, "media: phase function");
   glTextureStorage2D(t.get(), 1, GL_R32F, kCos, kG);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glTextureSubImage2D(t.get(), 0, 0, 0, kCos, kG, GL_RED, GL_FLOAT, table.data());
@@ -408,7 +408,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(const Settings& settings, con
     assignMediaBindPoints(p, bindings);
   }
   m.falloff = makeFalloffTexture();
-  m.vao = core::makeVertexArray();
+  m.vao = core::makeVertexArray("media: vertex array");
   m.block = makeDynamicBuffer(sizeof(MediaBlockData));
   m.materialBlock = makeDynamicBuffer(sizeof(MaterialGpu) * shader::kMaxMaterials);
   m.blackbody = makeBlackbodyTexture(ramp);
@@ -449,6 +449,7 @@ void Renderer::setDetail(const core::DetailVideo* temperature, const core::Detai
 
 void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Method method, GLuint depth,
                     Shimmer shimmerOutput, DrawStats* stats) {
+  const core::DebugGroup group("media particles");
   const bool shimmer = shimmerOutput == Shimmer::kWritten;
   Impl& m = *impl_;
   const auto t0 = core::Clock::now();
@@ -468,7 +469,7 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
   const std::size_t bytes = m.sorted.size() * sizeof(Particle);
   if (bytes > m.particleCapacity) {
     m.particleCapacity = std::max(bytes, m.particleCapacity * 2);
-    m.particleBuffer = core::makeBuffer();
+    m.particleBuffer = core::makeBuffer("media: particles");
     glNamedBufferStorage(m.particleBuffer.get(), static_cast<GLsizeiptr>(m.particleCapacity), nullptr,
                          GL_DYNAMIC_STORAGE_BIT);
   }

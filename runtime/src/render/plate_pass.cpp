@@ -17,11 +17,12 @@ Result<PlatePass> PlatePass::create(const scene::Scene& scene) {
   PlatePass p;
   p.linear_ = std::move(linear);
   p.program_ = std::move(program);
-  p.vao_ = core::makeVertexArray();
+  p.vao_ = core::makeVertexArray("plate: vertex array");
   return p;
 }
 
 void PlatePass::draw(const cel::Viewport& viewport) {
+  const core::DebugGroup group("plate");
   if (viewport.width != width_ || viewport.height != height_) {
     const core::Image sized = resizePlate(linear_, viewport.width, viewport.height);
     // GL rows go bottom-up: image row 0 (the top) is stored last.
@@ -31,7 +32,7 @@ void PlatePass::draw(const cel::Viewport& viewport) {
       std::copy_n(&sized.pixels[static_cast<std::size_t>(y) * row], row,
                   &rows[static_cast<std::size_t>(sized.height - 1 - y) * row]);
     }
-    texture_ = core::makeTexture(GL_TEXTURE_2D);
+    texture_ = core::makeTexture(GL_TEXTURE_2D, "plate");
     const GLuint t = texture_.get();
     glTextureStorage2D(t, 1, GL_RGBA16F, sized.width, sized.height);
     glTextureSubImage2D(t, 0, 0, 0, sized.width, sized.height, GL_RGBA, GL_FLOAT, rows.data());

@@ -19,9 +19,9 @@ Result<Target> Target::create(int w, int h, int samples, bool displayValues) {
                  std::to_string(maxSamples) + " (set /output/samples or --samples lower)"};
   }
   t.samples = std::max(1, samples);
-  t.fbo = core::makeFramebuffer();
-  t.color = core::makeRenderbuffer();
-  t.depthStencil = core::makeRenderbuffer();
+  t.fbo = core::makeFramebuffer("frame target");
+  t.color = core::makeRenderbuffer("frame target: colour");
+  t.depthStencil = core::makeRenderbuffer("frame target: depth and stencil");
   const int s = t.samples > 1 ? t.samples : 0;
   glNamedRenderbufferStorageMultisample(t.color.get(), s, format, w, h);
   glNamedRenderbufferStorageMultisample(t.depthStencil.get(), s, GL_DEPTH24_STENCIL8, w, h);
@@ -32,8 +32,8 @@ Result<Target> Target::create(int w, int h, int samples, bool displayValues) {
                  std::to_string(t.samples) + " samples is not supported by this GL"};
   }
   if (t.samples > 1) {
-    t.resolveFbo = core::makeFramebuffer();
-    t.resolveColor = core::makeRenderbuffer();
+    t.resolveFbo = core::makeFramebuffer("frame target: resolved");
+    t.resolveColor = core::makeRenderbuffer("frame target: resolved colour");
     glNamedRenderbufferStorage(t.resolveColor.get(), format, w, h);
     glNamedFramebufferRenderbuffer(t.resolveFbo.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, t.resolveColor.get());
   }

@@ -9,11 +9,12 @@ Result<ViewPass> ViewPass::create() {
   PUFF_TRY_ASSIGN(auto program, core::buildProgram({"media/fullscreen.vert", "output/view.frag"}));
   ViewPass v;
   v.program_ = std::move(program);
-  v.vao_ = core::makeVertexArray();
+  v.vao_ = core::makeVertexArray("view: vertex array");
   return v;
 }
 
 void ViewPass::draw(GLuint linear, const cel::Viewport& viewport, core::ViewTransform view) const {
+  const core::DebugGroup group("view transform");
   const GLuint p = program_.get();
   glProgramUniform1i(p, shader::loc::kViewTransform, view == core::ViewTransform::kFilmic ? 1 : 0);
   glProgramUniform2f(p, shader::loc::kViewOrigin, static_cast<float>(viewport.x), static_cast<float>(viewport.y));

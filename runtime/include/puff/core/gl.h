@@ -8,6 +8,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include <puff/core/error.h>
@@ -83,11 +84,13 @@ using VertexArray = GlName<detail::deleteVertexArray>;
 using Program = GlName<detail::deleteProgram>;
 using ShaderObject = GlName<detail::deleteShader>;
 
-Texture makeTexture(GlEnum target);  ///< glCreateTextures
-Buffer makeBuffer();                 ///< glCreateBuffers
-Framebuffer makeFramebuffer();       ///< glCreateFramebuffers
-Renderbuffer makeRenderbuffer();     ///< glCreateRenderbuffers
-VertexArray makeVertexArray();       ///< glCreateVertexArrays
+// glCreate*. `what` names the object in a capture (RenderDoc, apitrace): labelled "puff: WHAT" where
+// the context has KHR_debug (GL 4.3, or the extension); nothing is called without it or without a name.
+Texture makeTexture(GlEnum target, std::string_view what = {});
+Buffer makeBuffer(std::string_view what = {});
+Framebuffer makeFramebuffer(std::string_view what = {});
+Renderbuffer makeRenderbuffer(std::string_view what = {});
+VertexArray makeVertexArray(std::string_view what = {});
 
 /// "" when glGetError() reports nothing, else the names of the pending errors (all drained).
 std::string drainGlErrors();
