@@ -461,6 +461,25 @@ if [ -s "$out/coverage.csv" ]; then
                v("whole_frame_ms"), v("ms"), v("ratio_to_no_media"), v("whole_frame_ms") / v("no_media_ms"), v("ratio_to_whole_frame")}' "$out/coverage.csv"
   } > "$out/coverage.md"
 fi
+# Where the tumbling hull's time goes (tests/bench/hull_costs.sh): each variant's hull against its blend.
+hull_costs=docs/bench/hull-costs-llvmpipe-2core.csv
+if [ -s "$hull_costs" ]; then
+  {
+    generated "$hull_costs"
+    echo
+    echo "From \`$hull_costs\` (\`bash tests/bench/hull_costs.sh --reps 3 --warm-up 1 --csv FILE\`; docs/bench/README.md"
+    echo "says where it ran): dust-roll's frames 30-35 at 960 x 540, MSAA 1, every puff oriented, drawn by the hull"
+    echo "with one phase of its march left out at a time, beside the blend in the same rounds. Median wall ms a frame"
+    echo "(llvmpipe), and what the phase costs: the hull's frame as it is less the variant's."
+    echo
+    echo "| variant | hull ms | blend ms | hull / blend | the phase's share of the hull's frame |"
+    echo "| --- | --- | --- | --- | --- |"
+    awk -F, 'NR == 1 {for (i = 1; i <= NF; ++i) col[$i] = i; next}
+             $col["case"] == "hull" {v[++n] = $col["variant"]; h[n] = $col["wall_ms"]; b[n] = $col["baseline_wall_ms"]}
+             END {for (i = 1; i <= n; ++i) printf "| %s | %.0f | %.0f | %.1f | %s |\n", v[i], h[i], b[i], h[i] / b[i],
+                    (v[i] == "as-is" ? "" : sprintf("%.0f %%", 100 * (h[1] - h[i]) / h[1]))}' "$hull_costs"
+  } > "$out/hull-costs.md"
+fi
 if [ ${#gpu_csvs[@]} -gt 0 ]; then
   {
     echo "# The GPU benchmark, machine beside machine"
@@ -733,4 +752,4 @@ fi
     echo
   done
 } > "$out/README.md"
-echo "report.sh: wrote $out/README.md, $out/media-budget.md, $out/paper-tables.md, $out/coverage.md, docs/bench/media-tables.md and the charts${seconds:+ (benchmarks: $seconds s)}"
+echo "report.sh: wrote $out/README.md, $out/media-budget.md, $out/paper-tables.md, $out/coverage.md, $out/hull-costs.md, docs/bench/media-tables.md and the charts${seconds:+ (benchmarks: $seconds s)}"
