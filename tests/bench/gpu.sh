@@ -6,6 +6,9 @@
 #       the benchmark's scenes (no image library needed to read them) and copies the binary,
 #       the shared libraries it needs and this script into PACKAGE (default BUILD/gpu-package). Fails
 #       if the binary needs OpenImageIO, GLFW or OSMesa.
+#   bash tests/bench/gpu.sh check BINARY
+#       Whether BINARY needs only what a GPU machine has: fails, naming them, on OpenImageIO, GLFW,
+#       OSMesa, X11 or Wayland among the libraries it loads (pack runs it on puff_gpubench).
 #   bash PACKAGE/gpu.sh run [puff_gpubench options...]   (or tests/bench/gpu.sh run: BUILD's package)
 #       On the target: runs the packed binary on the GPU through EGL with the packed libraries, and
 #       writes the CSV (--csv FILE; default PACKAGE/gpubench.csv). Needs only bash and the GPU's
@@ -49,10 +52,9 @@ pack() {
   cp "$bin" "$staging/bin/"
   cp "$script_dir/gpu.sh" "$staging/gpu.sh"
 
-  local libs
-  libs=$(ldd "$bin" | awk '/=>/ && $3 ~ /^\// {print $3} !/=>/ && $1 ~ /^\// {print $1}')
-  if grep -E "$forbidden" <<<"$libs" >&2; then die "puff_gpubench needs the libraries above; it must need EGL alone"; fi
-  local lib name
+  check "$bin"
+  local libs lib name
+  libs=$(libraries "$bin")
   for lib in $libs; do
     name=$(basename "$lib")
     if [[ $name =~ $glibc_libs ]]; then cp -L "$lib" "$staging/lib/glibc/$name"; else cp -L "$lib" "$staging/lib/$name"; fi
@@ -63,6 +65,17 @@ pack() {
   trap - EXIT
   echo "gpu.sh: packed $package ($(du -sh "$package" | cut -f1)): $(find "$package/lib" -type f | wc -l) libraries," \
     "scenes ${scenes[*]}; on the target: bash $package/gpu.sh run"
+}
+
+# The shared libraries binary $1 loads, one path a line.
+libraries() { ldd "$1" | awk '/=>/ && $3 ~ /^\// {print $3} !/=>/ && $1 ~ /^\// {print $1}'; }
+
+check() {
+  local bin=${1:?check needs a binary}
+  [ -x "$bin" ] || die "$bin: not an executable"
+  local bad
+  bad=$(libraries "$bin" | grep -E "$forbidden" || true)
+  [ -z "$bad" ] || die "$(basename "$bin") needs $(echo $bad | tr ' ' ','); the GPU benchmark must need EGL alone"
 }
 
 # Whether version $1 (as "2.36") is older than $2.
@@ -109,9 +122,10 @@ run() {
 
 case ${1:-} in
   pack) shift; pack "$@" ;;
+  check) shift; check "$@" ;;
   run) shift; run "$@" ;;
   *)
-    sed -n '2,13p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+    sed -n '2,16p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
     [ "${1:-}" = "--help" ] || [ "${1:-}" = "-h" ] || exit 2
     ;;
 esac

@@ -24,10 +24,12 @@
 // medians of --reps rounds after --warm-up rounds (a case whose first frame takes longer than
 // --max-frame-s: that round alone, `rounds` 1 in the CSV). The frames are drawn into a framebuffer
 // of the case's size (RGBA16F, depth 24 + stencil 8, the case's samples) as a game's frame would be
-// (SceneRenderer::drawFrame); nothing is read back. On llvmpipe the timer query does not time the
+// (SceneRenderer::drawFrame); nothing timed is read back. On llvmpipe the timer query does not time the
 // rasterizer (it runs in its own threads): read the wall clock there (docs/bench/gpu.md).
 //
-// Writes CSV (--csv FILE, atomically; else stdout), GL_RENDERER in every row, and prints each row
+// Each row also holds a hash of the case's first frame and of its floor's (Target::hash: what was
+// drawn, told apart without a picture). Writes CSV (--csv FILE, atomically; else stdout),
+// GL_RENDERER in every row, and prints each row
 // on stderr as it is measured. Not a test: nothing here fails on a time.
 #include <algorithm>
 #include <cstdio>
@@ -195,6 +197,22 @@ class Target {
   bool complete() const { return glCheckNamedFramebufferStatus(fbo_.get(), GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE; }
   void bind() const { glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get()); }
   core::Viewport viewport() const { return {0, 0, width_, height_}; }
+  /// What the frame drawn last shows, as a hash (FNV-1a of its resolved half-float colour): tells
+  /// frames apart without a picture (a floor from its case), never timed.
+  std::string hash() const {
+    core::Framebuffer resolved = core::makeFramebuffer();
+    core::Renderbuffer color = core::makeRenderbuffer();
+    glNamedRenderbufferStorage(color.get(), GL_RGBA16F, width_, height_);
+    glNamedFramebufferRenderbuffer(resolved.get(), GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, color.get());
+    glBlitNamedFramebuffer(fbo_.get(), resolved.get(), 0, 0, width_, height_, 0, 0, width_, height_,
+                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    std::string bytes(static_cast<std::size_t>(width_) * height_ * 8, '\0');
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, resolved.get());
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glReadPixels(0, 0, width_, height_, GL_RGBA, GL_HALF_FLOAT, bytes.data());
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    return core::fnv1a64Hex(bytes);
+  }
 
  private:
   int width_, height_;
@@ -244,6 +262,7 @@ Result<Timing> drawOnce(Setup& setup, const Target& target, GLuint query, std::s
 
 struct Measured {
   Timing at, floor, baseline;
+  std::string image, floorImage;  ///< Target::hash of the case's frame and of its floor's
   std::size_t particles = 0;
   int rounds = 0;  ///< timed rounds the medians are of
 };
@@ -280,6 +299,7 @@ Result<Measured> measure(const Options& o, const Case& c, const Case* baseline) 
         warmUp = 0;
         reps = 1;
       }
+      if (round == 0 && i < 2) (i == 0 ? m.image : m.floorImage) = target.hash();
       if (round < warmUp) continue;
       gpu[i].push_back(t->gpuMs);
       wall[i].push_back(t->wallMs);
@@ -309,16 +329,18 @@ std::string rendererName() {
 
 constexpr const char* kHeader =
     "group,case,scene,width,height,samples,particles,frames,rounds,gpu_ms,wall_ms,floor_gpu_ms,floor_wall_ms,"
-    "gpu_over_floor,wall_over_floor,baseline,baseline_gpu_ms,baseline_wall_ms,gpu_over_baseline,renderer\n";
+    "gpu_over_floor,wall_over_floor,baseline,baseline_gpu_ms,baseline_wall_ms,gpu_over_baseline,image,floor_image,"
+    "renderer\n";
 
 void appendRow(std::string& csv, const Case& c, const Measured& m, const std::string& gpuName) {
   const bool base = !c.baseline.empty();
-  appendf(csv, "%s,%s,%s,%d,%d,%d,%zu,%zu,%d,%.4f,%.4f,%.4f,%.4f,%s,%s,%s,%s,%s,%s,%s\n", c.group.c_str(),
+  appendf(csv, "%s,%s,%s,%d,%d,%d,%zu,%zu,%d,%.4f,%.4f,%.4f,%.4f,%s,%s,%s,%s,%s,%s,%s,%s,%s\n", c.group.c_str(),
           c.name.c_str(), c.scene.c_str(), c.width, c.height, c.samples, m.particles, c.frames.size(), m.rounds,
           m.at.gpuMs, m.at.wallMs, m.floor.gpuMs, m.floor.wallMs, ratio(m.at.gpuMs, m.floor.gpuMs).c_str(),
           ratio(m.at.wallMs, m.floor.wallMs).c_str(), c.baseline.c_str(),
           base ? std::to_string(m.baseline.gpuMs).c_str() : "", base ? std::to_string(m.baseline.wallMs).c_str() : "",
-          base ? ratio(m.at.gpuMs, m.baseline.gpuMs).c_str() : "", gpuName.c_str());
+          base ? ratio(m.at.gpuMs, m.baseline.gpuMs).c_str() : "", m.image.c_str(), m.floorImage.c_str(),
+          gpuName.c_str());
 }
 
 int usage(const char* message) {

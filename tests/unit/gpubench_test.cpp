@@ -4,6 +4,9 @@
 // and runs it from the package, writing one CSV row per case with its floor and baseline.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -75,6 +78,7 @@ TEST_F(CookedScene, DrawsWhatItsSourceDraws) {
     }
     const std::string cooked = text(out);
     EXPECT_EQ(cooked.find(".png"), std::string::npos) << cooked;  // every image it names is cooked
+    EXPECT_EQ(cooked.find("../"), std::string::npos) << cooked;   // and inside its .cooked folder
     EXPECT_EQ(render(out, frame, stem + "-cooked"), render(scene, frame, stem));
   }
   // Both objects' one mesh is copied once.
@@ -169,7 +173,29 @@ TEST(GpuBench, PacksAndRunsFromItsPackage) {
       EXPECT_GT(std::stod(row.at("baseline_wall_ms")), 0.0);
     }
     EXPECT_NE(row.at("renderer"), "unknown");
+    // The floor draws other pixels than its case wherever there are particles: it was applied.
+    EXPECT_EQ(row.at("image").size(), 16u);
+    if (row.at("particles") != "0") {
+      EXPECT_NE(row.at("image"), row.at("floor_image"));
+    }
   }
+}
+
+// What pack checks before it packs: a binary that needs an image library or a window system is
+// refused, naming them (puffrender needs OpenImageIO, OSMesa and GLFW); puff_gpubench passes.
+TEST(GpuBench, RefusesToPackABinaryThatNeedsMoreThanEgl) {
+  puff::test::ScopedTempDir dir("gpubench");
+  const std::string script = "bash " + std::string(PUFF_SOURCE_DIR) + "/tests/bench/gpu.sh check ";
+  const fs::path err = dir / "err.txt";
+  const int refused = std::system((script + PUFFRENDER_EXE + " 2>" + err.string()).c_str());
+  ASSERT_TRUE(WIFEXITED(refused));
+  EXPECT_EQ(WEXITSTATUS(refused), 1);
+  const std::string message = text(err);
+  EXPECT_EQ(message.rfind("gpu.sh: error: puffrender needs ", 0), 0u) << message;
+  for (const char* lib : {"libOpenImageIO", "libOSMesa", "libglfw"})
+    EXPECT_NE(message.find(lib), std::string::npos) << lib;
+  EXPECT_EQ(std::count(message.begin(), message.end(), '\n'), 1) << message;
+  EXPECT_EQ(std::system((script + PUFF_BUILD_DIR + "/tests/puff_gpubench").c_str()), 0);
 }
 
 }  // namespace
