@@ -6,15 +6,19 @@
 // gradient.puffimg, plate.puffimg, temperature-detail.puffimg and opacity-detail.puffimg
 // (bake::cookImage), the objects' meshes and the fixed path's puff mesh copied as they are (Puff
 // reads them itself) as mesh-N.EXT, one per source file. The scene is written last, with every field
-// (scene::toJson) and its paths relative to it, so a scene already at OUT.json is replaced only once
-// its assets are in place. It renders exactly as SCENE.json does. Errors: one line, exit 1 (2 for
-// bad usage).
+// (scene::toJson) and its paths relative to it. The assets are cooked into a hidden folder beside it
+// first and put in place of OUT.cooked/ whole, so a failed cook changes nothing. The cel path renders
+// it exactly as SCENE.json; the atlas's source meshes (which the fixed path and the cel reference
+// read, not the cel path) stay where the atlas names them. Errors: one line, exit 1 (2 for bad
+// usage).
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <map>
 #include <string>
+
+#include <unistd.h>
 
 #include <puff/bake/cook.h>
 #include <puff/core/files.h>
@@ -39,34 +43,68 @@ void add(bake::Cooked& total, const bake::Cooked& one) {
   total.bytesWritten += one.bytesWritten;
 }
 
-// Cooks the image at `path` (if any) into assets/NAME.puffimg and points `path` there.
-Result<void> cookImageField(fs::path& path, const fs::path& assets, const char* name, bake::Cooked& total) {
+// Where assets are written (`staged`, a folder renamed to `final` once all are there) and where the
+// scene names them (`final`).
+struct Dirs {
+  fs::path staged, final;
+};
+
+// Cooks the image at `path` (if any) into NAME.puffimg and points `path` there.
+Result<void> cookImageField(fs::path& path, const Dirs& dirs, const char* name, bake::Cooked& total) {
   if (path.empty()) return {};
-  const fs::path to = assets / (std::string(name) + ".puffimg");
-  PUFF_TRY_ASSIGN(auto cooked, bake::cookImage(path, to));
+  const std::string file = std::string(name) + ".puffimg";
+  PUFF_TRY_ASSIGN(auto cooked, bake::cookImage(path, dirs.staged / file));
   add(total, cooked);
-  path = to;
+  path = dirs.final / file;
   return {};
 }
 
-// Copies the mesh at `path` (if any) into assets/mesh-N.EXT, once per source file (`copied`), and
-// points `path` there.
-Result<void> copyMesh(fs::path& path, const fs::path& assets, std::map<fs::path, fs::path>& copied,
-                      bake::Cooked& total) {
+// Copies the mesh at `path` (if any) as mesh-N.EXT, once per source file (`copied`), and points
+// `path` there.
+Result<void> copyMesh(fs::path& path, const Dirs& dirs, std::map<fs::path, fs::path>& copied, bake::Cooked& total) {
   if (path.empty()) return {};
   auto it = copied.find(path);
   if (it == copied.end()) {
-    const fs::path to = assets / ("mesh-" + std::to_string(copied.size()) + path.extension().string());
+    const std::string file = "mesh-" + std::to_string(copied.size()) + path.extension().string();
     PUFF_TRY_ASSIGN(auto bytes, core::readFileBytes(path));
-    PUFF_TRY(core::writeFileAtomic(to, bytes));
-    total.files.push_back(to);
+    PUFF_TRY(core::writeFileAtomic(dirs.staged / file, bytes));
+    total.files.push_back(dirs.final / file);
     total.bytesRead += bytes.size();
     total.bytesWritten += bytes.size();
-    it = copied.emplace(path, to).first;
+    it = copied.emplace(path, dirs.final / file).first;
   }
   path = it->second;
   return {};
 }
+
+// Cooks every asset `s` names into dirs.staged and points `s` at them in dirs.final.
+Result<void> cookAssets(scene::Scene& s, const Dirs& dirs, bake::Cooked& total) {
+  if (!s.atlas.empty()) {
+    PUFF_TRY_ASSIGN(auto cooked, bake::cookAtlas(s.atlas, dirs.staged / "atlas.json"));
+    add(total, cooked);
+    s.atlas = dirs.final / "atlas.json";
+  }
+  PUFF_TRY(cookImageField(s.ramp, dirs, "ramp", total));
+  PUFF_TRY(cookImageField(s.ambientGradient, dirs, "gradient", total));
+  PUFF_TRY(cookImageField(s.plate, dirs, "plate", total));
+  if (s.media) {
+    PUFF_TRY(cookImageField(s.media->temperatureDetail, dirs, "temperature-detail", total));
+    PUFF_TRY(cookImageField(s.media->opacityDetail, dirs, "opacity-detail", total));
+  }
+  std::map<fs::path, fs::path> meshes;
+  for (scene::ObjectSpec& object : s.objects) PUFF_TRY(copyMesh(object.mesh, dirs, meshes, total));
+  return copyMesh(s.fixed.puff, dirs, meshes, total);
+}
+
+// Removes the folder when the scope ends, unless kept.
+struct RemovedUnlessKept {
+  fs::path dir;
+  bool keep = false;
+  ~RemovedUnlessKept() {
+    std::error_code ec;
+    if (!keep) fs::remove_all(dir, ec);
+  }
+};
 
 }  // namespace
 
@@ -78,27 +116,26 @@ Result<bake::Cooked> cookScene(const fs::path& in, const fs::path& out, const fs
   if (fs::weakly_canonical(in, ec) == fs::weakly_canonical(out, ec)) {
     return Error::at(out, "is the scene being cooked; name another file for the cooked scene");
   }
-  const fs::path assets = out.parent_path() / (out.stem().string() + ".cooked");
+  const std::string stem = out.stem().string(), pid = std::to_string(getpid());
+  const fs::path dir = out.parent_path();
+  const Dirs dirs{dir / ("." + stem + ".cooked.tmp-" + pid), dir / (stem + ".cooked")};
+  RemovedUnlessKept staged{dirs.staged};
   bake::Cooked total;
-  if (!s.atlas.empty()) {
-    const fs::path to = assets / "atlas.json";
-    PUFF_TRY_ASSIGN(auto cooked, bake::cookAtlas(s.atlas, to));
-    add(total, cooked);
-    s.atlas = to;
-  }
-  PUFF_TRY(cookImageField(s.ramp, assets, "ramp", total));
-  PUFF_TRY(cookImageField(s.ambientGradient, assets, "gradient", total));
-  PUFF_TRY(cookImageField(s.plate, assets, "plate", total));
-  if (s.media) {
-    PUFF_TRY(cookImageField(s.media->temperatureDetail, assets, "temperature-detail", total));
-    PUFF_TRY(cookImageField(s.media->opacityDetail, assets, "opacity-detail", total));
-  }
-  std::map<fs::path, fs::path> meshes;
-  for (scene::ObjectSpec& object : s.objects) PUFF_TRY(copyMesh(object.mesh, assets, meshes, total));
-  PUFF_TRY(copyMesh(s.fixed.puff, assets, meshes, total));
+  PUFF_TRY(cookAssets(s, dirs, total));
+  // The new assets in place of the old (set aside until the scene is written), then the scene.
+  const fs::path old = dir / ("." + stem + ".cooked.old-" + pid);
+  const bool hadOld = fs::exists(dirs.final, ec);
+  if (hadOld) fs::rename(dirs.final, old, ec);
+  if (!ec) fs::rename(dirs.staged, dirs.final, ec);
+  if (ec) return Error::at(dirs.final, "cannot put the cooked assets in place: " + ec.message());
   s.file = out;
   const std::string text = scene::jsonText(scene::toJson(s)) + "\n";
-  PUFF_TRY(core::writeFileAtomic(out, text));
+  if (auto written = core::writeFileAtomic(out, text); !written) {
+    fs::remove_all(dirs.final, ec);
+    if (hadOld) fs::rename(old, dirs.final, ec);
+    return written.error();
+  }
+  if (hadOld) fs::remove_all(old, ec);
   total.files.push_back(out);
   total.bytesRead += fs::file_size(in, ec);
   total.bytesWritten += text.size();

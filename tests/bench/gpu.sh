@@ -4,16 +4,18 @@
 #   bash tests/bench/gpu.sh pack [BUILD] [PACKAGE]
 #       On the build machine: builds puff_gpubench and puff_cook_scene in BUILD (default build), cooks
 #       the benchmark's scenes (no image library needed to read them) and copies the binary,
-#       the shared libraries it needs and this script into PACKAGE (default BUILD/gpu-package). Fails
-#       if the binary needs OpenImageIO, GLFW or OSMesa.
+#       the shared libraries it needs and this script into PACKAGE (default BUILD/gpu-package; an
+#       existing PACKAGE must be an earlier package, which is replaced). Fails if the binary needs
+#       OpenImageIO, GLFW, OSMesa, X11 or Wayland.
 #   bash tests/bench/gpu.sh check BINARY
 #       Whether BINARY needs only what a GPU machine has: fails, naming them, on OpenImageIO, GLFW,
 #       OSMesa, X11 or Wayland among the libraries it loads (pack runs it on puff_gpubench).
-#   bash PACKAGE/gpu.sh run [puff_gpubench options...]   (or tests/bench/gpu.sh run: BUILD's package)
+#   bash PACKAGE/gpu.sh run [puff_gpubench options...]   (or tests/bench/gpu.sh run: build/gpu-package)
 #       On the target: runs the packed binary on the GPU through EGL with the packed libraries, and
 #       writes the CSV (--csv FILE; default PACKAGE/gpubench.csv). Needs only bash and the GPU's
-#       driver (its libEGL vendor library); brings libglvnd's libEGL, and glibc for a target whose
-#       own is older than the build machine's.
+#       driver (its libEGL vendor library, found through libglvnd's vendor files or
+#       __EGL_VENDOR_LIBRARY_DIRS / _FILENAMES); brings libglvnd's libEGL, and glibc for a target
+#       whose own is older than the build machine's.
 set -euo pipefail
 
 script_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
@@ -41,6 +43,11 @@ pack() {
   local bin=$build/tests/puff_gpubench
   [ -x "$bin" ] || die "$bin: not built (a build without EGL has no GPU benchmark)"
 
+  # Only a package is replaced: a directory that holds anything else is refused, never emptied.
+  if [ -e "$package" ] && { [ ! -d "$package" ] || [ -n "$(ls -A "$package")" ]; } &&
+    ! { [ -x "$package/bin/puff_gpubench" ] && [ -f "$package/gpu.sh" ] && [ -f "$package/glibc-version" ]; }; then
+    die "$package: exists and is not a GPU-benchmark package; name a new directory"
+  fi
   local staging=$package.tmp-$$
   rm -rf "$staging"
   mkdir -p "$staging/bin" "$staging/lib/glibc" "$staging/scenes"
@@ -60,7 +67,7 @@ pack() {
     if [[ $name =~ $glibc_libs ]]; then cp -L "$lib" "$staging/lib/glibc/$name"; else cp -L "$lib" "$staging/lib/$name"; fi
   done
   getconf GNU_LIBC_VERSION | awk '{print $2}' >"$staging/glibc-version"
-  rm -rf "$package"
+  rm -rf "$package"  # checked above: nothing there, or a package
   mv "$staging" "$package"
   trap - EXIT
   echo "gpu.sh: packed $package ($(du -sh "$package" | cut -f1)): $(find "$package/lib" -type f | wc -l) libraries," \
@@ -84,7 +91,7 @@ older() { [ "$1" != "$2" ] && [ "$(printf '%s\n%s\n' "$1" "$2" | sort -V | head 
 run() {
   # The package this script was packed into, else the build's.
   local package=$script_dir
-  [ -x "$package/bin/puff_gpubench" ] || package=build/gpu-package
+  [ -x "$package/bin/puff_gpubench" ] || package=$(cd "$script_dir/../.." && pwd)/build/gpu-package
   [ -x "$package/bin/puff_gpubench" ] || die "$package: not a packed benchmark (run: bash tests/bench/gpu.sh pack)"
   local args=("$@") has_csv=0 a
   for a in "${args[@]}"; do [ "$a" = "--csv" ] && has_csv=1; done
@@ -92,7 +99,8 @@ run() {
 
   # libglvnd finds the driver's EGL through its vendor files; a driver installed without them (a
   # bare NVIDIA runtime) gets one written here.
-  if ! compgen -G '/usr/share/glvnd/egl_vendor.d/*.json' >/dev/null && ! compgen -G '/etc/glvnd/egl_vendor.d/*.json' >/dev/null; then
+  if [ -z "${__EGL_VENDOR_LIBRARY_DIRS:-}${__EGL_VENDOR_LIBRARY_FILENAMES:-}" ] &&
+    ! compgen -G '/usr/share/glvnd/egl_vendor.d/*.json' >/dev/null && ! compgen -G '/etc/glvnd/egl_vendor.d/*.json' >/dev/null; then
     if ldconfig -p 2>/dev/null | grep -q 'libEGL_nvidia.so.0'; then
       mkdir -p "$package/egl_vendor.d"
       printf '{"file_format_version": "1.0.0", "ICD": {"library_path": "libEGL_nvidia.so.0"}}\n' \
@@ -125,7 +133,7 @@ case ${1:-} in
   check) shift; check "$@" ;;
   run) shift; run "$@" ;;
   *)
-    sed -n '2,16p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
+    sed -n '2,18p' "${BASH_SOURCE[0]}" | sed 's/^# \{0,1\}//'
     [ "${1:-}" = "--help" ] || [ "${1:-}" = "-h" ] || exit 2
     ;;
 esac

@@ -41,6 +41,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <puff/core/gl.h>
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
@@ -284,6 +286,12 @@ Result<Measured> measure(const Options& o, const Case& c, const Case* baseline) 
   }
   GLuint query = 0;
   glGenQueries(1, &query);
+  // A first query answered before any is timed: some drivers (llvmpipe) answer a query object's very
+  // first use with garbage.
+  glBeginQuery(GL_TIME_ELAPSED, query);
+  glEndQuery(GL_TIME_ELAPSED);
+  GLuint64 primed = 0;
+  glGetQueryObjectui64v(query, GL_QUERY_RESULT, &primed);
   std::vector<std::vector<double>> gpu(setups.size()), wall(setups.size());
   Measured m;
   int warmUp = o.quick ? 1 : o.warmUp, reps = o.quick ? 1 : o.reps;
@@ -329,18 +337,37 @@ std::string rendererName() {
 
 constexpr const char* kHeader =
     "group,case,scene,width,height,samples,particles,frames,rounds,gpu_ms,wall_ms,floor_gpu_ms,floor_wall_ms,"
-    "gpu_over_floor,wall_over_floor,baseline,baseline_gpu_ms,baseline_wall_ms,gpu_over_baseline,image,floor_image,"
+    "gpu_over_floor,wall_over_floor,baseline,baseline_gpu_ms,baseline_wall_ms,gpu_over_baseline,wall_over_baseline,"
+    "image,floor_image,"
     "renderer\n";
 
 void appendRow(std::string& csv, const Case& c, const Measured& m, const std::string& gpuName) {
   const bool base = !c.baseline.empty();
-  appendf(csv, "%s,%s,%s,%d,%d,%d,%zu,%zu,%d,%.4f,%.4f,%.4f,%.4f,%s,%s,%s,%s,%s,%s,%s,%s,%s\n", c.group.c_str(),
+  char baseGpu[32] = "", baseWall[32] = "";
+  if (base) {
+    std::snprintf(baseGpu, sizeof baseGpu, "%.4f", m.baseline.gpuMs);
+    std::snprintf(baseWall, sizeof baseWall, "%.4f", m.baseline.wallMs);
+  }
+  appendf(csv, "%s,%s,%s,%d,%d,%d,%zu,%zu,%d,%.4f,%.4f,%.4f,%.4f,%s,%s,%s,%s,%s,%s,%s,%s,%s,%s\n", c.group.c_str(),
           c.name.c_str(), c.scene.c_str(), c.width, c.height, c.samples, m.particles, c.frames.size(), m.rounds,
           m.at.gpuMs, m.at.wallMs, m.floor.gpuMs, m.floor.wallMs, ratio(m.at.gpuMs, m.floor.gpuMs).c_str(),
-          ratio(m.at.wallMs, m.floor.wallMs).c_str(), c.baseline.c_str(),
-          base ? std::to_string(m.baseline.gpuMs).c_str() : "", base ? std::to_string(m.baseline.wallMs).c_str() : "",
-          base ? ratio(m.at.gpuMs, m.baseline.gpuMs).c_str() : "", m.image.c_str(), m.floorImage.c_str(),
+          ratio(m.at.wallMs, m.floor.wallMs).c_str(), c.baseline.c_str(), baseGpu, baseWall,
+          base ? ratio(m.at.gpuMs, m.baseline.gpuMs).c_str() : "",
+          base ? ratio(m.at.wallMs, m.baseline.wallMs).c_str() : "", m.image.c_str(), m.floorImage.c_str(),
           gpuName.c_str());
+}
+
+// Whether the CSV can be written at `path` (no file is touched): not a directory, and its folder,
+// or the nearest existing folder above it, writable.
+Result<void> csvWritable(const fs::path& path) {
+  if (path.empty()) return {};
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) return Error::at(path, "is a directory");
+  fs::path dir = fs::absolute(path, ec).parent_path();
+  while (!dir.empty() && !fs::exists(dir, ec) && dir != dir.parent_path()) dir = dir.parent_path();
+  if (!fs::is_directory(dir, ec)) return Error::at(dir, "not a directory");
+  if (access(dir.c_str(), W_OK) != 0) return Error::at(dir, "cannot write here");
+  return {};
 }
 
 int usage(const char* message) {
@@ -366,7 +393,7 @@ constexpr const char* kHelp =
     "  --shader-dir DIR read the shaders from DIR instead of the built-in copies (a variant's cost)\n"
     "  --max-frame-s S a case whose first frame takes longer than S seconds is timed by that round alone\n"
     "                  (default: no limit; llvmpipe's report run uses it)\n"
-    "  --quick         one small case per group, one round: shows the binary runs here\n"
+    "  --quick         one small case per group, one warm-up and one timed round: shows the binary runs here\n"
     "Not a test: nothing fails on a time. tests/bench/gpu.sh packs and runs it (docs/bench/gpu.md).\n";
 
 // Parses argv into `o`; returns the exit code when the run ends here (help, bad usage), else -1.
@@ -389,8 +416,9 @@ int parse(int argc, char** argv, Options& o) {
       for (const char* p = v; p && *p;) {
         char* end = nullptr;
         const long n = std::strtol(p, &end, 10);
-        if (end == p || n < min || n > max || (*end != ',' && *end != '\0')) return false;
+        if (end == p || *p == ' ' || n < min || n > max || (*end != ',' && *end != '\0')) return false;
         out.push_back(static_cast<int>(n));
+        if (*end == ',' && end[1] == '\0') return false;  // "1," names nothing after the comma
         p = *end == ',' ? end + 1 : end;
       }
       return !out.empty();
@@ -466,6 +494,20 @@ int main(int argc, char** argv) {
   }
   const std::string gpuName = rendererName();
   std::fprintf(stderr, "%s: %s\n", kTool, gpuName.c_str());
+  GLint maxSamples = 1;
+  glGetIntegerv(GL_MAX_SAMPLES, &maxSamples);
+  for (int n : o.samples) {
+    if (n > maxSamples) {
+      std::fprintf(stderr, "%s: error: --samples %d: this GL draws at most %d samples a pixel\n", kTool, n, maxSamples);
+      return 1;
+    }
+  }
+  // The CSV is written after every case (so a run cut short keeps what it measured): a place it
+  // cannot be written is found before anything is timed.
+  if (auto writable = csvWritable(o.csv); !writable) {
+    std::fprintf(stderr, "%s: error: --csv %s\n", kTool, writable.error().message.c_str());
+    return 1;
+  }
   if (!o.shaderDir.empty()) core::setShaderDir(o.shaderDir);
   std::vector<Case> cases = plan(o);
   if (!o.groups.empty()) {
@@ -486,9 +528,11 @@ int main(int argc, char** argv) {
       return 1;
     }
     appendRow(csv, c, *m, gpuName);
-    std::fprintf(stderr, "[%zu/%zu %.0f s] %-26s %dx%d s%d: gpu %.3f ms (floor %.3f, %sx), wall %.3f ms\n", i + 1,
+    if (!o.csv.empty() && !bench::writeCsv(kTool, o.csv, csv)) return 1;
+    std::fprintf(stderr, "[%zu/%zu %.0f s] %-26s %dx%d s%d: gpu %.3f ms (%sx floor), wall %.3f ms (%sx floor)\n", i + 1,
                  cases.size(), msSince(t0) / 1000.0, c.name.c_str(), c.width, c.height, c.samples, m->at.gpuMs,
-                 m->floor.gpuMs, ratio(m->at.gpuMs, m->floor.gpuMs).c_str(), m->at.wallMs);
+                 ratio(m->at.gpuMs, m->floor.gpuMs).c_str(), m->at.wallMs,
+                 ratio(m->at.wallMs, m->floor.wallMs).c_str());
   }
-  return bench::writeCsv(kTool, o.csv, csv) ? 0 : 1;
+  return o.csv.empty() ? (bench::writeCsv(kTool, o.csv, csv) ? 0 : 1) : 0;
 }

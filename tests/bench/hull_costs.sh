@@ -4,6 +4,8 @@
 # left out at a time (a copy of shaders/ with one line changed, read through --shader-dir). What a
 # variant saves is what that phase costs; its pictures are wrong, so only its time is kept.
 #   bash tests/bench/hull_costs.sh [BUILD (build)] [--csv FILE] [puff_gpubench options, e.g. --reps 3]
+# (BUILD and FILE relative to where it is run; the options are puff_gpubench's timing ones: it sets
+# --groups, --samples 1 and --shader-dir itself.)
 # Variants:
 #   as-is               the shaders as they are
 #   no-screen-distance  a ray that misses takes the bounds' estimate of its distance, not the one
@@ -12,14 +14,19 @@
 #   no-behind           seen from behind, the hit is shaded where it is (surfaceBehind)
 # Writes CSV (variant, then puff_gpubench's columns) to --csv FILE or stdout. Not a test.
 set -euo pipefail
-cd "$(dirname "$0")/../.."
+case ${1:-} in -h | --help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
 build=build
-if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then build=$1; shift; fi
+if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then build=$(realpath -m "$1"); shift; fi
 csv=
 args=()
 while [ $# -gt 0 ]; do
-  if [ "$1" = --csv ]; then csv=${2:?--csv needs a file}; shift 2; else args+=("$1"); shift; fi
+  case $1 in
+    --csv) csv=$(realpath -m "${2:?--csv needs a file}"); shift 2 ;;
+    --groups | --shader-dir | --scenes) echo "hull_costs.sh: error: $1 is this script's to set" >&2; exit 2 ;;
+    *) args+=("$1"); shift ;;
+  esac
 done
+cd "$(dirname "$0")/../.."
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 bash tests/bench/gpu.sh pack "$build" "$tmp/package" >/dev/null

@@ -88,10 +88,16 @@ TEST_F(CookedScene, DrawsWhatItsSourceDraws) {
 
 // A scene whose asset is missing: one line naming it, exit 1, no scene written; bad usage exits 2.
 TEST_F(CookedScene, RefusesWhatItCannotCookAndWritesNothing) {
-  write("ramp-missing.json", R"({"ramp": "no-such-ramp.png", "particles": []})");
+  // The atlas cooks before the ramp is found missing: nothing of it is left.
+  write("ramp-missing.json", R"({"ramp": "no-such-ramp.png", "atlas": "${PUFF_ART}/default/puff.json",
+                                 "particles": [{"position": [0, 0, 0], "size": 1}]})");
   const fs::path out = dir_ / "cooked" / "ramp-missing.json";
-  expectOneLineError(run((dir_ / "ramp-missing.json").string() + " -o " + out.string()), "no-such-ramp.png: cannot");
+  expectOneLineError(run((dir_ / "ramp-missing.json").string() + " -o " + out.string() + " --art-dir " + PUFF_ART_DIR),
+                     "no-such-ramp.png: cannot");
   EXPECT_FALSE(fs::exists(out));
+  if (fs::exists(dir_ / "cooked")) {
+    EXPECT_TRUE(fs::is_empty(dir_ / "cooked"));
+  }
   write("tiny.json", R"({"particles": []})");
   expectOneLineError(run((dir_ / "tiny.json").string() + " -o " + (dir_ / "x.puffimg").string()),
                      "a scene cooks into a scene: name a .json file");
