@@ -8,15 +8,16 @@
 //                 puffs filling the same cloud), S x S pixels, no shadows; N 1k, 10k, 50k; S 512, 1024
 //   full-map      the same with shadows by the map
 //   full-volumes  the same with shadows by volumes
-//   cloud-50k     the scene as it is, at 1920 x 1080 (--quick: 480 x 270)
+//   cloud-50k     the scene as it is, at 1920 x 1080
 //   blend, hull   dust-roll frames 30-35 at 960 x 540, its oriented puffs drawn by blending views /
 //                 by the hull (style.tumble); the hull's baseline is the blend
 //   no-media      explosion-walls frame 20 at 960 x 540 without its media (particles, emitters and
 //                 lights removed): the media rows' baseline
 //   media-R       explosion-walls frame 20 at 960 x 540, the media layer at R of the frame (1, 1/2,
 //                 1/4, 1/8)
-// every one at MSAA samples 1 and 4. The floor is the same frame with SceneRenderer::setFillRateFloor
-// (every particle a bare alpha-tested quad; docs/bench/README.md).
+// every one at MSAA samples 1 and 4 (--quick: cloud-50k, tumble and media at 480 x 270). The floor
+// is the same frame with SceneRenderer::setFillRateFloor (every particle a bare alpha-tested quad;
+// docs/bench/README.md).
 //
 // Times: GL_TIME_ELAPSED around the case's frames (what the GPU spent) and the wall clock to
 // glFinish() (what the CPU added: the simulation, sorting, uploads), per frame. Each round draws the
@@ -144,16 +145,17 @@ std::vector<Case> plan(const Options& o) {
                      [](scene::Scene&) {},
                      ""});
     const std::vector<int> tumbleFrames = o.quick ? std::vector<int>{30} : std::vector<int>{30, 31, 32, 33, 34, 35};
+    const int w = o.quick ? 480 : 960, h = o.quick ? 270 : 540;  // the tumble and media cases' frame
     auto tumble = [](cel::TumbleMethod m) { return [=](scene::Scene& s) { s.style.tumble = m; }; };
     cases.push_back(
-        {"tumble", "blend", "dust-roll.json", 960, 540, samples, tumbleFrames, tumble(cel::TumbleMethod::kBlend), ""});
-    cases.push_back({"tumble", "hull", "dust-roll.json", 960, 540, samples, tumbleFrames,
-                     tumble(cel::TumbleMethod::kHull), "blend"});
+        {"tumble", "blend", "dust-roll.json", w, h, samples, tumbleFrames, tumble(cel::TumbleMethod::kBlend), ""});
+    cases.push_back(
+        {"tumble", "hull", "dust-roll.json", w, h, samples, tumbleFrames, tumble(cel::TumbleMethod::kHull), "blend"});
     cases.push_back({"media",
                      "no-media",
                      "explosion-walls.json",
-                     960,
-                     540,
+                     w,
+                     h,
                      samples,
                      {20},
                      [](scene::Scene& s) {
@@ -170,8 +172,8 @@ std::vector<Case> plan(const Options& o) {
       cases.push_back({"media",
                        name,
                        "explosion-walls.json",
-                       960,
-                       540,
+                       w,
+                       h,
                        samples,
                        {20},
                        [r](scene::Scene& s) { s.media->resolution = r; },
