@@ -29,6 +29,7 @@
 #include <cli/app.h>
 
 #include "bench_usage.h"
+#include "harness.h"
 
 namespace fs = std::filesystem;
 
@@ -96,16 +97,6 @@ Result<void> cookAssets(scene::Scene& s, const Dirs& dirs, bake::Cooked& total) 
   return copyMesh(s.fixed.puff, dirs, meshes, total);
 }
 
-// Removes the folder when the scope ends, unless kept.
-struct RemovedUnlessKept {
-  fs::path dir;
-  bool keep = false;
-  ~RemovedUnlessKept() {
-    std::error_code ec;
-    if (!keep) fs::remove_all(dir, ec);
-  }
-};
-
 }  // namespace
 
 // The scene at `in` and its assets cooked into `out` (see the file's comment).
@@ -119,7 +110,7 @@ Result<bake::Cooked> cookScene(const fs::path& in, const fs::path& out, const fs
   const std::string stem = out.stem().string(), pid = std::to_string(getpid());
   const fs::path dir = out.parent_path();
   const Dirs dirs{dir / ("." + stem + ".cooked.tmp-" + pid), dir / (stem + ".cooked")};
-  RemovedUnlessKept staged{dirs.staged};
+  const bench::ScopedDir staged{dirs.staged};  // gone once renamed into place, or on an error
   bake::Cooked total;
   PUFF_TRY(cookAssets(s, dirs, total));
   // The new assets in place of the old (set aside until the scene is written), then the scene.
@@ -127,7 +118,11 @@ Result<bake::Cooked> cookScene(const fs::path& in, const fs::path& out, const fs
   const bool hadOld = fs::exists(dirs.final, ec);
   if (hadOld) fs::rename(dirs.final, old, ec);
   if (!ec) fs::rename(dirs.staged, dirs.final, ec);
-  if (ec) return Error::at(dirs.final, "cannot put the cooked assets in place: " + ec.message());
+  if (ec) {
+    const std::string why = ec.message();
+    if (hadOld && !fs::exists(dirs.final)) fs::rename(old, dirs.final, ec);
+    return Error::at(dirs.final, "cannot put the cooked assets in place: " + why);
+  }
   s.file = out;
   const std::string text = scene::jsonText(scene::toJson(s)) + "\n";
   if (auto written = core::writeFileAtomic(out, text); !written) {

@@ -228,7 +228,6 @@ class Target {
 struct Setup {
   std::unique_ptr<render::SceneRenderer> renderer;
   std::vector<int> frames;
-  std::size_t particles = 0;
 };
 
 Result<Setup> setUp(const Options& o, const Case& c, bool floor) {
