@@ -5,6 +5,9 @@
 // and with PUFF_HULL (four views, nailboard_hull*.frag) to draw oriented puffs by marching the hull of
 // their views (style.tumble "hull"); without it, oriented puffs blend four views and the program
 // carries none of the hull's code (its registers would slow every puff drawn with it).
+// Every other variant is compiled once per shade pass, PUFF_SHADE_PASS (PUFF_PASS_LIT, _SHADOWED or
+// _DEPTH_ONLY, common/contract.glsl): a pass carries none of the code it does not run, since a
+// uniform's branch still costs what it skips on a rasterizer that runs both sides under a mask.
 #include "common/frame.glsl"
 #include "cel/particle.glsl"
 #include "cel/shadow_map.glsl"
@@ -33,13 +36,15 @@ flat in mat3 vPuffToView;
 layout(binding = 2) uniform sampler2D uPacked;
 layout(binding = 3) uniform sampler2D uColor;  // scene-linear (an sRGB texture decodes the atlas's display values)
 
-uniform int uPass;          // PUFF_PASS_LIT, _SHADOWED or _DEPTH_ONLY (common/contract.glsl)
 uniform int uShading;       // 1: q(N.L); 0: flat
 uniform int uOutlines;      // 1: draw the outline band
 uniform float uOutlineWidth;   // pixels
 uniform vec3 uOutlineColor;   // display value
 uniform int uMultisample;   // 1: alpha-to-coverage resolves the edge; 0: hard edge at half coverage
 
+#if !defined(PUFF_CASTER) && !defined(PUFF_SHADE_PASS)
+#error "a nailboard program that is not a caster names its PUFF_SHADE_PASS"
+#endif
 #ifdef PUFF_CASTER
 uniform float uShadowBias;  // diameters past the puff's far side where its shadow starts
 layout(location = 0) out uint oId;
@@ -467,8 +472,8 @@ HullHit marchHull(float lod, float tpp, bool fromTable, float trusted, float wan
 #ifdef PUFF_CASTER
   HullHit hull = hullMarch(lod, tpp, fromTable, trusted, reach, false, false);
 #else
-  HullHit hull =
-      hullMarch(lod, tpp, fromTable, trusted, reach, uPass != PUFF_PASS_DEPTH_ONLY, uPass == PUFF_PASS_LIT);
+  const bool wantEdge = PUFF_SHADE_PASS != PUFF_PASS_DEPTH_ONLY, wantShade = PUFF_SHADE_PASS == PUFF_PASS_LIT;
+  HullHit hull = hullMarch(lod, tpp, fromTable, trusted, reach, wantEdge, wantShade);
 #endif
   depth = hull.t * vNormalXf[0][2].z;
   dist = hull.hit ? min(hull.deepest * uAtlasScale.x, -1e-3) : max(hull.nearest * uAtlasScale.x, 1e-3);
@@ -536,13 +541,13 @@ void main() {
   oId = vId;
 #else
   gl_FragDepth = storeDepth(linearDepth(vDist - d * vSize));
-  if (uPass == PUFF_PASS_DEPTH_ONLY) {
+  if (PUFF_SHADE_PASS == PUFF_PASS_DEPTH_ONLY) {
     fragColor = vec4(0.0);
     return;
   }
   vec3 ka = ambientAt(gl_FragCoord.xy);
   vec3 rgb = ka;
-  if (uPass == PUFF_PASS_LIT) {  // the lit pass alone needs the normal and the colour (the second read)
+  if (PUFF_SHADE_PASS == PUFF_PASS_LIT) {  // the lit pass alone needs the normal and the colour (the second read)
     vec3 n, color;
     blendedSurface(views, lod, n, color);
 #ifdef PUFF_HULL

@@ -1,3 +1,4 @@
 #version 450 core
 #define PUFF_VIEWS 4
+#define PUFF_SHADE_PASS PUFF_PASS_LIT
 #include "cel/nailboard_fs.glsl"

@@ -173,6 +173,35 @@ TEST(ShaderContract, ArraysAndLocationsAreTheContractsInTheLinkedPrograms) {
   EXPECT_EQ(drainGlErrors(), "");
 }
 
+// The nailboards compile one program per shade pass (nailboard_fs.glsl, PUFF_SHADE_PASS), so a
+// pass carries none of the code it does not run: GL reports a uniform only where a linked program
+// uses it. The lit pass reads the colour map, the ramp and the shadow map; the shadowed pass (ambient
+// only) none of them; the depth-only pass not even the ambient gradient, nor the outline's colour.
+TEST(ShaderPrograms, EachNailboardShadePassCarriesOnlyItsOwnCode) {
+  setShaderDir({});
+  std::unique_ptr<GlContext> context = osmesaCore45();
+  ASSERT_NE(context, nullptr);
+  const std::vector<std::string> litOnly = {"uColor", "uRamp", "uShading", "uShadowMapId"};
+  const std::vector<std::string> colourPasses = {"uGradient", "uOutlineColor"};
+  for (const auto& [vertex, fragment] : std::vector<std::pair<std::string, std::string>>{
+           {"nailboard", "nailboard"}, {"nailboard_views", "nailboard_views"}, {"nailboard_views", "nailboard_hull"}}) {
+    for (const std::string pass : {"", "_shadowed", "_depth"}) {
+      SCOPED_TRACE(fragment + pass);
+      auto program = buildProgram({"cel/" + vertex + ".vert", "cel/" + fragment + pass + ".frag"});
+      ASSERT_OK(program);
+      const GLuint p = program->get();
+      EXPECT_NE(glGetUniformLocation(p, "uPacked"), -1) << "every pass reads the depth and the silhouette";
+      for (const std::string& name : litOnly) {
+        EXPECT_EQ(glGetUniformLocation(p, name.c_str()) != -1, pass.empty()) << name;
+      }
+      for (const std::string& name : colourPasses) {
+        EXPECT_EQ(glGetUniformLocation(p, name.c_str()) != -1, pass != "_depth") << name;
+      }
+    }
+  }
+  EXPECT_EQ(drainGlErrors(), "");
+}
+
 TEST(ShaderPrograms, BakeProgramHasItsStagesInPipelineOrder) {
   setShaderDir({});
   for (const auto& [name, stages] : listShaderPrograms()) {

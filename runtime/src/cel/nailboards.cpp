@@ -1,6 +1,8 @@
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
+#include <utility>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -44,11 +46,12 @@ bool framebufferIsMultisampled() {
 
 }  // namespace
 
-// One nailboard program variant (one view per cell, or four blended) and its uniforms.
+// One nailboard program variant (one view per cell, four blended, or the hull; one shade pass, or
+// the caster) and its uniforms.
 struct NailboardProgram {
   core::Program program;
   AtlasUniforms atlas;
-  GLint pass = -1, shading = -1, outlines = -1, outlineWidth = -1, outlineColor = -1, multisample = -1;
+  GLint shading = -1, outlines = -1, outlineWidth = -1, outlineColor = -1, multisample = -1;
   GLint casterBias = -1, eyeRight = -1, eyeUp = -1;  // the caster variants only (-1 elsewhere)
 
   // `caster`: the shadow map's caster pass (drawn from the light).
@@ -59,7 +62,6 @@ struct NailboardProgram {
     n.program = std::move(p);
     const GLuint id = n.program.get();
     n.atlas.find(id);
-    n.pass = glGetUniformLocation(id, "uPass");
     n.shading = glGetUniformLocation(id, "uShading");
     n.outlines = glGetUniformLocation(id, "uOutlines");
     n.outlineWidth = glGetUniformLocation(id, "uOutlineWidth");
@@ -74,10 +76,38 @@ struct NailboardProgram {
   }
 };
 
+namespace {
+
+// The shade passes in the order PassPrograms holds their programs, and each one's fragment file
+// suffix (nailboard<suffix>.frag: the variant compiled with that PUFF_SHADE_PASS).
+constexpr std::array<std::pair<ShadePass, const char*>, 3> kPassPrograms = {
+    {{ShadePass::kLit, ""}, {ShadePass::kShadowed, "_shadowed"}, {ShadePass::kDepthOnly, "_depth"}}};
+using PassPrograms = std::array<NailboardProgram, kPassPrograms.size()>;
+
+std::size_t passProgramIndex(ShadePass pass) {
+  for (std::size_t i = 0; i < kPassPrograms.size(); ++i) {
+    if (kPassPrograms[i].first == pass) return i;
+  }
+  return 0;
+}
+
+// Every shade pass's program of one variant: vertex stage `vertex`, fragment files fragment + suffix.
+Result<PassPrograms> buildPassPrograms(const std::string& vertex, const std::string& fragment) {
+  PassPrograms out;
+  for (std::size_t i = 0; i < kPassPrograms.size(); ++i) {
+    PUFF_TRY_ASSIGN(out[i], NailboardProgram::build(vertex, fragment + kPassPrograms[i].second, false));
+  }
+  return out;
+}
+
+}  // namespace
+
 struct NailboardRenderer::Impl {
   Bindings bindings;
   // multi: four views blended (style.tumble "blend"); hull: oriented puffs by the hull of their views.
-  NailboardProgram singleView, multiView, hullView, singleCaster, multiCaster, hullCaster;
+  // One program per shade pass (kPassPrograms' order), and one caster.
+  PassPrograms singleView, multiView, hullView;
+  NailboardProgram singleCaster, multiCaster, hullCaster;
   core::Program shadow, sprite;
   AtlasUniforms svAtlas, spAtlas;
   GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1, shadowBackFace = -1;
@@ -130,11 +160,11 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
   std::unique_ptr<NailboardRenderer> r(new NailboardRenderer());
   Impl& m = *r->impl_;
   m.bindings = bindings;
-  PUFF_TRY_ASSIGN(auto single, NailboardProgram::build("nailboard", "", false));
-  PUFF_TRY_ASSIGN(auto multi, NailboardProgram::build("nailboard_views", "", false));
+  PUFF_TRY_ASSIGN(auto single, buildPassPrograms("nailboard", "nailboard"));
+  PUFF_TRY_ASSIGN(auto multi, buildPassPrograms("nailboard_views", "nailboard_views"));
   PUFF_TRY_ASSIGN(auto singleCaster, NailboardProgram::build("nailboard", "nailboard_caster", true));
   PUFF_TRY_ASSIGN(auto multiCaster, NailboardProgram::build("nailboard_views", "nailboard_views_caster", true));
-  PUFF_TRY_ASSIGN(auto hull, NailboardProgram::build("nailboard_views", "nailboard_hull", false));
+  PUFF_TRY_ASSIGN(auto hull, buildPassPrograms("nailboard_views", "nailboard_hull"));
   PUFF_TRY_ASSIGN(auto hullCaster, NailboardProgram::build("nailboard_views", "nailboard_hull_caster", true));
   PUFF_TRY_ASSIGN(auto sv, core::buildProgram({"cel/shadow.vert", "cel/shadow.frag"}));
   PUFF_TRY_ASSIGN(auto sp, core::buildProgram({"cel/sprite.vert", "cel/sprite.frag"}));
@@ -152,9 +182,11 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
   m.shadowLength = glGetUniformLocation(m.shadow.get(), "uShadowLength");
   m.shadowFloor = glGetUniformLocation(m.shadow.get(), "uShadowFloor");
   m.shadowBackFace = glGetUniformLocation(m.shadow.get(), "uBackFace");
-  for (const GLuint p :
-       {m.singleView.program.get(), m.multiView.program.get(), m.hullView.program.get(), m.singleCaster.program.get(),
-        m.multiCaster.program.get(), m.hullCaster.program.get(), m.shadow.get(), m.sprite.get()}) {
+  for (const PassPrograms* variant : {&m.singleView, &m.multiView, &m.hullView}) {
+    for (const NailboardProgram& nb : *variant) detail::assignBindPoints(nb.program.get(), bindings);
+  }
+  for (const GLuint p : {m.singleCaster.program.get(), m.multiCaster.program.get(), m.hullCaster.program.get(),
+                         m.shadow.get(), m.sprite.get()}) {
     detail::assignBindPoints(p, bindings);
   }
   // Binding texture 0 would empty every target of the unit (glBindTextureUnit), the host's too.
@@ -390,9 +422,10 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   s.particles = m.count;
   if (m.count == 0 || !m.hasAtlas) return s;
   // A multi-view atlas blends the four nearest views; a one-view atlas needs one lookup per map.
-  const NailboardProgram& nb = m.desc.views == 1                     ? m.singleView
-                               : style.tumble == TumbleMethod::kHull ? m.hullView
-                                                                     : m.multiView;
+  const PassPrograms& variant = m.desc.views == 1                     ? m.singleView
+                                : style.tumble == TumbleMethod::kHull ? m.hullView
+                                                                      : m.multiView;
+  const NailboardProgram& nb = variant[passProgramIndex(pass)];
   const GLuint p = nb.program.get();
   m.setCommon(p, nb.atlas, style);
   glProgramUniform1i(p, nb.shading, style.shading ? 1 : 0);
@@ -409,7 +442,7 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
     glEnable(GL_MULTISAMPLE);
     glEnable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   }
-  glProgramUniform1i(p, nb.pass, applyShadePass(pass));  // the shade pass's PUFF_PASS_* for the shader
+  applyShadePass(pass);
   // The shader's alpha is the edge's coverage, spent on the sample mask: it must not reach the
   // frame, whose alpha stays 1 (an opaque frame, docs/colour.md). GL_SAMPLE_ALPHA_TO_ONE would say
   // the same, but not every driver honours it (Mesa llvmpipe does not); a write mask does.
@@ -433,7 +466,6 @@ DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& 
                                                                      : m.multiCaster;
   const GLuint p = nb.program.get();
   m.setCommon(p, nb.atlas, style);
-  glProgramUniform1i(p, nb.pass, 0);
   glProgramUniform1i(p, nb.shading, 0);
   glProgramUniform1i(p, nb.outlines, 0);  // the silhouette casts, not the ink
   glProgramUniform1f(p, nb.outlineWidth, 0.0f);

@@ -18,7 +18,8 @@ void resetPassState();
 /// Depth, stencil and colour state of `pass`: kLit depth nearer + write; kShadowed depth EQUAL, no
 /// depth write, stencil != 0, stencil writes off; kDepthOnly depth nearer + write, no colour.
 /// "Nearer" is nearerDepthFunc(boundDepthConvention()): LESS, or GREATER for reversed-z.
-/// Returns the pass number the shaders' uPass uniform takes (0, 1, 2).
+/// Returns the pass number the opaque objects' uPass uniform takes (0, 1, 2; the nailboards compile
+/// one program per pass instead).
 int applyShadePass(ShadePass pass);
 
 /// Write masks back on (depth, colour, stencil), as GL starts: a host's glClear after a pass that
