@@ -41,7 +41,6 @@ Keys wholeUnit(unsigned u) {
 
 // "the pass state" (resetPassState)
 const Keys kPassState = {"blend[0]",
-                         "blend[1]",
                          "cull",
                          "scissor",
                          "depth.clamp",
@@ -54,8 +53,7 @@ const Keys kPassState = {"blend[0]",
                          "depth.range",
                          "depth.test"};
 // "write masks on"
-const Keys kWriteMasks = {"depth.mask", "colormask[0]", "colormask[1]", "stencil.front.writemask",
-                          "stencil.back.writemask"};
+const Keys kWriteMasks = {"depth.mask", "colormask[0]", "stencil.front.writemask", "stencil.back.writemask"};
 const Keys kNoProgram = {"program", "vao"};
 Keys atlas(const cel::Bindings& b) {
   return texture(b.atlasPacked, "2D") + texture(b.atlasColor, "2D") + texture(b.atlasBack, "2D") +
@@ -65,9 +63,8 @@ Keys atlas(const cel::Bindings& b) {
 // GL_STENCIL_REF reads back clamped to its 0 stencil bits (the host's 3 and 5 read as 0).
 const Keys kStencilRefReads = {"stencil.front.ref", "stencil.back.ref"};
 // Layers' "full-screen state" (GL_FRAMEBUFFER_SRGB, on in the hostile host, is left alone everywhere)
-const Keys kFullscreen = {"depth.test",  "stencil.test", "blend[0]",           "blend[1]",
-                          "cull",        "scissor",      "rasterizer_discard", "alpha_to_coverage",
-                          "sample_mask", "polygon_mode", "colormask[0]",       "colormask[1]"};
+const Keys kFullscreen = {"depth.test",         "stencil.test",      "blend[0]",    "cull",         "scissor",
+                          "rasterizer_discard", "alpha_to_coverage", "sample_mask", "polygon_mode", "colormask[0]"};
 
 TEST_F(HostState, CelCallsLeaveWhatTheirHeadersList) {
   test::OffscreenTarget target(kPx);
@@ -138,8 +135,7 @@ TEST_F(HostState, CelCallsLeaveWhatTheirHeadersList) {
       {"OpaqueRenderer::drawCasters", [&] { kit.opaque->drawCasters(); }, lit, celHost},
       {"ShadowMap::prepare", [&] { kit.shadowMap->prepare(frame, receivers, style); }, {}},
       {"ShadowMap::beginCasters", [&] { kit.shadowMap->beginCasters(); },
-       Keys{"fbo.draw", "viewport", "scissor", "rasterizer_discard", "depth.mask", "colormask[0]", "colormask[1]",
-            ubo(b.frameBlock)} +
+       Keys{"fbo.draw", "viewport", "scissor", "rasterizer_discard", "depth.mask", "colormask[0]", ubo(b.frameBlock)} +
            wholeUnit(b.shadowMapDepth) + wholeUnit(b.shadowMapIds) + kStencilRefReads},
       {"ShadowMap::bind", [&] { kit.shadowMap->bind(); },
        texture(b.shadowMapDepth, "2D") + texture(b.shadowMapIds, "2D")},

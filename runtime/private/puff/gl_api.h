@@ -30,6 +30,25 @@ class DebugGroup {
  private:
   bool pushed_ = false;
 };
+
+/// While it lives, the bound draw framebuffer draws to its draw buffer 0 alone: a host's framebuffer
+/// with more colour attachments enabled (a G-buffer, a velocity target) is given its first alone
+/// (glNamedFramebufferDrawBuffers) and its own draw buffers back at the end, so a pass writes no
+/// attachment but the first, whatever the others' write masks. The default framebuffer and one
+/// drawing to one buffer are left alone. Queries the draw framebuffer binding and its draw buffers.
+class DrawBufferZero {
+ public:
+  DrawBufferZero();
+  ~DrawBufferZero();
+  DrawBufferZero(const DrawBufferZero&) = delete;
+  DrawBufferZero& operator=(const DrawBufferZero&) = delete;
+
+ private:
+  static constexpr int kMaxSaved = 16;
+  GLuint framebuffer_ = 0;
+  int saved_ = 0;  // draw buffers saved (0: nothing to restore)
+  GLenum buffers_[kMaxSaved] = {};
+};
 }  // namespace puff::core
 
 namespace puff::core::detail {

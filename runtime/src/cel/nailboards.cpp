@@ -421,6 +421,8 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   DrawStats s;
   s.particles = m.count;
   if (m.count == 0 || !m.hasAtlas) return s;
+  // Only the framebuffer's draw buffer 0 is written (a host's other attachments stay as they are).
+  const core::DrawBufferZero drawBuffers;
   // A multi-view atlas blends the four nearest views; a one-view atlas needs one lookup per map.
   const PassPrograms& variant = m.desc.views == 1                     ? m.singleView
                                 : style.tumble == TumbleMethod::kHull ? m.hullView
@@ -446,7 +448,7 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   // The shader's alpha is the edge's coverage, spent on the sample mask: it must not reach the
   // frame, whose alpha stays 1 (an opaque frame, docs/colour.md). GL_SAMPLE_ALPHA_TO_ONE would say
   // the same, but not every driver honours it (Mesa llvmpipe does not); a write mask does.
-  if (pass != ShadePass::kDepthOnly) glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
+  if (pass != ShadePass::kDepthOnly) glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
   glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   restoreWriteMasks();
@@ -490,12 +492,13 @@ DrawStats NailboardRenderer::drawBaseline(const Style& style) {
   DrawStats s;
   s.particles = m.count;
   if (m.count == 0 || !m.hasAtlas) return s;
+  const core::DrawBufferZero drawBuffers;
   m.setCommon(m.sprite.get(), m.spAtlas, style);
   glUseProgram(m.sprite.get());
   resetPassState();
   applyShadePass(ShadePass::kLit);
   // The same write masks as the nailboards' lit pass: the texel's alpha is coverage, not the frame's.
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
   restoreWriteMasks();
   Impl::unbind();
@@ -510,6 +513,7 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   DrawStats s;
   s.particles = m.count;
   if (m.count == 0 || !m.hasAtlas || clip.nothing) return s;
+  const core::DrawBufferZero drawBuffers;  // colour writes off: the host's other attachments keep their masks
   const GLuint p = m.shadow.get();
   m.setCommon(p, m.svAtlas, style);
   glProgramUniform1f(p, m.shadowBias, std::clamp(style.shadowBias, 0.0f, 1.0f));
@@ -522,7 +526,7 @@ DrawStats NailboardRenderer::drawShadowVolumes(const Style& style, const glm::ve
   glEnable(GL_DEPTH_CLAMP);
   glDepthFunc(nearerDepthFunc(boundDepthConvention()));  // depth-fail counting: a face behind fails
   glDepthMask(GL_FALSE);
-  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glEnable(GL_STENCIL_TEST);
   glStencilMask(0xFF);
   glStencilFunc(GL_ALWAYS, 0, 0xFF);

@@ -301,6 +301,7 @@ void OpaqueRenderer::draw(ShadePass pass) {
                                                               : "opaque objects (depth)");
   Impl& im = *impl_;
   if (im.items.empty()) return;
+  const core::DrawBufferZero drawBuffers;  // draw buffer 0 alone: a host's other attachments stay as they are
 
   // Every state this pass relies on is set here; nothing is inherited from the host or a pass.
   // Culling stays off: planes show both sides; the fragment shader turns back-face normals around.
@@ -360,6 +361,7 @@ DrawStats OpaqueRenderer::drawShadowVolumes(const Style& style, const glm::vec4&
   Impl& im = *impl_;
   DrawStats s;
   if (im.items.empty() || style.shadowLength <= 0.0f || clip.nothing) return s;
+  const core::DrawBufferZero drawBuffers;
   const GLuint program = im.volume.get();
   glProgramUniform1f(program, kVolumeLengthLoc, style.shadowLength);
   glProgramUniform4fv(program, kVolumeFloorLoc, 1, glm::value_ptr(floorPlane));
@@ -372,7 +374,7 @@ DrawStats OpaqueRenderer::drawShadowVolumes(const Style& style, const glm::vec4&
   glEnable(GL_DEPTH_CLAMP);
   glDepthFunc(nearerDepthFunc(boundDepthConvention()));  // depth-fail counting: a face behind fails
   glDepthMask(GL_FALSE);
-  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
   glEnable(GL_STENCIL_TEST);
   glStencilMask(0xFF);
   glStencilFunc(GL_ALWAYS, 0, 0xFF);

@@ -5,7 +5,7 @@
 namespace puff::cel {
 
 void resetPassState() {
-  glDisable(GL_BLEND);
+  glDisablei(GL_BLEND, 0);
   glDisable(GL_CULL_FACE);
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_DEPTH_CLAMP);
@@ -26,13 +26,13 @@ int applyShadePass(ShadePass pass) {
     case ShadePass::kLit:
       glDepthFunc(nearerDepthFunc(boundDepthConvention()));
       glDepthMask(GL_TRUE);
-      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
       glDisable(GL_STENCIL_TEST);
       return shader::kPassLit;
     case ShadePass::kShadowed:
       glDepthFunc(GL_EQUAL);
       glDepthMask(GL_FALSE);
-      glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
       glEnable(GL_STENCIL_TEST);
       glStencilFunc(GL_NOTEQUAL, 0, 0xFF);
       glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
@@ -41,7 +41,7 @@ int applyShadePass(ShadePass pass) {
     case ShadePass::kDepthOnly:
       glDepthFunc(nearerDepthFunc(boundDepthConvention()));
       glDepthMask(GL_TRUE);
-      glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+      glColorMaski(0, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
       glDisable(GL_STENCIL_TEST);
       return shader::kPassDepthOnly;
   }
@@ -50,7 +50,7 @@ int applyShadePass(ShadePass pass) {
 
 void restoreWriteMasks() {
   glDepthMask(GL_TRUE);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glStencilMask(0xFF);
 }
 

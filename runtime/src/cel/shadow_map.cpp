@@ -185,7 +185,7 @@ void ShadowMap::beginCasters() {
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_RASTERIZER_DISCARD);  // it would discard the clears too
   glDepthMask(GL_TRUE);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   const float far = 1.0f;
   const GLuint none[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(fbo_.get(), GL_DEPTH, 0, &far);

@@ -3,6 +3,7 @@
 // access (glCreate*), so a new name is a complete object at once and nothing needs to be bound.
 #include <puff/gl_api.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
@@ -83,6 +84,29 @@ void labelObject(GLenum kind, GLuint name, std::string_view what) {
   if (what.empty() || name == 0 || !hasDebugNames()) return;
   const std::string text = "puff: " + std::string(what);
   glObjectLabel(kind, name, static_cast<GLsizei>(text.size()), text.data());
+}
+
+DrawBufferZero::DrawBufferZero() {
+  GLint framebuffer = 0, maxDraw = 1;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
+  if (framebuffer == 0) return;
+  glGetIntegerv(GL_MAX_DRAW_BUFFERS, &maxDraw);
+  const int count = std::clamp(maxDraw, 1, kMaxSaved);
+  bool others = false;
+  for (int i = 0; i < count; ++i) {
+    GLint buffer = GL_NONE;
+    glGetIntegerv(GL_DRAW_BUFFER0 + i, &buffer);
+    buffers_[i] = static_cast<GLenum>(buffer);
+    others |= i > 0 && buffer != GL_NONE;
+  }
+  if (!others) return;
+  framebuffer_ = static_cast<GLuint>(framebuffer);
+  saved_ = count;
+  glNamedFramebufferDrawBuffers(framebuffer_, 1, &buffers_[0]);
+}
+
+DrawBufferZero::~DrawBufferZero() {
+  if (saved_ > 0) glNamedFramebufferDrawBuffers(framebuffer_, saved_, buffers_);
 }
 
 DebugGroup::DebugGroup(std::string_view pass) : pushed_(hasDebugNames()) {

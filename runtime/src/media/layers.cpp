@@ -271,8 +271,9 @@ void Layers::blendHistory(GLuint target, const core::Viewport& viewport, std::sp
   PUFF_CHECK(slots.size() == weights.size() && !slots.empty() &&
              slots.size() <= static_cast<std::size_t>(shader::kMaxBlurFrames));
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+  const core::DrawBufferZero drawBuffers;  // the target's other attachments stay as they are
   glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
-  fullscreenState();
+  fullscreenState(1);
   glUseProgram(m.blur.get());
   glUniform1i(shader::loc::kBlurCount, static_cast<GLint>(slots.size()));
   glUniform1fv(shader::loc::kBlurWeights, static_cast<GLsizei>(weights.size()), weights.data());
@@ -314,7 +315,7 @@ void Layers::resolveOpaque() {
   GLint hostDraw = 0, hostViewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &hostDraw);
   glGetIntegerv(GL_VIEWPORT, hostViewport);
-  fullscreenState();  // (the blit honours the scissor test; both colour buffers are float: no sRGB conversion)
+  fullscreenState(1);  // (the blit honours the scissor test; both colour buffers are float: no sRGB conversion)
   glBlitNamedFramebuffer(m.opaqueFbo.get(), m.resolveFbo.get(), 0, 0, m.width, m.height, 0, 0, m.width, m.height,
                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
   const Impl::Boxes boxes = m.boxes();
@@ -386,7 +387,7 @@ Result<void> HostLayers::resolveHostDepth(const HostDepth& host) {
   GLint hostDraw = 0, hostViewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &hostDraw);
   glGetIntegerv(GL_VIEWPORT, hostViewport);
-  fullscreenState();
+  fullscreenState(1);
   glBindVertexArray(m.vao.get());
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, m.linearFbo.get());
   glViewport(0, 0, m.width, m.height);
@@ -437,22 +438,12 @@ Result<void> HostLayers::composeOver(GLuint target, const core::Viewport& viewpo
     return Error{"composeOver: viewport " + std::to_string(viewport.width) + "x" + std::to_string(viewport.height) +
                  " is not the layers' " + std::to_string(m.width) + "x" + std::to_string(m.height)};
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-  // Dual-source blending writes GL_MAX_DUAL_SOURCE_DRAW_BUFFERS draw buffers at most (1 on
-  // common GPUs): a target with more enabled would make the draw an error.
-  GLint maxDual = 1, maxDraw = 1;
-  glGetIntegerv(GL_MAX_DUAL_SOURCE_DRAW_BUFFERS, &maxDual);
-  glGetIntegerv(GL_MAX_DRAW_BUFFERS, &maxDraw);
-  for (GLint i = std::max(maxDual, 1); i < maxDraw; ++i) {
-    GLint buffer = GL_NONE;
-    glGetIntegerv(GL_DRAW_BUFFER0 + i, &buffer);
-    if (buffer != GL_NONE)
-      return Error{"composeOver: framebuffer " + std::to_string(target) + " draws to " + std::to_string(i + 1) +
-                   " or more colour buffers, and dual-source blending allows " + std::to_string(maxDual) +
-                   "; give it one draw buffer (glNamedFramebufferDrawBuffer) for this call"};
-  }
+  // Draw buffer 0 alone: the host's other attachments stay as they are, and dual-source blending
+  // (at most GL_MAX_DUAL_SOURCE_DRAW_BUFFERS draw buffers, 1 on common GPUs) is allowed.
+  const core::DrawBufferZero drawBuffers;
   m.uploadComposeBlock(viewport, frame, lights, settings);
   glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
-  fullscreenState();  // GL_FRAMEBUFFER_SRGB the host's: on an sRGB target with it on, the blend is in linear
+  fullscreenState(1);  // GL_FRAMEBUFFER_SRGB the host's: on an sRGB target with it on, the blend is in linear
   // dst * src1 + src0 on RGB (compose_over.frag); the host's alpha kept.
   glEnablei(GL_BLEND, 0);
   glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
@@ -479,7 +470,7 @@ void LayersBase::beginMedia(Style style) {
   glViewport(0, 0, m.mediaWidth, m.mediaHeight);
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_RASTERIZER_DISCARD);  // it would discard the clears too
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  for (GLuint i = 0; i < (cartoon ? 4u : 2u); ++i) glColorMaski(i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   const float none[4] = {0.0f, 0.0f, 0.0f, 1.0f}, zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   glClearNamedFramebufferfv(m.mediaFbo.get(), GL_COLOR, 0, none);
   glClearNamedFramebufferfv(m.mediaFbo.get(), GL_COLOR, 1, zero);
@@ -508,8 +499,9 @@ void Layers::compose(GLuint target, const core::Viewport& viewport, const Frame&
     return;
   }
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+  const core::DrawBufferZero drawBuffers;  // the target's other attachments stay as they are
   glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
-  fullscreenState();
+  fullscreenState(1);
   core::bindTextureAndNoSampler(m.bindings.opaqueColor, m.color.get());
   m.composeWithin(m.compose.get(), m.boxes().compose, viewport);
 }

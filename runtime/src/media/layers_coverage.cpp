@@ -104,7 +104,7 @@ void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewp
   const GLuint blocks[2] = {block.get(), cartoonBlock.get()};
   glBindBuffersBase(GL_UNIFORM_BUFFER, bindings.composeBlock, 1, &blocks[0]);  // multi-bind: the generic binding stays
   glBindBuffersBase(GL_UNIFORM_BUFFER, bindings.cartoonBlock, 1, &blocks[1]);
-  fullscreenState();
+  fullscreenState(2);  // the field's framebuffer draws to two
   glBindVertexArray(vao.get());
   const unsigned c = bindings.cartoonFirst;
   core::bindTextureAndNoSampler(bindings.opaqueColor, color.get());
@@ -117,6 +117,7 @@ void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewp
   if (covered && b.inked.empty()) {  // no media: the opaque colour alone
     fieldBox = PixelBox{};
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+    const core::DrawBufferZero drawBuffers;  // the target's other attachments stay as they are
     glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
     copyAround(PixelBox{}, viewport);
     return;
@@ -155,6 +156,7 @@ void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewp
   }
   // 4. The fill and the ink over the opaque scene (copied around the ink's box).
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
+  const core::DrawBufferZero drawBuffers;  // the target's other attachments stay as they are
   glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
   glDisable(GL_SCISSOR_TEST);
   if (covered && !wholeFrame(b.inked)) {

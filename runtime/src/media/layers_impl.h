@@ -21,10 +21,13 @@ using shader::LightGpu;
 // writes on. GL_FRAMEBUFFER_SRGB
 // stays the host's: Puff's own targets are float, and a host's sRGB target with the flag on
 // encodes the scene-linear colour compose writes (docs/colour.md).
-inline void fullscreenState() {
+// `drawBuffers`: how many draw buffers the pass's framebuffer draws to (1 but for the cartoon
+// field's 2): blending and the colour write masks are set for those alone, so a host's masks and
+// blending of its other draw buffers stay as it set them.
+inline void fullscreenState(int drawBuffers) {
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_STENCIL_TEST);
-  glDisable(GL_BLEND);
+  for (int i = 0; i < drawBuffers; ++i) glDisablei(GL_BLEND, static_cast<GLuint>(i));
   glDisable(GL_CULL_FACE);
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_RASTERIZER_DISCARD);
@@ -33,7 +36,7 @@ inline void fullscreenState() {
   glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   glDisable(GL_SAMPLE_MASK);
   glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  for (int i = 0; i < drawBuffers; ++i) glColorMaski(static_cast<GLuint>(i), GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
 // A call the caller may not make (the header says so): one line naming it, then abort, as a

@@ -83,6 +83,10 @@ MediaBlockData blockData(const Frame& frame, const Settings& settings, Method me
 // quads must not be clipped; planar billboards keep the near-plane clipping that makes them pop).
 // The cartoon style over-composites draw buffers 0, 2 and 3 (common/media.glsl, cartoonOutputs);
 // the photoreal style's programs have no outputs there, and it leaves their state alone.
+// The draw buffers a draw of the style sets and writes: the layer and the shimmer, and the
+// cartoon's two more. The masks and blending of the rest stay the host's.
+GLuint drawnBuffers(bool cartoon) { return cartoon ? 4u : 2u; }
+
 void applyBlendState(Method method, bool shimmer, bool cartoon) {
   glDisable(GL_DEPTH_TEST);
   glDepthMask(GL_FALSE);
@@ -96,7 +100,7 @@ void applyBlendState(Method method, bool shimmer, bool cartoon) {
     glEnable(GL_DEPTH_CLAMP);
   else
     glDisable(GL_DEPTH_CLAMP);
-  glEnable(GL_BLEND);
+  for (GLuint i = 0; i < drawnBuffers(cartoon); ++i) glEnablei(GL_BLEND, i);
   glBlendEquationi(0, GL_FUNC_ADD);
   glBlendFuncSeparatei(0, GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA);
   glBlendEquationi(1, GL_FUNC_ADD);
@@ -508,10 +512,12 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
 
   glBindVertexArray(0);
   glUseProgram(0);
-  glDisable(GL_BLEND);
+  for (GLuint i = 0; i < drawnBuffers(m.settings.style == Style::kCartoon); ++i) {
+    glDisablei(GL_BLEND, i);
+    glColorMaski(i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  }
   glDisable(GL_DEPTH_CLAMP);
   glDepthMask(GL_TRUE);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
 }  // namespace puff::media

@@ -2,7 +2,7 @@
 // programmable GL (4.5) into whatever framebuffer is current. Shadows come from a shadow map (the
 // default; the puffs drawn as its casters: cel/shadow_map.h) or from billboard shadow volumes.
 //
-// A frame, as a host draws it (see puff::cel::renderScene for the whole sequence):
+// A frame, as a host draws it (render::detail::CelPath draws the whole sequence; shadow_map.h the map's):
 //   1. clear colour, depth (to clearDepth(frame.depth): 1, or 0 for reversed-z) and stencil (to 0);
 //      upload a FrameBlock; bind Ramp and Gradient;
 //   2. draw opaque geometry lit, writing depth in the frame's convention (OpaqueRenderer, or the
@@ -15,18 +15,21 @@
 //
 // Host state (docs/cel-rendering.md, "Host state"). Each draw call sets every piece of GL state it
 // relies on, never trusting what the host or an earlier pass left, and queries no host state (a
-// glGet may stall a threaded driver) but whether the framebuffer is multisampled. What each call LEAVES changed is
+// glGet may stall a threaded driver) but whether the framebuffer is multisampled and which draw buffers
+// it has. Every draw writes the framebuffer's draw buffer 0 alone: one with more colour
+// attachments enabled (a G-buffer) draws to its first alone during the call and gets its own draw
+// buffers back (core::DrawBufferZero), its other attachments untouched. What each call LEAVES changed is
 // listed with it below, exactly; everything else is as the host had it. A host that wants its state back wraps its Puff
 // calls in one core::HostStateGuard (core/host_state.h): one capture and one restore per frame
 // instead of a restore in every pass, since consecutive passes set the same state. The binding
 // points are the host's (Bindings, bindings.h); the defaults are the shaders'. Lists below use:
-//  - "the pass state" (pass_state.h, resetPassState): blending off on every draw buffer, culling,
+//  - "the pass state" (pass_state.h, resetPassState): blending off on draw buffer 0, culling,
 //    scissor test, depth clamp, polygon offset fill, alpha to coverage, rasterizer discard,
 //    primitive restart and fixed-index primitive restart all off; polygon mode GL_FILL; depth range
 //    [0, 1]; depth test on (GL_FRAMEBUFFER_SRGB is the host's: Puff writes scene-linear colour,
 //    which an sRGB target with the flag on encodes);
-//  - "write masks on" (restoreWriteMasks): depth write mask on, colour write masks on for every
-//    draw buffer, stencil write mask 0xFF front and back;
+//  - "write masks on" (restoreWriteMasks): depth write mask on, draw buffer 0's colour write mask
+//    on, stencil write mask 0xFF front and back;
 //  - "no program, no vertex array": glUseProgram(0), glBindVertexArray(0) (a host binding an
 //    element buffer next would otherwise change Puff's vertex array);
 //  - "its atlas": units `atlasPacked`, `atlasColor` and `atlasBack` (2D: the atlas's maps; on
@@ -34,8 +37,9 @@
 //    `shadowProfile` (2D: the silhouettes' radius table), each with sampler binding 0; storage buffer bindings
 //    `particles` and `cells` (whole buffers; the generic GL_SHADER_STORAGE_BUFFER binding is
 //    untouched: multi-bind).
-// Never changed by any cel call: the framebuffers (but ShadowMap::beginCasters), the viewport (the
-// same), the active texture unit, the generic buffer bindings, the blend functions, equations and
+// Never changed by any cel call: the framebuffers (but ShadowMap::beginCasters) and their draw
+// buffers, the viewport (the same), the blending and colour write masks of draw buffers 1 and up,
+// the active texture unit, the generic buffer bindings, the blend functions, equations and
 // colour, the stencil test's state but where listed, the cull face mode, the polygon offset factor
 // and units, and texture units, uniform and storage bindings other than those listed.
 //

@@ -126,10 +126,9 @@ class LayersBase {
   /// renderer with that style, attachments 2 and 3 (RGBA32F, made on first use) too, cleared to 0.
   /// Leaves (a begin call: Renderer::draw draws into it next): the draw framebuffer = the media
   /// layer's; the viewport = (0, 0, mediaWidth(), mediaHeight()); scissor test and rasterizer
-  /// discard off; colour write masks on for every draw buffer. (GL_STENCIL_REF then reads back 0:
-  /// the query clamps the stored reference to the bound framebuffer's stencil bits, none here; the
-  /// stored value is untouched. The same for compose and blendHistory with a `target` without
-  /// stencil.)
+  /// discard off; colour write masks on for draw buffers 0 and 1 (0 to 3 for kCartoon). (GL_STENCIL_REF then reads back
+  /// 0: the query clamps the stored reference to the bound framebuffer's stencil bits, none here; the stored value is
+  /// untouched. The same for compose and blendHistory with a `target` without stencil.)
   void beginMedia(Style style = Style::kPhotoreal);
   /// How compose() upsamples when ComposeSettings::depthAware is on: bilateral weights in depth
   /// (the default), or the all-or-nearest rule (all four texels within the tolerance: bilinear, else the
@@ -178,11 +177,12 @@ class Layers final : public LayersBase {
   /// layer's depth (nearest depth per layer texel, R32F linear). Sets its own state.
   /// Restores the draw framebuffer and viewport it found (two queries: a framebuffer of its own
   /// left bound would take the host's next draws unseen). Leaves: "the full-screen state" (depth
-  /// test, stencil test, blending on every draw buffer, culling, scissor test, rasterizer discard,
+  /// test, stencil test, blending on draw buffer 0, culling, scissor test, rasterizer discard,
   /// alpha to coverage and the sample mask off (GL_FRAMEBUFFER_SRGB is the host's, untouched by
-  /// every Layers call); polygon mode GL_FILL; colour write masks
-  /// on for every draw buffer); no program, no vertex array; unit `resolveSource` with its 2D multisample texture = the
-  /// opaque depth, its 2D texture = the resolved depth and sampler binding 0.
+  /// every Layers call); polygon mode GL_FILL; draw buffer 0's colour write mask on; the blending
+  /// and write masks of the other draw buffers as they were, but where a call lists them); no program, no vertex array;
+  /// unit `resolveSource` with its 2D multisample texture = the opaque depth, its 2D texture = the resolved depth and
+  /// sampler binding 0.
   void resolveOpaque();
   /// Composes into framebuffer `target` (0 = the default framebuffer; bound as the DRAW framebuffer,
   /// the read binding is left alone) over `viewport` (its width x height must be width() x height()).
@@ -254,12 +254,13 @@ class HostLayers final : public LayersBase {
   /// a float target or an sRGB one with GL_FRAMEBUFFER_SRGB on (left as the host set it).
   /// Errors (nothing drawn): a layer begun with beginMedia(Style::kCartoon) (the cartoon style is
   /// not drawn over a host's frame yet); settings.shimmerPixels != 0; more than 8 lights that shine
-  /// (intensity and radius > 0: compose() uses the first 8); a viewport of another size; a target
-  /// drawing to more colour buffers than dual-source blending allows
-  /// (GL_MAX_DUAL_SOURCE_DRAW_BUFFERS, 1 on common GPUs; the target is then left bound).
+  /// (intensity and radius > 0: compose() uses the first 8); a viewport of another size.
+  /// A target drawing to more colour buffers (a G-buffer) draws to its first alone during the call
+  /// (dual-source blending allows GL_MAX_DUAL_SOURCE_DRAW_BUFFERS, 1 on common GPUs) and gets its
+  /// own draw buffers back; its other attachments are untouched.
   /// Leaves: the draw framebuffer = `target`; the viewport = `viewport`; depth test, stencil test,
-  /// culling, scissor test, rasterizer discard, alpha to coverage and the sample mask off; polygon mode GL_FILL; colour
-  /// write masks on for every draw buffer; blending off on every draw buffer, with draw buffer 0's functions (GL_ONE,
+  /// culling, scissor test, rasterizer discard, alpha to coverage and the sample mask off; polygon mode GL_FILL; draw
+  /// buffer 0's colour write mask on; blending off on draw buffer 0, with its functions (GL_ONE,
   /// GL_SRC1_COLOR, GL_ZERO, GL_ONE) and equation GL_FUNC_ADD; no program, no vertex array; uniform buffer binding
   /// `composeBlock` = its block; units `opaqueDepth`, `mediaLayer`, `mediaDepth` and `shimmer` with their 2D textures =
   /// its and sampler binding 0.

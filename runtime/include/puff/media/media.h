@@ -92,12 +92,13 @@ class Renderer {
   /// depth texture), read at each pixel's offset from the viewport's origin. The viewport must be
   /// (frame.x, frame.y, frame.width, frame.height). Sets every GL state it needs and queries none.
   /// Leaves (docs/media.md, "Host state"; a core::HostStateGuard restores it all):
-  ///   no program, no vertex array; blending off on every draw buffer, with draw buffer 0's
+  ///   no program, no vertex array; blending off on draw buffers 0 and 1 (0 to 3 for the cartoon
+  ///   style, whose four it draws; the others' blending and masks are the host's), with draw buffer 0's
   ///   functions (GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ZERO, GL_ONE_MINUS_SRC_ALPHA) and draw buffer
   ///   1's (GL_ONE, GL_ONE), draw buffers 2 and 3's (GL_ONE, GL_ONE_MINUS_SRC_ALPHA) and their equations
   ///   GL_FUNC_ADD; depth test, stencil test, culling,
   ///   scissor test, alpha to coverage, rasterizer discard and depth clamp off;
-  ///   polygon mode GL_FILL; depth write mask on; colour write masks on for every draw buffer;
+  ///   polygon mode GL_FILL; depth write mask on; colour write masks on for the draw buffers it draws;
   ///   uniform buffer bindings `mediaBlock` and `materialBlock` (whole buffers) and storage buffer
   ///   binding `particles` (a range) = its buffers; units `depth` (2D: `depth`), `blackbody` (1D),
   ///   `phase` (2D), `temperatureDetail` and `opacityDetail` (3D) and `falloff` (2D) = its
