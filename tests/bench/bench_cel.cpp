@@ -368,6 +368,7 @@ int main(int argc, char** argv) {
     for (int size : sizes) {
       const Target target(size);
       cel::Frame frame = cel::Frame::fromCamera(camera, size, size);
+      frame.depth = cel::DepthConvention::kLinear;  // Puff's own renderer's, as the benchmark has always drawn
       frame.light.direction = glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f));
       frame.light.color = glm::vec3(0.75f);
       frame.ambientColor = glm::vec3(0.3f);

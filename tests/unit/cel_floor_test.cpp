@@ -14,6 +14,7 @@
 #include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/gl_target.h"
+#include "support/linear_frame.h"
 #include "support/sphere_atlas.h"
 
 namespace puff {
@@ -50,7 +51,7 @@ class CelFloor : public test::SphereAtlasTest {
     cam.fovYDegrees = 40.0f;
     cam.nearPlane = kNear;
     cam.farPlane = kFar;
-    return cel::Frame::fromCamera(cam, kPx, kPx);
+    return test::linearFrame(cam, kPx, kPx);
   }
   static float linearOfZ(float z) { return ((kCameraZ - z) - kNear) / (kFar - kNear); }
 

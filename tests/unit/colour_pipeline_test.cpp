@@ -23,6 +23,7 @@
 #include "support/assert_ok.h"
 #include "support/display.h"
 #include "support/gl_target.h"
+#include "support/linear_frame.h"
 #include "support/sphere_atlas.h"
 #include "support/temp_dir.h"
 
@@ -151,7 +152,7 @@ class ColourPipeline : public test::SphereAtlasTest {
     cam.orthoHeight = kWorld;
     cam.nearPlane = 1.0f;
     cam.farPlane = 21.0f;
-    cel::Frame f = cel::Frame::fromCamera(cam, kPx, kPx);
+    cel::Frame f = test::linearFrame(cam, kPx, kPx);
     f.light.direction = glm::vec3(0, 0, 1);
     f.light.color = light;
     f.ambientColor = ambient;

@@ -37,6 +37,7 @@
 #include "support/cli_test.h"
 #include "support/gl_fixture.h"
 #include "support/gl_target.h"
+#include "support/linear_frame.h"
 #include "support/temp_dir.h"
 
 namespace puff {
@@ -199,7 +200,7 @@ TEST_F(ColourGpu, RampColoursComeBackAsTheSameEightBitDisplayValues) {
   camera.orthoHeight = 1.0f;
   camera.nearPlane = 1.0f;
   camera.farPlane = 9.0f;
-  cel::Frame frame = cel::Frame::fromCamera(camera, kSize, kSize);
+  cel::Frame frame = test::linearFrame(camera, kSize, kSize);
   frame.ambientColor = glm::vec3(0.0f);
   frame.light.color = glm::vec3(1.0f);
   cel::FrameBlock block;

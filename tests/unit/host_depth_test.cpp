@@ -27,6 +27,7 @@
 #include <puff/cel/nailboards.h>
 #include <puff/cel/opaque.h>
 #include <puff/cel/volume_clip.h>
+#include <puff/core/bind_points.h>
 #include <puff/core/colour.h>
 #include <puff/core/gl.h>
 #include <puff/core/shader.h>
@@ -135,6 +136,9 @@ void main() { gl_FragDepth = storeDepth(linearDepth(uDist)); }
   const std::string hostFs = "#version 450 core\nvoid main() {}\n";
   const core::Program puff = program(fullscreen, puffFs), host = program(fullscreen, hostFs);
   ASSERT_NE(puff.get(), 0u);
+  // The frame's block where FrameBlock binds it (cel::Bindings), not at frame.glsl's layout value.
+  core::assignBindPoints(puff.get(),
+                         {{core::BindPoint::Kind::kUniformBlock, "FrameBlock", cel::Bindings{}.frameBlock}});
   HostTarget target(4, GL_DEPTH32F_STENCIL8);
   ASSERT_TRUE(target.complete());
   const glm::mat4 view(1.0f);

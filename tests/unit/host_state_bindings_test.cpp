@@ -16,6 +16,7 @@
 #include <puff/cel/shadow_map.h>
 #include <puff/cel/types.h>
 #include <puff/cel/volume_clip.h>
+#include <puff/core/binding_base.h>
 #include <puff/core/host_state.h>
 #include <puff/gl_api.h>
 #include <puff/media/bindings.h>
@@ -30,10 +31,12 @@ namespace puff::host_state_test {
 namespace {
 // ---- chosen binding points -----------------------------------------------------------------------
 
+// Points chosen one by one, none on a default one (uniform buffers 8-13, storage buffers 4-5, units
+// 16-23: core::BindingBase{} and its spans), in another order than the defaults'.
 cel::Bindings chosenCel() {
   cel::Bindings b;
   b.frameBlock = 7;
-  b.particles = 5;
+  b.particles = 2;
   b.cells = 3;
   b.ramp = 9;
   b.gradient = 12;
@@ -48,23 +51,25 @@ cel::Bindings chosenCel() {
 
 media::Bindings chosenMedia() {
   media::Bindings b;
-  b.mediaBlock = 9;
-  b.materialBlock = 10;
-  b.particles = 6;
+  b.mediaBlock = 1;
+  b.materialBlock = 2;
+  b.particles = 1;
   b.depth = 8;
   b.blackbody = 9;
   b.phase = 10;
   b.temperatureDetail = 11;
   b.opacityDetail = 12;
   b.falloff = 13;
-  b.composeBlock = 11;
+  b.composeBlock = 3;
   b.opaqueColor = 14;
   b.opaqueDepth = 15;
-  b.mediaLayer = 16;
-  b.mediaDepth = 17;
-  b.shimmer = 18;
-  b.resolveSource = 19;
-  b.historyFirst = 20;  // 20-27: beyond kUnits, which is fine: nothing is compared there
+  b.mediaLayer = 0;
+  b.mediaDepth = 1;
+  b.shimmer = 2;
+  b.resolveSource = 3;
+  b.historyFirst = 24;  // 24-31: beyond kUnits, which is fine: nothing is compared there
+  b.cartoonBlock = 4;
+  b.cartoonFirst = 5;
   return b;
 }
 
@@ -103,13 +108,14 @@ std::vector<glm::vec4> celFrame(CelKit& kit, const test::OffscreenTarget& target
 // The host's objects on the default points (and every other one looked at) stay bound while Puff
 // draws on its chosen ones: the keys of the defaults' points.
 Keys defaultPoints() {
+  const core::BindingBase base;
   Keys k;
-  for (unsigned u = 0; u < 8; ++u) {
+  for (unsigned u = base.textureUnit; u < base.textureUnit + core::kTextureUnitSpan; ++u) {
     for (const Target& t : kTargets) k.insert(unit(u, t.name));
     k.insert(sampler(u));
   }
-  for (unsigned i = 0; i < 6; ++i) k.insert(ubo(i));
-  for (unsigned i = 0; i < 2; ++i) k.insert(ssbo(i));
+  for (unsigned i = base.uniformBuffer; i < base.uniformBuffer + core::kUniformBufferSpan; ++i) k.insert(ubo(i));
+  for (unsigned i = base.storageBuffer; i < base.storageBuffer + core::kStorageBufferSpan; ++i) k.insert(ssbo(i));
   return k;
 }
 
@@ -224,13 +230,50 @@ TEST_F(HostState, ChosenMediaBindingsDrawTheSameFrameAndLeaveTheDefaultsAlone) {
   EXPECT_EQ(core::drainGlErrors(), "");
 }
 
+// One base of each kind moves every point: each is its base plus the offset its header lists, and a
+// frame drawn at moved bases (clear of the defaults) is the defaults' to the bit.
+TEST_F(HostState, BindingBasesMoveEveryPoint) {
+  const core::BindingBase moved{.uniformBuffer = 1, .storageBuffer = 0, .textureUnit = 30};
+  const cel::Bindings c = cel::Bindings::at(moved);
+  EXPECT_EQ(c.frameBlock, 1u);
+  EXPECT_EQ(c.particles, 0u);
+  EXPECT_EQ(c.cells, 1u);
+  EXPECT_EQ(c.ramp, 30u);
+  EXPECT_EQ(c.shadowMapIds, 37u);
+  EXPECT_EQ(cel::Bindings{}, cel::Bindings::at(core::BindingBase{}));
+  const media::Bindings m = media::Bindings::at(moved);
+  EXPECT_EQ(m.mediaBlock, 4u);
+  EXPECT_EQ(m.composeBlock, 6u);
+  EXPECT_EQ(m.particles, 0u);
+  EXPECT_EQ(m.depth, 30u);
+  EXPECT_EQ(m.cartoonFirst, 35u);
+  EXPECT_EQ(media::Bindings{}, media::Bindings::at(core::BindingBase{}));
+  // The defaults keep clear of the points engines take first: nothing below 4 of any kind.
+  for (const unsigned p : {cel::Bindings{}.frameBlock, cel::Bindings{}.particles, cel::Bindings{}.ramp,
+                           media::Bindings{}.mediaBlock, media::Bindings{}.cartoonBlock, media::Bindings{}.particles,
+                           media::Bindings{}.depth, media::Bindings{}.resolveSource})
+    EXPECT_GE(p, 4u);
+
+  test::OffscreenTarget target(kPx);
+  std::vector<glm::vec4> reference, atBases;
+  {
+    CelKit kit(*atlas_);
+    reference = celFrame(kit, target);
+  }
+  CelKit kit(*atlas_, c);
+  atBases = celFrame(kit, target);
+  EXPECT_TRUE(atBases == reference) << "the cel frame at moved bases differs from the defaults'";
+  EXPECT_TRUE(mediaFrame(m) == mediaFrame(media::Bindings{})) << "the media frame at moved bases differs";
+  EXPECT_EQ(core::drainGlErrors(), "");
+}
+
 TEST_F(HostState, BindingsAreValidated) {
   cel::Bindings same;
   same.gradient = same.ramp;
   auto r = cel::NailboardRenderer::create(same);
   ASSERT_FALSE(r);
   EXPECT_EQ(r.error().message,
-            "cel::Bindings.gradient and cel::Bindings.ramp: both use texture unit 0; they must differ");
+            "cel::Bindings.gradient and cel::Bindings.ramp: both use texture unit 16; they must differ");
   auto o = cel::OpaqueRenderer::create(same);
   ASSERT_FALSE(o);
   EXPECT_EQ(o.error().message, r.error().message);
@@ -262,14 +305,14 @@ TEST_F(HostState, BindingsAreValidated) {
   auto mr = media::Renderer::create({}, m);
   ASSERT_FALSE(mr);
   EXPECT_EQ(mr.error().message,
-            "media::Bindings.falloff and media::Bindings.depth: both use texture unit 0; they must differ");
+            "media::Bindings.falloff and media::Bindings.depth: both use texture unit 16; they must differ");
   media::Bindings history;
   history.historyFirst = static_cast<unsigned>(maxUnits - 7);  // its 8 units reach one past the last
   auto ml = media::Layers::create(16, 16, 1, 0.5f, history);
   ASSERT_FALSE(ml);
   EXPECT_NE(ml.error().message.find("media::Bindings.historyFirst: texture unit " + std::to_string(maxUnits)),
             std::string::npos);
-  // Points of different calls may share (the defaults do: unit 0 is read by draw and by compose).
+  // Points of different calls may share (the defaults do: unit 16 is read by draw and by compose).
   EXPECT_TRUE(media::validate(media::Bindings{}));
   EXPECT_TRUE(cel::validate(chosenCel()));
   EXPECT_TRUE(media::validate(chosenMedia()));
@@ -280,14 +323,15 @@ TEST_F(HostState, GuardExtentCoversChosenPoints) {
   const core::GuardExtent c = cel::guardExtent(chosenCel());
   EXPECT_EQ(c.textureUnits, 16);
   EXPECT_EQ(c.uniformBuffers, 8);
-  EXPECT_EQ(c.storageBuffers, 6);
+  EXPECT_EQ(c.storageBuffers, 4);
   const core::GuardExtent m = media::guardExtent(chosenMedia());
-  EXPECT_EQ(m.textureUnits, 28);
-  EXPECT_EQ(m.uniformBuffers, 12);
-  EXPECT_EQ(m.storageBuffers, 7);
+  EXPECT_EQ(m.textureUnits, 32);
+  EXPECT_EQ(m.uniformBuffers, 5);
+  EXPECT_EQ(m.storageBuffers, 2);
   const core::GuardExtent both = c.cover(m);
-  EXPECT_EQ(both.textureUnits, 28);
-  EXPECT_EQ(both.storageBuffers, 7);
+  EXPECT_EQ(both.textureUnits, 32);
+  EXPECT_EQ(both.uniformBuffers, 8);
+  EXPECT_EQ(both.storageBuffers, 4);
   // The defaults' extent is the guard's default.
   const core::GuardExtent d = cel::guardExtent({}).cover(media::guardExtent({}));
   const core::GuardExtent g;

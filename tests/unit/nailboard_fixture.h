@@ -17,6 +17,7 @@
 
 #include "support/assert_ok.h"
 #include "support/gl_target.h"
+#include "support/linear_frame.h"
 #include "support/sphere_atlas.h"
 
 namespace puff::nailboard_test {
@@ -65,7 +66,7 @@ class Nailboards : public test::SphereAtlasTest {
     cam.orthoHeight = kWorld;
     cam.nearPlane = 1.0f;
     cam.farPlane = 21.0f;
-    cel::Frame f = cel::Frame::fromCamera(cam, kPx, kPx);
+    cel::Frame f = test::linearFrame(cam, kPx, kPx);
     f.light.direction = glm::vec3(0, 0, 1);
     f.light.color = glm::vec3(0.5f);
     f.ambientColor = glm::vec3(0.2f);

@@ -18,6 +18,7 @@
 #include <puff/mesh/mesh.h>
 
 #include "nailboard_fixture.h"
+#include "support/linear_frame.h"
 
 namespace puff::nailboard_test {
 namespace {
@@ -71,7 +72,7 @@ TEST_F(Nailboards, ShadowStaysRightWithTheCameraInsideTheVolume) {
   cam.fovYDegrees = 90.0f;
   cam.nearPlane = 0.1f;
   cam.farPlane = 10.1f;
-  cel::Frame f = cel::Frame::fromCamera(cam, kPx, kPx);
+  cel::Frame f = test::linearFrame(cam, kPx, kPx);
   f.light.direction = glm::vec3(0, 1, 0);
   const float wallZ = -0.5f;  // the wall is 1 in front of the camera
   target_->clear((1.0f - 0.1f) / 10.0f);
@@ -108,7 +109,7 @@ TEST_F(Nailboards, ShadowStaysRightWithAVolumeThroughTheNearPlane) {
   cam.fovYDegrees = 40.0f;
   cam.nearPlane = 0.2f;
   cam.farPlane = 10.2f;
-  cel::Frame f = cel::Frame::fromCamera(cam, kPx, kPx);
+  cel::Frame f = test::linearFrame(cam, kPx, kPx);
   f.light.direction = glm::vec3(0, 0, 1);  // from behind the camera
   target_->clear((3.0f - 0.2f) / 10.0f);   // the wall z = 0
   block_->upload(f);

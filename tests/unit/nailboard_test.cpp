@@ -22,6 +22,7 @@
 
 #include "nailboard_fixture.h"
 #include "support/assert_ok.h"
+#include "support/linear_frame.h"
 
 namespace puff::nailboard_test {
 namespace {
@@ -152,7 +153,7 @@ TEST_F(Nailboards, Equation2HoldsOnEveryChannelInGeneralPoses) {
       cam.orthoHeight = kWorld;
       cam.nearPlane = 1.0f;
       cam.farPlane = 21.0f;
-      cel::Frame f = cel::Frame::fromCamera(cam, kPx, kPx);
+      cel::Frame f = test::linearFrame(cam, kPx, kPx);
       f.light.direction = light;
       f.light.color = lightColor;
       f.ambientColor = ambient;
@@ -354,7 +355,7 @@ TEST_F(Nailboards, AxialBillboardsForeshortenFromAbove) {
   cam.orthoHeight = kWorld;
   cam.nearPlane = 1.0f;
   cam.farPlane = 21.0f;
-  cel::Frame f = cel::Frame::fromCamera(cam, kPx, kPx);
+  cel::Frame f = test::linearFrame(cam, kPx, kPx);
   f.light.color = glm::vec3(0.5f);  // lit pixels stay distinguishable from the white background
   cel::Style style;
   style.outlines = false;
@@ -377,7 +378,7 @@ TEST_F(Nailboards, ViewpointBillboardsDistortLikeASphere) {
   cam.fovYDegrees = 90.0f;
   cam.nearPlane = 1.0f;
   cam.farPlane = 30.0f;
-  cel::Frame f = cel::Frame::fromCamera(cam, kPx, kPx);
+  cel::Frame f = test::linearFrame(cam, kPx, kPx);
   f.light.color = glm::vec3(0.5f);
   const float theta = glm::radians(35.0f);
   const glm::vec3 pos(10 * std::tan(theta), 0, 0);  // in the plane z = 0, 35 degrees right of the axis

@@ -23,6 +23,7 @@
 #include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/gl_target.h"
+#include "support/linear_frame.h"
 
 namespace puff::cel {
 namespace {
@@ -160,7 +161,7 @@ class OpaqueTest : public test::GlTest {
     c.orthoHeight = height;
     c.nearPlane = 1.0f;
     c.farPlane = 9.0f;
-    return Frame::fromCamera(c, width, pixelsTall);
+    return test::linearFrame(c, width, pixelsTall);
   }
 
   static OpaqueObject object(std::string name, const TriangleMesh& mesh, glm::mat4 transform, glm::vec3 albedo,
@@ -191,7 +192,7 @@ TEST_F(OpaqueTest, DepthIsTheLinearDepthOfTheRayPlaneHit) {
   c.fovYDegrees = 50.0f;
   c.nearPlane = 0.5f;
   c.farPlane = 30.0f;
-  const Frame frame = Frame::fromCamera(c, kSize, kSize);
+  const Frame frame = test::linearFrame(c, kSize, kSize);
   begin(frame);
   setObjects({object("ground", makePlane(), glm::scale(glm::mat4(1.0f), glm::vec3(50.0f, 1.0f, 50.0f)), kAlbedo)});
   renderer_->draw(ShadePass::kLit);
@@ -285,7 +286,7 @@ TEST_F(OpaqueTest, PlaneSeenFromBelowTurnsItsNormalTowardTheViewer) {
   c.orthoHeight = 1.0f;
   c.nearPlane = 1.0f;
   c.farPlane = 9.0f;
-  Frame frame = Frame::fromCamera(c, kSize, kSize);
+  Frame frame = test::linearFrame(c, kSize, kSize);
   frame.ambientColor = kAmbient;
   frame.light.color = kLightColor;
   setObjects({object("ground", makePlane(), glm::mat4(1.0f), kAlbedo)});
@@ -304,7 +305,7 @@ TEST_F(OpaqueTest, MirroringTransformKeepsNormalsOutward) {
   c.orthoHeight = 4.0f;
   c.nearPlane = 1.0f;
   c.farPlane = 9.0f;
-  Frame frame = Frame::fromCamera(c, kSize, kSize);
+  Frame frame = test::linearFrame(c, kSize, kSize);
   frame.ambientColor = kAmbient;
   frame.light.color = kLightColor;
   frame.light.direction = {0, 0, 1};  // from the camera
@@ -356,7 +357,7 @@ TEST_F(OpaqueTest, ShadowedPassMatchesTheDepthOfLitAndDepthOnlyPassesExactly) {
   c.fovYDegrees = 40.0f;
   c.nearPlane = 1.0f;
   c.farPlane = 20.0f;
-  Frame frame = Frame::fromCamera(c, kSize, kSize);
+  Frame frame = test::linearFrame(c, kSize, kSize);
   frame.ambientColor = kAmbient;
   frame.light.color = kLightColor;
   const glm::vec3 sphereAlbedo{0.2f, 0.9f, 0.6f};
@@ -410,7 +411,7 @@ TEST_F(OpaqueTest, SphereSilhouetteMatchesItsOrthographicProjection) {
   c.orthoHeight = 4.0f;
   c.nearPlane = 1.0f;
   c.farPlane = 10.0f;
-  const Frame frame = Frame::fromCamera(c, kSize, kSize);
+  const Frame frame = test::linearFrame(c, kSize, kSize);
   begin(frame);
   const float radius = 1.25f;
   const glm::vec3 centre{0.5f, -0.25f, 0.0f};

@@ -22,6 +22,7 @@
 #include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/gl_target.h"
+#include "support/linear_frame.h"
 
 namespace puff::cel {
 namespace {
@@ -83,7 +84,7 @@ class OpaqueVolumes : public test::GlTest {
     c.fovYDegrees = 45.0f;
     c.nearPlane = 0.5f;
     c.farPlane = 30.0f;
-    Frame f = Frame::fromCamera(c, kSize, kSize);
+    Frame f = test::linearFrame(c, kSize, kSize);
     f.light.direction = glm::normalize(lightToward);
     return f;
   }
@@ -229,7 +230,7 @@ TEST(VolumeClip, IsTheReceiversBoxOnScreenAndInDepth) {
   cam.orthoHeight = 8.0f;
   cam.nearPlane = 1.0f;
   cam.farPlane = 21.0f;
-  const Frame f = Frame::fromCamera(cam, 128, 128);
+  const Frame f = test::linearFrame(cam, 128, 128);
   Bounds b;
   b.add(glm::vec3(-1, 0, -3));
   b.add(glm::vec3(2, 1, 4));
@@ -251,7 +252,7 @@ TEST(VolumeClip, IsTheReceiversBoxOnScreenAndInDepth) {
   persp.fovYDegrees = 60.0f;
   Bounds behind = b;
   behind.add(glm::vec3(0, 0, 12));  // behind the eye at z = 10
-  EXPECT_TRUE(volumeClip(Frame::fromCamera(persp, 128, 128), behind).everything);
+  EXPECT_TRUE(volumeClip(test::linearFrame(persp, 128, 128), behind).everything);
 }
 
 }  // namespace

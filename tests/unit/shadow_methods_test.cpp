@@ -27,6 +27,7 @@
 
 #include "support/assert_ok.h"
 #include "support/display.h"
+#include "support/linear_frame.h"
 #include "support/sphere_atlas.h"
 
 namespace puff {
@@ -461,7 +462,7 @@ TEST(ShadowMapPlan, ResolutionFollowsTheScreenAndIsCapped) {
   cam.target = {0, 0, 0};
   cam.fovYDegrees = 0.0f;
   cam.orthoHeight = 8.0f;
-  cel::Frame eye = cel::Frame::fromCamera(cam, 256, 128);
+  cel::Frame eye = test::linearFrame(cam, 256, 128);
   eye.light.direction = {0, 0, 1};  // along the view: the map's plane is the screen's
   cel::Style st;
   cel::Bounds box;
@@ -493,7 +494,7 @@ TEST(ShadowMapPlan, ResolutionFollowsTheScreenAndIsCapped) {
   EXPECT_NEAR(p.lookup.length * depthRange, st.shadowLength, 1e-3f);
   // Perspective: pixels per unit at the centre's distance.
   cam.fovYDegrees = 90.0f;
-  const cel::Frame persp = cel::Frame::fromCamera(cam, 128, 128);
+  const cel::Frame persp = test::linearFrame(cam, 128, 128);
   st.shadowMapScale = 1.0f;
   // 6.4 pixels per unit, rounded to a quarter octave: 2^(11/4) = 6.73.
   EXPECT_NEAR(cel::chooseShadowMap(persp, box, st).texelsPerUnit, std::exp2(11.0f / 4.0f), 1e-3f);

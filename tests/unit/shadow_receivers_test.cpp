@@ -27,6 +27,7 @@
 
 #include "support/assert_ok.h"
 #include "support/display.h"
+#include "support/linear_frame.h"
 #include "support/sphere_atlas.h"
 
 namespace puff {
@@ -488,7 +489,7 @@ TEST(VolumeClip, TakesInThePixelsTheBoxPartlyCovers) {
   cam.orthoHeight = 8.0f;
   cam.nearPlane = 1.0f;
   cam.farPlane = 21.0f;
-  const cel::Frame f = cel::Frame::fromCamera(cam, 128, 128);
+  const cel::Frame f = test::linearFrame(cam, 128, 128);
   cel::Bounds b;
   b.add(glm::vec3(-1.03f, 0.0f, -3.0f));
   b.add(glm::vec3(2.03f, 1.0f, 4.0f));

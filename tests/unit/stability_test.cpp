@@ -93,6 +93,7 @@
 #include "support/assert_ok.h"
 #include "support/gl_fixture.h"
 #include "support/gl_target.h"
+#include "support/linear_frame.h"
 #include "support/media_target.h"
 #include "support/sphere_atlas.h"
 
@@ -182,7 +183,7 @@ TEST_F(StabilityDepth, FarIntersectionsStayRightInLinearDepthWhereHyperbolicCann
   cam.fovYDegrees = static_cast<float>(glm::degrees(2.0 * std::atan(tanHalf)));
   cam.nearPlane = static_cast<float>(n);
   cam.farPlane = static_cast<float>(f);
-  cel::Frame frame = cel::Frame::fromCamera(cam, kPx, kPx);
+  cel::Frame frame = test::linearFrame(cam, kPx, kPx);
   frame.light.color = glm::vec3(0.0f);  // colour = K_a exactly, so each puff is known by its colour
   struct Ball {
     glm::dvec3 centre;
@@ -336,7 +337,7 @@ TEST_F(StabilityCel, ANailboardLargerThanTheScreenCoversItWithTheRightDepth) {
   cam.fovYDegrees = 60.0f;
   cam.nearPlane = 1.0f;
   cam.farPlane = 100.0f;
-  cel::Frame frame = cel::Frame::fromCamera(cam, kPx, kPx);
+  cel::Frame frame = test::linearFrame(cam, kPx, kPx);
   frame.light.direction = glm::vec3(0, 0, 1);
   frame.light.color = glm::vec3(0.5f);
   frame.ambientColor = glm::vec3(0.2f);
@@ -381,7 +382,7 @@ TEST_F(StabilityCel, ANonFiniteParticleDoesNotTakeTheOthersWithIt) {
   cam.position = glm::vec3(0, 0, 10);
   cam.target = glm::vec3(0);
   cam.fovYDegrees = 40.0f;
-  const cel::Frame frame = cel::Frame::fromCamera(cam, kPx, kPx);
+  const cel::Frame frame = test::linearFrame(cam, kPx, kPx);
   const cel::Style style;
   auto image = [&](const std::vector<cel::Particle>& ps) {
     target_->clear(glm::vec4(1.0f), 1.0f);

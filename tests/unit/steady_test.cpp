@@ -32,6 +32,7 @@
 
 #include "support/assert_ok.h"
 #include "support/gl_target.h"
+#include "support/linear_frame.h"
 #include "support/skip.h"
 #include "support/sphere_atlas.h"
 
@@ -205,7 +206,7 @@ TEST_F(SteadyImage, AStillPuffKeepsItsPixelsUnderAMovingCrowd) {
   cam.position = glm::vec3(0, 0, 10);
   cam.target = glm::vec3(0);
   cam.fovYDegrees = 40.0f;
-  const cel::Frame frame = cel::Frame::fromCamera(cam, kPx, kPx);
+  const cel::Frame frame = test::linearFrame(cam, kPx, kPx);
   const cel::Style style;
 
   auto draw = [&](const std::vector<Particle>& ps) {

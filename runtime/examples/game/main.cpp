@@ -60,10 +60,10 @@ namespace {
 constexpr float kStep = 1.0f / 60.0f;  // seconds per frame: the simulators' fps is 60
 constexpr float kNear = 0.1f, kFar = 100.0f;
 constexpr GLuint kCameraBlock = 0;  // the game's camera uniform block: binding 0, as most games do
-// Puff's binding points, chosen by the game: the cel frame block moves off 0 to 1, so the game's
-// camera block on 0 stays bound through every Puff call. Everything else keeps its default
-// (cel: storage buffers 0-1, units 0-7; media: uniform buffers 3-5, storage buffer 0, units 0-5).
-const puff::cel::Bindings kCelBindings{.frameBlock = 1};
+// Puff's binding points keep their defaults: each an offset from one base per kind, uniform buffers
+// from 8, storage buffers from 4 and texture units from 16, clear of the game's camera block on
+// uniform buffer 0 and its textures on the low units, which stay bound through every Puff call. A game
+// whose own points reached there would pass cel::Bindings::at(base) and media::Bindings::at(base).
 
 // ---- the game's GL helpers ------------------------------------------------------------------
 GLuint compile(GLenum type, const char* source, std::string& log) {
@@ -436,10 +436,10 @@ struct Smoke {
 };
 
 puff::Result<Smoke> createSmoke(const puff::core::Atlas& atlas, const Camera& camera, int width, int height) {
-  PUFF_TRY_ASSIGN(auto nailboards, puff::cel::NailboardRenderer::create(kCelBindings));
+  PUFF_TRY_ASSIGN(auto nailboards, puff::cel::NailboardRenderer::create());
   if (auto set = (nailboards)->setAtlas(atlas); !set) return set.error();
   PUFF_TRY_ASSIGN(auto smoke, puff::sim::Simulator::create(smokeSettings(), std::max(1, atlas.desc.variations)));
-  puff::cel::FrameBlock celBlock(kCelBindings);
+  puff::cel::FrameBlock celBlock;
   // A three-band ramp q (dark, mid, light) instead of the paper's two tones.
   puff::core::Image bands(3, 1, 1);
   bands.pixels = {0.15f, 0.55f, 1.0f};
@@ -467,8 +467,8 @@ void advanceSmoke(Smoke& smoke, int frame) {
 
 // The smoke, into the game's framebuffer, tested against its depth.
 void drawSmoke(Smoke& smoke) {
-  smoke.celBlock.upload(smoke.celFrame);  // uniform binding 1: the game's camera block on 0 is untouched
-  smoke.ramp.bind(kCelBindings);
+  smoke.celBlock.upload(smoke.celFrame);  // uniform binding 8: the game's camera block on 0 is untouched
+  smoke.ramp.bind();
   smoke.nailboards->upload(smoke.puffs);
   smoke.nailboards->drawNailboards(smoke.style, puff::cel::ShadePass::kLit);
 }

@@ -54,7 +54,7 @@ namespace {
 
 // The convention the cel passes test with: the last FrameBlock uploaded or bound on this thread (a
 // GL context is current on one thread).
-thread_local DepthConvention boundConvention = DepthConvention::kLinear;
+thread_local DepthConvention boundConvention = DepthConvention::kStandard;
 
 }  // namespace
 

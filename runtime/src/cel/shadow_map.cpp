@@ -136,6 +136,7 @@ ShadowMapPlan chooseShadowMap(const Frame& eye, const Bounds& casters, const Sty
   plan.light.projection = proj;
   plan.light.nearPlane = nearDist;
   plan.light.farPlane = farDist;
+  plan.light.depth = DepthConvention::kLinear;  // the map is Puff's own: linear (ortho: the window depth too)
   plan.light.viewport = {0, 0, w, h};
   plan.light.light = eye.light;
   plan.width = w;

@@ -10,7 +10,9 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include <puff/cel/bindings.h>
 #include <puff/cel/pass_state.h>
+#include <puff/core/bind_points.h>
 #include <puff/core/colour.h>
 #include <puff/core/files.h>
 #include <puff/core/shader.h>
@@ -441,6 +443,18 @@ Result<void> validate(const CelReferenceOptions& options) {
   return {};
 }
 
+namespace {
+// The reference's programs read the frame's block, ramp and gradient where the cel scene binds them
+// (cel::Bindings{}, CelScene's), not at their shaders' `layout(binding = N)` values.
+void pointAtFrame(GLuint program) {
+  const cel::Bindings b;
+  using K = core::BindPoint::Kind;
+  core::assignBindPoints(program, {{K::kUniformBlock, "FrameBlock", b.frameBlock},
+                                   {K::kSampler, "uRamp", b.ramp},
+                                   {K::kSampler, "uGradient", b.gradient}});
+}
+}  // namespace
+
 Result<std::unique_ptr<CelReference>> CelReference::create(std::vector<mesh::TriMesh> meshes,
                                                            const CelReferenceOptions& options) {
   PUFF_TRY(validate(options));
@@ -455,6 +469,7 @@ Result<std::unique_ptr<CelReference>> CelReference::create(std::vector<mesh::Tri
   PUFF_TRY_ASSIGN(auto down, core::buildProgram({"reference/fullscreen.vert", "reference/downsample.frag"}));
   PUFF_TRY_ASSIGN(auto objectLight, core::buildProgram({"reference/object_light.vert", "reference/object_light.frag"}));
   PUFF_TRY_ASSIGN(auto objectId, core::buildProgram({"cel/opaque.vert", "reference/object_id.frag"}));
+  for (const core::Program* p : {&mesh, &stencil, &silhouette, &down, &objectLight, &objectId}) pointAtFrame(p->get());
   m.objectLightProgram = std::move(objectLight);
   m.objectIdProgram = std::move(objectId);
   m.meshProgram = std::move(mesh);

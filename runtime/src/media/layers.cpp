@@ -78,15 +78,35 @@ Result<std::unique_ptr<LayersBase::Impl>> LayersBase::Impl::make(int width, int 
   return m;
 }
 
+Result<void> LayersBase::Impl::makeCartoonPrograms() {
+  PUFF_TRY_ASSIGN(cartoonField, fullscreenProgram("media/cartoon_field.frag"));
+  PUFF_TRY_ASSIGN(cartoonSeed, fullscreenProgram("media/cartoon_seed.frag"));
+  PUFF_TRY_ASSIGN(cartoonFlood, fullscreenProgram("media/cartoon_flood.frag"));
+  using K = core::BindPoint::Kind;
+  const Bindings& b = bindings;
+  const unsigned c = b.cartoonFirst;
+  core::assignBindPoints(cartoonField.get(), {{K::kUniformBlock, "ComposeBlock", b.composeBlock},
+                                              {K::kUniformBlock, "CartoonBlock", b.cartoonBlock},
+                                              {K::kSampler, "uOpaqueDepth", b.opaqueDepth},
+                                              {K::kSampler, "uMedia", b.mediaLayer},
+                                              {K::kSampler, "uMediaDepth", b.mediaDepth},
+                                              {K::kSampler, "uShimmerTex", b.shimmer},
+                                              {K::kSampler, "uCartoonFire", c},
+                                              {K::kSampler, "uCartoonDepth", c + 1}});
+  core::assignBindPoints(cartoonSeed.get(),
+                         {{K::kUniformBlock, "CartoonBlock", b.cartoonBlock}, {K::kSampler, "uField", c + 1}});
+  core::assignBindPoints(cartoonFlood.get(),
+                         {{K::kUniformBlock, "CartoonBlock", b.cartoonBlock}, {K::kSampler, "uSeeds", c + 2}});
+  return {};
+}
+
 Result<void> LayersBase::Impl::makeOwn() {
   PUFF_TRY_ASSIGN(resolveDepth, fullscreenProgram("media/resolve_depth.frag"));
   PUFF_TRY_ASSIGN(compose, fullscreenProgram("media/compose.frag"));
   PUFF_TRY_ASSIGN(blur, fullscreenProgram("media/blur.frag"));
-  PUFF_TRY_ASSIGN(cartoonField, fullscreenProgram("media/cartoon_field.frag"));
-  PUFF_TRY_ASSIGN(cartoonSeed, fullscreenProgram("media/cartoon_seed.frag"));
-  PUFF_TRY_ASSIGN(cartoonFlood, fullscreenProgram("media/cartoon_flood.frag"));
   PUFF_TRY_ASSIGN(cartoonCompose, fullscreenProgram("media/cartoon_compose.frag"));
   PUFF_TRY_ASSIGN(copy, fullscreenProgram("media/copy.frag"));
+  PUFF_TRY(makeCartoonPrograms());
   using K = core::BindPoint::Kind;
   const Bindings& b = bindings;
   const unsigned c = b.cartoonFirst;
@@ -100,18 +120,6 @@ Result<void> LayersBase::Impl::makeOwn() {
                                          {K::kSampler, "uShimmerTex", b.shimmer}});
   core::assignBindPoints(
       copy.get(), {{K::kUniformBlock, "ComposeBlock", b.composeBlock}, {K::kSampler, "uOpaqueColor", b.opaqueColor}});
-  core::assignBindPoints(cartoonField.get(), {{K::kUniformBlock, "ComposeBlock", b.composeBlock},
-                                              {K::kUniformBlock, "CartoonBlock", b.cartoonBlock},
-                                              {K::kSampler, "uOpaqueDepth", b.opaqueDepth},
-                                              {K::kSampler, "uMedia", b.mediaLayer},
-                                              {K::kSampler, "uMediaDepth", b.mediaDepth},
-                                              {K::kSampler, "uShimmerTex", b.shimmer},
-                                              {K::kSampler, "uCartoonFire", c},
-                                              {K::kSampler, "uCartoonDepth", c + 1}});
-  core::assignBindPoints(cartoonSeed.get(),
-                         {{K::kUniformBlock, "CartoonBlock", b.cartoonBlock}, {K::kSampler, "uField", c + 1}});
-  core::assignBindPoints(cartoonFlood.get(),
-                         {{K::kUniformBlock, "CartoonBlock", b.cartoonBlock}, {K::kSampler, "uSeeds", c + 2}});
   core::assignBindPoints(cartoonCompose.get(), {{K::kUniformBlock, "ComposeBlock", b.composeBlock},
                                                 {K::kUniformBlock, "CartoonBlock", b.cartoonBlock},
                                                 {K::kSampler, "uOpaqueColor", b.opaqueColor},
@@ -143,6 +151,8 @@ Result<void> LayersBase::Impl::makeHost() {
   PUFF_TRY_ASSIGN(resolveHost, fullscreenProgram("media/resolve_host_depth.frag"));
   PUFF_TRY_ASSIGN(resolveHostMs, fullscreenProgram("media/resolve_host_depth_ms.frag"));
   PUFF_TRY_ASSIGN(composeOver, fullscreenProgram("media/compose_over.frag"));
+  PUFF_TRY_ASSIGN(cartoonComposeOver, fullscreenProgram("media/cartoon_compose_over.frag"));
+  PUFF_TRY(makeCartoonPrograms());
   using K = core::BindPoint::Kind;
   const Bindings& b = bindings;
   core::assignBindPoints(resolveHost.get(), {{K::kSampler, "uHostDepth", b.resolveSource}});
@@ -152,6 +162,15 @@ Result<void> LayersBase::Impl::makeHost() {
                                              {K::kSampler, "uMedia", b.mediaLayer},
                                              {K::kSampler, "uMediaDepth", b.mediaDepth},
                                              {K::kSampler, "uShimmerTex", b.shimmer}});
+  core::assignBindPoints(cartoonComposeOver.get(), {{K::kUniformBlock, "ComposeBlock", b.composeBlock},
+                                                    {K::kUniformBlock, "CartoonBlock", b.cartoonBlock},
+                                                    {K::kSampler, "uOpaqueDepth", b.opaqueDepth},
+                                                    {K::kSampler, "uMedia", b.mediaLayer},
+                                                    {K::kSampler, "uMediaDepth", b.mediaDepth},
+                                                    {K::kSampler, "uShimmerTex", b.shimmer},
+                                                    {K::kSampler, "uFill", b.cartoonFirst},
+                                                    {K::kSampler, "uField", b.cartoonFirst + 1},
+                                                    {K::kSampler, "uSeeds", b.cartoonFirst + 2}});
   return {};
 }
 
@@ -419,13 +438,20 @@ Result<void> HostLayers::resolveHostDepth(const HostDepth& host) {
 }
 
 Result<void> HostLayers::composeOver(GLuint target, const core::Viewport& viewport, const Frame& frame,
-                                     std::span<const ExplosionLight> lights, const ComposeSettings& settings) {
+                                     std::span<const ExplosionLight> lights, const ComposeSettings& settings,
+                                     const CartoonCompose* cartoon) {
   const core::DebugGroup group("media compose over the host's frame");
   Impl& m = *impl_;
-  if (m.cartoonBegun)
+  if (m.cartoonBegun && cartoon == nullptr)
     return Error{
-        "composeOver: the layer holds the cartoon style (beginMedia(Style::kCartoon)), which is not drawn over a "
-        "host's frame yet; draw it with Style::kPhotoreal"};
+        "composeOver: the layer holds the cartoon style (beginMedia(Style::kCartoon)); pass its CartoonCompose "
+        "(media::cartoonCompose(settings))"};
+  if (!m.cartoonBegun && cartoon != nullptr)
+    return Error{"composeOver: a CartoonCompose for a layer not begun with beginMedia(Style::kCartoon)"};
+  if (m.covered && (m.coveredStyle == Style::kCartoon) != (cartoon != nullptr))
+    return Error{"composeOver: the layer's coverage was set for the other style (setCoverage)"};
+  if (m.covered && cartoon && cartoon->style.outlines && cartoon->style.outlineWidth > m.coveredInk)
+    return Error{"composeOver: the ink is wider than the coverage was set for (setCoverage's inkPixels)"};
   if (settings.shimmerPixels != 0.0f)
     return Error{"composeOver: heat shimmer (shimmerPixels " + std::to_string(settings.shimmerPixels) +
                  ") displaces the host's scene, which composeOver blends onto and cannot read; set it to 0"};
@@ -440,8 +466,12 @@ Result<void> HostLayers::composeOver(GLuint target, const core::Viewport& viewpo
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
   // Draw buffer 0 alone: the host's other attachments stay as they are, and dual-source blending
   // (at most GL_MAX_DUAL_SOURCE_DRAW_BUFFERS draw buffers, 1 on common GPUs) is allowed.
-  const core::DrawBufferZero drawBuffers;
   m.uploadComposeBlock(viewport, frame, lights, settings);
+  if (cartoon) {
+    m.composeCartoon(target, viewport, *cartoon, true);  // its own passes, the target's last
+    return {};
+  }
+  const core::DrawBufferZero drawBuffers;
   glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
   fullscreenState(1);  // GL_FRAMEBUFFER_SRGB the host's: on an sRGB target with it on, the blend is in linear
   // dst * src1 + src0 on RGB (compose_over.frag); the host's alpha kept.

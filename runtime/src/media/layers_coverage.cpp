@@ -91,7 +91,8 @@ LayersBase::Impl::Boxes LayersBase::Impl::boxes() const {
   return b;
 }
 
-void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewport, const CartoonCompose& cartoon) {
+void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewport, const CartoonCompose& cartoon,
+                                      bool overHost) {
   const core::DebugGroup group("cartoon media: field, ink and compose");
   const CartoonStyle& st = cartoon.style;
   CartoonBlockData d{};
@@ -107,18 +108,19 @@ void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewp
   fullscreenState(2);  // the field's framebuffer draws to two
   glBindVertexArray(vao.get());
   const unsigned c = bindings.cartoonFirst;
-  core::bindTextureAndNoSampler(bindings.opaqueColor, color.get());
+  if (!overHost) core::bindTextureAndNoSampler(bindings.opaqueColor, color.get());  // a host's colour is not read
   core::bindTextureAndNoSampler(bindings.opaqueDepth, depth.get());
   core::bindTextureAndNoSampler(bindings.mediaLayer, media.get());
   core::bindTextureAndNoSampler(bindings.mediaDepth, mediaDepth.get());
   core::bindTextureAndNoSampler(bindings.shimmer, shimmer.get());
 
   const Boxes b = boxes();
-  if (covered && b.inked.empty()) {  // no media: the opaque colour alone
+  if (covered && b.inked.empty()) {  // no media: the opaque colour alone (over a host's, nothing)
     fieldBox = PixelBox{};
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-    const core::DrawBufferZero drawBuffers;  // the target's other attachments stay as they are
     glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
+    if (overHost) return;
+    const core::DrawBufferZero drawBuffers;  // the target's other attachments stay as they are
     copyAround(PixelBox{}, viewport);
     return;
   }
@@ -159,16 +161,22 @@ void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewp
   const core::DrawBufferZero drawBuffers;  // the target's other attachments stay as they are
   glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
   glDisable(GL_SCISSOR_TEST);
-  if (covered && !wholeFrame(b.inked)) {
+  if (covered && !wholeFrame(b.inked) && !overHost) {
     copyAround(b.inked, viewport);
     glBindVertexArray(vao.get());
   }
+  if (overHost) {  // dst * src1 + src0 on RGB (cartoon_compose_over.frag); the host's alpha kept
+    glEnablei(GL_BLEND, 0);
+    glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
+    glBlendFuncSeparatei(0, GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
+  }
   scissorTo(limit(b.inked), viewport.x, viewport.y);
-  glUseProgram(cartoonCompose.get());
+  glUseProgram(overHost ? cartoonComposeOver.get() : cartoonCompose.get());
   core::bindTextureAndNoSampler(c, fill.get());
   core::bindTextureAndNoSampler(c + 2, seeds[from].get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glDisable(GL_SCISSOR_TEST);
+  if (overHost) glDisablei(GL_BLEND, 0);
   glBindVertexArray(0);
   glUseProgram(0);
 }

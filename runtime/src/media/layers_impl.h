@@ -97,6 +97,7 @@ struct LayersBase::Impl {
   core::Texture cartoonFire, cartoonDepth, fill, field, seeds[2];
   core::Framebuffer fieldFbo, seedFbo[2];
   core::Program cartoonField, cartoonSeed, cartoonFlood, cartoonCompose;
+  core::Program cartoonComposeOver;  // HostLayers': the fill and ink blended over a host's colour
   core::Buffer cartoonBlock;
   core::Program copy;  // the opaque colour alone, where the media change nothing (setCoverage)
   // setCoverage: what the media cover (nullopt: the whole frame), the style and ink it was set for.
@@ -146,7 +147,12 @@ struct LayersBase::Impl {
   // Makes the cartoon style's textures and framebuffers (its programs are built with the layers).
   void makeCartoon();
   // compose()'s cartoon passes (layers.h, "Cartoon media"), the block already uploaded.
-  void composeCartoon(GLuint target, const core::Viewport& viewport, const CartoonCompose& cartoon);
+  // The cartoon passes, the last into `target`: over Puff's own opaque colour (a whole frame), or
+  // with `overHost` blended over what the host's target holds (nothing drawn where the media are not).
+  void composeCartoon(GLuint target, const core::Viewport& viewport, const CartoonCompose& cartoon,
+                      bool overHost = false);
+  // The cartoon passes' programs, pointed at the bindings (both kinds of layers).
+  Result<void> makeCartoonPrograms();
 };
 
 }  // namespace puff::media

@@ -89,6 +89,7 @@ bool CelScene::needsRebuild(const scene::Scene& a, const scene::Scene& b) {
 cel::Frame CelScene::prepare(const scene::Scene& s, const scene::FrameInputs& inputs, const cel::Viewport& viewport,
                              const cel::Viewport& drawViewport) {
   cel::Frame f = cel::Frame::fromCamera(inputs.camera, viewport.width, viewport.height);
+  f.depth = cel::DepthConvention::kLinear;  // Puff's own 24-bit target (cel/frame.h says why)
   f.viewport = drawViewport;
   f.light = s.light;
   f.ambientColor = s.ambientColor;

@@ -2,12 +2,15 @@
 // loader (generated for this program with glad's ordinary glad_glX names), its own framebuffer and
 // clear, and Puff's nailboards drawn into it after puff::core::initGl hands Puff the game's
 // getProcAddress. Links both loaders into one program: it fails to link if Puff's loader were not
-// private. Exit 0 when Puff drew a puff in the middle of the game's frame and left its corners.
+// private. Then the same frame again with Puff's binding points moved (one base of each kind,
+// cel::Bindings::at). Exit 0 when Puff drew a puff in the middle of the game's frame, left its
+// corners, and drew the same pixels at the moved bases.
 #include <glad/gl.h>  // the game's loader, first: it must not meet another GL header
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
+#include <cstddef>
 #include <cstdio>
 #include <vector>
 
@@ -15,6 +18,7 @@
 #include <puff/cel/frame.h>
 #include <puff/cel/nailboards.h>
 #include <puff/core/atlas.h>
+#include <puff/core/binding_base.h>
 #include <puff/core/gl.h>
 #include <puff/io/openimageio.h>
 
@@ -81,32 +85,45 @@ int main(int argc, char** argv) {
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
 
-  // ---- one puff, 2 units wide, 5 units in front of the camera ---------------------------------
-  auto renderer = puff::cel::NailboardRenderer::create();
-  if (!renderer) return fail(renderer.error().message.c_str());
-  if (auto set = (*renderer)->setAtlas(*atlas); !set) return fail(set.error().message.c_str());
-  puff::cel::Camera camera;
-  camera.position = {0.0f, 0.0f, 5.0f};
-  camera.target = {0.0f, 0.0f, 0.0f};
-  puff::cel::FrameBlock block;
-  block.upload(puff::cel::Frame::fromCamera(camera, size, size));
-  puff::cel::Ramp ramp = puff::cel::Ramp::twoTone();
-  ramp.bind();
-  puff::cel::Particle particle;
-  particle.position = {0.0f, 0.0f, 0.0f};
-  particle.size = 2.0f;
-  (*renderer)->upload({&particle, 1});
-  puff::cel::Style style;
-  (*renderer)->drawNailboards(style, puff::cel::ShadePass::kLit);
+  // ---- one puff, 2 units wide, 5 units in front of the camera, drawn at Puff's binding points
+  // `bindings` into the game's cleared frame, read back whole with the game's loader --------------
+  const auto drawPuff = [&](const puff::cel::Bindings& bindings, std::vector<unsigned char>& pixels) -> const char* {
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+    auto renderer = puff::cel::NailboardRenderer::create(bindings);
+    if (!renderer) return "NailboardRenderer::create failed";
+    if (auto set = (*renderer)->setAtlas(*atlas); !set) return "setAtlas failed";
+    puff::cel::Camera camera;
+    camera.position = {0.0f, 0.0f, 5.0f};
+    camera.target = {0.0f, 0.0f, 0.0f};
+    puff::cel::FrameBlock block(bindings);
+    block.upload(puff::cel::Frame::fromCamera(camera, size, size));  // the GL standard depth: the game's
+    puff::cel::Ramp ramp = puff::cel::Ramp::twoTone();
+    ramp.bind(bindings);
+    puff::cel::Particle particle;
+    particle.position = {0.0f, 0.0f, 0.0f};
+    particle.size = 2.0f;
+    (*renderer)->upload({&particle, 1});
+    puff::cel::Style style;
+    (*renderer)->drawNailboards(style, puff::cel::ShadePass::kLit);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+    pixels.assign(static_cast<std::size_t>(size) * size * 4, 0);
+    glReadPixels(0, 0, size, size, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+    return nullptr;
+  };
+  std::vector<unsigned char> frame, moved;
+  if (const char* error = drawPuff(puff::cel::Bindings{}, frame)) return fail(error);
+  const puff::core::BindingBase elsewhere{.uniformBuffer = 3, .storageBuffer = 2, .textureUnit = 40};
+  if (const char* error = drawPuff(puff::cel::Bindings::at(elsewhere), moved)) return fail(error);
 
-  // ---- the game reads its frame back with its own loader ----------------------------------------
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
-  unsigned char centre[4] = {}, corner[4] = {};
-  glReadPixels(size / 2, size / 2, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, centre);
-  glReadPixels(1, 1, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, corner);
+  // ---- the game's frame, as it read it ----------------------------------------------------------
+  const auto at = [&](int x, int y) { return &frame[(static_cast<std::size_t>(y) * size + x) * 4]; };
+  const unsigned char* centre = at(size / 2, size / 2);
+  const unsigned char* corner = at(1, 1);
   if (glGetError() != GL_NO_ERROR) return fail("GL error");
   std::printf("host_loader: GL %d.%d loaded by the game and by Puff; centre %d,%d,%d corner %d,%d,%d\n",
               *loaded / 10000, *loaded % 10000, centre[0], centre[1], centre[2], corner[0], corner[1], corner[2]);
+  if (moved != frame) return fail("the frame at moved binding bases differs from the defaults'");
   const bool cornerIsGame = corner[0] == 0 && corner[1] == 0 && corner[2] == 255;
   const bool centreIsPuff = !(centre[0] == 0 && centre[1] == 0 && centre[2] == 255);
   eglMakeCurrent(display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);

@@ -1,49 +1,79 @@
 // The binding points the cel passes use, chosen by the host (NailboardRenderer::create,
 // OpaqueRenderer::create, FrameBlock, ShadowMap, Ramp::bind, Gradient::bind). No GL: a plain struct.
 //
-// Defaults (the shaders' own `layout(binding = N)` values; docs/cel-rendering.md, "Host state"):
+// Each point is its kind's base (core::BindingBase: one uniform buffer, one storage buffer and one
+// texture unit base) plus its offset (Bindings::Offset, written there once). Bindings::at(base)
+// puts them all at a host's bases; the default is at(core::BindingBase{}), uniform buffers from 8,
+// storage buffers from 4 and texture units from 16 (docs/cel-rendering.md, "Host state"):
 //
-//   point                kind             default  read by
-//   frameBlock           uniform buffer   0        every cel program (shaders/common/frame.glsl)
-//   particles            storage buffer   0        nailboards, shadow volumes, casters (particle.glsl)
-//   cells                storage buffer   1        the same (the atlas's cell table)
-//   ramp                 texture unit     0        q, 1D (Ramp::bind)
-//   gradient             texture unit     1        K_a(x, y), 2D (Gradient::bind)
-//   atlasPacked          texture unit     2        the atlas's normal/depth/distance map, 2D
-//   atlasColor           texture unit     3        the atlas's colour map, 2D
-//   atlasBack            texture unit     4        the atlas's back map, 2D (tumbling hull only)
-//   shadowProfile        texture unit     5        the silhouettes' radius table, 2D
-//   shadowMapDepth       texture unit     6        ShadowMap::bind, 2D depth
-//   shadowMapIds         texture unit     7        ShadowMap::bind, 2D R32UI
+//   point                kind             offset  default  read by
+//   frameBlock           uniform buffer   0       8        every cel program (shaders/common/frame.glsl)
+//   particles            storage buffer   0       4        nailboards, shadow volumes, casters (particle.glsl)
+//   cells                storage buffer   1       5        the same (the atlas's cell table)
+//   ramp                 texture unit     0       16       q, 1D (Ramp::bind)
+//   gradient             texture unit     1       17       K_a(x, y), 2D (Gradient::bind)
+//   atlasPacked          texture unit     2       18       the atlas's normal/depth/distance map, 2D
+//   atlasColor           texture unit     3       19       the atlas's colour map, 2D
+//   atlasBack            texture unit     4       20       the atlas's back map, 2D (tumbling hull only)
+//   shadowProfile        texture unit     5       21       the silhouettes' radius table, 2D
+//   shadowMapDepth       texture unit     6       22       ShadowMap::bind, 2D depth
+//   shadowMapIds         texture unit     7       23       ShadowMap::bind, 2D R32UI
 //
 // The renderers point their programs' blocks and samplers at these after linking
-// (glUniformBlockBinding, glShaderStorageBlockBinding, glProgramUniform1i), so the shaders keep
-// their defaults in source. The texture units must all differ (one program reads up to all eight),
-// as must the two storage buffers; the uniform buffer is alone. create() checks them against the
-// GL's GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, GL_MAX_UNIFORM_BUFFER_BINDINGS and
-// GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS. Every object that binds (FrameBlock, Ramp, Gradient,
-// ShadowMap) must be given the same Bindings as the renderers that read them.
+// (glUniformBlockBinding, glShaderStorageBlockBinding, glProgramUniform1i): the shaders'
+// `layout(binding = N)` values are never used. A host may still set a point on its own. The texture
+// units must all differ (one program reads up to all eight), as must the two storage buffers; the
+// uniform buffer is alone. create() checks them against the GL's GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS,
+// GL_MAX_UNIFORM_BUFFER_BINDINGS and GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS. Every object that binds
+// (FrameBlock, Ramp, Gradient, ShadowMap) must be given the same Bindings as the renderers that read
+// them.
 #pragma once
 
+#include <puff/core/binding_base.h>
 #include <puff/core/error.h>
 #include <puff/core/host_state.h>
 
 namespace puff::cel {
 
 struct Bindings {
-  unsigned frameBlock = 0;  ///< uniform buffer binding of the frame's block
-  unsigned particles = 0;   ///< storage buffer binding of the packed particles
-  unsigned cells = 1;       ///< storage buffer binding of the atlas's cells
-  unsigned ramp = 0;        ///< texture unit of the ramp q
-  unsigned gradient = 1;    ///< texture unit of the ambient gradient
-  unsigned atlasPacked = 2;
-  unsigned atlasColor = 3;
-  unsigned atlasBack = 4;
-  unsigned shadowProfile = 5;
-  unsigned shadowMapDepth = 6;
-  unsigned shadowMapIds = 7;
+  /// Each point's offset from its kind's base.
+  struct Offset {
+    static constexpr unsigned frameBlock = 0;            // uniform buffers
+    static constexpr unsigned particles = 0, cells = 1;  // storage buffers
+    static constexpr unsigned ramp = 0, gradient = 1, atlasPacked = 2, atlasColor = 3, atlasBack = 4, shadowProfile = 5,
+                              shadowMapDepth = 6, shadowMapIds = 7;  // texture units
+  };
+  static constexpr core::BindingBase kDefaultBase{};
+
+  unsigned frameBlock = kDefaultBase.uniformBuffer + Offset::frameBlock;  ///< uniform buffer: the frame's block
+  unsigned particles = kDefaultBase.storageBuffer + Offset::particles;    ///< storage buffer: the packed particles
+  unsigned cells = kDefaultBase.storageBuffer + Offset::cells;            ///< storage buffer: the atlas's cells
+  unsigned ramp = kDefaultBase.textureUnit + Offset::ramp;                ///< texture unit: the ramp q
+  unsigned gradient = kDefaultBase.textureUnit + Offset::gradient;        ///< texture unit: the ambient gradient
+  unsigned atlasPacked = kDefaultBase.textureUnit + Offset::atlasPacked;
+  unsigned atlasColor = kDefaultBase.textureUnit + Offset::atlasColor;
+  unsigned atlasBack = kDefaultBase.textureUnit + Offset::atlasBack;
+  unsigned shadowProfile = kDefaultBase.textureUnit + Offset::shadowProfile;
+  unsigned shadowMapDepth = kDefaultBase.textureUnit + Offset::shadowMapDepth;
+  unsigned shadowMapIds = kDefaultBase.textureUnit + Offset::shadowMapIds;
   bool operator==(const Bindings&) const = default;
+
+  /// Every point at its offset from `base`.
+  static constexpr Bindings at(const core::BindingBase& base) {
+    return {.frameBlock = base.uniformBuffer + Offset::frameBlock,
+            .particles = base.storageBuffer + Offset::particles,
+            .cells = base.storageBuffer + Offset::cells,
+            .ramp = base.textureUnit + Offset::ramp,
+            .gradient = base.textureUnit + Offset::gradient,
+            .atlasPacked = base.textureUnit + Offset::atlasPacked,
+            .atlasColor = base.textureUnit + Offset::atlasColor,
+            .atlasBack = base.textureUnit + Offset::atlasBack,
+            .shadowProfile = base.textureUnit + Offset::shadowProfile,
+            .shadowMapDepth = base.textureUnit + Offset::shadowMapDepth,
+            .shadowMapIds = base.textureUnit + Offset::shadowMapIds};
+  }
 };
+static_assert(Bindings{} == Bindings::at(Bindings::kDefaultBase));
 
 /// The extent a core::HostStateGuard needs to save every point of `b` (and the defaults' draw
 /// buffers).

@@ -83,15 +83,18 @@ struct Frame {
   /// Linear depth's 0 and 1: the projection's near plane and, finite, its far plane (with an
   /// infinite-far projection, any finite distance past every shadow caster and receiver).
   float nearPlane = 0.1f, farPlane = 100.0f;
-  DepthConvention depth = DepthConvention::kLinear;    ///< what the depth attachment stores
+  /// What the depth attachment stores. The default is GL's own, the window depth the host's
+  /// projection writes through gl_Position (kStandard): a host that never says draws right over a
+  /// standard depth buffer. Puff's own renderer says kLinear (the header comment says why).
+  DepthConvention depth = DepthConvention::kStandard;
   ClipDepth clipDepth = ClipDepth::kNegativeOneToOne;  ///< `projection`'s clip z range (kStandard, kReversedZ)
   Viewport viewport;
   Light light;
   glm::vec3 ambientColor{0.25f};  ///< uniform K_a, used when no gradient texture is bound
   bool ambientGradient = false;   ///< K_a from the gradient texture (Gradient::bind) instead
   /// Shadows from a ShadowMap (Style::shadowMethod kMap): the lit passes of nailboards and opaque
-  /// objects draw a shadowed receiver with the ambient term only. Its textures go on units 6 and 7
-  /// (ShadowMap::bind).
+  /// objects draw a shadowed receiver with the ambient term only. Its textures go on units `shadowMapDepth` and
+  /// `shadowMapIds` (ShadowMap::bind).
   ShadowLookup shadow;
 
   /// A frame looking through `camera` at a viewport of width x height pixels.
@@ -113,12 +116,12 @@ float storedDepth(const Frame& frame, float linear);
 core::GlEnum nearerDepthFunc(DepthConvention convention);
 float clearDepth(DepthConvention convention);
 
-/// The convention of the FrameBlock last uploaded or bound on this thread (kLinear before any):
+/// The convention of the FrameBlock last uploaded or bound on this thread (kStandard before any):
 /// the cel passes take their depth test from it (nearerDepthFunc(boundDepthConvention())).
 DepthConvention boundDepthConvention();
 
 /// The frame's uniform buffer (shaders/common/frame.glsl) on uniform binding `bindings.frameBlock`
-/// (0 by default). Owns one GL buffer.
+/// (cel/bindings.h). Owns one GL buffer.
 class FrameBlock {
  public:
   /// Needs a current GL 4.5 context. `bindings`: the renderers' (only frameBlock is used).
@@ -137,7 +140,7 @@ class FrameBlock {
 
  private:
   core::Buffer buffer_;
-  DepthConvention depth_ = DepthConvention::kLinear;
+  DepthConvention depth_ = DepthConvention::kStandard;
   core::GlId binding_ = 0;
 };
 
@@ -168,7 +171,7 @@ class Ramp {
   static Result<Ramp> load(const std::filesystem::path& path, RampFilter filter = RampFilter::kNearest);
   /// A two-tone ramp: black below 0.5, white from 0.5 (the paper's typical map).
   static Ramp twoTone();
-  /// Binds to texture unit `bindings.ramp` (0 by default) with no sampler object there. Leaves:
+  /// Binds to texture unit `bindings.ramp` with no sampler object there. Leaves:
   /// that unit's 1D texture = the ramp and its sampler binding = 0. The active texture unit and
   /// the unit's other targets are untouched (glBindTextureUnit).
   void bind(const Bindings& bindings = {}) const;
@@ -189,7 +192,7 @@ class Gradient {
   static Result<void> check(const core::Image& image, const std::string& what);
   static Result<Gradient> create(const core::Image& image, const std::string& what);
   static Result<Gradient> load(const std::filesystem::path& path);
-  /// Binds to texture unit `bindings.gradient` (1 by default) with no sampler object there.
+  /// Binds to texture unit `bindings.gradient` with no sampler object there.
   /// Leaves: that unit's 2D texture = the gradient and its sampler binding = 0.
   void bind(const Bindings& bindings = {}) const;
 

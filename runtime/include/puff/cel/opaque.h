@@ -58,7 +58,7 @@ class OpaqueRenderer {
   Result<void> setTransform(std::size_t index, const glm::mat4& transform);
 
   /// Draws every object into the current framebuffer and viewport (the host's glViewport must match
-  /// the frame's Viewport) with the bound FrameBlock, ramp (unit 0) and gradient (unit 1), writing
+  /// the frame's Viewport) with the bound FrameBlock, ramp (unit `ramp`) and gradient (unit `gradient`), writing
   /// depth in the frame's convention. kLit: depth nearer (LESS; GREATER for reversed-z) + write.
   /// kShadowed: depth EQUAL, stencil != 0 (not written), no depth write, ambient colour only.
   /// kDepthOnly: depth nearer + write, no colour. All three passes

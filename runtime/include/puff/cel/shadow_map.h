@@ -91,7 +91,7 @@ class ShadowMap {
   /// The receivers' lookup: put it in the eye's Frame::shadow before FrameBlock::upload.
   const ShadowLookup& lookup() const { return plan_.lookup; }
   const ShadowMapPlan& plan() const { return plan_; }
-  /// Binds the map's depth and ids to units `shadowMapDepth` and `shadowMapIds` (6 and 7 by default)
+  /// Binds the map's depth and ids to units `shadowMapDepth` and `shadowMapIds` (cel/bindings.h)
   /// for the receivers, with no sampler object there. Leaves: those units' 2D textures = the map's
   /// and their sampler bindings = 0.
   void bind() const;

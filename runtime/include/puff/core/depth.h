@@ -22,7 +22,7 @@ enum class ClipDepth { kNegativeOneToOne, kZeroToOne };
 /// A depth buffer's meaning: the convention, the projection that wrote it (kStandard, kReversedZ:
 /// its z row must depend on z and w only; infinite far allowed) and linear depth's 0 and 1.
 struct DepthSpace {
-  DepthConvention convention = DepthConvention::kLinear;
+  DepthConvention convention = DepthConvention::kStandard;  ///< GL's own unless the host says otherwise
   ClipDepth clipDepth = ClipDepth::kNegativeOneToOne;
   glm::mat4 projection{1.0f};
   float nearPlane = 0.1f, farPlane = 100.0f;

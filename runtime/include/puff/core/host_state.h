@@ -40,16 +40,18 @@
 
 #include <memory>
 
+#include <puff/core/binding_base.h>
+
 namespace puff::core {
 
 /// Which indexed points a HostStateGuard saves: [0, n) of each. The defaults cover every default
 /// point of cel::Bindings and media::Bindings; cel::guardExtent / media::guardExtent give the
 /// extent of chosen ones (GuardExtent::cover joins two).
 struct GuardExtent {
-  int textureUnits = 8;    ///< units 0-7
-  int uniformBuffers = 6;  ///< uniform buffer bindings 0-5
-  int storageBuffers = 2;  ///< shader storage buffer bindings 0-1
-  int drawBuffers = 4;     ///< per-draw-buffer blend state and colour masks 0-3
+  int textureUnits = static_cast<int>(BindingBase{}.textureUnit + kTextureUnitSpan);        ///< units 0-23
+  int uniformBuffers = static_cast<int>(BindingBase{}.uniformBuffer + kUniformBufferSpan);  ///< bindings 0-13
+  int storageBuffers = static_cast<int>(BindingBase{}.storageBuffer + kStorageBufferSpan);  ///< bindings 0-5
+  int drawBuffers = 4;  ///< per-draw-buffer blend state and colour masks 0-3
   /// The larger of each.
   GuardExtent cover(const GuardExtent& other) const;
 };

@@ -252,9 +252,13 @@ class HostLayers final : public LayersBase {
   /// `viewport` (its size must be width() x height()). Colour only (RGB; the target's alpha, depth
   /// and stencil are kept). The blend happens in the target's space: give it scene-linear colour,
   /// a float target or an sRGB one with GL_FRAMEBUFFER_SRGB on (left as the host set it).
-  /// Errors (nothing drawn): a layer begun with beginMedia(Style::kCartoon) (the cartoon style is
-  /// not drawn over a host's frame yet); settings.shimmerPixels != 0; more than 8 lights that shine
-  /// (intensity and radius > 0: compose() uses the first 8); a viewport of another size.
+  /// `cartoon`: for a layer begun with beginMedia(Style::kCartoon), its CartoonCompose: the fill and
+  /// the ink blended over the host's colour (cartoon_compose_over.frag: Layers::compose's cartoon
+  /// image without shimmer), drawn where the media are (nothing elsewhere).
+  /// Errors (nothing drawn): `cartoon` missing for a cartoon layer, or given for a photoreal one; a
+  /// coverage set for the other style or a narrower ink (setCoverage); settings.shimmerPixels != 0;
+  /// more than 8 lights that shine (intensity and radius > 0: compose() uses the first 8); a
+  /// viewport of another size.
   /// A target drawing to more colour buffers (a G-buffer) draws to its first alone during the call
   /// (dual-source blending allows GL_MAX_DUAL_SOURCE_DRAW_BUFFERS, 1 on common GPUs) and gets its
   /// own draw buffers back; its other attachments are untouched.
@@ -263,9 +267,11 @@ class HostLayers final : public LayersBase {
   /// buffer 0's colour write mask on; blending off on draw buffer 0, with its functions (GL_ONE,
   /// GL_SRC1_COLOR, GL_ZERO, GL_ONE) and equation GL_FUNC_ADD; no program, no vertex array; uniform buffer binding
   /// `composeBlock` = its block; units `opaqueDepth`, `mediaLayer`, `mediaDepth` and `shimmer` with their 2D textures =
-  /// its and sampler binding 0.
+  /// its and sampler binding 0; with `cartoon` also what Layers::compose's cartoon passes leave (uniform buffer binding
+  /// `cartoonBlock`, units `cartoonFirst` to `cartoonFirst + 2`) but `opaqueColor`, which is not bound.
   Result<void> composeOver(core::GlId target, const core::Viewport& viewport, const Frame& frame,
-                           std::span<const ExplosionLight> lights, const ComposeSettings& settings);
+                           std::span<const ExplosionLight> lights, const ComposeSettings& settings,
+                           const CartoonCompose* cartoon = nullptr);
 
  private:
   using LayersBase::LayersBase;
