@@ -1,5 +1,6 @@
 // Per-frame values shared by every cel program (nailboards, shadow volumes, opaque objects),
-// uploaded once per frame by puff::cel::FrameBlock into uniform buffer binding 0. The layout
+// uploaded once per frame by puff::cel::FrameBlock into uniform buffer binding `frameBlock`
+// (cel::Bindings; this file's layout(binding) values are never used). The layout
 // is mirrored by puff::shader::FrameBlockData (std140, runtime/private/puff/shader_blocks.h).
 //
 // Depth (McGuire & Fein §4.2): every cel program computes LINEAR depth, the camera-space distance

@@ -1,5 +1,6 @@
-// The media pass's per-frame values (puff::media::Renderer, uniform binding 3) and its particle
-// and material layouts (std430 binding 0, std140 binding 4). The blocks are mirrored by
+// The media pass's per-frame values (puff::media::Renderer, uniform binding `mediaBlock`) and its
+// particle and material layouts (storage binding `particles`, uniform binding `materialBlock`:
+// media::Bindings; this file's layout(binding) values are never used). The blocks are mirrored by
 // runtime/private/puff/shader_blocks.h, the particle by puff::media::Particle.
 #include "common/contract.glsl"
 layout(std140, binding = 3) uniform MediaBlock {

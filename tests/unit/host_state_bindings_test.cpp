@@ -233,18 +233,18 @@ TEST_F(HostState, ChosenMediaBindingsDrawTheSameFrameAndLeaveTheDefaultsAlone) {
 // One base of each kind moves every point: each is its base plus the offset its header lists, and a
 // frame drawn at moved bases (clear of the defaults) is the defaults' to the bit.
 TEST_F(HostState, BindingBasesMoveEveryPoint) {
-  const core::BindingBase moved{.uniformBuffer = 1, .storageBuffer = 0, .textureUnit = 30};
+  const core::BindingBase moved{.uniformBuffer = 1, .storageBuffer = 2, .textureUnit = 30};
   const cel::Bindings c = cel::Bindings::at(moved);
   EXPECT_EQ(c.frameBlock, 1u);
-  EXPECT_EQ(c.particles, 0u);
-  EXPECT_EQ(c.cells, 1u);
+  EXPECT_EQ(c.particles, 2u);  // off the shaders' own layout(binding) values (0, 1): they must be pointed
+  EXPECT_EQ(c.cells, 3u);
   EXPECT_EQ(c.ramp, 30u);
   EXPECT_EQ(c.shadowMapIds, 37u);
   EXPECT_EQ(cel::Bindings{}, cel::Bindings::at(core::BindingBase{}));
   const media::Bindings m = media::Bindings::at(moved);
   EXPECT_EQ(m.mediaBlock, 4u);
   EXPECT_EQ(m.composeBlock, 6u);
-  EXPECT_EQ(m.particles, 0u);
+  EXPECT_EQ(m.particles, 2u);
   EXPECT_EQ(m.depth, 30u);
   EXPECT_EQ(m.cartoonFirst, 35u);
   EXPECT_EQ(media::Bindings{}, media::Bindings::at(core::BindingBase{}));

@@ -235,6 +235,28 @@ TEST_F(HostState, MediaCallsLeaveWhatTheirHeadersList) {
            texture(b.mediaDepth, "2D") + texture(b.shimmer, "2D")},
   };
   for (const Case& c : hostCases) check(c, target, host);
+
+  // The cartoon style over the host's frame: the field's framebuffer draws to two buffers, and
+  // draw buffer 1's mask and blending (the host's) are put back after it.
+  media::Settings cs;
+  cs.style = media::Style::kCartoon;
+  auto cartoonRenderer = media::Renderer::create(cs);
+  ASSERT_OK(cartoonRenderer);
+  auto cartoon = media::cartoonCompose(cs);
+  ASSERT_OK(cartoon);
+  auto cartoonHost = media::HostLayers::create(kPx, kPx, 0.5f);
+  ASSERT_OK(cartoonHost);
+  ASSERT_OK((*cartoonHost)->resolveHostDepth(single));
+  (*cartoonHost)->beginMedia(media::Style::kCartoon);
+  (*cartoonRenderer)->draw((*cartoonHost)->layerFrame(f), ps, media::Method::kSpherical, (*cartoonHost)->mediaDepth());
+  const unsigned cf = b.cartoonFirst;
+  check({"HostLayers::composeOver(cartoon)",
+         [&] { EXPECT_OK((*cartoonHost)->composeOver(out.get(), vp, f, lights, media::ComposeSettings{}, &*cartoon)); },
+         Keys{"fbo.draw", "viewport", ubo(b.composeBlock), ubo(b.cartoonBlock), "blend_func[0]", "blend_eq[0]"} +
+             kStencilRefReads + kFullscreen + kNoProgram + texture(b.opaqueDepth, "2D") + texture(b.mediaLayer, "2D") +
+             texture(b.mediaDepth, "2D") + texture(b.shimmer, "2D") + texture(cf, "2D") + texture(cf + 1, "2D") +
+             texture(cf + 2, "2D")},
+        target, host);
 }
 
 }  // namespace

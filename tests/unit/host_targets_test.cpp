@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -31,9 +32,28 @@
 namespace puff::host_state_test {
 namespace {
 
-constexpr int kExtra = 2;
+constexpr int kExtra = 2;  // the host's attachments past Puff's: 1 and 2
 
-float largest(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }  // the host's attachments past Puff's: 1 and 2
+float largest(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
+
+// The media frame of a cel frame: the same camera and planes, the fixture's size.
+media::Frame mediaFrameOf(const cel::Frame& cel) {
+  media::Frame f;
+  f.view = cel.view;
+  f.projection = cel.projection;
+  f.nearPlane = cel.nearPlane;
+  f.farPlane = cel.farPlane;
+  f.width = f.height = kPx;
+  return f;
+}
+
+// The host's depth texture `texture`, stored in the cel frame's convention.
+media::HostDepth hostDepthOf(GLuint texture, const cel::Frame& cel) {
+  media::HostDepth d;
+  d.texture = texture;
+  d.space = {cel.depth, cel.clipDepth, cel.projection, cel.nearPlane, cel.farPlane};
+  return d;
+}
 
 // The host's framebuffer: attachment 0 scene-linear RGBA16F (Puff's), then `extra` RGBA8
 // attachments filled with a pattern, and a depth-stencil texture (media reads it as the host's depth).
@@ -61,8 +81,8 @@ class HostFramebuffer {
   GLuint depth() const { return depth_.get(); }
 
   // The host's frame start: its G-buffer cleared (attachment 0 to the sky, the others to their
-  // pattern), depth to 1 and stencil to 0; bound, with attachment 1 written in full and only red
-  // and blue of attachment 2 (its write masks).
+  // pattern), depth to 1 and stencil to 0; bound, with write masks of its own on the other
+  // attachments (green and alpha of 1, red and blue of 2) and blending on for attachment 2.
   void begin() const {
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get());
     glViewport(0, 0, kPx, kPx);
@@ -77,7 +97,11 @@ class HostFramebuffer {
       const std::vector<std::uint8_t> p = pattern(static_cast<int>(i));
       glTextureSubImage2D(colour_[i].get(), 0, 0, 0, kPx, kPx, GL_RGBA, GL_UNSIGNED_BYTE, p.data());
     }
-    if (colour_.size() > 2) glColorMaski(2, GL_TRUE, GL_FALSE, GL_TRUE, GL_FALSE);
+    if (colour_.size() > 2) {
+      glColorMaski(1, GL_FALSE, GL_TRUE, GL_FALSE, GL_TRUE);
+      glColorMaski(2, GL_TRUE, GL_FALSE, GL_TRUE, GL_FALSE);
+      glEnablei(GL_BLEND, 2);
+    }
   }
 
   // Attachment `i`'s pattern: bytes that no pass of Puff's would write by chance.
@@ -131,11 +155,16 @@ class HostTargets : public test::SphereAtlasTest {
   void TearDown() override {
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glDisable(GL_BLEND);
     SphereAtlasTest::TearDown();
   }
 
   // Draws `draw` into the host's framebuffer with and without the extra attachments.
-  void expectOnlyAttachmentZero(const std::string& what, const std::function<void(const HostFramebuffer&)>& draw) {
+  // `setsMasksBelow`: the draw buffers whose write masks and blending the calls' headers say they
+  // leave on and off (1: draw buffer 0 alone; the media layer's begin and draw set 0-1, or 0-3 in the
+  // cartoon style, on Puff's own framebuffer, global state): the host's own are checked above it.
+  void expectOnlyAttachmentZero(const std::string& what, const std::function<void(const HostFramebuffer&)>& draw,
+                                bool drawsSomething = true, unsigned setsMasksBelow = 1) {
     SCOPED_TRACE(what);
     HostFramebuffer one(0), gbuffer(kExtra), blank(0);
     ASSERT_TRUE(one.complete());
@@ -149,14 +178,19 @@ class HostTargets : public test::SphereAtlasTest {
     for (int i = 1; i <= kExtra; ++i)
       EXPECT_TRUE(gbuffer.bytes(i) == HostFramebuffer::pattern(i)) << "attachment " << i << " was written";
     EXPECT_TRUE(gbuffer.halfs0() == one.halfs0()) << "attachment 0 differs from a one-attachment framebuffer's";
-    EXPECT_NE(gbuffer.halfs0(), blank.halfs0()) << "nothing was drawn";
+    if (drawsSomething) EXPECT_NE(gbuffer.halfs0(), blank.halfs0()) << "nothing was drawn";
     glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.framebuffer());
     for (int i = 0; i <= kExtra; ++i)
       EXPECT_EQ(geti(GL_DRAW_BUFFER0 + static_cast<GLenum>(i)), static_cast<GLint>(GL_COLOR_ATTACHMENT0 + i))
           << "draw buffer " << i;
-    GLboolean mask[4];
-    glGetBooleani_v(GL_COLOR_WRITEMASK, 2, mask);
-    EXPECT_EQ(ints({mask[0], mask[1], mask[2], mask[3]}), "1 0 1 0") << "the host's write mask of attachment 2";
+    for (const auto& [i, host, blends] : {std::tuple{1u, "0 1 0 1", false}, std::tuple{2u, "1 0 1 0", true}}) {
+      GLboolean mask[4];
+      glGetBooleani_v(GL_COLOR_WRITEMASK, i, mask);
+      const bool puffs = i < setsMasksBelow;
+      EXPECT_EQ(ints({mask[0], mask[1], mask[2], mask[3]}), puffs ? "1 1 1 1" : host)
+          << "write mask of attachment " << i;
+      EXPECT_EQ(glIsEnabledi(GL_BLEND, i) == GL_TRUE, !puffs && blends) << "blending of attachment " << i;
+    }
   }
 
   // A cel frame as a host draws it (shadow_map.h, nailboards.h): opaque objects and puffs, shadows
@@ -226,39 +260,52 @@ TEST_F(HostTargets, OrientedPuffsWriteAttachmentZeroAlone) {
   }
 }
 
-// The photoreal media over the host's frame: its depth resolved from the host's texture, the layer
-// composed over attachment 0 (dual-source blending, which allows one draw buffer on most GPUs).
+// The media over the host's frame, photoreal and cartoon: its depth resolved from the host's
+// texture, the layer composed over attachment 0 (dual-source blending, which allows one draw buffer
+// on most GPUs), over the whole frame, over the media's coverage, and with an empty coverage.
 TEST_F(HostTargets, MediaComposeOverWritesAttachmentZeroAlone) {
   CelKit kit(*atlas_);
-  auto renderer = media::Renderer::create();
-  ASSERT_OK(renderer);
+  media::Settings cartoonSettings;
+  cartoonSettings.style = media::Style::kCartoon;
+  auto photoreal = media::Renderer::create(), cartoonRenderer = media::Renderer::create(cartoonSettings);
+  ASSERT_OK(photoreal);
+  ASSERT_OK(cartoonRenderer);
+  auto cartoon = media::cartoonCompose(cartoonSettings);
+  ASSERT_OK(cartoon);
   const cel::Frame cel = eyeFrame();
-  media::Frame f;
-  f.view = cel.view;
-  f.projection = cel.projection;
-  f.nearPlane = cel.nearPlane;
-  f.farPlane = cel.farPlane;
-  f.width = f.height = kPx;
+  const media::Frame f = mediaFrameOf(cel);
   std::vector<media::Particle> smoke(3);
   for (std::size_t i = 0; i < smoke.size(); ++i) {
     smoke[i].position = glm::vec3(-0.8f + 0.8f * static_cast<float>(i), 0.8f, 0.5f);
     smoke[i].radius = 0.9f;
   }
-  for (const bool covered : {false, true}) {
-    expectOnlyAttachmentZero(
-        covered ? "media, over its coverage" : "media, whole frame", [&](const HostFramebuffer& t) {
-          celFrame(kit, cel::Style{}, puffs(), t);
-          auto layers = media::HostLayers::create(kPx, kPx, 0.5f);
-          ASSERT_OK(layers);
-          media::HostDepth depth;
-          depth.texture = t.depth();
-          depth.space = {cel.depth, cel.clipDepth, cel.projection, cel.nearPlane, cel.farPlane};
-          if (covered) (*layers)->setCoverage(media::coverage(f, smoke));
-          ASSERT_OK((*layers)->resolveHostDepth(depth));
-          (*layers)->beginMedia();
-          (*renderer)->draw((*layers)->layerFrame(f), smoke, media::Method::kSpherical, (*layers)->mediaDepth());
-          ASSERT_OK((*layers)->composeOver(t.framebuffer(), {0, 0, kPx, kPx}, f, {}, {}));
-        });
+  enum class Cover { kWhole, kMedia, kEmpty };
+  for (const media::Style style : {media::Style::kPhotoreal, media::Style::kCartoon}) {
+    const bool isCartoon = style == media::Style::kCartoon;
+    for (const Cover cover : {Cover::kWhole, Cover::kMedia, Cover::kEmpty}) {
+      const std::string what =
+          std::string(isCartoon ? "cartoon" : "photoreal") + (cover == Cover::kWhole   ? ", whole frame"
+                                                              : cover == Cover::kMedia ? ", over its coverage"
+                                                                                       : ", empty coverage");
+      expectOnlyAttachmentZero(
+          what,
+          [&](const HostFramebuffer& t) {
+            celFrame(kit, cel::Style{}, puffs(), t);
+            auto layers = media::HostLayers::create(kPx, kPx, 0.5f);
+            ASSERT_OK(layers);
+            const media::HostDepth depth = hostDepthOf(t.depth(), cel);
+            const float ink = isCartoon ? cartoon->style.outlineWidth : 0.0f;
+            if (cover == Cover::kMedia) (*layers)->setCoverage(media::coverage(f, smoke), style, ink);
+            if (cover == Cover::kEmpty) (*layers)->setCoverage(media::PixelBox{}, style, ink);
+            ASSERT_OK((*layers)->resolveHostDepth(depth));
+            (*layers)->beginMedia(style);
+            (isCartoon ? *cartoonRenderer : *photoreal)
+                ->draw((*layers)->layerFrame(f), smoke, media::Method::kSpherical, (*layers)->mediaDepth());
+            ASSERT_OK(
+                (*layers)->composeOver(t.framebuffer(), {0, 0, kPx, kPx}, f, {}, {}, isCartoon ? &*cartoon : nullptr));
+          },
+          cover != Cover::kEmpty, isCartoon ? 4u : 2u);
+    }
   }
 }
 
@@ -273,12 +320,7 @@ TEST_F(HostTargets, AGammaSpaceHostDrawsThroughAnSrgbView) {
   auto renderer = media::Renderer::create();
   ASSERT_OK(renderer);
   const cel::Frame cel = eyeFrame();
-  media::Frame f;
-  f.view = cel.view;
-  f.projection = cel.projection;
-  f.nearPlane = cel.nearPlane;
-  f.farPlane = cel.farPlane;
-  f.width = f.height = kPx;
+  const media::Frame f = mediaFrameOf(cel);
   std::vector<media::Particle> smoke(2);
   smoke[0].position = glm::vec3(-0.5f, 0.8f, 0.5f);
   smoke[1].position = glm::vec3(0.6f, 0.6f, 0.8f);
@@ -305,9 +347,7 @@ TEST_F(HostTargets, AGammaSpaceHostDrawsThroughAnSrgbView) {
     kit.nailboards->drawNailboards(cel::Style{}, cel::ShadePass::kLit);
     auto layers = media::HostLayers::create(kPx, kPx, 0.5f);
     ASSERT_OK(layers);
-    media::HostDepth d;
-    d.texture = depth.get();
-    d.space = {cel.depth, cel.clipDepth, cel.projection, cel.nearPlane, cel.farPlane};
+    const media::HostDepth d = hostDepthOf(depth.get(), cel);
     ASSERT_OK((*layers)->resolveHostDepth(d));
     (*layers)->beginMedia();
     (*renderer)->draw((*layers)->layerFrame(f), smoke, media::Method::kSpherical, (*layers)->mediaDepth());
@@ -356,6 +396,8 @@ TEST_F(HostTargets, AGammaSpaceHostDrawsThroughAnSrgbView) {
     for (int c = 0; c < 3; ++c) worst = std::max(worst, std::abs(gammaHost[i * 4 + c] / 255.0f - want[c]));
     if (glm::length(want - skyDisplay) > 0.05f) ++puffPixels;
   }
+  std::printf("gamma-space host through an sRGB view: worst %.2f/255 from the float host, %d of %d pixels not sky\n",
+              worst * 255.0f, puffPixels, kPx * kPx);
   EXPECT_LE(worst * 255.0f, 3.0f) << "the gamma-space host's frame against the float host's, display units";
   EXPECT_GT(puffPixels, kPx * kPx / 10) << "the frame holds puffs, ground and smoke, not only sky";
 }
@@ -377,12 +419,7 @@ TEST_F(HostTargets, CartoonComposeOverMatchesPuffsOwnCompose) {
   ASSERT_OK(cartoon);
   cel::Frame cel = eyeFrame();
   cel.depth = cel::DepthConvention::kLinear;
-  media::Frame f;
-  f.view = cel.view;
-  f.projection = cel.projection;
-  f.nearPlane = cel.nearPlane;
-  f.farPlane = cel.farPlane;
-  f.width = f.height = kPx;
+  const media::Frame f = mediaFrameOf(cel);
   std::vector<media::Particle> fire(5);
   for (std::size_t i = 0; i < fire.size(); ++i) {
     fire[i].position = glm::vec3(-1.0f + 0.5f * static_cast<float>(i), 0.5f + 0.15f * static_cast<float>(i), 1.0f);
@@ -427,9 +464,7 @@ TEST_F(HostTargets, CartoonComposeOverMatchesPuffsOwnCompose) {
       EXPECT_OK(layers);
       if (covered)
         (*layers)->setCoverage(media::coverage(f, fire), media::Style::kCartoon, cartoon->style.outlineWidth);
-      media::HostDepth d;
-      d.texture = host.depth();
-      d.space = {cel.depth, cel.clipDepth, cel.projection, cel.nearPlane, cel.farPlane};
+      const media::HostDepth d = hostDepthOf(host.depth(), cel);
       EXPECT_OK((*layers)->resolveHostDepth(d));
       (*layers)->beginMedia(media::Style::kCartoon);
       (*renderer)->draw((*layers)->layerFrame(f), fire, media::Method::kSpherical, (*layers)->mediaDepth());
@@ -460,9 +495,7 @@ TEST_F(HostTargets, CartoonComposeOverMatchesPuffsOwnCompose) {
     if (media) {
       auto layers = media::HostLayers::create(kPx, kPx, 0.5f);
       EXPECT_OK(layers);
-      media::HostDepth d;
-      d.texture = depth.get();
-      d.space = {cel.depth, cel.clipDepth, cel.projection, cel.nearPlane, cel.farPlane};
+      const media::HostDepth d = hostDepthOf(depth.get(), cel);
       EXPECT_OK((*layers)->resolveHostDepth(d));
       (*layers)->beginMedia(media::Style::kCartoon);
       (*renderer)->draw((*layers)->layerFrame(f), fire, media::Method::kSpherical, (*layers)->mediaDepth());

@@ -8,6 +8,7 @@
 #include <puff/glad/gl.h>
 
 #include <string_view>
+#include <vector>
 
 #include <puff/core/gl.h>
 
@@ -35,7 +36,9 @@ class DebugGroup {
 /// with more colour attachments enabled (a G-buffer, a velocity target) is given its first alone
 /// (glNamedFramebufferDrawBuffers) and its own draw buffers back at the end, so a pass writes no
 /// attachment but the first, whatever the others' write masks. The default framebuffer and one
-/// drawing to one buffer are left alone. Queries the draw framebuffer binding and its draw buffers.
+/// drawing to one buffer are left alone. "First" is the framebuffer's draw buffer 0: a host that
+/// set it to GL_NONE gets no colour from Puff. Queries the draw framebuffer binding and its draw
+/// buffers (up to GL_MAX_DRAW_BUFFERS).
 class DrawBufferZero {
  public:
   DrawBufferZero();
@@ -44,10 +47,8 @@ class DrawBufferZero {
   DrawBufferZero& operator=(const DrawBufferZero&) = delete;
 
  private:
-  static constexpr int kMaxSaved = 16;
   GLuint framebuffer_ = 0;
-  int saved_ = 0;  // draw buffers saved (0: nothing to restore)
-  GLenum buffers_[kMaxSaved] = {};
+  std::vector<GLenum> saved_;  // the host's draw buffers (empty: nothing to restore)
 };
 }  // namespace puff::core
 

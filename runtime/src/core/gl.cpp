@@ -8,6 +8,8 @@
 #include <cstdlib>
 #include <optional>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace puff::core {
 
@@ -91,22 +93,22 @@ DrawBufferZero::DrawBufferZero() {
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
   if (framebuffer == 0) return;
   glGetIntegerv(GL_MAX_DRAW_BUFFERS, &maxDraw);
-  const int count = std::clamp(maxDraw, 1, kMaxSaved);
+  std::vector<GLenum> buffers(static_cast<std::size_t>(std::max(maxDraw, 1)), GL_NONE);
   bool others = false;
-  for (int i = 0; i < count; ++i) {
+  for (std::size_t i = 0; i < buffers.size(); ++i) {
     GLint buffer = GL_NONE;
-    glGetIntegerv(GL_DRAW_BUFFER0 + i, &buffer);
-    buffers_[i] = static_cast<GLenum>(buffer);
+    glGetIntegerv(GL_DRAW_BUFFER0 + static_cast<GLenum>(i), &buffer);
+    buffers[i] = static_cast<GLenum>(buffer);
     others |= i > 0 && buffer != GL_NONE;
   }
   if (!others) return;
   framebuffer_ = static_cast<GLuint>(framebuffer);
-  saved_ = count;
-  glNamedFramebufferDrawBuffers(framebuffer_, 1, &buffers_[0]);
+  saved_ = std::move(buffers);
+  glNamedFramebufferDrawBuffers(framebuffer_, 1, saved_.data());
 }
 
 DrawBufferZero::~DrawBufferZero() {
-  if (saved_ > 0) glNamedFramebufferDrawBuffers(framebuffer_, saved_, buffers_);
+  if (!saved_.empty()) glNamedFramebufferDrawBuffers(framebuffer_, static_cast<GLsizei>(saved_.size()), saved_.data());
 }
 
 DebugGroup::DebugGroup(std::string_view pass) : pushed_(hasDebugNames()) {

@@ -540,6 +540,8 @@ void CelReference::draw(const cel::Frame& frame, cel::FrameBlock& block, cel::Op
                         std::span<const cel::Particle> particles, const cel::Style& style, const glm::vec3& background,
                         GLuint outputFbo, const cel::Viewport& viewport, const cel::Bounds& objectBounds) {
   Impl& m = *impl_;
+  // Its framebuffers draw to two buffers; the cel passes set draw buffer 0's mask alone.
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   const int ss = m.options.supersample;
   const int w = viewport.width * ss, h = viewport.height * ss;
   m.ensureTarget(w, h);

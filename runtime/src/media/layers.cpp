@@ -468,6 +468,9 @@ Result<void> HostLayers::composeOver(GLuint target, const core::Viewport& viewpo
   // (at most GL_MAX_DUAL_SOURCE_DRAW_BUFFERS draw buffers, 1 on common GPUs) is allowed.
   m.uploadComposeBlock(viewport, frame, lights, settings);
   if (cartoon) {
+    // The blend of the last pass, set first: what the header says composeOver leaves, drawn or not.
+    glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
+    glBlendFuncSeparatei(0, GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
     m.composeCartoon(target, viewport, *cartoon, true);  // its own passes, the target's last
     return {};
   }

@@ -105,7 +105,7 @@ void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewp
   const GLuint blocks[2] = {block.get(), cartoonBlock.get()};
   glBindBuffersBase(GL_UNIFORM_BUFFER, bindings.composeBlock, 1, &blocks[0]);  // multi-bind: the generic binding stays
   glBindBuffersBase(GL_UNIFORM_BUFFER, bindings.cartoonBlock, 1, &blocks[1]);
-  fullscreenState(2);  // the field's framebuffer draws to two
+  fullscreenState(1);
   glBindVertexArray(vao.get());
   const unsigned c = bindings.cartoonFirst;
   if (!overHost) core::bindTextureAndNoSampler(bindings.opaqueColor, color.get());  // a host's colour is not read
@@ -119,12 +119,21 @@ void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewp
     fieldBox = PixelBox{};
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
     glViewport(viewport.x, viewport.y, viewport.width, viewport.height);
-    if (overHost) return;
-    const core::DrawBufferZero drawBuffers;  // the target's other attachments stay as they are
-    copyAround(PixelBox{}, viewport);
+    if (!overHost) {
+      const core::DrawBufferZero drawBuffers;  // the target's other attachments stay as they are
+      copyAround(PixelBox{}, viewport);
+    }
+    glBindVertexArray(0);
+    glUseProgram(0);
     return;
   }
-  // 1. The fill and the field at the output's size.
+  // 1. The fill and the field at the output's size: two draw buffers, the second's blending and
+  // write mask (a host's, global state) put back after.
+  GLboolean mask1[4] = {GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE};
+  glGetBooleani_v(GL_COLOR_WRITEMASK, 1, mask1);
+  const GLboolean blend1 = glIsEnabledi(GL_BLEND, 1);
+  glDisablei(GL_BLEND, 1);
+  glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fieldFbo.get());
   glViewport(0, 0, width, height);
   glUseProgram(cartoonField.get());
@@ -132,6 +141,8 @@ void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewp
   core::bindTextureAndNoSampler(c + 1, cartoonDepth.get());
   scissorTo(limit(b.field));
   glDrawArrays(GL_TRIANGLES, 0, 3);
+  glColorMaski(1, mask1[0], mask1[1], mask1[2], mask1[3]);
+  if (blend1) glEnablei(GL_BLEND, 1);
   fieldBox = covered ? b.field : PixelBox{0, 0, width, height};
   // 2. The seeds. With a coverage, the flooding reads up to a step around its box: no seed there.
   if (covered) {
@@ -165,11 +176,9 @@ void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewp
     copyAround(b.inked, viewport);
     glBindVertexArray(vao.get());
   }
-  if (overHost) {  // dst * src1 + src0 on RGB (cartoon_compose_over.frag); the host's alpha kept
-    glEnablei(GL_BLEND, 0);
-    glBlendEquationSeparatei(0, GL_FUNC_ADD, GL_FUNC_ADD);
-    glBlendFuncSeparatei(0, GL_ONE, GL_SRC1_COLOR, GL_ZERO, GL_ONE);
-  }
+  // Over a host: dst * src1 + src0 on RGB (cartoon_compose_over.frag, composeOver set the functions);
+  // the host's alpha kept.
+  if (overHost) glEnablei(GL_BLEND, 0);
   scissorTo(limit(b.inked), viewport.x, viewport.y);
   glUseProgram(overHost ? cartoonComposeOver.get() : cartoonCompose.get());
   core::bindTextureAndNoSampler(c, fill.get());

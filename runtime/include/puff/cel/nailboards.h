@@ -22,7 +22,7 @@
 // listed with it below, exactly; everything else is as the host had it. A host that wants its state back wraps its Puff
 // calls in one core::HostStateGuard (core/host_state.h): one capture and one restore per frame
 // instead of a restore in every pass, since consecutive passes set the same state. The binding
-// points are the host's (Bindings, bindings.h); the defaults are the shaders'. Lists below use:
+// points are the host's (Bindings, bindings.h: offsets from one base per kind). Lists below use:
 //  - "the pass state" (pass_state.h, resetPassState): blending off on draw buffer 0, culling,
 //    scissor test, depth clamp, polygon offset fill, alpha to coverage, rasterizer discard,
 //    primitive restart and fixed-index primitive restart all off; polygon mode GL_FILL; depth range

@@ -9,7 +9,8 @@
 
 namespace puff::cel {
 
-/// The state every cel pass starts from: no blending, culling, scissor, depth clamp, polygon
+/// The state every cel pass starts from: no blending on draw buffer 0 (the only one a pass draws;
+/// core::DrawBufferZero), no culling, scissor, depth clamp, polygon
 /// offset, alpha-to-coverage, rasterizer discard or primitive restart; filled polygons; depth range
 /// [0, 1] (the window depth every depth convention assumes); depth test on. GL_FRAMEBUFFER_SRGB is
 /// left as the host has it (the shaders write scene-linear colour; docs/colour.md).
@@ -22,8 +23,9 @@ void resetPassState();
 /// one program per pass instead).
 int applyShadePass(ShadePass pass);
 
-/// Write masks back on (depth, colour, stencil), as GL starts: a host's glClear after a pass that
-/// turned them off must not be silently masked.
+/// Write masks back on (depth, draw buffer 0's colour, stencil), as GL starts: a host's glClear
+/// after a pass that turned them off must not be silently masked. Other draw buffers' masks are the
+/// host's.
 void restoreWriteMasks();
 
 }  // namespace puff::cel

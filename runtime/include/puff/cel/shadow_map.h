@@ -82,7 +82,7 @@ class ShadowMap {
   /// framebuffer, viewport and frame block afterwards.
   /// Leaves (a begin call: the caster passes need it so): the draw framebuffer = the map's; the
   /// viewport = (0, 0, plan().width, plan().height); scissor test and rasterizer discard off; depth write mask on;
-  /// colour write masks on (every draw buffer); uniform binding `frameBlock` = the light's block; units
+  /// draw buffer 0's colour write mask on; uniform binding `frameBlock` = the light's block; units
   /// `shadowMapDepth` and `shadowMapIds` with no texture on any target (the map must not be read
   /// while it is drawn). The read framebuffer is untouched. (GL_STENCIL_REF then reads back 0, front
   /// and back: the query clamps the stored reference to the bound framebuffer's stencil bits, and

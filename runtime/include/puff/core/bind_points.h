@@ -1,7 +1,7 @@
 // Binding points chosen at run time: a program's uniform blocks, storage blocks and samplers are
 // pointed at the indices and texture units a host chose (cel::Bindings, media::Bindings), after
-// linking, so the shaders' `layout(binding = N)` lines are only the defaults. Needs a current GL
-// 4.5 context.
+// linking, so the shaders' `layout(binding = N)` values are never what is used. Needs a current
+// GL 4.5 context.
 #pragma once
 
 #include <initializer_list>

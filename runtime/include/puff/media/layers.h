@@ -52,7 +52,7 @@
 //      opaque surface cuts the medium (outside the iso-line the medium unclipped is above the
 //      threshold), the iso-line is the surface's edge, not the medium's: no ink, no rim.
 // The cartoon style ignores burn: cartoon fire occludes what is behind it. HostLayers::composeOver
-// (a host's frame) does not draw it yet: it refuses a cartoon layer.
+// draws it over a host's frame too (given the CartoonCompose), without the heat shimmer.
 #pragma once
 
 #include <memory>
@@ -171,7 +171,8 @@ class Layers final : public LayersBase {
                                                 const Bindings& bindings = {});
   ~Layers();
   /// The framebuffer the opaque pass draws into: colour (RGBA16F, scene-linear) + depth/stencil (the
-  /// cel programs' linear depth), multisampled as asked. The caller binds it, sets the viewport and clears.
+  /// cel programs' linear depth: draw with cel::Frame::depth = kLinear), multisampled as asked. The caller binds it,
+  /// sets the viewport and clears.
   core::GlId opaqueFramebuffer() const;
   /// Resolves the opaque pass into single-sample colour + depth textures and builds the media
   /// layer's depth (nearest depth per layer texel, R32F linear). Sets its own state.
