@@ -11,7 +11,7 @@ trap 'rm -rf "$work"' EXIT
 
 # The example game against installed PREFIX: an atlas baked and cooked by the installed puffbake
 # (the game links no image library), configure, build; bad input (an uncooked atlas too) must fail
-# with one line; under xvfb-run (GLFW needs a display) a 60-frame
+# with one line; under a private Xvfb (GLFW needs a display; tests/support/with_xvfb.sh) a 60-frame
 # screenshot checked pixel by pixel (runtime/examples/game/check_screenshot.py).
 check_game() {
   local prefix=$1 src=$2
@@ -42,11 +42,11 @@ check_game() {
     *"puffbake cook $game/baked/puff.json -o OUT.json"*) ;;
     *) echo "check_install: puff_game on an uncooked atlas does not say how to cook it: $line" >&2; exit 1 ;;
   esac
-  if ! command -v xvfb-run >/dev/null; then
-    echo "check_install: xvfb-run not found: the example game was built but not run"
+  if ! command -v Xvfb >/dev/null; then
+    echo "check_install: Xvfb not found: the example game was built but not run"
     return 0
   fi
-  xvfb-run -a -s "-screen 0 1280x1024x24" "$exe" --atlas "$game/atlas" --screenshot "$game/shot.png" --frames 60 \
+  "$src/tests/support/with_xvfb.sh" "$exe" --atlas "$game/atlas" --screenshot "$game/shot.png" --frames 60 \
     --width 960 --height 540
   test -s "$game/shot.png"
   python3 "$src/runtime/examples/game/check_screenshot.py" "$game/shot.png" "${fire[@]}"

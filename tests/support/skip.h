@@ -3,7 +3,7 @@
 // installed everything, a skip would be a test that silently stopped running: .ci/run sets PUFF_CI,
 // and the skip fails instead, with the same reason. Skips that are right everywhere (a test that
 // needs llvmpipe on another driver, one that cannot run under AddressSanitizer, a window test
-// outside xvfb-run, which ctest runs as its own test) use GTEST_SKIP directly and say why there.
+// outside Xvfb, which ctest runs as its own test) use GTEST_SKIP directly and say why there.
 #pragma once
 
 #include <cstdlib>

@@ -367,7 +367,7 @@ bool glfwRequired() {
 
 TEST(GlContextGlfw, WindowDrawsAndReadsTheDefaultFramebuffer) {
   if (!glfwRequired() && std::getenv("DISPLAY") == nullptr && std::getenv("WAYLAND_DISPLAY") == nullptr)
-    GTEST_SKIP() << "no display (DISPLAY unset); ctest runs this under xvfb-run with PUFF_TEST_REQUIRE_GLFW=1";
+    GTEST_SKIP() << "no display (DISPLAY unset); ctest runs this under Xvfb with PUFF_TEST_REQUIRE_GLFW=1";
   GlContextOptions options;
   options.backend = "glfw";
   options.width = 48;

@@ -3,7 +3,7 @@
 // the ramp editor's bands and gradient go to and from the images the renderer reads. The viewer
 // driven one displayed frame at a time (puffview_lib) is puffview_window_test.cpp.
 //
-// Tests that open a window need a display: ctest runs them under xvfb-run (PuffviewUnderXvfb,
+// Tests that open a window need a display: ctest runs them under Xvfb (PuffviewUnderXvfb,
 // with PUFF_TEST_REQUIRE_GLFW=1); in the plain puff_tests run without DISPLAY they skip.
 #include <gtest/gtest.h>
 

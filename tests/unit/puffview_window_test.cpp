@@ -3,7 +3,7 @@
 // them back, undoes and redoes them whole, docks the panel beside the image, shows an edited ramp and
 // gradient, and switches render paths.
 //
-// These tests open a window: ctest runs them under xvfb-run (PuffviewUnderXvfb, with
+// These tests open a window: ctest runs them under Xvfb (PuffviewUnderXvfb, with
 // PUFF_TEST_REQUIRE_GLFW=1); in the plain puff_tests run without DISPLAY they skip.
 #include <gtest/gtest.h>
 
