@@ -233,12 +233,12 @@ media::Frame makeFrame(const media::Layers& layers) {
   f.projection = glm::perspective(glm::radians(kFovYDegrees), 1.0f, kNearPlane, kFarPlane);
   f.nearPlane = kNearPlane;
   f.farPlane = kFarPlane;
-  f.lightDirection = glm::vec3(0.4f, 1.0f, 0.3f);
-  f.lightColor = glm::vec3(0.8f);
+  f.light.direction = glm::vec3(0.4f, 1.0f, 0.3f);
+  f.light.color = glm::vec3(0.8f);
   f.ambient = glm::vec3(0.25f);
   f.time = 0.5f;
-  f.width = layers.mediaWidth();
-  f.height = layers.mediaHeight();
+  f.viewport.width = layers.mediaWidth();
+  f.viewport.height = layers.mediaHeight();
   return f;
 }
 
@@ -336,8 +336,8 @@ core::Image referenceImage(const Case& c, const ReferenceSetup& setup) {
   glGetTextureImage(layers.opaqueDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(n * sizeof(float)), depth.data());
   reference::MediaReferenceInput in;
   in.frame = makeFrame(layers);
-  in.frame.width = w;
-  in.frame.height = h;
+  in.frame.viewport.width = w;
+  in.frame.viewport.height = h;
   in.particles = *c.particles;
   in.materials = setup.materials;
   in.temperatureDetail = setup.detail;

@@ -16,6 +16,7 @@
 #include <glm/vec4.hpp>
 
 #include <puff/cel/frame.h>
+#include <puff/core/frame.h>
 #include <puff/core/gl.h>
 #include <puff/gl_api.h>
 
@@ -196,6 +197,18 @@ inline core::Program program(const std::string& vs, const std::string& fs) {
   glGetProgramiv(p.get(), GL_LINK_STATUS, &ok);
   EXPECT_TRUE(ok) << "program does not link";
   return p;
+}
+
+/// A frame whose depth is `space` (convention, clip depth, projection, planes): what
+/// HostLayers::resolveHostDepth reads of the frame it is given.
+inline core::SharedFrame frameIn(const core::DepthSpace& space) {
+  core::SharedFrame f;
+  f.depth = space.convention;
+  f.clipDepth = space.clipDepth;
+  f.projection = space.projection;
+  f.nearPlane = space.nearPlane;
+  f.farPlane = space.farPlane;
+  return f;
 }
 
 }  // namespace puff::test

@@ -62,8 +62,8 @@ struct MediaCamera {
     f.projection = glm::perspective(glm::radians(fovDegrees), 1.0f, nearPlane, farPlane);
     f.nearPlane = nearPlane;
     f.farPlane = farPlane;
-    f.width = f.height = size;
-    f.lightColor = glm::vec3(0.0f);
+    f.viewport.width = f.viewport.height = size;
+    f.light.color = glm::vec3(0.0f);
     f.ambient = glm::vec3(1.0f);
     return f;
   }

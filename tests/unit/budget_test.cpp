@@ -347,8 +347,8 @@ TEST_F(BudgetExplosion, TheRendererHandsOutWhatItComposedOver) {
   ASSERT_TRUE((*renderer)->renderFrame(5).ok());
   auto in = (*renderer)->lastMediaFrame();
   ASSERT_OK(in);
-  EXPECT_EQ(in->frame.width, 96);
-  EXPECT_EQ(in->frame.height, 72);
+  EXPECT_EQ(in->frame.viewport.width, 96);
+  EXPECT_EQ(in->frame.viewport.height, 72);
   EXPECT_GT(in->particles.size(), 20u);
   ASSERT_EQ(in->opaqueColor.size(), 96u * 72u);
   ASSERT_EQ(in->opaqueDepth.size(), 96u * 72u);

@@ -201,7 +201,7 @@ TEST_F(ColourGpu, RampColoursComeBackAsTheSameEightBitDisplayValues) {
   camera.nearPlane = 1.0f;
   camera.farPlane = 9.0f;
   cel::Frame frame = test::linearFrame(camera, kSize, kSize);
-  frame.ambientColor = glm::vec3(0.0f);
+  frame.ambient = puff::core::srgbToLinear(glm::vec3(0.0f));
   frame.light.color = glm::vec3(1.0f);
   cel::FrameBlock block;
   float worst = 0.0f;

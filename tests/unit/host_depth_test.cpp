@@ -259,8 +259,8 @@ void main() { oColor = vec4(uColor, 1.0); }
     cel::Frame f = frameFor(c, view, kPx);
     f.depth = puffDepth;
     f.light.direction = glm::vec3(0.3f, 0.5f, 1.0f);
-    f.light.color = glm::vec3(0.5f);
-    f.ambientColor = glm::vec3(0.2f);
+    f.light.color = puff::core::srgbToLinear(glm::vec3(0.5f));
+    f.ambient = puff::core::srgbToLinear(glm::vec3(0.2f));
     cel::Style style;
     style.outlines = true;
     style.shading = true;

@@ -34,7 +34,7 @@ concept HasOwnOpaquePass = requires(L& l, const core::Viewport& vp, const media:
 template <class L>
 concept DrawsInAHostsFrame = requires(L& l, const core::Viewport& vp, const media::Frame& f,
                                       const media::ComposeSettings& s) {
-  l.resolveHostDepth(media::HostDepth{});
+  l.resolveHostDepth(media::HostDepth{}, f);
   l.composeOver(0u, vp, f, {}, s);
 };
 static_assert(HasOwnOpaquePass<media::Layers> && !DrawsInAHostsFrame<media::Layers>);
@@ -50,13 +50,13 @@ class HostLayersErrors : public MediaRendererTest {};
 TEST_F(HostLayersErrors, ResolveHostDepthRefusesWhatItCannotRead) {
   auto layers = media::HostLayers::create(32, 32, 1.0f);
   ASSERT_OK(layers);
+  core::SharedFrame frame = test::frameIn(spaceFor(kStandardNO));
   const auto refuse = [&](const media::HostDepth& d, const std::string& words) {
-    auto r = (*layers)->resolveHostDepth(d);
+    auto r = (*layers)->resolveHostDepth(d, frame);
     ASSERT_FALSE(r.ok()) << words;
     EXPECT_NE(r.error().message.find(words), std::string::npos) << r.error().message;
   };
   media::HostDepth d;
-  d.space = spaceFor(kStandardNO);
   refuse(d, "is not a texture");
   core::Texture color = core::makeTexture(GL_TEXTURE_2D);
   glTextureStorage2D(color.get(), 1, GL_RGBA32F, 32, 32);
@@ -72,14 +72,14 @@ TEST_F(HostLayersErrors, ResolveHostDepthRefusesWhatItCannotRead) {
   d.x = 9;  // 9 + 32 > 40
   refuse(d, "does not fit in it");
   d.x = 8;
-  EXPECT_OK((*layers)->resolveHostDepth(d));
+  EXPECT_OK((*layers)->resolveHostDepth(d, frame));
   glTextureParameteri(depth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_STENCIL_INDEX);
   refuse(d, "GL_DEPTH_STENCIL_TEXTURE_MODE");
   glTextureParameteri(depth.get(), GL_DEPTH_STENCIL_TEXTURE_MODE, GL_DEPTH_COMPONENT);
   glTextureParameteri(depth.get(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
   refuse(d, "GL_TEXTURE_COMPARE_MODE");
   glTextureParameteri(depth.get(), GL_TEXTURE_COMPARE_MODE, GL_NONE);
-  d.space.farPlane = d.space.nearPlane;
+  frame.farPlane = frame.nearPlane;
   refuse(d, "need 0 < near < far");
   EXPECT_EQ(core::drainGlErrors(), "");
 }

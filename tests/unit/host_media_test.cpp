@@ -171,7 +171,6 @@ class HostMedia : public MediaRendererTest {
   static media::Frame mediaFrame(const Convention& c) {
     media::Frame f = MediaCamera{kNear, kFar, kFovY}.frame(kSize);
     f.projection = projection(c, kOrthoHeight);
-    f.orthographic = c.orthographic;
     return f;
   }
 
@@ -192,11 +191,10 @@ class HostMedia : public MediaRendererTest {
     if (!layers) return {};
     media::HostDepth depth;
     depth.texture = target.depthTexture();
-    depth.space = spaceFor(c);
     depth.x = ox;
     depth.y = oy;
     if (covered) (*layers)->setCoverage(media::coverage(mediaFrame(c), particles, lights));
-    EXPECT_OK((*layers)->resolveHostDepth(depth));
+    EXPECT_OK((*layers)->resolveHostDepth(depth, frameIn(spaceFor(c))));
     if (linearDepth) {
       linearDepth->resize(static_cast<std::size_t>(kSize) * kSize);
       glGetTextureImage((*layers)->opaqueDepth(), 0, GL_RED, GL_FLOAT,
@@ -332,8 +330,7 @@ TEST_F(HostMedia, AMultisampledHostDepthKeepsTheNearestSample) {
   ASSERT_OK(layers);
   media::HostDepth depth;
   depth.texture = ms.depth.get();
-  depth.space = spaceFor(c);
-  ASSERT_OK((*layers)->resolveHostDepth(depth));
+  ASSERT_OK((*layers)->resolveHostDepth(depth, frameIn(spaceFor(c))));
   std::vector<float> lin(static_cast<std::size_t>(kSize) * kSize);
   glGetTextureImage((*layers)->opaqueDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(lin.size() * 4), lin.data());
   // The wall's edge: the first column whose centre misses the wall still has samples on it, and
@@ -591,8 +588,7 @@ TEST_F(HostMedia, EverySampleOfAMultisampledDepthIsRead) {
       glDisable(GL_SAMPLE_MASK);
       media::HostDepth depth;
       depth.texture = ms.depth.get();
-      depth.space = spaceFor(c);
-      EXPECT_OK((*layers)->resolveHostDepth(depth));
+      EXPECT_OK((*layers)->resolveHostDepth(depth, frameIn(spaceFor(c))));
       std::vector<float> lin(static_cast<std::size_t>(kSize) * kSize);
       glGetTextureImage((*layers)->opaqueDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(lin.size() * 4),
                         lin.data());
@@ -674,8 +670,7 @@ TEST_F(HostMedia, TheClearedFarPlaneIsNoSurfaceAndNoLightTouchesIt) {
     ASSERT_OK(layers);
     media::HostDepth depth;
     depth.texture = target.depthTexture();
-    depth.space = c.space;
-    ASSERT_OK((*layers)->resolveHostDepth(depth));
+    ASSERT_OK((*layers)->resolveHostDepth(depth, frameIn(c.space)));
     std::vector<float> lin(static_cast<std::size_t>(kSize) * kSize);
     glGetTextureImage((*layers)->opaqueDepth(), 0, GL_RED, GL_FLOAT, static_cast<GLsizei>(lin.size() * 4), lin.data());
     EXPECT_EQ(std::count(lin.begin(), lin.end(), 1.0f), kSize * kSize)

@@ -158,8 +158,8 @@ std::vector<glm::vec4> mediaFrame(const media::Bindings& b) {
   f.projection = glm::perspective(glm::radians(45.0f), 1.0f, 0.5f, 50.0f);
   f.nearPlane = 0.5f;
   f.farPlane = 50.0f;
-  f.width = kPx;
-  f.height = kPx;
+  f.viewport.width = kPx;
+  f.viewport.height = kPx;
   // The opaque pass: grey, a wall at linear depth 0.1 over the left half, the background beyond.
   const GLuint opaque = ly.opaqueFramebuffer();
   const float grey[4] = {0.3f, 0.3f, 0.3f, 1.0f};

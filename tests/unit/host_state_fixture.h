@@ -360,7 +360,7 @@ inline cel::Frame eyeFrame() {
   cam.farPlane = 30.0f;
   cel::Frame f = cel::Frame::fromCamera(cam, kPx, kPx);
   f.light.direction = glm::vec3(0.3f, 1.0f, 0.2f);
-  f.ambientColor = glm::vec3(0.3f);
+  f.ambient = puff::core::srgbToLinear(glm::vec3(0.3f));
   return f;
 }
 
@@ -401,7 +401,7 @@ struct CelKit {
     box.transform = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.6f, -1.5f)) *
                     glm::rotate(glm::mat4(1.0f), 1.3f, glm::vec3(1, 0, 0)) *
                     glm::scale(glm::mat4(1.0f), glm::vec3(0.25f));
-    box.albedo = glm::vec3(0.4f, 0.6f, 0.9f);
+    box.albedo = puff::core::srgbToLinear(glm::vec3(0.4f, 0.6f, 0.9f));
     EXPECT_OK(opaque->setObjects({ground, box}));
     block = std::make_unique<cel::FrameBlock>(b);
     shadowMap = std::make_unique<cel::ShadowMap>(b);

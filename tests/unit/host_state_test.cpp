@@ -158,8 +158,8 @@ TEST_F(HostState, MediaCallsLeaveWhatTheirHeadersList) {
   f.projection = glm::perspective(glm::radians(45.0f), 1.0f, 0.5f, 50.0f);
   f.nearPlane = 0.5f;
   f.farPlane = 50.0f;
-  f.width = kPx;
-  f.height = kPx;
+  f.viewport.width = kPx;
+  f.viewport.height = kPx;
   std::vector<media::Particle> ps(3);
   for (int i = 0; i < 3; ++i) {
     ps[static_cast<std::size_t>(i)].position = glm::vec3(-1.0f + i, 0.0f, -0.5f * i);
@@ -218,14 +218,16 @@ TEST_F(HostState, MediaCallsLeaveWhatTheirHeadersList) {
   glTextureStorage2DMultisample(hostDepthMs.get(), 4, GL_DEPTH24_STENCIL8, kPx, kPx, GL_TRUE);
   media::HostDepth single, multi;
   single.texture = hostDepth.get();
-  single.space = {core::DepthConvention::kStandard, core::ClipDepth::kNegativeOneToOne, f.projection, f.nearPlane,
-                  f.farPlane};
+  // The host's depth: GL's standard, through the media frame's projection and planes.
+  media::Frame hostFrame = f;
+  hostFrame.depth = core::DepthConvention::kStandard;
+  hostFrame.clipDepth = core::ClipDepth::kNegativeOneToOne;
   multi = single;
   multi.texture = hostDepthMs.get();
   const std::vector<Case> hostCases = {
-      {"HostLayers::resolveHostDepth(2D)", [&] { EXPECT_OK(hl.resolveHostDepth(single)); },
+      {"HostLayers::resolveHostDepth(2D)", [&] { EXPECT_OK(hl.resolveHostDepth(single, hostFrame)); },
        kFullscreen + kNoProgram + Keys{unit(b.resolveSource, "2D"), sampler(b.resolveSource)}},
-      {"HostLayers::resolveHostDepth(2D multisample)", [&] { EXPECT_OK(hl.resolveHostDepth(multi)); },
+      {"HostLayers::resolveHostDepth(2D multisample)", [&] { EXPECT_OK(hl.resolveHostDepth(multi, hostFrame)); },
        kFullscreen + kNoProgram +
            Keys{unit(b.resolveSource, "2DMS"), unit(b.resolveSource, "2D"), sampler(b.resolveSource)}},
       {"HostLayers::composeOver",
@@ -246,7 +248,7 @@ TEST_F(HostState, MediaCallsLeaveWhatTheirHeadersList) {
   ASSERT_OK(cartoon);
   auto cartoonHost = media::HostLayers::create(kPx, kPx, 0.5f);
   ASSERT_OK(cartoonHost);
-  ASSERT_OK((*cartoonHost)->resolveHostDepth(single));
+  ASSERT_OK((*cartoonHost)->resolveHostDepth(single, hostFrame));
   (*cartoonHost)->beginMedia(media::Style::kCartoon);
   (*cartoonRenderer)->draw((*cartoonHost)->layerFrame(f), ps, media::Method::kSpherical, (*cartoonHost)->mediaDepth());
   const unsigned cf = b.cartoonFirst;

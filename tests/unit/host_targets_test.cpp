@@ -43,15 +43,15 @@ media::Frame mediaFrameOf(const cel::Frame& cel) {
   f.projection = cel.projection;
   f.nearPlane = cel.nearPlane;
   f.farPlane = cel.farPlane;
-  f.width = f.height = kPx;
+  f.viewport.width = f.viewport.height = kPx;
   return f;
 }
 
-// The host's depth texture `texture`, stored in the cel frame's convention.
-media::HostDepth hostDepthOf(GLuint texture, const cel::Frame& cel) {
+// The host's depth texture `texture` (stored in the cel frame's convention: resolveHostDepth is
+// given the cel frame).
+media::HostDepth hostDepthOf(GLuint texture) {
   media::HostDepth d;
   d.texture = texture;
-  d.space = {cel.depth, cel.clipDepth, cel.projection, cel.nearPlane, cel.farPlane};
   return d;
 }
 
@@ -293,11 +293,11 @@ TEST_F(HostTargets, MediaComposeOverWritesAttachmentZeroAlone) {
             celFrame(kit, cel::Style{}, puffs(), t);
             auto layers = media::HostLayers::create(kPx, kPx, 0.5f);
             ASSERT_OK(layers);
-            const media::HostDepth depth = hostDepthOf(t.depth(), cel);
+            const media::HostDepth depth = hostDepthOf(t.depth());
             const float ink = isCartoon ? cartoon->style.outlineWidth : 0.0f;
             if (cover == Cover::kMedia) (*layers)->setCoverage(media::coverage(f, smoke), style, ink);
             if (cover == Cover::kEmpty) (*layers)->setCoverage(media::PixelBox{}, style, ink);
-            ASSERT_OK((*layers)->resolveHostDepth(depth));
+            ASSERT_OK((*layers)->resolveHostDepth(depth, cel));
             (*layers)->beginMedia(style);
             (isCartoon ? *cartoonRenderer : *photoreal)
                 ->draw((*layers)->layerFrame(f), smoke, media::Method::kSpherical, (*layers)->mediaDepth());
@@ -347,8 +347,8 @@ TEST_F(HostTargets, AGammaSpaceHostDrawsThroughAnSrgbView) {
     kit.nailboards->drawNailboards(cel::Style{}, cel::ShadePass::kLit);
     auto layers = media::HostLayers::create(kPx, kPx, 0.5f);
     ASSERT_OK(layers);
-    const media::HostDepth d = hostDepthOf(depth.get(), cel);
-    ASSERT_OK((*layers)->resolveHostDepth(d));
+    const media::HostDepth d = hostDepthOf(depth.get());
+    ASSERT_OK((*layers)->resolveHostDepth(d, cel));
     (*layers)->beginMedia();
     (*renderer)->draw((*layers)->layerFrame(f), smoke, media::Method::kSpherical, (*layers)->mediaDepth());
     ASSERT_OK((*layers)->composeOver(fbo, {0, 0, kPx, kPx}, f, {}, {}));
@@ -464,8 +464,8 @@ TEST_F(HostTargets, CartoonComposeOverMatchesPuffsOwnCompose) {
       EXPECT_OK(layers);
       if (covered)
         (*layers)->setCoverage(media::coverage(f, fire), media::Style::kCartoon, cartoon->style.outlineWidth);
-      const media::HostDepth d = hostDepthOf(host.depth(), cel);
-      EXPECT_OK((*layers)->resolveHostDepth(d));
+      const media::HostDepth d = hostDepthOf(host.depth());
+      EXPECT_OK((*layers)->resolveHostDepth(d, cel));
       (*layers)->beginMedia(media::Style::kCartoon);
       (*renderer)->draw((*layers)->layerFrame(f), fire, media::Method::kSpherical, (*layers)->mediaDepth());
       EXPECT_OK((*layers)->composeOver(host.framebuffer(), vp, f, {}, {}, &*cartoon));
@@ -495,8 +495,8 @@ TEST_F(HostTargets, CartoonComposeOverMatchesPuffsOwnCompose) {
     if (media) {
       auto layers = media::HostLayers::create(kPx, kPx, 0.5f);
       EXPECT_OK(layers);
-      const media::HostDepth d = hostDepthOf(depth.get(), cel);
-      EXPECT_OK((*layers)->resolveHostDepth(d));
+      const media::HostDepth d = hostDepthOf(depth.get());
+      EXPECT_OK((*layers)->resolveHostDepth(d, cel));
       (*layers)->beginMedia(media::Style::kCartoon);
       (*renderer)->draw((*layers)->layerFrame(f), fire, media::Method::kSpherical, (*layers)->mediaDepth());
       EXPECT_OK((*layers)->composeOver(fbo.get(), vp, f, {}, {}, &*cartoon));

@@ -183,12 +183,15 @@ TEST(LifeCurves, ColourAndTemperatureCurvesTintAndHeatWhatIsDrawn) {
   for (std::size_t i = 0; i < ages.particles.size(); ++i) {
     const float life = 1.0f - ages.particles[i].size / ones.particles[i].size;
     const glm::vec3 want = birth + (death - birth) * life;
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(tinted.particles[i].tint[c], want[c], 1e-5f) << i << " channel " << c;
+    // The curve's display value, decoded: a cel particle's tint is scene-linear.
+    const glm::vec3 wantLinear = core::srgbToLinear(want);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(tinted.particles[i].tint[c], wantLinear[c], 1e-5f) << i << " channel " << c;
     EXPECT_EQ(tinted.particles[i].position, ages.particles[i].position);
     EXPECT_EQ(tinted.particles[i].size, ages.particles[i].size) << "colour does not change sizes";
     EXPECT_EQ(plain.particles[i].tint, glm::vec3(1.0f)) << "no curve: untinted";
     const float s = life * life * (3.0f - 2.0f * life);
-    for (int c = 0; c < 3; ++c) EXPECT_NEAR(smoothed.particles[i].tint[c], birth[c] + (death[c] - birth[c]) * s, 1e-5f);
+    const glm::vec3 wantSmooth = core::srgbToLinear(birth + (death - birth) * s);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(smoothed.particles[i].tint[c], wantSmooth[c], 1e-5f);
     young += life < 0.3f ? 1 : 0;
     old += life > 0.6f ? 1 : 0;
   }

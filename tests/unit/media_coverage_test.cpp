@@ -28,9 +28,8 @@ media::Frame orthoFrame() {
   f.projection = glm::ortho(-8.0f, 8.0f, -8.0f, 8.0f, 0.5f, 50.0f);
   f.nearPlane = 0.5f;
   f.farPlane = 50.0f;
-  f.orthographic = true;
-  f.width = kOrtho;
-  f.height = kOrtho;
+  f.viewport.width = kOrtho;
+  f.viewport.height = kOrtho;
   return f;
 }
 
@@ -39,8 +38,8 @@ media::Frame perspectiveFrame(float fovYDegrees) {
   f.projection = glm::perspective(glm::radians(fovYDegrees), static_cast<float>(kWidth) / kHeight, 0.5f, 50.0f);
   f.nearPlane = 0.5f;
   f.farPlane = 50.0f;
-  f.width = kWidth;
-  f.height = kHeight;
+  f.viewport.width = kWidth;
+  f.viewport.height = kHeight;
   return f;
 }
 

@@ -58,8 +58,8 @@ std::vector<glm::vec4> composeScene(media::Renderer& r, float scale, bool depthA
   (*layers)->beginMedia();
   media::Frame f = cam.frame(0);
   f.projection = glm::perspective(glm::radians(cam.fovDegrees), static_cast<float>(w) / h, cam.nearPlane, cam.farPlane);
-  f.width = w;
-  f.height = h;
+  f.viewport.width = w;
+  f.viewport.height = h;
   const media::Particle p = sphereAt({0, 0, -6}, 2.0f);
   r.draw((*layers)->layerFrame(f), std::span(&p, 1), Method::kSpherical, (*layers)->mediaDepth(),
          media::Shimmer::kWritten);
@@ -106,8 +106,8 @@ TEST_F(MediaLayersTest, PassesOverTheCoverageDrawTheWholeFramesImage) {
   Camera cam;
   media::Frame f = cam.frame(0);
   f.projection = glm::perspective(glm::radians(cam.fovDegrees), static_cast<float>(w) / h, cam.nearPlane, cam.farPlane);
-  f.width = w;
-  f.height = h;
+  f.viewport.width = w;
+  f.viewport.height = h;
   const media::Particle p = sphereAt({1.1f, 0.4f, -6}, 0.35f);
   const media::PixelBox box = media::coverage(f, std::span(&p, 1));
   EXPECT_LT((box.x1 - box.x0) * (box.y1 - box.y0), w * h / 20);
@@ -252,7 +252,7 @@ TEST_F(MediaLayersTest, HeatShimmerDisplacesBySubPixelAmountsBilinearly) {
   cs.shimmerPixels = 1.0f;
   Camera cam;
   media::Frame f = cam.frame(0);
-  f.width = w, f.height = h;
+  f.viewport.width = w, f.viewport.height = h;
   (*layers)->compose(out.get(), vp, f, {}, cs);
   std::vector<glm::vec4> px(static_cast<std::size_t>(w) * h);
   glGetTextureImage(color.get(), 0, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(px.size() * sizeof(glm::vec4)), px.data());
@@ -314,8 +314,8 @@ std::vector<glm::vec4> composeFloor(media::Renderer& r, float scale, media::Laye
   (*layers)->beginMedia();
   media::Frame f = cam.frame(0);
   f.projection = glm::perspective(glm::radians(cam.fovDegrees), static_cast<float>(w) / h, cam.nearPlane, cam.farPlane);
-  f.width = w;
-  f.height = h;
+  f.viewport.width = w;
+  f.viewport.height = h;
   const std::vector<media::Particle> ps = {sphereAt({0.0f, -0.3f, -13.0f}, 2.0f), sphereAt({1.2f, -0.4f, -8.0f}, 1.5f),
                                            sphereAt({-1.5f, -0.6f, -5.0f}, 1.2f)};  // back to front
   r.draw((*layers)->layerFrame(f), ps, Method::kSpherical, (*layers)->mediaDepth(), media::Shimmer::kOff);

@@ -29,14 +29,13 @@ using reference::PhysicalReport;
 // A 1 x 1 orthographic frame whose one ray runs from (0, 0, 0) along -z.
 media::Frame rayFrame(float nearPlane = 0.5f, float farPlane = 20.0f) {
   media::Frame f;
-  f.orthographic = true;
   f.projection = glm::ortho(-0.01f, 0.01f, -0.01f, 0.01f, nearPlane, farPlane);
   f.nearPlane = nearPlane;
   f.farPlane = farPlane;
-  f.width = 1;
-  f.height = 1;
-  f.lightDirection = glm::vec3(0.0f, 0.6f, 0.8f);
-  f.lightColor = glm::vec3(0.9f, 0.8f, 0.7f);
+  f.viewport.width = 1;
+  f.viewport.height = 1;
+  f.light.direction = glm::vec3(0.0f, 0.6f, 0.8f);
+  f.light.color = glm::vec3(0.9f, 0.8f, 0.7f);
   f.ambient = glm::vec3(0.2f, 0.25f, 0.3f);
   return f;
 }
@@ -63,11 +62,11 @@ media::Particle sphereAt(glm::vec3 c, float r, std::uint32_t material = 0, float
 
 // What a non-emissive material scatters toward the eye along -z (view = identity, Cornette-Shanks).
 glm::dvec3 scattered(const media::Frame& f, const media::Material& m) {
-  const glm::dvec3 l = glm::normalize(glm::dvec3(f.lightDirection));
+  const glm::dvec3 l = glm::normalize(glm::dvec3(f.light.direction));
   const double p4pi =
       4.0 * std::numbers::pi * media::phase(media::PhaseModel::kCornetteShanks, glm::dot(l, {0.0, 0.0, -1.0}), m.g);
   return static_cast<double>(m.albedo) * glm::dvec3(m.color) *
-         (glm::dvec3(f.ambient) + glm::dvec3(f.lightColor) * p4pi);
+         (glm::dvec3(f.ambient) + glm::dvec3(f.light.color) * p4pi);
 }
 
 // The field sigma = 2 tau (1 - rho / r) integrated along a line at distance d from the centre,
@@ -180,7 +179,7 @@ TEST(MediaPhysical, OverlapsDifferFromSphereBySphereCompositingByTheIntegral) {
   // Scattering only ambient light (no light colour), albedo 1: each sphere's source is its colour
   // times the ambient.
   media::Frame flat = f;
-  flat.lightColor = glm::vec3(0.0f);
+  flat.light.color = glm::vec3(0.0f);
   flat.ambient = glm::vec3(1.0f);
   const std::vector<media::Material> materials{plain(1.0f, 1.0f, {1.0f, 0.0f, 0.0f}),
                                                plain(1.0f, 1.0f, {0.0f, 1.0f, 0.0f})};
@@ -405,8 +404,8 @@ struct Cloud {
         glm::perspective(glm::radians(40.0f), static_cast<float>(w) / static_cast<float>(h), 0.5f, 30.0f);
     frame.nearPlane = 0.5f;
     frame.farPlane = 30.0f;
-    frame.width = w;
-    frame.height = h;
+    frame.viewport.width = w;
+    frame.viewport.height = h;
     frame.time = 0.7f;
     media::Material fire = media::fireMaterial(), smoke = media::smokeMaterial(), dust = media::dustMaterial();
     fire.becomes = 1;
@@ -501,7 +500,7 @@ TEST(MediaPhysical, BadInputIsAnError) {
     return r ? std::string("ok") : r.error().message;
   };
   MediaReferenceInput in = good;
-  in.frame.width = 0;
+  in.frame.viewport.width = 0;
   EXPECT_NE(message(in, {}).find("frame size"), std::string::npos);
   in = good;
   in.materials = {};

@@ -57,11 +57,11 @@ TEST_F(MediaPopping, MediaParticlesFadeInInsteadOfAppearingAtFullDensity) {
     f.projection = in.camera.projection(1.0f);
     f.nearPlane = in.camera.nearPlane;
     f.farPlane = in.camera.farPlane;
-    f.lightDirection = scene->light.direction;
-    f.lightColor = scene->light.color;
+    f.light.direction = scene->light.direction;
+    f.light.color = scene->light.color;
     f.ambient = scene->ambientColor;
     f.time = in.time;
-    f.width = f.height = size;
+    f.viewport.width = f.viewport.height = size;
     t.clear({0, 0, 0, 1});
     t.bind();
     (*renderer)->draw(f, particles, spec.method, t.depth.get());

@@ -502,10 +502,10 @@ TEST_F(MediaTest, InScatteringFollowsThePhaseFunction) {
       Camera cam;
       media::Frame f = cam.frame(kSize);
       f.ambient = glm::vec3(0.0f);
-      f.lightColor = glm::vec3(1.0f);
+      f.light.color = glm::vec3(1.0f);
       for (glm::vec3 l : {glm::vec3(0, 0.6f, 0.8f), glm::vec3(0, 0.6f, -0.8f), glm::vec3(1, 0, 0),
                           glm::vec3(0, 0.1f, -1), glm::vec3(0, 0.03f, -1), glm::vec3(0, 0, -1)}) {
-        f.lightDirection = l;
+        f.light.direction = l;
         t.clear({0, 0, 0, 1});
         const media::Particle p = sphereAt({0, 0, -5}, 1.0f);
         (*r)->draw(f, std::span(&p, 1), Method::kSpherical, t.depth.get());
@@ -527,7 +527,6 @@ TEST_F(MediaTest, OrthographicRaysAreParallel) {
   MediaTarget t(kSize);
   t.setDepth(1.0f);
   media::Frame f = Camera{}.frame(kSize);
-  f.orthographic = true;
   f.projection = glm::ortho(-2.0f, 2.0f, -2.0f, 2.0f, f.nearPlane, f.farPlane);
   const media::Particle p = sphereAt({0.3f, -0.4f, -5}, 1.1f);
   for (Method m : {Method::kSpherical, Method::kPlanar}) {

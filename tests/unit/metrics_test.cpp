@@ -123,10 +123,9 @@ TEST(MediaMask, MarksTransmittanceBelowOneOrRadianceAboveEpsilon) {
 media::Frame orthoFrame(int n, float nearPlane, float farPlane) {
   media::Frame f;
   f.projection = glm::ortho(-2.0f, 2.0f, -2.0f, 2.0f, nearPlane, farPlane);
-  f.orthographic = true;
   f.nearPlane = nearPlane;
   f.farPlane = farPlane;
-  f.width = f.height = n;
+  f.viewport.width = f.viewport.height = n;
   return f;
 }
 
@@ -197,7 +196,7 @@ TEST(ClipBand, TheNearPlaneThroughASphereClipsWhereItsPointIsInside) {
   f.projection = glm::perspective(glm::radians(90.0f), 1.0f, 1.0f, 10.0f);
   f.nearPlane = 1.0f;
   f.farPlane = 10.0f;
-  f.width = f.height = m;
+  f.viewport.width = f.viewport.height = m;
   const media::Particle close{{0.0f, 0.0f, -1.0f}, 0.5f, 0, 0.0f, 1.0f, 0};
   b = reference::clipBand({}, std::span(&close, 1), f, 0);
   int inside = 0;

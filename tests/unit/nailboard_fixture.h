@@ -68,8 +68,8 @@ class Nailboards : public test::SphereAtlasTest {
     cam.farPlane = 21.0f;
     cel::Frame f = test::linearFrame(cam, kPx, kPx);
     f.light.direction = glm::vec3(0, 0, 1);
-    f.light.color = glm::vec3(0.5f);
-    f.ambientColor = glm::vec3(0.2f);
+    f.light.color = puff::core::srgbToLinear(glm::vec3(0.5f));
+    f.ambient = puff::core::srgbToLinear(glm::vec3(0.2f));
     return f;
   }
   static glm::vec2 pixelToWorld(int x, int y) {

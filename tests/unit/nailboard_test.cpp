@@ -29,6 +29,24 @@ namespace {
 
 // ---- packing (no GL) ---------------------------------------------------------------------------
 
+// A tint is scene-linear; the record keeps its display value in 7 bits. Every code's own linear
+// value packs to that code, and the midpoints between codes (in display) round up, as lround does.
+TEST(ParticlePacking, ATintPacksToTheNearestDisplayCode) {
+  std::vector<cel::PackedParticle> packed;
+  for (int k = 0; k <= 127; ++k) {
+    Particle p;
+    p.tint = glm::vec3(static_cast<float>(core::srgbToLinear(k / 127.0)),
+                       static_cast<float>(core::srgbToLinear(std::min(k + 0.49, 127.0) / 127.0)),
+                       static_cast<float>(core::srgbToLinear(std::max(k - 0.49, 0.0) / 127.0)));
+    cel::packParticles(std::span(&p, 1), packed);
+    const std::uint32_t w = packed[0].w;
+    EXPECT_EQ((w >> 9) & 127u, static_cast<unsigned>(k)) << "its own value";
+    EXPECT_EQ((w >> 16) & 127u, static_cast<unsigned>(k)) << "just under the midpoint above";
+    EXPECT_EQ((w >> 23) & 127u, static_cast<unsigned>(k)) << "just over the midpoint below";
+    EXPECT_NEAR(cel::unpackParticle(packed[0], {}).tint.r, core::srgbToLinear(k / 127.0), 1e-6) << k;
+  }
+}
+
 TEST(ParticlePacking, SixteenBytesRoundTripWithinQuantization) {
   std::vector<Particle> in;
   for (int i = 0; i < 200; ++i) {
@@ -52,8 +70,11 @@ TEST(ParticlePacking, SixteenBytesRoundTripWithinQuantization) {
     EXPECT_NEAR(out.size, in[i].size, in[i].size * 1e-3f) << i;  // half float: 11 significant bits
     EXPECT_EQ(out.variation, in[i].variation);
     EXPECT_EQ(out.oriented, in[i].oriented);
-    for (int c = 0; c < 3; ++c) {  // 7 bits a channel, white exactly 1
-      EXPECT_NEAR(out.tint[c], std::clamp(in[i].tint[c], 0.0f, 1.0f), 0.5f / 127.0f + 1e-6f) << i << " channel " << c;
+    for (int c = 0; c < 3; ++c) {  // 7 bits a channel of the display value, white exactly 1
+      const double display = core::linearToSrgb(double{out.tint[c]});
+      EXPECT_NEAR(display, core::linearToSrgb(std::clamp(double{in[i].tint[c]}, 0.0, 1.0)), 0.5 / 127.0 + 1e-6)
+          << i << " channel " << c;
+      EXPECT_NEAR(display * 127.0, std::round(display * 127.0), 1e-4) << "a 7-bit code: " << i << " channel " << c;
     }
     if (i % 2 == 1) {
       EXPECT_EQ(out.tint, glm::vec3(1.0f));
@@ -155,8 +176,8 @@ TEST_F(Nailboards, Equation2HoldsOnEveryChannelInGeneralPoses) {
       cam.farPlane = 21.0f;
       cel::Frame f = test::linearFrame(cam, kPx, kPx);
       f.light.direction = light;
-      f.light.color = lightColor;
-      f.ambientColor = ambient;
+      f.light.color = puff::core::srgbToLinear(lightColor);
+      f.ambient = puff::core::srgbToLinear(ambient);
       const glm::vec3 lView = glm::normalize(glm::mat3(f.view) * glm::normalize(light));
       target_->clear(1.0f);
       block_->upload(f);
@@ -207,7 +228,7 @@ TEST_F(Nailboards, RampClampEnforcesMaxZero) {
   cel::Frame f = orthoFrame();
   f.light.direction = glm::vec3(0, 0, -1);
   f.light.color = glm::vec3(1.0f);
-  f.ambientColor = glm::vec3(0.0f);
+  f.ambient = puff::core::srgbToLinear(glm::vec3(0.0f));
   cel::Style style;
   style.outlines = false;
   target_->clear(1.0f);
@@ -356,7 +377,8 @@ TEST_F(Nailboards, AxialBillboardsForeshortenFromAbove) {
   cam.nearPlane = 1.0f;
   cam.farPlane = 21.0f;
   cel::Frame f = test::linearFrame(cam, kPx, kPx);
-  f.light.color = glm::vec3(0.5f);  // lit pixels stay distinguishable from the white background
+  f.light.color =
+      puff::core::srgbToLinear(glm::vec3(0.5f));  // lit pixels stay distinguishable from the white background
   cel::Style style;
   style.outlines = false;
   style.alignment = cel::Alignment::kViewPlane;
@@ -379,7 +401,7 @@ TEST_F(Nailboards, ViewpointBillboardsDistortLikeASphere) {
   cam.nearPlane = 1.0f;
   cam.farPlane = 30.0f;
   cel::Frame f = test::linearFrame(cam, kPx, kPx);
-  f.light.color = glm::vec3(0.5f);
+  f.light.color = puff::core::srgbToLinear(glm::vec3(0.5f));
   const float theta = glm::radians(35.0f);
   const glm::vec3 pos(10 * std::tan(theta), 0, 0);  // in the plane z = 0, 35 degrees right of the axis
   auto extents = [&](cel::Alignment a) {

@@ -170,7 +170,7 @@ class OpaqueTest : public test::GlTest {
     o.name = std::move(name);
     o.mesh = std::make_shared<const TriangleMesh>(mesh);
     o.transform = transform;
-    o.albedo = albedo;
+    o.albedo = puff::core::srgbToLinear(albedo);
     o.cel = cel;
     return o;
   }
@@ -225,8 +225,8 @@ TEST_F(OpaqueTest, DepthIsTheLinearDepthOfTheRayPlaneHit) {
 
 TEST_F(OpaqueTest, CelLightingIsAlbedoTimesAmbientPlusLightThroughTheRamp) {
   Frame frame = topDown();
-  frame.ambientColor = kAmbient;
-  frame.light.color = kLightColor;
+  frame.ambient = puff::core::srgbToLinear(kAmbient);
+  frame.light.color = puff::core::srgbToLinear(kLightColor);
   setObjects({object("ground", makePlane(), glm::mat4(1.0f), kAlbedo)});
   struct Case {
     glm::vec3 light;
@@ -261,8 +261,8 @@ TEST_F(OpaqueTest, SmoothLightingFollowsTheCosineWithTheInverseTransposeNormal) 
   const glm::vec3 normal = glm::normalize(glm::cross(m * glm::vec3(0, 0, 1), m * glm::vec3(1, 0, 0)));
   const glm::vec3 naive = glm::normalize(m * glm::vec3(0, 1, 0));
   Frame frame = topDown();
-  frame.ambientColor = kAmbient;
-  frame.light.color = kLightColor;
+  frame.ambient = puff::core::srgbToLinear(kAmbient);
+  frame.light.color = puff::core::srgbToLinear(kLightColor);
   frame.light.direction = glm::normalize(glm::vec3(0.3f, 1.0f, 0.5f));
   const float cosTheta = glm::dot(normal, frame.light.direction);
   ASSERT_GT(cosTheta, 0.1f);
@@ -287,8 +287,8 @@ TEST_F(OpaqueTest, PlaneSeenFromBelowTurnsItsNormalTowardTheViewer) {
   c.nearPlane = 1.0f;
   c.farPlane = 9.0f;
   Frame frame = test::linearFrame(c, kSize, kSize);
-  frame.ambientColor = kAmbient;
-  frame.light.color = kLightColor;
+  frame.ambient = puff::core::srgbToLinear(kAmbient);
+  frame.light.color = puff::core::srgbToLinear(kLightColor);
   setObjects({object("ground", makePlane(), glm::mat4(1.0f), kAlbedo)});
   for (float ly : {-1.0f, 1.0f}) {
     frame.light.direction = {0, ly, 0};
@@ -306,8 +306,8 @@ TEST_F(OpaqueTest, MirroringTransformKeepsNormalsOutward) {
   c.nearPlane = 1.0f;
   c.farPlane = 9.0f;
   Frame frame = test::linearFrame(c, kSize, kSize);
-  frame.ambientColor = kAmbient;
-  frame.light.color = kLightColor;
+  frame.ambient = puff::core::srgbToLinear(kAmbient);
+  frame.light.color = puff::core::srgbToLinear(kLightColor);
   frame.light.direction = {0, 0, 1};  // from the camera
   begin(frame);
   setObjects({object("mirrored", makeSphere(), glm::scale(glm::mat4(1.0f), glm::vec3(1, -1, 1)), kAlbedo),
@@ -323,8 +323,8 @@ TEST_F(OpaqueTest, MirroringTransformKeepsNormalsOutward) {
 
 TEST_F(OpaqueTest, ShadowedPassOnlyChangesStencilledPixelsToAmbient) {
   Frame frame = topDown();
-  frame.ambientColor = kAmbient;
-  frame.light.color = kLightColor;
+  frame.ambient = puff::core::srgbToLinear(kAmbient);
+  frame.light.color = puff::core::srgbToLinear(kLightColor);
   frame.light.direction = {0, 1, 0};
   begin(frame);
   setObjects({object("ground", makePlane(), glm::mat4(1.0f), kAlbedo)});
@@ -358,8 +358,8 @@ TEST_F(OpaqueTest, ShadowedPassMatchesTheDepthOfLitAndDepthOnlyPassesExactly) {
   c.nearPlane = 1.0f;
   c.farPlane = 20.0f;
   Frame frame = test::linearFrame(c, kSize, kSize);
-  frame.ambientColor = kAmbient;
-  frame.light.color = kLightColor;
+  frame.ambient = puff::core::srgbToLinear(kAmbient);
+  frame.light.color = puff::core::srgbToLinear(kLightColor);
   const glm::vec3 sphereAlbedo{0.2f, 0.9f, 0.6f};
   setObjects({object("ground", makePlane(), glm::scale(glm::mat4(1.0f), glm::vec3(4.0f, 1.0f, 4.0f)), kAlbedo),
               object("ball", makeSphere(),
@@ -528,8 +528,8 @@ TEST_F(OpaqueTest, AmbientGradientSpansANonSquareViewportAwayFromTheOrigin) {
 
 TEST_F(OpaqueTest, DrawSetsEveryStateItReliesOn) {
   Frame frame = topDown(2.5f);
-  frame.ambientColor = kAmbient;
-  frame.light.color = kLightColor;
+  frame.ambient = puff::core::srgbToLinear(kAmbient);
+  frame.light.color = puff::core::srgbToLinear(kLightColor);
   setObjects({object("ball", makeSphere(), glm::mat4(1.0f), kAlbedo),
               object("box", makeBox(), glm::scale(glm::mat4(1.0f), glm::vec3(0.3f, 1.1f, 0.3f)), {0.3f, 0.3f, 0.9f})});
   begin(frame);
@@ -570,8 +570,8 @@ TEST_F(OpaqueTest, DrawSetsEveryStateItReliesOn) {
 
 TEST_F(OpaqueTest, SharedMeshDrawsEveryObject) {
   Frame frame = topDown(4.0f);
-  frame.ambientColor = kAmbient;
-  frame.light.color = kLightColor;
+  frame.ambient = puff::core::srgbToLinear(kAmbient);
+  frame.light.color = puff::core::srgbToLinear(kLightColor);
   frame.light.direction = {0, 1, 0};
   begin(frame);
   auto mesh = std::make_shared<const TriangleMesh>(makeBox());
@@ -583,7 +583,7 @@ TEST_F(OpaqueTest, SharedMeshDrawsEveryObject) {
     o.mesh = mesh;
     o.transform = glm::translate(glm::mat4(1.0f), glm::vec3(-1.2f + 1.2f * i, 0, 0)) *
                   glm::scale(glm::mat4(1.0f), glm::vec3(0.4f));
-    o.albedo = albedos[i];
+    o.albedo = puff::core::srgbToLinear(albedos[i]);
     objects.push_back(o);
   }
   objects.push_back(

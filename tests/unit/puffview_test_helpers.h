@@ -41,8 +41,8 @@ inline glm::vec3 rgb(const core::Image& image, int x, int y) {
 }  // namespace puff::view::test
 
 /// Skips the test where there is no display, unless PUFF_TEST_REQUIRE_GLFW=1 (set by ctest under Xvfb) requires one.
-#define PUFFVIEW_NEEDS_DISPLAY()                                                                  \
-  do {                                                                                            \
-    if (!::puff::view::test::displayRequired() && !::puff::view::test::haveDisplay())             \
+#define PUFFVIEW_NEEDS_DISPLAY()                                                              \
+  do {                                                                                        \
+    if (!::puff::view::test::displayRequired() && !::puff::view::test::haveDisplay())         \
       GTEST_SKIP() << "no display; ctest runs this under Xvfb with PUFF_TEST_REQUIRE_GLFW=1"; \
   } while (0)

@@ -42,10 +42,10 @@ media::Frame cloudFrame() {
   f.projection = glm::perspective(glm::radians(45.0f), static_cast<float>(kW) / kH, 0.5f, 50.0f);
   f.nearPlane = 0.5f;
   f.farPlane = 50.0f;
-  f.width = kW;
-  f.height = kH;
-  f.lightDirection = glm::vec3(0.4f, 1.0f, 0.3f);
-  f.lightColor = glm::vec3(1.0f, 0.95f, 0.9f);
+  f.viewport.width = kW;
+  f.viewport.height = kH;
+  f.light.direction = glm::vec3(0.4f, 1.0f, 0.3f);
+  f.light.color = glm::vec3(1.0f, 0.95f, 0.9f);
   f.ambient = glm::vec3(0.25f);
   return f;
 }

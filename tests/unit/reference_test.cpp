@@ -31,10 +31,10 @@ constexpr int kCentre = kSize / 2;
 // a * color * (ambient + light * 4 pi P): what a non-emissive material scatters along `dir`.
 glm::dvec3 scattered(const media::Frame& f, const media::Material& m, const glm::dvec3& dir,
                      media::PhaseModel model = media::PhaseModel::kCornetteShanks) {
-  const glm::dvec3 l = glm::normalize(glm::dvec3(f.lightDirection));  // view = identity
+  const glm::dvec3 l = glm::normalize(glm::dvec3(f.light.direction));  // view = identity
   const double p4pi = 4.0 * std::numbers::pi * media::phase(model, glm::dot(l, dir), m.g);
   return static_cast<double>(m.albedo) * glm::dvec3(m.color) *
-         (glm::dvec3(f.ambient) + glm::dvec3(f.lightColor) * p4pi);
+         (glm::dvec3(f.ambient) + glm::dvec3(f.light.color) * p4pi);
 }
 
 glm::dvec3 pixel(const core::Image& im, int x, int glRow) {
@@ -150,7 +150,6 @@ TEST(ReferenceAnalytic, OrthographicRaysAreParallel) {
   const media::Particle p = sphereAt({0.3f, -0.2f, -5}, 1.2f);
   MediaReferenceInput in;
   in.frame = axisFrame(kSize, kSize);
-  in.frame.orthographic = true;
   in.frame.projection = glm::ortho(-2.0f, 2.0f, -2.0f, 2.0f, in.frame.nearPlane, in.frame.farPlane);
   in.particles = std::span(&p, 1);
   in.materials = std::span(&m, 1);

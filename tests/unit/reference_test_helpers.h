@@ -25,10 +25,10 @@ inline media::Frame axisFrame(int w, int h, float nearPlane = 0.5f, float farPla
       glm::perspective(glm::radians(40.0f), static_cast<float>(w) / static_cast<float>(h), nearPlane, farPlane);
   f.nearPlane = nearPlane;
   f.farPlane = farPlane;
-  f.width = w;
-  f.height = h;
-  f.lightDirection = glm::vec3(0.0f, 0.6f, 0.8f);
-  f.lightColor = glm::vec3(0.9f, 0.8f, 0.7f);
+  f.viewport.width = w;
+  f.viewport.height = h;
+  f.light.direction = glm::vec3(0.0f, 0.6f, 0.8f);
+  f.light.color = glm::vec3(0.9f, 0.8f, 0.7f);
   f.ambient = glm::vec3(0.2f, 0.25f, 0.3f);
   return f;
 }

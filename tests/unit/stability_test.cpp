@@ -198,7 +198,7 @@ TEST_F(StabilityDepth, FarIntersectionsStayRightInLinearDepthWhereHyperbolicCann
   target_->clear(glm::vec4(0, 0, 0, 1), 1.0f);
   // One draw per puff: the depth test between them is the same LESS test as inside one draw.
   for (const Ball& b : balls) {
-    frame.ambientColor = b.color;
+    frame.ambient = puff::core::srgbToLinear(b.color);
     drawOver(frame, {cel::Particle{glm::vec3(b.centre), static_cast<float>(2.0 * b.r)}}, style);
   }
   EXPECT_EQ(core::drainGlErrors(), "");
@@ -339,8 +339,8 @@ TEST_F(StabilityCel, ANailboardLargerThanTheScreenCoversItWithTheRightDepth) {
   cam.farPlane = 100.0f;
   cel::Frame frame = test::linearFrame(cam, kPx, kPx);
   frame.light.direction = glm::vec3(0, 0, 1);
-  frame.light.color = glm::vec3(0.5f);
-  frame.ambientColor = glm::vec3(0.2f);
+  frame.light.color = puff::core::srgbToLinear(glm::vec3(0.5f));
+  frame.ambient = puff::core::srgbToLinear(glm::vec3(0.2f));
   const double R = 26.0, dz = 30.0, tanHalf = std::tan(glm::radians(30.0));
   cel::Style style;  // outlines on: the flange is off screen, so none may show
   target_->clear(glm::vec4(1.0f), 1.0f);

@@ -218,6 +218,7 @@ Target makeTarget(int w, int h, GLenum colourFormat, bool withDepth) {
 // ---- the world ------------------------------------------------------------------------------
 const glm::vec3 kSun = glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f));            // toward the sun
 const glm::vec3 kSunColor(0.9f, 0.85f, 0.75f), kAmbient(0.22f, 0.26f, 0.34f);  // scene-linear
+const glm::vec3 kSmokeAmbient(0.085f, 0.089f, 0.107f);  // scene-linear: display (0.32, 0.33, 0.36)
 const glm::vec3 kSky(0.20f, 0.36f, 0.62f);                                     // scene-linear
 const glm::vec3 kChimneyTop(-2.6f, 1.6f, -1.2f);                               // where the smoke leaves the chimney
 const glm::vec3 kFirePit(2.4f, 0.15f, -0.6f);                                  // the fire's base
@@ -435,6 +436,21 @@ struct Smoke {
   std::vector<puff::cel::Particle> puffs;
 };
 
+// What Puff's cel and media frames share, once for both: the game's camera, depth and sun.
+puff::core::SharedFrame sharedFrame(const Camera& camera, int width, int height) {
+  puff::core::SharedFrame f;
+  f.view = camera.view;
+  f.projection = camera.projection;  // the game's own matrix, used as is
+  f.nearPlane = kNear;
+  f.farPlane = kFar;
+  f.depth = puff::core::DepthConvention::kStandard;  // hyperbolic, as gl_Position wrote it
+  f.clipDepth = puff::core::ClipDepth::kNegativeOneToOne;
+  f.viewport = {0, 0, width, height};
+  f.light = {kSun, kSunColor};  // scene-linear, as the game lights its world
+  f.ambient = kAmbient;
+  return f;
+}
+
 puff::Result<Smoke> createSmoke(const puff::core::Atlas& atlas, const Camera& camera, int width, int height) {
   PUFF_TRY_ASSIGN(auto nailboards, puff::cel::NailboardRenderer::create());
   if (auto set = (nailboards)->setAtlas(atlas); !set) return set.error();
@@ -444,16 +460,8 @@ puff::Result<Smoke> createSmoke(const puff::core::Atlas& atlas, const Camera& ca
   puff::core::Image bands(3, 1, 1);
   bands.pixels = {0.15f, 0.55f, 1.0f};
   PUFF_TRY_ASSIGN(auto ramp, puff::cel::Ramp::create(bands, "the game's ramp"));
-  puff::cel::Frame celFrame;
-  celFrame.view = camera.view;
-  celFrame.projection = camera.projection;  // the game's own matrix, used as is
-  celFrame.nearPlane = kNear;
-  celFrame.farPlane = kFar;
-  celFrame.depth = puff::cel::DepthConvention::kStandard;  // hyperbolic, as gl_Position wrote it
-  celFrame.clipDepth = puff::cel::ClipDepth::kNegativeOneToOne;
-  celFrame.viewport = {0, 0, width, height};
-  celFrame.light = {kSun, glm::vec3(0.75f)};
-  celFrame.ambientColor = glm::vec3(0.32f, 0.33f, 0.36f);
+  puff::cel::Frame celFrame{sharedFrame(camera, width, height)};
+  celFrame.ambient = kSmokeAmbient;  // the smoke's K_a, a palette choice darker than the sky
   puff::cel::Style style;  // outlines on (black ink), Eq. 2 shading
   style.outlineWidth = 2.5f;
   return Smoke{std::move(nailboards), std::move(smoke), std::move(celBlock), std::move(ramp), celFrame, style, {}};
@@ -534,21 +542,9 @@ puff::Result<Fire> createFire(const Camera& camera, GLuint depthTexture, int wid
   if (auto ok = (media)->setMaterials({fire, puff::media::smokeMaterial()}); !ok) return ok.error();
   PUFF_TRY_ASSIGN(auto layers, puff::media::HostLayers::create(width, height, 0.5f));  // the layer at half size
   PUFF_TRY_ASSIGN(auto flames, puff::sim::Simulator::create(fireSettings()));
-  puff::media::Frame mediaFrame;
-  mediaFrame.view = camera.view;
-  mediaFrame.projection = camera.projection;
-  mediaFrame.nearPlane = kNear;
-  mediaFrame.farPlane = kFar;
-  mediaFrame.lightDirection = kSun;
-  mediaFrame.lightColor = kSunColor;
-  mediaFrame.ambient = kAmbient;
-  mediaFrame.width = width;
-  mediaFrame.height = height;
-  // The game's depth texture as Puff reads it: standard depth from the same projection.
-  const puff::media::HostDepth hostDepth{
-      .texture = depthTexture,
-      .space = {puff::core::DepthConvention::kStandard, puff::core::ClipDepth::kNegativeOneToOne, camera.projection,
-                kNear, kFar}};
+  const puff::media::Frame mediaFrame{sharedFrame(camera, width, height)};
+  // The game's depth texture: read in the frame's convention (standard, the same projection).
+  const puff::media::HostDepth hostDepth{.texture = depthTexture};
   return Fire{std::move(media), std::move(layers), std::move(flames), mediaFrame, hostDepth, {}};
 }
 
@@ -564,7 +560,7 @@ void advanceFire(Fire& fire, int frame, float time) {
 puff::Result<void> drawFire(Fire& fire, const GameResources& game, float time) {
   const float flicker = 1.0f + 0.25f * std::sin(time * 11.0f) * std::sin(time * 3.7f);
   const puff::media::ExplosionLight glow{kFirePit + glm::vec3(0, 0.6f, 0), 2.2f, {1.0f, 0.45f, 0.12f}, 0.9f * flicker};
-  if (auto ok = fire.layers->resolveHostDepth(fire.hostDepth); !ok) return ok;
+  if (auto ok = fire.layers->resolveHostDepth(fire.hostDepth, fire.mediaFrame); !ok) return ok;
   fire.layers->beginMedia();
   fire.media->draw(fire.layers->layerFrame(fire.mediaFrame), fire.fireParticles, puff::media::Method::kSpherical,
                    fire.layers->mediaDepth());

@@ -88,8 +88,9 @@ void FrameBlock::upload(const Frame& frame) {
   l = glm::length(l) > 0.0f ? glm::normalize(l) : glm::vec3(0, 1, 0);
   d.lightDirWorld = glm::vec4(l, 0.0f);
   d.lightDirView = glm::vec4(glm::normalize(glm::vec3(frame.view * glm::vec4(l, 0.0f))), 0.0f);
-  d.lightColor = glm::vec4(frame.light.color, 1.0f);
-  d.ambientColor = glm::vec4(frame.ambientColor, 1.0f);
+  // Eq. 2 combines display values: the frame's scene-linear colours encoded.
+  d.lightColor = glm::vec4(core::linearToSrgb(frame.light.color), 1.0f);
+  d.ambientColor = glm::vec4(core::linearToSrgb(frame.ambient), 1.0f);
   d.cameraWorld = d.invView[3];
   d.ambientMode = glm::ivec4(frame.ambientGradient ? 1 : 0, 0, 0, 0);
   d.shadowMatrix = frame.shadow.worldToMap;

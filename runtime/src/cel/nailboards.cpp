@@ -433,7 +433,8 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   glProgramUniform1i(p, nb.shading, style.shading ? 1 : 0);
   glProgramUniform1i(p, nb.outlines, style.outlines ? 1 : 0);
   glProgramUniform1f(p, nb.outlineWidth, std::max(0.0f, style.outlineWidth));
-  glProgramUniform3fv(p, nb.outlineColor, 1, glm::value_ptr(style.outlineColor));
+  const glm::vec3 ink = core::linearToSrgb(style.outlineColor);  // the shader mixes display values
+  glProgramUniform3fv(p, nb.outlineColor, 1, glm::value_ptr(ink));
   const bool msaa = framebufferIsMultisampled();
   glProgramUniform1i(p, nb.multisample, msaa ? 1 : 0);
 

@@ -2,6 +2,7 @@
 #include <puff/cel/opaque.h>
 #include <puff/cel/pass_state.h>
 #include <puff/cel/volume_clip.h>
+#include <puff/core/colour.h>
 
 #include <algorithm>
 #include <cmath>
@@ -159,7 +160,7 @@ Result<DrawItem> validateObject(const OpaqueObject& o) {
   if (o.albedo.x < 0.0f || o.albedo.y < 0.0f || o.albedo.z < 0.0f) return Error{"albedo is negative"};
   d.model = o.transform;
   d.normalMatrix = glm::mat3(glm::transpose(glm::inverse(a)));
-  d.albedo = o.albedo;
+  d.albedo = core::linearToSrgb(o.albedo);  // Eq. 2 takes display values
   d.cel = o.cel;
   d.mirrored = det < 0.0;
   return d;

@@ -1,12 +1,14 @@
 // The 16-byte particle record (nailboards.h) and its inverse, the same arithmetic as
 // shaders/cel/particle.glsl's unpackParticle.
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/packing.hpp>
 
 #include <puff/cel/nailboards.h>
+#include <puff/core/colour.h>
 
 namespace puff::cel {
 
@@ -79,21 +81,31 @@ glm::quat unpackQuat(std::uint32_t bits) {
   return glm::normalize(glm::quat(c[3], c[0], c[1], c[2]));
 }
 
-// Tint: 7 bits a channel at bits 9, 16 and 23 (white 127, 127, 127 is exactly 1). A channel that is
-// not a number draws untinted.
+// Tint: the display value of each scene-linear channel (Eq. 2 multiplies display values), 7 bits a
+// channel at bits 9, 16 and 23 (white 127, 127, 127 is exactly 1). A channel that is not a number
+// draws untinted.
+std::uint32_t tintCode(float linear) {
+  // round(linearToSrgb(v) * 127) without a power per particle: the count of the codes' midpoints,
+  // decoded to linear, at or below v.
+  static const std::array<float, 127> midpoints = [] {
+    std::array<float, 127> m{};
+    for (int k = 0; k < 127; ++k) m[k] = static_cast<float>(core::srgbToLinear((k + 0.5) / 127.0));
+    return m;
+  }();
+  if (std::isnan(linear)) return 127u;
+  return static_cast<std::uint32_t>(std::upper_bound(midpoints.begin(), midpoints.end(), linear) - midpoints.begin());
+}
+
 std::uint32_t packTint(const glm::vec3& tint) {
   std::uint32_t bits = 0;
-  for (int c = 0; c < 3; ++c) {
-    const float v = std::isnan(tint[c]) ? 1.0f : std::clamp(tint[c], 0.0f, 1.0f);
-    bits |= static_cast<std::uint32_t>(std::lround(v * 127.0f)) << (9 + 7 * c);
-  }
+  for (int c = 0; c < 3; ++c) bits |= tintCode(tint[c]) << (9 + 7 * c);
   return bits;
 }
 
 glm::vec3 unpackTint(std::uint32_t w) {
-  return glm::vec3(static_cast<float>((w >> 9) & 127u), static_cast<float>((w >> 16) & 127u),
-                   static_cast<float>((w >> 23) & 127u)) /
-         127.0f;
+  return core::srgbToLinear(glm::vec3(static_cast<float>((w >> 9) & 127u), static_cast<float>((w >> 16) & 127u),
+                                      static_cast<float>((w >> 23) & 127u)) /
+                            127.0f);
 }
 
 }  // namespace

@@ -207,10 +207,13 @@ struct CelReference::Impl {
       for (std::size_t i : list) {
         const cel::Particle& p = particles[i];
         const glm::mat4 model = glm::transpose(puffTransform(p, style.alignment, frame.view, ortho));
-        // The tint as the particle holds it (a display multiplier of C, clamped to [0, 1]), in float
-        // bits: the reference does not share the nailboards' 7-bit packing.
+        // The tint as the particle holds it (scene-linear, clamped to [0, 1]) encoded, a display
+        // multiplier of C in float bits: the reference does not share the nailboards' 7-bit packing.
         glm::vec3 tint;  // as the packing takes it: clamped to [0, 1], not a number untinted
-        for (int c = 0; c < 3; ++c) tint[c] = std::isnan(p.tint[c]) ? 1.0f : std::clamp(p.tint[c], 0.0f, 1.0f);
+        for (int c = 0; c < 3; ++c)
+          tint[c] = std::isnan(p.tint[c])
+                        ? 1.0f
+                        : static_cast<float>(core::linearToSrgb(std::clamp(double{p.tint[c]}, 0.0, 1.0)));
         packed.push_back(
             Instance{{model[0], model[1], model[2]},
                      glm::uvec4(static_cast<unsigned>(i + 1), std::bit_cast<std::uint32_t>(tint.r),
@@ -375,8 +378,8 @@ struct CelReference::Impl {
       glDepthMask(GL_FALSE);
       glDisable(GL_STENCIL_TEST);
       setFloat(prog, "uWidth", style.outlineWidth * static_cast<float>(options.supersample));
-      glProgramUniform3f(prog, glGetUniformLocation(prog, "uInk"), style.outlineColor.r, style.outlineColor.g,
-                         style.outlineColor.b);
+      const glm::vec3 ink = core::linearToSrgb(style.outlineColor);  // display values, as the nailboards'
+      glProgramUniform3f(prog, glGetUniformLocation(prog, "uInk"), ink.r, ink.g, ink.b);
       drawInstances(inst.firstOfVariation, true);
     }
   }

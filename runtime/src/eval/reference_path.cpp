@@ -74,7 +74,7 @@ class ReferencePath final : public render::Path {
     const cel::Viewport& viewport = frame.viewport;
     const cel::Frame f = scene_->prepare(frame.scene, frame.inputs, viewport,
                                          reference_->supersampledViewport(viewport.width, viewport.height));
-    reference_->draw(f, scene_->block(), scene_->opaque(), frame.inputs.particles, frame.scene.style,
+    reference_->draw(f, scene_->block(), scene_->opaque(), frame.inputs.particles, scene::celStyleFor(frame.scene),
                      frame.scene.background, static_cast<GLuint>(callerFbo), viewport, scene_->casterBounds());
     if (media_) return drawMedia(frame, static_cast<GLuint>(callerFbo));
     return {};

@@ -69,7 +69,7 @@ PixelBox coverage(const Frame& frame, std::span<const Particle> particles, std::
     const glm::dvec3 c(view * glm::dvec4(glm::dvec3(p.position), 1.0));
     // billboard.vert draws nothing for these.
     if (!(r > 0.0) || -c.z + r < frame.nearPlane || -c.z - r > frame.farPlane) continue;
-    addSphere(e, proj, frame.orthographic, c, r);
+    addSphere(e, proj, frame.orthographic(), c, r);
     if (e.whole) break;
   }
   int shining = 0;
@@ -77,9 +77,9 @@ PixelBox coverage(const Frame& frame, std::span<const Particle> particles, std::
     if (e.whole || shining == shader::kMaxLights) break;
     if (!(l.intensity > 0.0f) || !(l.radius > 0.0f)) continue;  // as the compose block takes them
     ++shining;
-    addSphere(e, proj, frame.orthographic, glm::dvec3(view * glm::dvec4(glm::dvec3(l.center), 1.0)), l.radius);
+    addSphere(e, proj, frame.orthographic(), glm::dvec3(view * glm::dvec4(glm::dvec3(l.center), 1.0)), l.radius);
   }
-  const int w = frame.width, h = frame.height;
+  const int w = frame.viewport.width, h = frame.viewport.height;
   if (e.whole) return {0, 0, w, h};
   if (!(e.x0 <= e.x1) || !(e.y0 <= e.y1)) return {};
   // NDC to pixels, rounded out and grown by one (the rasterizer's and the float maths' slack).

@@ -188,7 +188,7 @@ void LayersBase::Impl::uploadComposeBlock(const core::Viewport& viewport, const 
   ComposeBlockData d{};
   d.invProj = glm::inverse(frame.projection);
   d.viewport = glm::vec4(viewport.x, viewport.y, viewport.width, viewport.height);
-  d.depth = glm::vec4(frame.nearPlane, frame.farPlane, frame.farPlane - frame.nearPlane, frame.orthographic ? 1 : 0);
+  d.depth = glm::vec4(frame.nearPlane, frame.farPlane, frame.farPlane - frame.nearPlane, frame.orthographic() ? 1 : 0);
   d.layer = glm::vec4(mediaWidth, mediaHeight, factor, settings.depthTolerance);
   d.shimmer = glm::vec4(settings.shimmerPixels, 0.0f, 0.0f, 0.0f);
   int n = 0;
@@ -320,9 +320,9 @@ Frame LayersBase::layerFrame(const Frame& full) const {
   s[1][1] = sy, s[3][1] = sy - 1.0f;
   Frame f = full;
   f.projection = s * full.projection;
-  f.x = f.y = 0;
-  f.width = m.mediaWidth;
-  f.height = m.mediaHeight;
+  f.viewport.x = f.viewport.y = 0;
+  f.viewport.width = m.mediaWidth;
+  f.viewport.height = m.mediaHeight;
   return f;
 }
 
@@ -374,7 +374,7 @@ bool isDepthFormat(GLint format) {
 
 }  // namespace
 
-Result<void> HostLayers::resolveHostDepth(const HostDepth& host) {
+Result<void> HostLayers::resolveHostDepth(const HostDepth& host, const core::SharedFrame& frame) {
   const core::DebugGroup group("media: resolve the host's depth");
   Impl& m = *impl_;
   // Built only on an error: this runs every frame.
@@ -399,9 +399,9 @@ Result<void> HostLayers::resolveHostDepth(const HostDepth& host) {
     return Error{what() + " is " + std::to_string(w) + "x" + std::to_string(h) + ": the layers' " +
                  std::to_string(m.width) + "x" + std::to_string(m.height) + " at (" + std::to_string(host.x) + ", " +
                  std::to_string(host.y) + ") does not fit in it"};
-  const core::DepthSpace& space = host.space;
+  const core::DepthSpace space = frame.depthSpace();
   if (!(space.nearPlane > 0.0f) || !(space.farPlane > space.nearPlane) || !std::isfinite(space.farPlane))
-    return Error{"resolveHostDepth: HostDepth.space planes " + std::to_string(space.nearPlane) + ", " +
+    return Error{"resolveHostDepth: the frame's planes " + std::to_string(space.nearPlane) + ", " +
                  std::to_string(space.farPlane) + ": need 0 < near < far, far finite (linear depth's 1)"};
   GLint hostDraw = 0, hostViewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &hostDraw);
@@ -412,7 +412,7 @@ Result<void> HostLayers::resolveHostDepth(const HostDepth& host) {
   glViewport(0, 0, m.width, m.height);
   const bool multi = target == GL_TEXTURE_2D_MULTISAMPLE;
   glUseProgram(multi ? m.resolveHostMs.get() : m.resolveHost.get());
-  const core::DepthSpace& sp = host.space;
+  const core::DepthSpace& sp = space;
   const glm::mat4& p = sp.projection;
   if (multi) glUniform1i(shader::loc::kResolveSamples, samples);
   glUniform4f(shader::loc::kHostProjZW, p[2][2], p[3][2], p[2][3], p[3][3]);

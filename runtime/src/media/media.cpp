@@ -59,14 +59,14 @@ MediaBlockData blockData(const Frame& frame, const Settings& settings, Method me
   d.view = frame.view;
   d.proj = frame.projection;
   d.invProj = glm::inverse(frame.projection);
-  d.target = glm::vec4(frame.width, frame.height, 1.0f / static_cast<float>(frame.width),
-                       1.0f / static_cast<float>(frame.height));
-  d.origin = glm::vec4(frame.x, frame.y, 0.0f, 0.0f);
-  d.depth = glm::vec4(frame.nearPlane, frame.farPlane, frame.farPlane - frame.nearPlane, frame.orthographic ? 1 : 0);
-  glm::vec3 l = frame.lightDirection;
+  d.target = glm::vec4(frame.viewport.width, frame.viewport.height, 1.0f / static_cast<float>(frame.viewport.width),
+                       1.0f / static_cast<float>(frame.viewport.height));
+  d.origin = glm::vec4(frame.viewport.x, frame.viewport.y, 0.0f, 0.0f);
+  d.depth = glm::vec4(frame.nearPlane, frame.farPlane, frame.farPlane - frame.nearPlane, frame.orthographic() ? 1 : 0);
+  glm::vec3 l = frame.light.direction;
   l = glm::length(l) > 0.0f ? glm::normalize(l) : glm::vec3(0, 1, 0);
   d.lightDir = glm::vec4(glm::normalize(glm::vec3(frame.view * glm::vec4(l, 0.0f))), 0.0f);
-  d.lightColor = glm::vec4(frame.lightColor, 1.0f);
+  d.lightColor = glm::vec4(frame.light.color, 1.0f);
   d.ambient = glm::vec4(frame.ambient, 1.0f);
   d.kelvin = glm::vec4(settings.minKelvin, settings.maxKelvin, 1.0f / (settings.maxKelvin - settings.minKelvin),
                        settings.exposure);
@@ -459,7 +459,7 @@ void Renderer::draw(const Frame& frame, std::span<const Particle> particles, Met
   const auto t0 = core::Clock::now();
   const std::vector<std::uint32_t> order =
       backToFront(frame.view, particles, m.settings.sort,
-                  frame.orthographic ? Projection::kOrthographic : Projection::kPerspective);
+                  frame.orthographic() ? Projection::kOrthographic : Projection::kPerspective);
   m.sorted.clear();
   m.sorted.reserve(particles.size());
   for (std::uint32_t i : order)

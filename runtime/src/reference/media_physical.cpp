@@ -233,14 +233,14 @@ struct Tracer : detail::FrameConstants {
 
   // One row of pixels (GL row j, 0 at the bottom) into out and layer.
   void traceRow(int j, double step, core::Image& out, core::Image* layer) const {
-    const int w = f.width, h = f.height;
+    const int w = f.viewport.width, h = f.viewport.height;
     std::vector<Hit> hits;
     hits.reserve(prepared.size());
     std::vector<double> cuts;
     std::vector<Hit*> active;
     for (int i = 0; i < w; ++i) {
       const std::size_t gl = static_cast<std::size_t>(j) * w + i;
-      const Ray ray = detail::rayThrough(invProj, f.orthographic, w, h, i, j);
+      const Ray ray = detail::rayThrough(invProj, f.orthographic(), w, h, i, j);
       const glm::dvec3& o = ray.origin;
       const glm::dvec3& dir = ray.direction;
       const double lin = in.opaqueDepth.empty() ? 1.0 : in.opaqueDepth[gl];
@@ -265,7 +265,7 @@ struct Tracer : detail::FrameConstants {
   }
 
   void render(double step, core::Image& out, core::Image* layer) const {
-    const int w = f.width, h = f.height;
+    const int w = f.viewport.width, h = f.viewport.height;
     out = core::Image(w, h, 4, 1.0f);
     if (layer) *layer = core::Image(w, h, 4, 1.0f);
     core::parallelFor(

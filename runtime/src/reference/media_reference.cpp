@@ -72,7 +72,8 @@ double sampleDetail(const core::DetailVideo* v, double s, double t, double r) {
 }
 
 Ray pixelRay(const media::Frame& frame, int i, int j) {
-  return rayThrough(glm::inverse(glm::dmat4(frame.projection)), frame.orthographic, frame.width, frame.height, i, j);
+  return rayThrough(glm::inverse(glm::dmat4(frame.projection)), frame.orthographic(), frame.viewport.width,
+                    frame.viewport.height, i, j);
 }
 
 namespace {
@@ -91,7 +92,7 @@ struct Tracer : detail::FrameConstants {
     if (in.viewAxisOrder) {
       const std::vector<std::uint32_t> order =
           media::backToFront(f.view, in.particles, s.sort,
-                             f.orthographic ? media::Projection::kOrthographic : media::Projection::kPerspective);
+                             f.orthographic() ? media::Projection::kOrthographic : media::Projection::kPerspective);
       for (std::size_t k = 0; k < order.size(); ++k) rank[order[k]] = static_cast<std::uint32_t>(k);
     }
   }
@@ -154,12 +155,12 @@ struct Tracer : detail::FrameConstants {
 
   // One row of pixels (GL row j, 0 at the bottom) into out and layer.
   void traceRow(int j, core::Image& out, core::Image* layer) const {
-    const int w = f.width, h = f.height;
+    const int w = f.viewport.width, h = f.viewport.height;
     std::vector<Hit> hits;
     hits.reserve(prepared.size());
     for (int i = 0; i < w; ++i) {
       const std::size_t gl = static_cast<std::size_t>(j) * w + i;
-      const Ray ray = rayThrough(invProj, f.orthographic, w, h, i, j);
+      const Ray ray = rayThrough(invProj, f.orthographic(), w, h, i, j);
       const glm::dvec3& o = ray.origin;
       const glm::dvec3& dir = ray.direction;
       const double lin = in.opaqueDepth.empty() ? 1.0 : in.opaqueDepth[gl];
@@ -193,7 +194,7 @@ Result<core::Image> renderMediaReference(const MediaReferenceInput& in, core::Im
   PUFF_TRY(detail::checkInput(in));
   Tracer tracer(in);
   PUFF_TRY(tracer.prepare());
-  const int w = in.frame.width, h = in.frame.height;
+  const int w = in.frame.viewport.width, h = in.frame.viewport.height;
   core::Image out(w, h, 4, 1.0f);
   if (layer) *layer = core::Image(w, h, 4, 1.0f);
   core::parallelFor(

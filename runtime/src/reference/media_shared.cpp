@@ -73,7 +73,7 @@ Ray rayThrough(const glm::dmat4& invProj, bool orthographic, int width, int heig
 
 Result<void> checkInput(const MediaReferenceInput& in) {
   const media::Frame& f = in.frame;
-  const int w = f.width, h = f.height;
+  const int w = f.viewport.width, h = f.viewport.height;
   const std::string at = "media reference: ";
   if (w < 1 || h < 1 || w > core::kMaxImageSize || h > core::kMaxImageSize)
     return Error{at + "frame size " + std::to_string(w) + "x" + std::to_string(h) + " outside 1.." +
@@ -142,7 +142,7 @@ glm::dvec3 emitted(const media::Settings& s, double yNorm, double kelvin) {
 }
 
 glm::dvec3 toLightCamera(const media::Frame& f, const glm::dmat4& view) {
-  glm::dvec3 l(f.lightDirection);
+  glm::dvec3 l(f.light.direction);
   l = glm::length(l) > 0.0 ? glm::normalize(l) : glm::dvec3(0, 1, 0);
   return glm::normalize(glm::dvec3(view * glm::dvec4(l, 0.0)));
 }
@@ -155,7 +155,7 @@ FrameConstants::FrameConstants(const MediaReferenceInput& input) : in(input), f(
   farPlane = f.farPlane;
   toLight = toLightCamera(f, view);
   ambient = glm::dvec3(f.ambient);
-  lightColor = glm::dvec3(f.lightColor);
+  lightColor = glm::dvec3(f.light.color);
   time = f.time;
   exposure = s.exposure;
   haveTemperature = haveVideo(in.temperatureDetail);

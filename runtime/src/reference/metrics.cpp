@@ -230,7 +230,7 @@ std::vector<bool> mediaMask(const core::Image& layer, double epsilon) {
 
 ClipBand clipBand(std::span<const float> depth, std::span<const media::Particle> particles, const media::Frame& frame,
                   int width) {
-  const int w = frame.width, h = frame.height;
+  const int w = frame.viewport.width, h = frame.viewport.height;
   PUFF_CHECK(w >= 1 && h >= 1 && width >= 0);
   const std::size_t n = static_cast<std::size_t>(w) * h;
   PUFF_CHECK(depth.empty() || depth.size() == n);

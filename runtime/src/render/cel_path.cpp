@@ -82,23 +82,24 @@ class CelPath final : public Path {
     if (plate_) plate_->draw(celViewport);
 
     cel::Frame f = scene_->prepare(s, frame.inputs, frame.viewport, celViewport);
+    const cel::Style style = scene::celStyleFor(s);  // the ink decoded
     if (variations_ > 0) {
       const cel::DrawStats up = nailboards_->upload(frame.inputs.particles);
       frame.stats.bytesUploaded = up.bytesUploaded;
     }
-    const bool shadows = s.style.shadows && !fillRateFloor_;
-    if (shadows && s.style.shadowMethod == cel::ShadowMethod::kMap) {
+    const bool shadows = style.shadows && !fillRateFloor_;
+    if (shadows && style.shadowMethod == cel::ShadowMethod::kMap) {
       // The casters from the light into the map; the lit passes below look it up.
       if (!shadowMap_) shadowMap_ = std::make_unique<cel::ShadowMap>();
       cel::Bounds casters = scene_->casterBounds();
       if (variations_ > 0) casters.add(cel::particleBounds(frame.inputs.particles));
       cel::Bounds reach = scene_->objectBounds();
       reach.add(casters);
-      shadowMap_->prepare(f, casters, s.style, reach);
+      shadowMap_->prepare(f, casters, style, reach);
       GLint target = 0;
       glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &target);
       shadowMap_->beginCasters();
-      if (variations_ > 0) nailboards_->drawShadowCasters(s.style, f);
+      if (variations_ > 0) nailboards_->drawShadowCasters(style, f);
       scene_->opaque().drawCasters();
       glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(target));
       glViewport(celViewport.x, celViewport.y, celViewport.width, celViewport.height);
@@ -109,12 +110,12 @@ class CelPath final : public Path {
     scene_->opaque().draw(cel::ShadePass::kLit);
     if (variations_ > 0) {
       if (fillRateFloor_) {
-        nailboards_->drawBaseline(s.style);
+        nailboards_->drawBaseline(style);
       } else {
-        nailboards_->drawNailboards(s.style, cel::ShadePass::kLit);
+        nailboards_->drawNailboards(style, cel::ShadePass::kLit);
       }
     }
-    if (shadows && s.style.shadowMethod == cel::ShadowMethod::kVolumes) {
+    if (shadows && style.shadowMethod == cel::ShadowMethod::kVolumes) {
       // The puffs' and the objects' volumes count into one stencil; the receivers are drawn again
       // where it is non-zero.
       // Only where a receiver can be: the puffs' and objects' box on screen and in depth.
@@ -122,10 +123,10 @@ class CelPath final : public Path {
       if (variations_ > 0) receivers.add(cel::particleBounds(frame.inputs.particles));
       for (std::size_t i = 0; i < scene_->opaque().count(); ++i) receivers.add(scene_->opaque().worldBounds(i));
       const cel::VolumeClip clip = cel::volumeClip(f, receivers);
-      if (variations_ > 0) nailboards_->drawShadowVolumes(s.style, scene_->floorPlane(), clip);
-      scene_->opaque().drawShadowVolumes(s.style, scene_->floorPlane(), clip);
+      if (variations_ > 0) nailboards_->drawShadowVolumes(style, scene_->floorPlane(), clip);
+      scene_->opaque().drawShadowVolumes(style, scene_->floorPlane(), clip);
       scene_->opaque().draw(cel::ShadePass::kShadowed);
-      if (variations_ > 0) nailboards_->drawNailboards(s.style, cel::ShadePass::kShadowed);
+      if (variations_ > 0) nailboards_->drawNailboards(style, cel::ShadePass::kShadowed);
     }
     if (media_) {
       media_->draw(s, frame.inputs, frame.viewport, static_cast<GLuint>(callerFbo), frame.stats);

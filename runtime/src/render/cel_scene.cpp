@@ -60,7 +60,7 @@ Result<std::unique_ptr<CelScene>> CelScene::create(const scene::Scene& scene, co
     cel::OpaqueObject obj;
     obj.name = o.name.empty() ? "objects/" + std::to_string(i) : o.name;
     obj.transform = scene::objectTransform(o);
-    obj.albedo = o.albedo;
+    obj.albedo = scene::linearAlbedo(o);
     obj.cel = o.cel;
     auto& mesh = uploaded[geometry.shapes[i].get()];
     if (!mesh) mesh = toTriangleMesh(*geometry.shapes[i]);
@@ -88,11 +88,8 @@ bool CelScene::needsRebuild(const scene::Scene& a, const scene::Scene& b) {
 
 cel::Frame CelScene::prepare(const scene::Scene& s, const scene::FrameInputs& inputs, const cel::Viewport& viewport,
                              const cel::Viewport& drawViewport) {
-  cel::Frame f = cel::Frame::fromCamera(inputs.camera, viewport.width, viewport.height);
-  f.depth = cel::DepthConvention::kLinear;  // Puff's own 24-bit target (cel/frame.h says why)
+  cel::Frame f{scene::sharedFrameFor(s, inputs.camera, viewport.width, viewport.height)};
   f.viewport = drawViewport;
-  f.light = s.light;
-  f.ambientColor = s.ambientColor;
   f.ambientGradient = gradient_.has_value();
   ramp_->bind();
   if (gradient_) gradient_->bind();

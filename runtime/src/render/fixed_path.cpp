@@ -145,8 +145,10 @@ class FixedPath final : public Path {
     }
     std::vector<fixedfunc::Billboard> billboards;
     billboards.reserve(frame.inputs.particles.size());
+    // The fixed path takes display values (fixedfunc/renderer.h); a cel particle's tint is scene-linear.
     for (const cel::Particle& p : frame.inputs.particles)
-      billboards.push_back({p.position, p.size, p.variation, p.tint});
+      billboards.push_back(
+          {p.position, p.size, p.variation, p.tint == glm::vec3(1.0f) ? p.tint : core::linearToSrgb(p.tint)});
     fixedfunc::FixedStyle style;
     style.outlines = s.style.outlines;
     style.shading = s.style.shading;

@@ -69,8 +69,8 @@ void MediaPass::draw(const scene::Scene& s, const scene::FrameInputs& inputs, co
   }
   const media::Style style = cartoon_ ? media::Style::kCartoon : media::Style::kPhotoreal;
   // The passes run over what the media cover (a small flame costs its own pixels, not the frame's).
-  const media::PixelBox covered =
-      overWholeFrame_ ? media::PixelBox{0, 0, mf.width, mf.height} : media::coverage(mf, particles_, lights);
+  const media::PixelBox covered = overWholeFrame_ ? media::PixelBox{0, 0, mf.viewport.width, mf.viewport.height}
+                                                  : media::coverage(mf, particles_, lights);
   if (overWholeFrame_) {
     layers_->setCoverage(std::nullopt);
   } else {
@@ -89,7 +89,7 @@ void MediaPass::draw(const scene::Scene& s, const scene::FrameInputs& inputs, co
     // The ink is the cel path's: the scene's outline switch, width and colour (a display value).
     cartoon_->style.outlines = s.style.outlines;
     cartoon_->style.outlineWidth = s.style.outlineWidth;
-    cartoon_->style.outlineColor = core::srgbToLinear(s.style.outlineColor);
+    cartoon_->style.outlineColor = scene::celStyleFor(s).outlineColor;
   }
   layers_->compose(target, vp, mf, lights, spec.compose, cartoon_ ? &*cartoon_ : nullptr);
   lastFrame_ = mf;

@@ -45,7 +45,8 @@ bool evolve(const ParticleSpec& p, float t, cel::Particle& out, const sim::LifeC
     if (age >= p.lifetime) return false;
     const float life = age / p.lifetime;
     size *= sizeCurve.empty() ? std::max(0.0f, 1.0f - life) * celBirthGrowth(life) : sizeCurve.at(life);
-    out.tint = curves.color.at(life);  // white without a curve
+    // The curve's display value decoded (white without a curve).
+    out.tint = curves.color.empty() ? glm::vec3(1.0f) : core::srgbToLinear(curves.color.at(life));
   } else {
     out.tint = glm::vec3(1.0f);
   }
@@ -296,21 +297,32 @@ std::vector<media::Material> linearMediaMaterials(const Scene& scene) {
   return out;
 }
 
+core::SharedFrame sharedFrameFor(const Scene& s, const cel::Camera& cam, int width, int height) {
+  core::SharedFrame f;
+  f.view = cam.view();
+  f.projection = cam.projection(static_cast<float>(width) / static_cast<float>(std::max(1, height)));
+  f.nearPlane = cam.nearPlane;
+  f.farPlane = cam.farPlane;
+  f.depth = core::DepthConvention::kLinear;
+  f.viewport = {0, 0, width, height};
+  f.light = {s.light.direction, core::srgbToLinear(s.light.color)};
+  f.ambient = core::srgbToLinear(s.ambientColor);
+  return f;
+}
+
 media::Frame mediaFrameFor(const Scene& s, const cel::Camera& cam, float time, int width, int height) {
-  media::Frame mf;
-  mf.view = cam.view();
-  mf.projection = cam.projection(static_cast<float>(width) / static_cast<float>(height));
-  mf.nearPlane = cam.nearPlane;
-  mf.farPlane = cam.farPlane;
-  mf.orthographic = cam.fovYDegrees == 0.0f;
-  mf.lightDirection = s.light.direction;
-  mf.lightColor = core::srgbToLinear(s.light.color);
-  mf.ambient = core::srgbToLinear(s.ambientColor);
+  media::Frame mf{sharedFrameFor(s, cam, width, height)};
   mf.time = time;
-  mf.width = width;
-  mf.height = height;
   return mf;
 }
+
+cel::Style celStyleFor(const Scene& s) {
+  cel::Style style = s.style;
+  style.outlineColor = core::srgbToLinear(s.style.outlineColor);
+  return style;
+}
+
+glm::vec3 linearAlbedo(const ObjectSpec& object) { return core::srgbToLinear(object.albedo); }
 
 bool hasFire(const Scene& scene) {
   if (!scene.media) return false;

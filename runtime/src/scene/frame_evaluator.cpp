@@ -120,9 +120,10 @@ FrameInputs FrameEvaluator::evaluate(int frame, const cel::Camera* camera) {
         const float size =
             curve.empty() ? p.size * (p.lifetime > 0.0f ? celBirthGrowth(life) : 1.0f) : p.birthSize * curve.at(life);
         if (!(size > 0.0f)) continue;
-        // The colour curve is a display value, as Eq. 2's C is.
+        // The colour curve is a display value, decoded: cel::Particle::tint is scene-linear.
         in.particles.push_back(
-            cel::Particle{p.position, size, p.variation, p.oriented, p.orientation, curves.color.at(life)});
+            cel::Particle{p.position, size, p.variation, p.oriented, p.orientation,
+                          curves.color.empty() ? glm::vec3(1.0f) : core::srgbToLinear(curves.color.at(life))});
         ++in.simulated;
       }
     }

@@ -97,7 +97,7 @@ void readCamera(const json& j, const std::string& ptr, cel::Camera& c) {
   }
 }
 
-void readLight(const json& j, const std::string& ptr, cel::Light& l) {
+void readLight(const json& j, const std::string& ptr, LightSpec& l) {
   requireObject(j, ptr, {"direction", "color"});
   if (auto* v = find(j, "direction")) {
     l.direction = readVec3(*v, child(ptr, "direction"));

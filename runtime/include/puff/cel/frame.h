@@ -30,7 +30,10 @@
 //    volumeClip treats receivers beyond it as unseen; puffs beyond it still draw and test right
 //    (linear depth > 1 converts through the projection). Choose it past everything that casts or
 //    receives a shadow.
-//  - Colours are display values in [0, 1] (no sRGB conversion), as in the paper.
+//  - Colours a host passes (the light's K_L, the ambient K_a, a particle's tint, the ink, an opaque
+//    object's albedo) are scene-linear, as every colour passed to Puff is (core/frame.h). Eq. 2
+//    combines display values, as the paper does: FrameBlock::upload and the passes encode them
+//    (core::linearToSrgb) inside. The ramp and gradient images are display values.
 //
 // Why the standalone renderer (puff::render, puffrender) keeps kLinear: it draws into a 24-bit
 // depth buffer, where linear depth resolves (far - near) / 2^24 world units at every distance,
@@ -55,6 +58,7 @@
 #include <puff/cel/types.h>
 #include <puff/core/depth.h>
 #include <puff/core/error.h>
+#include <puff/core/frame.h>
 #include <puff/core/gl.h>
 #include <puff/core/image.h>
 
@@ -76,22 +80,11 @@ struct ShadowLookup {
 using DepthConvention = core::DepthConvention;
 using ClipDepth = core::ClipDepth;
 
-/// Everything a pass needs to know about the frame. No GL objects: textures are set separately.
-struct Frame {
-  glm::mat4 view{1.0f};        ///< world -> camera
-  glm::mat4 projection{1.0f};  ///< camera -> clip (perspective or orthographic; infinite far allowed)
-  /// Linear depth's 0 and 1: the projection's near plane and, finite, its far plane (with an
-  /// infinite-far projection, any finite distance past every shadow caster and receiver).
-  float nearPlane = 0.1f, farPlane = 100.0f;
-  /// What the depth attachment stores. The default is GL's own, the window depth the host's
-  /// projection writes through gl_Position (kStandard): a host that never says draws right over a
-  /// standard depth buffer. Puff's own renderer says kLinear (the header comment says why).
-  DepthConvention depth = DepthConvention::kStandard;
-  ClipDepth clipDepth = ClipDepth::kNegativeOneToOne;  ///< `projection`'s clip z range (kStandard, kReversedZ)
-  Viewport viewport;
-  Light light;
-  glm::vec3 ambientColor{0.25f};  ///< uniform K_a, used when no gradient texture is bound
-  bool ambientGradient = false;   ///< K_a from the gradient texture (Gradient::bind) instead
+/// Everything a pass needs to know about the frame: what every Puff frame has (core/frame.h: the
+/// camera, the light and K_a in scene-linear, the depth convention, the viewport) and the cel
+/// path's own. No GL objects: textures are set separately.
+struct Frame : core::SharedFrame {
+  bool ambientGradient = false;  ///< K_a from the gradient texture (Gradient::bind) instead of `ambient`
   /// Shadows from a ShadowMap (Style::shadowMethod kMap): the lit passes of nailboards and opaque
   /// objects draw a shadowed receiver with the ambient term only. Its textures go on units `shadowMapDepth` and
   /// `shadowMapIds` (ShadowMap::bind).

@@ -70,7 +70,7 @@ namespace puff::cel {
 ///   y: position z | half(size) << 16
 ///   z: orientation, "smallest three" quaternion: 2-bit index of the dropped component, 3 x 10 bits
 ///   w: variation (8 bits) | oriented flag (bit 8) | tint r, g, b (7 bits each, bits 9, 16 and 23:
-///      round(127 x channel), the display multiplier of C); bits 30-31 are 0
+///      round(127 x linearToSrgb(channel)), the display multiplier of C); bits 30-31 are 0
 struct PackedParticle {
   std::uint32_t x = 0, y = 0, z = 0, w = 0;
 };
@@ -96,7 +96,8 @@ struct PackBounds {
 /// not widen the grid.
 PackBounds packParticles(std::span<const Particle> particles, std::vector<PackedParticle>& out);
 /// The particle the GPU sees after packing (for tests and the CPU reference): bit for bit what
-/// shaders/cel/particle.glsl's unpackParticle computes.
+/// shaders/cel/particle.glsl's unpackParticle computes, but the tint, which the shader keeps as the
+/// display value (code / 127) and this gives decoded to scene-linear, as a Particle holds it.
 Particle unpackParticle(const PackedParticle& packed, const PackBounds& bounds);
 
 /// Counts for the benchmark and tests.

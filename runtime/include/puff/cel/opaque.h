@@ -33,10 +33,10 @@ struct TriangleMesh {
 struct OpaqueObject {
   std::string name;  ///< for messages
   std::shared_ptr<const TriangleMesh> mesh;
-  glm::mat4 transform{1.0f};  ///< object -> world, affine and invertible; normals use its inverse
-                              ///< transpose (a mirroring transform is fine)
-  glm::vec3 albedo{0.8f};     ///< >= 0
-  bool cel = true;            ///< q ramp (true) or smooth Lambert
+  glm::mat4 transform{1.0f};     ///< object -> world, affine and invertible; normals use its inverse
+                                 ///< transpose (a mirroring transform is fine)
+  glm::vec3 albedo{0.6038273f};  ///< scene-linear, >= 0 (display 0.8 by default; encoded for Eq. 2 inside)
+  bool cel = true;               ///< q ramp (true) or smooth Lambert
 };
 
 class OpaqueRenderer {

@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include <puff/core/error.h>
+#include <puff/core/frame.h>
 #include <puff/core/viewport.h>
 
 namespace puff::cel {
@@ -27,11 +28,8 @@ struct Camera {
   bool operator==(const Camera&) const = default;
 };
 
-struct Light {
-  glm::vec3 direction{0.4f, 1.0f, 0.3f};  ///< world space, toward the light (normalized on use); directional
-  glm::vec3 color{1.0f};                  ///< K_L
-  bool operator==(const Light&) const = default;
-};
+/// The directional light: K_L, scene-linear (core/frame.h).
+using Light = core::Light;
 
 using core::Viewport;
 
@@ -45,8 +43,9 @@ struct Particle {
   /// the camera sees, blending the nearest baked views, so it tumbles in 3D.
   bool oriented = false;
   glm::quat orientation{1.0f, 0.0f, 0.0f, 0.0f};  ///< puff space -> world; unit quaternion
-  /// Multiplies the puff's colour C in Eq. 2 (K_a + C K_L q): a display value, each channel in
-  /// [0, 1] (clamped), white = untinted. Drawn with 7 bits a channel (steps of 1/127).
+  /// Multiplies the puff's colour C in Eq. 2 (K_a + C K_L q): scene-linear, each channel in [0, 1]
+  /// (clamped), white = untinted. Eq. 2 takes it encoded (core::linearToSrgb), drawn with 7 bits
+  /// a channel of the display value (steps of 1/127).
   glm::vec3 tint{1.0f};
 };
 
@@ -90,7 +89,7 @@ Result<TumbleMethod> parseTumbleMethod(std::string_view name);  ///< "hull", "bl
 struct Style {
   bool outlines = true;          ///< black flange (§4.2); off = the body's silhouette only
   float outlineWidth = 2.0f;     ///< pixels on screen, from the baked distance field; >= 0
-  glm::vec3 outlineColor{0.0f};  ///< the ink
+  glm::vec3 outlineColor{0.0f};  ///< the ink, scene-linear, each in [0, 1]
   bool shading = true;           ///< Eq. 2 with q(max(0, N.L)); off = flat K_a + C * K_L
   bool shadows = false;          ///< shadows, by shadowMethod (the map, or the volumes of §4.3)
   /// How unoriented puffs' billboards face the camera; oriented ones always face the eye (their

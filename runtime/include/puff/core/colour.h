@@ -1,8 +1,9 @@
 // Puff's colour pipeline (docs/colour.md): every value says which space it is in.
 //
 //  - DISPLAY values are sRGB-encoded (IEC 61966-2-1 transfer function) in [0, 1]: what an artist
-//    picks in a paint program and what a PNG holds. Colour inputs are display values: ramps,
-//    gradients, scene-file colours, atlas colour maps, the background.
+//    picks in a paint program and what a PNG holds. Colours in files are display values: ramps,
+//    gradients, scene-file colours, atlas colour maps, the background. Colours passed through the
+//    renderers' API are scene-linear (core/frame.h); only the fixed path's are display values.
 //  - SCENE-LINEAR values are light: Rec. 709 / sRGB primaries, D65 white, linear in energy, not
 //    limited to [0, 1] (fire is brighter than white). Blending, filtering, mips, MSAA resolve,
 //    media lighting and composition all happen here; the render target holds them; EXR files store

@@ -81,8 +81,6 @@ struct HostDepth {
   /// GL_DEPTH_STENCIL_TEXTURE_MODE (GL_DEPTH_COMPONENT), and GL_TEXTURE_COMPARE_MODE must be
   /// GL_NONE (the default). Read with texelFetch: filters and mipmaps do not matter.
   core::GlId texture = 0;
-  /// The host's convention, projection and linear depth's 0 and 1 (the media Frame's planes).
-  core::DepthSpace space;
   int x = 0, y = 0;  ///< where the layers' width() x height() region starts in the texture
 };
 
@@ -236,8 +234,9 @@ class HostLayers final : public LayersBase {
   /// state changed.
   static Result<std::unique_ptr<HostLayers>> create(int width, int height, float scale, const Bindings& bindings = {});
   ~HostLayers();
-  /// Layers::resolveOpaque for a host's scene: reads `depth` (its convention, converted per sample to
-  /// linear depth and clamped to [0, 1]; the far plane and an infinite one read 1, "no surface")
+  /// Layers::resolveOpaque for a host's scene: reads `depth` (in `frame`'s depth convention, with its
+  /// projection and planes, the frame the media are drawn in; converted per sample to linear depth
+  /// and clamped to [0, 1]; the far plane and an infinite one read 1, "no surface")
   /// into the full-size linear depth and the layer's nearest depth. Restores the draw framebuffer
   /// and viewport it found. Leaves: the full-screen state (Layers::resolveOpaque); no program, no
   /// vertex array; unit `resolveSource` with sampler binding 0, its 2D texture = Puff's linear depth
@@ -245,9 +244,9 @@ class HostLayers final : public LayersBase {
   /// texture attached to the bound read framebuffer is fine; it must not be attached to a draw
   /// buffer Puff renders into (it is not: Puff draws into its own).
   /// Errors (nothing drawn, no state changed): `depth.texture` not a 2D or 2D multisample texture
-  /// of a depth format, reading its stencil or comparing; the layers' region not inside it; planes
-  /// not 0 < near < far < infinity. Checking takes eight queries of the texture object's parameters.
-  Result<void> resolveHostDepth(const HostDepth& depth);
+  /// of a depth format, reading its stencil or comparing; the layers' region not inside it; the
+  /// frame's planes not 0 < near < far < infinity. Checking takes eight queries of the texture object's parameters.
+  Result<void> resolveHostDepth(const HostDepth& depth, const core::SharedFrame& frame);
   /// Layers::compose for a host's frame (after resolveHostDepth): blends the media layer and the
   /// explosion lights over what framebuffer `target` already holds (header comment), over
   /// `viewport` (its size must be width() x height()). Colour only (RGB; the target's alpha, depth

@@ -12,6 +12,7 @@
 #include <glm/vec3.hpp>
 
 #include <puff/core/error.h>
+#include <puff/core/frame.h>
 
 namespace puff::media {
 
@@ -56,7 +57,7 @@ struct Material {
   std::string name;
   float albedo = 0.2f;           ///< a, [0, 1]
   float density = 0.4f;          ///< tau, extinction per world unit, [0, 1e4]
-  glm::vec3 color{1.0f};         ///< tint of the scattered light, each in [0, 1]
+  glm::vec3 color{1.0f};         ///< tint of the scattered light, scene-linear, each in [0, 1]
   float g = 0.0f;                ///< phase asymmetry, [-0.95, 0.95]
   bool emissive = false;         ///< a black-body emitter (fire): Le from the temperature, albedo ignored
   float temperature = 2500;      ///< T0, kelvin, [0, 1e5]
@@ -101,18 +102,11 @@ struct Particle {
 };
 static_assert(sizeof(Particle) == 48);
 
-/// Everything about the frame a media draw needs.
-struct Frame {
-  glm::mat4 view{1.0f}, projection{1.0f};
-  float nearPlane = 0.1f, farPlane = 100.0f;
-  bool orthographic = false;
-  glm::vec3 lightDirection{0.4f, 1.0f, 0.3f};  ///< world space, toward the light
-  glm::vec3 lightColor{1.0f};                  ///< radiance an isotropic medium scatters to the eye
-  glm::vec3 ambient{0.25f};                    ///< isotropic in-scattered radiance
-  float time = 0.0f;                           ///< seconds (animates the detail video)
-  /// The viewport drawn into (the media layer): origin and size in pixels; rays go through pixel
-  /// centres. The depth texture is read at the same pixels.
-  int x = 0, y = 0, width = 0, height = 0;
+/// Everything about the frame a media draw needs: what every Puff frame has (core/frame.h: the
+/// camera, the light and ambient in scene-linear, the viewport drawn into, the depth convention of
+/// the host's depth the media are tested against) and the time.
+struct Frame : core::SharedFrame {
+  float time = 0.0f;  ///< seconds (animates the detail video)
 };
 
 /// Whether Renderer::draw writes the heat-shimmer offsets (the target's attachment 1) or leaves them.
@@ -164,12 +158,12 @@ struct Settings {
 /// One explosion's light on the scene. A frame composes at most 8 that shine (intensity and radius
 /// > 0): Layers::compose uses the first 8, HostLayers::composeOver refuses more.
 struct ExplosionLight {
-  glm::vec3 center{0.0f};  ///< world space
-  float radius = 1.0f;     ///< world units, > 0
-  glm::vec3 color{1.0f, 0.6f, 0.25f};
-  float intensity = 1.0f;   ///< >= 0 (0: off)
-  bool modulate = false;    ///< multiply the surface by mix(1, color, weight) instead of adding
-  bool fullAtBack = false;  ///< full intensity from the sphere's back instead of its centre
+  glm::vec3 center{0.0f};              ///< world space
+  float radius = 1.0f;                 ///< world units, > 0
+  glm::vec3 color{1.0f, 0.6f, 0.25f};  ///< scene-linear
+  float intensity = 1.0f;              ///< >= 0 (0: off)
+  bool modulate = false;               ///< multiply the surface by mix(1, color, weight) instead of adding
+  bool fullAtBack = false;             ///< full intensity from the sphere's back instead of its centre
 };
 
 struct ComposeSettings {

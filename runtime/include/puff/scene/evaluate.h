@@ -52,10 +52,18 @@ std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variat
 /// display values (docs/colour.md), the media renderer and its references light in linear. Requires
 /// scene.media.
 std::vector<media::Material> linearMediaMaterials(const Scene& scene);
-/// The media renderer's frame for `camera` at scene time `time` over a width x height viewport
-/// (x, y = 0): view, projection, planes, and the scene's light and ambient colours DECODED to
-/// scene-linear (the scene file holds display values).
+/// What the cel and media frames share for `camera` over a width x height viewport at (0, 0):
+/// view, projection, planes, the depth convention of Puff's own renderer (kLinear, cel/frame.h
+/// says why), and the scene's light and ambient colours DECODED to scene-linear (the scene file
+/// holds display values).
+core::SharedFrame sharedFrameFor(const Scene& scene, const cel::Camera& camera, int width, int height);
+/// The media renderer's frame: sharedFrameFor and the scene time `time`.
 media::Frame mediaFrameFor(const Scene& scene, const cel::Camera& camera, float time, int width, int height);
+/// The scene's cel style as the renderers take it: its ink DECODED to scene-linear (the scene file
+/// holds a display value).
+cel::Style celStyleFor(const Scene& scene);
+/// A scene object's albedo as the renderers take it, DECODED to scene-linear.
+glm::vec3 linearAlbedo(const ObjectSpec& object);
 /// Whether the scene draws fire: a media particle or emitter whose material (or the material it
 /// becomes) is emissive.
 bool hasFire(const Scene& scene);

@@ -103,8 +103,8 @@ struct ObjectSpec {
   glm::vec3 translate{0.0f};
   glm::vec3 rotateDegrees{0.0f};  ///< XYZ Euler angles, applied X then Y then Z
   glm::vec3 scale{1.0f};          ///< plane: half-size in x and z; box: half extents; sphere: radius
-  glm::vec3 albedo{0.8f};
-  bool cel = true;  ///< cel (the ramp) or smooth shading
+  glm::vec3 albedo{0.8f};         ///< a display value (scene::linearAlbedo decodes it for the renderers)
+  bool cel = true;                ///< cel (the ramp) or smooth shading
   /// A moving object: its position is translate + path(t), t in seconds of scene time. Simulated
   /// vortices and emitters can ride on it ("attach": its name).
   sim::Path path;
@@ -197,6 +197,14 @@ struct FixedSettings {
   bool operator==(const FixedSettings&) const = default;
 };
 
+/// The scene file's light. Its colour is a display value, as every colour in a scene is; the
+/// renderers' frames get it decoded to scene-linear (core::Light).
+struct LightSpec {
+  glm::vec3 direction{0.4f, 1.0f, 0.3f};  ///< world space, toward the light; non-zero
+  glm::vec3 color{1.0f};                  ///< K_L, a display value
+  bool operator==(const LightSpec&) const = default;
+};
+
 struct Scene {
   std::filesystem::path file;     ///< the file it was loaded from (for messages)
   int width = 640, height = 480;  ///< output size, [1, 16384]
@@ -216,7 +224,7 @@ struct Scene {
   /// EXR output is the scene-linear frame before it. Empty: automatic, viewTransformFor().
   std::optional<core::ViewTransform> view;
   cel::Camera camera;
-  cel::Light light;
+  LightSpec light;
   glm::vec3 ambientColor{0.25f};          ///< uniform K_a, a display value
   std::filesystem::path ambientGradient;  ///< image-space K_a(x, y); empty = uniform
   std::filesystem::path ramp;             ///< q ramp image; empty = the built-in two-tone ramp
@@ -232,7 +240,7 @@ struct Scene {
   /// eval::chooseCelBudget can choose it.
   float particleFraction = 1.0f;
   std::string stylePreset;  ///< named preset applied before the explicit style fields
-  cel::Style style;
+  cel::Style style;         ///< as the file gives it: its outlineColor a display value (scene::celStyleFor decodes it)
   std::vector<ParticleSpec> particles;
   std::vector<EmitterSpec> emitters;
   std::vector<ObjectSpec> objects;
