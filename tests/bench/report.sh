@@ -480,6 +480,31 @@ if [ -s "$hull_costs" ]; then
                     (v[i] == "as-is" ? "" : sprintf("%.0f %%", 100 * (h[1] - h[i]) / h[1]))}' "$hull_costs"
   } > "$out/hull-costs.md"
 fi
+# The tumble sweep's two methods side by side, accuracy and time (docs/cel-rendering.md quotes it).
+if [ -s "$out/tumble.csv" ]; then
+  {
+    generated "$out/tumble.csv"
+    echo
+    echo "From \`tumble.csv\` (\`tests/bench/report.sh --only tumble\`; the run's command, machine and date are in"
+    echo "\`runs.tsv\`): every pose of \`eval::tumblePoses(15)\`, one puff 48 px across, against the cel reference"
+    echo "of the turned meshes. IoU worst pose / mean; frame ms: the median of one frame of the pose grid (24 x 13"
+    echo "puffs at 1728 x 936, nailboards only), llvmpipe, so compare times within the run only."
+    echo
+    echo "| atlas | cell texels | hull: coverage IoU | hull: outline IoU | blend: coverage IoU | blend: outline IoU | hull ms | blend ms | hull / blend |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    awk -F, 'NR == 1 {for (i = 1; i <= NF; ++i) col[$i] = i; next}
+             {k = $col["layout"] " " $col["grid"] "x" $col["grid"] "|" $col["cell_size"]
+              if (!(k in seen)) {seen[k] = 1; order[++n] = k}
+              m = $col["method"]
+              cov[k, m] = sprintf("%.3f / %.3f", $col["coverage_iou_min"], $col["coverage_iou_mean"])
+              ink[k, m] = sprintf("%.3f / %.3f", $col["outline_iou_min"], $col["outline_iou_mean"])
+              ms[k, m] = $col["median_ms"]}
+             END {for (i = 1; i <= n; ++i) {k = order[i]; split(k, a, "|")
+                    ratio = (ms[k, "blend"] > 0 && ms[k, "hull"] != "") ? sprintf("%.1f", ms[k, "hull"] / ms[k, "blend"]) : ""
+                    printf "| %s | %s | %s | %s | %s | %s | %.0f | %.0f | %s |\n", a[1], a[2], cov[k, "hull"], ink[k, "hull"],
+                           cov[k, "blend"], ink[k, "blend"], ms[k, "hull"], ms[k, "blend"], ratio}}' "$out/tumble.csv"
+  } > "$out/tumble-table.md"
+fi
 if [ ${#gpu_csvs[@]} -gt 0 ]; then
   {
     echo "# The GPU benchmark, machine beside machine"
@@ -752,4 +777,4 @@ fi
     echo
   done
 } > "$out/README.md"
-echo "report.sh: wrote $out/README.md, $out/media-budget.md, $out/paper-tables.md, $out/coverage.md, $out/hull-costs.md, docs/bench/media-tables.md and the charts${seconds:+ (benchmarks: $seconds s)}"
+echo "report.sh: wrote $out/README.md, $out/media-budget.md, $out/paper-tables.md, $out/coverage.md, $out/hull-costs.md, $out/tumble-table.md, docs/bench/media-tables.md and the charts${seconds:+ (benchmarks: $seconds s)}"
