@@ -371,7 +371,7 @@ int main(int argc, char** argv) {
       frame.depth = cel::DepthConvention::kLinear;  // Puff's own renderer's, as the benchmark has always drawn
       frame.light.direction = glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f));
       frame.light.color = puff::core::srgbToLinear(glm::vec3(0.75f));
-      frame.ambient = glm::vec3(0.3f);
+      frame.ambient = puff::core::srgbToLinear(glm::vec3(0.3f));
       const double quadPx = side / (2.0 * tanHalfFov() * kCameraZ) * size;  // at the box's middle depth
       double floorMs = 0;
 

@@ -132,7 +132,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
     scene.height = opt.height;
     scene.media.reset();
     const std::vector<int> frames = eval::budgetFrames(0, scene.animation.frames - 1);
-    const glm::vec3 ink = scene.style.outlineColor;
+    const glm::vec3 ink = scene::celStyleFor(scene).outlineColor;  // scene-linear, as the frames are
     const auto t0 = Clock::now();
     // The programmable path's scene, and the same within the fixed path's limits (both references).
     const scene::Scene fixedScene = eval::restrictToFixedLimits(scene);

@@ -178,7 +178,9 @@ class HostTargets : public test::SphereAtlasTest {
     for (int i = 1; i <= kExtra; ++i)
       EXPECT_TRUE(gbuffer.bytes(i) == HostFramebuffer::pattern(i)) << "attachment " << i << " was written";
     EXPECT_TRUE(gbuffer.halfs0() == one.halfs0()) << "attachment 0 differs from a one-attachment framebuffer's";
-    if (drawsSomething) EXPECT_NE(gbuffer.halfs0(), blank.halfs0()) << "nothing was drawn";
+    if (drawsSomething) {
+      EXPECT_NE(gbuffer.halfs0(), blank.halfs0()) << "nothing was drawn";
+    }
     glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.framebuffer());
     for (int i = 0; i <= kExtra; ++i)
       EXPECT_EQ(geti(GL_DRAW_BUFFER0 + static_cast<GLenum>(i)), static_cast<GLint>(GL_COLOR_ATTACHMENT0 + i))

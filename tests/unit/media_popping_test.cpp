@@ -52,16 +52,7 @@ TEST_F(MediaPopping, MediaParticlesFadeInInsteadOfAppearingAtFullDensity) {
   const int size = 64;
   test::MediaTarget t(size);  // depth 1: no surface
   auto draw = [&](const scene::FrameInputs& in, std::span<const media::Particle> particles) {
-    media::Frame f;
-    f.view = in.camera.view();
-    f.projection = in.camera.projection(1.0f);
-    f.nearPlane = in.camera.nearPlane;
-    f.farPlane = in.camera.farPlane;
-    f.light.direction = scene->light.direction;
-    f.light.color = scene->light.color;
-    f.ambient = scene->ambientColor;
-    f.time = in.time;
-    f.viewport.width = f.viewport.height = size;
+    media::Frame f = scene::mediaFrameFor(*scene, in.camera, in.time, size, size);
     t.clear({0, 0, 0, 1});
     t.bind();
     (*renderer)->draw(f, particles, spec.method, t.depth.get());

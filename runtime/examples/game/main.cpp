@@ -218,11 +218,11 @@ Target makeTarget(int w, int h, GLenum colourFormat, bool withDepth) {
 // ---- the world ------------------------------------------------------------------------------
 const glm::vec3 kSun = glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f));            // toward the sun
 const glm::vec3 kSunColor(0.9f, 0.85f, 0.75f), kAmbient(0.22f, 0.26f, 0.34f);  // scene-linear
-const glm::vec3 kSmokeAmbient(0.085f, 0.089f, 0.107f);  // scene-linear: display (0.32, 0.33, 0.36)
-const glm::vec3 kSky(0.20f, 0.36f, 0.62f);                                     // scene-linear
-const glm::vec3 kChimneyTop(-2.6f, 1.6f, -1.2f);                               // where the smoke leaves the chimney
-const glm::vec3 kFirePit(2.4f, 0.15f, -0.6f);                                  // the fire's base
-const glm::vec3 kMarker(0.9f, 1.6f, 2.2f);                                     // above the near crate
+const glm::vec3 kSmokeAmbient(0.0835f, 0.0890f, 0.1065f);  // scene-linear: display (0.32, 0.33, 0.36)
+const glm::vec3 kSky(0.20f, 0.36f, 0.62f);                 // scene-linear
+const glm::vec3 kChimneyTop(-2.6f, 1.6f, -1.2f);           // where the smoke leaves the chimney
+const glm::vec3 kFirePit(2.4f, 0.15f, -0.6f);              // the fire's base
+const glm::vec3 kMarker(0.9f, 1.6f, 2.2f);                 // above the near crate
 
 struct Box {
   glm::vec3 centre, half, albedo;
@@ -462,7 +462,7 @@ puff::Result<Smoke> createSmoke(const puff::core::Atlas& atlas, const Camera& ca
   PUFF_TRY_ASSIGN(auto ramp, puff::cel::Ramp::create(bands, "the game's ramp"));
   puff::cel::Frame celFrame{sharedFrame(camera, width, height)};
   celFrame.ambient = kSmokeAmbient;  // the smoke's K_a, a palette choice darker than the sky
-  puff::cel::Style style;  // outlines on (black ink), Eq. 2 shading
+  puff::cel::Style style;            // outlines on (black ink), Eq. 2 shading
   style.outlineWidth = 2.5f;
   return Smoke{std::move(nailboards), std::move(smoke), std::move(celBlock), std::move(ramp), celFrame, style, {}};
 }

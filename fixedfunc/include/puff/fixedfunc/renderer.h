@@ -44,7 +44,8 @@
 // hyperbolic depth of a GL 1.x projection). Stencil is never touched. The particles write colour,
 // not alpha (the alpha write mask is off in step 4): the host's alpha stays under them.
 //
-// Colours are display values in [0, 1] with no sRGB conversion, as in puff::cel.
+// Colours are display values in [0, 1] with no sRGB conversion: what GL 1.x's 8-bit framebuffer
+// blends. (The programmable paths take scene-linear colours and encode them inside, puff/core/frame.h.)
 #pragma once
 
 #include <memory>

@@ -84,6 +84,10 @@ using ClipDepth = core::ClipDepth;
 /// camera, the light and K_a in scene-linear, the depth convention, the viewport) and the cel
 /// path's own. No GL objects: textures are set separately.
 struct Frame : core::SharedFrame {
+  Frame() = default;
+  /// The shared part from `shared`, the cel path's own fields at their defaults.
+  explicit Frame(const core::SharedFrame& shared) : core::SharedFrame(shared) {}
+
   bool ambientGradient = false;  ///< K_a from the gradient texture (Gradient::bind) instead of `ambient`
   /// Shadows from a ShadowMap (Style::shadowMethod kMap): the lit passes of nailboards and opaque
   /// objects draw a shadowed receiver with the ambient term only. Its textures go on units `shadowMapDepth` and

@@ -49,8 +49,9 @@ struct SharedFrame {
   /// the media's isotropic in-scattered radiance.
   glm::vec3 ambient{kDefaultAmbient};
 
-  /// Whether `projection` is orthographic (its w row is (0, 0, 0, 1)).
-  bool orthographic() const { return projection[3][3] == 1.0f; }
+  /// Whether `projection` is orthographic: its clip w does not depend on z (a perspective
+  /// projection's w row is (0, 0, -1, 0)).
+  bool orthographic() const { return projection[2][3] == 0.0f; }
   /// The depth buffer's meaning in this frame.
   DepthSpace depthSpace() const { return {depth, clipDepth, projection, nearPlane, farPlane}; }
 };

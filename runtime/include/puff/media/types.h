@@ -106,6 +106,10 @@ static_assert(sizeof(Particle) == 48);
 /// camera, the light and ambient in scene-linear, the viewport drawn into, the depth convention of
 /// the host's depth the media are tested against) and the time.
 struct Frame : core::SharedFrame {
+  Frame() = default;
+  /// The shared part from `shared`, the time 0.
+  explicit Frame(const core::SharedFrame& shared) : core::SharedFrame(shared) {}
+
   float time = 0.0f;  ///< seconds (animates the detail video)
 };
 

@@ -87,8 +87,8 @@ struct ColourCurve {
 /// (replacing the default: a smooth growth over the first tenth of the life, then a linear shrink
 /// to nothing for cel puffs; 1 + growth * age for media), `density` multiplies the birth density
 /// (replacing the default fade in and linear fall to 0 of media). `color` tints the particle (a
-/// display value: cel puffs multiply Eq. 2's C by it; media multiply the light a particle
-/// scatters and emits by it, decoded to linear). `temperature` (kelvin; media fire only) replaces
+/// display value, decoded to the scene-linear tint both paths' particles take: cel puffs multiply
+/// Eq. 2's C by it, media the light a particle scatters and emits). `temperature` (kelvin; media fire only) replaces
 /// the material's T0. The simulator's own dynamics (buoyancy from density, collision radius) keep
 /// the default linear fall.
 struct LifeCurves {
