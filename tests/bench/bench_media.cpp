@@ -34,7 +34,8 @@
 // Overdraw (summed area / screen area) is measured on the CPU two ways: overdraw_disc, of the
 // discs of radius f r / d (f = 1 / tan(fovY / 2), d the centre's view-axis distance; the overdraw
 // the radii are chosen by), and overdraw_quad, of the quads the vertex shader emits for them (clipped to the
-// screen: the pixels the rasterizer shades).
+// screen: the pixels the rasterizer shades; each method's own quads: planar's bound at the centre, the
+// silhouette's box for spherical, f r / d for planar-textured).
 //  sort    media::backToFront alone (CPU, one thread) for 1578, 10k and 50k particles: sort_ms.
 //
 // Error (the two measurements with the error added): for every table1 and fig12 case, one
@@ -138,12 +139,14 @@ float setRadius(std::vector<media::Particle>& ps) {
 
 struct Overdraw {
   double disc = 0, quad = 0;
-  double texturedQuad = 0;  ///< planar-textured's quads (half side f r / d), clipped to the screen
+  double texturedQuad = 0;   ///< planar-textured's quads (half side f r / d), clipped to the screen
+  double sphericalQuad = 0;  ///< spherical's quads (the silhouette's box), clipped to the screen
   int discsCrossingEdge = 0;
 };
 
 // Summed disc area (unclipped) and summed quad area (clipped to the screen), per screen area.
-Overdraw measureOverdraw(const std::vector<media::Particle>& ps) {
+// `layerPx`: the media layer's side in pixels (the spherical quad's margin is an eighth of one).
+Overdraw measureOverdraw(const std::vector<media::Particle>& ps, int layerPx) {
   const double f = focal();
   Overdraw o;
   for (const media::Particle& p : ps) {
@@ -160,6 +163,18 @@ Overdraw measureOverdraw(const std::vector<media::Particle>& ps) {
     const double wt = std::max(0.0, std::min(1.0, cx + rd) - std::max(-1.0, cx - rd));
     const double ht = std::max(0.0, std::min(1.0, cy + rd) - std::max(-1.0, cy - rd));
     o.texturedQuad += wt * ht / 4.0;
+    // billboard.vert, spherical: the box between the tangent lines from the eye, f (x / dz) at their
+    // slopes, an eighth of a layer pixel (0.25 / layerPx in NDC) wider on each side.
+    const auto extent = [&](double c, double& lo, double& hi) {
+      const double t = std::sqrt(c * c + d * d - r * r), m = 0.25 / layerPx;
+      lo = f * (c * t - r * d) / (d * t + r * c) - m;
+      hi = f * (c * t + r * d) / (d * t - r * c) + m;
+    };
+    double x0, x1, y0, y1;
+    extent(p.position.x, x0, x1);
+    extent(p.position.y, y0, y1);
+    o.sphericalQuad += std::max(0.0, std::min(1.0, x1) - std::max(-1.0, x0)) *
+                       std::max(0.0, std::min(1.0, y1) - std::max(-1.0, y0)) / 4.0;
   }
   return o;
 }
@@ -472,7 +487,7 @@ int main(int argc, char** argv) {
     for (int count : kTableCounts) {
       std::vector<media::Particle> ps = makeParticles(count);
       const float radius = setRadius(ps);
-      const Overdraw o = measureOverdraw(ps);
+      const Overdraw o = measureOverdraw(ps, kTableSize / 2);  // the layer at half resolution
       if (o.discsCrossingEdge > 0)
         std::fprintf(stderr, "puff_bench_media: note: %d discs cross the screen edge\n", o.discsCrossingEdge);
       auto makeCase = [&](media::Method m, bool floor) {
@@ -492,9 +507,10 @@ int main(int argc, char** argv) {
         Case texturedFloor = makeCase(media::Method::kPlanarTextured, true);
         runRounds(*renderer, {&spherical, &planar, &textured, &sphericalFloor, &planarFloor, &texturedFloor}, reps);
         checkGl("table1");
-        Overdraw ot = o;
+        Overdraw ot = o, os = o;
         ot.quad = o.texturedQuad;
-        Row s = summarize("table1", spherical, "spherical", radius, o);
+        os.quad = o.sphericalQuad;
+        Row s = summarize("table1", spherical, "spherical", radius, os);
         Row p = summarize("table1", planar, "planar", radius, o);
         Row t = summarize("table1", textured, "planar-textured", radius, ot);
         s.floorPass = summarize("table1", sphericalFloor, "", radius, o).pass;
@@ -521,9 +537,9 @@ int main(int argc, char** argv) {
       }
       const Row& last = rows.back();
       std::fprintf(stderr,
-                   "puff_bench_media: table1 %4d particles r %.3f overdraw %.2f (quads %.2f): frame %.2f ms%s (%.0f s "
-                   "so far)\n",
-                   count, radius, o.disc, o.quad, last.frame,
+                   "puff_bench_media: table1 %4d particles r %.3f overdraw %.2f (quads: planar %.2f, spherical %.2f, "
+                   "textured %.2f): frame %.2f ms%s (%.0f s so far)\n",
+                   count, radius, o.disc, o.quad, o.sphericalQuad, o.texturedQuad, last.frame,
                    count ? (", spherical/planar " + fmt(last.frameRatioToPlanar) + ", spherical/planar-textured " +
                             fmt(last.frameRatioToTextured))
                                .c_str()
@@ -535,7 +551,7 @@ int main(int argc, char** argv) {
   if (runFig) {
     std::vector<media::Particle> ps = makeParticles(kFigParticles);
     const float radius = setRadius(ps);
-    const Overdraw o = measureOverdraw(ps);
+    const Overdraw o = measureOverdraw(ps, kFigSize);  // the margin of the finest layer
     std::vector<Case> cases;
     for (float s : kFigScales)
       cases.push_back(

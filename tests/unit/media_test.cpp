@@ -114,6 +114,60 @@ TEST_F(MediaTest, PlanarAndSoftMatchSphericalAwayFromSurfaces) {
   }
 }
 
+// The spherical quad is the box the silhouette projects into (billboard.vert): it must hold every
+// pixel the sphere covers wherever the sphere is: on the axis and off it to past the target's corner,
+// far and close (down to 1.08 r, just outside the quad-over-everything case), through the usual
+// projection and an off-centre one (a host's asymmetric frustum: ndc x = P00 x / -z - P20). Every
+// pixel against the closed form through that projection's own rays.
+TEST_F(MediaTest, TheSphericalQuadHoldsTheWholeSilhouetteAnywhereInView) {
+  ASSERT_TRUE(renderer_->setMaterials({plainMaterial(0.9f)}).ok());
+  MediaTarget t(kSize);
+  t.setDepth(1.0f);
+  const Camera cam;
+  const double n = cam.nearPlane, tanHalf = std::tan(glm::radians(static_cast<double>(cam.fovDegrees)) / 2.0);
+  const struct {
+    const char* name;
+    glm::dmat4 projection;
+  } projections[] = {{"the camera's own",
+                      glm::dmat4(glm::perspective(glm::radians(cam.fovDegrees), 1.0f, cam.nearPlane, cam.farPlane))},
+                     {"off-centre", glm::frustum(-0.4 * n * tanHalf, 1.6 * n * tanHalf, -1.3 * n * tanHalf,
+                                                 0.7 * n * tanHalf, n, static_cast<double>(cam.farPlane))}};
+  const double r = 0.8;
+  for (const auto& proj : projections) {
+    const glm::dmat4 inv = glm::inverse(proj.projection);
+    for (double dz : {1.08 * r / 0.95, 2.5, 6.0}) {
+      for (glm::dvec2 off : {glm::dvec2(0, 0), glm::dvec2(0.7, 0.2), glm::dvec2(-1.0, 0.9), glm::dvec2(1.3, -1.25)}) {
+        // The centre `off` of the half field of view off the axis (1 = the edge's direction).
+        const glm::dvec3 centre(off.x * tanHalf * dz, off.y * tanHalf * dz, -dz);
+        SCOPED_TRACE(std::string(proj.name) + " projection, centre " + std::to_string(centre.x) + ", " +
+                     std::to_string(centre.y) + ", " + std::to_string(centre.z));
+        t.clear({0, 0, 0, 1});
+        t.bind();
+        media::Frame f = cam.frame(t.size);
+        f.projection = glm::mat4(proj.projection);
+        const media::Particle p = sphereAt(glm::vec3(centre), static_cast<float>(r));
+        renderer_->draw(f, std::span(&p, 1), Method::kSpherical, t.depth.get());
+        ASSERT_EQ(core::drainGlErrors(), "");
+        const std::vector<glm::vec4> px = t.read();
+        double worst = 0.0;
+        int covered = 0;
+        for (int y = 0; y < kSize; ++y) {
+          for (int x = 0; x < kSize; ++x) {
+            const glm::dvec4 ndc((x + 0.5) / kSize * 2.0 - 1.0, (y + 0.5) / kSize * 2.0 - 1.0, -1.0, 1.0);
+            const glm::dvec4 near = inv * ndc;
+            const glm::dvec3 ray = glm::normalize(glm::dvec3(near) / near.w);
+            const double expected = media::sphereOpacity(glm::dvec3(0.0), ray, centre, r, 0.9, 1e30, n);
+            const double got = 1.0 - px[static_cast<std::size_t>(y) * kSize + x].a;
+            worst = std::max(worst, std::abs(got - expected));
+            covered += expected > 0.0 ? 1 : 0;
+          }
+        }
+        EXPECT_LT(worst, 2e-5) << covered << " pixels covered";
+      }
+    }
+  }
+}
+
 TEST_F(MediaTest, WallThroughTheCentreHalvesThePath) {
   ASSERT_TRUE(renderer_->setMaterials({plainMaterial(0.4f)}).ok());
   MediaTarget t(kSize);

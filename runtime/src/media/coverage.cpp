@@ -41,8 +41,9 @@ struct Extent {
   }
 };
 
-// The quad billboard.vert draws for a sphere at camera-space centre `c`, radius `r` (its four
-// corners into `e`), or the whole frame where it reaches the camera's plane.
+// A bound of the quads billboard.vert draws for a sphere at camera-space centre `c`, radius `r` (its
+// four corners into `e`: the quad it draws for a projection of another form, holding the silhouette's
+// box it draws for the usual one), or the whole frame where it reaches the camera's plane.
 void addSphere(Extent& e, const glm::dmat4& proj, bool ortho, const glm::dvec3& c, double r) {
   const double dz = -c.z, zq = dz + r;
   glm::dvec2 centre{c.x, c.y};
