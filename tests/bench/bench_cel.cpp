@@ -161,7 +161,7 @@ struct Bench {
     FrameTime t;
     const auto t0 = Clock::now();
     target.bindAndClear();
-    block.upload(f);
+    PUFF_CHECK(block.upload(f).ok());
     ramp.bind();
     bytesUploaded = renderer.upload(ps).bytesUploaded;
     switch (m) {
@@ -183,7 +183,7 @@ struct Bench {
         target.bind();
         cel::Frame lit = f;
         lit.shadow = map.lookup();
-        block.upload(lit);
+        PUFF_CHECK(block.upload(lit).ok());
         map.bind();
         renderer.drawNailboards(style, cel::ShadePass::kLit);
         if (split) {

@@ -59,7 +59,7 @@ class CelFloor : public test::SphereAtlasTest {
   // receiver cleared to `clearDepth`.
   std::vector<float> drawDepth(bool floor, float clearDepth) {
     target_->clear(glm::vec4(1.0f), clearDepth);
-    block_->upload(frame());
+    EXPECT_OK(block_->upload(frame()));
     ramp_->bind();
     renderer_->upload(std::vector<cel::Particle>{cel::Particle{glm::vec3(0), 2.0f}});
     cel::Style style;

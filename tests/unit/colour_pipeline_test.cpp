@@ -162,7 +162,7 @@ class ColourPipeline : public test::SphereAtlasTest {
   // One puff of kSize at the origin over a white background; the frame as stored (scene-linear).
   std::vector<glm::vec4> drawPuff(const cel::Frame& f, const cel::Style& style) {
     target_->clear(glm::vec4(1.0f));
-    block_->upload(f);
+    EXPECT_OK(block_->upload(f));
     ramp_->bind();
     renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0), kSize}});
     renderer_->drawNailboards(style, cel::ShadePass::kLit);

@@ -208,7 +208,7 @@ TEST_F(ColourGpu, RampColoursComeBackAsTheSameEightBitDisplayValues) {
   for (int i = 0; i < kTexels; ++i) {
     const float nDotL = (i + 0.5f) / kTexels;  // texel i's centre
     frame.light.direction = {std::sqrt(1.0f - nDotL * nDotL), nDotL, 0.0f};
-    block.upload(frame);
+    EXPECT_OK(block.upload(frame));
     ramp->bind();
     target.clear(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
     (*renderer)->draw(cel::ShadePass::kLit);

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -54,7 +55,7 @@ class HostDepth : public test::SphereAtlasTest {
   void TearDown() override {
     EXPECT_EQ(core::drainGlErrors(), "");
     // The next suite finds the GL as GL starts: linear passes, depth LESS, nothing bound here.
-    block_->upload(cel::Frame{});
+    EXPECT_OK(block_->upload(cel::Frame{}));
     glDepthFunc(GL_LESS);
     glDisable(GL_STENCIL_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -115,6 +116,32 @@ TEST(HostDepthConvention, StoredDepthMatchesClosedForms) {
 // with the convention's glClipControl), within 1e-6 relative (of max(depth, 0.01): reversed-z with a
 // finite far plane computes n (f - d) / ((f - n) d) as a difference of nearly equal terms near the
 // far plane, in the hardware's path as in Puff's).
+// Planes linear depth cannot divide by are one line naming them, not a crash, and change nothing:
+// the block keeps the frame and convention it had, bound where it was.
+TEST_F(HostDepth, AFrameBlockRefusesPlanesItCannotDivideBy) {
+  cel::Frame good;
+  good.depth = cel::DepthConvention::kReversedZ;
+  ASSERT_OK(block_->upload(good));
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  const glm::vec2 bad[] = {{1.0f, 1.0f}, {5.0f, 1.0f}, {0.1f, inf}, {nan, 10.0f}, {-inf, 10.0f}};
+  for (const glm::vec2 planes : bad) {
+    cel::Frame f;
+    f.nearPlane = planes.x;
+    f.farPlane = planes.y;
+    f.depth = cel::DepthConvention::kLinear;
+    glBindBufferBase(GL_UNIFORM_BUFFER, cel::Bindings{}.frameBlock, 0);
+    auto r = block_->upload(f);
+    ASSERT_FALSE(r.ok()) << planes.x << ", " << planes.y;
+    EXPECT_NE(r.error().message.find("FrameBlock::upload: the frame's planes"), std::string::npos) << r.error().message;
+    EXPECT_EQ(r.error().message.find('\n'), std::string::npos) << "one line";
+    EXPECT_EQ(cel::boundDepthConvention(), cel::DepthConvention::kReversedZ) << "the convention of the last good frame";
+    GLint bound = -1;
+    glGetIntegeri_v(GL_UNIFORM_BUFFER_BINDING, cel::Bindings{}.frameBlock, &bound);
+    EXPECT_EQ(bound, 0) << "nothing bound";
+  }
+  EXPECT_EQ(core::drainGlErrors(), "");
+}
+
 TEST_F(HostDepth, StoreDepthLandsAtTheProjectionsWindowDepth) {
   auto frameSource = core::preprocessShader("common/frame.glsl");
   ASSERT_OK(frameSource);
@@ -147,7 +174,7 @@ void main() { gl_FragDepth = storeDepth(linearDepth(uDist)); }
        {kLinear, kStandardNO, kStandardZO, kReversed, kReversedInfinite, kOrthoStandard, kOrthoReversed}) {
     const ClipControlScope scope(c.clip);
     const cel::Frame f = frameFor(c, view, 4);
-    block_->upload(f);
+    EXPECT_OK(block_->upload(f));
     glBindVertexArray(vao_.get());
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_ALWAYS);
@@ -327,7 +354,7 @@ void main() { oColor = vec4(uColor, 1.0); }
     EXPECT_TRUE(target.complete());
     const ClipControlScope scope(c.clip);
     target.bindAndClear(kBackground, cel::clearDepth(c.depth));
-    block_->upload(f);
+    EXPECT_OK(block_->upload(f));
     ramp_->bind();
     hostWall(kWallLit, false);
     opaque_->draw(cel::ShadePass::kLit);

@@ -90,7 +90,7 @@ std::vector<glm::vec4> celFrame(CelKit& kit, const test::OffscreenTarget& target
   target.clear(glm::vec4(0.9f, 0.95f, 1.0f, 1.0f));
   frame.shadow = kit.shadowMap->lookup();
   frame.ambientGradient = true;
-  kit.block->upload(frame);
+  EXPECT_OK(kit.block->upload(frame));
   kit.ramp->bind(kit.b);
   kit.gradient->bind(kit.b);
   kit.shadowMap->bind();

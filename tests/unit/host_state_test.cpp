@@ -101,7 +101,7 @@ TEST_F(HostState, CelCallsLeaveWhatTheirHeadersList) {
       kPassState + kWriteMasks + kNoProgram + stencilFunc + Keys{"depth.func", "stencil.test", "scissor.box"};
 
   const std::vector<Case> cases = {
-      {"FrameBlock::upload", [&] { kit.block->upload(frame); }, {ubo(b.frameBlock)}},
+      {"FrameBlock::upload", [&] { EXPECT_OK(kit.block->upload(frame)); }, {ubo(b.frameBlock)}},
       {"FrameBlock::bind", [&] { kit.block->bind(); }, {ubo(b.frameBlock)}},
       {"Ramp::bind", [&] { kit.ramp->bind(b); }, texture(b.ramp, "1D")},
       {"Gradient::bind", [&] { kit.gradient->bind(b); }, texture(b.gradient, "2D")},

@@ -214,7 +214,7 @@ class HostTargets : public test::SphereAtlasTest {
       frame.shadow = kit.shadowMap->lookup();
       kit.shadowMap->bind();
     }
-    kit.block->upload(frame);
+    EXPECT_OK(kit.block->upload(frame));
     kit.opaque->draw(cel::ShadePass::kLit);
     kit.nailboards->drawNailboards(style, cel::ShadePass::kLit);
     if (style.shadowMethod == cel::ShadowMethod::kVolumes) {
@@ -240,7 +240,7 @@ TEST_F(HostTargets, CelPassesWriteAttachmentZeroAlone) {
   }
   cel::Style floor;
   expectOnlyAttachmentZero("the fill-rate floor", [&](const HostFramebuffer&) {
-    kit.block->upload(eyeFrame());
+    EXPECT_OK(kit.block->upload(eyeFrame()));
     kit.nailboards->drawBaseline(floor);
   });
 }
@@ -343,7 +343,7 @@ TEST_F(HostTargets, AGammaSpaceHostDrawsThroughAnSrgbView) {
     glClearNamedFramebufferfv(fbo, GL_COLOR, 0, &clear.x);
     glClearNamedFramebufferfi(fbo, GL_DEPTH_STENCIL, 0, 1.0f, 0);
     kit.ramp->bind(kit.b);
-    kit.block->upload(cel);
+    EXPECT_OK(kit.block->upload(cel));
     kit.nailboards->upload(puffs());
     kit.opaque->draw(cel::ShadePass::kLit);
     kit.nailboards->drawNailboards(cel::Style{}, cel::ShadePass::kLit);
@@ -433,7 +433,7 @@ TEST_F(HostTargets, CartoonComposeOverMatchesPuffsOwnCompose) {
   const core::Viewport vp{0, 0, kPx, kPx};
   const auto scene = [&] {
     kit.ramp->bind(kit.b);
-    kit.block->upload(cel);
+    EXPECT_OK(kit.block->upload(cel));
     kit.opaque->draw(cel::ShadePass::kLit);
   };
 

@@ -81,7 +81,7 @@ class Nailboards : public test::SphereAtlasTest {
 
   void draw(const cel::Frame& f, const std::vector<Particle>& ps, const cel::Style& style, float clearDepth = 1.0f) {
     target_->clear(clearDepth);
-    block_->upload(f);
+    EXPECT_OK(block_->upload(f));
     ramp_->bind();
     renderer_->upload(ps);
     renderer_->drawNailboards(style, cel::ShadePass::kLit);

@@ -42,7 +42,7 @@ TEST_F(Nailboards, ShadowFallsWhereTheLightProjectsIt) {
   f.light.direction = glm::normalize(glm::vec3(1, 0, 1));
   cel::Style style;
   target_->clear(depthOfZ(0.0f));
-  block_->upload(f);
+  EXPECT_OK(block_->upload(f));
   renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0, 0, H), 2 * R}});
   renderer_->drawShadowVolumes(style);
   const auto mask = shadowMask(*target_);
@@ -76,7 +76,7 @@ TEST_F(Nailboards, ShadowStaysRightWithTheCameraInsideTheVolume) {
   f.light.direction = glm::vec3(0, 1, 0);
   const float wallZ = -0.5f;  // the wall is 1 in front of the camera
   target_->clear((1.0f - 0.1f) / 10.0f);
-  block_->upload(f);
+  EXPECT_OK(block_->upload(f));
   renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0, 6, 0), 2 * R}});
   cel::Style style;
   renderer_->drawShadowVolumes(style);
@@ -112,7 +112,7 @@ TEST_F(Nailboards, ShadowStaysRightWithAVolumeThroughTheNearPlane) {
   cel::Frame f = test::linearFrame(cam, kPx, kPx);
   f.light.direction = glm::vec3(0, 0, 1);  // from behind the camera
   target_->clear((3.0f - 0.2f) / 10.0f);   // the wall z = 0
-  block_->upload(f);
+  EXPECT_OK(block_->upload(f));
   renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0.4f, 0.1f, 2.75f), 2 * R}});
   cel::Style style;
   renderer_->drawShadowVolumes(style);
@@ -149,7 +149,7 @@ TEST_F(Nailboards, ShadowCountIsZeroOrOneForEveryLightAndWinding) {
       f.light.direction =
           glm::vec3(std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth), std::cos(polar));
       target_->clear(depthOfZ(0.6f));
-      block_->upload(f);
+      EXPECT_OK(block_->upload(f));
       renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0.3f, -0.2f, 1.5f), 2.3f}});
       glFrontFace(frontFace);
       renderer_->drawShadowVolumes(style);
@@ -224,7 +224,7 @@ TEST_F(Nailboards, OrientedPuffsShadowTurnsWithIt) {
     p.oriented = true;
     p.orientation = glm::angleAxis(static_cast<float>(glm::radians(degrees)), glm::vec3(0, 0, 1));
     target_->clear(depthOfZ(0.0f));
-    block_->upload(f);
+    EXPECT_OK(block_->upload(f));
     renderer_->upload(std::vector<Particle>{p});
     renderer_->drawShadowVolumes(style);
     const auto [angle, count] = principalAxis(shadowMask(*target_), kPx);
@@ -253,7 +253,7 @@ TEST_F(Nailboards, ShadowStartsAtTheFarSideTheDepthMapGivesAtEachPoint) {
   cel::Style style;
   style.shadowBias = 0.0f;
   target_->clear(depthOfZ(planeZ));
-  block_->upload(f);
+  EXPECT_OK(block_->upload(f));
   renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0, 0, centreZ), size}});
   renderer_->drawShadowVolumes(style);
   const auto mask = shadowMask(*target_);

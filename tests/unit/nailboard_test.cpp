@@ -180,7 +180,7 @@ TEST_F(Nailboards, Equation2HoldsOnEveryChannelInGeneralPoses) {
       f.ambient = puff::core::srgbToLinear(ambient);
       const glm::vec3 lView = glm::normalize(glm::mat3(f.view) * glm::normalize(light));
       target_->clear(1.0f);
-      block_->upload(f);
+      EXPECT_OK(block_->upload(f));
       ramp->bind();
       renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0), 2 * R}});
       renderer_->drawNailboards(style, cel::ShadePass::kLit);
@@ -232,7 +232,7 @@ TEST_F(Nailboards, RampClampEnforcesMaxZero) {
   cel::Style style;
   style.outlines = false;
   target_->clear(1.0f);
-  block_->upload(f);
+  EXPECT_OK(block_->upload(f));
   ramp->bind();
   renderer_->upload(std::vector<Particle>{Particle{glm::vec3(0), 4.0f}});
   renderer_->drawNailboards(style, cel::ShadePass::kLit);

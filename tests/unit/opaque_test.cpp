@@ -140,7 +140,7 @@ class OpaqueTest : public test::GlTest {
 
   // Uploads the frame, binds the ramp, binds and clears the target.
   void begin(const Frame& frame) {
-    block_->upload(frame);
+    EXPECT_OK(block_->upload(frame));
     ramp_->bind();
     target_->bindAndClear();
   }

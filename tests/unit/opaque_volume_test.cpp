@@ -92,7 +92,7 @@ class OpaqueVolumes : public test::GlTest {
   // Draws the objects' depth, then their volumes; returns the stencil (row 0 at the bottom).
   std::vector<unsigned char> countVolumes(const Frame& f, std::vector<OpaqueObject> objects) {
     EXPECT_TRUE(renderer_->setObjects(std::move(objects)).ok());
-    block_->upload(f);
+    EXPECT_OK(block_->upload(f));
     ramp_->bind();
     target_->clear(glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
     renderer_->draw(ShadePass::kLit);

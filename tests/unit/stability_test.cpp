@@ -133,7 +133,7 @@ class CelFixture : public test::SphereAtlasTest {
 
   // Draws `particles` lit with `frame` into the current contents of the target (no clear).
   void drawOver(const cel::Frame& frame, const std::vector<cel::Particle>& particles, const cel::Style& style) {
-    block_->upload(frame);
+    EXPECT_OK(block_->upload(frame));
     ramp_->bind();
     renderer_->upload(particles);
     renderer_->drawNailboards(style, cel::ShadePass::kLit);

@@ -211,7 +211,7 @@ TEST_F(SteadyImage, AStillPuffKeepsItsPixelsUnderAMovingCrowd) {
 
   auto draw = [&](const std::vector<Particle>& ps) {
     target.clear(glm::vec4(1.0f), 1.0f);
-    block.upload(frame);
+    EXPECT_OK(block.upload(frame));
     ramp.bind();
     renderer.upload(ps);
     renderer.drawNailboards(style, cel::ShadePass::kLit);

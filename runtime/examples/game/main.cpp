@@ -474,11 +474,12 @@ void advanceSmoke(Smoke& smoke, int frame) {
 }
 
 // The smoke, into the game's framebuffer, tested against its depth.
-void drawSmoke(Smoke& smoke) {
-  smoke.celBlock.upload(smoke.celFrame);  // uniform binding 8: the game's camera block on 0 is untouched
+puff::Result<void> drawSmoke(Smoke& smoke) {
+  if (auto ok = smoke.celBlock.upload(smoke.celFrame); !ok) return ok;  // binding 8: the game's block 0 is untouched
   smoke.ramp.bind();
   smoke.nailboards->upload(smoke.puffs);
   smoke.nailboards->drawNailboards(smoke.style, puff::cel::ShadePass::kLit);
+  return {};
 }
 
 #if GAME_MEDIA_FIRE
@@ -614,7 +615,7 @@ int run(const Options& opt, const puff::core::Atlas& atlas, GLFWwindow* window) 
     advanceFire(*fire, frame, time);
 #endif
     drawScene(game);
-    drawSmoke(*smoke);
+    if (auto ok = drawSmoke(*smoke); !ok) return fail(ok.error().message);
 #if GAME_MEDIA_FIRE
     if (auto ok = drawFire(*fire, game, time); !ok) return fail(ok.error().message);
 #endif

@@ -10,6 +10,7 @@
 #include <puff/cel/frame.h>
 #include <puff/core/bind_points.h>
 #include <puff/core/colour.h>
+#include <puff/core/number_text.h>
 #include <puff/gl_api.h>
 #include <puff/shader_blocks.h>
 
@@ -71,10 +72,12 @@ FrameBlock::FrameBlock(const Bindings& bindings)
   glNamedBufferStorage(buffer_.get(), sizeof(FrameBlockData), nullptr, GL_DYNAMIC_STORAGE_BIT);
 }
 
-void FrameBlock::upload(const Frame& frame) {
+Result<void> FrameBlock::upload(const Frame& frame) {
   // Linear depth divides by far - near: both finite, far beyond near (an infinite far plane lives in
   // the projection only).
-  PUFF_CHECK(std::isfinite(frame.nearPlane) && std::isfinite(frame.farPlane) && frame.nearPlane < frame.farPlane);
+  if (!(std::isfinite(frame.nearPlane) && std::isfinite(frame.farPlane) && frame.nearPlane < frame.farPlane))
+    return Error{"FrameBlock::upload: the frame's planes " + core::numberText(frame.nearPlane) + ", " +
+                 core::numberText(frame.farPlane) + ": need near < far, both finite (linear depth's 0 and 1)"};
   FrameBlockData d{};
   d.view = frame.view;
   d.proj = frame.projection;
@@ -102,6 +105,7 @@ void FrameBlock::upload(const Frame& frame) {
   glNamedBufferSubData(buffer_.get(), 0, sizeof d, &d);
   depth_ = frame.depth;
   bind();
+  return {};
 }
 
 void FrameBlock::bind() const {

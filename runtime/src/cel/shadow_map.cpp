@@ -191,7 +191,7 @@ void ShadowMap::beginCasters() {
   const GLuint none[4] = {0, 0, 0, 0};
   glClearNamedFramebufferfv(fbo_.get(), GL_DEPTH, 0, &far);
   glClearNamedFramebufferuiv(fbo_.get(), GL_COLOR, 0, none);
-  lightBlock_.upload(plan_.light);
+  PUFF_CHECK(lightBlock_.upload(plan_.light).ok());  // the light frame's planes are made valid above
 }
 
 void ShadowMap::bind() const {

@@ -316,7 +316,7 @@ struct CelReference::Impl {
     glClearTexImage(ids.get(), 0, GL_RED_INTEGER, GL_UNSIGNED_INT, zero);
     glClearNamedFramebufferfi(target, GL_DEPTH_STENCIL, 0, 1.0f, 0);
     glNamedFramebufferDrawBuffer(target, GL_COLOR_ATTACHMENT0);
-    block.upload(frame);
+    PUFF_CHECK(block.upload(frame).ok());  // a scene camera's planes, checked when it was read
     opaque.draw(cel::ShadePass::kLit);
     if (shadows && opaque.count() > 0) {
       // Each object's caster id over the pixels it showed, for the shadow pass (shadow_stencil.frag).

@@ -106,7 +106,7 @@ class CelPath final : public Path {
       f.shadow = shadowMap_->lookup();
       shadowMap_->bind();
     }
-    scene_->block().upload(f);
+    if (auto ok = scene_->block().upload(f); !ok) return ok;
     scene_->opaque().draw(cel::ShadePass::kLit);
     if (variations_ > 0) {
       if (fillRateFloor_) {

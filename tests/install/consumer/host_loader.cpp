@@ -97,7 +97,9 @@ int main(int argc, char** argv) {
     camera.position = {0.0f, 0.0f, 5.0f};
     camera.target = {0.0f, 0.0f, 0.0f};
     puff::cel::FrameBlock block(bindings);
-    block.upload(puff::cel::Frame::fromCamera(camera, size, size));  // the GL standard depth: the game's
+    // The GL standard depth: the game's.
+    if (auto ok = block.upload(puff::cel::Frame::fromCamera(camera, size, size)); !ok)
+      return "FrameBlock::upload failed";
     puff::cel::Ramp ramp = puff::cel::Ramp::twoTone();
     ramp.bind(bindings);
     puff::cel::Particle particle;

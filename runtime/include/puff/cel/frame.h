@@ -125,10 +125,10 @@ class FrameBlock {
   explicit FrameBlock(const Bindings& bindings = {});
   /// Fills the buffer from `frame` (glNamedBufferSubData: no binding used) and binds it (bind()).
   /// The frame's depth convention becomes the one the cel passes test with (boundDepthConvention).
-  /// Needs nearPlane < farPlane, both finite.
+  /// Errors (nothing uploaded, nothing bound): planes not finite with nearPlane < farPlane.
   /// Leaves: uniform buffer binding `frameBlock` = this block (whole buffer). Nothing else; the
   /// generic GL_UNIFORM_BUFFER binding is untouched (glBindBuffersBase).
-  void upload(const Frame& frame);
+  Result<void> upload(const Frame& frame);
   /// Binds it to uniform binding `frameBlock` again (after the host used it for something else),
   /// its depth convention with it.
   /// Leaves what upload leaves.

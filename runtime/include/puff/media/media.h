@@ -90,7 +90,7 @@ class Renderer {
   /// with burn ignored: LayersBase::beginMedia(Style::kCartoon) makes such a target. `depth` is a texture of the
   /// opaque scene's LINEAR depth ((-z - near) / (far - near)) at the target's resolution (R32F, or a
   /// depth texture), read at each pixel's offset from the viewport's origin. The viewport must be
-  /// (frame.x, frame.y, frame.width, frame.height). Sets every GL state it needs and queries none.
+  /// frame.viewport. Sets every GL state it needs and queries none.
   /// Leaves (docs/media.md, "Host state"; a core::HostStateGuard restores it all):
   ///   no program, no vertex array; blending off on draw buffers 0 and 1 (0 to 3 for the cartoon
   ///   style, whose four it draws; the others' blending and masks are the host's), with draw buffer 0's
