@@ -39,11 +39,39 @@ struct Extent {
     x0 = std::min(x0, c.x / c.w), x1 = std::max(x1, c.x / c.w);
     y0 = std::min(y0, c.y / c.w), y1 = std::max(y1, c.y / c.w);
   }
+  void addBox(const glm::dvec4& box) {
+    x0 = std::min(x0, box.x), y0 = std::min(y0, box.y), x1 = std::max(x1, box.z), y1 = std::max(y1, box.w);
+  }
 };
 
-// A bound of the quads billboard.vert draws for a sphere at camera-space centre `c`, radius `r` (its
-// four corners into `e`: the quad it draws for a projection of another form, holding the silhouette's
-// box it draws for the usual one), or the whole frame where it reaches the camera's plane.
+// billboard.vert's tangentSlopes in double: the extremes of x / dz over a sphere at (cx, dz), radius
+// r, the eye outside it; false when a tangent line does not run forward.
+bool tangentSlopes(double cx, double dz, double r, double& lo, double& hi) {
+  const double t = std::sqrt(std::max(cx * cx + dz * dz - r * r, 0.0));
+  const double a = dz * t + r * cx, b = dz * t - r * cx;
+  if (!(a > 0.0) || !(b > 0.0)) return false;
+  lo = (cx * t - r * dz) / a;
+  hi = (cx * t + r * dz) / b;
+  return true;
+}
+
+// billboard.vert's projectedSphereBox in double: the NDC box (x0, y0, x1, y1) a sphere projects
+// into through a perspective projection of the usual form; false for another form or an unbounded
+// silhouette.
+bool projectedSphereBox(const glm::dmat4& p, const glm::dvec3& c, double r, glm::dvec4& box) {
+  const bool usual = p[1][0] == 0.0 && p[3][0] == 0.0 && p[0][1] == 0.0 && p[3][1] == 0.0 && p[0][3] == 0.0 &&
+                     p[1][3] == 0.0 && p[2][3] == -1.0 && p[3][3] == 0.0 && p[0][0] > 0.0 && p[1][1] > 0.0;
+  double sx0 = 0, sx1 = 0, sy0 = 0, sy1 = 0;
+  if (!usual || !tangentSlopes(c.x, -c.z, r, sx0, sx1) || !tangentSlopes(c.y, -c.z, r, sy0, sy1)) return false;
+  box = {p[0][0] * sx0 - p[2][0], p[1][1] * sy0 - p[2][1], p[0][0] * sx1 - p[2][0], p[1][1] * sy1 - p[2][1]};
+  return true;
+}
+
+// What the billboards can change for a sphere at camera-space centre `c`, radius `r`, into `e`: for a
+// perspective projection of the usual form, the box its silhouette projects into (the spherical
+// quad; every method's fragments outside the sphere's disc draw nothing, and the textured quad's x
+// and y reach no further than the sphere's points at the centre's depth); for any other form the
+// bound billboard.vert sizes its quads by; the whole frame where it reaches the camera's plane.
 void addSphere(Extent& e, const glm::dmat4& proj, bool ortho, const glm::dvec3& c, double r) {
   const double dz = -c.z, zq = dz + r;
   glm::dvec2 centre{c.x, c.y};
@@ -51,6 +79,10 @@ void addSphere(Extent& e, const glm::dmat4& proj, bool ortho, const glm::dvec3& 
   if (!ortho) {
     if (dz - r < 0.05 * dz) {
       e.whole = true;
+      return;
+    }
+    if (glm::dvec4 box; projectedSphereBox(proj, c, r, box)) {
+      e.addBox(box);  // the spherical quad's box (its eighth of a pixel is in the grow below)
       return;
     }
     h = zq * r / (dz - r) * (1.0 + glm::length(glm::dvec2(c.x, c.y)) / dz);

@@ -24,9 +24,9 @@ PixelBox unite(const PixelBox& a, const PixelBox& b);
 PixelBox grow(const PixelBox& box, int pixels, int width, int height);
 
 /// The pixels of `frame` (its width x height) that the media drawn with `frame` can change: every
-/// particle's billboard, within a bound of its sphere's projection that holds every method's quad
-/// (shaders/media/billboard.vert: the planar quads are sized by it, the spherical ones by the
-/// silhouette's own box inside it, a projection of another form by it too), and every
+/// particle's sphere, over the box its silhouette projects into (what any method's billboard can
+/// change; shaders/media/billboard.vert sizes the spherical quad by it) for a perspective
+/// projection of the usual form, else over the bound billboard.vert sizes its quads by, and every
 /// light that shines (intensity and radius > 0; the first 8, as compose takes them)
 /// over its sphere's projection. A sphere reaching the camera's plane covers the whole frame.
 /// Particles without a radius, wholly nearer than the near plane or beyond the far plane cover
