@@ -47,14 +47,6 @@ media::Frame mediaFrameOf(const cel::Frame& cel) {
   return f;
 }
 
-// The host's depth texture `texture` (stored in the cel frame's convention: resolveHostDepth is
-// given the cel frame).
-media::HostDepth hostDepthOf(GLuint texture) {
-  media::HostDepth d;
-  d.texture = texture;
-  return d;
-}
-
 // The host's framebuffer: attachment 0 scene-linear RGBA16F (Puff's), then `extra` RGBA8
 // attachments filled with a pattern, and a depth-stencil texture (media reads it as the host's depth).
 class HostFramebuffer {
@@ -295,7 +287,7 @@ TEST_F(HostTargets, MediaComposeOverWritesAttachmentZeroAlone) {
             celFrame(kit, cel::Style{}, puffs(), t);
             auto layers = media::HostLayers::create(kPx, kPx, 0.5f);
             ASSERT_OK(layers);
-            const media::HostDepth depth = hostDepthOf(t.depth());
+            const media::HostDepth depth{.texture = t.depth()};
             const float ink = isCartoon ? cartoon->style.outlineWidth : 0.0f;
             if (cover == Cover::kMedia) (*layers)->setCoverage(media::coverage(f, smoke), style, ink);
             if (cover == Cover::kEmpty) (*layers)->setCoverage(media::PixelBox{}, style, ink);
@@ -349,7 +341,7 @@ TEST_F(HostTargets, AGammaSpaceHostDrawsThroughAnSrgbView) {
     kit.nailboards->drawNailboards(cel::Style{}, cel::ShadePass::kLit);
     auto layers = media::HostLayers::create(kPx, kPx, 0.5f);
     ASSERT_OK(layers);
-    const media::HostDepth d = hostDepthOf(depth.get());
+    const media::HostDepth d{.texture = depth.get()};
     ASSERT_OK((*layers)->resolveHostDepth(d, cel));
     (*layers)->beginMedia();
     (*renderer)->draw((*layers)->layerFrame(f), smoke, media::Method::kSpherical, (*layers)->mediaDepth());
@@ -466,7 +458,7 @@ TEST_F(HostTargets, CartoonComposeOverMatchesPuffsOwnCompose) {
       EXPECT_OK(layers);
       if (covered)
         (*layers)->setCoverage(media::coverage(f, fire), media::Style::kCartoon, cartoon->style.outlineWidth);
-      const media::HostDepth d = hostDepthOf(host.depth());
+      const media::HostDepth d{.texture = host.depth()};
       EXPECT_OK((*layers)->resolveHostDepth(d, cel));
       (*layers)->beginMedia(media::Style::kCartoon);
       (*renderer)->draw((*layers)->layerFrame(f), fire, media::Method::kSpherical, (*layers)->mediaDepth());
@@ -497,7 +489,7 @@ TEST_F(HostTargets, CartoonComposeOverMatchesPuffsOwnCompose) {
     if (media) {
       auto layers = media::HostLayers::create(kPx, kPx, 0.5f);
       EXPECT_OK(layers);
-      const media::HostDepth d = hostDepthOf(depth.get());
+      const media::HostDepth d{.texture = depth.get()};
       EXPECT_OK((*layers)->resolveHostDepth(d, cel));
       (*layers)->beginMedia(media::Style::kCartoon);
       (*renderer)->draw((*layers)->layerFrame(f), fire, media::Method::kSpherical, (*layers)->mediaDepth());
