@@ -8,27 +8,17 @@
 // Every other variant is compiled once per shade pass, PUFF_SHADE_PASS (PUFF_PASS_LIT, _SHADOWED or
 // _DEPTH_ONLY, common/contract.glsl): a pass carries none of the code it does not run, since a
 // uniform's branch still costs what it skips on a rasterizer that runs both sides under a mask.
+// The lit and shadowed passes shade each pixel once (cel::LitShading, nailboards.h): PUFF_VISIBILITY
+// compiles the pre-pass (the quads' depth and particle id into Puff's own target), PUFF_DEFERRED the
+// screen pass that shades each pixel's particles from it (PUFF_DEFERRED_MS: multisampled), the
+// quads' varyings computed per pixel (nailboard_setup.glsl).
 #include "common/frame.glsl"
 #include "cel/particle.glsl"
 #include "cel/shadow_map.glsl"
 
-in vec2 vPuff;
-in float vDist;
-in vec3 vWorld;
-flat in uint vId;
-flat in float vSize;
-flat in vec3 vTint;
-flat in float vTexelsPerPixel;
-flat in ivec4 vCell;
-flat in vec4 vWeight;
-flat in vec4 vMap[PUFF_VIEWS];
-flat in mat3 vNormalXf[PUFF_VIEWS];
-#ifdef PUFF_HULL
-flat in int vHull;
-flat in int vHullBehind;
-flat in ivec4 vCellAcross;
-flat in mat3 vBillboardPuff;
-flat in mat3 vPuffToView;
+#include "cel/nailboard_io.glsl"
+#ifdef PUFF_DEFERRED
+#include "cel/nailboard_setup.glsl"
 #endif
 
 // Two reads per pixel, as in the paper: normal x, y (z rebuilt), depth offset and distance to the
@@ -37,19 +27,53 @@ layout(binding = 2) uniform sampler2D uPacked;
 layout(binding = 3) uniform sampler2D uColor;  // scene-linear (an sRGB texture decodes the atlas's display values)
 
 uniform int uShading;       // 1: q(N.L); 0: flat
-uniform int uOutlines;      // 1: draw the outline band
-uniform float uOutlineWidth;   // pixels
 uniform vec3 uOutlineColor;   // display value
 uniform int uMultisample;   // 1: alpha-to-coverage resolves the edge; 0: hard edge at half coverage
 
+#if defined(PUFF_DEFERRED) && defined(PUFF_HULL)
+#error "the tumbling hull is drawn forward: no deferred variant"
+#endif
 #if !defined(PUFF_CASTER) && !defined(PUFF_SHADE_PASS)
 #error "a nailboard program that is not a caster names its PUFF_SHADE_PASS"
 #endif
 #ifdef PUFF_CASTER
 uniform float uShadowBias;  // diameters past the puff's far side where its shadow starts
 layout(location = 0) out uint oId;
+#elif defined(PUFF_VISIBILITY)
+// The visibility pre-pass (a depth-only pass into Puff's own target): the nearest particle's id and
+// the depth it stores, per pixel, for the deferred shading pass.
+layout(location = 0) out uvec2 oVisible;
 #else
 out vec4 fragColor;
+#endif
+
+// Samples per pixel of the target (multisampled: the visibility pre-pass's sample mask, the
+// deferred pass's loop).
+uniform int uSamples;
+
+#ifdef PUFF_DEFERRED
+// The visibility pre-pass's target: x the particle id (0: none), y the bits of the depth stored.
+#ifdef PUFF_DEFERRED_MS
+layout(binding = 8) uniform usampler2DMS uVisible;
+#else
+layout(binding = 8) uniform usampler2D uVisible;
+#endif
+
+// The varyings the vertex stage would have given the nailboard of particle `id` at this pixel: its
+// per-particle values (setUpParticle), and where the pixel's eye ray meets its billboard plane.
+void loadVarying(uint id) {
+  Particle p = unpackParticle(id - 1u);
+  mat3 bb = billboardFrame(p);
+  setUpParticle(id - 1u, p, bb);
+  vec2 ndc = 2.0 * (gl_FragCoord.xy - uViewport.xy) / uViewport.zw - 1.0;
+  vec4 onRay = uInvViewProj * vec4(ndc, 0.5, 1.0);
+  vec3 origin = onRay.xyz / onRay.w;
+  vec3 dir = isOrthographic() ? -uInvView[2].xyz : origin - uCameraWorld.xyz;
+  vec3 world = origin + dir * (dot(p.position - origin, bb[2]) / dot(dir, bb[2]));
+  vPuff = vec2(dot(world - p.position, bb[0]), dot(world - p.position, bb[1])) / p.size;
+  vWorld = world;
+  vDist = -(uView * vec4(world, 1.0)).z;
+}
 #endif
 
 #ifdef PUFF_HULL
@@ -450,7 +474,8 @@ vec3 pointAtOffset(float d) {
 #endif
 
 // The outline band: 0 < dist <= width (texels), the width returned. From the map, the band and its
-// antialiased edge (half a pixel) must end inside its range; beyond is empty (discarded). With
+// antialiased edge (half a pixel) must end inside its range; beyond is empty (dist made so far that
+// nothing covers the pixel). With
 // `fromTable`, a blended distance past what the map holds is the radius table's (`tableDist`).
 float outlineBand(bool fromTable, bool blended, float tableDist, float trusted, float range, float wantTexels,
                   float tpp, inout float dist) {
@@ -458,7 +483,7 @@ float outlineBand(bool fromTable, bool blended, float tableDist, float trusted, 
     if (blended) dist = dist < trusted ? dist : max(tableDist, trusted);
     return wantTexels;
   }
-  if (dist >= range - 0.5) discard;
+  if (dist >= range - 0.5) dist = 1e30;  // nothing drawn: no coverage
   return max(0.0, min(wantTexels, range - 1.0 - 0.5 * tpp));
 }
 
@@ -494,11 +519,27 @@ vec3 litColor(vec3 ka, vec3 n, vec3 color, float d) {
 }
 #endif
 
+// A nailboard fragment as every pass sees it (evaluateFragment).
+struct NailboardFragment {
+  float coverage;  // of the pixel, the ink's outer edge antialiased (0: nothing drawn)
+  float body;      // the body's share of it (the rest is ink)
+  float d;         // depth offset, diameters toward the eye (0 on the ink and flange)
+  float lod;
+  ViewBlend views;
+#ifdef PUFF_HULL
+  bool marched;
+  float blendDist;  // the blend's distance to its silhouette (when it shades)
+  HullHit hull;
+#endif
+};
+
 // First what every pass needs: depth offset and distance to the silhouette (one read per view).
 // The mip level comes from the particle's projected size, like the texel-to-pixel scale below:
 // no derivatives, so the colour can be read after the discards.
-void main() {
+NailboardFragment evaluateFragment() {
+  NailboardFragment f;
   float lod = max(0.0, log2(max(1e-4, vTexelsPerPixel)));
+  f.lod = lod;
   // From the particle's projected size, not from derivatives: those break down along the quad's
   // diagonal on some rasterizers, and the size is known anyway.
   float tpp = max(1e-4, vTexelsPerPixel);
@@ -514,58 +555,132 @@ void main() {
 #ifdef PUFF_HULL
   bool marched = vHull == 1;  // an oriented puff: hullMarch below, not the blend of four views
   bool blendShades = !marched || vHullBehind == 1;  // from behind, the blend shades the hull (below)
+  f.marched = marched;
 #else
   const bool marched = false, blendShades = true;
 #endif
-  ViewBlend views = blendViews(lod, range, fromTable, blendShades);
-  float depth = views.depth, dist = views.dist;
+  f.views = blendViews(lod, range, fromTable, blendShades);
+  float depth = f.views.depth, dist = f.views.dist;
 #ifdef PUFF_HULL
-  float blendDist = dist;  // the blend's distance to its silhouette (when blendShades)
-  HullHit hull;
-  if (marched) hull = marchHull(lod, tpp, fromTable, trusted, wantTexels, depth, dist);
+  f.blendDist = dist;
+  if (marched) f.hull = marchHull(lod, tpp, fromTable, trusted, wantTexels, depth, dist);
 #endif
-  float widthTexels = outlineBand(fromTable, !marched, views.tableDist, trusted, range, wantTexels, tpp, dist);
-  float coverage = clamp(0.5 - (dist - widthTexels) / tpp, 0.0, 1.0);
-  float body = clamp(0.5 - dist / tpp, 0.0, 1.0);
-  if (uMultisample == 1 ? coverage <= 0.0 : coverage < 0.5) discard;
-
+  float widthTexels = outlineBand(fromTable, !marched, f.views.tableDist, trusted, range, wantTexels, tpp, dist);
+  f.coverage = clamp(0.5 - (dist - widthTexels) / tpp, 0.0, 1.0);
+  f.body = clamp(0.5 - dist / tpp, 0.0, 1.0);
   // Outline and flange texels hold d = 0: they sit on the billboard plane, behind the bodies of
   // nearer particles, which is what hides outlines inside a cloud (Fig. 5).
-  float d = dist > 0.0 ? 0.0 : depth;
-#ifdef PUFF_CASTER
-  // Drawn from the light, the map keeps where this puff's shadow starts: behind its far side, taken
-  // as its near side's depth-map offset mirrored through the billboard plane (as the shadow volumes
-  // take it), plus the bias. Its own near side lies before that, so it does not shadow itself even
-  // where the map saw only it.
-  gl_FragDepth = storeDepth(linearDepth(vDist + (max(d, 0.0) + uShadowBias) * vSize));
-  oId = vId;
-#else
-  gl_FragDepth = storeDepth(linearDepth(vDist - d * vSize));
-  if (PUFF_SHADE_PASS == PUFF_PASS_DEPTH_ONLY) {
-    fragColor = vec4(0.0);
-    return;
-  }
+  f.d = dist > 0.0 ? 0.0 : depth;
+  return f;
+}
+
+#if !defined(PUFF_CASTER) && !defined(PUFF_VISIBILITY)
+// The colour of a lit (or shadowed) fragment, scene-linear.
+vec3 shadeFragment(NailboardFragment f) {
   vec3 ka = ambientAt(gl_FragCoord.xy);
   vec3 rgb = ka;
   if (PUFF_SHADE_PASS == PUFF_PASS_LIT) {  // the lit pass alone needs the normal and the colour (the second read)
     vec3 n, color;
-    blendedSurface(views, lod, n, color);
+    blendedSurface(f.views, f.lod, n, color);
 #ifdef PUFF_HULL
-    if (marched && hull.hit) {
+    if (f.marched && f.hull.hit) {
       // Seen from behind, the hull's surface is an assumption that differs from view to view: the
       // blend's turned normals shade it (coherent, as the blend draws backs) where the blend covers
       // the pixel; the colour is the hull's.
-      if (!hull.behind || blendDist > 0.0) n = hull.normal;
-      color = hull.color;
+      if (!f.hull.behind || f.blendDist > 0.0) n = f.hull.normal;
+      color = f.hull.color;
     }
 #endif
-    rgb = litColor(ka, n, color, d);
+    rgb = litColor(ka, n, color, f.d);
   }
   // Eq. 2's result is a display value, limited to the display's range as the paper's 8-bit frame
   // buffer limited it (K_a + C K_L q may exceed 1), then to scene-linear; the outline's antialiased
   // edge blends in linear light.
   rgb = srgbToLinear(clamp(rgb, 0.0, 1.0));
-  if (uOutlines == 1) rgb = mix(srgbToLinear(clamp(uOutlineColor, 0.0, 1.0)), rgb, body);
-  fragColor = vec4(rgb, uMultisample == 1 ? coverage : 1.0);
+  if (uOutlines == 1) rgb = mix(srgbToLinear(clamp(uOutlineColor, 0.0, 1.0)), rgb, f.body);
+  return rgb;
+}
+#endif
+
+#ifdef PUFF_DEFERRED
+// Each pixel's particles, as the pre-pass left them (one per sample), shaded once each at the
+// pixel's centre, as the nailboards' quads would have shaded them there. The pre-pass kept them: none
+// is discarded. Single-sampled, exactly what the quads draw. Multisampled, the samples' colours
+// averaged over the samples the particles cover (what the resolve makes of them) and written to
+// those samples at the depth of the particle that covers most of them: a sample of another particle
+// at the pixel (only along silhouettes) takes that depth.
+void main() {
+  ivec2 px = ivec2(gl_FragCoord.xy);  // (the target spans the viewport's origin)
+#ifdef PUFF_DEFERRED_MS
+  uvec2 samples[PUFF_MAX_DEFERRED_SAMPLES];
+  int count = clamp(uSamples, 1, PUFF_MAX_DEFERRED_SAMPLES);
+  int mask = 0;
+  for (int i = 0; i < count; ++i) {
+    samples[i] = texelFetch(uVisible, px, i).xy;
+    if (samples[i].x != 0u) mask |= 1 << i;
+  }
+  if (mask == 0) discard;
+  vec3 sum = vec3(0.0);
+  int covered = 0, most = 0;
+  float depth = 0.0;
+  for (int i = 0; i < count; ++i) {
+    uint id = samples[i].x;
+    bool first = id != 0u;
+    int n = 0;
+    for (int j = 0; j < count; ++j) {
+      first = first && !(j < i && samples[j].x == id);
+      n += samples[j].x == id ? 1 : 0;
+    }
+    if (!first) continue;
+    loadVarying(id);
+    sum += float(n) * shadeFragment(evaluateFragment());
+    covered += n;
+    if (n > most) {
+      most = n;
+      depth = uintBitsToFloat(samples[i].y);
+    }
+  }
+  gl_SampleMask[0] = mask;
+  gl_FragDepth = depth;
+  fragColor = vec4(sum / float(covered), 1.0);
+#else
+  uvec2 visible = texelFetch(uVisible, px, 0).xy;
+  if (visible.x == 0u) discard;
+  loadVarying(visible.x);
+  gl_FragDepth = uintBitsToFloat(visible.y);
+  fragColor = vec4(shadeFragment(evaluateFragment()), 1.0);
 #endif
 }
+#else
+void main() {
+  NailboardFragment f = evaluateFragment();
+  if (uMultisample == 1 ? f.coverage <= 0.0 : f.coverage < 0.5) discard;
+#ifdef PUFF_CASTER
+  // Drawn from the light, the map keeps where this puff's shadow starts: behind its far side, taken
+  // as its near side's depth-map offset mirrored through the billboard plane (as the shadow volumes
+  // take it), plus the bias. Its own near side lies before that, so it does not shadow itself even
+  // where the map saw only it.
+  gl_FragDepth = storeDepth(linearDepth(vDist + (max(f.d, 0.0) + uShadowBias) * vSize));
+  oId = vId;
+#elif defined(PUFF_VISIBILITY)
+  gl_FragDepth = storeDepth(linearDepth(vDist - f.d * vSize));
+  // Multisampled, the coverage goes to the sample mask (an integer target has no alpha for
+  // alpha-to-coverage): sample s where coverage > s / samples, the rule Mesa's rasterizers spend
+  // alpha-to-coverage's alpha by, so the quads drawn forward there cover the same samples. (A GPU
+  // may dither its own; the count of samples is the same on average.)
+  if (uMultisample == 1) {
+    int mask = 0;
+    for (int s = 0; s < uSamples; ++s) mask |= f.coverage > float(s) / float(uSamples) ? 1 << s : 0;
+    gl_SampleMask[0] = mask;
+  }
+  oVisible = uvec2(vId, floatBitsToUint(clamp(gl_FragDepth, 0.0, 1.0)));
+#else
+  gl_FragDepth = storeDepth(linearDepth(vDist - f.d * vSize));
+  if (PUFF_SHADE_PASS == PUFF_PASS_DEPTH_ONLY) {
+    fragColor = vec4(0.0);
+    return;
+  }
+  fragColor = vec4(shadeFragment(f), uMultisample == 1 ? f.coverage : 1.0);
+#endif
+}
+#endif

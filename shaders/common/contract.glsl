@@ -10,6 +10,7 @@
 #define PUFF_MAX_MATERIALS 32   // media materials (MaterialBlock.uMaterials)
 #define PUFF_MAX_FIRE_BANDS 8   // the cartoon fire's bands (CartoonBlock.uFireColors)
 #define PUFF_MAX_BLUR_FRAMES 8  // frames motion blur averages (blur.frag: uHistory, uWeights)
+#define PUFF_MAX_DEFERRED_SAMPLES 8  // samples per pixel the nailboards' deferred lit pass reads (more: every layer)
 
 // ---- shade passes: the uPass of the nailboards and the opaque objects (cel::ShadePass) ----
 #define PUFF_PASS_LIT 0         // Eq. 2 in full

@@ -2,7 +2,10 @@
 // in one run so the ratios compare methods on one machine:
 //   floor       bare alpha-tested textured quads (NailboardRenderer::drawBaseline) writing the
 //               nailboards' linear depth (gl_FragDepth, shaders/cel/sprite.frag), no offset
-//   nailboards  cel shading, per-pixel linear depth (gl_FragDepth) and outlines (ShadePass::kLit)
+//   nailboards  cel shading, per-pixel linear depth (gl_FragDepth) and outlines (ShadePass::kLit):
+//               the visibility pre-pass, then each pixel shaded once (cel::LitShading::kOncePerPixel)
+//   nailboards.every-layer  the same, every layer shaded as it is drawn (LitShading::kEveryLayer):
+//               what the one-layer shading bought
 //   nailboards.depth  the nailboards' depth alone (ShadePass::kDepthOnly: the packed map's read, the
 //               depth offset and the silhouette's discard, no colour): what a depth pre-pass costs
 //   full-volumes  the frame with shadows by volumes: kLit, billboard shadow volumes into the
@@ -131,8 +134,9 @@ struct Target : test::OffscreenTarget {
   }
 };
 
-enum class Method { kFloor, kNailboards, kFull, kFullMap, kDepthOnly };
-constexpr const char* kMethodNames[] = {"floor", "nailboards", "full-volumes", "full-map", "nailboards.depth"};
+enum class Method { kFloor, kNailboards, kFull, kFullMap, kDepthOnly, kEveryLayer };
+constexpr const char* kMethodNames[] = {"floor",    "nailboards",       "full-volumes",
+                                        "full-map", "nailboards.depth", "nailboards.every-layer"};
 
 // One frame's time; for kFull with split timing also each pass: clear + uploads + lit nailboards,
 // shadow volumes, shadowed nailboards.
@@ -173,6 +177,11 @@ struct Bench {
         break;
       case Method::kDepthOnly:
         renderer.drawNailboards(style, cel::ShadePass::kDepthOnly);
+        break;
+      case Method::kEveryLayer:
+        renderer.setLitShading(cel::LitShading::kEveryLayer);
+        renderer.drawNailboards(style, cel::ShadePass::kLit);
+        renderer.setLitShading(cel::LitShading::kOncePerPixel);
         break;
       case Method::kFullMap: {
         map.prepare(f, cel::particleBounds(ps), mapStyle());
@@ -419,6 +428,7 @@ int main(int argc, char** argv) {
       std::vector<Method> fast{Method::kFloor};
       if (runNailboards) fast.push_back(Method::kNailboards);
       if (runNailboards) fast.push_back(Method::kDepthOnly);
+      if (runNailboards) fast.push_back(Method::kEveryLayer);
       if (runMap) fast.push_back(Method::kFullMap);
       int warmUp = kWarmUp, timed = reps;
       for (int w = 0; w < warmUp; ++w) {

@@ -32,7 +32,7 @@ namespace {
 // ---- chosen binding points -----------------------------------------------------------------------
 
 // Points chosen one by one, none on a default one (uniform buffers 8-13, storage buffers 4-5, units
-// 16-23: core::BindingBase{} and its spans), in another order than the defaults'.
+// 16-24: core::BindingBase{} and its spans), in another order than the defaults'.
 cel::Bindings chosenCel() {
   cel::Bindings b;
   b.frameBlock = 7;
@@ -46,6 +46,7 @@ cel::Bindings chosenCel() {
   b.shadowProfile = 13;
   b.shadowMapDepth = 14;
   b.shadowMapIds = 15;
+  b.visibility = 6;
   return b;
 }
 
@@ -67,7 +68,7 @@ media::Bindings chosenMedia() {
   b.mediaDepth = 1;
   b.shimmer = 2;
   b.resolveSource = 3;
-  b.historyFirst = 24;  // 24-31: beyond kUnits, which is fine: nothing is compared there
+  b.historyFirst = 25;  // 25-32: beyond kUnits, which is fine: nothing is compared there
   b.cartoonBlock = 4;
   b.cartoonFirst = 5;
   return b;
@@ -240,6 +241,7 @@ TEST_F(HostState, BindingBasesMoveEveryPoint) {
   EXPECT_EQ(c.cells, 3u);
   EXPECT_EQ(c.ramp, 30u);
   EXPECT_EQ(c.shadowMapIds, 37u);
+  EXPECT_EQ(c.visibility, 38u);
   EXPECT_EQ(cel::Bindings{}, cel::Bindings::at(core::BindingBase{}));
   const media::Bindings m = media::Bindings::at(moved);
   EXPECT_EQ(m.mediaBlock, 4u);
@@ -325,11 +327,11 @@ TEST_F(HostState, GuardExtentCoversChosenPoints) {
   EXPECT_EQ(c.uniformBuffers, 8);
   EXPECT_EQ(c.storageBuffers, 4);
   const core::GuardExtent m = media::guardExtent(chosenMedia());
-  EXPECT_EQ(m.textureUnits, 32);
+  EXPECT_EQ(m.textureUnits, 33);
   EXPECT_EQ(m.uniformBuffers, 5);
   EXPECT_EQ(m.storageBuffers, 2);
   const core::GuardExtent both = c.cover(m);
-  EXPECT_EQ(both.textureUnits, 32);
+  EXPECT_EQ(both.textureUnits, 33);
   EXPECT_EQ(both.uniformBuffers, 8);
   EXPECT_EQ(both.storageBuffers, 4);
   // The defaults' extent is the guard's default.

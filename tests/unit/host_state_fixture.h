@@ -39,8 +39,9 @@ using State = std::map<std::string, std::string>;
 
 // ---- the snapshot: every piece of state core/host_state.h lists, and every piece any Puff call sets
 
-// Texture units looked at: Puff's defaults use 0-7, the chosen ones (host_state_bindings_test.cpp) up to 23.
-inline constexpr int kUnits = 24;
+// Texture units looked at: the guard's default extent, which holds every default point (and the
+// chosen ones of host_state_bindings_test.cpp).
+inline constexpr int kUnits = core::GuardExtent{}.textureUnits;
 inline constexpr int kIndexed = 16;     // uniform and storage buffer bindings looked at
 inline constexpr int kDrawBuffers = 2;  // per-draw-buffer blend state and colour masks
 

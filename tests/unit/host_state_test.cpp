@@ -107,16 +107,17 @@ TEST_F(HostState, CelCallsLeaveWhatTheirHeadersList) {
       {"Gradient::bind", [&] { kit.gradient->bind(b); }, texture(b.gradient, "2D")},
       {"NailboardRenderer::upload", [&] { kit.nailboards->upload(puffs()); }, {}},
       {"NailboardRenderer::drawNailboards(kLit)", [&] { kit.nailboards->drawNailboards(style, cel::ShadePass::kLit); },
-       lit + atlas(b), celHost},
+       lit + atlas(b) + texture(b.visibility, "2D"), celHost},
       {"NailboardRenderer::drawNailboards(kLit, no outlines)",
        [&] {
          cel::Style s = style;
          s.outlines = false;
          kit.nailboards->drawNailboards(s, cel::ShadePass::kLit);
        },
-       lit + atlas(b), celHost},
+       lit + atlas(b) + texture(b.visibility, "2D"), celHost},
       {"NailboardRenderer::drawNailboards(kShadowed)",
-       [&] { kit.nailboards->drawNailboards(style, cel::ShadePass::kShadowed); }, shadowed + atlas(b), shadowedHost},
+       [&] { kit.nailboards->drawNailboards(style, cel::ShadePass::kShadowed); },
+       shadowed + atlas(b) + texture(b.visibility, "2D"), shadowedHost},
       {"NailboardRenderer::drawNailboards(kDepthOnly)",
        [&] { kit.nailboards->drawNailboards(style, cel::ShadePass::kDepthOnly); }, lit + atlas(b), celHost},
       {"NailboardRenderer::drawBaseline", [&] { kit.nailboards->drawBaseline(style); }, lit + atlas(b), celHost},

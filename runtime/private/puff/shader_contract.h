@@ -11,6 +11,7 @@ inline constexpr int kMaxLights = PUFF_MAX_LIGHTS;
 inline constexpr int kMaxMaterials = PUFF_MAX_MATERIALS;
 inline constexpr int kMaxFireBands = PUFF_MAX_FIRE_BANDS;
 inline constexpr int kMaxBlurFrames = PUFF_MAX_BLUR_FRAMES;
+inline constexpr int kMaxDeferredSamples = PUFF_MAX_DEFERRED_SAMPLES;
 
 inline constexpr int kPassLit = PUFF_PASS_LIT;
 inline constexpr int kPassShadowed = PUFF_PASS_SHADOWED;

@@ -10,7 +10,7 @@ namespace puff::cel {
 core::GuardExtent guardExtent(const Bindings& b) {
   core::GuardExtent e;
   const unsigned units = std::max({b.ramp, b.gradient, b.atlasPacked, b.atlasColor, b.atlasBack, b.shadowProfile,
-                                   b.shadowMapDepth, b.shadowMapIds});
+                                   b.shadowMapDepth, b.shadowMapIds, b.visibility});
   e.textureUnits = static_cast<int>(units) + 1;
   e.uniformBuffers = static_cast<int>(b.frameBlock) + 1;
   e.storageBuffers = static_cast<int>(std::max(b.particles, b.cells)) + 1;
@@ -35,7 +35,8 @@ Result<void> validate(const Bindings& b) {
                                 {"atlasBack", b.atlasBack},
                                 {"shadowProfile", b.shadowProfile},
                                 {"shadowMapDepth", b.shadowMapDepth},
-                                {"shadowMapIds", b.shadowMapIds}});
+                                {"shadowMapIds", b.shadowMapIds},
+                                {"visibility", b.visibility}});
 }
 
 namespace detail {
@@ -52,7 +53,8 @@ void assignBindPoints(GLuint program, const Bindings& b) {
                                    {K::kSampler, "uBack", b.atlasBack},
                                    {K::kSampler, "uShadowProfile", b.shadowProfile},
                                    {K::kSampler, "uShadowMapDepth", b.shadowMapDepth},
-                                   {K::kSampler, "uShadowMapId", b.shadowMapIds}});
+                                   {K::kSampler, "uShadowMapId", b.shadowMapIds},
+                                   {K::kSampler, "uVisible", b.visibility}});
 }
 
 }  // namespace detail

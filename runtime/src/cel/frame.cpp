@@ -56,10 +56,12 @@ namespace {
 // The convention the cel passes test with: the last FrameBlock uploaded or bound on this thread (a
 // GL context is current on one thread).
 thread_local DepthConvention boundConvention = DepthConvention::kStandard;
+thread_local core::Viewport boundFrameViewport;
 
 }  // namespace
 
 DepthConvention boundDepthConvention() { return boundConvention; }
+core::Viewport boundViewport() { return boundFrameViewport; }
 
 namespace {
 
@@ -104,6 +106,7 @@ Result<void> FrameBlock::upload(const Frame& frame) {
   d.depthMode = glm::ivec4(static_cast<int>(frame.depth), frame.clipDepth == ClipDepth::kZeroToOne ? 1 : 0, 0, 0);
   glNamedBufferSubData(buffer_.get(), 0, sizeof d, &d);
   depth_ = frame.depth;
+  viewport_ = frame.viewport;
   bind();
   return {};
 }
@@ -113,6 +116,7 @@ void FrameBlock::bind() const {
   const GLuint b = buffer_.get();
   glBindBuffersBase(GL_UNIFORM_BUFFER, binding_, 1, &b);
   boundConvention = depth_;
+  boundFrameViewport = viewport_;
 }
 
 namespace {

@@ -15,66 +15,32 @@
 #include <puff/core/colour.h>
 #include <puff/core/shader.h>
 #include <puff/gl_api.h>
+#include <puff/shader_contract.h>
 
 #include "bindings_gl.h"
+#include "nailboard_programs.h"
+#include "visibility.h"
 
 namespace puff::cel {
 
+using detail::AtlasUniforms;
+using detail::DeferredPrograms;
+using detail::NailboardProgram;
+
 namespace {
 
-// Texture units and storage-buffer bindings: the host's Bindings (bindings.h), assigned to every
-// program in create().
 constexpr int kPolar = 32;  // directions of the silhouette radius table (shaders/cel/particle.glsl)
 
-struct AtlasUniforms {
-  GLint gridOrigin = -1, gridStep = -1, alignment = -1, layout = -1, geom = -1, scale = -1;
-  void find(GLuint program) {
-    gridOrigin = glGetUniformLocation(program, "uGridOrigin");
-    gridStep = glGetUniformLocation(program, "uGridStep");
-    alignment = glGetUniformLocation(program, "uAlignment");
-    layout = glGetUniformLocation(program, "uAtlasLayout");
-    geom = glGetUniformLocation(program, "uAtlasGeom");
-    scale = glGetUniformLocation(program, "uAtlasScale");
-  }
-};
-
-bool framebufferIsMultisampled() {
-  GLint sampleBuffers = 0;
+// The draw framebuffer's samples per pixel: 1 unless it is multisampled.
+int framebufferSamples() {
+  GLint sampleBuffers = 0, samples = 0;
   glGetIntegerv(GL_SAMPLE_BUFFERS, &sampleBuffers);
-  return sampleBuffers > 0;
+  if (sampleBuffers == 0) return 1;
+  glGetIntegerv(GL_SAMPLES, &samples);
+  return std::max(1, static_cast<int>(samples));
 }
 
 }  // namespace
-
-// One nailboard program variant (one view per cell, four blended, or the hull; one shade pass, or
-// the caster) and its uniforms.
-struct NailboardProgram {
-  core::Program program;
-  AtlasUniforms atlas;
-  GLint shading = -1, outlines = -1, outlineWidth = -1, outlineColor = -1, multisample = -1;
-  GLint casterBias = -1, eyeRight = -1, eyeUp = -1;  // the caster variants only (-1 elsewhere)
-
-  // `caster`: the shadow map's caster pass (drawn from the light).
-  static Result<NailboardProgram> build(const std::string& name, const std::string& fragment, bool caster) {
-    PUFF_TRY_ASSIGN(
-        auto p, core::buildProgram({"cel/" + name + ".vert", "cel/" + (fragment.empty() ? name : fragment) + ".frag"}));
-    NailboardProgram n;
-    n.program = std::move(p);
-    const GLuint id = n.program.get();
-    n.atlas.find(id);
-    n.shading = glGetUniformLocation(id, "uShading");
-    n.outlines = glGetUniformLocation(id, "uOutlines");
-    n.outlineWidth = glGetUniformLocation(id, "uOutlineWidth");
-    n.outlineColor = glGetUniformLocation(id, "uOutlineColor");
-    n.multisample = glGetUniformLocation(id, "uMultisample");
-    n.casterBias = glGetUniformLocation(id, "uShadowBias");
-    n.eyeRight = glGetUniformLocation(id, "uEyeRight");
-    n.eyeUp = glGetUniformLocation(id, "uEyeUp");
-    // The caster variants draw from the light in every call: their vertex stage's mode is fixed.
-    if (caster) glProgramUniform1i(id, glGetUniformLocation(id, "uCaster"), 1);
-    return n;
-  }
-};
 
 namespace {
 
@@ -95,7 +61,8 @@ std::size_t passProgramIndex(ShadePass pass) {
 Result<PassPrograms> buildPassPrograms(const std::string& vertex, const std::string& fragment) {
   PassPrograms out;
   for (std::size_t i = 0; i < kPassPrograms.size(); ++i) {
-    PUFF_TRY_ASSIGN(out[i], NailboardProgram::build(vertex, fragment + kPassPrograms[i].second, false));
+    PUFF_TRY_ASSIGN(out[i], NailboardProgram::build("cel/" + vertex + ".vert",
+                                                    "cel/" + fragment + kPassPrograms[i].second + ".frag", false));
   }
   return out;
 }
@@ -108,6 +75,17 @@ struct NailboardRenderer::Impl {
   // One program per shade pass (kPassPrograms' order), and one caster.
   PassPrograms singleView, multiView, hullView;
   NailboardProgram singleCaster, multiCaster, hullCaster;
+  // The lit pass of one view and of four blended, shading each pixel once: the visibility pre-pass
+  // into Puff's own target, then the deferred shading of each pixel's particles (drawNailboards);
+  // the shadowed pass's deferred shading reads the lit pass's visibility.
+  DeferredPrograms singleDeferred, multiDeferred;
+  detail::VisibilityTarget visibility;
+  // What the visibility target holds: the particles of upload number `visibleUpload` (0: none) in
+  // this viewport, at these samples.
+  std::uint64_t uploads = 0, visibleUpload = 0;
+  core::Viewport visibleViewport;
+  int visibleSamples = 0;
+  LitShading litShading = LitShading::kOncePerPixel;
   core::Program shadow, sprite;
   AtlasUniforms svAtlas, spAtlas;
   GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1, shadowBackFace = -1;
@@ -144,6 +122,22 @@ struct NailboardRenderer::Impl {
     // The silhouette's radius table: the shadow volumes' sides, small nailboards' silhouettes and bands.
     core::bindTextureAndNoSampler(bindings.shadowProfile, shadowProfile.get());
   }
+  // What every nailboard program reads besides the atlas: the style's shading and outlines.
+  void setUniforms(const NailboardProgram& nb, const Style& style, int samples) const {
+    const GLuint p = nb.program.get();
+    setCommon(p, nb.atlas, style);
+    glProgramUniform1i(p, nb.shading, style.shading ? 1 : 0);
+    glProgramUniform1i(p, nb.outlines, style.outlines ? 1 : 0);
+    glProgramUniform1f(p, nb.outlineWidth, std::max(0.0f, style.outlineWidth));
+    const glm::vec3 ink = core::linearToSrgb(style.outlineColor);  // the shader mixes display values
+    glProgramUniform3fv(p, nb.outlineColor, 1, glm::value_ptr(ink));
+    glProgramUniform1i(p, nb.multisample, samples > 1 ? 1 : 0);
+    glProgramUniform1i(p, nb.samples, samples);
+  }
+  // The pre-pass of the lit pass shading each pixel once: the particles' ids and depths into the
+  // visibility target; then the screen pass of `pass` over it. Each sets every state it relies on.
+  void drawVisibility(const NailboardProgram& visible, const Style& style, int samples);
+  void drawScreen(const NailboardProgram& shade, ShadePass pass, const Style& style, int samples);
   // Every draw ends here: no program or vertex array of Puff's stays bound (a host binding an
   // element buffer next would otherwise change Puff's vertex array).
   static void unbind() {
@@ -162,18 +156,19 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
   m.bindings = bindings;
   PUFF_TRY_ASSIGN(auto single, buildPassPrograms("nailboard", "nailboard"));
   PUFF_TRY_ASSIGN(auto multi, buildPassPrograms("nailboard_views", "nailboard_views"));
-  PUFF_TRY_ASSIGN(auto singleCaster, NailboardProgram::build("nailboard", "nailboard_caster", true));
-  PUFF_TRY_ASSIGN(auto multiCaster, NailboardProgram::build("nailboard_views", "nailboard_views_caster", true));
+  PUFF_TRY_ASSIGN(m.singleCaster, NailboardProgram::build("cel/nailboard.vert", "cel/nailboard_caster.frag", true));
+  PUFF_TRY_ASSIGN(m.multiCaster,
+                  NailboardProgram::build("cel/nailboard_views.vert", "cel/nailboard_views_caster.frag", true));
   PUFF_TRY_ASSIGN(auto hull, buildPassPrograms("nailboard_views", "nailboard_hull"));
-  PUFF_TRY_ASSIGN(auto hullCaster, NailboardProgram::build("nailboard_views", "nailboard_hull_caster", true));
+  PUFF_TRY_ASSIGN(m.hullCaster,
+                  NailboardProgram::build("cel/nailboard_views.vert", "cel/nailboard_hull_caster.frag", true));
+  PUFF_TRY_ASSIGN(m.singleDeferred, DeferredPrograms::build("nailboard"));
+  PUFF_TRY_ASSIGN(m.multiDeferred, DeferredPrograms::build("nailboard_views"));
   PUFF_TRY_ASSIGN(auto sv, core::buildProgram({"cel/shadow.vert", "cel/shadow.frag"}));
   PUFF_TRY_ASSIGN(auto sp, core::buildProgram({"cel/sprite.vert", "cel/sprite.frag"}));
   m.singleView = std::move(single);
   m.multiView = std::move(multi);
-  m.singleCaster = std::move(singleCaster);
-  m.multiCaster = std::move(multiCaster);
   m.hullView = std::move(hull);
-  m.hullCaster = std::move(hullCaster);
   m.shadow = std::move(sv);
   m.sprite = std::move(sp);
   m.svAtlas.find(m.shadow.get());
@@ -184,6 +179,9 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
   m.shadowBackFace = glGetUniformLocation(m.shadow.get(), "uBackFace");
   for (const PassPrograms* variant : {&m.singleView, &m.multiView, &m.hullView}) {
     for (const NailboardProgram& nb : *variant) detail::assignBindPoints(nb.program.get(), bindings);
+  }
+  for (const DeferredPrograms* variant : {&m.singleDeferred, &m.multiDeferred}) {
+    for (const NailboardProgram* nb : variant->all()) detail::assignBindPoints(nb->program.get(), bindings);
   }
   for (const GLuint p : {m.singleCaster.program.get(), m.multiCaster.program.get(), m.hullCaster.program.get(),
                          m.shadow.get(), m.sprite.get()}) {
@@ -395,6 +393,7 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   m.back = std::move(back);
   m.desc = d;
   m.hasAtlas = true;
+  m.visibleUpload = 0;  // drawn with other maps
   return {};
 }
 
@@ -402,6 +401,7 @@ DrawStats NailboardRenderer::upload(std::span<const Particle> particles) {
   Impl& m = *impl_;
   m.bounds = packParticles(particles, m.packed);
   m.count = particles.size();
+  ++m.uploads;
   const std::size_t bytes = m.packed.size() * sizeof(PackedParticle);
   // Orphan and refill: the driver hands out fresh storage while the last frame may still read it.
   if (bytes > 0) {
@@ -427,16 +427,26 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   const PassPrograms& variant = m.desc.views == 1                     ? m.singleView
                                 : style.tumble == TumbleMethod::kHull ? m.hullView
                                                                       : m.multiView;
+  const int samples = framebufferSamples();
+  const bool msaa = samples > 1;
+  // The lit pass shades each pixel once: a visibility pre-pass into Puff's own target finds each
+  // pixel's nearest particle (each sample's), a screen pass shades it (one view, or four blended;
+  // the tumbling hull is drawn forward, as is a target of more samples than the pass reads). The
+  // shadowed pass after it shades what it found, once per pixel too.
+  const DeferredPrograms& deferred = &variant == &m.singleView ? m.singleDeferred : m.multiDeferred;
+  const bool onceLit = pass == ShadePass::kLit && m.litShading == LitShading::kOncePerPixel &&
+                       &variant != &m.hullView && samples <= shader::kMaxDeferredSamples;
+  const bool onceShadowed = pass == ShadePass::kShadowed && &variant != &m.hullView && m.visibleUpload == m.uploads &&
+                            m.visibleViewport == boundViewport() && m.visibleSamples == samples;
+  if (onceLit || onceShadowed) {
+    if (onceLit) m.drawVisibility(deferred.visible, style, samples);
+    m.drawScreen(deferred.screen(pass, msaa), pass, style, samples);
+    s.drawCalls = onceLit ? 2 : 1;
+    return s;
+  }
   const NailboardProgram& nb = variant[passProgramIndex(pass)];
   const GLuint p = nb.program.get();
-  m.setCommon(p, nb.atlas, style);
-  glProgramUniform1i(p, nb.shading, style.shading ? 1 : 0);
-  glProgramUniform1i(p, nb.outlines, style.outlines ? 1 : 0);
-  glProgramUniform1f(p, nb.outlineWidth, std::max(0.0f, style.outlineWidth));
-  const glm::vec3 ink = core::linearToSrgb(style.outlineColor);  // the shader mixes display values
-  glProgramUniform3fv(p, nb.outlineColor, 1, glm::value_ptr(ink));
-  const bool msaa = framebufferIsMultisampled();
-  glProgramUniform1i(p, nb.multisample, msaa ? 1 : 0);
+  m.setUniforms(nb, style, samples);
 
   // Every state this pass relies on is set here.
   glUseProgram(p);
@@ -457,6 +467,47 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   s.drawCalls = 1;
   return s;
 }
+
+void NailboardRenderer::Impl::drawVisibility(const NailboardProgram& visible, const Style& style, int samples) {
+  Impl& m = *this;
+  GLint host = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &host);
+  // The pre-pass: the nailboards' depth and id into Puff's own target (the host's depth is not
+  // needed: where the nearest particle lies behind it, so do all the others).
+  m.setUniforms(visible, style, samples);
+  glUseProgram(visible.program.get());
+  resetPassState();
+  if (samples > 1) glEnable(GL_MULTISAMPLE);
+  applyShadePass(ShadePass::kLit);
+  // (The target stays on unit `visibility` while it is drawn into: no sampler of this program reads
+  // it, so that is no feedback loop.)
+  m.visibility.begin(boundViewport(), samples, detail::hostDepthFormat(static_cast<GLuint>(host)),
+                     boundDepthConvention());
+  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(host));
+  m.visibleUpload = m.uploads;
+  m.visibleViewport = boundViewport();
+  m.visibleSamples = samples;
+}
+
+void NailboardRenderer::Impl::drawScreen(const NailboardProgram& shade, ShadePass pass, const Style& style,
+                                         int samples) {
+  // The shading, once per pixel the pre-pass covered, at the depth it found (the host's depth test;
+  // the shadowed pass's, EQUAL, meets the depth the lit pass wrote).
+  setUniforms(shade, style, samples);
+  core::bindTextureAndNoSampler(bindings.visibility, visibility.texture());
+  glUseProgram(shade.program.get());
+  resetPassState();
+  if (samples > 1) glEnable(GL_MULTISAMPLE);
+  applyShadePass(pass);
+  // The shader's alpha is not the frame's (drawNailboards).
+  glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  restoreWriteMasks();
+  Impl::unbind();
+}
+
+void NailboardRenderer::setLitShading(LitShading shading) { impl_->litShading = shading; }
 
 DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& eye) {
   const core::DebugGroup group("nailboards (shadow casters)");

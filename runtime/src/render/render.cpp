@@ -136,12 +136,13 @@ struct SceneRenderer::Impl {
   detail::Target target;
   std::vector<HistoryTag> history;    // motion blur's kept frames, one per slot
   int pathWidth = 0, pathHeight = 0;  // the frame size the path was made for
-  // The benchmarks' and tests' switches (setFillRateFloor, setMediaOverWholeFrame), kept across
-  // the paths a renderer makes again.
-  bool fillRateFloor = false, mediaOverWholeFrame = false;
+  // The benchmarks' and tests' switches (setFillRateFloor, setMediaOverWholeFrame,
+  // setLitEveryLayer), kept across the paths a renderer makes again.
+  bool fillRateFloor = false, mediaOverWholeFrame = false, litEveryLayer = false;
   void configure(Path& p) const {
     p.setFillRateFloor(fillRateFloor);
     p.setMediaOverWholeFrame(mediaOverWholeFrame);
+    p.setLitEveryLayer(litEveryLayer);
   }
 };
 
@@ -153,6 +154,11 @@ TargetNeeds SceneRenderer::targetNeeds() const { return impl_->path->targetNeeds
 
 void SceneRenderer::setFillRateFloor(bool on) {
   impl_->fillRateFloor = on;
+  impl_->configure(*impl_->path);
+}
+
+void SceneRenderer::setLitEveryLayer(bool on) {
+  impl_->litEveryLayer = on;
   impl_->configure(*impl_->path);
 }
 

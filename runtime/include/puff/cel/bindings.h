@@ -18,11 +18,12 @@
 //   shadowProfile        texture unit     5       21       the silhouettes' radius table, 2D
 //   shadowMapDepth       texture unit     6       22       ShadowMap::bind, 2D depth
 //   shadowMapIds         texture unit     7       23       ShadowMap::bind, 2D R32UI
+//   visibility           texture unit     8       24       the nailboards' visibility pre-pass, 2D RG32UI
 //
 // The renderers point their programs' blocks and samplers at these after linking
 // (glUniformBlockBinding, glShaderStorageBlockBinding, glProgramUniform1i): the shaders'
 // `layout(binding = N)` values are never used. A host may still set a point on its own. The texture
-// units must all differ (one program reads up to all eight), as must the two storage buffers; the
+// units must all differ (one program reads up to all nine), as must the two storage buffers; the
 // uniform buffer is alone. create() checks them against the GL's GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS,
 // GL_MAX_UNIFORM_BUFFER_BINDINGS and GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS. Every object that binds
 // (FrameBlock, Ramp, Gradient, ShadowMap) must be given the same Bindings as the renderers that read
@@ -41,7 +42,7 @@ struct Bindings {
     static constexpr unsigned frameBlock = 0;            // uniform buffers
     static constexpr unsigned particles = 0, cells = 1;  // storage buffers
     static constexpr unsigned ramp = 0, gradient = 1, atlasPacked = 2, atlasColor = 3, atlasBack = 4, shadowProfile = 5,
-                              shadowMapDepth = 6, shadowMapIds = 7;  // texture units
+                              shadowMapDepth = 6, shadowMapIds = 7, visibility = 8;  // texture units
   };
   static constexpr core::BindingBase kDefaultBase{};
 
@@ -56,6 +57,7 @@ struct Bindings {
   unsigned shadowProfile = kDefaultBase.textureUnit + Offset::shadowProfile;
   unsigned shadowMapDepth = kDefaultBase.textureUnit + Offset::shadowMapDepth;
   unsigned shadowMapIds = kDefaultBase.textureUnit + Offset::shadowMapIds;
+  unsigned visibility = kDefaultBase.textureUnit + Offset::visibility;  ///< texture unit: the nailboards' pre-pass
   bool operator==(const Bindings&) const = default;
 
   /// Every point at its offset from `base`.
@@ -70,7 +72,8 @@ struct Bindings {
             .atlasBack = base.textureUnit + Offset::atlasBack,
             .shadowProfile = base.textureUnit + Offset::shadowProfile,
             .shadowMapDepth = base.textureUnit + Offset::shadowMapDepth,
-            .shadowMapIds = base.textureUnit + Offset::shadowMapIds};
+            .shadowMapIds = base.textureUnit + Offset::shadowMapIds,
+            .visibility = base.textureUnit + Offset::visibility};
   }
 };
 static_assert(Bindings{} == Bindings::at(Bindings::kDefaultBase));

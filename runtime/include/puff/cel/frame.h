@@ -116,6 +116,9 @@ float clearDepth(DepthConvention convention);
 /// The convention of the FrameBlock last uploaded or bound on this thread (kStandard before any):
 /// the cel passes take their depth test from it (nearerDepthFunc(boundDepthConvention())).
 DepthConvention boundDepthConvention();
+/// The viewport of the FrameBlock last uploaded or bound on this thread (empty before any): the
+/// nailboards' visibility pre-pass sizes its target from it (NailboardRenderer::drawNailboards).
+core::Viewport boundViewport();
 
 /// The frame's uniform buffer (shaders/common/frame.glsl) on uniform binding `bindings.frameBlock`
 /// (cel/bindings.h). Owns one GL buffer.
@@ -124,13 +127,14 @@ class FrameBlock {
   /// Needs a current GL 4.5 context. `bindings`: the renderers' (only frameBlock is used).
   explicit FrameBlock(const Bindings& bindings = {});
   /// Fills the buffer from `frame` (glNamedBufferSubData: no binding used) and binds it (bind()).
-  /// The frame's depth convention becomes the one the cel passes test with (boundDepthConvention).
+  /// The frame's depth convention becomes the one the cel passes test with (boundDepthConvention),
+  /// its viewport the one they draw in (boundViewport).
   /// Errors (nothing uploaded, nothing bound): planes not finite with nearPlane < farPlane.
   /// Leaves: uniform buffer binding `frameBlock` = this block (whole buffer). Nothing else; the
   /// generic GL_UNIFORM_BUFFER binding is untouched (glBindBuffersBase).
   Result<void> upload(const Frame& frame);
   /// Binds it to uniform binding `frameBlock` again (after the host used it for something else),
-  /// its depth convention with it.
+  /// its depth convention and viewport with it.
   /// Leaves what upload leaves.
   void bind() const;
   core::GlId buffer() const { return buffer_.get(); }
@@ -138,6 +142,7 @@ class FrameBlock {
  private:
   core::Buffer buffer_;
   DepthConvention depth_ = DepthConvention::kStandard;
+  core::Viewport viewport_;
   core::GlId binding_ = 0;
 };
 

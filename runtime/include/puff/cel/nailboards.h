@@ -7,7 +7,8 @@
 //      upload a FrameBlock; bind Ramp and Gradient;
 //   2. draw opaque geometry lit, writing depth in the frame's convention (OpaqueRenderer, or the
 //      host's own shaders: linear depth for kLinear, plain gl_Position depth for the others);
-//   3. NailboardRenderer::drawNailboards(..., ShadePass::kLit);
+//   3. NailboardRenderer::drawNailboards(..., ShadePass::kLit) (each pixel shaded once: a pre-pass
+//      into Puff's own target, then one pass over the viewport; drawNailboards says what it leaves);
 //   with shadow volumes (Style::shadowMethod kVolumes; the shadow map's frame is in shadow_map.h):
 //   4. NailboardRenderer::drawShadowVolumes(...) counts into the stencil buffer (depth-fail);
 //   5. every receiver is drawn again with ShadePass::kShadowed: depth test EQUAL, only where the
@@ -107,6 +108,17 @@ struct DrawStats {
   std::size_t drawCalls = 0;
 };
 
+/// How the lit pass shades (NailboardRenderer::drawNailboards, ShadePass::kLit).
+enum class LitShading {
+  /// Each pixel once: a visibility pre-pass draws the nailboards' depth and particle id into Puff's
+  /// own target, then one pass over the viewport shades each pixel's nearest particle there, at that
+  /// depth. The default. On a multisampled framebuffer, and for the tumbling hull, kEveryLayer.
+  kOncePerPixel,
+  /// Every layer as it is drawn (the nailboards' quads, depth-tested): the yardstick kOncePerPixel
+  /// is checked and timed against.
+  kEveryLayer,
+};
+
 class NailboardRenderer {
  public:
   /// Builds the programs and points them at `bindings` (validated: cel::validate). Needs a current
@@ -134,14 +146,29 @@ class NailboardRenderer {
   /// already bound (FrameBlock::upload), the ramp and the gradient on their units (Ramp::bind,
   /// Gradient::bind). Binds the atlas on units `atlasPacked` (packed normal, depth, distance),
   /// `atlasColor` and `atlasBack` (the back map, or a texel of 0) and the silhouette's radius table on `shadowProfile`
-  /// (small puffs' silhouettes and ink bands: shaders/cel/particle.glsl, silhouetteRadius). Leaves: the pass state; its
-  /// atlas; no program, no vertex array; write masks on; and per pass
+  /// (small puffs' silhouettes and ink bands: shaders/cel/particle.glsl, silhouetteRadius).
+  /// kLit shades each pixel once (LitShading::kOncePerPixel; one view or four blended, up to
+  /// PUFF_MAX_DEFERRED_SAMPLES samples; the tumbling hull is drawn as kEveryLayer): a pre-pass draws
+  /// the nailboards' depth and particle ids into Puff's own target (sized from the bound frame's
+  /// viewport, its depth buffer of the framebuffer's depth format; the host's framebuffer gets no
+  /// attachment), then one triangle over the viewport shades each pixel's particles there and
+  /// writes their depth, depth-tested as the quads were. Multisampled, a pixel's samples take the
+  /// average of its particles' colours, and the depth of the one covering most of them (only along
+  /// silhouettes does a sample's depth differ from the quads'). kShadowed after a kLit of the same
+  /// upload, viewport and samples shades what that pre-pass found, once per pixel too (its depth
+  /// test EQUAL meets the depth kLit wrote); otherwise every layer. Queries the draw framebuffer's
+  /// binding (put back after the pre-pass), samples and depth format.
+  /// Leaves: the pass state; its atlas; no program, no vertex array; write masks on; and per pass
   ///   kLit, kDepthOnly: depth function GL_LESS, stencil test off;
   ///   kShadowed: depth function GL_EQUAL, stencil test ON, stencil function GL_NOTEQUAL, reference
-  ///              0, value mask 0xFF and operations GL_KEEP x 3, front and back.
+  ///              0, value mask 0xFF and operations GL_KEEP x 3, front and back;
+  ///   kLit, and kShadowed shading once per pixel: unit `visibility` = the pre-pass's target (2D, or
+  ///              2D multisample on a multisampled framebuffer), sampler 0 there.
   /// On a multisampled framebuffer also GL_MULTISAMPLE on. Nothing at all with no particles or no
   /// atlas (it returns before any GL call).
   DrawStats drawNailboards(const Style& style, ShadePass pass);
+  /// Tests and benchmarks: how the lit pass shades (kOncePerPixel by default).
+  void setLitShading(LitShading shading);
 
   /// The benchmark's fill-rate floor: the same quads with the colour map alpha-tested, nothing
   /// else (no shading, depth offset or outlines); the nearer depth test (nearerDepthFunc) with the quad's own depth.

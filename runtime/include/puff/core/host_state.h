@@ -48,7 +48,7 @@ namespace puff::core {
 /// point of cel::Bindings and media::Bindings; cel::guardExtent / media::guardExtent give the
 /// extent of chosen ones (GuardExtent::cover joins two).
 struct GuardExtent {
-  int textureUnits = static_cast<int>(BindingBase{}.textureUnit + kTextureUnitSpan);        ///< units 0-23
+  int textureUnits = static_cast<int>(BindingBase{}.textureUnit + kTextureUnitSpan);        ///< units 0-24
   int uniformBuffers = static_cast<int>(BindingBase{}.uniformBuffer + kUniformBufferSpan);  ///< bindings 0-13
   int storageBuffers = static_cast<int>(BindingBase{}.storageBuffer + kStorageBufferSpan);  ///< bindings 0-5
   int drawBuffers = 4;  ///< per-draw-buffer blend state and colour masks 0-3

@@ -140,6 +140,8 @@ class Path {
   virtual void setFillRateFloor(bool) {}
   /// Tests and benchmarks: the media passes over the whole frame (see SceneRenderer).
   virtual void setMediaOverWholeFrame(bool) {}
+  /// Tests and benchmarks: the nailboards' lit pass shades every layer (see SceneRenderer).
+  virtual void setLitEveryLayer(bool) {}
   /// The media layers drawn into for a viewport of this size (made on first use), or null when the
   /// path draws no media. Motion blur keeps its history there. Errors: the layers could not be made.
   virtual Result<media::Layers*> mediaLayers(const scene::Scene&, const cel::Viewport&) { return nullptr; }

@@ -1,0 +1,40 @@
+// Internal: the nailboards' visibility target, Puff's own framebuffer for the lit pass's pre-pass
+// (NailboardRenderer::drawNailboards): per pixel the nearest particle's id and the depth it stores,
+// for the deferred shading pass that shades that particle alone. Never attached to a host's
+// framebuffer.
+#pragma once
+
+#include <puff/cel/frame.h>
+#include <puff/core/gl.h>
+#include <puff/core/viewport.h>
+#include <puff/gl_api.h>
+
+namespace puff::cel::detail {
+
+/// The depth format of the current draw framebuffer's depth buffer: GL_DEPTH_COMPONENT16, 24 or
+/// 32F (32-bit float; also when it has none, or one of another kind).
+GLenum hostDepthFormat(GLuint framebuffer);
+
+class VisibilityTarget {
+ public:
+  /// Makes (or remakes, when the viewport outgrows it or the samples change) a target of `samples`
+  /// per pixel spanning `viewport` from the framebuffer's origin, so its pixels are the host's
+  /// pixels at the same viewport; binds it as the draw framebuffer and clears it: ids 0, depth
+  /// clearDepth(convention). Needs the scissor test and rasterizer discard off, depth and draw
+  /// buffer 0's colour writes on (they limit clears).
+  /// Its depth buffer is `depthFormat` (hostDepthFormat: the host's, so that two particles tie
+  /// where they tie on the host's buffer and the same one wins).
+  void begin(const core::Viewport& viewport, int samples, GLenum depthFormat, DepthConvention convention);
+  /// The RG32UI texture (2D, or 2D multisample): x the particle id + 1 (0: none), y the bits of the
+  /// float depth stored.
+  GLuint texture() const { return ids_.get(); }
+
+ private:
+  core::Framebuffer fbo_;
+  core::Texture ids_;
+  core::Renderbuffer depth_;
+  int width_ = 0, height_ = 0, samples_ = 0;
+  GLenum depthFormat_ = 0;
+};
+
+}  // namespace puff::cel::detail
