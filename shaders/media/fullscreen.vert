@@ -1,6 +1,5 @@
 #version 450 core
-// One triangle over the whole viewport (the media's depth downsample and composition, the
-// nailboards' deferred shading pass).
+// One triangle over the whole viewport (for the depth downsample and the composition).
 void main() {
   const vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
   gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);

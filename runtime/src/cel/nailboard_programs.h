@@ -31,6 +31,7 @@ struct NailboardProgram {
   AtlasUniforms atlas;
   GLint shading = -1, outlines = -1, outlineWidth = -1, outlineColor = -1, multisample = -1, samples = -1;
   GLint casterBias = -1, eyeRight = -1, eyeUp = -1;  // the caster variants only (-1 elsewhere)
+  GLint boxMin = -1, boxMax = -1, padPixels = -1;    // the deferred screen passes only
 
   // Shader files `vertex` and `fragment` (paths under shaders/); `caster`: the shadow map's caster
   // pass (drawn from the light).
@@ -49,6 +50,9 @@ struct NailboardProgram {
     n.casterBias = glGetUniformLocation(id, "uShadowBias");
     n.eyeRight = glGetUniformLocation(id, "uEyeRight");
     n.eyeUp = glGetUniformLocation(id, "uEyeUp");
+    n.boxMin = glGetUniformLocation(id, "uBoxMin");
+    n.boxMax = glGetUniformLocation(id, "uBoxMax");
+    n.padPixels = glGetUniformLocation(id, "uPadPixels");
     // The caster variants draw from the light in every call: their vertex stage's mode is fixed.
     if (caster) glProgramUniform1i(id, glGetUniformLocation(id, "uCaster"), 1);
     return n;
@@ -63,7 +67,7 @@ struct DeferredPrograms {
   // `name`: nailboard or nailboard_views.
   static Result<DeferredPrograms> build(const std::string& name) {
     DeferredPrograms d;
-    const std::string screen = "media/fullscreen.vert", cel = "cel/" + name;
+    const std::string screen = "cel/screen_rect.vert", cel = "cel/" + name;
     PUFF_TRY_ASSIGN(d.visible, NailboardProgram::build(cel + ".vert", cel + "_visible.frag", false));
     PUFF_TRY_ASSIGN(d.lit, NailboardProgram::build(screen, cel + "_deferred.frag", false));
     PUFF_TRY_ASSIGN(d.litMs, NailboardProgram::build(screen, cel + "_deferred_ms.frag", false));

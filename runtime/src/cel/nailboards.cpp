@@ -4,6 +4,7 @@
 #include <span>
 #include <utility>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/matrix.hpp>
@@ -85,6 +86,10 @@ struct NailboardRenderer::Impl {
   std::uint64_t uploads = 0, visibleUpload = 0;
   core::Viewport visibleViewport;
   int visibleSamples = 0;
+  // The drawn particles' centres' box and largest size (upload).
+  glm::vec3 boxMin{0.0f}, boxMax{0.0f};
+  float maxSize = 0.0f;
+  bool anyDrawn = false;
   LitShading litShading = LitShading::kOncePerPixel;
   core::Program shadow, sprite;
   AtlasUniforms svAtlas, spAtlas;
@@ -402,6 +407,19 @@ DrawStats NailboardRenderer::upload(std::span<const Particle> particles) {
   m.bounds = packParticles(particles, m.packed);
   m.count = particles.size();
   ++m.uploads;
+  // The box the deferred screen pass covers (drawScreen): every drawn particle's centre, and the
+  // largest size.
+  m.anyDrawn = false;
+  m.maxSize = 0.0f;
+  for (const Particle& p : particles) {
+    const glm::vec3 c = p.position;
+    if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z) && std::isfinite(p.size) && p.size > 0.0f))
+      continue;
+    m.boxMin = m.anyDrawn ? glm::min(m.boxMin, p.position) : p.position;
+    m.boxMax = m.anyDrawn ? glm::max(m.boxMax, p.position) : p.position;
+    m.maxSize = std::max(m.maxSize, p.size);
+    m.anyDrawn = true;
+  }
   const std::size_t bytes = m.packed.size() * sizeof(PackedParticle);
   // Orphan and refill: the driver hands out fresh storage while the last frame may still read it.
   if (bytes > 0) {
@@ -495,6 +513,17 @@ void NailboardRenderer::Impl::drawScreen(const NailboardProgram& shade, ShadePas
   // The shading, once per pixel the pre-pass covered, at the depth it found (the host's depth test;
   // the shadowed pass's, EQUAL, meets the depth the lit pass wrote).
   setUniforms(shade, style, samples);
+  // Over the screen rectangle the quads can cover: the centres' box grown by a grid step (the
+  // packed positions' rounding) and the largest quad's half-diagonal (a quad spans at least the
+  // whole cell, halfCell diameters from its centre; one larger for its ink is larger by the ink's
+  // pixels, in the pad), padded by the ink band, its antialiased edge and a pixel (the
+  // rasterizer's rounding).
+  const float halfCell = 0.5f * static_cast<float>(desc.cellSize) / static_cast<float>(std::max(1, desc.contentSize));
+  const float reach = maxSize * std::max(halfCell, 0.5f) * std::sqrt(2.0f) * (1.0f + 1e-4f);
+  const GLuint p = shade.program.get();
+  glProgramUniform3fv(p, shade.boxMin, 1, glm::value_ptr(boxMin - bounds.step - glm::vec3(reach)));
+  glProgramUniform3fv(p, shade.boxMax, 1, glm::value_ptr(boxMax + bounds.step + glm::vec3(reach)));
+  glProgramUniform1f(p, shade.padPixels, (style.outlines ? std::max(0.0f, style.outlineWidth) : 0.0f) + 2.5f);
   core::bindTextureAndNoSampler(bindings.visibility, visibility.texture());
   glUseProgram(shade.program.get());
   resetPassState();
@@ -502,7 +531,7 @@ void NailboardRenderer::Impl::drawScreen(const NailboardProgram& shade, ShadePas
   applyShadePass(pass);
   // The shader's alpha is not the frame's (drawNailboards).
   glColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_FALSE);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  if (anyDrawn) glDrawArrays(GL_TRIANGLES, 0, 6);
   restoreWriteMasks();
   Impl::unbind();
 }
