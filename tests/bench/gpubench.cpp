@@ -8,6 +8,8 @@
 //                 puffs filling the same cloud), S x S pixels, no shadows; N 1k, 10k, 50k; S 512, 1024
 //   full-map      the same with shadows by the map
 //   full-volumes  the same with shadows by volumes
+//                 (these three: the baseline is the case with its lit nailboards shading every layer,
+//                 GROUP.every-layer-N-S, SceneRenderer::setLitEveryLayer)
 //   cloud-50k     the scene as it is, at 1920 x 1080
 //   blend, hull   dust-roll frames 30-35 at 960 x 540, its oriented puffs drawn by blending views /
 //                 by the hull (style.tumble); the hull's baseline is the blend
@@ -39,6 +41,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -82,6 +85,10 @@ struct Case {
   std::vector<int> frames{0};
   std::function<void(scene::Scene&)> edit = [](scene::Scene&) {};
   std::string baseline;  ///< another case's name (same samples), measured in the same rounds; empty: none
+  /// The baseline is this case with its lit nailboards shading every layer
+  /// (SceneRenderer::setLitEveryLayer), named `baseline`: what shading each pixel once buys.
+  bool baselineEveryLayer = false;
+  bool everyLayer = false;  ///< the nailboards' lit pass shades every layer
 };
 
 struct Timing {
@@ -113,7 +120,8 @@ std::vector<Case> plan(const Options& o) {
                          samples,
                          {0},
                          cel(false, cel::ShadowMethod::kMap),
-                         ""});
+                         "nailboards.every-layer" + tag,
+                         true});
         cases.push_back({"full-map",
                          "full-map" + tag,
                          "cloud-50k.json",
@@ -122,7 +130,8 @@ std::vector<Case> plan(const Options& o) {
                          samples,
                          {0},
                          cel(true, cel::ShadowMethod::kMap),
-                         ""});
+                         "full-map.every-layer" + tag,
+                         true});
         cases.push_back({"full-volumes",
                          "full-volumes" + tag,
                          "cloud-50k.json",
@@ -131,7 +140,8 @@ std::vector<Case> plan(const Options& o) {
                          samples,
                          {0},
                          cel(true, cel::ShadowMethod::kVolumes),
-                         ""});
+                         "full-volumes.every-layer" + tag,
+                         true});
       }
     }
     const int cloudWidth = o.quick ? 480 : 1920, cloudHeight = o.quick ? 270 : 1080;
@@ -240,6 +250,7 @@ Result<Setup> setUp(const Options& o, const Case& c, bool floor) {
   Setup setup;
   PUFF_TRY_ASSIGN(setup.renderer, render::SceneRenderer::create(s, render::RenderPath::kCel));
   setup.renderer->setFillRateFloor(floor);
+  setup.renderer->setLitEveryLayer(c.everyLayer);
   setup.frames = c.frames;
   return setup;
 }
@@ -522,6 +533,15 @@ int main(int argc, char** argv) {
     const Case* baseline = nullptr;
     for (const Case& b : cases) {
       if (!c.baseline.empty() && b.name == c.baseline && b.samples == c.samples) baseline = &b;
+    }
+    std::optional<Case> everyLayer;
+    if (c.baselineEveryLayer) {
+      everyLayer = c;
+      everyLayer->name = c.baseline;
+      everyLayer->everyLayer = true;
+      everyLayer->baseline.clear();
+      everyLayer->baselineEveryLayer = false;
+      baseline = &*everyLayer;
     }
     auto m = measure(o, c, baseline);
     if (!m) {

@@ -480,6 +480,30 @@ if [ -s "$hull_costs" ]; then
                     (v[i] == "as-is" ? "" : sprintf("%.0f %%", 100 * (h[1] - h[i]) / h[1]))}' "$hull_costs"
   } > "$out/hull-costs.md"
 fi
+# The cel nailboards and frames against the fill-rate floor (docs/bench/README.md and
+# docs/cel-rendering.md link it).
+cel_bench=docs/bench/cel-llvmpipe-2core.csv
+if [ -s "$cel_bench" ]; then
+  {
+    generated "$cel_bench"
+    echo
+    echo "From \`$cel_bench\` (\`PUFF_GL=osmesa build/tests/puff_bench_cel --reps 5 --max-frame-s 60 --csv FILE\`;"
+    echo "docs/bench/README.md says where it ran and what each method draws). Median ms a frame, and in brackets"
+    echo "the ratio to the fill-rate floor of the same count and size, all in one run."
+    echo
+    echo "| particles | target | floor | nailboards (each pixel shaded once) | nailboards, every layer shaded | depth only | full-map (casters + lit) | full-volumes | of which the volume pass |"
+    echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"
+    awk -F, 'NR == 1 {for (i = 1; i <= NF; ++i) col[$i] = i; next}
+             {k = $col["particles"] "|" $col["size"]; if (!(k in seen)) {seen[k] = 1; order[++n] = k}
+              ms[k, $col["method"]] = $col["median_ms"]; x[k, $col["method"]] = $col["ratio_to_floor"]}
+             function cell(k, m) {return ms[k, m] == "" ? "-" : sprintf("%.0f (%.1fx)", ms[k, m], x[k, m])}
+             END {for (i = 1; i <= n; ++i) {k = order[i]; split(k, a, "|")
+                    printf "| %s | %s^2 | %.1f | %s | %s | %s | %s = %.0f + %.0f | %s | %s |\n", a[1], a[2], ms[k, "floor"],
+                           cell(k, "nailboards"), cell(k, "nailboards.every-layer"), cell(k, "nailboards.depth"),
+                           cell(k, "full-map"), ms[k, "full-map.casters"], ms[k, "full-map.lit"], cell(k, "full-volumes"),
+                           cell(k, "full-volumes.volumes")}}' "$cel_bench"
+  } > "$out/cel-bench.md"
+fi
 # The tumble sweep's two methods side by side, accuracy and time (docs/cel-rendering.md quotes it).
 if [ -s "$out/tumble.csv" ]; then
   {
@@ -777,4 +801,4 @@ fi
     echo
   done
 } > "$out/README.md"
-echo "report.sh: wrote $out/README.md, $out/media-budget.md, $out/paper-tables.md, $out/coverage.md, $out/hull-costs.md, $out/tumble-table.md, docs/bench/media-tables.md and the charts${seconds:+ (benchmarks: $seconds s)}"
+echo "report.sh: wrote $out/README.md, $out/media-budget.md, $out/paper-tables.md, $out/coverage.md, $out/hull-costs.md, $out/cel-bench.md, $out/tumble-table.md, docs/bench/media-tables.md and the charts${seconds:+ (benchmarks: $seconds s)}"
