@@ -19,7 +19,7 @@ set(PUFF_TESTS_GL
   bake_test.cpp cel_floor_test.cpp cel_reference_test.cpp colour_pipeline_test.cpp compose_test.cpp debug_names_test.cpp
   cooked_image_test.cpp fixedfunc_test.cpp gl_context_test.cpp host_depth_test.cpp host_media_test.cpp
   host_state_test.cpp host_targets_test.cpp lod_kept_test.cpp media_cartoon_test.cpp media_popping_test.cpp media_sort_test.cpp
-  media_test.cpp nailboard_test.cpp opaque_test.cpp opaque_volume_test.cpp reference_test.cpp reload_test.cpp
+  media_test.cpp nailboard_once_test.cpp nailboard_test.cpp opaque_test.cpp opaque_volume_test.cpp reference_test.cpp reload_test.cpp
   render_test.cpp shader_test.cpp shadow_methods_test.cpp shadow_receivers_test.cpp stability_inputs_test.cpp stability_test.cpp
   steady_test.cpp)
 set(PUFF_TESTS_E2E

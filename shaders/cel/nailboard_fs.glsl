@@ -52,6 +52,9 @@ out vec4 fragColor;
 uniform int uSamples;
 
 #ifdef PUFF_DEFERRED
+// The pixel's clip-space x, y (cel/screen_rect.vert): from it, not from gl_FragCoord, whose y runs
+// down the clip space's under glClipControl(GL_UPPER_LEFT, ...).
+in vec2 vScreenNdc;
 // The visibility pre-pass's target: x the particle id (0: none), y the bits of the depth stored.
 #ifdef PUFF_DEFERRED_MS
 layout(binding = 8) uniform usampler2DMS uVisible;
@@ -65,8 +68,7 @@ void loadVarying(uint id) {
   Particle p = unpackParticle(id - 1u);
   mat3 bb = billboardFrame(p);
   setUpParticle(id - 1u, p, bb);
-  vec2 ndc = 2.0 * (gl_FragCoord.xy - uViewport.xy) / uViewport.zw - 1.0;
-  vec4 onRay = uInvViewProj * vec4(ndc, 0.5, 1.0);
+  vec4 onRay = uInvViewProj * vec4(vScreenNdc, 0.5, 1.0);
   vec3 origin = onRay.xyz / onRay.w;
   vec3 dir = isOrthographic() ? -uInvView[2].xyz : origin - uCameraWorld.xyz;
   vec3 world = origin + dir * (dot(p.position - origin, bb[2]) / dot(dir, bb[2]));

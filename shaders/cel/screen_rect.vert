@@ -9,6 +9,9 @@ uniform vec3 uBoxMin;  // world box holding every quad of the batch (NailboardRe
 uniform vec3 uBoxMax;
 uniform float uPadPixels;  // screen pixels the quads reach past it (the ink band and its edge)
 
+// The fragment's clip-space x, y (w = 1): its eye ray, whatever the clip origin (glClipControl).
+out vec2 vScreenNdc;
+
 const vec2 kCorners[6] = vec2[](vec2(0, 0), vec2(1, 0), vec2(1, 1), vec2(0, 0), vec2(1, 1), vec2(0, 1));
 
 void main() {
@@ -25,5 +28,6 @@ void main() {
   vec2 pad = 2.0 * uPadPixels / uViewport.zw;
   lo = whole ? vec2(-1.0) : max(lo - pad, vec2(-1.0));
   hi = whole ? vec2(1.0) : min(hi + pad, vec2(1.0));
-  gl_Position = vec4(mix(lo, hi, kCorners[gl_VertexID]), 0.0, 1.0);
+  vScreenNdc = mix(lo, hi, kCorners[gl_VertexID]);
+  gl_Position = vec4(vScreenNdc, 0.0, 1.0);
 }

@@ -57,11 +57,13 @@ namespace {
 // GL context is current on one thread).
 thread_local DepthConvention boundConvention = DepthConvention::kStandard;
 thread_local core::Viewport boundFrameViewport;
+thread_local std::uint64_t frameSerial = 0;
 
 }  // namespace
 
 DepthConvention boundDepthConvention() { return boundConvention; }
 core::Viewport boundViewport() { return boundFrameViewport; }
+std::uint64_t boundFrameSerial() { return frameSerial; }
 
 namespace {
 
@@ -117,6 +119,7 @@ void FrameBlock::bind() const {
   glBindBuffersBase(GL_UNIFORM_BUFFER, binding_, 1, &b);
   boundConvention = depth_;
   boundFrameViewport = viewport_;
+  ++frameSerial;
 }
 
 namespace {

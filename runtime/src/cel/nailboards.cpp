@@ -81,11 +81,18 @@ struct NailboardRenderer::Impl {
   // the shadowed pass's deferred shading reads the lit pass's visibility.
   DeferredPrograms singleDeferred, multiDeferred;
   detail::VisibilityTarget visibility;
-  // What the visibility target holds: the particles of upload number `visibleUpload` (0: none) in
-  // this viewport, at these samples.
-  std::uint64_t uploads = 0, visibleUpload = 0;
-  core::Viewport visibleViewport;
-  int visibleSamples = 0;
+  // What the visibility target holds: the particles of upload number `upload` (0:
+  // none) seen in the frame block bound as number `frame` (cel::boundFrameSerial), drawn for the
+  // draw framebuffer `framebuffer` at `samples`.
+  struct Visible {
+    std::uint64_t upload = 0, frame = 0;
+    GLint framebuffer = -1;
+    int samples = 0;
+    bool operator==(const Visible&) const = default;
+  };
+  std::uint64_t uploads = 0;
+  Visible held;
+  int maxIntegerSamples = 1;  // GL_MAX_INTEGER_SAMPLES: the multisampled pre-pass's ids
   // The drawn particles' centres' box and largest size (upload).
   glm::vec3 boxMin{0.0f}, boxMax{0.0f};
   float maxSize = 0.0f;
@@ -141,7 +148,14 @@ struct NailboardRenderer::Impl {
   }
   // The pre-pass of the lit pass shading each pixel once: the particles' ids and depths into the
   // visibility target; then the screen pass of `pass` over it. Each sets every state it relies on.
-  void drawVisibility(const NailboardProgram& visible, const Style& style, int samples);
+  // False, drawing nothing, where the target cannot be made (an incomplete framebuffer).
+  bool drawVisibility(const NailboardProgram& visible, const Style& style, int samples);
+  // What a pre-pass drawn now would hold.
+  Visible current(int samples) const {
+    GLint framebuffer = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
+    return {uploads, boundFrameSerial(), framebuffer, samples};
+  }
   void drawScreen(const NailboardProgram& shade, ShadePass pass, const Style& style, int samples);
   // Every draw ends here: no program or vertex array of Puff's stays bound (a host binding an
   // element buffer next would otherwise change Puff's vertex array).
@@ -196,6 +210,7 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
   m.noBack = core::makeTexture(GL_TEXTURE_2D, "nailboards: no back map");
   glTextureStorage2D(m.noBack.get(), 1, GL_R8, 1, 1);
   glClearTexImage(m.noBack.get(), 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);  // 0; no unpack state touched
+  glGetIntegerv(GL_MAX_INTEGER_SAMPLES, &m.maxIntegerSamples);
   m.vao = core::makeVertexArray("nailboards: vertex array");
   m.particles = core::makeBuffer("nailboards: particles");
   m.cells = core::makeBuffer("nailboards: atlas cells");
@@ -398,7 +413,7 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   m.back = std::move(back);
   m.desc = d;
   m.hasAtlas = true;
-  m.visibleUpload = 0;  // drawn with other maps
+  m.held = {};  // drawn with other maps
   return {};
 }
 
@@ -453,15 +468,17 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   // shadowed pass after it shades what it found, once per pixel too.
   const DeferredPrograms& deferred = &variant == &m.singleView ? m.singleDeferred : m.multiDeferred;
   const bool onceLit = pass == ShadePass::kLit && m.litShading == LitShading::kOncePerPixel &&
-                       &variant != &m.hullView && samples <= shader::kMaxDeferredSamples;
-  const bool onceShadowed = pass == ShadePass::kShadowed && &variant != &m.hullView && m.visibleUpload == m.uploads &&
-                            m.visibleViewport == boundViewport() && m.visibleSamples == samples;
-  if (onceLit || onceShadowed) {
-    if (onceLit) m.drawVisibility(deferred.visible, style, samples);
+                       &variant != &m.hullView && samples <= shader::kMaxDeferredSamples &&
+                       (samples == 1 || samples <= m.maxIntegerSamples);
+  const bool onceShadowed = pass == ShadePass::kShadowed && &variant != &m.hullView && m.held.upload != 0 &&
+                            m.held == m.current(samples);
+  if (onceShadowed || (onceLit && m.drawVisibility(deferred.visible, style, samples))) {
     m.drawScreen(deferred.screen(pass, msaa), pass, style, samples);
     s.drawCalls = onceLit ? 2 : 1;
     return s;
   }
+  // Every layer: a lit pass drawn so leaves nothing the shadowed pass may read.
+  if (pass == ShadePass::kLit) m.held = {};
   const NailboardProgram& nb = variant[passProgramIndex(pass)];
   const GLuint p = nb.program.get();
   m.setUniforms(nb, style, samples);
@@ -486,10 +503,10 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   return s;
 }
 
-void NailboardRenderer::Impl::drawVisibility(const NailboardProgram& visible, const Style& style, int samples) {
+bool NailboardRenderer::Impl::drawVisibility(const NailboardProgram& visible, const Style& style, int samples) {
   Impl& m = *this;
-  GLint host = 0;
-  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &host);
+  const Visible now = current(samples);
+  const auto host = static_cast<GLuint>(now.framebuffer);
   // The pre-pass: the nailboards' depth and id into Puff's own target (the host's depth is not
   // needed: where the nearest particle lies behind it, so do all the others).
   m.setUniforms(visible, style, samples);
@@ -499,13 +516,15 @@ void NailboardRenderer::Impl::drawVisibility(const NailboardProgram& visible, co
   applyShadePass(ShadePass::kLit);
   // (The target stays on unit `visibility` while it is drawn into: no sampler of this program reads
   // it, so that is no feedback loop.)
-  m.visibility.begin(boundViewport(), samples, detail::hostDepthFormat(static_cast<GLuint>(host)),
-                     boundDepthConvention());
+  m.held = {};
+  if (!m.visibility.begin(boundViewport(), samples, detail::hostDepthFormat(host), boundDepthConvention())) {
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, host);
+    return false;
+  }
   glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(host));
-  m.visibleUpload = m.uploads;
-  m.visibleViewport = boundViewport();
-  m.visibleSamples = samples;
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, host);
+  m.held = now;
+  return true;
 }
 
 void NailboardRenderer::Impl::drawScreen(const NailboardProgram& shade, ShadePass pass, const Style& style,
@@ -523,7 +542,10 @@ void NailboardRenderer::Impl::drawScreen(const NailboardProgram& shade, ShadePas
   const GLuint p = shade.program.get();
   glProgramUniform3fv(p, shade.boxMin, 1, glm::value_ptr(boxMin - bounds.step - glm::vec3(reach)));
   glProgramUniform3fv(p, shade.boxMax, 1, glm::value_ptr(boxMax + bounds.step + glm::vec3(reach)));
-  glProgramUniform1f(p, shade.padPixels, (style.outlines ? std::max(0.0f, style.outlineWidth) : 0.0f) + 2.5f);
+  // (The ink is measured in the billboard's plane: a billboard turned from the view plane stretches
+  // it on the screen, up to the half-diagonal's sqrt 2 across the pad's square.)
+  const float ink = (style.outlines ? std::max(0.0f, style.outlineWidth) : 0.0f) + 1.5f;
+  glProgramUniform1f(p, shade.padPixels, ink * std::sqrt(2.0f) + 1.0f);
   core::bindTextureAndNoSampler(bindings.visibility, visibility.texture());
   glUseProgram(shade.program.get());
   resetPassState();
@@ -536,7 +558,10 @@ void NailboardRenderer::Impl::drawScreen(const NailboardProgram& shade, ShadePas
   Impl::unbind();
 }
 
-void NailboardRenderer::setLitShading(LitShading shading) { impl_->litShading = shading; }
+void NailboardRenderer::setLitShading(LitShading shading) {
+  impl_->litShading = shading;
+  impl_->held = {};
+}
 
 DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& eye) {
   const core::DebugGroup group("nailboards (shadow casters)");

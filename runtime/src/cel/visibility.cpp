@@ -14,10 +14,11 @@ GLenum hostDepthFormat(GLuint framebuffer) {
                                              &component);
   if (component == GL_UNSIGNED_NORMALIZED && bits == 16) return GL_DEPTH_COMPONENT16;
   if (component == GL_UNSIGNED_NORMALIZED && bits == 24) return GL_DEPTH_COMPONENT24;
+  if (component == GL_UNSIGNED_NORMALIZED && bits == 32) return GL_DEPTH_COMPONENT32;
   return GL_DEPTH_COMPONENT32F;
 }
 
-void VisibilityTarget::begin(const core::Viewport& viewport, int samples, GLenum depthFormat,
+bool VisibilityTarget::begin(const core::Viewport& viewport, int samples, GLenum depthFormat,
                              DepthConvention convention) {
   const int w = std::max(1, viewport.x + viewport.width), h = std::max(1, viewport.y + viewport.height);
   if (!fbo_ || w > width_ || h > height_ || samples != samples_ || depthFormat != depthFormat_) {
@@ -43,12 +44,15 @@ void VisibilityTarget::begin(const core::Viewport& viewport, int samples, GLenum
     glNamedFramebufferTexture(fbo_.get(), GL_COLOR_ATTACHMENT0, ids_.get(), 0);
     glNamedFramebufferRenderbuffer(fbo_.get(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_.get());
     glNamedFramebufferDrawBuffer(fbo_.get(), GL_COLOR_ATTACHMENT0);
+    complete_ = glCheckNamedFramebufferStatus(fbo_.get(), GL_DRAW_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
   }
+  if (!complete_) return false;
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_.get());
   const GLuint none[4] = {0, 0, 0, 0};
   const float far = clearDepth(convention);
   glClearNamedFramebufferuiv(fbo_.get(), GL_COLOR, 0, none);
   glClearNamedFramebufferfv(fbo_.get(), GL_DEPTH, 0, &far);
+  return true;
 }
 
 }  // namespace puff::cel::detail

@@ -11,8 +11,8 @@
 
 namespace puff::cel::detail {
 
-/// The depth format of the current draw framebuffer's depth buffer: GL_DEPTH_COMPONENT16, 24 or
-/// 32F (32-bit float; also when it has none, or one of another kind).
+/// The depth format of `framebuffer`'s depth buffer: GL_DEPTH_COMPONENT16, 24, 32 (normalized) or
+/// 32F (float; also when it has none, or one of another kind).
 GLenum hostDepthFormat(GLuint framebuffer);
 
 class VisibilityTarget {
@@ -24,7 +24,8 @@ class VisibilityTarget {
   /// buffer 0's colour writes on (they limit clears).
   /// Its depth buffer is `depthFormat` (hostDepthFormat: the host's, so that two particles tie
   /// where they tie on the host's buffer and the same one wins).
-  void begin(const core::Viewport& viewport, int samples, GLenum depthFormat, DepthConvention convention);
+  /// False, binding nothing, where the framebuffer it makes is not complete.
+  bool begin(const core::Viewport& viewport, int samples, GLenum depthFormat, DepthConvention convention);
   /// The RG32UI texture (2D, or 2D multisample): x the particle id + 1 (0: none), y the bits of the
   /// float depth stored.
   GLuint texture() const { return ids_.get(); }
@@ -35,6 +36,7 @@ class VisibilityTarget {
   core::Renderbuffer depth_;
   int width_ = 0, height_ = 0, samples_ = 0;
   GLenum depthFormat_ = 0;
+  bool complete_ = false;
 };
 
 }  // namespace puff::cel::detail

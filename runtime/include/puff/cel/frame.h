@@ -50,6 +50,8 @@
 // nearer than 50 units, but it needs a float depth buffer and glClipControl.)
 #pragma once
 
+#include <cstdint>
+
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -119,6 +121,9 @@ DepthConvention boundDepthConvention();
 /// The viewport of the FrameBlock last uploaded or bound on this thread (empty before any): the
 /// nailboards' visibility pre-pass sizes its target from it (NailboardRenderer::drawNailboards).
 core::Viewport boundViewport();
+/// A number that changes whenever a FrameBlock is uploaded or bound on this thread: the nailboards'
+/// shadowed pass reads the lit pass's pre-pass only while it is the same.
+std::uint64_t boundFrameSerial();
 
 /// The frame's uniform buffer (shaders/common/frame.glsl) on uniform binding `bindings.frameBlock`
 /// (cel/bindings.h). Owns one GL buffer.
