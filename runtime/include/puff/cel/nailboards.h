@@ -8,7 +8,8 @@
 //   2. draw opaque geometry lit, writing depth in the frame's convention (OpaqueRenderer, or the
 //      host's own shaders: linear depth for kLinear, plain gl_Position depth for the others);
 //   3. NailboardRenderer::drawNailboards(..., ShadePass::kLit) (each pixel shaded once: a pre-pass
-//      into Puff's own target, then one pass over the viewport; drawNailboards says what it leaves);
+//      into Puff's own target, then a pass over the screen rectangle the puffs reach;
+//      drawNailboards says what it leaves);
 //   with shadow volumes (Style::shadowMethod kVolumes; the shadow map's frame is in shadow_map.h):
 //   4. NailboardRenderer::drawShadowVolumes(...) counts into the stencil buffer (depth-fail);
 //   5. every receiver is drawn again with ShadePass::kShadowed: depth test EQUAL, only where the
@@ -16,7 +17,8 @@
 //
 // Host state (docs/cel-rendering.md, "Host state"). Each draw call sets every piece of GL state it
 // relies on, never trusting what the host or an earlier pass left, and queries no host state (a
-// glGet may stall a threaded driver) but whether the framebuffer is multisampled and which draw buffers
+// glGet may stall a threaded driver) but the draw framebuffer's binding, samples and depth format (the
+// lit pass's pre-pass: drawNailboards) and which draw buffers
 // it has. Every draw writes the framebuffer's draw buffer 0 alone: one with more colour
 // attachments enabled (a G-buffer) draws to its first alone during the call and gets its own draw
 // buffers back (core::DrawBufferZero), its other attachments untouched. What each call LEAVES changed is
@@ -111,8 +113,10 @@ struct DrawStats {
 /// How the lit pass shades (NailboardRenderer::drawNailboards, ShadePass::kLit).
 enum class LitShading {
   /// Each pixel once: a visibility pre-pass draws the nailboards' depth and particle id into Puff's
-  /// own target, then one pass over the viewport shades each pixel's nearest particle there, at that
-  /// depth. The default. On a multisampled framebuffer, and for the tumbling hull, kEveryLayer.
+  /// own target, then a pass over the screen rectangle the puffs reach shades each pixel's particles
+  /// there, at that depth. The default. For the tumbling hull, on a framebuffer of more samples than
+  /// PUFF_MAX_DEFERRED_SAMPLES (8) or GL_MAX_INTEGER_SAMPLES, and where Puff's target cannot be made
+  /// (an incomplete framebuffer), kEveryLayer.
   kOncePerPixel,
   /// Every layer as it is drawn (the nailboards' quads, depth-tested): the yardstick kOncePerPixel
   /// is checked and timed against.
@@ -151,19 +155,22 @@ class NailboardRenderer {
   /// PUFF_MAX_DEFERRED_SAMPLES samples; the tumbling hull is drawn as kEveryLayer): a pre-pass draws
   /// the nailboards' depth and particle ids into Puff's own target (sized from the bound frame's
   /// viewport, its depth buffer of the framebuffer's depth format; the host's framebuffer gets no
-  /// attachment), then one triangle over the viewport shades each pixel's particles there and
+  /// attachment), then two triangles over the screen rectangle the quads reach (the drawn centres' box
+  /// grown by the largest quad, projected, padded by the ink) shade each pixel's particles there and
   /// writes their depth, depth-tested as the quads were. Multisampled, a pixel's samples take the
   /// average of its particles' colours, and the depth of the one covering most of them (only along
-  /// silhouettes does a sample's depth differ from the quads'). kShadowed after a kLit of the same
-  /// upload, viewport and samples shades what that pre-pass found, once per pixel too (its depth
-  /// test EQUAL meets the depth kLit wrote); otherwise every layer. Queries the draw framebuffer's
-  /// binding (put back after the pre-pass), samples and depth format.
+  /// silhouettes does a sample's depth differ from the quads', and the colour written there is the
+  /// pixel's particles' average, hidden ones included). kShadowed after a kLit that shaded once, of
+  /// the same upload, frame block (boundFrameSerial), draw framebuffer and samples, shades what that
+  /// pre-pass found, once per pixel too (its depth test EQUAL meets the depth kLit wrote); otherwise
+  /// every layer. Queries the draw framebuffer's binding (put back after the pre-pass), samples and
+  /// depth format.
   /// Leaves: the pass state; its atlas; no program, no vertex array; write masks on; and per pass
   ///   kLit, kDepthOnly: depth function GL_LESS, stencil test off;
   ///   kShadowed: depth function GL_EQUAL, stencil test ON, stencil function GL_NOTEQUAL, reference
   ///              0, value mask 0xFF and operations GL_KEEP x 3, front and back;
-  ///   kLit, and kShadowed shading once per pixel: unit `visibility` = the pre-pass's target (2D, or
-  ///              2D multisample on a multisampled framebuffer), sampler 0 there.
+  ///   kLit and kShadowed when they shade once per pixel: unit `visibility` = the pre-pass's target
+  ///              (2D, or 2D multisample on a multisampled framebuffer), sampler 0 there.
   /// On a multisampled framebuffer also GL_MULTISAMPLE on. Nothing at all with no particles or no
   /// atlas (it returns before any GL call).
   DrawStats drawNailboards(const Style& style, ShadePass pass);
