@@ -2,10 +2,12 @@
 // in one run so the ratios compare methods on one machine:
 //   floor       bare alpha-tested textured quads (NailboardRenderer::drawBaseline) writing the
 //               nailboards' linear depth (gl_FragDepth, shaders/cel/sprite.frag), no offset
-//   nailboards  cel shading, per-pixel linear depth (gl_FragDepth) and outlines (ShadePass::kLit):
-//               the visibility pre-pass, then each pixel shaded once (cel::LitShading::kOncePerPixel)
-//   nailboards.every-layer  the same, every layer shaded as it is drawn (LitShading::kEveryLayer):
-//               what the one-layer shading bought
+//   nailboards  cel shading, per-pixel linear depth (gl_FragDepth) and outlines (ShadePass::kLit),
+//               as the renderer picks its shading (cel::LitShading::kAuto, by how deep the quads stack)
+//   nailboards.once  each pixel shaded once: the visibility pre-pass, then the screen pass
+//               (LitShading::kOncePerPixel)
+//   nailboards.every-layer  every layer shaded as it is drawn (LitShading::kEveryLayer): what the
+//               one-layer shading bought
 //   nailboards.depth  the nailboards' depth alone (ShadePass::kDepthOnly: the packed map's read, the
 //               depth offset and the silhouette's discard, no colour): what a depth pre-pass costs
 //   full-volumes  the frame with shadows by volumes: kLit, billboard shadow volumes into the
@@ -82,7 +84,7 @@ constexpr float kFovYDegrees = 45.0f;
 constexpr float kCameraZ = 8.0f;
 constexpr float kNear = 6.0f, kFar = 10.0f;  // box z in [kCameraZ - kFar, kCameraZ - kNear]
 constexpr float kHalfWidth = 2.2f;           // box x and y in [-kHalfWidth, kHalfWidth]
-constexpr float kOverdraw = 4.0f;            // summed quad area / screen area, at every count
+constexpr float kOverdraw = 4.0f;            // summed quad area / screen area, at every count (--overdraw)
 constexpr float kFloorGap = 0.2f;            // the floor plane sits this far below the box
 constexpr std::uint64_t kSeed = 0x5eedc0ffee15bad5ull;
 constexpr int kWarmUp = 2;
@@ -93,14 +95,15 @@ constexpr int kSlowReps = 3;
 
 float tanHalfFov() { return std::tan(0.5f * kFovYDegrees * 3.14159265358979f / 180.0f); }
 
-// World side of the quad (the whole atlas cell) so that `count` quads cover kOverdraw screens.
-float quadSide(std::size_t count) {
-  return 2.0f * tanHalfFov() * std::sqrt(kOverdraw * kNear * kFar / static_cast<float>(count));
+// World side of the quad (the whole atlas cell) so that `count` quads cover `overdraw` screens.
+float quadSide(std::size_t count, float overdraw) {
+  return 2.0f * tanHalfFov() * std::sqrt(overdraw * kNear * kFar / static_cast<float>(count));
 }
 
-std::vector<cel::Particle> makeParticles(std::size_t count, const core::AtlasDesc& atlas) {
+std::vector<cel::Particle> makeParticles(std::size_t count, float overdraw, const core::AtlasDesc& atlas) {
   std::uint64_t state = kSeed;
-  const float size = quadSide(count) * static_cast<float>(atlas.contentSize) / static_cast<float>(atlas.cellSize);
+  const float size =
+      quadSide(count, overdraw) * static_cast<float>(atlas.contentSize) / static_cast<float>(atlas.cellSize);
   std::vector<cel::Particle> ps(count);
   for (cel::Particle& p : ps) {
     p.position.x = uniform(state, -kHalfWidth, kHalfWidth);
@@ -134,9 +137,9 @@ struct Target : test::OffscreenTarget {
   }
 };
 
-enum class Method { kFloor, kNailboards, kFull, kFullMap, kDepthOnly, kEveryLayer };
-constexpr const char* kMethodNames[] = {"floor",    "nailboards",       "full-volumes",
-                                        "full-map", "nailboards.depth", "nailboards.every-layer"};
+enum class Method { kFloor, kNailboards, kFull, kFullMap, kDepthOnly, kEveryLayer, kOnce };
+constexpr const char* kMethodNames[] = {
+    "floor", "nailboards", "full-volumes", "full-map", "nailboards.depth", "nailboards.every-layer", "nailboards.once"};
 
 // One frame's time; for kFull with split timing also each pass: clear + uploads + lit nailboards,
 // shadow volumes, shadowed nailboards.
@@ -181,7 +184,12 @@ struct Bench {
       case Method::kEveryLayer:
         renderer.setLitShading(cel::LitShading::kEveryLayer);
         renderer.drawNailboards(style, cel::ShadePass::kLit);
+        renderer.setLitShading(cel::LitShading::kAuto);
+        break;
+      case Method::kOnce:
         renderer.setLitShading(cel::LitShading::kOncePerPixel);
+        renderer.drawNailboards(style, cel::ShadePass::kLit);
+        renderer.setLitShading(cel::LitShading::kAuto);
         break;
       case Method::kFullMap: {
         map.prepare(f, cel::particleBounds(ps), mapStyle());
@@ -264,6 +272,7 @@ int main(int argc, char** argv) {
   std::string csvPath, dumpDir;
   std::vector<int> counts{1000, 10000, 50000}, sizes{512, 1024};
   bool runNailboards = true, runFull = true, runMap = true, split = true;
+  float stacking = kOverdraw;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--reps") && i + 1 < argc)
       reps = std::max(1, std::atoi(argv[++i]));
@@ -281,6 +290,8 @@ int main(int argc, char** argv) {
       runNailboards = false;
     else if (!std::strcmp(argv[i], "--no-map"))
       runMap = false;
+    else if (!std::strcmp(argv[i], "--overdraw") && i + 1 < argc)
+      stacking = static_cast<float>(std::atof(argv[++i]));
     else if (!std::strcmp(argv[i], "--no-split"))
       split = false;
     else if (!std::strcmp(argv[i], "--dump") && i + 1 < argc)
@@ -290,14 +301,17 @@ int main(int argc, char** argv) {
           puff::bench::usageStream(argv[i]),
           "usage: puff_bench_cel [--reps N] [--csv FILE] [--counts 1000,10000,50000] [--sizes 512,1024]\n"
           "                      [--max-frame-s S (100)] [--no-full] [--no-nailboards] [--no-map] [--no-split]\n"
-          "                      [--dump DIR]\n"
-          "  --no-full: without full-volumes (the slow one); --no-map: without full-map\n");
+          "                      [--overdraw O (4)] [--dump DIR]\n"
+          "  --no-full: without full-volumes (the slow one); --no-map: without full-map\n"
+          "  --overdraw: the screens the quads cover in all (the CSV's overdraw is what they reached)\n");
       return puff::bench::usageExit(argv[i]);
     }
   }
   for (int v : counts) {
     if (v < 1) return std::fprintf(stderr, "puff_bench_cel: error: --counts must be positive\n"), 2;
   }
+  if (!(stacking > 0.0f && stacking <= 64.0f))
+    return std::fprintf(stderr, "puff_bench_cel: error: --overdraw must be in (0, 64]\n"), 2;
   for (int v : sizes) {
     if (v < 1 || v > 16384) return std::fprintf(stderr, "puff_bench_cel: error: --sizes must be in [1, 16384]\n"), 2;
   }
@@ -371,8 +385,8 @@ int main(int argc, char** argv) {
   double lastFullMs = 0, lastFullWork = 0;  // for predicting the next full frame
   const auto runStart = Clock::now();
   for (int count : counts) {
-    const std::vector<cel::Particle> ps = makeParticles(static_cast<std::size_t>(count), atlas->desc);
-    const float side = quadSide(static_cast<std::size_t>(count));
+    const std::vector<cel::Particle> ps = makeParticles(static_cast<std::size_t>(count), stacking, atlas->desc);
+    const float side = quadSide(static_cast<std::size_t>(count), stacking);
     const double overdraw = measuredOverdraw(ps, side);
     for (int size : sizes) {
       const Target target(size);
@@ -429,6 +443,7 @@ int main(int argc, char** argv) {
       if (runNailboards) fast.push_back(Method::kNailboards);
       if (runNailboards) fast.push_back(Method::kDepthOnly);
       if (runNailboards) fast.push_back(Method::kEveryLayer);
+      if (runNailboards) fast.push_back(Method::kOnce);
       if (runMap) fast.push_back(Method::kFullMap);
       int warmUp = kWarmUp, timed = reps;
       for (int w = 0; w < warmUp; ++w) {

@@ -9,7 +9,7 @@
 //   full-map      the same with shadows by the map
 //   full-volumes  the same with shadows by volumes
 //                 (these three: the baseline is the case with its lit nailboards shading every layer,
-//                 GROUP.every-layer-N-S, SceneRenderer::setLitEveryLayer)
+//                 GROUP.every-layer-N-S, SceneRenderer::setLitShading)
 //   cloud-50k     the scene as it is, at 1920 x 1080
 //   blend, hull   dust-roll frames 30-35 at 960 x 540, its oriented puffs drawn by blending views /
 //                 by the hull (style.tumble); the hull's baseline is the blend
@@ -86,7 +86,7 @@ struct Case {
   std::function<void(scene::Scene&)> edit = [](scene::Scene&) {};
   std::string baseline;  ///< another case's name (same samples), measured in the same rounds; empty: none
   /// The baseline is this case with its lit nailboards shading every layer
-  /// (SceneRenderer::setLitEveryLayer), named `baseline`: what shading each pixel once buys.
+  /// (SceneRenderer::setLitShading), named `baseline`: what shading each pixel once buys.
   bool baselineEveryLayer = false;
   bool everyLayer = false;  ///< the nailboards' lit pass shades every layer
 };
@@ -250,7 +250,7 @@ Result<Setup> setUp(const Options& o, const Case& c, bool floor) {
   Setup setup;
   PUFF_TRY_ASSIGN(setup.renderer, render::SceneRenderer::create(s, render::RenderPath::kCel));
   setup.renderer->setFillRateFloor(floor);
-  setup.renderer->setLitEveryLayer(c.everyLayer);
+  setup.renderer->setLitShading(c.everyLayer ? cel::LitShading::kEveryLayer : cel::LitShading::kAuto);
   setup.frames = c.frames;
   return setup;
 }

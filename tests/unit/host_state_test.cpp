@@ -106,8 +106,19 @@ TEST_F(HostState, CelCallsLeaveWhatTheirHeadersList) {
       {"Ramp::bind", [&] { kit.ramp->bind(b); }, texture(b.ramp, "1D")},
       {"Gradient::bind", [&] { kit.gradient->bind(b); }, texture(b.gradient, "2D")},
       {"NailboardRenderer::upload", [&] { kit.nailboards->upload(puffs()); }, {}},
-      {"NailboardRenderer::drawNailboards(kLit)", [&] { kit.nailboards->drawNailboards(style, cel::ShadePass::kLit); },
+      {"NailboardRenderer::drawNailboards(kLit)",
+       [&] {
+         kit.nailboards->setLitShading(cel::LitShading::kOncePerPixel);
+         kit.nailboards->drawNailboards(style, cel::ShadePass::kLit);
+       },
        lit + atlas(b) + texture(b.visibility, "2D"), celHost},
+      {"NailboardRenderer::drawNailboards(kLit, every layer)",
+       [&] {
+         kit.nailboards->setLitShading(cel::LitShading::kEveryLayer);
+         kit.nailboards->drawNailboards(style, cel::ShadePass::kLit);
+         kit.nailboards->setLitShading(cel::LitShading::kOncePerPixel);
+       },
+       lit + atlas(b), celHost},
       {"NailboardRenderer::drawNailboards(kLit, no outlines)",
        [&] {
          cel::Style s = style;

@@ -1,6 +1,6 @@
 // The nailboards' lit pass shading each pixel once (cel::LitShading::kOncePerPixel: a visibility
 // pre-pass, then a screen pass) draws every art scene with cel puffs as shading every layer did
-// (SceneRenderer::setLitEveryLayer): the same coverage and ink, colours within a display step.
+// (SceneRenderer::setLitShading(kEveryLayer)): the same coverage and ink, colours within a display step.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -37,11 +37,11 @@ void PrintTo(const LitCase& c, std::ostream* os) {
   *os << c.scene << " frame " << c.frame << (c.samples == 1 ? " single-sampled" : "");
 }
 
-core::Image draw(const scene::Scene& s, int frame, bool everyLayer) {
+core::Image draw(const scene::Scene& s, int frame, cel::LitShading shading) {
   auto renderer = render::SceneRenderer::create(s);
   EXPECT_OK(renderer);
   if (!renderer) return {};
-  (*renderer)->setLitEveryLayer(everyLayer);
+  (*renderer)->setLitShading(shading);
   auto image = (*renderer)->renderFrame(frame);
   EXPECT_OK(image);
   return image ? std::move(*image) : core::Image{};
@@ -63,7 +63,8 @@ TEST_P(LitOncePerPixel, DrawsTheSceneAsShadingEveryLayerDid) {
   s.width = c.width;
   s.height = c.height;
   if (c.samples > 0) s.samples = c.samples;
-  const core::Image once = draw(s, c.frame, false), every = draw(s, c.frame, true);
+  const core::Image once = draw(s, c.frame, cel::LitShading::kOncePerPixel),
+                    every = draw(s, c.frame, cel::LitShading::kEveryLayer);
   ASSERT_FALSE(once.pixels.empty());
   ASSERT_EQ(once.pixels.size(), every.pixels.size());
   // Ink: within 0.1 of the outline colour in every display channel. Edges: pixels whose 3 x 3

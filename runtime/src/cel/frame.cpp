@@ -58,12 +58,16 @@ namespace {
 thread_local DepthConvention boundConvention = DepthConvention::kStandard;
 thread_local core::Viewport boundFrameViewport;
 thread_local std::uint64_t frameSerial = 0;
+thread_local glm::mat4 frameViewProjection{1.0f};
+thread_local float frameProjectionScaleY = 1.0f;
 
 }  // namespace
 
 DepthConvention boundDepthConvention() { return boundConvention; }
 core::Viewport boundViewport() { return boundFrameViewport; }
 std::uint64_t boundFrameSerial() { return frameSerial; }
+glm::mat4 boundViewProjection() { return frameViewProjection; }
+float boundProjectionScaleY() { return frameProjectionScaleY; }
 
 namespace {
 
@@ -109,6 +113,8 @@ Result<void> FrameBlock::upload(const Frame& frame) {
   glNamedBufferSubData(buffer_.get(), 0, sizeof d, &d);
   depth_ = frame.depth;
   viewport_ = frame.viewport;
+  viewProjection_ = d.viewProj;
+  projectionScaleY_ = frame.projection[1][1];
   bind();
   return {};
 }
@@ -119,6 +125,8 @@ void FrameBlock::bind() const {
   glBindBuffersBase(GL_UNIFORM_BUFFER, binding_, 1, &b);
   boundConvention = depth_;
   boundFrameViewport = viewport_;
+  frameViewProjection = viewProjection_;
+  frameProjectionScaleY = projectionScaleY_;
   ++frameSerial;
 }
 

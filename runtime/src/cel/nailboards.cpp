@@ -93,11 +93,12 @@ struct NailboardRenderer::Impl {
   std::uint64_t uploads = 0;
   Visible held;
   int maxIntegerSamples = 1;  // GL_MAX_INTEGER_SAMPLES: the multisampled pre-pass's ids
-  // The drawn particles' centres' box and largest size (upload).
+  // The drawn particles' centres and sizes, their centres' box and largest size (upload).
+  std::vector<glm::vec4> drawn;
   glm::vec3 boxMin{0.0f}, boxMax{0.0f};
   float maxSize = 0.0f;
   bool anyDrawn = false;
-  LitShading litShading = LitShading::kOncePerPixel;
+  LitShading litShading = LitShading::kAuto;
   core::Program shadow, sprite;
   AtlasUniforms svAtlas, spAtlas;
   GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1, shadowBackFace = -1;
@@ -150,6 +151,36 @@ struct NailboardRenderer::Impl {
   // visibility target; then the screen pass of `pass` over it. Each sets every state it relies on.
   // False, drawing nothing, where the target cannot be made (an incomplete framebuffer).
   bool drawVisibility(const NailboardProgram& visible, const Style& style, int samples);
+  // The screen rectangle the quads reach: their centres' box grown by a grid step (the packed
+  // positions' rounding) and the largest quad's half-diagonal (a quad spans at least the whole cell,
+  // halfCell diameters from its centre; one larger for its ink is larger by the ink's pixels, in the
+  // pad), and the pad: the ink band, its antialiased edge (measured in the billboard's plane: a
+  // billboard turned from the view plane stretches it on the screen, up to sqrt 2 across the pad's
+  // square) and a pixel (the rasterizer's rounding).
+  float halfCell() const {
+    return std::max(0.5f, 0.5f * static_cast<float>(desc.cellSize) / static_cast<float>(std::max(1, desc.contentSize)));
+  }
+  glm::vec3 reachLo() const {
+    return boxMin - bounds.step - glm::vec3(maxSize * halfCell() * std::sqrt(2.0f) * 1.0001f);
+  }
+  glm::vec3 reachHi() const {
+    return boxMax + bounds.step + glm::vec3(maxSize * halfCell() * std::sqrt(2.0f) * 1.0001f);
+  }
+  static float padPixels(const Style& style) {
+    return ((style.outlines ? std::max(0.0f, style.outlineWidth) : 0.0f) + 1.5f) * std::sqrt(2.0f) + 1.0f;
+  }
+  // How deep the quads stack over that rectangle: their summed screen area over its (from at most
+  // 4096 of them). 0 where they reach no pixel.
+  double stacked(const Style& style) const {
+    const glm::mat4 viewProjection = boundViewProjection();
+    const core::Viewport viewport = boundViewport();
+    const double rect = detail::reachedPixels(viewProjection, reachLo(), reachHi(), padPixels(style), viewport);
+    if (rect <= 0.0) return 0.0;
+    const std::size_t stride = drawn.size() / 4096 + 1;
+    const float band = (style.outlines ? std::max(0.0f, style.outlineWidth) : 0.0f) + 1.5f;
+    return detail::quadPixels(drawn, stride, halfCell(), band, viewProjection, boundProjectionScaleY(), viewport) /
+           rect;
+  }
   // What a pre-pass drawn now would hold.
   Visible current(int samples) const {
     GLint framebuffer = 0;
@@ -426,6 +457,7 @@ DrawStats NailboardRenderer::upload(std::span<const Particle> particles) {
   // largest size.
   m.anyDrawn = false;
   m.maxSize = 0.0f;
+  m.drawn.clear();
   for (const Particle& p : particles) {
     const glm::vec3 c = p.position;
     if (!(std::isfinite(c.x) && std::isfinite(c.y) && std::isfinite(c.z) && std::isfinite(p.size) && p.size > 0.0f))
@@ -434,6 +466,7 @@ DrawStats NailboardRenderer::upload(std::span<const Particle> particles) {
     m.boxMax = m.anyDrawn ? glm::max(m.boxMax, p.position) : p.position;
     m.maxSize = std::max(m.maxSize, p.size);
     m.anyDrawn = true;
+    m.drawn.emplace_back(c, p.size);
   }
   const std::size_t bytes = m.packed.size() * sizeof(PackedParticle);
   // Orphan and refill: the driver hands out fresh storage while the last frame may still read it.
@@ -467,11 +500,11 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   // the tumbling hull is drawn forward, as is a target of more samples than the pass reads). The
   // shadowed pass after it shades what it found, once per pixel too.
   const DeferredPrograms& deferred = &variant == &m.singleView ? m.singleDeferred : m.multiDeferred;
-  const bool onceLit = pass == ShadePass::kLit && m.litShading == LitShading::kOncePerPixel &&
-                       &variant != &m.hullView && samples <= shader::kMaxDeferredSamples &&
-                       (samples == 1 || samples <= m.maxIntegerSamples);
-  const bool onceShadowed = pass == ShadePass::kShadowed && &variant != &m.hullView && m.held.upload != 0 &&
-                            m.held == m.current(samples);
+  const bool onceLit = pass == ShadePass::kLit && m.litShading != LitShading::kEveryLayer && &variant != &m.hullView &&
+                       samples <= shader::kMaxDeferredSamples && (samples == 1 || samples <= m.maxIntegerSamples) &&
+                       (m.litShading == LitShading::kOncePerPixel || m.stacked(style) >= kOnceMinOverdraw);
+  const bool onceShadowed =
+      pass == ShadePass::kShadowed && &variant != &m.hullView && m.held.upload != 0 && m.held == m.current(samples);
   if (onceShadowed || (onceLit && m.drawVisibility(deferred.visible, style, samples))) {
     m.drawScreen(deferred.screen(pass, msaa), pass, style, samples);
     s.drawCalls = onceLit ? 2 : 1;
@@ -532,20 +565,11 @@ void NailboardRenderer::Impl::drawScreen(const NailboardProgram& shade, ShadePas
   // The shading, once per pixel the pre-pass covered, at the depth it found (the host's depth test;
   // the shadowed pass's, EQUAL, meets the depth the lit pass wrote).
   setUniforms(shade, style, samples);
-  // Over the screen rectangle the quads can cover: the centres' box grown by a grid step (the
-  // packed positions' rounding) and the largest quad's half-diagonal (a quad spans at least the
-  // whole cell, halfCell diameters from its centre; one larger for its ink is larger by the ink's
-  // pixels, in the pad), padded by the ink band, its antialiased edge and a pixel (the
-  // rasterizer's rounding).
-  const float halfCell = 0.5f * static_cast<float>(desc.cellSize) / static_cast<float>(std::max(1, desc.contentSize));
-  const float reach = maxSize * std::max(halfCell, 0.5f) * std::sqrt(2.0f) * (1.0f + 1e-4f);
+  // Over the screen rectangle the quads reach (reachLo, reachHi, padPixels).
   const GLuint p = shade.program.get();
-  glProgramUniform3fv(p, shade.boxMin, 1, glm::value_ptr(boxMin - bounds.step - glm::vec3(reach)));
-  glProgramUniform3fv(p, shade.boxMax, 1, glm::value_ptr(boxMax + bounds.step + glm::vec3(reach)));
-  // (The ink is measured in the billboard's plane: a billboard turned from the view plane stretches
-  // it on the screen, up to the half-diagonal's sqrt 2 across the pad's square.)
-  const float ink = (style.outlines ? std::max(0.0f, style.outlineWidth) : 0.0f) + 1.5f;
-  glProgramUniform1f(p, shade.padPixels, ink * std::sqrt(2.0f) + 1.0f);
+  glProgramUniform3fv(p, shade.boxMin, 1, glm::value_ptr(reachLo()));
+  glProgramUniform3fv(p, shade.boxMax, 1, glm::value_ptr(reachHi()));
+  glProgramUniform1f(p, shade.padPixels, padPixels(style));
   core::bindTextureAndNoSampler(bindings.visibility, visibility.texture());
   glUseProgram(shade.program.get());
   resetPassState();

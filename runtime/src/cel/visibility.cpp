@@ -1,4 +1,8 @@
 #include <algorithm>
+#include <cmath>
+
+#include <glm/common.hpp>
+#include <glm/vec2.hpp>
 
 #include "visibility.h"
 
@@ -16,6 +20,45 @@ GLenum hostDepthFormat(GLuint framebuffer) {
   if (component == GL_UNSIGNED_NORMALIZED && bits == 24) return GL_DEPTH_COMPONENT24;
   if (component == GL_UNSIGNED_NORMALIZED && bits == 32) return GL_DEPTH_COMPONENT32;
   return GL_DEPTH_COMPONENT32F;
+}
+
+double reachedPixels(const glm::mat4& viewProjection, const glm::vec3& lo, const glm::vec3& hi, float padPixels,
+                     const core::Viewport& viewport) {
+  const double whole = static_cast<double>(viewport.width) * static_cast<double>(viewport.height);
+  glm::vec2 a(1e30f), b(-1e30f);
+  for (int i = 0; i < 8; ++i) {
+    const glm::vec3 c((i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z);
+    const glm::vec4 clip = viewProjection * glm::vec4(c, 1.0f);
+    if (clip.w <= 1e-6f) return whole;
+    a = glm::min(a, glm::vec2(clip) / clip.w);
+    b = glm::max(b, glm::vec2(clip) / clip.w);
+  }
+  const glm::vec2 pad(2.0f * padPixels / static_cast<float>(std::max(1, viewport.width)),
+                      2.0f * padPixels / static_cast<float>(std::max(1, viewport.height)));
+  a = glm::max(a - pad, glm::vec2(-1.0f));
+  b = glm::min(b + pad, glm::vec2(1.0f));
+  if (b.x <= a.x || b.y <= a.y) return 0.0;
+  return 0.25 * static_cast<double>(b.x - a.x) * static_cast<double>(b.y - a.y) * whole;
+}
+
+double quadPixels(std::span<const glm::vec4> drawn, std::size_t stride, float halfCell, float bandPixels,
+                  const glm::mat4& viewProjection, float scaleY, const core::Viewport& viewport) {
+  const double whole = static_cast<double>(viewport.width) * static_cast<double>(viewport.height);
+  const double pxPerNdc = 0.5 * static_cast<double>(viewport.height);
+  double sum = 0.0;
+  stride = std::max<std::size_t>(stride, 1);
+  for (std::size_t i = 0; i < drawn.size(); i += stride) {
+    const glm::vec4& p = drawn[i];
+    const float w = (viewProjection * glm::vec4(glm::vec3(p), 1.0f)).w;
+    if (w <= 1e-6f) {
+      sum += whole;
+      continue;
+    }
+    const double diameter = static_cast<double>(p.w * std::abs(scaleY) / w) * pxPerNdc;
+    const double side = 2.0 * std::max(static_cast<double>(halfCell) * diameter, 0.5 * diameter + bandPixels);
+    sum += std::min(side * side, whole);
+  }
+  return sum * static_cast<double>(stride);
 }
 
 bool VisibilityTarget::begin(const core::Viewport& viewport, int samples, GLenum depthFormat,

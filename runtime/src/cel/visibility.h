@@ -4,6 +4,13 @@
 // framebuffer.
 #pragma once
 
+#include <cstddef>
+#include <span>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
 #include <puff/cel/frame.h>
 #include <puff/core/gl.h>
 #include <puff/core/viewport.h>
@@ -14,6 +21,20 @@ namespace puff::cel::detail {
 /// The depth format of `framebuffer`'s depth buffer: GL_DEPTH_COMPONENT16, 24, 32 (normalized) or
 /// 32F (float; also when it has none, or one of another kind).
 GLenum hostDepthFormat(GLuint framebuffer);
+
+/// The screen rectangle a batch's quads reach (as shaders/cel/screen_rect.vert draws it): the world
+/// box [lo, hi] projected by `viewProjection`, padded by `padPixels`, within `viewport`; all of it
+/// where a corner lies at or behind the eye. Its area in pixels (0: off the screen).
+double reachedPixels(const glm::mat4& viewProjection, const glm::vec3& lo, const glm::vec3& hi, float padPixels,
+                     const core::Viewport& viewport);
+
+/// The quads' summed screen area, pixels: each `drawn` (centre, diameter) a square as
+/// shaders/cel/nailboard_vs.glsl sizes it, `halfCell` diameters from its centre or, for a puff so
+/// small that its ink band (`bandPixels`) reaches past that, half a diameter and the band, seen at
+/// its centre's clip w (`scaleY`: the projection's [1][1]); from every `stride`-th of them, times
+/// `stride`. Quads at or behind the eye count as the whole viewport.
+double quadPixels(std::span<const glm::vec4> drawn, std::size_t stride, float halfCell, float bandPixels,
+                  const glm::mat4& viewProjection, float scaleY, const core::Viewport& viewport);
 
 class VisibilityTarget {
  public:

@@ -142,9 +142,7 @@ class CelPath final : public Path {
   void setMediaOverWholeFrame(bool on) override {
     if (media_) media_->setOverWholeFrame(on);
   }
-  void setLitEveryLayer(bool on) override {
-    nailboards_->setLitShading(on ? cel::LitShading::kEveryLayer : cel::LitShading::kOncePerPixel);
-  }
+  void setLitShading(cel::LitShading shading) override { nailboards_->setLitShading(shading); }
 
   Result<media::Layers*> mediaLayers(const scene::Scene& scene, const cel::Viewport& viewport) override {
     if (!media_) return nullptr;

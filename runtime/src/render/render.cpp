@@ -137,12 +137,13 @@ struct SceneRenderer::Impl {
   std::vector<HistoryTag> history;    // motion blur's kept frames, one per slot
   int pathWidth = 0, pathHeight = 0;  // the frame size the path was made for
   // The benchmarks' and tests' switches (setFillRateFloor, setMediaOverWholeFrame,
-  // setLitEveryLayer), kept across the paths a renderer makes again.
-  bool fillRateFloor = false, mediaOverWholeFrame = false, litEveryLayer = false;
+  // setLitShading), kept across the paths a renderer makes again.
+  bool fillRateFloor = false, mediaOverWholeFrame = false;
+  cel::LitShading litShading = cel::LitShading::kAuto;
   void configure(Path& p) const {
     p.setFillRateFloor(fillRateFloor);
     p.setMediaOverWholeFrame(mediaOverWholeFrame);
-    p.setLitEveryLayer(litEveryLayer);
+    p.setLitShading(litShading);
   }
 };
 
@@ -157,8 +158,8 @@ void SceneRenderer::setFillRateFloor(bool on) {
   impl_->configure(*impl_->path);
 }
 
-void SceneRenderer::setLitEveryLayer(bool on) {
-  impl_->litEveryLayer = on;
+void SceneRenderer::setLitShading(cel::LitShading shading) {
+  impl_->litShading = shading;
   impl_->configure(*impl_->path);
 }
 

@@ -18,7 +18,8 @@
 //   shadowProfile        texture unit     5       21       the silhouettes' radius table, 2D
 //   shadowMapDepth       texture unit     6       22       ShadowMap::bind, 2D depth
 //   shadowMapIds         texture unit     7       23       ShadowMap::bind, 2D R32UI
-//   visibility           texture unit     8       24       the nailboards' visibility pre-pass, 2D or 2D multisample RG32UI
+//   visibility           texture unit     8       24       the nailboards' visibility pre-pass, 2D or 2D multisample
+//   RG32UI
 //
 // The renderers point their programs' blocks and samplers at these after linking
 // (glUniformBlockBinding, glShaderStorageBlockBinding, glProgramUniform1i): the shaders'

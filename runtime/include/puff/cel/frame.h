@@ -124,6 +124,11 @@ core::Viewport boundViewport();
 /// A number that changes whenever a FrameBlock is uploaded or bound on this thread: the nailboards'
 /// shadowed pass reads the lit pass's pre-pass only while it is the same.
 std::uint64_t boundFrameSerial();
+/// The projection x view of the FrameBlock last uploaded or bound on this thread (identity before
+/// any), and its projection's y scale (projection[1][1]): the nailboards' lit pass estimates how
+/// deep its quads stack on the screen from them.
+glm::mat4 boundViewProjection();
+float boundProjectionScaleY();
 
 /// The frame's uniform buffer (shaders/common/frame.glsl) on uniform binding `bindings.frameBlock`
 /// (cel/bindings.h). Owns one GL buffer.
@@ -148,6 +153,8 @@ class FrameBlock {
   core::Buffer buffer_;
   DepthConvention depth_ = DepthConvention::kStandard;
   core::Viewport viewport_;
+  glm::mat4 viewProjection_{1.0f};
+  float projectionScaleY_ = 1.0f;
   core::GlId binding_ = 0;
 };
 

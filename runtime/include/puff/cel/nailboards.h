@@ -112,9 +112,13 @@ struct DrawStats {
 
 /// How the lit pass shades (NailboardRenderer::drawNailboards, ShadePass::kLit).
 enum class LitShading {
+  /// kOncePerPixel where the quads stack: where their summed screen area is at least
+  /// kOnceMinOverdraw times the screen rectangle they reach (estimated each frame from at most 4096
+  /// of them), else kEveryLayer. The default.
+  kAuto,
   /// Each pixel once: a visibility pre-pass draws the nailboards' depth and particle id into Puff's
   /// own target, then a pass over the screen rectangle the puffs reach shades each pixel's particles
-  /// there, at that depth. The default. For the tumbling hull, on a framebuffer of more samples than
+  /// there, at that depth. For the tumbling hull, on a framebuffer of more samples than
   /// PUFF_MAX_DEFERRED_SAMPLES (8) or GL_MAX_INTEGER_SAMPLES, and where Puff's target cannot be made
   /// (an incomplete framebuffer), kEveryLayer.
   kOncePerPixel,
@@ -122,6 +126,11 @@ enum class LitShading {
   /// is checked and timed against.
   kEveryLayer,
 };
+/// kAuto's threshold: shading once pays where the quads stack deeper than this over the rectangle
+/// (the screen pass costs its whole rectangle where a rasterizer runs a discarded pixel's code, as
+/// llvmpipe does). Measured with puff_bench_cel --overdraw: at 1 the two cost about the same, at 2
+/// once is 1.3x cheaper, at 0.25 three times dearer (docs/cel-rendering.md).
+inline constexpr float kOnceMinOverdraw = 1.5f;
 
 class NailboardRenderer {
  public:
@@ -174,7 +183,7 @@ class NailboardRenderer {
   /// On a multisampled framebuffer also GL_MULTISAMPLE on. Nothing at all with no particles or no
   /// atlas (it returns before any GL call).
   DrawStats drawNailboards(const Style& style, ShadePass pass);
-  /// Tests and benchmarks: how the lit pass shades (kOncePerPixel by default).
+  /// How the lit pass shades (kAuto by default).
   void setLitShading(LitShading shading);
 
   /// The benchmark's fill-rate floor: the same quads with the colour map alpha-tested, nothing

@@ -13,6 +13,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <puff/cel/nailboards.h>
 #include <puff/cel/types.h>
 #include <puff/core/error.h>
 #include <puff/media/types.h>
@@ -140,8 +141,8 @@ class Path {
   virtual void setFillRateFloor(bool) {}
   /// Tests and benchmarks: the media passes over the whole frame (see SceneRenderer).
   virtual void setMediaOverWholeFrame(bool) {}
-  /// Tests and benchmarks: the nailboards' lit pass shades every layer (see SceneRenderer).
-  virtual void setLitEveryLayer(bool) {}
+  /// Tests and benchmarks: how the nailboards' lit pass shades (see SceneRenderer).
+  virtual void setLitShading(cel::LitShading) {}
   /// The media layers drawn into for a viewport of this size (made on first use), or null when the
   /// path draws no media. Motion blur keeps its history there. Errors: the layers could not be made.
   virtual Result<media::Layers*> mediaLayers(const scene::Scene&, const cel::Viewport&) { return nullptr; }

@@ -89,10 +89,10 @@ class SceneRenderer {
   /// (media::LayersBase::setCoverage): the yardstick the coverage is checked and timed against.
   /// Off by default.
   void setMediaOverWholeFrame(bool on);
-  /// Tests and benchmarks: on the programmable cel path, the nailboards' lit pass shades every layer
-  /// as it is drawn (cel::LitShading::kEveryLayer) instead of each pixel once: the yardstick the
-  /// one-layer shading is checked and timed against. Off by default.
-  void setLitEveryLayer(bool on);
+  /// Tests and benchmarks: on the programmable cel path, how the nailboards' lit pass shades
+  /// (cel::LitShading: kAuto by default; kEveryLayer is the yardstick shading each pixel once is
+  /// checked and timed against).
+  void setLitShading(cel::LitShading shading);
 
   using MediaFrameInputs = render::MediaFrameInputs;
   /// What the media pass drew in the most recent frame, read back. With motion blur, the last frame
