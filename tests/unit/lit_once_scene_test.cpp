@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <iostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <glm/common.hpp>
@@ -37,14 +38,20 @@ void PrintTo(const LitCase& c, std::ostream* os) {
   *os << c.scene << " frame " << c.frame << (c.samples == 1 ? " single-sampled" : "");
 }
 
-core::Image draw(const scene::Scene& s, int frame, cel::LitShading shading) {
+// The frame drawn by one renderer both ways: shading each pixel once, then every layer.
+std::pair<core::Image, core::Image> drawBothWays(const scene::Scene& s, int frame) {
   auto renderer = render::SceneRenderer::create(s);
   EXPECT_OK(renderer);
   if (!renderer) return {};
-  (*renderer)->setLitShading(shading);
-  auto image = (*renderer)->renderFrame(frame);
-  EXPECT_OK(image);
-  return image ? std::move(*image) : core::Image{};
+  std::pair<core::Image, core::Image> out;
+  for (cel::LitShading shading : {cel::LitShading::kOncePerPixel, cel::LitShading::kEveryLayer}) {
+    (*renderer)->setLitShading(shading);
+    auto image = (*renderer)->renderFrame(frame);
+    EXPECT_OK(image);
+    if (!image) return {};
+    (shading == cel::LitShading::kOncePerPixel ? out.first : out.second) = std::move(*image);
+  }
+  return out;
 }
 
 glm::vec3 displayAt(const core::Image& im, std::size_t i) {
@@ -63,8 +70,7 @@ TEST_P(LitOncePerPixel, DrawsTheSceneAsShadingEveryLayerDid) {
   s.width = c.width;
   s.height = c.height;
   if (c.samples > 0) s.samples = c.samples;
-  const core::Image once = draw(s, c.frame, cel::LitShading::kOncePerPixel),
-                    every = draw(s, c.frame, cel::LitShading::kEveryLayer);
+  const auto [once, every] = drawBothWays(s, c.frame);
   ASSERT_FALSE(once.pixels.empty());
   ASSERT_EQ(once.pixels.size(), every.pixels.size());
   // Ink: within 0.1 of the outline colour in every display channel. Edges: pixels whose 3 x 3
