@@ -155,6 +155,42 @@ TEST_F(HostState, CelCallsLeaveWhatTheirHeadersList) {
   for (const Case& c : cases) check(c, target, host);
 }
 
+// A guard around a lit pass that remakes Puff's visibility target (a larger viewport than the last
+// frame's) gives back no name the pass deleted: the unit the old target was left on comes back empty,
+// not bound to a deleted texture (an error), and the rest as the host had it.
+TEST_F(HostState, AGuardGivesBackNoNameThePassDeleted) {
+  test::OffscreenTarget target(kPx);
+  CelKit kit(*atlas_);
+  kit.nailboards->setLitShading(cel::LitShading::kOncePerPixel);
+  cel::Style style;
+  auto lit = [&](int size) {
+    cel::Frame f = eyeFrame();
+    f.viewport = {0, 0, size, size};
+    target.bind();
+    glViewport(0, 0, size, size);
+    EXPECT_OK(kit.block->upload(f));
+    kit.ramp->bind(kit.b);
+    kit.nailboards->upload(puffs());
+    kit.nailboards->drawNailboards(style, cel::ShadePass::kLit);
+  };
+  lit(kPx / 2);  // leaves its target on unit `visibility`
+  GLint left = 0;
+  glActiveTexture(GL_TEXTURE0 + kit.b.visibility);
+  glGetIntegerv(GL_TEXTURE_BINDING_2D, &left);
+  ASSERT_NE(left, 0);
+  core::drainGlErrors();
+  {
+    core::HostStateGuard guard(cel::guardExtent(kit.b));
+    lit(kPx);  // a larger viewport: the target is made again, the old one deleted
+  }
+  EXPECT_EQ(core::drainGlErrors(), "");
+  GLint back = -1;
+  glActiveTexture(GL_TEXTURE0 + kit.b.visibility);
+  glGetIntegerv(GL_TEXTURE_BINDING_2D, &back);
+  EXPECT_EQ(back, glIsTexture(static_cast<GLuint>(left)) ? left : 0);
+  glActiveTexture(GL_TEXTURE0);
+}
+
 TEST_F(HostState, MediaCallsLeaveWhatTheirHeadersList) {
   test::OffscreenTarget target(kPx);
   HostileHost host;

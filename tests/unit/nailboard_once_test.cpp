@@ -199,5 +199,40 @@ TEST_F(NailboardsOnce, TheShadowedPassReadsTheLitPassesPrePassOnlyForTheSameFram
   EXPECT_EQ(core::drainGlErrors(), "");
 }
 
+// kAuto shades once where the quads stack (two draws: the pre-pass and the screen pass) and every
+// layer where they do not (one): a hundred puffs 1.6 px across in a 32 px square stack deep only
+// with the quads their ink grows them to; four puffs far apart do not stack at all.
+TEST_F(NailboardsOnce, AutoShadesOnceWhereTheQuadsStack) {
+  const Setting s{"orthographic", false, {0, 0, kPx, kPx}, false, true};
+  auto draws = [&](const std::vector<Particle>& ps) {
+    target_->clear(1.0f);
+    EXPECT_OK(block_->upload(frameFor(s)));
+    ramp_->bind();
+    renderer_->upload(ps);
+    renderer_->setLitShading(cel::LitShading::kAuto);
+    const std::size_t n = renderer_->drawNailboards(cel::Style{}, cel::ShadePass::kLit).drawCalls;
+    renderer_->setLitShading(cel::LitShading::kOncePerPixel);
+    return n;
+  };
+  std::vector<Particle> tiny;
+  for (int i = 0; i < 100; ++i) {
+    Particle p;
+    p.position = glm::vec3(-1.0f + 0.2f * static_cast<float>(i % 10), -1.0f + 0.2f * static_cast<float>(i / 10),
+                           0.01f * static_cast<float>(i));
+    p.size = 0.1f;
+    tiny.push_back(p);
+  }
+  EXPECT_EQ(draws(tiny), 2u) << "tiny puffs whose ink-grown quads stack: once per pixel";
+  std::vector<Particle> apart;
+  for (int i = 0; i < 4; ++i) {
+    Particle p;
+    p.position = glm::vec3(i % 2 == 0 ? -3.0f : 3.0f, i < 2 ? -3.0f : 3.0f, 0.0f);
+    p.size = 0.6f;
+    apart.push_back(p);
+  }
+  EXPECT_EQ(draws(apart), 1u) << "puffs far apart: every layer";
+  EXPECT_EQ(core::drainGlErrors(), "");
+}
+
 }  // namespace
 }  // namespace puff::nailboard_test

@@ -100,10 +100,23 @@ std::vector<IndexedBuffer> captureIndexed(GLenum binding, GLenum start, GLenum s
 }
 
 // Rebinds each indexed binding of `target` whose wanted state differs from what `is` read back.
+// A saved texture or buffer name, or 0 where the guarded calls deleted its object: only Puff's own
+// objects are deleted there (a target remade for another size, samples or format), and binding a
+// deleted name is an error.
+GLuint liveTexture(GLint name) {
+  const auto n = static_cast<GLuint>(name);
+  return n != 0 && glIsTexture(n) ? n : 0;
+}
+GLuint liveBuffer(GLint name) {
+  const auto n = static_cast<GLuint>(name);
+  return n != 0 && glIsBuffer(n) ? n : 0;
+}
+
 void applyIndexed(GLenum target, const std::vector<IndexedBuffer>& want, const std::vector<IndexedBuffer>& is) {
   for (std::size_t i = 0; i < want.size(); ++i) {
     if (want[i] == is[i]) continue;
-    const IndexedBuffer& b = want[i];
+    IndexedBuffer b = want[i];
+    b.buffer = static_cast<GLint>(liveBuffer(b.buffer));
     // A whole-buffer binding reads back with size 0.
     if (b.buffer != 0 && b.size > 0) {
       glBindBufferRange(target, static_cast<GLuint>(i), static_cast<GLuint>(b.buffer), static_cast<GLintptr>(b.start),
@@ -292,8 +305,8 @@ struct HostStateGuard::Saved {
     applyIndexed(GL_UNIFORM_BUFFER, uniform, now.uniform);
     applyIndexed(GL_SHADER_STORAGE_BUFFER, storage, now.storage);
     // The generic bindings after the indexed ones (glBindBufferBase/Range set them too).
-    glBindBuffer(GL_UNIFORM_BUFFER, static_cast<GLuint>(uniformGeneric));
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, static_cast<GLuint>(storageGeneric));
+    glBindBuffer(GL_UNIFORM_BUFFER, liveBuffer(static_cast<GLint>(uniformGeneric)));
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, liveBuffer(static_cast<GLint>(storageGeneric)));
     if (now.arrayBuffer != arrayBuffer) glBindBuffer(GL_ARRAY_BUFFER, static_cast<GLuint>(arrayBuffer));
   }
 
@@ -303,7 +316,7 @@ struct HostStateGuard::Saved {
       if (units[u] == now.units[u]) continue;
       glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(u));
       for (std::size_t t = 0; t < kTargets.size(); ++t) {
-        if (units[u][t] != now.units[u][t]) glBindTexture(kTargets[t], static_cast<GLuint>(units[u][t]));
+        if (units[u][t] != now.units[u][t]) glBindTexture(kTargets[t], liveTexture(static_cast<GLint>(units[u][t])));
       }
       if (units[u][kTargets.size()] != now.units[u][kTargets.size()]) {
         glBindSampler(static_cast<GLuint>(u), static_cast<GLuint>(units[u][kTargets.size()]));

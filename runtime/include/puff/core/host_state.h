@@ -57,7 +57,9 @@ struct GuardExtent {
 };
 
 /// Saves the host's GL state (above) on construction and restores it on destruction (or at
-/// restore(), once). Needs the same current GL context on both ends; not copyable.
+/// restore(), once). Needs the same current GL context on both ends; not copyable. A texture or
+/// buffer name saved there whose object the guarded calls deleted (one of Puff's, made again for
+/// another size, samples or format) comes back as 0, not as a deleted name.
 class HostStateGuard {
  public:
   explicit HostStateGuard(const GuardExtent& extent = {});
