@@ -105,12 +105,14 @@ struct HullView {
   int cell;
   float side;           // +1 seen from its own side, -1 from behind (a hemi-oct back)
   vec3 right, up, dir;  // puff space; dir toward the baked view's viewer
+  float across;         // the sine between the eye ray and dir: how fast the ray crosses the view
 };
 const int kHullViews = 8;
 HullView hullViews[kHullViews];
 
 struct HullBound {
   float exact;    // > 0: outside what the view's maps bound (about the distance, diameters)
+  float wallDist; // the swept silhouette's part of it (> 0: outside the wall)
   float assumed;  // with a view from behind, also outside its reflected front
   bool wall;      // `exact` is the silhouette's (the swept silhouette's wall), not the front surface's
   vec4 texel;     // the packed texel read (filtered)
@@ -132,6 +134,7 @@ HullBound hullBound(int k, vec3 pt, float lod, bool fromTable, float trusted) {
   // the range, so a ray far from the puff takes long steps.
   if (dist >= trusted) dist = max((length(local) - silhouetteRadius(v.cell, local)) * uAtlasScale.x, fromTable ? trusted : dist);
   b.exact = dist / uAtlasScale.x;
+  b.wallDist = b.exact;
   b.assumed = b.exact;
   b.wall = true;
   if (dist <= 0.0 && k < 4) {
@@ -187,17 +190,26 @@ struct HullHit {
   vec3 color;     // a hit: scene-linear
 };
 
-// Every view's bound at `pt`, and the hull's: x exact, y with the reflected fronts assumed. `wall`:
-// the exact bound that decides is a silhouette's (or the sphere's), not a front surface's.
-vec2 hullAt(vec3 pt, float lod, bool fromTable, float trusted, out HullBound b[kHullViews], out bool wall) {
+// Every view's bound at `pt`, and the hull's: x exact, y with the reflected fronts assumed, z the step
+// the march may take along the eye ray from `pt` (> 0 exactly where x is). `wall`: the exact bound
+// that decides is a silhouette's (or the sphere's), not a front surface's.
+// The step: each bound is about a distance, so the ray stays outside for x (sphere tracing). A swept
+// silhouette's is measured across its view's direction, and the ray nears that wall only as fast as
+// it crosses the direction (`across`, the sine between them): it stays farther than `keep` from it
+// for its distance less `keep` over that sine, for a view near the eye's direction many times x.
+// (`keep`: the least distance the march must see to within the step's own error, the ink's reach.)
+vec3 hullAt(vec3 pt, float lod, bool fromTable, float trusted, float keep, out HullBound b[kHullViews],
+            out bool wall) {
   vec2 f = vec2(length(pt) - 0.5);
+  float step = f.x;
   wall = true;
   for (int k = 0; k < kHullViews; ++k) {
     b[k] = hullBound(k, pt, lod, fromTable, trusted);
     if (b[k].exact > f.x) wall = b[k].wall;
     f = max(f, vec2(b[k].exact, b[k].assumed));
+    if (b[k].wallDist > keep) step = max(step, (b[k].wallDist - keep) / hullViews[k].across);
   }
-  return f;
+  return vec3(f, max(step, f.x));
 }
 
 // Whether the eye ray through `origin` (puff space, on the billboard plane) hits the hull: the march
@@ -211,9 +223,9 @@ bool hullHits(vec3 origin, float eps, float lod, bool fromTable, float trusted) 
   bool wall;
   float t = tMax;
   for (int i = 0; i < 64; ++i) {
-    vec2 f = hullAt(origin + t * ray, lod, fromTable, trusted, b, wall);
+    vec3 f = hullAt(origin + t * ray, lod, fromTable, trusted, 0.0, b, wall);
     if (f.x <= 0.0) return true;
-    t -= max(f.x, eps);
+    t -= max(f.z, eps);
     if (t < -tMax) break;
   }
   return false;
@@ -232,6 +244,7 @@ bool setUpHullViews() {
     // A hemi-oct cell whose viewer is on the far side stands for the view from behind.
     // (The views across the ray bound only: their own sides.)
     v.side = k < 4 && uAtlasLayout.w != 1 && dot(v.dir, vBillboardPuff[2]) < 0.0 ? -1.0 : 1.0;
+    v.across = max(length(cross(v.dir, vBillboardPuff[2])), 1e-3);
     hullViews[k] = v;
     behind = behind || v.side < 0.0;
   }
@@ -242,15 +255,17 @@ bool setUpHullViews() {
 // point inside it (h.hit, t, f its bounds there, b the views' bounds, throughWall whether it entered
 // through a silhouette's wall), or for a ray that misses its least distance (h.nearest, at
 // tNearest).
-void marchExact(vec3 origin, float tMax, float eps, float lod, bool fromTable, float trusted, inout HullHit h,
-                out float t, out vec2 f, out bool throughWall, out float tNearest, out HullBound b[kHullViews]) {
+void marchExact(vec3 origin, float tMax, float eps, float lod, bool fromTable, float trusted, float keep,
+                inout HullHit h, out float t, out vec2 f, out bool throughWall, out float tNearest,
+                out HullBound b[kHullViews]) {
   vec3 ray = vBillboardPuff[2];
   t = tMax;
   bool wall = true;
   throughWall = true;
   tNearest = t;
   for (int i = 0; i < 64; ++i) {
-    f = hullAt(origin + t * ray, lod, fromTable, trusted, b, wall);
+    vec3 g = hullAt(origin + t * ray, lod, fromTable, trusted, keep, b, wall);
+    f = g.xy;
     if (i == 0 || f.x < h.nearest) tNearest = t;
     h.nearest = i == 0 ? f.x : min(h.nearest, f.x);
     if (f.x <= 0.0) {
@@ -258,7 +273,7 @@ void marchExact(vec3 origin, float tMax, float eps, float lod, bool fromTable, f
       break;
     }
     throughWall = wall;
-    t -= max(f.x, eps);
+    t -= max(g.z, eps);
     if (t < -tMax) break;
   }
 }
@@ -273,8 +288,8 @@ float screenDistance(vec3 at, float nearest, float ink, float pixel, float eps, 
   float delta = 0.5 * pixel;
   HullBound g[kHullViews];
   bool gw;
-  vec2 grad = vec2(hullAt(at + delta * vBillboardPuff[0], lod, fromTable, trusted, g, gw).x,
-                   hullAt(at + delta * vBillboardPuff[1], lod, fromTable, trusted, g, gw).x) -
+  vec2 grad = vec2(hullAt(at + delta * vBillboardPuff[0], lod, fromTable, trusted, 0.0, g, gw).x,
+                   hullAt(at + delta * vBillboardPuff[1], lod, fromTable, trusted, 0.0, g, gw).x) -
               nearest;
   vec2 towards[2] = vec2[2](dot(grad, grad) > 1e-12 ? -normalize(grad) : vec2(0.0),
                             dot(vPuff, vPuff) > 1e-12 ? -normalize(vPuff) : vec2(0.0));
@@ -286,6 +301,7 @@ float screenDistance(vec3 at, float nearest, float ink, float pixel, float eps, 
   for (int k = 0; k < 2; ++k) {
     vec2 toward = towards[k];
     if (dot(toward, toward) == 0.0 || (best >= 0.0 && best <= solid)) continue;
+    if (k == 1 && dot(towards[0], toward) > 0.95) continue;
     float lo = 0.0, hi = ink + 0.5 * pixel;
     if (best >= 0.0) hi = min(hi, best);
     if (!hullHits(vBillboardPuff * vec3(vPuff + hi * toward, 0.0), eps, lod, fromTable, trusted)) continue;
@@ -317,7 +333,7 @@ float wallDepth(vec3 origin, float t, vec2 f, float tMax, float pixel, float eps
   for (int i = 0; i < 8 && deepest > -2.0 * pixel; ++i) {
     s -= max(-f.x, eps);
     if (s < -tMax) break;
-    f = hullAt(origin + s * ray, lod, fromTable, trusted, probe, wall);
+    f = hullAt(origin + s * ray, lod, fromTable, trusted, 0.0, probe, wall).xy;
     if (f.x > 0.0) break;
     deepest = min(deepest, f.x);
   }
@@ -333,7 +349,7 @@ void surfaceBehind(vec3 origin, float tMax, float eps, float lod, bool fromTable
   HullBound at[kHullViews];
   bool wall;
   for (int i = 0; i < 32; ++i) {
-    vec2 f = hullAt(origin + s * ray, lod, fromTable, trusted, at, wall);
+    vec2 f = hullAt(origin + s * ray, lod, fromTable, trusted, 0.0, at, wall).xy;
     if (f.y <= 0.0) {
       t = s;
       b = at;
@@ -397,7 +413,7 @@ HullHit hullMarch(float lod, float tpp, bool fromTable, float trusted, float rea
   float t, tNearest;
   vec2 f;
   bool throughWall;
-  marchExact(origin, tMax, eps, lod, fromTable, trusted, h, t, f, throughWall, tNearest, b);
+  marchExact(origin, tMax, eps, lod, fromTable, trusted, reach + pixel, h, t, f, throughWall, tNearest, b);
   if (!h.hit) {
     // A miss: its least distance to the hull is the largest of the bounds' distances at the ray's
     // closest approach, an estimate (short where two bounds meet, long where a front surface curves

@@ -26,6 +26,10 @@ vec4 cellMap(int c, vec3 rP, vec3 uP) {
 mat3 cellToBillboard(vec4 m) { return mat3(vec3(m.x, m.z, 0.0), vec3(m.y, m.w, 0.0), vec3(0.0, 0.0, 1.0)); }
 
 #if PUFF_VIEWS == 4
+// Oriented puffs at least this many pixels across (one diameter at the centre) take the hull, smaller
+// ones the blend (cel::Style::hullFromPixels; 0: all take the hull).
+uniform float uHullFromPixels;
+
 // The atlas cell whose view is nearest puff-space direction `d` (or its opposite, on a hemi-oct
 // atlas): seen across the eye ray, its silhouette bounds the puff's depth.
 int nearestView(Particle p, vec3 d) {
@@ -61,7 +65,6 @@ float setUpParticle(uint index, Particle p, mat3 bb) {
   vNormalXf[1] = toView * cellToBillboard(vMap[1]);
   vNormalXf[2] = toView * cellToBillboard(vMap[2]);
   vNormalXf[3] = toView * cellToBillboard(vMap[3]);
-  vHull = p.oriented && uAtlasLayout.y > 1 ? 1 : 0;  // (read only by the hull's fragment stage)
 #ifndef PUFF_DEFERRED
   // (The deferred pass shades the blend only: the hull is drawn forward, nailboards.h.)
   vCellAcross = ivec4(nearestView(p, rP), nearestView(p, uP), nearestView(p, normalize(rP + uP)),
@@ -84,5 +87,10 @@ float setUpParticle(uint index, Particle p, mat3 bb) {
   float pxPerUnit = 0.5 * uViewport.w * uProj[1][1] / (isOrthographic() ? 1.0 : centreDist);
   float pxPerDiameter = max(1e-6, p.size * pxPerUnit);
   vTexelsPerPixel = uAtlasScale.x / pxPerDiameter;
+#if PUFF_VIEWS == 4
+  // (Read by the hull's fragment stage, and by the vertex stage to split the particles between the
+  // hull's program and the blend's.)
+  vHull = p.oriented && uAtlasLayout.y > 1 && pxPerDiameter >= uHullFromPixels ? 1 : 0;
+#endif
   return pxPerDiameter;
 }

@@ -15,6 +15,11 @@
 uniform int uCaster;
 uniform vec3 uEyeRight;
 uniform vec3 uEyeUp;
+#if PUFF_VIEWS == 4
+// Which particles this draw takes (cel::detail::TumbleShare): 0 all; 1 those that take the hull
+// (vHull), 2 the others.
+uniform int uTumbleShare;
+#endif
 
 
 const vec2 kCorners[6] = vec2[](vec2(-1, -1), vec2(1, -1), vec2(1, 1), vec2(-1, -1), vec2(1, 1), vec2(-1, 1));
@@ -35,5 +40,9 @@ void main() {
   vec4 viewPos = uView * vec4(world, 1.0);
   vDist = -viewPos.z;
   vWorld = world;
-  gl_Position = p.size > 0.0 ? uProj * viewPos : vec4(2.0, 2.0, 2.0, 1.0);
+  bool drawn = p.size > 0.0;
+#if PUFF_VIEWS == 4
+  drawn = drawn && (uTumbleShare == 0 || (vHull == 1) == (uTumbleShare == 1));
+#endif
+  gl_Position = drawn ? uProj * viewPos : vec4(2.0, 2.0, 2.0, 1.0);  // (outside the clip volume: nothing drawn)
 }

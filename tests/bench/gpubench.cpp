@@ -13,6 +13,8 @@
 //   cloud-50k     the scene as it is, at 1920 x 1080
 //   blend, hull   dust-roll frames 30-35 at 960 x 540, its oriented puffs drawn by blending views /
 //                 by the hull (style.tumble); the hull's baseline is the blend
+//   hull-from-P   the same, the hull only for puffs P pixels across and more (style.hullFromPixels,
+//                 P 48 and 96), the blend for the rest; baseline the blend (not in --quick)
 //   no-media      explosion-walls frame 20 at 960 x 540 without its media (particles, emitters and
 //                 lights removed): the media rows' baseline
 //   media-R       explosion-walls frame 20 at 960 x 540, the media layer at R of the frame (1, 1/2,
@@ -161,6 +163,15 @@ std::vector<Case> plan(const Options& o) {
         {"tumble", "blend", "dust-roll.json", w, h, samples, tumbleFrames, tumble(cel::TumbleMethod::kBlend), ""});
     cases.push_back(
         {"tumble", "hull", "dust-roll.json", w, h, samples, tumbleFrames, tumble(cel::TumbleMethod::kHull), "blend"});
+    // The hull only for puffs that large on screen, the blend for the rest (not in --quick's one case).
+    for (const int from : o.quick ? std::vector<int>{} : std::vector<int>{48, 96}) {
+      cases.push_back({"tumble", "hull-from-" + std::to_string(from), "dust-roll.json", w, h, samples, tumbleFrames,
+                       [=](scene::Scene& s) {
+                         s.style.tumble = cel::TumbleMethod::kHull;
+                         s.style.hullFromPixels = static_cast<float>(from);
+                       },
+                       "blend"});
+    }
     cases.push_back({"media",
                      "no-media",
                      "explosion-walls.json",

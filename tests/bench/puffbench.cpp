@@ -287,12 +287,17 @@ int main(int argc, char** argv) {
       celCsvPath = argv[++i];
     } else if (!std::strcmp(argv[i], "--shadow-csv") && i + 1 < argc) {
       shadowCsvPath = argv[++i];
-    } else if (!std::strcmp(argv[i], "--shadow-scenes") && i + 1 < argc) {
-      shadowScenes.clear();
+    } else if ((!std::strcmp(argv[i], "--shadow-scenes") || !std::strcmp(argv[i], "--cel-scenes") ||
+                !std::strcmp(argv[i], "--tumble-scenes")) &&
+               i + 1 < argc) {
+      std::vector<std::string>& into = !std::strcmp(argv[i], "--shadow-scenes") ? shadowScenes
+                                       : !std::strcmp(argv[i], "--cel-scenes")  ? cel.scenes
+                                                                                : cel.tumbleScenes;
+      into.clear();  // (an empty LIST: none)
       std::string list = argv[++i];
       for (std::size_t at = 0; at <= list.size();) {
         const std::size_t comma = std::min(list.find(',', at), list.size());
-        if (comma > at) shadowScenes.push_back(list.substr(at, comma - at));
+        if (comma > at) into.push_back(list.substr(at, comma - at));
         at = comma + 1;
       }
     } else if (!std::strcmp(argv[i], "--cartoon-csv") && i + 1 < argc) {
@@ -342,6 +347,9 @@ int main(int argc, char** argv) {
           "                 [--physical: media errors against the physical reference too]\n"
           "                 [--reference-limit N (12500): no cel reference above N particles]\n"
           "                 [--no-counts: skip the particle-count sweep] [--art-dir DIR]\n"
+          "                 [--cel-scenes A,B (explosion,cloud-fig8c): cel's atlas and mesh-detail sweeps]\n"
+          "                 [--tumble-scenes A,B (dust-roll): cel's oriented puffs by the blend, by the hull\n"
+          "                 from each size --max-error tries and by the hull, at the scene's own size]\n"
           "                 [--tumble-csv FILE] [--tumble-atlases LIST (oct3,oct5,oct7,oct9,hemioct3,\n"
           "                 hemioct5,hemioct7)] [--tumble-cells LIST (64,128,256)] [--tumble-step DEG (15)]\n"
           "                 (tumble: each atlas drawn by both tumble methods, hull and blend; frame times are\n"

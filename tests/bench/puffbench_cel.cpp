@@ -17,11 +17,13 @@
 #include <optional>
 
 #include <puff/bake/baker.h>
+#include <puff/core/number_text.h>
 #include <puff/eval/budget.h>
 #include <puff/eval/cel_reference.h>
 #include <puff/eval/compare.h>
 #include <puff/mesh/mesh.h>
 #include <puff/reference/metrics.h>
+#include <puff/scene/evaluate.h>
 #include <puff/scene/read.h>
 
 #include "harness.h"
@@ -112,6 +114,56 @@ Result<Frames> renderFrames(const scene::Scene& scene, render::RenderPath path, 
   out.ms = bench::median(times);
   return out;
 }
+
+namespace {
+
+// How the oriented puffs of scene `name` turn (what --max-error chooses, eval::CelKnob::kTumble), at
+// the scene's own size: each way's frames against the cel reference of the turned meshes.
+Result<void> addTumbleRows(const CelBenchOptions& opt, const std::string& name, std::vector<CelRow>& rows) {
+  const auto t0 = Clock::now();
+  PUFF_TRY_ASSIGN(auto loaded, scene::loadScene(opt.sceneDir / (name + ".json"), opt.artDir));
+  scene::Scene scene = loaded;
+  scene.media.reset();
+  if (scene::orientedPuffs(scene).empty()) return Error{name + ": no oriented puffs, so no tumble rows"};
+  const std::vector<int> frames = eval::budgetFrames(0, scene.animation.frames - 1);
+  const glm::vec3 ink = scene::celStyleFor(scene).outlineColor;
+  PUFF_TRY_ASSIGN(auto bare, renderFrames(eval::withoutParticles(scene), render::RenderPath::kCel, frames, opt.reps));
+  PUFF_TRY_ASSIGN(auto ref, renderFrames(scene, render::RenderPath::kReference, frames, 0));
+  PUFF_TRY_ASSIGN(auto refBare, renderFrames(eval::withoutParticles(scene), render::RenderPath::kReference, frames, 0));
+  PUFF_TRY_ASSIGN(auto fillFloor, renderFrames(scene, render::RenderPath::kCel, frames, opt.reps, true));
+  std::vector<std::pair<float, std::string>> ways{{cel::kMaxHullFromPixels, "blend"}};
+  for (float from : eval::kHullFromPixels) ways.emplace_back(from, "hull from " + core::numberText(from) + " px");
+  ways.emplace_back(0.0f, "hull");
+  for (const auto& [from, label] : ways) {
+    scene::Scene s = scene;
+    s.style.tumble = from >= cel::kMaxHullFromPixels ? cel::TumbleMethod::kBlend : cel::TumbleMethod::kHull;
+    s.style.hullFromPixels = from >= cel::kMaxHullFromPixels ? 0.0f : from;
+    PUFF_TRY_ASSIGN(auto f, renderFrames(s, render::RenderPath::kCel, frames, opt.reps));
+    CelRow r;
+    r.scene = name;
+    r.path = "cel";
+    r.parameter = "tumble";
+    r.value = from;
+    r.label = label;
+    r.particles = f.particles;
+    r.width = scene.width;
+    r.height = scene.height;
+    r.ms = f.ms;
+    r.floorMs = fillFloor.ms;
+    r.bareMs = bare.ms;
+    const Errors e = compare(f, bare, ref, refBare, ink);
+    r.rmse = e.rmse;
+    r.rmsePuffs = e.rmsePuffs;
+    r.coverageIoU = e.coverageIoU;
+    r.outlineIoU = e.outlineIoU;
+    rows.push_back(r);
+  }
+  std::fprintf(stderr, "puffbench: %s: oriented puffs by the blend, the hull from a size and the hull (%.1f s)\n",
+               name.c_str(), std::chrono::duration<double>(Clock::now() - t0).count());
+  return {};
+}
+
+}  // namespace
 
 Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
   std::vector<CelRow> rows;
@@ -328,6 +380,7 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
       }
     }
   }
+  for (const std::string& name : opt.tumbleScenes) PUFF_TRY(addTumbleRows(opt, name, rows));
   markParetoFronts(rows);
   return rows;
 }

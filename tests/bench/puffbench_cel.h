@@ -20,6 +20,10 @@ struct CelBenchOptions {
   std::vector<int> atlasCells{64, 128, 256, 512, 1024};
   std::vector<int> decimations{1, 4, 16, 64};                      ///< faces / k
   std::vector<std::size_t> counts{263, 1052, 4000, 12500, 50000};  ///< on cloud-50k; empty: none
+  /// Scenes of oriented puffs, at their own size: the blend, the hull from each of
+  /// eval::kHullFromPixels and the hull on all (parameter "tumble"; value: Style::hullFromPixels, the
+  /// blend cel::kMaxHullFromPixels).
+  std::vector<std::string> tumbleScenes{"dust-roll"};
   std::size_t referenceLimit = 12500;  ///< no reference (so no error) above this many particles
   int width = 320, height = 240, reps = 3;
 };

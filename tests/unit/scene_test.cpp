@@ -177,6 +177,8 @@ TEST(Scene, ErrorsNameTheFileThePointerWhatWasExpectedAndWhatCame) {
        "/style/alignment: expected one of view-plane, viewpoint, axial, got \"sideways\""},
       {R"({"style": {"shadowBias": 2}})", "/style/shadowBias: expected a number in [0, 1], got 2"},
       {R"({"style": {"tumble": "spin"}})", "/style/tumble: expected one of hull, blend, got \"spin\""},
+      {R"({"style": {"hullFromPixels": -1}})", "/style/hullFromPixels: expected a number in [0, 4096], got -1"},
+      {R"({"style": {"hullFromPixels": 5000}})", "/style/hullFromPixels: expected a number in [0, 4096], got 5000"},
       {R"({"style": {"outlineWidth": -1}})", "/style/outlineWidth: expected a number in [0, 64], got -1"},
       {R"({"atlas": "a.json", "particles": [{"variation": 256}]})",
        "/particles/0/variation: expected an integer in [0, 255], got 256"},

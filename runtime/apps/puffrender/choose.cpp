@@ -7,7 +7,9 @@
 #include <cli/app.h>
 #include <cli/progress.h>
 #include <puff/core/image.h>
+#include <puff/core/number_text.h>
 #include <puff/eval/budget.h>
+#include <puff/scene/evaluate.h>
 
 #include "commands.h"
 
@@ -60,14 +62,18 @@ int chooseCelModel(const Options& o, scene::Scene& scene, const Plan& plan, eval
                    std::vector<core::Image>* references) {
   const std::vector<int> frames = eval::budgetFrames(plan.first, plan.last);
   const bool atlas = knob == eval::CelKnob::kAtlasLevel, shadows = knob == eval::CelKnob::kShadows;
+  const bool tumble = knob == eval::CelKnob::kTumble;
   if (!o.quiet) {
-    std::string list;
+    std::string list, sizes;
     for (int f : frames) list += (list.empty() ? "" : ", ") + std::to_string(f);
+    for (float px : eval::kHullFromPixels) sizes += (sizes.empty() ? "" : ", ") + core::numberText(px);
+    const std::string tumbles = "oriented puffs by the blend, by the hull from " + sizes + " px and by the hull";
     std::fprintf(stderr, "%s: --max-error %g: measuring %s against the cel reference at %s %s\n", cli::name(),
                  *o.maxError,
-                 shadows ? "the shadow map at scales 0.25, 0.5, 1 and 2 and the shadow volumes"
-                 : atlas ? "the atlas at each mip level"
-                         : "1/8, 1/4, 1/2 and all of the emitters' particles",
+                 shadows  ? "the shadow map at scales 0.25, 0.5, 1 and 2 and the shadow volumes"
+                 : tumble ? tumbles.c_str()
+                 : atlas  ? "the atlas at each mip level"
+                          : "1/8, 1/4, 1/2 and all of the emitters' particles",
                  frames.size() == 1 ? "frame" : "frames", list.c_str());
     std::fflush(stderr);
   }
@@ -98,6 +104,9 @@ int chooseCelModel(const Options& o, scene::Scene& scene, const Plan& plan, eval
   if (shadows) {
     scene.style.shadowMethod = c.shadowMethod;
     scene.style.shadowMapScale = c.shadowMapScale;
+  } else if (tumble) {
+    scene.style.tumble = c.tumble;
+    scene.style.hullFromPixels = c.hullFromPixels;
   } else if (atlas) {
     scene.atlasLevel = c.atlasLevel;
   } else {
@@ -125,6 +134,10 @@ int chooseModel(const Options& o, scene::Scene& scene, const Plan& plan) {
     }
     if (const int code = chooseCelModel(o, scene, plan, eval::CelKnob::kAtlasLevel, &references); code != 0)
       return code;
+    // How the oriented ones turn: the blend, or the hull from a size on.
+    if (!scene::orientedPuffs(scene).empty()) {
+      if (const int code = chooseCelModel(o, scene, plan, eval::CelKnob::kTumble, &references); code != 0) return code;
+    }
     // Then the shadows those particles cast: the method and the map's resolution.
     if (scene.style.shadows) {
       if (const int code = chooseCelModel(o, scene, plan, eval::CelKnob::kShadows, &references); code != 0) return code;

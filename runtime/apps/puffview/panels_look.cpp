@@ -96,6 +96,10 @@ void stylePanel(scene::Scene& s, Edits& edit) {
   const char* tumbles[] = {"hull", "blend"};
   int t = static_cast<int>(st.tumble);
   if (edit(ImGui::Combo("Tumbling puffs", &t, tumbles, 2))) st.tumble = static_cast<cel::TumbleMethod>(t);
+  if (st.tumble == cel::TumbleMethod::kHull) {
+    edit(ImGui::SliderFloat("Hull from (px)", &st.hullFromPixels, 0.0f, cel::kMaxHullFromPixels, "%.0f",
+                            ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic));
+  }
 }
 
 void lightPanel(scene::Scene& s, Edits& edit) {

@@ -12,9 +12,18 @@
 
 namespace puff::cel::detail {
 
+// Which particles a draw of a four-view program takes (uTumbleShare, nailboard_vs.glsl): all, or of
+// a frame whose oriented puffs take the hull from a size on (Style::hullFromPixels), the share the
+// hull draws or the share the blend draws.
+enum class TumbleShare : int { kAll = 0, kHull = 1, kBlend = 2 };
+
+// The atlas's uniforms, and which particles the draw takes.
 struct AtlasUniforms {
   GLint gridOrigin = -1, gridStep = -1, alignment = -1, layout = -1, geom = -1, scale = -1;
+  GLint hullFrom = -1, tumbleShare = -1;
   void find(GLuint program) {
+    hullFrom = glGetUniformLocation(program, "uHullFromPixels");
+    tumbleShare = glGetUniformLocation(program, "uTumbleShare");
     gridOrigin = glGetUniformLocation(program, "uGridOrigin");
     gridStep = glGetUniformLocation(program, "uGridStep");
     alignment = glGetUniformLocation(program, "uAlignment");

@@ -31,6 +31,7 @@ using detail::kPolar;
 using detail::NailboardProgram;
 using detail::ShadowProfiles;
 using detail::shadowProfiles;
+using detail::TumbleShare;
 
 namespace {
 
@@ -90,6 +91,7 @@ struct NailboardRenderer::Impl {
     std::uint64_t upload = 0, frame = 0;
     GLint framebuffer = -1;
     int samples = 0;
+    float hullFrom = 0.0f;  // the blend's share of a split frame (> 0), or every particle (0)
     bool operator==(const Visible&) const = default;
   };
   std::uint64_t uploads = 0;
@@ -101,6 +103,7 @@ struct NailboardRenderer::Impl {
   float maxSize = 0.0f;
   bool anyDrawn = false;
   LitShading litShading = LitShading::kAuto;
+  TumbleShare share = TumbleShare::kAll;  // the particles the draw being set up takes
   core::Program shadow, sprite;
   AtlasUniforms svAtlas, spAtlas;
   GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1, shadowBackFace = -1;
@@ -126,6 +129,8 @@ struct NailboardRenderer::Impl {
                        static_cast<float>(desc.cellSize), static_cast<float>(desc.margin));
     glProgramUniform4f(program, u.scale, static_cast<float>(desc.contentSize), desc.depthScale, desc.distanceRange,
                        0.0f);
+    glProgramUniform1f(program, u.hullFrom, style.hullFromPixels);
+    glProgramUniform1i(program, u.tumbleShare, static_cast<int>(share));
     glBindVertexArray(vao.get());
     // Multi-bind: the generic GL_SHADER_STORAGE_BUFFER binding stays the host's.
     const GLuint particleBuffer = particles.get(), cellBuffer = cells.get();
@@ -184,11 +189,16 @@ struct NailboardRenderer::Impl {
            rect;
   }
   // What a pre-pass drawn now would hold.
-  Visible current(int samples) const {
+  Visible current(int samples, const Style& style) const {
     GLint framebuffer = 0;
     glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
-    return {uploads, boundFrameSerial(), framebuffer, samples};
+    return {uploads, boundFrameSerial(), framebuffer, samples,
+            share == TumbleShare::kBlend ? style.hullFromPixels : 0.0f};
   }
+  // One pass of `variant` over the particles of `share`: each pixel shaded once from a pre-pass
+  // (`deferred`, where the pass allows it; none: every layer).
+  DrawStats drawShare(const PassPrograms& variant, const DeferredPrograms* deferred, TumbleShare drawn,
+                      const Style& style, ShadePass pass);
   void drawScreen(const NailboardProgram& shade, ShadePass pass, const Style& style, int samples);
   // Every draw ends here: no program or vertex array of Puff's stays bound (a host binding an
   // element buffer next would otherwise change Puff's vertex array).
@@ -433,29 +443,44 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   if (m.count == 0 || !m.hasAtlas) return s;
   // Only the framebuffer's draw buffer 0 is written (a host's other attachments stay as they are).
   const core::DrawBufferZero drawBuffers;
-  // A multi-view atlas blends the four nearest views; a one-view atlas needs one lookup per map.
-  const PassPrograms& variant = m.desc.views == 1                     ? m.singleView
-                                : style.tumble == TumbleMethod::kHull ? m.hullView
-                                                                      : m.multiView;
+  // A multi-view atlas blends the four nearest views; a one-view atlas needs one lookup per map. The
+  // tumbling hull is drawn forward; from a size on (hullFromPixels), only the puffs that large,
+  // after the blend has drawn the rest.
+  if (m.desc.views == 1) return m.drawShare(m.singleView, &m.singleDeferred, TumbleShare::kAll, style, pass);
+  if (style.tumble == TumbleMethod::kBlend) {
+    return m.drawShare(m.multiView, &m.multiDeferred, TumbleShare::kAll, style, pass);
+  }
+  if (style.hullFromPixels <= 0.0f) return m.drawShare(m.hullView, nullptr, TumbleShare::kAll, style, pass);
+  DrawStats blend = m.drawShare(m.multiView, &m.multiDeferred, TumbleShare::kBlend, style, pass);
+  blend.drawCalls += m.drawShare(m.hullView, nullptr, TumbleShare::kHull, style, pass).drawCalls;
+  return blend;
+}
+
+DrawStats NailboardRenderer::Impl::drawShare(const PassPrograms& variant, const DeferredPrograms* deferred,
+                                             TumbleShare drawn, const Style& style, ShadePass pass) {
+  Impl& m = *this;
+  m.share = drawn;
+  DrawStats s;
+  s.particles = m.count;
   const int samples = framebufferSamples();
   const bool msaa = samples > 1;
   // The lit pass shades each pixel once: a visibility pre-pass into Puff's own target finds each
   // pixel's nearest particle (each sample's), a screen pass shades it (one view, or four blended;
-  // the tumbling hull is drawn forward, as is a target of more samples than the pass reads). The
-  // shadowed pass after it shades what it found, once per pixel too.
-  const DeferredPrograms& deferred = &variant == &m.singleView ? m.singleDeferred : m.multiDeferred;
-  const bool onceLit = pass == ShadePass::kLit && m.litShading != LitShading::kEveryLayer && &variant != &m.hullView &&
+  // not a target of more samples than the pass reads). The shadowed pass after it shades what it
+  // found, once per pixel too.
+  const bool onceLit = pass == ShadePass::kLit && m.litShading != LitShading::kEveryLayer && deferred != nullptr &&
                        samples <= shader::kMaxDeferredSamples && (samples == 1 || samples <= m.maxIntegerSamples) &&
                        (m.litShading == LitShading::kOncePerPixel || m.stacked(style) >= kOnceMinOverdraw);
   const bool onceShadowed =
-      pass == ShadePass::kShadowed && &variant != &m.hullView && m.held.upload != 0 && m.held == m.current(samples);
-  if (onceShadowed || (onceLit && m.drawVisibility(deferred.visible, style, samples))) {
-    m.drawScreen(deferred.screen(pass, msaa), pass, style, samples);
+      pass == ShadePass::kShadowed && deferred != nullptr && m.held.upload != 0 && m.held == m.current(samples, style);
+  if (onceShadowed || (onceLit && m.drawVisibility(deferred->visible, style, samples))) {
+    m.drawScreen(deferred->screen(pass, msaa), pass, style, samples);
     s.drawCalls = onceLit ? 2 : 1;
     return s;
   }
-  // Every layer: a lit pass drawn so leaves nothing the shadowed pass may read.
-  if (pass == ShadePass::kLit) m.held = {};
+  // Every layer: a lit pass drawn so leaves nothing the shadowed pass may read (but the hull's share,
+  // drawn after the blend's pre-pass).
+  if (pass == ShadePass::kLit && drawn != TumbleShare::kHull) m.held = {};
   const NailboardProgram& nb = variant[passProgramIndex(pass)];
   const GLuint p = nb.program.get();
   m.setUniforms(nb, style, samples);
@@ -482,7 +507,7 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
 
 bool NailboardRenderer::Impl::drawVisibility(const NailboardProgram& visible, const Style& style, int samples) {
   Impl& m = *this;
-  const Visible now = current(samples);
+  const Visible now = current(samples, style);
   const auto host = static_cast<GLuint>(now.framebuffer);
   // The pre-pass: the nailboards' depth and id into Puff's own target (the host's depth is not
   // needed: where the nearest particle lies behind it, so do all the others).
@@ -537,26 +562,35 @@ DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& 
   DrawStats s;
   s.particles = m.count;
   if (m.count == 0 || !m.hasAtlas) return s;
-  const NailboardProgram& nb = m.desc.views == 1                     ? m.singleCaster
-                               : style.tumble == TumbleMethod::kHull ? m.hullCaster
-                                                                     : m.multiCaster;
-  const GLuint p = nb.program.get();
-  m.setCommon(p, nb.atlas, style);
-  glProgramUniform1i(p, nb.shading, 0);
-  glProgramUniform1i(p, nb.outlines, 0);  // the silhouette casts, not the ink
-  glProgramUniform1f(p, nb.outlineWidth, 0.0f);
-  glProgramUniform1i(p, nb.multisample, 0);  // hard edge at half coverage: the map is not multisampled
-  glProgramUniform1f(p, nb.casterBias, std::clamp(style.shadowBias, 0.0f, 1.0f));
+  // As the eye's passes draw them (drawNailboards): the hull's share, in texels of the map.
+  const bool split = m.desc.views > 1 && style.tumble == TumbleMethod::kHull && style.hullFromPixels > 0.0f;
+  const std::pair<const NailboardProgram*, TumbleShare> draws[2] = {
+      {m.desc.views == 1                               ? &m.singleCaster
+       : style.tumble == TumbleMethod::kHull && !split ? &m.hullCaster
+                                                       : &m.multiCaster,
+       split ? TumbleShare::kBlend : TumbleShare::kAll},
+      {&m.hullCaster, TumbleShare::kHull}};
   const glm::mat4 eyeToWorld = glm::inverse(eye.view);
-  glProgramUniform3fv(p, nb.eyeRight, 1, glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[0]))));
-  glProgramUniform3fv(p, nb.eyeUp, 1, glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[1]))));
-  glUseProgram(p);
-  resetPassState();
-  applyShadePass(ShadePass::kLit);  // depth LESS + write: the nearest start wins; ids written
-  glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
-  restoreWriteMasks();
+  for (int i = 0; i < (split ? 2 : 1); ++i) {
+    const NailboardProgram& nb = *draws[i].first;
+    const GLuint p = nb.program.get();
+    m.share = draws[i].second;
+    m.setCommon(p, nb.atlas, style);
+    glProgramUniform1i(p, nb.shading, 0);
+    glProgramUniform1i(p, nb.outlines, 0);  // the silhouette casts, not the ink
+    glProgramUniform1f(p, nb.outlineWidth, 0.0f);
+    glProgramUniform1i(p, nb.multisample, 0);  // hard edge at half coverage: the map is not multisampled
+    glProgramUniform1f(p, nb.casterBias, std::clamp(style.shadowBias, 0.0f, 1.0f));
+    glProgramUniform3fv(p, nb.eyeRight, 1, glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[0]))));
+    glProgramUniform3fv(p, nb.eyeUp, 1, glm::value_ptr(glm::normalize(glm::vec3(eyeToWorld[1]))));
+    glUseProgram(p);
+    resetPassState();
+    applyShadePass(ShadePass::kLit);  // depth LESS + write: the nearest start wins; ids written
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(m.count * 6));
+    restoreWriteMasks();
+    ++s.drawCalls;
+  }
   Impl::unbind();
-  s.drawCalls = 1;
   return s;
 }
 

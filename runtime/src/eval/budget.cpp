@@ -16,6 +16,7 @@
 #include <puff/reference/media_reference.h>
 #include <puff/reference/metrics.h>
 #include <puff/render/render.h>
+#include <puff/scene/evaluate.h>
 #include <puff/support/statistics.h>
 
 namespace puff::eval {
@@ -392,6 +393,11 @@ std::string candidateText(const CelBudget& b, const CelCandidate& c) {
     std::snprintf(buf, sizeof buf, "shadow map at scale %g", static_cast<double>(c.shadowMapScale));
     return buf;
   }
+  if (b.knob == CelKnob::kTumble) {
+    if (c.tumble == cel::TumbleMethod::kBlend) return "the blend on every oriented puff";
+    if (c.hullFromPixels <= 0.0f) return "the hull on every oriented puff";
+    return "the hull from " + core::numberText(c.hullFromPixels) + " px";
+  }
   if (b.knob == CelKnob::kAtlasLevel) {
     return "atlas level " + std::to_string(c.atlasLevel) + " (" + std::to_string(c.cellSize) + "-texel cells)";
   }
@@ -413,6 +419,8 @@ Result<void> checkCelBudget(const Scene& scene, std::span<const int> frames, con
     return Error::at(scene.file, "/emitters: the scene places no particles, so no particle count to choose");
   if (knob == CelKnob::kShadows && !scene.style.shadows)
     return Error::at(scene.file, "/style/shadows: the scene has no shadows, so no shadow method to choose");
+  if (knob == CelKnob::kTumble && scene::orientedPuffs(scene).empty())
+    return Error::at(scene.file, "the scene has no oriented puffs, so no tumble method to choose");
   if (frames.empty() || frames.size() > 16)
     return Error{"measure 1 to 16 frames, got " + std::to_string(frames.size())};
   for (int f : frames) {
@@ -465,6 +473,17 @@ std::vector<Scene> celCandidates(const Scene& s, const core::AtlasDesc& desc, Ce
     }
     candidates.push_back(s);
     candidates.back().style.shadowMethod = cel::ShadowMethod::kVolumes;
+  } else if (knob == CelKnob::kTumble) {
+    candidates.push_back(s);
+    candidates.back().style.tumble = cel::TumbleMethod::kBlend;
+    for (float from : kHullFromPixels) {
+      candidates.push_back(s);
+      candidates.back().style.tumble = cel::TumbleMethod::kHull;
+      candidates.back().style.hullFromPixels = from;
+    }
+    candidates.push_back(s);
+    candidates.back().style.tumble = cel::TumbleMethod::kHull;
+    candidates.back().style.hullFromPixels = 0.0f;
   } else {
     for (float f : kParticleFractions) {
       candidates.push_back(s);
@@ -483,6 +502,8 @@ Result<CelCandidate> measureCelCandidate(const Scene& c, const core::AtlasDesc& 
   cand.particleFraction = c.particleFraction;
   cand.shadowMethod = c.style.shadowMethod;
   cand.shadowMapScale = c.style.shadowMapScale;
+  cand.tumble = c.style.tumble;
+  cand.hullFromPixels = c.style.hullFromPixels;
   cand.cellSize = desc.cellSize >> c.atlasLevel;
   core::AtlasDesc reduced = desc;
   reduced.width = std::max(1, desc.width >> c.atlasLevel);
@@ -534,8 +555,9 @@ Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> fram
     budget.candidates.push_back(std::move(cand));
     if (options.progress) options.progress(1 + static_cast<int>(budget.candidates.size()), steps);
   }
-  if (knob == CelKnob::kShadows) {
-    // No order of cost is known beforehand (the volumes' fill against the map's passes): the measured one.
+  if (knob == CelKnob::kShadows || knob == CelKnob::kTumble) {
+    // No order of cost is known beforehand (the volumes' fill against the map's passes; the hull's
+    // share of the puffs against two programs' draws): the measured one.
     std::stable_sort(budget.candidates.begin(), budget.candidates.end(),
                      [](const CelCandidate& a, const CelCandidate& b) { return a.medianMs < b.medianMs; });
   }
@@ -546,21 +568,26 @@ Result<MediaChoice> chooseCelBudget(const CelBudget& budget, double maxError) {
   auto choice = chooseWithin(budget.candidates, maxError,
                              budget.knob == CelKnob::kAtlasLevel ? "atlas"
                              : budget.knob == CelKnob::kShadows  ? "shadow"
+                             : budget.knob == CelKnob::kTumble   ? "tumble"
                                                                  : "particle");
-  if (choice && !choice->met && budget.knob == CelKnob::kShadows) choice->chosen = choice->best;
+  if (choice && !choice->met && (budget.knob == CelKnob::kShadows || budget.knob == CelKnob::kTumble))
+    choice->chosen = choice->best;
   return choice;
 }
 
 std::string celBudgetTable(const CelBudget& budget, const MediaChoice& choice) {
-  const bool atlas = budget.knob == CelKnob::kAtlasLevel, shadows = budget.knob == CelKnob::kShadows;
-  std::string s = shadows ? "  shadows                     worst RMSE  median ms\n"
-                  : atlas ? "  atlas level  cell texels  atlas MB  worst RMSE  median ms\n"
-                          : "   particles       count  worst RMSE  median ms\n";
+  const bool atlas = budget.knob == CelKnob::kAtlasLevel;
+  const bool shadows = budget.knob == CelKnob::kShadows || budget.knob == CelKnob::kTumble;  // one label each
+  const int label = budget.knob == CelKnob::kTumble ? 32 : 26;
+  std::string s = budget.knob == CelKnob::kTumble ? "  oriented puffs                    worst RMSE  median ms\n"
+                  : shadows                       ? "  shadows                     worst RMSE  median ms\n"
+                  : atlas                         ? "  atlas level  cell texels  atlas MB  worst RMSE  median ms\n"
+                                                  : "   particles       count  worst RMSE  median ms\n";
   for (std::size_t i = 0; i < budget.candidates.size(); ++i) {
     const CelCandidate& c = budget.candidates[i];
     char line[160];
     if (shadows) {
-      std::snprintf(line, sizeof line, "  %-26s  %10s  %9.1f%s\n", candidateText(budget, c).c_str(),
+      std::snprintf(line, sizeof line, "  %-*s  %10s  %9.1f%s\n", label, candidateText(budget, c).c_str(),
                     errorText(c.worstRmse).c_str(), c.medianMs, i == choice.chosen ? "  <- chosen" : "");
     } else if (atlas) {
       std::snprintf(line, sizeof line, "  %11d  %11d  %8.2f  %10s  %9.1f%s\n", c.atlasLevel, c.cellSize,
@@ -582,7 +609,7 @@ std::string celBudgetSummary(const CelBudget& budget, const MediaChoice& choice)
   const CelCandidate& c = budget.candidates[choice.chosen];
   std::string s = "--max-error " + maxError + ": " + candidateText(budget, c);
   const std::string frames = (budget.frames.size() == 1 ? "frame " : "frames ") + framesText(budget.frames);
-  if (budget.knob == CelKnob::kShadows) {
+  if (budget.knob == CelKnob::kShadows || budget.knob == CelKnob::kTumble) {
     // Candidates are in the order of their measured time: the chosen one is the fastest within it.
     if (!choice.met) {
       return s + " (none meets it: the closest to the cel reference, RMSE " + errorText(c.worstRmse) + " over " +

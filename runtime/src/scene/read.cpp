@@ -126,7 +126,7 @@ void readRamp(const json& j, const std::string& ptr, const Reader& r, Scene& s) 
 void readStyle(const json& j, const std::string& ptr, Scene& s) {
   requireObject(j, ptr,
                 {"preset", "outlines", "outlineWidth", "outlineColor", "shading", "shadows", "alignment", "shadowBias",
-                 "shadowLength", "shadowMethod", "shadowMapScale", "tumble"});
+                 "shadowLength", "shadowMethod", "shadowMapScale", "tumble", "hullFromPixels"});
   // The preset first, whatever the key order: explicit fields then change what it set.
   if (auto* v = find(j, "preset")) {
     const std::string name = readString(*v, child(ptr, "preset"));
@@ -171,6 +171,8 @@ void readStyle(const json& j, const std::string& ptr, Scene& s) {
     if (!m) fail(child(ptr, "tumble"), what, *v);
     st.tumble = *m;
   }
+  if (auto* v = find(j, "hullFromPixels"))
+    st.hullFromPixels = readFloat(*v, child(ptr, "hullFromPixels"), Range{0.0, cel::kMaxHullFromPixels});
 }
 
 // {"axis": [x, y, z], "degrees": a}

@@ -341,7 +341,8 @@ json toJson(const Scene& s) {
                 {"shadowLength", number(st.shadowLength)},
                 {"shadowMethod", std::string(cel::toString(st.shadowMethod))},
                 {"shadowMapScale", number(st.shadowMapScale)},
-                {"tumble", std::string(cel::toString(st.tumble))}};
+                {"tumble", std::string(cel::toString(st.tumble))},
+                {"hullFromPixels", number(st.hullFromPixels)}};
   if (!s.stylePreset.empty()) j["style"]["preset"] = s.stylePreset;
   j["particles"] = json::array();
   for (const ParticleSpec& p : s.particles) j["particles"].push_back(particleJson(p));

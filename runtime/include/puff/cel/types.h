@@ -85,6 +85,9 @@ enum class TumbleMethod {
 std::string_view toString(TumbleMethod m);
 Result<TumbleMethod> parseTumbleMethod(std::string_view name);  ///< "hull", "blend"
 
+/// Style::hullFromPixels's largest value (a puff that large fills any screen).
+inline constexpr float kMaxHullFromPixels = 4096.0f;
+
 /// The Fig. 8 progression and its knobs. Every effect toggles on its own.
 struct Style {
   bool outlines = true;          ///< black flange (§4.2); off = the body's silhouette only
@@ -111,6 +114,11 @@ struct Style {
   float shadowMapScale = 1.0f;
   /// Oriented puffs on a multi-view atlas: the hull by default (the closer to the puff's mesh).
   TumbleMethod tumble = TumbleMethod::kHull;
+  /// With kHull: only oriented puffs at least this many pixels across on screen (one diameter at
+  /// the puff's centre; in the shadow map's pass, texels of the map) take the hull, smaller ones
+  /// the blend, whose error shrinks with the puff (docs/cel-rendering.md, "Hull or blend, puff by
+  /// puff"). 0: every oriented puff takes the hull. [0, kMaxHullFromPixels].
+  float hullFromPixels = 0.0f;
   bool operator==(const Style&) const = default;
 };
 

@@ -143,10 +143,15 @@ enum class CelKnob {
   kParticleFraction,
   kAtlasLevel,
   kShadows,  ///< the shadow method and the map's scale (Style::shadowMethod, shadowMapScale)
+  kTumble,   ///< how oriented puffs turn: the blend, or the hull from a size on (Style::tumble, hullFromPixels)
 };
 
 /// The shadow maps' scales measured (Style::shadowMapScale), beside the volumes.
 inline constexpr std::array<float, 4> kShadowMapScales{0.25f, 0.5f, 1.0f, 2.0f};
+
+/// kTumble's sizes (Style::hullFromPixels) between the blend on every oriented puff and the hull on
+/// every one: the hull only for puffs at least this many pixels across.
+inline constexpr std::array<float, 3> kHullFromPixels{96.0f, 48.0f, 24.0f};
 
 /// One candidate, measured.
 struct CelCandidate {
@@ -157,6 +162,8 @@ struct CelCandidate {
   std::size_t atlasBytes = 0;     ///< core::atlasTextureBytes at that level
   cel::ShadowMethod shadowMethod = cel::ShadowMethod::kMap;  ///< the scene's Style::shadowMethod
   float shadowMapScale = 1.0f;                               ///< the scene's Style::shadowMapScale
+  cel::TumbleMethod tumble = cel::TumbleMethod::kHull;       ///< the scene's Style::tumble
+  float hullFromPixels = 0.0f;                               ///< the scene's Style::hullFromPixels
   std::vector<double> rmse;  ///< per measured frame, display values (both frames through the standard view)
   double worstRmse = 0.0;
   double medianMs = 0.0;  ///< median wall time of one render::SceneRenderer::renderFrame, milliseconds
@@ -179,9 +186,11 @@ inline constexpr std::array<float, 4> kParticleFractions{0.125f, 0.25f, 0.5f, 1.
 /// has it, and the cel reference of the full model at each frame once. kAtlasLevel: every level from
 /// core::deepestAtlasLevel (but no smaller than 16-texel cells) to 0. kParticleFraction:
 /// kParticleFractions (the scene needs placed emitters). kShadows: the map at each of kShadowMapScales
-/// and the volumes, ordered by their measured median time (the scene needs Style::shadows on). Media
+/// and the volumes, ordered by their measured median time (the scene needs Style::shadows on). kTumble:
+/// the blend on every oriented puff, the hull from each of kHullFromPixels and the hull on every one,
+/// ordered by their measured median time (the scene needs oriented puffs). Media
 /// are left out. Errors: a scene without an atlas or particles (or, for kParticleFraction, without
-/// placed emitters; for kShadows, without shadows), bad frames,
+/// placed emitters; for kShadows, without shadows; for kTumble, without oriented puffs), bad frames,
 /// timedRenders outside [1, 100], and what render::SceneRenderer::create / createReference / renderFrame return.
 /// `references` (optional): the full model's references of these frames from an earlier budget of the
 /// same scene and frames (CelBudget::references), reused instead of rendered again.
@@ -190,8 +199,8 @@ Result<CelBudget> measureCelBudget(const scene::Scene& scene, std::span<const in
                                    std::span<const core::Image> references = {});
 
 /// The cheapest candidate whose worstRmse <= maxError; none: the dearest (the last: level 0, or all
-/// the particles), met = false; for kShadows the closest instead (the dearest is not the closest
-/// there). Errors: maxError not in (0, 1], no candidates.
+/// the particles), met = false; for kShadows and kTumble the closest instead (the dearest is not
+/// always the closest there). Errors: maxError not in (0, 1], no candidates.
 Result<MediaChoice> chooseCelBudget(const CelBudget& budget, double maxError);
 
 /// For people, as budgetTable / budgetSummary / budgetWarning above.
