@@ -27,7 +27,7 @@ set(PUFF_TESTS_E2E
   bake_replace_test.cpp budget_test.cpp colour_test.cpp gl_failures_test.cpp gpubench_test.cpp media_coverage_scene_test.cpp media_scene_test.cpp parity_test.cpp
   puffbake_cli_test.cpp puffrender_cli_test.cpp puffview_test.cpp puffview_window_test.cpp scene_golden_test.cpp)
 set(PUFF_TESTS_SLOW
-  tumble_test.cpp)
+  tumble_test.cpp tumble_split_test.cpp)
 
 # Suites the sanitized run (.ci/run) leaves out, which also carry the label `unsanitized`
 # (docs/testing.md, "Sanitizers"): two sweep one method over many light directions, each point the

@@ -83,9 +83,10 @@ float setUpParticle(uint index, Particle p, mat3 bb) {
   vTint = p.tint;
   vId = index + 1u;
   // Pixels per world unit at the particle's distance (orthographic: everywhere the same).
-  float centreDist = max(-(uView * vec4(p.position, 1.0)).z, uDepthRange.x);
-  float pxPerUnit = 0.5 * uViewport.w * uProj[1][1] / (isOrthographic() ? 1.0 : centreDist);
-  float pxPerDiameter = max(1e-6, p.size * pxPerUnit);
+  // (precise: the hull's program and the blend's split the particles by it, and must agree.)
+  precise float centreDist = max(-(uView * vec4(p.position, 1.0)).z, uDepthRange.x);
+  precise float pxPerUnit = 0.5 * uViewport.w * uProj[1][1] / (isOrthographic() ? 1.0 : centreDist);
+  precise float pxPerDiameter = max(1e-6, p.size * pxPerUnit);
   vTexelsPerPixel = uAtlasScale.x / pxPerDiameter;
 #if PUFF_VIEWS == 4
   // (Read by the hull's fragment stage, and by the vertex stage to split the particles between the

@@ -13,8 +13,9 @@
 //   cloud-50k     the scene as it is, at 1920 x 1080
 //   blend, hull   dust-roll frames 30-35 at 960 x 540, its oriented puffs drawn by blending views /
 //                 by the hull (style.tumble); the hull's baseline is the blend
-//   hull-from-P   the same, the hull only for puffs P pixels across and more (style.hullFromPixels,
-//                 P 48 and 96), the blend for the rest; baseline the blend (not in --quick)
+//   hull-from-P   (group tumble-split) the same, the hull only for puffs P pixels across and more
+//                 (style.hullFromPixels, P 48 and 96), the blend for the rest; baseline the blend
+//                 (not in --quick)
 //   no-media      explosion-walls frame 20 at 960 x 540 without its media (particles, emitters and
 //                 lights removed): the media rows' baseline
 //   media-R       explosion-walls frame 20 at 960 x 540, the media layer at R of the frame (1, 1/2,
@@ -165,7 +166,8 @@ std::vector<Case> plan(const Options& o) {
         {"tumble", "hull", "dust-roll.json", w, h, samples, tumbleFrames, tumble(cel::TumbleMethod::kHull), "blend"});
     // The hull only for puffs that large on screen, the blend for the rest (not in --quick's one case).
     for (const int from : o.quick ? std::vector<int>{} : std::vector<int>{48, 96}) {
-      cases.push_back({"tumble", "hull-from-" + std::to_string(from), "dust-roll.json", w, h, samples, tumbleFrames,
+      cases.push_back({"tumble-split", "hull-from-" + std::to_string(from), "dust-roll.json", w, h, samples,
+                       tumbleFrames,
                        [=](scene::Scene& s) {
                          s.style.tumble = cel::TumbleMethod::kHull;
                          s.style.hullFromPixels = static_cast<float>(from);
@@ -412,7 +414,8 @@ constexpr const char* kHelp =
     "  --samples LIST  MSAA samples, comma-separated, each 1, 2, 4 or 8 (default 1,4)\n"
     "  --counts LIST   the nailboard cases' puff counts, each in [1, 50000] (default 1000,10000,50000)\n"
     "  --sizes LIST    the nailboard cases' frame sides in pixels, each in [16, 4096] (default 512,1024)\n"
-    "  --groups LIST   run only these groups: nailboards, full-map, full-volumes, cloud-50k, tumble, media\n"
+    "  --groups LIST   run only these groups: nailboards, full-map, full-volumes, cloud-50k, tumble,\n"
+    "                  tumble-split, media\n"
     "  --shader-dir DIR read the shaders from DIR instead of the built-in copies (a variant's cost)\n"
     "  --max-frame-s S a case whose first frame takes longer than S seconds is timed by that round alone\n"
     "                  (default: no limit; llvmpipe's report run uses it)\n"
@@ -495,10 +498,12 @@ int parse(int argc, char** argv, Options& o) {
   }
   if (o.scenes.empty()) return usage("--scenes DIR is required");
   for (const std::string& g : o.groups) {
-    static const char* const known[] = {"nailboards", "full-map", "full-volumes", "cloud-50k", "tumble", "media"};
+    static const char* const known[] = {"nailboards", "full-map",     "full-volumes", "cloud-50k",
+                                        "tumble",     "tumble-split", "media"};
     if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return g == k; }) == std::end(known))
-      return usage(
-          ("--groups: no group \"" + g + "\" (nailboards, full-map, full-volumes, cloud-50k, tumble, media)").c_str());
+      return usage(("--groups: no group \"" + g +
+                    "\" (nailboards, full-map, full-volumes, cloud-50k, tumble, tumble-split, media)")
+                       .c_str());
   }
   return -1;
 }

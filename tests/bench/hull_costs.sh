@@ -12,9 +12,11 @@
 #                       measured on the screen near the ink's outer edge (screenDistance's bisection)
 #   no-wall-depth       a ray that enters through a silhouette's wall is not followed 2 px deep (wallDepth)
 #   no-behind           seen from behind, the hit is shaded where it is (surfaceBehind)
+# and with the march's saving taken out (the variant costs more: what the saving bought):
+#   short-steps         every step the bounds' distance (sphere tracing), none longer along a view's wall
 # Writes CSV (variant, then puff_gpubench's columns) to --csv FILE or stdout. Not a test.
 set -euo pipefail
-case ${1:-} in -h | --help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
+case ${1:-} in -h | --help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
 build=build
 if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then build=$(realpath -m "$1"); shift; fi
 csv=
@@ -31,11 +33,11 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 bash tests/bench/gpu.sh pack "$build" "$tmp/package" >/dev/null
 
-# variant NAME OLD NEW: shaders/ copied to $tmp/NAME with the one line OLD of cel/nailboard_fs.glsl
+# variant NAME OLD NEW: shaders/ copied to $tmp/NAME with the one line OLD of cel/hull_march.glsl
 # made NEW (an error unless OLD is there exactly once).
 variant() {
   cp -r shaders "$tmp/$1"
-  python3 - "$tmp/$1/cel/nailboard_fs.glsl" "$2" "$3" <<'PY'
+  python3 - "$tmp/$1/cel/hull_march.glsl" "$2" "$3" <<'PY'
 import sys
 path, old, new = sys.argv[1:4]
 text = open(path).read()
@@ -48,9 +50,10 @@ cp -r shaders "$tmp/as-is"
 variant no-screen-distance "if (ink > 0.0 && h.nearest <= reach + pixel)" "if (false)"
 variant no-wall-depth "if (wantEdge && throughWall) h.deepest" "if (false) h.deepest"
 variant no-behind "if (behind && wantShade) surfaceBehind" "if (false) surfaceBehind"
+variant short-steps "if (b[k].wallDist > keep) step" "if (false) step"
 
 out=$tmp/out.csv
-for v in as-is no-screen-distance no-wall-depth no-behind; do
+for v in as-is no-screen-distance no-wall-depth no-behind short-steps; do
   echo "hull_costs.sh: $v" >&2
   bash "$tmp/package/gpu.sh" run --groups tumble --samples 1 --shader-dir "$tmp/$v" "${args[@]}" \
     --csv "$tmp/$v.csv" 2> >(grep -v '^puff_gpubench: ' >&2)

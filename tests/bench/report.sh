@@ -167,11 +167,12 @@ GP
 done
 
 # The cel charts. Per scene: RMSE against frame time for the nailboards over atlas cell size and mesh
-# detail, the fixed-function path over mesh detail and the nailboards within the fixed path's limits.
+# detail, the fixed-function path over mesh detail and the nailboards within the fixed path's limits;
+# for a scene of oriented puffs, the ways of turning them.
 for scene in $(tail -n +2 "$out/cel.csv" | awk -F, '$3 != "count"' | cut -d, -f1 | sort -u); do
   grep "^$scene," "$out/cel.csv" > "$tmp/cel-$scene.dat"
   chart "cel-$scene" <<GP
-set title "$scene (cel): error against the cel reference vs frame time (labels: atlas cell texels / mesh faces)"
+set title "$scene (cel): error against the cel reference vs frame time (labels: atlas cell texels / mesh faces / tumble)"
 set xlabel "median frame time, ms (this machine)"
 set ylabel "worst RMSE over 3 frames, scene-linear colour"
 set grid
@@ -180,6 +181,7 @@ plot "$tmp/cel-$scene.dat" using (stringcolumn(2) eq "cel" && stringcolumn(3) eq
      "$tmp/cel-$scene.dat" using (stringcolumn(2) eq "cel" && stringcolumn(3) eq "lod" ? \$9 : 1/0):12 with points pt 5 ps 1.3 title "nailboards, mesh detail baked", \
      "$tmp/cel-$scene.dat" using (stringcolumn(2) eq "fixed" ? \$9 : 1/0):12 with points pt 9 ps 1.5 title "fixed function, mesh detail", \
      "$tmp/cel-$scene.dat" using (stringcolumn(2) eq "cel-fixed-limits" ? \$9 : 1/0):12 with points pt 13 ps 1.5 title "nailboards within the fixed path's limits", \
+     "$tmp/cel-$scene.dat" using (stringcolumn(3) eq "tumble" ? \$9 : 1/0):12 with linespoints pt 11 ps 1.3 title "oriented puffs: the blend, the hull from a size on, the hull", \
      "$tmp/cel-$scene.dat" using 9:12:5 with labels offset 1.5,0.6 font ",8" notitle
 GP
 done
@@ -611,6 +613,11 @@ fi
   echo "particles had outline IoU 0 and coverage IoU 0.55); see \`outline_iou\` and \`coverage_iou\`."
   echo "Mesh detail costs the nailboards nothing at run time (it is baked), and its error grows as faces"
   echo "fall; the fixed path draws its mesh every frame, so there fewer faces are faster."
+  echo
+  echo "Tumble points (\`puffbench --tumble-scenes\`, dust-roll at its own 480 x 320, every frame of it"
+  echo "measured as above): its oriented puffs turned by the blend, by the hull only for puffs at least"
+  echo "the labels' size across (\`style.hullFromPixels\`, the blend for the rest), and by the hull on all:"
+  echo "what \`puffrender --max-error\` chooses among (docs/cel-rendering.md, \"Hull or blend, puff by puff\")."
   echo
   for scene in $(tail -n +2 "$out/cel.csv" | awk -F, '$3 != "count"' | cut -d, -f1 | sort -u); do
     echo "## $scene (cel)"

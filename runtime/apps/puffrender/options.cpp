@@ -12,6 +12,8 @@
 #include <CLI/CLI.hpp>
 
 #include <cli/app.h>
+#include <puff/core/number_text.h>
+#include <puff/eval/budget.h>
 #include <puff/render/path.h>
 #include <puff/scene/read.h>
 #include <puff/scene/write.h>
@@ -198,6 +200,13 @@ CLI::Option* addCompareOptions(CLI::App& app, Options& o) {
 
 // --max-error E, kept as text: parseMaxError() reads it.
 CLI::Option* addMaxErrorOption(CLI::App& app, std::string& text) {
+  std::string sizes;  // "96, 48 or 24"
+  for (std::size_t i = 0; i < eval::kHullFromPixels.size(); ++i) {
+    sizes += (i == 0                                  ? ""
+              : i + 1 == eval::kHullFromPixels.size() ? " or "
+                                                      : ", ") +
+             core::numberText(eval::kHullFromPixels[i]);
+  }
   return app
       .add_option("--max-error", text,
                   "Render with just enough model, measured against the references at the first, "
@@ -209,18 +218,20 @@ CLI::Option* addMaxErrorOption(CLI::App& app, std::string& text) {
                   "reference; 8-bit values; e.g. 0.12: the nailboards' own error is about 0.09 on "
                   "the art scenes); if none does, all the particles and the full atlas, with a "
                   "warning. With oriented puffs, then the fastest way to turn them within E (/style/tumble "
-                  "and /style/hullFromPixels: the blend, the hull only for puffs 96, 48 or 24 px across "
-                  "and more, or the hull on all; ordered by their measured time), or the closest. "
-                  "With shadows on, then the fastest shadows within E (/style/shadowMethod and "
-                  "/style/shadowMapScale: the map at 0.25, 0.5, 1 or 2 texels a pixel, or the volumes, "
-                  "ordered by their measured time); if none is, the closest. Scenes with media: "
-                  "the cheapest media layer resolution (/media/resolution: 0.125, 0.25, 0.5 or 1) "
-                  "within E (linear colour, e.g. 0.01) of the exact media reference; if none does, 1. "
-                  "Prints the measurements and one line per choice saying what it chose and why on "
-                  "stderr; -q: those lines only. The media method and mesh detail (baked into the "
-                  "atlas: puffbake --lod auto) are not chosen. Measured frames leave out explosion "
-                  "lights, heat shimmer and motion blur (the reference has none); the output keeps "
-                  "them")
+                  "and /style/hullFromPixels: the blend, the hull only for puffs " +
+                      sizes +
+                      " px across "
+                      "and more, or the hull on all; ordered by their measured time), or the closest. "
+                      "With shadows on, then the fastest shadows within E (/style/shadowMethod and "
+                      "/style/shadowMapScale: the map at 0.25, 0.5, 1 or 2 texels a pixel, or the volumes, "
+                      "ordered by their measured time); if none is, the closest. Scenes with media: "
+                      "the cheapest media layer resolution (/media/resolution: 0.125, 0.25, 0.5 or 1) "
+                      "within E (linear colour, e.g. 0.01) of the exact media reference; if none does, 1. "
+                      "Prints the measurements and one line per choice saying what it chose and why on "
+                      "stderr; -q: those lines only. The media method and mesh detail (baked into the "
+                      "atlas: puffbake --lod auto) are not chosen. Measured frames leave out explosion "
+                      "lights, heat shimmer and motion blur (the reference has none); the output keeps "
+                      "them")
       ->type_name("E");
 }
 

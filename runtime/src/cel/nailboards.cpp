@@ -197,7 +197,7 @@ struct NailboardRenderer::Impl {
   }
   // One pass of `variant` over the particles of `share`: each pixel shaded once from a pre-pass
   // (`deferred`, where the pass allows it; none: every layer).
-  DrawStats drawShare(const PassPrograms& variant, const DeferredPrograms* deferred, TumbleShare drawn,
+  DrawStats drawShare(const PassPrograms& variant, const DeferredPrograms* deferred, TumbleShare taken,
                       const Style& style, ShadePass pass);
   void drawScreen(const NailboardProgram& shade, ShadePass pass, const Style& style, int samples);
   // Every draw ends here: no program or vertex array of Puff's stays bound (a host binding an
@@ -457,9 +457,9 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
 }
 
 DrawStats NailboardRenderer::Impl::drawShare(const PassPrograms& variant, const DeferredPrograms* deferred,
-                                             TumbleShare drawn, const Style& style, ShadePass pass) {
+                                             TumbleShare taken, const Style& style, ShadePass pass) {
   Impl& m = *this;
-  m.share = drawn;
+  m.share = taken;
   DrawStats s;
   s.particles = m.count;
   const int samples = framebufferSamples();
@@ -467,10 +467,12 @@ DrawStats NailboardRenderer::Impl::drawShare(const PassPrograms& variant, const 
   // The lit pass shades each pixel once: a visibility pre-pass into Puff's own target finds each
   // pixel's nearest particle (each sample's), a screen pass shades it (one view, or four blended;
   // not a target of more samples than the pass reads). The shadowed pass after it shades what it
-  // found, once per pixel too.
+  // found, once per pixel too. kAuto's estimate of the quads' depth counts every particle: the
+  // blend's share of a split frame is drawn every layer unless kOncePerPixel is asked for.
   const bool onceLit = pass == ShadePass::kLit && m.litShading != LitShading::kEveryLayer && deferred != nullptr &&
                        samples <= shader::kMaxDeferredSamples && (samples == 1 || samples <= m.maxIntegerSamples) &&
-                       (m.litShading == LitShading::kOncePerPixel || m.stacked(style) >= kOnceMinOverdraw);
+                       (m.litShading == LitShading::kOncePerPixel ||
+                        (taken == TumbleShare::kAll && m.stacked(style) >= kOnceMinOverdraw));
   const bool onceShadowed =
       pass == ShadePass::kShadowed && deferred != nullptr && m.held.upload != 0 && m.held == m.current(samples, style);
   if (onceShadowed || (onceLit && m.drawVisibility(deferred->visible, style, samples))) {
@@ -480,7 +482,7 @@ DrawStats NailboardRenderer::Impl::drawShare(const PassPrograms& variant, const 
   }
   // Every layer: a lit pass drawn so leaves nothing the shadowed pass may read (but the hull's share,
   // drawn after the blend's pre-pass).
-  if (pass == ShadePass::kLit && drawn != TumbleShare::kHull) m.held = {};
+  if (pass == ShadePass::kLit && taken != TumbleShare::kHull) m.held = {};
   const NailboardProgram& nb = variant[passProgramIndex(pass)];
   const GLuint p = nb.program.get();
   m.setUniforms(nb, style, samples);

@@ -162,7 +162,8 @@ class NailboardRenderer {
   /// `atlasColor` and `atlasBack` (the back map, or a texel of 0) and the silhouette's radius table on `shadowProfile`
   /// (small puffs' silhouettes and ink bands: shaders/cel/particle.glsl, silhouetteRadius).
   /// kLit shades each pixel once (LitShading::kOncePerPixel; one view or four blended, up to
-  /// PUFF_MAX_DEFERRED_SAMPLES samples; the tumbling hull is drawn as kEveryLayer): a pre-pass draws
+  /// PUFF_MAX_DEFERRED_SAMPLES samples; the tumbling hull is drawn as kEveryLayer, and with
+  /// Style::hullFromPixels after the blend has drawn the puffs smaller than that): a pre-pass draws
   /// the nailboards' depth and particle ids into Puff's own target (sized from the bound frame's
   /// viewport, its depth buffer of the framebuffer's depth format; the host's framebuffer gets no
   /// attachment), then two triangles over the screen rectangle the quads reach (the drawn centres' box
@@ -171,7 +172,8 @@ class NailboardRenderer {
   /// average of its particles' colours, and the depth of the one covering most of them (only along
   /// silhouettes does a sample's depth differ from the quads', and the colour written there is the
   /// pixel's particles' average, hidden ones included). kShadowed after a kLit that shaded once, of
-  /// the same upload, frame block (boundFrameSerial), draw framebuffer and samples, shades what that
+  /// the same upload, frame block (boundFrameSerial), draw framebuffer, samples and hullFromPixels
+  /// split, shades what that
   /// pre-pass found, once per pixel too (its depth test EQUAL meets the depth kLit wrote); otherwise
   /// every layer. Queries the draw framebuffer's binding (put back after the pre-pass), samples and
   /// depth format.

@@ -85,7 +85,7 @@ enum class TumbleMethod {
 std::string_view toString(TumbleMethod m);
 Result<TumbleMethod> parseTumbleMethod(std::string_view name);  ///< "hull", "blend"
 
-/// Style::hullFromPixels's largest value (a puff that large fills any screen).
+/// Style::hullFromPixels's largest value.
 inline constexpr float kMaxHullFromPixels = 4096.0f;
 
 /// The Fig. 8 progression and its knobs. Every effect toggles on its own.
