@@ -471,15 +471,18 @@ if [ -s "$hull_costs" ]; then
     echo
     echo "From \`$hull_costs\` (\`bash tests/bench/hull_costs.sh --reps 3 --warm-up 1 --csv FILE\`; docs/bench/README.md"
     echo "says where it ran): dust-roll's frames 30-35 at 960 x 540, MSAA 1, every puff oriented, drawn by the hull"
-    echo "with one phase of its march left out at a time, beside the blend in the same rounds. Median wall ms a frame"
-    echo "(llvmpipe), and what the phase costs: the hull's frame as it is less the variant's."
+    echo "with one phase of its march left out at a time, beside the blend in the same rounds, and with the march's"
+    echo "saving taken out (short-steps: every step the bounds' distance, none longer along a view's wall). Median wall"
+    echo "ms a frame (llvmpipe), and what the phase costs (the hull's frame as it is less the variant's) or what the"
+    echo "saving saves (the variant's frame less the hull's as it is, of the variant's)."
     echo
-    echo "| variant | hull ms | blend ms | hull / blend | the phase's share of the hull's frame |"
+    echo "| variant | hull ms | blend ms | hull / blend | the phase's share of the hull's frame, or the saving's |"
     echo "| --- | --- | --- | --- | --- |"
     awk -F, 'NR == 1 {for (i = 1; i <= NF; ++i) col[$i] = i; next}
              $col["case"] == "hull" {v[++n] = $col["variant"]; h[n] = $col["wall_ms"]; b[n] = $col["baseline_wall_ms"]}
              END {for (i = 1; i <= n; ++i) printf "| %s | %.0f | %.0f | %.1f | %s |\n", v[i], h[i], b[i], h[i] / b[i],
-                    (v[i] == "as-is" ? "" : sprintf("%.0f %%", 100 * (h[1] - h[i]) / h[1]))}' "$hull_costs"
+                    (v[i] == "as-is" ? "" : v[i] ~ /^short-/ ? sprintf("saves %.0f %%", 100 * (h[i] - h[1]) / h[i]) \
+                                                              : sprintf("%.0f %%", 100 * (h[1] - h[i]) / h[1]))}' "$hull_costs"
   } > "$out/hull-costs.md"
 fi
 # The cel nailboards and frames against the fill-rate floor (docs/bench/README.md and
@@ -614,11 +617,13 @@ fi
   echo "Mesh detail costs the nailboards nothing at run time (it is baked), and its error grows as faces"
   echo "fall; the fixed path draws its mesh every frame, so there fewer faces are faster."
   echo
-  echo "Tumble points (\`puffbench --tumble-scenes\`, dust-roll at its own 480 x 320, every frame of it"
-  echo "measured as above): its oriented puffs turned by the blend, by the hull only for puffs at least"
-  echo "the labels' size across (\`style.hullFromPixels\`, the blend for the rest), and by the hull on all:"
-  echo "what \`puffrender --max-error\` chooses among (docs/cel-rendering.md, \"Hull or blend, puff by puff\")."
-  echo
+  if grep -q ",tumble," "$out/cel.csv"; then
+    echo "Tumble points (\`puffbench --tumble-scenes\`: dust-roll at its own 480 x 320, its first, middle and"
+    echo "last frames measured as above): its oriented puffs turned by the blend, by the hull only for puffs at"
+    echo "least the labels' size across (\`style.hullFromPixels\`, the blend for the rest), and by the hull on"
+    echo "all: what \`puffrender --max-error\` chooses among (docs/cel-rendering.md, \"Hull or blend, puff by puff\")."
+    echo
+  fi
   for scene in $(tail -n +2 "$out/cel.csv" | awk -F, '$3 != "count"' | cut -d, -f1 | sort -u); do
     echo "## $scene (cel)"
     echo

@@ -76,7 +76,8 @@ Result<ShadowMethod> parseShadowMethod(std::string_view name);  ///< "volumes", 
 enum class TumbleMethod {
   /// The eye ray marched through the depth hull of the nearest views (each view's silhouette swept
   /// along it and its front surface bound the puff): lumps keep their place and the ink its width
-  /// between views. 15 to 35 times the frame time of kBlend on llvmpipe (docs/report, tumble).
+  /// between views. Many times the frame time of kBlend (docs/report/hull-costs.md, tumble-table.md);
+  /// Style::hullFromPixels keeps it to the puffs large enough to need it.
   kHull,
   /// The four nearest views' maps turned to the billboard and blended: one read per view, but between
   /// views the silhouette is a blend of four and lumps are off by a few pixels.
