@@ -33,8 +33,23 @@ class GlSuite : public Base {
     context_->makeCurrent();
   }
   static inline std::unique_ptr<core::GlContext> context_;
+
+ public:
+  /// Destroys the context a suite kept for the next (SphereAtlasTest keeps it).
+  static void releaseContext() { context_.reset(); }
 };
 
 class GlTest : public GlSuite<> {};
+
+/// The contexts suites keep are destroyed when the tests end, before the process's exit handlers:
+/// destroyed among those, after Mesa's own, OSMesa crashed making no context current.
+class KeptGlContexts : public ::testing::Environment {
+ public:
+  void TearDown() override {
+    GlSuite<false>::releaseContext();
+    GlSuite<true>::releaseContext();
+  }
+};
+inline ::testing::Environment* const kKeptGlContexts = ::testing::AddGlobalTestEnvironment(new KeptGlContexts);
 
 }  // namespace puff::test

@@ -221,7 +221,7 @@ CLI::Option* addMaxErrorOption(CLI::App& app, std::string& text) {
                   "and /style/hullFromPixels: the blend, the hull only for puffs " +
                       sizes +
                       " px across "
-                      "and more, or the hull on all; ordered by their measured time), or the closest. "
+                      "and more, or the hull on all, in that order), or the closest. "
                       "With shadows on, then the fastest shadows within E (/style/shadowMethod and "
                       "/style/shadowMapScale: the map at 0.25, 0.5, 1 or 2 texels a pixel, or the volumes, "
                       "ordered by their measured time); if none is, the closest. Scenes with media: "

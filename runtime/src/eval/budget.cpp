@@ -555,9 +555,8 @@ Result<CelBudget> measureCelBudget(const Scene& scene, std::span<const int> fram
     budget.candidates.push_back(std::move(cand));
     if (options.progress) options.progress(1 + static_cast<int>(budget.candidates.size()), steps);
   }
-  if (knob == CelKnob::kShadows || knob == CelKnob::kTumble) {
-    // No order of cost is known beforehand (the volumes' fill against the map's passes; the hull's
-    // share of the puffs against two programs' draws): the measured one.
+  if (knob == CelKnob::kShadows) {
+    // No order of cost is known beforehand (the volumes' fill against the map's passes): the measured one.
     std::stable_sort(budget.candidates.begin(), budget.candidates.end(),
                      [](const CelCandidate& a, const CelCandidate& b) { return a.medianMs < b.medianMs; });
   }
@@ -610,7 +609,8 @@ std::string celBudgetSummary(const CelBudget& budget, const MediaChoice& choice)
   std::string s = "--max-error " + maxError + ": " + candidateText(budget, c);
   const std::string frames = (budget.frames.size() == 1 ? "frame " : "frames ") + framesText(budget.frames);
   if (budget.knob == CelKnob::kShadows || budget.knob == CelKnob::kTumble) {
-    // Candidates are in the order of their measured time: the chosen one is the fastest within it.
+    // Candidates are in the order of their measured time (shadows) or of how many puffs take the hull
+    // (tumble): the chosen one is the first within it.
     if (!choice.met) {
       return s + " (none meets it: the closest to the cel reference, RMSE " + errorText(c.worstRmse) + " over " +
              frames + ")";
@@ -618,7 +618,11 @@ std::string celBudgetSummary(const CelBudget& budget, const MediaChoice& choice)
     char ms[64];
     std::snprintf(ms, sizeof ms, ", %.1f ms a frame", c.medianMs);
     s += ": worst RMSE " + errorText(c.worstRmse) + " against the cel reference over " + frames + ms;
-    s += choice.chosen == 0 ? "; the fastest measured" : "; every faster one misses";
+    if (budget.knob == CelKnob::kTumble) {
+      s += choice.chosen == 0 ? "; the least of the hull" : "; every one with less of the hull misses";
+    } else {
+      s += choice.chosen == 0 ? "; the fastest measured" : "; every faster one misses";
+    }
     const CelCandidate& closest = budget.candidates[choice.best];
     if (choice.best != choice.chosen) {
       std::snprintf(ms, sizeof ms, " (%.1f ms)", closest.medianMs);

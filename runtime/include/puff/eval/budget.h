@@ -188,7 +188,8 @@ inline constexpr std::array<float, 4> kParticleFractions{0.125f, 0.25f, 0.5f, 1.
 /// kParticleFractions (the scene needs placed emitters). kShadows: the map at each of kShadowMapScales
 /// and the volumes, ordered by their measured median time (the scene needs Style::shadows on). kTumble:
 /// the blend on every oriented puff, the hull from each of kHullFromPixels and the hull on every one,
-/// ordered by their measured median time (the scene needs oriented puffs). Media
+/// in that order: the fewest puffs taking the hull first, whatever the noise in their measured times
+/// (the scene needs oriented puffs). Media
 /// are left out. Errors: a scene without an atlas or particles (or, for kParticleFraction, without
 /// placed emitters; for kShadows, without shadows; for kTumble, without oriented puffs), bad frames,
 /// timedRenders outside [1, 100], and what render::SceneRenderer::create / createReference / renderFrame return.
