@@ -117,6 +117,30 @@ Result<Frames> renderFrames(const scene::Scene& scene, render::RenderPath path, 
 
 namespace {
 
+// A row of scene `scene`: frames `f` measured against the references (the particles' errors, compare()).
+CelRow measuredRow(const std::string& scene, const std::string& path, const std::string& parameter, double value,
+                   const std::string& label, int width, int height, const Frames& f, double floorMs, const Frames& bare,
+                   const Frames& ref, const Frames& refBare, const glm::vec3& ink) {
+  CelRow r;
+  r.scene = scene;
+  r.path = path;
+  r.parameter = parameter;
+  r.value = value;
+  r.label = label;
+  r.particles = f.particles;
+  r.width = width;
+  r.height = height;
+  r.ms = f.ms;
+  r.floorMs = floorMs;
+  r.bareMs = bare.ms;
+  const Errors e = compare(f, bare, ref, refBare, ink);
+  r.rmse = e.rmse;
+  r.rmsePuffs = e.rmsePuffs;
+  r.coverageIoU = e.coverageIoU;
+  r.outlineIoU = e.outlineIoU;
+  return r;
+}
+
 // How the oriented puffs of scene `name` turn (what --max-error chooses, eval::CelKnob::kTumble), at
 // the scene's own size: each way's frames against the cel reference of the turned meshes.
 Result<void> addTumbleRows(const CelBenchOptions& opt, const std::string& name, std::vector<CelRow>& rows) {
@@ -139,24 +163,8 @@ Result<void> addTumbleRows(const CelBenchOptions& opt, const std::string& name, 
     s.style.tumble = from >= cel::kMaxHullFromPixels ? cel::TumbleMethod::kBlend : cel::TumbleMethod::kHull;
     s.style.hullFromPixels = from >= cel::kMaxHullFromPixels ? 0.0f : from;
     PUFF_TRY_ASSIGN(auto f, renderFrames(s, render::RenderPath::kCel, frames, opt.reps));
-    CelRow r;
-    r.scene = name;
-    r.path = "cel";
-    r.parameter = "tumble";
-    r.value = from;
-    r.label = label;
-    r.particles = f.particles;
-    r.width = scene.width;
-    r.height = scene.height;
-    r.ms = f.ms;
-    r.floorMs = fillFloor.ms;
-    r.bareMs = bare.ms;
-    const Errors e = compare(f, bare, ref, refBare, ink);
-    r.rmse = e.rmse;
-    r.rmsePuffs = e.rmsePuffs;
-    r.coverageIoU = e.coverageIoU;
-    r.outlineIoU = e.outlineIoU;
-    rows.push_back(r);
+    rows.push_back(measuredRow(name, "cel", "tumble", from, label, scene.width, scene.height, f, fillFloor.ms, bare,
+                               ref, refBare, ink));
   }
   std::fprintf(stderr, "puffbench: %s: oriented puffs by the blend, the hull from a size and the hull (%.1f s)\n",
                name.c_str(), std::chrono::duration<double>(Clock::now() - t0).count());
@@ -208,24 +216,9 @@ Result<std::vector<CelRow>> runCelBench(const CelBenchOptions& opt) {
     auto add = [&](const std::string& path, const std::string& parameter, double value, const Frames& f,
                    const Frames& bareFrames, const Frames& reference, const Frames& referenceBare,
                    const std::string& label) {
-      CelRow r;
-      r.scene = name;
-      r.path = path;
-      r.parameter = parameter;
-      r.value = value;
-      r.label = label;
-      r.particles = f.particles;
-      r.width = opt.width;
-      r.height = opt.height;
-      r.ms = f.ms;
-      r.floorMs = path == "fixed" ? fixedFloor.ms : fillFloor.ms;
-      r.bareMs = bareFrames.ms;
-      const Errors e = compare(f, bareFrames, reference, referenceBare, ink);
-      r.rmse = e.rmse;
-      r.rmsePuffs = e.rmsePuffs;
-      r.coverageIoU = e.coverageIoU;
-      r.outlineIoU = e.outlineIoU;
-      rows.push_back(r);
+      rows.push_back(measuredRow(name, path, parameter, value, label, opt.width, opt.height, f,
+                                 path == "fixed" ? fixedFloor.ms : fillFloor.ms, bareFrames, reference, referenceBare,
+                                 ink));
     };
 
     // Atlas resolution: the nailboards with the scene's puffs baked at each cell size.

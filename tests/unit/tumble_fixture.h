@@ -140,6 +140,16 @@ inline constexpr const char* kMethods[] = {"hull", "blend"};
 
 // One hemi-oct 5 x 5 atlas of the art's puffs; scenes of a few oriented puffs drawn by the cel path.
 class TumbleCases : public TumbleBase {
+ public:
+  // One oriented puff of `variation` at the origin, 1 unit across, turned by `degrees` about `axis`.
+  static nlohmann::json puff(int variation, glm::vec3 axis, float degrees) {
+    return {{"position", {0, 0, 0}},
+            {"size", 1.0},
+            {"variation", variation},
+            {"oriented", true},
+            {"orientation", {{"axis", {axis.x, axis.y, axis.z}}, {"degrees", degrees}}}};
+  }
+
  protected:
   static fs::path hemiAtlas() {
     if (hemi_.empty()) hemi_ = atlasFor(Config{bake::ViewLayout::kHemiOct, 5, 0.0, 0.0, 0.0, 0.0});
@@ -173,14 +183,6 @@ class TumbleCases : public TumbleBase {
     PUFF_TRY_ASSIGN(auto scene, scene::parseScene(j, dir_ / "case.json"));
     PUFF_TRY_ASSIGN(auto r, render::SceneRenderer::create(scene));
     return (r)->renderFrame(0);
-  }
-
-  static nlohmann::json puff(int variation, glm::vec3 axis, float degrees) {
-    return {{"position", {0, 0, 0}},
-            {"size", 1.0},
-            {"variation", variation},
-            {"oriented", true},
-            {"orientation", {{"axis", {axis.x, axis.y, axis.z}}, {"degrees", degrees}}}};
   }
 
   // The nailboards' frame of scene `j` and the cel reference's (the meshes turned), the coverage IoU

@@ -12,6 +12,22 @@
 namespace puff::tumble {
 namespace {
 
+// Two oriented puffs, lopsided and turned between views, for scenes with an orthoHeight of 2 at
+// 240 px (120 px a unit): a large one `size` units across left of the centre, a small one 40 px
+// across right of it.
+nlohmann::json largePuff(float size) {
+  nlohmann::json p = TumbleCases::puff(3, {1, 1, 0}, 37.0f);
+  p["position"] = {-0.45, 0, 0};
+  p["size"] = size;
+  return p;
+}
+nlohmann::json smallPuff() {
+  nlohmann::json p = TumbleCases::puff(1, {1, -1, 0.5f}, 61.0f);
+  p["position"] = {0.5, 0, 0};
+  p["size"] = 1.0 / 3.0;
+  return p;
+}
+
 // Style::hullFromPixels: oriented puffs smaller on screen than it take the blend, the others the hull,
 // and their shadows alike. Two puffs 96 and 40 px across, in the screen's left and right halves,
 // casting on a wall behind them: split at 64 px, the frame is the hull's frame pixel for pixel on the
@@ -20,11 +36,7 @@ namespace {
 // pixel shaded once (the blend's share through the pre-pass, which the volumes' shadowed pass reads
 // again), with shadow volumes, at 2 samples.
 TEST_F(TumbleCases, HullFromPixelsSplitsThePuffsBySizeOnScreen) {
-  nlohmann::json large = puff(3, {1, 1, 0}, 37.0f), small = puff(1, {1, -1, 0.5f}, 61.0f);
-  large["position"] = {-0.45, 0, 0};
-  large["size"] = 0.8;  // 120 px a unit: 96 px
-  small["position"] = {0.5, 0, 0};
-  small["size"] = 1.0 / 3.0;  // 40 px
+  nlohmann::json large = largePuff(0.8f), small = smallPuff();  // 96 and 40 px
   const nlohmann::json wall = nlohmann::json::array(
       {{{"type", "box"}, {"translate", {0, 0, -1}}, {"scale", {4, 3, 1}}, {"albedo", {0.8, 0.8, 0.8}}}});
   struct Setting {
@@ -83,11 +95,7 @@ TEST_F(TumbleCases, HullFromPixelsSplitsThePuffsBySizeOnScreen) {
 // meshes, in the order of how many puffs take the hull (not of their times, which tie by noise where
 // two draw the same frame); the budget takes the first within it, or the closest when none is.
 TEST_F(TumbleCases, TheBudgetMeasuresTheBlendTheSplitsAndTheHull) {
-  nlohmann::json large = puff(3, {1, 1, 0}, 37.0f), small = puff(1, {1, -1, 0.5f}, 61.0f);
-  large["position"] = {-0.45, 0, 0};
-  large["size"] = 0.9;  // 120 px a unit: 108 px
-  small["position"] = {0.5, 0, 0};
-  small["size"] = 1.0 / 3.0;  // 40 px
+  nlohmann::json large = largePuff(0.9f), small = smallPuff();  // 108 and 40 px
   auto sceneFor = [&] {
     nlohmann::json j = sceneJson(hemiAtlas(), nlohmann::json::array({large, small}));
     j["camera"]["orthoHeight"] = 2.0;
