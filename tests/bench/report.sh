@@ -725,7 +725,9 @@ fi
     echo "\"Tumbling puffs\"); each atlas is about 10% larger for it (6.6 MiB at 3x3, 6.0 without). The price is"
     echo "time: a grid frame takes the hull 6.1 to 6.5 s against the blend's 0.18 to 0.41 s, 15 to 35 times"
     echo "(about 10 times without the back map). The 2 cores also ran niced builds for part of this"
-    echo "run (oct 3x3's hull, 10.7 s, was measured then), so compare times within the run only."
+    echo "run (oct 3x3's hull, 10.7 s, was measured then), so compare times within the run only. That run"
+    echo "predates the march's long steps along the views' walls, which save about a quarter of the hull's"
+    echo "frame on dust-roll ([hull-costs.md](hull-costs.md)); a grid frame's hull is not yet measured with them."
     echo
   fi
   echo "# The media path: fire, smoke and dust"
