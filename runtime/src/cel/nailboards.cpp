@@ -119,6 +119,10 @@ struct NailboardRenderer::Impl {
   core::Texture noBack;       // 1 x 1 R8 of 0 (no bound), on unit atlasBack when the atlas has no back map
   core::AtlasDesc desc;
   bool hasAtlas = false;
+  // Oriented puffs split between the blend's program and the hull's by their size (hullFromPixels).
+  bool splitsTumble(const Style& s) const {
+    return desc.views > 1 && s.tumble == TumbleMethod::kHull && s.hullFromPixels > 0.0f;
+  }
 
   void setCommon(GLuint program, const AtlasUniforms& u, const Style& style) const {
     glProgramUniform3fv(program, u.gridOrigin, 1, glm::value_ptr(bounds.min));
@@ -450,7 +454,7 @@ DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) 
   if (style.tumble == TumbleMethod::kBlend) {
     return m.drawShare(m.multiView, &m.multiDeferred, TumbleShare::kAll, style, pass);
   }
-  if (style.hullFromPixels <= 0.0f) return m.drawShare(m.hullView, nullptr, TumbleShare::kAll, style, pass);
+  if (!m.splitsTumble(style)) return m.drawShare(m.hullView, nullptr, TumbleShare::kAll, style, pass);
   DrawStats blend = m.drawShare(m.multiView, &m.multiDeferred, TumbleShare::kBlend, style, pass);
   blend.drawCalls += m.drawShare(m.hullView, nullptr, TumbleShare::kHull, style, pass).drawCalls;
   return blend;
@@ -464,11 +468,10 @@ DrawStats NailboardRenderer::Impl::drawShare(const PassPrograms& variant, const 
   s.particles = m.count;
   const int samples = framebufferSamples();
   const bool msaa = samples > 1;
-  // The lit pass shades each pixel once: a visibility pre-pass into Puff's own target finds each
-  // pixel's nearest particle (each sample's), a screen pass shades it (one view, or four blended;
-  // not a target of more samples than the pass reads). The shadowed pass after it shades what it
-  // found, once per pixel too. kAuto's estimate of the quads' depth counts every particle: the
-  // blend's share of a split frame is drawn every layer unless kOncePerPixel is asked for.
+  // The lit pass shades each pixel once: a pre-pass into Puff's own target finds each pixel's (each
+  // sample's) nearest particle, a screen pass shades it (not past the samples the pass reads); the
+  // shadowed pass after it too. kAuto's estimate counts every particle: a split's blend share is drawn
+  // every layer unless kOncePerPixel is asked for.
   const bool onceLit = pass == ShadePass::kLit && m.litShading != LitShading::kEveryLayer && deferred != nullptr &&
                        samples <= shader::kMaxDeferredSamples && (samples == 1 || samples <= m.maxIntegerSamples) &&
                        (m.litShading == LitShading::kOncePerPixel ||
@@ -564,8 +567,7 @@ DrawStats NailboardRenderer::drawShadowCasters(const Style& style, const Frame& 
   DrawStats s;
   s.particles = m.count;
   if (m.count == 0 || !m.hasAtlas) return s;
-  // As the eye's passes draw them (drawNailboards): the hull's share, in texels of the map.
-  const bool split = m.desc.views > 1 && style.tumble == TumbleMethod::kHull && style.hullFromPixels > 0.0f;
+  const bool split = m.splitsTumble(style);  // as the eye's passes draw them, by size in the map's texels
   const std::pair<const NailboardProgram*, TumbleShare> draws[2] = {
       {m.desc.views == 1                               ? &m.singleCaster
        : style.tumble == TumbleMethod::kHull && !split ? &m.hullCaster
