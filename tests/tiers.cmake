@@ -8,6 +8,7 @@ set(PUFF_TEST_TIERS unit gl e2e slow)
 
 set(PUFF_TESTS_UNIT
   before_init_gl_test.cpp blackbody_test.cpp bodies_test.cpp cel_popping_test.cpp detail_video_test.cpp files_test.cpp
+  flipbook_sheet_test.cpp
   frame_evaluator_test.cpp fuzz_regressions_test.cpp golden_test.cpp image_limits_test.cpp label_test.cpp
   life_curves_test.cpp media_coverage_test.cpp media_physical_test.cpp mesh_io_test.cpp mesh_test.cpp metrics_test.cpp progress_test.cpp render_path_test.cpp
   scene_roundtrip_test.cpp

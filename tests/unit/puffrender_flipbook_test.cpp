@@ -151,6 +151,120 @@ TEST_F(PuffrenderCli, ALoopedFlipbookCrossFadesItsEndIntoItsStart) {
                      "--loop applies to a --flipbook", 2);
 }
 
+// A ball that comes into view at frame 2 and moves left at frame 3: frames 0 and 1 draw nothing.
+constexpr const char* kBallArrives = R"({
+  "output": {"width": 40, "height": 30, "samples": 1, "background": "transparent"},
+  "camera": {"position": [0, 0, 6], "target": [0, 0, 0], "fovY": 0, "orthoHeight": 3},
+  "objects": [{"type": "sphere", "scale": [0.6, 0.6, 0.6]}],
+  "animation": {"fps": 10, "frames": 4,
+    "cameraPath": [{"time": 0, "position": [20, 0, 6]}, {"time": 0.1, "position": [20, 0, 6]},
+                   {"time": 0.2, "position": [0, 0, 6]}, {"time": 0.3, "position": [0.4, 0.2, 6]}],
+    "targetPath": [{"time": 0, "position": [20, 0, 0]}, {"time": 0.1, "position": [20, 0, 0]},
+                   {"time": 0.2, "position": [0, 0, 0]}, {"time": 0.3, "position": [0.4, 0.2, 0]}]}
+})";
+
+// --skip-empty, --crop, --padding and --pow2: the cells hold the frames rendered alone, cropped to the
+// rectangle the sequence covers, at the same offset in equal cells; the padding is empty but for the
+// bled colour; the layout JSON says where everything is, in texels and scene units.
+TEST_F(PuffrenderCli, FlipbookSheetsCropPadAndSkipTheEmptyStart) {
+  const fs::path scene = write("arrives.json", kBallArrives);
+  std::vector<puff::core::Image> alone;
+  for (int f = 0; f < 4; ++f) {
+    const fs::path file = dir_ / ("alone" + std::to_string(f) + ".png");
+    ASSERT_EQ(run(scene.string() + " -q --frames " + std::to_string(f) + " -o " + file.string()).exitCode, 0);
+    auto image = puff::core::readImage(file);
+    ASSERT_OK(image);
+    alone.push_back(*image);
+  }
+  // The union of frames 2 and 3's coverage, and that frames 0 and 1 have none.
+  int x0 = 40, y0 = 30, x1 = -1, y1 = -1;
+  for (int f = 0; f < 4; ++f)
+    for (int y = 0; y < 30; ++y)
+      for (int x = 0; x < 40; ++x) {
+        if (alone[static_cast<std::size_t>(f)].at(x, y, 3) == 0.0f) continue;
+        ASSERT_GE(f, 2) << "frame " << f << " draws at " << x << "," << y;
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+      }
+  ASSERT_GT(x1, x0);
+  const int cw = x1 - x0 + 1, ch = y1 - y0 + 1;
+  ASSERT_LT(cw, 30) << "the crop is smaller than the frame";
+
+  for (const bool pow2 : {false, true}) {
+    SCOPED_TRACE(pow2 ? "--pow2" : "no --pow2");
+    const fs::path sheetFile = dir_ / (pow2 ? "p2.png" : "crop.png");
+    const CliRun r = run(scene.string() + " --flipbook 2x1 --skip-empty --crop --padding 3" + (pow2 ? " --pow2" : "") +
+                         " -o " + sheetFile.string());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("2 frames, 2 to 3"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("skipped 2 leading frames that draw nothing"), std::string::npos) << r.out;
+    auto sheet = puff::core::readImage(sheetFile);
+    ASSERT_OK(sheet);
+    fs::path layoutFile = sheetFile;
+    const auto j = nlohmann::json::parse(*puff::core::readFileBytes(layoutFile.replace_extension(".json")));
+    const int cellW = j["cellWidth"], cellH = j["cellHeight"], ox = j["frameOffset"][0], oy = j["frameOffset"][1];
+    EXPECT_EQ(j["version"], 2);
+    EXPECT_EQ(j["firstFrame"], 2);
+    EXPECT_EQ(j["lastFrame"], 3);
+    EXPECT_EQ(j["skippedFrames"], 2);
+    EXPECT_EQ(j["frameWidth"], cw);
+    EXPECT_EQ(j["frameHeight"], ch);
+    EXPECT_EQ(j["crop"]["x"], x0);
+    EXPECT_EQ(j["crop"]["y"], y0);
+    EXPECT_EQ(j["padding"], 3);
+    EXPECT_EQ(sheet->width, 2 * cellW);
+    EXPECT_EQ(sheet->height, cellH);
+    if (pow2) {
+      EXPECT_EQ(sheet->width & (sheet->width - 1), 0) << sheet->width;
+      EXPECT_EQ(sheet->height & (sheet->height - 1), 0) << sheet->height;
+      EXPECT_EQ(ox, 3 + (cellW - cw - 6) / 2);
+    } else {
+      EXPECT_EQ(cellW, cw + 6);
+      EXPECT_EQ(cellH, ch + 6);
+      EXPECT_EQ(ox, 3);
+      EXPECT_EQ(oy, 3);
+    }
+    // Orthographic, 3 units over 30 texels; the camera's target is the frame's centre (20, 15).
+    EXPECT_DOUBLE_EQ(j["sceneUnitsPerTexel"].get<double>(), 0.1);
+    EXPECT_DOUBLE_EQ(j["cellSizeInSceneUnits"][0].get<double>(), 0.1 * cellW);
+    EXPECT_DOUBLE_EQ(j["pivot"][0].get<double>(), (ox - x0 + 20.0) / cellW);
+    EXPECT_DOUBLE_EQ(j["pivot"][1].get<double>(), (oy - y0 + 15.0) / cellH);
+    for (int cell = 0; cell < 2; ++cell) {
+      const puff::core::Image& frame = alone[static_cast<std::size_t>(2 + cell)];
+      int differ = 0, black = 0;
+      for (int y = 0; y < cellH; ++y)
+        for (int x = 0; x < cellW; ++x) {
+          const int fx = x - ox + x0, fy = y - oy + y0;
+          const bool inCrop = fx >= x0 && fx <= x1 && fy >= y0 && fy <= y1;
+          const float a = inCrop ? frame.at(fx, fy, 3) : 0.0f;
+          const int sx = cell * cellW + x;
+          differ += sheet->at(sx, y, 3) != a ? 1 : 0;
+          if (a > 0.0f) {
+            for (int c = 0; c < 3; ++c) differ += sheet->at(sx, y, c) != frame.at(fx, fy, c) ? 1 : 0;
+          } else {
+            black += sheet->at(sx, y, 0) + sheet->at(sx, y, 1) + sheet->at(sx, y, 2) == 0.0f ? 1 : 0;
+          }
+        }
+      EXPECT_EQ(differ, 0) << "cell " << cell;
+      EXPECT_EQ(black, 0) << "cell " << cell << ": uncovered texels and the padding hold a covered colour";
+    }
+  }
+
+  // What cannot be done says so, writes nothing, and without --flipbook the options are refused.
+  const std::string s = scene.string(), out = (dir_ / "bad.png").string();
+  expectOneLineError(run(s + " --flipbook 3x1 --pow2 -o " + out), "a 3x1 grid cannot divide a power-of-two sheet", 2);
+  expectOneLineError(run(s + " --flipbook 2x1 --frames 0-1 --crop -o " + out), "--crop: frames 0 to 1 draw nothing", 1);
+  expectOneLineError(run(s + " --flipbook 2x1 --frames 0-1 --skip-empty -o " + out),
+                     "--skip-empty: frames 0 to 1 draw nothing", 1);
+  const CliRun wide = run(s + " --flipbook 2x1 --padding 257 -o " + out);
+  EXPECT_EQ(wide.exitCode, 2);
+  EXPECT_NE(wide.err.find("--padding: Value 257 not in range 0 to 256"), std::string::npos) << wide.err;
+  for (const char* option : {"--padding 2", "--pow2", "--crop", "--skip-empty"}) {
+    expectOneLineError(run(s + " " + option + " -o " + out), "applies to a --flipbook", 2);
+  }
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(dir_ / "bad.json"));
+}
+
 TEST_F(PuffrenderCli, FlipbookUsageErrorsNameTheProblemAndWriteNothing) {
   const fs::path scene = write("ground.json", kGroundScene);
   const std::string s = scene.string();

@@ -7,6 +7,7 @@
 #include <string>
 
 #include <puff/core/image.h>
+#include <puff/render/flipbook.h>
 #include <puff/render/render.h>
 #include <puff/scene/scene.h>
 
@@ -20,7 +21,8 @@ struct Plan {
   int first = 0, last = 0;
   bool exr = false;
   int flipColumns = 0, flipRows = 0;  ///< --flipbook: the sheet's grid; 0: frames go to their own files
-  bool writeFrames = true;            ///< false: no -o, only --contact-sheet and/or --preview
+  int flipLast = 0;         ///< --flipbook: the last frame it may draw (past `last` when --skip-empty skips frames)
+  bool writeFrames = true;  ///< false: no -o, only --contact-sheet and/or --preview
 };
 
 /// Draws the plan's frames of `scene` (with --compare, by both paths; with --max-error, after
@@ -31,6 +33,8 @@ int renderFrames(const Options& o, scene::Scene scene, const Plan& plan);
 /// sprite sheet (plan.pattern's single file), and beside it a JSON of its layout, frame rate and
 /// alpha mode (docs/flipbooks.md). Returns the exit code.
 int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan, render::SceneRenderer& renderer);
+/// Whether a sheet of `layout`'s size may be written (core::imageLimitProblem); `what` starts the error.
+Result<void> checkSheetSize(const render::SheetLayout& layout, const std::string& what);
 /// Before anything is drawn: the layout JSON beside the sheet may be written (it is not the scene,
 /// and any file already there is this sheet's own layout).
 Result<void> checkFlipbookLayoutTarget(const Options& o, const Plan& plan);

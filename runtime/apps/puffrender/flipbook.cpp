@@ -3,14 +3,22 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <vector>
+
+#include <glm/geometric.hpp>
+#include <glm/trigonometric.hpp>
+#include <glm/vec3.hpp>
 
 #include <cli/app.h>
 #include <cli/progress.h>
 #include <puff/core/colour.h>
 #include <puff/core/files.h>
 #include <puff/core/image.h>
+#include <puff/core/number_text.h>
+#include <puff/render/flipbook.h>
 #include <puff/scene/evaluate.h>
 
 #include "commands.h"
@@ -18,37 +26,6 @@
 namespace puff::app {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-// A straight-alpha cell: every uncovered texel (alpha 0) takes the colour of the nearest covered one
-// (breadth first over the 4 neighbours). Alpha is untouched, so nothing drawn changes, but an engine
-// filtering or mipmapping the sheet mixes covered colours with their own instead of with black:
-// no dark fringe around the smoke.
-void bleedColour(core::Image& cell) {
-  const int w = cell.width, h = cell.height;
-  std::vector<int> queue;
-  std::vector<char> filled(static_cast<std::size_t>(w) * h, 0);
-  for (int i = 0; i < w * h; ++i) {
-    if (cell.pixels[static_cast<std::size_t>(i) * 4 + 3] > 0.0f)
-      filled[static_cast<std::size_t>(i)] = 1, queue.push_back(i);
-  }
-  for (std::size_t q = 0; q < queue.size(); ++q) {
-    const int i = queue[q], x = i % w, y = i / w;
-    const int next[4] = {x > 0 ? i - 1 : -1, x + 1 < w ? i + 1 : -1, y > 0 ? i - w : -1, y + 1 < h ? i + w : -1};
-    for (int n : next) {
-      if (n < 0 || filled[static_cast<std::size_t>(n)]) continue;
-      filled[static_cast<std::size_t>(n)] = 1;
-      for (int c = 0; c < 3; ++c) {
-        cell.pixels[static_cast<std::size_t>(n) * 4 + static_cast<std::size_t>(c)] =
-            cell.pixels[static_cast<std::size_t>(i) * 4 + static_cast<std::size_t>(c)];
-      }
-      queue.push_back(n);
-    }
-  }
-}
-
-}  // namespace
 
 Result<void> checkFlipbookLayoutTarget(const Options& o, const Plan& plan) {
   const fs::path target = plan.pattern.name(plan.first);
@@ -75,26 +52,33 @@ Result<void> checkFlipbookLayoutTarget(const Options& o, const Plan& plan) {
   return {};
 }
 
+Result<void> checkSheetSize(const render::SheetLayout& layout, const std::string& what) {
+  const long long w = static_cast<long long>(layout.columns) * layout.cellWidth;
+  const long long h = static_cast<long long>(layout.rows) * layout.cellHeight;
+  if (const std::string problem = core::imageLimitProblem(w, h, 4, core::ImageLimits{"a flipbook"}); !problem.empty()) {
+    return Error{what + ": " + problem + "; give a smaller grid, --width or --height"};
+  }
+  return {};
+}
+
 namespace {
 
-// How the sheet's cells are drawn and laid out: the cell size, the grid and the colour encoding.
+// How the cells are encoded: the colour's view transform and alpha, and whether the sheet is EXR.
 struct SheetSpec {
-  int w, h, columns, rows;
   core::ViewTransform view;
   core::AlphaMode alpha;
   bool exr;
+  // The alpha above which a texel is drawn: what the sheet's encoding keeps (8 bits round below half
+  // a step to 0; half floats keep any positive alpha).
+  float covered() const { return exr ? 0.0f : 0.5f / 255.0f; }
 };
 
-// Copies one frame (scene-linear, premultiplied, as the renderer draws it) into the sheet's cell `slot`.
-void placeCell(core::Image& sheet, int slot, const core::Image& linear, const SheetSpec& s) {
-  core::Image cell = s.exr ? linear : core::viewTransform(linear, s.view, s.alpha);
-  if (!s.exr && s.alpha == core::AlphaMode::kStraight) bleedColour(cell);
-  const int x0 = (slot % s.columns) * s.w, y0 = (slot / s.columns) * s.h;
-  for (int y = 0; y < s.h; ++y) {
-    std::copy_n(&cell.pixels[cell.index(0, y)], static_cast<std::size_t>(s.w) * 4,
-                &sheet.pixels[sheet.index(x0, y0 + y)]);
-  }
-}
+// The frames that go into cells (scene-linear, premultiplied, the loop's cross-fade done) and which they are.
+struct Sequence {
+  std::vector<core::Image> cells;
+  int first = 0;    // the frame in the first cell (--loop: also mixed with the frames after the last)
+  int skipped = 0;  // leading frames that drew nothing, left out by --skip-empty
+};
 
 // Mixes a late frame with head frame `from` (cell j of a --loop N), giving `from` weight (j + 1) / (N + 1).
 core::Image crossFade(core::Image mixed, const core::Image& from, int j, int loop) {
@@ -105,54 +89,102 @@ core::Image crossFade(core::Image mixed, const core::Image& from, int j, int loo
   return mixed;
 }
 
-// Renders the plan's frames into the sheet's cells, with progress; false (the error printed) if one fails.
-bool renderCells(const Options& o, const Plan& plan, render::SceneRenderer& renderer, const SheetSpec& spec,
-                 core::Image& sheet) {
-  const int count = plan.last - plan.first + 1;
-  // --loop N: the first N frames wait for the last N; cell j < N is the mix of frame j (weight
-  // (j + 1) / (N + 1)) and frame count - N + j, premultiplied in scene-linear light, so the sheet's
-  // last cell (frame count - N - 1) runs on into its first.
-  const int loop = o.loop, cellsUsed = count - loop;
-  std::vector<core::Image> head;
-  cli::Progress progress(o.quiet || count == 1);
-  for (int i = 0; i < count; ++i) {
-    progress("frames", i, count);
-    auto image = renderer.renderFrame(plan.first + i);
+// Renders the plan's frames, with progress: as many as the plan counts, from plan.first, leading empty
+// ones left out with --skip-empty (then up to plan.flipLast). Then --loop N: the first N frames wait
+// for the last N; cell j < N is the mix of frame j (weight (j + 1) / (N + 1)) and frame count - N + j,
+// premultiplied in scene-linear light, so the sheet's last cell runs on into its first.
+Result<Sequence> renderSequence(const Options& o, const Plan& plan, render::SceneRenderer& renderer,
+                                const SheetSpec& spec) {
+  const int wanted = plan.last - plan.first + 1;
+  Sequence seq;
+  std::vector<core::Image> frames;
+  cli::Progress progress(o.quiet || wanted == 1);
+  for (int frame = plan.first; frame <= plan.flipLast && static_cast<int>(frames.size()) < wanted; ++frame) {
+    progress("frames", static_cast<int>(frames.size()), wanted);
+    auto image = renderer.renderFrame(frame);
     if (!image) {
       progress.finish();
-      cli::printError(image.error());
-      return false;
+      return image.error();
     }
-    if (i < loop) {
-      head.push_back(std::move(*image));
-    } else if (i < cellsUsed) {
-      placeCell(sheet, i, *image, spec);
-    } else {
-      const int j = i - cellsUsed;
-      placeCell(sheet, j, crossFade(std::move(*image), head[static_cast<std::size_t>(j)], j, loop), spec);
+    if (o.skipEmpty && frames.empty() && !render::covers(*image, spec.covered())) {
+      ++seq.skipped;
+      continue;
     }
+    frames.push_back(std::move(*image));
   }
-  progress("frames", count, count);
+  progress("frames", wanted, wanted);
   progress.finish();
-  return true;
+  const int count = static_cast<int>(frames.size()), loop = o.loop;
+  if (count == 0) {
+    return Error{"--skip-empty: frames " + std::to_string(plan.first) + " to " + std::to_string(plan.flipLast) +
+                 " draw nothing: no frame to put in the sheet"};
+  }
+  if (2 * loop > count) {
+    return Error{"--loop " + std::to_string(loop) + ": " + std::to_string(count) + " frames draw something after the " +
+                 std::to_string(seq.skipped) + " empty ones --skip-empty left out, and a loop of " +
+                 std::to_string(loop) + " needs " + std::to_string(2 * loop)};
+  }
+  seq.first = plan.first + seq.skipped;
+  const int cellsUsed = count - loop;
+  for (int i = 0; i < cellsUsed; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    seq.cells.push_back(i < loop
+                            ? crossFade(std::move(frames[k + static_cast<std::size_t>(cellsUsed)]), frames[k], i, loop)
+                            : std::move(frames[k]));
+  }
+  return seq;
+}
+
+// Scene units one texel spans at the camera's target (orthographic: at every depth), to the 7
+// significant digits of the scene's single-precision camera.
+double sceneUnitsPerTexel(const cel::Camera& camera, int height) {
+  const double distance = glm::length(glm::dvec3(camera.target) - glm::dvec3(camera.position));
+  const double units =
+      camera.fovYDegrees <= 0.0f
+          ? static_cast<double>(camera.orthoHeight) / height
+          : 2.0 * distance * std::tan(glm::radians(static_cast<double>(camera.fovYDegrees)) * 0.5) / height;
+  char text[32];
+  std::snprintf(text, sizeof text, "%.7g", units);
+  return std::strtod(text, nullptr);
 }
 
 // The layout JSON written beside the sheet: how an engine reads the cells, and what they hold.
-nlohmann::ordered_json flipbookLayout(const Options& o, const scene::Scene& scene, const Plan& plan, const SheetSpec& s,
-                                      const fs::path& target, int cellsUsed) {
+nlohmann::ordered_json flipbookLayout(const Options& o, const scene::Scene& scene, const Sequence& seq,
+                                      const render::SheetLayout& l, const SheetSpec& s, const fs::path& target) {
+  const int cellsUsed = static_cast<int>(seq.cells.size());
+  const cel::Camera camera = scene::cameraAt(scene, seq.first);
+  const double unit = sceneUnitsPerTexel(camera, scene.height);
   nlohmann::ordered_json j;
   j["format"] = "puff-flipbook";
-  j["version"] = 1;
+  j["version"] = 2;
   j["image"] = target.filename().string();
-  j["columns"] = s.columns;
-  j["rows"] = s.rows;
+  j["columns"] = l.columns;
+  j["rows"] = l.rows;
   j["frameCount"] = cellsUsed;
-  j["frameWidth"] = s.w;
-  j["frameHeight"] = s.h;
+  j["cellWidth"] = l.cellWidth;
+  j["cellHeight"] = l.cellHeight;
+  j["frameWidth"] = l.crop.width;
+  j["frameHeight"] = l.crop.height;
+  j["frameOffset"] = {l.offsetX, l.offsetY};
+  j["padding"] = l.padding;
+  j["powerOfTwo"] = l.pow2;
+  j["crop"] = {{"cropped", o.crop},           {"x", l.crop.x},           {"y", l.crop.y},
+               {"width", l.crop.width},       {"height", l.crop.height}, {"renderWidth", scene.width},
+               {"renderHeight", scene.height}};
+  j["sceneUnitsPerTexel"] = unit;
+  j["sceneUnitsMeasured"] = camera.fovYDegrees <= 0.0f
+                                ? std::string("orthographic camera: the same at every depth")
+                                : "perspective camera: at the distance of its target, " +
+                                      core::numberText(glm::length(camera.target - camera.position)) + " units";
+  j["cellSizeInSceneUnits"] = {unit * l.cellWidth, unit * l.cellHeight};
+  // The camera's target projects to the rendered frame's centre.
+  j["pivot"] = {(l.offsetX - l.crop.x + 0.5 * scene.width) / l.cellWidth,
+                (l.offsetY - l.crop.y + 0.5 * scene.height) / l.cellHeight};
   j["order"] = "left to right, then top to bottom; frame i at column i % columns, row i / columns (row 0 at the top)";
   j["fps"] = scene.animation.fps;
-  j["firstFrame"] = plan.first;
-  j["lastFrame"] = plan.last - o.loop;
+  j["firstFrame"] = seq.first;
+  j["lastFrame"] = seq.first + cellsUsed - 1;
+  j["skippedFrames"] = seq.skipped;
   j["loop"] = o.loop;  // frames cross-faded: the sheet's cell j < loop also holds frame lastFrame + 1 + j
   j["alpha"] = std::string(core::toString(s.alpha));
   j["colour"] = s.exr ? (o.float32 ? "scene-linear Rec.709 (32-bit float)" : "scene-linear Rec.709 (half float)")
@@ -162,12 +194,12 @@ nlohmann::ordered_json flipbookLayout(const Options& o, const scene::Scene& scen
 }
 
 // Writes the sheet and its layout as one transaction; false (the error printed) if any step fails.
-bool writeSheetAndLayout(const Options& o, const SheetSpec& s, const core::Image& sheet, const fs::path& target,
-                         const fs::path& layout, const nlohmann::ordered_json& j) {
+bool writeSheetAndLayout(const Options& o, const SheetSpec& s, const render::SheetLayout& l, const core::Image& sheet,
+                         const fs::path& target, const fs::path& layout, const nlohmann::ordered_json& j) {
   core::OutputTransaction tx;
   const fs::path stagedSheet = tx.stage(target);
   core::ImageAttributes attributes{{"puff:alpha", std::string(core::toString(s.alpha))},
-                                   {"puff:flipbook", std::to_string(s.columns) + "x" + std::to_string(s.rows)}};
+                                   {"puff:flipbook", std::to_string(l.columns) + "x" + std::to_string(l.rows)}};
   if (s.exr) {
     attributes.emplace_back("puff:colorspace", "scene-linear Rec.709");
   } else {
@@ -190,47 +222,85 @@ bool writeSheetAndLayout(const Options& o, const SheetSpec& s, const core::Image
   return true;
 }
 
-// Prints what was written (unless -q): the sheet, the loop's cross-fade and any empty cells.
-void printFlipbookSummary(const Options& o, const Plan& plan, const SheetSpec& s, const core::Image& sheet,
-                          const fs::path& target, const fs::path& layout, int cellsUsed) {
+// Prints what was written (unless -q): the sheet, the crop and padding, skipped frames, the loop's
+// cross-fade and any empty cells.
+void printFlipbookSummary(const Options& o, const Sequence& seq, const render::SheetLayout& l, const SheetSpec& s,
+                          const fs::path& target, const fs::path& layout) {
   if (o.quiet) return;
-  const int loop = o.loop, columns = s.columns, rows = s.rows;
+  const int cellsUsed = static_cast<int>(seq.cells.size()), cells = l.columns * l.rows;
   std::printf("%s: wrote %s (%dx%d: %d frame%s, %d to %d, in %dx%d cells of %dx%d, %s alpha) and %s\n", cli::name(),
-              target.c_str(), sheet.width, sheet.height, cellsUsed, cellsUsed == 1 ? "" : "s", plan.first,
-              plan.last - loop, columns, rows, s.w, s.h, std::string(core::toString(s.alpha)).c_str(), layout.c_str());
-  if (loop > 0) {
-    std::printf("%s: looped: frames %d to %d cross-faded into the first %d cells\n", cli::name(), plan.last - loop + 1,
-                plan.last, loop);
+              target.c_str(), l.sheetWidth(), l.sheetHeight(), cellsUsed, cellsUsed == 1 ? "" : "s", seq.first,
+              seq.first + cellsUsed - 1, l.columns, l.rows, l.cellWidth, l.cellHeight,
+              std::string(core::toString(s.alpha)).c_str(), layout.c_str());
+  if (o.crop || l.padding > 0 || l.pow2) {
+    std::printf("%s: each cell holds the frames' %dx%d at (%d, %d)%s at (%d, %d) in the cell\n", cli::name(),
+                l.crop.width, l.crop.height, l.crop.x, l.crop.y, o.crop ? ", the sequence's coverage," : "", l.offsetX,
+                l.offsetY);
   }
-  if (cellsUsed < columns * rows) {
+  if (seq.skipped > 0) {
+    std::printf("%s: skipped %d leading frame%s that draw nothing\n", cli::name(), seq.skipped,
+                seq.skipped == 1 ? "" : "s");
+  }
+  if (o.loop > 0) {
+    std::printf("%s: looped: frames %d to %d cross-faded into the first %d cells\n", cli::name(), seq.first + cellsUsed,
+                seq.first + cellsUsed + o.loop - 1, o.loop);
+  }
+  if (cellsUsed < cells) {
     std::printf(
         "%s: note: the last %d cell%s of the sheet are empty (frameCount in the layout says how many hold "
         "frames)\n",
-        cli::name(), columns * rows - cellsUsed, columns * rows - cellsUsed == 1 ? "" : "s");
+        cli::name(), cells - cellsUsed, cells - cellsUsed == 1 ? "" : "s");
   }
 }
 
 }  // namespace
 
 int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan, render::SceneRenderer& renderer) {
-  const int count = plan.last - plan.first + 1;
-  const core::ViewTransform view = scene::viewTransformFor(scene);
   // PNG: display values through the view transform, alpha straight unless asked; EXR: scene-linear,
   // premultiplied (checkAgainstScene refused straight EXR).
-  const core::AlphaMode alpha =
-      scene.alpha.value_or(plan.exr ? core::AlphaMode::kPremultiplied : core::AlphaMode::kStraight);
-  const SheetSpec spec{scene.width, scene.height, plan.flipColumns, plan.flipRows, view, alpha, plan.exr};
+  const SheetSpec spec{scene::viewTransformFor(scene),
+                       scene.alpha.value_or(plan.exr ? core::AlphaMode::kPremultiplied : core::AlphaMode::kStraight),
+                       plan.exr};
+  auto seq = renderSequence(o, plan, renderer, spec);
+  if (!seq) {
+    cli::printError(seq.error());
+    return 1;
+  }
+  render::PixelRect crop{0, 0, scene.width, scene.height};
+  if (o.crop) {
+    crop = render::coverageBox(seq->cells, spec.covered());
+    if (crop.empty()) {
+      cli::printError(Error{"--crop: frames " + std::to_string(seq->first) + " to " +
+                            std::to_string(seq->first + static_cast<int>(seq->cells.size()) - 1) +
+                            " draw nothing: there is nothing to crop to"});
+      return 1;
+    }
+  }
+  auto layout = render::layOutSheet({plan.flipColumns, plan.flipRows, crop, o.padding, o.pow2});
+  if (!layout) {
+    cli::printError(Error{"--flipbook " + o.flipbook + ": " + layout.error().message});
+    return 1;
+  }
+  if (auto r = checkSheetSize(*layout, "--flipbook " + o.flipbook); !r) {
+    cli::printError(r.error());
+    return 1;
+  }
   // Cells past the last frame stay empty (alpha 0).
-  core::Image sheet(spec.w * spec.columns, spec.h * spec.rows, 4, 0.0f);
-  if (!renderCells(o, plan, renderer, spec, sheet)) return 1;
-  const int cellsUsed = count - o.loop;
+  core::Image sheet(layout->sheetWidth(), layout->sheetHeight(), 4, 0.0f);
+  const bool bleed = !spec.exr && spec.alpha == core::AlphaMode::kStraight;
+  for (std::size_t i = 0; i < seq->cells.size(); ++i) {
+    const core::Image& linear = seq->cells[i];
+    const core::Image cell =
+        render::cellOf(spec.exr ? linear : core::viewTransform(linear, spec.view, spec.alpha), *layout, bleed);
+    render::placeCell(sheet, *layout, static_cast<int>(i), cell);
+  }
 
   const fs::path target = plan.pattern.name(plan.first);
-  fs::path layout = target;
-  layout.replace_extension(".json");
-  const nlohmann::ordered_json j = flipbookLayout(o, scene, plan, spec, target, cellsUsed);
-  if (!writeSheetAndLayout(o, spec, sheet, target, layout, j)) return 1;
-  printFlipbookSummary(o, plan, spec, sheet, target, layout, cellsUsed);
+  fs::path layoutPath = target;
+  layoutPath.replace_extension(".json");
+  const nlohmann::ordered_json j = flipbookLayout(o, scene, *seq, *layout, spec, target);
+  if (!writeSheetAndLayout(o, spec, *layout, sheet, target, layoutPath, j)) return 1;
+  printFlipbookSummary(o, *seq, *layout, spec, target, layoutPath);
   return 0;
 }
 

@@ -14,6 +14,7 @@
 #include <cli/app.h>
 #include <puff/core/number_text.h>
 #include <puff/eval/budget.h>
+#include <puff/render/flipbook.h>
 #include <puff/render/path.h>
 #include <puff/scene/read.h>
 #include <puff/scene/write.h>
@@ -73,6 +74,7 @@ Result<void> planFlipbook(const Options& o, const scene::Scene& scene, Plan& pla
     return Error{"-o " + o.out + ": --flipbook writes one sprite sheet: give a single file name, e.g. sheet.png"};
   }
   if (o.frames.empty()) plan.last = std::min(cells + o.loop, frames) - 1;
+  plan.flipLast = o.skipEmpty && o.frames.empty() ? frames - 1 : plan.last;
   const int count = plan.last - plan.first + 1;
   if (o.loop > 0 && 2 * o.loop > count) {
     return Error{"--loop " + std::to_string(o.loop) + ": a loop cross-fades the last " + std::to_string(o.loop) +
@@ -86,14 +88,13 @@ Result<void> planFlipbook(const Options& o, const scene::Scene& scene, Plan& pla
                              : std::string()) +
                  ": give a larger grid or fewer frames"};
   }
-  const long long sheetW = static_cast<long long>(scene.width) * grid.first;
-  const long long sheetH = static_cast<long long>(scene.height) * grid.second;
-  if (const std::string problem = core::imageLimitProblem(sheetW, sheetH, 4, core::ImageLimits{"a flipbook"});
-      !problem.empty()) {
-    return Error{"--flipbook " + o.flipbook + " of " + std::to_string(scene.width) + "x" +
-                 std::to_string(scene.height) + " frames: " + problem + "; give a smaller grid, --width or --height"};
-  }
-  return {};
+  // The sheet of whole frames; with --crop the cells are smaller, and their size is checked again then.
+  const render::SheetRequest request{grid.first, grid.second, {0, 0, scene.width, scene.height}, o.padding, o.pow2};
+  auto layout = render::layOutSheet(request);
+  if (!layout) return Error{"--flipbook " + o.flipbook + (o.pow2 ? " --pow2: " : ": ") + layout.error().message};
+  if (o.crop) return {};
+  return checkSheetSize(*layout, "--flipbook " + o.flipbook + " of " + std::to_string(scene.width) + "x" +
+                                     std::to_string(scene.height) + " frames");
 }
 
 // PNG or EXR: --format, else the output's extension; the two must agree when both say.
@@ -198,6 +199,26 @@ CLI::Option* addCompareOptions(CLI::App& app, Options& o) {
       ->check(CLI::Range(0.0f, 1.0f));
 }
 
+// --flipbook's sheet: padding, power-of-two sides, the crop and leading empty frames (docs/flipbooks.md).
+void addFlipbookSheetOptions(CLI::App& app, Options& o) {
+  app.add_option("--padding", o.padding,
+                 "--flipbook: PX empty texels around each frame, on every side, inside its cell (cells stay "
+                 "equal, so an engine dividing the sheet by the grid finds them); their colour is bled from the "
+                 "frame so that filtering and mipmaps do not fringe. Default: 0")
+      ->check(CLI::Range(0, render::kMaxSheetPadding))
+      ->type_name("PX");
+  app.add_flag("--pow2", o.pow2,
+               "--flipbook: round the sheet's sides up to powers of two, the margin split around each frame in "
+               "its cell; needs a power-of-two grid (4x4, 8x8, 8x4...) so that the cells stay whole texels");
+  app.add_flag("--crop", o.crop,
+               "--flipbook: cells hold only the rectangle of the frame that some frame of the sequence covers "
+               "(one crop for all, so the effect does not jump); the layout JSON records it in pixels and scene "
+               "units, and where the camera's target falls in the cell");
+  app.add_flag("--skip-empty", o.skipEmpty,
+               "--flipbook: leading frames that draw nothing take no cell; without --frames the sheet is filled "
+               "from the first frame that draws something");
+}
+
 // --max-error E, kept as text: parseMaxError() reads it.
 CLI::Option* addMaxErrorOption(CLI::App& app, std::string& text) {
   std::string sizes;  // "96, 48 or 24"
@@ -290,7 +311,15 @@ Result<void> checkOptions(const Options& o) {
     if (auto g = parseFlipbookGrid(o.flipbook); !g) return g.error();
     if (!o.compare.empty()) return Error{"--flipbook and --compare do not go together"};
   }
-  if (o.loop > 0 && o.flipbook.empty()) return Error{"--loop applies to a --flipbook"};
+  if (o.flipbook.empty()) {
+    for (const auto& [given, name] : {std::pair{o.loop > 0, "--loop"},
+                                      {o.padding > 0, "--padding"},
+                                      {o.pow2, "--pow2"},
+                                      {o.crop, "--crop"},
+                                      {o.skipEmpty, "--skip-empty"}}) {
+      if (given) return Error{std::string(name) + " applies to a --flipbook"};
+    }
+  }
   return {};
 }
 
@@ -385,6 +414,7 @@ std::variant<Options, int> parse(int argc, char** argv) {
                  "without a jump; it holds N frames fewer than are rendered. Default: 0 (no loop)")
       ->check(CLI::Range(0, 65536))
       ->type_name("N");
+  addFlipbookSheetOptions(app, o);
   app.add_option("--alpha", o.alpha,
                  "How a transparent frame's alpha is written, replacing /output/alpha: straight (colour as it is "
                  "where covered: PNG's convention and the default for PNG) or premultiplied (colour times alpha: "

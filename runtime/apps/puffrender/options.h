@@ -39,6 +39,10 @@ struct Options {
   /// --loop N with --flipbook: the last N frames cross-fade into the first N, so the sheet loops
   /// without a jump (it holds N frames fewer than were rendered).
   int loop = 0;
+  int padding = 0;           ///< --padding PX with --flipbook: empty texels around each frame in its cell
+  bool pow2 = false;         ///< --pow2 with --flipbook: the sheet's sides powers of two
+  bool crop = false;         ///< --crop with --flipbook: cells hold the part of the frames the sequence covers
+  bool skipEmpty = false;    ///< --skip-empty with --flipbook: leading frames that draw nothing take no cell
   std::string alpha;         ///< "straight" or "premultiplied": replaces the scene's /output/alpha
   std::string contactSheet;  ///< --contact-sheet: a PNG of the frames as a grid with their numbers
   std::string preview;       ///< --preview: an animated .gif or .mp4 of the frames
