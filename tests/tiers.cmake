@@ -10,7 +10,7 @@ set(PUFF_TESTS_UNIT
   before_init_gl_test.cpp blackbody_test.cpp bodies_test.cpp cel_popping_test.cpp detail_video_test.cpp files_test.cpp
   flipbook_sheet_test.cpp
   frame_evaluator_test.cpp fuzz_regressions_test.cpp golden_test.cpp image_limits_test.cpp label_test.cpp
-  life_curves_test.cpp media_coverage_test.cpp media_physical_test.cpp mesh_io_test.cpp mesh_test.cpp metrics_test.cpp progress_test.cpp render_path_test.cpp
+  life_curves_test.cpp media_coverage_test.cpp media_physical_test.cpp mesh_gltf_test.cpp mesh_io_test.cpp mesh_test.cpp metrics_test.cpp progress_test.cpp render_path_test.cpp
   scene_roundtrip_test.cpp
   scene_evaluate_test.cpp scene_test.cpp
   sim_forces_test.cpp sim_test.cpp sim_threads_test.cpp)
@@ -26,7 +26,7 @@ set(PUFF_TESTS_GL
 set(PUFF_TESTS_E2E
   budget_cel_test.cpp lit_once_scene_test.cpp puffrender_flipbook_test.cpp puffrender_paths_test.cpp
   bake_replace_test.cpp budget_test.cpp colour_test.cpp gl_failures_test.cpp gpubench_test.cpp media_coverage_scene_test.cpp media_scene_test.cpp parity_test.cpp
-  puffbake_cli_test.cpp puffrender_cli_test.cpp puffview_test.cpp puffview_window_test.cpp scene_golden_test.cpp)
+  puffbake_cli_test.cpp puffbake_gltf_test.cpp puffrender_cli_test.cpp puffview_test.cpp puffview_window_test.cpp scene_golden_test.cpp)
 set(PUFF_TESTS_SLOW
   tumble_test.cpp tumble_split_test.cpp)
 

@@ -7,6 +7,7 @@
 #include <cli/progress.h>
 #include <puff/core/number_text.h>
 #include <puff/core/shader.h>
+#include <puff/mesh/mesh.h>
 #include <puff/platform/gl_context.h>
 
 #include "commands.h"
@@ -87,8 +88,8 @@ void printBakeResult(const bake::BakeReport& result) {
 }  // namespace
 
 CLI::App* addBakeCommand(CLI::App& app, Options& o, BakeFlags& flags) {
-  CLI::App* cmd =
-      app.add_subcommand("bake", "Bake mesh files (OBJ, OFF, PLY, STL; one variation each) and/or generated puffs");
+  CLI::App* cmd = app.add_subcommand("bake", std::string("Bake mesh files (") + mesh::kMeshFormatsRead +
+                                                 "; one variation each) and/or generated puffs");
   cmd->add_option("meshes", o.inputs, "Puff mesh files, one variation each");
   flags.generator.add(*cmd, true);
   cmd->add_option("-o,--out", o.bake.outDir, "Output directory (created if missing)")->capture_default_str();

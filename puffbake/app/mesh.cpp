@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include <cli/app.h>
+#include <puff/mesh/mesh.h>
 
 #include "commands.h"
 
@@ -10,7 +11,8 @@ namespace puff::app {
 CLI::App* addMeshCommand(CLI::App& app, Options& o, GeneratorFlags& generator) {
   CLI::App* cmd =
       app.add_subcommand("mesh", "Write a generated puff, or a normalized copy of a mesh file, as OBJ/OFF/PLY/STL");
-  cmd->add_option("mesh", o.inputs, "Mesh file to normalize (or use --generate)");
+  cmd->add_option("mesh", o.inputs,
+                  std::string("Mesh file to normalize: ") + mesh::kMeshFormatsRead + " (or use --generate)");
   generator.add(*cmd, false);
   cmd->add_option("-o,--out", o.meshOut, "Output mesh file; the extension picks the format")->required();
   cmd->add_flag("-q,--quiet", o.quiet, "Print errors only");

@@ -11,8 +11,8 @@
 # exits 1 if any harness crashed. --replay only replays the seeds and regressions (no fuzzing).
 # --jobs J runs J harnesses at a time (default: the number of cores; each fuzzes on one core).
 # --seed S makes libFuzzer's mutations repeatable (CI uses 1); by default each run draws its own.
-# HARNESS: scene atlas_sidecar mesh_obj mesh_off mesh_ply mesh_stl image_ramp image_gradient
-# image_map image_detail (default: all).
+# HARNESS: scene atlas_sidecar mesh_obj mesh_off mesh_ply mesh_stl mesh_gltf mesh_glb image_ramp
+# image_gradient image_map image_detail (default: all).
 set -euo pipefail
 script="$(cd "$(dirname "$0")" && pwd)/$(basename "$0")"
 cd "$(dirname "$script")/../.."
@@ -38,7 +38,7 @@ while [ $# -gt 0 ]; do
        harnesses+=("$1"); shift ;;
   esac
 done
-all=(scene atlas_sidecar mesh_obj mesh_off mesh_ply mesh_stl image_ramp image_gradient image_map image_detail)
+all=(scene atlas_sidecar mesh_obj mesh_off mesh_ply mesh_stl mesh_gltf mesh_glb image_ramp image_gradient image_map image_detail)
 [ ${#harnesses[@]} -gt 0 ] || harnesses=("${all[@]}")
 for h in "${harnesses[@]}"; do
   [[ " ${all[*]} " == *" $h "* ]] || usage_error "no harness $h (have: ${all[*]})"

@@ -144,7 +144,7 @@ TEST_F(MeshIo, BadFilesGiveTheExpectedError) {
   expectLoadError(dir_ / "missing.obj", "cannot open: no such file or directory");
   fs::create_directory(dir_ / "folder.obj");
   expectLoadError(dir_ / "folder.obj", "cannot open: is a directory");
-  expectLoadError(dir_ / "mesh.xyz", "unsupported extension '.xyz' (accepted: .obj, .off, .ply, .stl)");
+  expectLoadError(dir_ / "mesh.xyz", "unsupported extension '.xyz' (accepted: .obj, .off, .ply, .stl, .gltf, .glb)");
   expectLoadError(kData / "empty.obj", "no faces");
   expectLoadError(kData / "nan_vertex.obj", "vertex 1 has a non-finite coordinate");
   expectLoadError(kData / "zero_area.obj", "face 1 is degenerate (zero area)");

@@ -212,7 +212,8 @@ TEST(Scene, ErrorsNameTheFileThePointerWhatWasExpectedAndWhatCame) {
       {R"({"atlas": "a.json", "emitters": [{"sizeFalloff": 1.5}]})",
        "/emitters/0/sizeFalloff: expected a number in [0, 1], got 1.5"},
       {R"({"objects": [{"type": "mesh"}]})",
-       "/objects/0/mesh: expected a mesh file (OBJ, OFF, PLY or STL) for type \"mesh\", got none"},
+       "/objects/0/mesh: expected a mesh file (OBJ, OFF, PLY, STL or glTF 2.0 (.gltf, .glb)) for type \"mesh\", got "
+       "none"},
       {R"({"objects": [{"type": "plane", "mesh": "m.obj"}]})",
        "/objects/0/mesh: expected no mesh (or \"\") unless type is \"mesh\", got \"m.obj\""},
       {R"({"objects": [{"type": "cylinder"}]})",

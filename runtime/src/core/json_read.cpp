@@ -311,7 +311,14 @@ Result<json> loadJsonFile(const fs::path& file) {
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) return Error::at(file, "cannot read: read error");
-  const std::string text = ss.str();
+  return parseJson(ss.str(), file);
+}
+
+Result<json> parseJson(const std::string& text, const fs::path& file) {
+  if (text.size() > kMaxJsonBytes) {
+    return Error::at(file, "cannot read: " + std::to_string(text.size()) + " bytes of JSON, more than " +
+                               std::to_string(kMaxJsonBytes >> 20) + " MiB");
+  }
   if (const std::size_t at = tooDeepAt(text); at != std::string::npos) {
     return Error{file.string() + ":" + lineColumn(text, at) + ": nested more than " + std::to_string(kMaxJsonDepth) +
                  " arrays and objects deep"};

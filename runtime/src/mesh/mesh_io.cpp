@@ -1,4 +1,4 @@
-// Reading and writing puff meshes (OBJ, OFF, PLY, STL).
+// Reading puff meshes (OBJ, OFF, PLY, STL, glTF) and writing them (OBJ, OFF, PLY, STL).
 //
 // Files are parsed by Puff's own readers (mesh_read.h: OpenMesh's crash, hang and write out of
 // bounds on malformed files); OpenMesh builds the connectivity, which finds the non-manifold faces
@@ -62,8 +62,9 @@ Result<Format> formatOf(const fs::path& path) {
   if (ext == ".off") return Format::Off;
   if (ext == ".ply") return Format::Ply;
   if (ext == ".stl") return Format::Stl;
+  if (ext == ".gltf" || ext == ".glb") return Format::Gltf;
   const std::string shown = ext.empty() ? "no extension" : "unsupported extension '" + path.extension().string() + "'";
-  return Error::at(path, shown + " (accepted: .obj, .off, .ply, .stl)");
+  return Error::at(path, shown + " (accepted: .obj, .off, .ply, .stl, .gltf, .glb)");
 }
 
 /// strerror, first letter lowered so it reads inside our one-line messages.
@@ -255,6 +256,7 @@ bool writeWithOpenMesh(const TriMesh& m, const fs::path& file, Format format, bo
       opt += OmOptions::Binary;  // exact floats, a quarter of the size
       break;
     case Format::Obj:
+    case Format::Gltf:  // refused by saveMesh
       break;
   }
   return OpenMesh::IO::write_mesh(om, file.string(), opt, 9);
@@ -437,6 +439,8 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info, Normalize normali
 
 Result<void> saveMesh(const TriMesh& mesh, const fs::path& path, SaveNormals normals) {
   PUFF_TRY_ASSIGN(const Format format, formatOf(path));
+  if (format == Format::Gltf)
+    return Error::at(path, "cannot write glTF: Puff reads it, and writes .obj, .off, .ply or .stl");
   const bool writeNormals = normals == SaveNormals::kYes;
   if (writeNormals && format != Format::Ply && format != Format::Obj)
     return Error::at(path, "cannot write normals: only PLY and OBJ files carry them here");

@@ -1,4 +1,4 @@
-// Puff's readers of OBJ, OFF, PLY and STL (mesh_read.h): the dispatch by format and the helpers the
+// Puff's readers of OBJ, OFF, PLY, STL and glTF (mesh_read.h): the dispatch by format and the helpers the
 // per-format readers (mesh_read_*.cpp) share.
 #include "mesh_read.h"
 
@@ -24,6 +24,8 @@ const char* formatName(Format f) {
       return "PLY";
     case Format::Stl:
       return "STL";
+    case Format::Gltf:
+      return "glTF";
   }
   return "?";
 }
@@ -88,6 +90,8 @@ Result<RawMesh> readRawMesh(const fs::path& path, Format format) {
       return readPly(path, text);
     case Format::Stl:
       return readStl(path, text);
+    case Format::Gltf:
+      return readGltf(path, text);
   }
   return notValid(path, format);
 }

@@ -1,4 +1,4 @@
-// Puff's own readers of OBJ, OFF, PLY and STL (private to puff::mesh). OpenMesh's readers crash,
+// Puff's own readers of OBJ, OFF, PLY, STL and glTF (private to puff::mesh). OpenMesh's readers crash,
 // hang or write out of bounds on malformed files (tests/fuzz/regressions: a normal given to a
 // missing OBJ vertex, a PLY header that segfaults, an OFF file that never finishes), so the files are
 // parsed here, with every count checked against the bytes that are left before anything is
@@ -17,7 +17,7 @@
 
 namespace puff::mesh::detail {
 
-enum class Format { Obj, Off, Ply, Stl };
+enum class Format { Obj, Off, Ply, Stl, Gltf };
 
 const char* formatName(Format f);
 

@@ -3,15 +3,18 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "mesh_read.h"
@@ -23,6 +26,8 @@ Result<RawMesh> readObj(const std::filesystem::path& path, std::string_view text
 Result<RawMesh> readOff(const std::filesystem::path& path, std::string_view text);
 Result<RawMesh> readPly(const std::filesystem::path& path, std::string_view text);
 Result<RawMesh> readStl(const std::filesystem::path& path, std::string_view text);
+/// glTF 2.0, .gltf (its buffers beside it or in data: URIs) or .glb; `path` also locates the buffers.
+Result<RawMesh> readGltf(const std::filesystem::path& path, std::string_view text);
 
 /// "PATH: not a valid FORMAT file", with " (detail)" when a detail is given.
 Error notValid(const std::filesystem::path& path, Format f, const std::string& detail = {});
@@ -84,6 +89,41 @@ class Lines {
  private:
   std::string_view text_;
   std::size_t pos_ = 0, number_ = 0;
+};
+
+// Formats that repeat a vertex in every face that uses it (STL's facets, glTF's vertices split at
+// UV seams): equal positions (and normals, when the file gives them) become one vertex; -0 equals 0.
+class VertexMerger {
+ public:
+  explicit VertexMerger(RawMesh& m) : m_(m) {}
+  std::int64_t add(glm::vec3 p) { return add(p, std::nullopt); }
+  std::int64_t add(glm::vec3 p, std::optional<glm::vec3> n) {
+    Key key{};
+    for (int k = 0; k < 3; ++k) p[k] += 0.0f;  // -0 -> +0
+    std::memcpy(key.data(), &p[0], 3 * sizeof(float));
+    if (n) {
+      for (int k = 0; k < 3; ++k) (*n)[k] += 0.0f;
+      std::memcpy(key.data() + 3, &(*n)[0], 3 * sizeof(float));
+    }
+    const auto [it, added] = index_.try_emplace(key, m_.positions.size());
+    if (added) {
+      m_.positions.push_back(p);
+      if (n) m_.normals.push_back(*n);
+    }
+    return static_cast<std::int64_t>(it->second);
+  }
+
+ private:
+  using Key = std::array<std::uint32_t, 6>;
+  struct Hash {
+    std::size_t operator()(const Key& k) const {
+      std::uint64_t h = 0xcbf29ce484222325ull;
+      for (std::uint32_t v : k) h = (h ^ v) * 0x100000001b3ull;
+      return static_cast<std::size_t>(h);
+    }
+  };
+  RawMesh& m_;
+  std::unordered_map<Key, std::size_t, Hash> index_;
 };
 
 // Binary values in little- or big-endian byte order.

@@ -7,7 +7,6 @@
 #include <optional>
 #include <string>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
 #include "mesh_read_formats.h"
@@ -17,32 +16,6 @@ namespace puff::mesh::detail {
 namespace fs = std::filesystem;
 
 namespace {
-
-// STL repeats each vertex in every facet: equal positions become one vertex (-0 equals 0).
-class VertexMerger {
- public:
-  explicit VertexMerger(RawMesh& m) : m_(m) {}
-  std::int64_t add(glm::vec3 p) {
-    for (int k = 0; k < 3; ++k) p[k] += 0.0f;  // -0 -> +0
-    Key key;
-    std::memcpy(key.data(), &p[0], sizeof key);
-    const auto [it, added] = index_.try_emplace(key, m_.positions.size());
-    if (added) m_.positions.push_back(p);
-    return static_cast<std::int64_t>(it->second);
-  }
-
- private:
-  using Key = std::array<std::uint32_t, 3>;
-  struct Hash {
-    std::size_t operator()(const Key& k) const {
-      std::uint64_t h = 0xcbf29ce484222325ull;
-      for (std::uint32_t v : k) h = (h ^ v) * 0x100000001b3ull;
-      return static_cast<std::size_t>(h);
-    }
-  };
-  RawMesh& m_;
-  std::unordered_map<Key, std::size_t, Hash> index_;
-};
 
 // The file as binary STL, or nothing when it is not. Binary STL is recognized by its exact size
 // (many binary headers start with "solid" too), or, when the file does not start with "solid" and so

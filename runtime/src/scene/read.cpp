@@ -2,6 +2,7 @@
 #include <puff/core/number_text.h>
 #include <puff/scene/read.h>
 
+#include <puff/mesh/mesh.h>
 #include <puff/scene/bodies.h>
 
 #include <algorithm>
@@ -294,8 +295,10 @@ ObjectSpec readObject(const json& j, const std::string& ptr, std::size_t index, 
   }
   if (auto* v = find(j, "mesh")) o.mesh = r.readPath(*v, child(ptr, "mesh"));
   if (o.type == Type::kMesh && o.mesh.empty()) {
-    if (auto* v = find(j, "mesh")) fail(child(ptr, "mesh"), "a mesh file (OBJ, OFF, PLY or STL)", *v);
-    failText(child(ptr, "mesh"), "expected a mesh file (OBJ, OFF, PLY or STL) for type \"mesh\", got none");
+    if (auto* v = find(j, "mesh"))
+      fail(child(ptr, "mesh"), std::string("a mesh file (") + mesh::kMeshFormatsRead + ")", *v);
+    failText(child(ptr, "mesh"),
+             std::string("expected a mesh file (") + mesh::kMeshFormatsRead + ") for type \"mesh\", got none");
   }
   if (o.type != Type::kMesh && !o.mesh.empty()) {
     fail(child(ptr, "mesh"), "no mesh (or \"\") unless type is \"mesh\"", *find(j, "mesh"));

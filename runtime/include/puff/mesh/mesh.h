@@ -1,4 +1,4 @@
-// Puff meshes: loading (OBJ, OFF, PLY, STL by Puff's own readers; OpenMesh builds the
+// Puff meshes: loading (OBJ, OFF, PLY, STL, glTF by Puff's own readers; OpenMesh builds the
 // connectivity), validation, normalization to the unit bounding sphere, built-in generators,
 // writing, and quadric decimation.
 #pragma once
@@ -50,7 +50,13 @@ enum class Normalize { kYes, kNo };
 /// The largest mesh file loadMesh reads: 1 GiB (a 10-million-triangle binary PLY is ~200 MB).
 inline constexpr std::uintmax_t kMaxMeshFileBytes = std::uintmax_t{1} << 30;
 
-/// Reads OBJ, OFF, PLY or STL (by extension, case-insensitive), validates and normalizes it.
+/// The formats loadMesh reads, for messages and help.
+inline constexpr const char* kMeshFormatsRead = "OBJ, OFF, PLY, STL or glTF 2.0 (.gltf, .glb)";
+
+/// Reads OBJ, OFF, PLY, STL or glTF (by extension, case-insensitive), validates and normalizes it.
+/// glTF: the triangles the default scene's nodes place, in their world transforms; vertices the
+/// exporter split at UV seams merged; NORMAL kept where every vertex has one; buffers from the
+/// .glb, data: URIs or files beside the .gltf (no other path).
 /// Errors ("FILE: problem", one line): cannot open; not a regular file; larger than
 /// kMaxMeshFileBytes; not a mesh of that format; no faces;
 /// non-finite vertex (names the vertex); degenerate face (zero area, names the face);

@@ -99,7 +99,7 @@ struct ObjectSpec {
   enum class Type { kPlane, kBox, kSphere, kMesh };
   Type type = Type::kPlane;
   std::string name;            ///< defaults to "objects/N"
-  std::filesystem::path mesh;  ///< kMesh: OBJ, OFF, PLY or STL (resolved)
+  std::filesystem::path mesh;  ///< kMesh: a mesh file (mesh::kMeshFormatsRead), resolved
   glm::vec3 translate{0.0f};
   glm::vec3 rotateDegrees{0.0f};  ///< XYZ Euler angles, applied X then Y then Z
   glm::vec3 scale{1.0f};          ///< plane: half-size in x and z; box: half extents; sphere: radius
