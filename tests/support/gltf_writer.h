@@ -48,6 +48,7 @@ class GltfWriter {
   }
   int vec3s(const std::vector<glm::vec3>& v) { return accessor(v.data(), v.size() * 12, 5126, "VEC3", v.size()); }
   int vec2s(const std::vector<glm::vec2>& v) { return accessor(v.data(), v.size() * 8, 5126, "VEC2", v.size()); }
+  int indices8(const std::vector<std::uint8_t>& v) { return accessor(v.data(), v.size(), 5121, "SCALAR", v.size()); }
   int indices16(const std::vector<std::uint16_t>& v) {
     return accessor(v.data(), v.size() * 2, 5123, "SCALAR", v.size());
   }

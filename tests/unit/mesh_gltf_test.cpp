@@ -269,6 +269,9 @@ TEST_F(MeshGltf, MalformedFilesAreRefusedNamingThePart) {
     w.doc()["nodes"][0]["mesh"] = 7;
     expectError(w, "names meshes 7, which the file does not have");
   }
+}
+
+TEST_F(MeshGltf, BuffersAreReadOnlyFromTheFileOrBesideIt) {
   // Buffers outside the glTF's folder, or that are not there, are not read.
   for (const std::string& uri :
        {std::string("../t.bin"), std::string("/etc/hostname"), std::string("http://x/t.bin"),
@@ -295,6 +298,60 @@ TEST_F(MeshGltf, MalformedFilesAreRefusedNamingThePart) {
     ASSERT_FALSE(s.ok());
     EXPECT_NE(s.error().message.find("syntax.gltf:2:"), std::string::npos) << s.error().message;
   }
+}
+
+// Normals turn with the inverse transpose of the node's transform: under a non-uniform scale a
+// face's normal stays perpendicular to it; under a mirror it turns with the triangles.
+TEST_F(MeshGltf, NormalsTurnWithTheirNodes) {
+  std::vector<glm::vec3> normals;
+  for (const glm::vec3& p : kTetra) normals.push_back(glm::normalize(p - glm::vec3(0.25f)));
+  for (const nlohmann::json& transform :
+       {nlohmann::json{{"scale", {4, 1, 0.5}}}, nlohmann::json{{"scale", {-1, 2, 1}}}}) {
+    SCOPED_TRACE(transform.dump());
+    GltfWriter w;
+    const int pos = w.vec3s(kTetra), nor = w.vec3s(normals), idx = w.indices16(kTetraFaces);
+    nlohmann::json node = transform;
+    node["mesh"] = w.mesh({{"attributes", {{"POSITION", pos}, {"NORMAL", nor}}}, {"indices", idx}});
+    w.node(node);
+    w.writeGlb(dir_ / "turned.glb");
+    LoadInfo info;
+    const TriMesh m = load(dir_ / "turned.glb", &info);
+    ASSERT_TRUE(info.hadNormals);
+    const glm::vec3 s(transform["scale"][0].get<float>(), transform["scale"][1].get<float>(),
+                      transform["scale"][2].get<float>());
+    for (std::size_t i = 0; i < m.positions.size(); ++i) {
+      // The vertex's source: the tetrahedron corner it is the image of.
+      const glm::vec3 source = m.positions[i] / s;
+      const glm::vec3 expected = glm::normalize(glm::normalize(source - glm::vec3(0.25f)) / s);
+      EXPECT_NEAR(glm::distance(m.normals[i], expected), 0.0f, 1e-5f) << i;
+    }
+    EXPECT_FALSE(info.flippedInward) << "a mirror's triangles are turned back with it";
+  }
+}
+
+// NORMAL is kept only when every placed primitive has it; indices may be 8-bit; a node scaled to
+// nothing places nothing; a rotation not quite of unit length is read as the unit one.
+TEST_F(MeshGltf, MixedPrimitivesAndExportersHabits) {
+  GltfWriter w;
+  const int pos = w.vec3s(kTetra), idx = w.indices8({0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3});
+  std::vector<glm::vec3> normals(4, glm::vec3(0, 0, 1));
+  const int nor = w.vec3s(normals);
+  const int withNormals = w.mesh({{"attributes", {{"POSITION", pos}, {"NORMAL", nor}}}, {"indices", idx}});
+  const int without = w.mesh({{"attributes", {{"POSITION", pos}}}, {"indices", idx}});
+  w.node({{"mesh", withNormals}});
+  w.node({{"mesh", without}, {"translation", {3, 0, 0}}, {"rotation", {0, 0, 0.7, 0.7}}});
+  w.node({{"mesh", without}, {"scale", {0, 0, 0}}});
+  w.writeGlb(dir_ / "mixed.glb");
+  LoadInfo info;
+  const TriMesh m = load(dir_ / "mixed.glb", &info);
+  EXPECT_EQ(m.triangles.size(), 8u) << "the node scaled to nothing places nothing";
+  EXPECT_FALSE(info.hadNormals) << "one primitive has no NORMAL, so normals are computed for all";
+  // The rotated copy: (1, 0, 0) turned 90 degrees about z and moved by (3, 0, 0), at unit length.
+  bool found = false;
+  for (const glm::vec3& p : m.positions) found = found || glm::distance(p, glm::vec3(3, 1, 0)) < 1e-5f;
+  EXPECT_TRUE(found);
+  w.doc()["nodes"][1]["rotation"] = {0, 0, 0, 0};
+  expectError(w, "node 1: rotation is not a quaternion of non-zero length");
 }
 
 TEST_F(MeshGltf, GltfIsReadNotWritten) {

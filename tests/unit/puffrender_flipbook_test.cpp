@@ -4,11 +4,13 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -151,44 +153,58 @@ TEST_F(PuffrenderCli, ALoopedFlipbookCrossFadesItsEndIntoItsStart) {
                      "--loop applies to a --flipbook", 2);
 }
 
-// A ball that comes into view at frame 2 and moves left at frame 3: frames 0 and 1 draw nothing.
+// A ball that comes into view at frame 2 and moves left at frame 3: frames 0 and 1 draw nothing;
+// frame 4 looks away again and frame 5 back.
 constexpr const char* kBallArrives = R"({
   "output": {"width": 40, "height": 30, "samples": 1, "background": "transparent"},
   "camera": {"position": [0, 0, 6], "target": [0, 0, 0], "fovY": 0, "orthoHeight": 3},
   "objects": [{"type": "sphere", "scale": [0.6, 0.6, 0.6]}],
-  "animation": {"fps": 10, "frames": 4,
+  "animation": {"fps": 10, "frames": 6,
     "cameraPath": [{"time": 0, "position": [20, 0, 6]}, {"time": 0.1, "position": [20, 0, 6]},
-                   {"time": 0.2, "position": [0, 0, 6]}, {"time": 0.3, "position": [0.4, 0.2, 6]}],
+                   {"time": 0.2, "position": [0, 0, 6]}, {"time": 0.3, "position": [0.4, 0.2, 6]},
+                   {"time": 0.4, "position": [20, 0, 6]}, {"time": 0.5, "position": [0.4, 0.2, 6]}],
     "targetPath": [{"time": 0, "position": [20, 0, 0]}, {"time": 0.1, "position": [20, 0, 0]},
-                   {"time": 0.2, "position": [0, 0, 0]}, {"time": 0.3, "position": [0.4, 0.2, 0]}]}
+                   {"time": 0.2, "position": [0, 0, 0]}, {"time": 0.3, "position": [0.4, 0.2, 0]},
+                   {"time": 0.4, "position": [20, 0, 0]}, {"time": 0.5, "position": [0.4, 0.2, 0]}]}
 })";
+
+// Frames 0 to n - 1 of `scene`, each rendered alone to a PNG and read back.
+std::vector<puff::core::Image> renderAlone(const std::function<CliRun(const std::string&)>& run, const fs::path& scene,
+                                           int n, const fs::path& dir) {
+  std::vector<puff::core::Image> frames;
+  for (int f = 0; f < n; ++f) {
+    const fs::path file = dir / ("alone" + std::to_string(f) + ".png");
+    EXPECT_EQ(run(scene.string() + " -q --frames " + std::to_string(f) + " -o " + file.string()).exitCode, 0);
+    auto image = puff::core::readImage(file);
+    frames.push_back(image ? *image : puff::core::Image(40, 30, 4));
+  }
+  return frames;
+}
+
+// The rectangle holding every covered texel of frames [from, to].
+std::array<int, 4> coveredBox(const std::vector<puff::core::Image>& frames, int from, int to) {
+  int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+  for (int f = from; f <= to; ++f)
+    for (int y = 0; y < frames[static_cast<std::size_t>(f)].height; ++y)
+      for (int x = 0; x < frames[static_cast<std::size_t>(f)].width; ++x) {
+        if (frames[static_cast<std::size_t>(f)].at(x, y, 3) == 0.0f) continue;
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+      }
+  return {x0, y0, x1, y1};
+}
 
 // --skip-empty, --crop, --padding and --pow2: the cells hold the frames rendered alone, cropped to the
 // rectangle the sequence covers, at the same offset in equal cells; the padding is empty but for the
-// bled colour; the layout JSON says where everything is, in texels and scene units.
+// bled colour.
 TEST_F(PuffrenderCli, FlipbookSheetsCropPadAndSkipTheEmptyStart) {
   const fs::path scene = write("arrives.json", kBallArrives);
-  std::vector<puff::core::Image> alone;
-  for (int f = 0; f < 4; ++f) {
-    const fs::path file = dir_ / ("alone" + std::to_string(f) + ".png");
-    ASSERT_EQ(run(scene.string() + " -q --frames " + std::to_string(f) + " -o " + file.string()).exitCode, 0);
-    auto image = puff::core::readImage(file);
-    ASSERT_OK(image);
-    alone.push_back(*image);
-  }
-  // The union of frames 2 and 3's coverage, and that frames 0 and 1 have none.
-  int x0 = 40, y0 = 30, x1 = -1, y1 = -1;
-  for (int f = 0; f < 4; ++f)
-    for (int y = 0; y < 30; ++y)
-      for (int x = 0; x < 40; ++x) {
-        if (alone[static_cast<std::size_t>(f)].at(x, y, 3) == 0.0f) continue;
-        ASSERT_GE(f, 2) << "frame " << f << " draws at " << x << "," << y;
-        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-      }
+  const std::vector<puff::core::Image> alone =
+      renderAlone([&](const std::string& a) { return run(a); }, scene, 4, dir_.path());
+  EXPECT_EQ(coveredBox(alone, 0, 1)[2], -1) << "frames 0 and 1 draw nothing";
+  const auto [x0, y0, x1, y1] = coveredBox(alone, 2, 3);
   ASSERT_GT(x1, x0);
   const int cw = x1 - x0 + 1, ch = y1 - y0 + 1;
   ASSERT_LT(cw, 30) << "the crop is smaller than the frame";
-
   for (const bool pow2 : {false, true}) {
     SCOPED_TRACE(pow2 ? "--pow2" : "no --pow2");
     const fs::path sheetFile = dir_ / (pow2 ? "p2.png" : "crop.png");
@@ -216,18 +232,13 @@ TEST_F(PuffrenderCli, FlipbookSheetsCropPadAndSkipTheEmptyStart) {
     if (pow2) {
       EXPECT_EQ(sheet->width & (sheet->width - 1), 0) << sheet->width;
       EXPECT_EQ(sheet->height & (sheet->height - 1), 0) << sheet->height;
-      EXPECT_EQ(ox, 3 + (cellW - cw - 6) / 2);
+      EXPECT_LE(std::abs((cellW - cw) / 2 - ox), 1) << "the frame is centred in its cell";
     } else {
       EXPECT_EQ(cellW, cw + 6);
       EXPECT_EQ(cellH, ch + 6);
       EXPECT_EQ(ox, 3);
       EXPECT_EQ(oy, 3);
     }
-    // Orthographic, 3 units over 30 texels; the camera's target is the frame's centre (20, 15).
-    EXPECT_DOUBLE_EQ(j["sceneUnitsPerTexel"].get<double>(), 0.1);
-    EXPECT_DOUBLE_EQ(j["cellSizeInSceneUnits"][0].get<double>(), 0.1 * cellW);
-    EXPECT_DOUBLE_EQ(j["pivot"][0].get<double>(), (ox - x0 + 20.0) / cellW);
-    EXPECT_DOUBLE_EQ(j["pivot"][1].get<double>(), (oy - y0 + 15.0) / cellH);
     for (int cell = 0; cell < 2; ++cell) {
       const puff::core::Image& frame = alone[static_cast<std::size_t>(2 + cell)];
       int differ = 0, black = 0;
@@ -248,8 +259,73 @@ TEST_F(PuffrenderCli, FlipbookSheetsCropPadAndSkipTheEmptyStart) {
       EXPECT_EQ(black, 0) << "cell " << cell << ": uncovered texels and the padding hold a covered colour";
     }
   }
+}
 
-  // What cannot be done says so, writes nothing, and without --flipbook the options are refused.
+// The layout's scene units and pivot, measured on what was drawn: the ball (radius 0.6, centred on
+// the camera's target at frame 2) spans its diameter in scene units, and its coverage is centred on
+// the pivot; orthographic (3 units over 30 texels) and perspective (30 degrees, 6 units away, where
+// the sphere's outline is 6 tan(asin(0.1)) = 0.603 in radius on the target's plane).
+TEST_F(PuffrenderCli, FlipbookLayoutsMeasureTheirCellsInSceneUnits) {
+  std::string perspective = kBallArrives;
+  perspective.replace(perspective.find("\"fovY\": 0"), 9, "\"fovY\": 30");
+  for (const auto& [text, diameter] : {std::pair{std::string(kBallArrives), 1.2}, std::pair{perspective, 1.206}}) {
+    const bool ortho = text == kBallArrives;
+    SCOPED_TRACE(ortho ? "orthographic" : "perspective");
+    const fs::path scene = write("ball.json", text);
+    const fs::path sheetFile = dir_ / "units.png";
+    ASSERT_EQ(
+        run(scene.string() + " -q --flipbook 1x1 --frames 2 --crop --padding 5 -o " + sheetFile.string()).exitCode, 0);
+    auto sheet = puff::core::readImage(sheetFile);
+    ASSERT_OK(sheet);
+    const auto j = nlohmann::json::parse(*puff::core::readFileBytes(dir_ / "units.json"));
+    const double unit = j["sceneUnitsPerTexel"], cellW = j["cellWidth"], cellH = j["cellHeight"];
+    EXPECT_NEAR(unit, ortho ? 0.1 : 2.0 * 6.0 * std::tan(15.0 * M_PI / 180.0) / 30.0, 1e-7);
+    EXPECT_NEAR(j["cellSizeInSceneUnits"][0].get<double>(), unit * cellW, 1e-6);
+    double sx = 0.0, sy = 0.0, sum = 0.0;
+    for (int y = 0; y < sheet->height; ++y)
+      for (int x = 0; x < sheet->width; ++x) {
+        const double a = sheet->at(x, y, 3);
+        sx += a * (x + 0.5), sy += a * (y + 0.5), sum += a;
+      }
+    // The drawn area is a disc: its diameter from its area, within a texel.
+    EXPECT_NEAR(2.0 * std::sqrt(sum / M_PI) * unit, diameter, unit);
+    EXPECT_NEAR(sx / sum / cellW, j["pivot"][0].get<double>(), 0.5 / cellW);
+    EXPECT_NEAR(sy / sum / cellH, j["pivot"][1].get<double>(), 0.5 / cellH);
+    EXPECT_NE(j["sceneUnitsMeasured"].get<std::string>().find(ortho ? "orthographic" : "6 units"), std::string::npos);
+  }
+}
+
+// Only the leading empty frames are skipped (frame 4, empty between drawn ones, keeps its cell), also
+// when --loop must wait for them all; what cannot be done says so and writes nothing.
+TEST_F(PuffrenderCli, FlipbookSkipsOnlyTheLeadingEmptyFrames) {
+  const fs::path scene = write("arrives.json", kBallArrives);
+  const std::vector<puff::core::Image> alone =
+      renderAlone([&](const std::string& a) { return run(a); }, scene, 6, dir_.path());
+  const fs::path sheetFile = dir_ / "middle.exr";
+  ASSERT_EQ(run(scene.string() + " -q --flipbook 4x1 --skip-empty -o " + sheetFile.string()).exitCode, 0);
+  auto sheet = puff::core::readImage(sheetFile);
+  ASSERT_OK(sheet);
+  auto j = nlohmann::json::parse(*puff::core::readFileBytes(dir_ / "middle.json"));
+  EXPECT_EQ(j["firstFrame"], 2);
+  EXPECT_EQ(j["lastFrame"], 5);
+  EXPECT_EQ(j["frameCount"], 4);
+  for (int cell = 0; cell < 4; ++cell) {
+    int differ = 0;
+    for (int y = 0; y < 30; ++y)
+      for (int x = 0; x < 40; ++x)
+        differ += std::abs(sheet->at(cell * 40 + x, y, 3) - alone[static_cast<std::size_t>(2 + cell)].at(x, y, 3)) >
+                          1.0f / 255.0f
+                      ? 1
+                      : 0;
+    EXPECT_EQ(differ, 0) << "cell " << cell << " is frame " << 2 + cell;
+  }
+  // With --loop 1 the last kept frame (5) mixes into the first cell (2): three cells, 2 to 4.
+  ASSERT_EQ(run(scene.string() + " -q --flipbook 3x1 --skip-empty --loop 1 -o " + sheetFile.string()).exitCode, 0);
+  j = nlohmann::json::parse(*puff::core::readFileBytes(dir_ / "middle.json"));
+  EXPECT_EQ(j["firstFrame"], 2);
+  EXPECT_EQ(j["lastFrame"], 4);
+  EXPECT_EQ(j["loop"], 1);
+
   const std::string s = scene.string(), out = (dir_ / "bad.png").string();
   expectOneLineError(run(s + " --flipbook 3x1 --pow2 -o " + out), "a 3x1 grid cannot divide a power-of-two sheet", 2);
   expectOneLineError(run(s + " --flipbook 2x1 --frames 0-1 --crop -o " + out), "--crop: frames 0 to 1 draw nothing", 1);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -73,12 +74,15 @@ struct SheetSpec {
   float covered() const { return exr ? 0.0f : 0.5f / 255.0f; }
 };
 
-// The frames that go into cells (scene-linear, premultiplied, the loop's cross-fade done) and which they are.
+// Which frames went into the cells.
 struct Sequence {
-  std::vector<core::Image> cells;
+  int cells = 0;    // cells that hold a frame
   int first = 0;    // the frame in the first cell (--loop: also mixed with the frames after the last)
   int skipped = 0;  // leading frames that drew nothing, left out by --skip-empty
 };
+
+// Takes cell `cell`'s frame (scene-linear, premultiplied, the loop's cross-fade done).
+using PlaceCell = std::function<void(int cell, core::Image linear)>;
 
 // Mixes a late frame with head frame `from` (cell j of a --loop N), giving `from` weight (j + 1) / (N + 1).
 core::Image crossFade(core::Image mixed, const core::Image& from, int j, int loop) {
@@ -89,69 +93,88 @@ core::Image crossFade(core::Image mixed, const core::Image& from, int j, int loo
   return mixed;
 }
 
-// Renders the plan's frames, with progress: as many as the plan counts, from plan.first, leading empty
-// ones left out with --skip-empty (then up to plan.flipLast). Then --loop N: the first N frames wait
-// for the last N; cell j < N is the mix of frame j (weight (j + 1) / (N + 1)) and frame count - N + j,
+// Hands the k-th of n kept frames to its cell. --loop N: the first N frames wait in `head` for the
+// last N; cell j < N is the mix of frame j (weight (j + 1) / (N + 1)) and frame n - N + j,
 // premultiplied in scene-linear light, so the sheet's last cell runs on into its first.
+void dispatch(int k, int n, int loop, core::Image frame, std::vector<core::Image>& head, const PlaceCell& place) {
+  const int cellsUsed = n - loop;
+  if (k < loop) {
+    head.push_back(std::move(frame));
+  } else if (k < cellsUsed) {
+    place(k, std::move(frame));
+  } else {
+    const int j = k - cellsUsed;
+    place(j, crossFade(std::move(frame), head[static_cast<std::size_t>(j)], j, loop));
+  }
+}
+
+// Renders the plan's frames, with progress: as many as the plan counts, from plan.first, leading empty
+// ones left out with --skip-empty (then up to plan.flipLast), each handed to its cell. `stream`: as it
+// is drawn (the count is known: the plan's); else once all are drawn (--skip-empty with --loop, whose
+// tail depends on how many drew something), holding them until then.
 Result<Sequence> renderSequence(const Options& o, const Plan& plan, render::SceneRenderer& renderer,
-                                const SheetSpec& spec) {
-  const int wanted = plan.last - plan.first + 1;
+                                const SheetSpec& spec, bool stream, const PlaceCell& place) {
+  const int wanted = plan.last - plan.first + 1, loop = o.loop;
   Sequence seq;
-  std::vector<core::Image> frames;
+  std::vector<core::Image> held, head;
+  int kept = 0;
   cli::Progress progress(o.quiet || wanted == 1);
-  for (int frame = plan.first; frame <= plan.flipLast && static_cast<int>(frames.size()) < wanted; ++frame) {
-    progress("frames", static_cast<int>(frames.size()), wanted);
+  for (int frame = plan.first; frame <= plan.flipLast && kept < wanted; ++frame) {
+    progress("frames", kept, wanted);
     auto image = renderer.renderFrame(frame);
     if (!image) {
       progress.finish();
       return image.error();
     }
-    if (o.skipEmpty && frames.empty() && !render::covers(*image, spec.covered())) {
+    if (o.skipEmpty && kept == 0 && !render::covers(*image, spec.covered())) {
       ++seq.skipped;
       continue;
     }
-    frames.push_back(std::move(*image));
+    if (stream) {
+      dispatch(kept, wanted, loop, std::move(*image), head, place);
+    } else {
+      held.push_back(std::move(*image));
+    }
+    ++kept;
   }
   progress("frames", wanted, wanted);
   progress.finish();
-  const int count = static_cast<int>(frames.size()), loop = o.loop;
-  if (count == 0) {
+  if (kept == 0) {
     return Error{"--skip-empty: frames " + std::to_string(plan.first) + " to " + std::to_string(plan.flipLast) +
                  " draw nothing: no frame to put in the sheet"};
   }
-  if (2 * loop > count) {
-    return Error{"--loop " + std::to_string(loop) + ": " + std::to_string(count) + " frames draw something after the " +
+  if (2 * loop > kept) {
+    return Error{"--loop " + std::to_string(loop) + ": " + std::to_string(kept) + " frames draw something after the " +
                  std::to_string(seq.skipped) + " empty ones --skip-empty left out, and a loop of " +
                  std::to_string(loop) + " needs " + std::to_string(2 * loop)};
   }
-  seq.first = plan.first + seq.skipped;
-  const int cellsUsed = count - loop;
-  for (int i = 0; i < cellsUsed; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    seq.cells.push_back(i < loop
-                            ? crossFade(std::move(frames[k + static_cast<std::size_t>(cellsUsed)]), frames[k], i, loop)
-                            : std::move(frames[k]));
+  for (int k = 0; k < static_cast<int>(held.size()); ++k) {
+    dispatch(k, kept, loop, std::move(held[static_cast<std::size_t>(k)]), head, place);
   }
+  seq.first = plan.first + seq.skipped;
+  seq.cells = kept - loop;
   return seq;
 }
 
-// Scene units one texel spans at the camera's target (orthographic: at every depth), to the 7
-// significant digits of the scene's single-precision camera.
+// `v` to the 7 significant digits the scene's single-precision camera holds.
+double sevenDigits(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.7g", v);
+  return std::strtod(text, nullptr);
+}
+
+// Scene units one texel spans at the camera's target (orthographic: at every depth).
 double sceneUnitsPerTexel(const cel::Camera& camera, int height) {
   const double distance = glm::length(glm::dvec3(camera.target) - glm::dvec3(camera.position));
-  const double units =
-      camera.fovYDegrees <= 0.0f
-          ? static_cast<double>(camera.orthoHeight) / height
-          : 2.0 * distance * std::tan(glm::radians(static_cast<double>(camera.fovYDegrees)) * 0.5) / height;
-  char text[32];
-  std::snprintf(text, sizeof text, "%.7g", units);
-  return std::strtod(text, nullptr);
+  return camera.fovYDegrees <= 0.0f
+             ? static_cast<double>(camera.orthoHeight) / height
+             : 2.0 * distance * std::tan(glm::radians(static_cast<double>(camera.fovYDegrees)) * 0.5) / height;
 }
 
 // The layout JSON written beside the sheet: how an engine reads the cells, and what they hold.
 nlohmann::ordered_json flipbookLayout(const Options& o, const scene::Scene& scene, const Sequence& seq,
                                       const render::SheetLayout& l, const SheetSpec& s, const fs::path& target) {
-  const int cellsUsed = static_cast<int>(seq.cells.size());
+  const int cellsUsed = seq.cells;
   const cel::Camera camera = scene::cameraAt(scene, seq.first);
   const double unit = sceneUnitsPerTexel(camera, scene.height);
   nlohmann::ordered_json j;
@@ -171,12 +194,12 @@ nlohmann::ordered_json flipbookLayout(const Options& o, const scene::Scene& scen
   j["crop"] = {{"cropped", o.crop},           {"x", l.crop.x},           {"y", l.crop.y},
                {"width", l.crop.width},       {"height", l.crop.height}, {"renderWidth", scene.width},
                {"renderHeight", scene.height}};
-  j["sceneUnitsPerTexel"] = unit;
+  j["sceneUnitsPerTexel"] = sevenDigits(unit);
   j["sceneUnitsMeasured"] = camera.fovYDegrees <= 0.0f
                                 ? std::string("orthographic camera: the same at every depth")
                                 : "perspective camera: at the distance of its target, " +
                                       core::numberText(glm::length(camera.target - camera.position)) + " units";
-  j["cellSizeInSceneUnits"] = {unit * l.cellWidth, unit * l.cellHeight};
+  j["cellSizeInSceneUnits"] = {sevenDigits(unit * l.cellWidth), sevenDigits(unit * l.cellHeight)};
   // The camera's target projects to the rendered frame's centre.
   j["pivot"] = {(l.offsetX - l.crop.x + 0.5 * scene.width) / l.cellWidth,
                 (l.offsetY - l.crop.y + 0.5 * scene.height) / l.cellHeight};
@@ -227,7 +250,7 @@ bool writeSheetAndLayout(const Options& o, const SheetSpec& s, const render::She
 void printFlipbookSummary(const Options& o, const Sequence& seq, const render::SheetLayout& l, const SheetSpec& s,
                           const fs::path& target, const fs::path& layout) {
   if (o.quiet) return;
-  const int cellsUsed = static_cast<int>(seq.cells.size()), cells = l.columns * l.rows;
+  const int cellsUsed = seq.cells, cells = l.columns * l.rows;
   std::printf("%s: wrote %s (%dx%d: %d frame%s, %d to %d, in %dx%d cells of %dx%d, %s alpha) and %s\n", cli::name(),
               target.c_str(), l.sheetWidth(), l.sheetHeight(), cellsUsed, cellsUsed == 1 ? "" : "s", seq.first,
               seq.first + cellsUsed - 1, l.columns, l.rows, l.cellWidth, l.cellHeight,
@@ -261,38 +284,49 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
   const SheetSpec spec{scene::viewTransformFor(scene),
                        scene.alpha.value_or(plan.exr ? core::AlphaMode::kPremultiplied : core::AlphaMode::kStraight),
                        plan.exr};
-  auto seq = renderSequence(o, plan, renderer, spec);
-  if (!seq) {
-    cli::printError(seq.error());
-    return 1;
-  }
-  render::PixelRect crop{0, 0, scene.width, scene.height};
-  if (o.crop) {
-    crop = render::coverageBox(seq->cells, spec.covered());
-    if (crop.empty()) {
-      cli::printError(Error{"--crop: frames " + std::to_string(seq->first) + " to " +
-                            std::to_string(seq->first + static_cast<int>(seq->cells.size()) - 1) +
-                            " draw nothing: there is nothing to crop to"});
-      return 1;
-    }
-  }
-  auto layout = render::layOutSheet({plan.flipColumns, plan.flipRows, crop, o.padding, o.pow2});
+  const bool bleed = !spec.exr && spec.alpha == core::AlphaMode::kStraight;
+  const render::SheetRequest request{
+      plan.flipColumns, plan.flipRows, {0, 0, scene.width, scene.height}, o.padding, o.pow2};
+  // Without --crop the layout is known before anything is drawn and each frame goes into the sheet as
+  // it comes; with it the frames wait for their crop (planFlipbook checked that the uncropped sheet,
+  // which they add up to, is within the limits).
+  auto layout = render::layOutSheet(request);
   if (!layout) {
     cli::printError(Error{"--flipbook " + o.flipbook + ": " + layout.error().message});
     return 1;
   }
-  if (auto r = checkSheetSize(*layout, "--flipbook " + o.flipbook); !r) {
-    cli::printError(r.error());
+  core::Image sheet;
+  std::vector<core::Image> cells;
+  auto intoSheet = [&](int i, const core::Image& linear) {
+    if (sheet.empty())
+      sheet = core::Image(layout->sheetWidth(), layout->sheetHeight(), 4, 0.0f);  // empty cells: alpha 0
+    const core::Image display = spec.exr ? linear : core::viewTransform(linear, spec.view, spec.alpha);
+    render::placeCell(sheet, *layout, i, render::cellOf(display, *layout, bleed, spec.covered()));
+  };
+  const PlaceCell place = [&](int i, core::Image linear) {
+    if (!o.crop) return intoSheet(i, linear);
+    if (cells.size() <= static_cast<std::size_t>(i)) cells.resize(static_cast<std::size_t>(i) + 1);
+    cells[static_cast<std::size_t>(i)] = std::move(linear);
+  };
+  auto seq = renderSequence(o, plan, renderer, spec, !o.crop && !(o.skipEmpty && o.loop > 0), place);
+  if (!seq) {
+    cli::printError(seq.error());
     return 1;
   }
-  // Cells past the last frame stay empty (alpha 0).
-  core::Image sheet(layout->sheetWidth(), layout->sheetHeight(), 4, 0.0f);
-  const bool bleed = !spec.exr && spec.alpha == core::AlphaMode::kStraight;
-  for (std::size_t i = 0; i < seq->cells.size(); ++i) {
-    const core::Image& linear = seq->cells[i];
-    const core::Image cell =
-        render::cellOf(spec.exr ? linear : core::viewTransform(linear, spec.view, spec.alpha), *layout, bleed);
-    render::placeCell(sheet, *layout, static_cast<int>(i), cell);
+  if (o.crop) {
+    const render::PixelRect crop = render::coverageBox(cells, spec.covered());
+    if (crop.empty()) {
+      cli::printError(Error{"--crop: frames " + std::to_string(seq->first) + " to " +
+                            std::to_string(seq->first + seq->cells - 1) +
+                            " draw nothing: there is nothing to crop to"});
+      return 1;
+    }
+    layout = render::layOutSheet({plan.flipColumns, plan.flipRows, crop, o.padding, o.pow2});
+    if (!layout) {
+      cli::printError(Error{"--flipbook " + o.flipbook + ": " + layout.error().message});
+      return 1;
+    }
+    for (std::size_t i = 0; i < cells.size(); ++i) intoSheet(static_cast<int>(i), cells[i]);
   }
 
   const fs::path target = plan.pattern.name(plan.first);

@@ -88,11 +88,11 @@ Result<void> planFlipbook(const Options& o, const scene::Scene& scene, Plan& pla
                              : std::string()) +
                  ": give a larger grid or fewer frames"};
   }
-  // The sheet of whole frames; with --crop the cells are smaller, and their size is checked again then.
+  // The sheet of whole frames: with --crop the cells are smaller, but the frames are held until the
+  // crop is known, and they add up to this.
   const render::SheetRequest request{grid.first, grid.second, {0, 0, scene.width, scene.height}, o.padding, o.pow2};
   auto layout = render::layOutSheet(request);
   if (!layout) return Error{"--flipbook " + o.flipbook + (o.pow2 ? " --pow2: " : ": ") + layout.error().message};
-  if (o.crop) return {};
   return checkSheetSize(*layout, "--flipbook " + o.flipbook + " of " + std::to_string(scene.width) + "x" +
                                      std::to_string(scene.height) + " frames");
 }
@@ -203,8 +203,9 @@ CLI::Option* addCompareOptions(CLI::App& app, Options& o) {
 void addFlipbookSheetOptions(CLI::App& app, Options& o) {
   app.add_option("--padding", o.padding,
                  "--flipbook: PX empty texels around each frame, on every side, inside its cell (cells stay "
-                 "equal, so an engine dividing the sheet by the grid finds them); their colour is bled from the "
-                 "frame so that filtering and mipmaps do not fringe. Default: 0")
+                 "equal, so an engine dividing the sheet by the grid finds them); in a straight-alpha PNG their "
+                 "colour is bled from the frame so that filtering and mipmaps do not fringe (premultiplied and "
+                 "EXR sheets hold 0 there). Default: 0")
       ->check(CLI::Range(0, render::kMaxSheetPadding))
       ->type_name("PX");
   app.add_flag("--pow2", o.pow2,
@@ -392,10 +393,12 @@ std::variant<Options, int> parse(int argc, char** argv) {
   CLI::Option* maxError = addMaxErrorOption(app, maxErrorText);
   app.add_option("--flipbook", o.flipbook,
                  "Render the frames into one sprite sheet for a game engine's flipbook (Unity's Texture Sheet "
-                 "Animation, Godot's particle animation): OUT (one .png or .exr) gets COLSxROWS cells of the "
-                 "output size, frame by frame left to right and top to bottom, on a transparent background; "
-                 "OUT's name with .json gets the layout, frame rate and alpha mode (docs/flipbooks.md). Frames: "
-                 "--frames, else as many from frame 0 as the sheet holds (at most the scene's)")
+                 "Animation, Godot's particle animation): OUT (one .png or .exr) gets COLSxROWS equal cells, each "
+                 "a frame at the output size (or its --crop, inside --padding and --pow2's margin), frame by "
+                 "frame left to right and top to bottom, on a transparent background; OUT's name with .json gets "
+                 "the layout, frame rate and alpha mode (docs/flipbooks.md). Frames: --frames, else as many from "
+                 "frame 0 (--skip-empty: from the first that draws something) as the sheet holds (at most the "
+                 "scene's)")
       ->type_name("COLSxROWS");
   app.add_option("--contact-sheet", o.contactSheet,
                  "Also (or, without -o, only) write the frames as one PNG grid, each with its frame number under it, "

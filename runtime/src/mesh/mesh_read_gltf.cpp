@@ -34,6 +34,10 @@ using json = nlohmann::json;
 
 namespace {
 
+// The most triangles a scene may place in all. Every count in the file is checked against its
+// bytes, but nodes may place one mesh any number of times: this bounds what that multiplies to
+// (about as many as the largest OBJ, PLY or STL loadMesh reads holds).
+constexpr std::size_t kMaxGltfTriangles = std::size_t{1} << 24;
 constexpr std::uint32_t kGlbMagic = 0x46546C67;  // "glTF"
 constexpr std::uint32_t kChunkJson = 0x4E4F534A, kChunkBin = 0x004E4942;
 constexpr int kFloat = 5126, kUnsignedByte = 5121, kUnsignedShort = 5123, kUnsignedInt = 5125;
@@ -270,7 +274,12 @@ glm::mat4 localTransform(const json& node, const std::string& name) {
   if (auto m = numbers("matrix", 16)) return glm::make_mat4(m->data());  // column-major, as glTF's
   glm::mat4 t(1.0f);
   if (auto v = numbers("translation", 3)) t = glm::translate(t, glm::vec3((*v)[0], (*v)[1], (*v)[2]));
-  if (auto q = numbers("rotation", 4)) t = t * glm::mat4_cast(glm::quat((*q)[3], (*q)[0], (*q)[1], (*q)[2]));
+  if (auto q = numbers("rotation", 4)) {
+    const glm::quat r((*q)[3], (*q)[0], (*q)[1], (*q)[2]);  // glTF: x, y, z, w
+    const float length = glm::length(r);
+    if (!(length > 0.0f) || !std::isfinite(length)) fail(name + ": rotation is not a quaternion of non-zero length");
+    t = t * glm::mat4_cast(r / length);  // unit, as the specification asks and some exporters round away
+  }
   if (auto s = numbers("scale", 3)) t = glm::scale(t, glm::vec3((*s)[0], (*s)[1], (*s)[2]));
   return t;
 }
@@ -355,13 +364,16 @@ std::vector<Placed> placedMeshes(const json& root) {
 }
 
 // Adds the placed mesh's triangle primitives to `m`.
-void addMesh(Gltf& g, const Placed& p, bool normals, VertexMerger& merge, RawMesh& m) {
+void addMesh(Gltf& g, const Placed& p, bool normals, VertexMerger& merge, RawMesh& m, std::size_t& verticesRead) {
   const std::string meshName = at("mesh", static_cast<std::size_t>(p.mesh));
   const json& mesh = item(g.root(), "meshes", p.mesh, "a node");
   if (!mesh.contains("primitives") || !mesh["primitives"].is_array()) fail(meshName + " has no primitives");
   const bool identity = p.world == glm::mat4(1.0f);
+  const float determinant = glm::determinant(glm::mat3(p.world));
+  // Scaled to nothing (an exporter's way of hiding a node): it places no surface.
+  if (determinant == 0.0f) return;
   const glm::mat3 normalMatrix = glm::transpose(glm::inverse(glm::mat3(p.world)));
-  const bool mirrored = glm::determinant(glm::mat3(p.world)) < 0.0f;
+  const bool mirrored = determinant < 0.0f;
   for (std::size_t k = 0; k < mesh["primitives"].size(); ++k) {
     const json& prim = mesh["primitives"][k];
     const std::string name = meshName + " primitive " + std::to_string(k);
@@ -371,7 +383,15 @@ void addMesh(Gltf& g, const Placed& p, bool normals, VertexMerger& merge, RawMes
     const int mode = static_cast<int>(integer(prim, "mode", 0, 6, 4, name));
     if (mode < 4) continue;  // points and lines: no surface
     const json& attributes = prim["attributes"];
-    std::vector<glm::vec3> positions = vec3s(g, integer(attributes, "POSITION", 0, INT32_MAX, -1, name), name);
+    const std::int64_t positionAccessor = integer(attributes, "POSITION", 0, INT32_MAX, -1, name);
+    verticesRead +=
+        static_cast<std::size_t>(integer(item(g.root(), "accessors", positionAccessor, name), "count", 1, UINT32_MAX,
+                                         -1, at("accessor", static_cast<std::size_t>(positionAccessor))));
+    if (verticesRead > 3 * kMaxGltfTriangles) {
+      fail(name + ": the scene's nodes read more than " + std::to_string(3 * kMaxGltfTriangles) +
+           " vertices in all (they may place one mesh many times), more than Puff reads");
+    }
+    std::vector<glm::vec3> positions = vec3s(g, positionAccessor, name);
     std::vector<glm::vec3> vertexNormals;
     if (normals) vertexNormals = vec3s(g, integer(attributes, "NORMAL", 0, INT32_MAX, -1, name), name);
     if (normals && vertexNormals.size() != positions.size()) fail(name + ": NORMAL and POSITION counts differ");
@@ -384,6 +404,10 @@ void addMesh(Gltf& g, const Placed& p, bool normals, VertexMerger& merge, RawMes
     }
     std::vector<std::int64_t> vertex(positions.size(), -1);
     const std::vector<std::uint32_t> tris = triangles(mode, order, name);
+    if (tris.size() / 3 > kMaxGltfTriangles - m.faceCount()) {
+      fail(name + ": the scene places more than " + std::to_string(kMaxGltfTriangles) +
+           " triangles (its nodes may place one mesh many times), more than Puff reads");
+    }
     for (std::size_t t = 0; t < tris.size(); t += 3) {
       for (int c = 0; c < 3; ++c) {
         const std::uint32_t i = tris[t + static_cast<std::size_t>(mirrored ? (3 - c) % 3 : c)];
@@ -478,7 +502,8 @@ Result<RawMesh> readGltf(const fs::path& path, std::string_view text) {
     const bool normals = allHaveNormals(g.root(), placed);
     RawMesh m;
     VertexMerger merge(m);
-    for (const Placed& p : placed) addMesh(g, p, normals, merge, m);
+    std::size_t verticesRead = 0;
+    for (const Placed& p : placed) addMesh(g, p, normals, merge, m, verticesRead);
     return m;
   } catch (const Problem& p) {
     return notValid(path, Format::Gltf, p.detail);

@@ -46,8 +46,8 @@ Result<SheetLayout> layOutSheet(const SheetRequest& r) {
     cellW = nextPowerOfTwo(cellW * r.columns) / r.columns;
     cellH = nextPowerOfTwo(cellH * r.rows) / r.rows;
   }
-  l.cellWidth = static_cast<int>(std::min<long long>(cellW, 1ll << 30));
-  l.cellHeight = static_cast<int>(std::min<long long>(cellH, 1ll << 30));
+  l.cellWidth = static_cast<int>(cellW);  // within int: a grid is at most 256 a side, a crop one frame
+  l.cellHeight = static_cast<int>(cellH);
   l.offsetX = r.padding + (l.cellWidth - r.crop.width - 2 * r.padding) / 2;
   l.offsetY = r.padding + (l.cellHeight - r.crop.height - 2 * r.padding) / 2;
   return l;
@@ -75,12 +75,12 @@ bool covers(const core::Image& frame, float threshold) {
   return false;
 }
 
-void bleedColour(core::Image& cell) {
+void bleedColour(core::Image& cell, float covered) {
   const int w = cell.width, h = cell.height;
   std::vector<int> queue;
   std::vector<char> filled(static_cast<std::size_t>(w) * h, 0);
   for (int i = 0; i < w * h; ++i) {
-    if (cell.pixels[static_cast<std::size_t>(i) * 4 + 3] > 0.0f)
+    if (cell.pixels[static_cast<std::size_t>(i) * 4 + 3] > covered)
       filled[static_cast<std::size_t>(i)] = 1, queue.push_back(i);
   }
   for (std::size_t q = 0; q < queue.size(); ++q) {
@@ -97,13 +97,13 @@ void bleedColour(core::Image& cell) {
   }
 }
 
-core::Image cellOf(const core::Image& frame, const SheetLayout& l, bool bleed) {
+core::Image cellOf(const core::Image& frame, const SheetLayout& l, bool bleed, float covered) {
   core::Image cell(l.cellWidth, l.cellHeight, 4, 0.0f);
   for (int y = 0; y < l.crop.height; ++y) {
     std::copy_n(&frame.pixels[frame.index(l.crop.x, l.crop.y + y)], static_cast<std::size_t>(l.crop.width) * 4,
                 &cell.pixels[cell.index(l.offsetX, l.offsetY + y)]);
   }
-  if (bleed) bleedColour(cell);
+  if (bleed) bleedColour(cell, covered);
   return cell;
 }
 

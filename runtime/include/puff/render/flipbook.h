@@ -1,7 +1,7 @@
 // A flipbook's sheet as an engine reads it: a grid of equal cells, each holding one frame (or the
 // part of it the whole sequence covers), with a border of empty texels whose colour is bled from the
 // frame so that filtering and mipmaps do not fringe. CPU only: puffrender fills it with rendered
-// frames; the maps beside a sheet use the same layout.
+// frames.
 #pragma once
 
 #include <span>
@@ -56,14 +56,15 @@ PixelRect coverageBox(std::span<const core::Image> frames, float threshold);
 /// Whether any texel's alpha is above `threshold`.
 bool covers(const core::Image& frame, float threshold);
 
-/// Every texel with alpha 0 takes the colour of the nearest texel with alpha above 0 (breadth first
-/// over the 4 neighbours); alpha and covered texels are untouched. For straight-alpha cells: an
-/// engine's filter then mixes the smoke's colour with its own, not with black.
-void bleedColour(core::Image& cell);
+/// Every texel whose alpha is at most `covered` (what the sheet's encoding stores as 0) takes the
+/// colour of the nearest texel above it (breadth first over the 4 neighbours); alpha and covered
+/// texels are untouched. For straight-alpha cells: an engine's filter then mixes the smoke's colour
+/// with its own, not with black.
+void bleedColour(core::Image& cell, float covered = 0.0f);
 
 /// Cell-sized image of `frame` (4 channels) as the layout places it: the crop at the offset, zero
-/// (alpha 0) elsewhere; with `bleed`, bleedColour over the whole cell, padding included.
-core::Image cellOf(const core::Image& frame, const SheetLayout& layout, bool bleed);
+/// (alpha 0) elsewhere; with `bleed`, bleedColour(`covered`) over the whole cell, padding included.
+core::Image cellOf(const core::Image& frame, const SheetLayout& layout, bool bleed, float covered = 0.0f);
 
 /// Copies `cell` (cellWidth x cellHeight, 4 channels) into cell `i` of `sheet`.
 void placeCell(core::Image& sheet, const SheetLayout& layout, int i, const core::Image& cell);
