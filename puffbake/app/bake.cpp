@@ -9,6 +9,7 @@
 #include <puff/core/shader.h>
 #include <puff/mesh/mesh.h>
 #include <puff/platform/gl_context.h>
+#include <puff/support/json_read.h>
 
 #include "commands.h"
 
@@ -36,14 +37,10 @@ std::optional<bake::FlangeWidth> parseFlange(const std::string& text) {
   return f;
 }
 
-// "#rrggbb" or "r,g,b" with components in [0,1].
+// "#rrggbb", "#rgb" or "r,g,b" with components in [0,1].
 std::optional<glm::vec3> parseColor(const std::string& s) {
+  if (!s.empty() && s[0] == '#') return core::jsonread::parseHexColor(s);
   glm::vec3 c;
-  if (s.size() == 7 && s[0] == '#') {
-    unsigned r, g, b;
-    if (std::sscanf(s.c_str() + 1, "%2x%2x%2x", &r, &g, &b) != 3) return std::nullopt;
-    return glm::vec3(r, g, b) / 255.0f;
-  }
   char tail;
   if (std::sscanf(s.c_str(), "%f,%f,%f%c", &c.r, &c.g, &c.b, &tail) != 3) return std::nullopt;
   return c;
@@ -118,7 +115,8 @@ CLI::App* addBakeCommand(CLI::App& app, Options& o, BakeFlags& flags) {
   cmd->add_option("--format", flags.format, "Map files: png (8-bit maps, 16-bit distance) or exr (half float)")
       ->check(CLI::IsMember({"png", "exr"}))
       ->capture_default_str();
-  cmd->add_option("--color", flags.color, "Diffuse colour of meshes without vertex colours: #rrggbb or r,g,b in [0,1]")
+  cmd->add_option("--color", flags.color,
+                  "Diffuse colour of meshes without vertex colours: #rrggbb, #rgb or r,g,b in [0,1]")
       ->capture_default_str();
   cmd->add_flag("--no-mips", flags.noMips, "Write level 0 only");
   cmd->add_flag(
@@ -158,7 +156,7 @@ Result<void> finishBake(Options& o, const BakeFlags& flags) {
   if (!f) return Error{"--flange: expected texels (\"6\") or a percentage (\"3%\"), got \"" + flags.flange + "\""};
   o.bake.flange = *f;
   auto c = parseColor(flags.color);
-  if (!c) return Error{"--color: expected #rrggbb or r,g,b, got \"" + flags.color + "\""};
+  if (!c) return Error{"--color: expected #rrggbb, #rgb or r,g,b, got \"" + flags.color + "\""};
   o.bake.defaultColor = *c;
   o.bake.viewLayout = flags.layout == "oct" ? bake::ViewLayout::kOct : bake::ViewLayout::kHemiOct;
   o.bake.format = flags.format == "exr" ? bake::MapFormat::kExr : bake::MapFormat::kPng;
@@ -202,6 +200,12 @@ int runBake(const Options& o) {
     if (s.separatedFaces > 0 && !o.quiet) {
       std::printf("%s: %s: %zu non-manifold face%s split onto their own vertices\n", cli::name(),
                   s.provenance.path.c_str(), s.separatedFaces, s.separatedFaces == 1 ? "" : "s");
+    }
+    if (s.volumeFraction < mesh::kFlatVolumeFraction && !o.quiet) {
+      std::fprintf(stderr,
+                   "%s: warning: %s is flat (it encloses %.2g%% of its bounding sphere): it bakes as a card, "
+                   "with a puff's depth and normals only where the mesh has them\n",
+                   cli::name(), s.provenance.path.c_str(), 100.0 * s.volumeFraction);
     }
   }
   if (auto v = bake::validate(o.bake, static_cast<int>(sources->size())); !v) {

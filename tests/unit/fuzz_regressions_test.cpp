@@ -71,8 +71,9 @@ TEST(FuzzRegressions, EveryInputThatOnceCrashedIsReadOrRefusedInOneLine) {
        "\"animation\"?)"},
       // OpenMesh's OBJ reader writes the normal of "f ... -17/1/1" (no such vertex) out of bounds.
       {"normal-of-missing-vertex.obj",
-       "the file declares 6 faces, only 5 could be added (the others repeat a vertex, refer to a missing one, or are "
-       "not in the file)"},
+       "the file declares 6 faces, only 5 could be added: face 0 (line 14) refers to a vertex the file does not have "
+       "(it "
+       "has 8)"},
       // "x y z+w" on a vertex line: OpenMesh's OFF reader loses its place and never finishes.
       {"openmesh-timeout.off", "not a valid OFF file (line 1196)"},
       // A PLY header with a property line cut in half: OpenMesh's reader segfaults.

@@ -89,6 +89,23 @@ TEST_F(MeshIo, LoadsAQuadCubeNormalized) {
   for (std::size_t i = 0; i < r->positions.size(); ++i) EXPECT_GT(glm::dot(r->normals[i], r->positions[i]), 0.5f);
 }
 
+// The share of its bounding sphere a mesh encloses: a cube of side 2 encloses 8 of the
+// 4/3 pi (sqrt 3)^3 its corners' sphere holds; a flat card none; the art's puffs far more than the
+// flat limit.
+TEST_F(MeshIo, TheVolumeFractionTellsAPuffFromACard) {
+  LoadInfo info;
+  ASSERT_TRUE(loadMesh(kData / "cube.obj", &info).ok());
+  EXPECT_NEAR(info.volumeFraction, 8.0 / (4.0 / 3.0 * M_PI * 3.0 * std::sqrt(3.0)), 1e-9);
+  writeBytes(dir_ / "card.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  ASSERT_TRUE(loadMesh(dir_ / "card.obj", &info).ok());
+  EXPECT_EQ(info.volumeFraction, 0.0);
+  EXPECT_LT(info.volumeFraction, kFlatVolumeFraction);
+  for (const char* art : {"variation-1.obj", "variation-2.ply", "variation-3.off", "variation-4.stl"}) {
+    ASSERT_TRUE(loadMesh(fs::path(PUFF_SOURCE_DIR) / "art" / "puffs" / art, &info).ok());
+    EXPECT_GT(info.volumeFraction, 10.0 * kFlatVolumeFraction) << art;
+  }
+}
+
 TEST_F(MeshIo, AnInwardCubeIsFlipped) {
   LoadInfo info;
   const auto r = loadMesh(kData / "cube_inward.obj", &info);
@@ -147,14 +164,19 @@ TEST_F(MeshIo, BadFilesGiveTheExpectedError) {
   expectLoadError(dir_ / "mesh.xyz", "unsupported extension '.xyz' (accepted: .obj, .off, .ply, .stl, .gltf, .glb)");
   expectLoadError(kData / "empty.obj", "no faces");
   expectLoadError(kData / "nan_vertex.obj", "vertex 1 has a non-finite coordinate");
-  expectLoadError(kData / "zero_area.obj", "face 1 is degenerate (zero area)");
+  expectLoadError(kData / "zero_area.obj", "face 1 (line 10) is degenerate (zero area)");
   // A header that counts more faces than the file holds, or a face that refers to a missing vertex.
   writeBytes(dir_ / "short.off", "OFF\n4 5 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n");
   expectLoadError(dir_ / "short.off", "the header declares 5 faces after 4 vertices; the file holds 1");
   writeBytes(dir_ / "missing_vertex.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 0 1 9\n");
   expectLoadError(dir_ / "missing_vertex.off",
-                  "the file declares 2 faces, only 1 could be added (the others repeat a vertex, refer to a missing "
-                  "one, or are not in the file)");
+                  "the file declares 2 faces, only 1 could be added: face 1 (line 8) refers to vertex 9, but the file "
+                  "has 4");
+  // OBJ numbers its vertices from 1, and the message does as the file does.
+  writeBytes(dir_ / "missing_vertex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n# a comment\nf 1 2 9\n");
+  expectLoadError(dir_ / "missing_vertex.obj",
+                  "the file declares 1 face, only 0 could be added: face 0 (line 5) refers to vertex 9, but the file "
+                  "has 3");
 
   // Fixed pseudo-random bytes, control characters included.
   std::string garbage;
@@ -180,8 +202,7 @@ TEST_F(MeshIo, FacesOpenMeshDropsAreCounted) {
              "v 1 1 1\nv 1 -1 -1\nv -1 1 -1\nv -1 -1 1\n"
              "f 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\nf 1 1 2\n");
   expectLoadError(dir_ / "repeat.obj",
-                  "the file declares 5 faces, only 4 could be added "
-                  "(the others repeat a vertex, refer to a missing one, or are not in the file)");
+                  "the file declares 5 faces, only 4 could be added: face 4 (line 9) repeats vertex 1");
 }
 
 TEST_F(MeshIo, ObjColorsWrittenAsBytesAreScaledToUnit) {

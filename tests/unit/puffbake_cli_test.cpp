@@ -183,6 +183,21 @@ TEST_F(PuffbakeCli, BadMeshesFailWithTheFileAndTheProblem) {
 }
 
 // A mesh with a non-manifold vertex or edges bakes (the baker rasterizes triangles), and
+// A flat mesh bakes, with a warning that it is a card and not a puff; a round one says nothing.
+TEST_F(PuffbakeCli, AFlatMeshBakesWithAWarning) {
+  const fs::path card = dir_ / "card.obj";
+  std::ofstream(card) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
+  CliRun r = run("bake " + card.string() + " -s 32 --no-contact-sheet -o " + (dir_ / "out").string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: " + card.string() + " is flat (it encloses 0% of its bounding sphere)"),
+            std::string::npos)
+      << r.err;
+  r = run("bake " + (fs::path(PUFF_SOURCE_DIR) / "art" / "puffs" / "variation-1.obj").string() +
+          " -s 32 --no-contact-sheet -o " + (dir_ / "round").string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+}
+
 // puffbake says how many faces it split.
 TEST_F(PuffbakeCli, NonManifoldMeshesBakeAndTheSplitIsReported) {
   const fs::path bowtie = write("bowtie.obj",

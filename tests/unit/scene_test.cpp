@@ -120,6 +120,14 @@ TEST(Scene, ValuesAreRead) {
   EXPECT_EQ(s.animation.orbitDegreesPerSecond, 15.0f);
 }
 
+// "#rgb" is CSS's shorthand: each digit doubled, either case.
+TEST(Scene, ShortHexColoursDoubleEachDigit) {
+  EXPECT_EQ(parseOk(R"({"output": {"background": "#fA0"}})").background,
+            parseOk(R"({"output": {"background": "#ffaa00"}})").background);
+  EXPECT_EQ(parseOk(R"({"output": {"background": "#fff"}})").background, glm::vec3(1.0f));
+  EXPECT_EQ(parseOk(R"({"output": {"background": "#102"}})").background, glm::vec3(17.0f, 0.0f, 34.0f) / 255.0f);
+}
+
 TEST(Scene, PathsResolveAgainstTheSceneDirectoryAndTheArtDirectory) {
   const Scene s = parseOk(R"({"atlas": "${PUFF_ART}/default/puff.json", "ramp": "../ramps/two-tone.png",
                               "ambient": {"gradient": "/abs/gradient.png"},
@@ -164,7 +172,11 @@ TEST(Scene, ErrorsNameTheFileThePointerWhatWasExpectedAndWhatCame) {
       {R"({"output": {"samples": 3}})", "/output/samples: expected 1, 2, 4 or 8, got 3"},
       {R"({"output": {"background": [1.5, 0, 0]}})", "/output/background/0: expected a number in [0, 1], got 1.5"},
       {R"({"output": {"background": "#12345g"}})",
-       "/output/background: expected a colour: [r, g, b] in [0, 1] or \"#rrggbb\", got \"#12345g\""},
+       "/output/background: expected a colour: [r, g, b] in [0, 1], \"#rrggbb\" or \"#rgb\", got \"#12345g\""},
+      {R"({"output": {"background": "#fa"}})",
+       "/output/background: expected a colour: [r, g, b] in [0, 1], \"#rrggbb\" or \"#rgb\", got \"#fa\""},
+      {R"({"output": {"background": "#fag"}})",
+       "/output/background: expected a colour: [r, g, b] in [0, 1], \"#rrggbb\" or \"#rgb\", got \"#fag\""},
       {R"({"output": []})", "/output: expected an object, got []"},
       {R"({"light": {"direction": [0, 0, 0]}})",
        "/light/direction: expected a non-zero direction toward the light, got [0,0,0]"},
@@ -177,6 +189,19 @@ TEST(Scene, ErrorsNameTheFileThePointerWhatWasExpectedAndWhatCame) {
        "/style/alignment: expected one of view-plane, viewpoint, axial, got \"sideways\""},
       {R"({"style": {"shadowBias": 2}})", "/style/shadowBias: expected a number in [0, 1], got 2"},
       {R"({"style": {"tumble": "spin"}})", "/style/tumble: expected one of hull, blend, got \"spin\""},
+      // A name that is a typo of one gets the nearest (at most two edits, case aside); one nothing is
+      // near gets the list alone.
+      {R"({"style": {"preset": "cel-shadow"}})",
+       "/style/preset: expected one of outlines, cel, cel-shadows, ink, solid, got \"cel-shadow\" (did you mean "
+       "\"cel-shadows\"?)"},
+      {R"({"style": {"shadowMethod": "Mapp"}})",
+       "/style/shadowMethod: expected one of volumes, map, got \"Mapp\" (did you mean \"map\"?)"},
+      {R"({"style": {"alignment": "view_plane"}})",
+       "/style/alignment: expected one of view-plane, viewpoint, axial, got \"view_plane\" (did you mean "
+       "\"view-plane\"?)"},
+      {R"({"objects": [{"type": "sper"}]})",
+       "/objects/0/type: expected one of plane, box, sphere, mesh, got \"sper\" (did you mean \"sphere\"?)"},
+      {R"({"objects": [{"type": "cube"}]})", "/objects/0/type: expected one of plane, box, sphere, mesh, got \"cube\""},
       {R"({"style": {"hullFromPixels": -1}})", "/style/hullFromPixels: expected a number in [0, 4096], got -1"},
       {R"({"style": {"hullFromPixels": 5000}})", "/style/hullFromPixels: expected a number in [0, 4096], got 5000"},
       {R"({"style": {"outlineWidth": -1}})", "/style/outlineWidth: expected a number in [0, 64], got -1"},

@@ -413,6 +413,7 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
     s.provenance.faces = m->faceCount();
     s.normalsAuthored = info.hadNormals;
     s.separatedFaces = info.separatedFaces;
+    s.volumeFraction = info.volumeFraction;
     s.mesh = std::move(*m);
     sources.push_back(std::move(s));
   }

@@ -109,20 +109,30 @@ std::size_t editDistance(std::string_view a, std::string_view b) {
   return row[b.size()];
 }
 
+std::string didYouMean(std::string_view got, std::span<const std::string_view> names) {
+  std::string_view best;
+  std::size_t bestDistance = 3;  // at most two edits away
+  for (std::string_view name : names) {
+    const std::size_t d = editDistance(core::lower(std::string(got)), core::lower(std::string(name)));
+    if (d < bestDistance) bestDistance = d, best = name;
+  }
+  return best.empty() ? std::string() : " (did you mean \"" + std::string(best) + "\"?)";
+}
+
+[[noreturn]] void failChoice(const json& v, const std::string& ptr, std::span<const std::string_view> names) {
+  std::string list;
+  for (std::string_view n : names) list += (list.empty() ? "" : ", ") + std::string(n);
+  failText(ptr, "expected one of " + list + ", got " + describe(v) +
+                    (v.is_string() ? didYouMean(v.get<std::string>(), names) : std::string()));
+}
+
 void requireObject(const json& j, const std::string& ptr, std::initializer_list<std::string_view> allowed) {
   if (!j.is_object()) fail(ptr.empty() ? std::string("(top level)") : ptr, "an object", j);
   for (const auto& item : j.items()) {
     const std::string& key = item.key();
     if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
-    std::string message = "unknown key, expected one of " + join(allowed);
-    std::string_view best;
-    std::size_t bestDistance = 3;  // at most two edits away
-    for (std::string_view name : allowed) {
-      const std::size_t d = editDistance(core::lower(key), core::lower(name));
-      if (d < bestDistance) bestDistance = d, best = name;
-    }
-    if (!best.empty()) message += " (did you mean \"" + std::string(best) + "\"?)";
-    failText(child(ptr, key), message);
+    failText(child(ptr, key), "unknown key, expected one of " + join(allowed) +
+                                  didYouMean(key, std::span<const std::string_view>(allowed.begin(), allowed.size())));
   }
 }
 
@@ -204,20 +214,26 @@ int hexDigit(char c) {
 
 }  // namespace
 
+std::optional<glm::vec3> parseHexColor(std::string_view text) {
+  std::string s(text);
+  if (s.size() == 4 && s[0] == '#') s = {'#', s[1], s[1], s[2], s[2], s[3], s[3]};
+  if (s.size() != 7 || s[0] != '#') return std::nullopt;
+  glm::vec3 c;
+  for (int i = 0; i < 3; ++i) {
+    const int hi = hexDigit(s[static_cast<std::size_t>(1 + 2 * i)]),
+              lo = hexDigit(s[static_cast<std::size_t>(2 + 2 * i)]);
+    if (hi < 0 || lo < 0) return std::nullopt;
+    c[i] = static_cast<float>(hi * 16 + lo) / 255.0f;
+  }
+  return c;
+}
+
 glm::vec3 readColor(const json& v, const std::string& ptr) {
-  static const std::string kWhat = "a colour: [r, g, b] in [0, 1] or \"#rrggbb\"";
+  static const std::string kWhat = "a colour: [r, g, b] in [0, 1], \"#rrggbb\" or \"#rgb\"";
   if (v.is_string()) {
-    const std::string s = v.get<std::string>();
-    glm::vec3 c;
-    bool ok = s.size() == 7 && s[0] == '#';
-    for (int i = 0; ok && i < 3; ++i) {
-      const int hi = hexDigit(s[static_cast<std::size_t>(1 + 2 * i)]),
-                lo = hexDigit(s[static_cast<std::size_t>(2 + 2 * i)]);
-      ok = hi >= 0 && lo >= 0;
-      if (ok) c[i] = static_cast<float>(hi * 16 + lo) / 255.0f;
-    }
-    if (!ok) fail(ptr, kWhat, v);
-    return c;
+    const auto c = parseHexColor(v.get<std::string>());
+    if (!c) fail(ptr, kWhat, v);
+    return *c;
   }
   if (!v.is_array() || v.size() != 3) fail(ptr, kWhat, v);
   return readVec3(v, ptr, kUnit);

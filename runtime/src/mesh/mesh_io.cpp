@@ -145,6 +145,18 @@ double signedVolume(const TriMesh& m) {
   return v / 6.0;
 }
 
+// LoadInfo::volumeFraction: |signedVolume| over the volume of the sphere about the bounding box's
+// centre through the farthest vertex.
+double volumeFraction(const TriMesh& m, double volume) {
+  glm::dvec3 lo(m.positions[0]), hi(m.positions[0]);
+  for (const glm::vec3& p : m.positions) lo = glm::min(lo, glm::dvec3(p)), hi = glm::max(hi, glm::dvec3(p));
+  const glm::dvec3 c = (lo + hi) * 0.5;
+  double r2 = 0.0;
+  for (const glm::vec3& p : m.positions) r2 = std::max(r2, glm::dot(glm::dvec3(p) - c, glm::dvec3(p) - c));
+  const double sphere = 4.0 / 3.0 * 3.14159265358979323846 * r2 * std::sqrt(r2);
+  return sphere > 0.0 ? std::abs(volume) / sphere : 0.0;
+}
+
 /// Drops vertices no triangle uses, so stray OBJ points cannot shift the normalization. The kept
 /// vertices stay in file order.
 void removeUnreferenced(TriMesh& m) {
@@ -265,12 +277,22 @@ bool writeWithOpenMesh(const TriMesh& m, const fs::path& file, Format format, bo
 // "1 face", "5 faces".
 std::string facesText(std::size_t n) { return std::to_string(n) + (n == 1 ? " face" : " faces"); }
 
+// Why the first face left out was (checkFaces says it).
+struct Refusal {
+  std::size_t face = 0;
+  std::string why;
+};
+
 // The file's vertices and faces into `om`, as OpenMesh's importer would add them: a face with
 // fewer than 3 corners, a corner that names no vertex, or a vertex repeated in one face is left out
-// (checkFaces counts it); a face the halfedge structure refuses (non-manifold where it is, as real
-// meshes such as the cow and the beetle are) goes onto its own copies of its vertices, colour and
-// normal included, and is marked.
-void buildOpenMesh(const detail::RawMesh& raw, OmMesh& om) {
+// (checkFaces counts it; the first is returned); a face the halfedge structure refuses
+// (non-manifold where it is, as real meshes such as the cow and the beetle are) goes onto its own
+// copies of its vertices, colour and normal included, and is marked.
+std::optional<Refusal> buildOpenMesh(const detail::RawMesh& raw, OmMesh& om) {
+  std::optional<Refusal> first;
+  auto refuse = [&](std::size_t f, std::string why) {
+    if (!first) first = Refusal{f, std::move(why)};
+  };
   const OmSilence silence;  // add_face logs each face it refuses
   const std::size_t n = raw.positions.size();
   const bool colors = raw.colors.size() == n, normals = raw.normals.size() == n;
@@ -285,15 +307,24 @@ void buildOpenMesh(const detail::RawMesh& raw, OmMesh& om) {
   for (std::size_t f = 0; f < raw.faceCount(); ++f) {
     face.clear();
     bool valid = raw.faceStart[f + 1] - raw.faceStart[f] >= 3;
+    if (!valid) refuse(f, "has " + std::to_string(raw.faceStart[f + 1] - raw.faceStart[f]) + " corners, fewer than 3");
     for (std::size_t k = raw.faceStart[f]; valid && k < raw.faceStart[f + 1]; ++k) {
       const std::int64_t v = raw.corners[k];
       valid = v >= 0 && static_cast<std::uint64_t>(v) < n;
       if (valid) face.emplace_back(static_cast<int>(v));
+      if (!valid) {
+        refuse(f, v < 0 ? "refers to a vertex the file does not have (it has " + std::to_string(n) + ")"
+                        : "refers to vertex " + std::to_string(v + raw.indexBase) + ", but the file has " +
+                              std::to_string(n));
+      }
     }
     if (!valid) continue;
     std::vector<OmMesh::VertexHandle> sorted = face;
     std::sort(sorted.begin(), sorted.end());
-    if (std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) continue;
+    if (const auto twice = std::adjacent_find(sorted.begin(), sorted.end()); twice != sorted.end()) {
+      refuse(f, "repeats vertex " + std::to_string(twice->idx() + raw.indexBase));
+      continue;
+    }
     if (om.add_face(face).is_valid()) continue;
     for (auto& v : face) {
       // By value: adding a vertex may move the arrays a reference would point into.
@@ -308,20 +339,25 @@ void buildOpenMesh(const detail::RawMesh& raw, OmMesh& om) {
     const auto fh = om.add_face(face);
     if (fh.is_valid()) om.status(fh).set_fixed_nonmanifold(true);
   }
+  return first;
 }
 
 // Every face the file declares made it in: the number added, and in `separated` how many of them
 // were put on their own vertices.
-Result<std::size_t> checkFaces(const fs::path& path, std::size_t declared, const OmMesh& om, std::size_t& separated) {
+Result<std::size_t> checkFaces(const fs::path& path, std::size_t declared, const OmMesh& om, std::size_t& separated,
+                               const std::optional<Refusal>& refused,
+                               const std::function<std::string(std::size_t)>& faceName) {
   const std::size_t added = om.n_faces();
   separated = 0;
   for (const auto fh : om.faces())
     if (om.status(fh).fixed_nonmanifold()) ++separated;
   if (declared == 0 && added == 0) return Error::at(path, "no faces");
-  if (added < declared)
-    return Error::at(path, "the file declares " + facesText(declared) + ", only " + std::to_string(added) +
-                               " could be added (the others repeat a vertex, refer to a missing one, or are not "
-                               "in the file)");
+  if (added < declared) {
+    const std::string start =
+        "the file declares " + facesText(declared) + ", only " + std::to_string(added) + " could be added";
+    if (!refused) return Error::at(path, start + " (the others are not in the file)");
+    return Error::at(path, start + ": " + faceName(refused->face) + " " + refused->why);
+  }
   return added;
 }
 
@@ -402,9 +438,14 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info, Normalize normali
   om.request_vertex_colors();
   om.request_vertex_normals();
   om.request_face_status();  // faces put on their own vertices are marked
-  buildOpenMesh(raw, om);
+  const std::optional<Refusal> refused = buildOpenMesh(raw, om);
+  // The file's face f, with its line where the format has lines.
+  const auto faceName = [&](std::size_t f) {
+    const std::size_t line = f < raw.faceLine.size() ? raw.faceLine[f] : 0;
+    return "face " + std::to_string(f) + (line > 0 ? " (line " + std::to_string(line) + ")" : std::string());
+  };
   std::size_t separated = 0;
-  PUFF_TRY_ASSIGN(const std::size_t added, checkFaces(path, raw.declaredFaces, om, separated));
+  PUFF_TRY_ASSIGN(const std::size_t added, checkFaces(path, raw.declaredFaces, om, separated, refused, faceName));
 
   TriMesh mesh;
   // The readers give colours and normals only where every vertex has them.
@@ -413,7 +454,7 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info, Normalize normali
   copyVertices(om, fileColors, fileNormals, mesh);
   const std::vector<std::uint32_t> sourceFace = triangulate(om, mesh);
 
-  PUFF_TRY(validateMesh(mesh, path.string(), sourceFace));
+  PUFF_TRY(detail::validateMeshNamed(mesh, path.string(), [&](std::size_t t) { return faceName(sourceFace[t]); }));
   removeUnreferenced(mesh);
 
   LoadInfo li;
@@ -421,7 +462,9 @@ Result<TriMesh> loadMesh(const fs::path& path, LoadInfo* info, Normalize normali
   li.sourceVertices = om.n_vertices();
   li.separatedFaces = separated;
   li.hadColors = fileColors;
-  if (signedVolume(mesh) < 0.0) {
+  const double volume = signedVolume(mesh);
+  li.volumeFraction = volumeFraction(mesh, volume);
+  if (volume < 0.0) {
     for (glm::uvec3& t : mesh.triangles) std::swap(t[1], t[2]);
     for (glm::vec3& n : mesh.normals) n = -n;
     li.flippedInward = true;

@@ -8,12 +8,14 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
 #include <puff/core/error.h>
+#include <puff/mesh/mesh.h>
 
 namespace puff::mesh::detail {
 
@@ -30,12 +32,21 @@ struct RawMesh {
   /// index as the file gives it, which may be out of range (the face is then not added).
   std::vector<std::size_t> faceStart{0};
   std::vector<std::int64_t> corners;
-  std::size_t declaredFaces = 0;  ///< what the file says it holds (PLY strips: their triangles)
+  std::vector<std::size_t> faceLine;  ///< polygon i's line in a text file (1-based), 0 where not known
+  std::size_t declaredFaces = 0;      ///< what the file says it holds (PLY strips: their triangles)
+  int indexBase = 0;                  ///< how the file numbers its vertices in messages (OBJ: from 1)
 
   std::size_t faceCount() const { return faceStart.size() - 1; }
   void addCorner(std::int64_t v) { corners.push_back(v); }
-  void endFace() { faceStart.push_back(corners.size()); }
+  void endFace(std::size_t line = 0) {
+    faceStart.push_back(corners.size());
+    faceLine.push_back(line);
+  }
 };
+
+/// validateMesh, naming triangle t's face in messages as `faceName(t)` does.
+Result<void> validateMeshNamed(const TriMesh& mesh, const std::string& what,
+                               const std::function<std::string(std::size_t)>& faceName);
 
 /// Reads `path` as `format` (the caller has checked that it is a regular file within
 /// kMaxMeshFileBytes). Errors are "PATH: problem", one line: "not a valid FORMAT file (detail)", or

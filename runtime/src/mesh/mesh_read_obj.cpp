@@ -39,11 +39,13 @@ std::int64_t objIndex(std::int64_t i, std::size_t count) {
 // file gives them for every vertex (colours) or every corner (normals).
 class ObjBuilder {
  public:
+  ObjBuilder() { m_.indexBase = 1; }
+
   // One statement's tokens, the first a keyword; false when they are not valid OBJ.
-  bool statement(const std::vector<std::string_view>& t) {
+  bool statement(const std::vector<std::string_view>& t, std::size_t line) {
     if (t[0] == "v") return vertex(t);
     if (t[0] == "vn") return normal(t);
-    if (t[0] == "f") return face(t);
+    if (t[0] == "f") return face(t, line);
     return true;
   }
 
@@ -87,11 +89,11 @@ class ObjBuilder {
     return true;
   }
 
-  bool face(const std::vector<std::string_view>& t) {
+  bool face(const std::vector<std::string_view>& t, std::size_t line) {
     ++m_.declaredFaces;
     for (std::size_t k = 1; k < t.size(); ++k)
       if (!corner(t[k])) return false;
-    m_.endFace();
+    m_.endFace(line);
     return true;
   }
 
@@ -150,7 +152,7 @@ Result<RawMesh> readObj(const fs::path& path, std::string_view text) {
     line = trimLeft(line);
     if (line.empty() || line.front() == '#') continue;
     const std::vector<std::string_view> t = tokens(line);
-    if (!isObjKeyword(t[0]) || !obj.statement(t)) return notValid(path, Format::Obj, lineText(lineNo));
+    if (!isObjKeyword(t[0]) || !obj.statement(t, lineNo)) return notValid(path, Format::Obj, lineText(lineNo));
   }
   return obj.finish();
 }

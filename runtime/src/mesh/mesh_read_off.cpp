@@ -117,7 +117,7 @@ bool readAsciiVertex(std::string_view line, const OffHeader& h, RawMesh& m) {
 
 // One face line of ASCII OFF: n, then n corners; anything after them (a face colour) is not read.
 // False when it is not that.
-bool readAsciiFace(std::string_view line, RawMesh& m) {
+bool readAsciiFace(std::string_view line, std::size_t lineNo, RawMesh& m) {
   if (hasControlBytes(line)) return false;
   const std::vector<std::string_view> t = tokens(line);
   const auto n = integer(t[0]);
@@ -127,7 +127,7 @@ bool readAsciiFace(std::string_view line, RawMesh& m) {
     if (!v) return false;
     m.addCorner(*v);
   }
-  m.endFace();
+  m.endFace(lineNo);
   return true;
 }
 
@@ -156,7 +156,7 @@ Result<RawMesh> readAsciiOff(const fs::path& path, Lines& lines, const OffHeader
   }
   std::size_t held = 0;
   for (; held < m.declaredFaces && nextContent(lines, line); ++held)
-    if (!readAsciiFace(line, m)) return notValid(path, Format::Off, lineText(lines.number()));
+    if (!readAsciiFace(line, lines.number(), m)) return notValid(path, Format::Off, lineText(lines.number()));
   if (held < m.declaredFaces) {
     return Error::at(path, "the header declares " + std::to_string(m.declaredFaces) +
                                (m.declaredFaces == 1 ? " face" : " faces") + " after " + std::to_string(nv) +

@@ -2,6 +2,8 @@
 #include <puff/core/number_text.h>
 #include <puff/mesh/mesh.h>
 
+#include "mesh_read.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -52,8 +54,12 @@ Result<void> checkInt(const char* gen, const char* flag, int v, int lo, int hi) 
 Result<void> validateMesh(const TriMesh& mesh, const std::string& what, const std::vector<std::uint32_t>& sourceFace) {
   const bool mapped = !sourceFace.empty();
   PUFF_CHECK(!mapped || sourceFace.size() == mesh.triangles.size());
-  auto faceName = [&](std::size_t t) { return std::to_string(mapped ? sourceFace[t] : t); };
+  return detail::validateMeshNamed(mesh, what,
+                                   [&](std::size_t t) { return "face " + std::to_string(mapped ? sourceFace[t] : t); });
+}
 
+Result<void> detail::validateMeshNamed(const TriMesh& mesh, const std::string& what,
+                                       const std::function<std::string(std::size_t)>& faceName) {
   if (mesh.triangles.empty()) return Error::at(what, "no faces");
   if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
     return Error::at(what, "has " + std::to_string(mesh.normals.size()) + " normals for " +
@@ -66,7 +72,7 @@ Result<void> validateMesh(const TriMesh& mesh, const std::string& what, const st
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
     for (int k = 0; k < 3; ++k)
       if (mesh.triangles[t][k] >= n)
-        return Error::at(what, "face " + faceName(t) + " refers to vertex " + std::to_string(mesh.triangles[t][k]) +
+        return Error::at(what, faceName(t) + " refers to vertex " + std::to_string(mesh.triangles[t][k]) +
                                    ", but there are only " + std::to_string(n) + " vertices");
 
   DVec3 lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::max()};
@@ -87,7 +93,7 @@ Result<void> validateMesh(const TriMesh& mesh, const std::string& what, const st
     const DVec3 c = cross(sub(toD(mesh.positions[tri[1]]), a), sub(toD(mesh.positions[tri[2]]), a));
     const double area = 0.5 * std::sqrt(dot(c, c));
     // `!(area >= ...)` also catches an all-coincident mesh, where diag2 and every area are 0.
-    if (!(area >= minArea) || area == 0.0) return Error::at(what, "face " + faceName(t) + " is degenerate (zero area)");
+    if (!(area >= minArea) || area == 0.0) return Error::at(what, faceName(t) + " is degenerate (zero area)");
   }
   return {};
 }

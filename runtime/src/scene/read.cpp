@@ -22,6 +22,21 @@ namespace puff::scene {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+namespace {
+
+// One of `values`, as toString names each (the names live once, beside the enum).
+template <class E>
+E readNamed(const json& v, const std::string& ptr, std::initializer_list<E> values) {
+  std::vector<std::string_view> names;
+  for (E e : values) {
+    if (v.is_string() && v.get<std::string>() == toString(e)) return e;
+    names.push_back(toString(e));
+  }
+  core::jsonread::failChoice(v, ptr, names);
+}
+
+}  // namespace
+
 namespace detail {
 
 void readOutput(const json& j, const std::string& ptr, const Reader& r, Scene& s) {
@@ -37,7 +52,7 @@ void readOutput(const json& j, const std::string& ptr, const Reader& r, Scene& s
     if (v->is_string() && v->get<std::string>() == "transparent") {
       s.transparent = true;
     } else if (v->is_string() && v->get<std::string>().rfind('#', 0) != 0) {
-      fail(child(ptr, "background"), "a colour ([r, g, b] or \"#rrggbb\") or \"transparent\"", *v);
+      fail(child(ptr, "background"), "a colour ([r, g, b], \"#rrggbb\" or \"#rgb\") or \"transparent\"", *v);
     } else {
       s.background = readColor(*v, child(ptr, "background"));
     }
@@ -133,9 +148,9 @@ void readStyle(const json& j, const std::string& ptr, Scene& s) {
     const std::string name = readString(*v, child(ptr, "preset"));
     auto preset = stylePreset(name);
     if (!preset) {
-      std::string list;
-      for (const std::string& n : stylePresetNames()) list += (list.empty() ? "" : ", ") + n;
-      fail(child(ptr, "preset"), "one of " + list, *v);
+      const std::vector<std::string> names = stylePresetNames();
+      const std::vector<std::string_view> views(names.begin(), names.end());
+      core::jsonread::failChoice(*v, child(ptr, "preset"), views);
     }
     s.stylePreset = name;
     s.style = *preset;
@@ -147,30 +162,19 @@ void readStyle(const json& j, const std::string& ptr, Scene& s) {
   if (auto* v = find(j, "shading")) st.shading = readBool(*v, child(ptr, "shading"));
   if (auto* v = find(j, "shadows")) st.shadows = readBool(*v, child(ptr, "shadows"));
   if (auto* v = find(j, "alignment")) {
-    const std::string what = "one of view-plane, viewpoint, axial";
-    const std::string name = readString(*v, child(ptr, "alignment"), what);
-    auto a = cel::parseAlignment(name);
-    if (!a) fail(child(ptr, "alignment"), what, *v);
-    st.alignment = *a;
+    st.alignment = readNamed(*v, child(ptr, "alignment"),
+                             {cel::Alignment::kViewPlane, cel::Alignment::kViewpoint, cel::Alignment::kAxial});
   }
   if (auto* v = find(j, "shadowBias")) st.shadowBias = readFloat(*v, child(ptr, "shadowBias"), kUnit);
   if (auto* v = find(j, "shadowLength")) st.shadowLength = readFloat(*v, child(ptr, "shadowLength"), kPositive);
   if (auto* v = find(j, "shadowMethod")) {
-    const std::string what = "one of volumes, map";
-    const std::string name = readString(*v, child(ptr, "shadowMethod"), what);
-    auto m = cel::parseShadowMethod(name);
-    if (!m) fail(child(ptr, "shadowMethod"), what, *v);
-    st.shadowMethod = *m;
+    st.shadowMethod = readNamed(*v, child(ptr, "shadowMethod"), {cel::ShadowMethod::kVolumes, cel::ShadowMethod::kMap});
   }
   if (auto* v = find(j, "shadowMapScale")) {
     st.shadowMapScale = readFloat(*v, child(ptr, "shadowMapScale"), Range{0.125, 4.0});
   }
   if (auto* v = find(j, "tumble")) {
-    const std::string what = "one of hull, blend";
-    const std::string name = readString(*v, child(ptr, "tumble"), what);
-    auto m = cel::parseTumbleMethod(name);
-    if (!m) fail(child(ptr, "tumble"), what, *v);
-    st.tumble = *m;
+    st.tumble = readNamed(*v, child(ptr, "tumble"), {cel::TumbleMethod::kHull, cel::TumbleMethod::kBlend});
   }
   if (auto* v = find(j, "hullFromPixels"))
     st.hullFromPixels = readFloat(*v, child(ptr, "hullFromPixels"), Range{0.0, cel::kMaxHullFromPixels});

@@ -69,6 +69,9 @@ struct PuffSource {
   bool normalsAuthored = false;
   /// Non-manifold faces the mesh file's import put on their own vertices (mesh::LoadInfo).
   std::size_t separatedFaces = 0;
+  /// The share of its bounding sphere the mesh file's faces enclose (mesh::LoadInfo::volumeFraction);
+  /// generated puffs keep 1 (they are round).
+  double volumeFraction = 1.0;
 };
 
 /// A generator and its parameters, producing `count` variations with seeds seed, seed+1, ...

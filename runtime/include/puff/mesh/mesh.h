@@ -40,7 +40,14 @@ struct LoadInfo {
   /// on their own copies of their vertices. The baker only rasterizes triangles, so they bake as
   /// any face does; only smooth normals do not cross the split.
   std::size_t separatedFaces = 0;
+  /// The volume the faces enclose over the volume of the mesh's bounding sphere (about the bounding
+  /// box's centre): 1 for a sphere, 0 for a flat card (see kFlatVolumeFraction).
+  double volumeFraction = 0.0;
 };
+
+/// Below this LoadInfo::volumeFraction a mesh is flat: it bakes as a card, with depth and normals of
+/// a puff only where the mesh has them (puffbake warns). The art's cluster puffs enclose about 0.3.
+inline constexpr double kFlatVolumeFraction = 0.01;
 
 /// Whether loading moves the mesh into the unit sphere (every file a user names) or keeps the file's
 /// coordinates (a level of detail puffbake wrote in its source's normalized space, which must keep

@@ -10,9 +10,12 @@
 #include <filesystem>
 #include <initializer_list>
 #include <limits>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
@@ -42,6 +45,11 @@ std::string describe(const json& v);
 std::string join(std::initializer_list<std::string_view> names);
 /// Levenshtein distance (for "did you mean").
 std::size_t editDistance(std::string_view a, std::string_view b);
+/// " (did you mean \"NAME\"?)" for the one of `names` nearest `got` (case-insensitive, at most two
+/// edits away), or "" when none is that near. Keys and enum values both say it.
+std::string didYouMean(std::string_view got, std::span<const std::string_view> names);
+/// Throws "PTR: expected one of A, B, C, got <v>", with didYouMean when `v` is a string.
+[[noreturn]] void failChoice(const json& v, const std::string& ptr, std::span<const std::string_view> names);
 /// Checks that `j` is an object whose keys are all in `allowed`: a misspelt key is an error, never
 /// silently ignored, and the nearest allowed key (at most two edits away) is suggested.
 void requireObject(const json& j, const std::string& ptr, std::initializer_list<std::string_view> allowed);
@@ -75,21 +83,24 @@ bool readBool(const json& v, const std::string& ptr);
 std::string readString(const json& v, const std::string& ptr, const std::string& expected = "a string");
 /// [x, y, z]; the range applies to each element, reported at its own pointer.
 glm::vec3 readVec3(const json& v, const std::string& ptr, const Range& range = kAny);
-/// A colour: [r, g, b] in [0, 1] or "#rrggbb".
+/// A colour: [r, g, b] in [0, 1], "#rrggbb" or "#rgb".
 glm::vec3 readColor(const json& v, const std::string& ptr);
+/// "#rrggbb" or "#rgb" (each digit doubled, as CSS reads it), hex digits of either case, as [0, 1]
+/// display values; nothing for any other text.
+std::optional<glm::vec3> parseHexColor(std::string_view text);
 
 /// One of `names` (a string), as its value.
 template <class Enum>
 Enum readEnum(const json& v, const std::string& ptr, std::initializer_list<std::pair<std::string_view, Enum>> names) {
-  std::string list;
-  for (const auto& [name, value] : names) list += (list.empty() ? "" : ", ") + std::string(name);
-  const std::string what = "one of " + list;
-  if (!v.is_string()) fail(ptr, what, v);
-  const std::string s = v.get<std::string>();
-  for (const auto& [name, value] : names) {
-    if (s == name) return value;
+  if (v.is_string()) {
+    const std::string s = v.get<std::string>();
+    for (const auto& [name, value] : names) {
+      if (s == name) return value;
+    }
   }
-  fail(ptr, what, v);
+  std::vector<std::string_view> list;
+  for (const auto& [name, value] : names) list.push_back(name);
+  failChoice(v, ptr, list);
 }
 
 /// Runs `read()` (which may throw Failure) and returns its value, or the failure as an Error
