@@ -119,6 +119,9 @@ def run_one(exe, pattern, shader_dir, timeout, workdir, cwd):
                # A mutant's failing goldens write here, not where tests/golden/accept.sh looks.
                PUFF_GOLDEN_OUTPUT_DIR=str(Path(workdir) / "golden-out"))
     cmd = [str(exe), f"--gtest_filter={gtest_filter(pattern)}", f"--gtest_output=json:{out}"]
+    # Tests that open a window (puffview's) need a display: a private Xvfb, as ctest gives them.
+    if not os.environ.get("DISPLAY") and shutil.which("Xvfb"):
+        cmd = [str(ROOT / "tests" / "support" / "with_xvfb.sh")] + cmd
     note = ""
     try:
         p = subprocess.run(cmd, env=env, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout,

@@ -265,6 +265,10 @@ TEST_F(MeshGltf, MalformedFilesAreRefusedNamingThePart) {
     expectError(w, "accessor 0: componentType 5122, expected 5126");
   }
   {
+    GltfWriter w = tetra({{"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}}, {"scale", {2, 2, 2}}});
+    expectError(w, "node 0 has both a matrix and translation, rotation or scale");
+  }
+  {
     GltfWriter w = tetra();
     w.doc()["nodes"][0]["mesh"] = 7;
     expectError(w, "names meshes 7, which the file does not have");
@@ -294,6 +298,11 @@ TEST_F(MeshGltf, BuffersAreReadOnlyFromTheFileOrBesideIt) {
     ASSERT_FALSE(r.ok());
     EXPECT_NE(r.error().message.find("the GLB header says"), std::string::npos) << r.error().message;
     std::ofstream(dir_ / "syntax.gltf") << "{\"asset\": {\"version\": \"2.0\"},\n \"nodes\": [}";
+    std::ofstream(dir_ / "json.glb") << "{\"asset\": {\"version\": \"2.0\"}}";
+    const auto magic = loadMesh(dir_ / "json.glb");
+    ASSERT_FALSE(magic.ok());
+    EXPECT_NE(magic.error().message.find("a .glb that does not start with \"glTF\""), std::string::npos)
+        << magic.error().message;
     const auto s = loadMesh(dir_ / "syntax.gltf");
     ASSERT_FALSE(s.ok());
     EXPECT_NE(s.error().message.find("syntax.gltf:2:"), std::string::npos) << s.error().message;

@@ -261,18 +261,22 @@ void printFlipbookSummary(const Options& o, const Sequence& seq, const render::S
                 l.offsetY);
   }
   if (seq.skipped > 0) {
-    std::printf("%s: skipped %d leading frame%s that draw nothing\n", cli::name(), seq.skipped,
-                seq.skipped == 1 ? "" : "s");
+    std::printf("%s: skipped %d leading frame%s that draw%s nothing\n", cli::name(), seq.skipped,
+                seq.skipped == 1 ? "" : "s", seq.skipped == 1 ? "s" : "");
   }
   if (o.loop > 0) {
-    std::printf("%s: looped: frames %d to %d cross-faded into the first %d cells\n", cli::name(), seq.first + cellsUsed,
-                seq.first + cellsUsed + o.loop - 1, o.loop);
+    if (o.loop == 1) {
+      std::printf("%s: looped: frame %d cross-faded into the first cell\n", cli::name(), seq.first + cellsUsed);
+    } else {
+      std::printf("%s: looped: frames %d to %d cross-faded into the first %d cells\n", cli::name(),
+                  seq.first + cellsUsed, seq.first + cellsUsed + o.loop - 1, o.loop);
+    }
   }
   if (cellsUsed < cells) {
     std::printf(
-        "%s: note: the last %d cell%s of the sheet are empty (frameCount in the layout says how many hold "
+        "%s: note: the last %d cell%s of the sheet %s empty (frameCount in the layout says how many hold "
         "frames)\n",
-        cli::name(), cells - cellsUsed, cells - cellsUsed == 1 ? "" : "s");
+        cli::name(), cells - cellsUsed, cells - cellsUsed == 1 ? "" : "s", cells - cellsUsed == 1 ? "is" : "are");
   }
 }
 

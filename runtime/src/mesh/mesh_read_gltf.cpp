@@ -24,6 +24,7 @@
 #include <puff/core/files.h>
 #include <puff/mesh/mesh.h>
 #include <puff/support/json_read.h>
+#include <puff/support/text.h>
 
 #include "mesh_read_formats.h"
 
@@ -271,7 +272,12 @@ glm::mat4 localTransform(const json& node, const std::string& name) {
     }
     return v;
   };
-  if (auto m = numbers("matrix", 16)) return glm::make_mat4(m->data());  // column-major, as glTF's
+  if (auto m = numbers("matrix", 16)) {
+    if (node.contains("translation") || node.contains("rotation") || node.contains("scale")) {
+      fail(name + " has both a matrix and translation, rotation or scale (the specification allows one)");
+    }
+    return glm::make_mat4(m->data());  // column-major, as glTF's
+  }
   glm::mat4 t(1.0f);
   if (auto v = numbers("translation", 3)) t = glm::translate(t, glm::vec3((*v)[0], (*v)[1], (*v)[2]));
   if (auto q = numbers("rotation", 4)) {
@@ -481,6 +487,7 @@ Result<RawMesh> readGltf(const fs::path& path, std::string_view text) {
     std::string_view jsonText = text;
     std::optional<std::string_view> bin;
     const bool glb = text.size() >= 4 && std::memcmp(text.data(), &kGlbMagic, 4) == 0;
+    if (!glb && core::lower(path.extension().string()) == ".glb") fail("a .glb that does not start with \"glTF\"");
     if (glb) std::tie(jsonText, bin) = glbChunks(text);
     PUFF_TRY_ASSIGN(json root, core::jsonread::parseJson(std::string(jsonText), path));
     if (!root.is_object()) fail("the JSON is not an object");
