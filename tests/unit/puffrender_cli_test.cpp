@@ -33,6 +33,20 @@ TEST_F(PuffrenderCli, HelpListsTheOptionsThatExist) {
   }
 }
 
+// A scene that is valid but likely not what was meant renders, with a warning naming the file and
+// the pointer; -q leaves it out.
+TEST_F(PuffrenderCli, APrerollNoEmitterFillsIsWarnedAbout) {
+  const fs::path scene =
+      write("preroll.json", R"({"atlas": "a.json", "simulation": {"preroll": 3, "emitters": [{"rate": 5}]}})");
+  CliRun r = run(scene.string() + " --print-scene");
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("puffrender: warning: " + scene.string() + ": /simulation/preroll: 3 s are simulated"),
+            std::string::npos)
+      << r.err;
+  r = run(scene.string() + " --print-scene -q");
+  EXPECT_EQ(r.err, "");
+}
+
 TEST_F(PuffrenderCli, BadUsageExitsTwo) {
   const fs::path scene = write("ground.json", kGroundScene);
   const std::string s = scene.string();

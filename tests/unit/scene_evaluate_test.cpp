@@ -228,3 +228,28 @@ TEST(Scene, CameraOrbitsTheTargetAboutTheVerticalAxis) {
 }
 
 }  // namespace
+
+namespace {
+
+// A preroll simulates time before frame 0; it fills something only when an emitter starts in it.
+TEST(SceneWarnings, APrerollNoEmitterFillsIsNamed) {
+  using puff::scene::sceneWarnings;
+  const auto sim = [](const char* preroll, const char* start) {
+    return std::string(R"({"atlas": "a.json", "simulation": {"preroll": )") + preroll +
+           R"(, "emitters": [{"rate": 10, "start": )" + start + "}, {\"rate\": 5}]}}";
+  };
+  std::vector<std::string> w = sceneWarnings(parseOk(sim("2", "0").c_str()));
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0],
+            "/simulation/preroll: 2 s are simulated before frame 0, but no emitter starts before 0, so they fill "
+            "nothing (an emitter meant to fill them starts at -2)");
+  EXPECT_TRUE(sceneWarnings(parseOk(sim("2", "-2").c_str())).empty()) << "one emitter fills it";
+  EXPECT_TRUE(sceneWarnings(parseOk(sim("2", "-0.5").c_str())).empty()) << "one emitter fills part of it";
+  EXPECT_TRUE(sceneWarnings(parseOk(sim("0", "0").c_str())).empty()) << "no preroll";
+  w = sceneWarnings(parseOk(R"({"media": {"preroll": 1.5, "emitters": [{"material": "fire", "rate": 30}]}})"));
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_EQ(w[0].rfind("/media/preroll: 1.5 s are simulated before frame 0", 0), 0u) << w[0];
+  EXPECT_TRUE(sceneWarnings(parseOk("{}")).empty());
+}
+
+}  // namespace

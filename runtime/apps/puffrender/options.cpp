@@ -454,6 +454,11 @@ int run(const Options& o) {
     return 1;
   }
   scene::Scene scene = std::move(*loaded);
+  if (!o.quiet) {
+    for (const std::string& w : scene::sceneWarnings(scene)) {
+      std::fprintf(stderr, "%s: warning: %s: %s\n", cli::name(), o.scene.c_str(), w.c_str());
+    }
+  }
   if (o.width) scene.width = *o.width;
   if (o.height) scene.height = *o.height;
   if (o.samples) scene.samples = *o.samples;

@@ -151,6 +151,7 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
   v->pathName_ = pathName;
   v->camera_.reset(scene::cameraAt(v->scene_, 0));
   v->committed_ = v->scene_;
+  v->showSceneWarnings("");
   v->watchScene();
   m.lastInput = m.lastPresent = m.lastPoll = Impl::now();
   return v;
@@ -208,6 +209,19 @@ Result<void> Viewer::applyEdit() {
 }
 
 void Viewer::setStatus(std::string text) { status_ = std::move(text); }
+
+void Viewer::showSceneWarnings(const std::string& lead) {
+  const std::vector<std::string> warnings = scene::sceneWarnings(scene_);
+  for (const std::string& w : warnings) {
+    if (!options_.quiet) std::fprintf(stderr, "puffview: warning: %s: %s\n", scene_.file.c_str(), w.c_str());
+  }
+  if (warnings.empty()) {
+    if (!lead.empty()) setStatus(lead);
+    return;
+  }
+  const std::string more = warnings.size() > 1 ? " (and " + std::to_string(warnings.size() - 1) + " more)" : "";
+  setStatus(lead + (lead.empty() ? "" : "; ") + "warning: " + warnings.front() + more);
+}
 
 // ---- timeline --------------------------------------------------------------------------------
 

@@ -77,7 +77,7 @@ void Viewer::reloadScene() {
   if (!cameraOverride_) camera_.reset(scene::cameraAt(scene_, frame_));
   const fs::path file = scene_.file;
   watchScene();  // the scene may name other files now
-  setStatus("reloaded " + file.string());
+  showSceneWarnings("reloaded " + file.string());
 }
 
 void Viewer::rebuildPath(const std::string& why) {

@@ -180,6 +180,9 @@ class Viewer {
   void handleInput();
   void drawUi();
   void setStatus(std::string text);
+  /// The scene's warnings (scene::sceneWarnings) on stderr and in the status line after `lead`
+  /// ("reloaded FILE"); with none, the status is `lead` (left as it is when that is empty).
+  void showSceneWarnings(const std::string& lead);
 
   glm::ivec2 imageSize() const;
 

@@ -144,4 +144,9 @@ class FrameEvaluator {
   std::unique_ptr<sim::Simulator> sim_, mediaSim_;
 };
 
+/// What `scene` holds that is valid but likely not what its author meant, one line each starting
+/// with the JSON pointer: a `preroll` that no emitter fills (every emitter starts at 0 or later).
+/// puffrender prints them as warnings, puffview shows them.
+std::vector<std::string> sceneWarnings(const Scene& scene);
+
 }  // namespace puff::scene
