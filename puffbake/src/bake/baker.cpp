@@ -396,7 +396,6 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
   const int files = static_cast<int>(meshFiles.size());
   for (const fs::path& file : meshFiles) {
     if (progress) progress("loading meshes", static_cast<int>(sources.size()), files);
-    PUFF_TRY_ASSIGN(auto bytes, core::readFileBytes(file));
     mesh::LoadInfo info;
     Result<mesh::TriMesh> m = Error{};
     try {
@@ -407,6 +406,8 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
       return Error::at(file, std::string("cannot read: ") + e.what());
     }
     if (!m) return m.error();
+    // After loading, which refused a file larger than a mesh may be before reading it.
+    PUFF_TRY_ASSIGN(auto bytes, core::readFileBytes(file));
     PuffSource s;
     s.provenance.path = file.string();
     s.provenance.hash = "fnv1a64:" + core::fnv1a64Hex(bytes);
