@@ -396,6 +396,16 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
   const int files = static_cast<int>(meshFiles.size());
   for (const fs::path& file : meshFiles) {
     if (progress) progress("loading meshes", static_cast<int>(sources.size()), files);
+    // The bytes for the provenance hash, read first so that a file that cannot be read says why; one
+    // over the size limit is not read here, and loadMesh refuses it without reading it.
+    std::error_code ec;
+    const bool tooLarge = fs::is_regular_file(file, ec) && fs::file_size(file, ec) > mesh::kMaxMeshFileBytes;
+    std::string bytes;
+    if (!tooLarge) {
+      auto read = core::readFileBytes(file);
+      if (!read) return read.error();
+      bytes = std::move(*read);
+    }
     mesh::LoadInfo info;
     Result<mesh::TriMesh> m = Error{};
     try {
@@ -406,8 +416,6 @@ Result<std::vector<PuffSource>> loadSources(const std::vector<fs::path>& meshFil
       return Error::at(file, std::string("cannot read: ") + e.what());
     }
     if (!m) return m.error();
-    // After loading, which refused a file larger than a mesh may be before reading it.
-    PUFF_TRY_ASSIGN(auto bytes, core::readFileBytes(file));
     PuffSource s;
     s.provenance.path = file.string();
     s.provenance.hash = "fnv1a64:" + core::fnv1a64Hex(bytes);
