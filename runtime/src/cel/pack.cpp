@@ -178,29 +178,8 @@ std::string_view toString(Alignment a) {
   return "view-plane";
 }
 
-Result<Alignment> parseAlignment(std::string_view name) {
-  for (Alignment a : {Alignment::kViewPlane, Alignment::kViewpoint, Alignment::kAxial}) {
-    if (name == toString(a)) return a;
-  }
-  return Error{"unknown alignment \"" + std::string(name) + "\" (expected view-plane, viewpoint or axial)"};
-}
-
 std::string_view toString(ShadowMethod m) { return m == ShadowMethod::kMap ? "map" : "volumes"; }
 
-Result<ShadowMethod> parseShadowMethod(std::string_view name) {
-  for (ShadowMethod m : {ShadowMethod::kVolumes, ShadowMethod::kMap}) {
-    if (name == toString(m)) return m;
-  }
-  return Error{"unknown shadow method \"" + std::string(name) + "\" (expected volumes or map)"};
-}
-
 std::string_view toString(TumbleMethod m) { return m == TumbleMethod::kBlend ? "blend" : "hull"; }
-
-Result<TumbleMethod> parseTumbleMethod(std::string_view name) {
-  for (TumbleMethod m : {TumbleMethod::kHull, TumbleMethod::kBlend}) {
-    if (name == toString(m)) return m;
-  }
-  return Error{"unknown tumble method \"" + std::string(name) + "\" (expected hull or blend)"};
-}
 
 }  // namespace puff::cel

@@ -56,7 +56,6 @@ enum class Alignment {
   kAxial,      ///< rotates only about world up (y), facing the camera
 };
 std::string_view toString(Alignment a);
-Result<Alignment> parseAlignment(std::string_view name);  ///< "view-plane", "viewpoint", "axial"
 
 /// How a cel frame draws shadows (docs/cel-rendering.md, "Shadows").
 enum class ShadowMethod {
@@ -69,7 +68,6 @@ enum class ShadowMethod {
   kMap,
 };
 std::string_view toString(ShadowMethod m);
-Result<ShadowMethod> parseShadowMethod(std::string_view name);  ///< "volumes", "map"
 
 /// How an oriented puff (one that tumbles) is drawn from a multi-view atlas between its baked views
 /// (docs/cel-rendering.md, "Tumbling puffs").
@@ -84,7 +82,6 @@ enum class TumbleMethod {
   kBlend,
 };
 std::string_view toString(TumbleMethod m);
-Result<TumbleMethod> parseTumbleMethod(std::string_view name);  ///< "hull", "blend"
 
 /// Style::hullFromPixels's largest value.
 inline constexpr float kMaxHullFromPixels = 4096.0f;
