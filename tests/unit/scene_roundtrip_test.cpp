@@ -133,7 +133,14 @@ std::vector<json> scenesWithEveryField() {
   // Cartoon media refuse motion blur.
   transparent["media"]["style"] = "photoreal";
   transparent["media"]["motionBlur"]["frames"] = 3;
-  return {opaque, transparent};
+  // A loop: nothing in it moves but the simulated smoke.
+  const json loop = json::parse(R"({
+    "atlas": "a.json",
+    "particles": [{"position": [0, 1, 0], "oriented": true, "orientation": {"axis": [0, 0, 1], "degrees": 90}}],
+    "animation": {"fps": 30, "frames": 60, "period": 30},
+    "simulation": {"emitters": [{"rate": 12, "lifetime": 1.5, "velocity": [0, 1, 0]}]}
+  })");
+  return {opaque, transparent, loop};
 }
 
 // What the writer writes for a scene of defaults: toJson of a minimal scene in which every optional

@@ -209,6 +209,7 @@ nlohmann::ordered_json flipbookLayout(const Options& o, const scene::Scene& scen
   j["lastFrame"] = seq.first + cellsUsed - 1;
   j["skippedFrames"] = seq.skipped;
   j["loop"] = o.loop;  // frames cross-faded: the sheet's cell j < loop also holds frame lastFrame + 1 + j
+  j["period"] = scene.animation.period;  // a loop's frames: frame lastFrame + 1 is frame firstFrame
   j["alpha"] = std::string(core::toString(s.alpha));
   j["colour"] = s.exr ? (o.float32 ? "scene-linear Rec.709 (32-bit float)" : "scene-linear Rec.709 (half float)")
                       : "display sRGB, 8 bits, through the " + std::string(core::toString(s.view)) + " view transform";

@@ -16,6 +16,7 @@
 #include <puff/eval/budget.h>
 #include <puff/render/flipbook.h>
 #include <puff/render/path.h>
+#include <puff/scene/evaluate.h>
 #include <puff/scene/read.h>
 #include <puff/scene/write.h>
 #include <puff/support/text.h>
@@ -63,6 +64,26 @@ Result<void> planFrameRange(const Options& o, int frames, Plan& plan) {
   return {};
 }
 
+// --flipbook of a loop (animation.period): one period without --frames, else whole periods; no
+// cross-fade and no skipping, which would break the loop.
+Result<void> planLoopSheet(const Options& o, int period, int cells, Plan& plan) {
+  const std::string loop = "the scene is a loop of " + std::to_string(period) + " frames (" +
+                           (o.period ? "--period" : "/animation/period") + ")";
+  if (o.loop > 0) return Error{"--loop cross-fades, and " + loop + " that repeats without one: leave --loop out"};
+  if (o.skipEmpty) return Error{"--skip-empty would cut into the loop: " + loop + ", every frame of it in the sheet"};
+  if (o.frames.empty()) {
+    if (period > cells) {
+      return Error{"--flipbook " + o.flipbook + " holds " + std::to_string(cells) + " frames, and " + loop +
+                   ": give a larger grid or a shorter loop"};
+    }
+    plan.last = plan.first + period - 1;
+  } else if (const int count = plan.last - plan.first + 1; count % period != 0) {
+    return Error{"--frames " + o.frames + " holds " + std::to_string(count) + " frames, and " + loop +
+                 ": a sheet loops when it holds whole periods"};
+  }
+  return {};
+}
+
 // --flipbook: the grid, the frames it holds without --frames, and the checks of --loop and the sheet's size.
 Result<void> planFlipbook(const Options& o, const scene::Scene& scene, Plan& plan) {
   const int frames = scene.animation.frames;
@@ -73,7 +94,12 @@ Result<void> planFlipbook(const Options& o, const scene::Scene& scene, Plan& pla
   if (plan.pattern.numbered) {
     return Error{"-o " + o.out + ": --flipbook writes one sprite sheet: give a single file name, e.g. sheet.png"};
   }
-  if (o.frames.empty()) plan.last = std::min(cells + o.loop, frames) - 1;
+  const int period = scene.animation.period;
+  if (period > 0) {
+    if (auto ok = planLoopSheet(o, period, cells, plan); !ok) return ok;
+  } else if (o.frames.empty()) {
+    plan.last = std::min(cells + o.loop, frames) - 1;
+  }
   plan.flipLast = o.skipEmpty && o.frames.empty() ? frames - 1 : plan.last;
   const int count = plan.last - plan.first + 1;
   if (o.loop > 0 && 2 * o.loop > count) {
@@ -414,8 +440,17 @@ std::variant<Options, int> parse(int argc, char** argv) {
   app.add_option("--loop", o.loop,
                  "--flipbook: cross-fade the last N frames into the first N (frame A+i of the sheet's first N is "
                  "mixed with the N frames after its last, the weight moving from them to it), so the sheet loops "
-                 "without a jump; it holds N frames fewer than are rendered. Default: 0 (no loop)")
+                 "without a jump; it holds N frames fewer than are rendered. Ink lines that move are doubled where "
+                 "frames mix: --period loops a simulated scene without mixing. Default: 0 (no loop)")
       ->check(CLI::Range(0, 65536))
+      ->type_name("N");
+  app.add_option("--period", o.period,
+                 "Render the scene as a loop of N frames (replacing /animation/period; 0: none): the simulators' "
+                 "emitters repeat every N frames and frame 0 starts in the loop, so frame f + N is frame f. A "
+                 "--flipbook of a loop holds whole periods (without --frames: frames 0 to N-1) and loops without "
+                 "cross-fading. Refused, naming it, when something in the scene does not repeat (a camera that "
+                 "moves, an object or emitter on a path...)")
+      ->check(CLI::Range(0, sim::kMaxPeriod))
       ->type_name("N");
   addFlipbookSheetOptions(app, o);
   app.add_option("--alpha", o.alpha,
@@ -447,6 +482,17 @@ std::variant<Options, int> parse(int argc, char** argv) {
   return o;
 }
 
+namespace {
+
+// Whether the scene draws ink lines: outlined puffs, or cartoon media.
+bool drawsInk(const scene::Scene& s) {
+  const bool puffs = !s.particles.empty() || !s.emitters.empty() || (s.simulation && !s.simulation->emitters.empty());
+  const bool outlined = s.style.outlines && s.style.outlineWidth > 0.0f;
+  return (puffs && outlined) || (s.media && s.media->settings.style == media::Style::kCartoon);
+}
+
+}  // namespace
+
 int run(const Options& o) {
   auto loaded = scene::loadScene(o.scene, o.artDir);
   if (!loaded) {
@@ -454,6 +500,13 @@ int run(const Options& o) {
     return 1;
   }
   scene::Scene scene = std::move(*loaded);
+  if (o.period) {
+    scene.animation.period = *o.period;
+    if (auto ok = scene::checkLoop(scene); !ok) {
+      cli::printError(Error{"--period " + std::to_string(*o.period) + ": " + ok.error().message});
+      return 2;
+    }
+  }
   if (!o.quiet) {
     for (const std::string& w : scene::sceneWarnings(scene)) {
       std::fprintf(stderr, "%s: warning: %s: %s\n", cli::name(), o.scene.c_str(), w.c_str());
@@ -503,6 +556,12 @@ int run(const Options& o) {
       cli::printError(r.error());
       return 1;
     }
+  }
+  if (plan->flipColumns > 0 && o.loop > 0 && !o.quiet && drawsInk(scene)) {
+    std::fprintf(stderr,
+                 "%s: note: --loop cross-fades frames, doubling the ink lines where the frames it mixes differ; "
+                 "--period N loops a simulated scene without mixing\n",
+                 cli::name());
   }
   if (plan->flipColumns > 0) {
     if (auto r = checkFlipbookLayoutTarget(o, *plan); !r) {

@@ -39,6 +39,8 @@ struct Options {
   /// --loop N with --flipbook: the last N frames cross-fade into the first N, so the sheet loops
   /// without a jump (it holds N frames fewer than were rendered).
   int loop = 0;
+  /// --period N: the scene as a loop of N frames (replacing animation.period; 0: no loop).
+  std::optional<int> period;
   int padding = 0;           ///< --padding PX with --flipbook: empty texels around each frame in its cell
   bool pow2 = false;         ///< --pow2 with --flipbook: the sheet's sides powers of two
   bool crop = false;         ///< --crop with --flipbook: cells hold the part of the frames the sequence covers

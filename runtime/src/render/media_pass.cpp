@@ -1,5 +1,6 @@
 #include "media_pass.h"
 
+#include <numeric>
 #include <tuple>
 
 #include <puff/core/colour.h>
@@ -15,8 +16,6 @@ Result<std::unique_ptr<MediaPass>> MediaPass::create(const scene::Scene& scene) 
   std::unique_ptr<MediaPass> pass(new MediaPass());
   auto renderer = media::Renderer::create(spec.settings);
   if (!renderer) return Error::at(scene.file, "/media: " + renderer.error().message);
-  if (auto ok = (*renderer)->setMaterials(scene::linearMediaMaterials(scene)); !ok)
-    return Error::at(scene.file, "/media/materials: " + ok.error().message);
   std::optional<core::DetailVideo> temperature, opacity;
   if (!spec.temperatureDetail.empty()) {
     auto v = core::loadDetailVideo(spec.temperatureDetail);
@@ -29,6 +28,14 @@ Result<std::unique_ptr<MediaPass>> MediaPass::create(const scene::Scene& scene) 
     opacity = std::move(*v);
   }
   (*renderer)->setDetail(temperature ? &*temperature : nullptr, opacity ? &*opacity : nullptr);
+  std::vector<media::Material> materials = scene::linearMediaMaterials(scene);
+  if (scene.animation.period > 0) {  // the videos play whole times a loop
+    const int frames = std::lcm(temperature ? temperature->frames : 1, opacity ? opacity->frames : 1);
+    const double seconds = scene.animation.period / static_cast<double>(scene.animation.fps);
+    for (media::Material& m : materials) m.detailSpeed = scene::loopDetailSpeed(m.detailSpeed, seconds, frames);
+  }
+  if (auto ok = (*renderer)->setMaterials(std::move(materials)); !ok)
+    return Error::at(scene.file, "/media/materials: " + ok.error().message);
   if (spec.settings.style == media::Style::kCartoon) {
     auto cartoon = media::cartoonCompose(spec.settings);
     if (!cartoon) return Error::at(scene.file, "/media/" + cartoon.error().message);
@@ -43,7 +50,8 @@ MediaPass::~MediaPass() = default;
 bool MediaPass::needsRebuild(const scene::Scene& a, const scene::Scene& b) {
   auto key = [](const scene::Scene& s) {
     const scene::MediaSpec& m = *s.media;
-    return std::tie(m.settings, m.materials, m.temperatureDetail, m.opacityDetail, m.resolution, s.samples);
+    return std::tie(m.settings, m.materials, m.temperatureDetail, m.opacityDetail, m.resolution, s.samples,
+                    s.animation.period, s.animation.fps);
   };
   if (a.media.has_value() != b.media.has_value()) return true;
   return a.media && key(a) != key(b);

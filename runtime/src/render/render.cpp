@@ -300,13 +300,17 @@ Result<void> SceneRenderer::drawBlurred(int frame, const cel::Viewport& viewport
   std::vector<int> slots;
   std::vector<float> weights;
   float total = 0.0f;
-  for (int k = std::max(0, frame - n); k <= frame; ++k) {
-    const cel::Camera cam = camera ? *camera : scene::cameraAt(s, k);
-    const int slot = k % (n + 1);
+  // A loop's frames before 0 are its last ones (frame f - period draws what frame f does).
+  const int period = s.animation.period;
+  auto wrap = [](int k, int count) { return ((k % count) + count) % count; };
+  for (int k = period > 0 ? frame - n : std::max(0, frame - n); k <= frame; ++k) {
+    const int drawn = period > 0 && k < 0 ? wrap(k, period) : k;
+    const cel::Camera cam = camera ? *camera : scene::cameraAt(s, drawn);
+    const int slot = wrap(k, n + 1);
     const HistoryTag tag = historyTag(k, cam, viewport);
     if (k == frame || !(m.history[static_cast<std::size_t>(slot)] == tag)) {
       glBindFramebuffer(GL_DRAW_FRAMEBUFFER, history.historyFramebuffer(slot));
-      if (auto drawn = drawSingle(k, local, k == frame ? stats : nullptr, &cam); !drawn) return drawn;
+      if (auto ok = drawSingle(drawn, local, k == frame ? stats : nullptr, &cam); !ok) return ok;
       m.history[static_cast<std::size_t>(slot)] = tag;
     }
     const float w = std::pow(s.media->motionBlurPersistence, static_cast<float>(frame - k));

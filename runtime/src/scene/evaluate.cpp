@@ -245,6 +245,7 @@ Result<std::optional<sim::Settings>> simulationSettings(const Scene& scene, cons
   if (!scene.simulation) return std::optional<sim::Settings>{};
   sim::Settings s = *scene.simulation;
   s.fps = scene.animation.fps;
+  s.period = scene.animation.period;
   if (auto ok = addColliders(scene, geometry, s); !ok) return ok.error();
   if (auto ok = sim::validate(s); !ok) return Error::at(scene.file, "/simulation" + ok.error().message);
   return std::optional<sim::Settings>(std::move(s));
@@ -255,6 +256,7 @@ Result<std::optional<sim::Settings>> mediaSimulationSettings(const Scene& scene,
   const MediaSpec& m = *scene.media;
   sim::Settings s;
   s.fps = scene.animation.fps;
+  s.period = scene.animation.period;
   s.substeps = m.substeps;
   s.preroll = m.preroll;
   s.maxParticles = m.maxParticles;

@@ -67,8 +67,8 @@ const Scene& FrameEvaluator::scene() const { return scene_; }
 bool FrameEvaluator::needsRebuild(const Scene& next) const {
   const Scene& a = scene_;
   return a.particles != next.particles || a.emitters != next.emitters || a.objects != next.objects ||
-         a.animation.fps != next.animation.fps || simulationKey(a) != simulationKey(next) ||
-         mediaKey(a) != mediaKey(next);
+         a.animation.fps != next.animation.fps || a.animation.period != next.animation.period ||
+         simulationKey(a) != simulationKey(next) || mediaKey(a) != mediaKey(next);
 }
 
 Result<void> FrameEvaluator::update(const Scene& next) {

@@ -1,5 +1,6 @@
 // Scene files: JSON -> Scene with every value checked (docs/scene-format.md is the reference).
 #include <puff/core/number_text.h>
+#include <puff/scene/evaluate.h>
 #include <puff/scene/read.h>
 
 #include <puff/mesh/mesh.h>
@@ -355,12 +356,13 @@ void readRigidBodies(const json& j, const std::string& ptr, RigidBodies& b) {
 }
 
 void readAnimation(const json& j, const std::string& ptr, Animation& a) {
-  requireObject(j, ptr, {"fps", "frames", "orbit", "cameraPath", "targetPath"});
+  requireObject(j, ptr, {"fps", "frames", "orbit", "cameraPath", "targetPath", "period"});
   if (auto* v = find(j, "fps")) a.fps = readFloat(*v, child(ptr, "fps"), Range{0.0, 1000.0, true, false});
   if (auto* v = find(j, "frames")) a.frames = readInt(*v, child(ptr, "frames"), 1, kMaxFrames);
   if (auto* v = find(j, "orbit")) a.orbitDegreesPerSecond = readFloat(*v, child(ptr, "orbit"));
   if (auto* v = find(j, "cameraPath")) a.cameraPath = readPath3(*v, child(ptr, "cameraPath"));
   if (auto* v = find(j, "targetPath")) a.targetPath = readPath3(*v, child(ptr, "targetPath"));
+  if (auto* v = find(j, "period")) a.period = readInt(*v, child(ptr, "period"), 0, sim::kMaxPeriod);
 }
 
 // Listed particles and placed emitters; returns how many particles they come to.
@@ -494,6 +496,7 @@ Scene readScene(const json& j, const fs::path& file, const fs::path& artDir) {
     if (!s.simulation->emitters.empty()) total = std::max(total, 1LL);
   }
   if (auto* v = find(j, "media")) readMediaSection(*v, r, s);
+  if (auto refused = loopRefusal(s)) throw Failure{*refused};
   if (total > 0 && s.atlas.empty()) {
     if (auto* v = find(j, "atlas")) fail("/atlas", "an atlas sidecar path (the scene has particles)", *v);
     failText("/atlas", "expected an atlas sidecar path (the scene has particles), got none");

@@ -26,6 +26,7 @@ void prerollFillsNothing(const char* ptr, float preroll, const Emitters& emitter
 
 std::vector<std::string> sceneWarnings(const Scene& scene) {
   std::vector<std::string> out;
+  if (scene.animation.period > 0) return out;  // a loop fills its own preroll
   if (scene.simulation) {
     prerollFillsNothing(
         "/simulation/preroll", scene.simulation->preroll, scene.simulation->emitters,

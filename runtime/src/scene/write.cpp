@@ -354,6 +354,7 @@ json toJson(const Scene& s) {
   j["animation"] = {{"fps", number(s.animation.fps)},
                     {"frames", s.animation.frames},
                     {"orbit", number(s.animation.orbitDegreesPerSecond)},
+                    {"period", s.animation.period},
                     {"cameraPath", pathKeys(s.animation.cameraPath)},
                     {"targetPath", pathKeys(s.animation.targetPath)}};
   if (s.simulation) j["simulation"] = simulationJson(*s.simulation);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include <puff/core/random.h>
 #include <glm/geometric.hpp>
@@ -87,35 +88,94 @@ int birthVariation(const Emitter& e, Rng& r, int variations) {
                                      static_cast<std::size_t>(r.uniform() * static_cast<float>(e.variations.size())))];
 }
 
+// When an emitter's births come: which births fall in a step, when in it, and the index each draws
+// its random numbers with. Birth k is at start + (k + 1/2) / rate (the half keeps births off step
+// boundaries, where rounding would move one to the next step).
+//
+// A loop's births (LoopBirths) are counted in steps, with the period (a whole number of steps)
+// taken off in integers: births of period J are at x_i + J * period steps, x_i = phase + (i + 1/2) *
+// window / perPeriod, so every period splits its births between steps alike (a birth on a step
+// boundary included) and birth k draws the numbers of k mod perPeriod.
+struct Schedule {
+  double start, stop, rate, h;
+  std::optional<detail::LoopBirths> loop;
+  std::int64_t periodSteps = 0;
+  double phase = 0.0, spacing = 0.0;  // in steps: the first period's start in [0, periodSteps), the births' spacing
+
+  Schedule(const Emitter& e, const Settings& s, double stepSeconds) : start(e.start), rate(e.rate), h(stepSeconds) {
+    stop = e.duration > 0.0f ? start + e.duration : std::numeric_limits<double>::infinity();
+    if (s.period > 0) {
+      loop = detail::loopBirths(e, s.period / static_cast<double>(s.fps));
+      periodSteps = static_cast<std::int64_t>(s.period) * s.substeps;
+      const double first = start / h;
+      phase = first - std::floor(first / static_cast<double>(periodSteps)) * static_cast<double>(periodSteps);
+      spacing = loop->window / h / static_cast<double>(loop->perPeriod);
+    }
+  }
+  // Births before step boundary b (time b * h): an index, counted from an origin of its own.
+  std::int64_t before(std::int64_t b) const {
+    if (!loop) return beforeTime(static_cast<double>(b) * h);
+    const std::int64_t n = loop->perPeriod, jb = floorDiv(b, periodSteps), bm = b - jb * periodSteps;
+    // Of period jb - 1 (all of jb - 2 and before lie before b), then of jb.
+    const std::int64_t late = below(static_cast<double>(bm + periodSteps));
+    return late < n ? (jb - 1) * n + late : jb * n + below(static_cast<double>(bm));
+  }
+  // Births before time t, no loop.
+  std::int64_t beforeTime(double t) const {
+    const double tc = std::clamp(t, start, stop);
+    return static_cast<std::int64_t>(std::floor((tc - start) * rate + 0.5));
+  }
+  // A loop's births with x_i < y steps.
+  std::int64_t below(double y) const {
+    return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::ceil((y - phase) / spacing - 0.5)), 0,
+                                    loop->perPeriod);
+  }
+  // Birth k's instant, seconds (no loop).
+  double at(std::int64_t k) const { return start + (static_cast<double>(k) + 0.5) / rate; }
+  // Seconds from a loop's birth k to boundary b, the period taken off in whole steps.
+  double loopAge(std::int64_t k, std::int64_t b) const {
+    const std::int64_t n = loop->perPeriod, j = floorDiv(k, n);
+    return (static_cast<double>(b - j * periodSteps) - (phase + (static_cast<double>(k - j * n) + 0.5) * spacing)) * h;
+  }
+  std::uint64_t draws(std::int64_t k) const {
+    return static_cast<std::uint64_t>(loop ? k - floorDiv(k, loop->perPeriod) * loop->perPeriod : k);
+  }
+  static std::int64_t floorDiv(std::int64_t a, std::int64_t b) {
+    return a / b - ((a % b != 0) && ((a < 0) != (b < 0)));
+  }
+};
+
 }  // namespace
 
-void Simulator::Impl::spawn(double t0, double t1, StepStats& st) {
+void Simulator::Impl::spawn(std::int64_t b0, StepStats& st) {
+  const double t0 = static_cast<double>(b0) * h, t1 = static_cast<double>(b0 + 1) * h;
   for (std::size_t ei = 0; ei < s.emitters.size(); ++ei) {
     const Emitter& e = s.emitters[ei];
     if (!(e.rate > 0.0f)) continue;
-    const double stop =
-        e.duration > 0.0f ? static_cast<double>(e.start) + e.duration : std::numeric_limits<double>::infinity();
-    // Particle k is born at start + (k + 1/2) / rate: E(t) counts those born before t. The half
-    // keeps births off step boundaries, where rounding would move one to the next step.
-    auto emitted = [&](double t) {
-      const double tc = std::clamp(t, static_cast<double>(e.start), stop);
-      return static_cast<std::int64_t>(std::floor((tc - e.start) * e.rate + 0.5));
-    };
-    std::int64_t k0 = emitted(t0);
-    const std::int64_t k1 = emitted(t1);
-    // Births before t1 - the longest lifetime die inside this step: skip them without a loop (a
-    // huge rate with short lives must not cost a loop over every birth).
-    const double longest = static_cast<double>(e.lifetime) * (1.0 + e.lifetimeSpread);
-    k0 = std::max(k0, emitted(t1 - longest));
+    const Schedule births(e, s, h);
+    std::int64_t k0 = births.before(b0);
+    const std::int64_t k1 = births.before(b0 + 1);
+    // Births before the step's end less the longest lifetime die inside this step: skip them
+    // without a loop (a huge rate with short lives must not cost a loop over every birth).
+    const double longest = detail::longestLife(e);
+    k0 = std::max(k0, births.loop ? births.before(b0 + 1 - static_cast<std::int64_t>(std::ceil(longest / h)))
+                                  : births.beforeTime(t1 - longest));
     for (std::int64_t k = k0; k < k1; ++k) {
       if (size() >= s.maxParticles) {
         st.dropped += static_cast<std::size_t>(k1 - k);
         break;
       }
-      Rng r(e.seed, ei, static_cast<std::uint64_t>(k));
+      Rng r(e.seed, ei, births.draws(k));
       // The instant of birth inside the step, and the time left to the step's end.
-      const double tb = std::clamp(e.start + (static_cast<double>(k) + 0.5) / e.rate, t0, t1);
-      const float remaining = static_cast<float>(t1 - tb);
+      double tb = 0.0, left = 0.0;
+      if (births.loop) {
+        left = std::clamp(births.loopAge(k, b0 + 1), 0.0, t1 - t0);
+        tb = t1 - left;
+      } else {
+        tb = std::clamp(births.at(k), t0, t1);
+        left = t1 - tb;
+      }
+      const float remaining = static_cast<float>(left);
       const glm::vec3 offset = birthOffset(e, r);
       glm::vec3 v = birthVelocity(e, r);
       v += e.inheritVelocity * e.path.velocityAt(tb);
@@ -144,8 +204,7 @@ void Simulator::Impl::spawn(double t0, double t1, StepStats& st) {
       wx.push_back(w.x), wy.push_back(w.y), wz.push_back(w.z);
       variation.push_back(static_cast<std::uint8_t>(var)), oriented.push_back(e.oriented ? 1 : 0);
       emitterOf.push_back(static_cast<std::uint32_t>(ei));
-      id.push_back(
-          static_cast<std::uint32_t>(Rng(e.seed ^ 0x9e3779b9u, ei, static_cast<std::uint64_t>(k)).state >> 32));
+      id.push_back(static_cast<std::uint32_t>(Rng(e.seed ^ 0x9e3779b9u, ei, births.draws(k)).state >> 32));
       ++st.born;
     }
   }

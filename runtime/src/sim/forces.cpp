@@ -25,6 +25,8 @@ constexpr float kLambOseenPeak = 0.638172f;  // max of (1 - exp(-s^2)) / s, at s
 // translated divergence-free field is still divergence-free), so the air at a point changes
 // over about 1 / speed seconds.
 constexpr float kCellsPerTile = 4.0f;
+// The way the field drifts through its lattice (a unit vector off every lattice axis and diagonal).
+constexpr glm::dvec3 kDriftDirection{0.8, 0.36, 0.48};
 
 // The air one vortex adds to particles [begin, n): vortexVelocity written out in scalars over the
 // arrays, in a free function so the compiler sees no aliasing and vectorizes it (SSE2).
@@ -217,7 +219,12 @@ void Simulator::Impl::prepareTurbulence() {
     curl = std::make_unique<detail::CurlField>(s.forces.turbulence.seed);
     curlSeed = s.forces.turbulence.seed;
   }
+  // A loop drifts whole tiles a period (the field repeats every tile), the nearest to its speed.
+  const double tiles = s.period > 0 ? s.forces.turbulence.speed * loopSeconds() / kCellsPerTile : 0.0;
+  loopDrift = glm::vec3(glm::round(tiles * kDriftDirection));
 }
+
+double Simulator::Impl::loopSeconds() const { return s.period / static_cast<double>(s.fps); }
 
 std::vector<LiveVortex> Simulator::Impl::liveVortices(double t) const {
   std::vector<LiveVortex> out;
@@ -245,9 +252,18 @@ std::vector<LiveVortex> Simulator::Impl::liveVortices(double t) const {
 
 float Simulator::Impl::turbulenceInvTile() const { return 1.0f / (s.forces.turbulence.scale * kCellsPerTile); }
 glm::vec3 Simulator::Impl::turbulenceOffset(double t) const {
+  if (s.period > 0) {  // a whole number of tiles a period: the same offset at t and t + period
+    const double turns = t / loopSeconds(), phase = turns - std::floor(turns);
+    auto at = [&](float drift) {
+      const double d = drift * phase;
+      return static_cast<float>(d - std::floor(d));
+    };
+    return {at(loopDrift.x), at(loopDrift.y), at(loopDrift.z)};
+  }
   const double d = static_cast<double>(s.forces.turbulence.speed) * t / kCellsPerTile;
-  return glm::vec3(static_cast<float>(std::fmod(d * 0.8, 1.0)), static_cast<float>(std::fmod(d * 0.36, 1.0)),
-                   static_cast<float>(std::fmod(d * 0.48, 1.0)));
+  return glm::vec3(static_cast<float>(std::fmod(d * kDriftDirection.x, 1.0)),
+                   static_cast<float>(std::fmod(d * kDriftDirection.y, 1.0)),
+                   static_cast<float>(std::fmod(d * kDriftDirection.z, 1.0)));
 }
 
 // The air velocity at one point (the same sum airAll makes for every particle).

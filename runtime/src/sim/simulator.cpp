@@ -78,6 +78,13 @@ glm::quat Path::rotationAt(double t) const {
   return glm::normalize(glm::slerp(rotations[i - 1], rotations[i], f));
 }
 
+bool Path::moves() const {
+  for (std::size_t i = 1; i < times.size(); ++i) {
+    if (points[i] != points[0] || (i < rotations.size() && rotations[i] != rotations[0])) return true;
+  }
+  return false;
+}
+
 glm::vec3 Path::velocityAt(double t) const {
   if (times.size() < 2 || t < times.front() || t >= times.back()) return glm::vec3(0.0f);
   const std::size_t i = segmentOf(times, t);
@@ -174,7 +181,7 @@ void Simulator::Impl::advance(StepStats& st) {
   if (removed > 0) compact();
   const std::size_t before = size();
   ox.clear(), oy.clear(), oz.clear();
-  spawn(t0, t1, st);
+  spawn(step - prerollSteps, st);
   const float* born[3] = {ox.data(), oy.data(), oz.data()};
   if (!s.colliders.empty() && size() > before) {
     radii.resize(size());
@@ -263,6 +270,10 @@ Result<std::unique_ptr<Simulator>> Simulator::create(Settings settings, int vari
   m.variations = variations;
   m.h = 1.0 / (static_cast<double>(m.s.fps) * m.s.substeps);
   m.prerollSteps = static_cast<std::int64_t>(std::llround(m.s.preroll / m.h));
+  if (m.s.period > 0) {  // a loop starts in its steady state: every particle alive at frame 0 was born in the preroll
+    for (const Emitter& e : m.s.emitters)
+      m.prerollSteps = std::max(m.prerollSteps, static_cast<std::int64_t>(std::ceil(detail::longestLife(e) / m.h)));
+  }
   for (Collider& c : m.s.colliders) {
     c.rotation = glm::normalize(c.rotation);  // the box and plane use it as a rotation
     if (c.type == Collider::Type::kMesh) m.meshes.emplace_back(c);
@@ -295,6 +306,9 @@ void Simulator::advanceToFrame(int frame, StepStats* stats) {
 
 Result<void> Simulator::setForces(const Forces& forces) {
   if (auto ok = validate(forces); !ok) return ok.error();
+  if (impl_->s.period > 0) {
+    if (auto ok = validateLoopForces(forces, "/forces"); !ok) return ok.error();
+  }
   impl_->s.forces = forces;
   impl_->prepareTurbulence();
   return {};

@@ -10,8 +10,11 @@
 // integers summed after. Births, removal and shedding stay serial.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <puff/sim/simulator.h>
@@ -74,12 +77,32 @@ struct StepCollider {
   glm::vec3 offset0{0.0f}, offset1{0.0f}, velocity{0.0f};
 };
 
+// A loop's births (Settings::period): an emitter runs for `window` seconds of every period, with
+// `perPeriod` births spaced evenly through it (its rate rounded; 0 when the rate is).
+struct LoopBirths {
+  double period = 0.0, window = 0.0;
+  std::int64_t perPeriod = 0;
+};
+inline LoopBirths loopBirths(const Emitter& e, double period) {
+  LoopBirths b;
+  b.period = period;
+  b.window = e.duration > 0.0f ? std::min(static_cast<double>(e.duration), period) : period;
+  b.perPeriod = e.rate > 0.0f ? std::max<std::int64_t>(1, std::llround(e.rate * b.window)) : 0;
+  return b;
+}
+
+// The longest life an emitter gives (its lifetime stretched by its spread), seconds.
+inline double longestLife(const Emitter& e) { return static_cast<double>(e.lifetime) * (1.0 + e.lifetimeSpread); }
+
 // What one block of particles counted.
 struct BlockStats {
   std::size_t collisions = 0, died = 0, nonFinite = 0;
 };
 
 }  // namespace detail
+
+// validate.cpp: a loop's check of forces set while it runs (validate checks them at create).
+Result<void> validateLoopForces(const Forces& forces, const std::string& pointer);
 
 struct Simulator::Impl {
   Settings s;
@@ -89,6 +112,7 @@ struct Simulator::Impl {
   std::int64_t step = 0;
   std::unique_ptr<detail::CurlField> curl;
   std::uint32_t curlSeed = 0;
+  glm::vec3 loopDrift{0.0f};             // a loop's turbulence drift: whole lattice tiles per period
   std::vector<detail::MeshGrid> meshes;  // one per kMesh collider, in order
   std::vector<detail::ShedVortex> shed;
 
@@ -123,6 +147,7 @@ struct Simulator::Impl {
 
   // forces.cpp: the air and the integrator.
   void prepareTurbulence();
+  double loopSeconds() const;  // a loop's period in seconds (Settings::period > 0)
   std::vector<detail::LiveVortex> liveVortices(double t) const;
   float turbulenceInvTile() const;
   glm::vec3 turbulenceOffset(double t) const;
@@ -138,7 +163,7 @@ struct Simulator::Impl {
   std::size_t collide(std::size_t begin, std::size_t end, const float* const* prev);
 
   // emit.cpp
-  void spawn(double t0, double t1, StepStats& st);
+  void spawn(std::int64_t b0, StepStats& st);  // births in the step from boundary b0 (time b0 * h) to b0 + 1
   void shedVortices(double t0, double t1);
 };
 

@@ -7,6 +7,8 @@
 #include <puff/sim/simulator.h>
 #include <glm/geometric.hpp>
 
+#include "simulator_impl.h"
+
 namespace puff::sim {
 
 namespace {
@@ -145,7 +147,49 @@ void checkCollider(Check& c, const Collider& k, const std::string& p) {
   }
 }
 
+// A loop repeats only what stands still: nothing may follow a path.
+void checkLoopForces(Check& c, const Forces& f, const std::string& ptr) {
+  for (std::size_t i = 0; i < f.vortices.size() && c.ok(); ++i) {
+    if (f.vortices[i].path.moves())
+      c.error = ptr + "/vortices/" + std::to_string(i) +
+                "/path: a vortex on a path (or attached to a moving object) does not repeat every period of a loop";
+  }
+}
+
+void checkLoop(Check& c, const Settings& s) {
+  if (c.ok() && (s.period < 0 || s.period > kMaxPeriod))
+    c.fail("/period", "an integer in [0, " + std::to_string(kMaxPeriod) + "] (frames in a loop)", s.period);
+  if (!c.ok() || s.period == 0) return;
+  checkLoopForces(c, s.forces, "/forces");
+  for (std::size_t i = 0; i < s.emitters.size() && c.ok(); ++i) {
+    const Emitter& e = s.emitters[i];
+    const std::string p = "/emitters/" + std::to_string(i);
+    if (e.path.moves()) {
+      c.error =
+          p + "/path: an emitter on a path (or attached to a moving object) does not repeat every period of a loop";
+    } else if (detail::longestLife(e) * s.fps * s.substeps > 1e6) {
+      // A loop starts in its steady state: the preroll simulates the longest life first.
+      c.fail(p + "/lifetime",
+             "a life of at most 1e6 steps in a loop (lifetime * (1 + lifetimeSpread) * fps * substeps), which "
+             "simulates one before frame 0",
+             e.lifetime);
+    }
+  }
+  for (std::size_t i = 0; i < s.colliders.size() && c.ok(); ++i) {
+    if (s.colliders[i].path.moves())
+      c.error = "/colliders/" + std::to_string(i) + " (" + s.colliders[i].name +
+                "): a moving collider does not repeat every period of a loop";
+  }
+}
+
 }  // namespace
+
+Result<void> validateLoopForces(const Forces& forces, const std::string& pointer) {
+  Check c;
+  checkLoopForces(c, forces, pointer);
+  if (!c.ok()) return Error{c.error};
+  return {};
+}
 
 Result<void> validate(const Forces& forces, const std::string& pointer) {
   Check c;
@@ -176,6 +220,7 @@ Result<void> validate(const Settings& s) {
   for (std::size_t i = 0; i < s.colliders.size(); ++i) {
     checkCollider(c, s.colliders[i], "/colliders/" + std::to_string(i));
   }
+  checkLoop(c, s);
   if (!c.ok()) return Error{c.error};
   return {};
 }

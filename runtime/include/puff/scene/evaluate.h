@@ -144,8 +144,21 @@ class FrameEvaluator {
   std::unique_ptr<sim::Simulator> sim_, mediaSim_;
 };
 
+/// Refuses a loop (animation.period > 0) that would not repeat: "PATH: /animation/orbit: ..." names
+/// the first thing that changes from one period to the next (a camera that moves, an object on a
+/// path or falling, a listed or placed particle that moves, is born or dies, a media light whose
+/// intensity changes, or what the simulators refuse: sim::Settings::period).
+Result<void> checkLoop(const Scene& scene);
+/// checkLoop's refusal as "/pointer: what", without the file; none when the loop repeats.
+std::optional<std::string> loopRefusal(const Scene& scene);
+/// A material's detailSpeed (video frames a second) in a loop of `periodSeconds`: rounded so the
+/// detail videos (`videoFrames`: the least common multiple of their lengths) play a whole number of
+/// times a period, so the media's detail repeats with the loop (0 plays: the detail holds still).
+float loopDetailSpeed(float speed, double periodSeconds, int videoFrames);
+
 /// What `scene` holds that is valid but likely not what its author meant, one line each starting
-/// with the JSON pointer: a `preroll` that no emitter fills (every emitter starts at 0 or later).
+/// with the JSON pointer: a `preroll` that no emitter fills (every emitter starts at 0 or later; a
+/// loop fills its own).
 /// puffrender prints them as warnings, puffview shows them.
 std::vector<std::string> sceneWarnings(const Scene& scene);
 

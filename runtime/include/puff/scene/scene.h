@@ -124,6 +124,10 @@ struct Animation {
   /// A camera flight: the camera's position (and, if given, its target) follow these keys
   /// (seconds of scene time, linear between keys, held outside them); the orbit turns after.
   sim::Path cameraPath, targetPath;
+  /// > 0: the scene is a loop of `period` frames (sim::Settings::period for both simulators): frame
+  /// f + period draws what frame f does, so a flipbook of one period loops without a seam. What does
+  /// not repeat is refused (scene::checkLoop). [0, sim::kMaxPeriod]; 0 = no loop.
+  int period = 0;
   bool operator==(const Animation&) const = default;
 };
 

@@ -19,6 +19,12 @@
 // Time. Every time in the settings (paths, emitter start and stop, shedding) is scene time: frame
 // f is at f / fps, and the preroll runs before 0 (an emitter meant to fill it starts at -preroll).
 //
+// Loops. With Settings::period the simulation repeats every `period` frames (P = period / fps
+// seconds): births repeat each period with the same random numbers, the turbulence's drift closes
+// on itself over a period, and nothing moves on a path, so a particle born at t + P retraces the
+// one born at t. The preroll is at least the longest lifetime, so frame 0 is already in the loop:
+// frame f + period draws what frame f does, and a flipbook of one period loops without a seam.
+//
 // Determinism. Every random number is a hash of (seed, emitter, particle index) and time is
 // counted in whole steps, so a frame depends only on the settings and its number: frame k is
 // reached by simulating from the start (reset + advanceToFrame), bit-identical on one machine.
@@ -56,6 +62,7 @@ struct Path {
   glm::vec3 velocityAt(double t) const;  ///< slope of the segment at t; zero outside the keys
   glm::quat rotationAt(double t) const;  ///< identity without rotations
   bool empty() const { return times.empty(); }
+  bool moves() const;  ///< some key's place or turn differs from the first's
   bool operator==(const Path&) const = default;
 };
 
@@ -156,7 +163,10 @@ struct Forces {
 
 /// Particles are born at `rate` per second for `duration` seconds from `start` (0: forever)
 /// in a shape around `position` + path(t). Path emitters spawn each particle at its own instant
-/// inside the step, so a fast emitter (a missile's tail) leaves a continuous trail.
+/// inside the step, so a fast emitter (a missile's tail) leaves a continuous trail. In a loop
+/// (Settings::period, P seconds) an emitter runs every period: for min(duration, P) seconds from
+/// start + kP (all of every period when duration is 0), its rate rounded to a whole number of
+/// births (at least one) in that time, evenly spaced.
 struct Emitter {
   enum class Shape {
     kPoint,
@@ -216,9 +226,13 @@ enum class Integrator {
 };
 
 struct Settings {
-  float fps = 24.0f;                   ///< frames per second, > 0
-  int substeps = 4;                    ///< steps per frame, [1, 1000]
-  float preroll = 0.0f;                ///< seconds simulated before frame 0, >= 0
+  float fps = 24.0f;     ///< frames per second, > 0
+  int substeps = 4;      ///< steps per frame, [1, 1000]
+  float preroll = 0.0f;  ///< seconds simulated before frame 0, >= 0
+  /// Frames in one loop, [0, kMaxPeriod]; 0 = no loop (see "Loops" above). In a loop no emitter,
+  /// vortex or collider moves along its path, and the preroll simulated is at least the longest
+  /// lifetime.
+  int period = 0;
   std::size_t maxParticles = 200'000;  ///< budget; births beyond it are dropped (counted)
   float collisionRadius = 0.5f;        ///< share of a particle's radius that collides, [0, 1]
   Integrator integrator = Integrator::kExponential;
@@ -234,6 +248,9 @@ struct Settings {
 
 /// The most particles a budget may ask for (about 64 bytes each: 1.3 GB).
 constexpr std::size_t kMaxParticleBudget = 20'000'000;
+
+/// The most frames a loop may hold (Settings::period).
+constexpr int kMaxPeriod = 100'000;
 
 /// The most threads a simulator may be given.
 constexpr int kMaxThreads = 256;
