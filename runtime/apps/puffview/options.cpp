@@ -80,7 +80,11 @@ std::variant<Options, int> parse(int argc, char** argv) {
       "scene, its atlas, ramp, gradient, meshes and (with --shader-dir or $PUFF_SHADER_DIR) shaders are reloaded "
       "when they change on disk.\n"
       "Keys: Space play/pause, . or Right step, Left step back, R or Home restart, P or F12 screenshot, F orbit/fly "
-      "camera, C reset camera, H hide panels, Ctrl+Z undo, Ctrl+Y or Ctrl+Shift+Z redo, Esc quit. Mouse (orbit): left "
+      "camera, C reset camera, H hide panels, Ctrl+Z undo, Ctrl+Y or Ctrl+Shift+Z redo, Ctrl+S save, Esc or Ctrl+Q "
+      "quit "
+      "(asking first when edits are unsaved; keys typed into a panel's field or popup stay there). Unsaved edits "
+      "are kept beside the scene (.NAME.puffview-autosave) and offered back if puffview stops without saving. Mouse "
+      "(orbit): left "
       "drag turns, right or middle drag pans, "
       "wheel zooms; (fly): WASD/QE move, right drag looks.",
       cli::name()};

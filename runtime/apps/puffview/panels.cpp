@@ -88,14 +88,10 @@ void savePanel(Viewer& v, PanelState& state) {
     std::snprintf(state.saveAs, sizeof state.saveAs, "%s", v.sceneFile().c_str());
     state.saveAsInitialized = true;
   }
-  if (ImGui::Button("Save")) {
-    if (auto r = v.save(); !r) std::fprintf(stderr, "puffview: error: %s\n", r.error().message.c_str());
-  }
+  if (ImGui::Button("Save")) (void)v.save();  // a failure is the status line (and stderr)
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("Write the scene to %s", v.sceneFile().c_str());
   ImGui::SameLine();
-  if (ImGui::Button("Save as") && state.saveAs[0] != '\0') {
-    if (auto r = v.save(state.saveAs); !r) std::fprintf(stderr, "puffview: error: %s\n", r.error().message.c_str());
-  }
+  if (ImGui::Button("Save as") && state.saveAs[0] != '\0') (void)v.save(state.saveAs);
   ImGui::SameLine();
   ImGui::InputText("##saveas", state.saveAs, sizeof state.saveAs);
 }
@@ -114,7 +110,7 @@ void drawPanels(Viewer& v, PanelState& state) {
     return;
   }
   ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.55f);  // room for the labels on the right
-  ImGui::TextUnformatted(v.sceneFile().c_str());
+  ImGui::TextUnformatted(v.unsaved() ? (v.sceneFile().string() + " (unsaved)").c_str() : v.sceneFile().c_str());
   ImGui::BeginDisabled(!v.canUndo());
   if (ImGui::Button("Undo")) v.undo();
   ImGui::EndDisabled();

@@ -82,7 +82,10 @@ Result<void> Viewer::Impl::initImgui() {
 Viewer::Viewer() : impl_(std::make_unique<Impl>()) {}
 
 Viewer::~Viewer() {
-  if (!scratch_.empty()) {
+  // Unsaved edits keep their autosave, and the edited ramp or gradient it names.
+  const bool named =
+      unsaved_ && (scene_.ramp.parent_path() == scratch_ || scene_.ambientGradient.parent_path() == scratch_);
+  if (!scratch_.empty() && !named) {
     std::error_code ec;
     fs::remove_all(scratch_, ec);
   }
@@ -133,6 +136,7 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
   // Ours first: ImGui's backend chains to the callbacks installed before it.
   glfwSetKeyCallback(m.window, Impl::onKey);
   glfwSetScrollCallback(m.window, Impl::onScroll);
+  glfwSetWindowCloseCallback(m.window, Impl::onClose);
 
   PUFF_TRY(m.initImgui());
 
@@ -151,7 +155,9 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
   v->pathName_ = pathName;
   v->camera_.reset(scene::cameraAt(v->scene_, 0));
   v->committed_ = v->scene_;
+  v->markSaved();
   v->showSceneWarnings("");
+  v->offerAutosave();
   v->watchScene();
   m.lastInput = m.lastPresent = m.lastPoll = Impl::now();
   return v;
@@ -205,6 +211,7 @@ bool Viewer::redo() {
 Result<void> Viewer::applyEdit() {
   auto r = renderer_->update(shown(scene_));
   editError_ = r ? "" : r.error().message;
+  noteChange();
   return r;
 }
 
@@ -348,6 +355,7 @@ Result<void> Viewer::runBatch(int first, int last, const std::function<fs::path(
                               const std::function<void(int done, int total)>& progress) {
   glfwSwapInterval(0);
   playing_ = false;
+  batch_ = true;  // no prompts in the frames
   const int total = last - first + 1;
   for (int f = first; f <= last; ++f) {
     if (progress) progress(f - first, total);

@@ -101,7 +101,9 @@ void Viewer::drawFrame() {
 
 void Viewer::drawUi() {
   Impl& m = *impl_;
-  m.uiDrawnLastFrame = uiVisible || !fileError_.empty() || !editError_.empty();
+  m.uiDrawnLastFrame =
+      uiVisible || !fileError_.empty() || !editError_.empty() || quitPrompt_ || (autosaveOffer_ && !batch_);
+  m.uiHoldsKeys = false;
   if (!m.uiDrawnLastFrame) return;
   ImGui::SetCurrentContext(m.imgui);
   ImGui_ImplOpenGL3_NewFrame();
@@ -109,6 +111,10 @@ void Viewer::drawUi() {
   ImGui::NewFrame();
   if (uiVisible) drawPanels(*this, m.panels);
   drawErrorOverlay(*this);
+  drawPrompts();
+  const ImGuiIO& io = ImGui::GetIO();
+  m.uiHoldsKeys = io.WantCaptureKeyboard || io.WantTextInput || ImGui::IsAnyItemActive() ||
+                  ImGui::IsPopupOpen("", ImGuiPopupFlags_AnyPopupId | ImGuiPopupFlags_AnyPopupLevel);
   ImGui::Render();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());

@@ -117,20 +117,30 @@ Result<void> Viewer::setAmbientGradient(const core::Image& gradient) {
 
 // ---- save ------------------------------------------------------------------------------------
 
-Result<void> Viewer::keepBeside(const fs::path& target, fs::path& image, const char* suffix) {
-  if (image.empty() || scratch_.empty() || image.parent_path() != scratch_) return {};
-  const fs::path beside = target.parent_path() / (target.stem().string() + suffix);
-  core::OutputTransaction tx;
-  std::error_code ec;
-  fs::copy_file(image, tx.stage(beside), fs::copy_options::overwrite_existing, ec);
-  if (ec) return Error::at(beside, "cannot write: " + ec.message());
-  PUFF_TRY(tx.commit());
-  image = beside;
-  return {};
+fs::path Viewer::besideScene(const fs::path& target, const fs::path& image, const char* suffix) const {
+  if (image.empty() || scratch_.empty() || image.parent_path() != scratch_) return image;
+  return target.parent_path() / (target.stem().string() + suffix);
+}
+
+Result<std::string> Viewer::sceneText(const scene::Scene& s, const fs::path& target) const {
+  scene::Scene copy = s;
+  copy.file = target;  // toJson writes paths relative to where the file will be
+  nlohmann::json j = scene::toJson(copy);
+  if (auto check = scene::parseScene(j, target, options_.artDir); !check) return check.error();
+  restoreArtPaths(j, target.parent_path(), options_.artDir);
+  return scene::jsonText(j) + "\n";
 }
 
 Result<fs::path> Viewer::save(const fs::path& file) {
-  const fs::path target = file.empty() ? scene_.file : file;
+  auto saved = writeScene(file.empty() ? scene_.file : file);
+  if (!saved) {
+    setStatus(saved.error().message);
+    if (!options_.quiet) std::fprintf(stderr, "puffview: error: %s\n", saved.error().message.c_str());
+  }
+  return saved;
+}
+
+Result<fs::path> Viewer::writeScene(const fs::path& target) {
   // Never write what would not load, and never overwrite newer text edits that failed to load.
   if (!editError_.empty()) {
     return Error::at(target, "not saved: the panel holds a value the scene rejects (" + editError_ + ")");
@@ -140,31 +150,38 @@ Result<fs::path> Viewer::save(const fs::path& file) {
                      "not saved: the file on disk has edits that do not load (fix them there, or Save as another "
                      "file); saving would overwrite them");
   }
-  // A ramp or gradient edited in the panel goes beside the scene file, and the scene names it there.
-  scene::Scene beside = scene_;
-  PUFF_TRY(keepBeside(target, beside.ramp, "_ramp.png"));
-  PUFF_TRY(keepBeside(target, beside.ambientGradient, "_gradient.png"));
-  if (beside.ramp != scene_.ramp || beside.ambientGradient != scene_.ambientGradient) {
-    scene_.ramp = beside.ramp;
-    scene_.ambientGradient = beside.ambientGradient;
-    committed_.ramp = scene_.ramp;
-    committed_.ambientGradient = scene_.ambientGradient;
+  // A ramp or gradient edited in the panel goes beside the scene file, and the saved scene names it
+  // there. Everything is checked, then staged, then renamed into place together: a failure at any
+  // step changes no file, and the viewer's scene stays as it was.
+  scene::Scene out = scene_;
+  out.ramp = besideScene(target, scene_.ramp, "_ramp.png");
+  out.ambientGradient = besideScene(target, scene_.ambientGradient, "_gradient.png");
+  auto text = sceneText(out, target);
+  if (!text) return Error::at(target, "not saved: " + text.error().message);
+  core::OutputTransaction tx;
+  for (const auto& [from, to] : {std::pair{scene_.ramp, out.ramp}, {scene_.ambientGradient, out.ambientGradient}}) {
+    if (from == to) continue;
+    std::error_code ec;
+    fs::copy_file(from, tx.stage(to), fs::copy_options::overwrite_existing, ec);
+    if (ec) return Error::at(to, "not saved: cannot write: " + ec.message());
+  }
+  if (auto r = core::writeFileBytes(tx.stage(target), *text, target); !r)
+    return Error{"not saved: " + r.error().message};
+  if (auto r = tx.commit(); !r) return Error{"not saved: " + r.error().message};
+  out.file = target;
+  const bool moved = target != scene_.file;
+  if (out.ramp != scene_.ramp || out.ambientGradient != scene_.ambientGradient) {
+    scene_.ramp = committed_.ramp = out.ramp;
+    scene_.ambientGradient = committed_.ambientGradient = out.ambientGradient;
     (void)applyEdit();
   }
-  scene::Scene copy = scene_;
-  copy.file = target;  // toJson writes paths relative to where the file will be
-  nlohmann::json j = scene::toJson(copy);
-  if (auto check = scene::parseScene(j, target, options_.artDir); !check) {
-    return Error::at(target, "not saved: " + check.error().message);
-  }
-  restoreArtPaths(j, target.parent_path(), options_.artDir);
-  if (auto r = core::writeFileAtomic(target, scene::jsonText(j) + "\n"); !r) return r.error();
-  if (target == scene_.file) {
-    watcher_.markSeen(target);  // our own write is not an outside change to reload
-  } else {
-    scene_.file = target;
+  scene_.file = target;
+  if (moved) {
     watchScene();
+  } else {
+    watcher_.markSeen(target);  // our own write is not an outside change to reload
   }
+  markSaved();
   setStatus("saved " + target.string());
   if (!options_.quiet) std::printf("puffview: saved %s\n", target.c_str());
   return target;

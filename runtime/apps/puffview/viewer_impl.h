@@ -34,6 +34,9 @@ struct Viewer::Impl {
   ImGuiContext* imgui = nullptr;
   bool imguiBackends = false;
   bool uiDrawnLastFrame = false;
+  // The last frame's UI had the keyboard: a text field, an item held, or a popup open (a colour
+  // picker, a prompt), so keys go to it and not to the viewer's shortcuts.
+  bool uiHoldsKeys = false;
   PanelState panels;
 
   // The scene is drawn into this target and resolved into the window: the cel path with the scene's
@@ -64,6 +67,7 @@ struct Viewer::Impl {
   static Viewer* of(GLFWwindow* w);
   static void onKey(GLFWwindow* w, int key, int scancode, int action, int mods);
   static void onScroll(GLFWwindow* w, double x, double y);
+  static void onClose(GLFWwindow* w);  // the window's close button: Viewer::requestQuit (viewer_keep.cpp)
   static void touchCamera(Viewer& v);
   static void pressKey(Viewer& v, int key, int mods);
   static void fly(Viewer& v, float dt);

@@ -42,8 +42,12 @@ void Viewer::Impl::touchCamera(Viewer& v) {
 }
 
 void Viewer::Impl::pressKey(Viewer& v, int key, int mods) {
-  if (mods & GLFW_MOD_CONTROL) {  // Ctrl+Z undo; Ctrl+Y or Ctrl+Shift+Z redo
-    if (key == GLFW_KEY_Z && !(mods & GLFW_MOD_SHIFT)) {
+  if (mods & GLFW_MOD_CONTROL) {  // Ctrl+Z undo; Ctrl+Y or Ctrl+Shift+Z redo; Ctrl+S save; Ctrl+Q quit
+    if (key == GLFW_KEY_S) {
+      (void)v.save();  // a failure is the status line
+    } else if (key == GLFW_KEY_Q) {
+      v.requestQuit();
+    } else if (key == GLFW_KEY_Z && !(mods & GLFW_MOD_SHIFT)) {
       if (!v.undo()) v.setStatus("nothing to undo");
     } else if (key == GLFW_KEY_Y || key == GLFW_KEY_Z) {
       if (!v.redo()) v.setStatus("nothing to redo");
@@ -83,7 +87,7 @@ void Viewer::Impl::pressKey(Viewer& v, int key, int mods) {
       v.uiVisible = !v.uiVisible;
       break;
     case GLFW_KEY_ESCAPE:
-      glfwSetWindowShouldClose(v.impl_->window, GLFW_TRUE);
+      v.requestQuit();
       break;
     default:
       break;
@@ -133,6 +137,7 @@ void Viewer::Impl::drag(Viewer& v, bool uiMouse) {
 bool Viewer::processEvents() {
   impl_->context->pollEvents();
   handleInput();
+  keepWork();
   return glfwWindowShouldClose(impl_->window) == GLFW_TRUE;
 }
 
@@ -141,7 +146,8 @@ void Viewer::handleInput() {
   ImGui::SetCurrentContext(m.imgui);
   const ImGuiIO& io = ImGui::GetIO();
   const bool uiMouse = m.uiDrawnLastFrame && io.WantCaptureMouse;
-  const bool uiKeys = m.uiDrawnLastFrame && io.WantCaptureKeyboard;
+  const bool uiKeys =
+      (m.uiDrawnLastFrame && (io.WantCaptureKeyboard || m.uiHoldsKeys)) || quitPrompt_ || (autosaveOffer_ && !batch_);
   const double t = Impl::now();
   const float dt = static_cast<float>(std::min(0.1, t - m.lastInput));
   m.lastInput = t;

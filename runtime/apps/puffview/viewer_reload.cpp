@@ -70,6 +70,7 @@ void Viewer::reloadScene() {
   beginEdit();
   scene_ = std::move(*loaded);
   endEdit();
+  markSaved();  // what is shown is the file
   m.sceneError.clear();
   m.resourceError.clear();  // update() reloaded what the scene names, or nothing changed there
   fileError_.clear();

@@ -37,6 +37,9 @@ struct ViewerOptions {
   bool ui = true;                       ///< draw the panels (H toggles them at run time)
   std::filesystem::path screenshotDir;  ///< screenshots go here; empty: beside the scene file
   bool quiet = false;                   ///< print nothing but errors
+  /// Seconds after an edit before the autosave is written (Viewer::autosavePath); 0: at the next
+  /// displayed frame.
+  double autosaveSeconds = 2.0;
 };
 
 /// A renderer drawing `scene` with the path named `pathName` (one of render::renderPaths()) in the
@@ -95,10 +98,37 @@ class Viewer {
   /// Applies scene() to the render path at once; on error the view keeps the last good state and
   /// editError() says why (cleared by the next successful edit).
   Result<void> applyEdit();
-  /// Writes scene() as JSON (every field) to `file` (default: the scene file), atomically. Saving
-  /// elsewhere makes that file the scene file from then on (watched, saved to).
+  /// Writes scene() as JSON (every field) to `file` (default: the scene file), with a ramp or
+  /// gradient edited in the panel beside it (STEM_ramp.png, STEM_gradient.png): the scene is checked
+  /// first, then every file is staged and all are renamed into place together, so a failure changes
+  /// no file and no part of the viewer's scene. A failure is the status line ("FILE: not saved: ...")
+  /// and stderr. Saving elsewhere makes that file the scene file from then on (watched, saved to).
   Result<std::filesystem::path> save(const std::filesystem::path& file = {});
   const std::filesystem::path& sceneFile() const { return scene_.file; }
+
+  // ---- keeping the artist's work -------------------------------------------------------------
+  /// True while scene() differs from the scene file as last loaded or saved; the window's title
+  /// (title()) starts with "* " then.
+  bool unsaved() const { return unsaved_; }
+  const std::string& title() const { return title_; }
+  /// Quitting (Esc, Ctrl+Q, the window's close button): at once when nothing is unsaved, else the
+  /// quit prompt opens (Save / Discard / Cancel), and processEvents() returns true only once it is
+  /// answered Save (and the save succeeded) or Discard.
+  void requestQuit();
+  bool quitPromptOpen() const { return quitPrompt_; }
+  enum class QuitAnswer { kSave, kDiscard, kCancel };
+  void answerQuit(QuitAnswer answer);
+  /// While edits are unsaved, the edited scene is written to autosavePath() (beside the scene file,
+  /// hidden: ".NAME.puffview-autosave") ViewerOptions::autosaveSeconds after an edit; it is removed
+  /// once the scene is saved, the edits are discarded, or undone back to the file. A crash or a kill
+  /// leaves it, and a viewer opened on that scene offers to restore it (autosaveOffered(),
+  /// answerAutosave): restored, it is an edit undo takes back.
+  std::filesystem::path autosavePath() const;
+  bool autosaveOffered() const { return autosaveOffer_; }
+  void answerAutosave(bool restore);
+  /// A key as if pressed (GLFW key and modifiers): what the shortcuts do with it, held from them
+  /// while a popup, a prompt or a text field has the keyboard. For tests and scripted sessions.
+  void typeKey(int key, int mods = 0);
 
   // ---- ramp and gradient editing ---------------------------------------------------------------
   /// The ramp (q, RGB display values, Ramp's limits) or ambient gradient edited in the panel: written,
@@ -215,8 +245,25 @@ class Viewer {
   scene::Scene shown(const scene::Scene& s);
   glm::ivec2 checkerSize_{0};
   std::filesystem::path checkerPlate_;  ///< the checkerboard written for checkerSize_
-  /// save(): a ramp or gradient still in the scratch directory, copied beside `target`.
-  Result<void> keepBeside(const std::filesystem::path& target, std::filesystem::path& image, const char* suffix);
+  /// save(): where a ramp or gradient still in the scratch directory goes beside `target` (else
+  /// `image` as it is); the scene's JSON text as written to `target`, checked as the reader reads it.
+  std::filesystem::path besideScene(const std::filesystem::path& target, const std::filesystem::path& image,
+                                    const char* suffix) const;
+  Result<std::string> sceneText(const scene::Scene& s, const std::filesystem::path& target) const;
+  Result<std::filesystem::path> writeScene(const std::filesystem::path& target);
+  // Keeping the artist's work (viewer_keep.cpp): the scene as last loaded or saved, whether scene()
+  // differs from it, the title, the prompts and the autosave.
+  scene::Scene saved_;
+  bool unsaved_ = false, quitPrompt_ = false, autosaveOffer_ = false, batch_ = false;
+  std::string title_;
+  double autosaveDue_ = -1.0;  // when the autosave is to be written (GLFW seconds); < 0: none due
+  void markSaved();            // scene() is the file now
+  void noteChange();           // after scene() changed: unsaved, the title, the autosave's time
+  void keepWork();             // each displayed frame: writes the autosave when due
+  void removeAutosave();
+  void offerAutosave();  // at open: an autosave beside the scene is offered
+  void adoptScratch(std::filesystem::path& image, const char* kind);  // another viewer's scratch image into ours
+  void drawPrompts();
 };
 
 }  // namespace puff::view

@@ -1,0 +1,168 @@
+// What keeps the artist's work: the unsaved marker, the quit prompt, and the autosave a crash or
+// a kill leaves beside the scene, offered back on the next start.
+#include <cstdio>
+#include <string>
+
+#include <puff/core/files.h>
+#include <puff/core/image.h>
+#include <puff/scene/read.h>
+#include <puffview/viewer.h>
+
+#include "viewer_impl.h"
+
+namespace puff::view {
+
+namespace fs = std::filesystem;
+
+fs::path Viewer::autosavePath() const {
+  // Appended, not "." + name: GCC 12 warns (-Wrestrict) on that concatenation, wrongly.
+  std::string name = ".";
+  name += scene_.file.filename().string();
+  name += ".puffview-autosave";
+  return scene_.file.parent_path() / name;
+}
+
+void Viewer::markSaved() {
+  saved_ = scene_;
+  noteChange();
+}
+
+void Viewer::noteChange() {
+  const bool was = unsaved_;
+  unsaved_ = !(scene_ == saved_);
+  const std::string title = (unsaved_ ? "* " : "") + scene_.file.filename().string() + " - puffview";
+  if (title != title_) {
+    title_ = title;
+    if (impl_->window) glfwSetWindowTitle(impl_->window, title_.c_str());
+  }
+  if (unsaved_) {
+    autosaveDue_ = Impl::now() + options_.autosaveSeconds;
+  } else if (was || autosaveDue_ >= 0.0) {
+    autosaveDue_ = -1.0;
+    removeAutosave();  // saved, or undone back to the file: nothing left to keep
+  }
+}
+
+void Viewer::keepWork() {
+  if (autosaveDue_ < 0.0 || Impl::now() < autosaveDue_) return;
+  autosaveDue_ = -1.0;
+  // The scene as save() would write it (paths relative to the scene file, beside which it lies);
+  // an edit the reader refuses is not kept (the last good autosave stays).
+  auto text = sceneText(scene_, scene_.file);
+  if (!text) return;
+  if (auto r = core::writeFileAtomic(autosavePath(), *text); !r && !options_.quiet)
+    std::fprintf(stderr, "puffview: warning: cannot write the autosave: %s\n", r.error().message.c_str());
+}
+
+void Viewer::removeAutosave() {
+  std::error_code ec;
+  fs::remove(autosavePath(), ec);
+}
+
+void Viewer::offerAutosave() {
+  std::error_code ec;
+  if (!fs::is_regular_file(autosavePath(), ec)) return;
+  autosaveOffer_ = true;
+  setStatus("unsaved edits to " + scene_.file.filename().string() + " were kept in " + autosavePath().string() +
+            ": restore them or discard them");
+}
+
+void Viewer::answerAutosave(bool restore) {
+  if (!autosaveOffer_) return;
+  autosaveOffer_ = false;
+  if (!restore) {
+    removeAutosave();
+    setStatus("discarded the kept edits");
+    return;
+  }
+  auto kept = scene::loadScene(autosavePath(), options_.artDir);
+  if (!kept) {
+    setStatus("cannot restore the kept edits (left in " + autosavePath().string() + "): " + kept.error().message);
+    return;
+  }
+  kept->file = scene_.file;
+  // An edited ramp or gradient the autosave names lies in the stopped viewer's scratch directory:
+  // taken into this one's, so that Save puts it beside the scene.
+  adoptScratch(kept->ramp, "ramp");
+  adoptScratch(kept->ambientGradient, "gradient");
+  endEdit();
+  beginEdit();  // restored edits are one step undo takes back
+  scene_ = std::move(*kept);
+  endEdit();
+  (void)applyEdit();
+  setStatus("restored the kept edits (unsaved)");
+}
+
+void Viewer::adoptScratch(fs::path& image, const char* kind) {
+  if (image.empty() || !image.parent_path().filename().string().starts_with("puffview-") ||
+      image.parent_path() == scratchDir())
+    return;
+  auto pixels = core::readImage(image);
+  auto adopted = pixels ? writeScratch(kind, *pixels) : Result<fs::path>(pixels.error());
+  if (!adopted) {
+    setStatus("the kept " + std::string(kind) + " cannot be read: " + adopted.error().message);
+    return;
+  }
+  image = *adopted;
+}
+
+void Viewer::requestQuit() {
+  if (!unsaved_) {
+    glfwSetWindowShouldClose(impl_->window, GLFW_TRUE);
+    return;
+  }
+  glfwSetWindowShouldClose(impl_->window, GLFW_FALSE);
+  quitPrompt_ = true;
+}
+
+void Viewer::answerQuit(QuitAnswer answer) {
+  if (!quitPrompt_) return;
+  quitPrompt_ = false;
+  switch (answer) {
+    case QuitAnswer::kSave:
+      if (!save()) return;  // the error is in the status line; the viewer stays open
+      break;
+    case QuitAnswer::kDiscard:
+      autosaveDue_ = -1.0;
+      removeAutosave();
+      break;
+    case QuitAnswer::kCancel:
+      return;
+  }
+  glfwSetWindowShouldClose(impl_->window, GLFW_TRUE);
+}
+
+void Viewer::typeKey(int key, int mods) { impl_->keys.emplace_back(key, mods); }
+
+void Viewer::Impl::onClose(GLFWwindow* w) {
+  if (Viewer* v = of(w)) v->requestQuit();
+}
+
+// The prompts, modal over the window: quitting with unsaved edits, and kept edits found at start.
+void Viewer::drawPrompts() {
+  const char* quit = "Unsaved changes";
+  const char* kept = "Kept edits";
+  if (quitPrompt_ && !ImGui::IsPopupOpen(quit)) ImGui::OpenPopup(quit);
+  if (ImGui::BeginPopupModal(quit, nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::Text("%s has unsaved changes.", scene_.file.filename().c_str());
+    if (ImGui::Button("Save")) answerQuit(QuitAnswer::kSave);
+    ImGui::SameLine();
+    if (ImGui::Button("Discard")) answerQuit(QuitAnswer::kDiscard);
+    ImGui::SameLine();
+    if (ImGui::Button("Cancel") || ImGui::IsKeyPressed(ImGuiKey_Escape, false)) answerQuit(QuitAnswer::kCancel);
+    if (!quitPrompt_) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+  const bool offer = autosaveOffer_ && !batch_;
+  if (offer && !quitPrompt_ && !ImGui::IsPopupOpen(kept)) ImGui::OpenPopup(kept);
+  if (ImGui::BeginPopupModal(kept, nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::Text("Edits to %s were not saved when puffview last stopped.", scene_.file.filename().c_str());
+    if (ImGui::Button("Restore")) answerAutosave(true);
+    ImGui::SameLine();
+    if (ImGui::Button("Discard")) answerAutosave(false);
+    if (!autosaveOffer_) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+}
+
+}  // namespace puff::view

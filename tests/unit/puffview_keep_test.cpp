@@ -1,0 +1,252 @@
+// puffview keeps the artist's work: quitting with unsaved edits asks (and keys go to the prompt, not
+// the shortcuts), a killed viewer leaves an autosave the next one offers back, and a save is whole
+// or nothing, its failure said in the window.
+//
+// These tests open a window: ctest runs them under Xvfb (PuffviewUnderXvfb, with
+// PUFF_TEST_REQUIRE_GLFW=1); without a display they skip.
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <string>
+
+#include <puff/core/files.h>
+#include <puff/scene/read.h>
+#include <puffview/ramp_edit.h>
+#include <puffview/viewer.h>
+
+#include "puffview_test_helpers.h"
+#include "support/assert_ok.h"
+#include "support/temp_dir.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using puff::view::Viewer;
+
+class PuffviewKeep : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    file_ = dir_ / "cloud.json";
+    std::ofstream(file_) << R"({"output": {"width": 160, "height": 120, "background": "#ffffff"},
+      "atlas": "${PUFF_ART}/default/puff.json", "emitters": [{"count": 30, "seed": 3, "radius": 0.7}]})";
+  }
+  std::unique_ptr<Viewer> open(double autosaveSeconds = 0.0) {
+    puff::view::ViewerOptions o;
+    o.scene = file_;
+    o.artDir = PUFF_ART_DIR;
+    o.width = 160;
+    o.height = 120;
+    o.quiet = true;
+    o.autosaveSeconds = autosaveSeconds;
+    auto v = Viewer::open(o);
+    EXPECT_OK(v);
+    return v ? std::move(*v) : nullptr;
+  }
+  // One displayed frame: events (and the autosave when due), then the frame with its prompts.
+  static bool frame(Viewer& v) {
+    const bool closing = v.processEvents();
+    v.drawFrame();
+    v.present();
+    return closing;
+  }
+  static void edit(Viewer& v, glm::vec3 background) {
+    v.beginEdit();
+    v.scene().background = background;
+    v.endEdit();
+    ASSERT_OK(v.applyEdit());
+  }
+  std::string onDisk() const { return *puff::core::readFileBytes(file_); }
+
+  puff::test::ScopedTempDir dir_{"puffview-keep"};
+  fs::path file_;
+};
+
+TEST_F(PuffviewKeep, QuittingWithUnsavedEditsAsksFirst) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const std::string original = onDisk();
+  auto v = open();
+  ASSERT_TRUE(v);
+  EXPECT_FALSE(v->unsaved());
+  EXPECT_EQ(v->title(), "cloud.json - puffview");
+  v->typeKey(GLFW_KEY_ESCAPE);
+  EXPECT_TRUE(frame(*v)) << "nothing to lose: Esc quits at once";
+
+  v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
+
+  v = open();
+  ASSERT_TRUE(v);
+  edit(*v, {0.5f, 0.25f, 0.0f});
+  EXPECT_TRUE(v->unsaved());
+  EXPECT_EQ(v->title(), "* cloud.json - puffview");
+  for (const auto& [key, mods] : {std::pair{GLFW_KEY_ESCAPE, 0}, {GLFW_KEY_Q, GLFW_MOD_CONTROL}}) {
+    SCOPED_TRACE("key " + std::to_string(key));
+    v->typeKey(key, mods);
+    EXPECT_FALSE(frame(*v));
+    EXPECT_TRUE(v->quitPromptOpen());
+    // Keys go to the prompt: none of them plays, steps or quits behind it.
+    const bool playing = v->playing();
+    const int at = v->frame();
+    for (int k : {GLFW_KEY_SPACE, GLFW_KEY_PERIOD, GLFW_KEY_ESCAPE, GLFW_KEY_R}) v->typeKey(k);
+    EXPECT_FALSE(frame(*v));
+    EXPECT_EQ(v->playing(), playing);
+    EXPECT_EQ(v->frame(), at);
+    EXPECT_TRUE(v->quitPromptOpen());
+    v->answerQuit(Viewer::QuitAnswer::kCancel);
+    EXPECT_FALSE(frame(*v)) << "Cancel: back to work";
+    EXPECT_FALSE(v->quitPromptOpen());
+    frame(*v);  // the frame the prompt closed in still had the keyboard
+  }
+  EXPECT_EQ(onDisk(), original);
+  // Discard: the file as it was, no autosave left.
+  v->requestQuit();  // what the window's close button does
+  EXPECT_TRUE(v->quitPromptOpen());
+  v->answerQuit(Viewer::QuitAnswer::kDiscard);
+  EXPECT_TRUE(frame(*v));
+  EXPECT_EQ(onDisk(), original);
+  EXPECT_FALSE(fs::exists(v->autosavePath()));
+
+  // Save: the file has the edit, then the viewer closes.
+  v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
+  v = open();
+  ASSERT_TRUE(v);
+  edit(*v, {0.0f, 0.5f, 1.0f});
+  v->requestQuit();
+  v->answerQuit(Viewer::QuitAnswer::kSave);
+  EXPECT_TRUE(frame(*v));
+  auto saved = puff::scene::loadScene(file_, PUFF_ART_DIR);
+  ASSERT_OK(saved);
+  EXPECT_EQ(saved->background, glm::vec3(0.0f, 0.5f, 1.0f));
+  EXPECT_FALSE(fs::exists(v->autosavePath()));
+
+  // Undone back to the file, nothing is unsaved: Esc quits at once again.
+  v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
+  v = open();
+  ASSERT_TRUE(v);
+  edit(*v, {1.0f, 0.0f, 0.0f});
+  ASSERT_TRUE(v->undo());
+  EXPECT_FALSE(v->unsaved());
+  EXPECT_EQ(v->title(), "cloud.json - puffview");
+  v->typeKey(GLFW_KEY_ESCAPE);
+  EXPECT_TRUE(frame(*v));
+}
+
+TEST_F(PuffviewKeep, AKilledViewerLeavesAnAutosaveTheNextOneOffersBack) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const std::string original = onDisk();
+  auto v = open(3600.0);
+  ASSERT_TRUE(v);
+  edit(*v, {0.5f, 0.25f, 0.0f});
+  frame(*v);
+  EXPECT_FALSE(fs::exists(v->autosavePath())) << "not before its time";
+  v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
+  v = open();
+  ASSERT_TRUE(v);
+  EXPECT_FALSE(v->autosaveOffered());
+  edit(*v, {0.5f, 0.25f, 0.0f});
+  puff::view::RampBands red;
+  red.starts = {0.0f};
+  red.colors = {{1.0f, 0.0f, 0.0f}};
+  v->beginEdit();
+  ASSERT_OK(v->setRamp(puff::view::rampImage(red)));
+  v->endEdit();
+  frame(*v);
+  const fs::path kept = v->autosavePath();
+  EXPECT_EQ(kept, dir_ / ".cloud.json.puffview-autosave");
+  ASSERT_TRUE(fs::exists(kept)) << "written while the edits are unsaved";
+  EXPECT_EQ(onDisk(), original) << "the scene file is not touched";
+  const fs::path ramp = v->scene().ramp;
+  v.reset();  // as a kill leaves it: nothing answered
+  ASSERT_TRUE(fs::exists(kept));
+  ASSERT_TRUE(fs::exists(ramp)) << "the edited ramp the autosave names stays";
+
+  v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
+
+  v = open();
+  ASSERT_TRUE(v);
+  EXPECT_TRUE(v->autosaveOffered());
+  EXPECT_FALSE(v->unsaved()) << "the file is shown until the artist answers";
+  EXPECT_NE(v->status().find("restore them or discard them"), std::string::npos) << v->status();
+  const bool playing = v->playing();
+  v->typeKey(GLFW_KEY_SPACE);
+  frame(*v);
+  EXPECT_EQ(v->playing(), playing) << "keys go to the offer";
+  v->answerAutosave(true);
+  EXPECT_FALSE(v->autosaveOffered());
+  EXPECT_TRUE(v->unsaved());
+  EXPECT_EQ(v->scene().background, glm::vec3(0.5f, 0.25f, 0.0f));
+  EXPECT_EQ(v->scene().ramp, ramp);
+  ASSERT_TRUE(v->undo()) << "restoring is a step undo takes back";
+  EXPECT_FALSE(v->unsaved());
+  ASSERT_TRUE(v->redo());
+  ASSERT_OK(v->save());
+  EXPECT_FALSE(fs::exists(kept)) << "saved: nothing left to keep";
+  EXPECT_TRUE(fs::exists(dir_ / "cloud_ramp.png"));
+
+  // Discarded, the autosave is gone and the file is what opens.
+  edit(*v, {0.0f, 1.0f, 0.0f});
+  frame(*v);
+  ASSERT_TRUE(fs::exists(kept));
+  v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
+  v = open();
+  ASSERT_TRUE(v);
+  ASSERT_TRUE(v->autosaveOffered());
+  v->answerAutosave(false);
+  EXPECT_FALSE(fs::exists(kept));
+  EXPECT_EQ(v->scene().background, glm::vec3(0.5f, 0.25f, 0.0f));
+  v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
+  v = open();
+  EXPECT_FALSE(v->autosaveOffered());
+}
+
+TEST_F(PuffviewKeep, AFailedSaveChangesNoFileAndSaysWhy) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const std::string original = onDisk();
+  auto v = open();
+  ASSERT_TRUE(v);
+  puff::view::RampBands red;
+  red.starts = {0.0f};
+  red.colors = {{1.0f, 0.0f, 0.0f}};
+  v->beginEdit();
+  ASSERT_OK(v->setRamp(puff::view::rampImage(red)));
+  v->endEdit();
+  const fs::path scratchRamp = v->scene().ramp;
+
+  // A scene the reader would refuse: nothing is written, the ramp beside it included.
+  v->beginEdit();
+  v->scene().atlas = dir_ / "no-such-atlas.json";
+  v->endEdit();
+  EXPECT_FALSE(v->applyEdit());
+  auto refused = v->save();
+  ASSERT_FALSE(refused);
+  EXPECT_EQ(v->status(), refused.error().message) << "said in the window";
+  EXPECT_NE(v->status().find("not saved"), std::string::npos) << v->status();
+  EXPECT_FALSE(fs::exists(dir_ / "cloud_ramp.png"));
+  EXPECT_EQ(onDisk(), original);
+  ASSERT_TRUE(v->undo());
+
+  // A file that cannot be written (the ramp's place is a directory): neither file changes, and the
+  // viewer's scene still names its own ramp.
+  fs::create_directories(dir_ / "cloud_ramp.png");
+  refused = v->save();
+  ASSERT_FALSE(refused);
+  EXPECT_NE(v->status().find("cloud_ramp.png"), std::string::npos) << v->status();
+  EXPECT_EQ(onDisk(), original);
+  EXPECT_TRUE(fs::is_directory(dir_ / "cloud_ramp.png"));
+  EXPECT_EQ(v->scene().ramp, scratchRamp);
+  EXPECT_TRUE(v->unsaved());
+
+  // Once it can be, both are written together.
+  fs::remove(dir_ / "cloud_ramp.png");
+  ASSERT_OK(v->save());
+  EXPECT_EQ(v->scene().ramp, dir_ / "cloud_ramp.png");
+  EXPECT_TRUE(fs::is_regular_file(dir_ / "cloud_ramp.png"));
+  EXPECT_NE(onDisk().find("cloud_ramp.png"), std::string::npos);
+  EXPECT_FALSE(v->unsaved());
+  EXPECT_EQ(v->status(), "saved " + file_.string());
+}
+
+}  // namespace
