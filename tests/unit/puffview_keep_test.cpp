@@ -8,10 +8,13 @@
 #include <GLFW/glfw3.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <puff/core/files.h>
 #include <puff/scene/read.h>
@@ -87,10 +90,10 @@ TEST_F(PuffviewKeep, QuittingWithUnsavedEditsAsksFirst) {
     v->typeKey(key, mods);
     EXPECT_FALSE(frame(*v));
     EXPECT_TRUE(v->quitPromptOpen());
-    // Keys go to the prompt: none of them plays, steps or quits behind it.
+    // Keys go to the prompt: none of them plays, steps or restarts behind it.
     const bool playing = v->playing();
     const int at = v->frame();
-    for (int k : {GLFW_KEY_SPACE, GLFW_KEY_PERIOD, GLFW_KEY_ESCAPE, GLFW_KEY_R}) v->typeKey(k);
+    for (int k : {GLFW_KEY_SPACE, GLFW_KEY_PERIOD, GLFW_KEY_R}) v->typeKey(k);
     EXPECT_FALSE(frame(*v));
     EXPECT_EQ(v->playing(), playing);
     EXPECT_EQ(v->frame(), at);
@@ -100,38 +103,58 @@ TEST_F(PuffviewKeep, QuittingWithUnsavedEditsAsksFirst) {
     EXPECT_FALSE(v->quitPromptOpen());
     frame(*v);  // the frame the prompt closed in still had the keyboard
   }
-  EXPECT_EQ(onDisk(), original);
-  // Discard: the file as it was, no autosave left.
-  v->requestQuit();  // what the window's close button does
-  EXPECT_TRUE(v->quitPromptOpen());
-  v->answerQuit(Viewer::QuitAnswer::kDiscard);
-  EXPECT_TRUE(frame(*v));
-  EXPECT_EQ(onDisk(), original);
-  EXPECT_FALSE(fs::exists(v->autosavePath()));
-
-  // Save: the file has the edit, then the viewer closes.
-  v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
-  v = open();
-  ASSERT_TRUE(v);
-  edit(*v, {0.0f, 0.5f, 1.0f});
-  v->requestQuit();
-  v->answerQuit(Viewer::QuitAnswer::kSave);
-  EXPECT_TRUE(frame(*v));
-  auto saved = puff::scene::loadScene(file_, PUFF_ART_DIR);
-  ASSERT_OK(saved);
-  EXPECT_EQ(saved->background, glm::vec3(0.0f, 0.5f, 1.0f));
-  EXPECT_FALSE(fs::exists(v->autosavePath()));
-
-  // Undone back to the file, nothing is unsaved: Esc quits at once again.
-  v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
-  v = open();
-  ASSERT_TRUE(v);
-  edit(*v, {1.0f, 0.0f, 0.0f});
-  ASSERT_TRUE(v->undo());
-  EXPECT_FALSE(v->unsaved());
-  EXPECT_EQ(v->title(), "cloud.json - puffview");
+  // Esc in the prompt cancels it (the Esc that opened it does not).
   v->typeKey(GLFW_KEY_ESCAPE);
-  EXPECT_TRUE(frame(*v));
+  frame(*v);
+  ASSERT_TRUE(v->quitPromptOpen());
+  v->typeKey(GLFW_KEY_ESCAPE);
+  EXPECT_FALSE(frame(*v));
+  EXPECT_FALSE(v->quitPromptOpen());
+  frame(*v);
+  {}
+}
+EXPECT_EQ(onDisk(), original);
+// Discard: the file as it was, no autosave left, and the scratch directory (an edited ramp) goes
+// with the viewer.
+puff::view::RampBands red;
+red.starts = {0.0f};
+red.colors = {{1.0f, 0.0f, 0.0f}};
+v->beginEdit();
+ASSERT_OK(v->setRamp(puff::view::rampImage(red)));
+v->endEdit();
+const fs::path scratch = v->scratchDir();
+v->requestQuit();  // what the window's close button does
+EXPECT_TRUE(v->quitPromptOpen());
+v->answerQuit(Viewer::QuitAnswer::kDiscard);
+EXPECT_TRUE(frame(*v));
+EXPECT_EQ(onDisk(), original);
+EXPECT_FALSE(fs::exists(v->autosavePath()));
+v.reset();
+EXPECT_FALSE(fs::exists(scratch));
+
+// Save: the file has the edit, then the viewer closes.
+v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
+v = open();
+ASSERT_TRUE(v);
+edit(*v, {0.0f, 0.5f, 1.0f});
+v->requestQuit();
+v->answerQuit(Viewer::QuitAnswer::kSave);
+EXPECT_TRUE(frame(*v));
+auto saved = puff::scene::loadScene(file_, PUFF_ART_DIR);
+ASSERT_OK(saved);
+EXPECT_EQ(saved->background, glm::vec3(0.0f, 0.5f, 1.0f));
+EXPECT_FALSE(fs::exists(v->autosavePath()));
+
+// Undone back to the file, nothing is unsaved: Esc quits at once again.
+v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
+v = open();
+ASSERT_TRUE(v);
+edit(*v, {1.0f, 0.0f, 0.0f});
+ASSERT_TRUE(v->undo());
+EXPECT_FALSE(v->unsaved());
+EXPECT_EQ(v->title(), "cloud.json - puffview");
+v->typeKey(GLFW_KEY_ESCAPE);
+EXPECT_TRUE(frame(*v));
 }
 
 TEST_F(PuffviewKeep, AKilledViewerLeavesAnAutosaveTheNextOneOffersBack) {
@@ -247,6 +270,90 @@ TEST_F(PuffviewKeep, AFailedSaveChangesNoFileAndSaysWhy) {
   EXPECT_NE(onDisk().find("cloud_ramp.png"), std::string::npos);
   EXPECT_FALSE(v->unsaved());
   EXPECT_EQ(v->status(), "saved " + file_.string());
+}
+
+// The scene file changed on disk while edits are unsaved: asked, not reloaded over them.
+TEST_F(PuffviewKeep, AChangeOnDiskDoesNotReloadOverUnsavedEdits) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  auto v = open();
+  ASSERT_TRUE(v);
+  edit(*v, {0.5f, 0.25f, 0.0f});
+  frame(*v);
+  ASSERT_TRUE(fs::exists(v->autosavePath()));
+  auto rewrite = [&](const std::string& background) {
+    const auto before = fs::last_write_time(file_);
+    std::string text = onDisk();
+    text.replace(text.find("#ffffff"), 7, background);
+    std::ofstream(file_, std::ios::trunc) << text;
+    fs::last_write_time(file_, before + std::chrono::seconds(1));
+  };
+  rewrite("#00ff00");
+  v->checkFiles();
+  EXPECT_TRUE(v->diskChangePrompt());
+  EXPECT_EQ(v->scene().background, glm::vec3(0.5f, 0.25f, 0.0f)) << "the edits stay";
+  EXPECT_TRUE(fs::exists(v->autosavePath())) << "and are still kept";
+  v->answerDiskChange(false);
+  EXPECT_FALSE(v->diskChangePrompt());
+  EXPECT_TRUE(v->unsaved());
+  // Reload it instead: the file's scene, the edits one undo away.
+  edit(*v, {0.25f, 0.25f, 0.25f});
+  const std::string green = onDisk();
+  std::ofstream(file_, std::ios::trunc) << green;
+  fs::last_write_time(file_, fs::last_write_time(file_) + std::chrono::seconds(2));
+  v->checkFiles();
+  ASSERT_TRUE(v->diskChangePrompt());
+  v->answerDiskChange(true);
+  EXPECT_EQ(v->scene().background, glm::vec3(0.0f, 1.0f, 0.0f));
+  EXPECT_FALSE(v->unsaved());
+  ASSERT_TRUE(v->undo());
+  EXPECT_EQ(v->scene().background, glm::vec3(0.25f, 0.25f, 0.25f));
+
+  // Save as: the edits kept under the old name are saved, and their autosave goes.
+  frame(*v);
+  const fs::path kept = v->autosavePath();
+  ASSERT_TRUE(fs::exists(kept));
+  ASSERT_OK(v->save(dir_ / "copy.json"));
+  EXPECT_FALSE(fs::exists(kept));
+  EXPECT_FALSE(fs::exists(v->autosavePath()));
+}
+
+// The panel never holds what the file would refuse: such an edit is not applied, the scene goes
+// back, and the window says why.
+TEST_F(PuffviewKeep, AnEditTheFileWouldRefuseChangesNothing) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  std::ofstream(file_) << R"({"output": {"width": 96, "height": 72, "background": "#ffffff"},
+    "media": {"style": "cartoon", "particles": [{"position": [0, 0, 0], "radius": 1, "material": "fire"}]}})";
+  auto v = open(3600.0);
+  ASSERT_TRUE(v);
+  edit(*v, {0.5f, 0.25f, 0.0f});
+  const puff::scene::Scene before = v->scene();
+  struct Case {
+    const char* what;
+    std::function<void(puff::scene::Scene&)> change;
+    std::string error;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"motion blur on cartoon media", [](auto& s) { s.media->motionBlurFrames = 2; },
+            "/media/motionBlur: motion blur blends whole frames"},
+           {"a negative outline", [](auto& s) { s.style.outlineWidth = -2.0f; }, "/style/outlineWidth: expected"},
+           {"a loop with an orbit", [](auto& s) { s.animation.period = 24, s.animation.orbitDegreesPerSecond = 5.0f; },
+            "/animation/orbit: a camera that orbits"},
+       }) {
+    SCOPED_TRACE(c.what);
+    v->beginEdit();
+    c.change(v->scene());
+    auto refused = v->applyEdit();
+    v->endEdit();
+    ASSERT_FALSE(refused);
+    EXPECT_NE(v->editError().find(c.error), std::string::npos) << v->editError();
+    EXPECT_TRUE(v->scene() == before) << "the scene is as it was before the edit";
+    frame(*v);
+    // The next edit the file takes clears the error.
+    edit(*v, {0.5f, 0.25f, 0.0f});
+    EXPECT_EQ(v->editError(), "");
+  }
+  EXPECT_TRUE(v->save());
+  EXPECT_EQ(puff::scene::loadScene(file_, PUFF_ART_DIR)->media->motionBlurFrames, 0);
 }
 
 }  // namespace

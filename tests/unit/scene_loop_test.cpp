@@ -43,6 +43,15 @@ TEST(SceneLoop, ThePeriodIsReadCheckedAndWritten) {
   EXPECT_EQ(s->animation.period, 24);
   EXPECT_EQ(toJson(*s)["animation"]["period"], 24);
   EXPECT_TRUE(sceneWarnings(*s).empty()) << "a loop fills its own preroll";
+  // A loop that may reach its budget: 40 births a second living 1.5 s in a 1 s loop hold up to
+  // 40 x 2 = 80 puffs.
+  s->simulation->maxParticles = 79;
+  ASSERT_EQ(sceneWarnings(*s).size(), 1u);
+  EXPECT_EQ(sceneWarnings(*s)[0],
+            "/simulation/maxParticles: the loop's emitters may hold up to 80 particles at once, more than this "
+            "budget (79): the births it drops fall differently each period, so the loop does not repeat");
+  s->simulation->maxParticles = 80;
+  EXPECT_TRUE(sceneWarnings(*s).empty());
   auto j = loop();
   j["animation"]["period"] = -1;
   EXPECT_EQ(refusal(j), "loop.json: /animation/period: expected an integer in [0, 100000], got -1");
@@ -101,6 +110,8 @@ TEST(SceneLoop, WhatDoesNotRepeatIsNamed) {
   EXPECT_FLOAT_EQ(loopDetailSpeed(7.0f, 1.0, 16), 0.0f);
   EXPECT_FLOAT_EQ(loopDetailSpeed(16.0f, 2.0, 16), 16.0f);
   EXPECT_FLOAT_EQ(loopDetailSpeed(8.0f, 0.0, 16), 8.0f) << "no loop";
+  EXPECT_FLOAT_EQ(loopDetailSpeed(1000.0f, 1.0, 64), 960.0f) << "16 plays would pass the limit: 15";
+  EXPECT_LE(loopDetailSpeed(media::kMaxDetailSpeed, 1.0, 64), media::kMaxDetailSpeed);
 }
 
 // The period reaches both simulators: frame f + period holds frame f's particles and media.

@@ -33,6 +33,17 @@ Scene parseOk(const std::string& text) {
 // (GeneratedScenesSetEveryWrittenFieldAwayFromItsDefault checks that, field by field). Fields that
 // exclude each other get a second scene: the first is opaque, with a plate and cartoon media; the
 // second transparent, with an alpha mode and photoreal media with motion blur.
+// A loop (animation.period): nothing in it moves but the simulated smoke, so it cannot be the scenes
+// below, which move everything.
+json loopWithEveryField() {
+  return json::parse(R"({
+    "atlas": "a.json",
+    "particles": [{"position": [0, 1, 0], "oriented": true, "orientation": {"axis": [0, 0, 1], "degrees": 90}}],
+    "animation": {"fps": 30, "frames": 60, "period": 30},
+    "simulation": {"emitters": [{"rate": 12, "lifetime": 1.5, "velocity": [0, 1, 0]}]}
+  })");
+}
+
 std::vector<json> scenesWithEveryField() {
   const json opaque = json::parse(R"({
     "output": {"width": 321, "height": 123, "samples": 2, "background": [0.1, 0.2, 0.3], "plate": "plate.png",
@@ -133,14 +144,7 @@ std::vector<json> scenesWithEveryField() {
   // Cartoon media refuse motion blur.
   transparent["media"]["style"] = "photoreal";
   transparent["media"]["motionBlur"]["frames"] = 3;
-  // A loop: nothing in it moves but the simulated smoke.
-  const json loop = json::parse(R"({
-    "atlas": "a.json",
-    "particles": [{"position": [0, 1, 0], "oriented": true, "orientation": {"axis": [0, 0, 1], "degrees": 90}}],
-    "animation": {"fps": 30, "frames": 60, "period": 30},
-    "simulation": {"emitters": [{"rate": 12, "lifetime": 1.5, "velocity": [0, 1, 0]}]}
-  })");
-  return {opaque, transparent, loop};
+  return {opaque, transparent, loopWithEveryField()};
 }
 
 // What the writer writes for a scene of defaults: toJson of a minimal scene in which every optional

@@ -448,8 +448,8 @@ std::variant<Options, int> parse(int argc, char** argv) {
                  "Render the scene as a loop of N frames (replacing /animation/period; 0: none): the simulators' "
                  "emitters repeat every N frames and frame 0 starts in the loop, so frame f + N is frame f. A "
                  "--flipbook of a loop holds whole periods (without --frames: frames 0 to N-1) and loops without "
-                 "cross-fading. Refused, naming it, when something in the scene does not repeat (a camera that "
-                 "moves, an object or emitter on a path...)")
+                 "cross-fading. Refused, naming it, when something in the scene does not repeat "
+                 "(docs/simulation.md, \"Loops\", lists what)")
       ->check(CLI::Range(0, sim::kMaxPeriod))
       ->type_name("N");
   addFlipbookSheetOptions(app, o);
@@ -486,9 +486,8 @@ namespace {
 
 // Whether the scene draws ink lines: outlined puffs, or cartoon media.
 bool drawsInk(const scene::Scene& s) {
-  const bool puffs = !s.particles.empty() || !s.emitters.empty() || (s.simulation && !s.simulation->emitters.empty());
   const bool outlined = s.style.outlines && s.style.outlineWidth > 0.0f;
-  return (puffs && outlined) || (s.media && s.media->settings.style == media::Style::kCartoon);
+  return (scene::hasParticles(s) && outlined) || (s.media && s.media->settings.style == media::Style::kCartoon);
 }
 
 }  // namespace

@@ -154,7 +154,7 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
   PUFF_TRY_ASSIGN(v->renderer_, createRenderer(pathName, v->shown(v->scene_)));
   v->pathName_ = pathName;
   v->camera_.reset(scene::cameraAt(v->scene_, 0));
-  v->committed_ = v->scene_;
+  v->committed_ = v->applied_ = v->scene_;
   v->markSaved();
   v->showSceneWarnings("");
   v->offerAutosave();
@@ -209,6 +209,13 @@ bool Viewer::redo() {
 }
 
 Result<void> Viewer::applyEdit() {
+  if (auto ok = readerCheck(scene_); !ok) {
+    editError_ = "not applied: " + ok.error().message;
+    scene_ = applied_;
+    noteChange();
+    return Error{editError_};
+  }
+  applied_ = scene_;
   auto r = renderer_->update(shown(scene_));
   editError_ = r ? "" : r.error().message;
   noteChange();

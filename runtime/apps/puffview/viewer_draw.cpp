@@ -101,8 +101,8 @@ void Viewer::drawFrame() {
 
 void Viewer::drawUi() {
   Impl& m = *impl_;
-  m.uiDrawnLastFrame =
-      uiVisible || !fileError_.empty() || !editError_.empty() || quitPrompt_ || (autosaveOffer_ && !batch_);
+  m.uiDrawnLastFrame = uiVisible || !fileError_.empty() || !editError_.empty() || quitPrompt_ || diskPrompt_ ||
+                       (autosaveOffer_ && !batch_);
   m.uiHoldsKeys = false;
   if (!m.uiDrawnLastFrame) return;
   ImGui::SetCurrentContext(m.imgui);

@@ -122,6 +122,11 @@ fs::path Viewer::besideScene(const fs::path& target, const fs::path& image, cons
   return target.parent_path() / (target.stem().string() + suffix);
 }
 
+Result<void> Viewer::readerCheck(const scene::Scene& s) const {
+  PUFF_TRY(scene::parseScene(scene::toJson(s), s.file, options_.artDir));
+  return {};
+}
+
 Result<std::string> Viewer::sceneText(const scene::Scene& s, const fs::path& target) const {
   scene::Scene copy = s;
   copy.file = target;  // toJson writes paths relative to where the file will be
@@ -170,6 +175,7 @@ Result<fs::path> Viewer::writeScene(const fs::path& target) {
   if (auto r = tx.commit(); !r) return Error{"not saved: " + r.error().message};
   out.file = target;
   const bool moved = target != scene_.file;
+  const fs::path oldAutosave = autosavePath();
   if (out.ramp != scene_.ramp || out.ambientGradient != scene_.ambientGradient) {
     scene_.ramp = committed_.ramp = out.ramp;
     scene_.ambientGradient = committed_.ambientGradient = out.ambientGradient;
@@ -182,6 +188,10 @@ Result<fs::path> Viewer::writeScene(const fs::path& target) {
     watcher_.markSeen(target);  // our own write is not an outside change to reload
   }
   markSaved();
+  if (moved) {  // Save as: the edits kept under the old name are saved now too
+    std::error_code ec;
+    fs::remove(oldAutosave, ec);
+  }
   setStatus("saved " + target.string());
   if (!options_.quiet) std::printf("puffview: saved %s\n", target.c_str());
   return target;

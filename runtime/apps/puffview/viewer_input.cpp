@@ -146,8 +146,8 @@ void Viewer::handleInput() {
   ImGui::SetCurrentContext(m.imgui);
   const ImGuiIO& io = ImGui::GetIO();
   const bool uiMouse = m.uiDrawnLastFrame && io.WantCaptureMouse;
-  const bool uiKeys =
-      (m.uiDrawnLastFrame && (io.WantCaptureKeyboard || m.uiHoldsKeys)) || quitPrompt_ || (autosaveOffer_ && !batch_);
+  const bool uiKeys = (m.uiDrawnLastFrame && (io.WantCaptureKeyboard || m.uiHoldsKeys)) || quitPrompt_ || diskPrompt_ ||
+                      (autosaveOffer_ && !batch_);
   const double t = Impl::now();
   const float dt = static_cast<float>(std::min(0.1, t - m.lastInput));
   m.lastInput = t;

@@ -10,6 +10,8 @@
 
 #include "viewer_impl.h"
 
+#include <imgui_impl_glfw.h>
+
 namespace puff::view {
 
 namespace fs = std::filesystem;
@@ -50,8 +52,12 @@ void Viewer::keepWork() {
   // an edit the reader refuses is not kept (the last good autosave stays).
   auto text = sceneText(scene_, scene_.file);
   if (!text) return;
-  if (auto r = core::writeFileAtomic(autosavePath(), *text); !r && !options_.quiet)
-    std::fprintf(stderr, "puffview: warning: cannot write the autosave: %s\n", r.error().message.c_str());
+  if (auto r = core::writeFileAtomic(autosavePath(), *text); !r) {
+    // Said where the artist looks: these edits are kept nowhere but in this window.
+    setStatus("your edits are not being kept (Save them): cannot write the autosave: " + r.error().message);
+    if (!options_.quiet)
+      std::fprintf(stderr, "puffview: warning: cannot write the autosave: %s\n", r.error().message.c_str());
+  }
 }
 
 void Viewer::removeAutosave() {
@@ -103,7 +109,21 @@ void Viewer::adoptScratch(fs::path& image, const char* kind) {
     setStatus("the kept " + std::string(kind) + " cannot be read: " + adopted.error().message);
     return;
   }
+  // The stopped viewer's copy is ours now: removed, and its directory with the last of them.
+  std::error_code ec;
+  fs::remove(image, ec);
+  if (fs::is_empty(image.parent_path(), ec) && !ec) fs::remove(image.parent_path(), ec);
   image = *adopted;
+}
+
+void Viewer::answerDiskChange(bool reload) {
+  if (!diskPrompt_) return;
+  diskPrompt_ = false;
+  if (reload) {
+    reloadScene();
+  } else {
+    setStatus("kept your edits; Save overwrites " + scene_.file.string());
+  }
 }
 
 void Viewer::requestQuit() {
@@ -125,6 +145,7 @@ void Viewer::answerQuit(QuitAnswer answer) {
     case QuitAnswer::kDiscard:
       autosaveDue_ = -1.0;
       removeAutosave();
+      unsaved_ = false;  // nothing is kept any more: the scratch directory goes with the viewer
       break;
     case QuitAnswer::kCancel:
       return;
@@ -132,7 +153,17 @@ void Viewer::answerQuit(QuitAnswer answer) {
   glfwSetWindowShouldClose(impl_->window, GLFW_TRUE);
 }
 
-void Viewer::typeKey(int key, int mods) { impl_->keys.emplace_back(key, mods); }
+void Viewer::typeKey(int key, int mods) {
+  // Through the window's key callback, as GLFW delivers a key: Dear ImGui's, which hands it on to
+  // the viewer's (Impl::onKey).
+  ImGui::SetCurrentContext(impl_->imgui);
+  if (!impl_->imguiBackends) {
+    impl_->keys.emplace_back(key, mods);
+    return;
+  }
+  ImGui_ImplGlfw_KeyCallback(impl_->window, key, 0, GLFW_PRESS, mods);
+  ImGui_ImplGlfw_KeyCallback(impl_->window, key, 0, GLFW_RELEASE, mods);
+}
 
 void Viewer::Impl::onClose(GLFWwindow* w) {
   if (Viewer* v = of(w)) v->requestQuit();
@@ -149,8 +180,19 @@ void Viewer::drawPrompts() {
     ImGui::SameLine();
     if (ImGui::Button("Discard")) answerQuit(QuitAnswer::kDiscard);
     ImGui::SameLine();
-    if (ImGui::Button("Cancel") || ImGui::IsKeyPressed(ImGuiKey_Escape, false)) answerQuit(QuitAnswer::kCancel);
+    // Esc cancels, but not the Esc that asked to quit (the prompt's first frame sees it too).
+    const bool escape = !ImGui::IsWindowAppearing() && ImGui::IsKeyPressed(ImGuiKey_Escape, false);
+    if (ImGui::Button("Cancel") || escape) answerQuit(QuitAnswer::kCancel);
     if (!quitPrompt_) ImGui::CloseCurrentPopup();
+    ImGui::EndPopup();
+  }
+  const char* disk = "Changed on disk";
+  if (diskPrompt_ && !quitPrompt_ && !ImGui::IsPopupOpen(disk)) ImGui::OpenPopup(disk);
+  if (ImGui::BeginPopupModal(disk, nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+    ImGui::Text("%s changed on disk, and your edits to it are unsaved.", scene_.file.filename().c_str());
+    if (ImGui::Button("Reload it (undo brings your edits back)")) answerDiskChange(true);
+    if (ImGui::Button("Keep my edits (Save overwrites the file)")) answerDiskChange(false);
+    if (!diskPrompt_) ImGui::CloseCurrentPopup();
     ImGui::EndPopup();
   }
   const bool offer = autosaveOffer_ && !batch_;

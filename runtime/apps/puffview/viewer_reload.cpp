@@ -46,7 +46,12 @@ void Viewer::checkFiles() {
     for (const fs::path& p : changed) std::printf("puffview: changed: %s\n", p.c_str());
     std::fflush(stdout);
   }
-  if (sceneChanged) {
+  if (sceneChanged && unsaved_) {
+    // Not over the artist's edits: asked first (Viewer::drawPrompts).
+    diskPrompt_ = true;
+    setStatus(scene_.file.string() + " changed on disk while your edits are unsaved");
+    if (resourcesChanged) rebuildPath("changed files");
+  } else if (sceneChanged) {
     reloadScene();
     if (resourcesChanged && impl_->sceneError.empty()) rebuildPath("changed files");
   } else {
@@ -69,6 +74,7 @@ void Viewer::reloadScene() {
   endEdit();
   beginEdit();
   scene_ = std::move(*loaded);
+  applied_ = scene_;
   endEdit();
   markSaved();  // what is shown is the file
   m.sceneError.clear();

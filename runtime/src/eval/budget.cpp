@@ -113,7 +113,7 @@ Result<FrameReference> makeReference(const Scene& scene, const SceneRenderer::Me
   reference::MediaReferenceInput ri;
   ri.frame = in.frame;
   ri.particles = in.particles;
-  const std::vector<media::Material> materials = scene::linearMediaMaterials(scene);
+  const std::vector<media::Material> materials = scene::linearMediaMaterials(scene, temperature, opacity);
   ri.materials = materials;
   ri.settings = spec.settings;
   ri.temperatureDetail = temperature;

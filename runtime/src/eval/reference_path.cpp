@@ -97,7 +97,8 @@ class ReferencePath final : public render::Path {
     if (depth.size() != n) return Error{"the reference's depth does not match its viewport"};
 
     const scene::Scene& s = frame.scene;
-    const std::vector<media::Material> materials = scene::linearMediaMaterials(s);
+    const std::vector<media::Material> materials =
+        scene::linearMediaMaterials(s, temperature_ ? &*temperature_ : nullptr, opacity_ ? &*opacity_ : nullptr);
     reference::MediaReferenceInput in;
     in.frame = scene::mediaFrameFor(s, frame.inputs.camera, frame.inputs.time, vp.width, vp.height);
     in.particles = frame.inputs.media;

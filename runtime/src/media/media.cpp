@@ -164,7 +164,7 @@ Result<void> validate(const Material& m, int count) {
       {"burn", {m.burn, 0, 1}},
       {"detail", {m.detail, 0, 1}},
       {"detailWindow", {m.detailWindow, 1e-3, 1}},
-      {"detailSpeed", {m.detailSpeed, 0, 1e3}},
+      {"detailSpeed", {m.detailSpeed, 0, kMaxDetailSpeed}},
       {"shimmer", {m.shimmer, 0, 1}},
       {"transitionStart", {m.transitionStart, 0, 1}},
       {"transitionEnd", {m.transitionEnd, 0, 1}},

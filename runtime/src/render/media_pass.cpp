@@ -1,6 +1,5 @@
 #include "media_pass.h"
 
-#include <numeric>
 #include <tuple>
 
 #include <puff/core/colour.h>
@@ -28,13 +27,9 @@ Result<std::unique_ptr<MediaPass>> MediaPass::create(const scene::Scene& scene) 
     opacity = std::move(*v);
   }
   (*renderer)->setDetail(temperature ? &*temperature : nullptr, opacity ? &*opacity : nullptr);
-  std::vector<media::Material> materials = scene::linearMediaMaterials(scene);
-  if (scene.animation.period > 0) {  // the videos play whole times a loop
-    const int frames = std::lcm(temperature ? temperature->frames : 1, opacity ? opacity->frames : 1);
-    const double seconds = scene.animation.period / static_cast<double>(scene.animation.fps);
-    for (media::Material& m : materials) m.detailSpeed = scene::loopDetailSpeed(m.detailSpeed, seconds, frames);
-  }
-  if (auto ok = (*renderer)->setMaterials(std::move(materials)); !ok)
+  if (auto ok = (*renderer)->setMaterials(
+          scene::linearMediaMaterials(scene, temperature ? &*temperature : nullptr, opacity ? &*opacity : nullptr));
+      !ok)
     return Error::at(scene.file, "/media/materials: " + ok.error().message);
   if (spec.settings.style == media::Style::kCartoon) {
     auto cartoon = media::cartoonCompose(spec.settings);

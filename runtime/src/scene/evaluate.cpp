@@ -6,12 +6,14 @@
 #include <cmath>
 #include <cstdint>
 #include <numbers>
+#include <numeric>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
 #include <puff/core/colour.h>
+#include <puff/core/detail_video.h>
 #include <puff/core/random.h>
 #include <puff/scene/geometry.h>
 
@@ -293,9 +295,15 @@ cel::Camera cameraAt(const Scene& scene, int frame) {
   return c;
 }
 
-std::vector<media::Material> linearMediaMaterials(const Scene& scene) {
+std::vector<media::Material> linearMediaMaterials(const Scene& scene, const core::DetailVideo* temperature,
+                                                  const core::DetailVideo* opacity) {
   std::vector<media::Material> out = scene.media->materials;
   for (media::Material& m : out) m.color = core::srgbToLinear(m.color);
+  if (scene.animation.period > 0) {  // the videos play whole times a loop
+    const int frames = std::lcm(temperature ? temperature->frames : 1, opacity ? opacity->frames : 1);
+    const double seconds = scene.animation.period / static_cast<double>(scene.animation.fps);
+    for (media::Material& m : out) m.detailSpeed = loopDetailSpeed(m.detailSpeed, seconds, frames);
+  }
   return out;
 }
 

@@ -85,7 +85,11 @@ std::optional<std::string> simulationRefusal(const Scene& s) {
 
 float loopDetailSpeed(float speed, double periodSeconds, int videoFrames) {
   if (!(periodSeconds > 0.0) || videoFrames < 1) return speed;
-  const double plays = std::round(speed * periodSeconds / videoFrames);
+  // Rounded to the nearest whole number of plays, or down where that would pass the most a material
+  // may play (media::Material::detailSpeed's limit).
+  double plays = std::round(speed * periodSeconds / videoFrames);
+  if (plays * videoFrames / periodSeconds > media::kMaxDetailSpeed)
+    plays = std::floor(speed * periodSeconds / videoFrames);
   return static_cast<float>(plays * videoFrames / periodSeconds);
 }
 

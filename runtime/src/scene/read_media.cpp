@@ -47,7 +47,8 @@ media::Material readMaterial(const json& j, const std::string& ptr, std::vector<
   if (auto* v = find(j, "burn")) m.burn = readFloat(*v, child(ptr, "burn"), kUnit);
   if (auto* v = find(j, "detail")) m.detail = readFloat(*v, child(ptr, "detail"), kUnit);
   if (auto* v = find(j, "detailWindow")) m.detailWindow = readFloat(*v, child(ptr, "detailWindow"), Range{1e-3, 1.0});
-  if (auto* v = find(j, "detailSpeed")) m.detailSpeed = readFloat(*v, child(ptr, "detailSpeed"), Range{0.0, 1e3});
+  if (auto* v = find(j, "detailSpeed"))
+    m.detailSpeed = readFloat(*v, child(ptr, "detailSpeed"), Range{0.0, media::kMaxDetailSpeed});
   if (auto* v = find(j, "shimmer")) m.shimmer = readFloat(*v, child(ptr, "shimmer"), kUnit);
   if (auto* v = find(j, "transitionStart")) m.transitionStart = readFloat(*v, child(ptr, "transitionStart"), kUnit);
   if (auto* v = find(j, "transitionEnd")) m.transitionEnd = readFloat(*v, child(ptr, "transitionEnd"), kUnit);

@@ -22,20 +22,46 @@ void prerollFillsNothing(const char* ptr, float preroll, const Emitters& emitter
                 core::numberText(preroll) + ")");
 }
 
+// A loop that may reach its particle budget: the births dropped differ from period to period.
+void loopOverBudget(const char* ptr, const sim::Settings& settings, std::vector<std::string>& out) {
+  const std::size_t peak = sim::loopPeakParticles(settings);
+  if (peak <= settings.maxParticles) return;
+  out.push_back(std::string(ptr) + ": the loop's emitters may hold up to " + std::to_string(peak) +
+                " particles at once, more than this budget (" + std::to_string(settings.maxParticles) +
+                "): the births it drops fall differently each period, so the loop does not repeat");
+}
+
 }  // namespace
 
 std::vector<std::string> sceneWarnings(const Scene& scene) {
   std::vector<std::string> out;
-  if (scene.animation.period > 0) return out;  // a loop fills its own preroll
+  const bool loop = scene.animation.period > 0;  // a loop fills its own preroll
+  auto media = [&] {
+    sim::Settings m;
+    m.fps = scene.animation.fps;
+    m.period = scene.animation.period;
+    m.maxParticles = scene.media->maxParticles;
+    for (const MediaEmitterSpec& e : scene.media->emitters) m.emitters.push_back(e.emitter);
+    return m;
+  };
   if (scene.simulation) {
-    prerollFillsNothing(
-        "/simulation/preroll", scene.simulation->preroll, scene.simulation->emitters,
-        [](const sim::Emitter& e) { return e.start; }, out);
+    if (!loop) {
+      prerollFillsNothing(
+          "/simulation/preroll", scene.simulation->preroll, scene.simulation->emitters,
+          [](const sim::Emitter& e) { return e.start; }, out);
+    }
+    sim::Settings s = *scene.simulation;
+    s.fps = scene.animation.fps;
+    s.period = scene.animation.period;
+    loopOverBudget("/simulation/maxParticles", s, out);
   }
   if (scene.media) {
-    prerollFillsNothing(
-        "/media/preroll", scene.media->preroll, scene.media->emitters,
-        [](const MediaEmitterSpec& e) { return e.emitter.start; }, out);
+    if (!loop) {
+      prerollFillsNothing(
+          "/media/preroll", scene.media->preroll, scene.media->emitters,
+          [](const MediaEmitterSpec& e) { return e.emitter.start; }, out);
+    }
+    loopOverBudget("/media/maxParticles", media(), out);
   }
   return out;
 }

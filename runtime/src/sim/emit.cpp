@@ -107,8 +107,8 @@ struct Schedule {
     if (s.period > 0) {
       loop = detail::loopBirths(e, s.period / static_cast<double>(s.fps));
       periodSteps = static_cast<std::int64_t>(s.period) * s.substeps;
-      const double first = start / h;
-      phase = first - std::floor(first / static_cast<double>(periodSteps)) * static_cast<double>(periodSteps);
+      phase = std::fmod(start / h, static_cast<double>(periodSteps));  // exact, however far `start` lies
+      if (phase < 0.0) phase += static_cast<double>(periodSteps);
       spacing = loop->window / h / static_cast<double>(loop->perPeriod);
     }
   }
@@ -156,10 +156,10 @@ void Simulator::Impl::spawn(std::int64_t b0, StepStats& st) {
     std::int64_t k0 = births.before(b0);
     const std::int64_t k1 = births.before(b0 + 1);
     // Births before the step's end less the longest lifetime die inside this step: skip them
-    // without a loop (a huge rate with short lives must not cost a loop over every birth).
-    const double longest = detail::longestLife(e);
-    k0 = std::max(k0, births.loop ? births.before(b0 + 1 - static_cast<std::int64_t>(std::ceil(longest / h)))
-                                  : births.beforeTime(t1 - longest));
+    // without a loop (a huge rate with short lives must not cost a loop over every birth). A loop
+    // counts its births in whole steps and cannot skip part of one: a birth that dies inside its
+    // step is dropped below.
+    if (!births.loop) k0 = std::max(k0, births.beforeTime(t1 - detail::longestLife(e)));
     for (std::int64_t k = k0; k < k1; ++k) {
       if (size() >= s.maxParticles) {
         st.dropped += static_cast<std::size_t>(k1 - k);

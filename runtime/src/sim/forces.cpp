@@ -251,9 +251,11 @@ std::vector<LiveVortex> Simulator::Impl::liveVortices(double t) const {
 }
 
 float Simulator::Impl::turbulenceInvTile() const { return 1.0f / (s.forces.turbulence.scale * kCellsPerTile); }
-glm::vec3 Simulator::Impl::turbulenceOffset(double t) const {
-  if (s.period > 0) {  // a whole number of tiles a period: the same offset at t and t + period
-    const double turns = t / loopSeconds(), phase = turns - std::floor(turns);
+glm::vec3 Simulator::Impl::turbulenceOffset(std::int64_t b) const {
+  const double t = static_cast<double>(b) * h;
+  if (s.period > 0) {  // a whole number of tiles a period: the same offset at b and b + a period of steps
+    const std::int64_t steps = static_cast<std::int64_t>(s.period) * s.substeps;
+    const double phase = static_cast<double>(((b % steps) + steps) % steps) / static_cast<double>(steps);
     auto at = [&](float drift) {
       const double d = drift * phase;
       return static_cast<float>(d - std::floor(d));
@@ -267,13 +269,13 @@ glm::vec3 Simulator::Impl::turbulenceOffset(double t) const {
 }
 
 // The air velocity at one point (the same sum airAll makes for every particle).
-glm::vec3 Simulator::Impl::air(const glm::vec3& p, double t, const std::vector<LiveVortex>& vortices) const {
+glm::vec3 Simulator::Impl::air(const glm::vec3& p, std::int64_t b, const std::vector<LiveVortex>& vortices) const {
   const Forces& f = s.forces;
   glm::vec3 u = f.wind;
   for (const WindVolume& w : f.windVolumes) u += w.velocity * windWeight(p, w);
   for (const LiveVortex& v : vortices) u += vortexVelocity(p, v);
   const Turbulence& tb = f.turbulence;
-  if (tb.strength > 0.0f && curl) u += tb.strength * curl->sample(p * turbulenceInvTile() + turbulenceOffset(t));
+  if (tb.strength > 0.0f && curl) u += tb.strength * curl->sample(p * turbulenceInvTile() + turbulenceOffset(b));
   return u;
 }
 

@@ -63,6 +63,7 @@ glm::vec3 Path::at(double t) const {
   if (t <= times.front()) return points.front();
   if (t >= times.back()) return points.back();
   const std::size_t i = segmentOf(times, t);
+  if (points[i - 1] == points[i]) return points[i];  // a still segment is exactly still (mix would round)
   const double t0 = times[i - 1], t1 = times[i];
   const float f = static_cast<float>(std::clamp((t - t0) / (t1 - t0), 0.0, 1.0));
   return glm::mix(points[i - 1], points[i], f);
@@ -135,7 +136,7 @@ void Simulator::Impl::advance(StepStats& st) {
   const std::size_t n = size();
   // What every particle reads, resolved once.
   stepVortices = liveVortices(t0);
-  stepTurbulenceOffset = turbulenceOffset(t0);
+  stepTurbulenceOffset = turbulenceOffset(step - prerollSteps);
   prepareColliders(t0, t1);
   ux.resize(n), uy.resize(n), uz.resize(n), radii.resize(n), keep.resize(n);
   if (!meshes.empty()) ox.resize(n), oy.resize(n), oz.resize(n);
@@ -270,9 +271,13 @@ Result<std::unique_ptr<Simulator>> Simulator::create(Settings settings, int vari
   m.variations = variations;
   m.h = 1.0 / (static_cast<double>(m.s.fps) * m.s.substeps);
   m.prerollSteps = static_cast<std::int64_t>(std::llround(m.s.preroll / m.h));
+  // Two steps more than the longest life: ages are summed in float, and one that rounds short must
+  // not leave a particle alive at frame period that frame 0 lacks.
+  constexpr std::int64_t kLoopMargin = 2;
   if (m.s.period > 0) {  // a loop starts in its steady state: every particle alive at frame 0 was born in the preroll
     for (const Emitter& e : m.s.emitters)
-      m.prerollSteps = std::max(m.prerollSteps, static_cast<std::int64_t>(std::ceil(detail::longestLife(e) / m.h)));
+      m.prerollSteps =
+          std::max(m.prerollSteps, static_cast<std::int64_t>(std::ceil(detail::longestLife(e) / m.h)) + kLoopMargin);
   }
   for (Collider& c : m.s.colliders) {
     c.rotation = glm::normalize(c.rotation);  // the box and plane use it as a rotation
@@ -362,7 +367,7 @@ ParticleState Simulator::particle(std::size_t i) const {
 
 glm::vec3 Simulator::airVelocity(const glm::vec3& p) const {
   const double t = time();
-  return impl_->air(p, t, impl_->liveVortices(t));
+  return impl_->air(p, impl_->step - impl_->prerollSteps, impl_->liveVortices(t));
 }
 
 std::size_t Simulator::liveVortices() const { return impl_->s.forces.vortices.size() + impl_->shed.size(); }

@@ -150,8 +150,9 @@ struct Simulator::Impl {
   double loopSeconds() const;  // a loop's period in seconds (Settings::period > 0)
   std::vector<detail::LiveVortex> liveVortices(double t) const;
   float turbulenceInvTile() const;
-  glm::vec3 turbulenceOffset(double t) const;
-  glm::vec3 air(const glm::vec3& p, double t, const std::vector<detail::LiveVortex>& vortices) const;
+  // At step boundary b (time b * h): a loop's offset from b modulo the period's steps, exactly.
+  glm::vec3 turbulenceOffset(std::int64_t b) const;
+  glm::vec3 air(const glm::vec3& p, std::int64_t b, const std::vector<detail::LiveVortex>& vortices) const;
   // The air at particles [begin, end) into ux/uy/uz, from stepVortices and stepTurbulenceOffset.
   void airRange(std::size_t begin, std::size_t end);
   void integrateRange(std::size_t begin, std::size_t end);

@@ -184,6 +184,17 @@ void checkLoop(Check& c, const Settings& s) {
 
 }  // namespace
 
+std::size_t loopPeakParticles(const Settings& s) {
+  if (s.period <= 0 || !(s.fps > 0.0f)) return 0;
+  const double seconds = s.period / static_cast<double>(s.fps);
+  double peak = 0.0;
+  for (const Emitter& e : s.emitters) {
+    const detail::LoopBirths b = detail::loopBirths(e, seconds);
+    peak += static_cast<double>(b.perPeriod) * std::ceil(detail::longestLife(e) / seconds);
+  }
+  return static_cast<std::size_t>(std::min(peak, 1e18));
+}
+
 Result<void> validateLoopForces(const Forces& forces, const std::string& pointer) {
   Check c;
   checkLoopForces(c, forces, pointer);

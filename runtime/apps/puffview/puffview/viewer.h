@@ -95,8 +95,12 @@ class Viewer {
   // ---- the scene ---------------------------------------------------------------------------
   /// The scene being edited. Change it, then call applyEdit().
   scene::Scene& scene() { return scene_; }
-  /// Applies scene() to the render path at once; on error the view keeps the last good state and
-  /// editError() says why (cleared by the next successful edit).
+  /// Applies scene() to the render path at once. First it is checked as the scene reader checks a
+  /// file: an edit the file would refuse (a value out of range, motion blur on cartoon media...) is
+  /// not applied, scene() goes back to the scene as last applied, and editError() says why. An edit
+  /// the reader takes but the render path cannot draw (an atlas path that names no atlas) stays in
+  /// scene(), the view keeps the last good state and editError() says why. The next successful edit
+  /// clears it.
   Result<void> applyEdit();
   /// Writes scene() as JSON (every field) to `file` (default: the scene file), with a ramp or
   /// gradient edited in the panel beside it (STEM_ramp.png, STEM_gradient.png): the scene is checked
@@ -126,6 +130,10 @@ class Viewer {
   std::filesystem::path autosavePath() const;
   bool autosaveOffered() const { return autosaveOffer_; }
   void answerAutosave(bool restore);
+  /// The scene file changed on disk while edits are unsaved: it is not reloaded over them; a prompt
+  /// asks (diskChangePrompt(); answerDiskChange: reload it, the edits one undo away, or keep them).
+  bool diskChangePrompt() const { return diskPrompt_; }
+  void answerDiskChange(bool reload);
   /// A key as if pressed (GLFW key and modifiers): what the shortcuts do with it, held from them
   /// while a popup, a prompt or a text field has the keyboard. For tests and scripted sessions.
   void typeKey(int key, int mods = 0);
@@ -235,6 +243,7 @@ class Viewer {
   static constexpr std::size_t kUndoSteps = 200;
   std::vector<scene::Scene> undo_, redo_;
   scene::Scene committed_;
+  scene::Scene applied_;  // the scene as last applied: what an edit the reader refuses goes back to
   bool editing_ = false;
   void restore(scene::Scene scene, const char* what);
   std::filesystem::path scratch_;
@@ -250,11 +259,12 @@ class Viewer {
   std::filesystem::path besideScene(const std::filesystem::path& target, const std::filesystem::path& image,
                                     const char* suffix) const;
   Result<std::string> sceneText(const scene::Scene& s, const std::filesystem::path& target) const;
+  Result<void> readerCheck(const scene::Scene& s) const;  // s as its file would be read: refused or not
   Result<std::filesystem::path> writeScene(const std::filesystem::path& target);
   // Keeping the artist's work (viewer_keep.cpp): the scene as last loaded or saved, whether scene()
   // differs from it, the title, the prompts and the autosave.
   scene::Scene saved_;
-  bool unsaved_ = false, quitPrompt_ = false, autosaveOffer_ = false, batch_ = false;
+  bool unsaved_ = false, quitPrompt_ = false, autosaveOffer_ = false, diskPrompt_ = false, batch_ = false;
   std::string title_;
   double autosaveDue_ = -1.0;  // when the autosave is to be written (GLFW seconds); < 0: none due
   void markSaved();            // scene() is the file now

@@ -51,6 +51,9 @@ std::optional<SortKey> parseSortKey(std::string_view name);  ///< view-depth, po
 /// cosine between the light's direction of travel and the scattered direction (1 = forward).
 double phase(PhaseModel model, double cosTheta, double g);
 
+/// The fastest a material's detail video may play (Material::detailSpeed), frames a second.
+inline constexpr float kMaxDetailSpeed = 1e3f;
+
 /// What one kind of particle is made of. The paper's defaults: smoke a = 0.2, tau = 0.4; dust
 /// a = 0.9, tau = 0.4; fire emits (a = 0). Every value is checked by validate().
 struct Material {
@@ -66,7 +69,7 @@ struct Material {
   float burn = 0.0f;             ///< Ilmonen's burn, [0, 1]: 0 blends as a medium, 1 adds
   float detail = 0.5f;           ///< opacity perturbation by the detail video (non-emissive), [0, 1]
   float detailWindow = 0.3f;     ///< share of the detail video's width one particle shows, (0, 1]
-  float detailSpeed = 8.0f;      ///< detail video frames per second of scene time, [0, 1e3]
+  float detailSpeed = 8.0f;      ///< detail video frames per second of scene time, [0, kMaxDetailSpeed]
   float shimmer = 0.0f;          ///< heat-shimmer weight this material writes, [0, 1] (fire: 1)
   /// Over its life a particle turns into another material (fire into smoke): between life
   /// fractions transitionStart and transitionEnd every value above is interpolated towards

@@ -21,6 +21,10 @@
 #include <puff/scene/scene.h>
 #include <puff/sim/simulator.h>
 
+namespace puff::core {
+struct DetailVideo;
+}  // namespace puff::core
+
 namespace puff::scene {
 
 /// Whether the scene has cel particles: listed, placed by emitters, or simulated.
@@ -48,10 +52,12 @@ Result<std::optional<sim::Settings>> mediaSimulationSettings(const Scene& scene,
 /// moved, spun and shrunk. Pure. Simulated particles are not included (see SceneRenderer).
 /// `variations` is the atlas's variation count (>= 1), for emitters that pick any variation.
 std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variations);
-/// The scene's media materials with their colours in scene-linear: the scene file's colours are
-/// display values (docs/colour.md), the media renderer and its references light in linear. Requires
-/// scene.media.
-std::vector<media::Material> linearMediaMaterials(const Scene& scene);
+/// The scene's media materials as they are drawn: their colours in scene-linear (the scene file's
+/// colours are display values, docs/colour.md; the media renderer and its references light in
+/// linear), and in a loop their detail speeds rounded (loopDetailSpeed) for the detail videos
+/// given (those the scene names, loaded; none: frames of one). Requires scene.media.
+std::vector<media::Material> linearMediaMaterials(const Scene& scene, const core::DetailVideo* temperature = nullptr,
+                                                  const core::DetailVideo* opacity = nullptr);
 /// What the cel and media frames share for `camera` over a width x height viewport at (0, 0):
 /// view, projection, planes, the depth convention of Puff's own renderer (kLinear, cel/frame.h
 /// says why), and the scene's light and ambient colours DECODED to scene-linear (the scene file
@@ -158,7 +164,8 @@ float loopDetailSpeed(float speed, double periodSeconds, int videoFrames);
 
 /// What `scene` holds that is valid but likely not what its author meant, one line each starting
 /// with the JSON pointer: a `preroll` that no emitter fills (every emitter starts at 0 or later; a
-/// loop fills its own).
+/// loop fills its own), and a loop whose emitters may reach the particle budget
+/// (sim::loopPeakParticles), where the births dropped would not repeat.
 /// puffrender prints them as warnings, puffview shows them.
 std::vector<std::string> sceneWarnings(const Scene& scene);
 

@@ -259,6 +259,11 @@ constexpr int kMaxThreads = 256;
 /// seconds): beyond it float arithmetic would lose the particles.
 constexpr float kMaxMagnitude = 1e6f;
 
+/// In a loop (Settings::period > 0), the most particles its emitters can hold at once: each one's
+/// births a period times the periods its longest life spans, summed. 0 without a loop. Births the
+/// budget (maxParticles) drops fall differently each period, so a loop that reaches it does not repeat.
+std::size_t loopPeakParticles(const Settings& settings);
+
 /// Checks every value: "emitters/2/rate: expected a number >= 0, got -1". The pointers are
 /// relative to the Settings (a scene prefixes its own).
 Result<void> validate(const Settings& settings);
