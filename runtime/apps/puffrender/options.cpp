@@ -19,6 +19,7 @@
 #include <puff/scene/evaluate.h>
 #include <puff/scene/read.h>
 #include <puff/scene/write.h>
+#include <puff/support/json_read.h>
 #include <puff/support/text.h>
 
 #include "commands.h"
@@ -66,11 +67,15 @@ Result<void> planFrameRange(const Options& o, int frames, Plan& plan) {
 
 // --flipbook of a loop (animation.period): one period without --frames, else whole periods; no
 // cross-fade and no skipping, which would break the loop.
-Result<void> planLoopSheet(const Options& o, int period, int cells, Plan& plan) {
+Result<void> planLoopSheet(const Options& o, int period, int cells, int frames, Plan& plan) {
   const std::string loop = "the scene is a loop of " + std::to_string(period) + " frames (" +
                            (o.period ? "--period" : "/animation/period") + ")";
   if (o.loop > 0) return Error{"--loop cross-fades, and " + loop + " that repeats without one: leave --loop out"};
   if (o.skipEmpty) return Error{"--skip-empty would cut into the loop: " + loop + ", every frame of it in the sheet"};
+  if (period > frames) {
+    return Error{"the loop is longer than the scene: " + loop + ", and /animation/frames is " + std::to_string(frames) +
+                 ": give the scene at least " + std::to_string(period) + " frames"};
+  }
   if (o.frames.empty()) {
     if (period > cells) {
       return Error{"--flipbook " + o.flipbook + " holds " + std::to_string(cells) + " frames, and " + loop +
@@ -78,8 +83,8 @@ Result<void> planLoopSheet(const Options& o, int period, int cells, Plan& plan) 
     }
     plan.last = plan.first + period - 1;
   } else if (const int count = plan.last - plan.first + 1; count % period != 0) {
-    return Error{"--frames " + o.frames + " holds " + std::to_string(count) + " frames, and " + loop +
-                 ": a sheet loops when it holds whole periods"};
+    return Error{"--frames " + o.frames + " holds " + std::to_string(count) + (count == 1 ? " frame" : " frames") +
+                 ", and " + loop + ": a sheet loops when it holds whole periods"};
   }
   return {};
 }
@@ -96,7 +101,7 @@ Result<void> planFlipbook(const Options& o, const scene::Scene& scene, Plan& pla
   }
   const int period = scene.animation.period;
   if (period > 0) {
-    if (auto ok = planLoopSheet(o, period, cells, plan); !ok) return ok;
+    if (auto ok = planLoopSheet(o, period, cells, frames, plan); !ok) return ok;
   } else if (o.frames.empty()) {
     plan.last = std::min(cells + o.loop, frames) - 1;
   }
@@ -484,6 +489,18 @@ std::variant<Options, int> parse(int argc, char** argv) {
 
 namespace {
 
+// The scene file, read with --period in place of its own loop: --period 0 turns off a loop the file
+// could not hold (an orbiting camera), and what --period N cannot loop is the option's error
+// (checkLoop, after).
+Result<scene::Scene> loadSceneFile(const Options& o) {
+  if (!o.period) return scene::loadScene(o.scene, o.artDir);
+  PUFF_TRY_ASSIGN(auto j, core::jsonread::loadJsonFile(o.scene));
+  if (j.is_object()) {
+    if (auto a = j.find("animation"); a != j.end() && a->is_object()) a->erase("period");
+  }
+  return scene::parseScene(j, o.scene, o.artDir);
+}
+
 // Whether the scene draws ink lines: outlined puffs, or cartoon media.
 bool drawsInk(const scene::Scene& s) {
   const bool outlined = s.style.outlines && s.style.outlineWidth > 0.0f;
@@ -493,7 +510,7 @@ bool drawsInk(const scene::Scene& s) {
 }  // namespace
 
 int run(const Options& o) {
-  auto loaded = scene::loadScene(o.scene, o.artDir);
+  auto loaded = loadSceneFile(o);
   if (!loaded) {
     cli::printError(loaded.error());
     return 1;

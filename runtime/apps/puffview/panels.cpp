@@ -111,6 +111,12 @@ void drawPanels(Viewer& v, PanelState& state) {
   }
   ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.55f);  // room for the labels on the right
   ImGui::TextUnformatted(v.unsaved() ? (v.sceneFile().string() + " (unsaved)").c_str() : v.sceneFile().c_str());
+  // The status line (saved, not saved and why, kept edits...) where it is always in view, whole.
+  if (!v.status().empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("%s", v.status().c_str());
+    ImGui::PopStyleColor();
+  }
   ImGui::BeginDisabled(!v.canUndo());
   if (ImGui::Button("Undo")) v.undo();
   ImGui::EndDisabled();
@@ -154,7 +160,6 @@ void drawPanels(Viewer& v, PanelState& state) {
   if (!v.editError().empty()) ImGui::TextColored(kRed, "%s", v.editError().c_str());
   ImGui::Separator();
   savePanel(v, state);
-  if (!v.status().empty()) ImGui::TextDisabled("%s", v.status().c_str());
   ImGui::TextDisabled("H panels  P/F12 screenshot  F orbit/fly  C reset camera  Ctrl+Z/Y undo/redo");
   ImGui::PopItemWidth();
   ImGui::End();

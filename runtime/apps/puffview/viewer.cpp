@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 
 #include <puff/core/shader.h>
@@ -333,11 +334,24 @@ glm::ivec2 Viewer::framebufferSize() const {
 
 // ---- loops -----------------------------------------------------------------------------------
 
+namespace {
+
+// A stop asked from outside (kill, logout, Ctrl+C in the terminal): the signal's number.
+volatile std::sig_atomic_t stopSignal = 0;
+extern "C" void onStopSignal(int signal) { stopSignal = signal; }
+
+}  // namespace
+
 int Viewer::runInteractive() {
   Impl& m = *impl_;
   glfwSwapInterval(1);
   double last = Impl::now();
+  for (int s : {SIGTERM, SIGHUP, SIGINT}) std::signal(s, onStopSignal);
   while (!processEvents()) {
+    if (stopSignal != 0) {  // unsaved edits are kept at once, whatever the autosave's time
+      keepNow();
+      return 128 + stopSignal;
+    }
     if (Impl::now() - m.lastPoll >= 0.25) checkFiles();
     drawFrame();
     if (m.screenshotRequested) {

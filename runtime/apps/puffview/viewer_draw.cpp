@@ -19,6 +19,8 @@
 
 #include "viewer_impl.h"
 
+#include <imgui_internal.h>  // ClosePopupsExceptModals
+
 namespace puff::view {
 
 void Viewer::Impl::makeTarget(glm::ivec2 size, int samples, bool displayValues) {
@@ -109,6 +111,11 @@ void Viewer::drawUi() {
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGui::NewFrame();
+  // Esc closes an open popup (a colour picker, a combo), never a prompt; the viewer's own Esc is held
+  // while one is open (Impl::uiHoldsKeys).
+  if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape), false) && !quitPrompt_ && !diskPrompt_ &&
+      !autosaveOffer_)
+    ImGui::ClosePopupsExceptModals();
   if (uiVisible) drawPanels(*this, m.panels);
   drawErrorOverlay(*this);
   drawPrompts();

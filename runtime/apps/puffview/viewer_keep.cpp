@@ -10,7 +10,7 @@
 
 #include "viewer_impl.h"
 
-#include <imgui_impl_glfw.h>
+#include <backends/imgui_impl_glfw.h>
 
 namespace puff::view {
 
@@ -67,7 +67,14 @@ void Viewer::removeAutosave() {
 
 void Viewer::offerAutosave() {
   std::error_code ec;
-  if (!fs::is_regular_file(autosavePath(), ec)) return;
+  const fs::file_status kept = fs::symlink_status(autosavePath(), ec);
+  if (!fs::exists(kept)) return;
+  if (!fs::is_regular_file(fs::status(autosavePath(), ec))) {
+    setStatus(autosavePath().string() +
+              " is where puffview keeps unsaved edits, and it is not a file: nothing to restore");
+    if (!options_.quiet) std::fprintf(stderr, "puffview: warning: %s\n", status().c_str());
+    return;
+  }
   autosaveOffer_ = true;
   setStatus("unsaved edits to " + scene_.file.filename().string() + " were kept in " + autosavePath().string() +
             ": restore them or discard them");
@@ -84,6 +91,7 @@ void Viewer::answerAutosave(bool restore) {
   auto kept = scene::loadScene(autosavePath(), options_.artDir);
   if (!kept) {
     setStatus("cannot restore the kept edits (left in " + autosavePath().string() + "): " + kept.error().message);
+    if (!options_.quiet) std::fprintf(stderr, "puffview: error: %s\n", status().c_str());
     return;
   }
   kept->file = scene_.file;
@@ -153,6 +161,12 @@ void Viewer::answerQuit(QuitAnswer answer) {
   glfwSetWindowShouldClose(impl_->window, GLFW_TRUE);
 }
 
+void Viewer::keepNow() {
+  if (!unsaved_) return;
+  autosaveDue_ = 0.0;  // due at once
+  keepWork();
+}
+
 void Viewer::typeKey(int key, int mods) {
   // Through the window's key callback, as GLFW delivers a key: Dear ImGui's, which hands it on to
   // the viewer's (Impl::onKey).
@@ -181,7 +195,7 @@ void Viewer::drawPrompts() {
     if (ImGui::Button("Discard")) answerQuit(QuitAnswer::kDiscard);
     ImGui::SameLine();
     // Esc cancels, but not the Esc that asked to quit (the prompt's first frame sees it too).
-    const bool escape = !ImGui::IsWindowAppearing() && ImGui::IsKeyPressed(ImGuiKey_Escape, false);
+    const bool escape = !ImGui::IsWindowAppearing() && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape), false);
     if (ImGui::Button("Cancel") || escape) answerQuit(QuitAnswer::kCancel);
     if (!quitPrompt_) ImGui::CloseCurrentPopup();
     ImGui::EndPopup();

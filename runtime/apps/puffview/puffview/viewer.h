@@ -67,8 +67,10 @@ class Viewer {
   Viewer& operator=(const Viewer&) = delete;
 
   // ---- the loops ---------------------------------------------------------------------------
-  /// Runs until the window is closed (or Esc); the frame advances with the wall clock at the
-  /// scene's fps while playing. Returns the exit code.
+  /// Runs until the window is closed (or Esc, asking first when edits are unsaved); the frame
+  /// advances with the wall clock at the scene's fps while playing. SIGTERM, SIGHUP or SIGINT stop
+  /// it too, after writing the autosave of unsaved edits at once. Returns the exit code (128 + the
+  /// signal's number after a signal).
   int runInteractive();
   /// Shows frames first .. last, one per displayed frame (no wall clock: the same every run). After
   /// drawing frame f it saves the window as drawn to screenshotFor(f) when that is not empty, and
@@ -270,6 +272,7 @@ class Viewer {
   void markSaved();            // scene() is the file now
   void noteChange();           // after scene() changed: unsaved, the title, the autosave's time
   void keepWork();             // each displayed frame: writes the autosave when due
+  void keepNow();              // a stop asked by a signal: the autosave now, whatever its time
   void removeAutosave();
   void offerAutosave();  // at open: an autosave beside the scene is offered
   void adoptScratch(std::filesystem::path& image, const char* kind);  // another viewer's scratch image into ours
