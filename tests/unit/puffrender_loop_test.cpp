@@ -187,6 +187,8 @@ TEST_F(PuffrenderCli, ALoopRefusesWhatWouldBreakItAndWritesNothing) {
             "--frames 0-17 holds 18 frames, and the scene is a loop of 12 frames (--period): a sheet loops when it "
             "holds whole periods"},
            {"--period -1", "--period: Value -1 not in range"},
+           {"--period 60 --flipbook 8x8",
+            "the loop is longer than the scene: the scene is a loop of 60 frames (--period), and /animation/frames is 48"},
        }) {
     SCOPED_TRACE(c.args);
     const CliRun r = run(scene.string() + art + " " + c.args + out);
@@ -211,6 +213,10 @@ TEST_F(PuffrenderCli, ALoopRefusesWhatWouldBreakItAndWritesNothing) {
   const CliRun fromFile = run(inFile.string() + art + out);
   EXPECT_EQ(fromFile.exitCode, 1);
   EXPECT_NE(fromFile.err.find("/animation/orbit: a camera that orbits"), std::string::npos) << fromFile.err;
+  EXPECT_TRUE(outputs().empty());
+  // --period 0 turns the file's loop off: the orbit renders.
+  const CliRun off = run(inFile.string() + art + " -q --period 0" + out);
+  EXPECT_EQ(off.exitCode, 0) << off.err;
 }
 
 }  // namespace

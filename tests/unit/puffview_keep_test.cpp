@@ -272,6 +272,28 @@ TEST_F(PuffviewKeep, AFailedSaveChangesNoFileAndSaysWhy) {
   EXPECT_EQ(v->status(), "saved " + file_.string());
 }
 
+// A kept autosave the reader refuses is not restored, says why, and stays for the artist to look at.
+TEST_F(PuffviewKeep, AKeptAutosaveThatDoesNotLoadSaysWhy) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const fs::path kept = dir_ / ".cloud.json.puffview-autosave";
+  std::ofstream(kept) << R"({"style": {"outlineWidth": -7}})";
+  auto v = open();
+  ASSERT_TRUE(v);
+  ASSERT_TRUE(v->autosaveOffered());
+  v->answerAutosave(true);
+  EXPECT_NE(v->status().find("cannot restore the kept edits"), std::string::npos) << v->status();
+  EXPECT_NE(v->status().find("/style/outlineWidth"), std::string::npos) << v->status();
+  EXPECT_FALSE(v->unsaved());
+  EXPECT_TRUE(fs::exists(kept));
+  v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
+  fs::remove(kept);
+  fs::create_directories(kept);
+  v = open();
+  ASSERT_TRUE(v);
+  EXPECT_FALSE(v->autosaveOffered());
+  EXPECT_NE(v->status().find("it is not a file"), std::string::npos) << v->status();
+}
+
 // The scene file changed on disk while edits are unsaved: asked, not reloaded over them.
 TEST_F(PuffviewKeep, AChangeOnDiskDoesNotReloadOverUnsavedEdits) {
   PUFFVIEW_NEEDS_DISPLAY();
