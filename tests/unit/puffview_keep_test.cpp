@@ -106,55 +106,53 @@ TEST_F(PuffviewKeep, QuittingWithUnsavedEditsAsksFirst) {
   // Esc in the prompt cancels it (the Esc that opened it does not).
   v->typeKey(GLFW_KEY_ESCAPE);
   frame(*v);
+  frame(*v);  // the key up again
   ASSERT_TRUE(v->quitPromptOpen());
   v->typeKey(GLFW_KEY_ESCAPE);
   EXPECT_FALSE(frame(*v));
   EXPECT_FALSE(v->quitPromptOpen());
   frame(*v);
-  {}
-}
-EXPECT_EQ(onDisk(), original);
-// Discard: the file as it was, no autosave left, and the scratch directory (an edited ramp) goes
-// with the viewer.
-puff::view::RampBands red;
-red.starts = {0.0f};
-red.colors = {{1.0f, 0.0f, 0.0f}};
-v->beginEdit();
-ASSERT_OK(v->setRamp(puff::view::rampImage(red)));
-v->endEdit();
-const fs::path scratch = v->scratchDir();
-v->requestQuit();  // what the window's close button does
-EXPECT_TRUE(v->quitPromptOpen());
-v->answerQuit(Viewer::QuitAnswer::kDiscard);
-EXPECT_TRUE(frame(*v));
-EXPECT_EQ(onDisk(), original);
-EXPECT_FALSE(fs::exists(v->autosavePath()));
-v.reset();
-EXPECT_FALSE(fs::exists(scratch));
+  EXPECT_EQ(onDisk(), original);
+  // Discard: the file as it was, no autosave left, and the scratch directory (an edited ramp) goes
+  // with the viewer.
+  puff::view::RampBands red;
+  red.starts = {0.0f};
+  red.colors = {{1.0f, 0.0f, 0.0f}};
+  v->beginEdit();
+  ASSERT_OK(v->setRamp(puff::view::rampImage(red)));
+  v->endEdit();
+  const fs::path scratch = v->scratchDir();
+  v->requestQuit();  // what the window's close button does
+  EXPECT_TRUE(v->quitPromptOpen());
+  v->answerQuit(Viewer::QuitAnswer::kDiscard);
+  EXPECT_TRUE(frame(*v));
+  EXPECT_EQ(onDisk(), original);
+  EXPECT_FALSE(fs::exists(v->autosavePath()));
+  v.reset();
+  EXPECT_FALSE(fs::exists(scratch));
 
-// Save: the file has the edit, then the viewer closes.
-v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
-v = open();
-ASSERT_TRUE(v);
-edit(*v, {0.0f, 0.5f, 1.0f});
-v->requestQuit();
-v->answerQuit(Viewer::QuitAnswer::kSave);
-EXPECT_TRUE(frame(*v));
-auto saved = puff::scene::loadScene(file_, PUFF_ART_DIR);
-ASSERT_OK(saved);
-EXPECT_EQ(saved->background, glm::vec3(0.0f, 0.5f, 1.0f));
-EXPECT_FALSE(fs::exists(v->autosavePath()));
+  // Save: the file has the edit, then the viewer closes.
+  v = open();
+  ASSERT_TRUE(v);
+  edit(*v, {0.0f, 0.5f, 1.0f});
+  v->requestQuit();
+  v->answerQuit(Viewer::QuitAnswer::kSave);
+  EXPECT_TRUE(frame(*v));
+  auto saved = puff::scene::loadScene(file_, PUFF_ART_DIR);
+  ASSERT_OK(saved);
+  EXPECT_EQ(saved->background, glm::vec3(0.0f, 0.5f, 1.0f));
+  EXPECT_FALSE(fs::exists(v->autosavePath()));
 
-// Undone back to the file, nothing is unsaved: Esc quits at once again.
-v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
-v = open();
-ASSERT_TRUE(v);
-edit(*v, {1.0f, 0.0f, 0.0f});
-ASSERT_TRUE(v->undo());
-EXPECT_FALSE(v->unsaved());
-EXPECT_EQ(v->title(), "cloud.json - puffview");
-v->typeKey(GLFW_KEY_ESCAPE);
-EXPECT_TRUE(frame(*v));
+  // Undone back to the file, nothing is unsaved: Esc quits at once again.
+  v.reset();  // one viewer at a time: ImGui's GLFW backend reads the current context
+  v = open();
+  ASSERT_TRUE(v);
+  edit(*v, {1.0f, 0.0f, 0.0f});
+  ASSERT_TRUE(v->undo());
+  EXPECT_FALSE(v->unsaved());
+  EXPECT_EQ(v->title(), "cloud.json - puffview");
+  v->typeKey(GLFW_KEY_ESCAPE);
+  EXPECT_TRUE(frame(*v));
 }
 
 TEST_F(PuffviewKeep, AKilledViewerLeavesAnAutosaveTheNextOneOffersBack) {

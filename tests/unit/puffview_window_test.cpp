@@ -263,6 +263,8 @@ TEST_F(PuffviewWindow, UndoAndRedoTakeEditsBackAndForthWhole) {
   // A change on disk is undone like an edit; the file saved elsewhere stays the scene file.
   rewrite(file, scene("#00ff00"));
   v->checkFiles();
+  ASSERT_TRUE(v->diskChangePrompt()) << "the edits are unsaved: asked before reloading";
+  v->answerDiskChange(true);
   ASSERT_EQ(v->fileError(), "");
   EXPECT_EQ(v->scene().background, glm::vec3(0.0f, 1.0f, 0.0f));
   const fs::path copy = dir_ / "copy.json";

@@ -53,6 +53,9 @@ struct Viewer::Impl {
   std::optional<render::ViewPass> viewPass;
 
   std::vector<std::pair<int, int>> keys;  // key presses (and repeats) since the last processEvents, with modifiers
+  // Keys Viewer::typeKey pressed: since the last processEvents, and down through the frame it began
+  // (released at the next one).
+  std::vector<std::pair<int, int>> typed, typedSeen;
   double scroll = 0.0;
   double cursorX = 0.0, cursorY = 0.0;
   bool haveCursor = false;

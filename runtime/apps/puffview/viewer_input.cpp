@@ -135,6 +135,7 @@ void Viewer::Impl::drag(Viewer& v, bool uiMouse) {
 }
 
 bool Viewer::processEvents() {
+  releaseTyped();
   impl_->context->pollEvents();
   handleInput();
   keepWork();

@@ -176,7 +176,17 @@ void Viewer::typeKey(int key, int mods) {
     return;
   }
   ImGui_ImplGlfw_KeyCallback(impl_->window, key, 0, GLFW_PRESS, mods);
-  ImGui_ImplGlfw_KeyCallback(impl_->window, key, 0, GLFW_RELEASE, mods);
+  impl_->typed.emplace_back(key, mods);  // released after a frame has seen it down (releaseTyped)
+}
+
+void Viewer::releaseTyped() {
+  Impl& m = *impl_;
+  if (m.imguiBackends && !m.typedSeen.empty()) {
+    ImGui::SetCurrentContext(m.imgui);
+    for (const auto& [key, mods] : m.typedSeen) ImGui_ImplGlfw_KeyCallback(m.window, key, 0, GLFW_RELEASE, mods);
+  }
+  m.typedSeen = std::move(m.typed);  // down through the frame this call begins
+  m.typed.clear();
 }
 
 void Viewer::Impl::onClose(GLFWwindow* w) {

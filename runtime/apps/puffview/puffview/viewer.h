@@ -136,8 +136,10 @@ class Viewer {
   /// asks (diskChangePrompt(); answerDiskChange: reload it, the edits one undo away, or keep them).
   bool diskChangePrompt() const { return diskPrompt_; }
   void answerDiskChange(bool reload);
-  /// A key as if pressed (GLFW key and modifiers): what the shortcuts do with it, held from them
-  /// while a popup, a prompt or a text field has the keyboard. For tests and scripted sessions.
+  /// A key as if pressed (GLFW key and modifiers), through the window's key callbacks (Dear ImGui's
+  /// and the viewer's), and released once a whole frame has seen it down (a key typed again needs a
+  /// frame between, as Dear ImGui reads keys once a frame): what
+  /// the shortcuts and the panels do with it. For tests and scripted sessions.
   void typeKey(int key, int mods = 0);
 
   // ---- ramp and gradient editing ---------------------------------------------------------------
@@ -273,6 +275,7 @@ class Viewer {
   void noteChange();           // after scene() changed: unsaved, the title, the autosave's time
   void keepWork();             // each displayed frame: writes the autosave when due
   void keepNow();              // a stop asked by a signal: the autosave now, whatever its time
+  void releaseTyped();         // typeKey's keys up again, once a whole frame has seen them down
   void removeAutosave();
   void offerAutosave();  // at open: an autosave beside the scene is offered
   void adoptScratch(std::filesystem::path& image, const char* kind);  // another viewer's scratch image into ours
