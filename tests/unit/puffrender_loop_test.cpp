@@ -130,6 +130,15 @@ TEST_F(PuffrenderCli, APeriodicFlipbookLoopsWithoutASeamOrDoubledInk) {
         << "cell " << c << ": " << cells[c].seeThrough << " see-through ink texels";
   }
 
+  // A grid larger than the loop holds one period, its other cells empty.
+  const fs::path small = dir_ / "small.png";
+  CliRun twelve = run(scene.string() + art + " -q --period 12 --flipbook 4x4 -o " + small.string());
+  ASSERT_EQ(twelve.exitCode, 0) << twelve.err;
+  const auto smallLayout = nlohmann::json::parse(*core::readFileBytes(dir_ / "small.json"));
+  EXPECT_EQ(smallLayout["frameCount"], 12);
+  EXPECT_EQ(smallLayout["lastFrame"], 11);
+  EXPECT_EQ(smallLayout["period"], 12);
+
   // The same measure sees what a cross-fade does: its first four cells mix two frames' ink.
   const fs::path prerolled = write("prerolled.json", chimney(true));
   ASSERT_EQ(
@@ -188,7 +197,8 @@ TEST_F(PuffrenderCli, ALoopRefusesWhatWouldBreakItAndWritesNothing) {
             "holds whole periods"},
            {"--period -1", "--period: Value -1 not in range"},
            {"--period 60 --flipbook 8x8",
-            "the loop is longer than the scene: the scene is a loop of 60 frames (--period), and /animation/frames is 48"},
+            "the loop is longer than the scene: the scene is a loop of 60 frames (--period), and /animation/frames is "
+            "48"},
        }) {
     SCOPED_TRACE(c.args);
     const CliRun r = run(scene.string() + art + " " + c.args + out);

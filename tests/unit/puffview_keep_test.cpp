@@ -248,6 +248,15 @@ TEST_F(PuffviewKeep, AFailedSaveChangesNoFileAndSaysWhy) {
   EXPECT_FALSE(fs::exists(dir_ / "cloud_ramp.png"));
   EXPECT_EQ(onDisk(), original);
   ASSERT_TRUE(v->undo());
+  // A scene changed without applyEdit (a host calling the viewer's API) that the reader refuses:
+  // Save's own check finds it, and writes nothing, the ramp included.
+  v->scene().style.outlineWidth = -1.0f;
+  refused = v->save();
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().message.find("/style/outlineWidth"), std::string::npos) << refused.error().message;
+  EXPECT_FALSE(fs::exists(dir_ / "cloud_ramp.png"));
+  EXPECT_EQ(onDisk(), original);
+  v->scene().style.outlineWidth = 2.0f;
 
   // A file that cannot be written (the ramp's place is a directory): neither file changes, and the
   // viewer's scene still names its own ramp.
