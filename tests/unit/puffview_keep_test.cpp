@@ -62,6 +62,15 @@ class PuffviewKeep : public ::testing::Test {
     v.endEdit();
     ASSERT_OK(v.applyEdit());
   }
+  // An edited ramp (one red band): written to the viewer's scratch directory, named by the scene.
+  static void editRamp(Viewer& v) {
+    puff::view::RampBands red;
+    red.starts = {0.0f};
+    red.colors = {{1.0f, 0.0f, 0.0f}};
+    v.beginEdit();
+    ASSERT_OK(v.setRamp(puff::view::rampImage(red)));
+    v.endEdit();
+  }
   std::string onDisk() const { return *puff::core::readFileBytes(file_); }
 
   puff::test::ScopedTempDir dir_{"puffview-keep"};
@@ -115,12 +124,7 @@ TEST_F(PuffviewKeep, QuittingWithUnsavedEditsAsksFirst) {
   EXPECT_EQ(onDisk(), original);
   // Discard: the file as it was, no autosave left, and the scratch directory (an edited ramp) goes
   // with the viewer.
-  puff::view::RampBands red;
-  red.starts = {0.0f};
-  red.colors = {{1.0f, 0.0f, 0.0f}};
-  v->beginEdit();
-  ASSERT_OK(v->setRamp(puff::view::rampImage(red)));
-  v->endEdit();
+  editRamp(*v);
   const fs::path scratch = v->scratchDir();
   v->requestQuit();  // what the window's close button does
   EXPECT_TRUE(v->quitPromptOpen());
@@ -168,12 +172,7 @@ TEST_F(PuffviewKeep, AKilledViewerLeavesAnAutosaveTheNextOneOffersBack) {
   ASSERT_TRUE(v);
   EXPECT_FALSE(v->autosaveOffered());
   edit(*v, {0.5f, 0.25f, 0.0f});
-  puff::view::RampBands red;
-  red.starts = {0.0f};
-  red.colors = {{1.0f, 0.0f, 0.0f}};
-  v->beginEdit();
-  ASSERT_OK(v->setRamp(puff::view::rampImage(red)));
-  v->endEdit();
+  editRamp(*v);
   frame(*v);
   const fs::path kept = v->autosavePath();
   EXPECT_EQ(kept, dir_ / ".cloud.json.puffview-autosave");
@@ -228,12 +227,7 @@ TEST_F(PuffviewKeep, AFailedSaveChangesNoFileAndSaysWhy) {
   const std::string original = onDisk();
   auto v = open();
   ASSERT_TRUE(v);
-  puff::view::RampBands red;
-  red.starts = {0.0f};
-  red.colors = {{1.0f, 0.0f, 0.0f}};
-  v->beginEdit();
-  ASSERT_OK(v->setRamp(puff::view::rampImage(red)));
-  v->endEdit();
+  editRamp(*v);
   const fs::path scratchRamp = v->scene().ramp;
 
   // A scene the reader would refuse: nothing is written, the ramp beside it included.
