@@ -111,12 +111,11 @@ void drawPanels(Viewer& v, PanelState& state) {
   }
   ImGui::PushItemWidth(ImGui::GetWindowWidth() * 0.55f);  // room for the labels on the right
   ImGui::TextUnformatted(v.unsaved() ? (v.sceneFile().string() + " (unsaved)").c_str() : v.sceneFile().c_str());
-  // The status line (saved, not saved and why, kept edits...) where it is always in view, whole.
-  if (!v.status().empty()) {
-    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-    ImGui::TextWrapped("%s", v.status().c_str());
-    ImGui::PopStyleColor();
-  }
+  // The status line (saved, not saved and why, kept edits...) where it is always in view, wrapped in
+  // a box of fixed height, so a message never moves the controls under it (a longer one scrolls).
+  ImGui::BeginChild("status", ImVec2(0.0f, 2.0f * ImGui::GetTextLineHeightWithSpacing()), false);
+  ImGui::TextWrapped("%s", v.status().c_str());
+  ImGui::EndChild();
   ImGui::BeginDisabled(!v.canUndo());
   if (ImGui::Button("Undo")) v.undo();
   ImGui::EndDisabled();
