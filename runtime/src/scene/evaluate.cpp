@@ -2,6 +2,8 @@
 // settings. Pure functions of the scene and the frame number.
 #include <puff/scene/evaluate.h>
 
+#include "sim_settings.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -243,18 +245,14 @@ Result<void> addColliders(const Scene& scene, const SceneGeometry& geometry, sim
 
 }  // namespace
 
-Result<std::optional<sim::Settings>> simulationSettings(const Scene& scene, const SceneGeometry& geometry) {
-  if (!scene.simulation) return std::optional<sim::Settings>{};
+sim::Settings detail::smokeSettings(const Scene& scene) {
   sim::Settings s = *scene.simulation;
   s.fps = scene.animation.fps;
   s.period = scene.animation.period;
-  if (auto ok = addColliders(scene, geometry, s); !ok) return ok.error();
-  if (auto ok = sim::validate(s); !ok) return Error::at(scene.file, "/simulation" + ok.error().message);
-  return std::optional<sim::Settings>(std::move(s));
+  return s;
 }
 
-Result<std::optional<sim::Settings>> mediaSimulationSettings(const Scene& scene, const SceneGeometry& geometry) {
-  if (!scene.media || scene.media->emitters.empty()) return std::optional<sim::Settings>{};
+sim::Settings detail::mediaSettings(const Scene& scene) {
   const MediaSpec& m = *scene.media;
   sim::Settings s;
   s.fps = scene.animation.fps;
@@ -265,6 +263,20 @@ Result<std::optional<sim::Settings>> mediaSimulationSettings(const Scene& scene,
   s.collisionRadius = m.collisionRadius;
   s.forces = m.forces;
   for (const MediaEmitterSpec& e : m.emitters) s.emitters.push_back(e.emitter);
+  return s;
+}
+
+Result<std::optional<sim::Settings>> simulationSettings(const Scene& scene, const SceneGeometry& geometry) {
+  if (!scene.simulation) return std::optional<sim::Settings>{};
+  sim::Settings s = detail::smokeSettings(scene);
+  if (auto ok = addColliders(scene, geometry, s); !ok) return ok.error();
+  if (auto ok = sim::validate(s); !ok) return Error::at(scene.file, "/simulation" + ok.error().message);
+  return std::optional<sim::Settings>(std::move(s));
+}
+
+Result<std::optional<sim::Settings>> mediaSimulationSettings(const Scene& scene, const SceneGeometry& geometry) {
+  if (!scene.media || scene.media->emitters.empty()) return std::optional<sim::Settings>{};
+  sim::Settings s = detail::mediaSettings(scene);
   if (auto ok = addColliders(scene, geometry, s); !ok) return ok.error();
   if (auto ok = sim::validate(s); !ok) return Error::at(scene.file, "/media" + ok.error().message);
   return std::optional<sim::Settings>(std::move(s));

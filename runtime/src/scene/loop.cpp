@@ -3,6 +3,8 @@
 // detail videos play whole times a period (loopDetailSpeed).
 #include <puff/scene/evaluate.h>
 
+#include "sim_settings.h"
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -62,21 +64,15 @@ std::optional<std::string> mediaRefusal(const Scene& s) {
 
 // What the simulators refuse in a loop (emitters and vortices that move), at the scene's pointers.
 std::optional<std::string> simulationRefusal(const Scene& s) {
-  auto check = [&](sim::Settings settings, const char* ptr) -> std::optional<std::string> {
-    settings.fps = s.animation.fps;
-    settings.period = s.animation.period;
+  auto check = [&](const sim::Settings& settings, const char* ptr) -> std::optional<std::string> {
     if (auto ok = sim::validate(settings); !ok) return std::string(ptr) + ok.error().message;
     return std::nullopt;
   };
   if (s.simulation) {
-    if (auto refused = check(*s.simulation, "/simulation")) return refused;
+    if (auto refused = check(detail::smokeSettings(s), "/simulation")) return refused;
   }
   if (s.media && !s.media->emitters.empty()) {
-    sim::Settings media;
-    media.substeps = s.media->substeps;
-    media.forces = s.media->forces;
-    for (const MediaEmitterSpec& e : s.media->emitters) media.emitters.push_back(e.emitter);
-    if (auto refused = check(media, "/media")) return refused;
+    if (auto refused = check(detail::mediaSettings(s), "/media")) return refused;
   }
   return std::nullopt;
 }

@@ -2,6 +2,8 @@
 #include <puff/core/number_text.h>
 #include <puff/scene/evaluate.h>
 
+#include "sim_settings.h"
+
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -36,24 +38,13 @@ void loopOverBudget(const char* ptr, const sim::Settings& settings, std::vector<
 std::vector<std::string> sceneWarnings(const Scene& scene) {
   std::vector<std::string> out;
   const bool loop = scene.animation.period > 0;  // a loop fills its own preroll
-  auto media = [&] {
-    sim::Settings m;
-    m.fps = scene.animation.fps;
-    m.period = scene.animation.period;
-    m.maxParticles = scene.media->maxParticles;
-    for (const MediaEmitterSpec& e : scene.media->emitters) m.emitters.push_back(e.emitter);
-    return m;
-  };
   if (scene.simulation) {
     if (!loop) {
       prerollFillsNothing(
           "/simulation/preroll", scene.simulation->preroll, scene.simulation->emitters,
           [](const sim::Emitter& e) { return e.start; }, out);
     }
-    sim::Settings s = *scene.simulation;
-    s.fps = scene.animation.fps;
-    s.period = scene.animation.period;
-    loopOverBudget("/simulation/maxParticles", s, out);
+    loopOverBudget("/simulation/maxParticles", detail::smokeSettings(scene), out);
   }
   if (scene.media) {
     if (!loop) {
@@ -61,7 +52,7 @@ std::vector<std::string> sceneWarnings(const Scene& scene) {
           "/media/preroll", scene.media->preroll, scene.media->emitters,
           [](const MediaEmitterSpec& e) { return e.emitter.start; }, out);
     }
-    loopOverBudget("/media/maxParticles", media(), out);
+    loopOverBudget("/media/maxParticles", detail::mediaSettings(scene), out);
   }
   return out;
 }
