@@ -27,7 +27,7 @@
 #include "support/sphere_atlas.h"
 #include "support/temp_dir.h"
 
-namespace puff {
+namespace puff::colour_pipeline {
 namespace {
 
 using cel::Particle;
@@ -471,4 +471,4 @@ TEST_F(ColourFixedPath, AColourCurveOverLifeTintsThePuff) {
 }
 
 }  // namespace
-}  // namespace puff
+}  // namespace puff::colour_pipeline

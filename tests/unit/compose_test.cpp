@@ -24,7 +24,7 @@
 #include "support/sphere_atlas.h"
 #include "support/temp_dir.h"
 
-namespace puff {
+namespace puff::compose {
 namespace {
 
 namespace fs = std::filesystem;
@@ -324,4 +324,4 @@ TEST(SceneOutput, CompositingErrorsNameTheField) {
 }
 
 }  // namespace
-}  // namespace puff
+}  // namespace puff::compose

@@ -32,7 +32,7 @@
 #include "support/host_gl.h"
 #include "support/media_target.h"
 
-namespace puff {
+namespace puff::host_media {
 namespace {
 
 using namespace test;  // support/host_gl.h: the conventions, projections, HostTarget, program
@@ -691,4 +691,4 @@ TEST_F(HostMedia, TheClearedFarPlaneIsNoSurfaceAndNoLightTouchesIt) {
 }
 
 }  // namespace
-}  // namespace puff
+}  // namespace puff::host_media

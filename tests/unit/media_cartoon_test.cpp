@@ -28,7 +28,7 @@
 #include "support/gl_fixture.h"
 #include "support/media_target.h"
 
-namespace puff {
+namespace puff::media_cartoon {
 namespace {
 
 namespace fs = std::filesystem;
@@ -607,4 +607,4 @@ TEST(CartoonScene, StyleAndBandsReadWriteAndRefuse) {
 }
 
 }  // namespace
-}  // namespace puff
+}  // namespace puff::media_cartoon

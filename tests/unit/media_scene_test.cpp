@@ -16,7 +16,7 @@
 #include "support/display.h"
 #include "support/gl_fixture.h"
 
-namespace puff {
+namespace puff::media_scene {
 namespace {
 
 namespace fs = std::filesystem;
@@ -307,4 +307,4 @@ TEST_F(MediaScenes, BadMediaFieldsNameThePointer) {
 }
 
 }  // namespace
-}  // namespace puff
+}  // namespace puff::media_scene

@@ -24,7 +24,7 @@
 #include "support/gl_target.h"
 #include "support/linear_frame.h"
 
-namespace puff::cel {
+namespace puff::cel::opaque_volume {
 namespace {
 
 constexpr int kSize = 160;
@@ -256,4 +256,4 @@ TEST(VolumeClip, IsTheReceiversBoxOnScreenAndInDepth) {
 }
 
 }  // namespace
-}  // namespace puff::cel
+}  // namespace puff::cel::opaque_volume

@@ -25,7 +25,7 @@ namespace {
 
 class PuffrenderPaths : public PuffrenderCli {
  protected:
-  const std::string lamp = std::string(PUFF_SOURCE_DIR) + "/art/scenes/magic-lamp.json";
+  const std::string lamp = (std::filesystem::path(PUFF_SOURCE_DIR) / "art/scenes/magic-lamp.json").string();
   std::string common() const { return lamp + " --art-dir " + std::string(PUFF_ART_DIR) + " --width 160 --height 120"; }
   // Pixels that differ from the scene's background (#2a1838).
   static int smokeAndObjects(const puff::core::Image& im) {

@@ -14,6 +14,7 @@
 #include <puff/scene/read.h>
 #include <puff/scene/write.h>
 
+#include "scene_test_helpers.h"
 #include "support/assert_ok.h"
 
 namespace {
@@ -21,13 +22,8 @@ namespace {
 using nlohmann::json;
 using puff::scene::Scene;
 
-const std::filesystem::path kFile = "art/scenes/x.json";
-
-Scene parseOk(const std::string& text) {
-  auto s = puff::scene::parseScene(json::parse(text), kFile, {});
-  EXPECT_OK(s);
-  return s.ok() ? *s : Scene{};
-}
+using puff::test::kFile;
+using puff::test::parseOk;
 
 // The generated scenes: between them every field the writer writes is away from its default
 // (GeneratedScenesSetEveryWrittenFieldAwayFromItsDefault checks that, field by field). Fields that

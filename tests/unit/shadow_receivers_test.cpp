@@ -30,7 +30,7 @@
 #include "support/linear_frame.h"
 #include "support/sphere_atlas.h"
 
-namespace puff {
+namespace puff::shadow_receivers {
 namespace {
 
 constexpr int kPx = 128;
@@ -503,4 +503,4 @@ TEST(VolumeClip, TakesInThePixelsTheBoxPartlyCovers) {
 }
 
 }  // namespace
-}  // namespace puff
+}  // namespace puff::shadow_receivers

@@ -185,26 +185,38 @@ class TumbleCases : public TumbleBase {
     return (r)->renderFrame(0);
   }
 
-  // The nailboards' frame of scene `j` and the cel reference's (the meshes turned), the coverage IoU
-  // of the one against the other (the background: the reference's corner pixel).
-  static double coverageAgainstReference(const nlohmann::json& j, core::Image* drawn = nullptr) {
+  // The cel reference's frame of scene `j` (the meshes turned).
+  static std::optional<core::Image> referenceFrame(const nlohmann::json& j) {
     auto scene = scene::parseScene(j, dir_ / "case.json");
     EXPECT_OK(scene);
-    if (!scene) return 0.0;
-    auto cel = render(j);
+    if (!scene) return std::nullopt;
     auto ref = eval::createCelReference(*scene, eval::CelReferenceOptions{.supersample = 1});
-    EXPECT_OK(cel);
     EXPECT_OK(ref);
-    if (!cel || !ref) return 0.0;
-    auto refImage = (*ref)->renderFrame(0);
-    EXPECT_OK(refImage);
-    if (!refImage) return 0.0;
-    core::Image background = *refImage;
+    if (!ref) return std::nullopt;
+    auto image = (*ref)->renderFrame(0);
+    EXPECT_OK(image);
+    if (!image) return std::nullopt;
+    return std::move(*image);
+  }
+
+  // The coverage IoU of the nailboards' frame of scene `j` against `reference`, the cel reference's
+  // frame of it (referenceFrame; the background: the reference's corner pixel).
+  static double coverageAgainst(const nlohmann::json& j, const core::Image& reference, core::Image* drawn = nullptr) {
+    auto cel = render(j);
+    EXPECT_OK(cel);
+    if (!cel) return 0.0;
+    core::Image background = reference;
     for (int y = 0; y < background.height; ++y)
       for (int x = 0; x < background.width; ++x)
-        for (int c = 0; c < 4; ++c) background.at(x, y, c) = refImage->at(0, 0, c);
+        for (int c = 0; c < 4; ++c) background.at(x, y, c) = reference.at(0, 0, c);
     if (drawn) *drawn = *cel;
-    return reference::coverageIoU(*cel, *refImage, background);
+    return reference::coverageIoU(*cel, reference, background);
+  }
+
+  // The same against the reference's frame of `j` itself.
+  static double coverageAgainstReference(const nlohmann::json& j, core::Image* drawn = nullptr) {
+    const std::optional<core::Image> reference = referenceFrame(j);
+    return reference ? coverageAgainst(j, *reference, drawn) : 0.0;
   }
 
   static bool isBackground(const core::Image& im, int x, int y) {
