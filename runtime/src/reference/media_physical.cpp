@@ -30,8 +30,8 @@ using detail::Prepared;
 constexpr double kLeTableKelvin = 0.25;  // spacing of the Le(T) table used with a temperature video
 
 // One particle on one ray: its clipped chord and its state while the ray is integrated.
-struct Hit {
-  std::uint32_t k;       // index into Tracer::prepared
+struct ChordHit {
+  std::uint32_t k;       // index into PhysicalTracer::prepared
   double enter, exit;    // the chord, clipped by the near plane and the opaque surface
   double nearest;        // the ray parameter nearest the centre (the field's kink)
   double burn;           // clamped to [0, 1]
@@ -47,12 +47,12 @@ struct Hit {
 double logKeep(double b, double tau) { return b == 0.0 ? -tau : std::log(b + (1.0 - b) * std::exp(-tau)); }
 
 // One frame: its constants, its particles prepared once, then each pixel's ray.
-struct Tracer : detail::FrameConstants {
+struct PhysicalTracer : detail::FrameConstants {
   std::vector<Prepared> prepared;
   std::vector<glm::dvec3> constantLe;  // without a temperature video: Le(T0 + T1 / 2) per particle
   std::vector<glm::dvec3> leTable;     // with one: unclipped Le every kLeTableKelvin from minKelvin
 
-  explicit Tracer(const MediaReferenceInput& input) : FrameConstants(input) {}
+  explicit PhysicalTracer(const MediaReferenceInput& input) : FrameConstants(input) {}
 
   Result<void> prepare() {
     PUFF_TRY_ASSIGN(prepared, detail::prepareParticles(in, view));
@@ -98,7 +98,7 @@ struct Tracer : detail::FrameConstants {
   }
 
   // Particle hit.k's extinction (1 / world unit) and source (linear RGB radiance) at x.
-  void field(const Hit& hit, const glm::dvec3& x, double& sigma, glm::dvec3& source) const {
+  void field(const ChordHit& hit, const glm::dvec3& x, double& sigma, glm::dvec3& source) const {
     const Prepared& p = prepared[hit.k];
     const detail::Mixed& mt = p.mat;
     const glm::dvec3 rel = x - p.centre;
@@ -125,7 +125,7 @@ struct Tracer : detail::FrameConstants {
 
   // The particles the ray meets between tNear and tScene, in prepared order.
   void gatherHits(const glm::dvec3& o, const glm::dvec3& dir, double tNear, double tScene, double cosTheta,
-                  std::vector<Hit>& hits) const {
+                  std::vector<ChordHit>& hits) const {
     const double fourPi = 4.0 * std::numbers::pi;
     hits.clear();
     for (std::size_t k = 0; k < prepared.size(); ++k) {
@@ -138,7 +138,7 @@ struct Tracer : detail::FrameConstants {
       const double w = std::sqrt(p.radius * p.radius - d2);
       const double enter = std::max(-b - w, tNear), exit = std::min(-b + w, tScene);
       if (!(exit > enter)) continue;
-      Hit h{};
+      ChordHit h{};
       h.k = static_cast<std::uint32_t>(k);
       h.enter = enter;
       h.exit = exit;
@@ -154,12 +154,12 @@ struct Tracer : detail::FrameConstants {
   }
 
   // M (premultiplied radiance) and T along one ray, with Simpson panels of at most `step`.
-  void integrate(const glm::dvec3& o, const glm::dvec3& dir, std::vector<Hit>& hits, double step,
-                 std::vector<double>& cuts, std::vector<Hit*>& active, glm::dvec3& radiance,
+  void integrate(const glm::dvec3& o, const glm::dvec3& dir, std::vector<ChordHit>& hits, double step,
+                 std::vector<double>& cuts, std::vector<ChordHit*>& active, glm::dvec3& radiance,
                  double& transmittance) const {
     radiance = glm::dvec3(0.0);
     cuts.clear();
-    for (const Hit& h : hits) {
+    for (const ChordHit& h : hits) {
       cuts.push_back(h.enter);
       cuts.push_back(h.exit);
       if (h.nearest > h.enter && h.nearest < h.exit) cuts.push_back(h.nearest);
@@ -173,7 +173,7 @@ struct Tracer : detail::FrameConstants {
     for (std::size_t c = 0; c + 1 < cuts.size(); ++c) {
       const double a = cuts[c], b = cuts[c + 1];
       active.clear();
-      for (Hit& h : hits) {
+      for (ChordHit& h : hits) {
         if (!h.done && h.exit <= a) {
           h.done = true;
           passedLogKeep += logKeep(h.burn, h.tau);
@@ -189,7 +189,7 @@ struct Tracer : detail::FrameConstants {
       sourceM.resize(na);
       source1.resize(na);
       const glm::dvec3 xa = o + dir * a;
-      for (Hit* h : active) field(*h, xa, h->sigma0, h->source0);
+      for (ChordHit* h : active) field(*h, xa, h->sigma0, h->source0);
       const int panels = std::max(1, static_cast<int>(std::ceil((b - a) / step)));
       for (int q = 0; q < panels; ++q) {
         const double s0 = a + (b - a) * q / panels, s1 = q + 1 == panels ? b : a + (b - a) * (q + 1) / panels;
@@ -197,7 +197,7 @@ struct Tracer : detail::FrameConstants {
         const glm::dvec3 xm = o + dir * sm, x1 = o + dir * s1;
         double lk0 = passedLogKeep, lkM = passedLogKeep, lk1 = passedLogKeep;
         for (std::size_t j = 0; j < na; ++j) {
-          const Hit& h = *active[j];
+          const ChordHit& h = *active[j];
           field(h, xm, sigmaM[j], sourceM[j]);
           field(h, x1, sigma1[j], source1[j]);
           // The optical depth at the middle: the integral of the quadratic through the three values.
@@ -211,14 +211,14 @@ struct Tracer : detail::FrameConstants {
         // sum of log K without its own).
         glm::dvec3 f0(0.0), fM(0.0), f1(0.0);
         for (std::size_t j = 0; j < na; ++j) {
-          const Hit& h = *active[j];
+          const ChordHit& h = *active[j];
           f0 += h.sigma0 * h.source0 * std::exp(lk0 - logKeep(h.burn, h.tau) - h.tau);
           fM += sigmaM[j] * sourceM[j] * std::exp(lkM - logKeep(h.burn, tauM[j]) - tauM[j]);
           f1 += sigma1[j] * source1[j] * std::exp(lk1 - logKeep(h.burn, tau1[j]) - tau1[j]);
         }
         radiance += len / 6.0 * (f0 + 4.0 * fM + f1);
         for (std::size_t j = 0; j < na; ++j) {
-          Hit& h = *active[j];
+          ChordHit& h = *active[j];
           h.tau = tau1[j];
           h.sigma0 = sigma1[j];
           h.source0 = source1[j];
@@ -226,7 +226,7 @@ struct Tracer : detail::FrameConstants {
       }
     }
     double logT = passedLogKeep;
-    for (const Hit& h : hits)
+    for (const ChordHit& h : hits)
       if (!h.done) logT += logKeep(h.burn, h.tau);
     transmittance = std::exp(logT);
   }
@@ -234,10 +234,10 @@ struct Tracer : detail::FrameConstants {
   // One row of pixels (GL row j, 0 at the bottom) into out and layer.
   void traceRow(int j, double step, core::Image& out, core::Image* layer) const {
     const int w = f.viewport.width, h = f.viewport.height;
-    std::vector<Hit> hits;
+    std::vector<ChordHit> hits;
     hits.reserve(prepared.size());
     std::vector<double> cuts;
-    std::vector<Hit*> active;
+    std::vector<ChordHit*> active;
     for (int i = 0; i < w; ++i) {
       const std::size_t gl = static_cast<std::size_t>(j) * w + i;
       const Ray ray = detail::rayThrough(invProj, f.orthographic(), w, h, i, j);
@@ -291,7 +291,7 @@ Result<core::Image> renderMediaPhysical(const MediaReferenceInput& in, const Phy
                                         core::Image* layer, PhysicalReport* report) {
   PUFF_TRY(detail::checkInput(in));
   PUFF_TRY(checkOptions(in, options));
-  Tracer tracer(in);
+  PhysicalTracer tracer(in);
   PUFF_TRY(tracer.prepare());
   PhysicalReport r;
   core::Image out;
