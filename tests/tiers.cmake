@@ -12,7 +12,7 @@ set(PUFF_TESTS_UNIT
   frame_evaluator_test.cpp fuzz_regressions_test.cpp golden_test.cpp image_limits_test.cpp label_test.cpp
   life_curves_test.cpp media_coverage_test.cpp media_physical_test.cpp mesh_gltf_test.cpp mesh_io_test.cpp mesh_test.cpp metrics_test.cpp progress_test.cpp render_path_test.cpp
   scene_roundtrip_test.cpp
-  scene_evaluate_test.cpp scene_loop_test.cpp scene_test.cpp
+  scene_evaluate_test.cpp scene_file_edit_test.cpp scene_loop_test.cpp scene_test.cpp
   sim_forces_test.cpp sim_loop_test.cpp sim_test.cpp sim_threads_test.cpp)
 set(PUFF_TESTS_GL
   bake_atlas_test.cpp bake_lod_mips_test.cpp fixedfunc_draw_test.cpp host_layers_errors_test.cpp

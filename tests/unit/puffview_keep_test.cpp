@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include <puff/core/files.h>
 #include <puff/scene/read.h>
 #include <puffview/ramp_edit.h>
@@ -377,6 +379,69 @@ TEST_F(PuffviewKeep, AnEditTheFileWouldRefuseChangesNothing) {
   }
   EXPECT_TRUE(v->save());
   EXPECT_EQ(puff::scene::loadScene(file_, PUFF_ART_DIR)->media->motionBlurFrames, 0);
+}
+
+// A save keeps the artist's file: the value the edit changed is rewritten where it stands, and the
+// rest stays byte for byte (order, spacing, "#ffffff", defaults left out), save after save and on
+// a Save as; an edited ramp is named at the end of the file.
+TEST_F(PuffviewKeep, ASaveChangesTheFileOnlyWhereTheSceneChanged) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  const std::string original = onDisk();
+  const std::string head = original.substr(0, original.find("\"#ffffff\"")),
+                    tail = original.substr(head.size() + std::string("\"#ffffff\"").size());
+  auto v = open(3600.0);
+  ASSERT_TRUE(v);
+  // The saved text is the file's own but for the background's value, which reads back as edited.
+  auto expectOnlyTheBackground = [&](const fs::path& file, const nlohmann::json& value) {
+    const std::string saved = *puff::core::readFileBytes(file);
+    ASSERT_EQ(saved.substr(0, head.size()), head) << saved;
+    ASSERT_GE(saved.size(), head.size() + tail.size()) << saved;
+    ASSERT_EQ(saved.substr(saved.size() - tail.size()), tail) << saved;
+    EXPECT_EQ(nlohmann::json::parse(saved.substr(head.size(), saved.size() - head.size() - tail.size())), value);
+  };
+  edit(*v, {0.5f, 0.25f, 0.0f});
+  ASSERT_OK(v->save());
+  expectOnlyTheBackground(file_, {0.5, 0.25, 0});
+  edit(*v, {0.25f, 0.25f, 0.25f});
+  ASSERT_OK(v->save());
+  expectOnlyTheBackground(file_, {0.25, 0.25, 0.25});
+  fs::create_directories(dir_ / "elsewhere");
+  edit(*v, {1.0f, 0.5f, 0.0f});
+  ASSERT_OK(v->save(dir_ / "elsewhere" / "cloud.json"));
+  expectOnlyTheBackground(dir_ / "elsewhere" / "cloud.json", {1, 0.5, 0});
+  // A field the file left out comes at the end of its object, on a line of its own as the others are.
+  editRamp(*v);
+  ASSERT_OK(v->save());
+  const std::string saved = *puff::core::readFileBytes(dir_ / "elsewhere" / "cloud.json");
+  EXPECT_NE(saved.find("\"radius\": 0.7}],\n      \"ramp\": {\"image\": \"cloud_ramp.png\""), std::string::npos)
+      << saved;
+  EXPECT_EQ(puff::scene::loadScene(dir_ / "elsewhere" / "cloud.json", PUFF_ART_DIR)->ramp,
+            dir_ / "elsewhere" / "cloud_ramp.png");
+}
+
+// A field the file leaves out reads back as its default, which may follow a field the edit changed:
+// a style whose preset changed and whose shading was set back to the old preset's is saved with
+// the shading written out, so that it reads back as edited.
+TEST_F(PuffviewKeep, AFieldLeftOutIsWrittenWhereItWouldReadBackOtherwise) {
+  PUFFVIEW_NEEDS_DISPLAY();
+  std::ofstream(file_) << R"({"output": {"width": 96, "height": 72}, "atlas": "${PUFF_ART}/default/puff.json",
+  "style": {"preset": "cel"}, "particles": [{"position": [0, 0, 0], "size": 1}]})";
+  auto v = open(3600.0);
+  ASSERT_TRUE(v);
+  ASSERT_TRUE(v->scene().style.shading);
+  v->beginEdit();
+  v->scene().stylePreset = "outlines";
+  v->scene().style = *puff::scene::stylePreset("outlines");
+  v->scene().style.shading = true;
+  v->endEdit();
+  ASSERT_OK(v->applyEdit());
+  ASSERT_OK(v->save());
+  const std::string saved = onDisk();
+  EXPECT_NE(saved.find("\"style\": {\"preset\": \"outlines\", \"shading\": "), std::string::npos) << saved;
+  auto back = puff::scene::loadScene(file_, PUFF_ART_DIR);
+  ASSERT_OK(back);
+  EXPECT_TRUE(back->style.shading);
+  EXPECT_EQ(back->stylePreset, "outlines");
 }
 
 }  // namespace

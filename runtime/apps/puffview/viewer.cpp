@@ -157,6 +157,7 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
   v->camera_.reset(scene::cameraAt(v->scene_, 0));
   v->committed_ = v->applied_ = v->scene_;
   v->markSaved();
+  v->readDiskText();
   v->showSceneWarnings("");
   v->offerAutosave();
   v->watchScene();

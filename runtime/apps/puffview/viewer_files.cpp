@@ -9,6 +9,7 @@
 #include <puff/cel/frame.h>
 #include <puff/core/files.h>
 #include <puff/core/image.h>
+#include <puff/scene/file_edit.h>
 #include <puff/scene/read.h>
 #include <puff/scene/write.h>
 
@@ -127,13 +128,38 @@ Result<void> Viewer::readerCheck(const scene::Scene& s) const {
   return {};
 }
 
-Result<std::string> Viewer::sceneText(const scene::Scene& s, const fs::path& target) const {
+nlohmann::json Viewer::writtenJson(const scene::Scene& s, const fs::path& target) const {
   scene::Scene copy = s;
   copy.file = target;  // toJson writes paths relative to where the file will be
   nlohmann::json j = scene::toJson(copy);
-  if (auto check = scene::parseScene(j, target, options_.artDir); !check) return check.error();
   restoreArtPaths(j, target.parent_path(), options_.artDir);
-  return scene::jsonText(j) + "\n";
+  return j;
+}
+
+void Viewer::readDiskText() {
+  auto text = core::readFileBytes(scene_.file);
+  diskText_ = text ? *text : std::string();
+}
+
+Result<std::string> Viewer::sceneText(const scene::Scene& s, const fs::path& target) const {
+  const nlohmann::json after = writtenJson(s, target);
+  if (auto check = scene::parseScene(after, target, options_.artDir); !check) return check.error();
+  const std::string whole = scene::jsonText(after) + "\n";
+  if (diskText_.empty()) return whole;
+  // The artist's file, changed only where the scene changed. The text must read back as the scene:
+  // a field the file leaves out takes its default, which may follow a field the edit changed, so
+  // whatever reads back otherwise is written out too; text that never reads back as the scene (or
+  // a file that is not JSON) gives way to the whole scene.
+  auto kept = scene::editSceneText(diskText_, writtenJson(saved_, saved_.file), after);
+  for (int pass = 0; pass < 3 && kept; ++pass) {
+    const nlohmann::json j = nlohmann::json::parse(*kept, nullptr, false);
+    auto back = scene::parseScene(j, target, options_.artDir);
+    if (!back) break;
+    const nlohmann::json backJson = writtenJson(*back, target);
+    if (backJson == after) return *kept;
+    kept = scene::editSceneText(*kept, backJson, after);
+  }
+  return whole;
 }
 
 Result<fs::path> Viewer::save(const fs::path& file) {
@@ -173,6 +199,7 @@ Result<fs::path> Viewer::writeScene(const fs::path& target) {
   if (auto r = core::writeFileBytes(tx.stage(target), *text, target); !r)
     return Error{"not saved: " + r.error().message};
   if (auto r = tx.commit(); !r) return Error{"not saved: " + r.error().message};
+  diskText_ = *text;
   out.file = target;
   const bool moved = target != scene_.file;
   const fs::path oldAutosave = autosavePath();

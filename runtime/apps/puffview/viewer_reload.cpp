@@ -77,6 +77,7 @@ void Viewer::reloadScene() {
   applied_ = scene_;
   endEdit();
   markSaved();  // what is shown is the file
+  readDiskText();
   m.sceneError.clear();
   m.resourceError.clear();  // update() reloaded what the scene names, or nothing changed there
   fileError_.clear();

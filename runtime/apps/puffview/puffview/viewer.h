@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <glm/vec2.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <puff/core/error.h>
 #include <puff/core/image.h>
@@ -263,11 +264,17 @@ class Viewer {
   std::filesystem::path besideScene(const std::filesystem::path& target, const std::filesystem::path& image,
                                     const char* suffix) const;
   Result<std::string> sceneText(const scene::Scene& s, const std::filesystem::path& target) const;
+  /// toJson of `s` as saved to `target`: paths relative to it, the art directory's as ${PUFF_ART}.
+  nlohmann::json writtenJson(const scene::Scene& s, const std::filesystem::path& target) const;
   Result<void> readerCheck(const scene::Scene& s) const;  // s as its file would be read: refused or not
   Result<std::filesystem::path> writeScene(const std::filesystem::path& target);
   // Keeping the artist's work (viewer_keep.cpp): the scene as last loaded or saved, whether scene()
   // differs from it, the title, the prompts and the autosave.
   scene::Scene saved_;
+  // The file's text as last read or saved (empty: unreadable): a save changes it only where the
+  // scene changed since (scene::editSceneText).
+  std::string diskText_;
+  void readDiskText();
   bool unsaved_ = false, quitPrompt_ = false, autosaveOffer_ = false, diskPrompt_ = false, batch_ = false;
   std::string title_;
   double autosaveDue_ = -1.0;  // when the autosave is to be written (GLFW seconds); < 0: none due
