@@ -200,9 +200,43 @@ TEST(SceneFileEdit, AByteOrderMarkStays) {
   EXPECT_EQ(edited(text, {{"a", 1}}, {{"a", 2}}), "\xEF\xBB\xBF{\"a\": 2}");
 }
 
+// New lines end and indent as the file's do: CRLF, tabs, four spaces.
+TEST(SceneFileEdit, NewLinesEndAndIndentAsTheFilesDo) {
+  const json before = {{"l", {{"d", 1}}}}, after = {{"l", {{"d", 1}}}, {"m", {{"e", {{"f", 2}}}}}};
+  EXPECT_EQ(
+      edited("{\r\n  \"l\": {\r\n    \"d\": 1\r\n  }\r\n}", before, after),
+      "{\r\n  \"l\": {\r\n    \"d\": 1\r\n  },\r\n  \"m\": {\r\n    \"e\": {\r\n      \"f\": 2\r\n    }\r\n  }\r\n}");
+  EXPECT_EQ(edited("{\n\t\"l\": {\n\t\t\"d\": 1\n\t}\n}", before, after),
+            "{\n\t\"l\": {\n\t\t\"d\": 1\n\t},\n\t\"m\": {\n\t\t\"e\": {\n\t\t\t\"f\": 2\n\t\t}\n\t}\n}");
+  EXPECT_EQ(edited("{\n    \"l\": {\n        \"d\": 1\n    }\n}", before, after),
+            "{\n    \"l\": {\n        \"d\": 1\n    },\n    \"m\": {\n        \"e\": {\n            \"f\": 2\n"
+            "        }\n    }\n}");
+}
+
+// Runs of fields dropped from the front, the middle and the end of an object on lines of its own,
+// and every field of one: the lines go with them.
+TEST(SceneFileEdit, DroppedRunsTakeTheirLines) {
+  const std::string text = "{\n  \"a\": 1,\n  \"b\": 2,\n  \"c\": 3,\n  \"d\": 4,\n  \"e\": 5,\n  \"f\": 6\n}";
+  const json before = json::parse(text);
+  json after = before;
+  for (const char* key : {"a", "b", "d", "f"}) after.erase(key);
+  EXPECT_EQ(edited(text, before, after), "{\n  \"c\": 3,\n  \"e\": 5\n}");
+  EXPECT_EQ(edited(text, before, {{"g", 7}}), "{\n  \"g\": 7\n}");
+}
+
+// A key the writer does not write (the file's own) stays where it is.
+TEST(SceneFileEdit, AKeyTheWriterDoesNotWriteStays) {
+  EXPECT_EQ(edited(R"({"a": 1, "x": 2})", {{"a", 1}}, {{"a", 3}}), R"({"a": 3, "x": 2})");
+}
+
 TEST(SceneFileEdit, TextThatIsNotAnObjectIsRefused) {
   EXPECT_FALSE(editSceneText("[1, 2]", json::array(), json::array()).ok());
   EXPECT_FALSE(editSceneText("{\"a\": ", json::object(), json::object()).ok());
+  EXPECT_FALSE(editSceneText("{\"a\": 1e999}", json::object(), json::object()).ok()) << "a number past a double";
+  const std::string deep = "{\"a\": " + std::string(200, '[') + std::string(200, ']') + "}";
+  auto r = editSceneText(deep, json::object(), json::object());
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error().message.find("nested more than 128"), std::string::npos) << r.error().message;
 }
 
 }  // namespace

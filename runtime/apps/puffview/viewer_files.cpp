@@ -141,10 +141,11 @@ void Viewer::readDiskText() {
   diskText_ = text ? *text : std::string();
 }
 
-Result<std::string> Viewer::sceneText(const scene::Scene& s, const fs::path& target) const {
+Result<std::string> Viewer::sceneText(const scene::Scene& s, const fs::path& target, bool* wrote) const {
   const nlohmann::json after = writtenJson(s, target);
   if (auto check = scene::parseScene(after, target, options_.artDir); !check) return check.error();
   const std::string whole = scene::jsonText(after) + "\n";
+  if (wrote) *wrote = diskText_.empty();
   if (diskText_.empty()) return whole;
   // The artist's file, changed only where the scene changed. The text must read back as the scene:
   // a field the file leaves out takes its default, which may follow a field the edit changed, so
@@ -159,6 +160,7 @@ Result<std::string> Viewer::sceneText(const scene::Scene& s, const fs::path& tar
     if (backJson == after) return *kept;
     kept = scene::editSceneText(*kept, backJson, after);
   }
+  if (wrote) *wrote = true;
   return whole;
 }
 
@@ -187,7 +189,8 @@ Result<fs::path> Viewer::writeScene(const fs::path& target) {
   scene::Scene out = scene_;
   out.ramp = besideScene(target, scene_.ramp, "_ramp.png");
   out.ambientGradient = besideScene(target, scene_.ambientGradient, "_gradient.png");
-  auto text = sceneText(out, target);
+  bool wroteWhole = false;
+  auto text = sceneText(out, target, &wroteWhole);
   if (!text) return Error::at(target, "not saved: " + text.error().message);
   core::OutputTransaction tx;
   for (const auto& [from, to] : {std::pair{scene_.ramp, out.ramp}, {scene_.ambientGradient, out.ambientGradient}}) {
@@ -219,8 +222,11 @@ Result<fs::path> Viewer::writeScene(const fs::path& target) {
     std::error_code ec;
     fs::remove(oldAutosave, ec);
   }
-  setStatus("saved " + target.string());
-  if (!options_.quiet) std::printf("puffview: saved %s\n", target.c_str());
+  // The artist's own text gave way to the whole scene, one key a line: said, not done silently.
+  const std::string how =
+      wroteWhole ? " (every field, one a line: the file as last read could not take the edits in place)" : "";
+  setStatus("saved " + target.string() + how);
+  if (!options_.quiet) std::printf("puffview: saved %s%s\n", target.c_str(), how.c_str());
   return target;
 }
 

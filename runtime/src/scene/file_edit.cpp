@@ -43,7 +43,12 @@ class Scanner {
   // A UTF-8 byte order mark before the value is skipped, as the reader skips it.
   explicit Scanner(std::string_view text) : t_(text), i_(text.starts_with("\xEF\xBB\xBF") ? 3 : 0) {}
 
-  std::unique_ptr<Span> value() {
+  // Nesting deeper than this is refused before it is walked (the scene reader refuses it too).
+  static constexpr int kMaxDepth = 128;
+
+  // The value at the scanner's place; nullptr for nesting deeper than kMaxDepth.
+  std::unique_ptr<Span> value(int depth = 0) {
+    if (depth > kMaxDepth) return nullptr;
     skipSpace();
     auto span = std::make_unique<Span>();
     span->begin = i_;
@@ -57,7 +62,8 @@ class Scanner {
         m.key = key();
         skipSpace();
         ++i_;  // ':'
-        m.value = value();
+        m.value = value(depth + 1);
+        if (!m.value) return nullptr;
         span->members.push_back(std::move(m));
         skipSpace();
         if (peek() == ',') ++i_, skipSpace();
@@ -68,7 +74,8 @@ class Scanner {
       ++i_;
       skipSpace();
       while (i_ < t_.size() && peek() != ']') {
-        span->elements.push_back(value());
+        span->elements.push_back(value(depth + 1));
+        if (!span->elements.back()) return nullptr;
         skipSpace();
         if (peek() == ',') ++i_;
         skipSpace();
@@ -128,7 +135,19 @@ std::string oneLine(const json& v) {
 
 class Editor {
  public:
-  explicit Editor(std::string_view text) : t_(text) {}
+  // New lines end as the file's do (CRLF where its first line break is one) and indent by its unit
+  // (the first indented line's: a tab, or its run of spaces).
+  explicit Editor(std::string_view text) : t_(text) {
+    const std::size_t nl = text.find('\n');
+    if (nl != std::string_view::npos && nl > 0 && text[nl - 1] == '\r') newline_ = "\r\n";
+    for (std::size_t at = nl; at != std::string_view::npos; at = text.find('\n', at + 1)) {
+      std::size_t to = at + 1;
+      while (to < text.size() && (text[to] == ' ' || text[to] == '\t')) ++to;
+      if (to == at + 1) continue;
+      unit_ = text[at + 1] == '\t' ? "\t" : std::string(to - at - 1, ' ');
+      break;
+    }
+  }
 
   void change(const Span& at, const json& before, const json& after) {
     if (before == after) return;
@@ -213,7 +232,7 @@ class Editor {
     const std::string indent = lines ? indentAt(last.begin) : std::string();
     std::string text;
     for (const auto& [key, value] : added) {
-      text += lines ? ",\n" + indent : ", ";
+      text += lines ? "," + newline_ + indent : ", ";
       text += json(key).dump() + ": " + render(*value, last.begin, valueLines);
     }
     edits_.push_back({last.value->end, last.value->end, text});
@@ -230,19 +249,27 @@ class Editor {
     return std::string(t_.substr(from, to - from));
   }
 
-  // `v` as text for the place `at`: one key a line, indented as that line, or on one line.
+  // `v` as text for the place `at`: one key a line, indented as that line and by the file's unit
+  // a level (jsonText indents by two spaces), or on one line.
   std::string render(const json& v, std::size_t at, bool lines) const {
     if (!lines || !v.is_structured()) return oneLine(v);
-    const std::string indent = indentAt(at);
+    const std::string indent = indentAt(at), text = jsonText(v);
     std::string out;
-    for (const char c : jsonText(v)) {
-      out += c;
-      if (c == '\n') out += indent;
+    for (std::size_t from = 0; from <= text.size();) {
+      std::size_t nl = text.find('\n', from);
+      if (nl == std::string::npos) nl = text.size();
+      std::size_t spaces = from;
+      while (spaces < nl && text[spaces] == ' ') ++spaces;
+      if (from > 0) out += newline_ + indent;
+      for (std::size_t level = 0; level < (spaces - from) / 2; ++level) out += unit_;
+      out.append(text, spaces, nl - spaces);
+      from = nl + 1;
     }
     return out;
   }
 
   std::string_view t_;
+  std::string newline_ = "\n", unit_ = "  ";
   std::vector<Edit> edits_;
 };
 
@@ -252,11 +279,12 @@ Result<std::string> editSceneText(const std::string& text, const json& before, c
   json file;
   try {
     file = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // not JSON, or a number past a double's range
     return Error{std::string("not JSON: ") + e.what()};
   }
   if (!file.is_object()) return Error{"not a JSON object"};
   const std::unique_ptr<Span> root = Scanner(text).value();
+  if (!root) return Error{"nested more than " + std::to_string(Scanner::kMaxDepth) + " arrays and objects deep"};
   Editor editor(text);
   editor.change(*root, before, after);
   return editor.apply();

@@ -263,7 +263,9 @@ class Viewer {
   /// `image` as it is); the scene's JSON text as written to `target`, checked as the reader reads it.
   std::filesystem::path besideScene(const std::filesystem::path& target, const std::filesystem::path& image,
                                     const char* suffix) const;
-  Result<std::string> sceneText(const scene::Scene& s, const std::filesystem::path& target) const;
+  /// `wrote`, when given: whether the text is the whole scene rather than the file's own text edited.
+  Result<std::string> sceneText(const scene::Scene& s, const std::filesystem::path& target,
+                                bool* wrote = nullptr) const;
   /// toJson of `s` as saved to `target`: paths relative to it, the art directory's as ${PUFF_ART}.
   nlohmann::json writtenJson(const scene::Scene& s, const std::filesystem::path& target) const;
   Result<void> readerCheck(const scene::Scene& s) const;  // s as its file would be read: refused or not

@@ -15,8 +15,10 @@ namespace puff::scene {
 /// the file had it on one line); a field `after` has and the file leaves out (a default the edit
 /// moved, a new field) goes at the end of its object; a field `after` no longer has is taken out
 /// with its comma. Every other byte of `text` stays: the file's key order, spacing and line breaks,
-/// its spellings ("#fff" for [1, 1, 1]) and the fields it leaves at their defaults.
-/// Errors: `text` is not a JSON object.
+/// its spellings ("#fff" for [1, 1, 1]) and the fields it leaves at their defaults; new lines end
+/// and indent as the file's do.
+/// Errors: `text` is not JSON (or holds a number past a double's range), not an object, or nested
+/// more than 128 arrays and objects deep.
 Result<std::string> editSceneText(const std::string& text, const nlohmann::json& before, const nlohmann::json& after);
 
 }  // namespace puff::scene
