@@ -186,12 +186,12 @@ TEST(SceneFileEdit, ArraysChangeElementByElementOrWhole) {
 // Keys with escapes are found as the reader reads them; a repeated key is the last one, as the
 // reader keeps it; strings with brackets and commas in them are skipped whole.
 TEST(SceneFileEdit, KeysAndStringsAreReadAsTheReaderReadsThem) {
-  const std::string text = R"({"na\u006de": "a, {b}", "n": 1, "n": 2, "s": "x\"]"})";
+  const std::string text = R"({"na\u006de": "a, {b}", "s": "x\", \"]", "n": 1, "n": 2})";
   const json before = json::parse(text);
   json after = before;
   after["name"] = "c";
   after["n"] = 3;
-  EXPECT_EQ(edited(text, before, after), R"({"na\u006de": "c", "n": 1, "n": 3, "s": "x\"]"})");
+  EXPECT_EQ(edited(text, before, after), R"({"na\u006de": "c", "s": "x\", \"]", "n": 1, "n": 3})");
 }
 
 // A byte order mark stays where it is, before the object.
