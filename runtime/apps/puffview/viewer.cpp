@@ -109,12 +109,14 @@ Viewer::~Viewer() {
 }
 
 Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
-  PUFF_TRY_ASSIGN(auto loaded, scene::loadScene(options.scene, options.artDir));
+  std::string text;
+  PUFF_TRY_ASSIGN(auto loaded, scene::loadScene(options.scene, options.artDir, &text));
   if (!options.shaderDir.empty()) core::setShaderDir(options.shaderDir);
 
   std::unique_ptr<Viewer> v(new Viewer());
   v->options_ = options;
   v->scene_ = std::move(loaded);
+  v->diskText_ = std::move(text);
   v->uiVisible = options.ui;
   Impl& m = *v->impl_;
 
@@ -157,7 +159,6 @@ Result<std::unique_ptr<Viewer>> Viewer::open(const ViewerOptions& options) {
   v->camera_.reset(scene::cameraAt(v->scene_, 0));
   v->committed_ = v->applied_ = v->scene_;
   v->markSaved();
-  v->readDiskText();
   v->showSceneWarnings("");
   v->offerAutosave();
   v->watchScene();

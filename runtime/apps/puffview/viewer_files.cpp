@@ -136,11 +136,6 @@ nlohmann::json Viewer::writtenJson(const scene::Scene& s, const fs::path& target
   return j;
 }
 
-void Viewer::readDiskText() {
-  auto text = core::readFileBytes(scene_.file);
-  diskText_ = text ? *text : std::string();
-}
-
 Result<std::string> Viewer::sceneText(const scene::Scene& s, const fs::path& target, bool* wrote) const {
   const nlohmann::json after = writtenJson(s, target);
   if (auto check = scene::parseScene(after, target, options_.artDir); !check) return check.error();

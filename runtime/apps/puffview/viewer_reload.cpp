@@ -61,7 +61,8 @@ void Viewer::checkFiles() {
 
 void Viewer::reloadScene() {
   Impl& m = *impl_;
-  auto loaded = scene::loadScene(scene_.file, options_.artDir);
+  std::string text;
+  auto loaded = scene::loadScene(scene_.file, options_.artDir, &text);
   auto fail = [&](const std::string& message) {
     m.sceneError = message;
     fileError_ = m.sceneError + (m.resourceError.empty() ? "" : "\n" + m.resourceError);
@@ -77,7 +78,7 @@ void Viewer::reloadScene() {
   applied_ = scene_;
   endEdit();
   markSaved();  // what is shown is the file
-  readDiskText();
+  diskText_ = std::move(text);
   m.sceneError.clear();
   m.resourceError.clear();  // update() reloaded what the scene names, or nothing changed there
   fileError_.clear();

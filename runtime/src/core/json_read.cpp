@@ -311,6 +311,11 @@ std::string otherErrorMessage(const json::exception& e, const std::string& text)
 }  // namespace
 
 Result<json> loadJsonFile(const fs::path& file) {
+  PUFF_TRY_ASSIGN(auto text, loadJsonText(file));
+  return parseJson(text, file);
+}
+
+Result<std::string> loadJsonText(const fs::path& file) {
   std::error_code ec;
   const auto status = fs::status(file, ec);
   if (fs::is_directory(status)) return Error::at(file, "cannot read: is a directory");
@@ -327,7 +332,7 @@ Result<json> loadJsonFile(const fs::path& file) {
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) return Error::at(file, "cannot read: read error");
-  return parseJson(ss.str(), file);
+  return ss.str();
 }
 
 Result<json> parseJson(const std::string& text, const fs::path& file) {

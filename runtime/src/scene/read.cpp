@@ -537,9 +537,12 @@ Result<Scene> parseScene(const json& j, const fs::path& file, const fs::path& ar
   return detail::catchFailure(file, [&] { return detail::readScene(j, file, artDir); });
 }
 
-Result<Scene> loadScene(const fs::path& file, const fs::path& artDir) {
-  PUFF_TRY_ASSIGN(auto j, detail::loadJsonFile(file));
-  return parseScene(j, file, artDir);
+Result<Scene> loadScene(const fs::path& file, const fs::path& artDir, std::string* text) {
+  PUFF_TRY_ASSIGN(auto bytes, detail::loadJsonText(file));
+  PUFF_TRY_ASSIGN(auto j, detail::parseJson(bytes, file));
+  auto scene = parseScene(j, file, artDir);
+  if (scene && text) *text = std::move(bytes);
+  return scene;
 }
 
 }  // namespace puff::scene

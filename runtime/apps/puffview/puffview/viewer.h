@@ -273,10 +273,9 @@ class Viewer {
   // Keeping the artist's work (viewer_keep.cpp): the scene as last loaded or saved, whether scene()
   // differs from it, the title, the prompts and the autosave.
   scene::Scene saved_;
-  // The file's text as last read or saved (empty: unreadable): a save changes it only where the
-  // scene changed since (scene::editSceneText).
+  // The file's text as last read or saved: a save changes it only where the scene changed since
+  // (scene::editSceneText).
   std::string diskText_;
-  void readDiskText();
   bool unsaved_ = false, quitPrompt_ = false, autosaveOffer_ = false, diskPrompt_ = false, batch_ = false;
   std::string title_;
   double autosaveDue_ = -1.0;  // when the autosave is to be written (GLFW seconds); < 0: none due

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -15,6 +16,9 @@ namespace puff::scene {
 /// `artDir` replaces a leading "${PUFF_ART}" in paths.
 Result<Scene> parseScene(const nlohmann::json& j, const std::filesystem::path& file,
                          const std::filesystem::path& artDir = {});
-Result<Scene> loadScene(const std::filesystem::path& file, const std::filesystem::path& artDir = {});
+/// `text`, when given, receives the file's text as read, once the scene loads (what an editor saves
+/// its edits into: scene/file_edit.h).
+Result<Scene> loadScene(const std::filesystem::path& file, const std::filesystem::path& artDir = {},
+                        std::string* text = nullptr);
 
 }  // namespace puff::scene

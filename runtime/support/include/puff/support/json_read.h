@@ -117,6 +117,8 @@ auto catchFailure(const std::filesystem::path& file, Read&& read) -> Result<decl
 /// Reads and parses a JSON file. Errors: "FILE: cannot read: ..." or a syntax error at
 /// "FILE:LINE:COLUMN: ...".
 Result<json> loadJsonFile(const std::filesystem::path& file);
+/// A JSON file's text, read within loadJsonFile's limits (parseJson then parses it).
+Result<std::string> loadJsonText(const std::filesystem::path& file);
 /// Parses `text` (JSON that `file` holds, e.g. a GLB's JSON chunk) within the same limits as
 /// loadJsonFile; errors name `file` and the line and column in `text`.
 Result<json> parseJson(const std::string& text, const std::filesystem::path& file);
