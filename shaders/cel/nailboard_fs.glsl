@@ -156,14 +156,13 @@ float outlineBand(bool fromTable, bool blended, float tableDist, float trusted, 
 // An oriented puff: the hull marched (hullMarch) in place of the blend, whose depth offset and
 // silhouette distance (texels: outside, the least distance to the hull; inside, how deep the ray
 // reaches into it) replace the blend's.
-HullHit marchHull(float lod, float tpp, bool fromTable, float trusted, float wantTexels, inout float depth,
-                  inout float dist) {
+HullHit marchHull(float lod, float tpp, float wantTexels, inout float depth, inout float dist) {
   float reach = (wantTexels + tpp) / uAtlasScale.x;
 #ifdef PUFF_CASTER
-  HullHit hull = hullMarch(lod, tpp, fromTable, trusted, reach, false, false);
+  HullHit hull = hullMarch(lod, tpp, reach, false, false);
 #else
   const bool wantEdge = PUFF_SHADE_PASS != PUFF_PASS_DEPTH_ONLY, wantShade = PUFF_SHADE_PASS == PUFF_PASS_LIT;
-  HullHit hull = hullMarch(lod, tpp, fromTable, trusted, reach, wantEdge, wantShade);
+  HullHit hull = hullMarch(lod, tpp, reach, wantEdge, wantShade);
 #endif
   depth = hull.t * vNormalXf[0][2].z;
   dist = hull.hit ? min(hull.deepest * uAtlasScale.x, -1e-3) : max(hull.nearest * uAtlasScale.x, 1e-3);
@@ -228,7 +227,7 @@ NailboardFragment evaluateFragment() {
   float depth = f.views.depth, dist = f.views.dist;
 #ifdef PUFF_HULL
   f.blendDist = dist;
-  if (marched) f.hull = marchHull(lod, tpp, fromTable, trusted, wantTexels, depth, dist);
+  if (marched) f.hull = marchHull(lod, tpp, wantTexels, depth, dist);
 #endif
   float widthTexels = outlineBand(fromTable, !marched, f.views.tableDist, trusted, range, wantTexels, tpp, dist);
   f.coverage = clamp(0.5 - (dist - widthTexels) / tpp, 0.0, 1.0);

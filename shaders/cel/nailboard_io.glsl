@@ -25,15 +25,11 @@ PUFF_NB_FLAT vec4 vWeight;
 PUFF_NB_FLAT vec4 vMap[PUFF_VIEWS];       // billboard (x, y) -> cell (x, y): columns (m00, m10), (m01, m11)
 PUFF_NB_FLAT mat3 vNormalXf[PUFF_VIEWS];  // cell camera space -> camera (view) space
 #if PUFF_VIEWS == 4
-// An oriented puff's surface is found by marching its eye ray through the hull of its four views
-// (nailboard_fs.glsl, hullMarch): the billboard's right, up and normal (toward the eye) in puff
-// space, and puff space -> camera space.
+// An oriented puff's surface is found by marching its eye ray through the hull of its views
+// (cel/hull_march.glsl, hullMarch), shaded by its four nearest views (vCell): the billboard's right,
+// up and normal (toward the eye) in puff space, and puff space -> camera space.
 PUFF_NB_FLAT int vHull;
 PUFF_NB_FLAT int vHullBehind;  // a hemi-oct atlas seen from behind: some of the four cells stand for back views
-// The views nearest the billboard's right, up and the two diagonals between (every 45 degrees
-// across the eye ray): their silhouettes bound the puff's depth, and together the width the four
-// nearest views leave open (views that straddle the eye ray bound a lens wider than the puff).
-PUFF_NB_FLAT ivec4 vCellAcross;
 PUFF_NB_FLAT mat3 vBillboardPuff;
 PUFF_NB_FLAT mat3 vPuffToView;
 #endif

@@ -29,19 +29,6 @@ mat3 cellToBillboard(vec4 m) { return mat3(vec3(m.x, m.z, 0.0), vec3(m.y, m.w, 0
 // Oriented puffs at least this many pixels across (one diameter at the centre) take the hull, smaller
 // ones the blend (cel::Style::hullFromPixels; 0: all take the hull).
 uniform float uHullFromPixels;
-
-// The atlas cell whose view is nearest puff-space direction `d` (or its opposite, on a hemi-oct
-// atlas): seen across the eye ray, its silhouette bounds the puff's depth.
-int nearestView(Particle p, vec3 d) {
-  ivec4 cell;
-  vec4 weight;
-  selectViews(p, d, cell, weight);
-  int best = 0;
-  for (int k = 1; k < 4; ++k) {
-    if (weight[k] > weight[best]) best = k;
-  }
-  return cell[best];
-}
 #endif
 
 // Sets the per-particle values (vId, vSize, vTint, vTexelsPerPixel, vCell, vWeight, vMap,
@@ -67,8 +54,6 @@ float setUpParticle(uint index, Particle p, mat3 bb) {
   vNormalXf[3] = toView * cellToBillboard(vMap[3]);
 #ifndef PUFF_DEFERRED
   // (The deferred pass shades the blend only: the hull is drawn forward, nailboards.h.)
-  vCellAcross = ivec4(nearestView(p, rP), nearestView(p, uP), nearestView(p, normalize(rP + uP)),
-                      nearestView(p, normalize(rP - uP)));
   vHullBehind = 0;
   for (int k = 0; k < 4; ++k) {
     if (uAtlasLayout.w != 1 && dot(cells[cell[k]].dir.xyz, toward) < 0.0) vHullBehind = 1;

@@ -8,15 +8,14 @@
 # --groups, --samples 1 and --shader-dir itself.)
 # Variants:
 #   as-is               the shaders as they are
-#   no-screen-distance  a ray that misses takes the bounds' estimate of its distance, not the one
+#   no-screen-distance  a ray that misses takes the field's estimate of its distance, not the one
 #                       measured on the screen near the ink's outer edge (screenDistance's bisection)
-#   no-wall-depth       a ray that enters through a silhouette's wall is not followed 2 px deep (wallDepth)
-#   no-behind           seen from behind, the hit is shaded where it is (surfaceBehind)
-# and with the march's saving taken out (the variant costs more: what the saving bought):
-#   short-steps         every step the bounds' distance (sphere tracing), none longer along a view's wall
+#   no-depth-probe      a hit is not followed 2 px into the hull (hullDepth: the antialiased inner edge)
+#   no-surface          the hit is drawn where the hull is hit, not on the nearest views' fronts
+#                       (hullSurface)
 # Writes CSV (variant, then puff_gpubench's columns) to --csv FILE or stdout. Not a test.
 set -euo pipefail
-case ${1:-} in -h | --help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
+case ${1:-} in -h | --help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
 build=build
 if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then build=$(realpath -m "$1"); shift; fi
 csv=
@@ -48,12 +47,11 @@ PY
 }
 cp -r shaders "$tmp/as-is"
 variant no-screen-distance "if (ink > 0.0 && h.nearest <= reach + pixel)" "if (false)"
-variant no-wall-depth "if (wantEdge && throughWall) h.deepest" "if (false) h.deepest"
-variant no-behind "if (behind && wantShade) surfaceBehind" "if (false) surfaceBehind"
-variant short-steps "if (b[k].wallDist > keep) step" "if (false) step"
+variant no-depth-probe "if (wantEdge) h.deepest" "if (false) h.deepest"
+variant no-surface "  hullSurface(origin, tMax, eps, lod, h.t);" "  if (false) hullSurface(origin, tMax, eps, lod, h.t);"
 
 out=$tmp/out.csv
-for v in as-is no-screen-distance no-wall-depth no-behind short-steps; do
+for v in as-is no-screen-distance no-depth-probe no-surface; do
   echo "hull_costs.sh: $v" >&2
   bash "$tmp/package/gpu.sh" run --groups tumble --samples 1 --shader-dir "$tmp/$v" "${args[@]}" \
     --csv "$tmp/$v.csv" 2> >(grep -v '^puff_gpubench: ' >&2)

@@ -471,18 +471,16 @@ if [ -s "$hull_costs" ]; then
     echo
     echo "From \`$hull_costs\` (\`bash tests/bench/hull_costs.sh --reps 3 --warm-up 1 --csv FILE\`; docs/bench/README.md"
     echo "says where it ran): dust-roll's frames 30-35 at 960 x 540, MSAA 1, every puff oriented, drawn by the hull"
-    echo "with one phase of its march left out at a time, beside the blend in the same rounds, and with the march's"
-    echo "saving taken out (short-steps: every step the bounds' distance, none longer along a view's wall). Median wall"
-    echo "ms a frame (llvmpipe), and what the phase costs (the hull's frame as it is less the variant's) or what the"
-    echo "saving saves (the variant's frame less the hull's as it is, of the variant's)."
+    echo "with one phase of its march left out at a time (tests/bench/hull_costs.sh names them), beside the blend"
+    echo "in the same rounds. Median wall ms a frame (llvmpipe), and what the phase costs: the hull's frame as it is"
+    echo "less the variant's."
     echo
-    echo "| variant | hull ms | blend ms | hull / blend | the phase's share of the hull's frame, or the saving's |"
+    echo "| variant | hull ms | blend ms | hull / blend | the phase's share of the hull's frame |"
     echo "| --- | --- | --- | --- | --- |"
     awk -F, 'NR == 1 {for (i = 1; i <= NF; ++i) col[$i] = i; next}
              $col["case"] == "hull" {v[++n] = $col["variant"]; h[n] = $col["wall_ms"]; b[n] = $col["baseline_wall_ms"]}
              END {for (i = 1; i <= n; ++i) printf "| %s | %.0f | %.0f | %.1f | %s |\n", v[i], h[i], b[i], h[i] / b[i],
-                    (v[i] == "as-is" ? "" : v[i] ~ /^short-/ ? sprintf("saves %.0f %%", 100 * (h[i] - h[1]) / h[i]) \
-                                                              : sprintf("%.0f %%", 100 * (h[1] - h[i]) / h[1]))}' "$hull_costs"
+                    (v[i] == "as-is" ? "" : sprintf("%.0f %%", 100 * (h[1] - h[i]) / h[1]))}' "$hull_costs"
   } > "$out/hull-costs.md"
 fi
 # The cel nailboards and frames against the fill-rate floor (docs/bench/README.md and

@@ -42,7 +42,7 @@ cel::Bindings chosenCel() {
   b.gradient = 12;
   b.atlasPacked = 10;
   b.atlasColor = 11;
-  b.atlasBack = 8;
+  b.atlasHull = 8;
   b.shadowProfile = 13;
   b.shadowMapDepth = 14;
   b.shadowMapIds = 15;

@@ -56,7 +56,7 @@ const Keys kPassState = {"blend[0]",
 const Keys kWriteMasks = {"depth.mask", "colormask[0]", "stencil.front.writemask", "stencil.back.writemask"};
 const Keys kNoProgram = {"program", "vao"};
 Keys atlas(const cel::Bindings& b) {
-  return texture(b.atlasPacked, "2D") + texture(b.atlasColor, "2D") + texture(b.atlasBack, "2D") +
+  return texture(b.atlasPacked, "2D") + texture(b.atlasColor, "2D") + texture(b.atlasHull, "3D") +
          texture(b.shadowProfile, "2D") + Keys{ssbo(b.particles), ssbo(b.cells)};
 }
 // A draw framebuffer without a stencil buffer bound: the stored stencil reference is untouched, but

@@ -316,9 +316,10 @@ TEST_F(AtlasMemory, ReportedBytesAreTheBytesTheGlHolds) {
       ASSERT_EQ(atlas->desc.mipLevels, 3);
       // Per texel: the packed normal/depth/distance map (RGBA8, 4 bytes) and the colour map
       // (SRGB8_ALPHA8, 4 bytes; RGBA16F, 8 bytes, for exr). No distance texture of its own. With
-      // views, the back map at level 0 only (R8, 1 byte).
+      // views, the tumbling hull's field: 32 points a side (the least, for puffs under 64 texels
+      // across) per variation, R16F (2 bytes).
       const std::size_t texels = static_cast<std::size_t>(w * h + (w / 2) * (h / 2) + (w / 4) * (h / 4));
-      const std::size_t byHand = texels * (exr ? 12u : 8u) + (grid > 1 ? static_cast<std::size_t>(w * h) : 0u);
+      const std::size_t byHand = texels * (exr ? 12u : 8u) + (grid > 1 ? 32u * 32u * 32u * 2u * 2u : 0u);
       ASSERT_EQ(atlas->maps.count("back"), grid > 1 ? 1u : 0u);
       ASSERT_OK((*renderer)->setAtlas(*atlas));
       EXPECT_EQ((*renderer)->textureBytes(), byHand);

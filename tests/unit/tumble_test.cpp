@@ -248,12 +248,12 @@ TEST_F(TumbleCases, OrientedPuffsOnAOneViewAtlasAreRefused) {
 
 INSTANTIATE_TEST_SUITE_P(
     Atlases, Tumble,
-    ::testing::Values(Config{bake::ViewLayout::kOct, 3, 0.95, 0.97, 0.71, 0.815},
-                      Config{bake::ViewLayout::kOct, 5, 0.96, 0.98, 0.77, 0.875},
-                      Config{bake::ViewLayout::kOct, 7, 0.96, 0.98, 0.815, 0.91},
+    ::testing::Values(Config{bake::ViewLayout::kOct, 3, 0.96, 0.98, 0.73, 0.85},
+                      Config{bake::ViewLayout::kOct, 5, 0.975, 0.985, 0.86, 0.945},
+                      Config{bake::ViewLayout::kOct, 7, 0.975, 0.985, 0.875, 0.955},
                       Config{bake::ViewLayout::kHemiOct, 3, 0.95, 0.975, 0.69, 0.845},
-                      Config{bake::ViewLayout::kHemiOct, 5, 0.96, 0.98, 0.77, 0.90},
-                      Config{bake::ViewLayout::kHemiOct, 7, 0.97, 0.985, 0.83, 0.93},
+                      Config{bake::ViewLayout::kHemiOct, 5, 0.975, 0.985, 0.86, 0.945},
+                      Config{bake::ViewLayout::kHemiOct, 7, 0.975, 0.985, 0.88, 0.955},
                       Config{bake::ViewLayout::kOct, 3, 0.695, 0.92, 0.08, 0.51, cel::TumbleMethod::kBlend},
                       Config{bake::ViewLayout::kHemiOct, 7, 0.885, 0.975, 0.36, 0.88, cel::TumbleMethod::kBlend}),
     [](const ::testing::TestParamInfo<Config>& i) { return name(i.param); });

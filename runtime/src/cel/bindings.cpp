@@ -9,7 +9,7 @@ namespace puff::cel {
 
 core::GuardExtent guardExtent(const Bindings& b) {
   core::GuardExtent e;
-  const unsigned units = std::max({b.ramp, b.gradient, b.atlasPacked, b.atlasColor, b.atlasBack, b.shadowProfile,
+  const unsigned units = std::max({b.ramp, b.gradient, b.atlasPacked, b.atlasColor, b.atlasHull, b.shadowProfile,
                                    b.shadowMapDepth, b.shadowMapIds, b.visibility});
   e.textureUnits = static_cast<int>(units) + 1;
   e.uniformBuffers = static_cast<int>(b.frameBlock) + 1;
@@ -32,7 +32,7 @@ Result<void> validate(const Bindings& b) {
                                 {"gradient", b.gradient},
                                 {"atlasPacked", b.atlasPacked},
                                 {"atlasColor", b.atlasColor},
-                                {"atlasBack", b.atlasBack},
+                                {"atlasHull", b.atlasHull},
                                 {"shadowProfile", b.shadowProfile},
                                 {"shadowMapDepth", b.shadowMapDepth},
                                 {"shadowMapIds", b.shadowMapIds},
@@ -50,7 +50,7 @@ void assignBindPoints(GLuint program, const Bindings& b) {
                                    {K::kSampler, "uGradient", b.gradient},
                                    {K::kSampler, "uPacked", b.atlasPacked},
                                    {K::kSampler, "uColor", b.atlasColor},
-                                   {K::kSampler, "uBack", b.atlasBack},
+                                   {K::kSampler, "uHull", b.atlasHull},
                                    {K::kSampler, "uShadowProfile", b.shadowProfile},
                                    {K::kSampler, "uShadowMapDepth", b.shadowMapDepth},
                                    {K::kSampler, "uShadowMapId", b.shadowMapIds},

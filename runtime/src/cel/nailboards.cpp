@@ -19,6 +19,7 @@
 #include <puff/shader_contract.h>
 
 #include "bindings_gl.h"
+#include "hull_field.h"
 #include "nailboard_programs.h"
 #include "shadow_profiles.h"
 #include "visibility.h"
@@ -115,8 +116,8 @@ struct NailboardRenderer::Impl {
   PackBounds bounds;
   std::vector<PackedParticle> packed;
   core::Texture maps, color;  // maps: normal xy, depth, distance (RGBA8); color: C + coverage
-  core::Texture back;         // a multi-view atlas's back map, level 0 (R8); none: 0
-  core::Texture noBack;       // 1 x 1 R8 of 0 (no bound), on unit atlasBack when the atlas has no back map
+  core::Texture hull;         // a multi-view atlas's hull field (R16F, 3D: detail::HullField); none: 0
+  core::Texture noHull;       // 1 x 1 x 1, on unit atlasHull when the atlas has no field (one view: no hull)
   core::AtlasDesc desc;
   bool hasAtlas = false;
   // Oriented puffs split between the blend's program and the hull's by their size (hullFromPixels).
@@ -142,7 +143,7 @@ struct NailboardRenderer::Impl {
     glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, bindings.cells, 1, &cellBuffer);
     core::bindTextureAndNoSampler(bindings.atlasPacked, maps.get());
     core::bindTextureAndNoSampler(bindings.atlasColor, color.get());
-    core::bindTextureAndNoSampler(bindings.atlasBack, back.get() != 0 ? back.get() : noBack.get());
+    core::bindTextureAndNoSampler(bindings.atlasHull, hull.get() != 0 ? hull.get() : noHull.get());
     // The silhouette's radius table: the shadow volumes' sides, small nailboards' silhouettes and bands.
     core::bindTextureAndNoSampler(bindings.shadowProfile, shadowProfile.get());
   }
@@ -254,9 +255,9 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
     detail::assignBindPoints(p, bindings);
   }
   // Binding texture 0 would empty every target of the unit (glBindTextureUnit), the host's too.
-  m.noBack = core::makeTexture(GL_TEXTURE_2D, "nailboards: no back map");
-  glTextureStorage2D(m.noBack.get(), 1, GL_R8, 1, 1);
-  glClearTexImage(m.noBack.get(), 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);  // 0; no unpack state touched
+  m.noHull = core::makeTexture(GL_TEXTURE_3D, "nailboards: no hull field");
+  glTextureStorage3D(m.noHull.get(), 1, GL_R16F, 1, 1, 1);
+  glClearTexImage(m.noHull.get(), 0, GL_RED, GL_FLOAT, nullptr);  // 0; no unpack state touched
   glGetIntegerv(GL_MAX_INTEGER_SAMPLES, &m.maxIntegerSamples);
   m.vao = core::makeVertexArray("nailboards: vertex array");
   m.particles = core::makeBuffer("nailboards: particles");
@@ -366,14 +367,8 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   // filtering and mips mix light: an sRGB texture decodes 8-bit maps, EXR maps are decoded here.
   const bool floatMap = d.fileFormat == "exr";
   PUFF_TRY_ASSIGN(auto co, uploadLevels(d, *colorMap, "color", 4, floatMap ? GL_RGBA16F : GL_SRGB8_ALPHA8, floatMap));
-  // The back map: only the tumbling hull reads it, and only level 0 (textureGather). 8 bits, as the
-  // front depth in the packed map.
-  core::Texture back;
   const std::vector<core::Image>* backMap = d.views > 1 ? findMap(atlas, "back") : nullptr;
-  if (backMap) {
-    if (backMap->front().channels != 1) return Error{"atlas back map is not one channel"};
-    PUFF_TRY_ASSIGN(back, uploadLevels(d, std::span(backMap->data(), 1), "back", 1, GL_R8));
-  }
+  if (backMap && backMap->front().channels != 1) return Error{"atlas back map is not one channel"};
 
   std::vector<glm::vec4> cellData;
   cellData.reserve(d.cells.size() * 4);
@@ -399,7 +394,11 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   glTextureParameteri(sp, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   m.maps = std::move(nd);
   m.color = std::move(co);
-  m.back = std::move(back);
+  core::Texture hull;
+  if (d.views > 1) {
+    PUFF_TRY_ASSIGN(hull, detail::hullFieldTexture(detail::buildHullField(atlas, profiles.radii)));
+  }
+  m.hull = std::move(hull);
   m.desc = d;
   m.hasAtlas = true;
   m.held = {};  // drawn with other maps
@@ -667,14 +666,15 @@ std::size_t NailboardRenderer::textureBytes() const {
   const Impl& m = *impl_;
   if (!m.hasAtlas) return 0;
   std::size_t bytes = 0;
-  for (const core::Texture* t : {&m.maps, &m.color, &m.back}) {
+  for (const core::Texture* t : {&m.maps, &m.color, &m.hull}) {
     if (t->get() == 0) continue;
     GLint levels = 0;
     glGetTextureParameteriv(t->get(), GL_TEXTURE_IMMUTABLE_LEVELS, &levels);
     for (GLint l = 0; l < levels; ++l) {
-      GLint w = 0, h = 0, format = 0;
+      GLint w = 0, h = 0, depth = 0, format = 0;
       glGetTextureLevelParameteriv(t->get(), l, GL_TEXTURE_WIDTH, &w);
       glGetTextureLevelParameteriv(t->get(), l, GL_TEXTURE_HEIGHT, &h);
+      glGetTextureLevelParameteriv(t->get(), l, GL_TEXTURE_DEPTH, &depth);
       glGetTextureLevelParameteriv(t->get(), l, GL_TEXTURE_INTERNAL_FORMAT, &format);
       std::size_t texelBytes = 0;
       switch (format) {
@@ -685,13 +685,13 @@ std::size_t NailboardRenderer::textureBytes() const {
         case GL_RGBA16F:
           texelBytes = 8;
           break;
-        case GL_R8:
-          texelBytes = 1;
+        case GL_R16F:
+          texelBytes = 2;
           break;
         default:
           PUFF_CHECK(!"an atlas texture in a format setAtlas never makes");
       }
-      bytes += static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * texelBytes;
+      bytes += static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * static_cast<std::size_t>(depth) * texelBytes;
     }
   }
   return bytes;

@@ -410,11 +410,14 @@ std::size_t atlasTextureBytes(const AtlasDesc& d) {
                                static_cast<std::size_t>(std::max(1, d.height >> level));
     bytes += texels * texelBytes;
   }
-  // The back map (R8, level 0 only: the tumbling hull gathers it there) when the renderer keeps it:
-  // a multi-view atlas that has one.
-  if (d.views > 1 && d.maps.count("back"))
-    bytes += static_cast<std::size_t>(d.width) * static_cast<std::size_t>(d.height);
+  // The tumbling hull's field (R16F) of a multi-view atlas.
+  if (d.views > 1) {
+    const auto side = static_cast<std::size_t>(hullFieldSide(d));
+    bytes += side * side * side * static_cast<std::size_t>(d.variations) * 2;
+  }
   return bytes;
 }
+
+int hullFieldSide(const AtlasDesc& d) { return std::clamp(d.contentSize / 2, 32, 96); }
 
 }  // namespace puff::core

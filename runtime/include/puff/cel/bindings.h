@@ -14,7 +14,7 @@
 //   gradient             texture unit     1       17       K_a(x, y), 2D (Gradient::bind)
 //   atlasPacked          texture unit     2       18       the atlas's normal/depth/distance map, 2D
 //   atlasColor           texture unit     3       19       the atlas's colour map, 2D
-//   atlasBack            texture unit     4       20       the atlas's back map, 2D (tumbling hull only)
+//   atlasHull            texture unit     4       20       the atlas's hull field, 3D (tumbling hull only)
 //   shadowProfile        texture unit     5       21       the silhouettes' radius table, 2D
 //   shadowMapDepth       texture unit     6       22       ShadowMap::bind, 2D depth
 //   shadowMapIds         texture unit     7       23       ShadowMap::bind, 2D R32UI
@@ -42,7 +42,7 @@ struct Bindings {
   struct Offset {
     static constexpr unsigned frameBlock = 0;            // uniform buffers
     static constexpr unsigned particles = 0, cells = 1;  // storage buffers
-    static constexpr unsigned ramp = 0, gradient = 1, atlasPacked = 2, atlasColor = 3, atlasBack = 4, shadowProfile = 5,
+    static constexpr unsigned ramp = 0, gradient = 1, atlasPacked = 2, atlasColor = 3, atlasHull = 4, shadowProfile = 5,
                               shadowMapDepth = 6, shadowMapIds = 7, visibility = 8;  // texture units
   };
   static constexpr core::BindingBase kDefaultBase{};
@@ -54,7 +54,7 @@ struct Bindings {
   unsigned gradient = kDefaultBase.textureUnit + Offset::gradient;        ///< texture unit: the ambient gradient
   unsigned atlasPacked = kDefaultBase.textureUnit + Offset::atlasPacked;
   unsigned atlasColor = kDefaultBase.textureUnit + Offset::atlasColor;
-  unsigned atlasBack = kDefaultBase.textureUnit + Offset::atlasBack;
+  unsigned atlasHull = kDefaultBase.textureUnit + Offset::atlasHull;
   unsigned shadowProfile = kDefaultBase.textureUnit + Offset::shadowProfile;
   unsigned shadowMapDepth = kDefaultBase.textureUnit + Offset::shadowMapDepth;
   unsigned shadowMapIds = kDefaultBase.textureUnit + Offset::shadowMapIds;
@@ -70,7 +70,7 @@ struct Bindings {
             .gradient = base.textureUnit + Offset::gradient,
             .atlasPacked = base.textureUnit + Offset::atlasPacked,
             .atlasColor = base.textureUnit + Offset::atlasColor,
-            .atlasBack = base.textureUnit + Offset::atlasBack,
+            .atlasHull = base.textureUnit + Offset::atlasHull,
             .shadowProfile = base.textureUnit + Offset::shadowProfile,
             .shadowMapDepth = base.textureUnit + Offset::shadowMapDepth,
             .shadowMapIds = base.textureUnit + Offset::shadowMapIds,

@@ -35,8 +35,8 @@
 //    on, stencil write mask 0xFF front and back;
 //  - "no program, no vertex array": glUseProgram(0), glBindVertexArray(0) (a host binding an
 //    element buffer next would otherwise change Puff's vertex array);
-//  - "its atlas": units `atlasPacked`, `atlasColor` and `atlasBack` (2D: the atlas's maps; on
-//    `atlasBack` the renderer's own 1 x 1 texture of 0, no bound, when the atlas has no back map) and
+//  - "its atlas": units `atlasPacked`, `atlasColor` (2D: the atlas's maps) and `atlasHull` (3D: the
+//    tumbling hull's field; the renderer's own 1 x 1 x 1 texture when the atlas has one view) and
 //    `shadowProfile` (2D: the silhouettes' radius table), each with sampler binding 0; storage buffer bindings
 //    `particles` and `cells` (whole buffers; the generic GL_SHADER_STORAGE_BUFFER binding is
 //    untouched: multi-bind).
@@ -140,14 +140,16 @@ class NailboardRenderer {
   static Result<std::unique_ptr<NailboardRenderer>> create(const Bindings& bindings = {});
   ~NailboardRenderer();
 
-  /// Uploads the atlas's maps (every mip level; the back map, which only the tumbling hull reads,
-  /// level 0 only). Fails if a map is missing or sizes disagree.
+  /// Uploads the atlas's maps (every mip level) and, for an atlas of several views, builds the
+  /// tumbling hull's field from them (on the CPU, every core: the depth hull of all the views, sampled
+  /// on a grid of core::hullFieldSide points a side per variation). Fails if a map is missing or sizes
+  /// disagree.
   /// Leaves GL_UNPACK_ALIGNMENT = 4 (and no bound object changed: direct state access).
   Result<void> setAtlas(const core::Atlas& atlas);
   const core::AtlasDesc& atlas() const;
   /// Bytes the atlas's textures hold on the GL (the packed normal/depth/distance map and the colour
-  /// map, every level, and a multi-view atlas's back map, level 0), measured from the textures: each level's width x
-  /// height (queried) times the bytes per texel of its queried internal format. 0 before setAtlas. Equals
+  /// map, every level, and a multi-view atlas's hull field), measured from the textures: each level's width x
+  /// height (and depth) (queried) times the bytes per texel of its queried internal format. 0 before setAtlas. Equals
   /// core::atlasTextureBytes(atlas()). Not counted: the per-cell shadow profile (32 floats a cell).
   std::size_t textureBytes() const;
 
@@ -159,21 +161,18 @@ class NailboardRenderer {
   /// Draws the nailboards of the last upload into the current framebuffer with `frame`'s block
   /// already bound (FrameBlock::upload), the ramp and the gradient on their units (Ramp::bind,
   /// Gradient::bind). Binds the atlas on units `atlasPacked` (packed normal, depth, distance),
-  /// `atlasColor` and `atlasBack` (the back map, or a texel of 0) and the silhouette's radius table on `shadowProfile`
-  /// (small puffs' silhouettes and ink bands: shaders/cel/particle.glsl, silhouetteRadius).
-  /// kLit shades each pixel once (LitShading::kOncePerPixel; one view or four blended, up to
-  /// PUFF_MAX_DEFERRED_SAMPLES samples; the tumbling hull is drawn as kEveryLayer, and with
-  /// Style::hullFromPixels after the blend has drawn the puffs smaller than that): a pre-pass draws
-  /// the nailboards' depth and particle ids into Puff's own target (sized from the bound frame's
-  /// viewport, its depth buffer of the framebuffer's depth format; the host's framebuffer gets no
-  /// attachment), then two triangles over the screen rectangle the quads reach (the drawn centres' box
-  /// grown by the largest quad, projected, padded by the ink) shade each pixel's particles there and
-  /// writes their depth, depth-tested as the quads were. Multisampled, a pixel's samples take the
-  /// average of its particles' colours, and the depth of the one covering most of them (only along
-  /// silhouettes does a sample's depth differ from the quads', and the colour written there is the
-  /// pixel's particles' average, hidden ones included). kShadowed after a kLit that shaded once, of
-  /// the same upload, frame block (boundFrameSerial), draw framebuffer, samples and hullFromPixels
-  /// split, shades what that
+  /// `atlasColor` and `atlasHull` (the hull's field, or a 1 x 1 x 1 texture) and the silhouette's radius table on
+  /// `shadowProfile` (small puffs' silhouettes and ink bands: shaders/cel/particle.glsl, silhouetteRadius). kLit shades
+  /// each pixel once (LitShading::kOncePerPixel; one view or four blended, up to PUFF_MAX_DEFERRED_SAMPLES samples; the
+  /// tumbling hull is drawn as kEveryLayer, and with Style::hullFromPixels after the blend has drawn the puffs smaller
+  /// than that): a pre-pass draws the nailboards' depth and particle ids into Puff's own target (sized from the bound
+  /// frame's viewport, its depth buffer of the framebuffer's depth format; the host's framebuffer gets no attachment),
+  /// then two triangles over the screen rectangle the quads reach (the drawn centres' box grown by the largest quad,
+  /// projected, padded by the ink) shade each pixel's particles there and writes their depth, depth-tested as the quads
+  /// were. Multisampled, a pixel's samples take the average of its particles' colours, and the depth of the one
+  /// covering most of them (only along silhouettes does a sample's depth differ from the quads', and the colour written
+  /// there is the pixel's particles' average, hidden ones included). kShadowed after a kLit that shaded once, of the
+  /// same upload, frame block (boundFrameSerial), draw framebuffer, samples and hullFromPixels split, shades what that
   /// pre-pass found, once per pixel too (its depth test EQUAL meets the depth kLit wrote); otherwise
   /// every layer. Queries the draw framebuffer's binding (put back after the pre-pass), samples and
   /// depth format.

@@ -136,9 +136,14 @@ Result<Atlas> atlasFromLevel(const Atlas& atlas, int level);
 /// Bytes of GL texture memory the atlas's maps take once the nailboard renderer uploads them, every
 /// mip level: the packed normal, depth and distance map (RGBA8, 4 bytes a texel; the distance map has
 /// no texture of its own) and the colour map (SRGB8_ALPHA8, 4 bytes, for a png atlas; RGBA16F, 8
-/// bytes, for an exr one); and a multi-view atlas's back map, level 0 only (R8, 1 byte).
+/// bytes, for an exr one); and for a multi-view atlas the tumbling hull's field (R16F, 2 bytes a
+/// point: hullFieldSide(desc) cubed per variation).
 /// cel::NailboardRenderer::textureBytes() measures the same from the GL.
 std::size_t atlasTextureBytes(const AtlasDesc& desc);
+
+/// Grid points per side of the tumbling hull's field (cel::NailboardRenderer, a multi-view atlas): one
+/// for every two texels across the puff, within [32, 96].
+int hullFieldSide(const AtlasDesc& desc);
 
 /// The absolute (or working-directory-relative) path of a source's lodMesh: beside `sidecar`.
 /// Empty when the source has none.

@@ -1,0 +1,213 @@
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <puff/gl_api.h>
+#include <puff/support/parallel.h>
+
+#include "hull_field.h"
+#include "shadow_profiles.h"
+
+namespace puff::cel::detail {
+
+namespace {
+
+// A map level as the GPU holds it: 8 bits (the distance as the packed map holds it, RGBA8; the back
+// map, R8).
+float eightBit(float v) { return std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f; }
+
+// The distance and back maps at level 0, 8 bits, read as a GL sampler reads them (texel i's centre at
+// i + 0.5, edges clamped).
+struct Maps {
+  int width = 0, height = 0;
+  std::vector<float> dist;
+  std::vector<float> back;  // empty: the atlas has none (no bound)
+
+  glm::ivec2 clampTexel(int x, int y) const { return {std::clamp(x, 0, width - 1), std::clamp(y, 0, height - 1)}; }
+  std::size_t at(glm::ivec2 t) const { return static_cast<std::size_t>(t.y) * width + t.x; }
+  // The four texels a bilinear read at texel coordinate (x, y) mixes, and its weights (textureGather's
+  // footprint).
+  void footprint(float x, float y, std::array<std::size_t, 4>& idx, glm::vec2& f) const {
+    const float gx = x - 0.5f, gy = y - 0.5f;
+    const int x0 = static_cast<int>(std::floor(gx)), y0 = static_cast<int>(std::floor(gy));
+    f = {gx - static_cast<float>(x0), gy - static_cast<float>(y0)};
+    idx = {at(clampTexel(x0, y0)), at(clampTexel(x0 + 1, y0)), at(clampTexel(x0, y0 + 1)),
+           at(clampTexel(x0 + 1, y0 + 1))};
+  }
+};
+
+Maps gpuMaps(const core::Atlas& atlas) {
+  const core::Image& dist = atlas.maps.at("distance").front();
+  Maps m;
+  m.width = dist.width;
+  m.height = dist.height;
+  m.dist.resize(static_cast<std::size_t>(m.width) * m.height);
+  for (int y = 0; y < m.height; ++y) {
+    for (int x = 0; x < m.width; ++x) m.dist[m.at({x, y})] = eightBit(dist.at(x, y, 0));
+  }
+  if (auto back = atlas.maps.find("back"); back != atlas.maps.end() && !back->second.empty()) {
+    const core::Image& b = back->second.front();
+    m.back.resize(m.dist.size());
+    for (int y = 0; y < m.height; ++y) {
+      for (int x = 0; x < m.width; ++x) m.back[m.at({x, y})] = eightBit(b.at(x, y, 0));
+    }
+  }
+  return m;
+}
+
+struct View {
+  glm::vec3 right, up, dir;
+  glm::vec2 origin;  // level-0 texel of the content square's corner (x right, y down)
+  int cell;
+};
+
+// The silhouette's radius of `cell` toward `p` (diameters), as shaders/cel/particle.glsl's
+// silhouetteRadius reads its table (diamond angle, linear between directions, wrapping around).
+float silhouetteRadius(const std::vector<float>& radii, int cell, glm::vec2 p) {
+  float q;
+  if (p.y >= 0.0f) {
+    q = p.x >= 0.0f ? p.y / (p.x + p.y + 1e-20f) : 1.0f - p.x / (p.y - p.x);
+  } else {
+    q = p.x < 0.0f ? 2.0f - p.y / (-p.x - p.y) : 3.0f + p.x / (p.x - p.y);
+  }
+  const float s = q * static_cast<float>(kPolar) / 4.0f;
+  const int i = static_cast<int>(std::floor(s));
+  const float f = s - static_cast<float>(i);
+  const auto row = static_cast<std::size_t>(cell) * kPolar;
+  const float a = radii[row + static_cast<std::size_t>(((i % kPolar) + kPolar) % kPolar)];
+  const float b = radii[row + static_cast<std::size_t>((((i + 1) % kPolar) + kPolar) % kPolar)];
+  return a + (b - a) * f;
+}
+
+struct Bounder {
+  const core::AtlasDesc& d;
+  const Maps& maps;
+  const std::vector<float>& radii;
+
+  // How far `pt` (puff space, diameters) lies outside what view `v` bounds (<= 0: inside): its
+  // silhouette swept along its direction and its far side, about the distance to them.
+  float bound(const View& v, glm::vec3 pt) const {
+    const float content = static_cast<float>(d.contentSize), range = d.distanceRange, scale = d.depthScale;
+    const glm::vec2 local{glm::dot(pt, v.right), glm::dot(pt, v.up)};
+    const float halfTexels = 0.5f * static_cast<float>(d.cellSize) - 0.5f;
+    const bool inside = std::abs(local.x) * content <= halfTexels && std::abs(local.y) * content <= halfTexels;
+    const float tx = v.origin.x + (local.x + 0.5f) * content, ty = v.origin.y + (0.5f - local.y) * content;
+    std::array<std::size_t, 4> idx{};
+    glm::vec2 f;
+    maps.footprint(tx, ty, idx, f);
+    // Outside the cell: empty (the shader's insideCell), no silhouette.
+    float w = 1.0f;
+    if (inside) {
+      const float top = maps.dist[idx[0]] * (1.0f - f.x) + maps.dist[idx[1]] * f.x;
+      const float bottom = maps.dist[idx[2]] * (1.0f - f.x) + maps.dist[idx[3]] * f.x;
+      w = top * (1.0f - f.y) + bottom * f.y;
+    }
+    // The distance map holds the distance to the silhouette up to its range; past it (less the texel
+    // its last 8-bit step may be off) the radius table's star-shaped hull holds the silhouette.
+    float dist = (w - 0.5f) * 2.0f * range;  // texels, > 0 outside the silhouette
+    const float trusted = range - 1.0f;
+    if (dist >= trusted) dist = std::max((glm::length(local) - silhouetteRadius(radii, v.cell, local)) * content, dist);
+    float exact = dist / content;
+    if (dist > 0.0f || !inside || maps.back.empty()) return exact;
+    // The far side, where the four texels around the point all hold one (inside the silhouette): the
+    // farthest of the four, less a step of its 8 bits. A point beyond it lies outside, about the height
+    // under it times the far side's normal z away; no map holds that normal, so a tenth of the height
+    // is taken (the front's least slope): short steps, that never pass the far side.
+    float least = 1.0f;
+    for (std::size_t i : idx) least = std::min(least, maps.back[i]);
+    if (least > 0.0f) {
+      const float below = (least - 0.5f) * scale - scale / 255.0f - glm::dot(pt, v.dir);
+      exact = std::max(exact, below > 0.0f ? 0.1f * below : below);
+    }
+    return exact;
+  }
+};
+
+}  // namespace
+
+HullField buildHullField(const core::Atlas& atlas, const std::vector<float>& radii) {
+  const core::AtlasDesc& d = atlas.desc;
+  const int n = core::hullFieldSide(d);
+  const Maps maps = gpuMaps(atlas);
+  const Bounder bounder{d, maps, radii};
+  HullField field;
+  field.n = n;
+  field.variations = d.variations;
+  const auto side = static_cast<std::size_t>(n);
+  field.values.assign(side * side * side * static_cast<std::size_t>(d.variations), kHullFieldReach);
+  // A grid point farther outside the sphere than this holds the sphere's distance: the march stays
+  // inside the sphere, and reads out here only through a neighbour's filtering.
+  const float voxel = 1.0f / static_cast<float>(n), outside = 1.8f * voxel;
+  for (int variation = 0; variation < d.variations; ++variation) {
+    std::vector<View> views;
+    for (int k = 0; k < d.views; ++k) {
+      const int c = variation * d.views + k;
+      const core::AtlasCell& cell = d.cells[static_cast<std::size_t>(c)];
+      const glm::vec3 dir = glm::normalize(cell.viewDir), up = glm::normalize(cell.viewUp);
+      views.push_back({glm::cross(up, dir),
+                       up,
+                       dir,
+                       {static_cast<float>(cell.rect[0] + d.margin), static_cast<float>(cell.rect[1] + d.margin)},
+                       c});
+    }
+    float* slab = field.values.data() + side * side * side * static_cast<std::size_t>(variation);
+    core::parallelFor(
+        side,
+        [&](std::size_t z) {
+          std::size_t last = 0;  // the view that bounded the previous point most: read first
+          for (std::size_t y = 0; y < side; ++y) {
+            for (std::size_t x = 0; x < side; ++x) {
+              const glm::vec3 pt =
+                  (glm::vec3(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)) + 0.5f) * voxel -
+                  0.5f;
+              float f = glm::length(pt) - 0.5f;
+              if (f <= outside) {
+                for (std::size_t i = 0; i < views.size() && f < kHullFieldReach; ++i) {
+                  const std::size_t k = (last + i) % views.size();
+                  const float b = bounder.bound(views[k], pt);
+                  if (b > f) {
+                    f = b;
+                    last = k;
+                  }
+                }
+              }
+              slab[(z * side + y) * side + x] = std::clamp(f, -0.5f, kHullFieldReach);
+            }
+          }
+        },
+        1);
+  }
+  return field;
+}
+
+Result<core::Texture> hullFieldTexture(const HullField& field) {
+  const GLsizei n = field.n, depth = field.n * field.variations;
+  GLint most = 0;
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &most);
+  if (n > most || depth > most) {
+    return Error{"the tumbling hull's field (" + std::to_string(n) + " points a side, " +
+                 std::to_string(field.variations) + " variations) needs a 3D texture " + std::to_string(depth) +
+                 " deep, more than this GL's largest (" + std::to_string(most) + "): bake fewer variations"};
+  }
+  core::Texture t = core::makeTexture(GL_TEXTURE_3D, "atlas hull field");
+  glTextureStorage3D(t.get(), 1, GL_R16F, n, n, depth);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTextureSubImage3D(t.get(), 0, 0, 0, 0, n, n, depth, GL_RED, GL_FLOAT, field.values.data());
+  if (const std::string e = core::drainGlErrors(); !e.empty()) {
+    return Error{"cannot make the atlas's hull field texture (" + std::to_string(n) + "x" + std::to_string(n) + "x" +
+                 std::to_string(depth) + "): " + e};
+  }
+  glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+    glTextureParameteri(t.get(), wrap, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
+}  // namespace puff::cel::detail
