@@ -13,11 +13,10 @@
 // tracing). The ray hits where it reaches 0; a ray that misses passes the hull at its least distance,
 // the ink band's distance to the silhouette.
 //
-// The hull decides coverage and ink. The surface drawn lies on from the hit to the first point behind
-// the front surfaces of the four views nearest the eye (hullSurface): the silhouettes leave a bay that
-// faces the eye filled, and those views see into it. A hemi-oct atlas seen from behind has no view of
-// the side the eye sees: there the surface is the front of the views from behind reflected through
-// their cell planes (side -1), an assumption that only places the depth and shading.
+// The hull decides coverage, ink and depth: the hit is the surface drawn, shaded by the four views
+// nearest the eye's direction. A hemi-oct atlas seen from behind has no view of the side the eye
+// sees: the field is exact there too (the far sides bound the near side), and the views from behind
+// shade it, their normals reflected through their cell planes (side -1).
 layout(binding = 4) uniform sampler3D uHull;
 
 struct HullView {
@@ -26,18 +25,19 @@ struct HullView {
   vec3 right, up, dir;  // puff space; dir toward the baked view's viewer
 };
 const int kHullViews = 4;  // the four nearest the eye's direction (vCell): they shade the hit
-const int kHullSurfaceSteps = 8;  // hullSurface's
 HullView hullViews[kHullViews];
-// This particle's grid in the field: points a side, the first z slice of its variation, and the
-// texture's size.
-float hullSide, hullSlab;
-vec3 hullTexels;
+// This particle's grid in the field (core::HullFieldLayout): points a side, the texel where its
+// variation's grid starts, and the texture's size.
+float hullSide;
+vec3 hullOrigin, hullTexels;
 
-// The field at puff-space point `pt` (diameters, > 0 outside the hull), never less than the sphere's.
+// The field at puff-space point `pt` (diameters, > 0 outside the hull). The grid holds the sphere's
+// bound too, but its filtering rounds the sphere's rim by a fraction of a grid step; taken again here,
+// exact, a sphere puff's rim and ink are the disc's (its ink edge's RMS against the disc 0.08, 0.18
+// without it, seen from behind).
 float hullField(vec3 pt) {
   vec3 g = clamp((pt + 0.5) * hullSide, vec3(0.5), vec3(hullSide - 0.5));
-  g.z += hullSlab;
-  return max(textureLod(uHull, g / hullTexels, 0.0).r, length(pt) - 0.5);
+  return max(textureLod(uHull, (g + hullOrigin) / hullTexels, 0.0).r, length(pt) - 0.5);
 }
 
 // View k's maps at puff-space point `pt`: the packed texel (filtered; empty outside the cell) and where
@@ -53,31 +53,6 @@ HullLookup hullLookup(int k, vec3 pt, float lod) {
   l.uv = cellUv(v.cell, local);
   l.texel = insideCell(local, lod) ? textureLod(uPacked, l.uv, lod) : vec4(0.5, 0.5, 0.5, 1.0);
   return l;
-}
-
-// The hull behind the four nearest views' front surfaces too (reflected through the cell plane for a
-// view from behind): the field, and inside each view's silhouette the height over its front times the
-// surface's normal z (the distance to its tangent plane).
-float hullFronts(vec3 pt, float lod) {
-  float f = hullField(pt);
-  for (int k = 0; k < kHullViews; ++k) {
-    HullView v = hullViews[k];
-    HullLookup l = hullLookup(k, pt, lod);
-    if (l.texel.w > 0.5) continue;  // outside the silhouette: the field's own bound decides
-    // The front's height: the largest of the four level-0 texels around the point inside the
-    // silhouette (a filtered read across an occluding edge would cut away the nearer lump).
-    vec4 heights = textureGather(uPacked, l.uv, 2);
-    vec4 outside = step(0.5 + 0.5 / 255.0, textureGather(uPacked, l.uv, 3));
-    heights = mix(heights, vec4(-1.0), outside);
-    float top = max(max(heights.x, heights.y), max(heights.z, heights.w));
-    if (top < 0.0) continue;
-    float front = (top - 0.5) * uAtlasScale.y + uAtlasScale.y / 255.0;
-    vec2 n = l.texel.xy * 2.0 - 1.0;
-    float slope = max(sqrt(max(0.0, 1.0 - dot(n, n))), 0.1);
-    float above = v.side * dot(pt, v.dir) - front;
-    f = max(f, above > 0.0 ? above * slope : above);
-  }
-  return f;
 }
 
 struct HullHit {
@@ -126,9 +101,12 @@ bool setUpHullViews() {
     hullViews[k] = v;
     behind = behind || v.side < 0.0;
   }
+  // The variations' grids: perColumn stacked along z, such columns side by side along x.
   hullTexels = vec3(textureSize(uHull, 0));
-  hullSide = hullTexels.x;
-  hullSlab = float(vCell[0] / max(1, uAtlasLayout.y)) * hullSide;
+  hullSide = hullTexels.y;
+  int side = int(hullSide), perColumn = max(1, int(hullTexels.z) / side);
+  int variation = vCell[0] / max(1, uAtlasLayout.y);
+  hullOrigin = vec3(float(variation / perColumn * side), 0.0, float(variation % perColumn * side));
   return behind;
 }
 
@@ -208,25 +186,6 @@ float hullDepth(vec3 origin, float t, float f, float tMax, float pixel, float ep
   return deepest;
 }
 
-// The surface drawn: on from the hit at `t` to the first point behind the nearest views' fronts too,
-// in steps of the distance to them (sphere tracing; t moves there). A ray that finds none within a few
-// steps (it leaves the puff first, or grazes a front) keeps the hit.
-// (Newton's steps to each view's front, taken as flat, overshoot where a front curves: from behind,
-// 15 % of a puff sank behind its billboard plane.)
-void hullSurface(vec3 origin, float tMax, float eps, float lod, inout float t) {
-  vec3 ray = vBillboardPuff[2];
-  float s = t;
-  for (int i = 0; i < kHullSurfaceSteps; ++i) {
-    float f = hullFronts(origin + s * ray, lod);
-    if (f <= 0.0) {
-      t = s;
-      break;
-    }
-    s -= max(f, eps);
-    if (s < -tMax) break;
-  }
-}
-
 // The hit's normal and colour: the views that see it (it lies on their front surface, not behind
 // it) see the same point, their normals and colours blended as the views are.
 void shadeHit(vec3 pt, float pixel, float lod, inout HullHit h) {
@@ -283,23 +242,15 @@ HullHit hullMarch(float lod, float tpp, float reach, bool wantEdge, bool wantSha
     // A miss: its least distance to the hull is the field's least along the ray, an estimate (short
     // where two bounds meet, long where a far side curves toward the ray), and the ink's outer edge
     // lies where it reaches the ink's width. Near that edge the distance is measured on the screen
-    // instead, but for the shadow map's casters: the map's texels and its filtered lookup blur an edge
-    // that fine.
-#ifndef PUFF_CASTER
+    // instead. (The shadow map's casters draw no ink: their edge is the silhouette's, the estimate's.)
     float ink = reach - pixel;  // the ink's width (diameters); beyond `reach` nothing is drawn
     if (ink > 0.0 && h.nearest <= reach + pixel)
       h.nearest = screenDistance(origin + tNearest * ray, h.nearest, ink, pixel, eps);
-#endif
     return h;
   }
   h.t = t;
   h.deepest = -2.0 * pixel;
   if (wantEdge) h.deepest = hullDepth(origin, t, f, tMax, pixel, eps);
-  // (A caster's shadow starts behind its far side, taken as its near side's offset mirrored: from the
-  // hull's hit it starts a little farther back, never on the puff.)
-#ifndef PUFF_CASTER
-  hullSurface(origin, tMax, eps, lod, h.t);
-#endif
   if (wantShade) shadeHit(origin + h.t * ray, pixel, lod, h);
   return h;
 }

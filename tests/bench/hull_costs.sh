@@ -11,11 +11,9 @@
 #   no-screen-distance  a ray that misses takes the field's estimate of its distance, not the one
 #                       measured on the screen near the ink's outer edge (screenDistance's bisection)
 #   no-depth-probe      a hit is not followed 2 px into the hull (hullDepth: the antialiased inner edge)
-#   no-surface          the hit is drawn where the hull is hit, not on the nearest views' fronts
-#                       (hullSurface)
 # Writes CSV (variant, then puff_gpubench's columns) to --csv FILE or stdout. Not a test.
 set -euo pipefail
-case ${1:-} in -h | --help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
+case ${1:-} in -h | --help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac
 build=build
 if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then build=$(realpath -m "$1"); shift; fi
 csv=
@@ -48,10 +46,9 @@ PY
 cp -r shaders "$tmp/as-is"
 variant no-screen-distance "if (ink > 0.0 && h.nearest <= reach + pixel)" "if (false)"
 variant no-depth-probe "if (wantEdge) h.deepest" "if (false) h.deepest"
-variant no-surface "  hullSurface(origin, tMax, eps, lod, h.t);" "  if (false) hullSurface(origin, tMax, eps, lod, h.t);"
 
 out=$tmp/out.csv
-for v in as-is no-screen-distance no-depth-probe no-surface; do
+for v in as-is no-screen-distance no-depth-probe; do
   echo "hull_costs.sh: $v" >&2
   bash "$tmp/package/gpu.sh" run --groups tumble --samples 1 --shader-dir "$tmp/$v" "${args[@]}" \
     --csv "$tmp/$v.csv" 2> >(grep -v '^puff_gpubench: ' >&2)

@@ -692,7 +692,7 @@ fi
     echo "art's four puffs (\`art/puffs/variation-{1.obj,2.ply,3.off,4.stl}\`) baked with each view layout"
     echo "(*oct*: views over the whole sphere; *hemioct*: the front hemisphere, back views mirrored), grid"
     echo "(grid x grid views a variation) and cell size. Each atlas's oriented nailboards, drawn by each"
-    echo "tumble method (\`style.tumble\`: *hull*, the eye ray marched through the depth hull of eight views;"
+    echo "tumble method (\`style.tumble\`: *hull*, the eye ray marched through the hull of the views;"
     echo "*blend*, four views turned and blended; docs/cel-rendering.md, \"Tumbling puffs\"), are turned through"
     echo "every pose of \`eval::tumblePoses(15)\` (yaw and roll every 15 degrees around the circle, pitch"
     echo "every 15 from -90 to 90; one puff 48 pixels across per pose, orthographic, outlines 2 pixels,"
@@ -724,8 +724,10 @@ fi
     echo "time: a grid frame takes the hull 6.1 to 6.5 s against the blend's 0.18 to 0.41 s, 15 to 35 times"
     echo "(about 10 times without the back map). The 2 cores also ran niced builds for part of this"
     echo "run (oct 3x3's hull, 10.7 s, was measured then), so compare times within the run only. That run"
-    echo "predates the march's long steps along the views' walls, which save about a quarter of the hull's"
-    echo "frame on dust-roll ([hull-costs.md](hull-costs.md)); a grid frame's hull is not yet measured with them."
+    echo "predates the hull's field (docs/cel-rendering.md, \"Tumbling puffs\"): the eye ray marched through"
+    echo "the silhouettes and far sides of all the views sampled once per atlas, one read a step, where it"
+    echo "read eight views' maps a step; on dust-roll 3.5 times the blend where it was 27"
+    echo "([hull-costs.md](hull-costs.md)). A grid frame's hull is not yet measured with it."
     echo
   fi
   echo "# The media path: fire, smoke and dust"

@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include <puff/core/atlas.h>
+#include <puff/core/files.h>
 #include <puff/support/json_read.h>
 
 namespace puff::bake::detail {
@@ -42,13 +43,8 @@ namespace {
 
 std::string pendingPrefix(const std::string& stem) { return "." + stem + ".pending-"; }
 
-bool sameFile(const fs::path& a, const fs::path& b) {
-  std::error_code ec;
-  return a.lexically_normal() == b.lexically_normal() || fs::equivalent(a, b, ec);
-}
-
 bool contains(const std::vector<fs::path>& files, const fs::path& f) {
-  return std::any_of(files.begin(), files.end(), [&](const fs::path& k) { return sameFile(k, f); });
+  return std::any_of(files.begin(), files.end(), [&](const fs::path& k) { return core::sameFile(k, f); });
 }
 
 }  // namespace
@@ -77,7 +73,7 @@ void removeAbandoned(const fs::path& dir, const std::string& stem, const fs::pat
       if (line.empty() || line.find('/') != std::string::npos || line == "." || line == "..") continue;
       const fs::path file = it->path().parent_path() / line;
       std::error_code e;
-      if (!contains(current, file) && !sameFile(file, sidecar)) fs::remove(file, e);
+      if (!contains(current, file) && !core::sameFile(file, sidecar)) fs::remove(file, e);
     }
     in.close();
     std::error_code e;

@@ -68,12 +68,6 @@ Result<fs::path> stageImage(core::OutputTransaction& tx, const fs::path& in, con
   return named;
 }
 
-bool sameFile(const fs::path& a, const fs::path& b) {
-  std::error_code ec;
-  if (fs::equivalent(a, b, ec)) return true;
-  return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
-}
-
 }  // namespace
 
 Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
@@ -82,7 +76,7 @@ Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
   // Every level checked as the runtime will check it (size, channels, finite texels): a cooked
   // atlas is one a game can load, or none is written.
   if (auto atlas = core::loadAtlas(sidecar); !atlas) return atlas.error();
-  if (sameFile(sidecar, outSidecar)) {
+  if (core::sameFile(sidecar, outSidecar)) {
     return Error::at(outSidecar, "is the atlas being cooked; name another sidecar for the cooked atlas");
   }
   const fs::path inDir = sidecar.parent_path(), outDir = outSidecar.parent_path();
@@ -98,7 +92,8 @@ Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
     for (std::size_t level = 0; level < map.levels.size(); ++level) {
       const std::string cookedLevel = levelName(stem, name, level);
       const fs::path in = inDir / map.levels[level], out = outDir / cookedLevel;
-      if (sameFile(in, out)) return Error::at(in, "would be replaced by its own cooked copy; name another sidecar");
+      if (core::sameFile(in, out))
+        return Error::at(in, "would be replaced by its own cooked copy; name another sidecar");
       PUFF_TRY_ASSIGN(auto named, stageImage(tx, in, out, cooked, true));
       j["maps"][name]["levels"][level] = named.filename().string();
     }
@@ -108,7 +103,7 @@ Result<Cooked> cookAtlas(const fs::path& sidecar, const fs::path& outSidecar) {
     PUFF_TRY_ASSIGN(auto from, core::lodMeshFile(desc, i, sidecar));
     const std::string lod = stem + "_lod" + std::to_string(i) + from.extension().string();
     const fs::path to = outDir / lod;
-    if (sameFile(from, to)) return Error::at(from, "would be replaced by its own copy; name another sidecar");
+    if (core::sameFile(from, to)) return Error::at(from, "would be replaced by its own copy; name another sidecar");
     PUFF_TRY_ASSIGN(auto mesh, core::readFileBytes(from));
     const fs::path staged = tx.stage(to);
     PUFF_TRY(core::writeFileBytes(staged, mesh, to));
@@ -138,7 +133,7 @@ Result<Cooked> cookImage(const fs::path& in, const fs::path& out) {
   if (!core::isCookedImagePath(out)) {
     return Error::at(out, std::string("a cooked image's name ends in ") + core::kCookedImageExtension);
   }
-  if (sameFile(in, out)) return Error::at(out, "is the image being cooked; name another file");
+  if (core::sameFile(in, out)) return Error::at(out, "is the image being cooked; name another file");
   Cooked cooked;
   core::OutputTransaction tx;
   PUFF_TRY(tx.prepareDirectory(out.parent_path()));

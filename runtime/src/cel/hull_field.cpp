@@ -18,12 +18,13 @@ namespace puff::cel::detail {
 
 namespace {
 
-// A map level as the GPU holds it: 8 bits (the distance as the packed map holds it, RGBA8; the back
-// map, R8).
+// A map level at the 8 bits the GPU's copy of the distance holds (the packed map, RGBA8), and the back
+// map's own 8 bits.
 float eightBit(float v) { return std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f; }
 
-// The distance and back maps at level 0, 8 bits, read as a GL sampler reads them (texel i's centre at
-// i + 0.5, edges clamped).
+// The distance and back maps at level 0, 8 bits, read as a GL sampler would read them (texel i's
+// centre at i + 0.5, edges clamped): as the shaders read the distance (cel/particle.glsl, cellUv,
+// insideCell; the radius table as silhouetteRadius reads it).
 struct Maps {
   int width = 0, height = 0;
   std::vector<float> dist;
@@ -133,75 +134,85 @@ struct Bounder {
 
 HullField buildHullField(const core::Atlas& atlas, const std::vector<float>& radii) {
   const core::AtlasDesc& d = atlas.desc;
-  const int n = core::hullFieldSide(d);
   const Maps maps = gpuMaps(atlas);
   const Bounder bounder{d, maps, radii};
   HullField field;
-  field.n = n;
-  field.variations = d.variations;
-  const auto side = static_cast<std::size_t>(n);
-  field.values.assign(side * side * side * static_cast<std::size_t>(d.variations), kHullFieldReach);
-  // A grid point farther outside the sphere than this holds the sphere's distance: the march stays
-  // inside the sphere, and reads out here only through a neighbour's filtering.
-  const float voxel = 1.0f / static_cast<float>(n), outside = 1.8f * voxel;
+  const core::HullFieldLayout& f = field.layout = core::hullFieldLayout(d);
+  const auto side = static_cast<std::size_t>(f.side), width = static_cast<std::size_t>(f.width());
+  field.values.assign(width * side * static_cast<std::size_t>(f.depth()), kHullFieldReach);
+  std::vector<std::vector<View>> views(static_cast<std::size_t>(d.variations));
   for (int variation = 0; variation < d.variations; ++variation) {
-    std::vector<View> views;
     for (int k = 0; k < d.views; ++k) {
       const int c = variation * d.views + k;
       const core::AtlasCell& cell = d.cells[static_cast<std::size_t>(c)];
       const glm::vec3 dir = glm::normalize(cell.viewDir), up = glm::normalize(cell.viewUp);
-      views.push_back({glm::cross(up, dir),
-                       up,
-                       dir,
-                       {static_cast<float>(cell.rect[0] + d.margin), static_cast<float>(cell.rect[1] + d.margin)},
-                       c});
+      const glm::vec2 origin{static_cast<float>(cell.rect[0] + d.margin), static_cast<float>(cell.rect[1] + d.margin)};
+      views[static_cast<std::size_t>(variation)].push_back({glm::cross(up, dir), up, dir, origin, c});
     }
-    float* slab = field.values.data() + side * side * side * static_cast<std::size_t>(variation);
-    core::parallelFor(
-        side,
-        [&](std::size_t z) {
-          std::size_t last = 0;  // the view that bounded the previous point most: read first
-          for (std::size_t y = 0; y < side; ++y) {
-            for (std::size_t x = 0; x < side; ++x) {
-              const glm::vec3 pt =
-                  (glm::vec3(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)) + 0.5f) * voxel -
-                  0.5f;
-              float f = glm::length(pt) - 0.5f;
-              if (f <= outside) {
-                for (std::size_t i = 0; i < views.size() && f < kHullFieldReach; ++i) {
-                  const std::size_t k = (last + i) % views.size();
-                  const float b = bounder.bound(views[k], pt);
-                  if (b > f) {
-                    f = b;
-                    last = k;
-                  }
+  }
+  // A grid point farther outside the sphere than this holds the sphere's distance: the march stays
+  // inside the sphere, and reads out here only through a neighbour's filtering.
+  const float voxel = 1.0f / static_cast<float>(f.side), outside = 1.8f * voxel;
+  // One slice (variation, z) an index: the variations' work spread over the cores alike.
+  core::parallelFor(
+      views.size() * side,
+      [&](std::size_t slice) {
+        const std::size_t variation = slice / side, z = slice % side;
+        const std::vector<View>& vs = views[variation];
+        const std::size_t column = variation / static_cast<std::size_t>(f.perColumn);
+        const std::size_t row = variation % static_cast<std::size_t>(f.perColumn);
+        std::size_t last = 0;  // the view that bounded the previous point most: read first
+        for (std::size_t y = 0; y < side; ++y) {
+          float* out = field.values.data() + ((row * side + z) * side + y) * width + column * side;
+          for (std::size_t x = 0; x < side; ++x) {
+            const glm::vec3 pt =
+                (glm::vec3(static_cast<float>(x), static_cast<float>(y), static_cast<float>(z)) + 0.5f) * voxel - 0.5f;
+            float b = glm::length(pt) - 0.5f;
+            if (b <= outside) {
+              for (std::size_t i = 0; i < vs.size() && b < kHullFieldReach; ++i) {
+                const std::size_t k = (last + i) % vs.size();
+                if (const float v = bounder.bound(vs[k], pt); v > b) {
+                  b = v;
+                  last = k;
                 }
               }
-              slab[(z * side + y) * side + x] = std::clamp(f, -0.5f, kHullFieldReach);
             }
+            out[x] = std::clamp(b, -0.5f, kHullFieldReach);
           }
-        },
-        1);
-  }
+        }
+      },
+      1);
   return field;
 }
 
-Result<core::Texture> hullFieldTexture(const HullField& field) {
-  const GLsizei n = field.n, depth = field.n * field.variations;
+Result<core::Texture> hullFieldTexture(const core::Atlas& atlas, const std::vector<float>& radii) {
+  const core::AtlasDesc& d = atlas.desc;
+  if (d.views < 2) return core::Texture{};
+  const core::Image& dist = atlas.maps.at("distance").front();
+  if (auto back = atlas.maps.find("back"); back != atlas.maps.end() && !back->second.empty()) {
+    const core::Image& b = back->second.front();
+    if (b.channels != 1) return Error{"atlas back map is not one channel"};
+    if (b.width != dist.width || b.height != dist.height) {
+      return Error{"atlas back level 0 is " + std::to_string(b.width) + "x" + std::to_string(b.height) + ", expected " +
+                   std::to_string(dist.width) + "x" + std::to_string(dist.height)};
+    }
+  }
+  const core::HullFieldLayout f = core::hullFieldLayout(d);
   GLint most = 0;
   glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &most);
-  if (n > most || depth > most) {
-    return Error{"the tumbling hull's field (" + std::to_string(n) + " points a side, " +
-                 std::to_string(field.variations) + " variations) needs a 3D texture " + std::to_string(depth) +
-                 " deep, more than this GL's largest (" + std::to_string(most) + "): bake fewer variations"};
+  if (f.width() > most || f.depth() > most) {
+    return Error{"the tumbling hull's field needs a 3D texture of " + std::to_string(f.width()) + "x" +
+                 std::to_string(f.side) + "x" + std::to_string(f.depth()) + ", more than this GL's largest (" +
+                 std::to_string(most) + " a side)"};
   }
+  const HullField field = buildHullField(atlas, radii);
   core::Texture t = core::makeTexture(GL_TEXTURE_3D, "atlas hull field");
-  glTextureStorage3D(t.get(), 1, GL_R16F, n, n, depth);
+  glTextureStorage3D(t.get(), 1, GL_R16F, f.width(), f.side, f.depth());
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTextureSubImage3D(t.get(), 0, 0, 0, 0, n, n, depth, GL_RED, GL_FLOAT, field.values.data());
+  glTextureSubImage3D(t.get(), 0, 0, 0, 0, f.width(), f.side, f.depth(), GL_RED, GL_FLOAT, field.values.data());
   if (const std::string e = core::drainGlErrors(); !e.empty()) {
-    return Error{"cannot make the atlas's hull field texture (" + std::to_string(n) + "x" + std::to_string(n) + "x" +
-                 std::to_string(depth) + "): " + e};
+    return Error{"cannot make the atlas's hull field texture (" + std::to_string(f.width()) + "x" +
+                 std::to_string(f.side) + "x" + std::to_string(f.depth()) + "): " + e};
   }
   glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
   glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);

@@ -25,24 +25,25 @@ namespace puff::cel::detail {
 // The field's largest value (diameters): a point farther out stores this, as does one whose bounds
 // reach it before every view is read. A lower bound of the distance stays a safe step; a miss this
 // near the hull or nearer is measured on the screen near the ink's edge (hull_march.glsl,
-// screenDistance), not read from the field.
-constexpr float kHullFieldReach = 0.125f;
+// screenDistance), so a puff whose ink and pixel reach past it (puffs under about 12 px with 2 px of
+// ink) measures every miss there.
+constexpr float kHullFieldReach = 0.25f;
 
 struct HullField {
-  int n = 0;                  ///< grid points per side
-  int variations = 0;         ///< stacked along z: variation v holds z slices [v n, (v + 1) n)
-  std::vector<float> values;  ///< x fastest, then y, then z; diameters, in [-0.5, kHullFieldReach]
+  core::HullFieldLayout layout;
+  std::vector<float> values;  ///< the 3D texture's texels, x fastest, then y, then z; diameters
 };
 
 // The field of every variation of `atlas` (several views; its "distance" map, and its "back" map if
-// it has one) at core::hullFieldSide points a side, from the maps' level 0 as the GPU holds them (8
-// bits), the silhouettes' radius table `radii` (ShadowProfiles) beyond the distance
-// map's range. Runs on every core.
+// it has one, the same size) on core::hullFieldLayout's grid, from the maps' level 0 at 8 bits (the
+// distance as the packed map holds it), the silhouettes' radius table `radii` (ShadowProfiles)
+// beyond the distance map's range. Runs on every core.
 HullField buildHullField(const core::Atlas& atlas, const std::vector<float>& radii);
 
-// The field as a 3D R16F texture, filtered linearly and clamped at its edges (the variations' slabs
-// are kept apart by the reader, shaders/cel/hull_march.glsl). Needs a current GL context; an error
-// names the GL's (out of memory, too large a 3D texture).
-Result<core::Texture> hullFieldTexture(const HullField& field);
+// The field of a multi-view atlas as a 3D R16F texture, filtered linearly and clamped at its edges
+// (the reader keeps to each variation's grid, shaders/cel/hull_march.glsl); none (0) for a one-view
+// atlas. Checks the back map (one channel, the distance map's size) and the GL's 3D texture size
+// before building. Needs a current GL context; an error names the GL's (out of memory).
+Result<core::Texture> hullFieldTexture(const core::Atlas& atlas, const std::vector<float>& radii);
 
 }  // namespace puff::cel::detail

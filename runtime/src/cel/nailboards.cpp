@@ -367,8 +367,10 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   // filtering and mips mix light: an sRGB texture decodes 8-bit maps, EXR maps are decoded here.
   const bool floatMap = d.fileFormat == "exr";
   PUFF_TRY_ASSIGN(auto co, uploadLevels(d, *colorMap, "color", 4, floatMap ? GL_RGBA16F : GL_SRGB8_ALPHA8, floatMap));
-  const std::vector<core::Image>* backMap = d.views > 1 ? findMap(atlas, "back") : nullptr;
-  if (backMap && backMap->front().channels != 1) return Error{"atlas back map is not one channel"};
+  // The tumbling hull's field, built before anything the renderer holds changes: a failure leaves
+  // the last atlas whole.
+  const ShadowProfiles profiles = shadowProfiles(atlas);
+  PUFF_TRY_ASSIGN(core::Texture hull, detail::hullFieldTexture(atlas, profiles.radii));
 
   std::vector<glm::vec4> cellData;
   cellData.reserve(d.cells.size() * 4);
@@ -382,7 +384,6 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   }
   m.cells = core::makeBuffer("nailboards: atlas cells");
   glNamedBufferStorage(m.cells.get(), static_cast<GLsizeiptr>(cellData.size() * sizeof(glm::vec4)), cellData.data(), 0);
-  const ShadowProfiles profiles = shadowProfiles(atlas);
   m.shadowProfile = core::makeTexture(GL_TEXTURE_2D, "nailboards: silhouette radius table");
   const GLuint sp = m.shadowProfile.get();
   const auto rows = static_cast<GLsizei>(d.cells.size());
@@ -394,10 +395,6 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   glTextureParameteri(sp, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   m.maps = std::move(nd);
   m.color = std::move(co);
-  core::Texture hull;
-  if (d.views > 1) {
-    PUFF_TRY_ASSIGN(hull, detail::hullFieldTexture(detail::buildHullField(atlas, profiles.radii)));
-  }
   m.hull = std::move(hull);
   m.desc = d;
   m.hasAtlas = true;

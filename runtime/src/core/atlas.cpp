@@ -412,12 +412,22 @@ std::size_t atlasTextureBytes(const AtlasDesc& d) {
   }
   // The tumbling hull's field (R16F) of a multi-view atlas.
   if (d.views > 1) {
-    const auto side = static_cast<std::size_t>(hullFieldSide(d));
-    bytes += side * side * side * static_cast<std::size_t>(d.variations) * 2;
+    const HullFieldLayout f = hullFieldLayout(d);
+    bytes += static_cast<std::size_t>(f.width()) * static_cast<std::size_t>(f.side) *
+             static_cast<std::size_t>(f.depth()) * 2;
   }
   return bytes;
 }
 
-int hullFieldSide(const AtlasDesc& d) { return std::clamp(d.contentSize / 2, 32, 96); }
+HullFieldLayout hullFieldLayout(const AtlasDesc& d) {
+  constexpr int kMost = 2048;  // GL 4.5's least GL_MAX_3D_TEXTURE_SIZE
+  const int variations = std::max(1, d.variations);
+  HullFieldLayout f;
+  f.side = std::clamp(d.contentSize / 2, 32, 96);
+  while (f.side > 1 && (kMost / f.side) * (kMost / f.side) < variations) --f.side;
+  f.perColumn = std::min(variations, kMost / f.side);
+  f.columns = (variations + f.perColumn - 1) / f.perColumn;
+  return f;
+}
 
 }  // namespace puff::core

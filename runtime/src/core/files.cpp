@@ -188,6 +188,15 @@ Result<void> writeFileAtomic(const fs::path& path, const std::string& bytes) {
   return tx.commit();
 }
 
+bool sameFile(const std::filesystem::path& a, const std::filesystem::path& b) {
+  std::error_code ec;
+  if (std::filesystem::equivalent(a, b, ec)) return true;
+  std::error_code ea, eb;
+  const std::filesystem::path ca = std::filesystem::weakly_canonical(a, ea),
+                              cb = std::filesystem::weakly_canonical(b, eb);
+  return !ea && !eb ? ca == cb : a.lexically_normal() == b.lexically_normal();
+}
+
 std::string fnv1a64Hex(const std::string& bytes) {
   std::uint64_t h = 0xcbf29ce484222325ull;
   for (unsigned char c : bytes) {

@@ -142,7 +142,7 @@ class NailboardRenderer {
 
   /// Uploads the atlas's maps (every mip level) and, for an atlas of several views, builds the
   /// tumbling hull's field from them (on the CPU, every core: the depth hull of all the views, sampled
-  /// on a grid of core::hullFieldSide points a side per variation). Fails if a map is missing or sizes
+  /// on core::hullFieldLayout's grid). Fails if a map is missing or sizes
   /// disagree.
   /// Leaves GL_UNPACK_ALIGNMENT = 4 (and no bound object changed: direct state access).
   Result<void> setAtlas(const core::Atlas& atlas);

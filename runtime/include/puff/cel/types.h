@@ -72,9 +72,9 @@ std::string_view toString(ShadowMethod m);
 /// How an oriented puff (one that tumbles) is drawn from a multi-view atlas between its baked views
 /// (docs/cel-rendering.md, "Tumbling puffs").
 enum class TumbleMethod {
-  /// The eye ray marched through the depth hull of the nearest views (each view's silhouette swept
-  /// along it and its front surface bound the puff): lumps keep their place and the ink its width
-  /// between views. Many times the frame time of kBlend (docs/report/hull-costs.md, tumble-table.md);
+  /// The eye ray marched through the hull of all the views (each view's silhouette swept along it and
+  /// its far side bound the puff), sampled once per atlas: lumps keep their place and the ink its width
+  /// between views. A few times the frame time of kBlend (docs/report/hull-costs.md);
   /// Style::hullFromPixels keeps it to the puffs large enough to need it.
   kHull,
   /// The four nearest views' maps turned to the billboard and blended: one read per view, but between

@@ -137,13 +137,21 @@ Result<Atlas> atlasFromLevel(const Atlas& atlas, int level);
 /// mip level: the packed normal, depth and distance map (RGBA8, 4 bytes a texel; the distance map has
 /// no texture of its own) and the colour map (SRGB8_ALPHA8, 4 bytes, for a png atlas; RGBA16F, 8
 /// bytes, for an exr one); and for a multi-view atlas the tumbling hull's field (R16F, 2 bytes a
-/// point: hullFieldSide(desc) cubed per variation).
+/// point of its 3D texture, hullFieldLayout).
 /// cel::NailboardRenderer::textureBytes() measures the same from the GL.
 std::size_t atlasTextureBytes(const AtlasDesc& desc);
 
-/// Grid points per side of the tumbling hull's field (cel::NailboardRenderer, a multi-view atlas): one
-/// for every two texels across the puff, within [32, 96].
-int hullFieldSide(const AtlasDesc& desc);
+/// The tumbling hull's field of a multi-view atlas (cel::NailboardRenderer; docs/cel-rendering.md,
+/// "Tumbling puffs"): a grid of `side` points a side per variation, one for every two texels across
+/// the puff within [32, 96], and how the variations' grids tile one 3D texture within the 2048
+/// texels a side every GL 4.5 holds: `perColumn` stacked along z, `columns` such stacks along x (the
+/// last one's unused places padded). Past 441 variations the grid is coarser, to fit.
+struct HullFieldLayout {
+  int side = 0, perColumn = 0, columns = 0;
+  int width() const { return side * columns; }
+  int depth() const { return side * perColumn; }
+};
+HullFieldLayout hullFieldLayout(const AtlasDesc& desc);
 
 /// The absolute (or working-directory-relative) path of a source's lodMesh: beside `sidecar`.
 /// Empty when the source has none.

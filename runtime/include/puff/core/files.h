@@ -53,6 +53,10 @@ Result<void> writeFileBytes(const std::filesystem::path& path, const std::string
 /// Writes text through a temporary file and a rename.
 Result<void> writeFileAtomic(const std::filesystem::path& path, const std::string& bytes);
 
+/// Whether `a` and `b` name one file: the same file on disk (std::filesystem::equivalent), or, for a
+/// file not yet written, the same path once made absolute and normal (weakly_canonical).
+bool sameFile(const std::filesystem::path& a, const std::filesystem::path& b);
+
 /// 64-bit FNV-1a of the bytes, as 16 lowercase hex digits. Identifies content, not a security hash.
 std::string fnv1a64Hex(const std::string& bytes);
 
