@@ -10,8 +10,7 @@
 // The views' front surfaces are left out: a texel holds the mean height of the surface it covers, less
 // than the surface's highest point where the surface is steep in that view, so a view's front cuts
 // into the puff that other views see face on (coverage IoU 0.91 against 0.985 without them, a
-// lumpy puff over the oct 7 x 7 sweep). The four views nearest the eye place the surface on their
-// fronts after the hull is hit (shaders/cel/hull_march.glsl, hullSurface).
+// lumpy puff over the oct 7 x 7 sweep). A bay that faces the eye stays filled: the hit is drawn there.
 #pragma once
 
 #include <vector>
