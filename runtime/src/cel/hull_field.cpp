@@ -6,7 +6,6 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
-#include <glm/vec4.hpp>
 
 #include <puff/gl_api.h>
 #include <puff/support/parallel.h>

@@ -141,10 +141,9 @@ class NailboardRenderer {
   ~NailboardRenderer();
 
   /// Uploads the atlas's maps (every mip level) and, for an atlas of several views, builds the
-  /// tumbling hull's field from them (on the CPU, every core: the depth hull of all the views, sampled
-  /// on core::hullFieldLayout's grid). Fails if a map is missing or sizes
-  /// disagree.
-  /// Leaves GL_UNPACK_ALIGNMENT = 4 (and no bound object changed: direct state access).
+  /// tumbling hull's field from them (on the CPU, every core: the hull of all the views' silhouettes and far sides,
+  /// sampled on core::hullFieldLayout's grid). Fails if a map is missing or sizes disagree. Leaves GL_UNPACK_ALIGNMENT
+  /// = 4 (and no bound object changed: direct state access).
   Result<void> setAtlas(const core::Atlas& atlas);
   const core::AtlasDesc& atlas() const;
   /// Bytes the atlas's textures hold on the GL (the packed normal/depth/distance map and the colour
