@@ -60,7 +60,7 @@ struct HullHit {
   bool behind;    // seen from behind on a hemi-oct atlas: the surface is an assumption (shaded as blended)
   float t;        // along the ray toward the eye, diameters from the billboard plane
   float nearest;  // a miss: least distance to the hull (diameters)
-  float deepest;  // a hit: how far inside the hull the ray reaches (<= 0, diameters; probed to 2 px)
+  float deepest;  // a hit: how far inside the hull the ray reaches (<= 0, diameters; probed to kBodyDepth)
   vec3 normal;    // a hit: camera space
   vec3 color;     // a hit: scene-linear
 };
@@ -138,26 +138,59 @@ void marchField(vec3 origin, float tMax, float eps, inout HullHit h, out float t
 // `nearest`: the field there; `ink`: the ink's width (diameters).
 float screenDistance(vec3 at, float nearest, float ink, float pixel, float eps) {
   float delta = 0.5 * pixel;
-  vec2 grad = vec2(hullField(at + delta * vBillboardPuff[0]), hullField(at + delta * vBillboardPuff[1])) - nearest;
+  vec2 grad = (vec2(hullField(at + delta * vBillboardPuff[0]), hullField(at + delta * vBillboardPuff[1])) - nearest) /
+              delta;
   vec2 towards[2] = vec2[2](dot(grad, grad) > 1e-12 ? -normalize(grad) : vec2(0.0),
                             dot(vPuff, vPuff) > 1e-12 ? -normalize(vPuff) : vec2(0.0));
   // What is drawn depends on the distance only within half a pixel of the ink's edges (the
   // antialiased edges; between them the pixel is ink whatever the distance): the bisection stops
   // once its interval lies between them, or is a quarter of a pixel wide.
   float solid = ink - 0.5 * pixel;  // nearer than this (and over half a pixel out): ink
+  // The stepped rays only ask whether the hull is hit, not where: a pixel a step. (A ray that
+  // crosses the hull within one step and misses every point it reads reaches less than 0.03 px into
+  // a lump 10 px across, more at the hull's sharp edges, where two views' silhouettes meet.)
+  float hitEps = max(eps, pixel);
+  // Newton's guess down the gradient, where the field falls to 0 at its slope.
+  float slope = length(grad);
+  float guess = slope > 1e-6 ? nearest / slope : -1.0;
   float best = -1.0;
   for (int k = 0; k < 2; ++k) {
     vec2 toward = towards[k];
     if (dot(toward, toward) == 0.0 || (best >= 0.0 && best <= solid)) continue;
+    // Toward the centre only where that is another way than the gradient's (a bay): within 20
+    // degrees of it, the same rays would be asked again.
+    if (k == 1 && dot(towards[0], toward) > 0.94) continue;
     float lo = 0.0, hi = ink + 0.5 * pixel;
     if (best >= 0.0) hi = min(hi, best);
-    if (!hullHits(vBillboardPuff * vec3(vPuff + hi * toward, 0.0), eps)) continue;
+    // The guess bracketed first: by the solid ink's bounds where it lies between them (both hold:
+    // the pixel is ink), else by the quarter pixels counted from the ink's width (where the edge's
+    // coverage is one half: a pixel is on the side of it the bisection would find). Where the guess
+    // is wrong, the bisection goes on from what the two rays found.
+    bool hiHits = false;
+    if (k == 0 && guess > 0.0 && guess < hi) {
+      float quarter = 0.25 * pixel;
+      bool inSolid = guess >= 0.5 * pixel && guess <= solid;
+      float a = inSolid ? 0.5 * pixel : max(ink + quarter * floor((guess - ink) / quarter), 0.0);
+      float b = inSolid ? solid : min(a + quarter, hi);
+      if (hullHits(vBillboardPuff * vec3(vPuff + b * toward, 0.0), hitEps)) {
+        hi = b;
+        hiHits = true;
+        if (hullHits(vBillboardPuff * vec3(vPuff + a * toward, 0.0), hitEps)) {
+          hi = a;
+        } else {
+          lo = a;
+        }
+      } else {
+        lo = b;
+      }
+    }
+    if (!hiHits && !hullHits(vBillboardPuff * vec3(vPuff + hi * toward, 0.0), hitEps)) continue;
     for (int i = 0; i < 4; ++i) {
       if ((lo >= 0.5 * pixel && hi <= solid) || hi - lo <= 0.25 * pixel) break;
       // The first split at the inner edge of the outer antialiased band, where most pixels of
       // the ring are decided.
       float mid = i == 0 && solid > lo && solid < hi ? solid : 0.5 * (lo + hi);
-      if (hullHits(vBillboardPuff * vec3(vPuff + mid * toward, 0.0), eps)) {
+      if (hullHits(vBillboardPuff * vec3(vPuff + mid * toward, 0.0), hitEps)) {
         hi = mid;
       } else {
         lo = mid;
@@ -168,19 +201,25 @@ float screenDistance(vec3 at, float nearest, float ink, float pixel, float eps) 
   return best >= 0.0 ? best : max(nearest, ink + 1.5 * pixel);
 }
 
-// How deep a ray that entered the hull at s = t (the field f there) reaches into it: on until 2 px
-// deep, or out (<= 0, diameters). A ray that grazes the hull's silhouette stays shallow: the
+// How deep a ray must reach into the hull to be the body's alone (pixels): the body's antialiased
+// edge is half a pixel wide (nailboard_fs.glsl: body = 0.5 - depth / pixel), so from half a pixel on
+// the pixel is body however much deeper the ray reaches.
+const float kBodyDepth = 0.5;
+
+// How deep a ray that entered the hull at s = t (the field f there) reaches into it: on until
+// kBodyDepth, or out (<= 0, diameters). A ray that grazes the hull's silhouette stays shallow: the
 // antialiased edge of the body and the ink's inner edge. One that leaves the hull and enters it again
-// farther on grazed a groove between two lumps, inside the silhouette: body (2 px deep), no ink.
+// farther on grazed a groove between two lumps, inside the silhouette: body, no ink.
 float hullDepth(vec3 origin, float t, float f, float tMax, float pixel, float eps) {
   vec3 ray = vBillboardPuff[2];
+  float body = -kBodyDepth * pixel;
   float deepest = f;
   float s = t;
-  for (int i = 0; i < 8 && deepest > -2.0 * pixel; ++i) {
+  for (int i = 0; i < 8 && deepest > body; ++i) {
     s -= max(-f, eps);
     if (s < -tMax) break;
     f = hullField(origin + s * ray);
-    if (f > 0.0) return hullHitsFrom(origin, s, tMax, eps) ? -2.0 * pixel : deepest;
+    if (f > 0.0) return hullHitsFrom(origin, s, tMax, eps) ? body : deepest;
     deepest = min(deepest, f);
   }
   return deepest;
@@ -249,7 +288,7 @@ HullHit hullMarch(float lod, float tpp, float reach, bool wantEdge, bool wantSha
     return h;
   }
   h.t = t;
-  h.deepest = -2.0 * pixel;
+  h.deepest = -kBodyDepth * pixel;
   if (wantEdge) h.deepest = hullDepth(origin, t, f, tMax, pixel, eps);
   if (wantShade) shadeHit(origin + h.t * ray, pixel, lod, h);
   return h;

@@ -285,12 +285,15 @@ TEST_F(TumbleCases, OrientedPuffsOnAOneViewAtlasAreRefused) {
   EXPECT_OK(render(sceneJson(oneView, nlohmann::json::array({plain}))));
 }
 
+// Floors at what each method keeps on this sample, less a margin. Those of oct 3 x 3's, oct 7 x 7's
+// and hemi-oct 3 x 3's mean outline IoU sit within 0.005 of it: measuring the ink toward the puff's
+// centre as well as down the field's gradient (a bay) is worth about that much there.
 INSTANTIATE_TEST_SUITE_P(
     Atlases, Tumble,
-    ::testing::Values(Config{bake::ViewLayout::kOct, 3, 0.96, 0.98, 0.73, 0.85},
+    ::testing::Values(Config{bake::ViewLayout::kOct, 3, 0.96, 0.98, 0.73, 0.868},
                       Config{bake::ViewLayout::kOct, 5, 0.975, 0.985, 0.86, 0.945},
-                      Config{bake::ViewLayout::kOct, 7, 0.975, 0.985, 0.875, 0.955},
-                      Config{bake::ViewLayout::kHemiOct, 3, 0.95, 0.975, 0.69, 0.845},
+                      Config{bake::ViewLayout::kOct, 7, 0.975, 0.985, 0.875, 0.963},
+                      Config{bake::ViewLayout::kHemiOct, 3, 0.95, 0.975, 0.69, 0.85},
                       Config{bake::ViewLayout::kHemiOct, 5, 0.975, 0.985, 0.86, 0.945},
                       Config{bake::ViewLayout::kHemiOct, 7, 0.975, 0.985, 0.88, 0.955},
                       Config{bake::ViewLayout::kOct, 3, 0.695, 0.92, 0.08, 0.51, cel::TumbleMethod::kBlend},
