@@ -158,14 +158,14 @@ float screenDistance(vec3 at, float nearest, float ink, float pixel, float eps) 
     vec2 toward = towards[k];
     if (dot(toward, toward) == 0.0 || (best >= 0.0 && best <= solid)) continue;
     // Toward the centre only where that is another way than the gradient's (a bay): within 20
-    // degrees of it, the same rays would be asked again.
+    // degrees of it, rays less than a pixel from those already asked.
     if (k == 1 && dot(towards[0], toward) > 0.94) continue;
     float lo = 0.0, hi = ink + 0.5 * pixel;
     if (best >= 0.0) hi = min(hi, best);
     // The guess bracketed first: by the solid ink's bounds where it lies between them (both hold:
     // the pixel is ink), else by the quarter pixels counted from the ink's width (where the edge's
-    // coverage is one half: a pixel is on the side of it the bisection would find). Where the guess
-    // is wrong, the bisection goes on from what the two rays found.
+    // coverage is one half), the points the bisection below splits at. Where the guess is wrong,
+    // the bisection goes on from what the two rays found. (At 0 the ray is the pixel's own, a miss.)
     bool hiHits = false;
     if (k == 0 && guess > 0.0 && guess < hi) {
       float quarter = 0.25 * pixel;
@@ -175,11 +175,13 @@ float screenDistance(vec3 at, float nearest, float ink, float pixel, float eps) 
       if (hullHits(vBillboardPuff * vec3(vPuff + b * toward, 0.0), hitEps)) {
         hi = b;
         hiHits = true;
-        if (hullHits(vBillboardPuff * vec3(vPuff + a * toward, 0.0), hitEps)) {
+        if (a > 0.0 && hullHits(vBillboardPuff * vec3(vPuff + a * toward, 0.0), hitEps)) {
           hi = a;
         } else {
           lo = a;
         }
+      } else if (b >= hi) {
+        continue;  // the farthest ray asked, and missed: no ink this way
       } else {
         lo = b;
       }
@@ -187,9 +189,10 @@ float screenDistance(vec3 at, float nearest, float ink, float pixel, float eps) 
     if (!hiHits && !hullHits(vBillboardPuff * vec3(vPuff + hi * toward, 0.0), hitEps)) continue;
     for (int i = 0; i < 4; ++i) {
       if ((lo >= 0.5 * pixel && hi <= solid) || hi - lo <= 0.25 * pixel) break;
-      // The first split at the inner edge of the outer antialiased band, where most pixels of
-      // the ring are decided.
-      float mid = i == 0 && solid > lo && solid < hi ? solid : 0.5 * (lo + hi);
+      // Split first at the inner edge of the outer antialiased band, where most pixels of the ring
+      // are decided, then at the ink's width, where an edge pixel's coverage is one half (so the
+      // quarter-pixel intervals after it never straddle that line), else halfway.
+      float mid = solid > lo && solid < hi ? solid : ink > lo && ink < hi ? ink : 0.5 * (lo + hi);
       if (hullHits(vBillboardPuff * vec3(vPuff + mid * toward, 0.0), hitEps)) {
         hi = mid;
       } else {

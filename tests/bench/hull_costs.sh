@@ -10,7 +10,7 @@
 #   as-is               the shaders as they are
 #   no-screen-distance  a ray that misses takes the field's estimate of its distance, not the one
 #                       measured on the screen near the ink's outer edge (screenDistance's bisection)
-#   no-depth-probe      a hit is not followed 2 px into the hull (hullDepth: the antialiased inner edge)
+#   no-depth-probe      a hit is not followed half a pixel into the hull (hullDepth: the antialiased inner edge)
 # Writes CSV (variant, then puff_gpubench's columns) to --csv FILE or stdout. Not a test.
 set -euo pipefail
 case ${1:-} in -h | --help) sed -n '2,14p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;; esac

@@ -713,21 +713,21 @@ fi
       END {if (n) printf "Atlases with every pose at both bars: %d; the smallest, %s, %.1f MiB.\n", n, best, bytes / 1048576;
            else print "No atlas here has every pose at both bars (coverage IoU >= 0.95 and outline IoU >= 0.5)."}'
     echo
-    echo "What the run of 2026-12-04 showed (7 atlases at 128 texels, 6384 poses each, both methods). The"
-    echo "hull keeps every pose of every atlas at both bars: its worst pose is 0.954 (hemioct 3x3) to 0.976"
-    echo "(oct 9x9, hemioct 7x7) coverage IoU and 0.702 to 0.849 outline IoU, its means 0.983 to 0.993 and"
-    echo "0.834 to 0.943. The blend's worst is 0.694 to 0.876 coverage and 0.06 to 0.31 outline, 35-98% of"
-    echo "its poses at the coverage bar. What holds the hull's worst poses there (without them: worst 0.908-0.956,"
-    echo "86-100% of poses at 0.95): the ink's outer edge is measured on the screen, and multi-view atlases hold a"
-    echo "back map, where each ray last leaves the puff, that the hull bounds with (docs/cel-rendering.md,"
-    echo "\"Tumbling puffs\"); each atlas is about 10% larger for it (6.6 MiB at 3x3, 6.0 without). The price is"
-    echo "time: a grid frame takes the hull 6.1 to 6.5 s against the blend's 0.18 to 0.41 s, 15 to 35 times"
-    echo "(about 10 times without the back map). The 2 cores also ran niced builds for part of this"
-    echo "run (oct 3x3's hull, 10.7 s, was measured then), so compare times within the run only. That run"
-    echo "predates the hull's field (docs/cel-rendering.md, \"Tumbling puffs\"): the eye ray marched through"
-    echo "the silhouettes and far sides of all the views sampled once per atlas, one read a step, where it"
-    echo "read eight views' maps a step; on dust-roll 3.5 times the blend where it was 27"
-    echo "([hull-costs.md](hull-costs.md)). A grid frame's hull is not yet measured with it."
+    # The run's own figures, from the CSV: each method's worst and mean poses over the atlases, and the
+    # grid frame's hull against the blend atlas by atlas.
+    tail -n +2 "$out/tumble.csv" | awk -F, '
+      function lo(k, v) { if (!(k in mn) || v < mn[k]) mn[k] = v }
+      function hi(k, v) { if (!(k in mx) || v > mx[k]) mx[k] = v }
+      { m = $14; lo(m "c", $7); hi(m "c", $7); lo(m "o", $10); hi(m "o", $10); lo(m "cm", $8); hi(m "cm", $8)
+        lo(m "om", $11); hi(m "om", $11); key = $1 " " $2 " " $4; ms[key, m] = $13; keys[key] = 1 }
+      END {
+        for (k in keys) if (ms[k, "blend"] > 0) { r = ms[k, "hull"] / ms[k, "blend"]; lo("r", r); hi("r", r) }
+        printf "Over the atlases of this run: the hull'"'"'s worst pose is %.3f to %.3f coverage IoU and %.3f to %.3f\n", mn["hullc"], mx["hullc"], mn["hullo"], mx["hullo"]
+        printf "outline IoU (its means %.3f to %.3f and %.3f to %.3f); the blend'"'"'s worst %.3f to %.3f and %.3f\n", mn["hullcm"], mx["hullcm"], mn["hullom"], mx["hullom"], mn["blendc"], mx["blendc"], mn["blendo"]
+        printf "to %.3f. A grid frame takes the hull %.1f to %.1f times the blend'"'"'s time. What holds the hull'"'"'s\n", mx["blendo"], mn["r"], mx["r"]
+        print "worst poses there, and where its time goes: docs/cel-rendering.md, \"Tumbling puffs\", and"
+        print "[hull-costs.md](hull-costs.md)."
+      }'
     echo
   fi
   echo "# The media path: fire, smoke and dust"
