@@ -131,6 +131,12 @@ void marchField(vec3 origin, float tMax, float eps, inout HullHit h, out float t
   }
 }
 
+// Whether the eye ray through the billboard plane `s` diameters from this pixel's, toward `toward`
+// (billboard axes), hits the hull.
+bool hitsShifted(vec2 toward, float s, float eps) {
+  return hullHits(vBillboardPuff * vec3(vPuff + s * toward, 0.0), eps);
+}
+
 // A miss's distance to the hull near the ink's outer edge, measured on the screen: the eye rays
 // through the billboard plane stepped toward the hull hit it from some distance on, found by
 // bisection along two directions (down the distance's gradient, and toward the puff's centre,
@@ -172,10 +178,10 @@ float screenDistance(vec3 at, float nearest, float ink, float pixel, float eps) 
       bool inSolid = guess >= 0.5 * pixel && guess <= solid;
       float a = inSolid ? 0.5 * pixel : max(ink + quarter * floor((guess - ink) / quarter), 0.0);
       float b = inSolid ? solid : min(a + quarter, hi);
-      if (hullHits(vBillboardPuff * vec3(vPuff + b * toward, 0.0), hitEps)) {
+      if (hitsShifted(toward, b, hitEps)) {
         hi = b;
         hiHits = true;
-        if (a > 0.0 && hullHits(vBillboardPuff * vec3(vPuff + a * toward, 0.0), hitEps)) {
+        if (a > 0.0 && hitsShifted(toward, a, hitEps)) {
           hi = a;
         } else {
           lo = a;
@@ -186,14 +192,14 @@ float screenDistance(vec3 at, float nearest, float ink, float pixel, float eps) 
         lo = b;
       }
     }
-    if (!hiHits && !hullHits(vBillboardPuff * vec3(vPuff + hi * toward, 0.0), hitEps)) continue;
+    if (!hiHits && !hitsShifted(toward, hi, hitEps)) continue;
     for (int i = 0; i < 4; ++i) {
       if ((lo >= 0.5 * pixel && hi <= solid) || hi - lo <= 0.25 * pixel) break;
       // Split first at the inner edge of the outer antialiased band, where most pixels of the ring
       // are decided, then at the ink's width, where an edge pixel's coverage is one half (so the
       // quarter-pixel intervals after it never straddle that line), else halfway.
       float mid = solid > lo && solid < hi ? solid : ink > lo && ink < hi ? ink : 0.5 * (lo + hi);
-      if (hullHits(vBillboardPuff * vec3(vPuff + mid * toward, 0.0), hitEps)) {
+      if (hitsShifted(toward, mid, hitEps)) {
         hi = mid;
       } else {
         lo = mid;
