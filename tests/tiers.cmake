@@ -16,7 +16,7 @@ set(PUFF_TESTS_UNIT
   sim_forces_test.cpp sim_loop_test.cpp sim_test.cpp sim_threads_test.cpp)
 set(PUFF_TESTS_GL
   bake_atlas_test.cpp bake_lod_mips_test.cpp fixedfunc_draw_test.cpp host_layers_errors_test.cpp
-  host_state_bindings_test.cpp media_layers_test.cpp media_model_test.cpp nailboard_shadow_test.cpp reference_gpu_test.cpp
+  host_state_bindings_test.cpp hull_occluders_test.cpp media_layers_test.cpp media_model_test.cpp nailboard_shadow_test.cpp reference_gpu_test.cpp
   bake_test.cpp cel_floor_test.cpp cel_reference_test.cpp colour_pipeline_test.cpp compose_test.cpp debug_names_test.cpp
   cooked_image_test.cpp fixedfunc_test.cpp gl_context_test.cpp host_depth_test.cpp host_media_test.cpp
   host_state_test.cpp host_targets_test.cpp lod_kept_test.cpp media_cartoon_test.cpp media_popping_test.cpp media_sort_test.cpp
@@ -24,7 +24,7 @@ set(PUFF_TESTS_GL
   render_test.cpp shader_test.cpp shadow_methods_test.cpp shadow_receivers_test.cpp stability_inputs_test.cpp stability_test.cpp
   steady_test.cpp)
 set(PUFF_TESTS_E2E
-  budget_cel_test.cpp lit_once_scene_test.cpp puffrender_flipbook_test.cpp puffrender_loop_test.cpp puffrender_paths_test.cpp
+  budget_cel_test.cpp hull_occluders_scene_test.cpp lit_once_scene_test.cpp puffrender_flipbook_test.cpp puffrender_loop_test.cpp puffrender_paths_test.cpp
   bake_replace_test.cpp budget_test.cpp colour_test.cpp gl_failures_test.cpp gpubench_test.cpp media_coverage_scene_test.cpp media_scene_test.cpp parity_test.cpp
   puffbake_cli_test.cpp puffbake_gltf_test.cpp puffrender_cli_test.cpp puffview_keep_test.cpp puffview_test.cpp puffview_window_test.cpp scene_golden_test.cpp)
 set(PUFF_TESTS_SLOW

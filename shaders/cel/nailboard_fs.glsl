@@ -152,6 +152,22 @@ float outlineBand(bool fromTable, bool blended, float tableDist, float trusted, 
   return max(0.0, min(wantTexels, range - 1.0 - 0.5 * tpp));
 }
 
+#if defined(PUFF_HULL) && !defined(PUFF_CASTER)
+// The hull's occluders (NailboardRenderer, drawn into Puff's own target before the hull: uOccluded
+// 1): per pixel the view depth of the nearest core's disc (hull_occluder.frag), behind which that
+// puff's hull is drawn. A marched puff whose every depth at the pixel lies behind it is hidden there:
+// its fragment is dropped before it marches. Its depths lie within its unit sphere (the march's
+// chord, hullMarch) or on its billboard plane (the ink).
+layout(binding = 8) uniform sampler2D uOccluders;
+uniform int uOccluded;
+bool hullOccluded() {
+  if (uOccluded != 1 || vHull != 1) return false;
+  float chord = sqrt(max(0.25 - dot(vPuff, vPuff), 0.0));  // half the chord, diameters
+  float nearest = vDist - chord * abs(vNormalXf[0][2].z) * vSize;
+  return nearest > texelFetch(uOccluders, ivec2(gl_FragCoord.xy), 0).r;
+}
+#endif
+
 #ifdef PUFF_HULL
 // An oriented puff: the hull marched (hullMarch) in place of the blend, whose depth offset and
 // silhouette distance (texels: outside, the least distance to the hull; inside, how deep the ray
@@ -317,6 +333,9 @@ void main() {
 }
 #else
 void main() {
+#if defined(PUFF_HULL) && !defined(PUFF_CASTER)
+  if (hullOccluded()) discard;
+#endif
   NailboardFragment f = evaluateFragment();
   if (uMultisample == 1 ? f.coverage <= 0.0 : f.coverage < 0.5) discard;
 #ifdef PUFF_CASTER

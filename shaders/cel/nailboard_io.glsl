@@ -33,6 +33,11 @@ PUFF_NB_FLAT int vHullBehind;  // a hemi-oct atlas seen from behind: some of the
 PUFF_NB_FLAT mat3 vBillboardPuff;
 PUFF_NB_FLAT mat3 vPuffToView;
 #endif
+#ifdef PUFF_HULL_OCCLUDER
+// The occluder pass (hull_occluder.vert): the core's disc on the billboard (centre x, y and radius,
+// puff diameters) and how far before the billboard plane its centre lies (view depth, world units).
+PUFF_NB_FLAT vec4 vDisc;
+#endif
 
 // The outline switch and width (pixels), read by both stages: a small puff's quad grows to hold its band.
 uniform int uOutlines;

@@ -33,14 +33,29 @@ void main() {
   // The quad covers the whole cell (margin included) so the outline can reach past the silhouette;
   // a puff so small that its band and antialiased edge (outline width + 1.5 pixels) reach past the
   // cell gets a quad that holds them: the silhouette lies within half a diameter of the centre.
+#ifdef PUFF_HULL_OCCLUDER
+  // The hull's occluder pass: the disc of the puff's core (a ball inside its hull) through the core's
+  // centre, facing along the march's rays, a pixel and a half inside its rim (every sample of a pixel
+  // it covers lies in the disc, where the march hits the hull before the disc: nailboard_fs.glsl,
+  // hullOccluded).
+  vec4 core = cells[vCell.x].core;
+  float towardEye = vNormalXf[0][2].z;  // view z of the billboard's normal: diameters along it -> view depth
+  float radius = core.w - 1.5 / pxPerDiameter;
+  vec2 centre = vec2(dot(core.xyz, vBillboardPuff[0]), dot(core.xyz, vBillboardPuff[1]));
+  vDisc = vec4(centre, radius, dot(core.xyz, vBillboardPuff[2]) * towardEye * p.size);
+  vPuff = centre + corner * radius;
+  bool occludes = vHull == 1 && radius > 0.0 && towardEye > 0.0;
+#else
   float halfCell = 0.5 * uAtlasGeom.z / uAtlasScale.x;  // cell half-width in puff diameters
   float band = (uOutlines == 1 ? max(0.0, uOutlineWidth) : 0.0) + 1.5;
   vPuff = corner * max(halfCell, 0.5 + band / pxPerDiameter);
+  const bool occludes = true;
+#endif
   vec3 world = p.position + p.size * (vPuff.x * bb[0] + vPuff.y * bb[1]);
   vec4 viewPos = uView * vec4(world, 1.0);
   vDist = -viewPos.z;
   vWorld = world;
-  bool drawn = p.size > 0.0;
+  bool drawn = p.size > 0.0 && occludes;
 #if PUFF_VIEWS == 4
   drawn = drawn && (uTumbleShare == 0 || (vHull == 1) == (uTumbleShare == 1));
 #endif

@@ -4,13 +4,15 @@
 
 layout(std430, binding = 0) readonly buffer ParticleBuffer { uvec4 particles[]; };
 
-// One atlas cell: rect (x, y, w, h; level-0 texels, y down) and the puff-space axes of the view
-// it was baked from (right, up, toward the viewer).
+// One atlas cell: rect (x, y, w, h; level-0 texels, y down), the puff-space axes of the view it was
+// baked from (right, up, toward the viewer), and its variation's core: a ball inside the tumbling
+// hull (puff-space centre and radius, diameters; radius 0: none. runtime/src/cel/hull_field.h).
 struct AtlasCell {
   vec4 rect;
   vec4 right;
   vec4 up;
   vec4 dir;
+  vec4 core;
 };
 layout(std430, binding = 1) readonly buffer AtlasCells { AtlasCell cells[]; };
 

@@ -13,6 +13,8 @@
 //   cloud-50k     the scene as it is, at 1920 x 1080
 //   blend, hull   dust-roll frames 30-35 at 960 x 540, its oriented puffs drawn by blending views /
 //                 by the hull (style.tumble); the hull's baseline is the blend
+//   hull-no-occluders  the hull with every fragment marched (SceneRenderer::setHullOccluders off):
+//                 what the occluders buy; baseline the blend (not in --quick)
 //   hull-from-P   (group tumble-split) the same, the hull only for puffs P pixels across and more
 //                 (style.hullFromPixels, P 48 and 96), the blend for the rest; baseline the blend
 //                 (not in --quick)
@@ -91,7 +93,8 @@ struct Case {
   /// The baseline is this case with its lit nailboards shading every layer
   /// (SceneRenderer::setLitShading), named `baseline`: what shading each pixel once buys.
   bool baselineEveryLayer = false;
-  bool everyLayer = false;  ///< the nailboards' lit pass shades every layer
+  bool everyLayer = false;    ///< the nailboards' lit pass shades every layer
+  bool hullOccluders = true;  ///< the tumbling hull drops fragments behind another puff's core
 };
 
 struct Timing {
@@ -164,6 +167,11 @@ std::vector<Case> plan(const Options& o) {
         {"tumble", "blend", "dust-roll.json", w, h, samples, tumbleFrames, tumble(cel::TumbleMethod::kBlend), ""});
     cases.push_back(
         {"tumble", "hull", "dust-roll.json", w, h, samples, tumbleFrames, tumble(cel::TumbleMethod::kHull), "blend"});
+    Case marchedAll{
+        "tumble", "hull-no-occluders", "dust-roll.json", w, h, samples, tumbleFrames, tumble(cel::TumbleMethod::kHull),
+        "blend"};
+    marchedAll.hullOccluders = false;
+    if (!o.quick) cases.push_back(marchedAll);
     // The hull only for puffs that large on screen, the blend for the rest (not in --quick's one case).
     for (const int from : o.quick ? std::vector<int>{} : std::vector<int>{48, 96}) {
       cases.push_back({"tumble-split", "hull-from-" + std::to_string(from), "dust-roll.json", w, h, samples,
@@ -264,6 +272,7 @@ Result<Setup> setUp(const Options& o, const Case& c, bool floor) {
   PUFF_TRY_ASSIGN(setup.renderer, render::SceneRenderer::create(s, render::RenderPath::kCel));
   setup.renderer->setFillRateFloor(floor);
   setup.renderer->setLitShading(c.everyLayer ? cel::LitShading::kEveryLayer : cel::LitShading::kAuto);
+  setup.renderer->setHullOccluders(c.hullOccluders);
   setup.frames = c.frames;
   return setup;
 }

@@ -54,7 +54,8 @@ void assignBindPoints(GLuint program, const Bindings& b) {
                                    {K::kSampler, "uShadowProfile", b.shadowProfile},
                                    {K::kSampler, "uShadowMapDepth", b.shadowMapDepth},
                                    {K::kSampler, "uShadowMapId", b.shadowMapIds},
-                                   {K::kSampler, "uVisible", b.visibility}});
+                                   {K::kSampler, "uVisible", b.visibility},
+                                   {K::kSampler, "uOccluders", b.visibility}});
 }
 
 }  // namespace detail

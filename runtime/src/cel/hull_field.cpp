@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -129,6 +130,91 @@ struct Bounder {
   }
 };
 
+// A grid point's value that R16F keeps below 0 and a march reads as inside (diameters).
+constexpr float kCoreInside = -1e-3f;
+
+// The squared distance transform of `f` (0 at the points that count, a large value elsewhere) along
+// one line of `n` points `stride` apart (Felzenszwalb and Huttenlocher's lower envelope of parabolas).
+void squaredDistanceLine(float* f, int n, std::size_t stride, std::vector<float>& line, std::vector<int>& v,
+                         std::vector<float>& z) {
+  for (int i = 0; i < n; ++i) line[static_cast<std::size_t>(i)] = f[static_cast<std::size_t>(i) * stride];
+  int k = 0;
+  v[0] = 0;
+  z[0] = -1e30f;
+  z[1] = 1e30f;
+  const auto at = [&](int i) { return line[static_cast<std::size_t>(i)]; };
+  for (int q = 1; q < n; ++q) {
+    float s = 0.0f;
+    while (true) {
+      const int p = v[static_cast<std::size_t>(k)];
+      s = ((at(q) + static_cast<float>(q * q)) - (at(p) + static_cast<float>(p * p))) / static_cast<float>(2 * (q - p));
+      if (s > z[static_cast<std::size_t>(k)] || k == 0) break;
+      --k;
+    }
+    if (s <= z[static_cast<std::size_t>(k)]) {  // k == 0 and the first parabola is hidden
+      v[0] = q;
+      z[1] = 1e30f;
+      continue;
+    }
+    ++k;
+    v[static_cast<std::size_t>(k)] = q;
+    z[static_cast<std::size_t>(k)] = s;
+    z[static_cast<std::size_t>(k) + 1] = 1e30f;
+  }
+  k = 0;
+  for (int q = 0; q < n; ++q) {
+    while (z[static_cast<std::size_t>(k) + 1] < static_cast<float>(q)) ++k;
+    const int p = v[static_cast<std::size_t>(k)];
+    f[static_cast<std::size_t>(q) * stride] = static_cast<float>((q - p) * (q - p)) + at(p);
+  }
+}
+
+// Variation `variation`'s core (HullField::cores): the largest ball about a grid point whose every
+// cell lies inside (all eight corners below 0: so is the filtered read all through them) and that
+// stays within the grid's outermost points (a read beyond them is clamped). A ball about point g
+// reaching R grid steps touches cells whose corners lie within R + sqrt 3 of g: R is g's distance to
+// the nearest point outside (a Euclidean distance transform of the grid) less sqrt 3.
+glm::vec4 fieldCore(const HullField& field, std::size_t variation) {
+  const core::HullFieldLayout& f = field.layout;
+  const int side = f.side;
+  const auto column = variation / static_cast<std::size_t>(f.perColumn);
+  const auto row = variation % static_cast<std::size_t>(f.perColumn);
+  const auto s = static_cast<std::size_t>(side), width = static_cast<std::size_t>(f.width());
+  constexpr float kFar = 1e20f;
+  std::vector<float> d(s * s * s);
+  for (std::size_t z = 0; z < s; ++z) {
+    for (std::size_t y = 0; y < s; ++y) {
+      const float* in = field.values.data() + ((row * s + z) * s + y) * width + column * s;
+      for (std::size_t x = 0; x < s; ++x) d[(z * s + y) * s + x] = in[x] < kCoreInside ? kFar : 0.0f;
+    }
+  }
+  std::vector<float> line(s), z(s + 1);
+  std::vector<int> v(s);
+  // Along x, then y, then z: each pass over the whole grid before the next.
+  for (std::size_t a = 0; a < s * s; ++a) squaredDistanceLine(&d[a * s], side, 1, line, v, z);
+  for (std::size_t a = 0; a < s * s; ++a) squaredDistanceLine(&d[(a / s) * s * s + a % s], side, s, line, v, z);
+  for (std::size_t a = 0; a < s * s; ++a) squaredDistanceLine(&d[a], side, s * s, line, v, z);
+  float best = 0.0f;
+  glm::vec3 centre(0.0f);
+  for (int gz = 0; gz < side; ++gz) {
+    for (int gy = 0; gy < side; ++gy) {
+      for (int gx = 0; gx < side; ++gx) {
+        const float squared =
+            d[(static_cast<std::size_t>(gz) * s + static_cast<std::size_t>(gy)) * s + static_cast<std::size_t>(gx)];
+        const float faces = static_cast<float>(std::min({gx, gy, gz, side - 1 - gx, side - 1 - gy, side - 1 - gz}));
+        const float r = std::min(std::sqrt(squared) - std::sqrt(3.0f) - 1e-3f, faces);
+        if (r > best) {
+          best = r;
+          centre = {gx, gy, gz};
+        }
+      }
+    }
+  }
+  if (best <= 0.0f) return glm::vec4(0.0f);
+  const float voxel = 1.0f / static_cast<float>(side);
+  return {(centre + 0.5f) * voxel - 0.5f, best * voxel};
+}
+
 }  // namespace
 
 HullField buildHullField(const core::Atlas& atlas, const std::vector<float>& radii) {
@@ -181,12 +267,15 @@ HullField buildHullField(const core::Atlas& atlas, const std::vector<float>& rad
         }
       },
       1);
+  field.cores.resize(views.size());
+  core::parallelFor(
+      views.size(), [&](std::size_t v) { field.cores[v] = fieldCore(field, v); }, 1);
   return field;
 }
 
-Result<core::Texture> hullFieldTexture(const core::Atlas& atlas, const std::vector<float>& radii) {
+Result<HullFieldTexture> hullFieldTexture(const core::Atlas& atlas, const std::vector<float>& radii) {
   const core::AtlasDesc& d = atlas.desc;
-  if (d.views < 2) return core::Texture{};
+  if (d.views < 2) return HullFieldTexture{{}, std::vector<glm::vec4>(static_cast<std::size_t>(d.variations))};
   const core::Image& dist = atlas.maps.at("distance").front();
   if (auto back = atlas.maps.find("back"); back != atlas.maps.end() && !back->second.empty()) {
     const core::Image& b = back->second.front();
@@ -217,7 +306,7 @@ Result<core::Texture> hullFieldTexture(const core::Atlas& atlas, const std::vect
   glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
     glTextureParameteri(t.get(), wrap, GL_CLAMP_TO_EDGE);
-  return t;
+  return HullFieldTexture{std::move(t), field.cores};
 }
 
 }  // namespace puff::cel::detail

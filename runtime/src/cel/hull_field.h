@@ -15,6 +15,8 @@
 
 #include <vector>
 
+#include <glm/vec4.hpp>
+
 #include <puff/core/atlas.h>
 #include <puff/core/error.h>
 #include <puff/core/gl.h>
@@ -31,6 +33,16 @@ constexpr float kHullFieldReach = 0.25f;
 struct HullField {
   core::HullFieldLayout layout;
   std::vector<float> values;  ///< the 3D texture's texels, x fastest, then y, then z; diameters
+  /// Each variation's core: a ball inside its hull as the shader's filtered reads draw it (every
+  /// grid cell the ball touches has all eight corners inside), centred on the grid's deepest point:
+  /// puff-space centre (x, y, z) and radius (w), diameters. Radius 0: none.
+  std::vector<glm::vec4> cores;
+};
+
+// A one-view atlas has no field: its cores are empty balls.
+struct HullFieldTexture {
+  core::Texture texture;         // none (0) for a one-view atlas
+  std::vector<glm::vec4> cores;  // one a variation (HullField::cores)
 };
 
 // The field of every variation of `atlas` (several views; its "distance" map, and its "back" map if
@@ -40,9 +52,9 @@ struct HullField {
 HullField buildHullField(const core::Atlas& atlas, const std::vector<float>& radii);
 
 // The field of a multi-view atlas as a 3D R16F texture, filtered linearly and clamped at its edges
-// (the reader keeps to each variation's grid, shaders/cel/hull_march.glsl); none (0) for a one-view
-// atlas. Checks the back map (one channel, the distance map's size) and the GL's 3D texture size
+// (the reader keeps to each variation's grid, shaders/cel/hull_march.glsl), and its cores; none (0)
+// for a one-view atlas. Checks the back map (one channel, the distance map's size) and the GL's 3D texture size
 // before building. Needs a current GL context; an error names the GL's (out of memory).
-Result<core::Texture> hullFieldTexture(const core::Atlas& atlas, const std::vector<float>& radii);
+Result<HullFieldTexture> hullFieldTexture(const core::Atlas& atlas, const std::vector<float>& radii);
 
 }  // namespace puff::cel::detail

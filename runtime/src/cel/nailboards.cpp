@@ -18,6 +18,7 @@
 #include <puff/gl_api.h>
 #include <puff/shader_contract.h>
 
+#include "atlas_textures.h"
 #include "bindings_gl.h"
 #include "hull_field.h"
 #include "nailboard_programs.h"
@@ -85,6 +86,11 @@ struct NailboardRenderer::Impl {
   // the shadowed pass's deferred shading reads the lit pass's visibility.
   DeferredPrograms singleDeferred, multiDeferred;
   detail::VisibilityTarget visibility;
+  // The tumbling hull's occluders: each hull-drawn puff's core, drawn before each pass of the hull
+  // into Puff's own target (drawOccluders); its fragments behind another's core skip their march.
+  NailboardProgram occluder;
+  detail::OccluderTarget occluders;
+  bool hullOccluders = true;
   // What the visibility target holds: the particles of upload number `upload` (0:
   // none) seen in the frame block bound as number `frame` (cel::boundFrameSerial), drawn for the
   // draw framebuffer `framebuffer` at `samples`.
@@ -163,6 +169,9 @@ struct NailboardRenderer::Impl {
   // visibility target; then the screen pass of `pass` over it. Each sets every state it relies on.
   // False, drawing nothing, where the target cannot be made (an incomplete framebuffer).
   bool drawVisibility(const NailboardProgram& visible, const Style& style, int samples);
+  // The hull's occluder pass, of the particles `share` takes, into the occluder target (the draw
+  // framebuffer's binding put back). False, drawing nothing, where the target cannot be made.
+  bool drawOccluders(const Style& style, int samples);
   // The screen rectangle the quads reach: their centres' box grown by a grid step (the packed
   // positions' rounding) and the largest quad's half-diagonal (a quad spans at least the whole cell,
   // halfCell diameters from its centre; one larger for its ink is larger by the ink's pixels, in the
@@ -229,6 +238,7 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
   PUFF_TRY_ASSIGN(auto hull, buildPassPrograms("nailboard_views", "nailboard_hull"));
   PUFF_TRY_ASSIGN(m.hullCaster,
                   NailboardProgram::build("cel/nailboard_views.vert", "cel/nailboard_hull_caster.frag", true));
+  PUFF_TRY_ASSIGN(m.occluder, NailboardProgram::build("cel/hull_occluder.vert", "cel/hull_occluder.frag", false));
   PUFF_TRY_ASSIGN(m.singleDeferred, DeferredPrograms::build("nailboard"));
   PUFF_TRY_ASSIGN(m.multiDeferred, DeferredPrograms::build("nailboard_views"));
   PUFF_TRY_ASSIGN(auto sv, core::buildProgram({"cel/shadow.vert", "cel/shadow.frag"}));
@@ -251,7 +261,7 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
     for (const NailboardProgram* nb : variant->all()) detail::assignBindPoints(nb->program.get(), bindings);
   }
   for (const GLuint p : {m.singleCaster.program.get(), m.multiCaster.program.get(), m.hullCaster.program.get(),
-                         m.shadow.get(), m.sprite.get()}) {
+                         m.occluder.program.get(), m.shadow.get(), m.sprite.get()}) {
     detail::assignBindPoints(p, bindings);
   }
   // Binding texture 0 would empty every target of the unit (glBindTextureUnit), the host's too.
@@ -267,66 +277,6 @@ Result<std::unique_ptr<NailboardRenderer>> NailboardRenderer::create(const Bindi
 
 const core::AtlasDesc& NailboardRenderer::atlas() const { return impl_->desc; }
 
-namespace {
-
-const std::vector<core::Image>* findMap(const core::Atlas& atlas, const std::string& key) {
-  const auto it = atlas.maps.find(key);
-  return it == atlas.maps.end() || it->second.empty() ? nullptr : &it->second;
-}
-
-// `decode`: the levels hold display values (the atlas colour map) and `internal` is a float format:
-// decode RGB to scene-linear here (8-bit maps use GL_SRGB8_ALPHA8, which decodes on read instead).
-Result<core::Texture> uploadLevels(const core::AtlasDesc& d, std::span<const core::Image> levels,
-                                   const std::string& key, int channels, GLenum internal, bool decode = false) {
-  GLint maxSize = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxSize);
-  if (d.width > maxSize || d.height > maxSize) {
-    return Error{"the atlas is " + std::to_string(d.width) + "x" + std::to_string(d.height) +
-                 " texels, more than this GL's largest texture (" + std::to_string(maxSize) +
-                 "): bake it with a smaller --size or fewer --views"};
-  }
-  core::Texture t = core::makeTexture(GL_TEXTURE_2D, "atlas " + key);
-  const GLsizei nLevels = static_cast<GLsizei>(levels.size());
-  // GL_OUT_OF_MEMORY (or any error) from the storage or the uploads: a message, not a blank atlas.
-  const auto cannotMake = [&](const std::string& glErrors) {
-    return Error{"cannot make the atlas " + key + " texture (" + std::to_string(d.width) + "x" +
-                 std::to_string(d.height) + ", " + std::to_string(nLevels) + (nLevels == 1 ? " level" : " levels") +
-                 "): " + glErrors};
-  };
-  glTextureStorage2D(t.get(), nLevels, internal, d.width, d.height);
-  // Checked before the levels are converted below, which takes as much memory again on the CPU: out
-  // of memory here would otherwise become std::bad_alloc there, naming nothing.
-  if (const std::string e = core::drainGlErrors(); !e.empty()) return cannotMake(e);
-  for (GLsizei l = 0; l < nLevels; ++l) {
-    const core::Image& im = levels[static_cast<std::size_t>(l)];
-    const int w = std::max(1, d.width >> l), h = std::max(1, d.height >> l);
-    if (im.width != w || im.height != h) {
-      return Error{"atlas " + key + " level " + std::to_string(l) + " is " + std::to_string(im.width) + "x" +
-                   std::to_string(im.height) + ", expected " + std::to_string(w) + "x" + std::to_string(h)};
-    }
-    std::vector<float> px(static_cast<std::size_t>(w) * h * channels);
-    for (std::size_t i = 0; i < static_cast<std::size_t>(w) * h; ++i) {
-      for (int c = 0; c < channels; ++c) {
-        const float v = im.pixels[i * im.channels + std::min(c, im.channels - 1)];
-        px[i * channels + c] = decode && c < 3 ? static_cast<float>(core::srgbToLinear(double{v})) : v;
-      }
-    }
-    // Rows go up as stored (top first): texture t = 0 is the atlas's top row, as in cellUv.
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTextureSubImage2D(t.get(), l, 0, 0, w, h, channels == 4 ? GL_RGBA : GL_RED, GL_FLOAT, px.data());
-  }
-  if (const std::string e = core::drainGlErrors(); !e.empty()) return cannotMake(e);
-  glTextureParameteri(t.get(), GL_TEXTURE_BASE_LEVEL, 0);
-  glTextureParameteri(t.get(), GL_TEXTURE_MAX_LEVEL, nLevels - 1);
-  glTextureParameteri(t.get(), GL_TEXTURE_MIN_FILTER, nLevels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
-  glTextureParameteri(t.get(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(t.get(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  return t;
-}
-
-}  // namespace
-
 Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   Impl& m = *impl_;
   const core::AtlasDesc& d = atlas.desc;
@@ -334,9 +284,9 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
     return Error{"atlas has " + std::to_string(d.cells.size()) + " cells for " + std::to_string(d.variations) +
                  " variations x " + std::to_string(d.views) + " views"};
   }
-  const std::vector<core::Image>* ndMap = findMap(atlas, "normalDepth");
-  const std::vector<core::Image>* colorMap = findMap(atlas, "color");
-  const std::vector<core::Image>* distMap = findMap(atlas, "distance");
+  const std::vector<core::Image>* ndMap = detail::findAtlasMap(atlas, "normalDepth");
+  const std::vector<core::Image>* colorMap = detail::findAtlasMap(atlas, "color");
+  const std::vector<core::Image>* distMap = detail::findAtlasMap(atlas, "distance");
   if (!ndMap || !colorMap || !distMap) {
     return Error{std::string("atlas has no ") + (!ndMap ? "normalDepth" : !colorMap ? "color" : "distance") + " map"};
   }
@@ -362,25 +312,29 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
     }
     packed.push_back(std::move(p));
   }
-  PUFF_TRY_ASSIGN(auto nd, uploadLevels(d, packed, "normalDepth", 4, GL_RGBA8));
+  PUFF_TRY_ASSIGN(auto nd, detail::uploadAtlasLevels(d, packed, "normalDepth", 4, GL_RGBA8));
   // The colour map holds display values (docs/colour.md); the shader reads scene-linear ones, so
   // filtering and mips mix light: an sRGB texture decodes 8-bit maps, EXR maps are decoded here.
   const bool floatMap = d.fileFormat == "exr";
-  PUFF_TRY_ASSIGN(auto co, uploadLevels(d, *colorMap, "color", 4, floatMap ? GL_RGBA16F : GL_SRGB8_ALPHA8, floatMap));
+  PUFF_TRY_ASSIGN(
+      auto co, detail::uploadAtlasLevels(d, *colorMap, "color", 4, floatMap ? GL_RGBA16F : GL_SRGB8_ALPHA8, floatMap));
   // The tumbling hull's field, built before anything the renderer holds changes: a failure leaves
   // the last atlas whole.
   const ShadowProfiles profiles = shadowProfiles(atlas);
-  PUFF_TRY_ASSIGN(core::Texture hull, detail::hullFieldTexture(atlas, profiles.radii));
+  PUFF_TRY_ASSIGN(detail::HullFieldTexture hull, detail::hullFieldTexture(atlas, profiles.radii));
 
+  // shaders/cel/particle.glsl's AtlasCell: rect, right, up, dir, and the variation's core.
   std::vector<glm::vec4> cellData;
-  cellData.reserve(d.cells.size() * 4);
-  for (const core::AtlasCell& c : d.cells) {
+  cellData.reserve(d.cells.size() * 5);
+  for (std::size_t i = 0; i < d.cells.size(); ++i) {
+    const core::AtlasCell& c = d.cells[i];
     const glm::vec3 dir = glm::normalize(c.viewDir), up = glm::normalize(c.viewUp);
     const glm::vec3 right = glm::cross(up, dir);
     cellData.emplace_back(c.rect[0], c.rect[1], c.rect[2], c.rect[3]);
     cellData.emplace_back(right, 0.0f);
     cellData.emplace_back(up, 0.0f);
     cellData.emplace_back(dir, 0.0f);
+    cellData.push_back(hull.cores[i / static_cast<std::size_t>(d.views)]);
   }
   m.cells = core::makeBuffer("nailboards: atlas cells");
   glNamedBufferStorage(m.cells.get(), static_cast<GLsizeiptr>(cellData.size() * sizeof(glm::vec4)), cellData.data(), 0);
@@ -395,7 +349,7 @@ Result<void> NailboardRenderer::setAtlas(const core::Atlas& atlas) {
   glTextureParameteri(sp, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   m.maps = std::move(nd);
   m.color = std::move(co);
-  m.hull = std::move(hull);
+  m.hull = std::move(hull.texture);
   m.desc = d;
   m.hasAtlas = true;
   m.held = {};  // drawn with other maps
@@ -482,9 +436,12 @@ DrawStats NailboardRenderer::Impl::drawShare(const PassPrograms& variant, const 
   // Every layer: a lit pass drawn so leaves nothing the shadowed pass may read (but the hull's share,
   // drawn after the blend's pre-pass).
   if (pass == ShadePass::kLit && taken != TumbleShare::kHull) m.held = {};
+  const bool occluded = &variant == &m.hullView && m.hullOccluders && m.drawOccluders(style, samples);
   const NailboardProgram& nb = variant[passProgramIndex(pass)];
   const GLuint p = nb.program.get();
   m.setUniforms(nb, style, samples);
+  glProgramUniform1i(p, nb.occluded, occluded ? 1 : 0);
+  if (occluded) core::bindTextureAndNoSampler(bindings.visibility, occluders.texture());
 
   // Every state this pass relies on is set here.
   glUseProgram(p);
@@ -502,8 +459,21 @@ DrawStats NailboardRenderer::Impl::drawShare(const PassPrograms& variant, const 
   glDisable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   restoreWriteMasks();
   Impl::unbind();
-  s.drawCalls = 1;
+  s.drawCalls = occluded ? 2 : 1;
   return s;
+}
+
+bool NailboardRenderer::Impl::drawOccluders(const Style& style, int samples) {
+  GLint host = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &host);
+  setUniforms(occluder, style, samples);
+  glUseProgram(occluder.program.get());
+  resetPassState();
+  applyShadePass(ShadePass::kLit);  // the nearer disc wins; depth and colour written, no stencil
+  const bool made = occluders.begin(boundViewport(), boundDepthConvention());
+  if (made) glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(count * 6));
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(host));
+  return made;
 }
 
 bool NailboardRenderer::Impl::drawVisibility(const NailboardProgram& visible, const Style& style, int samples) {
@@ -551,6 +521,8 @@ void NailboardRenderer::Impl::drawScreen(const NailboardProgram& shade, ShadePas
   restoreWriteMasks();
   Impl::unbind();
 }
+
+void NailboardRenderer::setHullOccluders(bool on) { impl_->hullOccluders = on; }
 
 void NailboardRenderer::setLitShading(LitShading shading) {
   impl_->litShading = shading;

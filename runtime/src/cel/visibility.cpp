@@ -98,4 +98,30 @@ bool VisibilityTarget::begin(const core::Viewport& viewport, int samples, GLenum
   return true;
 }
 
+bool OccluderTarget::begin(const core::Viewport& viewport, DepthConvention convention) {
+  const int w = std::max(1, viewport.x + viewport.width), h = std::max(1, viewport.y + viewport.height);
+  if (!fbo_ || w > width_ || h > height_) {
+    width_ = std::max(w, width_);
+    height_ = std::max(h, height_);
+    fbo_ = core::makeFramebuffer("nailboards: hull occluders");
+    depth_ = core::makeRenderbuffer("nailboards: hull occluders' depth");
+    depths_ = core::makeTexture(GL_TEXTURE_2D, "nailboards: hull occluders' view depths");
+    glTextureStorage2D(depths_.get(), 1, GL_R32F, width_, height_);
+    glTextureParameteri(depths_.get(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(depths_.get(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glNamedRenderbufferStorage(depth_.get(), GL_DEPTH_COMPONENT32F, width_, height_);
+    glNamedFramebufferTexture(fbo_.get(), GL_COLOR_ATTACHMENT0, depths_.get(), 0);
+    glNamedFramebufferRenderbuffer(fbo_.get(), GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_.get());
+    glNamedFramebufferDrawBuffer(fbo_.get(), GL_COLOR_ATTACHMENT0);
+    complete_ = glCheckNamedFramebufferStatus(fbo_.get(), GL_DRAW_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+  }
+  if (!complete_) return false;
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo_.get());
+  const float none[4] = {kNone, 0.0f, 0.0f, 0.0f};
+  const float far = clearDepth(convention);
+  glClearNamedFramebufferfv(fbo_.get(), GL_COLOR, 0, none);
+  glClearNamedFramebufferfv(fbo_.get(), GL_DEPTH, 0, &far);
+  return true;
+}
+
 }  // namespace puff::cel::detail

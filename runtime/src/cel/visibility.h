@@ -60,4 +60,27 @@ class VisibilityTarget {
   bool complete_ = false;
 };
 
+// The tumbling hull's occluders (NailboardRenderer: drawn before the hull, read by its fragments):
+// per pixel the view depth of the nearest disc of a hull-drawn puff's core (shaders/cel/hull_occluder.*),
+// single-sampled (the discs stop a pixel and a half inside the cores). Puff's own framebuffer, never
+// attached to a host's.
+class OccluderTarget {
+ public:
+  /// Makes (or remakes, when the viewport outgrows it) a target spanning `viewport` from the
+  /// framebuffer's origin; binds it as the draw framebuffer and clears it: depths kNone, and the depth
+  /// buffer clearDepth(convention). Needs what VisibilityTarget::begin needs. False, binding nothing,
+  /// where the framebuffer it makes is not complete.
+  bool begin(const core::Viewport& viewport, DepthConvention convention);
+  /// The R32F texture (2D): view depth, world units; kNone where no disc lies.
+  GLuint texture() const { return depths_.get(); }
+  static constexpr float kNone = 3.0e38f;
+
+ private:
+  core::Framebuffer fbo_;
+  core::Texture depths_;
+  core::Renderbuffer depth_;
+  int width_ = 0, height_ = 0;
+  bool complete_ = false;
+};
+
 }  // namespace puff::cel::detail

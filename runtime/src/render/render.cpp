@@ -137,13 +137,14 @@ struct SceneRenderer::Impl {
   std::vector<HistoryTag> history;    // motion blur's kept frames, one per slot
   int pathWidth = 0, pathHeight = 0;  // the frame size the path was made for
   // The benchmarks' and tests' switches (setFillRateFloor, setMediaOverWholeFrame,
-  // setLitShading), kept across the paths a renderer makes again.
-  bool fillRateFloor = false, mediaOverWholeFrame = false;
+  // setLitShading, setHullOccluders), kept across the paths a renderer makes again.
+  bool fillRateFloor = false, mediaOverWholeFrame = false, hullOccluders = true;
   cel::LitShading litShading = cel::LitShading::kAuto;
   void configure(Path& p) const {
     p.setFillRateFloor(fillRateFloor);
     p.setMediaOverWholeFrame(mediaOverWholeFrame);
     p.setLitShading(litShading);
+    p.setHullOccluders(hullOccluders);
   }
 };
 
@@ -160,6 +161,11 @@ void SceneRenderer::setFillRateFloor(bool on) {
 
 void SceneRenderer::setLitShading(cel::LitShading shading) {
   impl_->litShading = shading;
+  impl_->configure(*impl_->path);
+}
+
+void SceneRenderer::setHullOccluders(bool on) {
+  impl_->hullOccluders = on;
   impl_->configure(*impl_->path);
 }
 

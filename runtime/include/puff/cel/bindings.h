@@ -18,8 +18,9 @@
 //   shadowProfile        texture unit     5       21       the silhouettes' radius table, 2D
 //   shadowMapDepth       texture unit     6       22       ShadowMap::bind, 2D depth
 //   shadowMapIds         texture unit     7       23       ShadowMap::bind, 2D R32UI
-//   visibility           texture unit     8       24       the nailboards' visibility pre-pass, 2D or 2D multisample
-//   RG32UI
+//   visibility           texture unit     8       24       Puff's own pre-pass target: the nailboards' visibility
+//                                                           (RG32UI, 2D or 2D multisample) or the hull's occluders
+//                                                           (R32F, 2D)
 //
 // The renderers point their programs' blocks and samplers at these after linking
 // (glUniformBlockBinding, glShaderStorageBlockBinding, glProgramUniform1i): the shaders'
@@ -58,7 +59,7 @@ struct Bindings {
   unsigned shadowProfile = kDefaultBase.textureUnit + Offset::shadowProfile;
   unsigned shadowMapDepth = kDefaultBase.textureUnit + Offset::shadowMapDepth;
   unsigned shadowMapIds = kDefaultBase.textureUnit + Offset::shadowMapIds;
-  unsigned visibility = kDefaultBase.textureUnit + Offset::visibility;  ///< texture unit: the nailboards' pre-pass
+  unsigned visibility = kDefaultBase.textureUnit + Offset::visibility;  ///< texture unit: Puff's pre-pass target
   bool operator==(const Bindings&) const = default;
 
   /// Every point at its offset from `base`.

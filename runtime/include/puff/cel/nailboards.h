@@ -180,12 +180,21 @@ class NailboardRenderer {
   ///   kShadowed: depth function GL_EQUAL, stencil test ON, stencil function GL_NOTEQUAL, reference
   ///              0, value mask 0xFF and operations GL_KEEP x 3, front and back;
   ///   kLit and kShadowed when they shade once per pixel: unit `visibility` = the pre-pass's target
-  ///              (2D, or 2D multisample on a multisampled framebuffer), sampler 0 there.
+  ///              (2D, or 2D multisample on a multisampled framebuffer), sampler 0 there;
+  ///   every pass that draws the tumbling hull with its occluders (setHullOccluders): unit
+  ///              `visibility` = the occluder target (2D), sampler 0 there.
   /// On a multisampled framebuffer also GL_MULTISAMPLE on. Nothing at all with no particles or no
   /// atlas (it returns before any GL call).
   DrawStats drawNailboards(const Style& style, ShadePass pass);
   /// How the lit pass shades (kAuto by default).
   void setLitShading(LitShading shading);
+  /// Whether the tumbling hull's passes drop the fragments hidden behind another hull-drawn puff's core
+  /// before they march (on by default): before each pass of the hull, an occluder pass draws each such
+  /// puff's core (a ball inside its hull, found when the field is built) as a disc into Puff's own
+  /// target (sized from the bound frame's viewport; the host's framebuffer gets no attachment). The
+  /// pixels are the same either way; off, every fragment marches (the yardstick it is checked and
+  /// timed against).
+  void setHullOccluders(bool on);
 
   /// The benchmark's fill-rate floor: the same quads with the colour map alpha-tested, nothing
   /// else (no shading, depth offset or outlines); the nearer depth test (nearerDepthFunc) with the quad's own depth.

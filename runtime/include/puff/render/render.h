@@ -93,6 +93,10 @@ class SceneRenderer {
   /// (cel::LitShading: kAuto by default; kEveryLayer is the yardstick shading each pixel once is
   /// checked and timed against).
   void setLitShading(cel::LitShading shading);
+  /// Tests and benchmarks: on the programmable cel path, whether the tumbling hull drops the
+  /// fragments behind another puff's core before they march (cel::NailboardRenderer::setHullOccluders:
+  /// on by default; off is the yardstick they are checked and timed against).
+  void setHullOccluders(bool on);
 
   using MediaFrameInputs = render::MediaFrameInputs;
   /// What the media pass drew in the most recent frame, read back. With motion blur, the last frame
