@@ -13,7 +13,7 @@
 //   cloud-50k     the scene as it is, at 1920 x 1080
 //   blend, hull   dust-roll frames 30-35 at 960 x 540, its oriented puffs drawn by blending views /
 //                 by the hull (style.tumble); the hull's baseline is the blend
-//   hull-no-occluders  the hull with every fragment marched (SceneRenderer::setHullOccluders off):
+//   hull-no-occluders  the hull with every fragment marched (SceneRenderer::setHullOcclusion kNone):
 //                 what the occluders buy; baseline the blend (not in --quick)
 //   hull-from-P   (group tumble-split) the same, the hull only for puffs P pixels across and more
 //                 (style.hullFromPixels, P 48 and 96), the blend for the rest; baseline the blend
@@ -94,7 +94,7 @@ struct Case {
   /// (SceneRenderer::setLitShading), named `baseline`: what shading each pixel once buys.
   bool baselineEveryLayer = false;
   bool everyLayer = false;    ///< the nailboards' lit pass shades every layer
-  bool hullOccluders = true;  ///< the tumbling hull drops fragments behind another puff's core
+  bool hullOccluders = true;  ///< the tumbling hull's occlusion kAuto (else kNone)
 };
 
 struct Timing {
@@ -272,7 +272,7 @@ Result<Setup> setUp(const Options& o, const Case& c, bool floor) {
   PUFF_TRY_ASSIGN(setup.renderer, render::SceneRenderer::create(s, render::RenderPath::kCel));
   setup.renderer->setFillRateFloor(floor);
   setup.renderer->setLitShading(c.everyLayer ? cel::LitShading::kEveryLayer : cel::LitShading::kAuto);
-  setup.renderer->setHullOccluders(c.hullOccluders);
+  setup.renderer->setHullOcclusion(c.hullOccluders ? cel::HullOcclusion::kAuto : cel::HullOcclusion::kNone);
   setup.frames = c.frames;
   return setup;
 }

@@ -1,8 +1,8 @@
-// The tumbling hull's occluders (SceneRenderer::setHullOccluders) on the art's tumbling scene: the
-// frames drawn dropping the fragments behind other puffs' cores are the frames drawn marching every
-// fragment, pixel for pixel, single-sampled and multisampled (where the discs' margin keeps every
-// sample of a pixel they cover inside the core), with the shadow map and with shadow volumes (whose
-// shadowed pass draws the hull again, depth-tested EQUAL against the lit pass), at frames where the
+// The tumbling hull's occluders (SceneRenderer::setHullOcclusion) on the art's tumbling scene: the
+// frames drawn as the renderer picks (kAuto: the occluders, as the puffs stack), dropping the fragments behind other
+// puffs' cores are the frames drawn marching every fragment, pixel for pixel, single-sampled and multisampled (where
+// the discs' margin keeps every sample of a pixel they cover inside the core), with the shadow map and with shadow
+// volumes (whose shadowed pass draws the hull again, depth-tested EQUAL against the lit pass), at frames where the
 // puffs start to roll, pile up and spread.
 #include <gtest/gtest.h>
 
@@ -47,10 +47,10 @@ TEST_P(HullOccludersScene, DustRollIsDrawnAsMarchingEveryFragmentDrawsIt) {
   s.style.shadowMethod = c.shadows;
   auto renderer = render::SceneRenderer::create(s);
   ASSERT_OK(renderer);
-  (*renderer)->setHullOccluders(true);
+  (*renderer)->setHullOcclusion(cel::HullOcclusion::kAuto);
   auto dropped = (*renderer)->renderFrame(c.frame);
   ASSERT_OK(dropped);
-  (*renderer)->setHullOccluders(false);
+  (*renderer)->setHullOcclusion(cel::HullOcclusion::kNone);
   auto marched = (*renderer)->renderFrame(c.frame);
   ASSERT_OK(marched);
   ASSERT_EQ(dropped->pixels.size(), marched->pixels.size());

@@ -1,4 +1,4 @@
-// The tumbling hull's occluders (cel::NailboardRenderer::setHullOccluders): each hull-drawn puff's
+// The tumbling hull's occluders (cel::HullOcclusion::kCores): each hull-drawn puff's
 // core drawn as a disc into Puff's own target before the hull, so that the hull's fragments behind
 // another puff's core skip their march. A sphere puff's core is the sphere less a few grid steps of
 // its field, its disc centred where the puff is drawn at the depth of its centre; and dropping the
@@ -94,6 +94,10 @@ class HullOccluders : public test::GlTest {
   // Draws `ps` (the hull on all) in one pass and reads the target back.
   void draw(const cel::Frame& f, const std::vector<cel::Particle>& ps, cel::ShadePass pass, bool occluders,
             bool upperLeft, std::vector<glm::vec4>& color, std::vector<float>& depth) {
+    draw(f, ps, pass, occluders ? cel::HullOcclusion::kCores : cel::HullOcclusion::kNone, upperLeft, color, depth);
+  }
+  void draw(const cel::Frame& f, const std::vector<cel::Particle>& ps, cel::ShadePass pass,
+            cel::HullOcclusion occlusion, bool upperLeft, std::vector<glm::vec4>& color, std::vector<float>& depth) {
     cel::Style style;
     style.tumble = cel::TumbleMethod::kHull;
     target_->clear(glm::vec4(0.9f, 0.95f, 1.0f, 1.0f), 1.0f);
@@ -102,7 +106,7 @@ class HullOccluders : public test::GlTest {
     EXPECT_OK(block_->upload(f));
     ramp_->bind();
     renderer_->upload(ps);
-    renderer_->setHullOccluders(occluders);
+    renderer_->setHullOcclusion(occlusion);
     renderer_->drawNailboards(style, pass);
     glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
     color = target_->readColor();
@@ -231,6 +235,26 @@ TEST_F(HullOccluders, DroppingHiddenFragmentsChangesNoPixel) {
       EXPECT_GT(discs, covered / 3) << "the discs cover " << discs << " of " << covered << " covered pixels";
       EXPECT_EQ(differ, 0) << "of " << covered << " covered pixels";
     }
+  }
+}
+
+// kAuto draws the occluders where the quads stack (kOccludersMinOverdraw: the spheres, about twice
+// over their rectangle) and not for one puff alone (nothing for a core to hide).
+TEST_F(HullOccluders, TheRendererDrawsThemWhereThePuffsStack) {
+  cel::Particle one;
+  one.size = 4.0f;
+  one.oriented = true;
+  const cel::Frame f = frame(false, {0, 0, kPx, kPx});
+  for (const bool stacked : {true, false}) {
+    SCOPED_TRACE(stacked ? "60 spheres" : "one sphere");
+    glBindTextureUnit(cel::Bindings{}.visibility, 0);
+    std::vector<glm::vec4> color;
+    std::vector<float> depth;
+    draw(f, stacked ? spheres() : std::vector<cel::Particle>{one}, cel::ShadePass::kLit, cel::HullOcclusion::kAuto,
+         false, color, depth);
+    int width = 0;
+    const std::vector<float> texels = occluderTexels(width);
+    EXPECT_EQ(!texels.empty(), stacked);
   }
 }
 

@@ -90,7 +90,7 @@ struct NailboardRenderer::Impl {
   // into Puff's own target (drawOccluders); its fragments behind another's core skip their march.
   NailboardProgram occluder;
   detail::OccluderTarget occluders;
-  bool hullOccluders = true;
+  HullOcclusion hullOcclusion = HullOcclusion::kAuto;
   // What the visibility target holds: the particles of upload number `upload` (0:
   // none) seen in the frame block bound as number `frame` (cel::boundFrameSerial), drawn for the
   // draw framebuffer `framebuffer` at `samples`.
@@ -436,7 +436,9 @@ DrawStats NailboardRenderer::Impl::drawShare(const PassPrograms& variant, const 
   // Every layer: a lit pass drawn so leaves nothing the shadowed pass may read (but the hull's share,
   // drawn after the blend's pre-pass).
   if (pass == ShadePass::kLit && taken != TumbleShare::kHull) m.held = {};
-  const bool occluded = &variant == &m.hullView && m.hullOccluders && m.drawOccluders(style, samples);
+  const bool occluded = &variant == &m.hullView && m.hullOcclusion != HullOcclusion::kNone &&
+                        (m.hullOcclusion == HullOcclusion::kCores || m.stacked(style) >= kOccludersMinOverdraw) &&
+                        m.drawOccluders(style, samples);
   const NailboardProgram& nb = variant[passProgramIndex(pass)];
   const GLuint p = nb.program.get();
   m.setUniforms(nb, style, samples);
@@ -522,7 +524,7 @@ void NailboardRenderer::Impl::drawScreen(const NailboardProgram& shade, ShadePas
   Impl::unbind();
 }
 
-void NailboardRenderer::setHullOccluders(bool on) { impl_->hullOccluders = on; }
+void NailboardRenderer::setHullOcclusion(HullOcclusion occlusion) { impl_->hullOcclusion = occlusion; }
 
 void NailboardRenderer::setLitShading(LitShading shading) {
   impl_->litShading = shading;

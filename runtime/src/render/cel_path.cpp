@@ -143,7 +143,7 @@ class CelPath final : public Path {
     if (media_) media_->setOverWholeFrame(on);
   }
   void setLitShading(cel::LitShading shading) override { nailboards_->setLitShading(shading); }
-  void setHullOccluders(bool on) override { nailboards_->setHullOccluders(on); }
+  void setHullOcclusion(cel::HullOcclusion occlusion) override { nailboards_->setHullOcclusion(occlusion); }
 
   Result<media::Layers*> mediaLayers(const scene::Scene& scene, const cel::Viewport& viewport) override {
     if (!media_) return nullptr;

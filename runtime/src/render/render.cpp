@@ -137,14 +137,15 @@ struct SceneRenderer::Impl {
   std::vector<HistoryTag> history;    // motion blur's kept frames, one per slot
   int pathWidth = 0, pathHeight = 0;  // the frame size the path was made for
   // The benchmarks' and tests' switches (setFillRateFloor, setMediaOverWholeFrame,
-  // setLitShading, setHullOccluders), kept across the paths a renderer makes again.
-  bool fillRateFloor = false, mediaOverWholeFrame = false, hullOccluders = true;
+  // setLitShading, setHullOcclusion), kept across the paths a renderer makes again.
+  bool fillRateFloor = false, mediaOverWholeFrame = false;
   cel::LitShading litShading = cel::LitShading::kAuto;
+  cel::HullOcclusion hullOcclusion = cel::HullOcclusion::kAuto;
   void configure(Path& p) const {
     p.setFillRateFloor(fillRateFloor);
     p.setMediaOverWholeFrame(mediaOverWholeFrame);
     p.setLitShading(litShading);
-    p.setHullOccluders(hullOccluders);
+    p.setHullOcclusion(hullOcclusion);
   }
 };
 
@@ -164,8 +165,8 @@ void SceneRenderer::setLitShading(cel::LitShading shading) {
   impl_->configure(*impl_->path);
 }
 
-void SceneRenderer::setHullOccluders(bool on) {
-  impl_->hullOccluders = on;
+void SceneRenderer::setHullOcclusion(cel::HullOcclusion occlusion) {
+  impl_->hullOcclusion = occlusion;
   impl_->configure(*impl_->path);
 }
 

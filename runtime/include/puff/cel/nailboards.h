@@ -133,6 +133,26 @@ enum class LitShading {
 /// cheaper, half a screen deep 1.5x dearer.
 inline constexpr float kOnceMinOverdraw = 1.5f;
 
+/// Whether the tumbling hull's passes drop the fragments hidden behind another hull-drawn puff's core
+/// before they march (NailboardRenderer::setHullOcclusion). The pixels are the same every way.
+enum class HullOcclusion {
+  /// kCores where the quads stack at least kOccludersMinOverdraw deep (kAuto's estimate, LitShading),
+  /// else kNone. The default.
+  kAuto,
+  /// Before each pass of the hull, an occluder pass draws each hull-drawn puff's core (a ball inside
+  /// its hull, found when the field is built) as a disc into Puff's own target (sized from the bound
+  /// frame's viewport; the host's framebuffer gets no attachment); the hull's fragments behind a disc
+  /// are dropped.
+  kCores,
+  /// Every fragment marches: the yardstick kCores is checked and timed against.
+  kNone,
+};
+/// kAuto's threshold: where the quads do not stack, no core hides another puff and the occluder pass
+/// is a cost alone. Measured (puffbench --part tumble, oct 5 x 5, poses every 30 degrees: a grid of
+/// puffs apart, three interleaved rounds): the grid frame 3.18-3.27 times the blend's without the
+/// pass, 3.35-3.54 with it; dust-roll, stacked 2.6 deep, 2.6 times with it, 3.2-3.9 without.
+inline constexpr float kOccludersMinOverdraw = 1.5f;
+
 class NailboardRenderer {
  public:
   /// Builds the programs and points them at `bindings` (validated: cel::validate). Needs a current
@@ -181,20 +201,16 @@ class NailboardRenderer {
   ///              0, value mask 0xFF and operations GL_KEEP x 3, front and back;
   ///   kLit and kShadowed when they shade once per pixel: unit `visibility` = the pre-pass's target
   ///              (2D, or 2D multisample on a multisampled framebuffer), sampler 0 there;
-  ///   every pass that draws the tumbling hull with its occluders (setHullOccluders): unit
+  ///   every pass that draws the tumbling hull with its occluders (setHullOcclusion): unit
   ///              `visibility` = the occluder target (2D), sampler 0 there.
   /// On a multisampled framebuffer also GL_MULTISAMPLE on. Nothing at all with no particles or no
   /// atlas (it returns before any GL call).
   DrawStats drawNailboards(const Style& style, ShadePass pass);
   /// How the lit pass shades (kAuto by default).
   void setLitShading(LitShading shading);
-  /// Whether the tumbling hull's passes drop the fragments hidden behind another hull-drawn puff's core
-  /// before they march (on by default): before each pass of the hull, an occluder pass draws each such
-  /// puff's core (a ball inside its hull, found when the field is built) as a disc into Puff's own
-  /// target (sized from the bound frame's viewport; the host's framebuffer gets no attachment). The
-  /// pixels are the same either way; off, every fragment marches (the yardstick it is checked and
-  /// timed against).
-  void setHullOccluders(bool on);
+  /// Whether the tumbling hull's passes drop the fragments hidden behind other puffs' cores (kAuto by
+  /// default).
+  void setHullOcclusion(HullOcclusion occlusion);
 
   /// The benchmark's fill-rate floor: the same quads with the colour map alpha-tested, nothing
   /// else (no shading, depth offset or outlines); the nearer depth test (nearerDepthFunc) with the quad's own depth.

@@ -144,7 +144,7 @@ class Path {
   /// Tests and benchmarks: how the nailboards' lit pass shades (see SceneRenderer).
   virtual void setLitShading(cel::LitShading) {}
   /// Tests and benchmarks: the tumbling hull's occluders (see SceneRenderer).
-  virtual void setHullOccluders(bool) {}
+  virtual void setHullOcclusion(cel::HullOcclusion) {}
   /// The media layers drawn into for a viewport of this size (made on first use), or null when the
   /// path draws no media. Motion blur keeps its history there. Errors: the layers could not be made.
   virtual Result<media::Layers*> mediaLayers(const scene::Scene&, const cel::Viewport&) { return nullptr; }

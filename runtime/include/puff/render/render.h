@@ -94,9 +94,9 @@ class SceneRenderer {
   /// checked and timed against).
   void setLitShading(cel::LitShading shading);
   /// Tests and benchmarks: on the programmable cel path, whether the tumbling hull drops the
-  /// fragments behind another puff's core before they march (cel::NailboardRenderer::setHullOccluders:
-  /// on by default; off is the yardstick they are checked and timed against).
-  void setHullOccluders(bool on);
+  /// fragments behind other puffs' cores before they march (cel::HullOcclusion: kAuto by default;
+  /// kNone is the yardstick they are checked and timed against).
+  void setHullOcclusion(cel::HullOcclusion occlusion);
 
   using MediaFrameInputs = render::MediaFrameInputs;
   /// What the media pass drew in the most recent frame, read back. With motion blur, the last frame
