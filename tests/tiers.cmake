@@ -26,7 +26,7 @@ set(PUFF_TESTS_GL
 set(PUFF_TESTS_E2E
   budget_cel_test.cpp hull_occluders_scene_test.cpp lit_once_scene_test.cpp puffrender_flipbook_test.cpp puffrender_loop_test.cpp puffrender_paths_test.cpp
   bake_replace_test.cpp budget_test.cpp colour_test.cpp gl_failures_test.cpp gpubench_test.cpp media_coverage_scene_test.cpp media_scene_test.cpp parity_test.cpp
-  puffbake_cli_test.cpp puffbake_gltf_test.cpp puffrender_cli_test.cpp puffview_keep_test.cpp puffview_test.cpp puffview_window_test.cpp scene_golden_test.cpp)
+  puffbake_cli_test.cpp puffbake_gltf_test.cpp puffrender_cli_test.cpp puffview_keep_test.cpp puffview_soak_test.cpp puffview_test.cpp puffview_window_test.cpp scene_golden_test.cpp)
 set(PUFF_TESTS_SLOW
   tumble_test.cpp tumble_split_test.cpp)
 

@@ -138,14 +138,16 @@ struct SceneRenderer::Impl {
   int pathWidth = 0, pathHeight = 0;  // the frame size the path was made for
   // The benchmarks' and tests' switches (setFillRateFloor, setMediaOverWholeFrame,
   // setLitShading, setHullOcclusion), kept across the paths a renderer makes again.
-  bool fillRateFloor = false, mediaOverWholeFrame = false;
-  cel::LitShading litShading = cel::LitShading::kAuto;
-  cel::HullOcclusion hullOcclusion = cel::HullOcclusion::kAuto;
+  struct Switches {
+    bool fillRateFloor = false, mediaOverWholeFrame = false;
+    cel::LitShading litShading = cel::LitShading::kAuto;
+    cel::HullOcclusion hullOcclusion = cel::HullOcclusion::kAuto;
+  } switches;
   void configure(Path& p) const {
-    p.setFillRateFloor(fillRateFloor);
-    p.setMediaOverWholeFrame(mediaOverWholeFrame);
-    p.setLitShading(litShading);
-    p.setHullOcclusion(hullOcclusion);
+    p.setFillRateFloor(switches.fillRateFloor);
+    p.setMediaOverWholeFrame(switches.mediaOverWholeFrame);
+    p.setLitShading(switches.litShading);
+    p.setHullOcclusion(switches.hullOcclusion);
   }
 };
 
@@ -156,22 +158,22 @@ RenderPath SceneRenderer::path() const { return impl_->path->kind(); }
 TargetNeeds SceneRenderer::targetNeeds() const { return impl_->path->targetNeeds(); }
 
 void SceneRenderer::setFillRateFloor(bool on) {
-  impl_->fillRateFloor = on;
+  impl_->switches.fillRateFloor = on;
   impl_->configure(*impl_->path);
 }
 
 void SceneRenderer::setLitShading(cel::LitShading shading) {
-  impl_->litShading = shading;
+  impl_->switches.litShading = shading;
   impl_->configure(*impl_->path);
 }
 
 void SceneRenderer::setHullOcclusion(cel::HullOcclusion occlusion) {
-  impl_->hullOcclusion = occlusion;
+  impl_->switches.hullOcclusion = occlusion;
   impl_->configure(*impl_->path);
 }
 
 void SceneRenderer::setMediaOverWholeFrame(bool on) {
-  impl_->mediaOverWholeFrame = on;
+  impl_->switches.mediaOverWholeFrame = on;
   impl_->configure(*impl_->path);
 }
 
@@ -226,10 +228,9 @@ Result<void> SceneRenderer::update(const scene::Scene& next) {
   const bool targetChanged = now.width != next.width || now.height != next.height || now.samples != next.samples;
   if (targetChanged || now.objects != next.objects || m.path->needsRebuild(now, next)) {
     PUFF_TRY_ASSIGN(auto fresh, create(next, m.factory));
-    const bool fillRateFloor = m.fillRateFloor, mediaOverWholeFrame = m.mediaOverWholeFrame;
+    const Impl::Switches switches = m.switches;
     impl_ = std::move((fresh)->impl_);  // `m` and `now` are gone from here on
-    impl_->fillRateFloor = fillRateFloor;
-    impl_->mediaOverWholeFrame = mediaOverWholeFrame;
+    impl_->switches = switches;
     impl_->configure(*impl_->path);
     return {};
   }
