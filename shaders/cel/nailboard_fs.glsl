@@ -157,14 +157,20 @@ float outlineBand(bool fromTable, bool blended, float tableDist, float trusted, 
 // 1): per pixel the view depth of the nearest core's disc (hull_occluder.frag), behind which that
 // puff's hull is drawn. A marched puff whose every depth at the pixel lies behind it is hidden there:
 // its fragment is dropped before it marches. Its depths lie within its unit sphere (the march's
-// chord, hullMarch) or on its billboard plane (the ink).
+// chord, hullMarch) or on its billboard plane (the ink). Compared as the depth buffer stores them,
+// uOccluderSteps of its steps apart at least: two depths the buffer would store alike (clamped at the
+// near or far plane, or within its precision) tie there, and a tie is left to the depth test.
 layout(binding = 8) uniform sampler2D uOccluders;
 uniform int uOccluded;
+uniform float uOccluderSteps;  // the margin: that many of the host depth buffer's steps
 bool hullOccluded() {
   if (uOccluded != 1 || vHull != 1) return false;
+  ivec2 px = ivec2(gl_FragCoord.xy);
+  if (any(greaterThanEqual(px, textureSize(uOccluders, 0)))) return false;  // past the frame's viewport
   float chord = sqrt(max(0.25 - dot(vPuff, vPuff), 0.0));  // half the chord, diameters
-  float nearest = vDist - chord * abs(vNormalXf[0][2].z) * vSize;
-  return nearest > texelFetch(uOccluders, ivec2(gl_FragCoord.xy), 0).r;
+  float nearest = storeDepth(linearDepth(vDist - chord * abs(vNormalXf[0][2].z) * vSize));
+  float disc = storeDepth(linearDepth(texelFetch(uOccluders, px, 0).r));
+  return uDepthMode.x == 2 ? nearest < disc - uOccluderSteps : nearest > disc + uOccluderSteps;
 }
 #endif
 

@@ -35,9 +35,10 @@ void main() {
   // cell gets a quad that holds them: the silhouette lies within half a diameter of the centre.
 #ifdef PUFF_HULL_OCCLUDER
   // The hull's occluder pass: the disc of the puff's core (a ball inside its hull) through the core's
-  // centre, facing along the march's rays, a pixel and a half inside its rim (every sample of a pixel
-  // it covers lies in the disc, where the march hits the hull before the disc: nailboard_fs.glsl,
-  // hullOccluded).
+  // centre, facing along the march's rays, where the march hits the hull before the disc
+  // (nailboard_fs.glsl, hullOccluded); a pixel and a half inside its rim, where the ray's chord
+  // through the core is long beside the march's least step (a quarter pixel) and the filtered
+  // field's rounding near the rim.
   vec4 core = cells[vCell.x].core;
   float towardEye = vNormalXf[0][2].z;  // view z of the billboard's normal: diameters along it -> view depth
   float radius = core.w - 1.5 / pxPerDiameter;

@@ -1,5 +1,5 @@
 // The tumbling hull's occluders (SceneRenderer::setHullOcclusion) on the art's tumbling scene: the
-// frames drawn as the renderer picks (kAuto: the occluders, as the puffs stack), dropping the fragments behind other
+// frames drawn with the occluders (kCores), dropping the fragments behind other
 // puffs' cores are the frames drawn marching every fragment, pixel for pixel, single-sampled and multisampled (where
 // the discs' margin keeps every sample of a pixel they cover inside the core), with the shadow map and with shadow
 // volumes (whose shadowed pass draws the hull again, depth-tested EQUAL against the lit pass), at frames where the
@@ -47,7 +47,7 @@ TEST_P(HullOccludersScene, DustRollIsDrawnAsMarchingEveryFragmentDrawsIt) {
   s.style.shadowMethod = c.shadows;
   auto renderer = render::SceneRenderer::create(s);
   ASSERT_OK(renderer);
-  (*renderer)->setHullOcclusion(cel::HullOcclusion::kAuto);
+  (*renderer)->setHullOcclusion(cel::HullOcclusion::kCores);
   auto dropped = (*renderer)->renderFrame(c.frame);
   ASSERT_OK(dropped);
   (*renderer)->setHullOcclusion(cel::HullOcclusion::kNone);

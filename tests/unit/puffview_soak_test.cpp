@@ -1,7 +1,7 @@
 // puffview stays up: one viewer process reloads an edited scene from disk over and over, every
 // other version broken (a half-written save), takes panel edits (saved) between them, and draws frames all
 // the while; its resident memory stays flat after the first 100 frames (within 5%) and it holds no
-// more GL objects of any kind at the end than after those frames.
+// more GL objects of any kind it makes at the end than after those frames (the same scene shown).
 //
 // The suite runs a sample (200 reloads, 1,000 frames); PUFF_SOAK_RELOADS and PUFF_SOAK_FRAMES set
 // the counts, and tests/soak/puffview_soak.sh runs it whole (2,000 reloads, 10,000 frames). Opens a
@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
 
@@ -46,32 +47,31 @@ std::size_t residentBytes() {
   return resident * static_cast<std::size_t>(::sysconf(_SC_PAGESIZE));
 }
 
-// How many objects of each kind the renderers make live in the context now: each name below the next
-// one the GL hands out (and a margin past it) that names an object (glIs*). (The next name alone is
-// no count: Mesa need not hand a deleted vertex array's name out again, and Dear ImGui makes and
-// deletes one every frame.)
-std::array<int, 5> liveObjects() {
-  std::array<int, 5> live{};
-  GLuint next[5] = {};
-  glGenTextures(1, &next[0]);
-  glDeleteTextures(1, &next[0]);
-  glGenBuffers(1, &next[1]);
-  glDeleteBuffers(1, &next[1]);
-  glGenFramebuffers(1, &next[2]);
-  glDeleteFramebuffers(1, &next[2]);
-  glGenVertexArrays(1, &next[3]);
-  glDeleteVertexArrays(1, &next[3]);
-  next[4] = glCreateProgram();
-  glDeleteProgram(next[4]);
-  for (int k = 0; k < 5; ++k) {
-    for (GLuint name = 1; name < next[k] + 256; ++name) {
-      const GLboolean is = k == 0   ? glIsTexture(name)
-                           : k == 1 ? glIsBuffer(name)
-                           : k == 2 ? glIsFramebuffer(name)
-                           : k == 3 ? glIsVertexArray(name)
-                                    : glIsProgram(name);
-      live[static_cast<std::size_t>(k)] += is == GL_TRUE ? 1 : 0;
-    }
+// The kinds of GL object the renderers and the panels make.
+constexpr const char* kKinds[] = {"textures",      "buffers",  "framebuffers", "renderbuffers",
+                                  "vertex arrays", "programs", "shaders"};
+constexpr std::size_t kKindCount = std::size(kKinds);
+
+// How many objects of each kind live in the context now: each name that names one (glIs*), from 1 to
+// well past the next name the GL hands out. (The next name alone is no count: Mesa need not hand a
+// deleted vertex array's name out again, and Dear ImGui makes and deletes one every frame.)
+std::array<int, kKindCount> liveObjects() {
+  GLuint next = 0, name = 0;
+  glGenTextures(1, &name), glDeleteTextures(1, &name), next = std::max(next, name);
+  glGenBuffers(1, &name), glDeleteBuffers(1, &name), next = std::max(next, name);
+  glGenFramebuffers(1, &name), glDeleteFramebuffers(1, &name), next = std::max(next, name);
+  glGenRenderbuffers(1, &name), glDeleteRenderbuffers(1, &name), next = std::max(next, name);
+  glGenVertexArrays(1, &name), glDeleteVertexArrays(1, &name), next = std::max(next, name);
+  name = glCreateProgram(), glDeleteProgram(name), next = std::max(next, name);
+  std::array<int, kKindCount> live{};
+  for (GLuint n = 1; n < next + 4096; ++n) {
+    live[0] += glIsTexture(n) == GL_TRUE;
+    live[1] += glIsBuffer(n) == GL_TRUE;
+    live[2] += glIsFramebuffer(n) == GL_TRUE;
+    live[3] += glIsRenderbuffer(n) == GL_TRUE;
+    live[4] += glIsVertexArray(n) == GL_TRUE;
+    live[5] += glIsProgram(n) == GL_TRUE;
+    live[6] += glIsShader(n) == GL_TRUE;
   }
   return live;
 }
@@ -120,8 +120,9 @@ TEST_F(PuffviewSoak, ReloadsAndFramesKeepMemoryAndGlObjectsFlat) {
   puff::view::Viewer& v = **opened;
 
   std::size_t baseline = 0, most = 0;
-  std::array<int, 5> baseLive{}, lastLive{};
-  int reloaded = 0, broken = 0, edits = 0;
+  std::array<int, kKindCount> baseLive{}, lastLive{};
+  std::size_t half = 0;
+  int reloaded = 0, broken = 0, edits = 0, lastGood = 0, baseScene = 0;
   const auto start = std::chrono::steady_clock::now();
   for (int f = 0; f < frames; ++f) {
     // Reloads spread over the frames: every other one a half-written save (the last good scene kept).
@@ -132,6 +133,7 @@ TEST_F(PuffviewSoak, ReloadsAndFramesKeepMemoryAndGlObjectsFlat) {
       v.checkFiles();
       EXPECT_EQ(v.fileError().empty(), !bad) << "reload " << reloaded << ": " << v.fileError();
       broken += bad ? 1 : 0;
+      if (!bad) lastGood = reloaded / 2;
       if (!bad && reloaded % 8 == 0) {  // an edit in the panel, saved, as an artist would between saves
         v.beginEdit();
         v.scene().style.outlineWidth = 1.0f + static_cast<float>(edits % 3);
@@ -151,25 +153,34 @@ TEST_F(PuffviewSoak, ReloadsAndFramesKeepMemoryAndGlObjectsFlat) {
       glFinish();
       baseline = residentBytes();
       baseLive = liveObjects();
+      baseScene = lastGood;
     }
     if (f + 1 > kSettle && (f + 1) % 50 == 0) most = std::max(most, residentBytes());
+    if (f + 1 == frames / 2) half = residentBytes();
   }
   glFinish();
   most = std::max(most, residentBytes());
+  // The objects counted with the scene the baseline showed: its samples and shadows.
+  rewrite(file, scene(baseScene));
+  v.checkFiles();
+  EXPECT_EQ(v.fileError(), "");
+  v.processEvents();
+  v.drawFrame();
+  v.present();
+  glFinish();
   lastLive = liveObjects();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf(
       "soak: %d reloads (%d broken), %d edits, %d frames in %.1f s; resident %.1f MB after %d frames, "
-      "at most %.1f MB after\n",
+      "%.1f MB half way, at most %.1f MB after\n",
       reloaded, broken, edits, frames, seconds, static_cast<double>(baseline) / 1048576.0, kSettle,
-      static_cast<double>(most) / 1048576.0);
+      static_cast<double>(half) / 1048576.0, static_cast<double>(most) / 1048576.0);
   EXPECT_EQ(reloaded, reloads);
   EXPECT_LE(static_cast<double>(most), 1.05 * static_cast<double>(baseline))
       << "resident memory grew from " << baseline << " to " << most << " bytes";
-  const char* kinds[] = {"textures", "buffers", "framebuffers", "vertex arrays", "programs"};
-  for (std::size_t k = 0; k < lastLive.size(); ++k) {
-    std::printf("soak: %s live after %d frames %d, at the end %d\n", kinds[k], kSettle, baseLive[k], lastLive[k]);
-    EXPECT_LE(lastLive[k], baseLive[k]) << kinds[k] << " live grew from " << baseLive[k] << " to " << lastLive[k];
+  for (std::size_t k = 0; k < kKindCount; ++k) {
+    std::printf("soak: %s live after %d frames %d, at the end %d\n", kKinds[k], kSettle, baseLive[k], lastLive[k]);
+    EXPECT_LE(lastLive[k], baseLive[k]) << kKinds[k] << " live grew from " << baseLive[k] << " to " << lastLive[k];
   }
 }
 

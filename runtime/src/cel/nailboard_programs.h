@@ -41,7 +41,7 @@ struct NailboardProgram {
   GLint shading = -1, outlines = -1, outlineWidth = -1, outlineColor = -1, multisample = -1, samples = -1;
   GLint casterBias = -1, eyeRight = -1, eyeUp = -1;  // the caster variants only (-1 elsewhere)
   GLint boxMin = -1, boxMax = -1, padPixels = -1;    // the deferred screen passes only
-  GLint occluded = -1;                               // the hull's passes only
+  GLint occluded = -1, occluderSteps = -1;           // the hull's passes only
 
   // Shader files `vertex` and `fragment` (paths under shaders/); `caster`: the shadow map's caster
   // pass (drawn from the light).
@@ -64,6 +64,7 @@ struct NailboardProgram {
     n.boxMax = glGetUniformLocation(id, "uBoxMax");
     n.padPixels = glGetUniformLocation(id, "uPadPixels");
     n.occluded = glGetUniformLocation(id, "uOccluded");
+    n.occluderSteps = glGetUniformLocation(id, "uOccluderSteps");
     // The caster variants draw from the light in every call: their vertex stage's mode is fixed.
     if (caster) glProgramUniform1i(id, glGetUniformLocation(id, "uCaster"), 1);
     return n;

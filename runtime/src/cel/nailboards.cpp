@@ -37,6 +37,10 @@ using detail::TumbleShare;
 
 namespace {
 
+// How far apart (in steps of the host's depth buffer) a hull fragment's nearest depth and a disc's
+// must be stored for the fragment to be dropped (shaders/cel/nailboard_fs.glsl, hullOccluded).
+constexpr float kOccluderSteps = 4.0f;
+
 // The draw framebuffer's samples per pixel: 1 unless it is multisampled.
 int framebufferSamples() {
   GLint sampleBuffers = 0, samples = 0;
@@ -443,6 +447,11 @@ DrawStats NailboardRenderer::Impl::drawShare(const PassPrograms& variant, const 
   const GLuint p = nb.program.get();
   m.setUniforms(nb, style, samples);
   glProgramUniform1i(p, nb.occluded, occluded ? 1 : 0);
+  if (occluded) {
+    GLint host = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &host);
+    glProgramUniform1f(p, nb.occluderSteps, kOccluderSteps * detail::depthStep(detail::hostDepthFormat(host)));
+  }
   if (occluded) core::bindTextureAndNoSampler(bindings.visibility, occluders.texture());
 
   // Every state this pass relies on is set here.

@@ -22,6 +22,19 @@ GLenum hostDepthFormat(GLuint framebuffer) {
   return GL_DEPTH_COMPONENT32F;
 }
 
+float depthStep(GLenum format) {
+  switch (format) {
+    case GL_DEPTH_COMPONENT16:
+      return 1.0f / 65535.0f;
+    case GL_DEPTH_COMPONENT24:
+      return 1.0f / 16777215.0f;
+    case GL_DEPTH_COMPONENT32:
+      return 1.0f / 4294967295.0f;
+    default:
+      return 1.0f / 16777216.0f;
+  }
+}
+
 double reachedPixels(const glm::mat4& viewProjection, const glm::vec3& lo, const glm::vec3& hi, float padPixels,
                      const core::Viewport& viewport) {
   const double whole = static_cast<double>(viewport.width) * static_cast<double>(viewport.height);

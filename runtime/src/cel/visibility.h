@@ -22,6 +22,10 @@ namespace puff::cel::detail {
 /// 32F (float; also when it has none, or one of another kind).
 GLenum hostDepthFormat(GLuint framebuffer);
 
+/// One step of a depth buffer of `format` (hostDepthFormat's): 2^-bits for the normalized formats,
+/// and for a float one its step just below 1 (2^-24), the coarsest a depth in [0.5, 1] is stored at.
+float depthStep(GLenum format);
+
 /// The screen rectangle a batch's quads reach (as shaders/cel/screen_rect.vert draws it): the world
 /// box [lo, hi] projected by `viewProjection`, padded by `padPixels`, within `viewport`; all of it
 /// where a corner lies at or behind the eye. Its area in pixels (0: off the screen).

@@ -148,9 +148,9 @@ enum class HullOcclusion {
   kNone,
 };
 /// kAuto's threshold: where the quads do not stack, no core hides another puff and the occluder pass
-/// is a cost alone. Measured (puffbench --part tumble, oct 5 x 5, poses every 30 degrees: a grid of
-/// puffs apart, three interleaved rounds): the grid frame 3.18-3.27 times the blend's without the
-/// pass, 3.35-3.54 with it; dust-roll, stacked 2.6 deep, 2.6 times with it, 3.2-3.9 without.
+/// is a cost alone. Measured at two points only, not where it turns (docs/cel-rendering.md,
+/// "Tumbling puffs: the hull"): a grid of puffs apart (stacked about 1 deep) costs less without the
+/// pass, dust-roll (2.6 deep) much less with it; the value is kOnceMinOverdraw's.
 inline constexpr float kOccludersMinOverdraw = 1.5f;
 
 class NailboardRenderer {
@@ -202,7 +202,8 @@ class NailboardRenderer {
   ///   kLit and kShadowed when they shade once per pixel: unit `visibility` = the pre-pass's target
   ///              (2D, or 2D multisample on a multisampled framebuffer), sampler 0 there;
   ///   every pass that draws the tumbling hull with its occluders (setHullOcclusion): unit
-  ///              `visibility` = the occluder target (2D), sampler 0 there.
+  ///              `visibility` = the occluder target (2D), sampler 0 there (in a hullFromPixels split
+  ///              too: the hull is drawn after the blend's share).
   /// On a multisampled framebuffer also GL_MULTISAMPLE on. Nothing at all with no particles or no
   /// atlas (it returns before any GL call).
   DrawStats drawNailboards(const Style& style, ShadePass pass);
