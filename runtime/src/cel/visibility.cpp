@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <glm/common.hpp>
 #include <glm/vec2.hpp>
@@ -7,6 +8,16 @@
 #include "visibility.h"
 
 namespace puff::cel::detail {
+
+namespace {
+
+// The size of a target spanning `viewport` from the framebuffer's origin, so that its pixels are the
+// host's pixels at the same viewport.
+std::pair<int, int> spanFromOrigin(const core::Viewport& viewport) {
+  return {std::max(1, viewport.x + viewport.width), std::max(1, viewport.y + viewport.height)};
+}
+
+}  // namespace
 
 GLenum hostDepthFormat(GLuint framebuffer) {
   const GLenum attachment = framebuffer == 0 ? GL_DEPTH : GL_DEPTH_ATTACHMENT;
@@ -76,7 +87,7 @@ double quadPixels(std::span<const glm::vec4> drawn, std::size_t stride, float ha
 
 bool VisibilityTarget::begin(const core::Viewport& viewport, int samples, GLenum depthFormat,
                              DepthConvention convention) {
-  const int w = std::max(1, viewport.x + viewport.width), h = std::max(1, viewport.y + viewport.height);
+  const auto [w, h] = spanFromOrigin(viewport);
   if (!fbo_ || w > width_ || h > height_ || samples != samples_ || depthFormat != depthFormat_) {
     const bool same = samples == samples_ && depthFormat == depthFormat_;
     width_ = std::max(w, same ? width_ : 0);
@@ -112,7 +123,7 @@ bool VisibilityTarget::begin(const core::Viewport& viewport, int samples, GLenum
 }
 
 bool OccluderTarget::begin(const core::Viewport& viewport, DepthConvention convention) {
-  const int w = std::max(1, viewport.x + viewport.width), h = std::max(1, viewport.y + viewport.height);
+  const auto [w, h] = spanFromOrigin(viewport);
   if (!fbo_ || w > width_ || h > height_) {
     width_ = std::max(w, width_);
     height_ = std::max(h, height_);
