@@ -7,12 +7,15 @@
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include <puff/cel/bindings.h>
 #include <puff/cel/frame.h>
+#include <puff/cel/nailboards.h>
 #include <puff/cel/shadow_map.h>
 #include <puff/cel/types.h>
 #include <puff/cel/volume_clip.h>
+#include <puff/core/atlas.h>
 #include <puff/core/depth.h>
 #include <puff/gl_api.h>
 #include <puff/media/bindings.h>
@@ -22,6 +25,8 @@
 #include "host_state_fixture.h"
 #include "support/assert_ok.h"
 #include "support/gl_target.h"
+#include "support/sphere_bake.h"
+#include "support/temp_dir.h"
 
 namespace puff::host_state_test {
 namespace {
@@ -189,6 +194,48 @@ TEST_F(HostState, AGuardGivesBackNoNameThePassDeleted) {
   glGetIntegerv(GL_TEXTURE_BINDING_2D, &back);
   EXPECT_EQ(back, glIsTexture(static_cast<GLuint>(left)) ? left : 0);
   glActiveTexture(GL_TEXTURE0);
+}
+
+// The tumbling hull's passes with their occluders (HullOcclusion::kCores): what the lit pass leaves,
+// the occluder target on unit `visibility` (2D), and the draw framebuffer the host had.
+TEST_F(HostState, TheHullsPassesLeaveWhatTheirHeadersList) {
+  test::OffscreenTarget target(kPx);
+  ASSERT_TRUE(target.complete());
+  HostileHost host;
+  test::ScopedTempDir dir("puff_host_state_views");
+  auto sidecar = test::bakeSphereAtlas(dir.path(), 4);
+  ASSERT_OK(sidecar);
+  auto views = core::loadAtlas(*sidecar);
+  ASSERT_OK(views);
+  CelKit kit(*views);
+  const cel::Bindings& b = kit.b;
+  std::vector<cel::Particle> tumbling = puffs();
+  for (std::size_t i = 0; i < tumbling.size(); ++i) {
+    tumbling[i].oriented = true;
+    tumbling[i].orientation =
+        glm::angleAxis(0.7f + 0.9f * static_cast<float>(i), glm::normalize(glm::vec3(1, 2, 0.5f)));
+  }
+  kit.nailboards->upload(tumbling);
+  kit.nailboards->setHullOcclusion(cel::HullOcclusion::kCores);
+  cel::Style style;
+  style.outlines = true;
+  style.tumble = cel::TumbleMethod::kHull;
+  EXPECT_OK(kit.block->upload(eyeFrame()));
+  core::drainGlErrors();
+  const auto celHost = [] {
+    glDisable(GL_DEPTH_TEST);
+    glEnable(GL_STENCIL_TEST);
+  };
+  const Keys lit = kPassState + kWriteMasks + kNoProgram + Keys{"depth.func", "stencil.test"};
+  const std::vector<Case> cases = {
+      {"NailboardRenderer::drawNailboards(kLit, hull)",
+       [&] { kit.nailboards->drawNailboards(style, cel::ShadePass::kLit); },
+       lit + atlas(b) + texture(b.visibility, "2D"), celHost},
+      {"NailboardRenderer::drawNailboards(kDepthOnly, hull)",
+       [&] { kit.nailboards->drawNailboards(style, cel::ShadePass::kDepthOnly); },
+       lit + atlas(b) + texture(b.visibility, "2D"), celHost},
+  };
+  for (const Case& c : cases) check(c, target, host);
 }
 
 TEST_F(HostState, MediaCallsLeaveWhatTheirHeadersList) {
