@@ -93,8 +93,8 @@ struct Case {
   /// The baseline is this case with its lit nailboards shading every layer
   /// (SceneRenderer::setLitShading), named `baseline`: what shading each pixel once buys.
   bool baselineEveryLayer = false;
-  bool everyLayer = false;    ///< the nailboards' lit pass shades every layer
-  bool hullOccluders = true;  ///< the tumbling hull's occlusion kAuto (else kNone)
+  bool everyLayer = false;                                       ///< the nailboards' lit pass shades every layer
+  cel::HullOcclusion hullOcclusion = cel::HullOcclusion::kAuto;  ///< the tumbling hull's
 };
 
 struct Timing {
@@ -170,7 +170,7 @@ std::vector<Case> plan(const Options& o) {
     Case marchedAll{
         "tumble", "hull-no-occluders", "dust-roll.json", w, h, samples, tumbleFrames, tumble(cel::TumbleMethod::kHull),
         "blend"};
-    marchedAll.hullOccluders = false;
+    marchedAll.hullOcclusion = cel::HullOcclusion::kNone;
     if (!o.quick) cases.push_back(marchedAll);
     // The hull only for puffs that large on screen, the blend for the rest (not in --quick's one case).
     for (const int from : o.quick ? std::vector<int>{} : std::vector<int>{48, 96}) {
@@ -272,7 +272,7 @@ Result<Setup> setUp(const Options& o, const Case& c, bool floor) {
   PUFF_TRY_ASSIGN(setup.renderer, render::SceneRenderer::create(s, render::RenderPath::kCel));
   setup.renderer->setFillRateFloor(floor);
   setup.renderer->setLitShading(c.everyLayer ? cel::LitShading::kEveryLayer : cel::LitShading::kAuto);
-  setup.renderer->setHullOcclusion(c.hullOccluders ? cel::HullOcclusion::kAuto : cel::HullOcclusion::kNone);
+  setup.renderer->setHullOcclusion(c.hullOcclusion);
   setup.frames = c.frames;
   return setup;
 }

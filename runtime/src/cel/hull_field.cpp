@@ -137,35 +137,31 @@ constexpr float kCoreInside = -1e-3f;
 // one line of `n` points `stride` apart (Felzenszwalb and Huttenlocher's lower envelope of parabolas).
 void squaredDistanceLine(float* f, int n, std::size_t stride, std::vector<float>& line, std::vector<int>& v,
                          std::vector<float>& z) {
-  for (int i = 0; i < n; ++i) line[static_cast<std::size_t>(i)] = f[static_cast<std::size_t>(i) * stride];
+  const auto at = [](auto& vec, int i) -> auto& { return vec[static_cast<std::size_t>(i)]; };
+  for (int i = 0; i < n; ++i) at(line, i) = f[static_cast<std::size_t>(i) * stride];
+  // The parabolas of the envelope (v) and where each takes over (z); z[0] lies below every crossing
+  // (the values are at most a far value, so every crossing is finite), so k never falls below 0.
   int k = 0;
   v[0] = 0;
   z[0] = -1e30f;
   z[1] = 1e30f;
-  const auto at = [&](int i) { return line[static_cast<std::size_t>(i)]; };
   for (int q = 1; q < n; ++q) {
-    float s = 0.0f;
-    while (true) {
-      const int p = v[static_cast<std::size_t>(k)];
-      s = ((at(q) + static_cast<float>(q * q)) - (at(p) + static_cast<float>(p * p))) / static_cast<float>(2 * (q - p));
-      if (s > z[static_cast<std::size_t>(k)] || k == 0) break;
-      --k;
-    }
-    if (s <= z[static_cast<std::size_t>(k)]) {  // k == 0 and the first parabola is hidden
-      v[0] = q;
-      z[1] = 1e30f;
-      continue;
-    }
+    const auto crossing = [&](int p) {
+      return ((at(line, q) + static_cast<float>(q * q)) - (at(line, p) + static_cast<float>(p * p))) /
+             static_cast<float>(2 * (q - p));
+    };
+    float s = crossing(at(v, k));
+    while (s <= at(z, k)) s = crossing(at(v, --k));
     ++k;
-    v[static_cast<std::size_t>(k)] = q;
-    z[static_cast<std::size_t>(k)] = s;
-    z[static_cast<std::size_t>(k) + 1] = 1e30f;
+    at(v, k) = q;
+    at(z, k) = s;
+    at(z, k + 1) = 1e30f;
   }
   k = 0;
   for (int q = 0; q < n; ++q) {
-    while (z[static_cast<std::size_t>(k) + 1] < static_cast<float>(q)) ++k;
-    const int p = v[static_cast<std::size_t>(k)];
-    f[static_cast<std::size_t>(q) * stride] = static_cast<float>((q - p) * (q - p)) + at(p);
+    while (at(z, k + 1) < static_cast<float>(q)) ++k;
+    const int p = at(v, k);
+    f[static_cast<std::size_t>(q) * stride] = static_cast<float>((q - p) * (q - p)) + at(line, p);
   }
 }
 
