@@ -277,6 +277,7 @@ vec3 shadeFragment(NailboardFragment f) {
       color = f.hull.color;
     }
 #endif
+    if (uOutput.x != PUFF_OUTPUT_COLOUR) return mapValue(n, vDist - f.d * vSize, uOutlines == 1 ? 1.0 - f.body : 0.0);
     rgb = litColor(ka, n, color, f.d);
   }
   // Eq. 2's result is a display value, limited to the display's range as the paper's 8-bit frame

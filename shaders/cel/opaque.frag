@@ -26,15 +26,19 @@ void main() {
     oColor = vec4(0.0);  // colour writes are masked off; keep the ramp lookups out of the depth pass
     return;
   }
+  // Culling is off so a plane shows both sides: turn the normal toward the viewer on back faces.
+  // (The renderer flips glFrontFace for mirroring transforms, so "front" stays "outside".)
+  vec3 n = normalize(vNormalView);
+  if (!gl_FrontFacing) n = -n;
+  if (uOutput.x != PUFF_OUTPUT_COLOUR) {
+    oColor = vec4(mapValue(n, vDist, 0.0), 1.0);
+    return;
+  }
   vec3 ambient = ambientAt(gl_FragCoord.xy);
   if (uPass == PUFF_PASS_SHADOWED || (shadowMapEnabled() && inShadowMap(vWorld, uId))) {
     oColor = vec4(srgbToLinear(clamp(uAlbedo * ambient, 0.0, 1.0)), 1.0);
     return;
   }
-  // Culling is off so a plane shows both sides: turn the normal toward the viewer on back faces.
-  // (The renderer flips glFrontFace for mirroring transforms, so "front" stays "outside".)
-  vec3 n = normalize(vNormalView);
-  if (!gl_FrontFacing) n = -n;
   float nDotL = dot(n, uLightDirView.xyz);
   vec3 diffuse = uCel != 0 ? quantize(nDotL) : vec3(max(0.0, nDotL));
   // Eq. 2 in display values, limited to the display's range (as an 8-bit frame buffer limits it), out linear.

@@ -17,6 +17,12 @@
 #define PUFF_PASS_SHADOWED 1    // ambient only
 #define PUFF_PASS_DEPTH_ONLY 2  // depth only, no colour
 
+// ---- what the lit passes write: FrameBlock's uOutput.x (cel::FrameOutput) ----
+#define PUFF_OUTPUT_COLOUR 0  // Eq. 2, scene-linear
+#define PUFF_OUTPUT_NORMAL 1  // the camera-space normal n as 0.5 n + 0.5 (x right, y up, z toward the camera)
+#define PUFF_OUTPUT_DEPTH 2   // 0.5 + (uOutputDepth.x - view distance) * uOutputDepth.y: nearer is brighter
+#define PUFF_OUTPUT_INK 3     // the ink's share of the covered pixel, [0, 1]
+
 // ---- uniform locations of the programs set by location ----
 // media/blur.frag
 #define PUFF_LOC_BLUR_COUNT 0

@@ -40,6 +40,8 @@ layout(std140, binding = 0) uniform FrameBlock {
   vec4 uShadowParams;    // x: 1 = receivers look up the shadow map; y: tolerance, z: length (map depth units)
   vec4 uDepthProj;       // uProj[2][2], uProj[3][2], uProj[2][3], uProj[3][3]: the clip z and w rows at (0, 0, -d, 1)
   ivec4 uDepthMode;      // x: 0 linear, 1 standard, 2 reversed-z; y: 1 = clip z in [0, 1], 0 = [-1, 1]
+  ivec4 uOutput;         // x: what the lit passes write, PUFF_OUTPUT_* (common/contract.glsl)
+  vec4 uOutputDepth;     // PUFF_OUTPUT_DEPTH's x: view distance written as 0.5, y: 1 / (2 range)
 };
 
 layout(binding = 0) uniform sampler1D uRamp;      // q: the artist's ramp, clamp-to-edge; scene-linear texels
@@ -61,6 +63,16 @@ float storeDepth(float linear) {
   float z = uDepthProj.y - uDepthProj.x * dist, w = uDepthProj.w - uDepthProj.z * dist;
   float ndc = z / w;
   return clamp(uDepthMode.y != 0 ? ndc : 0.5 * ndc + 0.5, 0.0, 1.0);
+}
+
+// What a lit pass writes in place of its colour when the frame asks for a map (uOutput.x != 0):
+// camera-space normal `n` (any length; none: facing the camera), the view-axis distance `dist`, or
+// the ink's share `ink` of the covered pixel, as PUFF_OUTPUT_* encodes each. Data, not colour: no
+// transfer function, no ink mixed in.
+vec3 mapValue(vec3 n, float dist, float ink) {
+  if (uOutput.x == PUFF_OUTPUT_NORMAL) return 0.5 * (dot(n, n) > 1e-12 ? normalize(n) : vec3(0.0, 0.0, 1.0)) + 0.5;
+  if (uOutput.x == PUFF_OUTPUT_DEPTH) return vec3(0.5 + (uOutputDepth.x - dist) * uOutputDepth.y);
+  return vec3(ink);
 }
 
 // K_a at the current fragment (Eq. 2), a display value: the gradient image stretched over the viewport.

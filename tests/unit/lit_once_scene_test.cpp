@@ -147,5 +147,62 @@ INSTANTIATE_TEST_SUITE_P(ArtScenes, LitOncePerPixel,
                            return n + "_" + std::to_string(i.param.frame) + (i.param.samples == 1 ? "_1x" : "");
                          });
 
+// The maps an engine relights with (SceneRenderer::setOutput) come out of the same shading as the
+// colour: drawn once per pixel and every layer they agree but along edges (where a sample's particle
+// differs, at most 2% of the pixels), and every covered, ink-free normal is a unit vector. Over a
+// cloud of overlapping puffs, the tumbling hull and objects, at 1 and 4 samples.
+class MapsLitOncePerPixel : public test::GlTest, public ::testing::WithParamInterface<LitCase> {};
+
+TEST_P(MapsLitOncePerPixel, AgreeWithEveryLayerAndHoldUnitNormals) {
+  const LitCase c = GetParam();
+  auto loaded =
+      scene::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (std::string(c.scene) + ".json"), PUFF_ART_DIR);
+  ASSERT_OK(loaded);
+  scene::Scene s = *loaded;
+  s.width = c.width;
+  s.height = c.height;
+  s.transparent = true;
+  if (c.samples > 0) s.samples = c.samples;
+  auto renderer = render::SceneRenderer::create(s);
+  ASSERT_OK(renderer);
+  std::vector<core::Image> maps;  // normal and ink, once per pixel then every layer
+  for (cel::LitShading shading : {cel::LitShading::kOncePerPixel, cel::LitShading::kEveryLayer}) {
+    (*renderer)->setLitShading(shading);
+    for (cel::FrameOutput output : {cel::FrameOutput::kNormal, cel::FrameOutput::kInk}) {
+      ASSERT_OK((*renderer)->setOutput(output));
+      auto image = (*renderer)->renderFrame(c.frame);
+      ASSERT_OK(image);
+      maps.push_back(core::unpremultiply(*image));
+    }
+  }
+  const std::size_t n = static_cast<std::size_t>(c.width) * c.height;
+  std::size_t differ = 0, unit = 0, checked = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    bool off = false;
+    for (int k = 0; k < 2; ++k)
+      for (int ch = 0; ch < 4; ++ch)
+        off = off || std::abs(maps[k].pixels[i * 4 + ch] - maps[k + 2].pixels[i * 4 + ch]) > 2.0f / 255.0f;
+    differ += off ? 1 : 0;
+    const float* normal = &maps[2].pixels[i * 4];
+    if (normal[3] < 1.0f || maps[3].pixels[i * 4] > 0.0f) continue;
+    ++checked;
+    const glm::vec3 v = 2.0f * glm::vec3(normal[0], normal[1], normal[2]) - 1.0f;
+    unit += std::abs(glm::length(v) - 1.0f) < 1e-3f ? 1 : 0;
+  }
+  EXPECT_LE(differ, n / 50) << differ << " of " << n << " pixels differ";
+  EXPECT_GT(checked, n / 10);
+  EXPECT_EQ(unit, checked);
+}
+
+INSTANTIATE_TEST_SUITE_P(ArtScenes, MapsLitOncePerPixel,
+                         ::testing::Values(LitCase{"cloud-fig8c", 0, 160, 120}, LitCase{"dust-roll", 30, 160, 90},
+                                           LitCase{"bouncing-ball", 36, 160, 120},
+                                           LitCase{"cloud-fig8c", 0, 160, 120, 1}),
+                         [](const ::testing::TestParamInfo<LitCase>& i) {
+                           std::string n = i.param.scene;
+                           for (char& ch : n) ch = (ch == '-') ? '_' : ch;
+                           return n + "_" + std::to_string(i.param.frame) + (i.param.samples == 1 ? "_1x" : "");
+                         });
+
 }  // namespace
 }  // namespace puff

@@ -218,7 +218,7 @@ TEST_F(PuffrenderCli, FlipbookSheetsCropPadAndSkipTheEmptyStart) {
     fs::path layoutFile = sheetFile;
     const auto j = nlohmann::json::parse(*puff::core::readFileBytes(layoutFile.replace_extension(".json")));
     const int cellW = j["cellWidth"], cellH = j["cellHeight"], ox = j["frameOffset"][0], oy = j["frameOffset"][1];
-    EXPECT_EQ(j["version"], 2);
+    EXPECT_EQ(j["version"], 3);
     EXPECT_EQ(j["firstFrame"], 2);
     EXPECT_EQ(j["lastFrame"], 3);
     EXPECT_EQ(j["skippedFrames"], 2);

@@ -81,22 +81,50 @@ struct Sequence {
   int skipped = 0;  // leading frames that drew nothing, left out by --skip-empty
 };
 
-// Takes cell `cell`'s frame (scene-linear, premultiplied, the loop's cross-fade done).
-using PlaceCell = std::function<void(int cell, core::Image linear)>;
+// One frame as its cell takes it: the colour (scene-linear, premultiplied) and each map asked for
+// (--maps, in its order: the map's values, premultiplied by the coverage).
+struct FrameImages {
+  core::Image colour;
+  std::vector<core::Image> maps;
+};
+
+// The maps asked for and how depth is encoded (the same for every frame).
+struct MapRequest {
+  std::vector<const render::FlipbookMap*> maps;
+  float depthRange = 1.0f;  // scene units either side of the camera's target (SceneRenderer::setOutput)
+  int bits = 8;
+};
+
+// Takes cell `cell`'s frame (the loop's cross-fade done).
+using PlaceCell = std::function<void(int cell, FrameImages frame)>;
 
 // Mixes a late frame with head frame `from` (cell j of a --loop N), giving `from` weight (j + 1) / (N + 1).
-core::Image crossFade(core::Image mixed, const core::Image& from, int j, int loop) {
+// (A loop has no maps: parse refuses --maps with --loop.)
+FrameImages crossFade(FrameImages mixed, const FrameImages& from, int j, int loop) {
   const float weight = static_cast<float>(j + 1) / static_cast<float>(loop + 1);
-  for (std::size_t k = 0; k < mixed.pixels.size(); ++k) {
-    mixed.pixels[k] = (1.0f - weight) * mixed.pixels[k] + weight * from.pixels[k];
+  for (std::size_t k = 0; k < mixed.colour.pixels.size(); ++k) {
+    mixed.colour.pixels[k] = (1.0f - weight) * mixed.colour.pixels[k] + weight * from.colour.pixels[k];
   }
   return mixed;
+}
+
+// Frame `frame`'s maps, drawn after its colour; the renderer is left drawing colour.
+Result<std::vector<core::Image>> renderMaps(render::SceneRenderer& renderer, int frame, const MapRequest& request) {
+  std::vector<core::Image> maps;
+  for (const render::FlipbookMap* m : request.maps) {
+    PUFF_TRY(renderer.setOutput(m->output, request.depthRange));
+    auto image = renderer.renderFrame(frame);
+    (void)renderer.setOutput(cel::FrameOutput::kColour);  // the colour output is every path's
+    if (!image) return image.error();
+    maps.push_back(std::move(*image));
+  }
+  return maps;
 }
 
 // Hands the k-th of n kept frames to its cell. --loop N: the first N frames wait in `head` for the
 // last N; cell j < N is the mix of frame j (weight (j + 1) / (N + 1)) and frame n - N + j,
 // premultiplied in scene-linear light, so the sheet's last cell runs on into its first.
-void dispatch(int k, int n, int loop, core::Image frame, std::vector<core::Image>& head, const PlaceCell& place) {
+void dispatch(int k, int n, int loop, FrameImages frame, std::vector<FrameImages>& head, const PlaceCell& place) {
   const int cellsUsed = n - loop;
   if (k < loop) {
     head.push_back(std::move(frame));
@@ -113,10 +141,10 @@ void dispatch(int k, int n, int loop, core::Image frame, std::vector<core::Image
 // is drawn (the count is known: the plan's); else once all are drawn (--skip-empty with --loop, whose
 // tail depends on how many drew something), holding them until then.
 Result<Sequence> renderSequence(const Options& o, const Plan& plan, render::SceneRenderer& renderer,
-                                const SheetSpec& spec, bool stream, const PlaceCell& place) {
+                                const SheetSpec& spec, const MapRequest& maps, bool stream, const PlaceCell& place) {
   const int wanted = plan.last - plan.first + 1, loop = o.loop;
   Sequence seq;
-  std::vector<core::Image> held, head;
+  std::vector<FrameImages> held, head;
   int kept = 0;
   cli::Progress progress(o.quiet || wanted == 1);
   for (int frame = plan.first; frame <= plan.flipLast && kept < wanted; ++frame) {
@@ -130,10 +158,16 @@ Result<Sequence> renderSequence(const Options& o, const Plan& plan, render::Scen
       ++seq.skipped;
       continue;
     }
+    auto mapImages = renderMaps(renderer, frame, maps);
+    if (!mapImages) {
+      progress.finish();
+      return mapImages.error();
+    }
+    FrameImages images{std::move(*image), std::move(*mapImages)};
     if (stream) {
-      dispatch(kept, wanted, loop, std::move(*image), head, place);
+      dispatch(kept, wanted, loop, std::move(images), head, place);
     } else {
-      held.push_back(std::move(*image));
+      held.push_back(std::move(images));
     }
     ++kept;
   }
@@ -156,6 +190,25 @@ Result<Sequence> renderSequence(const Options& o, const Plan& plan, render::Scen
   return seq;
 }
 
+// The smallest rectangle holding every texel any frame's colour covers (render::coverageBox over all).
+render::PixelRect sequenceCoverage(const std::vector<FrameImages>& frames, float threshold) {
+  render::PixelRect box;
+  for (const FrameImages& f : frames) {
+    const render::PixelRect b = render::coverageBox(std::span(&f.colour, 1), threshold);
+    if (b.empty()) continue;
+    if (box.empty()) {
+      box = b;
+      continue;
+    }
+    const int x1 = std::max(box.x + box.width, b.x + b.width), y1 = std::max(box.y + box.height, b.y + b.height);
+    box.x = std::min(box.x, b.x);
+    box.y = std::min(box.y, b.y);
+    box.width = x1 - box.x;
+    box.height = y1 - box.y;
+  }
+  return box;
+}
+
 // `v` to the 7 significant digits the scene's single-precision camera holds.
 double sevenDigits(double v) {
   char text[32];
@@ -171,15 +224,41 @@ double sceneUnitsPerTexel(const cel::Camera& camera, int height) {
              : 2.0 * distance * std::tan(glm::radians(static_cast<double>(camera.fovYDegrees)) * 0.5) / height;
 }
 
+// Where map `m` of sheet `target` goes: beside it, STEM_name.png.
+fs::path mapPath(const fs::path& target, const render::FlipbookMap& m) {
+  return target.parent_path() / (target.stem().string() + "_" + std::string(m.name) + ".png");
+}
+
+// The layout's "maps": each map's file and encoding.
+nlohmann::ordered_json mapsLayout(const MapRequest& request, const cel::Camera& camera, const fs::path& target) {
+  nlohmann::ordered_json maps = nlohmann::ordered_json::object();
+  for (const render::FlipbookMap* m : request.maps) {
+    nlohmann::ordered_json j;
+    j["image"] = mapPath(target, *m).filename().string();
+    j["channels"] = m->channels;
+    j["bits"] = request.bits;
+    j["encoding"] = std::string(m->encoding);
+    if (m->output == cel::FrameOutput::kDepth) {
+      // Each frame's distance is measured from its own camera; a flipbook's camera does not move.
+      j["targetDistance"] = sevenDigits(glm::length(camera.target - camera.position));
+      j["depthRange"] = sevenDigits(request.depthRange);
+    }
+    j["uncovered"] = "bled from the nearest covered texel (the sheet's alpha says what is covered)";
+    maps[std::string(m->name)] = j;
+  }
+  return maps;
+}
+
 // The layout JSON written beside the sheet: how an engine reads the cells, and what they hold.
 nlohmann::ordered_json flipbookLayout(const Options& o, const scene::Scene& scene, const Sequence& seq,
-                                      const render::SheetLayout& l, const SheetSpec& s, const fs::path& target) {
+                                      const render::SheetLayout& l, const SheetSpec& s, const MapRequest& maps,
+                                      const fs::path& target) {
   const int cellsUsed = seq.cells;
   const cel::Camera camera = scene::cameraAt(scene, seq.first);
   const double unit = sceneUnitsPerTexel(camera, scene.height);
   nlohmann::ordered_json j;
   j["format"] = "puff-flipbook";
-  j["version"] = 2;
+  j["version"] = 3;
   j["image"] = target.filename().string();
   j["columns"] = l.columns;
   j["rows"] = l.rows;
@@ -213,13 +292,44 @@ nlohmann::ordered_json flipbookLayout(const Options& o, const scene::Scene& scen
   j["alpha"] = std::string(core::toString(s.alpha));
   j["colour"] = s.exr ? (o.float32 ? "scene-linear Rec.709 (32-bit float)" : "scene-linear Rec.709 (half float)")
                       : "display sRGB, 8 bits, through the " + std::string(core::toString(s.view)) + " view transform";
+  if (!maps.maps.empty()) j["maps"] = mapsLayout(maps, camera, target);
   j["scene"] = scene.file.filename().string();
   return j;
 }
 
-// Writes the sheet and its layout as one transaction; false (the error printed) if any step fails.
+// The first `channels` channels of `sheet`.
+core::Image channelsOf(const core::Image& sheet, int channels) {
+  core::Image out(sheet.width, sheet.height, channels);
+  const std::size_t n = static_cast<std::size_t>(sheet.width) * sheet.height;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int c = 0; c < channels; ++c) {
+      out.pixels[i * channels + c] = sheet.pixels[i * sheet.channels + c];
+    }
+  }
+  return out;
+}
+
+// Stages every map sheet in `tx`; false (the error printed) if one fails.
+bool stageMaps(core::OutputTransaction& tx, const MapRequest& request, const std::vector<core::Image>& sheets,
+               const fs::path& target) {
+  for (std::size_t k = 0; k < request.maps.size(); ++k) {
+    const render::FlipbookMap& m = *request.maps[k];
+    const fs::path path = mapPath(target, m);
+    const core::ImageAttributes attributes{{"puff:map", std::string(m.name)},
+                                           {"puff:encoding", std::string(m.encoding)}};
+    const core::PixelType type = request.bits == 16 ? core::PixelType::kUInt16 : core::PixelType::kUInt8;
+    if (auto r = core::writeImage(tx.stage(path), channelsOf(sheets[k], m.channels), type, attributes, path); !r) {
+      cli::printError(Error::at(path, r.error().message));
+      return false;
+    }
+  }
+  return true;
+}
+
+// Writes the sheet, its maps and its layout as one transaction; false (the error printed) if any step fails.
 bool writeSheetAndLayout(const Options& o, const SheetSpec& s, const render::SheetLayout& l, const core::Image& sheet,
-                         const fs::path& target, const fs::path& layout, const nlohmann::ordered_json& j) {
+                         const MapRequest& maps, const std::vector<core::Image>& mapSheets, const fs::path& target,
+                         const fs::path& layout, const nlohmann::ordered_json& j) {
   core::OutputTransaction tx;
   const fs::path stagedSheet = tx.stage(target);
   core::ImageAttributes attributes{{"puff:alpha", std::string(core::toString(s.alpha))},
@@ -235,6 +345,7 @@ bool writeSheetAndLayout(const Options& o, const SheetSpec& s, const render::She
     cli::printError(Error::at(target, r.error().message));
     return false;
   }
+  if (!stageMaps(tx, maps, mapSheets, target)) return false;
   if (auto r = core::writeFileBytes(tx.stage(layout), j.dump(2) + "\n", layout); !r) {
     cli::printError(r.error());
     return false;
@@ -290,6 +401,12 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
                        scene.alpha.value_or(plan.exr ? core::AlphaMode::kPremultiplied : core::AlphaMode::kStraight),
                        plan.exr};
   const bool bleed = !spec.exr && spec.alpha == core::AlphaMode::kStraight;
+  MapRequest maps;
+  for (const std::string& name : o.maps) maps.maps.push_back(render::findFlipbookMap(name));  // parse checked them
+  // Depth: half the rendered frame's larger side either side of the target (what the cells can show).
+  maps.depthRange = static_cast<float>(sceneUnitsPerTexel(scene::cameraAt(scene, plan.first), scene.height) *
+                                       std::max(scene.width, scene.height) * 0.5);
+  maps.bits = o.mapBits;
   const render::SheetRequest request{
       plan.flipColumns, plan.flipRows, {0, 0, scene.width, scene.height}, o.padding, o.pow2};
   // Without --crop the layout is known before anything is drawn and each frame goes into the sheet as
@@ -301,25 +418,33 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
     return 1;
   }
   core::Image sheet;
-  std::vector<core::Image> cells;
-  auto intoSheet = [&](int i, const core::Image& linear) {
-    if (sheet.empty())
+  std::vector<core::Image> mapSheets(maps.maps.size());
+  std::vector<FrameImages> cells;
+  auto intoSheet = [&](int i, const FrameImages& frame) {
+    if (sheet.empty()) {
       sheet = core::Image(layout->sheetWidth(), layout->sheetHeight(), 4, 0.0f);  // empty cells: alpha 0
-    const core::Image display = spec.exr ? linear : core::viewTransform(linear, spec.view, spec.alpha);
+      for (core::Image& m : mapSheets) m = sheet;
+    }
+    const core::Image display = spec.exr ? frame.colour : core::viewTransform(frame.colour, spec.view, spec.alpha);
     render::placeCell(sheet, *layout, i, render::cellOf(display, *layout, bleed, spec.covered()));
+    // Maps are data: straight, and bled into every uncovered texel (what an engine's filter reads there).
+    for (std::size_t k = 0; k < mapSheets.size(); ++k) {
+      render::placeCell(mapSheets[k], *layout, i,
+                        render::cellOf(core::unpremultiply(frame.maps[k]), *layout, true, spec.covered()));
+    }
   };
-  const PlaceCell place = [&](int i, core::Image linear) {
-    if (!o.crop) return intoSheet(i, linear);
+  const PlaceCell place = [&](int i, FrameImages frame) {
+    if (!o.crop) return intoSheet(i, frame);
     if (cells.size() <= static_cast<std::size_t>(i)) cells.resize(static_cast<std::size_t>(i) + 1);
-    cells[static_cast<std::size_t>(i)] = std::move(linear);
+    cells[static_cast<std::size_t>(i)] = std::move(frame);
   };
-  auto seq = renderSequence(o, plan, renderer, spec, !o.crop && !(o.skipEmpty && o.loop > 0), place);
+  auto seq = renderSequence(o, plan, renderer, spec, maps, !o.crop && !(o.skipEmpty && o.loop > 0), place);
   if (!seq) {
     cli::printError(seq.error());
     return 1;
   }
   if (o.crop) {
-    const render::PixelRect crop = render::coverageBox(cells, spec.covered());
+    const render::PixelRect crop = sequenceCoverage(cells, spec.covered());
     if (crop.empty()) {
       cli::printError(Error{"--crop: frames " + std::to_string(seq->first) + " to " +
                             std::to_string(seq->first + seq->cells - 1) +
@@ -337,9 +462,15 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
   const fs::path target = plan.pattern.name(plan.first);
   fs::path layoutPath = target;
   layoutPath.replace_extension(".json");
-  const nlohmann::ordered_json j = flipbookLayout(o, scene, *seq, *layout, spec, target);
-  if (!writeSheetAndLayout(o, spec, *layout, sheet, target, layoutPath, j)) return 1;
+  const nlohmann::ordered_json j = flipbookLayout(o, scene, *seq, *layout, spec, maps, target);
+  if (!writeSheetAndLayout(o, spec, *layout, sheet, maps, mapSheets, target, layoutPath, j)) return 1;
   printFlipbookSummary(o, *seq, *layout, spec, target, layoutPath);
+  if (!o.quiet && !maps.maps.empty()) {
+    std::string names;
+    for (const render::FlipbookMap* m : maps.maps) names += (names.empty() ? "" : ", ") + mapPath(target, *m).string();
+    std::printf("%s: wrote the maps %s (%d bits a channel; the layout says how each is encoded)\n", cli::name(),
+                names.c_str(), maps.bits);
+  }
   return 0;
 }
 

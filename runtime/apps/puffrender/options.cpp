@@ -246,6 +246,18 @@ void addFlipbookSheetOptions(CLI::App& app, Options& o) {
                "--flipbook: cells hold only the rectangle of the frame that some frame of the sequence covers "
                "(one crop for all, so the effect does not jump); the layout JSON records it in pixels and scene "
                "units, and where the camera's target falls in the cell");
+  std::string names;
+  for (const render::FlipbookMap& m : render::kFlipbookMaps) names += (names.empty() ? "" : ", ") + std::string(m.name);
+  app.add_option("--maps", o.maps,
+                 "--flipbook: maps of the same cells for an engine that lights the smoke itself, each a PNG "
+                 "beside the sheet (SHEET_normal.png, ...) named in the layout JSON with its encoding: " +
+                     names + " (docs/flipbooks.md). Comma-separated; the puffs and objects only, no shadows or media")
+      ->delimiter(',')
+      ->check(CLI::IsMember(render::flipbookMapNames()))
+      ->type_name("LIST");
+  app.add_option("--map-bits", o.mapBits, "--maps: bits a channel, 8 or 16. Default: 8")
+      ->check(CLI::IsMember({8, 16}))
+      ->type_name("8|16");
   app.add_flag("--skip-empty", o.skipEmpty,
                "--flipbook: leading frames that draw nothing take no cell; without --frames the sheet is filled "
                "from the first frame that draws something");
@@ -342,13 +354,22 @@ Result<void> checkOptions(const Options& o) {
   if (!o.flipbook.empty()) {
     if (auto g = parseFlipbookGrid(o.flipbook); !g) return g.error();
     if (!o.compare.empty()) return Error{"--flipbook and --compare do not go together"};
+    if (!o.maps.empty() && o.loop > 0) {
+      return Error{
+          "--maps and --loop do not go together: --loop cross-fades frames, and a cross-faded normal or "
+          "depth is no surface's (a scene that loops, /animation/period or --period, needs no cross-fade)"};
+    }
+    if (!o.maps.empty() && o.path != "cel")
+      return Error{"--maps: only the cel path writes maps; leave out --path " + o.path};
   }
+  if (o.mapBits != 8 && o.maps.empty()) return Error{"--map-bits applies to --maps"};
   if (o.flipbook.empty()) {
     for (const auto& [given, name] : {std::pair{o.loop > 0, "--loop"},
                                       {o.padding > 0, "--padding"},
                                       {o.pow2, "--pow2"},
                                       {o.crop, "--crop"},
-                                      {o.skipEmpty, "--skip-empty"}}) {
+                                      {o.skipEmpty, "--skip-empty"},
+                                      {!o.maps.empty(), "--maps"}}) {
       if (given) return Error{std::string(name) + " applies to a --flipbook"};
     }
   }

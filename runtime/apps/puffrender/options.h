@@ -41,10 +41,14 @@ struct Options {
   int loop = 0;
   /// --period N: the scene as a loop of N frames (replacing animation.period; 0: no loop).
   std::optional<int> period;
-  int padding = 0;           ///< --padding PX with --flipbook: empty texels around each frame in its cell
-  bool pow2 = false;         ///< --pow2 with --flipbook: the sheet's sides powers of two
-  bool crop = false;         ///< --crop with --flipbook: cells hold the part of the frames the sequence covers
-  bool skipEmpty = false;    ///< --skip-empty with --flipbook: leading frames that draw nothing take no cell
+  int padding = 0;         ///< --padding PX with --flipbook: empty texels around each frame in its cell
+  bool pow2 = false;       ///< --pow2 with --flipbook: the sheet's sides powers of two
+  bool crop = false;       ///< --crop with --flipbook: cells hold the part of the frames the sequence covers
+  bool skipEmpty = false;  ///< --skip-empty with --flipbook: leading frames that draw nothing take no cell
+  /// --maps LIST with --flipbook: the maps written beside the sheet (kFlipbookMaps' names), in the
+  /// order given.
+  std::vector<std::string> maps;
+  int mapBits = 8;           ///< --map-bits 8|16: the maps' bits a channel
   std::string alpha;         ///< "straight" or "premultiplied": replaces the scene's /output/alpha
   std::string contactSheet;  ///< --contact-sheet: a PNG of the frames as a grid with their numbers
   std::string preview;       ///< --preview: an animated .gif or .mp4 of the frames

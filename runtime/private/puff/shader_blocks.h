@@ -19,8 +19,10 @@ struct FrameBlockData {
   glm::vec4 shadowParams;
   glm::vec4 depthProjection;
   glm::ivec4 depthMode;
+  glm::ivec4 output;
+  glm::vec4 outputDepth;
 };
-static_assert(sizeof(FrameBlockData) == 6 * 64 + 11 * 16);
+static_assert(sizeof(FrameBlockData) == 6 * 64 + 13 * 16);
 
 /// shaders/common/media.glsl's MediaBlock (puff::media::Renderer).
 struct MediaBlockData {

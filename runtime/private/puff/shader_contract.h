@@ -17,6 +17,11 @@ inline constexpr int kPassLit = PUFF_PASS_LIT;
 inline constexpr int kPassShadowed = PUFF_PASS_SHADOWED;
 inline constexpr int kPassDepthOnly = PUFF_PASS_DEPTH_ONLY;
 
+inline constexpr int kOutputColour = PUFF_OUTPUT_COLOUR;
+inline constexpr int kOutputNormal = PUFF_OUTPUT_NORMAL;
+inline constexpr int kOutputDepth = PUFF_OUTPUT_DEPTH;
+inline constexpr int kOutputInk = PUFF_OUTPUT_INK;
+
 /// Uniform locations (contract.glsl names the program of each).
 namespace loc {
 inline constexpr int kBlurCount = PUFF_LOC_BLUR_COUNT, kBlurWeights = PUFF_LOC_BLUR_WEIGHTS,

@@ -13,6 +13,7 @@
 #include <puff/core/number_text.h>
 #include <puff/gl_api.h>
 #include <puff/shader_blocks.h>
+#include <puff/shader_contract.h>
 
 namespace puff::cel {
 
@@ -64,6 +65,20 @@ thread_local float frameProjectionScaleY = 1.0f;
 }  // namespace
 
 DepthConvention boundDepthConvention() { return boundConvention; }
+
+std::string_view toString(FrameOutput output) {
+  switch (output) {
+    case FrameOutput::kColour:
+      return "colour";
+    case FrameOutput::kNormal:
+      return "normal";
+    case FrameOutput::kDepth:
+      return "depth";
+    case FrameOutput::kInk:
+      return "ink";
+  }
+  return "?";
+}
 core::Viewport boundViewport() { return boundFrameViewport; }
 std::uint64_t boundFrameSerial() { return frameSerial; }
 glm::mat4 boundViewProjection() { return frameViewProjection; }
@@ -72,6 +87,20 @@ float boundProjectionScaleY() { return frameProjectionScaleY; }
 namespace {
 
 using shader::FrameBlockData;
+
+int outputCode(FrameOutput output) {
+  switch (output) {
+    case FrameOutput::kColour:
+      return shader::kOutputColour;
+    case FrameOutput::kNormal:
+      return shader::kOutputNormal;
+    case FrameOutput::kDepth:
+      return shader::kOutputDepth;
+    case FrameOutput::kInk:
+      return shader::kOutputInk;
+  }
+  return shader::kOutputColour;
+}
 
 }  // namespace
 
@@ -86,6 +115,10 @@ Result<void> FrameBlock::upload(const Frame& frame) {
   if (!(std::isfinite(frame.nearPlane) && std::isfinite(frame.farPlane) && frame.nearPlane < frame.farPlane))
     return Error{"FrameBlock::upload: the frame's planes " + core::numberText(frame.nearPlane) + ", " +
                  core::numberText(frame.farPlane) + ": need near < far, both finite (linear depth's 0 and 1)"};
+  if (!(std::isfinite(frame.outputDepth.origin) && std::isfinite(frame.outputDepth.range) &&
+        frame.outputDepth.range > 0.0f))
+    return Error{"FrameBlock::upload: the depth map's origin " + core::numberText(frame.outputDepth.origin) +
+                 " and range " + core::numberText(frame.outputDepth.range) + ": need both finite, range > 0"};
   FrameBlockData d{};
   d.view = frame.view;
   d.proj = frame.projection;
@@ -110,6 +143,8 @@ Result<void> FrameBlock::upload(const Frame& frame) {
   d.depthProjection =
       glm::vec4(frame.projection[2][2], frame.projection[3][2], frame.projection[2][3], frame.projection[3][3]);
   d.depthMode = glm::ivec4(static_cast<int>(frame.depth), frame.clipDepth == ClipDepth::kZeroToOne ? 1 : 0, 0, 0);
+  d.output = glm::ivec4(outputCode(frame.output), 0, 0, 0);
+  d.outputDepth = glm::vec4(frame.outputDepth.origin, 0.5f / frame.outputDepth.range, 0.0f, 0.0f);
   glNamedBufferSubData(buffer_.get(), 0, sizeof d, &d);
   depth_ = frame.depth;
   viewport_ = frame.viewport;

@@ -56,14 +56,17 @@ class CelPath final : public Path {
 
   Result<void> draw(const PathFrame& frame) override {
     const scene::Scene& s = frame.scene;
+    // A map draws the puffs and objects alone: no plate, shadows (the shadowed pass writes colour) or media.
+    const bool colour = output_ == cel::FrameOutput::kColour;
+    MediaPass* const media = colour ? media_.get() : nullptr;
     // With media the opaque scene goes into the layers' target first, and the composition writes
     // the caller's framebuffer.
     GLint callerFbo = 0, callerRead = 0;
     cel::Viewport celViewport = frame.viewport;
-    if (media_) {
+    if (media) {
       glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &callerFbo);
       glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &callerRead);
-      PUFF_TRY_ASSIGN(auto layers, media_->layers(s, frame.viewport));
+      PUFF_TRY_ASSIGN(auto layers, media->layers(s, frame.viewport));
       glBindFramebuffer(GL_FRAMEBUFFER, (layers)->opaqueFramebuffer());
       celViewport = cel::Viewport{0, 0, frame.viewport.width, frame.viewport.height};
     }
@@ -79,15 +82,17 @@ class CelPath final : public Path {
     glClearDepth(1.0);
     glClearStencil(0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
-    if (plate_) plate_->draw(celViewport);
+    if (plate_ && colour) plate_->draw(celViewport);
 
     cel::Frame f = scene_->prepare(s, frame.inputs, frame.viewport, celViewport);
+    f.output = output_;
+    f.outputDepth = {glm::length(frame.inputs.camera.target - frame.inputs.camera.position), depthRange_};
     const cel::Style style = scene::celStyleFor(s);  // the ink decoded
     if (variations_ > 0) {
       const cel::DrawStats up = nailboards_->upload(frame.inputs.particles);
       frame.stats.bytesUploaded = up.bytesUploaded;
     }
-    const bool shadows = style.shadows && !fillRateFloor_;
+    const bool shadows = style.shadows && !fillRateFloor_ && colour;
     if (shadows && style.shadowMethod == cel::ShadowMethod::kMap) {
       // The casters from the light into the map; the lit passes below look it up.
       if (!shadowMap_) shadowMap_ = std::make_unique<cel::ShadowMap>();
@@ -128,8 +133,8 @@ class CelPath final : public Path {
       scene_->opaque().draw(cel::ShadePass::kShadowed);
       if (variations_ > 0) nailboards_->drawNailboards(style, cel::ShadePass::kShadowed);
     }
-    if (media_) {
-      media_->draw(s, frame.inputs, frame.viewport, static_cast<GLuint>(callerFbo), frame.stats);
+    if (media) {
+      media->draw(s, frame.inputs, frame.viewport, static_cast<GLuint>(callerFbo), frame.stats);
       glBindFramebuffer(GL_READ_FRAMEBUFFER, static_cast<GLuint>(callerRead));
     }
     return {};
@@ -144,6 +149,11 @@ class CelPath final : public Path {
   }
   void setLitShading(cel::LitShading shading) override { nailboards_->setLitShading(shading); }
   void setHullOcclusion(cel::HullOcclusion occlusion) override { nailboards_->setHullOcclusion(occlusion); }
+  Result<void> setOutput(cel::FrameOutput output, float depthRange) override {
+    output_ = output;
+    depthRange_ = depthRange;
+    return {};
+  }
 
   Result<media::Layers*> mediaLayers(const scene::Scene& scene, const cel::Viewport& viewport) override {
     if (!media_) return nullptr;
@@ -165,6 +175,8 @@ class CelPath final : public Path {
   int variations_ = 0;                         // 0: no atlas, no cel particles
   int samples_ = 1;
   bool fillRateFloor_ = false;
+  cel::FrameOutput output_ = cel::FrameOutput::kColour;
+  float depthRange_ = 1.0f;  // kDepth's: scene units either side of the camera's target
 };
 
 }  // namespace

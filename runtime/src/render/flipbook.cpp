@@ -18,6 +18,19 @@ long long nextPowerOfTwo(long long n) {
 
 }  // namespace
 
+std::vector<std::string> flipbookMapNames() {
+  std::vector<std::string> names;
+  for (const FlipbookMap& m : kFlipbookMaps) names.emplace_back(m.name);
+  return names;
+}
+
+const FlipbookMap* findFlipbookMap(std::string_view name) {
+  for (const FlipbookMap& m : kFlipbookMaps) {
+    if (m.name == name) return &m;
+  }
+  return nullptr;
+}
+
 PixelRect SheetLayout::cell(int i) const {
   return {(i % columns) * cellWidth, (i / columns) * cellHeight, cellWidth, cellHeight};
 }

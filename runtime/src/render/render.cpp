@@ -6,6 +6,7 @@
 #include <puff/cel/opaque.h>
 #include <puff/core/colour.h>
 #include <puff/core/gl.h>
+#include <puff/core/number_text.h>
 #include <puff/gl_api.h>
 #include <puff/media/layers.h>
 #include <puff/media/media.h>
@@ -142,12 +143,17 @@ struct SceneRenderer::Impl {
     bool fillRateFloor = false, mediaOverWholeFrame = false;
     cel::LitShading litShading = cel::LitShading::kAuto;
     cel::HullOcclusion hullOcclusion = cel::HullOcclusion::kAuto;
+    cel::FrameOutput output = cel::FrameOutput::kColour;  // setOutput
+    float depthRange = 1.0f;
   } switches;
+  detail::Target mapTarget;  // made on the first map frame (RGBA32F, the target's size and samples)
   void configure(Path& p) const {
     p.setFillRateFloor(switches.fillRateFloor);
     p.setMediaOverWholeFrame(switches.mediaOverWholeFrame);
     p.setLitShading(switches.litShading);
     p.setHullOcclusion(switches.hullOcclusion);
+    // A path made again is of the kind that took the output before.
+    (void)p.setOutput(switches.output, switches.depthRange);
   }
 };
 
@@ -171,6 +177,19 @@ void SceneRenderer::setHullOcclusion(cel::HullOcclusion occlusion) {
   impl_->switches.hullOcclusion = occlusion;
   impl_->configure(*impl_->path);
 }
+
+Result<void> SceneRenderer::setOutput(cel::FrameOutput output, float depthRange) {
+  if (!(std::isfinite(depthRange) && depthRange > 0.0f)) {
+    return Error{"the depth map's range " + core::numberText(depthRange) + ": need a positive number"};
+  }
+  PUFF_TRY(impl_->path->setOutput(output, depthRange));
+  impl_->switches.output = output;
+  impl_->switches.depthRange = depthRange;
+  impl_->history.clear();  // motion blur's kept frames hold the other output
+  return {};
+}
+
+cel::FrameOutput SceneRenderer::output() const { return impl_->switches.output; }
 
 void SceneRenderer::setMediaOverWholeFrame(bool on) {
   impl_->switches.mediaOverWholeFrame = on;
@@ -253,7 +272,7 @@ Result<void> SceneRenderer::drawFrame(int frame, const cel::Viewport& viewport, 
   const scene::Scene& s = impl_->scene;
   // The references model no motion blur (docs/media.md): only a path with media layers blurs.
   if (s.media && s.media->motionBlurFrames > 0 && impl_->path->drawsMedia() &&
-      renderPathInfo(impl_->path->kind()).motionBlur) {
+      impl_->switches.output == cel::FrameOutput::kColour && renderPathInfo(impl_->path->kind()).motionBlur) {
     return drawBlurred(frame, viewport, stats, camera);
   }
   return drawSingle(frame, viewport, stats, camera);
@@ -367,7 +386,12 @@ Result<core::Image> SceneRenderer::renderFrame(int frame, FrameStats* stats) {
 
 Result<core::Image> SceneRenderer::renderOpaque(int frame, FrameStats* stats) {
   Impl& m = *impl_;
-  detail::Target& t = m.target;
+  if (m.switches.output != cel::FrameOutput::kColour &&
+      (m.mapTarget.width != m.target.width || m.mapTarget.height != m.target.height ||
+       m.mapTarget.samples != m.target.samples)) {
+    PUFF_TRY_ASSIGN(m.mapTarget, detail::Target::createData(m.target.width, m.target.height, m.target.samples));
+  }
+  detail::Target& t = m.switches.output == cel::FrameOutput::kColour ? m.target : m.mapTarget;
   const std::size_t values = static_cast<std::size_t>(t.width) * t.height * 4;
   std::vector<unsigned char> bytes;
   std::vector<float> floats;

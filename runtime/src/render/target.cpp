@@ -6,10 +6,13 @@
 
 namespace puff::render::detail {
 
-Result<Target> Target::create(int w, int h, int samples, bool displayValues) {
+namespace {
+
+Result<Target> make(int w, int h, int samples, bool displayValues, bool data) {
   Target t;
   t.displayValues = displayValues;
-  const GLenum format = displayValues ? GL_RGBA8 : GL_RGBA16F;
+  t.data = data;
+  const GLenum format = displayValues ? GL_RGBA8 : data ? GL_RGBA32F : GL_RGBA16F;
   t.width = w;
   t.height = h;
   GLint maxSamples = 1;
@@ -39,6 +42,14 @@ Result<Target> Target::create(int w, int h, int samples, bool displayValues) {
   }
   return t;
 }
+
+}  // namespace
+
+Result<Target> Target::create(int w, int h, int samples, bool displayValues) {
+  return make(w, h, samples, displayValues, false);
+}
+
+Result<Target> Target::createData(int w, int h, int samples) { return make(w, h, samples, false, true); }
 
 Target Target::contextOwn(int width, int height) {
   Target t;

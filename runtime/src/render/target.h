@@ -16,11 +16,14 @@ struct Target {
   /// size (puffrender creates it so).
   bool contextFramebuffer = false;
   bool displayValues = false;  ///< RGBA8 holding display values (else RGBA16F scene-linear)
+  bool data = false;           ///< RGBA32F holding a map (SceneRenderer::setOutput)
   core::Framebuffer fbo, resolveFbo;
   core::Renderbuffer color, depthStencil, resolveColor;
 
   /// Errors: more samples than this GL gives, or a size it does not support.
   static Result<Target> create(int width, int height, int samples, bool displayValues = false);
+  /// An RGBA32F target for maps (data), otherwise as create.
+  static Result<Target> createData(int width, int height, int samples);
   /// The context's own framebuffer, `width` x `height` of it.
   static Target contextOwn(int width, int height);
 };

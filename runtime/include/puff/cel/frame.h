@@ -51,6 +51,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -77,6 +78,25 @@ struct ShadowLookup {
   float length = 0.0f;         ///< map depth units: Style::shadowLength
 };
 
+/// What the lit passes of the nailboards and the opaque objects write (Frame::output): the frame's
+/// colour, or a map of the same pixels for an engine that lights them itself (puffrender --flipbook
+/// --maps, docs/flipbooks.md). A map is data in [0, 1] per channel (no transfer function): a
+/// frame asking for one draws no shadows; the shadowed pass must not be drawn (it writes colour).
+enum class FrameOutput {
+  kColour,  ///< Eq. 2, scene-linear
+  kNormal,  ///< the camera-space normal n as 0.5 n + 0.5: x right, y up, z toward the camera
+  kDepth,   ///< 0.5 + (origin - d) / (2 range) for view-axis distance d (OutputDepth): nearer is brighter
+  kInk,     ///< the ink's share of the covered pixel (0 without outlines), in every channel
+};
+std::string_view toString(FrameOutput output);
+
+/// kDepth's encoding: view-axis distance `origin` is written as 0.5, and `range` (> 0) either side of
+/// it spans [0, 1].
+struct OutputDepth {
+  float origin = 0.0f;
+  float range = 1.0f;
+};
+
 /// What the depth attachment stores and the projection's clip z range (core/depth.h; the header
 /// comment above has the formulas).
 using DepthConvention = core::DepthConvention;
@@ -95,6 +115,8 @@ struct Frame : core::SharedFrame {
   /// objects draw a shadowed receiver with the ambient term only. Its textures go on units `shadowMapDepth` and
   /// `shadowMapIds` (ShadowMap::bind).
   ShadowLookup shadow;
+  FrameOutput output = FrameOutput::kColour;  ///< what the lit passes write
+  OutputDepth outputDepth;                    ///< how kDepth encodes the distance
 
   /// A frame looking through `camera` at a viewport of width x height pixels.
   static Frame fromCamera(const Camera& camera, int width, int height);

@@ -4,12 +4,43 @@
 // frames.
 #pragma once
 
+#include <array>
 #include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <puff/cel/frame.h>
 
 #include <puff/core/error.h>
 #include <puff/core/image.h>
 
 namespace puff::render {
+
+/// A map written beside a flipbook's sheet (puffrender --maps): the same cells, drawn with the
+/// frame output `output` (SceneRenderer::setOutput), the first `channels` channels of the map
+/// written as unsigned-normalized data (no transfer function).
+struct FlipbookMap {
+  std::string_view name;  ///< as --maps and the layout JSON spell it; the file is STEM_name.png
+  cel::FrameOutput output;
+  int channels;
+  std::string_view encoding;  ///< one line for the layout JSON
+};
+inline constexpr std::array<FlipbookMap, 3> kFlipbookMaps{{
+    {"normal", cel::FrameOutput::kNormal, 3,
+     "the flipbook camera's view-space unit normal n as 0.5 n + 0.5: x right, y up (OpenGL convention), z toward "
+     "the camera; on a camera-facing quad this is the tangent-space normal (tangent = quad right, bitangent = quad "
+     "up)"},
+    {"depth", cel::FrameOutput::kDepth, 1,
+     "0.5 + (targetDistance - d) / (2 depthRange) for the view-axis distance d of the surface drawn: 0.5 at the "
+     "camera target's depth, nearer is brighter"},
+    {"ink", cel::FrameOutput::kInk, 1,
+     "the ink's share of the covered texel: colour = mix(lit body, ink colour, ink) where alpha covers"},
+}};
+/// The maps' names, in kFlipbookMaps' order.
+std::vector<std::string> flipbookMapNames();
+/// The map called `name`, or null.
+const FlipbookMap* findFlipbookMap(std::string_view name);
 
 /// A rectangle of texels, origin at the top-left.
 struct PixelRect {

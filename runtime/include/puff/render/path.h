@@ -145,6 +145,14 @@ class Path {
   virtual void setLitShading(cel::LitShading) {}
   /// Tests and benchmarks: the tumbling hull's occluders (see SceneRenderer).
   virtual void setHullOcclusion(cel::HullOcclusion) {}
+  /// What the frames hold (see SceneRenderer::setOutput). A path that writes no maps accepts only
+  /// kColour.
+  virtual Result<void> setOutput(cel::FrameOutput output, float depthRange) {
+    (void)depthRange;
+    if (output == cel::FrameOutput::kColour) return {};
+    return Error{"the " + std::string(toString(kind())) + " path writes no maps (" +
+                 std::string(cel::toString(output)) + "): only the cel path does"};
+  }
   /// The media layers drawn into for a viewport of this size (made on first use), or null when the
   /// path draws no media. Motion blur keeps its history there. Errors: the layers could not be made.
   virtual Result<media::Layers*> mediaLayers(const scene::Scene&, const cel::Viewport&) { return nullptr; }
