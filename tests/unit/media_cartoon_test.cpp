@@ -17,6 +17,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include <puff/core/colour.h>
 #include <puff/eval/budget.h>
 #include <puff/gl_api.h>
 #include <puff/media/layers.h>
@@ -247,7 +248,8 @@ TEST_F(CartoonMedia, FireBandsAreTheBlackBodyColourAtEachBandsCentre) {
   media::Settings settings = cartoonSettings(2.0f);
   settings.cartoon.coolKelvin = 1400.0f;
   settings.cartoon.hotKelvin = 3200.0f;
-  settings.cartoon.fireBands = 3;  // [1400, 2000), [2000, 2600), [2600, 3200]: centres 1700, 2300, 2900
+  settings.cartoon.fireColors.clear();  // black-body bands
+  settings.cartoon.fireBands = 3;       // [1400, 2000), [2000, 2600), [2600, 3200]: centres 1700, 2300, 2900
   settings.exposure = 0.7f;
   CartoonKit kit(settings, 1.0f, {fire});
   const float temperatures[5] = {1000.0f, 1600.0f, 2450.0f, 2650.0f, 6000.0f};
@@ -286,6 +288,47 @@ TEST_F(CartoonMedia, FireBandsAreTheBlackBodyColourAtEachBandsCentre) {
   }
   // The bands differ from each other: band 2 is brighter than band 0 (hotter is brighter).
   EXPECT_GT(kit.cartoon.fireColors[2].g, kit.cartoon.fireColors[0].g * 2.0f);
+}
+
+// With a palette (the default), band k draws the artist's colour: the palette lists the core first,
+// so the hottest band draws the first colour, decoded from its display value and times the
+// exposure; temperatures below and above the range take the end bands. Four bands, at three
+// exposures.
+TEST_F(CartoonMedia, FireBandsDrawThePalettesColoursCoreFirst) {
+  media::Material fire = media::fireMaterial();
+  fire.density = 3.0f;
+  fire.temperatureRange = 0.0f;
+  fire.burn = 0.0f;
+  fire.detail = 0.0f;
+  const std::vector<glm::vec3> palette = {
+      {1.0f, 0.95f, 0.6f}, {1.0f, 0.7f, 0.2f}, {0.9f, 0.35f, 0.1f}, {0.5f, 0.1f, 0.05f}};
+  for (const float exposure : {0.5f, 1.0f, 1.5f}) {
+    SCOPED_TRACE("exposure " + std::to_string(exposure));
+    media::Settings settings = cartoonSettings(2.0f);
+    settings.cartoon.coolKelvin = 1000.0f;
+    settings.cartoon.hotKelvin = 3000.0f;  // bands [1000, 1500), [1500, 2000), [2000, 2500), [2500, 3000]
+    settings.cartoon.fireColors = palette;
+    settings.exposure = exposure;
+    CartoonKit kit(settings, 1.0f, {fire});
+    const float temperatures[5] = {500.0f, 1700.0f, 2200.0f, 2700.0f, 9000.0f};
+    const int band[5] = {0, 1, 2, 3, 3};  // the coolest first
+    std::vector<media::Particle> ps;
+    for (int i = 0; i < 5; ++i) {
+      media::Particle p = test::sphereAt({-4.0f + 2.0f * static_cast<float>(i), 0.0f, -12.0f}, 0.9f);
+      p.temperature = temperatures[i];
+      ps.push_back(p);
+    }
+    const auto px = kit.draw(ps);
+    for (int i = 0; i < 5; ++i) {
+      SCOPED_TRACE("sphere " + std::to_string(i));
+      const glm::vec3 expected = core::srgbToLinear(palette[static_cast<std::size_t>(3 - band[i])]) * exposure;
+      const glm::vec4 clip =
+          kit.camera.frame(kSize).projection * glm::vec4(ps[static_cast<std::size_t>(i)].position, 1.0f);
+      const int x = static_cast<int>((clip.x / clip.w * 0.5f + 0.5f) * kSize), y = kSize / 2;
+      const glm::vec4 got = px[static_cast<std::size_t>(y) * kSize + x];
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], expected[c], 2e-3 * std::max(1.0f, expected[c])) << c;
+    }
+  }
 }
 
 // Where fire is most of what is seen it is drawn as fire, elsewhere as smoke: a fire sphere just in
@@ -577,6 +620,7 @@ TEST(CartoonScene, StyleAndBandsReadWriteAndRefuse) {
   EXPECT_FLOAT_EQ(m.cartoon.threshold, 0.4f);
   EXPECT_EQ(m.cartoon.opacityBands, 3);
   EXPECT_EQ(m.cartoon.fireBands, 4);
+  EXPECT_TRUE(m.cartoon.fireColors.empty()) << "fireBands alone asks for black-body bands";
   EXPECT_FLOAT_EQ(m.cartoon.coolKelvin, 1200.0f);
   EXPECT_FLOAT_EQ(m.cartoon.hotKelvin, 2800.0f);
   auto again = scene::parseScene(scene::toJson(*s), "c.json");
@@ -603,6 +647,45 @@ TEST(CartoonScene, StyleAndBandsReadWriteAndRefuse) {
             "c.json: /media/cartoon/coolKelvin: hotKelvin (3000, the default) must exceed coolKelvin (4000)");
   // Motion blur would stack whole cartoon frames' outlines: refused, with the way out.
   EXPECT_NE(refused("/motionBlur", {{"frames", 2}}).find("/media/motionBlur: motion blur blends whole frames"),
+            std::string::npos);
+}
+
+// The fire's palette: the default when nothing is said, read as display colours (arrays or hex),
+// written back as the file gave it, "blackbody" for the black body's bands; refused with pointers
+// when it is not a palette, holds too many colours, or comes with fireBands.
+TEST(CartoonScene, FirePaletteReadsWritesAndRefuses) {
+  auto parse = [](const nlohmann::json& cartoon) {
+    return scene::parseScene({{"media", {{"style", "cartoon"}, {"cartoon", cartoon}}}}, "c.json");
+  };
+  auto plain = parse(nlohmann::json::object());
+  ASSERT_OK(plain);
+  EXPECT_EQ(plain->media->settings.cartoon.fireColors, media::defaultFireColors());
+  EXPECT_EQ(media::fireBandCount(plain->media->settings.cartoon), 3);
+  auto two = parse({{"fireColors", {"#fff", {1.0, 0.5, 0.0}}}});
+  ASSERT_OK(two);
+  EXPECT_EQ(two->media->settings.cartoon.fireColors, (std::vector<glm::vec3>{{1, 1, 1}, {1, 0.5f, 0}}));
+  EXPECT_EQ(media::fireBandCount(two->media->settings.cartoon), 2);
+  auto black = parse({{"fireColors", "blackbody"}, {"fireBands", 5}});
+  ASSERT_OK(black);
+  EXPECT_TRUE(black->media->settings.cartoon.fireColors.empty());
+  EXPECT_EQ(media::fireBandCount(black->media->settings.cartoon), 5);
+  for (const auto* s : {&*plain, &*two, &*black}) {
+    auto again = scene::parseScene(scene::toJson(*s), "c.json");
+    ASSERT_OK(again);
+    EXPECT_EQ(again->media->settings.cartoon, s->media->settings.cartoon);
+  }
+  auto refused = [&](const nlohmann::json& cartoon) {
+    auto r = parse(cartoon);
+    return r ? std::string() : r.error().message;
+  };
+  EXPECT_NE(refused({{"fireColors", "plasma"}}).find("c.json: /media/cartoon/fireColors: expected \"blackbody\""),
+            std::string::npos);
+  EXPECT_NE(refused({{"fireColors", nlohmann::json::array()}}).find("/media/cartoon/fireColors"), std::string::npos);
+  EXPECT_NE(refused({{"fireColors", std::vector<std::string>(9, "#f80")}}).find("/media/cartoon/fireColors"),
+            std::string::npos);
+  EXPECT_NE(refused({{"fireColors", {"#f80", "orange"}}}).find("/media/cartoon/fireColors/1"), std::string::npos);
+  EXPECT_NE(refused({{"fireColors", {"#f80"}}, {"fireBands", 2}})
+                .find("/media/cartoon/fireBands: counts black-body bands; with a fireColors palette"),
             std::string::npos);
 }
 

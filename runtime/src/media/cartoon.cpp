@@ -4,6 +4,7 @@
 #include <string>
 
 #include <puff/core/blackbody.h>
+#include <puff/core/colour.h>
 #include <puff/core/number_text.h>
 #include <puff/media/layers.h>
 #include <puff/media/types.h>
@@ -19,7 +20,11 @@ std::optional<Style> parseStyle(std::string_view name) {
   return std::nullopt;
 }
 
-namespace {}  // namespace
+std::vector<glm::vec3> defaultFireColors() { return {{1.0f, 0.9f, 0.45f}, {1.0f, 0.6f, 0.15f}, {0.93f, 0.3f, 0.1f}}; }
+
+int fireBandCount(const CartoonStyle& s) {
+  return s.fireColors.empty() ? s.fireBands : static_cast<int>(s.fireColors.size());
+}
 
 Result<void> validate(const CartoonStyle& s) {
   if (!(s.threshold > 0.0f && s.threshold < 1.0f))
@@ -29,6 +34,16 @@ Result<void> validate(const CartoonStyle& s) {
   if (s.fireBands < 1 || s.fireBands > shader::kMaxFireBands)
     return Error{"fireBands: expected 1 to " + std::to_string(shader::kMaxFireBands) + ", got " +
                  std::to_string(s.fireBands)};
+  if (s.fireColors.size() > static_cast<std::size_t>(shader::kMaxFireBands))
+    return Error{"fireColors: expected at most " + std::to_string(shader::kMaxFireBands) + " colours, got " +
+                 std::to_string(s.fireColors.size())};
+  for (std::size_t k = 0; k < s.fireColors.size(); ++k) {
+    for (int i = 0; i < 3; ++i) {
+      if (!(s.fireColors[k][i] >= 0.0f && s.fireColors[k][i] <= 1.0f))
+        return Error{"fireColors/" + std::to_string(k) + "/" + std::to_string(i) + ": expected [0, 1], got " +
+                     core::numberText(s.fireColors[k][i])};
+    }
+  }
   if (!(s.coolKelvin > 0.0f && s.coolKelvin < 1e5f))
     return Error{"coolKelvin: expected kelvin in (0, 100000), got " + core::numberText(s.coolKelvin)};
   if (!(s.hotKelvin > s.coolKelvin && s.hotKelvin <= 1e5f))
@@ -52,6 +67,12 @@ Result<CartoonCompose> cartoonCompose(const Settings& settings) {
   const glm::dvec3 white = core::blackbodyXYZ(settings.normalizeKelvin);
   CartoonCompose c;
   c.style = st;
+  if (!st.fireColors.empty()) {
+    // The palette lists the core first; the bands run from the coolest.
+    for (auto it = st.fireColors.rbegin(); it != st.fireColors.rend(); ++it)
+      c.fireColors.push_back(core::srgbToLinear(*it) * settings.exposure);
+    return c;
+  }
   const double width = (static_cast<double>(st.hotKelvin) - st.coolKelvin) / st.fireBands;
   for (int k = 0; k < st.fireBands; ++k) {
     const double kelvin = st.coolKelvin + (k + 0.5) * width;

@@ -97,7 +97,8 @@ void LayersBase::Impl::composeCartoon(GLuint target, const core::Viewport& viewp
   const CartoonStyle& st = cartoon.style;
   CartoonBlockData d{};
   const float inkWidth = st.outlines ? st.outlineWidth : 0.0f;
-  d.style = glm::vec4(st.threshold, static_cast<float>(st.opacityBands), static_cast<float>(st.fireBands), inkWidth);
+  d.style =
+      glm::vec4(st.threshold, static_cast<float>(st.opacityBands), static_cast<float>(fireBandCount(st)), inkWidth);
   d.ink = glm::vec4(st.outlineColor, 1.0f);
   for (std::size_t k = 0; k < cartoon.fireColors.size() && k < shader::kMaxFireBands; ++k)
     d.fireColors[k] = glm::vec4(cartoon.fireColors[k], 1.0f);

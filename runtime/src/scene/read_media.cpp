@@ -124,11 +124,34 @@ void readBlackbody(const json& v, const std::string& p, media::Settings& setting
 // The cartoon style's bands (types.h, CartoonStyle). Its ink is the scene's `style` outline
 // (render::MediaPass takes it each frame), so it has none of its own here.
 void readCartoon(const json& v, const std::string& p, media::CartoonStyle& c) {
-  requireObject(v, p, {"threshold", "opacityBands", "fireBands", "coolKelvin", "hotKelvin"});
+  requireObject(v, p, {"threshold", "opacityBands", "fireColors", "fireBands", "coolKelvin", "hotKelvin"});
   if (auto* x = find(v, "threshold"))
     c.threshold = readFloat(*x, child(p, "threshold"), Range{0.0, 1.0, true, true}, "an opacity in (0, 1)");
   if (auto* x = find(v, "opacityBands")) c.opacityBands = readInt(*x, child(p, "opacityBands"), 1, 8);
-  if (auto* x = find(v, "fireBands")) c.fireBands = readInt(*x, child(p, "fireBands"), 1, shader::kMaxFireBands);
+  // The fire's bands: the artist's palette (the default), or "blackbody" bands, which fireBands counts
+  // (fireBands alone asks for them).
+  const json* colours = find(v, "fireColors");
+  const json* bands = find(v, "fireBands");
+  if (colours && colours->is_string()) {
+    if (colours->get<std::string>() != "blackbody")
+      fail(child(p, "fireColors"),
+           "\"blackbody\" or an array of 1 to " + std::to_string(shader::kMaxFireBands) + " colours (the core first)",
+           *colours);
+    c.fireColors.clear();
+  } else if (colours) {
+    if (!colours->is_array() || colours->empty() || colours->size() > static_cast<std::size_t>(shader::kMaxFireBands))
+      fail(child(p, "fireColors"),
+           "\"blackbody\" or an array of 1 to " + std::to_string(shader::kMaxFireBands) + " colours (the core first)",
+           *colours);
+    if (bands)
+      failText(child(p, "fireBands"), "counts black-body bands; with a fireColors palette its colours are the bands");
+    c.fireColors.clear();
+    for (std::size_t k = 0; k < colours->size(); ++k)
+      c.fireColors.push_back(readColor((*colours)[k], child(child(p, "fireColors"), std::to_string(k))));
+  } else if (bands) {
+    c.fireColors.clear();
+  }
+  if (bands) c.fireBands = readInt(*bands, child(p, "fireBands"), 1, shader::kMaxFireBands);
   const Range kelvin{0.0, 1e5, true, false};
   if (auto* x = find(v, "coolKelvin"))
     c.coolKelvin = readFloat(*x, child(p, "coolKelvin"), Range{0.0, 1e5, true, true});

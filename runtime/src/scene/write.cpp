@@ -178,11 +178,16 @@ json mediaJson(const MediaSpec& m, const fs::path& dir) {
   j["exposure"] = number(m.settings.exposure);
   j["style"] = std::string(media::toString(m.settings.style));
   const media::CartoonStyle& c = m.settings.cartoon;
-  j["cartoon"] = {{"threshold", number(c.threshold)},
-                  {"opacityBands", c.opacityBands},
-                  {"fireBands", c.fireBands},
-                  {"coolKelvin", number(c.coolKelvin)},
-                  {"hotKelvin", number(c.hotKelvin)}};
+  j["cartoon"] = {{"threshold", number(c.threshold)}, {"opacityBands", c.opacityBands}};
+  if (c.fireColors.empty()) {
+    j["cartoon"]["fireColors"] = "blackbody";
+    j["cartoon"]["fireBands"] = c.fireBands;
+  } else {
+    j["cartoon"]["fireColors"] = json::array();
+    for (const glm::vec3& colour : c.fireColors) j["cartoon"]["fireColors"].push_back(vec3(colour));
+  }
+  j["cartoon"]["coolKelvin"] = number(c.coolKelvin);
+  j["cartoon"]["hotKelvin"] = number(c.hotKelvin);
   j["detail"] = {{"temperature", pathJson(m.temperatureDetail, dir)}, {"opacity", pathJson(m.opacityDetail, dir)}};
   j["shimmer"] = number(m.compose.shimmerPixels);
   j["depthAware"] = m.compose.depthAware;

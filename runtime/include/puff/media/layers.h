@@ -87,9 +87,10 @@ struct HostDepth {
 /// What Layers::compose needs to draw the cartoon style.
 struct CartoonCompose {
   CartoonStyle style;
-  /// Band k's colour (k < style.fireBands): the black-body colour at the band's centre temperature,
-  /// linear sRGB clipped at 0, normalized as the renderer's (luminance 1 at normalizeKelvin) and
-  /// times the exposure. A pixel's fire colour is this times its particles' mean emission.
+  /// Band k's colour (k < fireBandCount(style), the coolest first): the palette's colour decoded to
+  /// linear, or without one the black-body colour at the band's centre temperature, linear sRGB
+  /// clipped at 0, normalized as the renderer's (luminance 1 at normalizeKelvin); either times the
+  /// exposure. A pixel's fire colour is this times its particles' mean emission.
   std::vector<glm::vec3> fireColors;
   bool operator==(const CartoonCompose&) const = default;
 };

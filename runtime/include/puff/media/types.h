@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
@@ -119,6 +120,10 @@ struct Frame : core::SharedFrame {
 /// Whether Renderer::draw writes the heat-shimmer offsets (the target's attachment 1) or leaves them.
 enum class Shimmer { kOff, kWritten };
 
+/// The cartoon fire's default palette, DISPLAY sRGB from the core out: a pale yellow core, orange,
+/// then a red-orange rim (hues 49, 32 and 14 degrees; HSV saturation 0.55, 0.85, 0.89).
+std::vector<glm::vec3> defaultFireColors();
+
 /// How the media layer becomes pixels (docs/media.md, "Cartoon media").
 enum class Style {
   kPhotoreal,  ///< the papers' translucent media: the layer composed as it was integrated
@@ -132,13 +137,19 @@ std::optional<Style> parseStyle(std::string_view name);  ///< photoreal, cartoon
 /// opacity tiers, band k of `opacityBands` drawing theta + (1 - theta) (k + 1) / n (the top one
 /// opaque); an ink band `outlineWidth` pixels wide outside the iso-line A = theta, from a distance
 /// field of the whole layer, so overlapping particles share one outline (Fig. 5). Where emitting
-/// medium is most of what is seen, the colour is the black-body colour of the band its mean
-/// temperature falls in: [coolKelvin, hotKelvin] split into `fireBands` equal bands, band k showing
-/// Le at its centre; elsewhere the medium's scattered light, unpremultiplied (so flat within a tier).
+/// medium is most of what is seen, the colour is that of the band its mean temperature falls in:
+/// [coolKelvin, hotKelvin] split into equal bands, coolest first, each drawing a colour of
+/// `fireColors` (the artist's palette; the hottest band the first colour) or, with no palette, the
+/// black-body Le at its centre (`fireBands` of them); elsewhere the medium's scattered light,
+/// unpremultiplied (so flat within a tier).
 struct CartoonStyle {
-  float threshold = 0.35f;       ///< the ink's iso-line, accumulated opacity in (0, 1)
-  int opacityBands = 2;          ///< [1, 8]
-  int fireBands = 3;             ///< [1, 8]
+  float threshold = 0.35f;  ///< the ink's iso-line, accumulated opacity in (0, 1)
+  int opacityBands = 2;     ///< [1, 8]
+  /// The fire's band colours from the core (the hottest band) out to the rim, DISPLAY sRGB values
+  /// each in [0, 1], at most 8: decoded to linear and drawn times the medium's emission and the
+  /// exposure. Empty: black-body bands. Default: defaultFireColors().
+  std::vector<glm::vec3> fireColors = defaultFireColors();
+  int fireBands = 3;             ///< black-body bands when fireColors is empty, [1, 8]
   float coolKelvin = 1400.0f;    ///< (0, 1e5), < hotKelvin
   float hotKelvin = 3000.0f;     ///< (0, 1e5]
   bool outlines = true;          ///< off: no ink (the fill keeps its antialiased edge)
@@ -148,6 +159,8 @@ struct CartoonStyle {
 };
 /// "FIELD: expected ..., got ..." for the first bad value.
 Result<void> validate(const CartoonStyle& s);
+/// How many fire bands `s` draws: its palette's colours, or fireBands black-body ones.
+int fireBandCount(const CartoonStyle& s);
 
 struct Settings {
   PhaseModel phase = PhaseModel::kCornetteShanks;
