@@ -24,7 +24,7 @@ set(PUFF_TESTS_GL
   render_test.cpp shader_test.cpp shadow_methods_test.cpp shadow_receivers_test.cpp stability_inputs_test.cpp stability_test.cpp
   steady_test.cpp)
 set(PUFF_TESTS_E2E
-  budget_cel_test.cpp hull_occluders_scene_test.cpp lit_once_scene_test.cpp puffrender_flipbook_test.cpp puffrender_loop_test.cpp puffrender_maps_test.cpp
+  budget_cel_test.cpp hull_occluders_scene_test.cpp lit_once_scene_test.cpp puffrender_flipbook_test.cpp puffrender_loop_test.cpp puffrender_maps_test.cpp puffrender_motion_test.cpp
   puffrender_paths_test.cpp
   bake_replace_test.cpp budget_test.cpp colour_test.cpp gl_failures_test.cpp gpubench_test.cpp media_coverage_scene_test.cpp media_scene_test.cpp parity_test.cpp
   puffbake_cli_test.cpp puffbake_gltf_test.cpp puffrender_cli_test.cpp puffview_keep_test.cpp puffview_soak_test.cpp puffview_test.cpp puffview_window_test.cpp scene_golden_test.cpp)

@@ -193,6 +193,18 @@ HullHit marchHull(float lod, float tpp, float wantTexels, inout float depth, ino
 #endif
 
 #ifndef PUFF_CASTER
+// A motion map's frame (PUFF_OUTPUT_MOTION): each particle where it is at the next frame (world xyz,
+// its size in w), in the upload's order (NailboardRenderer::uploadNext). Read by no other frame.
+layout(std430, binding = 2) readonly buffer ParticleNext { vec4 particleNext[]; };
+
+// This fragment's billboard point carried to the next frame as its particle moves and grows
+// (screenMotion, pixels). A tumbling puff's turn is not in it.
+vec2 billboardMotion() {
+  Particle p = unpackParticle(vId - 1u);
+  vec4 next = particleNext[vId - 1u];
+  return screenMotion(vWorld, next.xyz + (vWorld - p.position) * (next.w / max(p.size, 1e-6)));
+}
+
 // Eq. 2, K_a + C K_L q(N . L), in display values: the surface's colour (scene-linear) is encoded and
 // the particle's tint multiplies it. A shadow-map receiver in another caster's shadow keeps the
 // ambient term only, as the volumes' shadowed pass draws it.
@@ -277,7 +289,8 @@ vec3 shadeFragment(NailboardFragment f) {
       color = f.hull.color;
     }
 #endif
-    if (uOutput.x != PUFF_OUTPUT_COLOUR) return mapValue(n, vDist - f.d * vSize, uOutlines == 1 ? 1.0 - f.body : 0.0);
+    if (uOutput.x != PUFF_OUTPUT_COLOUR)
+      return mapValue(n, vDist - f.d * vSize, uOutlines == 1 ? 1.0 - f.body : 0.0, billboardMotion());
     rgb = litColor(ka, n, color, f.d);
   }
   // Eq. 2's result is a display value, limited to the display's range as the paper's 8-bit frame

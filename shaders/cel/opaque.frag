@@ -31,7 +31,7 @@ void main() {
   vec3 n = normalize(vNormalView);
   if (!gl_FrontFacing) n = -n;
   if (uOutput.x != PUFF_OUTPUT_COLOUR) {
-    oColor = vec4(mapValue(n, vDist, 0.0), 1.0);
+    oColor = vec4(mapValue(n, vDist, 0.0, vec2(0.0)), 1.0);  // objects' own motion is not written
     return;
   }
   vec3 ambient = ambientAt(gl_FragCoord.xy);

@@ -20,8 +20,9 @@
 // ---- what the lit passes write: FrameBlock's uOutput.x (cel::FrameOutput) ----
 #define PUFF_OUTPUT_COLOUR 0  // Eq. 2, scene-linear
 #define PUFF_OUTPUT_NORMAL 1  // the camera-space normal n as 0.5 n + 0.5 (x right, y up, z toward the camera)
-#define PUFF_OUTPUT_DEPTH 2   // 0.5 + (uOutputDepth.x - view distance) * uOutputDepth.y: nearer is brighter
+#define PUFF_OUTPUT_DEPTH 2   // 0.5 + (uOutputScale.x - view distance) * uOutputScale.y: nearer is brighter
 #define PUFF_OUTPUT_INK 3     // the ink's share of the covered pixel, [0, 1]
+#define PUFF_OUTPUT_MOTION 4  // the screen motion m to the next frame (pixels, x right, y up) as 0.5 + m * uOutputScale.z
 
 // ---- uniform locations of the programs set by location ----
 // media/blur.frag

@@ -41,7 +41,7 @@ layout(std140, binding = 0) uniform FrameBlock {
   vec4 uDepthProj;       // uProj[2][2], uProj[3][2], uProj[2][3], uProj[3][3]: the clip z and w rows at (0, 0, -d, 1)
   ivec4 uDepthMode;      // x: 0 linear, 1 standard, 2 reversed-z; y: 1 = clip z in [0, 1], 0 = [-1, 1]
   ivec4 uOutput;         // x: what the lit passes write, PUFF_OUTPUT_* (common/contract.glsl)
-  vec4 uOutputDepth;     // PUFF_OUTPUT_DEPTH's x: view distance written as 0.5, y: 1 / (2 range)
+  vec4 uOutputScale;     // x: PUFF_OUTPUT_DEPTH's distance written as 0.5, y: 1 / (2 range); z: PUFF_OUTPUT_MOTION's 1 / (2 range)
 };
 
 layout(binding = 0) uniform sampler1D uRamp;      // q: the artist's ramp, clamp-to-edge; scene-linear texels
@@ -66,13 +66,20 @@ float storeDepth(float linear) {
 }
 
 // What a lit pass writes in place of its colour when the frame asks for a map (uOutput.x != 0):
-// camera-space normal `n` (any length; none: facing the camera), the view-axis distance `dist`, or
-// the ink's share `ink` of the covered pixel, as PUFF_OUTPUT_* encodes each. Data, not colour: no
-// transfer function, no ink mixed in.
-vec3 mapValue(vec3 n, float dist, float ink) {
+// camera-space normal `n` (any length; none: facing the camera), the view-axis distance `dist`, the
+// ink's share `ink` of the covered pixel, or the screen motion `motion` (pixels) to the next frame,
+// as PUFF_OUTPUT_* encodes each. Data, not colour: no transfer function, no ink mixed in.
+vec3 mapValue(vec3 n, float dist, float ink, vec2 motion) {
   if (uOutput.x == PUFF_OUTPUT_NORMAL) return 0.5 * (dot(n, n) > 1e-12 ? normalize(n) : vec3(0.0, 0.0, 1.0)) + 0.5;
-  if (uOutput.x == PUFF_OUTPUT_DEPTH) return vec3(0.5 + (uOutputDepth.x - dist) * uOutputDepth.y);
+  if (uOutput.x == PUFF_OUTPUT_DEPTH) return vec3(0.5 + (uOutputScale.x - dist) * uOutputScale.y);
+  if (uOutput.x == PUFF_OUTPUT_MOTION) return vec3(0.5 + motion * uOutputScale.z, 0.0);
   return vec3(ink);
+}
+
+// Where world point `p` moves on the screen (pixels, x right, y up) when it goes to `next`.
+vec2 screenMotion(vec3 p, vec3 next) {
+  vec4 a = uViewProj * vec4(p, 1.0), b = uViewProj * vec4(next, 1.0);
+  return (b.xy / b.w - a.xy / a.w) * 0.5 * uViewport.zw;
 }
 
 // K_a at the current fragment (Eq. 2), a display value: the gradient image stretched over the viewport.

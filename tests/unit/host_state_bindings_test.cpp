@@ -38,6 +38,7 @@ cel::Bindings chosenCel() {
   b.frameBlock = 7;
   b.particles = 2;
   b.cells = 3;
+  b.particleNext = 1;
   b.ramp = 9;
   b.gradient = 12;
   b.atlasPacked = 10;

@@ -182,7 +182,7 @@ TEST_F(PuffrenderCli, MapsRefuseWhatTheyCannotDo) {
   // CLI11 checks the names and bits: its error, then the house's pointer to --help.
   CliRun r = run(scene.string() + " --flipbook 1x1 --maps normal,colour" + out);
   EXPECT_EQ(r.exitCode, 2);
-  EXPECT_NE(r.err.find("--maps: colour not in {normal,depth,ink}"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--maps: colour not in {normal,depth,ink,motion}"), std::string::npos) << r.err;
   r = run(scene.string() + " --flipbook 1x1 --maps ink --map-bits 12" + out);
   EXPECT_EQ(r.exitCode, 2);
   EXPECT_NE(r.err.find("--map-bits: 12 not in {8,16}"), std::string::npos) << r.err;

@@ -91,7 +91,8 @@ struct FrameImages {
 // The maps asked for and how depth is encoded (the same for every frame).
 struct MapRequest {
   std::vector<const render::FlipbookMap*> maps;
-  float depthRange = 1.0f;  // scene units either side of the camera's target (SceneRenderer::setOutput)
+  render::MapRanges ranges;  // as the maps are drawn (SceneRenderer::setOutput)
+  float motionRange = 1.0f;  // the motion map's: texels either side of no motion in the file
   int bits = 8;
 };
 
@@ -108,11 +109,37 @@ FrameImages crossFade(FrameImages mixed, const FrameImages& from, int j, int loo
   return mixed;
 }
 
+// The motion map is drawn with this range (pixels) and decoded (motionInTexels), then encoded with
+// the sequence's largest motion (encodeMotion): a float target keeps a hundredth of a pixel at it.
+constexpr float kMotionDrawRange = 16384.0f;
+
+// A motion frame as drawn (0.5 + m / (2 kMotionDrawRange), straight) to m in texels, x right and y up.
+void motionInTexels(core::Image& image) {
+  for (std::size_t i = 0; i < image.pixels.size(); i += static_cast<std::size_t>(image.channels)) {
+    for (int c = 0; c < 2; ++c) image.pixels[i + c] = (image.pixels[i + c] - 0.5f) * 2.0f * kMotionDrawRange;
+    image.pixels[i + 2] = 0.0f;
+  }
+}
+
+// The motion sheet in texels to the file's encoding, with the sequence's largest motion as its
+// range (at least a texel); returns that range.
+float encodeMotion(core::Image& sheet) {
+  float largest = 0.0f;
+  for (std::size_t i = 0; i < sheet.pixels.size(); i += static_cast<std::size_t>(sheet.channels)) {
+    largest = std::max({largest, std::abs(sheet.pixels[i]), std::abs(sheet.pixels[i + 1])});
+  }
+  const float range = std::max(1.0f, std::ceil(largest));
+  for (std::size_t i = 0; i < sheet.pixels.size(); i += static_cast<std::size_t>(sheet.channels)) {
+    for (int c = 0; c < 2; ++c) sheet.pixels[i + c] = 0.5f + sheet.pixels[i + c] / (2.0f * range);
+  }
+  return range;
+}
+
 // Frame `frame`'s maps, drawn after its colour; the renderer is left drawing colour.
 Result<std::vector<core::Image>> renderMaps(render::SceneRenderer& renderer, int frame, const MapRequest& request) {
   std::vector<core::Image> maps;
   for (const render::FlipbookMap* m : request.maps) {
-    PUFF_TRY(renderer.setOutput(m->output, request.depthRange));
+    PUFF_TRY(renderer.setOutput(m->output, request.ranges));
     auto image = renderer.renderFrame(frame);
     (void)renderer.setOutput(cel::FrameOutput::kColour);  // the colour output is every path's
     if (!image) return image.error();
@@ -241,8 +268,9 @@ nlohmann::ordered_json mapsLayout(const MapRequest& request, const cel::Camera& 
     if (m->output == cel::FrameOutput::kDepth) {
       // Each frame's distance is measured from its own camera; a flipbook's camera does not move.
       j["targetDistance"] = sevenDigits(glm::length(camera.target - camera.position));
-      j["depthRange"] = sevenDigits(request.depthRange);
+      j["depthRange"] = sevenDigits(request.ranges.depth);
     }
+    if (m->output == cel::FrameOutput::kMotion) j["motionRange"] = request.motionRange;
     j["uncovered"] = "bled from the nearest covered texel (the sheet's alpha says what is covered)";
     maps[std::string(m->name)] = j;
   }
@@ -404,8 +432,9 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
   MapRequest maps;
   for (const std::string& name : o.maps) maps.maps.push_back(render::findFlipbookMap(name));  // parse checked them
   // Depth: half the rendered frame's larger side either side of the target (what the cells can show).
-  maps.depthRange = static_cast<float>(sceneUnitsPerTexel(scene::cameraAt(scene, plan.first), scene.height) *
-                                       std::max(scene.width, scene.height) * 0.5);
+  maps.ranges.depth = static_cast<float>(sceneUnitsPerTexel(scene::cameraAt(scene, plan.first), scene.height) *
+                                         std::max(scene.width, scene.height) * 0.5);
+  maps.ranges.motion = kMotionDrawRange;
   maps.bits = o.mapBits;
   const render::SheetRequest request{
       plan.flipColumns, plan.flipRows, {0, 0, scene.width, scene.height}, o.padding, o.pow2};
@@ -429,8 +458,9 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
     render::placeCell(sheet, *layout, i, render::cellOf(display, *layout, bleed, spec.covered()));
     // Maps are data: straight, and bled into every uncovered texel (what an engine's filter reads there).
     for (std::size_t k = 0; k < mapSheets.size(); ++k) {
-      render::placeCell(mapSheets[k], *layout, i,
-                        render::cellOf(core::unpremultiply(frame.maps[k]), *layout, true, spec.covered()));
+      core::Image values = core::unpremultiply(frame.maps[k]);
+      if (maps.maps[k]->output == cel::FrameOutput::kMotion) motionInTexels(values);
+      render::placeCell(mapSheets[k], *layout, i, render::cellOf(values, *layout, true, spec.covered()));
     }
   };
   const PlaceCell place = [&](int i, FrameImages frame) {
@@ -462,6 +492,10 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
   const fs::path target = plan.pattern.name(plan.first);
   fs::path layoutPath = target;
   layoutPath.replace_extension(".json");
+  for (std::size_t k = 0; k < maps.maps.size(); ++k) {
+    if (maps.maps[k]->output == cel::FrameOutput::kMotion && !mapSheets[k].empty())
+      maps.motionRange = encodeMotion(mapSheets[k]);
+  }
   const nlohmann::ordered_json j = flipbookLayout(o, scene, *seq, *layout, spec, maps, target);
   if (!writeSheetAndLayout(o, spec, *layout, sheet, maps, mapSheets, target, layoutPath, j)) return 1;
   printFlipbookSummary(o, *seq, *layout, spec, target, layoutPath);

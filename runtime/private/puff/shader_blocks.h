@@ -20,7 +20,7 @@ struct FrameBlockData {
   glm::vec4 depthProjection;
   glm::ivec4 depthMode;
   glm::ivec4 output;
-  glm::vec4 outputDepth;
+  glm::vec4 outputScale;
 };
 static_assert(sizeof(FrameBlockData) == 6 * 64 + 13 * 16);
 

@@ -21,6 +21,7 @@ inline constexpr int kOutputColour = PUFF_OUTPUT_COLOUR;
 inline constexpr int kOutputNormal = PUFF_OUTPUT_NORMAL;
 inline constexpr int kOutputDepth = PUFF_OUTPUT_DEPTH;
 inline constexpr int kOutputInk = PUFF_OUTPUT_INK;
+inline constexpr int kOutputMotion = PUFF_OUTPUT_MOTION;
 
 /// Uniform locations (contract.glsl names the program of each).
 namespace loc {

@@ -13,7 +13,7 @@ core::GuardExtent guardExtent(const Bindings& b) {
                                    b.shadowMapDepth, b.shadowMapIds, b.visibility});
   e.textureUnits = static_cast<int>(units) + 1;
   e.uniformBuffers = static_cast<int>(b.frameBlock) + 1;
-  e.storageBuffers = static_cast<int>(std::max(b.particles, b.cells)) + 1;
+  e.storageBuffers = static_cast<int>(std::max({b.particles, b.cells, b.particleNext})) + 1;
   return e;
 }
 
@@ -22,8 +22,9 @@ Result<void> validate(const Bindings& b) {
   if (auto ok = core::checkBindPoints(what, GL_MAX_UNIFORM_BUFFER_BINDINGS, {{"frameBlock", b.frameBlock}}); !ok) {
     return ok;
   }
-  if (auto ok = core::checkBindPoints(what, GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS,
-                                      {{"particles", b.particles}, {"cells", b.cells}});
+  if (auto ok =
+          core::checkBindPoints(what, GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS,
+                                {{"particles", b.particles}, {"cells", b.cells}, {"particleNext", b.particleNext}});
       !ok) {
     return ok;
   }
@@ -46,6 +47,7 @@ void assignBindPoints(GLuint program, const Bindings& b) {
   core::assignBindPoints(program, {{K::kUniformBlock, "FrameBlock", b.frameBlock},
                                    {K::kStorageBlock, "ParticleBuffer", b.particles},
                                    {K::kStorageBlock, "AtlasCells", b.cells},
+                                   {K::kStorageBlock, "ParticleNext", b.particleNext},
                                    {K::kSampler, "uRamp", b.ramp},
                                    {K::kSampler, "uGradient", b.gradient},
                                    {K::kSampler, "uPacked", b.atlasPacked},

@@ -76,6 +76,8 @@ std::string_view toString(FrameOutput output) {
       return "depth";
     case FrameOutput::kInk:
       return "ink";
+    case FrameOutput::kMotion:
+      return "motion";
   }
   return "?";
 }
@@ -98,6 +100,8 @@ int outputCode(FrameOutput output) {
       return shader::kOutputDepth;
     case FrameOutput::kInk:
       return shader::kOutputInk;
+    case FrameOutput::kMotion:
+      return shader::kOutputMotion;
   }
   return shader::kOutputColour;
 }
@@ -115,10 +119,12 @@ Result<void> FrameBlock::upload(const Frame& frame) {
   if (!(std::isfinite(frame.nearPlane) && std::isfinite(frame.farPlane) && frame.nearPlane < frame.farPlane))
     return Error{"FrameBlock::upload: the frame's planes " + core::numberText(frame.nearPlane) + ", " +
                  core::numberText(frame.farPlane) + ": need near < far, both finite (linear depth's 0 and 1)"};
-  if (!(std::isfinite(frame.outputDepth.origin) && std::isfinite(frame.outputDepth.range) &&
-        frame.outputDepth.range > 0.0f))
-    return Error{"FrameBlock::upload: the depth map's origin " + core::numberText(frame.outputDepth.origin) +
-                 " and range " + core::numberText(frame.outputDepth.range) + ": need both finite, range > 0"};
+  const OutputScale& scale = frame.outputScale;
+  if (!(std::isfinite(scale.depthOrigin) && std::isfinite(scale.depthRange) && scale.depthRange > 0.0f &&
+        std::isfinite(scale.motionRange) && scale.motionRange > 0.0f))
+    return Error{"FrameBlock::upload: the maps' depth origin " + core::numberText(scale.depthOrigin) + ", range " +
+                 core::numberText(scale.depthRange) + " and motion range " + core::numberText(scale.motionRange) +
+                 ": need all finite, the ranges > 0"};
   FrameBlockData d{};
   d.view = frame.view;
   d.proj = frame.projection;
@@ -144,7 +150,7 @@ Result<void> FrameBlock::upload(const Frame& frame) {
       glm::vec4(frame.projection[2][2], frame.projection[3][2], frame.projection[2][3], frame.projection[3][3]);
   d.depthMode = glm::ivec4(static_cast<int>(frame.depth), frame.clipDepth == ClipDepth::kZeroToOne ? 1 : 0, 0, 0);
   d.output = glm::ivec4(outputCode(frame.output), 0, 0, 0);
-  d.outputDepth = glm::vec4(frame.outputDepth.origin, 0.5f / frame.outputDepth.range, 0.0f, 0.0f);
+  d.outputScale = glm::vec4(scale.depthOrigin, 0.5f / scale.depthRange, 0.5f / scale.motionRange, 0.0f);
   glNamedBufferSubData(buffer_.get(), 0, sizeof d, &d);
   depth_ = frame.depth;
   viewport_ = frame.viewport;

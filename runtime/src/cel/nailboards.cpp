@@ -120,6 +120,8 @@ struct NailboardRenderer::Impl {
   GLint shadowBias = -1, shadowLength = -1, shadowFloor = -1, shadowBackFace = -1;
   core::VertexArray vao;
   core::Buffer particles, cells;
+  core::Buffer next;          // uploadNext's: made on first use
+  std::size_t nextCount = 0;  // particles it holds (0: none, nothing bound)
   core::Texture shadowProfile;
   std::size_t particleCapacity = 0;
   std::size_t count = 0;
@@ -151,6 +153,10 @@ struct NailboardRenderer::Impl {
     const GLuint particleBuffer = particles.get(), cellBuffer = cells.get();
     glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, bindings.particles, 1, &particleBuffer);
     glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, bindings.cells, 1, &cellBuffer);
+    if (nextCount > 0) {
+      const GLuint nextBuffer = next.get();
+      glBindBuffersBase(GL_SHADER_STORAGE_BUFFER, bindings.particleNext, 1, &nextBuffer);
+    }
     core::bindTextureAndNoSampler(bindings.atlasPacked, maps.get());
     core::bindTextureAndNoSampler(bindings.atlasColor, color.get());
     core::bindTextureAndNoSampler(bindings.atlasHull, hull.get() != 0 ? hull.get() : noHull.get());
@@ -364,6 +370,7 @@ DrawStats NailboardRenderer::upload(std::span<const Particle> particles) {
   Impl& m = *impl_;
   m.bounds = packParticles(particles, m.packed);
   m.count = particles.size();
+  m.nextCount = 0;
   ++m.uploads;
   // The box the deferred screen pass covers (drawScreen): every drawn particle's centre, and the
   // largest size.
@@ -389,6 +396,14 @@ DrawStats NailboardRenderer::upload(std::span<const Particle> particles) {
   s.particles = m.count;
   s.bytesUploaded = bytes;
   return s;
+}
+
+void NailboardRenderer::uploadNext(std::span<const glm::vec4> next) {
+  Impl& m = *impl_;
+  m.nextCount = next.size();
+  if (next.empty()) return;
+  if (m.next.get() == 0) m.next = core::makeBuffer("nailboards: next positions");
+  glNamedBufferData(m.next.get(), static_cast<GLsizeiptr>(next.size_bytes()), next.data(), GL_STREAM_DRAW);
 }
 
 DrawStats NailboardRenderer::drawNailboards(const Style& style, ShadePass pass) {

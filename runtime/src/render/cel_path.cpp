@@ -86,11 +86,18 @@ class CelPath final : public Path {
 
     cel::Frame f = scene_->prepare(s, frame.inputs, frame.viewport, celViewport);
     f.output = output_;
-    f.outputDepth = {glm::length(frame.inputs.camera.target - frame.inputs.camera.position), depthRange_};
+    f.outputScale = {glm::length(frame.inputs.camera.target - frame.inputs.camera.position), ranges_.depth,
+                     ranges_.motion};
     const cel::Style style = scene::celStyleFor(s);  // the ink decoded
     if (variations_ > 0) {
       const cel::DrawStats up = nailboards_->upload(frame.inputs.particles);
       frame.stats.bytesUploaded = up.bytesUploaded;
+      if (output_ == cel::FrameOutput::kMotion) {
+        if (frame.next.size() != frame.inputs.particles.size())
+          return Error{"a motion map needs each particle's next position (" + std::to_string(frame.next.size()) +
+                       " for " + std::to_string(frame.inputs.particles.size()) + " particles)"};
+        nailboards_->uploadNext(frame.next);
+      }
     }
     const bool shadows = style.shadows && !fillRateFloor_ && colour;
     if (shadows && style.shadowMethod == cel::ShadowMethod::kMap) {
@@ -149,9 +156,9 @@ class CelPath final : public Path {
   }
   void setLitShading(cel::LitShading shading) override { nailboards_->setLitShading(shading); }
   void setHullOcclusion(cel::HullOcclusion occlusion) override { nailboards_->setHullOcclusion(occlusion); }
-  Result<void> setOutput(cel::FrameOutput output, float depthRange) override {
+  Result<void> setOutput(cel::FrameOutput output, const MapRanges& ranges) override {
     output_ = output;
-    depthRange_ = depthRange;
+    ranges_ = ranges;
     return {};
   }
 
@@ -176,7 +183,7 @@ class CelPath final : public Path {
   int samples_ = 1;
   bool fillRateFloor_ = false;
   cel::FrameOutput output_ = cel::FrameOutput::kColour;
-  float depthRange_ = 1.0f;  // kDepth's: scene units either side of the camera's target
+  MapRanges ranges_;  // how the maps scale depth and motion
 };
 
 }  // namespace

@@ -1,6 +1,11 @@
 // SceneRenderer: the scene's evaluation, the target and its read-back, motion blur, and the path.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <optional>
+#include <unordered_map>
+#include <utility>
+#include <vector>
 
 #include <puff/cel/nailboards.h>
 #include <puff/cel/opaque.h>
@@ -126,6 +131,22 @@ HistoryTag historyTag(int frame, const cel::Camera& c, const cel::Viewport& v) {
   return HistoryTag{frame, c.position, c.target, c.up, c.fovYDegrees, c.orthoHeight, v.width, v.height};
 }
 
+// Each particle of `now` where it is in `later` (position, size), matched by key; where it is gone,
+// where it is now.
+std::vector<glm::vec4> nextPositions(const scene::FrameInputs& now, const scene::FrameInputs& later) {
+  std::unordered_map<std::uint64_t, std::size_t> at;
+  at.reserve(later.keys.size());
+  for (std::size_t i = 0; i < later.keys.size(); ++i) at.emplace(later.keys[i], i);
+  std::vector<glm::vec4> next;
+  next.reserve(now.particles.size());
+  for (std::size_t i = 0; i < now.particles.size(); ++i) {
+    const auto found = i < now.keys.size() ? at.find(now.keys[i]) : at.end();
+    const cel::Particle& p = found == at.end() ? now.particles[i] : later.particles[found->second];
+    next.emplace_back(p.position, p.size);
+  }
+  return next;
+}
+
 }  // namespace
 
 struct SceneRenderer::Impl {
@@ -144,16 +165,19 @@ struct SceneRenderer::Impl {
     cel::LitShading litShading = cel::LitShading::kAuto;
     cel::HullOcclusion hullOcclusion = cel::HullOcclusion::kAuto;
     cel::FrameOutput output = cel::FrameOutput::kColour;  // setOutput
-    float depthRange = 1.0f;
+    MapRanges ranges;
   } switches;
   detail::Target mapTarget;  // made on the first map frame (RGBA32F, the target's size and samples)
+  // The frame drawn last with the scene's camera, and for a motion map its particles' next positions.
+  std::optional<scene::FrameInputs> last;
+  std::vector<glm::vec4> lastNext;
   void configure(Path& p) const {
     p.setFillRateFloor(switches.fillRateFloor);
     p.setMediaOverWholeFrame(switches.mediaOverWholeFrame);
     p.setLitShading(switches.litShading);
     p.setHullOcclusion(switches.hullOcclusion);
     // A path made again is of the kind that took the output before.
-    (void)p.setOutput(switches.output, switches.depthRange);
+    (void)p.setOutput(switches.output, switches.ranges);
   }
 };
 
@@ -178,13 +202,14 @@ void SceneRenderer::setHullOcclusion(cel::HullOcclusion occlusion) {
   impl_->configure(*impl_->path);
 }
 
-Result<void> SceneRenderer::setOutput(cel::FrameOutput output, float depthRange) {
-  if (!(std::isfinite(depthRange) && depthRange > 0.0f)) {
-    return Error{"the depth map's range " + core::numberText(depthRange) + ": need a positive number"};
+Result<void> SceneRenderer::setOutput(cel::FrameOutput output, const MapRanges& ranges) {
+  for (const auto& [value, what] : {std::pair{ranges.depth, "depth"}, {ranges.motion, "motion"}}) {
+    if (!(std::isfinite(value) && value > 0.0f))
+      return Error{std::string("the ") + what + " map's range " + core::numberText(value) + ": need a positive number"};
   }
-  PUFF_TRY(impl_->path->setOutput(output, depthRange));
+  PUFF_TRY(impl_->path->setOutput(output, ranges));
   impl_->switches.output = output;
-  impl_->switches.depthRange = depthRange;
+  impl_->switches.ranges = ranges;
   impl_->history.clear();  // motion blur's kept frames hold the other output
   return {};
 }
@@ -243,6 +268,7 @@ Result<std::unique_ptr<SceneRenderer>> SceneRenderer::create(const scene::Scene&
 Result<void> SceneRenderer::update(const scene::Scene& next) {
   Impl& m = *impl_;
   m.history.clear();  // kept frames were drawn from the old scene
+  m.last.reset();
   const scene::Scene& now = m.scene;
   const bool targetChanged = now.width != next.width || now.height != next.height || now.samples != next.samples;
   if (targetChanged || now.objects != next.objects || m.path->needsRebuild(now, next)) {
@@ -297,14 +323,37 @@ void SceneRenderer::fitPathTo(const cel::Viewport& viewport) {
 Result<void> SceneRenderer::drawSingle(int frame, const cel::Viewport& viewport, FrameStats* stats,
                                        const cel::Camera* camera) {
   Impl& m = *impl_;
-  const scene::FrameInputs inputs = m.evaluator->evaluate(frame, camera);
+  // A map frame with the scene's camera keeps what it evaluated: the same frame drawn again (another
+  // map, a transparent frame's second background) is not evaluated again, so a simulation that
+  // stepped on to the next frame for a motion map is not run again from the start.
+  const bool keep = m.switches.output != cel::FrameOutput::kColour && !camera;
+  std::optional<scene::FrameInputs> own;
+  double simulateMs = 0.0;
+  if (!keep) {
+    own = m.evaluator->evaluate(frame, camera);
+    simulateMs = own->simulateMs;
+    m.last.reset();
+  } else if (!m.last || m.last->frame != frame) {
+    m.last = m.evaluator->evaluate(frame);
+    simulateMs = m.last->simulateMs;
+    m.lastNext.clear();
+  }
+  const scene::FrameInputs& inputs = keep ? *m.last : *own;
   FrameStats unused;
   FrameStats& st = stats ? *stats : unused;
   st.particles = inputs.particles.size();
   st.simulated = inputs.simulated;
-  st.simulateMs = inputs.simulateMs;
+  st.simulateMs = simulateMs;
   st.bytesUploaded = 0;
-  return m.path->draw(PathFrame{m.scene, inputs, viewport, st});
+  if (m.switches.output == cel::FrameOutput::kMotion && keep && m.lastNext.empty()) {
+    m.lastNext = nextPositions(inputs, m.evaluator->evaluate(frame + 1));
+  } else if (m.switches.output == cel::FrameOutput::kMotion && !keep) {
+    m.lastNext = nextPositions(inputs, m.evaluator->evaluate(frame + 1, camera));
+  }
+  const std::span<const glm::vec4> next = m.switches.output == cel::FrameOutput::kMotion
+                                              ? std::span<const glm::vec4>(m.lastNext)
+                                              : std::span<const glm::vec4>();
+  return m.path->draw(PathFrame{m.scene, inputs, viewport, st, next});
 }
 
 // Motion blur: frame k is sum_i w_i F(k - i), i = 0..n, w_i = p^i normalized over the frames that

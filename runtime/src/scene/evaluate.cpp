@@ -148,25 +148,35 @@ float frameTime(const Scene& scene, int frame) {
   return static_cast<float>(static_cast<double>(frame) / static_cast<double>(scene.animation.fps));
 }
 
-std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variations) {
+std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variations,
+                                       std::vector<std::uint64_t>* keys) {
   variations = std::clamp(variations, 1, 256);
   const float t = frameTime(scene, frame);
   std::size_t capacity = scene.particles.size();
   for (const EmitterSpec& e : scene.emitters) capacity += static_cast<std::size_t>(std::max(0, e.count));
   std::vector<cel::Particle> out;
   out.reserve(capacity);
+  if (keys) keys->clear();
   cel::Particle p;
-  for (const ParticleSpec& spec : scene.particles) {
-    if (evolve(spec, t, p)) out.push_back(p);
+  for (std::size_t i = 0; i < scene.particles.size(); ++i) {
+    if (!evolve(scene.particles[i], t, p)) continue;
+    out.push_back(p);
+    if (keys) keys->push_back(particleKey(ParticleSource::kListed, static_cast<std::uint32_t>(i)));
   }
   const float f = scene.particleFraction;
   const float grow = f < 1.0f ? std::cbrt(1.0f / f) : 1.0f;
-  for (const EmitterSpec& e : scene.emitters) {
+  for (std::size_t k = 0; k < scene.emitters.size(); ++k) {
+    const EmitterSpec& e = scene.emitters[k];
     const int count = f < 1.0f && e.count > 0 ? std::max(1, static_cast<int>(std::lround(e.count * f))) : e.count;
     for (int i = 0; i < count; ++i) {
       ParticleSpec spec = emit(e, i, variations);
       spec.size *= grow;
-      if (evolve(spec, t, p, e.overLife)) out.push_back(p);
+      if (!evolve(spec, t, p, e.overLife)) continue;
+      out.push_back(p);
+      if (keys) {
+        keys->push_back(
+            particleKey(ParticleSource::kEmitted, static_cast<std::uint32_t>(k), static_cast<std::uint32_t>(i)));
+      }
     }
   }
   return out;

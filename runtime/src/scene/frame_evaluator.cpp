@@ -106,7 +106,7 @@ FrameInputs FrameEvaluator::evaluate(int frame, const cel::Camera* camera) {
   in.time = frameTime(s, frame);
   in.camera = camera ? *camera : cameraAt(s, frame);
   if (variations_ > 0) {
-    in.particles = particlesAt(s, frame, variations_);
+    in.particles = particlesAt(s, frame, variations_, &in.keys);
     if (sim_) {
       const auto t0 = core::Clock::now();
       sim_->advanceToFrame(frame);
@@ -124,6 +124,7 @@ FrameInputs FrameEvaluator::evaluate(int frame, const cel::Camera* camera) {
         in.particles.push_back(
             cel::Particle{p.position, size, p.variation, p.oriented, p.orientation,
                           curves.color.empty() ? glm::vec3(1.0f) : core::srgbToLinear(curves.color.at(life))});
+        in.keys.push_back(particleKey(ParticleSource::kSimulated, 0, p.id));
         ++in.simulated;
       }
     }

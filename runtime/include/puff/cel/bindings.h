@@ -10,6 +10,8 @@
 //   frameBlock           uniform buffer   0       8        every cel program (shaders/common/frame.glsl)
 //   particles            storage buffer   0       4        nailboards, shadow volumes, casters (particle.glsl)
 //   cells                storage buffer   1       5        the same (the atlas's cell table)
+//   particleNext         storage buffer   2       6        nailboards writing a motion map (each particle's
+//                                                           next position and size: NailboardRenderer::upload)
 //   ramp                 texture unit     0       16       q, 1D (Ramp::bind)
 //   gradient             texture unit     1       17       K_a(x, y), 2D (Gradient::bind)
 //   atlasPacked          texture unit     2       18       the atlas's normal/depth/distance map, 2D
@@ -25,7 +27,7 @@
 // The renderers point their programs' blocks and samplers at these after linking
 // (glUniformBlockBinding, glShaderStorageBlockBinding, glProgramUniform1i): the shaders'
 // `layout(binding = N)` values are never used. A host may still set a point on its own. The texture
-// units must all differ (one program reads up to all nine), as must the two storage buffers; the
+// units must all differ (one program reads up to all nine), as must the three storage buffers; the
 // uniform buffer is alone. create() checks them against the GL's GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS,
 // GL_MAX_UNIFORM_BUFFER_BINDINGS and GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS. Every object that binds
 // (FrameBlock, Ramp, Gradient, ShadowMap) must be given the same Bindings as the renderers that read
@@ -41,18 +43,19 @@ namespace puff::cel {
 struct Bindings {
   /// Each point's offset from its kind's base.
   struct Offset {
-    static constexpr unsigned frameBlock = 0;            // uniform buffers
-    static constexpr unsigned particles = 0, cells = 1;  // storage buffers
+    static constexpr unsigned frameBlock = 0;                              // uniform buffers
+    static constexpr unsigned particles = 0, cells = 1, particleNext = 2;  // storage buffers
     static constexpr unsigned ramp = 0, gradient = 1, atlasPacked = 2, atlasColor = 3, atlasHull = 4, shadowProfile = 5,
                               shadowMapDepth = 6, shadowMapIds = 7, visibility = 8;  // texture units
   };
   static constexpr core::BindingBase kDefaultBase{};
 
-  unsigned frameBlock = kDefaultBase.uniformBuffer + Offset::frameBlock;  ///< uniform buffer: the frame's block
-  unsigned particles = kDefaultBase.storageBuffer + Offset::particles;    ///< storage buffer: the packed particles
-  unsigned cells = kDefaultBase.storageBuffer + Offset::cells;            ///< storage buffer: the atlas's cells
-  unsigned ramp = kDefaultBase.textureUnit + Offset::ramp;                ///< texture unit: the ramp q
-  unsigned gradient = kDefaultBase.textureUnit + Offset::gradient;        ///< texture unit: the ambient gradient
+  unsigned frameBlock = kDefaultBase.uniformBuffer + Offset::frameBlock;      ///< uniform buffer: the frame's block
+  unsigned particles = kDefaultBase.storageBuffer + Offset::particles;        ///< storage buffer: the packed particles
+  unsigned cells = kDefaultBase.storageBuffer + Offset::cells;                ///< storage buffer: the atlas's cells
+  unsigned particleNext = kDefaultBase.storageBuffer + Offset::particleNext;  ///< storage buffer: a motion map's
+  unsigned ramp = kDefaultBase.textureUnit + Offset::ramp;                    ///< texture unit: the ramp q
+  unsigned gradient = kDefaultBase.textureUnit + Offset::gradient;            ///< texture unit: the ambient gradient
   unsigned atlasPacked = kDefaultBase.textureUnit + Offset::atlasPacked;
   unsigned atlasColor = kDefaultBase.textureUnit + Offset::atlasColor;
   unsigned atlasHull = kDefaultBase.textureUnit + Offset::atlasHull;
@@ -67,6 +70,7 @@ struct Bindings {
     return {.frameBlock = base.uniformBuffer + Offset::frameBlock,
             .particles = base.storageBuffer + Offset::particles,
             .cells = base.storageBuffer + Offset::cells,
+            .particleNext = base.storageBuffer + Offset::particleNext,
             .ramp = base.textureUnit + Offset::ramp,
             .gradient = base.textureUnit + Offset::gradient,
             .atlasPacked = base.textureUnit + Offset::atlasPacked,

@@ -87,14 +87,18 @@ enum class FrameOutput {
   kNormal,  ///< the camera-space normal n as 0.5 n + 0.5: x right, y up, z toward the camera
   kDepth,   ///< 0.5 + (origin - d) / (2 range) for view-axis distance d (OutputDepth): nearer is brighter
   kInk,     ///< the ink's share of the covered pixel (0 without outlines), in every channel
+  /// The screen motion m to the next frame (pixels, x right, y up) as 0.5 + m / (2 motionRange) in
+  /// x and y (z 0): each billboard point carried as its particle moves and grows
+  /// (NailboardRenderer::uploadNext), seen by this frame's camera; objects write 0.
+  kMotion,
 };
 std::string_view toString(FrameOutput output);
 
-/// kDepth's encoding: view-axis distance `origin` is written as 0.5, and `range` (> 0) either side of
-/// it spans [0, 1].
-struct OutputDepth {
-  float origin = 0.0f;
-  float range = 1.0f;
+/// How the maps encode what they hold (Frame::outputScale).
+struct OutputScale {
+  float depthOrigin = 0.0f;  ///< kDepth: the view-axis distance written as 0.5
+  float depthRange = 1.0f;   ///< kDepth: scene units either side of it spanning [0, 1], > 0
+  float motionRange = 1.0f;  ///< kMotion: pixels either side of no motion spanning [0, 1], > 0
 };
 
 /// What the depth attachment stores and the projection's clip z range (core/depth.h; the header
@@ -116,7 +120,7 @@ struct Frame : core::SharedFrame {
   /// `shadowMapIds` (ShadowMap::bind).
   ShadowLookup shadow;
   FrameOutput output = FrameOutput::kColour;  ///< what the lit passes write
-  OutputDepth outputDepth;                    ///< how kDepth encodes the distance
+  OutputScale outputScale;                    ///< how kDepth and kMotion encode theirs
 
   /// A frame looking through `camera` at a viewport of width x height pixels.
   static Frame fromCamera(const Camera& camera, int width, int height);

@@ -176,6 +176,10 @@ class NailboardRenderer {
   /// passes below all draw the particles of the last upload. Leaves no state changed (direct state
   /// access: no buffer is bound).
   DrawStats upload(std::span<const Particle> particles);
+  /// For a frame that writes motion (FrameOutput::kMotion): each particle of the last upload where it
+  /// is at the next frame (world xyz; w its size there), in the upload's order. The passes then bind
+  /// them on storage binding `particleNext`. An empty span forgets them (the next upload does too).
+  void uploadNext(std::span<const glm::vec4> next);
 
   /// Draws the nailboards of the last upload into the current framebuffer with `frame`'s block
   /// already bound (FrameBlock::upload), the ramp and the gradient on their units (Ramp::bind,

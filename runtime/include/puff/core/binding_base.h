@@ -7,7 +7,7 @@
 namespace puff::core {
 
 /// How many points of each kind Puff's offsets use past its base (cel's and media's together).
-inline constexpr unsigned kUniformBufferSpan = 6, kStorageBufferSpan = 2, kTextureUnitSpan = 9;
+inline constexpr unsigned kUniformBufferSpan = 6, kStorageBufferSpan = 3, kTextureUnitSpan = 9;
 
 struct BindingBase {
   /// The defaults keep clear of 0 and the few points above it that engines take first.

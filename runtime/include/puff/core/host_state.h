@@ -50,7 +50,7 @@ namespace puff::core {
 struct GuardExtent {
   int textureUnits = static_cast<int>(BindingBase{}.textureUnit + kTextureUnitSpan);        ///< units 0-24
   int uniformBuffers = static_cast<int>(BindingBase{}.uniformBuffer + kUniformBufferSpan);  ///< bindings 0-13
-  int storageBuffers = static_cast<int>(BindingBase{}.storageBuffer + kStorageBufferSpan);  ///< bindings 0-5
+  int storageBuffers = static_cast<int>(BindingBase{}.storageBuffer + kStorageBufferSpan);  ///< bindings 0-6
   int drawBuffers = 4;  ///< per-draw-buffer blend state and colour masks 0-3
   /// The larger of each.
   GuardExtent cover(const GuardExtent& other) const;

@@ -26,7 +26,7 @@ struct FlipbookMap {
   int channels;
   std::string_view encoding;  ///< one line for the layout JSON
 };
-inline constexpr std::array<FlipbookMap, 3> kFlipbookMaps{{
+inline constexpr std::array<FlipbookMap, 4> kFlipbookMaps{{
     {"normal", cel::FrameOutput::kNormal, 3,
      "the flipbook camera's view-space unit normal n as 0.5 n + 0.5: x right, y up (OpenGL convention), z toward "
      "the camera; on a camera-facing quad this is the tangent-space normal (tangent = quad right, bitangent = quad "
@@ -36,6 +36,9 @@ inline constexpr std::array<FlipbookMap, 3> kFlipbookMaps{{
      "camera target's depth, nearer is brighter"},
     {"ink", cel::FrameOutput::kInk, 1,
      "the ink's share of the covered texel: colour = mix(lit body, ink colour, ink) where alpha covers"},
+    {"motion", cel::FrameOutput::kMotion, 3,
+     "where the texel's content is at the next frame, m texels away (x right, y up in the image), as R = 0.5 + "
+     "m.x / (2 motionRange), G = 0.5 + m.y / (2 motionRange), B = 0"},
 }};
 /// The maps' names, in kFlipbookMaps' order.
 std::vector<std::string> flipbookMapNames();

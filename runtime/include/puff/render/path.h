@@ -7,11 +7,13 @@
 #include <cstddef>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
 
 #include <puff/cel/nailboards.h>
 #include <puff/cel/types.h>
@@ -98,12 +100,21 @@ struct MediaFrameInputs {
   std::vector<float> cartoonOpacity;
 };
 
+/// How a map frame scales what it encodes (SceneRenderer::setOutput; cel::OutputScale).
+struct MapRanges {
+  float depth = 1.0f;   ///< kDepth: scene units either side of the camera target's distance, > 0
+  float motion = 1.0f;  ///< kMotion: pixels either side of no motion, > 0
+};
+
 /// One frame for a path to draw into the current draw framebuffer.
 struct PathFrame {
   const scene::Scene& scene;         ///< as it is now (style, light and other looks are read here)
   const scene::FrameInputs& inputs;  ///< camera, time and particles of this frame
   cel::Viewport viewport;            ///< where in the draw framebuffer
   FrameStats& stats;                 ///< the path adds what it drew (bytesUploaded, mediaParticles)
+  /// A motion map's frame: each of inputs.particles where it is at the next frame (world xyz, size
+  /// w); empty otherwise.
+  std::span<const glm::vec4> next = {};
 };
 
 /// The offscreen target a path draws into.
@@ -147,8 +158,8 @@ class Path {
   virtual void setHullOcclusion(cel::HullOcclusion) {}
   /// What the frames hold (see SceneRenderer::setOutput). A path that writes no maps accepts only
   /// kColour.
-  virtual Result<void> setOutput(cel::FrameOutput output, float depthRange) {
-    (void)depthRange;
+  virtual Result<void> setOutput(cel::FrameOutput output, const MapRanges& ranges) {
+    (void)ranges;
     if (output == cel::FrameOutput::kColour) return {};
     return Error{"the " + std::string(toString(kind())) + " path writes no maps (" +
                  std::string(cel::toString(output)) + "): only the cel path does"};

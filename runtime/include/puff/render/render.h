@@ -100,13 +100,15 @@ class SceneRenderer {
 
   /// What renderFrame and drawFrame produce: the frame's colour (cel::FrameOutput::kColour, the
   /// default), or on the cel path a map of the same pixels for an engine that lights them itself
-  /// (cel::FrameOutput: normals, depth about the camera's target with `depthRange` scene units
-  /// either side (> 0), the ink's share). A map frame draws the puffs and objects as the colour
+  /// (cel::FrameOutput: normals, depth about the camera's target with `ranges.depth` scene units
+  /// either side, the ink's share, the motion to the next frame with `ranges.motion` pixels either
+  /// side: each particle matched with itself in the next frame by its key, scene::FrameInputs::keys;
+  /// one that is gone by then does not move). A map frame draws the puffs and objects as the colour
   /// frame does (the same coverage, depth test and edges) but no shadows, media, plate or motion
   /// blur; renderFrame reads it from a 32-bit float target, its values as the map encodes them (no
   /// view transform applies), over the background (transparent scenes: premultiplied, alpha the
   /// coverage). Errors: another path, or a range that is not positive and finite; nothing changes.
-  Result<void> setOutput(cel::FrameOutput output, float depthRange = 1.0f);
+  Result<void> setOutput(cel::FrameOutput output, const MapRanges& ranges = {});
   cel::FrameOutput output() const;
 
   using MediaFrameInputs = render::MediaFrameInputs;

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -51,7 +52,19 @@ Result<std::optional<sim::Settings>> mediaSimulationSettings(const Scene& scene,
 /// The particles alive at `frame` that the scene lists or places with its (force-free) emitters:
 /// moved, spun and shrunk. Pure. Simulated particles are not included (see SceneRenderer).
 /// `variations` is the atlas's variation count (>= 1), for emitters that pick any variation.
-std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variations);
+/// `keys`, when given, receives each particle's identity across frames (particleKey), in the same order.
+std::vector<cel::Particle> particlesAt(const Scene& scene, int frame, int variations,
+                                       std::vector<std::uint64_t>* keys = nullptr);
+
+/// Where a cel particle comes from, for its key: listed (index in /particles), placed by an emitter
+/// (emitter index, particle index), or simulated (the simulator's id).
+enum class ParticleSource : std::uint64_t { kListed = 0, kEmitted = 1, kSimulated = 2 };
+/// A particle's identity across frames: the same particle has the same key in every frame it lives,
+/// and two particles of one frame never share one (a simulated particle's id is a 32-bit hash: two
+/// that collide share a key, which a frame's motion takes as one particle).
+inline std::uint64_t particleKey(ParticleSource source, std::uint32_t a, std::uint32_t b = 0) {
+  return (static_cast<std::uint64_t>(source) << 62) | (static_cast<std::uint64_t>(a & 0x3FFFFFFFu) << 32) | b;
+}
 /// The scene's media materials as they are drawn: their colours in scene-linear (the scene file's
 /// colours are display values, docs/colour.md; the media renderer and its references light in
 /// linear), and in a loop their detail speeds rounded (loopDetailSpeed) for the detail videos
@@ -105,6 +118,7 @@ struct FrameInputs {
   /// nailboards: FrameEvaluator::create got 0 variations).
   std::vector<cel::Particle> particles;
   std::size_t simulated = 0;           ///< of `particles`, from the simulator
+  std::vector<std::uint64_t> keys;     ///< particleKey of each of `particles`
   std::vector<media::Particle> media;  ///< listed, then simulated fire, smoke and dust
   double simulateMs = 0.0;             ///< CPU time spent stepping the simulators for this frame
 };
