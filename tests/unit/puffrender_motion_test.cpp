@@ -96,6 +96,7 @@ TEST_F(PuffrenderCli, MotionMapsAreEachPointsMotion) {
   EXPECT_LT(shrink, -0.05) << "the second puff shrinks, so its texels converge";
   EXPECT_LE(worst, 0.02) << "pixels";
   EXPECT_EQ(range, std::ceil(largest)) << "the largest motion, rounded up";
+  EXPECT_DOUBLE_EQ(layout["maps"]["motion"]["motionRangeInCell"][0].get<double>(), range / 64.0);
   EXPECT_EQ(motion->at(0, 0, 2), 0.0f);
 }
 

@@ -257,7 +257,8 @@ fs::path mapPath(const fs::path& target, const render::FlipbookMap& m) {
 }
 
 // The layout's "maps": each map's file and encoding.
-nlohmann::ordered_json mapsLayout(const MapRequest& request, const cel::Camera& camera, const fs::path& target) {
+nlohmann::ordered_json mapsLayout(const MapRequest& request, const render::SheetLayout& layout,
+                                  const cel::Camera& camera, const fs::path& target) {
   nlohmann::ordered_json maps = nlohmann::ordered_json::object();
   for (const render::FlipbookMap* m : request.maps) {
     nlohmann::ordered_json j;
@@ -270,7 +271,12 @@ nlohmann::ordered_json mapsLayout(const MapRequest& request, const cel::Camera& 
       j["targetDistance"] = sevenDigits(glm::length(camera.target - camera.position));
       j["depthRange"] = sevenDigits(request.ranges.depth);
     }
-    if (m->output == cel::FrameOutput::kMotion) j["motionRange"] = request.motionRange;
+    if (m->output == cel::FrameOutput::kMotion) {
+      j["motionRange"] = request.motionRange;
+      // A decoded value (2 R - 1, 2 G - 1) of 1 as a share of the cell: Unity VFX Graph's Motion Vector Scale.
+      j["motionRangeInCell"] = {sevenDigits(request.motionRange / layout.cellWidth),
+                                sevenDigits(request.motionRange / layout.cellHeight)};
+    }
     j["uncovered"] = "bled from the nearest covered texel (the sheet's alpha says what is covered)";
     maps[std::string(m->name)] = j;
   }
@@ -320,7 +326,7 @@ nlohmann::ordered_json flipbookLayout(const Options& o, const scene::Scene& scen
   j["alpha"] = std::string(core::toString(s.alpha));
   j["colour"] = s.exr ? (o.float32 ? "scene-linear Rec.709 (32-bit float)" : "scene-linear Rec.709 (half float)")
                       : "display sRGB, 8 bits, through the " + std::string(core::toString(s.view)) + " view transform";
-  if (!maps.maps.empty()) j["maps"] = mapsLayout(maps, camera, target);
+  if (!maps.maps.empty()) j["maps"] = mapsLayout(maps, l, camera, target);
   j["scene"] = scene.file.filename().string();
   return j;
 }
