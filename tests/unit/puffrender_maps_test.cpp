@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <string>
 
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 #include <nlohmann/json.hpp>
 
 #include <puff/core/colour.h>
@@ -146,9 +148,16 @@ TEST_F(PuffrenderCli, MapsShareTheSheetsLayout) {
   EXPECT_EQ(normal->width, colour->width);
   EXPECT_EQ(normal->height, colour->height);
   EXPECT_FALSE(fs::exists(dir_ / "moving_depth.png")) << "only the maps asked for";
-  int inked = 0, lit = 0;
+  int inked = 0, lit = 0, bled = 0;
   for (int y = 0; y < colour->height; ++y)
     for (int x = 0; x < colour->width; ++x) {
+      if (colour->at(x, y, 3) == 0.0f) {
+        // Uncovered: a covered texel's normal, bled out (a unit vector, not the encoding's 0).
+        const glm::vec3 n = 2.0f * glm::vec3(normal->at(x, y, 0), normal->at(x, y, 1), normal->at(x, y, 2)) - 1.0f;
+        EXPECT_NEAR(glm::length(n), 1.0f, 0.02f) << x << "," << y;
+        ++bled;
+        continue;
+      }
       if (colour->at(x, y, 3) < 1.0f) continue;
       const float brightest = std::max({colour->at(x, y, 0), colour->at(x, y, 1), colour->at(x, y, 2)});
       const float share = ink->at(x, y, 0);
@@ -167,6 +176,7 @@ TEST_F(PuffrenderCli, MapsShareTheSheetsLayout) {
     }
   EXPECT_GT(inked, 100);
   EXPECT_GT(lit, 500);
+  EXPECT_GT(bled, 1000) << "the padding and the crop's margin";
   const auto layout = nlohmann::json::parse(*core::readFileBytes(dir_ / "moving.json"));
   ASSERT_TRUE(layout.contains("maps"));
   EXPECT_EQ(layout["maps"].size(), 2u);
