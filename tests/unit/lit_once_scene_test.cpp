@@ -149,8 +149,9 @@ INSTANTIATE_TEST_SUITE_P(ArtScenes, LitOncePerPixel,
 
 // The maps an engine relights with (SceneRenderer::setOutput) come out of the same shading as the
 // colour: drawn once per pixel and every layer they agree but along edges (where a sample's particle
-// differs, at most 2% of the pixels), and every covered, ink-free normal is a unit vector. Over a
-// cloud of overlapping puffs, the tumbling hull and objects, at 1 and 4 samples.
+// differs, at most 2% of the pixels), the covered, ink-free normals unit vectors, and the ink
+// map is grey (no colour: media, shadows and objects' colour stay out). Over a cloud of overlapping
+// puffs, the tumbling hull, objects, and cel puffs beside cartoon media, at 1 and 4 samples.
 class MapsLitOncePerPixel : public test::GlTest, public ::testing::WithParamInterface<LitCase> {};
 
 TEST_P(MapsLitOncePerPixel, AgreeWithEveryLayerAndHoldUnitNormals) {
@@ -183,6 +184,12 @@ TEST_P(MapsLitOncePerPixel, AgreeWithEveryLayerAndHoldUnitNormals) {
       for (int ch = 0; ch < 4; ++ch)
         off = off || std::abs(maps[k].pixels[i * 4 + ch] - maps[k + 2].pixels[i * 4 + ch]) > 2.0f / 255.0f;
     differ += off ? 1 : 0;
+    // Data, never colour: the ink's share is the same in every channel wherever something is drawn.
+    const float* share = &maps[3].pixels[i * 4];
+    if (share[3] > 0.0f) {
+      EXPECT_EQ(share[0], share[1]) << i;
+      EXPECT_EQ(share[0], share[2]) << i;
+    }
     const float* normal = &maps[2].pixels[i * 4];
     if (normal[3] < 1.0f || maps[3].pixels[i * 4] > 0.0f) continue;
     ++checked;
@@ -191,12 +198,15 @@ TEST_P(MapsLitOncePerPixel, AgreeWithEveryLayerAndHoldUnitNormals) {
   }
   EXPECT_LE(differ, n / 50) << differ << " of " << n << " pixels differ";
   EXPECT_GT(checked, n / 10);
-  EXPECT_EQ(unit, checked);
+  // Multisampled, an edge between surfaces that face apart (a box's corner) resolves to the mean of
+  // their normals, shorter than 1: at most 3% of the pixels.
+  EXPECT_GE(unit * 100, checked * 97) << unit << " of " << checked;
 }
 
 INSTANTIATE_TEST_SUITE_P(ArtScenes, MapsLitOncePerPixel,
                          ::testing::Values(LitCase{"cloud-fig8c", 0, 160, 120}, LitCase{"dust-roll", 30, 160, 90},
                                            LitCase{"bouncing-ball", 36, 160, 120},
+                                           LitCase{"explosion-walls-cartoon", 12, 160, 90},
                                            LitCase{"cloud-fig8c", 0, 160, 120, 1}),
                          [](const ::testing::TestParamInfo<LitCase>& i) {
                            std::string n = i.param.scene;

@@ -110,6 +110,11 @@ TEST_F(PuffrenderCli, SphereMapsAreTheAnalyticSpheres) {
             worstDepth = std::max(worstDepth, std::abs(m.depth.at(x, y, 0) - (0.5 + n[2] / (2.0 * range))));
             worstInkOnBody = std::max(worstInkOnBody, static_cast<double>(m.ink.at(x, y, 0)));
             ++body;
+          } else if (m.colour.at(x, y, 3) > 0.0f && m.colour.at(x, y, 3) < 1.0f) {
+            // An edge texel: its map values unpremultiplied, as a covered one's.
+            const double nx = 2.0 * m.normal.at(x, y, 0) - 1.0, ny = 2.0 * m.normal.at(x, y, 1) - 1.0,
+                         nz = 2.0 * m.normal.at(x, y, 2) - 1.0;
+            EXPECT_NEAR(std::sqrt(nx * nx + ny * ny + nz * nz), 1.0, 0.1) << x << "," << y;
           } else if (rPixels > rim + 0.75 && rPixels < rim + 1.25 && m.colour.at(x, y, 3) == 1.0f) {
             ++ring;
             inkOnRing += m.ink.at(x, y, 0) == 1.0f ? 1 : 0;
@@ -201,7 +206,29 @@ TEST_F(PuffrenderCli, MapsRefuseWhatTheyCannotDo) {
   expectOneLineError(run(scene.string() + " --flipbook 1x1 --maps ink --path fixed" + out),
                      "only the cel path writes maps", 2);
   expectOneLineError(run(scene.string() + " --flipbook 1x1 --map-bits 16" + out), "--map-bits applies to --maps", 2);
+  expectOneLineError(run(scene.string() + " --flipbook 1x1 --map-bits 8" + out), "--map-bits applies to --maps", 2);
+  expectOneLineError(run(scene.string() + " --flipbook 1x1 --maps ink,normal,ink" + out),
+                     "--maps: ink is asked for twice", 2);
+  // A moving camera: the maps' depth and motion need one.
+  const fs::path orbit =
+      write("orbit.json", sphereScene(32, 1).replace(sphereScene(32, 1).find("\"fps\""), 0, "\"orbit\": 30, "));
+  expectOneLineError(run(orbit.string() + " --flipbook 2x1 --maps depth" + out), "--maps: the camera moves", 2);
+  EXPECT_EQ(run(orbit.string() + " -q --flipbook 2x1" + out).exitCode, 0) << "without maps it may move";
+  fs::remove(dir_ / "x.png");
+  fs::remove(dir_ / "x.json");
   EXPECT_TRUE(outputs().empty());
+  // A map's name taken by a file this sheet did not write: left alone, nothing written. Once the
+  // sheet's own layout names its maps, they are replaced.
+  const fs::path mine = write("mine_normal.png", "not a map");
+  expectOneLineError(run(scene.string() + " --flipbook 1x1 --maps ink,normal -o " + (dir_ / "mine.png").string()),
+                     "the normal map goes to " + mine.string() + ", which exists and is not a map of this sheet", 2);
+  EXPECT_FALSE(fs::exists(dir_ / "mine.png"));
+  EXPECT_EQ(*core::readFileBytes(mine), "not a map");
+  fs::remove(mine);
+  ASSERT_EQ(run(scene.string() + " -q --flipbook 1x1 --maps ink,normal -o " + (dir_ / "mine.png").string()).exitCode,
+            0);
+  EXPECT_EQ(run(scene.string() + " -q --flipbook 1x1 --maps ink,normal -o " + (dir_ / "mine.png").string()).exitCode, 0)
+      << "its own maps are replaced";
 }
 
 }  // namespace

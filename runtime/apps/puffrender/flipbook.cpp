@@ -28,6 +28,31 @@ namespace puff::app {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// Where map `m` of sheet `target` goes: beside it, STEM_name.png.
+fs::path mapPath(const fs::path& target, const render::FlipbookMap& m) {
+  return target.parent_path() / (target.stem().string() + "_" + std::string(m.name) + ".png");
+}
+
+// The maps asked for may replace only files this sheet's layout `j` (null: none) names as its maps.
+Result<void> checkMapTargets(const Options& o, const fs::path& target, const nlohmann::json& j) {
+  for (const std::string& name : o.maps) {
+    const fs::path path = mapPath(target, *render::findFlipbookMap(name));
+    std::error_code ec;
+    if (!fs::exists(path, ec)) continue;
+    const bool ours = j.is_object() && j.contains("maps") && j["maps"].is_object() && j["maps"].contains(name) &&
+                      j["maps"][name].is_object() && j["maps"][name].value("image", "") == path.filename().string();
+    if (!ours) {
+      return Error{"-o " + target.string() + ": the " + name + " map goes to " + path.string() +
+                   ", which exists and is not a map of this sheet; it is left alone: give the sheet another name"};
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
 Result<void> checkFlipbookLayoutTarget(const Options& o, const Plan& plan) {
   const fs::path target = plan.pattern.name(plan.first);
   fs::path layout = target;
@@ -37,7 +62,7 @@ Result<void> checkFlipbookLayoutTarget(const Options& o, const Plan& plan) {
     return Error{"-o " + target.string() + ": the flipbook's layout would be written to " + layout.string() +
                  ", the scene itself: give the sheet another name"};
   }
-  if (!fs::exists(layout, ec)) return {};
+  if (!fs::exists(layout, ec)) return checkMapTargets(o, target, nlohmann::json());
   // Only a flipbook layout of this same sheet is replaced: never an atlas sidecar, a scene, or the
   // layout of another sheet (sheet.png and sheet.exr would share sheet.json).
   auto text = core::readFileBytes(layout);
@@ -50,7 +75,7 @@ Result<void> checkFlipbookLayoutTarget(const Options& o, const Plan& plan) {
     return Error{"-o " + target.string() + ": " + layout.string() + " is the layout of another sheet (" +
                  j.value("image", "") + "); it is left alone: give the sheet another name"};
   }
-  return {};
+  return checkMapTargets(o, target, j);
 }
 
 Result<void> checkSheetSize(const render::SheetLayout& layout, const std::string& what) {
@@ -251,11 +276,6 @@ double sceneUnitsPerTexel(const cel::Camera& camera, int height) {
              : 2.0 * distance * std::tan(glm::radians(static_cast<double>(camera.fovYDegrees)) * 0.5) / height;
 }
 
-// Where map `m` of sheet `target` goes: beside it, STEM_name.png.
-fs::path mapPath(const fs::path& target, const render::FlipbookMap& m) {
-  return target.parent_path() / (target.stem().string() + "_" + std::string(m.name) + ".png");
-}
-
 // The layout's "maps": each map's file and encoding.
 nlohmann::ordered_json mapsLayout(const MapRequest& request, const render::SheetLayout& layout,
                                   const cel::Camera& camera, const fs::path& target) {
@@ -277,7 +297,9 @@ nlohmann::ordered_json mapsLayout(const MapRequest& request, const render::Sheet
       j["motionRangeInCell"] = {sevenDigits(request.motionRange / layout.cellWidth),
                                 sevenDigits(request.motionRange / layout.cellHeight)};
     }
-    j["uncovered"] = "bled from the nearest covered texel (the sheet's alpha says what is covered)";
+    j["uncovered"] =
+        "where the map covers nothing (no puff or object), the nearest texel it covers in the cell; 0 in a cell it "
+        "covers nowhere";
     maps[std::string(m->name)] = j;
   }
   return maps;
@@ -441,7 +463,7 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
   maps.ranges.depth = static_cast<float>(sceneUnitsPerTexel(scene::cameraAt(scene, plan.first), scene.height) *
                                          std::max(scene.width, scene.height) * 0.5);
   maps.ranges.motion = kMotionDrawRange;
-  maps.bits = o.mapBits;
+  maps.bits = o.mapBits == 0 ? 8 : o.mapBits;
   const render::SheetRequest request{
       plan.flipColumns, plan.flipRows, {0, 0, scene.width, scene.height}, o.padding, o.pow2};
   // Without --crop the layout is known before anything is drawn and each frame goes into the sheet as

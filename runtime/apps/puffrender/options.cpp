@@ -362,7 +362,12 @@ Result<void> checkOptions(const Options& o) {
     if (!o.maps.empty() && o.path != "cel")
       return Error{"--maps: only the cel path writes maps; leave out --path " + o.path};
   }
-  if (o.mapBits != 8 && o.maps.empty()) return Error{"--map-bits applies to --maps"};
+  if (o.mapBits != 0 && o.maps.empty()) return Error{"--map-bits applies to --maps"};
+  for (std::size_t i = 0; i < o.maps.size(); ++i) {
+    if (std::find(o.maps.begin(), o.maps.begin() + static_cast<std::ptrdiff_t>(i), o.maps[i]) !=
+        o.maps.begin() + static_cast<std::ptrdiff_t>(i))
+      return Error{"--maps: " + o.maps[i] + " is asked for twice"};
+  }
   if (o.flipbook.empty()) {
     for (const auto& [given, name] : {std::pair{o.loop > 0, "--loop"},
                                       {o.padding > 0, "--padding"},
@@ -379,6 +384,17 @@ Result<void> checkOptions(const Options& o) {
 // The checks of the options against the scene, before anything is drawn; errors are usage errors
 // (exit 2).
 Result<void> checkAgainstScene(const Options& o, const scene::Scene& scene, const Plan& plan) {
+  if (!o.maps.empty()) {
+    // The maps' depth and motion are measured from the camera: one camera for the whole sheet.
+    const cel::Camera first = scene::cameraAt(scene, plan.first);
+    for (int f = plan.first + 1; f <= plan.flipLast; ++f) {
+      if (scene::cameraAt(scene, f) == first) continue;
+      return Error::at(scene.file, "--maps: the camera moves (frame " + std::to_string(f) + " is seen otherwise than frame " +
+                                       std::to_string(plan.first) +
+                                       "), and the maps' depth and motion are measured from one still camera: set "
+                                       "/animation/orbit to 0 and leave out its camera and target paths");
+    }
+  }
   if (o.float32 && !plan.exr) return Error{"--float32 applies only to EXR output (-o NAME.exr or --format exr)"};
   if (!o.view.empty() && plan.exr) {
     return Error{"--view applies only to PNG output: EXR holds the scene-linear frame before the view transform"};
@@ -491,7 +507,8 @@ std::variant<Options, int> parse(int argc, char** argv) {
 
   if (const auto exitCode = cli::parse(app, argc, argv)) return *exitCode;
   o.toleranceGiven = tolerance->count() > 0;
-  o.pathGiven = app.count("--path") > 0;
+  // Maps come from the cel path alone: no fallback to the fixed path for them.
+  o.pathGiven = app.count("--path") > 0 || !o.maps.empty();
   if (maxError->count() > 0) {
     auto e = parseMaxError(maxErrorText);
     if (!e) {

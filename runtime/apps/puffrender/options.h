@@ -48,7 +48,7 @@ struct Options {
   /// --maps LIST with --flipbook: the maps written beside the sheet (kFlipbookMaps' names), in the
   /// order given.
   std::vector<std::string> maps;
-  int mapBits = 8;           ///< --map-bits 8|16: the maps' bits a channel
+  int mapBits = 0;           ///< --map-bits 8|16: the maps' bits a channel (0: not given, 8)
   std::string alpha;         ///< "straight" or "premultiplied": replaces the scene's /output/alpha
   std::string contactSheet;  ///< --contact-sheet: a PNG of the frames as a grid with their numbers
   std::string preview;       ///< --preview: an animated .gif or .mp4 of the frames

@@ -11,7 +11,6 @@ namespace {
 Result<Target> make(int w, int h, int samples, bool displayValues, bool data) {
   Target t;
   t.displayValues = displayValues;
-  t.data = data;
   const GLenum format = displayValues ? GL_RGBA8 : data ? GL_RGBA32F : GL_RGBA16F;
   t.width = w;
   t.height = h;

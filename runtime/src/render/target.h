@@ -16,7 +16,6 @@ struct Target {
   /// size (puffrender creates it so).
   bool contextFramebuffer = false;
   bool displayValues = false;  ///< RGBA8 holding display values (else RGBA16F scene-linear)
-  bool data = false;           ///< RGBA32F holding a map (SceneRenderer::setOutput)
   core::Framebuffer fbo, resolveFbo;
   core::Renderbuffer color, depthStencil, resolveColor;
 
