@@ -221,7 +221,7 @@ TEST_F(PuffrenderCli, MapsRefuseWhatTheyCannotDo) {
   // sheet's own layout names its maps, they are replaced.
   const fs::path mine = write("mine_normal.png", "not a map");
   expectOneLineError(run(scene.string() + " --flipbook 1x1 --maps ink,normal -o " + (dir_ / "mine.png").string()),
-                     "the normal map goes to " + mine.string() + ", which exists and is not a map of this sheet", 2);
+                     "the normal map goes to " + mine.string() + ", which exists and is not a map puffrender wrote", 2);
   EXPECT_FALSE(fs::exists(dir_ / "mine.png"));
   EXPECT_EQ(*core::readFileBytes(mine), "not a map");
   fs::remove(mine);
@@ -229,6 +229,9 @@ TEST_F(PuffrenderCli, MapsRefuseWhatTheyCannotDo) {
             0);
   EXPECT_EQ(run(scene.string() + " -q --flipbook 1x1 --maps ink,normal -o " + (dir_ / "mine.png").string()).exitCode, 0)
       << "its own maps are replaced";
+  ASSERT_EQ(run(scene.string() + " -q --flipbook 1x1 -o " + (dir_ / "mine.png").string()).exitCode, 0);
+  EXPECT_EQ(run(scene.string() + " -q --flipbook 1x1 --maps normal -o " + (dir_ / "mine.png").string()).exitCode, 0)
+      << "a map puffrender wrote is replaced when the layout no longer names it";
 }
 
 }  // namespace

@@ -98,6 +98,23 @@ TEST_F(PuffrenderCli, MotionMapsAreEachPointsMotion) {
   EXPECT_EQ(range, std::ceil(largest)) << "the largest motion, rounded up";
   EXPECT_DOUBLE_EQ(layout["maps"]["motion"]["motionRangeInCell"][0].get<double>(), range / 64.0);
   EXPECT_EQ(motion->at(0, 0, 2), 0.0f);
+
+  // Cells no frame fills hold nothing (no motion, a normal facing the camera), and leave the range
+  // as it was.
+  const fs::path grid = dir_ / "grid.png";
+  r = run(scene.string() + " -q --flipbook 2x2 --frames 3-4 --maps motion,normal -o " + grid.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto gridMotion = core::readImage(dir_ / "grid_motion.png"), gridNormal = core::readImage(dir_ / "grid_normal.png");
+  ASSERT_OK(gridMotion);
+  ASSERT_OK(gridNormal);
+  const auto gridLayout = nlohmann::json::parse(*core::readFileBytes(dir_ / "grid.json"));
+  EXPECT_EQ(gridLayout["maps"]["motion"]["motionRange"].get<float>(), range);
+  for (const int x : {0, 40, 63})
+    for (const int y : {64, 100, 127}) {
+      EXPECT_NEAR(gridMotion->at(x, y, 0), 0.5f, 1.0f / 255.0f) << x << "," << y;
+      EXPECT_NEAR(gridMotion->at(x, y, 1), 0.5f, 1.0f / 255.0f) << x << "," << y;
+      EXPECT_NEAR(gridNormal->at(x, y, 2), 1.0f, 1.0f / 255.0f) << x << "," << y;
+    }
 }
 
 class MotionMaps : public PuffrenderCli, public ::testing::WithParamInterface<MotionCase> {};

@@ -35,17 +35,29 @@ fs::path mapPath(const fs::path& target, const render::FlipbookMap& m) {
   return target.parent_path() / (target.stem().string() + "_" + std::string(m.name) + ".png");
 }
 
-// The maps asked for may replace only files this sheet's layout `j` (null: none) names as its maps.
+// Whether `path` is a map puffrender wrote (its "puff:map" attribute names map `name`).
+bool writtenAsMap(const fs::path& path, const std::string& name) {
+  core::ImageFileInfo info;
+  if (!core::readImage(path, &info)) return false;
+  for (const auto& [key, value] : info.attributes) {
+    if (key == "puff:map" && value == name) return true;
+  }
+  return false;
+}
+
+// The maps asked for may replace only maps: files this sheet's layout `j` (null: none) names as its
+// maps, or that puffrender wrote as that map.
 Result<void> checkMapTargets(const Options& o, const fs::path& target, const nlohmann::json& j) {
   for (const std::string& name : o.maps) {
     const fs::path path = mapPath(target, *render::findFlipbookMap(name));
     std::error_code ec;
     if (!fs::exists(path, ec)) continue;
-    const bool ours = j.is_object() && j.contains("maps") && j["maps"].is_object() && j["maps"].contains(name) &&
-                      j["maps"][name].is_object() && j["maps"][name].value("image", "") == path.filename().string();
+    const bool ours = (j.is_object() && j.contains("maps") && j["maps"].is_object() && j["maps"].contains(name) &&
+                       j["maps"][name].is_object() && j["maps"][name].value("image", "") == path.filename().string()) ||
+                      writtenAsMap(path, name);
     if (!ours) {
       return Error{"-o " + target.string() + ": the " + name + " map goes to " + path.string() +
-                   ", which exists and is not a map of this sheet; it is left alone: give the sheet another name"};
+                   ", which exists and is not a map puffrender wrote; it is left alone: give the sheet another name"};
     }
   }
   return {};
@@ -134,15 +146,23 @@ FrameImages crossFade(FrameImages mixed, const FrameImages& from, int j, int loo
   return mixed;
 }
 
-// The motion map is drawn with this range (pixels) and decoded (motionInTexels), then encoded with
+// The motion map is drawn with this range (pixels) and decoded (mapCellValues), then encoded with
 // the sequence's largest motion (encodeMotion): a float target keeps a hundredth of a pixel at it.
 constexpr float kMotionDrawRange = 16384.0f;
 
-// A motion frame as drawn (0.5 + m / (2 kMotionDrawRange), straight) to m in texels, x right and y up.
-void motionInTexels(core::Image& image) {
+// A map frame as drawn (straight) to what its cell takes: a texel it covers as it is (a motion
+// frame's, 0.5 + m / (2 kMotionDrawRange), decoded to m in texels, x right and y up), one it does
+// not the map's `nothing` (no motion), which the bleed then replaces where a covered texel reaches.
+void mapCellValues(core::Image& image, const render::FlipbookMap& map) {
+  const bool motion = map.output == cel::FrameOutput::kMotion;
   for (std::size_t i = 0; i < image.pixels.size(); i += static_cast<std::size_t>(image.channels)) {
-    for (int c = 0; c < 2; ++c) image.pixels[i + c] = (image.pixels[i + c] - 0.5f) * 2.0f * kMotionDrawRange;
-    image.pixels[i + 2] = 0.0f;
+    float* t = &image.pixels[i];
+    if (t[3] <= 0.0f) {
+      for (int c = 0; c < 3; ++c) t[c] = motion ? 0.0f : map.nothing[c];
+    } else if (motion) {
+      for (int c = 0; c < 2; ++c) t[c] = (t[c] - 0.5f) * 2.0f * kMotionDrawRange;
+      t[2] = 0.0f;
+    }
   }
 }
 
@@ -298,8 +318,8 @@ nlohmann::ordered_json mapsLayout(const MapRequest& request, const render::Sheet
                                 sevenDigits(request.motionRange / layout.cellHeight)};
     }
     j["uncovered"] =
-        "where the map covers nothing (no puff or object), the nearest texel it covers in the cell; 0 in a cell it "
-        "covers nowhere";
+        "where the map covers nothing (no puff or object), a texel it covers nearby in the cell (breadth first); in a "
+        "cell it covers nowhere, nothing: normal facing the camera, depth and ink 0, no motion";
     maps[std::string(m->name)] = j;
   }
   return maps;
@@ -480,14 +500,22 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
   auto intoSheet = [&](int i, const FrameImages& frame) {
     if (sheet.empty()) {
       sheet = core::Image(layout->sheetWidth(), layout->sheetHeight(), 4, 0.0f);  // empty cells: alpha 0
-      for (core::Image& m : mapSheets) m = sheet;
+      for (std::size_t k = 0; k < mapSheets.size(); ++k) {
+        // Empty cells hold the map's `nothing` (motion: 0 texels until encodeMotion).
+        const render::FlipbookMap& map = *maps.maps[k];
+        const bool motion = map.output == cel::FrameOutput::kMotion;
+        mapSheets[k] = core::Image(sheet.width, sheet.height, 4, 0.0f);
+        for (std::size_t i = 0; i < mapSheets[k].pixels.size(); i += 4) {
+          for (int c = 0; c < 3; ++c) mapSheets[k].pixels[i + c] = motion ? 0.0f : map.nothing[c];
+        }
+      }
     }
     const core::Image display = spec.exr ? frame.colour : core::viewTransform(frame.colour, spec.view, spec.alpha);
     render::placeCell(sheet, *layout, i, render::cellOf(display, *layout, bleed, spec.covered()));
     // Maps are data: straight, and bled into every uncovered texel (what an engine's filter reads there).
     for (std::size_t k = 0; k < mapSheets.size(); ++k) {
       core::Image values = core::unpremultiply(frame.maps[k]);
-      if (maps.maps[k]->output == cel::FrameOutput::kMotion) motionInTexels(values);
+      mapCellValues(values, *maps.maps[k]);
       render::placeCell(mapSheets[k], *layout, i, render::cellOf(values, *layout, true, spec.covered()));
     }
   };

@@ -132,16 +132,27 @@ HistoryTag historyTag(int frame, const cel::Camera& c, const cel::Viewport& v) {
 }
 
 // Each particle of `now` where it is in `later` (position, size), matched by key; where it is gone,
-// where it is now.
+// or its key is not one particle's alone in either frame (simulated ids that collide, a loop's
+// particles born again under an id still alive), where it is now.
 std::vector<glm::vec4> nextPositions(const scene::FrameInputs& now, const scene::FrameInputs& later) {
-  std::unordered_map<std::uint64_t, std::size_t> at;
+  constexpr std::size_t kShared = static_cast<std::size_t>(-1);
+  std::unordered_map<std::uint64_t, std::size_t> at, here;
   at.reserve(later.keys.size());
-  for (std::size_t i = 0; i < later.keys.size(); ++i) at.emplace(later.keys[i], i);
+  for (std::size_t i = 0; i < later.keys.size(); ++i) {
+    const auto [it, fresh] = at.emplace(later.keys[i], i);
+    if (!fresh) it->second = kShared;
+  }
+  here.reserve(now.keys.size());
+  for (std::size_t i = 0; i < now.keys.size(); ++i) {
+    const auto [it, fresh] = here.emplace(now.keys[i], i);
+    if (!fresh) it->second = kShared;
+  }
   std::vector<glm::vec4> next;
   next.reserve(now.particles.size());
   for (std::size_t i = 0; i < now.particles.size(); ++i) {
     const auto found = i < now.keys.size() ? at.find(now.keys[i]) : at.end();
-    const cel::Particle& p = found == at.end() ? now.particles[i] : later.particles[found->second];
+    const bool alone = found != at.end() && found->second != kShared && here.at(now.keys[i]) != kShared;
+    const cel::Particle& p = alone ? later.particles[found->second] : now.particles[i];
     next.emplace_back(p.position, p.size);
   }
   return next;

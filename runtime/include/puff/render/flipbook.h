@@ -25,20 +25,33 @@ struct FlipbookMap {
   cel::FrameOutput output;
   int channels;
   std::string_view encoding;  ///< one line for the layout JSON
+  float nothing[3];           ///< what a texel no frame covers holds: no surface facing, far, no ink, no motion
 };
 inline constexpr std::array<FlipbookMap, 4> kFlipbookMaps{{
-    {"normal", cel::FrameOutput::kNormal, 3,
+    {"normal",
+     cel::FrameOutput::kNormal,
+     3,
      "the flipbook camera's view-space unit normal n as 0.5 n + 0.5: x right, y up (OpenGL convention), z toward "
      "the camera; on a camera-facing quad this is the tangent-space normal (tangent = quad right, bitangent = quad "
-     "up)"},
-    {"depth", cel::FrameOutput::kDepth, 1,
+     "up)",
+     {0.5f, 0.5f, 1.0f}},
+    {"depth",
+     cel::FrameOutput::kDepth,
+     1,
      "0.5 + (targetDistance - d) / (2 depthRange) for the view-axis distance d of the surface drawn: 0.5 at the "
-     "camera target's depth, nearer is brighter"},
-    {"ink", cel::FrameOutput::kInk, 1,
-     "the ink's share of the covered texel: colour = mix(lit body, ink colour, ink) where alpha covers"},
-    {"motion", cel::FrameOutput::kMotion, 3,
+     "camera target's depth, nearer is brighter",
+     {0.0f, 0.0f, 0.0f}},
+    {"ink",
+     cel::FrameOutput::kInk,
+     1,
+     "the ink's share of the covered texel: colour = mix(lit body, ink colour, ink) where alpha covers",
+     {0.0f, 0.0f, 0.0f}},
+    {"motion",
+     cel::FrameOutput::kMotion,
+     3,
      "where the texel's content is at the next frame, m texels away (x right, y up in the image), as R = 0.5 + "
-     "m.x / (2 motionRange), G = 0.5 + m.y / (2 motionRange), B = 0"},
+     "m.x / (2 motionRange), G = 0.5 + m.y / (2 motionRange), B = 0",
+     {0.5f, 0.5f, 0.0f}},
 }};
 /// The maps' names, in kFlipbookMaps' order.
 std::vector<std::string> flipbookMapNames();
