@@ -389,8 +389,8 @@ Result<void> checkAgainstScene(const Options& o, const scene::Scene& scene, cons
     const cel::Camera first = scene::cameraAt(scene, plan.first);
     for (int f = plan.first + 1; f <= plan.flipLast; ++f) {
       if (scene::cameraAt(scene, f) == first) continue;
-      return Error::at(scene.file, "--maps: the camera moves (frame " + std::to_string(f) + " is seen otherwise than frame " +
-                                       std::to_string(plan.first) +
+      return Error::at(scene.file, "--maps: the camera moves (frame " + std::to_string(f) +
+                                       " is seen otherwise than frame " + std::to_string(plan.first) +
                                        "), and the maps' depth and motion are measured from one still camera: set "
                                        "/animation/orbit to 0 and leave out its camera and target paths");
     }
