@@ -59,17 +59,24 @@ glm::vec3 displayAt(const core::Image& im, std::size_t i) {
   return core::linearToSrgb(glm::vec3(p[0], p[1], p[2]));
 }
 
+// The case's art scene at its size and samples.
+Result<scene::Scene> loadCase(const LitCase& c) {
+  PUFF_TRY_ASSIGN(
+      scene::Scene s,
+      scene::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (std::string(c.scene) + ".json"), PUFF_ART_DIR));
+  s.width = c.width;
+  s.height = c.height;
+  if (c.samples > 0) s.samples = c.samples;
+  return s;
+}
+
 class LitOncePerPixel : public test::GlTest, public ::testing::WithParamInterface<LitCase> {};
 
 TEST_P(LitOncePerPixel, DrawsTheSceneAsShadingEveryLayerDid) {
   const LitCase c = GetParam();
-  auto loaded =
-      scene::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (std::string(c.scene) + ".json"), PUFF_ART_DIR);
+  auto loaded = loadCase(c);
   ASSERT_OK(loaded);
-  scene::Scene s = *loaded;
-  s.width = c.width;
-  s.height = c.height;
-  if (c.samples > 0) s.samples = c.samples;
+  const scene::Scene& s = *loaded;
   const auto [once, every] = drawBothWays(s, c.frame);
   ASSERT_FALSE(once.pixels.empty());
   ASSERT_EQ(once.pixels.size(), every.pixels.size());
@@ -156,14 +163,10 @@ class MapsLitOncePerPixel : public test::GlTest, public ::testing::WithParamInte
 
 TEST_P(MapsLitOncePerPixel, AgreeWithEveryLayerAndHoldUnitNormals) {
   const LitCase c = GetParam();
-  auto loaded =
-      scene::loadScene(fs::path(PUFF_SOURCE_DIR) / "art" / "scenes" / (std::string(c.scene) + ".json"), PUFF_ART_DIR);
+  auto loaded = loadCase(c);
   ASSERT_OK(loaded);
   scene::Scene s = *loaded;
-  s.width = c.width;
-  s.height = c.height;
   s.transparent = true;
-  if (c.samples > 0) s.samples = c.samples;
   auto renderer = render::SceneRenderer::create(s);
   ASSERT_OK(renderer);
   std::vector<core::Image> maps;  // normal and ink, once per pixel then every layer

@@ -239,12 +239,29 @@ TEST_F(CartoonMedia, PassesOverTheCoverageDrawTheWholeFramesImage) {
 // Band k of the fire draws the photoreal renderer's own black-body colour at the band's centre
 // temperature: five fire spheres, one below the cool end, three inside bands 0, 1, 2 and one above
 // the hot end. The reference colour is the photoreal layer's M / alpha at a sphere's centre.
-TEST_F(CartoonMedia, FireBandsAreTheBlackBodyColourAtEachBandsCentre) {
+// Fire that is its particles' own temperature: dense, no detail, no range, no burn.
+media::Material plainFire() {
   media::Material fire = media::fireMaterial();
   fire.density = 3.0f;
   fire.temperatureRange = 0.0f;
   fire.burn = 0.0f;
   fire.detail = 0.0f;
+  return fire;
+}
+
+// Five fire spheres in a row across the frame, at `temperatures`.
+std::vector<media::Particle> fireRow(const float (&temperatures)[5]) {
+  std::vector<media::Particle> ps;
+  for (int i = 0; i < 5; ++i) {
+    media::Particle p = test::sphereAt({-4.0f + 2.0f * static_cast<float>(i), 0.0f, -12.0f}, 0.9f);
+    p.temperature = temperatures[i];
+    ps.push_back(p);
+  }
+  return ps;
+}
+
+TEST_F(CartoonMedia, FireBandsAreTheBlackBodyColourAtEachBandsCentre) {
+  const media::Material fire = plainFire();
   media::Settings settings = cartoonSettings(2.0f);
   settings.cartoon.coolKelvin = 1400.0f;
   settings.cartoon.hotKelvin = 3200.0f;
@@ -254,12 +271,7 @@ TEST_F(CartoonMedia, FireBandsAreTheBlackBodyColourAtEachBandsCentre) {
   CartoonKit kit(settings, 1.0f, {fire});
   const float temperatures[5] = {1000.0f, 1600.0f, 2450.0f, 2650.0f, 6000.0f};
   const int band[5] = {0, 0, 1, 2, 2};
-  std::vector<media::Particle> ps;
-  for (int i = 0; i < 5; ++i) {
-    media::Particle p = test::sphereAt({-4.0f + 2.0f * static_cast<float>(i), 0.0f, -12.0f}, 0.9f);
-    p.temperature = temperatures[i];
-    ps.push_back(p);
-  }
+  const std::vector<media::Particle> ps = fireRow(temperatures);
   const auto px = kit.draw(ps);
 
   media::Settings photoreal = settings;
@@ -295,11 +307,7 @@ TEST_F(CartoonMedia, FireBandsAreTheBlackBodyColourAtEachBandsCentre) {
 // exposure; temperatures below and above the range take the end bands. Four bands, at three
 // exposures.
 TEST_F(CartoonMedia, FireBandsDrawThePalettesColoursCoreFirst) {
-  media::Material fire = media::fireMaterial();
-  fire.density = 3.0f;
-  fire.temperatureRange = 0.0f;
-  fire.burn = 0.0f;
-  fire.detail = 0.0f;
+  const media::Material fire = plainFire();
   const std::vector<glm::vec3> palette = {
       {1.0f, 0.95f, 0.6f}, {1.0f, 0.7f, 0.2f}, {0.9f, 0.35f, 0.1f}, {0.5f, 0.1f, 0.05f}};
   for (const float exposure : {0.5f, 1.0f, 1.5f}) {
@@ -312,12 +320,7 @@ TEST_F(CartoonMedia, FireBandsDrawThePalettesColoursCoreFirst) {
     CartoonKit kit(settings, 1.0f, {fire});
     const float temperatures[5] = {500.0f, 1700.0f, 2200.0f, 2700.0f, 9000.0f};
     const int band[5] = {0, 1, 2, 3, 3};  // the coolest first
-    std::vector<media::Particle> ps;
-    for (int i = 0; i < 5; ++i) {
-      media::Particle p = test::sphereAt({-4.0f + 2.0f * static_cast<float>(i), 0.0f, -12.0f}, 0.9f);
-      p.temperature = temperatures[i];
-      ps.push_back(p);
-    }
+    const std::vector<media::Particle> ps = fireRow(temperatures);
     const auto px = kit.draw(ps);
     for (int i = 0; i < 5; ++i) {
       SCOPED_TRACE("sphere " + std::to_string(i));
