@@ -229,6 +229,15 @@ TEST_F(PuffrenderCli, MapsRefuseWhatTheyCannotDo) {
             0);
   EXPECT_EQ(run(scene.string() + " -q --flipbook 1x1 --maps ink,normal -o " + (dir_ / "mine.png").string()).exitCode, 0)
       << "its own maps are replaced";
+  // Names with spaces around them, and a scene without cel puffs: said so.
+  const fs::path empty = write("empty.json", sphereScene(32, 1, "[]"));
+  const CliRun spaced =
+      run(empty.string() + " --flipbook 1x1 --maps \"normal, depth\" -o " + (dir_ / "e.png").string());
+  EXPECT_EQ(spaced.exitCode, 0) << spaced.err;
+  EXPECT_NE(spaced.out.find("note: the maps hold the puffs and objects alone, and empty.json has no cel puffs"),
+            std::string::npos)
+      << spaced.out;
+  EXPECT_TRUE(fs::exists(dir_ / "e_depth.png"));
   ASSERT_EQ(run(scene.string() + " -q --flipbook 1x1 -o " + (dir_ / "mine.png").string()).exitCode, 0);
   EXPECT_EQ(run(scene.string() + " -q --flipbook 1x1 --maps normal -o " + (dir_ / "mine.png").string()).exitCode, 0)
       << "a map puffrender wrote is replaced when the layout no longer names it";

@@ -555,6 +555,12 @@ int writeFlipbook(const Options& o, const scene::Scene& scene, const Plan& plan,
   const nlohmann::ordered_json j = flipbookLayout(o, scene, *seq, *layout, spec, maps, target);
   if (!writeSheetAndLayout(o, spec, *layout, sheet, maps, mapSheets, target, layoutPath, j)) return 1;
   printFlipbookSummary(o, *seq, *layout, spec, target, layoutPath);
+  if (!o.quiet && !maps.maps.empty() && !hasCelParticles(scene)) {
+    std::printf(
+        "%s: note: the maps hold the puffs and objects alone, and %s has no cel puffs: its media are in the "
+        "colour sheet only\n",
+        cli::name(), scene.file.filename().c_str());
+  }
   if (!o.quiet && !maps.maps.empty()) {
     std::string names;
     for (const render::FlipbookMap* m : maps.maps) names += (names.empty() ? "" : ", ") + mapPath(target, *m).string();

@@ -253,6 +253,10 @@ void addFlipbookSheetOptions(CLI::App& app, Options& o) {
                  "beside the sheet (SHEET_normal.png, ...) named in the layout JSON with its encoding: " +
                      names + " (docs/flipbooks.md). Comma-separated; the puffs and objects only, no shadows or media")
       ->delimiter(',')
+      ->transform([](std::string name) {  // "normal, depth": the names without the spaces around them
+        const auto first = name.find_first_not_of(" \t"), last = name.find_last_not_of(" \t");
+        return first == std::string::npos ? std::string() : name.substr(first, last - first + 1);
+      })
       ->check(CLI::IsMember(render::flipbookMapNames()))
       ->type_name("LIST");
   app.add_option("--map-bits", o.mapBits, "--maps: bits a channel, 8 or 16. Default: 8")
