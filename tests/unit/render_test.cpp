@@ -100,5 +100,41 @@ TEST_F(RenderFrame, AtlasOfAnotherFormatVersionIsAClearError) {
   EXPECT_NE(renderer.error().message.find("/formatVersion"), std::string::npos) << renderer.error().message;
 }
 
+// What a renderer was switched to survives an edit that makes its path again (another size): a
+// frame asked for normals still gives normals, then colour once asked back. (The other switches,
+// the floor, the lit shading and the hull's occluders, travel with it: one struct.)
+TEST_F(RenderFrame, SwitchesSurviveAnEditThatRemakesThePath) {
+  nlohmann::json j = {{"output", {{"width", 48}, {"height", 48}, {"samples", 1}, {"background", "transparent"}}},
+                      {"camera", {{"position", {0, 0, 6}}, {"target", {0, 0, 0}}, {"fovY", 0}, {"orthoHeight", 2.5}}},
+                      {"atlas", sidecar_.string()},
+                      {"particles", {{{"position", {0, 0, 0}}, {"size", 2}}}}};
+  auto scene = scene::parseScene(j, dir_ / "scene.json");
+  ASSERT_OK(scene);
+  auto renderer = render::SceneRenderer::create(*scene);
+  ASSERT_OK(renderer);
+  ASSERT_OK((*renderer)->setOutput(cel::FrameOutput::kNormal));
+  scene::Scene bigger = *scene;
+  bigger.width = bigger.height = 64;
+  ASSERT_OK((*renderer)->update(bigger));
+  EXPECT_EQ((*renderer)->output(), cel::FrameOutput::kNormal);
+  // The disc's centre faces the camera: 0.5 n + 0.5 = (0.5, 0.5, 1), where the colour would be lit.
+  auto normals = (*renderer)->renderFrame(0);
+  ASSERT_OK(normals);
+  ASSERT_EQ(normals->width, 64);
+  EXPECT_NEAR(normals->at(32, 32, 0), 0.5f, 0.02f);
+  EXPECT_NEAR(normals->at(32, 32, 1), 0.5f, 0.02f);
+  EXPECT_NEAR(normals->at(32, 32, 2), 1.0f, 0.02f);
+  ASSERT_OK((*renderer)->setOutput(cel::FrameOutput::kColour));
+  auto colour = (*renderer)->renderFrame(0);
+  ASSERT_OK(colour);
+  EXPECT_GT(std::abs(colour->at(32, 32, 2) - normals->at(32, 32, 2)), 0.05f) << "the colour again";
+  // A path that writes no maps refuses them, changing nothing.
+  auto fixed = render::SceneRenderer::create(*scene, render::RenderPath::kFixed);
+  if (fixed) {
+    EXPECT_FALSE((*fixed)->setOutput(cel::FrameOutput::kDepth));
+    EXPECT_EQ((*fixed)->output(), cel::FrameOutput::kColour);
+  }
+}
+
 }  // namespace
 }  // namespace puff
