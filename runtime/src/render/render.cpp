@@ -356,14 +356,11 @@ Result<void> SceneRenderer::drawSingle(int frame, const cel::Viewport& viewport,
   st.simulated = inputs.simulated;
   st.simulateMs = simulateMs;
   st.bytesUploaded = 0;
-  if (m.switches.output == cel::FrameOutput::kMotion && keep && m.lastNext.empty()) {
-    m.lastNext = nextPositions(inputs, m.evaluator->evaluate(frame + 1));
-  } else if (m.switches.output == cel::FrameOutput::kMotion && !keep) {
+  const bool motion = m.switches.output == cel::FrameOutput::kMotion;
+  if (motion && (!keep || m.lastNext.empty()))
     m.lastNext = nextPositions(inputs, m.evaluator->evaluate(frame + 1, camera));
-  }
-  const std::span<const glm::vec4> next = m.switches.output == cel::FrameOutput::kMotion
-                                              ? std::span<const glm::vec4>(m.lastNext)
-                                              : std::span<const glm::vec4>();
+  const std::span<const glm::vec4> next =
+      motion ? std::span<const glm::vec4>(m.lastNext) : std::span<const glm::vec4>();
   return m.path->draw(PathFrame{m.scene, inputs, viewport, st, next});
 }
 
